@@ -1,0 +1,87 @@
+// Mirror of src/camera (projective.rs, thin_lens.rs), function by function. The matrices come
+// from the Rust `Camera` (see src/gpu for the uniform layout): there is no second camera here.
+#ifndef LENSRAY_CAMERA_GLSL
+#define LENSRAY_CAMERA_GLSL
+
+const uint PROJECTION_PERSPECTIVE = 0u;
+const uint PROJECTION_ORTHOGRAPHIC = 1u;
+
+struct Camera {
+    mat4 world_from_camera;
+    mat4 screen_from_raster;
+    uint projection;      // PROJECTION_*
+    float near_z;
+    float aperture_radius;
+    float focus_distance;
+};
+
+struct Ray {
+    vec3 origin;
+    vec3 direction;
+};
+
+vec3 ray_at(Ray r, float t) { return r.origin + r.direction * t; }
+
+// thin_lens.rs: concentric_sample_disk
+vec2 concentric_sample_disk(vec2 u) {
+    vec2 offset = 2.0 * u - vec2(1.0);
+    if (offset.x == 0.0 && offset.y == 0.0) {
+        return vec2(0.0);
+    }
+    float radius;
+    float theta;
+    const float FRAC_PI_4 = 0.78539816339744830962;
+    const float FRAC_PI_2 = 1.57079632679489661923;
+    if (abs(offset.x) > abs(offset.y)) {
+        radius = offset.x;
+        theta = FRAC_PI_4 * (offset.y / offset.x);
+    } else {
+        radius = offset.y;
+        theta = FRAC_PI_2 - FRAC_PI_4 * (offset.x / offset.y);
+    }
+    return radius * vec2(cos(theta), sin(theta));
+}
+
+// thin_lens.rs: ThinLens::focal_point
+vec3 focal_point(Camera cam, Ray pinhole) {
+    float t = (cam.focus_distance - pinhole.origin.z) / pinhole.direction.z;
+    return ray_at(pinhole, t);
+}
+
+// thin_lens.rs: ThinLens::lens_ray
+Ray lens_ray(Camera cam, Ray pinhole, vec2 lens_u) {
+    if (cam.aperture_radius <= 0.0) {
+        return pinhole;
+    }
+    vec3 focus = focal_point(cam, pinhole);
+    vec2 lens = cam.aperture_radius * concentric_sample_disk(lens_u);
+    Ray r;
+    r.origin = pinhole.origin + vec3(lens, 0.0);
+    r.direction = normalize(focus - r.origin);
+    return r;
+}
+
+// projective.rs: Camera::pinhole_ray_camera
+Ray pinhole_ray_camera(Camera cam, vec2 p_raster) {
+    vec3 p_screen = (cam.screen_from_raster * vec4(p_raster, 0.0, 1.0)).xyz;
+    Ray r;
+    if (cam.projection == PROJECTION_ORTHOGRAPHIC) {
+        r.origin = vec3(p_screen.xy, cam.near_z);
+        r.direction = vec3(0.0, 0.0, 1.0);
+    } else {
+        r.origin = vec3(0.0);
+        r.direction = normalize(vec3(p_screen.x * cam.near_z, p_screen.y * cam.near_z, cam.near_z));
+    }
+    return r;
+}
+
+// projective.rs: Camera::generate_ray
+Ray generate_ray(Camera cam, vec2 p_raster, vec2 lens_u) {
+    Ray camera_ray = lens_ray(cam, pinhole_ray_camera(cam, p_raster), lens_u);
+    Ray r;
+    r.origin = (cam.world_from_camera * vec4(camera_ray.origin, 1.0)).xyz;
+    r.direction = (cam.world_from_camera * vec4(camera_ray.direction, 0.0)).xyz;
+    return r;
+}
+
+#endif

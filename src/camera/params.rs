@@ -1,0 +1,209 @@
+//! What a user gives to describe a camera, checked before anything is built.
+
+use glam::Vec3;
+use thiserror::Error;
+
+use super::look_at::CameraFrame;
+use super::physical::PhysicalLens;
+use super::{Camera, Projection, ThinLens};
+
+/// Largest image side accepted.
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ProjectionParams {
+    Perspective { vfov_degrees: f64 },
+    Orthographic { height: f64 },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LensParams {
+    Pinhole,
+    /// World units.
+    ThinLens {
+        aperture_radius: f64,
+        focus_distance: f64,
+    },
+    /// Photographic units; for perspective, the field of view follows from the sensor height and
+    /// the film distance (and replaces `vfov_degrees`).
+    Physical {
+        lens: PhysicalLens,
+        focus_distance: f64,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraParams {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub projection: ProjectionParams,
+    pub lens: LensParams,
+    pub near: f64,
+    pub far: f64,
+    pub width: u32,
+    pub height: u32,
+}
+
+#[derive(Debug, Error, PartialEq)]
+pub enum CameraError {
+    #[error("{0} must be a finite number, got {1}")]
+    NotFinite(&'static str, String),
+    #[error("{0} must be greater than zero, got {1}")]
+    NotPositive(&'static str, f64),
+    #[error("{0} must not be negative, got {1}")]
+    Negative(&'static str, f64),
+    #[error("degenerate camera: eye and target coincide")]
+    EyeIsTarget,
+    #[error("degenerate camera: up {0:?} is parallel to the view direction")]
+    UpParallelToView(Vec3),
+    #[error("vertical field of view must be in (0, 180) degrees, got {0}")]
+    FieldOfView(f64),
+    #[error("far plane ({far}) must lie beyond the near plane ({near})")]
+    NearFar { near: f64, far: f64 },
+    #[error("focus distance {focus} is not in front of the lens (must exceed {min})")]
+    FocusNotInFront { focus: f64, min: f64 },
+    #[error(
+        "focus distance {focus} m is within the focal length ({focal_length_mm} mm): no image forms"
+    )]
+    FocusWithinFocalLength { focus: f64, focal_length_mm: f64 },
+    #[error("image {0}x{1} is out of range: each side must be in 1..={MAX_IMAGE_SIDE}")]
+    ImageSize(u32, u32),
+}
+
+fn finite_vec(name: &'static str, v: Vec3) -> Result<(), CameraError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(CameraError::NotFinite(name, format!("{v:?}")))
+    }
+}
+
+pub(crate) fn positive(name: &'static str, x: f64) -> Result<f64, CameraError> {
+    if !x.is_finite() {
+        Err(CameraError::NotFinite(name, x.to_string()))
+    } else if x <= 0.0 {
+        Err(CameraError::NotPositive(name, x))
+    } else {
+        Ok(x)
+    }
+}
+
+fn non_negative(name: &'static str, x: f64) -> Result<f64, CameraError> {
+    if !x.is_finite() {
+        Err(CameraError::NotFinite(name, x.to_string()))
+    } else if x < 0.0 {
+        Err(CameraError::Negative(name, x))
+    } else {
+        Ok(x)
+    }
+}
+
+impl CameraParams {
+    /// Validates every parameter and builds the camera; the error names the first bad one.
+    pub fn build(&self) -> Result<Camera, CameraError> {
+        finite_vec("eye", self.eye)?;
+        finite_vec("target", self.target)?;
+        finite_vec("up", self.up)?;
+        if (self.target - self.eye).length() <= f32::EPSILON * self.eye.length().max(1.0) {
+            return Err(CameraError::EyeIsTarget);
+        }
+        let frame = CameraFrame::look_at(self.eye, self.target, self.up)
+            .ok_or(CameraError::UpParallelToView(self.up))?;
+        if !(1..=MAX_IMAGE_SIDE).contains(&self.width)
+            || !(1..=MAX_IMAGE_SIDE).contains(&self.height)
+        {
+            return Err(CameraError::ImageSize(self.width, self.height));
+        }
+        let near = positive("near", self.near)?;
+        let far = positive("far", self.far)?;
+        if far <= near {
+            return Err(CameraError::NearFar { near, far });
+        }
+
+        let (lens, physical_vfov) = match self.lens {
+            LensParams::Pinhole => (ThinLens::PINHOLE, None),
+            LensParams::ThinLens {
+                aperture_radius,
+                focus_distance,
+            } => {
+                let aperture_radius = non_negative("aperture radius", aperture_radius)?;
+                let focus_distance = self.check_focus(focus_distance, near)?;
+                (
+                    ThinLens {
+                        aperture_radius: aperture_radius as f32,
+                        focus_distance: focus_distance as f32,
+                    },
+                    None,
+                )
+            }
+            LensParams::Physical {
+                lens,
+                focus_distance,
+            } => {
+                positive("focal length (mm)", lens.focal_length_mm)?;
+                positive("f-number", lens.f_number)?;
+                positive("sensor height (mm)", lens.sensor_height_mm)?;
+                let focus_distance = self.check_focus(focus_distance, near)?;
+                let vfov =
+                    lens.vfov(focus_distance)
+                        .ok_or(CameraError::FocusWithinFocalLength {
+                            focus: focus_distance,
+                            focal_length_mm: lens.focal_length_mm,
+                        })?;
+                (
+                    ThinLens {
+                        aperture_radius: lens.aperture_radius() as f32,
+                        focus_distance: focus_distance as f32,
+                    },
+                    Some(vfov),
+                )
+            }
+        };
+
+        let projection = match self.projection {
+            ProjectionParams::Perspective { vfov_degrees } => {
+                let vfov = match physical_vfov {
+                    Some(vfov) => vfov,
+                    None => {
+                        if !vfov_degrees.is_finite() || vfov_degrees <= 0.0 || vfov_degrees >= 180.0
+                        {
+                            return Err(CameraError::FieldOfView(vfov_degrees));
+                        }
+                        vfov_degrees.to_radians()
+                    }
+                };
+                Projection::Perspective { vfov: vfov as f32 }
+            }
+            ProjectionParams::Orthographic { height } => Projection::Orthographic {
+                height: positive("orthographic view height", height)? as f32,
+            },
+        };
+
+        Ok(Camera::new(
+            projection,
+            frame,
+            lens,
+            near as f32,
+            far as f32,
+            self.width,
+            self.height,
+        ))
+    }
+
+    /// The focal plane must lie in front of the lens plane (the eye for perspective, the near
+    /// plane where orthographic rays start).
+    fn check_focus(&self, focus: f64, near: f64) -> Result<f64, CameraError> {
+        let min = match self.projection {
+            ProjectionParams::Orthographic { .. } => near,
+            ProjectionParams::Perspective { .. } => 0.0,
+        };
+        if !focus.is_finite() {
+            return Err(CameraError::NotFinite("focus distance", focus.to_string()));
+        }
+        if focus <= min {
+            return Err(CameraError::FocusNotInFront { focus, min });
+        }
+        Ok(focus)
+    }
+}

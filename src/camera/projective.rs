@@ -1,0 +1,159 @@
+//! The projective camera: the transform chain camera -> screen -> NDC -> raster built once, and
+//! ray generation through a point of a pixel (slides "To generate a ray through pixel (i,j)").
+
+use glam::{Mat4, Vec2, Vec3, Vec4Swizzles};
+
+use super::film::{self, ScreenWindow};
+use super::look_at::CameraFrame;
+use super::{Projection, Ray, ThinLens};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    pub projection: Projection,
+    pub frame: CameraFrame,
+    pub lens: ThinLens,
+    pub near: f32,
+    pub far: f32,
+    pub width: u32,
+    pub height: u32,
+    pub screen_window: ScreenWindow,
+    pub camera_from_world: Mat4,
+    pub world_from_camera: Mat4,
+    pub screen_from_camera: Mat4,
+    pub camera_from_screen: Mat4,
+    pub ndc_from_screen: Mat4,
+    pub screen_from_ndc: Mat4,
+    pub raster_from_ndc: Mat4,
+    pub ndc_from_raster: Mat4,
+    /// raster_from_ndc * ndc_from_screen: affine.
+    pub raster_from_screen: Mat4,
+    /// screen_from_ndc * ndc_from_raster: affine; the course's (i, j) -> (s, t) -> (x, y).
+    pub screen_from_raster: Mat4,
+}
+
+impl Camera {
+    /// Inputs are assumed valid (see `CameraParams::build`, which checks them).
+    pub fn new(
+        projection: Projection,
+        frame: CameraFrame,
+        lens: ThinLens,
+        near: f32,
+        far: f32,
+        width: u32,
+        height: u32,
+    ) -> Self {
+        let screen_window = ScreenWindow::new(projection.screen_half_height(), width, height);
+        let ndc_from_screen = screen_window.ndc_from_screen();
+        let screen_from_ndc = screen_window.screen_from_ndc();
+        let raster_from_ndc = film::raster_from_ndc(width, height);
+        let ndc_from_raster = film::ndc_from_raster(width, height);
+        Self {
+            projection,
+            frame,
+            lens,
+            near,
+            far,
+            width,
+            height,
+            screen_window,
+            camera_from_world: frame.camera_from_world(),
+            world_from_camera: frame.world_from_camera(),
+            screen_from_camera: projection.screen_from_camera(near, far),
+            camera_from_screen: projection.camera_from_screen(near, far),
+            ndc_from_screen,
+            screen_from_ndc,
+            raster_from_ndc,
+            ndc_from_raster,
+            raster_from_screen: raster_from_ndc * ndc_from_screen,
+            screen_from_raster: screen_from_ndc * ndc_from_raster,
+        }
+    }
+
+    pub fn is_orthographic(&self) -> bool {
+        matches!(self.projection, Projection::Orthographic { .. })
+    }
+
+    /// Homogeneous world -> raster (x, y in pixels, z the course's depth in [0, 1]).
+    pub fn raster_from_world(&self) -> Mat4 {
+        self.raster_from_screen * self.screen_from_camera * self.camera_from_world
+    }
+
+    /// The raster pass's matrix: the same chain ending in Vulkan clip space.
+    pub fn clip_from_world(&self) -> Mat4 {
+        film::clip_from_ndc()
+            * self.ndc_from_screen
+            * self.screen_from_camera
+            * self.camera_from_world
+    }
+
+    /// World point -> (raster x, raster y, depth in [0, 1]), with the perspective divide.
+    pub fn project(&self, p_world: Vec3) -> Vec3 {
+        let h = self.raster_from_world() * p_world.extend(1.0);
+        h.xyz() / h.w
+    }
+
+    /// Distance along the view axis (camera-space z): what the `depth` AOV shows.
+    pub fn view_depth(&self, p_world: Vec3) -> f32 {
+        (p_world - self.frame.eye).dot(self.frame.forward)
+    }
+
+    /// The aperture-centre (pinhole) ray through raster point `p_raster` = (column + u, row + v),
+    /// in camera space, exactly as the slides build it:
+    /// (i, j) -> (s, t) -> (x, y) on the front plane -> camera point -> ray.
+    pub fn pinhole_ray_camera(&self, p_raster: Vec2) -> Ray {
+        let p_screen = self
+            .screen_from_raster
+            .transform_point3(p_raster.extend(0.0));
+        match self.projection {
+            // (c_x, c_y, c_z) = (x, y, near); start there, direction (0, 0, 1).
+            Projection::Orthographic { .. } => Ray {
+                origin: Vec3::new(p_screen.x, p_screen.y, self.near),
+                direction: Vec3::Z,
+            },
+            // (c_x, c_y, c_z) = (x near, y near, near); start at the eye, direction c.
+            Projection::Perspective { .. } => Ray {
+                origin: Vec3::ZERO,
+                direction: Vec3::new(p_screen.x * self.near, p_screen.y * self.near, self.near)
+                    .normalize(),
+            },
+        }
+    }
+
+    /// A ray in world space through raster point `p_raster` and lens sample `lens_u` in
+    /// [0, 1)^2: pinhole ray, thin lens, then "transform the ray to world space".
+    pub fn generate_ray(&self, p_raster: Vec2, lens_u: Vec2) -> Ray {
+        let camera_ray = self
+            .lens
+            .lens_ray(&self.pinhole_ray_camera(p_raster), lens_u);
+        Ray {
+            origin: self.world_from_camera.transform_point3(camera_ray.origin),
+            direction: self
+                .world_from_camera
+                .transform_vector3(camera_ray.direction),
+        }
+    }
+
+    /// The plane z = lens_z holds the lens: z = 0 (the eye) for perspective, the near plane for
+    /// orthographic (each film point's ray starts there).
+    pub fn lens_plane_z(&self) -> f32 {
+        if self.is_orthographic() {
+            self.near
+        } else {
+            0.0
+        }
+    }
+
+    /// Radius, in pixels, of the circle of confusion of a point at view depth z: the image of
+    /// that point spreads over the film points whose lens-ray bundles reach it. Perspective:
+    /// A |1/F - 1/z| on the screen plane z = 1; orthographic: the object-space spread itself.
+    pub fn coc_radius_pixels(&self, z: f32) -> f32 {
+        let pixels_per_screen_unit = self.height as f32 / (2.0 * self.screen_window.half_height);
+        let screen_radius = match self.projection {
+            Projection::Perspective { .. } => {
+                self.lens.aperture_radius * (1.0 / self.lens.focus_distance - 1.0 / z).abs()
+            }
+            Projection::Orthographic { .. } => self.lens.ray_spread_radius(z, self.near),
+        };
+        screen_radius * pixels_per_screen_unit
+    }
+}

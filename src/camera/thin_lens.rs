@@ -1,0 +1,76 @@
+//! Thin-lens depth of field (slides "Non-Linear Models: Depth of Field").
+//!
+//! 1. For a film point, the primary ray through the centre of the aperture (the pinhole ray).
+//! 2. Its intersection with the focal plane z = focus_distance (a plane, measured along the view
+//!    axis, so the focal surface is flat as for a real thin lens).
+//! 3. A random point on the aperture disk.
+//! 4. The new ray from that lens point through the focal-plane point. Averaging over many such rays
+//!    blurs everything off the focal plane. Why all of them meet there: see `physical`.
+
+use glam::{Vec2, Vec3};
+
+use super::Ray;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThinLens {
+    /// World units; 0 is a pinhole.
+    pub aperture_radius: f32,
+    /// Distance of the focal plane from the lens along the view axis, world units.
+    pub focus_distance: f32,
+}
+
+impl ThinLens {
+    pub const PINHOLE: ThinLens = ThinLens {
+        aperture_radius: 0.0,
+        focus_distance: 1.0,
+    };
+
+    /// Step 2: the point where the aperture-centre ray meets the focal plane.
+    pub fn focal_point(&self, pinhole: &Ray) -> Vec3 {
+        let t = (self.focus_distance - pinhole.origin.z) / pinhole.direction.z;
+        pinhole.at(t)
+    }
+
+    /// Steps 3-4, in camera space. `lens_u` is a uniform sample of [0, 1)^2. The lens point is
+    /// added to the pinhole ray's origin: the lens centre for perspective, the film point for
+    /// orthographic (whose rays start on the near plane, each with its own lens centre).
+    pub fn lens_ray(&self, pinhole: &Ray, lens_u: Vec2) -> Ray {
+        if self.aperture_radius <= 0.0 {
+            return *pinhole;
+        }
+        let focus = self.focal_point(pinhole);
+        let lens = self.aperture_radius * concentric_sample_disk(lens_u);
+        let origin = pinhole.origin + Vec3::new(lens.x, lens.y, 0.0);
+        Ray {
+            origin,
+            direction: (focus - origin).normalize(),
+        }
+    }
+
+    /// Radius of the bundle of lens rays of one film point where it crosses depth z, for a lens
+    /// in the plane z = `lens_z`: similar triangles between the lens disk and the focal point
+    /// give `aperture_radius * |focus - z| / (focus - lens_z)`.
+    pub fn ray_spread_radius(&self, z: f32, lens_z: f32) -> f32 {
+        self.aperture_radius * (self.focus_distance - z).abs() / (self.focus_distance - lens_z)
+    }
+}
+
+/// Uniform [0, 1)^2 -> uniform unit disk, preserving strata (Shirley and Chiu's concentric map).
+pub fn concentric_sample_disk(u: Vec2) -> Vec2 {
+    let offset = 2.0 * u - Vec2::ONE;
+    if offset.x == 0.0 && offset.y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (radius, theta) = if offset.x.abs() > offset.y.abs() {
+        (
+            offset.x,
+            std::f32::consts::FRAC_PI_4 * (offset.y / offset.x),
+        )
+    } else {
+        (
+            offset.y,
+            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (offset.x / offset.y),
+        )
+    };
+    radius * Vec2::new(theta.cos(), theta.sin())
+}

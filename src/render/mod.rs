@@ -1,0 +1,7 @@
+//! What every renderer (CPU reference, GPU paths) shares: what to compute and the image it fills.
+
+pub mod film;
+pub mod settings;
+
+pub use film::Image;
+pub use settings::{PointLight, RenderSettings, Shading};

@@ -1,0 +1,46 @@
+//! Shading modes and per-render settings, defined once for the CPU and GPU paths.
+
+use glam::Vec3;
+use serde::Deserialize;
+
+/// What a pixel shows. `Unlit` and `Lit` are traced through the thin lens; the rest are AOVs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Shading {
+    /// Diffuse colour Kd of the first surface hit, or the background on a miss: pure visibility,
+    /// the mode that validates depth of field.
+    Unlit,
+    /// Ke + Kd / pi * I cos(theta) / d^2 from one point light with a hard shadow; no indirect light.
+    Lit,
+    /// Distance of the first hit along the view axis (camera z); 0 on a miss.
+    Depth,
+    /// World-space shading normal of the first hit, facing the viewer; 0 on a miss.
+    Normal,
+    /// Kd of the first hit (the G-buffer's material colour); the background on a miss.
+    Albedo,
+}
+
+impl Shading {
+    /// AOVs describe the surface seen through each pixel, not light: no sRGB encoding in PNGs.
+    pub fn is_aov(self) -> bool {
+        matches!(self, Shading::Depth | Shading::Normal | Shading::Albedo)
+    }
+}
+
+/// A point light: radiant intensity in W/sr per RGB channel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    pub position: Vec3,
+    pub intensity: Vec3,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Samples per pixel, >= 1.
+    pub spp: u32,
+    pub seed: u32,
+    pub shading: Shading,
+    /// Linear RGB seen on a miss.
+    pub background: Vec3,
+    pub light: PointLight,
+}

@@ -1,0 +1,86 @@
+//! Scenes: triangle meshes with per-triangle materials, in world space.
+//!
+//! OBJ files carry no transforms, so `world_from_object` is the identity for them and a mesh's
+//! positions are world positions. Each OBJ model becomes one [`Mesh`] (one bottom-level
+//! acceleration structure on the GPU).
+
+use glam::Vec3;
+
+/// Diffuse colour `Kd` and emission `Ke` of an MTL material, linear RGB.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub diffuse: Vec3,
+    pub emission: Vec3,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            name: "default".into(),
+            diffuse: Vec3::splat(0.8),
+            emission: Vec3::ZERO,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub name: String,
+    pub positions: Vec<Vec3>,
+    /// Per-vertex normals, same length as `positions`, or empty when the OBJ has none.
+    pub normals: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Index into `Scene::materials`, one per triangle.
+    pub material_ids: Vec<u32>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Scene {
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+}
+
+/// Axis-aligned bounds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Bounds {
+    pub fn center(&self) -> Vec3 {
+        0.5 * (self.min + self.max)
+    }
+    pub fn diagonal(&self) -> Vec3 {
+        self.max - self.min
+    }
+    pub fn corners(&self) -> [Vec3; 8] {
+        std::array::from_fn(|i| {
+            Vec3::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            )
+        })
+    }
+}
+
+impl Scene {
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.triangles.len()).sum()
+    }
+
+    /// Bounds of all vertices that triangles use; `None` for an empty scene.
+    pub fn bounds(&self) -> Option<Bounds> {
+        let mut points = self.meshes.iter().flat_map(|m| {
+            m.triangles
+                .iter()
+                .flatten()
+                .map(|&i| m.positions[i as usize])
+        });
+        let first = points.next()?;
+        let (min, max) = points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        Some(Bounds { min, max })
+    }
+}
