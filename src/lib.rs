@@ -2,7 +2,10 @@
 //! are checked against it.
 
 pub mod camera;
+pub mod output;
+pub mod reference;
 pub mod render;
+pub mod resolve;
 pub mod sampler;
 pub mod scene;
 pub mod settings;
