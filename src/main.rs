@@ -27,7 +27,16 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) if !error.use_stderr() => error.exit(), // --help, --version
+        Err(error) => {
+            // One line naming the problem (clap adds usage lines after it).
+            let text = error.render().to_string();
+            eprintln!("{}", text.lines().next().unwrap_or("error: bad command line"));
+            return ExitCode::from(2);
+        }
+    };
     let result = match &cli.command {
         None => {
             // No subcommand at all: render the default scene with every default.

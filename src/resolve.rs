@@ -105,15 +105,15 @@ pub fn resolve(settings: &Settings, scene: &Scene) -> Result<Resolved, SettingsE
     let near = c.near.unwrap_or(far * 1e-4);
     let axis_distance = (target - eye).length() as f64;
 
+    if c.focal_length_mm.is_none() && (c.f_number.is_some() || c.sensor_height_mm.is_some()) {
+        return Err(SettingsError::Conflict(
+            "f-number and sensor height need a focal length (--focal-length-mm)",
+        ));
+    }
     let lens = match (c.aperture_radius, c.focal_length_mm) {
         (Some(_), Some(_)) => {
             return Err(SettingsError::Conflict(
                 "give either an aperture radius or a focal length (physical units), not both",
-            ))
-        }
-        (None, None) if c.f_number.is_some() || c.sensor_height_mm.is_some() => {
-            return Err(SettingsError::Conflict(
-                "f-number and sensor height need a focal length (--focal-length-mm)",
             ))
         }
         (Some(aperture_radius), None) => LensParams::ThinLens {
