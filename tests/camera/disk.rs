@@ -31,50 +31,78 @@ fn concentric_map_stays_in_unit_disk() {
 }
 
 /// Uniform density: with 10^5 stratified samples, the fraction inside radius r is r^2 (0.25 for
-/// r = 0.5) within 0.005, and each of 8 equal sectors holds 1/8.
+/// r = 0.5) within 0.005; finer, each of 64 equal-area polar cells (4 rings of radii
+/// sqrt(k / 4), 16 sectors of 22.5 degrees, so not aligned with the map's 45-degree wedges only)
+/// holds 1/64, and half-planes at odd angles hold the disk-segment area.
 #[test]
 fn concentric_map_preserves_area() {
     let (nx, ny) = (400usize, 250usize); // 10^5 strata
     let mut rng = Rng::new(40);
-    let radii = [0.3f32, 0.5, 0.7, 0.9];
-    let mut inside = [0usize; 4];
-    let mut sectors = [0usize; 8];
-    for a in 0..nx {
-        for b in 0..ny {
+    let points: Vec<Vec2> = (0..nx)
+        .flat_map(|a| (0..ny).map(move |b| (a, b)))
+        .map(|(a, b)| {
             // Jittered (stratified) sample of stratum (a, b).
             let u = Vec2::new(
                 (a as f32 + rng.f32()) / nx as f32,
                 (b as f32 + rng.f32()) / ny as f32,
             );
-            let p = concentric_sample_disk(u);
-            let r = p.length();
-            for (k, &limit) in radii.iter().enumerate() {
-                if r < limit {
-                    inside[k] += 1;
-                }
-            }
-            let angle = p.y.atan2(p.x).rem_euclid(std::f32::consts::TAU);
-            let sector = ((angle / std::f32::consts::TAU * 8.0) as usize).min(7);
-            sectors[sector] += 1;
-        }
-    }
-    let total = (nx * ny) as f64;
-    for (k, &limit) in radii.iter().enumerate() {
-        let fraction = inside[k] as f64 / total;
-        let expected = (limit as f64).powi(2);
+            concentric_sample_disk(u)
+        })
+        .collect();
+    let total = points.len() as f64;
+    let fraction = |inside: &dyn Fn(Vec2) -> bool| {
+        points.iter().filter(|&&p| inside(p)).count() as f64 / total
+    };
+
+    assert_close(
+        "fraction of stratified samples within radius 0.5",
+        fraction(&|p| p.length() < 0.5),
+        0.25,
+        0.005,
+    );
+    for limit in [0.1f32, 0.3, 0.7, 0.9, 0.99] {
         assert_close(
             &format!("fraction of stratified samples within radius {limit}"),
-            fraction,
-            expected,
-            0.005,
+            fraction(&|p| p.length() < limit),
+            (limit as f64).powi(2),
+            0.002,
         );
     }
-    for (s, &count) in sectors.iter().enumerate() {
+
+    let mut cells = [[0usize; 16]; 4];
+    for p in &points {
+        let ring = ((p.length_squared() * 4.0) as usize).min(3);
+        let angle = p.y.atan2(p.x).rem_euclid(std::f32::consts::TAU);
+        let sector = ((angle / std::f32::consts::TAU * 16.0) as usize).min(15);
+        cells[ring][sector] += 1;
+    }
+    for (ring, row) in cells.iter().enumerate() {
+        for (sector, &count) in row.iter().enumerate() {
+            assert_close(
+                &format!(
+                    "fraction of samples in polar cell ring {ring} (r^2 in [{}, {})), sector \
+                     {sector} ({} to {} degrees)",
+                    ring as f64 / 4.0,
+                    (ring + 1) as f64 / 4.0,
+                    sector as f64 * 22.5,
+                    (sector + 1) as f64 * 22.5
+                ),
+                count as f64 / total,
+                1.0 / 64.0,
+                5e-4,
+            );
+        }
+    }
+
+    // Half-planes {p . n > a}: the disk segment's area fraction (acos a - a sqrt(1 - a^2)) / pi.
+    for (degrees, a) in [(10.0f64, 0.3f64), (37.0, -0.2), (67.5, 0.6), (200.0, 0.45), (301.0, 0.0)] {
+        let n = Vec2::new(degrees.to_radians().cos() as f32, degrees.to_radians().sin() as f32);
+        let expected = (a.acos() - a * (1.0 - a * a).sqrt()) / std::f64::consts::PI;
         assert_close(
-            &format!("fraction of samples in angular sector {s} of 8"),
-            count as f64 / total,
-            0.125,
-            0.005,
+            &format!("fraction of samples in the half-plane p . {n:?} > {a}"),
+            fraction(&|p| p.dot(n) > a as f32),
+            expected,
+            1e-3,
         );
     }
 }
