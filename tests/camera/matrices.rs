@@ -70,8 +70,12 @@ fn orthographic_matrix_matches_slide() {
             &slide_orthographic(n, f),
             1e-6,
         );
-        let via_enum = Projection::Orthographic { height: 2.0 }.screen_from_camera(n as f32, f as f32);
-        assert_eq!(via_enum, m, "Projection::Orthographic dispatches to orthographic()");
+        let via_enum =
+            Projection::Orthographic { height: 2.0 }.screen_from_camera(n as f32, f as f32);
+        assert_eq!(
+            via_enum, m,
+            "Projection::Orthographic dispatches to orthographic()"
+        );
     }
 }
 
@@ -86,7 +90,10 @@ fn perspective_matrix_matches_slide() {
             1e-6,
         );
         let via_enum = Projection::Perspective { vfov: 1.0 }.screen_from_camera(n as f32, f as f32);
-        assert_eq!(via_enum, m, "Projection::Perspective dispatches to perspective()");
+        assert_eq!(
+            via_enum, m,
+            "Projection::Perspective dispatches to perspective()"
+        );
     }
 }
 
@@ -215,15 +222,21 @@ fn film_matrices_match_screen_window_formulas() {
             hh,
             1e-6,
         );
-        let window = ScreenWindow::new(
-            cam.projection.screen_half_height(),
-            cam.width,
-            cam.height,
-        );
+        let window = ScreenWindow::new(cam.projection.screen_half_height(), cam.width, cam.height);
         assert_eq!(window, cam.screen_window, "{name}: ScreenWindow::new");
         assert_eq!(
-            (window.x_start(), window.x_stop(), window.y_start(), window.y_stop()),
-            (-window.half_width, window.half_width, -window.half_height, window.half_height),
+            (
+                window.x_start(),
+                window.x_stop(),
+                window.y_start(),
+                window.y_stop()
+            ),
+            (
+                -window.half_width,
+                window.half_width,
+                -window.half_height,
+                window.half_height
+            ),
             "{name}: xStart, xStop, yStart, yStop"
         );
         assert_eq!(
