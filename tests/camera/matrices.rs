@@ -49,8 +49,8 @@ fn slide_orthographic_inverse(n: f64, f: f64) -> Rows {
     ]
 }
 
-/// Hand-inverted slide "Perspective" (up to the homogeneous scale, fixed so that w = z / near
-/// ... i.e. the inverse of the lower-right block [[f/(f-n), -fn/(f-n)], [1, 0]]).
+/// Hand-inverted slide "Perspective": the lower-right block [[f/(f-n), -fn/(f-n)], [1, 0]] has
+/// determinant fn/(f-n) and inverse [[0, 1], [-(f-n)/(fn), 1/n]].
 fn slide_perspective_inverse(n: f64, f: f64) -> Rows {
     [
         [1.0, 0.0, 0.0, 0.0],
@@ -163,7 +163,7 @@ fn projections_map_points_and_depth_by_course_formulas() {
             let (x, y, z) = (p.x as f64, p.y as f64, p.z as f64);
 
             let (o, w) = transform_h(&orthographic(nf, ff), p);
-            assert_close("ortho w", w as f64, 1.0, 0.0);
+            assert_close(&format!("orthographic w of {p:?}"), w as f64, 1.0, 0.0);
             let expected = DVec3::new(x, y, (z - n) / (f - n));
             assert_vec_close(
                 &format!("orthographic(near {n}, far {f}) applied to {p:?}"),
@@ -173,7 +173,7 @@ fn projections_map_points_and_depth_by_course_formulas() {
             );
 
             let (s, w) = transform_h(&perspective(nf, ff), p);
-            assert_close("perspective w = z", w as f64, z, 0.0);
+            assert_close(&format!("perspective w (= z) of {p:?}"), w as f64, z, 0.0);
             let expected = DVec3::new(x / z, y / z, f * (z - n) / (z * (f - n)));
             assert_vec_close(
                 &format!("perspective(near {n}, far {f}) applied to {p:?}"),
