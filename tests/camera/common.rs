@@ -69,7 +69,10 @@ impl Setup {
     }
 
     pub fn is_orthographic(&self) -> bool {
-        matches!(self.params.projection, ProjectionParams::Orthographic { .. })
+        matches!(
+            self.params.projection,
+            ProjectionParams::Orthographic { .. }
+        )
     }
 }
 
@@ -326,7 +329,8 @@ impl RefCam {
     pub fn raster_tolerance(&self, p: DVec3) -> (f64, f64) {
         let z = self.camera_coords(p).z;
         let e = self.world_rounding(p);
-        let px = e * self.pixels_per_unit(z) + 4.0 * f32::EPSILON as f64 * self.width.max(self.height);
+        let px =
+            e * self.pixels_per_unit(z) + 4.0 * f32::EPSILON as f64 * self.width.max(self.height);
         let depth = e * self.depth_slope(z) + 4.0 * f32::EPSILON as f64;
         (px, depth)
     }

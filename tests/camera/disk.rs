@@ -27,7 +27,11 @@ fn concentric_map_stays_in_unit_disk() {
         worst.0,
         worst.0 - 1.0
     );
-    assert_eq!(concentric_sample_disk(Vec2::splat(0.5)), Vec2::ZERO, "centre");
+    assert_eq!(
+        concentric_sample_disk(Vec2::splat(0.5)),
+        Vec2::ZERO,
+        "centre"
+    );
 }
 
 /// Uniform density: with 10^5 stratified samples, the fraction inside radius r is r^2 (0.25 for
@@ -95,8 +99,17 @@ fn concentric_map_preserves_area() {
     }
 
     // Half-planes {p . n > a}: the disk segment's area fraction (acos a - a sqrt(1 - a^2)) / pi.
-    for (degrees, a) in [(10.0f64, 0.3f64), (37.0, -0.2), (67.5, 0.6), (200.0, 0.45), (301.0, 0.0)] {
-        let n = Vec2::new(degrees.to_radians().cos() as f32, degrees.to_radians().sin() as f32);
+    for (degrees, a) in [
+        (10.0f64, 0.3f64),
+        (37.0, -0.2),
+        (67.5, 0.6),
+        (200.0, 0.45),
+        (301.0, 0.0),
+    ] {
+        let n = Vec2::new(
+            degrees.to_radians().cos() as f32,
+            degrees.to_radians().sin() as f32,
+        );
         let expected = (a.acos() - a * (1.0 - a * a).sqrt()) / std::f64::consts::PI;
         assert_close(
             &format!("fraction of samples in the half-plane p . {n:?} > {a}"),

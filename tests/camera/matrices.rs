@@ -49,8 +49,8 @@ fn slide_orthographic_inverse(n: f64, f: f64) -> Rows {
     ]
 }
 
-/// Hand-inverted slide "Perspective" (up to the homogeneous scale, fixed so that w = z / near
-/// ... i.e. the inverse of the lower-right block [[f/(f-n), -fn/(f-n)], [1, 0]]).
+/// Hand-inverted slide "Perspective": the lower-right block [[f/(f-n), -fn/(f-n)], [1, 0]] has
+/// determinant fn/(f-n) and inverse [[0, 1], [-(f-n)/(fn), 1/n]].
 fn slide_perspective_inverse(n: f64, f: f64) -> Rows {
     [
         [1.0, 0.0, 0.0, 0.0],
@@ -70,8 +70,12 @@ fn orthographic_matrix_matches_slide() {
             &slide_orthographic(n, f),
             1e-6,
         );
-        let via_enum = Projection::Orthographic { height: 2.0 }.screen_from_camera(n as f32, f as f32);
-        assert_eq!(via_enum, m, "Projection::Orthographic dispatches to orthographic()");
+        let via_enum =
+            Projection::Orthographic { height: 2.0 }.screen_from_camera(n as f32, f as f32);
+        assert_eq!(
+            via_enum, m,
+            "Projection::Orthographic dispatches to orthographic()"
+        );
     }
 }
 
@@ -86,7 +90,10 @@ fn perspective_matrix_matches_slide() {
             1e-6,
         );
         let via_enum = Projection::Perspective { vfov: 1.0 }.screen_from_camera(n as f32, f as f32);
-        assert_eq!(via_enum, m, "Projection::Perspective dispatches to perspective()");
+        assert_eq!(
+            via_enum, m,
+            "Projection::Perspective dispatches to perspective()"
+        );
     }
 }
 
@@ -156,7 +163,7 @@ fn projections_map_points_and_depth_by_course_formulas() {
             let (x, y, z) = (p.x as f64, p.y as f64, p.z as f64);
 
             let (o, w) = transform_h(&orthographic(nf, ff), p);
-            assert_close("ortho w", w as f64, 1.0, 0.0);
+            assert_close(&format!("orthographic w of {p:?}"), w as f64, 1.0, 0.0);
             let expected = DVec3::new(x, y, (z - n) / (f - n));
             assert_vec_close(
                 &format!("orthographic(near {n}, far {f}) applied to {p:?}"),
@@ -166,7 +173,7 @@ fn projections_map_points_and_depth_by_course_formulas() {
             );
 
             let (s, w) = transform_h(&perspective(nf, ff), p);
-            assert_close("perspective w = z", w as f64, z, 0.0);
+            assert_close(&format!("perspective w (= z) of {p:?}"), w as f64, z, 0.0);
             let expected = DVec3::new(x / z, y / z, f * (z - n) / (z * (f - n)));
             assert_vec_close(
                 &format!("perspective(near {n}, far {f}) applied to {p:?}"),
@@ -215,15 +222,21 @@ fn film_matrices_match_screen_window_formulas() {
             hh,
             1e-6,
         );
-        let window = ScreenWindow::new(
-            cam.projection.screen_half_height(),
-            cam.width,
-            cam.height,
-        );
+        let window = ScreenWindow::new(cam.projection.screen_half_height(), cam.width, cam.height);
         assert_eq!(window, cam.screen_window, "{name}: ScreenWindow::new");
         assert_eq!(
-            (window.x_start(), window.x_stop(), window.y_start(), window.y_stop()),
-            (-window.half_width, window.half_width, -window.half_height, window.half_height),
+            (
+                window.x_start(),
+                window.x_stop(),
+                window.y_start(),
+                window.y_stop()
+            ),
+            (
+                -window.half_width,
+                window.half_width,
+                -window.half_height,
+                window.half_height
+            ),
             "{name}: xStart, xStop, yStart, yStop"
         );
         assert_eq!(

@@ -39,11 +39,28 @@ fn physical_params(lens: PhysicalLens, focus_distance: f64) -> CameraParams {
 #[test]
 fn physical_lens_matches_hand_computed_values() {
     let lens = LENS_50_F2;
-    assert_rel("50 mm f/2 aperture radius (m)", lens.aperture_radius(), 0.0125, 1e-12);
-    let s_i = lens.film_distance_mm(2.0).expect("focus 2 m forms an image");
-    assert_rel("50 mm focused at 2 m: film distance (mm)", s_i, 51.282051282051285, 1e-12);
+    assert_rel(
+        "50 mm f/2 aperture radius (m)",
+        lens.aperture_radius(),
+        0.0125,
+        1e-12,
+    );
+    let s_i = lens
+        .film_distance_mm(2.0)
+        .expect("focus 2 m forms an image");
+    assert_rel(
+        "50 mm focused at 2 m: film distance (mm)",
+        s_i,
+        51.282051282051285,
+        1e-12,
+    );
     let vfov = lens.vfov(2.0).expect("focus 2 m forms an image");
-    assert_rel("50 mm, 24 mm sensor at 2 m: vfov (rad)", vfov, 0.45972816880671835, 1e-12);
+    assert_rel(
+        "50 mm, 24 mm sensor at 2 m: vfov (rad)",
+        vfov,
+        0.45972816880671835,
+        1e-12,
+    );
     assert_rel("tan(vfov / 2)", (vfov / 2.0).tan(), 0.234, 1e-12);
 
     let lens35 = PhysicalLens {
@@ -51,7 +68,12 @@ fn physical_lens_matches_hand_computed_values() {
         f_number: 1.4,
         sensor_height_mm: 36.0,
     };
-    assert_rel("35 mm f/1.4 aperture radius", lens35.aperture_radius(), 0.0125, 1e-12);
+    assert_rel(
+        "35 mm f/1.4 aperture radius",
+        lens35.aperture_radius(),
+        0.0125,
+        1e-12,
+    );
     assert_rel(
         "35 mm at 1 m: film distance",
         lens35.film_distance_mm(1.0).unwrap(),
@@ -69,7 +91,12 @@ fn physical_lens_matches_hand_computed_values() {
         f_number: 8.0,
         sensor_height_mm: 24.0,
     };
-    assert_rel("85 mm f/8 aperture radius", lens85.aperture_radius(), 0.0053125, 1e-12);
+    assert_rel(
+        "85 mm f/8 aperture radius",
+        lens85.aperture_radius(),
+        0.0053125,
+        1e-12,
+    );
     assert_rel(
         "85 mm at 10 m: film distance",
         lens85.film_distance_mm(10.0).unwrap(),
@@ -146,7 +173,12 @@ fn build_with_physical_lens() {
     ortho.projection = ProjectionParams::Orthographic { height: 3.0 };
     let cam = ortho.build().unwrap();
     assert_eq!(cam.projection, Projection::Orthographic { height: 3.0 });
-    assert_rel("ortho aperture radius", cam.lens.aperture_radius as f64, 0.0125, 1e-7);
+    assert_rel(
+        "ortho aperture radius",
+        cam.lens.aperture_radius as f64,
+        0.0125,
+        1e-7,
+    );
 }
 
 #[test]

@@ -41,7 +41,9 @@ fn pinhole_ray_through_pixel_centre_hits_unprojected_points() {
             let camera_ray = cam.pinhole_ray_camera(centre);
             let by_hand = Ray {
                 origin: cam.world_from_camera.transform_point3(camera_ray.origin),
-                direction: cam.world_from_camera.transform_vector3(camera_ray.direction),
+                direction: cam
+                    .world_from_camera
+                    .transform_vector3(camera_ray.direction),
             };
             assert_close(
                 &format!("{name}: |direction| of ray through {centre:?}"),

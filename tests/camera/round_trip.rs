@@ -39,8 +39,8 @@ fn raster_to_world_to_raster() {
                 1 => 1.0,
                 _ => rng.f64(),
             };
-            let raster = DVec3::new(rng.range(0.0, r.width), rng.range(0.0, r.height), depth)
-                .as_vec3();
+            let raster =
+                DVec3::new(rng.range(0.0, r.width), rng.range(0.0, r.height), depth).as_vec3();
             let rd = raster.as_dvec3();
             let world = unproject(&cam, raster);
 

@@ -1,5 +1,5 @@
-//! 5. Lens rays of a film point converge on the focal plane; 6. their spread is the circle of
-//! confusion.
+//! Items 5 and 6: the lens rays of a film point converge on the focal plane, and their spread
+//! is the circle of confusion.
 
 use glam::{DMat3, DVec3, Vec2};
 use lensray::camera::{Camera, Ray};
@@ -48,8 +48,7 @@ fn convergence_point(rays: &[Ray]) -> DVec3 {
     let mut b = DVec3::ZERO;
     for ray in rays {
         let d = ray.direction.as_dvec3().normalize();
-        let proj = DMat3::IDENTITY
-            - DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+        let proj = DMat3::IDENTITY - DMat3::from_cols(d * d.x, d * d.y, d * d.z);
         a += proj;
         b += proj * ray.origin.as_dvec3();
     }
@@ -75,7 +74,11 @@ fn lens_rays_of_a_film_point_meet_on_the_focal_plane() {
         let name = setup.name;
         let samples = lens_samples(&mut rng);
         let lens_z = if setup.is_orthographic() { r.near } else { 0.0 };
-        assert_eq!(cam.lens_plane_z() as f64, lens_z as f32 as f64, "{name}: lens plane");
+        assert_eq!(
+            cam.lens_plane_z() as f64,
+            lens_z as f32 as f64,
+            "{name}: lens plane"
+        );
         for film in film_points(&r, &mut rng) {
             let (col, row) = (film.x as f64, film.y as f64);
             // Reference: where the pinhole ray of this film point crosses z_camera = F.
@@ -233,7 +236,12 @@ fn zero_aperture_lens_is_the_pinhole() {
                 "{}: aperture 0, lens sample {u:?}",
                 setup.name
             );
-            assert_eq!(cam.coc_radius_pixels(3.7), 0.0, "{}: CoC of a pinhole", setup.name);
+            assert_eq!(
+                cam.coc_radius_pixels(3.7),
+                0.0,
+                "{}: CoC of a pinhole",
+                setup.name
+            );
         }
     }
 }

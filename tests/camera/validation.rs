@@ -345,3 +345,137 @@ fn build_rejects_bad_image_size() {
     }
     assert_eq!(MAX_IMAGE_SIDE, 16384, "the documented limit");
 }
+
+/// The camera is built in f32 from f64 parameters: values that pass the f64 checks but are
+/// degenerate once converted (a vfov whose f32 half angle passes pi/2, values that underflow to
+/// 0 or overflow to infinity, near and far that become equal) must be rejected too, not turned
+/// into a mirrored image or infinite matrices.
+#[test]
+fn build_rejects_values_degenerate_in_f32() {
+    for vfov_degrees in [179.999_999, 179.999_999_9, 1e-50] {
+        let params = CameraParams {
+            projection: ProjectionParams::Perspective { vfov_degrees },
+            ..perspective()
+        };
+        if let Ok(cam) = params.build() {
+            panic!(
+                "vfov {vfov_degrees} degrees accepted: screen half height {} (tan of the f32 \
+                 half angle), expected FieldOfView({vfov_degrees})",
+                cam.screen_window.half_height
+            );
+        }
+        rejects(
+            &format!("vfov {vfov_degrees} degrees"),
+            params,
+            |e| *e == CameraError::FieldOfView(vfov_degrees),
+            &format!("FieldOfView({vfov_degrees})"),
+        );
+    }
+    // The largest vfov still fine in f32 is accepted, with a positive, finite window.
+    let cam = CameraParams {
+        projection: ProjectionParams::Perspective {
+            vfov_degrees: 179.999_9,
+        },
+        ..perspective()
+    }
+    .build()
+    .expect("vfov 179.9999 degrees");
+    // tan(90 - 5e-5 degrees) = 1.146e6; its f32 value is off by up to ~20% because the half
+    // angle is within a few ulps of pi/2 (the ulp of 1.57 is 1.2e-7 rad, the distance 8.7e-7), so
+    // only its sign, finiteness and order of magnitude are the camera's to get right.
+    let hh = cam.screen_window.half_height as f64;
+    let expected = (0.5 * 179.999_9f64.to_radians()).tan();
+    assert!(
+        hh.is_finite() && hh > 0.5 * expected && hh < 2.0 * expected,
+        "vfov 179.9999: half height {hh}, expected about {expected}"
+    );
+
+    for near in [1e-50, 1e-46] {
+        rejects(
+            &format!("near {near} (0 in f32)"),
+            CameraParams {
+                near,
+                lens: thin_lens(0.1, 5.0),
+                ..perspective()
+            },
+            |e| *e == CameraError::NotPositive("near", near),
+            "NotPositive(\"near\", ..)",
+        );
+    }
+    rejects(
+        "far 1e39 (infinite in f32)",
+        CameraParams {
+            far: 1e39,
+            ..perspective()
+        },
+        |e| matches!(e, CameraError::NotFinite("far", _)),
+        "NotFinite(\"far\", ..)",
+    );
+    let (near, far) = (1.0, 1.0 + 1e-9);
+    rejects(
+        "near 1, far 1 + 1e-9 (equal in f32)",
+        CameraParams {
+            near,
+            far,
+            ..perspective()
+        },
+        |e| *e == CameraError::NearFar { near, far },
+        "NearFar",
+    );
+    rejects(
+        "orthographic height 1e-50 (0 in f32)",
+        CameraParams {
+            projection: ProjectionParams::Orthographic { height: 1e-50 },
+            ..orthographic()
+        },
+        |e| *e == CameraError::NotPositive("orthographic view height", 1e-50),
+        "NotPositive(\"orthographic view height\", 1e-50)",
+    );
+    rejects(
+        "orthographic height 1e39 (infinite in f32)",
+        CameraParams {
+            projection: ProjectionParams::Orthographic { height: 1e39 },
+            ..orthographic()
+        },
+        |e| matches!(e, CameraError::NotFinite("orthographic view height", _)),
+        "NotFinite(\"orthographic view height\", ..)",
+    );
+    rejects(
+        "aperture radius 1e39 (infinite in f32)",
+        CameraParams {
+            lens: thin_lens(1e39, 5.0),
+            ..perspective()
+        },
+        |e| matches!(e, CameraError::NotFinite("aperture radius", _)),
+        "NotFinite(\"aperture radius\", ..)",
+    );
+    rejects(
+        "focus distance 1e39 (infinite in f32)",
+        CameraParams {
+            lens: thin_lens(0.1, 1e39),
+            ..perspective()
+        },
+        |e| matches!(e, CameraError::NotFinite("focus distance", _)),
+        "NotFinite(\"focus distance\", ..)",
+    );
+    let focus = 1e-50;
+    rejects(
+        "perspective focus distance 1e-50 (0 in f32)",
+        CameraParams {
+            lens: thin_lens(0.1, focus),
+            ..perspective()
+        },
+        |e| *e == CameraError::FocusNotInFront { focus, min: 0.0 },
+        "FocusNotInFront { min: 0 }",
+    );
+    let focus = 1.0 + 1e-12;
+    rejects(
+        "orthographic focus distance near + 1e-12 (= near in f32)",
+        CameraParams {
+            lens: thin_lens(0.1, focus),
+            ..orthographic()
+        },
+        |e| *e == CameraError::FocusNotInFront { focus, min: 1.0 },
+        "FocusNotInFront { min: near = 1 }",
+    );
+}
