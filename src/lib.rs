@@ -2,6 +2,7 @@
 //! are checked against it.
 
 pub mod camera;
+pub mod gpu;
 pub mod render;
 pub mod sampler;
 pub mod scene;

@@ -1,0 +1,348 @@
+//! The thin-lens compute pass (shaders/trace.comp): camera samples traced with ray queries,
+//! split into dispatches of bounded size (bands of rows x ranges of samples), one submission
+//! each, accumulating sums in a float buffer; the host divides by spp at the end.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec3;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::{barrier, Buffer};
+use super::conv::{TraceParams, TracePush};
+use super::device::Context;
+use super::error::{vk_err, GpuError};
+use super::pipeline::Pipeline;
+use super::query::QueryPool;
+use super::scene::SceneBuffers;
+use super::shader;
+use crate::camera::Camera;
+use crate::render::{Image, RenderSettings};
+
+/// Workgroup size of trace.comp.
+const GROUP: u32 = 8;
+
+/// Pixel-samples per dispatch: ~0.05-0.3 s on lavapipe (2 cores), far less on a GPU.
+pub(crate) const DEFAULT_SAMPLES_PER_DISPATCH: u64 = 1 << 18;
+
+/// Timing of the GPU passes, from timestamp queries (milliseconds).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// GPU time of the acceleration-structure builds (BLAS + TLAS) of the loaded scene. lavapipe
+    /// builds on the CPU inside the submission, so see also `accel_build_wall_ms`.
+    pub accel_build_gpu_ms: f64,
+    /// Wall-clock time of the whole build (uploads, builds, compaction).
+    pub accel_build_wall_ms: f64,
+    /// GPU time of the very first dispatch of the trace pipeline (drivers may compile lazily),
+    /// excluded from `trace_gpu_ms`.
+    pub first_dispatch_ms: Option<f64>,
+    /// Rays traced by that first dispatch.
+    pub first_dispatch_rays: u64,
+    /// GPU time of every later dispatch of the trace pass, summed.
+    pub trace_gpu_ms: f64,
+    /// Rays (camera + shadow) traced by those dispatches.
+    pub rays_traced: u64,
+    /// Number of dispatches counted in `trace_gpu_ms`.
+    pub dispatches: u64,
+}
+
+impl Timings {
+    /// Rays per second of the trace pass, first dispatch excluded.
+    pub fn rays_per_second(&self) -> Option<f64> {
+        (self.trace_gpu_ms > 0.0).then(|| self.rays_traced as f64 / (self.trace_gpu_ms * 1e-3))
+    }
+}
+
+/// How one render is split: `samples_per` samples of `rows_per` rows per dispatch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Split {
+    pub samples_per: u32,
+    pub rows_per: u32,
+}
+
+impl Split {
+    pub fn new(width: u32, height: u32, spp: u32, budget: u64) -> Self {
+        let pixels = u64::from(width) * u64::from(height);
+        let samples_per = (budget / pixels.max(1)).clamp(1, u64::from(spp.max(1))) as u32;
+        let rows_per = if u64::from(samples_per) * pixels <= budget {
+            height
+        } else {
+            (budget / u64::from(width).max(1)).clamp(1, u64::from(height)) as u32
+        };
+        Self {
+            samples_per,
+            rows_per,
+        }
+    }
+}
+
+pub(crate) struct TracePass {
+    ctx: Arc<Context>,
+    pipeline: Pipeline,
+    params: Buffer,
+    counters: Buffer,
+    timestamps: QueryPool,
+    /// Accumulation and readback buffers of the current image size.
+    accum: Option<(Buffer, Buffer, u64)>,
+    first_dispatch_done: bool,
+    pub samples_per_dispatch: u64,
+}
+
+impl TracePass {
+    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let storage = (
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::ShaderStageFlags::COMPUTE,
+        );
+        let bindings = [
+            storage,
+            storage,
+            storage,
+            storage,
+            storage,
+            (
+                vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+                vk::ShaderStageFlags::COMPUTE,
+            ),
+            storage,
+            storage,
+            (
+                vk::DescriptorType::UNIFORM_BUFFER,
+                vk::ShaderStageFlags::COMPUTE,
+            ),
+        ];
+        let pipeline = Pipeline::compute(
+            ctx,
+            shader::TRACE_COMP,
+            &bindings,
+            std::mem::size_of::<TracePush>() as u32,
+        )?;
+        let params = Buffer::new(
+            ctx,
+            "trace params",
+            std::mem::size_of::<TraceParams>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let counters = Buffer::new(
+            ctx,
+            "trace ray counter",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        pipeline.bind_buffer(8, vk::DescriptorType::UNIFORM_BUFFER, &params);
+        pipeline.bind_buffer(7, vk::DescriptorType::STORAGE_BUFFER, &counters);
+        let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            params,
+            counters,
+            timestamps,
+            accum: None,
+            first_dispatch_done: false,
+            samples_per_dispatch: DEFAULT_SAMPLES_PER_DISPATCH,
+        })
+    }
+
+    pub fn bind_scene(&self, scene: &SceneBuffers) {
+        scene.bind(&self.pipeline, 0);
+        self.pipeline.bind_accel(5, scene.accel.tlas.handle);
+    }
+
+    pub fn render(
+        &mut self,
+        scene: &SceneBuffers,
+        camera: &Camera,
+        settings: &RenderSettings,
+        timings: &mut Timings,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<Image, GpuError> {
+        let (width, height) = (camera.width, camera.height);
+        let spp = settings.spp.max(1);
+        let pixels = u64::from(width) * u64::from(height);
+        let bytes = pixels * 16;
+        if self.accum.as_ref().is_none_or(|(_, _, b)| *b != bytes) {
+            self.accum = None;
+            let accum = Buffer::new(
+                &self.ctx,
+                "trace accumulation",
+                bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?;
+            let readback = Buffer::new(
+                &self.ctx,
+                "trace readback",
+                bytes,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?;
+            self.pipeline
+                .bind_buffer(6, vk::DescriptorType::STORAGE_BUFFER, &accum);
+            self.accum = Some((accum, readback, bytes));
+        }
+        self.params
+            .write(bytemuck::bytes_of(&TraceParams::new(camera, settings)))?;
+
+        let split = Split::new(width, height, spp, self.samples_per_dispatch);
+        let total = pixels * u64::from(spp);
+        let mut done = 0u64;
+        progress(0, total);
+        let mut sample_begin = 0;
+        let mut first_submission = true;
+        while sample_begin < spp {
+            let sample_end = (sample_begin + split.samples_per).min(spp);
+            let mut row = 0;
+            while row < height {
+                let rows = split.rows_per.min(height - row);
+                let push = TracePush {
+                    row_offset: row,
+                    row_count: rows,
+                    sample_begin,
+                    sample_end,
+                };
+                let last = sample_end == spp && row + rows == height;
+                self.dispatch(push, width, first_submission, last)?;
+                first_submission = false;
+                let ticks = self.timestamps.results()?;
+                let gpu_ms = if self.ctx.timestamps {
+                    ticks[1].saturating_sub(ticks[0]) as f64 * self.ctx.timestamp_period_ns * 1e-6
+                } else {
+                    0.0
+                };
+                let rays = u64::from(bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0]);
+                if self.first_dispatch_done {
+                    timings.trace_gpu_ms += gpu_ms;
+                    timings.rays_traced += rays;
+                    timings.dispatches += 1;
+                } else {
+                    timings.first_dispatch_ms = Some(gpu_ms);
+                    timings.first_dispatch_rays = rays;
+                    self.first_dispatch_done = true;
+                }
+                done += u64::from(rows) * u64::from(width) * u64::from(sample_end - sample_begin);
+                progress(done, total);
+                row += rows;
+            }
+            sample_begin = sample_end;
+        }
+
+        let (_, readback, _) = self.accum.as_ref().expect("created above");
+        let sums: &[[f32; 4]] = bytemuck::cast_slice(readback.read()?);
+        let inv = spp as f32;
+        Ok(Image {
+            width,
+            height,
+            pixels: sums[..pixels as usize]
+                .iter()
+                .map(|s| Vec3::new(s[0], s[1], s[2]) / inv)
+                .collect(),
+        })
+    }
+
+    /// One submission: optional clear of the sums, one dispatch between two timestamps,
+    /// optional copy of the sums to the readback buffer.
+    fn dispatch(
+        &self,
+        push: TracePush,
+        width: u32,
+        clear: bool,
+        read_back: bool,
+    ) -> Result<(), GpuError> {
+        let ctx = &self.ctx;
+        let (accum, readback, bytes) = self.accum.as_ref().expect("accumulation buffer");
+        ctx.submit_and_wait(|cmd| {
+            // Earlier submissions (previous dispatch, host reads) before anything here.
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_WRITE,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+            );
+            self.timestamps.reset(cmd);
+            // SAFETY: recording state; both buffers have TRANSFER_DST usage.
+            unsafe {
+                if clear {
+                    ctx.device.cmd_fill_buffer(cmd, accum.buffer, 0, *bytes, 0);
+                }
+                ctx.device
+                    .cmd_fill_buffer(cmd, self.counters.buffer, 0, vk::WHOLE_SIZE, 0);
+            }
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            );
+            self.timestamps
+                .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+            self.pipeline.bind(cmd, bytemuck::bytes_of(&push));
+            // SAFETY: compute pipeline and its complete descriptor set are bound.
+            unsafe {
+                ctx.device.cmd_dispatch(
+                    cmd,
+                    width.div_ceil(GROUP),
+                    push.row_count.div_ceil(GROUP),
+                    1,
+                )
+            };
+            self.timestamps
+                .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+            if read_back {
+                barrier(
+                    ctx,
+                    cmd,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_WRITE,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_READ,
+                );
+                let region = vk::BufferCopy::default().size(*bytes);
+                // SAFETY: both buffers hold `bytes` bytes with the transfer usages.
+                unsafe {
+                    ctx.device
+                        .cmd_copy_buffer(cmd, accum.buffer, readback.buffer, &[region])
+                };
+            }
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::HOST,
+                vk::AccessFlags::HOST_READ,
+            );
+            Ok(())
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Split;
+
+    #[test]
+    fn split_stays_within_budget() {
+        for &(w, h, spp, budget) in &[
+            (640u32, 480u32, 16u32, 1u64 << 18),
+            (64, 48, 4, 1 << 18),
+            (4000, 3000, 1, 1 << 18),
+            (1, 1, 1000, 1 << 18),
+            (100_000, 2, 3, 1000),
+        ] {
+            let s = Split::new(w, h, spp, budget);
+            assert!(s.samples_per >= 1 && s.samples_per <= spp);
+            assert!(s.rows_per >= 1 && s.rows_per <= h);
+            let per = u64::from(s.samples_per) * u64::from(s.rows_per) * u64::from(w);
+            assert!(per <= budget.max(u64::from(w)), "{w}x{h} spp {spp}: {s:?}");
+        }
+    }
+}
