@@ -67,7 +67,18 @@ if ! mesa_ok; then
   say "the GPU path needs another Vulkan device with VK_KHR_ray_query."
 fi
 
+# Rust: Debian's own rustc is too old for the dependencies (edition 2021, rust >= 1.85).
+if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
+  export PATH="$HOME/.cargo/bin:$PATH"
+fi
 if ! command -v cargo >/dev/null 2>&1; then
-  say "cargo not found: install Rust (https://rustup.rs) and run again"; exit 1
+  if command -v curl >/dev/null 2>&1 || { apt_update; $SUDO apt-get install -y -qq curl >/dev/null; }; then
+    say "installing Rust (stable) with rustup into $HOME/.cargo"
+    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal -c rustfmt,clippy >/dev/null
+    export PATH="$HOME/.cargo/bin:$PATH"
+  fi
+fi
+if ! command -v cargo >/dev/null 2>&1; then
+  say "cargo not found and rustup could not install it: install Rust >= 1.85 (https://rustup.rs)"; exit 1
 fi
 say "ok (mesa-vulkan-drivers $(mesa_version))"

@@ -3,7 +3,10 @@
 
 pub mod camera;
 pub mod gpu;
+pub mod output;
+pub mod reference;
 pub mod render;
+pub mod resolve;
 pub mod sampler;
 pub mod scene;
 pub mod settings;

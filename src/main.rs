@@ -1,1 +1,57 @@
-fn main() {}
+//! The `lensray` command.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use lensray::cli;
+
+#[derive(Parser)]
+#[command(
+    name = "lensray",
+    version,
+    about = "Thin-lens depth of field: CPU reference and Vulkan ray queries"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render an image headless (default: the built-in scene to lensray.png).
+    Render(cli::render::RenderArgs),
+    /// Measure rays per second of a renderer.
+    Bench(cli::bench::BenchArgs),
+    /// Write a generated scene (OBJ + MTL + scene file).
+    Generate(cli::generate::GenerateArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) if !error.use_stderr() => error.exit(), // --help, --version
+        Err(error) => {
+            // One line naming the problem (clap adds usage lines after it).
+            let text = error.render().to_string();
+            eprintln!("{}", text.lines().next().unwrap_or("error: bad command line"));
+            return ExitCode::from(2);
+        }
+    };
+    let result = match &cli.command {
+        None => {
+            // No subcommand at all: render the default scene with every default.
+            cli::render::run(&cli::render::RenderArgs::default())
+        }
+        Some(Command::Render(args)) => cli::render::run(args),
+        Some(Command::Bench(args)) => cli::bench::run(args),
+        Some(Command::Generate(args)) => cli::generate::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            // One line: the context chain joined, as "scene x.toml: camera: focus ...".
+            eprintln!("error: {error:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

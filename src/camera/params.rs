@@ -80,9 +80,9 @@ fn finite_vec(name: &'static str, v: Vec3) -> Result<(), CameraError> {
 }
 
 pub(crate) fn positive(name: &'static str, x: f64) -> Result<f64, CameraError> {
-    if !x.is_finite() {
+    if !x.is_finite() || !(x as f32).is_finite() {
         Err(CameraError::NotFinite(name, x.to_string()))
-    } else if x <= 0.0 {
+    } else if x <= 0.0 || !(x as f32).is_normal() {
         Err(CameraError::NotPositive(name, x))
     } else {
         Ok(x)
@@ -90,7 +90,7 @@ pub(crate) fn positive(name: &'static str, x: f64) -> Result<f64, CameraError> {
 }
 
 fn non_negative(name: &'static str, x: f64) -> Result<f64, CameraError> {
-    if !x.is_finite() {
+    if !x.is_finite() || !(x as f32).is_finite() {
         Err(CameraError::NotFinite(name, x.to_string()))
     } else if x < 0.0 {
         Err(CameraError::Negative(name, x))
@@ -101,6 +101,14 @@ fn non_negative(name: &'static str, x: f64) -> Result<f64, CameraError> {
 
 impl CameraParams {
     /// Validates every parameter and builds the camera; the error names the first bad one.
+    ///
+    /// The checks hold for the f32 values the camera is built from, not only for the f64
+    /// parameters: a value valid in f64 can overflow to infinity or underflow to 0 on conversion
+    /// (infinite or NaN matrices), two distinct values can become equal (far == near, or the
+    /// orthographic focus and near planes), and a vfov just under 180 degrees (179.999999) can
+    /// round to an f32 half angle past pi/2, whose tangent is negative: the screen window then
+    /// had a negative half height and the image came out mirrored. (Bug found by
+    /// `tests/camera.rs`, `validation::build_rejects_values_degenerate_in_f32`.)
     pub fn build(&self) -> Result<Camera, CameraError> {
         finite_vec("eye", self.eye)?;
         finite_vec("target", self.target)?;
@@ -117,7 +125,7 @@ impl CameraParams {
         }
         let near = positive("near", self.near)?;
         let far = positive("far", self.far)?;
-        if far <= near {
+        if far as f32 <= near as f32 {
             return Err(CameraError::NearFar { near, far });
         }
 
@@ -144,6 +152,7 @@ impl CameraParams {
                 positive("focal length (mm)", lens.focal_length_mm)?;
                 positive("f-number", lens.f_number)?;
                 positive("sensor height (mm)", lens.sensor_height_mm)?;
+                non_negative("aperture radius", lens.aperture_radius())?;
                 let focus_distance = self.check_focus(focus_distance, near)?;
                 let vfov =
                     lens.vfov(focus_distance)
@@ -173,7 +182,16 @@ impl CameraParams {
                         vfov_degrees.to_radians()
                     }
                 };
-                Projection::Perspective { vfov: vfov as f32 }
+                let projection = Projection::Perspective { vfov: vfov as f32 };
+                // In f32, tan of the half angle must be positive and finite (see above).
+                let half = projection.screen_half_height();
+                if !(half.is_normal() && half > 0.0) {
+                    return Err(CameraError::FieldOfView(match physical_vfov {
+                        Some(vfov) => vfov.to_degrees(),
+                        None => vfov_degrees,
+                    }));
+                }
+                projection
             }
             ProjectionParams::Orthographic { height } => Projection::Orthographic {
                 height: positive("orthographic view height", height)? as f32,
@@ -198,10 +216,10 @@ impl CameraParams {
             ProjectionParams::Orthographic { .. } => near,
             ProjectionParams::Perspective { .. } => 0.0,
         };
-        if !focus.is_finite() {
+        if !focus.is_finite() || !(focus as f32).is_finite() {
             return Err(CameraError::NotFinite("focus distance", focus.to_string()));
         }
-        if focus <= min {
+        if focus <= min || focus as f32 <= min as f32 {
             return Err(CameraError::FocusNotInFront { focus, min });
         }
         Ok(focus)

@@ -1,0 +1,148 @@
+//! Command-line options shared by `render` and `bench`, mapped onto [`Settings`].
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+use crate::render::Shading;
+use crate::settings::{
+    CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
+};
+
+/// Parses "x,y,z" into three finite-or-not numbers (validation names the option later).
+pub fn parse_triple(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected three comma-separated numbers like 1,2.5,-3, got '{s}'"));
+    }
+    let mut out = [0.0; 3];
+    for (o, p) in out.iter_mut().zip(&parts) {
+        *o = p
+            .parse::<f64>()
+            .map_err(|_| format!("'{p}' is not a number (in '{s}')"))?;
+    }
+    Ok(out)
+}
+
+/// Parses "x,y" pixel coordinates.
+pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    match parts.as_slice() {
+        [x, y] => Ok([
+            x.parse().map_err(|_| format!("'{x}' is not a pixel column"))?,
+            y.parse().map_err(|_| format!("'{y}' is not a pixel row"))?,
+        ]),
+        _ => Err(format!("expected a pixel as column,row like 320,240, got '{s}'")),
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DeviceChoice {
+    /// The GPU when a Vulkan device with ray queries exists, else the CPU.
+    Auto,
+    Cpu,
+    Gpu,
+}
+
+/// Camera, image and shading options; each overrides the scene file.
+#[derive(Args, Clone, Debug, Default)]
+pub struct ViewArgs {
+    /// Scene file (.toml) or a bare mesh (.obj); the built-in default scene when absent.
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    #[arg(long, value_enum)]
+    pub projection: Option<ProjectionKind>,
+    /// Camera position, world units.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub eye: Option<[f64; 3]>,
+    /// Point the camera looks at.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub target: Option<[f64; 3]>,
+    /// World up direction (default 0,1,0).
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub up: Option<[f64; 3]>,
+    /// Vertical field of view, degrees (perspective).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, conflicts_with = "ortho_height")]
+    pub vfov: Option<f64>,
+    /// View height in world units (orthographic).
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    pub ortho_height: Option<f64>,
+    /// Lens aperture radius, world units (0 = pinhole).
+    #[arg(long, value_name = "R", allow_hyphen_values = true, conflicts_with = "focal_length_mm")]
+    pub aperture_radius: Option<f64>,
+    /// Distance of the focal plane along the view axis, world units.
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
+    pub focus_distance: Option<f64>,
+    /// Focal length in mm (physical units; world units are metres).
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub focal_length_mm: Option<f64>,
+    /// f-number N: aperture radius = f / (2N).
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub f_number: Option<f64>,
+    /// Sensor height in mm (field of view from the thin-lens film distance).
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub sensor_height_mm: Option<f64>,
+    /// Near plane distance (default from the scene's extent).
+    #[arg(long, allow_hyphen_values = true)]
+    pub near: Option<f64>,
+    /// Far plane distance (default from the scene's extent).
+    #[arg(long, allow_hyphen_values = true)]
+    pub far: Option<f64>,
+    #[arg(long, value_name = "W")]
+    pub width: Option<u32>,
+    #[arg(long, value_name = "H")]
+    pub height: Option<u32>,
+    /// Samples per pixel.
+    #[arg(long, value_name = "N")]
+    pub spp: Option<u32>,
+    /// Seed of the deterministic sampler.
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u32>,
+    #[arg(long, value_enum)]
+    pub shading: Option<Shading>,
+    /// Background colour, linear RGB.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
+    pub background: Option<[f64; 3]>,
+    /// Point light position.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub light_position: Option<[f64; 3]>,
+    /// Point light intensity, W/sr per channel.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
+    pub light_intensity: Option<[f64; 3]>,
+}
+
+impl ViewArgs {
+    pub fn to_settings(&self) -> Settings {
+        Settings {
+            camera: CameraSettings {
+                projection: self.projection,
+                eye: self.eye,
+                target: self.target,
+                up: self.up,
+                vfov_degrees: self.vfov,
+                ortho_height: self.ortho_height,
+                aperture_radius: self.aperture_radius,
+                focus_distance: self.focus_distance,
+                focal_length_mm: self.focal_length_mm,
+                f_number: self.f_number,
+                sensor_height_mm: self.sensor_height_mm,
+                near: self.near,
+                far: self.far,
+            },
+            image: ImageSettings {
+                width: self.width,
+                height: self.height,
+                spp: self.spp,
+                seed: self.seed,
+            },
+            render: RenderStyle {
+                shading: self.shading,
+                background: self.background,
+            },
+            light: LightSettings {
+                position: self.light_position,
+                intensity: self.light_intensity,
+            },
+        }
+    }
+}

@@ -1,0 +1,5 @@
+//! The command line: one module per subcommand.
+
+pub mod args;
+pub mod bench;
+pub mod render;

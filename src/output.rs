@@ -1,0 +1,169 @@
+//! Writing images: PNG (8-bit, sRGB-encoded colour) or OpenEXR (linear 32-bit float), chosen by
+//! the file's extension. The file is written to a temporary file beside the target and renamed
+//! into place, so a failed or interrupted render never leaves a half-written image.
+
+use std::io::{BufWriter, Seek, Write};
+use std::path::{Path, PathBuf};
+
+use image::codecs::openexr::OpenExrEncoder;
+use image::codecs::png::PngEncoder;
+use image::{ExtendedColorType, ImageEncoder};
+use tempfile::NamedTempFile;
+use thiserror::Error;
+
+use crate::render::{Image, Shading};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Png,
+    Exr,
+}
+
+#[derive(Debug, Error)]
+pub enum OutputError {
+    #[error("output {path}: unknown extension (use .png or .exr)")]
+    UnknownExtension { path: PathBuf },
+    #[error("output {path}: cannot write there: {source}")]
+    Unwritable {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("output {path}: encoding failed: {message}")]
+    Encode { path: PathBuf, message: String },
+}
+
+/// An output file that is known to be writable, prepared before the render starts.
+pub struct PendingOutput {
+    path: PathBuf,
+    format: Format,
+    temp: NamedTempFile,
+}
+
+impl PendingOutput {
+    /// Checks the extension and creates the temporary file beside `path` (so a bad path fails
+    /// before any rendering).
+    pub fn create(path: &Path) -> Result<Self, OutputError> {
+        let format = format_of(path)?;
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        let unwritable = |source| OutputError::Unwritable {
+            path: path.to_owned(),
+            source,
+        };
+        if path.is_dir() {
+            return Err(unwritable(std::io::Error::other("it is a directory")));
+        }
+        let temp = tempfile::Builder::new()
+            .prefix(".lensray-")
+            .suffix(".tmp")
+            .tempfile_in(dir)
+            .map_err(unwritable)?;
+        Ok(Self {
+            path: path.to_owned(),
+            format,
+            temp,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Encodes the image into the temporary file and renames it over the target.
+    pub fn finish(mut self, image: &Image, shading: Shading) -> Result<(), OutputError> {
+        let encode_error = |message: String| OutputError::Encode {
+            path: self.path.clone(),
+            message,
+        };
+        let (w, h) = (image.width, image.height);
+        {
+            let mut writer = BufWriter::new(self.temp.as_file_mut());
+            match self.format {
+                Format::Png => {
+                    let bytes = to_display_bytes(image, shading);
+                    PngEncoder::new(&mut writer)
+                        .write_image(&bytes, w, h, ExtendedColorType::Rgb8)
+                        .map_err(|e| encode_error(e.to_string()))?;
+                }
+                Format::Exr => {
+                    let floats: Vec<f32> = image.pixels.iter().flat_map(|p| p.to_array()).collect();
+                    write_exr(&mut writer, &floats, w, h).map_err(encode_error)?;
+                }
+            }
+            writer.flush().map_err(|e| encode_error(e.to_string()))?;
+        }
+        let path = self.path.clone();
+        self.temp
+            .persist(&path)
+            .map_err(|e| OutputError::Unwritable {
+                path,
+                source: e.error,
+            })?;
+        Ok(())
+    }
+}
+
+fn write_exr<W: Write + Seek>(writer: W, floats: &[f32], w: u32, h: u32) -> Result<(), String> {
+    let bytes: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+    OpenExrEncoder::new(writer)
+        .write_image(&bytes, w, h, ExtendedColorType::Rgb32F)
+        .map_err(|e| e.to_string())
+}
+
+/// The format named by the extension of `path`.
+pub fn format_of(path: &Path) -> Result<Format, OutputError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("png") => Ok(Format::Png),
+        Some("exr") => Ok(Format::Exr),
+        _ => Err(OutputError::UnknownExtension {
+            path: path.to_owned(),
+        }),
+    }
+}
+
+/// 8-bit display values: colours sRGB-encoded; normals as 0.5 n + 0.5; depth scaled so the
+/// farthest visible point is white (EXR keeps the raw values).
+pub fn to_display_bytes(image: &Image, shading: Shading) -> Vec<u8> {
+    let max_depth =
+        image
+            .pixels
+            .iter()
+            .map(|p| p.x)
+            .fold(0.0f32, |a, b| if b.is_finite() { a.max(b) } else { a });
+    let encode = |c: f32| -> u8 {
+        let v = match shading {
+            Shading::Depth => {
+                if max_depth > 0.0 {
+                    c / max_depth
+                } else {
+                    0.0
+                }
+            }
+            Shading::Normal => 0.5 * c + 0.5,
+            Shading::Unlit | Shading::Lit | Shading::Albedo => linear_to_srgb(c),
+        };
+        (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+    };
+    image
+        .pixels
+        .iter()
+        .flat_map(|p| [encode(p.x), encode(p.y), encode(p.z)])
+        .collect()
+}
+
+/// The sRGB transfer function (IEC 61966-2-1).
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c.is_nan() || c <= 0.0 {
+        0.0
+    } else if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}

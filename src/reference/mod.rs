@@ -1,0 +1,20 @@
+//! The CPU reference renderer: the ground truth every GPU path is compared with.
+//!
+//! Shading definitions (the GPU compute pass implements the same, see `shaders/trace.comp`):
+//! - Primary rays: `Camera::generate_ray` from the shared sampler's `camera_sample`, t in (0, inf).
+//! - `unlit`: Kd of the first hit, background on a miss.
+//! - `lit`: Ke plus Kd / pi * I * cos / d^2 from the point light when a shadow ray from
+//!   `surface::shadow_origin` to the light, t in (0, d), is unoccluded; background on a miss.
+//! - AOVs (`depth`, `normal`, `albedo`) follow the aperture-centre ray of each film sample: they
+//!   describe the sharp scene behind each pixel, antialiased over the samples.
+//! Every mode averages its `spp` samples per pixel.
+
+mod accel;
+mod render;
+mod surface;
+mod triangle;
+
+pub use accel::{Accel, Hit};
+pub use render::{RenderStats, Renderer};
+pub use surface::{shadow_origin, SurfacePoint};
+pub use triangle::WatertightRay;

@@ -1,0 +1,64 @@
+//! What a hit means: position, normals facing the viewer, material. Shared by every shading mode.
+
+use glam::{Vec2, Vec3};
+
+use super::accel::Hit;
+use crate::camera::Ray;
+
+/// A hit point with the normals the shading definition uses.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfacePoint {
+    pub position: Vec3,
+    /// Geometric normal, flipped to face the incoming ray.
+    pub geometric_normal: Vec3,
+    /// Interpolated vertex normal (or the geometric one when the mesh has none), flipped to face
+    /// the incoming ray independently of the geometric normal.
+    pub shading_normal: Vec3,
+    pub material: u32,
+}
+
+/// Per-slot shading data, in the acceleration structure's leaf order.
+pub struct SurfaceData {
+    /// Vertex normals per slot; all zero when the mesh has none.
+    pub normals: Vec<[Vec3; 3]>,
+    pub materials: Vec<u32>,
+}
+
+impl SurfaceData {
+    pub fn surface_point(&self, ray: &Ray, hit: &Hit, vertices: [Vec3; 3]) -> SurfacePoint {
+        let position = ray.at(hit.t);
+        let mut geometric_normal = (vertices[1] - vertices[0])
+            .cross(vertices[2] - vertices[0])
+            .normalize();
+        let n = self.normals[hit.slot as usize];
+        let mut shading_normal = if n[0] == Vec3::ZERO {
+            geometric_normal
+        } else {
+            interpolate(n, hit.barycentric).normalize()
+        };
+        if geometric_normal.dot(ray.direction) > 0.0 {
+            geometric_normal = -geometric_normal;
+        }
+        if shading_normal.dot(ray.direction) > 0.0 {
+            shading_normal = -shading_normal;
+        }
+        SurfacePoint {
+            position,
+            geometric_normal,
+            shading_normal,
+            material: self.materials[hit.slot as usize],
+        }
+    }
+}
+
+/// (1 - b1 - b2) a + b1 b + b2 c.
+fn interpolate(v: [Vec3; 3], b: Vec2) -> Vec3 {
+    (1.0 - b.x - b.y) * v[0] + b.x * v[1] + b.y * v[2]
+}
+
+/// Where a shadow ray starts: off the surface along the facing geometric normal, by an amount
+/// that grows with the magnitude of the coordinates (float spacing grows with them).
+pub fn shadow_origin(p: &SurfacePoint) -> Vec3 {
+    let scale = 1e-4 * (1.0 + p.position.abs().max_element());
+    p.position + p.geometric_normal * scale
+}

@@ -1,0 +1,154 @@
+//! The `lensray` command as a user runs it: good renders, and one clear line for bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn lensray(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run lensray")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Small and quick: every render in these tests uses it.
+const SMALL: [&str; 6] = ["--width", "48", "--height", "32", "--spp", "2"];
+
+fn render_args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec!["render", "--device", "cpu"];
+    v.extend_from_slice(&SMALL);
+    v.extend_from_slice(extra);
+    v
+}
+
+/// Runs a render that must fail: non-zero exit, exactly one stderr line mentioning `needle`,
+/// no panic, and no output file left behind.
+fn assert_rejected(extra: &[&str], needle: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = extra.to_vec();
+    if !extra.contains(&"--out") {
+        args.extend(["--out", "out.png"]);
+    }
+    let out = lensray(&render_args(&args), dir.path());
+    let err = stderr(&out);
+    assert!(!out.status.success(), "{extra:?} was accepted; stderr: {err}");
+    assert!(!err.contains("panicked"), "{extra:?} panicked: {err}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{extra:?}: expected one line, got: {err}");
+    assert!(
+        err.to_lowercase().contains(&needle.to_lowercase()),
+        "{extra:?}: message does not name '{needle}': {err}"
+    );
+    let leftovers: Vec<PathBuf> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| !p.extension().is_some_and(|e| e == "obj" || e == "mtl" || e == "toml"))
+        .collect();
+    assert!(leftovers.is_empty(), "{extra:?} left files: {leftovers:?}");
+}
+
+#[test]
+fn default_scene_renders_png_and_exr() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["a.png", "b.exr"] {
+        let out = lensray(&render_args(&["--out", name]), dir.path());
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        let img = image::open(dir.path().join(name)).expect("readable image");
+        assert_eq!((img.width(), img.height()), (48, 32), "{name} size");
+        let summary = String::from_utf8_lossy(&out.stdout);
+        assert!(summary.contains("Mrays/s"), "summary line: {summary}");
+    }
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names.len(), 2, "only the two images remain: {names:?}");
+}
+
+#[test]
+fn bare_obj_is_framed_from_the_front() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("tri.obj"),
+        "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let out = lensray(
+        &render_args(&["--scene", "tri.obj", "--shading", "unlit", "--out", "t.png"]),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = image::open(dir.path().join("t.png")).unwrap().to_rgb8();
+    // The triangle is framed: the centre pixel shows it (default material 0.8 grey), a corner
+    // shows the background.
+    let centre = img.get_pixel(24, 16);
+    let corner = img.get_pixel(0, 0);
+    assert_ne!(centre, corner, "centre {centre:?} equals corner {corner:?}");
+}
+
+#[test]
+fn bad_numbers_are_rejected_with_one_line() {
+    assert_rejected(&["--vfov", "nan"], "field of view");
+    assert_rejected(&["--vfov", "0"], "field of view");
+    assert_rejected(&["--vfov", "180"], "field of view");
+    assert_rejected(&["--aperture-radius", "-0.1"], "aperture");
+    assert_rejected(&["--aperture-radius", "inf"], "aperture");
+    assert_rejected(&["--focus-distance", "-2"], "focus distance");
+    assert_rejected(&["--focus-distance", "0"], "focus distance");
+    assert_rejected(&["--projection", "orthographic", "--ortho-height", "0"], "height");
+    assert_rejected(&["--spp", "0"], "spp");
+    assert_rejected(&["--width", "0"], "0x32");
+    assert_rejected(&["--height", "20000"], "48x20000");
+    assert_rejected(&["--width", "abc"], "width");
+    assert_rejected(&["--eye", "1,2"], "three");
+    assert_rejected(&["--eye", "1,2,3", "--target", "1,2,3"], "eye and target");
+    assert_rejected(&["--eye", "0,0,5", "--target", "0,0,0", "--up", "0,0,1"], "parallel");
+    assert_rejected(&["--near", "-1"], "near");
+    assert_rejected(&["--near", "5", "--far", "1"], "far");
+    assert_rejected(&["--background", "nan,0,0"], "background");
+    assert_rejected(&["--light-intensity", "-1,1,1"], "light intensity");
+    assert_rejected(&["--focal-length-mm", "0", "--focus-distance", "2"], "focal length");
+    assert_rejected(&["--focal-length-mm", "50", "--f-number", "-2"], "f-number");
+    assert_rejected(&["--focal-length-mm", "50", "--focus-distance", "0.04"], "focal length");
+    assert_rejected(&["--f-number", "2"], "focal length");
+}
+
+#[test]
+fn bad_files_are_rejected_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path();
+    std::fs::write(p.join("bad.obj"), "v 1 2\nf 1 2 3\n").unwrap();
+    std::fs::write(p.join("empty.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
+    std::fs::write(p.join("nomtl.obj"), "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(p.join("bad.toml"), "mesh = \"bad.obj\"\n[camera\n").unwrap();
+    std::fs::write(p.join("unknown.toml"), "mesh = \"empty.obj\"\nzoom = 3\n").unwrap();
+    for (scene, needle) in [
+        ("missing.obj", "missing.obj"),
+        ("bad.obj", "bad.obj"),
+        ("empty.obj", "no triangles"),
+        ("nomtl.obj", "missing.mtl"),
+        ("bad.toml", "bad.toml"),
+        ("unknown.toml", "zoom"),
+        ("scene.txt", "scene.txt"),
+    ] {
+        let dir2 = tempfile::tempdir().unwrap();
+        let full = p.join(scene);
+        let out = lensray(
+            &render_args(&["--scene", full.to_str().unwrap(), "--out", "o.png"]),
+            dir2.path(),
+        );
+        let err = stderr(&out);
+        assert!(!out.status.success(), "{scene} accepted");
+        assert!(!err.contains("panicked"), "{scene}: {err}");
+        assert_eq!(err.lines().count(), 1, "{scene}: {err}");
+        assert!(err.contains(needle), "{scene}: '{err}' does not name '{needle}'");
+        assert!(!dir2.path().join("o.png").exists(), "{scene}: output written");
+    }
+}
+
+#[test]
+fn bad_outputs_are_rejected_before_rendering() {
+    assert_rejected(&["--out", "image.jpg"], "extension");
+    assert_rejected(&["--out", "/nonexistent-dir/x.png"], "cannot write");
+}
