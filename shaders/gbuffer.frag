@@ -10,8 +10,7 @@ layout(push_constant) uniform Push {
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in float in_view_depth;
 layout(location = 2) in vec3 in_world;
-layout(location = 3) flat in vec3 in_ng;
-layout(location = 4) flat in vec3 in_albedo;
+layout(location = 3) flat in vec3 in_albedo;
 
 layout(location = 0) out vec4 out_normal;  // w = 1: covered
 layout(location = 1) out vec4 out_albedo;
@@ -20,11 +19,7 @@ layout(location = 2) out float out_depth;
 void main() {
     // The viewing direction: along the axis (orthographic) or from the eye (perspective).
     vec3 d = pc.forward.w > 0.5 ? pc.forward.xyz : in_world - pc.eye.xyz;
-    vec3 ng = in_ng;
     vec3 ns = normalize(in_normal);
-    if (dot(ng, d) > 0.0) {
-        ng = -ng;
-    }
     if (dot(ns, d) > 0.0) {
         ns = -ns;
     }

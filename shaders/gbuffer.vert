@@ -13,8 +13,7 @@ layout(push_constant) uniform Push {
 layout(location = 0) out vec3 out_normal;       // vertex normal (or ng), interpolated
 layout(location = 1) out float out_view_depth;  // camera-space z, perspective-correct
 layout(location = 2) out vec3 out_world;
-layout(location = 3) flat out vec3 out_ng;
-layout(location = 4) flat out vec3 out_albedo;
+layout(location = 3) flat out vec3 out_albedo;
 
 void main() {
     uint tri = uint(gl_VertexIndex) / 3u;
@@ -23,7 +22,6 @@ void main() {
     vec3 p = positions[index].xyz;
     vec3 ng = triangle_geometric_normal(tri);
     out_normal = triangle_has_normals(tri) ? normals[index].xyz : ng;
-    out_ng = ng;
     out_albedo = materials[triangle_material(tri)].diffuse.xyz;
     out_view_depth = dot(p - pc.eye.xyz, pc.forward.xyz);
     out_world = p;
