@@ -1,7 +1,8 @@
 #version 460
 // Thin-lens compute pass: spp camera samples per pixel, each traced with a ray query against the
 // TLAS and shaded as specified for every renderer (src/render/settings.rs, the CPU reference).
-// One dispatch covers a band of rows and a range of samples; sums accumulate in `accum`.
+// One dispatch covers some rows and a range of samples; sums accumulate in `accum`, which holds a
+// band of rows of the image (bounded by the device's storage-buffer range).
 #extension GL_EXT_ray_query : require
 
 #include "camera.glsl"
@@ -30,6 +31,7 @@ layout(push_constant) uniform Push {
     uint row_count;
     uint sample_begin;
     uint sample_end;
+    uint band_origin;  // accum holds the rows band_origin.. of the image
 } pc;
 
 const uint SHADING_UNLIT = 0u;
@@ -99,14 +101,14 @@ void main() {
     if (x >= params.width || band_row >= pc.row_count || y >= params.height) {
         return;
     }
-    uint pixel = y * params.width + x;
-    vec3 sum = accum[pixel].xyz;
+    uint slot = (y - pc.band_origin) * params.width + x;
+    vec3 sum = accum[slot].xyz;
     uint rays = 0u;
     for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
         CameraSample cs = camera_sample(params.seed, uvec2(x, y), params.width, s);
         Ray ray = generate_ray(params.cam, cs.film, cs.lens);
         sum += shade(ray, rays);
     }
-    accum[pixel] = vec4(sum, 0.0);
+    accum[slot] = vec4(sum, 0.0);
     atomicAdd(rays_traced, rays);
 }

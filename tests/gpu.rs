@@ -100,7 +100,12 @@ fn sampler_and_camera_mirrors_match_rust() {
                 sample_1d(key, q.dim).to_bits(),
                 "sample_1d for {q:?}"
             );
-            let cs = camera_sample(q.seed, UVec2::new(q.pixel_x, q.pixel_y), q.width, q.sample_index);
+            let cs = camera_sample(
+                q.seed,
+                UVec2::new(q.pixel_x, q.pixel_y),
+                q.width,
+                q.sample_index,
+            );
             let gpu_cs = r.camera_sample;
             assert_eq!(
                 [cs.film.x, cs.film.y, cs.lens.x, cs.lens.y].map(f32::to_bits),
@@ -140,7 +145,11 @@ fn interior(width: u32, height: u32, id: &[i64]) -> Vec<bool> {
             (-1..=1).all(|dy| {
                 (-1..=1).all(|dx| {
                     let (nx, ny) = (x + dx, y + dy);
-                    nx < 0 || ny < 0 || nx >= w || ny >= h || id[(ny * w + nx) as usize] == id[i as usize]
+                    nx < 0
+                        || ny < 0
+                        || nx >= w
+                        || ny >= h
+                        || id[(ny * w + nx) as usize] == id[i as usize]
                 })
             })
         })
@@ -331,16 +340,25 @@ fn split_dispatches_accumulate_identically() {
     );
     let s = settings(Shading::Lit, 6);
     let whole = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
-    // Bands of rows and one sample at a time: 64 * 48 * 6 / 1000 -> dozens of submissions.
+    // Bands of rows and one sample at a time: 64 * 48 * 6 / 1000 -> dozens of submissions,
+    // and sums held for 20 rows at a time (3 bands, the last one shorter).
     gpu.set_samples_per_dispatch(1000);
+    gpu.set_max_band_pixels(64 * 20);
     let mut calls = Vec::new();
     let split = gpu
         .render(&cam, &s, &mut |done, total| calls.push((done, total)))
         .expect("render");
-    assert!(calls.len() > 20, "expected many submissions, got {}", calls.len());
+    assert!(
+        calls.len() > 20,
+        "expected many submissions, got {}",
+        calls.len()
+    );
     assert!(calls.windows(2).all(|w| w[0].0 <= w[1].0));
     assert_eq!(calls.last().copied(), Some((64 * 48 * 6, 64 * 48 * 6)));
-    assert_eq!(whole, split, "the split must add the same samples in the same order");
+    assert_eq!(
+        whole, split,
+        "the split must add the same samples in the same order"
+    );
     let t = gpu.timings();
     assert!(t.rays_traced > 0 && t.dispatches > 20, "{t:?}");
     finish(gpu, log);

@@ -2,4 +2,5 @@
 
 pub mod args;
 pub mod bench;
+pub mod info;
 pub mod render;

@@ -187,11 +187,11 @@ pub(crate) fn build(
     )?;
     let scratch_base = align_up(scratch.address, align);
     for ((info, blas), offset) in infos.iter_mut().zip(&blases).zip(&scratch_offsets) {
-        *info = info
-            .dst_acceleration_structure(blas.handle)
-            .scratch_data(vk::DeviceOrHostAddressKHR {
-                device_address: scratch_base + offset,
-            });
+        *info =
+            info.dst_acceleration_structure(blas.handle)
+                .scratch_data(vk::DeviceOrHostAddressKHR {
+                    device_address: scratch_base + offset,
+                });
     }
     let ranges: Vec<[vk::AccelerationStructureBuildRangeInfoKHR; 1]> = meshes
         .iter()

@@ -85,7 +85,14 @@ pub fn bench(
         8,
         8,
     );
-    renderer.render(&tiny, &RenderSettings { spp: 1, ..*settings }, &mut |_, _| {})?;
+    renderer.render(
+        &tiny,
+        &RenderSettings {
+            spp: 1,
+            ..*settings
+        },
+        &mut |_, _| {},
+    )?;
     let before = renderer.timings();
     let start = Instant::now();
     for _ in 0..options.repeats.max(1) {

@@ -33,8 +33,8 @@ impl Buffer {
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid create-info on a live device.
-        let buffer = unsafe { ctx.device.create_buffer(&info, None) }
-            .map_err(vk_err("vkCreateBuffer"))?;
+        let buffer =
+            unsafe { ctx.device.create_buffer(&info, None) }.map_err(vk_err("vkCreateBuffer"))?;
         let mut this = Self {
             ctx: ctx.clone(),
             buffer,
@@ -121,7 +121,9 @@ impl Buffer {
             .allocation
             .as_mut()
             .and_then(|a| a.mapped_slice_mut())
-            .ok_or_else(|| GpuError::Invalid("write to a buffer that is not host-visible".into()))?;
+            .ok_or_else(|| {
+                GpuError::Invalid("write to a buffer that is not host-visible".into())
+            })?;
         slice[..data.len()].copy_from_slice(data);
         Ok(())
     }

@@ -2,7 +2,7 @@
 //! structure builds read, and the camera / settings in the shaders' std140 layouts.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 
 use crate::camera::{Camera, Projection};
 use crate::render::{RenderSettings, Shading};
@@ -97,8 +97,7 @@ impl FlatScene {
                 flat.normals
                     .extend(std::iter::repeat_n([0.0; 4], mesh.positions.len()));
             }
-            for (t, (tri, &material)) in mesh.triangles.iter().zip(&mesh.material_ids).enumerate()
-            {
+            for (t, (tri, &material)) in mesh.triangles.iter().zip(&mesh.material_ids).enumerate() {
                 if tri.iter().any(|&i| i as usize >= mesh.positions.len()) {
                     return Err(GpuError::Invalid(format!(
                         "mesh {m} ({}) triangle {t} has a vertex index out of range",
@@ -200,6 +199,9 @@ pub(crate) struct TracePush {
     pub row_count: u32,
     pub sample_begin: u32,
     pub sample_end: u32,
+    /// First row of the band whose sums the accumulation buffer holds.
+    pub band_origin: u32,
+    pub pad: [u32; 3],
 }
 
 /// Push constants of the G-buffer pass (112 bytes).
@@ -222,10 +224,6 @@ impl RasterPush {
             forward: camera.frame.forward.extend(ortho).to_array(),
         }
     }
-}
-
-pub(crate) fn vec3_from(v: [f32; 4]) -> Vec3 {
-    Vec3::new(v[0], v[1], v[2])
 }
 
 #[cfg(test)]

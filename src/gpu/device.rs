@@ -121,8 +121,14 @@ pub(crate) fn report(
         unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
         driver = format!(
             "{}: {}",
-            driver_props.driver_name_as_c_str().unwrap_or_default().to_string_lossy(),
-            driver_props.driver_info_as_c_str().unwrap_or_default().to_string_lossy()
+            driver_props
+                .driver_name_as_c_str()
+                .unwrap_or_default()
+                .to_string_lossy(),
+            driver_props
+                .driver_info_as_c_str()
+                .unwrap_or_default()
+                .to_string_lossy()
         );
 
         let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
@@ -265,12 +271,11 @@ fn device_type(r: &DeviceReport) -> vk::PhysicalDeviceType {
 /// The logical device and what is created once with it. Destroyed last (everything else holds
 /// an `Arc<Context>`), after its allocator and command pool.
 pub(crate) struct Context {
-    pub instance: Arc<Instance>,
-    pub physical: vk::PhysicalDevice,
+    /// Kept alive until the device is destroyed.
+    _instance: Arc<Instance>,
     pub device: ash::Device,
     pub accel: khr::acceleration_structure::Device,
     pub queue: vk::Queue,
-    pub queue_family: u32,
     pub command_pool: vk::CommandPool,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     pub report: DeviceReport,
@@ -292,8 +297,8 @@ impl Context {
             .queue_priorities(&priorities)];
         let extensions: Vec<_> = DEVICE_EXTENSIONS.iter().map(|e| e.as_ptr()).collect();
         let mut f12 = vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
-        let mut f_as =
-            vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default().acceleration_structure(true);
+        let mut f_as = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
+            .acceleration_structure(true);
         let mut f_rq = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
         let mut features = vk::PhysicalDeviceFeatures2::default()
             .push_next(&mut f12)
@@ -356,12 +361,10 @@ impl Context {
         Ok(Self {
             timestamp_period_ns: f64::from(report.timestamp_period_ns),
             timestamps: report.timestamps,
-            instance,
-            physical,
+            _instance: instance,
             device,
             accel,
             queue,
-            queue_family,
             command_pool,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             report,
@@ -424,8 +427,11 @@ struct Fence<'a>(vk::Fence, &'a Context);
 impl<'a> Fence<'a> {
     fn new(ctx: &'a Context) -> Result<Self, GpuError> {
         // SAFETY: valid device, default create-info.
-        let f = unsafe { ctx.device.create_fence(&vk::FenceCreateInfo::default(), None) }
-            .map_err(vk_err("vkCreateFence"))?;
+        let f = unsafe {
+            ctx.device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        }
+        .map_err(vk_err("vkCreateFence"))?;
         Ok(Self(f, ctx))
     }
 }

@@ -32,7 +32,9 @@ pub enum GpuError {
         names: String,
     },
     /// The validation layer was asked for but is not installed.
-    #[error("validation requested but {0} is not available (install the Vulkan validation layers)")]
+    #[error(
+        "validation requested but {0} is not available (install the Vulkan validation layers)"
+    )]
     MissingLayer(String),
     /// A call that needs a scene came before `load_scene`.
     #[error("no scene loaded: call GpuRenderer::load_scene first")]
@@ -55,7 +57,9 @@ pub(crate) fn pipeline_err(
 }
 
 /// Maps an allocation failure of gpu-allocator for the resource `what`.
-pub(crate) fn alloc_err(what: &str) -> impl FnOnce(gpu_allocator::AllocationError) -> GpuError + '_ {
+pub(crate) fn alloc_err(
+    what: &str,
+) -> impl FnOnce(gpu_allocator::AllocationError) -> GpuError + '_ {
     move |source| GpuError::Allocation {
         what: what.to_string(),
         source,

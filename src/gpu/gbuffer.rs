@@ -158,6 +158,8 @@ pub(crate) struct GBufferTargets {
     pub normal: Image,
     pub albedo: Image,
     pub view_depth: Image,
+    /// The depth buffer (D32), kept for later passes.
+    #[allow(dead_code)]
     pub depth: Image,
     pub width: u32,
     pub height: u32,

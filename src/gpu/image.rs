@@ -14,9 +14,14 @@ pub(crate) struct Image {
     pub image: vk::Image,
     pub view: vk::ImageView,
     allocation: Option<Allocation>,
+    /// Described for later passes that sample or copy the image.
+    #[allow(dead_code)]
     pub format: vk::Format,
+    #[allow(dead_code)]
     pub width: u32,
+    #[allow(dead_code)]
     pub height: u32,
+    #[allow(dead_code)]
     pub aspect: vk::ImageAspectFlags,
 }
 
@@ -46,8 +51,8 @@ impl Image {
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid create-info on a live device.
-        let image = unsafe { ctx.device.create_image(&info, None) }
-            .map_err(vk_err("vkCreateImage"))?;
+        let image =
+            unsafe { ctx.device.create_image(&info, None) }.map_err(vk_err("vkCreateImage"))?;
         let mut this = Self {
             ctx: ctx.clone(),
             image,

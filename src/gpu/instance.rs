@@ -2,6 +2,7 @@
 //! synchronization validation and a debug-utils messenger that records warnings and errors.
 
 use std::ffi::{c_void, CStr};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use ash::{ext, vk};
@@ -14,15 +15,25 @@ pub(crate) const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 /// Cloning shares the log: keep a clone to check messages after the renderer is dropped (the
 /// layer reports leaked objects when the device and instance are destroyed).
 #[derive(Clone, Debug, Default)]
-pub struct ValidationLog(Arc<Mutex<Vec<String>>>);
+pub struct ValidationLog {
+    messages: Arc<Mutex<Vec<String>>>,
+    instance_destroyed: Arc<AtomicBool>,
+}
 
 impl ValidationLog {
     pub fn messages(&self) -> Vec<String> {
-        self.0.lock().map(|m| m.clone()).unwrap_or_default()
+        self.messages.lock().map(|m| m.clone()).unwrap_or_default()
+    }
+
+    /// True once the instance was destroyed, i.e. every object of the renderer was dropped
+    /// (each holds an `Arc` to the device, which holds the instance). A leaked Rust value would
+    /// keep the device alive, hiding its objects from the layer's leak report: tests check this.
+    pub fn instance_destroyed(&self) -> bool {
+        self.instance_destroyed.load(Ordering::SeqCst)
     }
 
     fn push(&self, message: String) {
-        if let Ok(mut m) = self.0.lock() {
+        if let Ok(mut m) = self.messages.lock() {
             m.push(message);
         }
     }
@@ -30,13 +41,13 @@ impl ValidationLog {
 
 /// Owns the instance and the messenger; destroys them in order on drop.
 pub(crate) struct Instance {
-    pub entry: ash::Entry,
+    /// The loaded Vulkan library: dropped (unloaded) after the instance is destroyed.
+    _entry: ash::Entry,
     pub instance: ash::Instance,
     debug: Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     /// The messenger callbacks receive a pointer to this box: it must outlive the instance.
     _log_box: Box<ValidationLog>,
     pub log: ValidationLog,
-    pub validation: bool,
 }
 
 unsafe extern "system" fn debug_callback(
@@ -125,7 +136,8 @@ impl Instance {
             .engine_name(c"lensray")
             .api_version(vk::API_VERSION_1_2);
         let enabled_features = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
-        let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled_features);
+        let mut features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled_features);
         // Chained into the instance create-info: covers vkCreateInstance / vkDestroyInstance.
         let mut chained_messenger = messenger_info(&log_box);
         let mut info = vk::InstanceCreateInfo::default()
@@ -140,8 +152,8 @@ impl Instance {
         }
         // SAFETY: every pointer in `info` refers to locals that live until the call returns;
         // the messenger's user data is the boxed log kept in the returned value.
-        let instance = unsafe { entry.create_instance(&info, None) }
-            .map_err(vk_err("vkCreateInstance"))?;
+        let instance =
+            unsafe { entry.create_instance(&info, None) }.map_err(vk_err("vkCreateInstance"))?;
 
         let debug = if validation {
             let loader = ext::debug_utils::Instance::new(&entry, &instance);
@@ -159,12 +171,11 @@ impl Instance {
             None
         };
         Ok(Self {
-            entry,
+            _entry: entry,
             instance,
             debug,
             _log_box: log_box,
             log,
-            validation,
         })
     }
 }
@@ -179,5 +190,6 @@ impl Drop for Instance {
             }
             self.instance.destroy_instance(None);
         }
+        self.log.instance_destroyed.store(true, Ordering::SeqCst);
     }
 }

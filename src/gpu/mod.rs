@@ -114,6 +114,8 @@ impl GpuRenderer {
         self.trace.bind_scene(&buffers);
         self.timings.accel_build_gpu_ms = buffers.accel.build_gpu_ns * 1e-6;
         self.timings.accel_build_wall_ms = buffers.accel.build_wall_ns * 1e-6;
+        self.timings.blas_bytes = buffers.accel.blas_bytes;
+        self.timings.blas_compacted_bytes = buffers.accel.blas_compacted_bytes;
         self.scene = Some(buffers);
         Ok(())
     }
@@ -144,10 +146,18 @@ impl GpuRenderer {
             return Err(GpuError::Invalid("spp must be at least 1".into()));
         }
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        if camera.width > self.ctx.report.max_image_dimension_2d
+            || camera.height > self.ctx.report.max_image_dimension_2d
+        {
+            return Err(GpuError::Invalid(format!(
+                "image {}x{} exceeds the device's maximum image dimension {}",
+                camera.width, camera.height, self.ctx.report.max_image_dimension_2d
+            )));
+        }
         match settings.shading {
             Shading::Unlit | Shading::Lit => {
                 self.trace
-                    .render(scene, camera, settings, &mut self.timings, progress)
+                    .render(camera, settings, &mut self.timings, progress)
             }
             aov => {
                 progress(0, 1);
@@ -199,6 +209,12 @@ impl GpuRenderer {
     #[doc(hidden)]
     pub fn set_samples_per_dispatch(&mut self, samples: u64) {
         self.trace.samples_per_dispatch = samples.max(1);
+    }
+
+    /// Most pixels whose sums the compute pass holds at once (tests use it to force bands).
+    #[doc(hidden)]
+    pub fn set_max_band_pixels(&mut self, pixels: u64) {
+        self.trace.max_band_pixels = pixels.max(1);
     }
 }
 

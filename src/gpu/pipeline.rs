@@ -225,8 +225,8 @@ impl Pipeline {
 
     pub fn bind_accel(&self, binding: u32, accel: vk::AccelerationStructureKHR) {
         let handles = [accel];
-        let mut accel_info =
-            vk::WriteDescriptorSetAccelerationStructureKHR::default().acceleration_structures(&handles);
+        let mut accel_info = vk::WriteDescriptorSetAccelerationStructureKHR::default()
+            .acceleration_structures(&handles);
         let mut write = vk::WriteDescriptorSet::default()
             .dst_set(self.set)
             .dst_binding(binding)

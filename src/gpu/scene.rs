@@ -26,6 +26,19 @@ pub(crate) struct SceneBuffers {
 impl SceneBuffers {
     pub fn new(ctx: &Arc<Context>, scene: &Scene) -> Result<Self, GpuError> {
         let flat = FlatScene::new(scene)?;
+        let limit = u64::from(ctx.report.max_storage_buffer_range);
+        for (what, bytes) in [
+            ("vertex", std::mem::size_of_val(flat.positions.as_slice())),
+            ("index", std::mem::size_of_val(flat.indices.as_slice())),
+            ("material", std::mem::size_of_val(flat.materials.as_slice())),
+        ] {
+            if bytes as u64 > limit {
+                return Err(GpuError::Invalid(format!(
+                    "the scene's {what} array needs {bytes} bytes, more than the device's \
+                     maximum storage buffer range ({limit} bytes)"
+                )));
+            }
+        }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let build_input = storage
             | vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR

@@ -11,7 +11,7 @@ use gpu_allocator::MemoryLocation;
 use super::buffer::{barrier, Buffer};
 use super::conv::{TraceParams, TracePush};
 use super::device::Context;
-use super::error::{vk_err, GpuError};
+use super::error::GpuError;
 use super::pipeline::Pipeline;
 use super::query::QueryPool;
 use super::scene::SceneBuffers;
@@ -24,6 +24,9 @@ const GROUP: u32 = 8;
 
 /// Pixel-samples per dispatch: ~0.05-0.3 s on lavapipe (2 cores), far less on a GPU.
 pub(crate) const DEFAULT_SAMPLES_PER_DISPATCH: u64 = 1 << 18;
+
+/// Most pixels whose sums are held at once (64 MiB); larger images go in bands of rows.
+const MAX_BAND_PIXELS: u64 = 1 << 22;
 
 /// Timing of the GPU passes, from timestamp queries (milliseconds).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -44,6 +47,9 @@ pub struct Timings {
     pub rays_traced: u64,
     /// Number of dispatches counted in `trace_gpu_ms`.
     pub dispatches: u64,
+    /// Bytes of the loaded scene's BLASes before and after compaction.
+    pub blas_bytes: u64,
+    pub blas_compacted_bytes: u64,
 }
 
 impl Timings {
@@ -83,9 +89,10 @@ pub(crate) struct TracePass {
     counters: Buffer,
     timestamps: QueryPool,
     /// Accumulation and readback buffers of the current image size.
-    accum: Option<(Buffer, Buffer, u64)>,
+    accum: Option<Accumulation>,
     first_dispatch_done: bool,
     pub samples_per_dispatch: u64,
+    pub max_band_pixels: u64,
 }
 
 impl TracePass {
@@ -143,6 +150,7 @@ impl TracePass {
             accum: None,
             first_dispatch_done: false,
             samples_per_dispatch: DEFAULT_SAMPLES_PER_DISPATCH,
+            max_band_pixels: MAX_BAND_PIXELS,
         })
     }
 
@@ -151,9 +159,9 @@ impl TracePass {
         self.pipeline.bind_accel(5, scene.accel.tlas.handle);
     }
 
+    /// Renders with the scene last bound by `bind_scene`.
     pub fn render(
         &mut self,
-        scene: &SceneBuffers,
         camera: &Camera,
         settings: &RenderSettings,
         timings: &mut Timings,
@@ -162,13 +170,24 @@ impl TracePass {
         let (width, height) = (camera.width, camera.height);
         let spp = settings.spp.max(1);
         let pixels = u64::from(width) * u64::from(height);
-        let bytes = pixels * 16;
-        if self.accum.as_ref().is_none_or(|(_, _, b)| *b != bytes) {
+        // The sums live in a storage buffer covering a band of rows, bounded by the device's
+        // storage-buffer range (128 MiB on lavapipe); bands are copied into the readback buffer.
+        let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
+            .min(self.max_band_pixels)
+            .max(u64::from(width));
+        let band_rows = (max_band_pixels / u64::from(width)).clamp(1, u64::from(height)) as u32;
+        let accum_bytes = u64::from(band_rows) * u64::from(width) * 16;
+        let readback_bytes = pixels * 16;
+        if self
+            .accum
+            .as_ref()
+            .is_none_or(|a| a.accum_bytes != accum_bytes || a.readback_bytes != readback_bytes)
+        {
             self.accum = None;
             let accum = Buffer::new(
                 &self.ctx,
                 "trace accumulation",
-                bytes,
+                accum_bytes,
                 vk::BufferUsageFlags::STORAGE_BUFFER
                     | vk::BufferUsageFlags::TRANSFER_SRC
                     | vk::BufferUsageFlags::TRANSFER_DST,
@@ -177,84 +196,104 @@ impl TracePass {
             let readback = Buffer::new(
                 &self.ctx,
                 "trace readback",
-                bytes,
+                readback_bytes,
                 vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuToCpu,
             )?;
             self.pipeline
                 .bind_buffer(6, vk::DescriptorType::STORAGE_BUFFER, &accum);
-            self.accum = Some((accum, readback, bytes));
+            self.accum = Some(Accumulation {
+                accum,
+                readback,
+                accum_bytes,
+                readback_bytes,
+            });
         }
         self.params
             .write(bytemuck::bytes_of(&TraceParams::new(camera, settings)))?;
 
-        let split = Split::new(width, height, spp, self.samples_per_dispatch);
         let total = pixels * u64::from(spp);
         let mut done = 0u64;
         progress(0, total);
-        let mut sample_begin = 0;
-        let mut first_submission = true;
-        while sample_begin < spp {
-            let sample_end = (sample_begin + split.samples_per).min(spp);
-            let mut row = 0;
-            while row < height {
-                let rows = split.rows_per.min(height - row);
-                let push = TracePush {
-                    row_offset: row,
-                    row_count: rows,
-                    sample_begin,
-                    sample_end,
-                };
-                let last = sample_end == spp && row + rows == height;
-                self.dispatch(push, width, first_submission, last)?;
-                first_submission = false;
-                let ticks = self.timestamps.results()?;
-                let gpu_ms = if self.ctx.timestamps {
-                    ticks[1].saturating_sub(ticks[0]) as f64 * self.ctx.timestamp_period_ns * 1e-6
-                } else {
-                    0.0
-                };
-                let rays = u64::from(bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0]);
-                if self.first_dispatch_done {
-                    timings.trace_gpu_ms += gpu_ms;
-                    timings.rays_traced += rays;
-                    timings.dispatches += 1;
-                } else {
-                    timings.first_dispatch_ms = Some(gpu_ms);
-                    timings.first_dispatch_rays = rays;
-                    self.first_dispatch_done = true;
+        let mut band_origin = 0;
+        while band_origin < height {
+            let band_height = band_rows.min(height - band_origin);
+            let split = Split::new(width, band_height, spp, self.samples_per_dispatch);
+            let mut sample_begin = 0;
+            let mut first_of_band = true;
+            while sample_begin < spp {
+                let sample_end = (sample_begin + split.samples_per).min(spp);
+                let mut row = 0;
+                while row < band_height {
+                    let rows = split.rows_per.min(band_height - row);
+                    let push = TracePush {
+                        row_offset: band_origin + row,
+                        row_count: rows,
+                        sample_begin,
+                        sample_end,
+                        band_origin,
+                        pad: [0; 3],
+                    };
+                    let copy_out = (sample_end == spp && row + rows == band_height)
+                        .then_some(u64::from(band_height) * u64::from(width) * 16);
+                    self.dispatch(push, width, first_of_band, copy_out)?;
+                    first_of_band = false;
+                    self.record_timing(timings)?;
+                    done +=
+                        u64::from(rows) * u64::from(width) * u64::from(sample_end - sample_begin);
+                    progress(done, total);
+                    row += rows;
                 }
-                done += u64::from(rows) * u64::from(width) * u64::from(sample_end - sample_begin);
-                progress(done, total);
-                row += rows;
+                sample_begin = sample_end;
             }
-            sample_begin = sample_end;
+            band_origin += band_height;
         }
 
-        let (_, readback, _) = self.accum.as_ref().expect("created above");
+        let readback = &self.accum.as_ref().expect("created above").readback;
         let sums: &[[f32; 4]] = bytemuck::cast_slice(readback.read()?);
-        let inv = spp as f32;
+        let spp_f = spp as f32;
         Ok(Image {
             width,
             height,
             pixels: sums[..pixels as usize]
                 .iter()
-                .map(|s| Vec3::new(s[0], s[1], s[2]) / inv)
+                .map(|s| Vec3::new(s[0], s[1], s[2]) / spp_f)
                 .collect(),
         })
     }
 
-    /// One submission: optional clear of the sums, one dispatch between two timestamps,
-    /// optional copy of the sums to the readback buffer.
+    /// Adds the last dispatch's GPU time and ray count (the pipeline's first dispatch apart).
+    fn record_timing(&mut self, timings: &mut Timings) -> Result<(), GpuError> {
+        let ticks = self.timestamps.results()?;
+        let gpu_ms = if self.ctx.timestamps {
+            ticks[1].saturating_sub(ticks[0]) as f64 * self.ctx.timestamp_period_ns * 1e-6
+        } else {
+            0.0
+        };
+        let rays = u64::from(bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0]);
+        if self.first_dispatch_done {
+            timings.trace_gpu_ms += gpu_ms;
+            timings.rays_traced += rays;
+            timings.dispatches += 1;
+        } else {
+            timings.first_dispatch_ms = Some(gpu_ms);
+            timings.first_dispatch_rays = rays;
+            self.first_dispatch_done = true;
+        }
+        Ok(())
+    }
+
+    /// One submission: optional clear of the band's sums, one dispatch between two timestamps,
+    /// optional copy of `copy_out` bytes of sums into the readback buffer at the band's rows.
     fn dispatch(
         &self,
         push: TracePush,
         width: u32,
         clear: bool,
-        read_back: bool,
+        copy_out: Option<u64>,
     ) -> Result<(), GpuError> {
         let ctx = &self.ctx;
-        let (accum, readback, bytes) = self.accum.as_ref().expect("accumulation buffer");
+        let a = self.accum.as_ref().expect("accumulation buffer");
         ctx.submit_and_wait(|cmd| {
             // Earlier submissions (previous dispatch, host reads) before anything here.
             barrier(
@@ -269,7 +308,8 @@ impl TracePass {
             // SAFETY: recording state; both buffers have TRANSFER_DST usage.
             unsafe {
                 if clear {
-                    ctx.device.cmd_fill_buffer(cmd, accum.buffer, 0, *bytes, 0);
+                    ctx.device
+                        .cmd_fill_buffer(cmd, a.accum.buffer, 0, a.accum_bytes, 0);
                 }
                 ctx.device
                     .cmd_fill_buffer(cmd, self.counters.buffer, 0, vk::WHOLE_SIZE, 0);
@@ -296,7 +336,7 @@ impl TracePass {
             };
             self.timestamps
                 .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
-            if read_back {
+            if let Some(bytes) = copy_out {
                 barrier(
                     ctx,
                     cmd,
@@ -305,11 +345,14 @@ impl TracePass {
                     vk::PipelineStageFlags::TRANSFER,
                     vk::AccessFlags::TRANSFER_READ,
                 );
-                let region = vk::BufferCopy::default().size(*bytes);
-                // SAFETY: both buffers hold `bytes` bytes with the transfer usages.
+                let region = vk::BufferCopy::default()
+                    .src_offset(0)
+                    .dst_offset(u64::from(push.band_origin) * u64::from(width) * 16)
+                    .size(bytes);
+                // SAFETY: the band's sums fit both buffers (sizes computed in `render`).
                 unsafe {
                     ctx.device
-                        .cmd_copy_buffer(cmd, accum.buffer, readback.buffer, &[region])
+                        .cmd_copy_buffer(cmd, a.accum.buffer, a.readback.buffer, &[region])
                 };
             }
             barrier(
@@ -323,6 +366,14 @@ impl TracePass {
             Ok(())
         })
     }
+}
+
+/// The sums of one band of rows, and the whole image's readback buffer.
+struct Accumulation {
+    accum: Buffer,
+    readback: Buffer,
+    accum_bytes: u64,
+    readback_bytes: u64,
 }
 
 #[cfg(test)]

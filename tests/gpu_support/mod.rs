@@ -50,6 +50,10 @@ pub fn assert_no_validation_messages(log: &ValidationLog, when: &str) {
 pub fn finish(renderer: GpuRenderer, log: ValidationLog) {
     assert_no_validation_messages(&log, "while rendering");
     drop(renderer);
+    assert!(
+        log.instance_destroyed(),
+        "the Vulkan instance outlived the renderer: some GPU object leaked"
+    );
     assert_no_validation_messages(&log, "after the renderer was dropped");
 }
 
@@ -117,7 +121,11 @@ pub fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32, material: u3
         let theta = std::f32::consts::PI * r as f32 / rings as f32;
         for s in 0..=segments {
             let phi = std::f32::consts::TAU * s as f32 / segments as f32;
-            let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
             positions.push(center + radius * n);
             normals.push(n);
         }
