@@ -45,8 +45,7 @@ fn render_before_load_scene_is_an_error() {
     let cam = camera(false, LensParams::Pinhole, 16, 12);
     let err = gpu
         .render(&cam, &settings(Shading::Unlit, 1), &mut |_, _| {})
-        .err()
-        .expect("no scene loaded");
+        .expect_err("no scene loaded");
     assert!(matches!(err, GpuError::NoScene), "{err}");
     finish(gpu, log);
 }
@@ -398,5 +397,43 @@ fn aovs_come_from_the_gbuffer() {
     let f = focus_distance_at(&g, cx, cy).expect("centre covered");
     assert_eq!(f, g.view_depth[g.index(cx, cy)]);
     assert_eq!(focus_distance_at(&g, cam.width, 0), None);
+    finish(gpu, log);
+}
+
+#[test]
+fn empty_scene_shows_the_background() {
+    let Some((mut gpu, log)) = renderer("empty_scene_shows_the_background") else {
+        return;
+    };
+    let mut scene = test_scene();
+    scene.meshes.clear();
+    gpu.load_scene(&scene).expect("load an empty scene");
+    let cam = camera(false, LensParams::Pinhole, 32, 24);
+    let image = gpu
+        .render(&cam, &settings(Shading::Lit, 2), &mut |_, _| {})
+        .expect("render");
+    assert!(image.pixels.iter().all(|&p| p == BACKGROUND));
+    let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+    assert!(g.coverage.iter().all(|&c| !c));
+    // A second scene replaces the first.
+    gpu.load_scene(&test_scene()).expect("reload");
+    let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+    assert!(g.coverage.iter().any(|&c| c));
+    finish(gpu, log);
+}
+
+#[test]
+fn invalid_scenes_are_rejected() {
+    let Some((mut gpu, log)) = renderer("invalid_scenes_are_rejected") else {
+        return;
+    };
+    let mut scene = test_scene();
+    scene.meshes[1].material_ids[0] = 42;
+    let err = gpu.load_scene(&scene).expect_err("material out of range");
+    assert!(err.to_string().contains("material 42"), "{err}");
+    let mut scene = test_scene();
+    scene.meshes[0].triangles[0][2] = 1000;
+    let err = gpu.load_scene(&scene).expect_err("index out of range");
+    assert!(err.to_string().contains("out of range"), "{err}");
     finish(gpu, log);
 }

@@ -24,16 +24,19 @@ pub fn format_devices(devices: &[DeviceReport]) -> String {
     for d in devices {
         out += &format!("\n[{}] {} ({})\n", d.index, d.name, d.device_type);
         out += &format!("    Vulkan API         {}\n", d.api_version);
-        out += &format!("    driver             {} (version {})\n", d.driver, d.driver_version);
+        out += &format!(
+            "    driver             {} (version {})\n",
+            d.driver, d.driver_version
+        );
         if d.ray_query {
             out += "    ray queries        yes\n";
         } else {
-            out += &format!("    ray queries        no: missing {}\n", d.missing.join(", "));
+            out += &format!(
+                "    ray queries        no: missing {}\n",
+                d.missing.join(", ")
+            );
         }
-        out += &format!(
-            "    max image 2D       {} px\n",
-            d.max_image_dimension_2d
-        );
+        out += &format!("    max image 2D       {} px\n", d.max_image_dimension_2d);
         let [gx, gy, gz] = d.max_compute_work_group_count;
         let [sx, sy, sz] = d.max_compute_work_group_size;
         out += &format!("    compute groups     {gx} x {gy} x {gz}\n");

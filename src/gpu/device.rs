@@ -460,3 +460,77 @@ impl Drop for Context {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fake(
+        index: usize,
+        name: &str,
+        ty: &str,
+        missing: &[&str],
+    ) -> (vk::PhysicalDevice, DeviceReport) {
+        (
+            vk::Handle::from_raw(index as u64 + 1),
+            DeviceReport {
+                index,
+                name: name.into(),
+                device_type: ty.into(),
+                api_version: "1.3.0".into(),
+                driver_version: "0.0.1".into(),
+                driver: String::new(),
+                ray_query: missing.is_empty(),
+                missing: missing.iter().map(|m| m.to_string()).collect(),
+                max_image_dimension_2d: 16384,
+                max_compute_work_group_count: [65535; 3],
+                max_compute_work_group_size: [1024; 3],
+                max_compute_work_group_invocations: 1024,
+                max_storage_buffer_range: 1 << 27,
+                timestamp_period_ns: 1.0,
+                timestamps: true,
+            },
+        )
+    }
+
+    #[test]
+    fn prefers_a_discrete_gpu_with_ray_queries() {
+        let devices = [
+            fake(0, "llvmpipe", "CPU", &[]),
+            fake(1, "old", "discrete GPU", &["VK_KHR_ray_query"]),
+            fake(2, "igpu", "integrated GPU", &[]),
+            fake(3, "dgpu", "discrete GPU", &[]),
+        ];
+        assert_eq!(select(&devices, None).unwrap().1.name, "dgpu");
+        assert_eq!(select(&devices[..3], None).unwrap().1.name, "igpu");
+        assert_eq!(select(&devices, Some(0)).unwrap().1.name, "llvmpipe");
+    }
+
+    #[test]
+    fn errors_name_what_is_missing() {
+        let devices = [fake(
+            0,
+            "llvmpipe (LLVM 15.0.6, 256 bits)",
+            "CPU",
+            &["VK_KHR_acceleration_structure", "VK_KHR_ray_query"],
+        )];
+        let text = select(&devices, None).unwrap_err().to_string();
+        assert_eq!(
+            text,
+            "no Vulkan device supports VK_KHR_ray_query (found: llvmpipe (LLVM 15.0.6, 256 \
+             bits): missing VK_KHR_acceleration_structure, VK_KHR_ray_query)"
+        );
+        let text = select(&devices, Some(0)).unwrap_err().to_string();
+        assert!(
+            text.contains("device 0") && text.contains("missing"),
+            "{text}"
+        );
+        let text = select(&devices, Some(5)).unwrap_err().to_string();
+        assert!(
+            text.contains("index 5") && text.contains("1 device(s)"),
+            "{text}"
+        );
+        let text = select(&[], None).unwrap_err().to_string();
+        assert!(text.contains("no Vulkan device found"), "{text}");
+    }
+}
