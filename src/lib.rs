@@ -1,7 +1,8 @@
-//! lensray: thin-lens depth of field, rendered by a CPU reference and (later) Vulkan paths that
-//! are checked against it.
+//! lensray: thin-lens depth of field, rendered by a CPU reference and Vulkan paths that are
+//! checked against it.
 
 pub mod camera;
+pub mod cli;
 pub mod gpu;
 pub mod output;
 pub mod reference;

@@ -2,5 +2,6 @@
 
 pub mod args;
 pub mod bench;
+pub mod generate;
 pub mod info;
 pub mod render;

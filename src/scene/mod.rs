@@ -6,6 +6,17 @@
 
 use glam::Vec3;
 
+pub mod builtin;
+mod error;
+pub mod file;
+pub mod generate;
+pub mod obj;
+
+pub use builtin::default_scene;
+pub use error::SceneError;
+pub use file::{load, load_scene_file, SceneDescription};
+pub use obj::{load_obj, write_obj};
+
 /// Diffuse colour `Kd` and emission `Ke` of an MTL material, linear RGB.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
@@ -82,5 +93,55 @@ impl Scene {
         let first = points.next()?;
         let (min, max) = points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
         Some(Bounds { min, max })
+    }
+}
+
+impl Scene {
+    /// Checks the invariants the renderers rely on: every index in range, one material id per
+    /// triangle and each in range, normals absent or one per position, positions finite.
+    /// The error says which mesh and what.
+    pub fn validate(&self) -> Result<(), String> {
+        for mesh in &self.meshes {
+            let name = &mesh.name;
+            let n = mesh.positions.len();
+            if mesh.material_ids.len() != mesh.triangles.len() {
+                return Err(format!(
+                    "mesh {name}: {} material ids for {} triangles",
+                    mesh.material_ids.len(),
+                    mesh.triangles.len()
+                ));
+            }
+            if !mesh.normals.is_empty() && mesh.normals.len() != n {
+                return Err(format!(
+                    "mesh {name}: {} normals for {n} positions",
+                    mesh.normals.len()
+                ));
+            }
+            if let Some((t, tri)) = mesh
+                .triangles
+                .iter()
+                .enumerate()
+                .find(|(_, tri)| tri.iter().any(|&i| i as usize >= n))
+            {
+                return Err(format!(
+                    "mesh {name}: triangle {t} {tri:?} indexes past {n} positions"
+                ));
+            }
+            if let Some((t, m)) = mesh
+                .material_ids
+                .iter()
+                .enumerate()
+                .find(|(_, &m)| m as usize >= self.materials.len())
+            {
+                return Err(format!(
+                    "mesh {name}: triangle {t} has material {m} of {}",
+                    self.materials.len()
+                ));
+            }
+            if let Some(p) = mesh.positions.iter().find(|p| !p.is_finite()) {
+                return Err(format!("mesh {name}: position {p} is not finite"));
+            }
+        }
+        Ok(())
     }
 }
