@@ -437,3 +437,56 @@ fn invalid_scenes_are_rejected() {
     assert!(err.to_string().contains("out of range"), "{err}");
     finish(gpu, log);
 }
+
+/// The project's own scenes (built-in default, Cornell box from assets/) as the CLI resolves
+/// them, small: GPU against the CPU reference, lit and unlit.
+#[test]
+fn gpu_matches_cpu_on_project_scenes() {
+    use lensray::settings::{ImageSettings, RenderStyle, Settings};
+    let Some((mut gpu, log)) = renderer("gpu_matches_cpu_on_project_scenes") else {
+        return;
+    };
+    let cornell =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cornell/cornell.toml");
+    let scenes = [
+        ("default", lensray::scene::builtin::default_scene()),
+        (
+            "cornell",
+            lensray::scene::file::load(&cornell).expect("load the Cornell box"),
+        ),
+    ];
+    for (name, desc) in scenes {
+        gpu.load_scene(&desc.scene).expect("load scene");
+        let cpu = CpuRenderer::new(&desc.scene);
+        for shading in [Shading::Unlit, Shading::Lit] {
+            let over = Settings {
+                image: ImageSettings {
+                    width: Some(96),
+                    height: Some(72),
+                    spp: Some(4),
+                    seed: Some(3),
+                },
+                render: RenderStyle {
+                    shading: Some(shading),
+                    background: None,
+                },
+                ..Default::default()
+            };
+            let resolved =
+                lensray::resolve::resolve(&desc.settings.clone().overridden_by(&over), &desc.scene)
+                    .expect("resolve settings");
+            let image = gpu
+                .render(&resolved.camera, &resolved.render, &mut |_, _| {})
+                .expect("GPU render");
+            let (reference, _) = cpu.render(&resolved.camera, &resolved.render, &mut |_, _| {});
+            let diff = compare(&image, &reference, 1.0 / 255.0);
+            let label = format!("scene-{name}-{shading:?}").to_lowercase();
+            println!("{label}: {diff:?}");
+            if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
+                let files = write_comparison(&image, &reference, &label);
+                panic!("{label}: GPU and CPU differ: {diff:?}; wrote {files}");
+            }
+        }
+    }
+    finish(gpu, log);
+}
