@@ -230,6 +230,72 @@ impl RasterPush {
 mod tests {
     use super::*;
 
+    use crate::camera::{CameraParams, LensParams, ProjectionParams};
+    use glam::{Vec2, Vec3};
+
+    /// The raster pass uses `clip_from_world()` as is: Vulkan's clip space has y down and depth
+    /// in [0, 1]. A point on the pinhole ray through raster point (x, y) must land at
+    /// NDC (2x/w - 1, 2y/h - 1), with depth 0 on the near plane and 1 on the far plane.
+    #[test]
+    fn clip_from_world_is_vulkan_clip_space() {
+        for projection in [
+            ProjectionParams::Perspective { vfov_degrees: 50.0 },
+            ProjectionParams::Orthographic { height: 3.0 },
+        ] {
+            let cam = CameraParams {
+                eye: Vec3::new(1.0, 2.0, 3.0),
+                target: Vec3::new(-0.5, 0.2, -1.0),
+                up: Vec3::Y,
+                projection,
+                lens: LensParams::Pinhole,
+                near: 0.5,
+                far: 20.0,
+                width: 160,
+                height: 90,
+            }
+            .build()
+            .unwrap();
+            let clip = cam.clip_from_world();
+            for raster in [
+                Vec2::new(0.5, 0.5),
+                Vec2::new(159.5, 10.25),
+                Vec2::new(80.0, 89.0),
+            ] {
+                let ray = cam.generate_ray(raster, Vec2::splat(0.5));
+                for depth in [cam.near, 2.0, cam.far] {
+                    // The point of the ray at view depth `depth`.
+                    let t =
+                        (depth - cam.view_depth(ray.origin)) / ray.direction.dot(cam.frame.forward);
+                    let p = ray.at(t);
+                    let h = clip * p.extend(1.0);
+                    let ndc = h.truncate() / h.w;
+                    let expected_x = 2.0 * raster.x / 160.0 - 1.0;
+                    let expected_y = 2.0 * raster.y / 90.0 - 1.0;
+                    let expected_z = if depth == cam.near {
+                        0.0
+                    } else if depth == cam.far {
+                        1.0
+                    } else {
+                        ndc.z
+                    };
+                    assert!(
+                        (ndc.x - expected_x).abs() < 1e-4,
+                        "{projection:?} x {ndc} {raster}"
+                    );
+                    assert!(
+                        (ndc.y - expected_y).abs() < 1e-4,
+                        "{projection:?} y {ndc} {raster}"
+                    );
+                    assert!(
+                        (ndc.z - expected_z).abs() < 1e-4,
+                        "{projection:?} z {ndc} at {depth}"
+                    );
+                    assert!(h.w > 0.0);
+                }
+            }
+        }
+    }
+
     #[test]
     fn std140_sizes() {
         assert_eq!(std::mem::size_of::<GpuCamera>(), 144);

@@ -12,6 +12,8 @@
 //! `trace` (compute pass), `probe` (GLSL mirror checks), `conv` (host <-> shader layouts),
 //! `error`, `bench`.
 
+#![deny(clippy::undocumented_unsafe_blocks)]
+
 mod accel;
 mod bench;
 mod buffer;
