@@ -1,7 +1,7 @@
 #version 460
 // Thin-lens compute pass: spp camera samples per pixel, each traced with a ray query against the
 // TLAS and shaded as specified for every renderer (src/render/settings.rs, the CPU reference).
-// One dispatch covers some rows and a range of samples; sums accumulate in `accum`, which holds a
+// One dispatch covers some rows (strided) and a range of samples; sums accumulate in `accum`, which holds a
 // band of rows of the image (bounded by the device's storage-buffer range).
 #extension GL_EXT_ray_query : require
 
@@ -26,12 +26,14 @@ layout(std140, set = 0, binding = 8) uniform Params {
     uint shading;
 } params;
 
+// This dispatch covers the rows band_origin + row_first + i * row_stride, i < row_count.
 layout(push_constant) uniform Push {
-    uint row_offset;
+    uint band_origin;  // accum holds the rows band_origin.. of the image
+    uint row_first;
+    uint row_stride;
     uint row_count;
     uint sample_begin;
     uint sample_end;
-    uint band_origin;  // accum holds the rows band_origin.. of the image
 } pc;
 
 const uint SHADING_UNLIT = 0u;
@@ -96,12 +98,13 @@ vec3 shade(Ray ray, inout uint rays) {
 
 void main() {
     uint x = gl_GlobalInvocationID.x;
-    uint band_row = gl_GlobalInvocationID.y;
-    uint y = pc.row_offset + band_row;
-    if (x >= params.width || band_row >= pc.row_count || y >= params.height) {
+    uint i = gl_GlobalInvocationID.y;
+    uint band_row = pc.row_first + i * pc.row_stride;
+    uint y = pc.band_origin + band_row;
+    if (x >= params.width || i >= pc.row_count || y >= params.height) {
         return;
     }
-    uint slot = (y - pc.band_origin) * params.width + x;
+    uint slot = band_row * params.width + x;
     vec3 sum = accum[slot].xyz;
     uint rays = 0u;
     for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {

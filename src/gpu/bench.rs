@@ -31,6 +31,9 @@ pub struct BenchReport {
     pub trace_gpu_ms: f64,
     /// Rays (camera + shadow) of the timed renders.
     pub rays: u64,
+    /// Dispatches of the timed renders, and the longest one (ms).
+    pub dispatches: u64,
+    pub longest_dispatch_ms: f64,
     pub rays_per_second: f64,
     /// Wall-clock time of the timed renders, ms (includes submission and readback).
     pub wall_ms: f64,
@@ -50,6 +53,11 @@ impl std::fmt::Display for BenchReport {
             self.accel_build_gpu_ms, self.accel_build_wall_ms
         )?;
         writeln!(f, "first dispatch:    {:.1} ms", self.first_dispatch_ms)?;
+        writeln!(
+            f,
+            "dispatches:        {} (longest {:.1} ms)",
+            self.dispatches, self.longest_dispatch_ms
+        )?;
         writeln!(
             f,
             "trace:             {:.1} ms GPU ({:.1} ms wall) for {} rays",
@@ -113,6 +121,8 @@ pub fn bench(
         first_dispatch_ms: after.first_dispatch_ms.unwrap_or(0.0),
         trace_gpu_ms,
         rays,
+        dispatches: after.dispatches - before.dispatches,
+        longest_dispatch_ms: after.longest_dispatch_ms,
         rays_per_second: if trace_gpu_ms > 0.0 {
             rays as f64 / (trace_gpu_ms * 1e-3)
         } else {

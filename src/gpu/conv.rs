@@ -191,17 +191,19 @@ impl TraceParams {
     }
 }
 
-/// Per-dispatch push constants of trace.comp: a band of rows and a range of samples.
+/// Per-dispatch push constants of trace.comp: the rows
+/// `band_origin + row_first + i * row_stride` (i < row_count) and a range of samples.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct TracePush {
-    pub row_offset: u32,
+    /// First row of the band whose sums the accumulation buffer holds.
+    pub band_origin: u32,
+    pub row_first: u32,
+    pub row_stride: u32,
     pub row_count: u32,
     pub sample_begin: u32,
     pub sample_end: u32,
-    /// First row of the band whose sums the accumulation buffer holds.
-    pub band_origin: u32,
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 /// Push constants of the G-buffer pass (112 bytes).

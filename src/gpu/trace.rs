@@ -22,8 +22,13 @@ use crate::render::{Image, RenderSettings};
 /// Workgroup size of trace.comp.
 const GROUP: u32 = 8;
 
-/// Pixel-samples per dispatch: ~0.05-0.3 s on lavapipe (2 cores), far less on a GPU.
-pub(crate) const DEFAULT_SAMPLES_PER_DISPATCH: u64 = 1 << 18;
+/// Pixel-samples of the first dispatches: ~0.03-0.1 s on lavapipe (2 cores, 80k triangles).
+const INITIAL_SAMPLES_PER_DISPATCH: u64 = 1 << 16;
+/// The most pixel-samples per dispatch, however fast the device.
+pub(crate) const MAX_SAMPLES_PER_DISPATCH: u64 = 1 << 22;
+/// Dispatch duration aimed at when sizing the next dispatches from the last one's timestamps
+/// (well under the ~0.5 s that a single dispatch should not exceed).
+const TARGET_DISPATCH_MS: f64 = 100.0;
 
 /// Most pixels whose sums are held at once (64 MiB); larger images go in bands of rows.
 const MAX_BAND_PIXELS: u64 = 1 << 22;
@@ -47,6 +52,8 @@ pub struct Timings {
     pub rays_traced: u64,
     /// Number of dispatches counted in `trace_gpu_ms`.
     pub dispatches: u64,
+    /// The longest of those dispatches.
+    pub longest_dispatch_ms: f64,
     /// Bytes of the loaded scene's BLASes before and after compaction.
     pub blas_bytes: u64,
     pub blas_compacted_bytes: u64,
@@ -91,7 +98,10 @@ pub(crate) struct TracePass {
     /// Accumulation and readback buffers of the current image size.
     accum: Option<Accumulation>,
     first_dispatch_done: bool,
+    /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
     pub samples_per_dispatch: u64,
+    /// Current size of a dispatch, adapted to the measured speed.
+    adaptive_samples: u64,
     pub max_band_pixels: u64,
 }
 
@@ -149,7 +159,8 @@ impl TracePass {
             timestamps,
             accum: None,
             first_dispatch_done: false,
-            samples_per_dispatch: DEFAULT_SAMPLES_PER_DISPATCH,
+            samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
+            adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
             max_band_pixels: MAX_BAND_PIXELS,
         })
     }
@@ -218,31 +229,38 @@ impl TracePass {
         let mut band_origin = 0;
         while band_origin < height {
             let band_height = band_rows.min(height - band_origin);
-            let split = Split::new(width, band_height, spp, self.samples_per_dispatch);
             let mut sample_begin = 0;
             let mut first_of_band = true;
             while sample_begin < spp {
+                // Re-planned per range of samples, from the latest measured speed. Any split
+                // adds each pixel's samples in the same order: the sums do not depend on it.
+                let budget = self.adaptive_samples.min(self.samples_per_dispatch);
+                let split = Split::new(width, band_height, spp - sample_begin, budget);
                 let sample_end = (sample_begin + split.samples_per).min(spp);
-                let mut row = 0;
-                while row < band_height {
-                    let rows = split.rows_per.min(band_height - row);
+                // The band's rows are dealt out to `groups` dispatches with a stride, so each
+                // dispatch covers the whole band evenly: similar cost per dispatch (sky and
+                // geometry mixed alike), which keeps the speed-based sizing accurate.
+                let groups = band_height.div_ceil(split.rows_per);
+                for group in 0..groups {
+                    let rows = (band_height - group).div_ceil(groups);
                     let push = TracePush {
-                        row_offset: band_origin + row,
+                        band_origin,
+                        row_first: group,
+                        row_stride: groups,
                         row_count: rows,
                         sample_begin,
                         sample_end,
-                        band_origin,
-                        pad: [0; 3],
+                        pad: [0; 2],
                     };
-                    let copy_out = (sample_end == spp && row + rows == band_height)
+                    let copy_out = (sample_end == spp && group + 1 == groups)
                         .then_some(u64::from(band_height) * u64::from(width) * 16);
                     self.dispatch(push, width, first_of_band, copy_out)?;
                     first_of_band = false;
-                    self.record_timing(timings)?;
-                    done +=
+                    let work =
                         u64::from(rows) * u64::from(width) * u64::from(sample_end - sample_begin);
+                    self.record_timing(timings, work)?;
+                    done += work;
                     progress(done, total);
-                    row += rows;
                 }
                 sample_begin = sample_end;
             }
@@ -262,8 +280,9 @@ impl TracePass {
         })
     }
 
-    /// Adds the last dispatch's GPU time and ray count (the pipeline's first dispatch apart).
-    fn record_timing(&mut self, timings: &mut Timings) -> Result<(), GpuError> {
+    /// Adds the last dispatch's GPU time and ray count (the pipeline's first dispatch apart),
+    /// and sizes the next dispatches from its speed (`work` pixel-samples).
+    fn record_timing(&mut self, timings: &mut Timings, work: u64) -> Result<(), GpuError> {
         let ticks = self.timestamps.results()?;
         let gpu_ms = if self.ctx.timestamps {
             ticks[1].saturating_sub(ticks[0]) as f64 * self.ctx.timestamp_period_ns * 1e-6
@@ -272,7 +291,15 @@ impl TracePass {
         };
         let rays = u64::from(bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0]);
         if self.first_dispatch_done {
+            if gpu_ms > 0.0 {
+                let rate = work as f64 / gpu_ms;
+                // Shrinks at once, grows at most 2x per dispatch.
+                self.adaptive_samples = ((rate * TARGET_DISPATCH_MS) as u64)
+                    .min(2 * self.adaptive_samples)
+                    .clamp(1024, MAX_SAMPLES_PER_DISPATCH);
+            }
             timings.trace_gpu_ms += gpu_ms;
+            timings.longest_dispatch_ms = timings.longest_dispatch_ms.max(gpu_ms);
             timings.rays_traced += rays;
             timings.dispatches += 1;
         } else {
@@ -285,6 +312,7 @@ impl TracePass {
 
     /// One submission: optional clear of the band's sums, one dispatch between two timestamps,
     /// optional copy of `copy_out` bytes of sums into the readback buffer at the band's rows.
+    /// The dispatch covers rows `band_origin + row_first + i * row_stride`, i < row_count.
     fn dispatch(
         &self,
         push: TracePush,
