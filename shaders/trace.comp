@@ -26,12 +26,14 @@ layout(std140, set = 0, binding = 8) uniform Params {
     uint shading;
 } params;
 
-// This dispatch covers the rows band_origin + row_first + i * row_stride, i < row_count.
+// This dispatch covers the blocks of 8 rows block_first + i * block_stride (i < block_count)
+// of the band of band_height rows starting at image row band_origin.
 layout(push_constant) uniform Push {
     uint band_origin;  // accum holds the rows band_origin.. of the image
-    uint row_first;
-    uint row_stride;
-    uint row_count;
+    uint band_height;
+    uint block_first;
+    uint block_stride;
+    uint block_count;
     uint sample_begin;
     uint sample_end;
 } pc;
@@ -98,10 +100,11 @@ vec3 shade(Ray ray, inout uint rays) {
 
 void main() {
     uint x = gl_GlobalInvocationID.x;
-    uint i = gl_GlobalInvocationID.y;
-    uint band_row = pc.row_first + i * pc.row_stride;
+    uint block = gl_WorkGroupID.y;
+    uint band_row = (pc.block_first + block * pc.block_stride) * gl_WorkGroupSize.y
+                  + gl_LocalInvocationID.y;
     uint y = pc.band_origin + band_row;
-    if (x >= params.width || i >= pc.row_count || y >= params.height) {
+    if (x >= params.width || block >= pc.block_count || band_row >= pc.band_height) {
         return;
     }
     uint slot = band_row * params.width + x;

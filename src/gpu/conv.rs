@@ -191,19 +191,21 @@ impl TraceParams {
     }
 }
 
-/// Per-dispatch push constants of trace.comp: the rows
-/// `band_origin + row_first + i * row_stride` (i < row_count) and a range of samples.
+/// Per-dispatch push constants of trace.comp: the blocks of 8 rows
+/// `block_first + i * block_stride` (i < block_count) of the band of `band_height` rows from
+/// `band_origin`, and a range of samples.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct TracePush {
     /// First row of the band whose sums the accumulation buffer holds.
     pub band_origin: u32,
-    pub row_first: u32,
-    pub row_stride: u32,
-    pub row_count: u32,
+    pub band_height: u32,
+    pub block_first: u32,
+    pub block_stride: u32,
+    pub block_count: u32,
     pub sample_begin: u32,
     pub sample_end: u32,
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 /// Push constants of the G-buffer pass (112 bytes).

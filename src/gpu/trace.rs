@@ -237,25 +237,35 @@ impl TracePass {
                 let budget = self.adaptive_samples.min(self.samples_per_dispatch);
                 let split = Split::new(width, band_height, spp - sample_begin, budget);
                 let sample_end = (sample_begin + split.samples_per).min(spp);
-                // The band's rows are dealt out to `groups` dispatches with a stride, so each
-                // dispatch covers the whole band evenly: similar cost per dispatch (sky and
-                // geometry mixed alike), which keeps the speed-based sizing accurate.
-                let groups = band_height.div_ceil(split.rows_per);
+                // The band's blocks of GROUP rows are dealt out to `groups` dispatches with a
+                // stride, so each dispatch covers the whole band evenly (similar cost per
+                // dispatch, sky and geometry mixed alike, which keeps the speed-based sizing
+                // accurate) while each workgroup still traces a coherent 8x8 tile.
+                let blocks = band_height.div_ceil(GROUP);
+                let blocks_per = (split.rows_per / GROUP).max(1);
+                let groups = blocks.div_ceil(blocks_per);
                 for group in 0..groups {
-                    let rows = (band_height - group).div_ceil(groups);
+                    let block_count = (blocks - group).div_ceil(groups);
                     let push = TracePush {
                         band_origin,
-                        row_first: group,
-                        row_stride: groups,
-                        row_count: rows,
+                        band_height,
+                        block_first: group,
+                        block_stride: groups,
+                        block_count,
                         sample_begin,
                         sample_end,
-                        pad: [0; 2],
+                        pad: 0,
                     };
                     let copy_out = (sample_end == spp && group + 1 == groups)
                         .then_some(u64::from(band_height) * u64::from(width) * 16);
                     self.dispatch(push, width, first_of_band, copy_out)?;
                     first_of_band = false;
+                    let rows: u32 = (0..block_count)
+                        .map(|b| {
+                            let first = (group + b * groups) * GROUP;
+                            GROUP.min(band_height - first)
+                        })
+                        .sum();
                     let work =
                         u64::from(rows) * u64::from(width) * u64::from(sample_end - sample_begin);
                     self.record_timing(timings, work)?;
@@ -312,7 +322,8 @@ impl TracePass {
 
     /// One submission: optional clear of the band's sums, one dispatch between two timestamps,
     /// optional copy of `copy_out` bytes of sums into the readback buffer at the band's rows.
-    /// The dispatch covers rows `band_origin + row_first + i * row_stride`, i < row_count.
+    /// The dispatch covers the blocks of GROUP rows `block_first + i * block_stride`,
+    /// i < block_count, of the band.
     fn dispatch(
         &self,
         push: TracePush,
@@ -355,12 +366,8 @@ impl TracePass {
             self.pipeline.bind(cmd, bytemuck::bytes_of(&push));
             // SAFETY: compute pipeline and its complete descriptor set are bound.
             unsafe {
-                ctx.device.cmd_dispatch(
-                    cmd,
-                    width.div_ceil(GROUP),
-                    push.row_count.div_ceil(GROUP),
-                    1,
-                )
+                ctx.device
+                    .cmd_dispatch(cmd, width.div_ceil(GROUP), push.block_count, 1)
             };
             self.timestamps
                 .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
