@@ -490,3 +490,36 @@ fn gpu_matches_cpu_on_project_scenes() {
     }
     finish(gpu, log);
 }
+
+#[test]
+fn list_devices_reports_a_ray_query_device() {
+    let devices = match lensray::gpu::list_devices() {
+        Ok(d) => d,
+        Err(e) if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
+            println!("SKIPPED list_devices_reports_a_ray_query_device: {e}");
+            return;
+        }
+        Err(e) => panic!("list_devices: {e}"),
+    };
+    let usable: Vec<_> = devices.iter().filter(|d| d.ray_query).collect();
+    if usable.is_empty() && std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
+        println!("SKIPPED list_devices_reports_a_ray_query_device: no ray-query device");
+        return;
+    }
+    assert!(!usable.is_empty(), "no ray-query device in {devices:#?}");
+    for d in &devices {
+        assert_eq!(d.ray_query, d.missing.is_empty(), "{d:?}");
+        assert!(d.max_image_dimension_2d >= 4096 && d.max_storage_buffer_range > 0);
+    }
+    let text = lensray::cli::info::format_devices(&devices);
+    assert!(
+        text.contains(&usable[0].name) && text.contains("ray queries        yes"),
+        "{text}"
+    );
+    // The renderer picks a usable device, and names it.
+    let Some((gpu, log)) = renderer("list_devices_reports_a_ray_query_device") else {
+        return;
+    };
+    assert!(usable.iter().any(|d| d.name == gpu.device_name()));
+    finish(gpu, log);
+}

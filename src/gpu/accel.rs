@@ -368,12 +368,7 @@ pub(crate) fn build(
     drop(tlas_scratch);
     drop(blases);
     let ticks = timestamps.results()?;
-    let period = ctx.timestamp_period_ns;
-    let build_gpu_ns = if ctx.timestamps {
-        (ticks[1].saturating_sub(ticks[0]) + ticks[3].saturating_sub(ticks[2])) as f64 * period
-    } else {
-        0.0
-    };
+    let build_gpu_ns = ctx.elapsed_ns(ticks[0], ticks[1]) + ctx.elapsed_ns(ticks[2], ticks[3]);
     Ok(SceneAccel {
         tlas,
         _blases: compacted,

@@ -280,15 +280,17 @@ pub(crate) struct Context {
     allocator: ManuallyDrop<Mutex<Allocator>>,
     pub report: DeviceReport,
     pub scratch_alignment: u64,
-    pub timestamp_period_ns: f64,
-    pub timestamps: bool,
+    timestamp_period_ns: f64,
+    timestamps: bool,
+    /// The valid bits of a timestamp (`timestampValidBits`).
+    timestamp_mask: u64,
 }
 
 impl Context {
     pub fn new(instance: Arc<Instance>, device_index: Option<usize>) -> Result<Self, GpuError> {
         let devices = enumerate(&instance.instance)?;
         let (physical, report) = select(&devices, device_index)?;
-        let (queue_family, _) = queue_family(&instance.instance, physical)
+        let (queue_family, timestamp_bits) = queue_family(&instance.instance, physical)
             .ok_or_else(|| GpuError::NoRayQueryDevice("no graphics + compute queue".into()))?;
 
         let priorities = [1.0f32];
@@ -361,6 +363,11 @@ impl Context {
         Ok(Self {
             timestamp_period_ns: f64::from(report.timestamp_period_ns),
             timestamps: report.timestamps,
+            timestamp_mask: if timestamp_bits >= 64 {
+                u64::MAX
+            } else {
+                (1u64 << timestamp_bits) - 1
+            },
             _instance: instance,
             device,
             accel,
@@ -370,6 +377,14 @@ impl Context {
             report,
             scratch_alignment,
         })
+    }
+
+    /// Nanoseconds between two timestamps of this queue (0 without timestamp support).
+    pub fn elapsed_ns(&self, start: u64, end: u64) -> f64 {
+        if !self.timestamps {
+            return 0.0;
+        }
+        (end.wrapping_sub(start) & self.timestamp_mask) as f64 * self.timestamp_period_ns
     }
 
     pub fn allocator(&self) -> MutexGuard<'_, Allocator> {

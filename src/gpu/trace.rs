@@ -294,11 +294,7 @@ impl TracePass {
     /// and sizes the next dispatches from its speed (`work` pixel-samples).
     fn record_timing(&mut self, timings: &mut Timings, work: u64) -> Result<(), GpuError> {
         let ticks = self.timestamps.results()?;
-        let gpu_ms = if self.ctx.timestamps {
-            ticks[1].saturating_sub(ticks[0]) as f64 * self.ctx.timestamp_period_ns * 1e-6
-        } else {
-            0.0
-        };
+        let gpu_ms = self.ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6;
         let rays = u64::from(bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0]);
         if self.first_dispatch_done {
             if gpu_ms > 0.0 {
