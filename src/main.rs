@@ -9,7 +9,9 @@ use lensray::cli;
 #[command(
     name = "lensray",
     version,
-    about = "Thin-lens depth of field: CPU reference and Vulkan ray queries"
+    about = "Thin-lens depth of field: CPU reference and Vulkan ray queries",
+    // A later repetition of an option wins, as in most renderers' command lines.
+    args_override_self = true
 )]
 struct Cli {
     #[command(subcommand)]
@@ -19,7 +21,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render an image headless (default: the built-in scene to lensray.png).
-    Render(cli::render::RenderArgs),
+    Render(Box<cli::render::RenderArgs>),
     /// Measure rays per second of a renderer.
     Bench(cli::bench::BenchArgs),
     /// Write a generated scene (OBJ + MTL + scene file).
@@ -33,7 +35,10 @@ fn main() -> ExitCode {
         Err(error) => {
             // One line naming the problem (clap adds usage lines after it).
             let text = error.render().to_string();
-            eprintln!("{}", text.lines().next().unwrap_or("error: bad command line"));
+            eprintln!(
+                "{}",
+                text.lines().next().unwrap_or("error: bad command line")
+            );
             return ExitCode::from(2);
         }
     };

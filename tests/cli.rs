@@ -35,7 +35,10 @@ fn assert_rejected(extra: &[&str], needle: &str) {
     }
     let out = lensray(&render_args(&args), dir.path());
     let err = stderr(&out);
-    assert!(!out.status.success(), "{extra:?} was accepted; stderr: {err}");
+    assert!(
+        !out.status.success(),
+        "{extra:?} was accepted; stderr: {err}"
+    );
     assert!(!err.contains("panicked"), "{extra:?} panicked: {err}");
     let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
     assert_eq!(lines.len(), 1, "{extra:?}: expected one line, got: {err}");
@@ -46,7 +49,10 @@ fn assert_rejected(extra: &[&str], needle: &str) {
     let leftovers: Vec<PathBuf> = std::fs::read_dir(dir.path())
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| !p.extension().is_some_and(|e| e == "obj" || e == "mtl" || e == "toml"))
+        .filter(|p| {
+            !p.extension()
+                .is_some_and(|e| e == "obj" || e == "mtl" || e == "toml")
+        })
         .collect();
     assert!(leftovers.is_empty(), "{extra:?} left files: {leftovers:?}");
 }
@@ -62,7 +68,10 @@ fn default_scene_renders_png_and_exr() {
         let summary = String::from_utf8_lossy(&out.stdout);
         assert!(summary.contains("Mrays/s"), "summary line: {summary}");
     }
-    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(names.len(), 2, "only the two images remain: {names:?}");
 }
 
@@ -96,21 +105,33 @@ fn bad_numbers_are_rejected_with_one_line() {
     assert_rejected(&["--aperture-radius", "inf"], "aperture");
     assert_rejected(&["--focus-distance", "-2"], "focus distance");
     assert_rejected(&["--focus-distance", "0"], "focus distance");
-    assert_rejected(&["--projection", "orthographic", "--ortho-height", "0"], "height");
+    assert_rejected(
+        &["--projection", "orthographic", "--ortho-height", "0"],
+        "height",
+    );
     assert_rejected(&["--spp", "0"], "spp");
     assert_rejected(&["--width", "0"], "0x32");
     assert_rejected(&["--height", "20000"], "48x20000");
     assert_rejected(&["--width", "abc"], "width");
     assert_rejected(&["--eye", "1,2"], "three");
     assert_rejected(&["--eye", "1,2,3", "--target", "1,2,3"], "eye and target");
-    assert_rejected(&["--eye", "0,0,5", "--target", "0,0,0", "--up", "0,0,1"], "parallel");
+    assert_rejected(
+        &["--eye", "0,0,5", "--target", "0,0,0", "--up", "0,0,1"],
+        "parallel",
+    );
     assert_rejected(&["--near", "-1"], "near");
     assert_rejected(&["--near", "5", "--far", "1"], "far");
     assert_rejected(&["--background", "nan,0,0"], "background");
     assert_rejected(&["--light-intensity", "-1,1,1"], "light intensity");
-    assert_rejected(&["--focal-length-mm", "0", "--focus-distance", "2"], "focal length");
+    assert_rejected(
+        &["--focal-length-mm", "0", "--focus-distance", "2"],
+        "focal length",
+    );
     assert_rejected(&["--focal-length-mm", "50", "--f-number", "-2"], "f-number");
-    assert_rejected(&["--focal-length-mm", "50", "--focus-distance", "0.04"], "focal length");
+    assert_rejected(
+        &["--focal-length-mm", "50", "--focus-distance", "0.04"],
+        "focal length",
+    );
     assert_rejected(&["--f-number", "2"], "focal length");
 }
 
@@ -120,7 +141,11 @@ fn bad_files_are_rejected_with_one_line() {
     let p = dir.path();
     std::fs::write(p.join("bad.obj"), "v 1 2\nf 1 2 3\n").unwrap();
     std::fs::write(p.join("empty.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
-    std::fs::write(p.join("nomtl.obj"), "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        p.join("nomtl.obj"),
+        "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
     std::fs::write(p.join("bad.toml"), "mesh = \"bad.obj\"\n[camera\n").unwrap();
     std::fs::write(p.join("unknown.toml"), "mesh = \"empty.obj\"\nzoom = 3\n").unwrap();
     for (scene, needle) in [
@@ -142,8 +167,14 @@ fn bad_files_are_rejected_with_one_line() {
         assert!(!out.status.success(), "{scene} accepted");
         assert!(!err.contains("panicked"), "{scene}: {err}");
         assert_eq!(err.lines().count(), 1, "{scene}: {err}");
-        assert!(err.contains(needle), "{scene}: '{err}' does not name '{needle}'");
-        assert!(!dir2.path().join("o.png").exists(), "{scene}: output written");
+        assert!(
+            err.contains(needle),
+            "{scene}: '{err}' does not name '{needle}'"
+        );
+        assert!(
+            !dir2.path().join("o.png").exists(),
+            "{scene}: output written"
+        );
     }
 }
 

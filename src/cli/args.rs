@@ -13,7 +13,9 @@ use crate::settings::{
 pub fn parse_triple(s: &str) -> Result<[f64; 3], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != 3 {
-        return Err(format!("expected three comma-separated numbers like 1,2.5,-3, got '{s}'"));
+        return Err(format!(
+            "expected three comma-separated numbers like 1,2.5,-3, got '{s}'"
+        ));
     }
     let mut out = [0.0; 3];
     for (o, p) in out.iter_mut().zip(&parts) {
@@ -29,10 +31,13 @@ pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     match parts.as_slice() {
         [x, y] => Ok([
-            x.parse().map_err(|_| format!("'{x}' is not a pixel column"))?,
+            x.parse()
+                .map_err(|_| format!("'{x}' is not a pixel column"))?,
             y.parse().map_err(|_| format!("'{y}' is not a pixel row"))?,
         ]),
-        _ => Err(format!("expected a pixel as column,row like 320,240, got '{s}'")),
+        _ => Err(format!(
+            "expected a pixel as column,row like 320,240, got '{s}'"
+        )),
     }
 }
 
@@ -62,13 +67,23 @@ pub struct ViewArgs {
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub up: Option<[f64; 3]>,
     /// Vertical field of view, degrees (perspective).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, conflicts_with = "ortho_height")]
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_hyphen_values = true,
+        conflicts_with = "ortho_height"
+    )]
     pub vfov: Option<f64>,
     /// View height in world units (orthographic).
     #[arg(long, value_name = "H", allow_hyphen_values = true)]
     pub ortho_height: Option<f64>,
     /// Lens aperture radius, world units (0 = pinhole).
-    #[arg(long, value_name = "R", allow_hyphen_values = true, conflicts_with = "focal_length_mm")]
+    #[arg(
+        long,
+        value_name = "R",
+        allow_hyphen_values = true,
+        conflicts_with = "focal_length_mm"
+    )]
     pub aperture_radius: Option<f64>,
     /// Distance of the focal plane along the view axis, world units.
     #[arg(long, value_name = "D", allow_hyphen_values = true)]

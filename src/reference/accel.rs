@@ -4,10 +4,10 @@
 
 use std::time::{Duration, Instant};
 
-use glam::{Vec2, Vec3, Vec3A};
+use glam::{UVec2, Vec2, Vec3, Vec3A};
 use obvhs::{
     cwbvh::{builder::build_cwbvh_from_tris, CwBvh},
-    ray::{Ray as BvhRay, RayHit},
+    ray::Ray as BvhRay,
     triangle::Triangle,
     BvhBuildParams,
 };
@@ -16,6 +16,26 @@ use super::triangle::WatertightRay;
 
 /// Above this many triangles the build trades a little traversal speed for build time.
 const LARGE_SCENE_TRIANGLES: usize = 250_000;
+
+/// obvhs's ray with its inverse direction from one vector division (`Ray::new` does three scalar
+/// ones); zero components become huge finite values, as obvhs's `safe_inverse` makes them.
+#[inline(always)]
+fn bvh_ray(origin: Vec3, direction: Vec3, tmin: f32, tmax: f32) -> BvhRay {
+    let direction = Vec3A::from(direction);
+    let tiny = Vec3A::splat(f32::EPSILON);
+    let safe = Vec3A::select(
+        direction.abs().cmple(tiny),
+        tiny.copysign(direction),
+        direction,
+    );
+    BvhRay {
+        origin: origin.into(),
+        direction,
+        inv_direction: safe.recip(),
+        tmin,
+        tmax,
+    }
+}
 
 /// A closest hit: `slot` indexes the leaf-ordered triangle arrays, `triangle` the caller's order.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,21 +102,10 @@ impl Accel {
         t_max: f32,
     ) -> Option<Hit> {
         let watertight = WatertightRay::new(origin, direction);
-        let ray = BvhRay::new(origin.into(), direction.into(), t_min, t_max);
-        let mut hit = RayHit::none();
-        let found = self.bvh.ray_traverse(ray, &mut hit, |r, slot| {
-            watertight
-                .intersect(&self.vertices[slot], r.tmin, r.tmax)
-                .map_or(f32::INFINITY, |(t, _)| t)
-        });
-        if !found {
-            return None;
-        }
-        let slot = hit.primitive_id;
-        // The traversal keeps only t; the barycentrics of the winner are recomputed once.
-        let (t, barycentric) = watertight
-            .intersect(&self.vertices[slot as usize], t_min, t_max)
-            .expect("the closest hit intersects again");
+        let ray = bvh_ray(origin, direction, t_min, t_max);
+        // One traversal per axis permutation, so the leaf test has no run-time indexing.
+        let (slot, t, barycentric) = crate::with_axes!(watertight.axes(), |KX, KY, KZ| self
+            .closest_hit_axes::<KX, KY, KZ>(&watertight, ray))?;
         Some(Hit {
             t,
             slot,
@@ -105,14 +114,72 @@ impl Accel {
         })
     }
 
+    /// obvhs's traversal macro with the triangle test inlined at the leaves (the closure-based
+    /// `ray_traverse` does not inline it).
+    #[inline(always)]
+    fn closest_hit_axes<const KX: usize, const KY: usize, const KZ: usize>(
+        &self,
+        watertight: &WatertightRay,
+        mut ray: BvhRay,
+    ) -> Option<(u32, f32, Vec2)> {
+        let mut state = self.bvh.new_traversal(ray.direction);
+        let mut node;
+        let mut best = None;
+        obvhs::traverse!(
+            self.bvh,
+            node,
+            state,
+            node.intersect_ray(&ray, state.oct_inv4),
+            {
+                let slot = state.primitive_id;
+                if let Some((t, b)) = watertight.intersect_axes::<KX, KY, KZ>(
+                    &self.vertices[slot as usize],
+                    ray.tmin,
+                    ray.tmax,
+                ) {
+                    ray.tmax = t;
+                    best = Some((slot, t, b));
+                }
+            }
+        );
+        best
+    }
+
     /// Whether anything lies on the ray with t in (t_min, t_max): the shadow test.
     pub fn occluded(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> bool {
         let watertight = WatertightRay::new(origin, direction);
-        let ray = BvhRay::new(origin.into(), direction.into(), t_min, t_max);
-        !self.bvh.ray_traverse_miss(ray, |r, slot| {
-            watertight
-                .intersect(&self.vertices[slot], r.tmin, r.tmax)
-                .map_or(f32::INFINITY, |(t, _)| t)
-        })
+        let ray = bvh_ray(origin, direction, t_min, t_max);
+        crate::with_axes!(watertight.axes(), |KX, KY, KZ| self
+            .occluded_axes::<KX, KY, KZ>(&watertight, ray))
+    }
+
+    #[inline(always)]
+    fn occluded_axes<const KX: usize, const KY: usize, const KZ: usize>(
+        &self,
+        watertight: &WatertightRay,
+        ray: BvhRay,
+    ) -> bool {
+        let mut state = self.bvh.new_traversal(ray.direction);
+        let mut node;
+        let mut occluded = false;
+        'search: {
+            obvhs::traverse!(
+                self.bvh,
+                node,
+                state,
+                node.intersect_ray(&ray, state.oct_inv4),
+                {
+                    let slot = state.primitive_id as usize;
+                    if watertight
+                        .intersect_axes::<KX, KY, KZ>(&self.vertices[slot], ray.tmin, ray.tmax)
+                        .is_some()
+                    {
+                        occluded = true;
+                        break 'search;
+                    }
+                }
+            );
+        }
+        occluded
     }
 }

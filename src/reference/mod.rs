@@ -7,6 +7,7 @@
 //!   `surface::shadow_origin` to the light, t in (0, d), is unoccluded; background on a miss.
 //! - AOVs (`depth`, `normal`, `albedo`) follow the aperture-centre ray of each film sample: they
 //!   describe the sharp scene behind each pixel, antialiased over the samples.
+//!
 //! Every mode averages its `spp` samples per pixel.
 
 mod accel;

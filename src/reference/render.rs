@@ -146,11 +146,13 @@ impl Renderer {
         let Some(hit) = self.intersect(ray) else {
             return (settings.background, 1);
         };
+        if settings.shading == Shading::Unlit {
+            // Visibility only: the material is all that is needed.
+            let material = self.surfaces.materials[hit.slot as usize];
+            return (self.materials[material as usize].diffuse, 1);
+        }
         let surface = self.surface_point(ray, &hit);
         let material = &self.materials[surface.material as usize];
-        if settings.shading == Shading::Unlit {
-            return (material.diffuse, 1);
-        }
         let mut radiance = material.emission;
         let origin = shadow_origin(&surface);
         let to_light = settings.light.position - origin;
