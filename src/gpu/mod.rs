@@ -11,6 +11,19 @@
 //! `shader` (embedded SPIR-V), `pipeline`, `scene` (scene buffers), `gbuffer` (raster pass),
 //! `trace` (compute pass), `probe` (GLSL mirror checks), `conv` (host <-> shader layouts),
 //! `error`, `bench`.
+//!
+//! ```no_run
+//! use lensray::gpu::{GpuOptions, GpuRenderer};
+//! # fn demo(scene: &lensray::scene::Scene, camera: &lensray::camera::Camera,
+//! #         settings: &lensray::render::RenderSettings) -> Result<(), lensray::gpu::GpuError> {
+//! let mut gpu = GpuRenderer::new(&GpuOptions { validate: false, device_index: None })?;
+//! gpu.load_scene(scene)?; // BLAS per mesh (compacted) + TLAS, scene arrays uploaded
+//! let image = gpu.render(camera, settings, &mut |done, total| eprint!("\r{done}/{total}"))?;
+//! let gbuffer = gpu.render_gbuffer(camera, settings.background)?;
+//! let focus = lensray::gpu::focus_distance_at(&gbuffer, camera.width / 2, camera.height / 2);
+//! println!("{} rays/s", gpu.timings().rays_per_second().unwrap_or(0.0));
+//! # let _ = (image, focus); Ok(()) }
+//! ```
 
 #![deny(clippy::undocumented_unsafe_blocks)]
 
