@@ -3,6 +3,7 @@
 
 pub mod camera;
 pub mod cli;
+pub mod gpu;
 pub mod output;
 pub mod reference;
 pub mod render;

@@ -3,4 +3,5 @@
 pub mod args;
 pub mod bench;
 pub mod generate;
+pub mod info;
 pub mod render;

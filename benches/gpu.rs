@@ -1,0 +1,140 @@
+//! Throughput of the Vulkan compute pass: rays per second from timestamp queries, at 640x480 and
+//! 16 spp on a ~60k-triangle scene (AS build and first dispatch reported apart).
+//!
+//! `cargo bench --bench gpu` measures; under `cargo test --all-targets` (no `--bench` argument)
+//! it only runs a tiny smoke version. Without a ray-query device it prints why and exits 0 when
+//! LENSRAY_SKIP_GPU_TESTS=1, else fails.
+
+use glam::Vec3;
+use lensray::camera::{CameraParams, LensParams, ProjectionParams};
+use lensray::gpu::{bench, BenchOptions, GpuOptions};
+use lensray::render::{PointLight, RenderSettings, Shading};
+use lensray::scene::{Material, Mesh, Scene};
+
+/// A UV sphere with vertex normals: 2 * rings * segments triangles (minus the poles' halves).
+fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32, material: u32) -> Mesh {
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    for r in 0..=rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..=segments {
+            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            positions.push(center + radius * n);
+            normals.push(n);
+        }
+    }
+    let row = segments + 1;
+    let mut triangles = Vec::new();
+    for r in 0..rings {
+        for s in 0..segments {
+            let a = r * row + s;
+            let b = a + row;
+            if r != 0 {
+                triangles.push([a, b, a + 1]);
+            }
+            if r != rings - 1 {
+                triangles.push([a + 1, b, b + 1]);
+            }
+        }
+    }
+    Mesh {
+        name: "sphere".into(),
+        positions,
+        normals,
+        material_ids: vec![material; triangles.len()],
+        triangles,
+    }
+}
+
+/// `n x n` spheres on a floor.
+fn scene(n: u32, rings: u32) -> Scene {
+    let mut meshes = vec![Mesh {
+        name: "floor".into(),
+        positions: vec![
+            Vec3::new(-20.0, 0.0, -20.0),
+            Vec3::new(20.0, 0.0, -20.0),
+            Vec3::new(20.0, 0.0, 20.0),
+            Vec3::new(-20.0, 0.0, 20.0),
+        ],
+        normals: vec![],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        material_ids: vec![0; 2],
+    }];
+    for i in 0..n * n {
+        let (x, z) = ((i % n) as f32, (i / n) as f32);
+        let c = Vec3::new(
+            (x - (n - 1) as f32 / 2.0) * 1.2,
+            0.5,
+            (z - (n - 1) as f32 / 2.0) * 1.2,
+        );
+        meshes.push(sphere(c, 0.5, rings, 2 * rings, 1 + i % 3));
+    }
+    let material = |name: &str, diffuse: Vec3| Material {
+        name: name.into(),
+        diffuse,
+        emission: Vec3::ZERO,
+    };
+    Scene {
+        meshes,
+        materials: vec![
+            material("floor", Vec3::splat(0.7)),
+            material("red", Vec3::new(0.8, 0.2, 0.1)),
+            material("green", Vec3::new(0.2, 0.8, 0.1)),
+            material("blue", Vec3::new(0.1, 0.2, 0.8)),
+        ],
+    }
+}
+
+fn main() {
+    let measure = std::env::args().any(|a| a == "--bench");
+    let (scene, width, height, spp, repeats) = if measure {
+        (scene(6, 24), 640, 480, 16, 3)
+    } else {
+        (scene(2, 6), 32, 24, 2, 1)
+    };
+    let camera = CameraParams {
+        eye: Vec3::new(0.0, 4.0, 7.5),
+        target: Vec3::new(0.0, 0.3, 0.0),
+        up: Vec3::Y,
+        projection: ProjectionParams::Perspective { vfov_degrees: 50.0 },
+        lens: LensParams::ThinLens {
+            aperture_radius: 0.15,
+            focus_distance: 7.0,
+        },
+        near: 0.1,
+        far: 100.0,
+        width,
+        height,
+    }
+    .build()
+    .expect("valid camera");
+    let options = BenchOptions {
+        gpu: GpuOptions::default(),
+        repeats,
+    };
+    for shading in [Shading::Unlit, Shading::Lit] {
+        let settings = RenderSettings {
+            spp,
+            seed: 1,
+            shading,
+            background: Vec3::new(0.1, 0.2, 0.3),
+            light: PointLight {
+                position: Vec3::new(3.0, 8.0, 4.0),
+                intensity: Vec3::splat(100.0),
+            },
+        };
+        match bench(&scene, &camera, &settings, &options) {
+            Ok(report) => println!("--- gpu bench, {shading:?}\n{report}\n"),
+            Err(e) if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
+                println!("SKIPPED gpu bench: {e}");
+                return;
+            }
+            Err(e) => panic!("gpu bench: {e}"),
+        }
+    }
+}

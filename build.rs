@@ -1,0 +1,82 @@
+//! Compiles the GLSL shaders in `shaders/` to SPIR-V (Vulkan 1.2, SPIR-V 1.4) with shaderc.
+//! Each `shaders/NAME.{vert,frag,comp}` becomes `$OUT_DIR/NAME.STAGE.spv`, embedded by
+//! `src/gpu/shader.rs` with `include_bytes!`. `#include "x.glsl"` resolves in `shaders/`.
+//! A compile error fails the build with the file and line of every message.
+
+// Brings in the glslang / SPIRV-Tools libraries that Debian's libshaderc needs (see its build.rs).
+extern crate lensray_shaderc_link;
+
+use std::path::{Path, PathBuf};
+
+fn main() {
+    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
+    let out = PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
+    let shader_dir = manifest.join("shaders");
+    println!("cargo:rerun-if-changed=shaders");
+
+    let compiler = shaderc::Compiler::new().expect("shaderc: cannot create a compiler");
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
+        .expect("read shaders/")
+        .map(|e| e.expect("read shaders/").path())
+        .collect();
+    entries.sort();
+
+    let mut failures = Vec::new();
+    for path in entries {
+        println!("cargo:rerun-if-changed={}", path.display());
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        let kind = match ext {
+            "vert" => shaderc::ShaderKind::Vertex,
+            "frag" => shaderc::ShaderKind::Fragment,
+            "comp" => shaderc::ShaderKind::Compute,
+            _ => continue, // includes (*.glsl) are compiled as part of their users
+        };
+        let source = std::fs::read_to_string(&path).expect("read shader");
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let mut options = shaderc::CompileOptions::new().expect("shaderc options");
+        options.set_target_env(
+            shaderc::TargetEnv::Vulkan,
+            shaderc::EnvVersion::Vulkan1_2 as u32,
+        );
+        options.set_target_spirv(shaderc::SpirvVersion::V1_4);
+        options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+        options.set_warnings_as_errors();
+        let include_dir = shader_dir.clone();
+        options.set_include_callback(move |requested, _kind, requester, _depth| {
+            resolve_include(&include_dir, requested, requester)
+        });
+        match compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options)) {
+            Ok(artifact) => {
+                if artifact.get_num_warnings() > 0 {
+                    println!("cargo:warning={}", artifact.get_warning_messages());
+                }
+                let target = out.join(format!("{name}.spv"));
+                std::fs::write(&target, artifact.as_binary_u8()).expect("write SPIR-V");
+            }
+            Err(e) => failures.push(format!("{}:\n{e}", path.display())),
+        }
+    }
+    if !failures.is_empty() {
+        for f in &failures {
+            for line in f.lines() {
+                println!("cargo:warning={line}");
+            }
+        }
+        panic!("shader compilation failed:\n{}", failures.join("\n"));
+    }
+}
+
+fn resolve_include(
+    dir: &Path,
+    requested: &str,
+    requester: &str,
+) -> Result<shaderc::ResolvedInclude, String> {
+    let path = dir.join(requested);
+    println!("cargo:rerun-if-changed={}", path.display());
+    let content = std::fs::read_to_string(&path)
+        .map_err(|e| format!("{requester}: cannot include {}: {e}", path.display()))?;
+    Ok(shaderc::ResolvedInclude {
+        resolved_name: requested.to_string(),
+        content,
+    })
+}

@@ -1,0 +1,309 @@
+//! Host-side conversions: the scene flattened into the arrays the shaders and the acceleration
+//! structure builds read, and the camera / settings in the shaders' std140 layouts.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Mat4;
+
+use crate::camera::{Camera, Projection};
+use crate::render::{RenderSettings, Shading};
+use crate::scene::Scene;
+
+use super::error::GpuError;
+
+/// Bit 31 of a triangle's info word: its mesh has vertex normals. Bits 0..31: material index.
+pub(crate) const TRI_HAS_NORMALS: u32 = 1 << 31;
+
+/// One mesh's range in the flattened arrays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct MeshRange {
+    pub first_triangle: u32,
+    pub triangle_count: u32,
+}
+
+/// Every mesh concatenated: one vertex array (vec4 positions and normals, std430 friendly),
+/// global vertex indices, per-triangle info, materials.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FlatScene {
+    pub positions: Vec<[f32; 4]>,
+    pub normals: Vec<[f32; 4]>,
+    pub indices: Vec<u32>,
+    pub tri_info: Vec<u32>,
+    pub materials: Vec<GpuMaterial>,
+    pub meshes: Vec<MeshRange>,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct GpuMaterial {
+    pub diffuse: [f32; 4],
+    pub emission: [f32; 4],
+}
+
+/// Instance custom indices have 24 bits: the first triangle of every mesh must fit.
+const MAX_TRIANGLES: usize = 1 << 24;
+
+impl FlatScene {
+    pub fn new(scene: &Scene) -> Result<Self, GpuError> {
+        let total = scene.triangle_count();
+        if total > MAX_TRIANGLES {
+            return Err(GpuError::Invalid(format!(
+                "{total} triangles: the GPU path handles at most {MAX_TRIANGLES}"
+            )));
+        }
+        let mut flat = FlatScene {
+            materials: scene
+                .materials
+                .iter()
+                .map(|m| GpuMaterial {
+                    diffuse: m.diffuse.extend(0.0).to_array(),
+                    emission: m.emission.extend(0.0).to_array(),
+                })
+                .collect(),
+            ..Default::default()
+        };
+        if flat.materials.is_empty() {
+            // Shaders index a non-empty array; no triangle may refer to it (checked below).
+            flat.materials.push(GpuMaterial::zeroed());
+        }
+        for (m, mesh) in scene.meshes.iter().enumerate() {
+            let has_normals = !mesh.normals.is_empty();
+            if has_normals && mesh.normals.len() != mesh.positions.len() {
+                return Err(GpuError::Invalid(format!(
+                    "mesh {m} ({}) has {} normals for {} positions",
+                    mesh.name,
+                    mesh.normals.len(),
+                    mesh.positions.len()
+                )));
+            }
+            if mesh.material_ids.len() != mesh.triangles.len() {
+                return Err(GpuError::Invalid(format!(
+                    "mesh {m} ({}) has {} material ids for {} triangles",
+                    mesh.name,
+                    mesh.material_ids.len(),
+                    mesh.triangles.len()
+                )));
+            }
+            let base = flat.positions.len() as u32;
+            flat.meshes.push(MeshRange {
+                first_triangle: flat.tri_info.len() as u32,
+                triangle_count: mesh.triangles.len() as u32,
+            });
+            flat.positions
+                .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
+            if has_normals {
+                flat.normals
+                    .extend(mesh.normals.iter().map(|n| n.extend(0.0).to_array()));
+            } else {
+                flat.normals
+                    .extend(std::iter::repeat_n([0.0; 4], mesh.positions.len()));
+            }
+            for (t, (tri, &material)) in mesh.triangles.iter().zip(&mesh.material_ids).enumerate() {
+                if tri.iter().any(|&i| i as usize >= mesh.positions.len()) {
+                    return Err(GpuError::Invalid(format!(
+                        "mesh {m} ({}) triangle {t} has a vertex index out of range",
+                        mesh.name
+                    )));
+                }
+                if material as usize >= scene.materials.len() {
+                    return Err(GpuError::Invalid(format!(
+                        "mesh {m} ({}) triangle {t} uses material {material} of {}",
+                        mesh.name,
+                        scene.materials.len()
+                    )));
+                }
+                flat.indices.extend(tri.iter().map(|&i| base + i));
+                flat.tri_info
+                    .push(material | if has_normals { TRI_HAS_NORMALS } else { 0 });
+            }
+        }
+        Ok(flat)
+    }
+
+    pub fn triangle_count(&self) -> u32 {
+        self.tri_info.len() as u32
+    }
+}
+
+/// `struct Camera` of shaders/camera.glsl, std140: two mat4, a uint and three floats.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct GpuCamera {
+    pub world_from_camera: [f32; 16],
+    pub screen_from_raster: [f32; 16],
+    pub projection: u32,
+    pub near_z: f32,
+    pub aperture_radius: f32,
+    pub focus_distance: f32,
+}
+
+pub(crate) const PROJECTION_PERSPECTIVE: u32 = 0;
+pub(crate) const PROJECTION_ORTHOGRAPHIC: u32 = 1;
+
+impl GpuCamera {
+    pub fn new(camera: &Camera) -> Self {
+        Self {
+            // glam and GLSL are both column-major.
+            world_from_camera: camera.world_from_camera.to_cols_array(),
+            screen_from_raster: camera.screen_from_raster.to_cols_array(),
+            projection: match camera.projection {
+                Projection::Perspective { .. } => PROJECTION_PERSPECTIVE,
+                Projection::Orthographic { .. } => PROJECTION_ORTHOGRAPHIC,
+            },
+            near_z: camera.near,
+            aperture_radius: camera.lens.aperture_radius,
+            focus_distance: camera.lens.focus_distance,
+        }
+    }
+}
+
+pub(crate) const SHADING_UNLIT: u32 = 0;
+pub(crate) const SHADING_LIT: u32 = 1;
+
+/// The `Params` uniform block of trace.comp (std140; 208 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct TraceParams {
+    pub camera: GpuCamera,
+    pub background: [f32; 4],
+    pub light_position: [f32; 4],
+    pub light_intensity: [f32; 4],
+    pub width: u32,
+    pub height: u32,
+    pub seed: u32,
+    pub shading: u32,
+}
+
+impl TraceParams {
+    pub fn new(camera: &Camera, settings: &RenderSettings) -> Self {
+        Self {
+            camera: GpuCamera::new(camera),
+            background: settings.background.extend(0.0).to_array(),
+            light_position: settings.light.position.extend(1.0).to_array(),
+            light_intensity: settings.light.intensity.extend(0.0).to_array(),
+            width: camera.width,
+            height: camera.height,
+            seed: settings.seed,
+            shading: match settings.shading {
+                Shading::Lit => SHADING_LIT,
+                _ => SHADING_UNLIT,
+            },
+        }
+    }
+}
+
+/// Per-dispatch push constants of trace.comp: the blocks of 8 rows
+/// `block_first + i * block_stride` (i < block_count) of the band of `band_height` rows from
+/// `band_origin`, and a range of samples.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct TracePush {
+    /// First row of the band whose sums the accumulation buffer holds.
+    pub band_origin: u32,
+    pub band_height: u32,
+    pub block_first: u32,
+    pub block_stride: u32,
+    pub block_count: u32,
+    pub sample_begin: u32,
+    pub sample_end: u32,
+    pub pad: u32,
+}
+
+/// Push constants of the G-buffer pass (112 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct RasterPush {
+    pub clip_from_world: [f32; 16],
+    pub eye: [f32; 4],
+    /// xyz: the view axis; w: 1 for orthographic (viewer direction is the axis), 0 perspective.
+    pub forward: [f32; 4],
+}
+
+impl RasterPush {
+    pub fn new(camera: &Camera) -> Self {
+        let clip: Mat4 = camera.clip_from_world();
+        let ortho = if camera.is_orthographic() { 1.0 } else { 0.0 };
+        Self {
+            clip_from_world: clip.to_cols_array(),
+            eye: camera.frame.eye.extend(1.0).to_array(),
+            forward: camera.frame.forward.extend(ortho).to_array(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    use crate::camera::{CameraParams, LensParams, ProjectionParams};
+    use glam::{Vec2, Vec3};
+
+    /// The raster pass uses `clip_from_world()` as is: Vulkan's clip space has y down and depth
+    /// in [0, 1]. A point on the pinhole ray through raster point (x, y) must land at
+    /// NDC (2x/w - 1, 2y/h - 1), with depth 0 on the near plane and 1 on the far plane.
+    #[test]
+    fn clip_from_world_is_vulkan_clip_space() {
+        for projection in [
+            ProjectionParams::Perspective { vfov_degrees: 50.0 },
+            ProjectionParams::Orthographic { height: 3.0 },
+        ] {
+            let cam = CameraParams {
+                eye: Vec3::new(1.0, 2.0, 3.0),
+                target: Vec3::new(-0.5, 0.2, -1.0),
+                up: Vec3::Y,
+                projection,
+                lens: LensParams::Pinhole,
+                near: 0.5,
+                far: 20.0,
+                width: 160,
+                height: 90,
+            }
+            .build()
+            .unwrap();
+            let clip = cam.clip_from_world();
+            for raster in [
+                Vec2::new(0.5, 0.5),
+                Vec2::new(159.5, 10.25),
+                Vec2::new(80.0, 89.0),
+            ] {
+                let ray = cam.generate_ray(raster, Vec2::splat(0.5));
+                for depth in [cam.near, 2.0, cam.far] {
+                    // The point of the ray at view depth `depth`.
+                    let t =
+                        (depth - cam.view_depth(ray.origin)) / ray.direction.dot(cam.frame.forward);
+                    let p = ray.at(t);
+                    let h = clip * p.extend(1.0);
+                    let ndc = h.truncate() / h.w;
+                    let expected_x = 2.0 * raster.x / 160.0 - 1.0;
+                    let expected_y = 2.0 * raster.y / 90.0 - 1.0;
+                    let expected_z = if depth == cam.near {
+                        0.0
+                    } else if depth == cam.far {
+                        1.0
+                    } else {
+                        ndc.z
+                    };
+                    assert!(
+                        (ndc.x - expected_x).abs() < 1e-4,
+                        "{projection:?} x {ndc} {raster}"
+                    );
+                    assert!(
+                        (ndc.y - expected_y).abs() < 1e-4,
+                        "{projection:?} y {ndc} {raster}"
+                    );
+                    assert!(
+                        (ndc.z - expected_z).abs() < 1e-4,
+                        "{projection:?} z {ndc} at {depth}"
+                    );
+                    assert!(h.w > 0.0);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn std140_sizes() {
+        assert_eq!(std::mem::size_of::<GpuCamera>(), 144);
+        assert_eq!(std::mem::size_of::<TraceParams>(), 144 + 48 + 16);
+        assert_eq!(std::mem::size_of::<RasterPush>(), 96);
+    }
+}

@@ -1,0 +1,421 @@
+//! The raster G-buffer pass: world-space shading normal (facing the viewer), albedo (Kd) and
+//! linear view depth per pixel, with a D32 depth buffer, projected by the Rust camera's
+//! `clip_from_world()`. The targets stay alive in the renderer (in TRANSFER_SRC_OPTIMAL layout)
+//! for later passes; `render` also reads them back to the host.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec3;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::{barrier, Buffer};
+use super::conv::RasterPush;
+use super::device::Context;
+use super::error::{vk_err, GpuError};
+use super::image::Image;
+use super::pipeline::{GraphicsDesc, Pipeline};
+use super::scene::SceneBuffers;
+use super::shader;
+use crate::camera::Camera;
+
+/// The G-buffer read back to the host; row-major, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GBuffer {
+    pub width: u32,
+    pub height: u32,
+    /// Camera-space z of the visible surface at each pixel centre; 0 where nothing is covered.
+    pub view_depth: Vec<f32>,
+    /// World-space shading normal facing the viewer; 0 where nothing is covered.
+    pub normal: Vec<Vec3>,
+    /// Kd of the visible surface; the background where nothing is covered.
+    pub albedo: Vec<Vec3>,
+    pub coverage: Vec<bool>,
+}
+
+impl GBuffer {
+    pub fn index(&self, x: u32, y: u32) -> usize {
+        (y * self.width + x) as usize
+    }
+}
+
+/// Autofocus: the view depth at pixel (x, y), `None` outside the image or where nothing is
+/// covered.
+pub fn focus_distance_at(gbuffer: &GBuffer, x: u32, y: u32) -> Option<f32> {
+    if x >= gbuffer.width || y >= gbuffer.height {
+        return None;
+    }
+    let i = gbuffer.index(x, y);
+    gbuffer.coverage[i].then_some(gbuffer.view_depth[i])
+}
+
+const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+const ALBEDO_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+const VIEW_DEPTH_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
+const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+struct RenderPass {
+    ctx: Arc<Context>,
+    handle: vk::RenderPass,
+}
+
+impl RenderPass {
+    fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let color = |format| {
+            vk::AttachmentDescription::default()
+                .format(format)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .initial_layout(vk::ImageLayout::UNDEFINED)
+                .final_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+        };
+        let attachments = [
+            color(NORMAL_FORMAT),
+            color(ALBEDO_FORMAT),
+            color(VIEW_DEPTH_FORMAT),
+            vk::AttachmentDescription::default()
+                .format(DEPTH_FORMAT)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .initial_layout(vk::ImageLayout::UNDEFINED)
+                .final_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
+        ];
+        let color_refs = [0, 1, 2].map(|i| {
+            vk::AttachmentReference::default()
+                .attachment(i)
+                .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        });
+        let depth_ref = vk::AttachmentReference::default()
+            .attachment(3)
+            .layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+        let subpasses = [vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&color_refs)
+            .depth_stencil_attachment(&depth_ref)];
+        let attachment_stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+            | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
+        let attachment_writes = vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
+        let dependencies = [
+            // Earlier readbacks / passes of these images before this pass writes them.
+            vk::SubpassDependency::default()
+                .src_subpass(vk::SUBPASS_EXTERNAL)
+                .dst_subpass(0)
+                .src_stage_mask(
+                    attachment_stages
+                        | vk::PipelineStageFlags::TRANSFER
+                        | vk::PipelineStageFlags::COMPUTE_SHADER,
+                )
+                .src_access_mask(attachment_writes)
+                .dst_stage_mask(attachment_stages)
+                .dst_access_mask(
+                    attachment_writes | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
+                ),
+            // This pass's writes before readbacks and later shader reads.
+            vk::SubpassDependency::default()
+                .src_subpass(0)
+                .dst_subpass(vk::SUBPASS_EXTERNAL)
+                .src_stage_mask(attachment_stages)
+                .src_access_mask(attachment_writes)
+                .dst_stage_mask(
+                    vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+                )
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::SHADER_READ),
+        ];
+        let info = vk::RenderPassCreateInfo::default()
+            .attachments(&attachments)
+            .subpasses(&subpasses)
+            .dependencies(&dependencies);
+        // SAFETY: valid create-info on a live device.
+        let handle = unsafe { ctx.device.create_render_pass(&info, None) }
+            .map_err(vk_err("vkCreateRenderPass"))?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            handle,
+        })
+    }
+}
+
+impl Drop for RenderPass {
+    fn drop(&mut self) {
+        // SAFETY: no pending submission uses it (pipelines and framebuffers only needed it at
+        // creation).
+        unsafe { self.ctx.device.destroy_render_pass(self.handle, None) };
+    }
+}
+
+/// The G-buffer images of one size and their framebuffer.
+pub(crate) struct GBufferTargets {
+    ctx: Arc<Context>,
+    framebuffer: vk::Framebuffer,
+    pub normal: Image,
+    pub albedo: Image,
+    pub view_depth: Image,
+    /// The depth buffer (D32), kept for later passes.
+    #[allow(dead_code)]
+    pub depth: Image,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl GBufferTargets {
+    fn new(
+        ctx: &Arc<Context>,
+        render_pass: vk::RenderPass,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, GpuError> {
+        let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::TRANSFER_SRC
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::STORAGE;
+        let color = |name, format| {
+            Image::new(
+                ctx,
+                name,
+                width,
+                height,
+                format,
+                color_usage,
+                vk::ImageAspectFlags::COLOR,
+            )
+        };
+        let normal = color("G-buffer normal", NORMAL_FORMAT)?;
+        let albedo = color("G-buffer albedo", ALBEDO_FORMAT)?;
+        let view_depth = color("G-buffer view depth", VIEW_DEPTH_FORMAT)?;
+        let depth = Image::new(
+            ctx,
+            "G-buffer depth",
+            width,
+            height,
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            vk::ImageAspectFlags::DEPTH,
+        )?;
+        let views = [normal.view, albedo.view, view_depth.view, depth.view];
+        let info = vk::FramebufferCreateInfo::default()
+            .render_pass(render_pass)
+            .attachments(&views)
+            .width(width)
+            .height(height)
+            .layers(1);
+        // SAFETY: the views match the render pass's attachments and live as long as the
+        // framebuffer (same struct, destroyed after it).
+        let framebuffer = unsafe { ctx.device.create_framebuffer(&info, None) }
+            .map_err(vk_err("vkCreateFramebuffer"))?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            framebuffer,
+            normal,
+            albedo,
+            view_depth,
+            depth,
+            width,
+            height,
+        })
+    }
+}
+
+impl Drop for GBufferTargets {
+    fn drop(&mut self) {
+        // SAFETY: no pending submission; destroyed before its image views (fields drop later).
+        unsafe { self.ctx.device.destroy_framebuffer(self.framebuffer, None) };
+    }
+}
+
+pub(crate) struct GBufferPass {
+    ctx: Arc<Context>,
+    pipeline: Pipeline,
+    pub targets: Option<GBufferTargets>,
+    render_pass: RenderPass,
+}
+
+impl GBufferPass {
+    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let render_pass = RenderPass::new(ctx)?;
+        let storage = (
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::ShaderStageFlags::VERTEX,
+        );
+        let pipeline = Pipeline::graphics(
+            ctx,
+            &GraphicsDesc {
+                vert: shader::GBUFFER_VERT,
+                frag: shader::GBUFFER_FRAG,
+                render_pass: render_pass.handle,
+                color_attachments: 3,
+            },
+            &[storage; 5],
+            std::mem::size_of::<RasterPush>() as u32,
+        )?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            targets: None,
+            render_pass,
+        })
+    }
+
+    /// Points the pipeline's set at a newly loaded scene.
+    pub fn bind_scene(&self, scene: &SceneBuffers) {
+        scene.bind(&self.pipeline, 0);
+    }
+
+    pub fn render(
+        &mut self,
+        scene: &SceneBuffers,
+        camera: &Camera,
+        background: Vec3,
+    ) -> Result<GBuffer, GpuError> {
+        let (width, height) = (camera.width, camera.height);
+        if self
+            .targets
+            .as_ref()
+            .is_none_or(|t| t.width != width || t.height != height)
+        {
+            self.targets = None;
+            self.targets = Some(GBufferTargets::new(
+                &self.ctx,
+                self.render_pass.handle,
+                width,
+                height,
+            )?);
+        }
+        let targets = self.targets.as_ref().expect("targets were just created");
+        let pixels = u64::from(width) * u64::from(height);
+        let readback = |name, bytes_per_pixel: u64| {
+            Buffer::new(
+                &self.ctx,
+                name,
+                pixels * bytes_per_pixel,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )
+        };
+        let normal_rb = readback("G-buffer normal readback", 16)?;
+        let albedo_rb = readback("G-buffer albedo readback", 16)?;
+        let depth_rb = readback("G-buffer depth readback", 4)?;
+        let push = RasterPush::new(camera);
+        let ctx = &self.ctx;
+        let pipeline = &self.pipeline;
+        let render_pass = self.render_pass.handle;
+        ctx.submit_and_wait(|cmd| {
+            let clear = [
+                vk::ClearValue {
+                    color: vk::ClearColorValue { float32: [0.0; 4] },
+                },
+                vk::ClearValue {
+                    color: vk::ClearColorValue {
+                        float32: background.extend(0.0).to_array(),
+                    },
+                },
+                vk::ClearValue {
+                    color: vk::ClearColorValue { float32: [0.0; 4] },
+                },
+                vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                },
+            ];
+            let area = vk::Rect2D {
+                offset: vk::Offset2D { x: 0, y: 0 },
+                extent: vk::Extent2D { width, height },
+            };
+            let begin = vk::RenderPassBeginInfo::default()
+                .render_pass(render_pass)
+                .framebuffer(targets.framebuffer)
+                .render_area(area)
+                .clear_values(&clear);
+            let viewport = vk::Viewport {
+                x: 0.0,
+                y: 0.0,
+                width: width as f32,
+                height: height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            };
+            // SAFETY: recording state; the framebuffer matches the render pass; the scene
+            // buffers bound in the pipeline's set are live.
+            unsafe {
+                ctx.device
+                    .cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+                ctx.device.cmd_set_viewport(cmd, 0, &[viewport]);
+                ctx.device.cmd_set_scissor(cmd, 0, &[area]);
+            }
+            pipeline.bind(cmd, bytemuck::bytes_of(&push));
+            let vertices = scene.triangle_count * 3;
+            // SAFETY: inside the render pass with a graphics pipeline bound.
+            unsafe {
+                if vertices > 0 {
+                    ctx.device.cmd_draw(cmd, vertices, 1, 0, 0);
+                }
+                ctx.device.cmd_end_render_pass(cmd);
+            }
+            for (image, buffer) in [
+                (&targets.normal, &normal_rb),
+                (&targets.albedo, &albedo_rb),
+                (&targets.view_depth, &depth_rb),
+            ] {
+                let region = vk::BufferImageCopy::default()
+                    .image_subresource(vk::ImageSubresourceLayers {
+                        aspect_mask: vk::ImageAspectFlags::COLOR,
+                        mip_level: 0,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    })
+                    .image_extent(vk::Extent3D {
+                        width,
+                        height,
+                        depth: 1,
+                    });
+                // SAFETY: the render pass left the image in TRANSFER_SRC_OPTIMAL and its
+                // outgoing dependency orders the attachment writes before this copy.
+                unsafe {
+                    ctx.device.cmd_copy_image_to_buffer(
+                        cmd,
+                        image.image,
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        buffer.buffer,
+                        &[region],
+                    )
+                };
+            }
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::HOST,
+                vk::AccessFlags::HOST_READ,
+            );
+            Ok(())
+        })?;
+        let normal: &[[f32; 4]] = bytemuck::cast_slice(normal_rb.read()?);
+        let albedo: &[[f32; 4]] = bytemuck::cast_slice(albedo_rb.read()?);
+        let depth: &[f32] = bytemuck::cast_slice(depth_rb.read()?);
+        let n = pixels as usize;
+        Ok(GBuffer {
+            width,
+            height,
+            view_depth: depth[..n].to_vec(),
+            normal: normal[..n]
+                .iter()
+                .map(|v| Vec3::new(v[0], v[1], v[2]))
+                .collect(),
+            albedo: albedo[..n]
+                .iter()
+                .map(|v| Vec3::new(v[0], v[1], v[2]))
+                .collect(),
+            coverage: normal[..n].iter().map(|v| v[3] > 0.5).collect(),
+        })
+    }
+}

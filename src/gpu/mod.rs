@@ -1,0 +1,244 @@
+//! The Vulkan renderer (ash, raw Vulkan 1.2 + VK_KHR_ray_query): a raster G-buffer pass and a
+//! thin-lens compute pass that traces ray queries against per-mesh BLASes under one TLAS.
+//!
+//! The camera is the Rust [`Camera`]: the raster pass projects with `clip_from_world()`, the
+//! compute pass generates rays with `shaders/camera.glsl`, a function-by-function mirror of
+//! `src/camera`, fed with the camera's own matrices. This module is the only place in the crate
+//! with `unsafe` code; every Vulkan object is owned by a Rust value and destroyed on drop.
+//!
+//! Files: `instance` (instance, validation, messenger), `device` (device reports, selection,
+//! logical device, allocator, submissions), `buffer`, `image`, `query`, `accel` (BLAS/TLAS),
+//! `shader` (embedded SPIR-V), `pipeline`, `scene` (scene buffers), `gbuffer` (raster pass),
+//! `trace` (compute pass), `probe` (GLSL mirror checks), `conv` (host <-> shader layouts),
+//! `error`, `bench`.
+//!
+//! ```no_run
+//! use lensray::gpu::{GpuOptions, GpuRenderer};
+//! # fn demo(scene: &lensray::scene::Scene, camera: &lensray::camera::Camera,
+//! #         settings: &lensray::render::RenderSettings) -> Result<(), lensray::gpu::GpuError> {
+//! let mut gpu = GpuRenderer::new(&GpuOptions { validate: false, device_index: None })?;
+//! gpu.load_scene(scene)?; // BLAS per mesh (compacted) + TLAS, scene arrays uploaded
+//! let image = gpu.render(camera, settings, &mut |done, total| eprint!("\r{done}/{total}"))?;
+//! let gbuffer = gpu.render_gbuffer(camera, settings.background)?;
+//! let focus = lensray::gpu::focus_distance_at(&gbuffer, camera.width / 2, camera.height / 2);
+//! println!("{} rays/s", gpu.timings().rays_per_second().unwrap_or(0.0));
+//! # let _ = (image, focus); Ok(()) }
+//! ```
+
+#![deny(clippy::undocumented_unsafe_blocks)]
+
+mod accel;
+mod bench;
+mod buffer;
+mod conv;
+mod device;
+mod error;
+mod gbuffer;
+mod image;
+mod instance;
+mod pipeline;
+mod probe;
+mod query;
+mod scene;
+mod shader;
+mod trace;
+
+use std::sync::Arc;
+
+use glam::Vec3;
+
+use crate::camera::Camera;
+use crate::render::{Image, RenderSettings, Shading};
+use crate::scene::Scene;
+
+pub use bench::{bench, BenchOptions, BenchReport};
+pub use device::DeviceReport;
+pub use error::GpuError;
+pub use gbuffer::{focus_distance_at, GBuffer};
+pub use instance::ValidationLog;
+pub use probe::{ProbeQuery, ProbeResult};
+pub use trace::Timings;
+
+use device::Context;
+use gbuffer::GBufferPass;
+use instance::Instance;
+use scene::SceneBuffers;
+use trace::TracePass;
+
+/// How to open the GPU.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GpuOptions {
+    /// Enable VK_LAYER_KHRONOS_validation (with synchronization validation) and record its
+    /// warnings and errors (see [`GpuRenderer::validation_messages`]).
+    pub validate: bool,
+    /// Use this device of [`list_devices`]; default: the best one with ray queries.
+    pub device_index: Option<usize>,
+}
+
+/// Every Vulkan device, with what it lacks for lensray (for `lensray info`).
+pub fn list_devices() -> Result<Vec<DeviceReport>, GpuError> {
+    let instance = Instance::new(false)?;
+    Ok(device::enumerate(&instance.instance)?
+        .into_iter()
+        .map(|(_, r)| r)
+        .collect())
+}
+
+/// The Vulkan renderer. Fields drop in order; everything holds an `Arc` to the device context,
+/// which is destroyed last, then the instance.
+pub struct GpuRenderer {
+    trace: TracePass,
+    gbuffer: GBufferPass,
+    scene: Option<SceneBuffers>,
+    timings: Timings,
+    log: ValidationLog,
+    ctx: Arc<Context>,
+}
+
+impl GpuRenderer {
+    /// Opens the device; a clear error when no device (or not the chosen one) has ray queries.
+    pub fn new(options: &GpuOptions) -> Result<Self, GpuError> {
+        let instance = Arc::new(Instance::new(options.validate)?);
+        let log = instance.log.clone();
+        let ctx = Arc::new(Context::new(instance, options.device_index)?);
+        let gbuffer = GBufferPass::new(&ctx)?;
+        let trace = TracePass::new(&ctx)?;
+        Ok(Self {
+            trace,
+            gbuffer,
+            scene: None,
+            timings: Timings::default(),
+            log,
+            ctx,
+        })
+    }
+
+    pub fn device_name(&self) -> String {
+        self.ctx.report.name.clone()
+    }
+
+    pub fn device_report(&self) -> DeviceReport {
+        self.ctx.report.clone()
+    }
+
+    /// Uploads the scene and builds its acceleration structures (replacing any earlier scene).
+    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
+        self.scene = None;
+        let buffers = SceneBuffers::new(&self.ctx, scene)?;
+        self.gbuffer.bind_scene(&buffers);
+        self.trace.bind_scene(&buffers);
+        self.timings.accel_build_gpu_ms = buffers.accel.build_gpu_ns * 1e-6;
+        self.timings.accel_build_wall_ms = buffers.accel.build_wall_ns * 1e-6;
+        self.timings.blas_bytes = buffers.accel.blas_bytes;
+        self.timings.blas_compacted_bytes = buffers.accel.blas_compacted_bytes;
+        self.scene = Some(buffers);
+        Ok(())
+    }
+
+    /// The raster G-buffer of the loaded scene seen by `camera` (one sample at each pixel
+    /// centre, no depth of field). The images stay on the device for later passes.
+    pub fn render_gbuffer(
+        &mut self,
+        camera: &Camera,
+        background: Vec3,
+    ) -> Result<GBuffer, GpuError> {
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        check_size(camera)?;
+        self.gbuffer.render(scene, camera, background)
+    }
+
+    /// Renders `settings.shading`: `Unlit` and `Lit` through the thin lens with the compute
+    /// pass; `Depth`, `Normal` and `Albedo` from the G-buffer. `progress(done, total)` counts
+    /// pixel-samples.
+    pub fn render(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<Image, GpuError> {
+        check_size(camera)?;
+        if settings.spp == 0 {
+            return Err(GpuError::Invalid("spp must be at least 1".into()));
+        }
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        if camera.width > self.ctx.report.max_image_dimension_2d
+            || camera.height > self.ctx.report.max_image_dimension_2d
+        {
+            return Err(GpuError::Invalid(format!(
+                "image {}x{} exceeds the device's maximum image dimension {}",
+                camera.width, camera.height, self.ctx.report.max_image_dimension_2d
+            )));
+        }
+        match settings.shading {
+            Shading::Unlit | Shading::Lit => {
+                self.trace
+                    .render(camera, settings, &mut self.timings, progress)
+            }
+            aov => {
+                progress(0, 1);
+                let g = self.gbuffer.render(scene, camera, settings.background)?;
+                progress(1, 1);
+                let pixels = (0..g.coverage.len())
+                    .map(|i| match aov {
+                        Shading::Depth => Vec3::splat(g.view_depth[i]),
+                        Shading::Normal => g.normal[i],
+                        _ => g.albedo[i],
+                    })
+                    .collect();
+                Ok(Image {
+                    width: g.width,
+                    height: g.height,
+                    pixels,
+                })
+            }
+        }
+    }
+
+    /// Validation warnings and errors so far (empty without validation).
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.log.messages()
+    }
+
+    /// A handle to the validation log that outlives the renderer: the layer reports leaked
+    /// objects while the device and instance are destroyed.
+    pub fn validation_log(&self) -> ValidationLog {
+        self.log.clone()
+    }
+
+    pub fn timings(&self) -> Timings {
+        self.timings
+    }
+
+    /// Evaluates the GLSL sampler and camera mirrors for `queries` with `camera` (tests).
+    #[doc(hidden)]
+    pub fn probe_mirrors(
+        &mut self,
+        camera: &Camera,
+        queries: &[ProbeQuery],
+    ) -> Result<Vec<ProbeResult>, GpuError> {
+        probe::run(&self.ctx, camera, queries)
+    }
+
+    /// Caps the pixel-samples per dispatch of the compute pass (tests use it to force several
+    /// submissions). By default dispatches are sized from the measured speed to last ~0.15 s.
+    #[doc(hidden)]
+    pub fn set_samples_per_dispatch(&mut self, samples: u64) {
+        self.trace.samples_per_dispatch = samples.max(1);
+    }
+
+    /// Most pixels whose sums the compute pass holds at once (tests use it to force bands).
+    #[doc(hidden)]
+    pub fn set_max_band_pixels(&mut self, pixels: u64) {
+        self.trace.max_band_pixels = pixels.max(1);
+    }
+}
+
+fn check_size(camera: &Camera) -> Result<(), GpuError> {
+    if camera.width == 0 || camera.height == 0 {
+        return Err(GpuError::Invalid(format!(
+            "image {}x{} is empty",
+            camera.width, camera.height
+        )));
+    }
+    Ok(())
+}

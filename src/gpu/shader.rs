@@ -1,0 +1,45 @@
+//! SPIR-V compiled by build.rs from `shaders/`, embedded, and turned into shader modules.
+
+use std::io::Cursor;
+
+use ash::vk;
+
+use super::device::Context;
+use super::error::{vk_err, GpuError};
+
+macro_rules! spirv {
+    ($name:literal) => {
+        include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".spv"))
+    };
+}
+
+pub(crate) const GBUFFER_VERT: &[u8] = spirv!("gbuffer.vert");
+pub(crate) const GBUFFER_FRAG: &[u8] = spirv!("gbuffer.frag");
+pub(crate) const TRACE_COMP: &[u8] = spirv!("trace.comp");
+pub(crate) const PROBE_COMP: &[u8] = spirv!("probe.comp");
+
+/// A shader module, destroyed on drop (once its pipelines are created).
+pub(crate) struct ShaderModule<'a> {
+    ctx: &'a Context,
+    pub module: vk::ShaderModule,
+}
+
+impl<'a> ShaderModule<'a> {
+    pub fn new(ctx: &'a Context, spirv: &[u8]) -> Result<Self, GpuError> {
+        // `read_spv` copies into u32 words: include_bytes! gives no alignment guarantee.
+        let words = ash::util::read_spv(&mut Cursor::new(spirv))
+            .map_err(|e| GpuError::Invalid(format!("embedded SPIR-V is malformed: {e}")))?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: `words` is SPIR-V produced by shaderc in build.rs.
+        let module = unsafe { ctx.device.create_shader_module(&info, None) }
+            .map_err(vk_err("vkCreateShaderModule"))?;
+        Ok(Self { ctx, module })
+    }
+}
+
+impl Drop for ShaderModule<'_> {
+    fn drop(&mut self) {
+        // SAFETY: modules may be destroyed as soon as the pipelines using them exist.
+        unsafe { self.ctx.device.destroy_shader_module(self.module, None) };
+    }
+}

@@ -1,0 +1,430 @@
+//! The thin-lens compute pass (shaders/trace.comp): camera samples traced with ray queries,
+//! split into dispatches of bounded size (bands of rows x ranges of samples), one submission
+//! each, accumulating sums in a float buffer; the host divides by spp at the end.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec3;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::{barrier, Buffer};
+use super::conv::{TraceParams, TracePush};
+use super::device::Context;
+use super::error::GpuError;
+use super::pipeline::Pipeline;
+use super::query::QueryPool;
+use super::scene::SceneBuffers;
+use super::shader;
+use crate::camera::Camera;
+use crate::render::{Image, RenderSettings};
+
+/// Workgroup size of trace.comp.
+const GROUP: u32 = 8;
+
+/// Pixel-samples of the first dispatches: ~0.03-0.1 s on lavapipe (2 cores, 80k triangles).
+const INITIAL_SAMPLES_PER_DISPATCH: u64 = 1 << 16;
+/// The most pixel-samples per dispatch, however fast the device.
+pub(crate) const MAX_SAMPLES_PER_DISPATCH: u64 = 1 << 22;
+/// Dispatch duration aimed at when sizing the next dispatches from the last one's timestamps
+/// (well under the ~0.5 s that a single dispatch should not exceed).
+const TARGET_DISPATCH_MS: f64 = 100.0;
+
+/// Most pixels whose sums are held at once (64 MiB); larger images go in bands of rows.
+const MAX_BAND_PIXELS: u64 = 1 << 22;
+
+/// Timing of the GPU passes, from timestamp queries (milliseconds).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// GPU time of the acceleration-structure builds (BLAS + TLAS) of the loaded scene. lavapipe
+    /// builds on the CPU inside the submission, so see also `accel_build_wall_ms`.
+    pub accel_build_gpu_ms: f64,
+    /// Wall-clock time of the whole build (uploads, builds, compaction).
+    pub accel_build_wall_ms: f64,
+    /// GPU time of the very first dispatch of the trace pipeline (drivers may compile lazily),
+    /// excluded from `trace_gpu_ms`.
+    pub first_dispatch_ms: Option<f64>,
+    /// Rays traced by that first dispatch.
+    pub first_dispatch_rays: u64,
+    /// GPU time of every later dispatch of the trace pass, summed.
+    pub trace_gpu_ms: f64,
+    /// Rays (camera + shadow) traced by those dispatches.
+    pub rays_traced: u64,
+    /// Number of dispatches counted in `trace_gpu_ms`.
+    pub dispatches: u64,
+    /// The longest of those dispatches.
+    pub longest_dispatch_ms: f64,
+    /// Bytes of the loaded scene's BLASes before and after compaction.
+    pub blas_bytes: u64,
+    pub blas_compacted_bytes: u64,
+}
+
+impl Timings {
+    /// Rays per second of the trace pass, first dispatch excluded.
+    pub fn rays_per_second(&self) -> Option<f64> {
+        (self.trace_gpu_ms > 0.0).then(|| self.rays_traced as f64 / (self.trace_gpu_ms * 1e-3))
+    }
+}
+
+/// How one render is split: `samples_per` samples of `rows_per` rows per dispatch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Split {
+    pub samples_per: u32,
+    pub rows_per: u32,
+}
+
+impl Split {
+    pub fn new(width: u32, height: u32, spp: u32, budget: u64) -> Self {
+        let pixels = u64::from(width) * u64::from(height);
+        let samples_per = (budget / pixels.max(1)).clamp(1, u64::from(spp.max(1))) as u32;
+        let rows_per = if u64::from(samples_per) * pixels <= budget {
+            height
+        } else {
+            (budget / u64::from(width).max(1)).clamp(1, u64::from(height)) as u32
+        };
+        Self {
+            samples_per,
+            rows_per,
+        }
+    }
+}
+
+pub(crate) struct TracePass {
+    ctx: Arc<Context>,
+    pipeline: Pipeline,
+    params: Buffer,
+    counters: Buffer,
+    timestamps: QueryPool,
+    /// Accumulation and readback buffers of the current image size.
+    accum: Option<Accumulation>,
+    first_dispatch_done: bool,
+    /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
+    pub samples_per_dispatch: u64,
+    /// Current size of a dispatch, adapted to the measured speed.
+    adaptive_samples: u64,
+    pub max_band_pixels: u64,
+}
+
+impl TracePass {
+    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let storage = (
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::ShaderStageFlags::COMPUTE,
+        );
+        let bindings = [
+            storage,
+            storage,
+            storage,
+            storage,
+            storage,
+            (
+                vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+                vk::ShaderStageFlags::COMPUTE,
+            ),
+            storage,
+            storage,
+            (
+                vk::DescriptorType::UNIFORM_BUFFER,
+                vk::ShaderStageFlags::COMPUTE,
+            ),
+        ];
+        let pipeline = Pipeline::compute(
+            ctx,
+            shader::TRACE_COMP,
+            &bindings,
+            std::mem::size_of::<TracePush>() as u32,
+        )?;
+        let params = Buffer::new(
+            ctx,
+            "trace params",
+            std::mem::size_of::<TraceParams>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let counters = Buffer::new(
+            ctx,
+            "trace ray counter",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        pipeline.bind_buffer(8, vk::DescriptorType::UNIFORM_BUFFER, &params);
+        pipeline.bind_buffer(7, vk::DescriptorType::STORAGE_BUFFER, &counters);
+        let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            params,
+            counters,
+            timestamps,
+            accum: None,
+            first_dispatch_done: false,
+            samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
+            adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
+            max_band_pixels: MAX_BAND_PIXELS,
+        })
+    }
+
+    pub fn bind_scene(&self, scene: &SceneBuffers) {
+        scene.bind(&self.pipeline, 0);
+        self.pipeline.bind_accel(5, scene.accel.tlas.handle);
+    }
+
+    /// Renders with the scene last bound by `bind_scene`.
+    pub fn render(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        timings: &mut Timings,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<Image, GpuError> {
+        let (width, height) = (camera.width, camera.height);
+        let spp = settings.spp.max(1);
+        let pixels = u64::from(width) * u64::from(height);
+        // The sums live in a storage buffer covering a band of rows, bounded by the device's
+        // storage-buffer range (128 MiB on lavapipe); bands are copied into the readback buffer.
+        let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
+            .min(self.max_band_pixels)
+            .max(u64::from(width));
+        let band_rows = (max_band_pixels / u64::from(width)).clamp(1, u64::from(height)) as u32;
+        let accum_bytes = u64::from(band_rows) * u64::from(width) * 16;
+        let readback_bytes = pixels * 16;
+        if self
+            .accum
+            .as_ref()
+            .is_none_or(|a| a.accum_bytes != accum_bytes || a.readback_bytes != readback_bytes)
+        {
+            self.accum = None;
+            let accum = Buffer::new(
+                &self.ctx,
+                "trace accumulation",
+                accum_bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?;
+            let readback = Buffer::new(
+                &self.ctx,
+                "trace readback",
+                readback_bytes,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?;
+            self.pipeline
+                .bind_buffer(6, vk::DescriptorType::STORAGE_BUFFER, &accum);
+            self.accum = Some(Accumulation {
+                accum,
+                readback,
+                accum_bytes,
+                readback_bytes,
+            });
+        }
+        self.params
+            .write(bytemuck::bytes_of(&TraceParams::new(camera, settings)))?;
+
+        let total = pixels * u64::from(spp);
+        let mut done = 0u64;
+        progress(0, total);
+        let mut band_origin = 0;
+        while band_origin < height {
+            let band_height = band_rows.min(height - band_origin);
+            let mut sample_begin = 0;
+            let mut first_of_band = true;
+            while sample_begin < spp {
+                // Re-planned per range of samples, from the latest measured speed. Any split
+                // adds each pixel's samples in the same order: the sums do not depend on it.
+                let budget = self.adaptive_samples.min(self.samples_per_dispatch);
+                let split = Split::new(width, band_height, spp - sample_begin, budget);
+                let sample_end = (sample_begin + split.samples_per).min(spp);
+                // The band's blocks of GROUP rows are dealt out to `groups` dispatches with a
+                // stride, so each dispatch covers the whole band evenly (similar cost per
+                // dispatch, sky and geometry mixed alike, which keeps the speed-based sizing
+                // accurate) while each workgroup still traces a coherent 8x8 tile.
+                let blocks = band_height.div_ceil(GROUP);
+                let blocks_per = (split.rows_per / GROUP).max(1);
+                let groups = blocks.div_ceil(blocks_per);
+                for group in 0..groups {
+                    let block_count = (blocks - group).div_ceil(groups);
+                    let push = TracePush {
+                        band_origin,
+                        band_height,
+                        block_first: group,
+                        block_stride: groups,
+                        block_count,
+                        sample_begin,
+                        sample_end,
+                        pad: 0,
+                    };
+                    let copy_out = (sample_end == spp && group + 1 == groups)
+                        .then_some(u64::from(band_height) * u64::from(width) * 16);
+                    self.dispatch(push, width, first_of_band, copy_out)?;
+                    first_of_band = false;
+                    let rows: u32 = (0..block_count)
+                        .map(|b| {
+                            let first = (group + b * groups) * GROUP;
+                            GROUP.min(band_height - first)
+                        })
+                        .sum();
+                    let work =
+                        u64::from(rows) * u64::from(width) * u64::from(sample_end - sample_begin);
+                    self.record_timing(timings, work)?;
+                    done += work;
+                    progress(done, total);
+                }
+                sample_begin = sample_end;
+            }
+            band_origin += band_height;
+        }
+
+        let readback = &self.accum.as_ref().expect("created above").readback;
+        let sums: &[[f32; 4]] = bytemuck::cast_slice(readback.read()?);
+        let spp_f = spp as f32;
+        Ok(Image {
+            width,
+            height,
+            pixels: sums[..pixels as usize]
+                .iter()
+                .map(|s| Vec3::new(s[0], s[1], s[2]) / spp_f)
+                .collect(),
+        })
+    }
+
+    /// Adds the last dispatch's GPU time and ray count (the pipeline's first dispatch apart),
+    /// and sizes the next dispatches from its speed (`work` pixel-samples).
+    fn record_timing(&mut self, timings: &mut Timings, work: u64) -> Result<(), GpuError> {
+        let ticks = self.timestamps.results()?;
+        let gpu_ms = self.ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6;
+        let rays = u64::from(bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0]);
+        if self.first_dispatch_done {
+            if gpu_ms > 0.0 {
+                let rate = work as f64 / gpu_ms;
+                // Shrinks at once, grows at most 2x per dispatch.
+                self.adaptive_samples = ((rate * TARGET_DISPATCH_MS) as u64)
+                    .min(2 * self.adaptive_samples)
+                    .clamp(1024, MAX_SAMPLES_PER_DISPATCH);
+            }
+            timings.trace_gpu_ms += gpu_ms;
+            timings.longest_dispatch_ms = timings.longest_dispatch_ms.max(gpu_ms);
+            timings.rays_traced += rays;
+            timings.dispatches += 1;
+        } else {
+            timings.first_dispatch_ms = Some(gpu_ms);
+            timings.first_dispatch_rays = rays;
+            self.first_dispatch_done = true;
+        }
+        Ok(())
+    }
+
+    /// One submission: optional clear of the band's sums, one dispatch between two timestamps,
+    /// optional copy of `copy_out` bytes of sums into the readback buffer at the band's rows.
+    /// The dispatch covers the blocks of GROUP rows `block_first + i * block_stride`,
+    /// i < block_count, of the band.
+    fn dispatch(
+        &self,
+        push: TracePush,
+        width: u32,
+        clear: bool,
+        copy_out: Option<u64>,
+    ) -> Result<(), GpuError> {
+        let ctx = &self.ctx;
+        let a = self.accum.as_ref().expect("accumulation buffer");
+        ctx.submit_and_wait(|cmd| {
+            // Earlier submissions (previous dispatch, host reads) before anything here.
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_WRITE,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+            );
+            self.timestamps.reset(cmd);
+            // SAFETY: recording state; both buffers have TRANSFER_DST usage.
+            unsafe {
+                if clear {
+                    ctx.device
+                        .cmd_fill_buffer(cmd, a.accum.buffer, 0, a.accum_bytes, 0);
+                }
+                ctx.device
+                    .cmd_fill_buffer(cmd, self.counters.buffer, 0, vk::WHOLE_SIZE, 0);
+            }
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            );
+            self.timestamps
+                .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+            self.pipeline.bind(cmd, bytemuck::bytes_of(&push));
+            // SAFETY: compute pipeline and its complete descriptor set are bound.
+            unsafe {
+                ctx.device
+                    .cmd_dispatch(cmd, width.div_ceil(GROUP), push.block_count, 1)
+            };
+            self.timestamps
+                .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+            if let Some(bytes) = copy_out {
+                barrier(
+                    ctx,
+                    cmd,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_WRITE,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_READ,
+                );
+                let region = vk::BufferCopy::default()
+                    .src_offset(0)
+                    .dst_offset(u64::from(push.band_origin) * u64::from(width) * 16)
+                    .size(bytes);
+                // SAFETY: the band's sums fit both buffers (sizes computed in `render`).
+                unsafe {
+                    ctx.device
+                        .cmd_copy_buffer(cmd, a.accum.buffer, a.readback.buffer, &[region])
+                };
+            }
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::HOST,
+                vk::AccessFlags::HOST_READ,
+            );
+            Ok(())
+        })
+    }
+}
+
+/// The sums of one band of rows, and the whole image's readback buffer.
+struct Accumulation {
+    accum: Buffer,
+    readback: Buffer,
+    accum_bytes: u64,
+    readback_bytes: u64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Split;
+
+    #[test]
+    fn split_stays_within_budget() {
+        for &(w, h, spp, budget) in &[
+            (640u32, 480u32, 16u32, 1u64 << 18),
+            (64, 48, 4, 1 << 18),
+            (4000, 3000, 1, 1 << 18),
+            (1, 1, 1000, 1 << 18),
+            (100_000, 2, 3, 1000),
+        ] {
+            let s = Split::new(w, h, spp, budget);
+            assert!(s.samples_per >= 1 && s.samples_per <= spp);
+            assert!(s.rows_per >= 1 && s.rows_per <= h);
+            let per = u64::from(s.samples_per) * u64::from(s.rows_per) * u64::from(w);
+            assert!(per <= budget.max(u64::from(w)), "{w}x{h} spp {spp}: {s:?}");
+        }
+    }
+}

@@ -1,0 +1,525 @@
+//! The Vulkan renderer on whatever ray-query device is present (lavapipe on CI), validation on:
+//! every test ends by checking that the validation layer reported nothing, also after the
+//! renderer (device, instance) was destroyed.
+//!
+//! Without a ray-query device these tests fail, unless LENSRAY_SKIP_GPU_TESTS=1.
+
+mod gpu_support;
+
+use glam::{UVec2, Vec2, Vec3};
+use gpu_support::*;
+use lensray::camera::{Camera, LensParams};
+use lensray::gpu::{focus_distance_at, GpuError, GpuOptions, GpuRenderer, ProbeQuery};
+use lensray::reference::Renderer as CpuRenderer;
+use lensray::render::{Image, Shading};
+use lensray::sampler::{camera_sample, hash_u32, sample_1d, sample_key};
+
+#[test]
+fn bogus_device_index_is_a_clear_error() {
+    let err = GpuRenderer::new(&GpuOptions {
+        validate: true,
+        device_index: Some(99),
+    })
+    .err()
+    .expect("device 99 must not exist");
+    let text = err.to_string();
+    if is_no_device(&err) && std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
+        println!("SKIPPED bogus_device_index_is_a_clear_error: {text}");
+        return;
+    }
+    assert!(
+        matches!(err, GpuError::DeviceIndex { index: 99, .. }),
+        "unexpected error: {text}"
+    );
+    assert!(
+        text.contains("99") && text.contains("device"),
+        "unclear: {text}"
+    );
+}
+
+#[test]
+fn render_before_load_scene_is_an_error() {
+    let Some((mut gpu, log)) = renderer("render_before_load_scene_is_an_error") else {
+        return;
+    };
+    let cam = camera(false, LensParams::Pinhole, 16, 12);
+    let err = gpu
+        .render(&cam, &settings(Shading::Unlit, 1), &mut |_, _| {})
+        .expect_err("no scene loaded");
+    assert!(matches!(err, GpuError::NoScene), "{err}");
+    finish(gpu, log);
+}
+
+#[test]
+fn sampler_and_camera_mirrors_match_rust() {
+    let Some((mut gpu, log)) = renderer("sampler_and_camera_mirrors_match_rust") else {
+        return;
+    };
+    let cams = [
+        camera(
+            false,
+            LensParams::ThinLens {
+                aperture_radius: 0.2,
+                focus_distance: 4.0,
+            },
+            97,
+            61,
+        ),
+        camera(
+            true,
+            LensParams::ThinLens {
+                aperture_radius: 0.1,
+                focus_distance: 3.0,
+            },
+            97,
+            61,
+        ),
+    ];
+    for cam in &cams {
+        let queries: Vec<ProbeQuery> = (0..4096u32)
+            .map(|i| ProbeQuery {
+                seed: hash_u32(i / 64),
+                pixel_x: i % cam.width,
+                pixel_y: (i / 7) % cam.height,
+                width: cam.width,
+                sample_index: i % 33,
+                dim: i % 6,
+                hash_input: i.wrapping_mul(0x9e37_79b9) ^ (i << 7),
+                pad: 0,
+            })
+            .collect();
+        let results = gpu.probe_mirrors(cam, &queries).expect("probe");
+        let mut worst_ray = 0.0f32;
+        for (q, r) in queries.iter().zip(&results) {
+            assert_eq!(r.hash, hash_u32(q.hash_input), "hash_u32({})", q.hash_input);
+            let key = sample_key(q.seed, q.pixel_y * q.width + q.pixel_x, q.sample_index);
+            assert_eq!(r.key, key, "sample_key for {q:?}");
+            assert_eq!(
+                r.sample_bits,
+                sample_1d(key, q.dim).to_bits(),
+                "sample_1d for {q:?}"
+            );
+            let cs = camera_sample(
+                q.seed,
+                UVec2::new(q.pixel_x, q.pixel_y),
+                q.width,
+                q.sample_index,
+            );
+            let gpu_cs = r.camera_sample;
+            assert_eq!(
+                [cs.film.x, cs.film.y, cs.lens.x, cs.lens.y].map(f32::to_bits),
+                gpu_cs.map(f32::to_bits),
+                "camera_sample for {q:?}"
+            );
+            // Rays: same formulas, but GPU transcendentals and fused operations may differ in
+            // the last bits.
+            let ray = cam.generate_ray(cs.film, cs.lens);
+            let o = Vec3::new(r.origin[0], r.origin[1], r.origin[2]);
+            let d = Vec3::new(r.direction[0], r.direction[1], r.direction[2]);
+            let err = (o - ray.origin).length() / (1.0 + ray.origin.length())
+                + (d - ray.direction).length();
+            worst_ray = worst_ray.max(err);
+        }
+        assert!(worst_ray < 1e-5, "generate_ray differs by {worst_ray}");
+    }
+    finish(gpu, log);
+}
+
+/// Mesh index of each flattened triangle.
+fn triangle_meshes(scene: &lensray::scene::Scene) -> Vec<usize> {
+    scene
+        .meshes
+        .iter()
+        .enumerate()
+        .flat_map(|(m, mesh)| std::iter::repeat_n(m, mesh.triangles.len()))
+        .collect()
+}
+
+/// Pixels whose 8 neighbours all show the same thing (`id`) as the pixel.
+fn interior(width: u32, height: u32, id: &[i64]) -> Vec<bool> {
+    let (w, h) = (width as i64, height as i64);
+    (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            (-1..=1).all(|dy| {
+                (-1..=1).all(|dx| {
+                    let (nx, ny) = (x + dx, y + dy);
+                    nx < 0
+                        || ny < 0
+                        || nx >= w
+                        || ny >= h
+                        || id[(ny * w + nx) as usize] == id[i as usize]
+                })
+            })
+        })
+        .collect()
+}
+
+fn raster_depth_matches_rays(orthographic: bool) {
+    let name = if orthographic {
+        "raster_view_depth_matches_rays_orthographic"
+    } else {
+        "raster_view_depth_matches_rays_perspective"
+    };
+    let Some((mut gpu, log)) = renderer(name) else {
+        return;
+    };
+    let scene = test_scene();
+    gpu.load_scene(&scene).expect("load scene");
+    let cam = camera(orthographic, LensParams::Pinhole, 160, 120);
+    let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+    let cpu = CpuRenderer::new(&scene);
+    let meshes = triangle_meshes(&scene);
+
+    let n = (cam.width * cam.height) as usize;
+    let mut ids = vec![-1i64; n];
+    let mut depth = vec![0.0f32; n];
+    for y in 0..cam.height {
+        for x in 0..cam.width {
+            let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+            let ray = cam.generate_ray(centre, Vec2::splat(0.5));
+            if let Some(hit) = cpu.intersect(&ray) {
+                let i = g.index(x, y);
+                ids[i] = meshes[hit.triangle as usize] as i64;
+                depth[i] = cam.view_depth(ray.at(hit.t));
+            }
+        }
+    }
+    let keep = interior(cam.width, cam.height, &ids);
+    let (mut checked, mut good, mut coverage_mismatch) = (0usize, 0usize, 0usize);
+    let mut worst = Vec::new();
+    for i in 0..n {
+        if !keep[i] {
+            continue;
+        }
+        if g.coverage[i] != (ids[i] >= 0) {
+            coverage_mismatch += 1;
+            continue;
+        }
+        if ids[i] < 0 {
+            assert_eq!(g.view_depth[i], 0.0, "uncovered pixel {i} has a depth");
+            continue;
+        }
+        checked += 1;
+        let rel = (g.view_depth[i] - depth[i]).abs() / depth[i];
+        if rel <= 1e-3 {
+            good += 1;
+        } else if worst.len() < 10 {
+            worst.push((i, g.view_depth[i], depth[i]));
+        }
+    }
+    assert!(checked > n / 3, "only {checked} covered interior pixels");
+    let fraction = good as f64 / checked as f64;
+    println!("{name}: {good}/{checked} within 1e-3, coverage mismatches {coverage_mismatch}");
+    assert!(
+        fraction >= 0.995 && coverage_mismatch * 200 <= checked,
+        "{name}: {good}/{checked} covered pixels within 1e-3 ({coverage_mismatch} coverage \
+         mismatches); first misses (pixel, raster, ray): {worst:?}"
+    );
+    finish(gpu, log);
+}
+
+#[test]
+fn raster_view_depth_matches_rays_perspective() {
+    raster_depth_matches_rays(false);
+}
+
+#[test]
+fn raster_view_depth_matches_rays_orthographic() {
+    raster_depth_matches_rays(true);
+}
+
+#[test]
+fn pinhole_compute_equals_gbuffer_albedo() {
+    let Some((mut gpu, log)) = renderer("pinhole_compute_equals_gbuffer_albedo") else {
+        return;
+    };
+    gpu.load_scene(&test_scene()).expect("load scene");
+    for orthographic in [false, true] {
+        let cam = camera(orthographic, LensParams::Pinhole, 128, 96);
+        let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+        let image = gpu
+            .render(&cam, &settings(Shading::Unlit, 4), &mut |_, _| {})
+            .expect("render");
+        let ids: Vec<i64> = g
+            .albedo
+            .iter()
+            .map(|a| {
+                let q = (*a * 1000.0).round();
+                (q.x as i64) << 40 | (q.y as i64) << 20 | q.z as i64
+            })
+            .collect();
+        let keep = interior(cam.width, cam.height, &ids);
+        let checked = keep.iter().filter(|&&k| k).count();
+        let equal = (0..g.albedo.len())
+            .filter(|&i| keep[i] && (image.pixels[i] - g.albedo[i]).abs().max_element() <= 1e-6)
+            .count();
+        let fraction = equal as f64 / checked as f64;
+        if fraction < 0.995 {
+            let albedo = Image {
+                width: cam.width,
+                height: cam.height,
+                pixels: g.albedo.clone(),
+            };
+            let files = write_comparison(&image, &albedo, &format!("pinhole-ortho{orthographic}"));
+            panic!("pinhole (ortho {orthographic}): {equal}/{checked} interior pixels equal the albedo; wrote {files}");
+        }
+    }
+    finish(gpu, log);
+}
+
+fn gpu_matches_cpu(orthographic: bool, shading: Shading) {
+    let name = format!(
+        "gpu-vs-cpu-{}-{:?}",
+        if orthographic { "ortho" } else { "persp" },
+        shading
+    )
+    .to_lowercase();
+    let Some((mut gpu, log)) = renderer(&name) else {
+        return;
+    };
+    let scene = test_scene();
+    gpu.load_scene(&scene).expect("load scene");
+    // Visible depth of field: focused on the sphere, aperture large enough to blur the rest.
+    let lens = LensParams::ThinLens {
+        aperture_radius: if orthographic { 0.08 } else { 0.12 },
+        focus_distance: 5.0,
+    };
+    let cam: Camera = camera(orthographic, lens, 96, 72);
+    let s = settings(shading, 8);
+    let mut last = (0, 0);
+    let image = gpu
+        .render(&cam, &s, &mut |done, total| last = (done, total))
+        .expect("GPU render");
+    assert_eq!(last.0, last.1, "progress must end at the total");
+    let (reference, _) = CpuRenderer::new(&scene).render(&cam, &s, &mut |_, _| {});
+    let diff = compare(&image, &reference, 1.0 / 255.0);
+    println!("{name}: {diff:?}");
+    if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
+        let files = write_comparison(&image, &reference, &name);
+        panic!("{name}: GPU and CPU differ: {diff:?}; wrote {files}");
+    }
+    finish(gpu, log);
+}
+
+#[test]
+fn gpu_matches_cpu_perspective_unlit() {
+    gpu_matches_cpu(false, Shading::Unlit);
+}
+
+#[test]
+fn gpu_matches_cpu_perspective_lit() {
+    gpu_matches_cpu(false, Shading::Lit);
+}
+
+#[test]
+fn gpu_matches_cpu_orthographic_unlit() {
+    gpu_matches_cpu(true, Shading::Unlit);
+}
+
+#[test]
+fn gpu_matches_cpu_orthographic_lit() {
+    gpu_matches_cpu(true, Shading::Lit);
+}
+
+#[test]
+fn split_dispatches_accumulate_identically() {
+    let Some((mut gpu, log)) = renderer("split_dispatches_accumulate_identically") else {
+        return;
+    };
+    gpu.load_scene(&test_scene()).expect("load scene");
+    let cam = camera(
+        false,
+        LensParams::ThinLens {
+            aperture_radius: 0.1,
+            focus_distance: 4.0,
+        },
+        64,
+        48,
+    );
+    let s = settings(Shading::Lit, 6);
+    let whole = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
+    // Bands of rows and one sample at a time: 64 * 48 * 6 / 1000 -> dozens of submissions,
+    // and sums held for 20 rows at a time (3 bands, the last one shorter).
+    gpu.set_samples_per_dispatch(1000);
+    gpu.set_max_band_pixels(64 * 20);
+    let mut calls = Vec::new();
+    let split = gpu
+        .render(&cam, &s, &mut |done, total| calls.push((done, total)))
+        .expect("render");
+    assert!(
+        calls.len() > 20,
+        "expected many submissions, got {}",
+        calls.len()
+    );
+    assert!(calls.windows(2).all(|w| w[0].0 <= w[1].0));
+    assert_eq!(calls.last().copied(), Some((64 * 48 * 6, 64 * 48 * 6)));
+    assert_eq!(
+        whole, split,
+        "the split must add the same samples in the same order"
+    );
+    let t = gpu.timings();
+    assert!(t.rays_traced > 0 && t.dispatches > 20, "{t:?}");
+    finish(gpu, log);
+}
+
+#[test]
+fn aovs_come_from_the_gbuffer() {
+    let Some((mut gpu, log)) = renderer("aovs_come_from_the_gbuffer") else {
+        return;
+    };
+    gpu.load_scene(&test_scene()).expect("load scene");
+    let cam = camera(false, LensParams::Pinhole, 80, 60);
+    let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+    let depth = gpu
+        .render(&cam, &settings(Shading::Depth, 1), &mut |_, _| {})
+        .expect("depth");
+    let normal = gpu
+        .render(&cam, &settings(Shading::Normal, 1), &mut |_, _| {})
+        .expect("normal");
+    let albedo = gpu
+        .render(&cam, &settings(Shading::Albedo, 1), &mut |_, _| {})
+        .expect("albedo");
+    for i in 0..g.coverage.len() {
+        assert_eq!(depth.pixels[i], Vec3::splat(g.view_depth[i]));
+        assert_eq!(normal.pixels[i], g.normal[i]);
+        assert_eq!(albedo.pixels[i], g.albedo[i]);
+        if g.coverage[i] {
+            assert!((g.normal[i].length() - 1.0).abs() < 1e-4);
+            assert!(g.view_depth[i] > cam.near);
+        } else {
+            assert_eq!(g.albedo[i], BACKGROUND);
+            assert_eq!(g.view_depth[i], 0.0);
+        }
+    }
+    // Autofocus on the centre pixel: the sphere/box region is covered.
+    let (cx, cy) = (cam.width / 2, cam.height / 2);
+    let f = focus_distance_at(&g, cx, cy).expect("centre covered");
+    assert_eq!(f, g.view_depth[g.index(cx, cy)]);
+    assert_eq!(focus_distance_at(&g, cam.width, 0), None);
+    finish(gpu, log);
+}
+
+#[test]
+fn empty_scene_shows_the_background() {
+    let Some((mut gpu, log)) = renderer("empty_scene_shows_the_background") else {
+        return;
+    };
+    let mut scene = test_scene();
+    scene.meshes.clear();
+    gpu.load_scene(&scene).expect("load an empty scene");
+    let cam = camera(false, LensParams::Pinhole, 32, 24);
+    let image = gpu
+        .render(&cam, &settings(Shading::Lit, 2), &mut |_, _| {})
+        .expect("render");
+    assert!(image.pixels.iter().all(|&p| p == BACKGROUND));
+    let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+    assert!(g.coverage.iter().all(|&c| !c));
+    // A second scene replaces the first.
+    gpu.load_scene(&test_scene()).expect("reload");
+    let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+    assert!(g.coverage.iter().any(|&c| c));
+    finish(gpu, log);
+}
+
+#[test]
+fn invalid_scenes_are_rejected() {
+    let Some((mut gpu, log)) = renderer("invalid_scenes_are_rejected") else {
+        return;
+    };
+    let mut scene = test_scene();
+    scene.meshes[1].material_ids[0] = 42;
+    let err = gpu.load_scene(&scene).expect_err("material out of range");
+    assert!(err.to_string().contains("material 42"), "{err}");
+    let mut scene = test_scene();
+    scene.meshes[0].triangles[0][2] = 1000;
+    let err = gpu.load_scene(&scene).expect_err("index out of range");
+    assert!(err.to_string().contains("out of range"), "{err}");
+    finish(gpu, log);
+}
+
+/// The project's own scenes (built-in default, Cornell box from assets/) as the CLI resolves
+/// them, small: GPU against the CPU reference, lit and unlit.
+#[test]
+fn gpu_matches_cpu_on_project_scenes() {
+    use lensray::settings::{ImageSettings, RenderStyle, Settings};
+    let Some((mut gpu, log)) = renderer("gpu_matches_cpu_on_project_scenes") else {
+        return;
+    };
+    let cornell =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cornell/cornell.toml");
+    let scenes = [
+        ("default", lensray::scene::builtin::default_scene()),
+        (
+            "cornell",
+            lensray::scene::file::load(&cornell).expect("load the Cornell box"),
+        ),
+    ];
+    for (name, desc) in scenes {
+        gpu.load_scene(&desc.scene).expect("load scene");
+        let cpu = CpuRenderer::new(&desc.scene);
+        for shading in [Shading::Unlit, Shading::Lit] {
+            let over = Settings {
+                image: ImageSettings {
+                    width: Some(96),
+                    height: Some(72),
+                    spp: Some(4),
+                    seed: Some(3),
+                },
+                render: RenderStyle {
+                    shading: Some(shading),
+                    background: None,
+                },
+                ..Default::default()
+            };
+            let resolved =
+                lensray::resolve::resolve(&desc.settings.clone().overridden_by(&over), &desc.scene)
+                    .expect("resolve settings");
+            let image = gpu
+                .render(&resolved.camera, &resolved.render, &mut |_, _| {})
+                .expect("GPU render");
+            let (reference, _) = cpu.render(&resolved.camera, &resolved.render, &mut |_, _| {});
+            let diff = compare(&image, &reference, 1.0 / 255.0);
+            let label = format!("scene-{name}-{shading:?}").to_lowercase();
+            println!("{label}: {diff:?}");
+            if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
+                let files = write_comparison(&image, &reference, &label);
+                panic!("{label}: GPU and CPU differ: {diff:?}; wrote {files}");
+            }
+        }
+    }
+    finish(gpu, log);
+}
+
+#[test]
+fn list_devices_reports_a_ray_query_device() {
+    let devices = match lensray::gpu::list_devices() {
+        Ok(d) => d,
+        Err(e) if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
+            println!("SKIPPED list_devices_reports_a_ray_query_device: {e}");
+            return;
+        }
+        Err(e) => panic!("list_devices: {e}"),
+    };
+    let usable: Vec<_> = devices.iter().filter(|d| d.ray_query).collect();
+    if usable.is_empty() && std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
+        println!("SKIPPED list_devices_reports_a_ray_query_device: no ray-query device");
+        return;
+    }
+    assert!(!usable.is_empty(), "no ray-query device in {devices:#?}");
+    for d in &devices {
+        assert_eq!(d.ray_query, d.missing.is_empty(), "{d:?}");
+        assert!(d.max_image_dimension_2d >= 4096 && d.max_storage_buffer_range > 0);
+    }
+    let text = lensray::cli::info::format_devices(&devices);
+    assert!(
+        text.contains(&usable[0].name) && text.contains("ray queries        yes"),
+        "{text}"
+    );
+    // The renderer picks a usable device, and names it.
+    let Some((gpu, log)) = renderer("list_devices_reports_a_ray_query_device") else {
+        return;
+    };
+    assert!(usable.iter().any(|d| d.name == gpu.device_name()));
+    finish(gpu, log);
+}

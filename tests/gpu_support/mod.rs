@@ -1,0 +1,293 @@
+//! Shared helpers of the GPU tests: opening the renderer (or skipping), validation checks,
+//! small test scenes and cameras, image comparison with PNG output on failure.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+use lensray::camera::{Camera, CameraParams, LensParams, ProjectionParams};
+use lensray::gpu::{GpuError, GpuOptions, GpuRenderer, ValidationLog};
+use lensray::render::{Image, PointLight, RenderSettings, Shading};
+use lensray::scene::{Material, Mesh, Scene};
+
+/// Opens the renderer with validation on. Without a ray-query device this panics, unless
+/// `LENSRAY_SKIP_GPU_TESTS=1`, when it prints a skip line and returns `None`.
+pub fn renderer(test: &str) -> Option<(GpuRenderer, ValidationLog)> {
+    match GpuRenderer::new(&GpuOptions {
+        validate: true,
+        device_index: None,
+    }) {
+        Ok(r) => {
+            let log = r.validation_log();
+            Some((r, log))
+        }
+        Err(e) => {
+            if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
+                println!("SKIPPED {test}: no usable Vulkan ray-query device: {e}");
+                None
+            } else {
+                panic!(
+                    "{test}: cannot open a Vulkan device with ray queries: {e}\n\
+                     (set LENSRAY_SKIP_GPU_TESTS=1 to skip the GPU tests on such a machine)"
+                );
+            }
+        }
+    }
+}
+
+/// Fails on any validation warning or error recorded so far.
+pub fn assert_no_validation_messages(log: &ValidationLog, when: &str) {
+    let messages = log.messages();
+    assert!(
+        messages.is_empty(),
+        "{} validation message(s) {when}:\n{}",
+        messages.len(),
+        messages.join("\n")
+    );
+}
+
+/// Drops the renderer, then checks the log (leaks are reported during destruction).
+pub fn finish(renderer: GpuRenderer, log: ValidationLog) {
+    assert_no_validation_messages(&log, "while rendering");
+    drop(renderer);
+    assert!(
+        log.instance_destroyed(),
+        "the Vulkan instance outlived the renderer: some GPU object leaked"
+    );
+    assert_no_validation_messages(&log, "after the renderer was dropped");
+}
+
+pub fn material(name: &str, diffuse: Vec3, emission: Vec3) -> Material {
+    Material {
+        name: name.into(),
+        diffuse,
+        emission,
+    }
+}
+
+/// An axis-aligned box, 12 triangles, no vertex normals.
+pub fn cuboid(min: Vec3, max: Vec3, material: u32) -> Mesh {
+    let corners: Vec<Vec3> = (0..8)
+        .map(|i| {
+            Vec3::new(
+                if i & 1 == 0 { min.x } else { max.x },
+                if i & 2 == 0 { min.y } else { max.y },
+                if i & 4 == 0 { min.z } else { max.z },
+            )
+        })
+        .collect();
+    let faces = [
+        [0, 2, 6, 4],
+        [1, 5, 7, 3],
+        [0, 4, 5, 1],
+        [2, 3, 7, 6],
+        [0, 1, 3, 2],
+        [4, 6, 7, 5],
+    ];
+    let triangles: Vec<[u32; 3]> = faces
+        .iter()
+        .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])
+        .collect();
+    Mesh {
+        name: "box".into(),
+        positions: corners,
+        normals: vec![],
+        material_ids: vec![material; triangles.len()],
+        triangles,
+    }
+}
+
+/// A horizontal quad at height y.
+pub fn floor(half: f32, y: f32, material: u32) -> Mesh {
+    Mesh {
+        name: "floor".into(),
+        positions: vec![
+            Vec3::new(-half, y, -half),
+            Vec3::new(half, y, -half),
+            Vec3::new(half, y, half),
+            Vec3::new(-half, y, half),
+        ],
+        normals: vec![],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        material_ids: vec![material; 2],
+    }
+}
+
+/// A UV sphere with vertex normals.
+pub fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32, material: u32) -> Mesh {
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    for r in 0..=rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..=segments {
+            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            positions.push(center + radius * n);
+            normals.push(n);
+        }
+    }
+    let mut triangles = Vec::new();
+    let row = segments + 1;
+    for r in 0..rings {
+        for s in 0..segments {
+            let a = r * row + s;
+            let b = a + row;
+            if r != 0 {
+                triangles.push([a, b, a + 1]);
+            }
+            if r != rings - 1 {
+                triangles.push([a + 1, b, b + 1]);
+            }
+        }
+    }
+    Mesh {
+        name: "sphere".into(),
+        positions,
+        normals,
+        material_ids: vec![material; triangles.len()],
+        triangles,
+    }
+}
+
+/// A floor, a box, a sphere with vertex normals and a small emissive box: 4 meshes.
+pub fn test_scene() -> Scene {
+    Scene {
+        meshes: vec![
+            floor(4.0, 0.0, 0),
+            cuboid(Vec3::new(-1.6, 0.0, -0.8), Vec3::new(-0.4, 1.2, 0.4), 1),
+            sphere(Vec3::new(0.8, 0.7, 0.3), 0.7, 16, 24, 2),
+            cuboid(Vec3::new(1.0, 0.0, -2.2), Vec3::new(1.6, 0.4, -1.6), 3),
+        ],
+        materials: vec![
+            material("floor", Vec3::new(0.7, 0.7, 0.65), Vec3::ZERO),
+            material("red", Vec3::new(0.8, 0.15, 0.1), Vec3::ZERO),
+            material("blue", Vec3::new(0.1, 0.3, 0.85), Vec3::ZERO),
+            material("lamp", Vec3::new(0.9, 0.8, 0.2), Vec3::new(0.5, 0.4, 0.1)),
+        ],
+    }
+}
+
+pub const BACKGROUND: Vec3 = Vec3::new(0.05, 0.1, 0.2);
+
+pub fn camera(orthographic: bool, lens: LensParams, width: u32, height: u32) -> Camera {
+    CameraParams {
+        eye: Vec3::new(2.5, 2.2, 4.5),
+        target: Vec3::new(0.0, 0.5, 0.0),
+        up: Vec3::Y,
+        projection: if orthographic {
+            ProjectionParams::Orthographic { height: 4.0 }
+        } else {
+            ProjectionParams::Perspective { vfov_degrees: 45.0 }
+        },
+        lens,
+        near: 0.5,
+        far: 50.0,
+        width,
+        height,
+    }
+    .build()
+    .expect("valid test camera")
+}
+
+pub fn settings(shading: Shading, spp: u32) -> RenderSettings {
+    RenderSettings {
+        spp,
+        seed: 7,
+        shading,
+        background: BACKGROUND,
+        light: PointLight {
+            position: Vec3::new(2.0, 4.0, 3.0),
+            intensity: Vec3::new(30.0, 28.0, 25.0),
+        },
+    }
+}
+
+/// Statistics of |a - b| per channel.
+#[derive(Debug)]
+pub struct Diff {
+    pub within: f64,
+    pub mean_abs: f64,
+    pub max_abs: f32,
+}
+
+pub fn compare(a: &Image, b: &Image, tolerance: f32) -> Diff {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let mut within = 0usize;
+    let mut sum = 0.0f64;
+    let mut max_abs = 0.0f32;
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        let d = (*p - *q).abs();
+        if d.max_element() <= tolerance {
+            within += 1;
+        }
+        sum += f64::from(d.x + d.y + d.z) / 3.0;
+        max_abs = max_abs.max(d.max_element());
+    }
+    let n = a.pixels.len() as f64;
+    Diff {
+        within: within as f64 / n,
+        mean_abs: sum / n,
+        max_abs,
+    }
+}
+
+pub fn output_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/test-output");
+    std::fs::create_dir_all(&dir).expect("create target/test-output");
+    dir
+}
+
+fn srgb8(v: f32) -> u8 {
+    let v = v.clamp(0.0, 1.0);
+    let s = if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0 + 0.5) as u8
+}
+
+/// Writes an image as an sRGB PNG under target/test-output.
+pub fn write_png(image: &Image, name: &str) -> PathBuf {
+    let path = output_dir().join(name);
+    let mut buf = image::RgbImage::new(image.width, image.height);
+    for (i, p) in image.pixels.iter().enumerate() {
+        let (x, y) = (i as u32 % image.width, i as u32 / image.width);
+        buf.put_pixel(x, y, image::Rgb([srgb8(p.x), srgb8(p.y), srgb8(p.z)]));
+    }
+    buf.save(&path).expect("write PNG");
+    path
+}
+
+/// Writes both images and |a - b| (scaled x16) as PNGs; returns their paths for messages.
+pub fn write_comparison(a: &Image, b: &Image, name: &str) -> String {
+    let diff = Image {
+        width: a.width,
+        height: a.height,
+        pixels: a
+            .pixels
+            .iter()
+            .zip(&b.pixels)
+            .map(|(p, q)| (*p - *q).abs() * 16.0)
+            .collect(),
+    };
+    let paths = [
+        write_png(a, &format!("{name}-gpu.png")),
+        write_png(b, &format!("{name}-cpu.png")),
+        write_png(&diff, &format!("{name}-diff.png")),
+    ];
+    paths
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// True when a GpuError says that no device can trace ray queries.
+pub fn is_no_device(e: &GpuError) -> bool {
+    matches!(e, GpuError::NoRayQueryDevice(_) | GpuError::Loader(_))
+}
