@@ -26,6 +26,8 @@ enum Command {
     Bench(cli::bench::BenchArgs),
     /// Write a generated scene (OBJ + MTL + scene file).
     Generate(cli::generate::GenerateArgs),
+    /// List the Vulkan devices, their ray-query support and the limits that matter.
+    Info,
 }
 
 fn main() -> ExitCode {
@@ -50,6 +52,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => cli::render::run(args),
         Some(Command::Bench(args)) => cli::bench::run(args),
         Some(Command::Generate(args)) => cli::generate::run(args),
+        Some(Command::Info) => cli::info::run(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -7,9 +7,10 @@ use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use super::args::{DeviceChoice, ViewArgs};
+use super::args::{parse_pixel, DeviceChoice, ViewArgs};
+use super::backend::Backend;
+use crate::gpu::GpuOptions;
 use crate::output::PendingOutput;
-use crate::reference::Renderer;
 use crate::resolve::{resolve, Resolved};
 use crate::scene::file::SceneDescription;
 use crate::settings::Settings;
@@ -26,6 +27,15 @@ pub struct RenderArgs {
     /// Output image: .png (sRGB) or .exr (linear float).
     #[arg(long, value_name = "FILE", default_value = DEFAULT_OUTPUT)]
     pub out: PathBuf,
+    /// Autofocus: focus on the surface seen at this pixel (column,row).
+    #[arg(long, value_parser = parse_pixel, value_name = "X,Y")]
+    pub focus_at: Option<[u32; 2]>,
+    /// Turn on the Vulkan validation layer; any warning or error fails the command.
+    #[arg(long)]
+    pub validate: bool,
+    /// Use this Vulkan device (index from `lensray info`).
+    #[arg(long, value_name = "INDEX")]
+    pub gpu: Option<usize>,
 }
 
 /// The scene the options name, or the built-in default scene.
@@ -95,6 +105,9 @@ impl Default for RenderArgs {
             view: ViewArgs::default(),
             device: DeviceChoice::Auto,
             out: PathBuf::from(DEFAULT_OUTPUT),
+            focus_at: None,
+            validate: false,
+            gpu: None,
         }
     }
 }
@@ -104,30 +117,31 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // Fail on a bad output path before spending time on the render.
     let output = PendingOutput::create(&args.out)?;
     let description = load_scene(&args.view)?;
-    let settings = merged_settings(&description.settings, &args.view);
-    let Resolved { camera, render } = resolve(&settings, &description.scene)
-        .with_context(|| format!("scene {}", description.source))?;
+    let mut settings = merged_settings(&description.settings, &args.view);
+    let context = || format!("scene {}", description.source);
+    let Resolved {
+        mut camera,
+        mut render,
+    } = resolve(&settings, &description.scene).with_context(context)?;
 
-    let (image, rays, render_time, device) = match args.device {
-        DeviceChoice::Gpu => anyhow::bail!(
-            "--device gpu: the Vulkan renderer is not part of this build yet; use --device cpu"
-        ),
-        DeviceChoice::Auto | DeviceChoice::Cpu => {
-            let renderer = Renderer::new(&description.scene);
-            let mut progress = Progress::new("rendering (CPU)");
-            let (image, stats) =
-                renderer.render(&camera, &render, &mut |d, t| progress.update(d, t));
-            progress.finish();
-            (
-                image,
-                stats.rays,
-                stats.elapsed,
-                format!("CPU reference, {} threads", rayon::current_num_threads()),
-            )
-        }
+    let options = GpuOptions {
+        validate: args.validate,
+        device_index: args.gpu,
     };
+    let mut backend = Backend::open(args.device, &options, &description.scene)?;
+    if let Some(pixel) = args.focus_at {
+        let focus = backend.focus_distance_at(&camera, pixel)?;
+        settings.camera.focus_distance = Some(focus as f64);
+        Resolved { camera, render } =
+            resolve(&settings, &description.scene).with_context(context)?;
+        eprintln!("autofocus: pixel {},{} is {focus:.4} away along the view axis", pixel[0], pixel[1]);
+    }
+
+    let mut progress = Progress::new("rendering");
+    let (image, report) = backend.render(&camera, &render, &mut |d, t| progress.update(d, t))?;
+    progress.finish();
+    backend.check_validation()?;
     output.finish(&image, render.shading)?;
-    let elapsed = start.elapsed().as_secs_f64();
     println!(
         "{}: {}x{} px, {} spp, {:?} shading, {} triangles, on {}: {:.2} s total, {:.2} Mrays/s",
         args.out.display(),
@@ -136,9 +150,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         render.spp,
         render.shading,
         description.scene.triangle_count(),
-        device,
-        elapsed,
-        rays as f64 / render_time.as_secs_f64().max(1e-9) / 1e6
+        backend.describe(),
+        start.elapsed().as_secs_f64(),
+        report.rays as f64 / report.trace_seconds.max(1e-9) / 1e6
     );
     Ok(())
 }

@@ -1,0 +1,132 @@
+//! Which renderer runs a command: the Vulkan renderer or the CPU reference, behind one interface.
+
+use anyhow::{bail, Context, Result};
+use glam::{UVec2, Vec2};
+
+use super::args::DeviceChoice;
+use crate::camera::Camera;
+use crate::gpu::{focus_distance_at, GpuOptions, GpuRenderer};
+use crate::reference::Renderer;
+use crate::render::{Image, RenderSettings};
+use crate::scene::Scene;
+
+pub enum Backend {
+    Cpu(Renderer),
+    Gpu(Box<GpuRenderer>),
+}
+
+/// What a render did, for the summary line.
+pub struct RenderReport {
+    pub rays: u64,
+    /// Time spent tracing (GPU: timestamp queries, first dispatch excluded; CPU: wall clock).
+    pub trace_seconds: f64,
+}
+
+impl Backend {
+    /// Opens the chosen device and loads the scene. `Auto` falls back to the CPU with a one-line
+    /// notice saying why.
+    pub fn open(choice: DeviceChoice, options: &GpuOptions, scene: &Scene) -> Result<Self> {
+        match choice {
+            DeviceChoice::Cpu => Ok(Backend::Cpu(Renderer::new(scene))),
+            DeviceChoice::Gpu => Self::open_gpu(options, scene).context("--device gpu"),
+            DeviceChoice::Auto => match Self::open_gpu(options, scene) {
+                Ok(gpu) => Ok(gpu),
+                Err(error) => {
+                    eprintln!("notice: rendering on the CPU: no usable GPU ({error:#})");
+                    Ok(Backend::Cpu(Renderer::new(scene)))
+                }
+            },
+        }
+    }
+
+    fn open_gpu(options: &GpuOptions, scene: &Scene) -> Result<Self> {
+        let mut gpu = GpuRenderer::new(options)?;
+        gpu.load_scene(scene)?;
+        Ok(Backend::Gpu(Box::new(gpu)))
+    }
+
+    pub fn describe(&self) -> String {
+        match self {
+            Backend::Cpu(_) => format!("CPU reference, {} threads", rayon::current_num_threads()),
+            Backend::Gpu(gpu) => format!("GPU {}", gpu.device_name()),
+        }
+    }
+
+    /// Autofocus: the view depth of the surface seen through the centre of pixel (x, y) by the
+    /// aperture-centre ray (GPU: read from the raster G-buffer; CPU: traced).
+    pub fn focus_distance_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<f32> {
+        let [x, y] = pixel;
+        if x >= camera.width || y >= camera.height {
+            bail!(
+                "--focus-at {x},{y} lies outside the {}x{} image",
+                camera.width,
+                camera.height
+            );
+        }
+        let depth = match self {
+            Backend::Gpu(gpu) => {
+                let gbuffer = gpu.render_gbuffer(camera, glam::Vec3::ZERO)?;
+                focus_distance_at(&gbuffer, x, y)
+            }
+            Backend::Cpu(cpu) => {
+                let centre = UVec2::new(x, y).as_vec2() + Vec2::splat(0.5);
+                let ray = camera.generate_ray(centre, Vec2::splat(0.5));
+                cpu.intersect(&ray)
+                    .map(|hit| camera.view_depth(ray.at(hit.t)))
+            }
+        };
+        depth.with_context(|| format!("--focus-at {x},{y}: no surface at that pixel to focus on"))
+    }
+
+    pub fn render(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(Image, RenderReport)> {
+        match self {
+            Backend::Cpu(cpu) => {
+                let (image, stats) = cpu.render(camera, settings, progress);
+                Ok((
+                    image,
+                    RenderReport {
+                        rays: stats.rays,
+                        trace_seconds: stats.elapsed.as_secs_f64(),
+                    },
+                ))
+            }
+            Backend::Gpu(gpu) => {
+                let before = gpu.timings();
+                let image = gpu.render(camera, settings, progress)?;
+                let after = gpu.timings();
+                let rays = (after.rays_traced + after.first_dispatch_rays)
+                    - (before.rays_traced + before.first_dispatch_rays);
+                let first = after.first_dispatch_ms.unwrap_or(0.0)
+                    - before.first_dispatch_ms.unwrap_or(0.0);
+                let ms = after.trace_gpu_ms - before.trace_gpu_ms + first;
+                Ok((
+                    image,
+                    RenderReport {
+                        rays,
+                        trace_seconds: ms * 1e-3,
+                    },
+                ))
+            }
+        }
+    }
+
+    /// With `--validate`: the validation layer's warnings and errors, as an error.
+    pub fn check_validation(&self) -> Result<()> {
+        if let Backend::Gpu(gpu) = self {
+            let messages = gpu.validation_messages();
+            if let Some(first) = messages.first() {
+                bail!(
+                    "Vulkan validation reported {} message(s); first: {}",
+                    messages.len(),
+                    first.lines().next().unwrap_or("")
+                );
+            }
+        }
+        Ok(())
+    }
+}
