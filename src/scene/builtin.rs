@@ -40,7 +40,7 @@ pub fn default_sphere_centers() -> [Vec3; 7] {
 /// The default scene: 7 spheres of 960 triangles and a 28 x 30 checkerboard of 1 m tiles, 8400
 /// triangles in all. Camera: 40 degree field of view, aperture radius 0.12 m, focused at the
 /// subject's distance (8.07 m along the view axis); the nearest sphere is 3.5 m away, the
-/// farthest 12.5 m. 640 x 480, 32 spp, lit by a point light high up to the left (hard shadows
+/// farthest 12.5 m. 640 x 480, 16 spp, lit by a point light high up to the left (hard shadows
 /// towards the back right), under a pale sky.
 pub fn default_scene() -> SceneDescription {
     let mut b = SceneBuilder::new();
@@ -90,7 +90,7 @@ pub fn default_scene() -> SceneDescription {
             image: ImageSettings {
                 width: Some(640),
                 height: Some(480),
-                spp: Some(32),
+                spp: Some(16),
                 seed: None,
             },
             render: RenderStyle {
