@@ -360,6 +360,12 @@ fn split_dispatches_accumulate_identically() {
     );
     let t = gpu.timings();
     assert!(t.rays_traced > 0 && t.dispatches > 20, "{t:?}");
+    // Compacted BLASes exist and are no larger than the builds.
+    assert!(
+        t.blas_compacted_bytes > 0 && t.blas_compacted_bytes <= t.blas_bytes,
+        "{t:?}"
+    );
+    println!("timings: {t:?}");
     finish(gpu, log);
 }
 
