@@ -11,7 +11,7 @@ use crate::render::{Image, RenderSettings};
 use crate::scene::Scene;
 
 pub enum Backend {
-    Cpu(Renderer),
+    Cpu(Box<Renderer>),
     Gpu(Box<GpuRenderer>),
 }
 
@@ -27,13 +27,13 @@ impl Backend {
     /// notice saying why.
     pub fn open(choice: DeviceChoice, options: &GpuOptions, scene: &Scene) -> Result<Self> {
         match choice {
-            DeviceChoice::Cpu => Ok(Backend::Cpu(Renderer::new(scene))),
+            DeviceChoice::Cpu => Ok(Backend::Cpu(Box::new(Renderer::new(scene)))),
             DeviceChoice::Gpu => Self::open_gpu(options, scene).context("--device gpu"),
             DeviceChoice::Auto => match Self::open_gpu(options, scene) {
                 Ok(gpu) => Ok(gpu),
                 Err(error) => {
                     eprintln!("notice: rendering on the CPU: no usable GPU ({error:#})");
-                    Ok(Backend::Cpu(Renderer::new(scene)))
+                    Ok(Backend::Cpu(Box::new(Renderer::new(scene))))
                 }
             },
         }

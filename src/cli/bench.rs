@@ -2,10 +2,11 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 
 use super::args::DeviceChoice;
+use crate::gpu::{BenchOptions, GpuOptions};
 use crate::reference::Renderer;
 use crate::render::Shading;
 use crate::resolve::resolve;
@@ -21,6 +22,7 @@ pub enum BenchScene {
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
+    /// cpu: the CPU reference; gpu (or auto): the Vulkan compute pass, timed with timestamps.
     #[arg(long, value_enum, default_value_t = DeviceChoice::Cpu)]
     pub device: DeviceChoice,
     /// A named scene...
@@ -73,9 +75,6 @@ fn bench_scene(args: &BenchArgs) -> Result<SceneDescription> {
 
 pub fn run(args: &BenchArgs) -> Result<()> {
     anyhow::ensure!(args.runs >= 1, "--runs must be at least 1");
-    if args.device == DeviceChoice::Gpu {
-        anyhow::bail!("--device gpu: the Vulkan renderer is not part of this build yet");
-    }
     let description = bench_scene(args)?;
     let mut settings = description.settings.clone();
     settings.image.width = Some(args.width);
@@ -84,6 +83,25 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     settings.render.shading = Some(args.shading);
     let resolved = resolve(&settings, &description.scene)?;
     let triangles = description.scene.triangle_count();
+    if args.device != DeviceChoice::Cpu {
+        let options = BenchOptions {
+            gpu: GpuOptions::default(),
+            repeats: args.runs as u32,
+        };
+        let report = crate::gpu::bench(
+            &description.scene,
+            &resolved.camera,
+            &resolved.render,
+            &options,
+        )
+        .context("--device gpu")?;
+        println!(
+            "bench: {} ({} triangles), {:?}",
+            description.source, triangles, args.shading
+        );
+        print!("{report}");
+        return Ok(());
+    }
     println!(
         "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, CPU reference on {} threads",
         description.source,

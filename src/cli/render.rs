@@ -134,7 +134,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         settings.camera.focus_distance = Some(focus as f64);
         Resolved { camera, render } =
             resolve(&settings, &description.scene).with_context(context)?;
-        eprintln!("autofocus: pixel {},{} is {focus:.4} away along the view axis", pixel[0], pixel[1]);
+        eprintln!(
+            "autofocus: pixel {},{} is {focus:.4} away along the view axis",
+            pixel[0], pixel[1]
+        );
     }
 
     let mut progress = Progress::new("rendering");
