@@ -406,6 +406,49 @@ fn aovs_come_from_the_gbuffer() {
     finish(gpu, log);
 }
 
+/// The CPU reference's AOVs are defined as the G-buffer's (aperture-centre ray at each pixel
+/// centre), so the two devices agree on them away from silhouettes, with depth of field on.
+#[test]
+fn gpu_aovs_match_cpu_aovs() {
+    let Some((mut gpu, log)) = renderer("gpu_aovs_match_cpu_aovs") else {
+        return;
+    };
+    let scene = test_scene();
+    gpu.load_scene(&scene).expect("load scene");
+    let cpu = lensray::reference::Renderer::new(&scene);
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.2,
+        focus_distance: 4.0,
+    };
+    for orthographic in [false, true] {
+        let cam = camera(orthographic, lens, 80, 60);
+        for shading in [Shading::Depth, Shading::Normal, Shading::Albedo] {
+            let s = settings(shading, 4);
+            let g = gpu.render(&cam, &s, &mut |_, _| {}).expect("GPU AOV");
+            let (c, _) = cpu.render(&cam, &s, &mut |_, _| {});
+            // Depth to 1e-4 of the far distance; colours and normals absolutely.
+            let tolerance = if shading == Shading::Depth {
+                1e-4 * cam.far
+            } else {
+                1e-3
+            };
+            let diff = compare(&g, &c, tolerance);
+            let name = format!(
+                "aov_{shading:?}_{}",
+                if orthographic { "ortho" } else { "persp" }
+            );
+            assert!(
+                diff.within >= 0.995,
+                "{name}: {:.4} of pixels within {tolerance} (max {}), {}",
+                diff.within,
+                diff.max_abs,
+                write_comparison(&g, &c, &name)
+            );
+        }
+    }
+    finish(gpu, log);
+}
+
 #[test]
 fn empty_scene_shows_the_background() {
     let Some((mut gpu, log)) = renderer("empty_scene_shows_the_background") else {

@@ -5,10 +5,9 @@
 //! - `unlit`: Kd of the first hit, background on a miss.
 //! - `lit`: Ke plus Kd / pi * I * cos / d^2 from the point light when a shadow ray from
 //!   `surface::shadow_origin` to the light, t in (0, d), is unoccluded; background on a miss.
-//! - AOVs (`depth`, `normal`, `albedo`) follow the aperture-centre ray of each film sample: they
-//!   describe the sharp scene behind each pixel, antialiased over the samples.
-//!
-//! Every mode averages its `spp` samples per pixel.
+//! - `unlit` and `lit` average their `spp` samples per pixel.
+//! - AOVs (`depth`, `normal`, `albedo`) are what the raster G-buffer holds: the surface seen by
+//!   the aperture-centre ray through each pixel centre (one ray per pixel, no lens blur).
 
 mod accel;
 mod render;

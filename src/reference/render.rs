@@ -122,19 +122,18 @@ impl Renderer {
 
     /// The average of the pixel's samples, and the number of rays traced for it.
     fn pixel(&self, camera: &Camera, settings: &RenderSettings, pixel: UVec2) -> (Vec3, u64) {
+        if settings.shading.is_aov() {
+            // The G-buffer's definition: the aperture-centre ray through the pixel centre.
+            let centre = pixel.as_vec2() + Vec2::splat(0.5);
+            let ray = camera.generate_ray(centre, Vec2::splat(0.5));
+            return (self.aov(camera, &ray, settings), 1);
+        }
         let mut sum = Vec3::ZERO;
         let mut rays = 0;
         for s in 0..settings.spp {
             let sample = camera_sample(settings.seed, pixel, camera.width, s);
-            let (value, n) = match settings.shading {
-                Shading::Unlit | Shading::Lit => {
-                    self.radiance(&camera.generate_ray(sample.film, sample.lens), settings)
-                }
-                Shading::Depth | Shading::Normal | Shading::Albedo => {
-                    let ray = camera.generate_ray(sample.film, Vec2::splat(0.5));
-                    (self.aov(camera, &ray, settings), 1)
-                }
-            };
+            let (value, n) =
+                self.radiance(&camera.generate_ray(sample.film, sample.lens), settings);
             sum += value;
             rays += n;
         }

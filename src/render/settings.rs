@@ -3,7 +3,8 @@
 use glam::Vec3;
 use serde::Deserialize;
 
-/// What a pixel shows. `Unlit` and `Lit` are traced through the thin lens; the rest are AOVs.
+/// What a pixel shows. `Unlit` and `Lit` are traced through the thin lens; the rest are AOVs:
+/// the raster G-buffer's content, the surface seen by the aperture-centre ray at each pixel centre.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Shading {
@@ -21,7 +22,7 @@ pub enum Shading {
 }
 
 impl Shading {
-    /// AOVs describe the surface seen through each pixel, not light: no sRGB encoding in PNGs.
+    /// AOVs describe the surface seen through each pixel centre: one ray, no lens blur.
     pub fn is_aov(self) -> bool {
         matches!(self, Shading::Depth | Shading::Normal | Shading::Albedo)
     }
