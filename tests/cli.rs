@@ -183,3 +183,65 @@ fn bad_outputs_are_rejected_before_rendering() {
     assert_rejected(&["--out", "image.jpg"], "extension");
     assert_rejected(&["--out", "/nonexistent-dir/x.png"], "cannot write");
 }
+
+/// Runs lensray with the Vulkan loader pointed at no driver at all: the machine "has no GPU".
+fn lensray_without_vulkan(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(args)
+        .current_dir(dir)
+        .env("VK_ICD_FILENAMES", "/nonexistent/lensray-no-driver.json")
+        .env("VK_DRIVER_FILES", "/nonexistent/lensray-no-driver.json")
+        .output()
+        .expect("run lensray")
+}
+
+#[test]
+fn device_gpu_without_a_vulkan_device_is_one_clear_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--out", "g.png"]);
+    args[2] = "gpu";
+    let out = lensray_without_vulkan(&args, dir.path());
+    let err = stderr(&out);
+    assert!(!out.status.success(), "accepted without a device: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--device gpu") && err.contains("Vulkan"),
+        "{err}"
+    );
+    assert!(!dir.path().join("g.png").exists());
+}
+
+#[test]
+fn device_auto_falls_back_to_the_cpu_with_a_notice() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--out", "a.png"]);
+    args[2] = "auto";
+    let out = lensray_without_vulkan(&args, dir.path());
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert_eq!(err.lines().count(), 1, "one notice line: {err}");
+    assert!(err.starts_with("notice: rendering on the CPU"), "{err}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("CPU reference"));
+    assert!(dir.path().join("a.png").exists());
+}
+
+#[test]
+fn device_gpu_renders_and_autofocuses_with_validation() {
+    if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
+        eprintln!("skipped: LENSRAY_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--validate", "--focus-at", "40,14", "--out", "g.exr"]);
+    args[2] = "gpu";
+    let out = lensray(&args, dir.path());
+    let err = stderr(&out);
+    assert!(
+        out.status.success(),
+        "GPU render failed (is a ray-query device installed?): {err}"
+    );
+    assert!(err.contains("autofocus: pixel 40,14"), "{err}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("on GPU"));
+    let img = image::open(dir.path().join("g.exr")).expect("EXR written");
+    assert_eq!((img.width(), img.height()), (48, 32));
+}
