@@ -1,8 +1,12 @@
 //! lensray: thin-lens depth of field, rendered by a CPU reference and Vulkan paths that are
 //! checked against it.
 
+#![deny(unsafe_code)]
+
 pub mod camera;
 pub mod cli;
+// The Vulkan module is the only place allowed to use `unsafe` (each block says why).
+#[allow(unsafe_code)]
 pub mod gpu;
 pub mod output;
 pub mod reference;
