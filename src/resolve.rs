@@ -79,18 +79,18 @@ pub fn resolve(settings: &Settings, scene: &Scene) -> Result<Resolved, SettingsE
         None => {
             // Far enough back that the bounding sphere fits the view (with a margin).
             let half_angle = (vfov_degrees.clamp(1.0, 179.0) * 0.5).to_radians();
-            let distance = match projection_kind {
-                ProjectionKind::Perspective => 1.1 * radius / half_angle.sin(),
-                ProjectionKind::Orthographic => 2.0 * radius,
-            };
-            target + Vec3::Z * distance as f32
+            target + Vec3::Z * (1.1 * radius / half_angle.sin()) as f32
         }
     };
 
     let projection = match projection_kind {
         ProjectionKind::Perspective => ProjectionParams::Perspective { vfov_degrees },
+        // By default the orthographic view frames what the perspective one shows at the target.
         ProjectionKind::Orthographic => ProjectionParams::Orthographic {
-            height: c.ortho_height.unwrap_or(2.2 * radius),
+            height: c.ortho_height.unwrap_or(
+                2.0 * (vfov_degrees.clamp(1.0, 179.0) * 0.5).to_radians().tan()
+                    * (target - eye).length() as f64,
+            ),
         },
     };
 
