@@ -11,44 +11,9 @@ use lensray::gpu::{bench, BenchOptions, GpuOptions};
 use lensray::render::{PointLight, RenderSettings, Shading};
 use lensray::scene::{Material, Mesh, Scene};
 
-/// A UV sphere with vertex normals: 2 * rings * segments triangles (minus the poles' halves).
+/// A UV sphere with vertex normals (the scene generators' own).
 fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32, material: u32) -> Mesh {
-    let mut positions = Vec::new();
-    let mut normals = Vec::new();
-    for r in 0..=rings {
-        let theta = std::f32::consts::PI * r as f32 / rings as f32;
-        for s in 0..=segments {
-            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
-            let n = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                theta.sin() * phi.sin(),
-            );
-            positions.push(center + radius * n);
-            normals.push(n);
-        }
-    }
-    let row = segments + 1;
-    let mut triangles = Vec::new();
-    for r in 0..rings {
-        for s in 0..segments {
-            let a = r * row + s;
-            let b = a + row;
-            if r != 0 {
-                triangles.push([a, b, a + 1]);
-            }
-            if r != rings - 1 {
-                triangles.push([a + 1, b, b + 1]);
-            }
-        }
-    }
-    Mesh {
-        name: "sphere".into(),
-        positions,
-        normals,
-        material_ids: vec![material; triangles.len()],
-        triangles,
-    }
+    lensray::scene::generate::uv_sphere("sphere", center, radius, segments, rings, material)
 }
 
 /// `n x n` spheres on a floor.

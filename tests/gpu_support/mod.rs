@@ -113,44 +113,9 @@ pub fn floor(half: f32, y: f32, material: u32) -> Mesh {
     }
 }
 
-/// A UV sphere with vertex normals.
+/// A UV sphere with vertex normals (the scene generators' own).
 pub fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32, material: u32) -> Mesh {
-    let mut positions = Vec::new();
-    let mut normals = Vec::new();
-    for r in 0..=rings {
-        let theta = std::f32::consts::PI * r as f32 / rings as f32;
-        for s in 0..=segments {
-            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
-            let n = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                theta.sin() * phi.sin(),
-            );
-            positions.push(center + radius * n);
-            normals.push(n);
-        }
-    }
-    let mut triangles = Vec::new();
-    let row = segments + 1;
-    for r in 0..rings {
-        for s in 0..segments {
-            let a = r * row + s;
-            let b = a + row;
-            if r != 0 {
-                triangles.push([a, b, a + 1]);
-            }
-            if r != rings - 1 {
-                triangles.push([a + 1, b, b + 1]);
-            }
-        }
-    }
-    Mesh {
-        name: "sphere".into(),
-        positions,
-        normals,
-        material_ids: vec![material; triangles.len()],
-        triangles,
-    }
+    lensray::scene::generate::uv_sphere("sphere", center, radius, segments, rings, material)
 }
 
 /// A floor, a box, a sphere with vertex normals and a small emissive box: 4 meshes.
