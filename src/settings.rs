@@ -2,18 +2,18 @@
 //! the command line overrides the file, and what neither gives gets a default (see `resolve`).
 //! Field names are the scene file's TOML keys.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::render::Shading;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum ProjectionKind {
     Perspective,
     Orthographic,
 }
 
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraSettings {
     pub projection: Option<ProjectionKind>,
@@ -31,7 +31,7 @@ pub struct CameraSettings {
     pub far: Option<f64>,
 }
 
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ImageSettings {
     pub width: Option<u32>,
@@ -40,14 +40,14 @@ pub struct ImageSettings {
     pub seed: Option<u32>,
 }
 
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderStyle {
     pub shading: Option<Shading>,
     pub background: Option<[f64; 3]>,
 }
 
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct LightSettings {
     pub position: Option<[f64; 3]>,
@@ -55,7 +55,7 @@ pub struct LightSettings {
     pub intensity: Option<[f64; 3]>,
 }
 
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Settings {
     #[serde(default)]
@@ -102,3 +102,15 @@ impl Settings {
         self
     }
 }
+
+macro_rules! is_unset {
+    ($($t:ty),*) => {
+        $(impl $t {
+            /// Whether no field is set (such a section is left out of a written scene file).
+            pub fn is_unset(&self) -> bool {
+                *self == Self::default()
+            }
+        })*
+    };
+}
+is_unset!(CameraSettings, ImageSettings, RenderStyle, LightSettings);

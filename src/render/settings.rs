@@ -1,11 +1,11 @@
 //! Shading modes and per-render settings, defined once for the CPU and GPU paths.
 
 use glam::Vec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// What a pixel shows. `Unlit` and `Lit` are traced through the thin lens; the rest are AOVs:
 /// the raster G-buffer's content, the surface seen by the aperture-centre ray at each pixel centre.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Shading {
     /// Diffuse colour Kd of the first surface hit, or the background on a miss: pure visibility,

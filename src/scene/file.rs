@@ -24,19 +24,15 @@
 //! intensity = [5.0, 5.0, 5.0]
 //! ```
 
-use std::fmt::Write as _;
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::obj::load_obj;
 use super::{Scene, SceneError};
-use crate::render::Shading;
-use crate::settings::{
-    CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
-};
+use crate::settings::{CameraSettings, ImageSettings, LightSettings, RenderStyle, Settings};
 
 /// A scene with the settings that came with it.
 #[derive(Clone, Debug, PartialEq)]
@@ -148,52 +144,18 @@ pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
     }
 }
 
-fn float(x: f64) -> String {
-    if x.is_nan() {
-        "nan".into()
-    } else if x.is_infinite() {
-        if x > 0.0 { "inf" } else { "-inf" }.into()
-    } else {
-        // Debug prints the shortest form that reads back exactly, always with a `.` or exponent.
-        format!("{x:?}")
-    }
-}
-
-fn triple(v: [f64; 3]) -> String {
-    format!("[{}, {}, {}]", float(v[0]), float(v[1]), float(v[2]))
-}
-
-fn toml_string(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c if c.is_control() => {
-                let _ = write!(out, "\\u{:04X}", c as u32);
-            }
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-fn projection_name(p: ProjectionKind) -> &'static str {
-    match p {
-        ProjectionKind::Perspective => "perspective",
-        ProjectionKind::Orthographic => "orthographic",
-    }
-}
-
-fn shading_name(s: Shading) -> &'static str {
-    match s {
-        Shading::Unlit => "unlit",
-        Shading::Lit => "lit",
-        Shading::Depth => "depth",
-        Shading::Normal => "normal",
-        Shading::Albedo => "albedo",
-    }
+/// What a scene file holds, for writing: the mesh and the settings that are set.
+#[derive(Serialize)]
+struct SceneFileOut<'a> {
+    mesh: &'a str,
+    #[serde(skip_serializing_if = "CameraSettings::is_unset")]
+    camera: &'a CameraSettings,
+    #[serde(skip_serializing_if = "ImageSettings::is_unset")]
+    image: &'a ImageSettings,
+    #[serde(skip_serializing_if = "RenderStyle::is_unset")]
+    render: &'a RenderStyle,
+    #[serde(skip_serializing_if = "LightSettings::is_unset")]
+    light: &'a LightSettings,
 }
 
 /// The text of a scene file naming `mesh` with `settings` (only the fields that are set), after
@@ -202,102 +164,16 @@ fn shading_name(s: Shading) -> &'static str {
 pub fn scene_file_text(mesh: &str, settings: &Settings, comment: &str) -> String {
     let mut out = String::new();
     for line in comment.lines() {
-        let _ = writeln!(out, "# {line}");
+        out += &format!("# {line}\n");
     }
-    let _ = writeln!(out, "mesh = {}", toml_string(mesh));
-    let mut section = |name: &str, fields: Vec<(&str, Option<String>)>| {
-        let set: Vec<_> = fields
-            .into_iter()
-            .filter_map(|(k, v)| v.map(|v| (k, v)))
-            .collect();
-        if !set.is_empty() {
-            let _ = writeln!(out, "\n[{name}]");
-            for (k, v) in set {
-                let _ = writeln!(out, "{k} = {v}");
-            }
-        }
+    let file = SceneFileOut {
+        mesh,
+        camera: &settings.camera,
+        image: &settings.image,
+        render: &settings.render,
+        light: &settings.light,
     };
-    // Destructured field by field so that a new setting fails to compile here until written.
-    let Settings {
-        camera,
-        image,
-        render,
-        light,
-    } = settings;
-    let CameraSettings {
-        projection,
-        eye,
-        target,
-        up,
-        vfov_degrees,
-        ortho_height,
-        aperture_radius,
-        focus_distance,
-        focal_length_mm,
-        f_number,
-        sensor_height_mm,
-        near,
-        far,
-    } = camera;
-    section(
-        "camera",
-        vec![
-            (
-                "projection",
-                projection.map(|p| toml_string(projection_name(p))),
-            ),
-            ("eye", eye.map(triple)),
-            ("target", target.map(triple)),
-            ("up", up.map(triple)),
-            ("vfov_degrees", vfov_degrees.map(float)),
-            ("ortho_height", ortho_height.map(float)),
-            ("aperture_radius", aperture_radius.map(float)),
-            ("focus_distance", focus_distance.map(float)),
-            ("focal_length_mm", focal_length_mm.map(float)),
-            ("f_number", f_number.map(float)),
-            ("sensor_height_mm", sensor_height_mm.map(float)),
-            ("near", near.map(float)),
-            ("far", far.map(float)),
-        ],
-    );
-    let ImageSettings {
-        width,
-        height,
-        spp,
-        seed,
-    } = image;
-    let int = |v: &Option<u32>| v.map(|v| v.to_string());
-    section(
-        "image",
-        vec![
-            ("width", int(width)),
-            ("height", int(height)),
-            ("spp", int(spp)),
-            ("seed", int(seed)),
-        ],
-    );
-    let RenderStyle {
-        shading,
-        background,
-    } = render;
-    section(
-        "render",
-        vec![
-            ("shading", shading.map(|s| toml_string(shading_name(s)))),
-            ("background", background.map(triple)),
-        ],
-    );
-    let LightSettings {
-        position,
-        intensity,
-    } = light;
-    section(
-        "light",
-        vec![
-            ("position", position.map(triple)),
-            ("intensity", intensity.map(triple)),
-        ],
-    );
+    out += &toml::to_string(&file).expect("settings serialize to TOML");
     out
 }
 
