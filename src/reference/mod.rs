@@ -15,7 +15,7 @@ mod render;
 mod surface;
 mod triangle;
 
-pub use accel::{Accel, Hit};
+pub use accel::{Accel, Hit, PACKET_SIZE};
 pub use render::{RenderStats, Renderer};
 pub use surface::{shadow_origin, SurfacePoint};
 pub use triangle::WatertightRay;

@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use glam::{UVec2, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::accel::{Accel, Hit};
+use super::accel::{Accel, Hit, PACKET_SIZE};
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
 use crate::render::{Image, RenderSettings, Shading};
@@ -124,26 +124,54 @@ impl Renderer {
     fn pixel(&self, camera: &Camera, settings: &RenderSettings, pixel: UVec2) -> (Vec3, u64) {
         let mut sum = Vec3::ZERO;
         let mut rays = 0;
-        for s in 0..settings.spp {
-            let sample = camera_sample(settings.seed, pixel, camera.width, s);
-            let (value, n) = match settings.shading {
-                Shading::Unlit | Shading::Lit => {
-                    self.radiance(&camera.generate_ray(sample.film, sample.lens), settings)
+        match settings.shading {
+            Shading::Unlit | Shading::Lit => {
+                // The samples of a pixel are coherent: their primary rays are traced as packets.
+                let mut origins = [Vec3::ZERO; PACKET_SIZE];
+                let mut directions = [Vec3::ZERO; PACKET_SIZE];
+                let mut hits = [None; PACKET_SIZE];
+                for first in (0..settings.spp).step_by(PACKET_SIZE) {
+                    let n = (settings.spp - first).min(PACKET_SIZE as u32) as usize;
+                    for i in 0..n {
+                        let sample =
+                            camera_sample(settings.seed, pixel, camera.width, first + i as u32);
+                        let ray = camera.generate_ray(sample.film, sample.lens);
+                        origins[i] = ray.origin;
+                        directions[i] = ray.direction;
+                    }
+                    self.accel.closest_hits(
+                        &origins[..n],
+                        &directions[..n],
+                        0.0,
+                        f32::INFINITY,
+                        &mut hits[..n],
+                    );
+                    for i in 0..n {
+                        let ray = Ray {
+                            origin: origins[i],
+                            direction: directions[i],
+                        };
+                        let (value, count) = self.shade(&ray, hits[i], settings);
+                        sum += value;
+                        rays += count;
+                    }
                 }
-                Shading::Depth | Shading::Normal | Shading::Albedo => {
+            }
+            Shading::Depth | Shading::Normal | Shading::Albedo => {
+                for s in 0..settings.spp {
+                    let sample = camera_sample(settings.seed, pixel, camera.width, s);
                     let ray = camera.generate_ray(sample.film, Vec2::splat(0.5));
-                    (self.aov(camera, &ray, settings), 1)
+                    sum += self.aov(camera, &ray, settings);
+                    rays += 1;
                 }
-            };
-            sum += value;
-            rays += n;
+            }
         }
         (sum / settings.spp as f32, rays)
     }
 
     /// `unlit` and `lit`, with the number of rays traced.
-    fn radiance(&self, ray: &Ray, settings: &RenderSettings) -> (Vec3, u64) {
-        let Some(hit) = self.intersect(ray) else {
+    fn shade(&self, ray: &Ray, hit: Option<Hit>, settings: &RenderSettings) -> (Vec3, u64) {
+        let Some(hit) = hit else {
             return (settings.background, 1);
         };
         if settings.shading == Shading::Unlit {
