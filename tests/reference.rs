@@ -422,3 +422,64 @@ fn rays_with_negative_zero_components_hit() {
     assert_eq!(hits[0], hit);
     assert!(accel.occluded(Vec3::new(0.1, 0.2, 5.0), -Vec3::Z, 0.0, 6.0));
 }
+
+#[test]
+fn packet_primary_rays_equal_generate_ray_bit_for_bit() {
+    let lenses = [
+        LensParams::Pinhole,
+        LensParams::ThinLens {
+            aperture_radius: 0.05,
+            focus_distance: 3.0,
+        },
+    ];
+    for projection in [
+        ProjectionParams::Perspective { vfov_degrees: 50.0 },
+        ProjectionParams::Orthographic { height: 4.0 },
+    ] {
+        for lens in lenses {
+            let cam = CameraParams {
+                eye: Vec3::new(0.3, 1.0, 2.0),
+                target: Vec3::new(-0.5, 0.2, -3.0),
+                up: Vec3::Y,
+                projection,
+                lens,
+                near: 0.01,
+                far: 100.0,
+                width: 37,
+                height: 23,
+            }
+            .build()
+            .expect("valid camera");
+            let packet = lensray::reference::PACKET_SIZE as u32;
+            for (px, py) in [(0, 0), (36, 22), (18, 11), (5, 17)] {
+                for seed in [1, 99] {
+                    for first in [0, packet, 3 * packet] {
+                        let pixel = glam::UVec2::new(px, py);
+                        let mut origins = [Vec3::ZERO; lensray::reference::PACKET_SIZE];
+                        let mut directions = origins;
+                        lensray::reference::primary_rays(
+                            &cam,
+                            seed,
+                            pixel,
+                            first,
+                            &mut origins,
+                            &mut directions,
+                        );
+                        for l in 0..packet {
+                            let sample =
+                                lensray::sampler::camera_sample(seed, pixel, cam.width, first + l);
+                            let ray = cam.generate_ray(sample.film, sample.lens);
+                            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                            assert_eq!(
+                                (bits(origins[l as usize]), bits(directions[l as usize])),
+                                (bits(ray.origin), bits(ray.direction)),
+                                "{projection:?} {lens:?} pixel {pixel} sample {}",
+                                first + l
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

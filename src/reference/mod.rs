@@ -11,11 +11,13 @@
 //! Every mode averages its `spp` samples per pixel.
 
 mod accel;
+mod rays;
 mod render;
 mod surface;
 mod triangle;
 
 pub use accel::{Accel, Hit, PACKET_SIZE};
+pub use rays::primary_rays;
 pub use render::{RenderStats, Renderer};
 pub use surface::{shadow_origin, SurfacePoint};
 pub use triangle::WatertightRay;

@@ -8,6 +8,7 @@ use glam::{UVec2, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::accel::{Accel, Hit, PACKET_SIZE};
+use super::rays::primary_rays;
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
 use crate::render::{Image, RenderSettings, Shading};
@@ -132,13 +133,14 @@ impl Renderer {
                 let mut hits = [None; PACKET_SIZE];
                 for first in (0..settings.spp).step_by(PACKET_SIZE) {
                     let n = (settings.spp - first).min(PACKET_SIZE as u32) as usize;
-                    for i in 0..n {
-                        let sample =
-                            camera_sample(settings.seed, pixel, camera.width, first + i as u32);
-                        let ray = camera.generate_ray(sample.film, sample.lens);
-                        origins[i] = ray.origin;
-                        directions[i] = ray.direction;
-                    }
+                    primary_rays(
+                        camera,
+                        settings.seed,
+                        pixel,
+                        first,
+                        &mut origins,
+                        &mut directions,
+                    );
                     self.accel.closest_hits(
                         &origins[..n],
                         &directions[..n],
