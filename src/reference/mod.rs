@@ -10,11 +10,13 @@
 //!   the aperture-centre ray through each pixel centre (one ray per pixel, no lens blur).
 
 mod accel;
+mod rays;
 mod render;
 mod surface;
 mod triangle;
 
-pub use accel::{Accel, Hit};
+pub use accel::{Accel, Hit, PACKET_SIZE};
+pub use rays::primary_rays;
 pub use render::{RenderStats, Renderer};
 pub use surface::{shadow_origin, SurfacePoint};
 pub use triangle::WatertightRay;

@@ -7,11 +7,11 @@ use std::time::{Duration, Instant};
 use glam::{UVec2, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::accel::{Accel, Hit};
+use super::accel::{Accel, Hit, PACKET_SIZE};
+use super::rays::primary_rays;
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
 use crate::render::{Image, RenderSettings, Shading};
-use crate::sampler::camera_sample;
 use crate::scene::{Material, Scene};
 
 /// Rows rendered between two progress reports.
@@ -130,19 +130,43 @@ impl Renderer {
         }
         let mut sum = Vec3::ZERO;
         let mut rays = 0;
-        for s in 0..settings.spp {
-            let sample = camera_sample(settings.seed, pixel, camera.width, s);
-            let (value, n) =
-                self.radiance(&camera.generate_ray(sample.film, sample.lens), settings);
-            sum += value;
-            rays += n;
+        // The samples of a pixel are coherent: their primary rays are traced as packets.
+        let mut origins = [Vec3::ZERO; PACKET_SIZE];
+        let mut directions = [Vec3::ZERO; PACKET_SIZE];
+        let mut hits = [None; PACKET_SIZE];
+        for first in (0..settings.spp).step_by(PACKET_SIZE) {
+            let n = (settings.spp - first).min(PACKET_SIZE as u32) as usize;
+            primary_rays(
+                camera,
+                settings.seed,
+                pixel,
+                first,
+                &mut origins,
+                &mut directions,
+            );
+            self.accel.closest_hits(
+                &origins[..n],
+                &directions[..n],
+                0.0,
+                f32::INFINITY,
+                &mut hits[..n],
+            );
+            for i in 0..n {
+                let ray = Ray {
+                    origin: origins[i],
+                    direction: directions[i],
+                };
+                let (value, count) = self.shade(&ray, hits[i], settings);
+                sum += value;
+                rays += count;
+            }
         }
         (sum / settings.spp as f32, rays)
     }
 
     /// `unlit` and `lit`, with the number of rays traced.
-    fn radiance(&self, ray: &Ray, settings: &RenderSettings) -> (Vec3, u64) {
-        let Some(hit) = self.intersect(ray) else {
+    fn shade(&self, ray: &Ray, hit: Option<Hit>, settings: &RenderSettings) -> (Vec3, u64) {
+        let Some(hit) = hit else {
             return (settings.background, 1);
         };
         if settings.shading == Shading::Unlit {

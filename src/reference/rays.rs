@@ -1,0 +1,167 @@
+//! The primary rays of a packet of samples at once: `camera_sample` then `Camera::generate_ray`
+//! for every lane, laid out by lane so the divisions and square roots vectorize. Operation for
+//! operation the same arithmetic as the camera module (glam's `transform_point3`,
+//! `transform_vector3`, `normalize`; `ThinLens::lens_ray`; `concentric_sample_disk`), so the rays
+//! are bit-identical to `Camera::generate_ray` (tests/reference.rs checks it); the camera module
+//! stays the definition the GLSL mirrors.
+
+use glam::{Mat4, UVec2, Vec3};
+
+use super::accel::PACKET_SIZE;
+use crate::camera::{Camera, Projection};
+use crate::sampler::camera_sample;
+
+type Lanes = [f32; PACKET_SIZE];
+
+/// Lanes of three coordinates.
+struct Lanes3 {
+    x: Lanes,
+    y: Lanes,
+    z: Lanes,
+}
+
+impl Lanes3 {
+    fn splat(v: Vec3) -> Self {
+        Self {
+            x: [v.x; PACKET_SIZE],
+            y: [v.y; PACKET_SIZE],
+            z: [v.z; PACKET_SIZE],
+        }
+    }
+}
+
+/// glam's `Mat4::transform_point3` (`w` = 1) or `transform_vector3` (`w` = 0) per lane:
+/// res = x_axis * x; res = y_axis * y + res; res = z_axis * z + res; (res = w_axis + res).
+#[inline(always)]
+fn transform(m: &Mat4, p: &Lanes3, point: bool) -> Lanes3 {
+    let mut out = Lanes3::splat(Vec3::ZERO);
+    for l in 0..PACKET_SIZE {
+        let (x, y, z) = (p.x[l], p.y[l], p.z[l]);
+        let mut r = m.x_axis.truncate() * x;
+        r = m.y_axis.truncate() * y + r;
+        r = m.z_axis.truncate() * z + r;
+        if point {
+            r = m.w_axis.truncate() + r;
+        }
+        out.x[l] = r.x;
+        out.y[l] = r.y;
+        out.z[l] = r.z;
+    }
+    out
+}
+
+/// glam's `Vec3::normalize`: v * (1 / sqrt(x x + y y + z z)).
+#[inline(always)]
+fn normalize(v: &mut Lanes3) {
+    for l in 0..PACKET_SIZE {
+        let dot = (v.x[l] * v.x[l]) + (v.y[l] * v.y[l]) + (v.z[l] * v.z[l]);
+        let recip = 1.0 / dot.sqrt();
+        v.x[l] *= recip;
+        v.y[l] *= recip;
+        v.z[l] *= recip;
+    }
+}
+
+/// World-space primary rays of samples `first..first + PACKET_SIZE` of `pixel` (the caller uses
+/// the first `spp - first` of them), as `Camera::generate_ray(sample.film, sample.lens)` makes them.
+pub fn primary_rays(
+    camera: &Camera,
+    seed: u32,
+    pixel: UVec2,
+    first: u32,
+    origins: &mut [Vec3; PACKET_SIZE],
+    directions: &mut [Vec3; PACKET_SIZE],
+) {
+    let mut film = Lanes3::splat(Vec3::ZERO);
+    let (mut lens_x, mut lens_y) = ([0.0; PACKET_SIZE], [0.0; PACKET_SIZE]);
+    for l in 0..PACKET_SIZE {
+        let sample = camera_sample(seed, pixel, camera.width, first + l as u32);
+        film.x[l] = sample.film.x;
+        film.y[l] = sample.film.y;
+        lens_x[l] = sample.lens.x;
+        lens_y[l] = sample.lens.y;
+    }
+    // Camera::pinhole_ray_camera.
+    let screen = transform(&camera.screen_from_raster, &film, true);
+    let near = camera.near;
+    let (mut origin, mut direction) = match camera.projection {
+        Projection::Orthographic { .. } => (
+            Lanes3 {
+                x: screen.x,
+                y: screen.y,
+                z: [near; PACKET_SIZE],
+            },
+            Lanes3::splat(Vec3::Z),
+        ),
+        Projection::Perspective { .. } => {
+            let mut d = Lanes3 {
+                x: screen.x.map(|x| x * near),
+                y: screen.y.map(|y| y * near),
+                z: [near; PACKET_SIZE],
+            };
+            normalize(&mut d);
+            (Lanes3::splat(Vec3::ZERO), d)
+        }
+    };
+    // ThinLens::lens_ray.
+    let lens = camera.lens;
+    if lens.aperture_radius > 0.0 {
+        // concentric_sample_disk: radius and angle for every lane, then the sine and cosine.
+        let mut radius = [0.0; PACKET_SIZE];
+        let mut theta = [0.0; PACKET_SIZE];
+        let mut centre = [false; PACKET_SIZE];
+        for l in 0..PACKET_SIZE {
+            let ox = 2.0 * lens_x[l] - 1.0;
+            let oy = 2.0 * lens_y[l] - 1.0;
+            centre[l] = ox == 0.0 && oy == 0.0;
+            let (r, t) = if ox.abs() > oy.abs() {
+                (ox, std::f32::consts::FRAC_PI_4 * (oy / ox))
+            } else {
+                (
+                    oy,
+                    std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (ox / oy),
+                )
+            };
+            radius[l] = r;
+            theta[l] = t;
+        }
+        let (mut disk_x, mut disk_y) = ([0.0; PACKET_SIZE], [0.0; PACKET_SIZE]);
+        for l in 0..PACKET_SIZE {
+            if !centre[l] {
+                disk_x[l] = radius[l] * theta[l].cos();
+                disk_y[l] = radius[l] * theta[l].sin();
+            }
+        }
+        let mut to_focus = Lanes3::splat(Vec3::ZERO);
+        for l in 0..PACKET_SIZE {
+            // focal_point: pinhole.at((focus_distance - origin.z) / direction.z).
+            let t = (lens.focus_distance - origin.z[l]) / direction.z[l];
+            let focus = [
+                origin.x[l] + direction.x[l] * t,
+                origin.y[l] + direction.y[l] * t,
+                origin.z[l] + direction.z[l] * t,
+            ];
+            let lx = lens.aperture_radius * disk_x[l];
+            let ly = lens.aperture_radius * disk_y[l];
+            origin.x[l] += lx;
+            origin.y[l] += ly;
+            origin.z[l] += 0.0;
+            to_focus.x[l] = focus[0] - origin.x[l];
+            to_focus.y[l] = focus[1] - origin.y[l];
+            to_focus.z[l] = focus[2] - origin.z[l];
+        }
+        normalize(&mut to_focus);
+        direction = to_focus;
+    }
+    // Camera::generate_ray: to world space.
+    let world_origin = transform(&camera.world_from_camera, &origin, true);
+    let world_direction = transform(&camera.world_from_camera, &direction, false);
+    for l in 0..PACKET_SIZE {
+        origins[l] = Vec3::new(world_origin.x[l], world_origin.y[l], world_origin.z[l]);
+        directions[l] = Vec3::new(
+            world_direction.x[l],
+            world_direction.y[l],
+            world_direction.z[l],
+        );
+    }
+}
