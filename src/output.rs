@@ -36,12 +36,13 @@ pub enum OutputError {
 pub struct PendingOutput {
     path: PathBuf,
     format: Format,
-    temp: NamedTempFile,
+    dir: PathBuf,
 }
 
 impl PendingOutput {
-    /// Checks the extension and creates the temporary file beside `path` (so a bad path fails
-    /// before any rendering).
+    /// Checks the extension and that a temporary file can be created beside `path`, so a bad
+    /// path fails before any rendering. The probe is removed at once: a render interrupted
+    /// later leaves nothing behind.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let format = format_of(path)?;
         let dir = match path.parent() {
@@ -55,15 +56,11 @@ impl PendingOutput {
         if path.is_dir() {
             return Err(unwritable(std::io::Error::other("it is a directory")));
         }
-        let temp = tempfile::Builder::new()
-            .prefix(".lensray-")
-            .suffix(".tmp")
-            .tempfile_in(dir)
-            .map_err(unwritable)?;
+        drop(temp_file_in(dir).map_err(unwritable)?);
         Ok(Self {
             path: path.to_owned(),
             format,
-            temp,
+            dir: dir.to_owned(),
         })
     }
 
@@ -72,14 +69,18 @@ impl PendingOutput {
     }
 
     /// Encodes the image into the temporary file and renames it over the target.
-    pub fn finish(mut self, image: &Image, shading: Shading) -> Result<(), OutputError> {
+    pub fn finish(self, image: &Image, shading: Shading) -> Result<(), OutputError> {
         let encode_error = |message: String| OutputError::Encode {
             path: self.path.clone(),
             message,
         };
+        let mut temp = temp_file_in(&self.dir).map_err(|source| OutputError::Unwritable {
+            path: self.path.clone(),
+            source,
+        })?;
         let (w, h) = (image.width, image.height);
         {
-            let mut writer = BufWriter::new(self.temp.as_file_mut());
+            let mut writer = BufWriter::new(temp.as_file_mut());
             match self.format {
                 Format::Png => {
                     let bytes = to_display_bytes(image, shading);
@@ -95,14 +96,23 @@ impl PendingOutput {
             writer.flush().map_err(|e| encode_error(e.to_string()))?;
         }
         let path = self.path.clone();
-        self.temp
-            .persist(&path)
-            .map_err(|e| OutputError::Unwritable {
-                path,
-                source: e.error,
-            })?;
+        temp.persist(&path).map_err(|e| OutputError::Unwritable {
+            path,
+            source: e.error,
+        })?;
         Ok(())
     }
+}
+
+/// A temporary file beside the output (same file system, so the final rename is atomic); it is
+/// deleted when dropped unless persisted.
+fn temp_file_in(dir: &Path) -> std::io::Result<NamedTempFile> {
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".lensray-").suffix(".tmp");
+    // An image is no secret: the usual rw-r--r-- rather than the temp file's private 0600.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+    builder.tempfile_in(dir)
 }
 
 fn write_exr<W: Write + Seek>(writer: W, floats: &[f32], w: u32, h: u32) -> Result<(), String> {
