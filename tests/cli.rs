@@ -245,3 +245,29 @@ fn device_gpu_renders_and_autofocuses_with_validation() {
     let img = image::open(dir.path().join("g.exr")).expect("EXR written");
     assert_eq!((img.width(), img.height()), (48, 32));
 }
+
+#[test]
+fn interrupted_render_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args([
+            "render", "--device", "cpu", "--spp", "512", "--out", "big.png",
+        ])
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("start lensray");
+    std::thread::sleep(std::time::Duration::from_millis(400));
+    child.kill().expect("kill");
+    let status = child.wait().unwrap();
+    assert!(
+        !status.success(),
+        "the render finished before it was killed: make it longer"
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(left.is_empty(), "an interrupted render left {left:?}");
+}
