@@ -6,9 +6,7 @@
 use glam::Vec3;
 
 use super::file::SceneDescription;
-use super::generate::{camera_settings, checkerboard, uv_sphere, SceneBuilder};
-use crate::render::Shading;
-use crate::settings::{ImageSettings, LightSettings, RenderStyle, Settings};
+use super::generate::{camera_settings, checkerboard, describe, uv_sphere, SceneBuilder};
 
 /// What [`SceneDescription::source`] says for this scene.
 pub const DEFAULT_SCENE_SOURCE: &str = "built-in default";
@@ -83,25 +81,12 @@ pub fn default_scene() -> SceneDescription {
         0.12,
         scene.bounds(),
     );
-    SceneDescription {
+    describe(
         scene,
-        settings: Settings {
-            camera,
-            image: ImageSettings {
-                width: Some(640),
-                height: Some(480),
-                spp: Some(16),
-                seed: None,
-            },
-            render: RenderStyle {
-                shading: Some(Shading::Lit),
-                background: Some([0.45, 0.6, 0.85]),
-            },
-            light: LightSettings {
-                position: Some([-4.0, 10.0, 5.0]),
-                intensity: Some([400.0, 400.0, 400.0]),
-            },
-        },
-        source: DEFAULT_SCENE_SOURCE.into(),
-    }
+        camera,
+        16,
+        [0.45, 0.6, 0.85],
+        (Vec3::new(-4.0, 10.0, 5.0), [400.0, 400.0, 400.0]),
+        DEFAULT_SCENE_SOURCE,
+    )
 }

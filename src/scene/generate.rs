@@ -269,7 +269,8 @@ pub fn camera_settings(
     }
 }
 
-fn describe(
+/// A generated scene with the settings every generator sets: 640x480, lit, one point light.
+pub(crate) fn describe(
     scene: Scene,
     camera: CameraSettings,
     spp: u32,
