@@ -5,4 +5,5 @@ pub mod backend;
 pub mod bench;
 pub mod generate;
 pub mod info;
+pub mod progress;
 pub mod render;
