@@ -45,7 +45,9 @@ pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
 pub enum DeviceChoice {
     /// The GPU when a Vulkan device with ray queries exists, else the CPU.
     Auto,
+    /// The CPU reference renderer.
     Cpu,
+    /// The Vulkan renderer; an error when no device has ray queries.
     Gpu,
 }
 
