@@ -66,7 +66,10 @@ impl Accel {
             })
             .collect();
         let params = if triangles.len() > LARGE_SCENE_TRIANGLES {
-            BvhBuildParams::fast_build()
+            BvhBuildParams {
+                collapse_traversal_cost: std::env::var("CTC").map_or(3.0, |v| v.parse().unwrap()),
+                ..BvhBuildParams::fast_build()
+            }
         } else {
             BvhBuildParams::medium_build()
         };
@@ -250,6 +253,9 @@ fn child_hits(
     mask
 }
 
+/// Leaves reached by at most this many of a packet's rays are tested ray by ray.
+const SCALAR_LEAF_LANES: u32 = 2;
+
 /// obvhs's near limit of the node test (`cwbvh::node::EPSILON`).
 const BOX_EPSILON: f32 = 0.0001;
 
@@ -368,6 +374,24 @@ impl Accel {
                     continue;
                 }
                 let (start, count) = node.child_primitives(child);
+                if m.count_ones() <= SCALAR_LEAF_LANES {
+                    // Few rays reach this leaf: the scalar test per ray is cheaper than the
+                    // packet test (the same arithmetic, so the same hits).
+                    for slot in start..start + count {
+                        let v = &self.vertices[slot as usize];
+                        for l in lanes(m) {
+                            if let Some((t, b)) = watertight[l].intersect_axes::<KX, KY, KZ>(
+                                v,
+                                t_min,
+                                packet.t_max[l],
+                            ) {
+                                packet.t_max[l] = t;
+                                best[l] = Some((slot, t, b));
+                            }
+                        }
+                    }
+                    continue;
+                }
                 for slot in start..start + count {
                     let v = &self.vertices[slot as usize];
                     let (hits, edge) = triangle_lanes::<KX, KY, KZ>(packet, v, t_min, &mut scratch);
