@@ -228,14 +228,7 @@ pub(crate) fn build(
                     .cmd_build_acceleration_structures(cmd, &infos, &range_refs)
             };
         }
-        barrier(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
-            vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
-            vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
-            vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR,
-        );
+        build_to_build_barrier(ctx, cmd);
         if let Some(q) = &compact_sizes {
             // SAFETY: the structures were built with ALLOW_COMPACTION; the barrier above
             // orders the builds before the query.
@@ -340,14 +333,7 @@ pub(crate) fn build(
             // SAFETY: `src` was built with ALLOW_COMPACTION, `dst` has the queried size.
             unsafe { ctx.accel.cmd_copy_acceleration_structure(cmd, &copy) };
         }
-        barrier(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
-            vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
-            vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
-            vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR,
-        );
+        build_to_build_barrier(ctx, cmd);
         // SAFETY: the instances reference the compacted BLASes, whose copies the barrier
         // above orders before this build; scratch is aligned and large enough.
         unsafe {
@@ -378,4 +364,17 @@ pub(crate) fn build(
         blas_bytes,
         blas_compacted_bytes,
     })
+}
+
+/// Orders acceleration-structure writes (builds, compaction copies) before later builds and
+/// copies that read them.
+fn build_to_build_barrier(ctx: &Context, cmd: vk::CommandBuffer) {
+    barrier(
+        ctx,
+        cmd,
+        vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
+        vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
+        vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
+        vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR,
+    );
 }
