@@ -2,17 +2,42 @@
 //! Each `shaders/NAME.{vert,frag,comp}` becomes `$OUT_DIR/NAME.STAGE.spv`, embedded by
 //! `src/gpu/shader.rs` with `include_bytes!`. `#include "x.glsl"` resolves in `shaders/`.
 //! A compile error fails the build with the file and line of every message.
+//!
+//! First it writes `$OUT_DIR/interface.glsl` from `src/interface/shared.rs`, the one definition
+//! of what the host and the shaders share, and fails if Rust lays out a shared struct
+//! differently from GLSL.
 
 // Brings in the glslang / SPIRV-Tools libraries that Debian's libshaderc needs (see its build.rs).
 extern crate lensray_shaderc_link;
 
 use std::path::{Path, PathBuf};
 
+/// The crate's `interface` module, compiled here too (its files use no crate paths).
+#[allow(dead_code)]
+mod interface {
+    #[macro_use]
+    pub mod glsl {
+        include!("src/interface/glsl.rs");
+    }
+    pub mod shared {
+        include!("src/interface/shared.rs");
+    }
+}
+
+const INTERFACE_HEADER: &str = "interface.glsl";
+
 fn main() {
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
     let shader_dir = manifest.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
+    println!("cargo:rerun-if-changed=src/interface");
+
+    if let Err(errors) = interface::shared::check_layouts() {
+        panic!("shared structs differ from their GLSL layout:\n{errors}");
+    }
+    std::fs::write(out.join(INTERFACE_HEADER), interface::shared::glsl_header())
+        .expect("write interface.glsl");
 
     let compiler = shaderc::Compiler::new().expect("shaderc: cannot create a compiler");
     let mut entries: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
@@ -42,8 +67,14 @@ fn main() {
         options.set_optimization_level(shaderc::OptimizationLevel::Performance);
         options.set_warnings_as_errors();
         let include_dir = shader_dir.clone();
+        let generated_dir = out.clone();
         options.set_include_callback(move |requested, _kind, requester, _depth| {
-            resolve_include(&include_dir, requested, requester)
+            let dir = if requested == INTERFACE_HEADER {
+                &generated_dir
+            } else {
+                &include_dir
+            };
+            resolve_include(dir, requested, requester)
         });
         match compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options)) {
             Ok(artifact) => {

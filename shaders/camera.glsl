@@ -1,19 +1,10 @@
 // Mirror of src/camera (projective.rs, thin_lens.rs), function by function. The matrices come
-// from the Rust `Camera` (see src/gpu for the uniform layout): there is no second camera here.
+// from the Rust `Camera` (struct Camera in the generated interface.glsl): there is no second
+// camera here.
 #ifndef LENSRAY_CAMERA_GLSL
 #define LENSRAY_CAMERA_GLSL
 
-const uint PROJECTION_PERSPECTIVE = 0u;
-const uint PROJECTION_ORTHOGRAPHIC = 1u;
-
-struct Camera {
-    mat4 world_from_camera;
-    mat4 screen_from_raster;
-    uint projection;      // PROJECTION_*
-    float near_z;
-    float aperture_radius;
-    float focus_distance;
-};
+#include "interface.glsl"
 
 struct Ray {
     vec3 origin;

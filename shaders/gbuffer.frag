@@ -1,11 +1,9 @@
 #version 460
 // G-buffer pass, fragment stage: shading normal facing the viewer, albedo, linear view depth.
 
-layout(push_constant) uniform Push {
-    mat4 clip_from_world;
-    vec4 eye;
-    vec4 forward;
-} pc;
+#include "interface.glsl"
+
+layout(push_constant) uniform PushBlock { RasterPush pc; };
 
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in float in_view_depth;

@@ -4,11 +4,7 @@
 #define SCENE_SET 0
 #include "scene.glsl"
 
-layout(push_constant) uniform Push {
-    mat4 clip_from_world;
-    vec4 eye;
-    vec4 forward;   // xyz: view axis; w: 1 orthographic, 0 perspective
-} pc;
+layout(push_constant) uniform PushBlock { RasterPush pc; };
 
 layout(location = 0) out vec3 out_normal;       // vertex normal (or ng), interpolated
 layout(location = 1) out float out_view_depth;  // camera-space z, perspective-correct

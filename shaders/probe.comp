@@ -4,7 +4,7 @@
 #include "camera.glsl"
 #include "sampler.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_GROUP_SIZE) in;
 
 struct Query {
     uint seed;
@@ -27,9 +27,9 @@ struct Result {
     vec4 direction;
 };
 
-layout(std430, set = 0, binding = 0) readonly buffer Queries { Query queries[]; };
-layout(std430, set = 0, binding = 1) writeonly buffer Results { Result results[]; };
-layout(std140, set = 0, binding = 2) uniform CameraBlock { Camera cam; };
+layout(std430, set = 0, binding = PROBE_BINDING_QUERIES) readonly buffer Queries { Query queries[]; };
+layout(std430, set = 0, binding = PROBE_BINDING_RESULTS) writeonly buffer Results { Result results[]; };
+layout(std140, set = 0, binding = PROBE_BINDING_CAMERA) uniform CameraBlock { Camera cam; };
 layout(push_constant) uniform Push { uint count; } pc;
 
 void main() {

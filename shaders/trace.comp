@@ -10,38 +10,13 @@
 #define SCENE_SET 0
 #include "scene.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = TRACE_GROUP_SIZE, local_size_y = TRACE_GROUP_SIZE) in;
 
-layout(set = 0, binding = 5) uniform accelerationStructureEXT tlas;
-layout(std430, set = 0, binding = 6) buffer Accum { vec4 accum[]; };
-layout(std430, set = 0, binding = 7) buffer Counters { uint rays_traced; };
-layout(std140, set = 0, binding = 8) uniform Params {
-    Camera cam;
-    vec4 background;
-    vec4 light_position;
-    vec4 light_intensity;
-    uint width;
-    uint height;
-    uint seed;
-    uint shading;
-} params;
-
-// This dispatch covers the blocks of 8 rows block_first + i * block_stride (i < block_count)
-// of the band of band_height rows starting at image row band_origin.
-layout(push_constant) uniform Push {
-    uint band_origin;  // accum holds the rows band_origin.. of the image
-    uint band_height;
-    uint block_first;
-    uint block_stride;
-    uint block_count;
-    uint sample_begin;
-    uint sample_end;
-} pc;
-
-const uint SHADING_UNLIT = 0u;
-const uint SHADING_LIT = 1u;
-const float PI = 3.14159265358979323846;
-const float T_MAX = 1e30;
+layout(set = 0, binding = TRACE_BINDING_TLAS) uniform accelerationStructureEXT tlas;
+layout(std430, set = 0, binding = TRACE_BINDING_ACCUM) buffer Accum { vec4 accum[]; };
+layout(std430, set = 0, binding = TRACE_BINDING_COUNTERS) buffer Counters { uint rays_traced; };
+layout(std140, set = 0, binding = TRACE_BINDING_PARAMS) uniform ParamsBlock { TraceParams params; };
+layout(push_constant) uniform PushBlock { TracePush pc; };
 
 // The radiance along `ray`; `rays` counts the ray queries traced.
 vec3 shade(Ray ray, inout uint rays) {
@@ -79,7 +54,8 @@ vec3 shade(Ray ray, inout uint rays) {
     }
 
     vec3 radiance = mat.emission.xyz;
-    vec3 o = p + ng * 1e-4 * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
+    // reference/surface.rs: shadow_origin
+    vec3 o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
     vec3 to_light = params.light_position.xyz - o;
     float dist = length(to_light);
     vec3 l = to_light / dist;
@@ -112,7 +88,7 @@ void main() {
     uint rays = 0u;
     for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
         CameraSample cs = camera_sample(params.seed, uvec2(x, y), params.width, s);
-        Ray ray = generate_ray(params.cam, cs.film, cs.lens);
+        Ray ray = generate_ray(params.camera, cs.film, cs.lens);
         sum += shade(ray, rays);
     }
     accum[slot] = vec4(sum, 0.0);

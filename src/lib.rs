@@ -8,6 +8,7 @@ pub mod cli;
 // The Vulkan module is the only place allowed to use `unsafe` (each block says why).
 #[allow(unsafe_code)]
 pub mod gpu;
+pub mod interface;
 pub mod output;
 pub mod reference;
 pub mod render;

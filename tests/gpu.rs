@@ -37,6 +37,26 @@ fn bogus_device_index_is_a_clear_error() {
     );
 }
 
+/// Every field of the structs shared with the shaders (src/interface) is read by GLSL where
+/// Rust wrote it: through a std140 uniform block, push constants and std430 storage buffers.
+#[test]
+fn shader_layouts_match_rust() {
+    let Some((mut gpu, log)) = renderer("shader_layouts_match_rust") else {
+        return;
+    };
+    let report = gpu.probe_layouts().expect("layout probe");
+    // TraceParams 52 + TracePush 8 + RasterPush 24 + 2 materials x 8.
+    assert_eq!(report.scalars_checked, 52 + 8 + 24 + 16);
+    assert!(
+        report.mismatches.is_empty(),
+        "{} of {} scalars are read elsewhere than Rust wrote them:\n{}",
+        report.mismatches.len(),
+        report.scalars_checked,
+        report.mismatches.join("\n")
+    );
+    finish(gpu, log);
+}
+
 #[test]
 fn render_before_load_scene_is_an_error() {
     let Some((mut gpu, log)) = renderer("render_before_load_scene_is_an_error") else {

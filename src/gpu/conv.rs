@@ -1,17 +1,19 @@
 //! Host-side conversions: the scene flattened into the arrays the shaders and the acceleration
-//! structure builds read, and the camera / settings in the shaders' std140 layouts.
+//! structure builds read, and the camera / settings into the structs of `crate::interface`
+//! (their GLSL layouts are generated from the same definition).
 
-use bytemuck::{Pod, Zeroable};
+use bytemuck::Zeroable;
 use glam::Mat4;
 
 use crate::camera::{Camera, Projection};
+use crate::interface::{
+    GpuCamera, GpuMaterial, RasterPush, TraceParams, PROJECTION_ORTHOGRAPHIC,
+    PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
+};
 use crate::render::{RenderSettings, Shading};
 use crate::scene::Scene;
 
 use super::error::GpuError;
-
-/// Bit 31 of a triangle's info word: its mesh has vertex normals. Bits 0..31: material index.
-pub(crate) const TRI_HAS_NORMALS: u32 = 1 << 31;
 
 /// One mesh's range in the flattened arrays.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,13 +32,6 @@ pub(crate) struct FlatScene {
     pub tri_info: Vec<u32>,
     pub materials: Vec<GpuMaterial>,
     pub meshes: Vec<MeshRange>,
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct GpuMaterial {
-    pub diffuse: [f32; 4],
-    pub emission: [f32; 4],
 }
 
 /// Instance custom indices have 24 bits: the first triangle of every mesh must fit.
@@ -124,21 +119,6 @@ impl FlatScene {
     }
 }
 
-/// `struct Camera` of shaders/camera.glsl, std140: two mat4, a uint and three floats.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct GpuCamera {
-    pub world_from_camera: [f32; 16],
-    pub screen_from_raster: [f32; 16],
-    pub projection: u32,
-    pub near_z: f32,
-    pub aperture_radius: f32,
-    pub focus_distance: f32,
-}
-
-pub(crate) const PROJECTION_PERSPECTIVE: u32 = 0;
-pub(crate) const PROJECTION_ORTHOGRAPHIC: u32 = 1;
-
 impl GpuCamera {
     pub fn new(camera: &Camera) -> Self {
         Self {
@@ -154,23 +134,6 @@ impl GpuCamera {
             focus_distance: camera.lens.focus_distance,
         }
     }
-}
-
-pub(crate) const SHADING_UNLIT: u32 = 0;
-pub(crate) const SHADING_LIT: u32 = 1;
-
-/// The `Params` uniform block of trace.comp (std140; 208 bytes).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct TraceParams {
-    pub camera: GpuCamera,
-    pub background: [f32; 4],
-    pub light_position: [f32; 4],
-    pub light_intensity: [f32; 4],
-    pub width: u32,
-    pub height: u32,
-    pub seed: u32,
-    pub shading: u32,
 }
 
 impl TraceParams {
@@ -189,33 +152,6 @@ impl TraceParams {
             },
         }
     }
-}
-
-/// Per-dispatch push constants of trace.comp: the blocks of 8 rows
-/// `block_first + i * block_stride` (i < block_count) of the band of `band_height` rows from
-/// `band_origin`, and a range of samples.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct TracePush {
-    /// First row of the band whose sums the accumulation buffer holds.
-    pub band_origin: u32,
-    pub band_height: u32,
-    pub block_first: u32,
-    pub block_stride: u32,
-    pub block_count: u32,
-    pub sample_begin: u32,
-    pub sample_end: u32,
-    pub pad: u32,
-}
-
-/// Push constants of the G-buffer pass (112 bytes).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct RasterPush {
-    pub clip_from_world: [f32; 16],
-    pub eye: [f32; 4],
-    /// xyz: the view axis; w: 1 for orthographic (viewer direction is the axis), 0 perspective.
-    pub forward: [f32; 4],
 }
 
 impl RasterPush {
@@ -275,12 +211,13 @@ mod tests {
                     let ndc = h.truncate() / h.w;
                     let expected_x = 2.0 * raster.x / 160.0 - 1.0;
                     let expected_y = 2.0 * raster.y / 90.0 - 1.0;
-                    let expected_z = if depth == cam.near {
-                        0.0
-                    } else if depth == cam.far {
-                        1.0
+                    // The course's depth in [0, 1]: (z - n) / (f - n) orthographic,
+                    // f (z - n) / (z (f - n)) perspective.
+                    let (n, f) = (cam.near, cam.far);
+                    let expected_z = if cam.is_orthographic() {
+                        (depth - n) / (f - n)
                     } else {
-                        ndc.z
+                        f * (depth - n) / (depth * (f - n))
                     };
                     assert!(
                         (ndc.x - expected_x).abs() < 1e-4,
@@ -298,12 +235,5 @@ mod tests {
                 }
             }
         }
-    }
-
-    #[test]
-    fn std140_sizes() {
-        assert_eq!(std::mem::size_of::<GpuCamera>(), 144);
-        assert_eq!(std::mem::size_of::<TraceParams>(), 144 + 48 + 16);
-        assert_eq!(std::mem::size_of::<RasterPush>(), 96);
     }
 }

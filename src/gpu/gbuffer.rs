@@ -10,7 +10,6 @@ use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier, Buffer};
-use super::conv::RasterPush;
 use super::device::Context;
 use super::error::{vk_err, GpuError};
 use super::image::Image;
@@ -18,6 +17,7 @@ use super::pipeline::{GraphicsDesc, Pipeline};
 use super::scene::SceneBuffers;
 use super::shader;
 use crate::camera::Camera;
+use crate::interface::RasterPush;
 
 /// The G-buffer read back to the host; row-major, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -240,10 +240,6 @@ pub(crate) struct GBufferPass {
 impl GBufferPass {
     pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         let render_pass = RenderPass::new(ctx)?;
-        let storage = (
-            vk::DescriptorType::STORAGE_BUFFER,
-            vk::ShaderStageFlags::VERTEX,
-        );
         let pipeline = Pipeline::graphics(
             ctx,
             &GraphicsDesc {
@@ -252,7 +248,7 @@ impl GBufferPass {
                 render_pass: render_pass.handle,
                 color_attachments: 3,
             },
-            &[storage; 5],
+            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX),
             std::mem::size_of::<RasterPush>() as u32,
         )?;
         Ok(Self {
@@ -265,7 +261,7 @@ impl GBufferPass {
 
     /// Points the pipeline's set at a newly loaded scene.
     pub fn bind_scene(&self, scene: &SceneBuffers) {
-        scene.bind(&self.pipeline, 0);
+        scene.bind(&self.pipeline);
     }
 
     pub fn render(

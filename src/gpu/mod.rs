@@ -9,7 +9,8 @@
 //! Files: `instance` (instance, validation, messenger), `device` (device reports, selection,
 //! logical device, allocator, submissions), `buffer`, `image`, `query`, `accel` (BLAS/TLAS),
 //! `shader` (embedded SPIR-V), `pipeline`, `scene` (scene buffers), `gbuffer` (raster pass),
-//! `trace` (compute pass), `probe` (GLSL mirror checks), `conv` (host <-> shader layouts),
+//! `trace` (compute pass), `probe` (GLSL mirror checks), `layout_probe` (shared struct layouts
+//! as the shaders read them), `conv` (host data -> the structs of `crate::interface`),
 //! `error`, `bench`.
 //!
 //! ```no_run
@@ -36,6 +37,7 @@ mod error;
 mod gbuffer;
 mod image;
 mod instance;
+mod layout_probe;
 mod pipeline;
 mod probe;
 mod query;
@@ -56,6 +58,7 @@ pub use device::DeviceReport;
 pub use error::GpuError;
 pub use gbuffer::{focus_distance_at, GBuffer};
 pub use instance::ValidationLog;
+pub use layout_probe::LayoutReport;
 pub use probe::{ProbeQuery, ProbeResult};
 pub use trace::Timings;
 
@@ -217,6 +220,12 @@ impl GpuRenderer {
         queries: &[ProbeQuery],
     ) -> Result<Vec<ProbeResult>, GpuError> {
         probe::run(&self.ctx, camera, queries)
+    }
+
+    /// Reads every field of the shared structs back through the shaders' blocks (tests).
+    #[doc(hidden)]
+    pub fn probe_layouts(&mut self) -> Result<LayoutReport, GpuError> {
+        layout_probe::run(&self.ctx)
     }
 
     /// Caps the pixel-samples per dispatch of the compute pass (tests use it to force several

@@ -9,6 +9,9 @@ use super::device::Context;
 use super::error::{pipeline_err, vk_err, GpuError};
 use super::shader::ShaderModule;
 
+/// One descriptor of a pipeline's set: binding number (from `crate::interface`), type, stages.
+pub(crate) type Binding = (u32, vk::DescriptorType, vk::ShaderStageFlags);
+
 /// A pipeline, its layout, and one descriptor set (with its layout and pool).
 pub(crate) struct Pipeline {
     ctx: Arc<Context>,
@@ -33,7 +36,7 @@ impl Pipeline {
     /// Layout objects first, then the pipeline; on error `Drop` cleans up what exists.
     fn with_layout(
         ctx: &Arc<Context>,
-        bindings: &[(vk::DescriptorType, vk::ShaderStageFlags)],
+        bindings: &[Binding],
         push_size: u32,
         push_stages: vk::ShaderStageFlags,
         bind_point: vk::PipelineBindPoint,
@@ -50,10 +53,9 @@ impl Pipeline {
         };
         let layout_bindings: Vec<_> = bindings
             .iter()
-            .enumerate()
-            .map(|(i, &(ty, stages))| {
+            .map(|&(binding, ty, stages)| {
                 vk::DescriptorSetLayoutBinding::default()
-                    .binding(i as u32)
+                    .binding(binding)
                     .descriptor_type(ty)
                     .descriptor_count(1)
                     .stage_flags(stages)
@@ -65,7 +67,7 @@ impl Pipeline {
             .map_err(vk_err("vkCreateDescriptorSetLayout"))?;
 
         let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
-        for &(ty, _) in bindings {
+        for &(_, ty, _) in bindings {
             match sizes.iter_mut().find(|s| s.ty == ty) {
                 Some(s) => s.descriptor_count += 1,
                 None => sizes.push(vk::DescriptorPoolSize {
@@ -105,7 +107,7 @@ impl Pipeline {
     pub fn compute(
         ctx: &Arc<Context>,
         spirv: &[u8],
-        bindings: &[(vk::DescriptorType, vk::ShaderStageFlags)],
+        bindings: &[Binding],
         push_size: u32,
     ) -> Result<Self, GpuError> {
         let mut this = Self::with_layout(
@@ -135,7 +137,7 @@ impl Pipeline {
     pub fn graphics(
         ctx: &Arc<Context>,
         desc: &GraphicsDesc<'_>,
-        bindings: &[(vk::DescriptorType, vk::ShaderStageFlags)],
+        bindings: &[Binding],
         push_size: u32,
     ) -> Result<Self, GpuError> {
         let mut this = Self::with_layout(

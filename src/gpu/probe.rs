@@ -8,12 +8,14 @@ use bytemuck::{Pod, Zeroable};
 use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier, Buffer};
-use super::conv::GpuCamera;
 use super::device::Context;
 use super::error::GpuError;
 use super::pipeline::Pipeline;
 use super::shader;
 use crate::camera::Camera;
+use crate::interface::{
+    GpuCamera, PROBE_BINDING_CAMERA, PROBE_BINDING_QUERIES, PROBE_BINDING_RESULTS, PROBE_GROUP_SIZE,
+};
 
 /// One evaluation request (layout of `Query` in probe.comp).
 #[repr(C)]
@@ -52,15 +54,17 @@ pub(crate) fn run(
     camera: &Camera,
     queries: &[ProbeQuery],
 ) -> Result<Vec<ProbeResult>, GpuError> {
-    let storage = (
+    let (storage, uniform) = (
         vk::DescriptorType::STORAGE_BUFFER,
-        vk::ShaderStageFlags::COMPUTE,
-    );
-    let uniform = (
         vk::DescriptorType::UNIFORM_BUFFER,
-        vk::ShaderStageFlags::COMPUTE,
     );
-    let pipeline = Pipeline::compute(ctx, shader::PROBE_COMP, &[storage, storage, uniform], 4)?;
+    let compute = vk::ShaderStageFlags::COMPUTE;
+    let bindings = [
+        (PROBE_BINDING_QUERIES, storage, compute),
+        (PROBE_BINDING_RESULTS, storage, compute),
+        (PROBE_BINDING_CAMERA, uniform, compute),
+    ];
+    let pipeline = Pipeline::compute(ctx, shader::PROBE_COMP, &bindings, 4)?;
     let input = Buffer::with_data(
         ctx,
         "probe queries",
@@ -83,14 +87,17 @@ pub(crate) fn run(
         MemoryLocation::CpuToGpu,
     )?;
     cam.write(bytemuck::bytes_of(&GpuCamera::new(camera)))?;
-    pipeline.bind_buffer(0, vk::DescriptorType::STORAGE_BUFFER, &input);
-    pipeline.bind_buffer(1, vk::DescriptorType::STORAGE_BUFFER, &output);
-    pipeline.bind_buffer(2, vk::DescriptorType::UNIFORM_BUFFER, &cam);
+    pipeline.bind_buffer(PROBE_BINDING_QUERIES, storage, &input);
+    pipeline.bind_buffer(PROBE_BINDING_RESULTS, storage, &output);
+    pipeline.bind_buffer(PROBE_BINDING_CAMERA, uniform, &cam);
     let count = queries.len() as u32;
     ctx.submit_and_wait(|cmd| {
         pipeline.bind(cmd, bytemuck::bytes_of(&count));
         // SAFETY: compute pipeline and complete set bound.
-        unsafe { ctx.device.cmd_dispatch(cmd, count.div_ceil(64), 1, 1) };
+        unsafe {
+            ctx.device
+                .cmd_dispatch(cmd, count.div_ceil(PROBE_GROUP_SIZE), 1, 1)
+        };
         barrier(
             ctx,
             cmd,

@@ -10,8 +10,21 @@ use super::buffer::Buffer;
 use super::conv::FlatScene;
 use super::device::Context;
 use super::error::GpuError;
-use super::pipeline::Pipeline;
+use super::pipeline::{Binding, Pipeline};
+use crate::interface::{
+    SCENE_BINDING_INDICES, SCENE_BINDING_MATERIALS, SCENE_BINDING_NORMALS, SCENE_BINDING_POSITIONS,
+    SCENE_BINDING_TRI_INFO,
+};
 use crate::scene::Scene;
+
+/// The arrays' binding numbers, in the order of the fields below.
+const SCENE_BINDINGS: [u32; 5] = [
+    SCENE_BINDING_POSITIONS,
+    SCENE_BINDING_NORMALS,
+    SCENE_BINDING_INDICES,
+    SCENE_BINDING_TRI_INFO,
+    SCENE_BINDING_MATERIALS,
+];
 
 pub(crate) struct SceneBuffers {
     pub accel: SceneAccel,
@@ -85,20 +98,22 @@ impl SceneBuffers {
         })
     }
 
-    /// Binds the five arrays to bindings `first .. first + 5` of the pipeline's set
-    /// (the layout of shaders/scene.glsl).
-    pub fn bind(&self, pipeline: &Pipeline, first: u32) {
-        for (i, b) in [
+    /// The descriptors of shaders/scene.glsl, read by `stages`.
+    pub fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 5] {
+        SCENE_BINDINGS.map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
+    }
+
+    /// Points the scene's descriptors of `pipeline`'s set at these arrays.
+    pub fn bind(&self, pipeline: &Pipeline) {
+        let buffers = [
             &self.positions,
             &self.normals,
             &self.indices,
             &self.tri_info,
             &self.materials,
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            pipeline.bind_buffer(first + i as u32, vk::DescriptorType::STORAGE_BUFFER, b);
+        ];
+        for (binding, buffer) in SCENE_BINDINGS.into_iter().zip(buffers) {
+            pipeline.bind_buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer);
         }
     }
 }

@@ -9,18 +9,18 @@ use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier, Buffer};
-use super::conv::{TraceParams, TracePush};
 use super::device::Context;
 use super::error::GpuError;
-use super::pipeline::Pipeline;
+use super::pipeline::{Binding, Pipeline};
 use super::query::QueryPool;
 use super::scene::SceneBuffers;
 use super::shader;
 use crate::camera::Camera;
+use crate::interface::{
+    TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_COUNTERS, TRACE_BINDING_PARAMS,
+    TRACE_BINDING_TLAS, TRACE_GROUP_SIZE as GROUP,
+};
 use crate::render::{Image, RenderSettings};
-
-/// Workgroup size of trace.comp.
-const GROUP: u32 = 8;
 
 /// Pixel-samples of the first dispatches: ~0.03-0.1 s on lavapipe (2 cores, 80k triangles).
 const INITIAL_SAMPLES_PER_DISPATCH: u64 = 1 << 16;
@@ -107,27 +107,30 @@ pub(crate) struct TracePass {
 
 impl TracePass {
     pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let storage = (
-            vk::DescriptorType::STORAGE_BUFFER,
-            vk::ShaderStageFlags::COMPUTE,
-        );
-        let bindings = [
-            storage,
-            storage,
-            storage,
-            storage,
-            storage,
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let mut bindings: Vec<Binding> = SceneBuffers::bindings(compute).to_vec();
+        bindings.extend([
             (
+                TRACE_BINDING_TLAS,
                 vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
-                vk::ShaderStageFlags::COMPUTE,
+                compute,
             ),
-            storage,
-            storage,
             (
-                vk::DescriptorType::UNIFORM_BUFFER,
-                vk::ShaderStageFlags::COMPUTE,
+                TRACE_BINDING_ACCUM,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
             ),
-        ];
+            (
+                TRACE_BINDING_COUNTERS,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
+            (
+                TRACE_BINDING_PARAMS,
+                vk::DescriptorType::UNIFORM_BUFFER,
+                compute,
+            ),
+        ]);
         let pipeline = Pipeline::compute(
             ctx,
             shader::TRACE_COMP,
@@ -148,8 +151,16 @@ impl TracePass {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        pipeline.bind_buffer(8, vk::DescriptorType::UNIFORM_BUFFER, &params);
-        pipeline.bind_buffer(7, vk::DescriptorType::STORAGE_BUFFER, &counters);
+        pipeline.bind_buffer(
+            TRACE_BINDING_PARAMS,
+            vk::DescriptorType::UNIFORM_BUFFER,
+            &params,
+        );
+        pipeline.bind_buffer(
+            TRACE_BINDING_COUNTERS,
+            vk::DescriptorType::STORAGE_BUFFER,
+            &counters,
+        );
         let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
         Ok(Self {
             ctx: ctx.clone(),
@@ -166,8 +177,9 @@ impl TracePass {
     }
 
     pub fn bind_scene(&self, scene: &SceneBuffers) {
-        scene.bind(&self.pipeline, 0);
-        self.pipeline.bind_accel(5, scene.accel.tlas.handle);
+        scene.bind(&self.pipeline);
+        self.pipeline
+            .bind_accel(TRACE_BINDING_TLAS, scene.accel.tlas.handle);
     }
 
     /// Renders with the scene last bound by `bind_scene`.
@@ -211,8 +223,11 @@ impl TracePass {
                 vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuToCpu,
             )?;
-            self.pipeline
-                .bind_buffer(6, vk::DescriptorType::STORAGE_BUFFER, &accum);
+            self.pipeline.bind_buffer(
+                TRACE_BINDING_ACCUM,
+                vk::DescriptorType::STORAGE_BUFFER,
+                &accum,
+            );
             self.accum = Some(Accumulation {
                 accum,
                 readback,

@@ -4,6 +4,7 @@ use glam::{Vec2, Vec3};
 
 use super::accel::Hit;
 use crate::camera::Ray;
+use crate::interface::SHADOW_ORIGIN_OFFSET;
 
 /// A hit point with the normals the shading definition uses.
 #[derive(Clone, Copy, Debug)]
@@ -59,6 +60,6 @@ fn interpolate(v: [Vec3; 3], b: Vec2) -> Vec3 {
 /// Where a shadow ray starts: off the surface along the facing geometric normal, by an amount
 /// that grows with the magnitude of the coordinates (float spacing grows with them).
 pub fn shadow_origin(p: &SurfacePoint) -> Vec3 {
-    let scale = 1e-4 * (1.0 + p.position.abs().max_element());
+    let scale = SHADOW_ORIGIN_OFFSET * (1.0 + p.position.abs().max_element());
     p.position + p.geometric_normal * scale
 }
