@@ -2,8 +2,11 @@
 //! 16 spp on a ~60k-triangle scene (AS build and first dispatch reported apart).
 //!
 //! `cargo bench --bench gpu` measures; under `cargo test --all-targets` (no `--bench` argument)
-//! it only runs a tiny smoke version. Without a ray-query device it prints why and exits 0 when
-//! LENSRAY_SKIP_GPU_TESTS=1, else fails.
+//! it only runs a tiny smoke version. Without a ray-query device it fails, unless
+//! LENSRAY_SKIP_GPU_TESTS=1 (then it records the skip, as the GPU tests do).
+
+#[path = "../tests/gpu_support/mod.rs"]
+mod gpu_support;
 
 use glam::Vec3;
 use lensray::camera::{CameraParams, LensParams, ProjectionParams};
@@ -95,8 +98,8 @@ fn main() {
         };
         match bench(&scene, &camera, &settings, &options) {
             Ok(report) => println!("--- gpu bench, {shading:?}\n{report}\n"),
-            Err(e) if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
-                println!("SKIPPED gpu bench: {e}");
+            Err(e) if gpu_support::may_skip(&e) => {
+                gpu_support::record_skip("benches/gpu", &e.to_string());
                 return;
             }
             Err(e) => panic!("gpu bench: {e}"),

@@ -1,7 +1,11 @@
 //! The `lensray` command as a user runs it: good renders, and one clear line for bad input.
 
+mod gpu_support;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+use gpu_support::skip_or_fail;
 
 fn lensray(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_lensray"))
@@ -227,47 +231,193 @@ fn device_auto_falls_back_to_the_cpu_with_a_notice() {
 
 #[test]
 fn device_gpu_renders_and_autofocuses_with_validation() {
-    if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
-        eprintln!("skipped: LENSRAY_SKIP_GPU_TESTS=1");
-        return;
-    }
     let dir = tempfile::tempdir().unwrap();
     let mut args = render_args(&["--validate", "--focus-at", "40,14", "--out", "g.exr"]);
     args[2] = "gpu";
     let out = lensray(&args, dir.path());
     let err = stderr(&out);
-    assert!(
-        out.status.success(),
-        "GPU render failed (is a ray-query device installed?): {err}"
-    );
+    if !out.status.success() {
+        skip_or_fail("device_gpu_renders_and_autofocuses_with_validation", &err);
+        return;
+    }
     assert!(err.contains("autofocus: pixel 40,14"), "{err}");
     assert!(String::from_utf8_lossy(&out.stdout).contains("on GPU"));
     let img = image::open(dir.path().join("g.exr")).expect("EXR written");
     assert_eq!((img.width(), img.height()), (48, 32));
 }
 
+/// Killed in the middle of a render (after its first progress line, long before its end), lensray
+/// leaves nothing behind: no image, no temporary file.
 #[test]
 fn interrupted_render_leaves_no_file() {
+    use std::io::BufRead;
     let dir = tempfile::tempdir().unwrap();
+    // ~1.3 G rays: minutes of work, so the kill below lands mid-render on any machine.
     let mut child = Command::new(env!("CARGO_BIN_EXE_lensray"))
         .args([
-            "render", "--device", "cpu", "--spp", "512", "--out", "big.png",
+            "render",
+            "--device",
+            "cpu",
+            "--spp",
+            "4096",
+            "--progress",
+            "lines",
+            "--out",
+            "big.png",
         ])
         .current_dir(dir.path())
         .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("start lensray");
-    std::thread::sleep(std::time::Duration::from_millis(400));
+    let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
+    let first = lines
+        .next()
+        .expect("a progress line before the end")
+        .expect("read stderr");
+    assert!(first.starts_with("progress: "), "unexpected: {first}");
+    let listing = || -> Vec<PathBuf> {
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect()
+    };
+    assert!(listing().is_empty(), "mid-render files: {:?}", listing());
     child.kill().expect("kill");
     let status = child.wait().unwrap();
     assert!(
         !status.success(),
-        "the render finished before it was killed: make it longer"
+        "the render finished before it was killed"
     );
-    let left: Vec<_> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().path())
+    assert!(
+        listing().is_empty(),
+        "an interrupted render left {:?}",
+        listing()
+    );
+}
+
+#[test]
+fn progress_lines_count_up_to_100_percent() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = lensray(&render_args(&["--progress", "lines"]), dir.path());
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    let percents: Vec<u64> = err
+        .lines()
+        .map(|l| {
+            l.strip_prefix("progress: ")
+                .and_then(|r| r.split('%').next())
+                .and_then(|p| p.parse().ok())
+                .unwrap_or_else(|| panic!("not a progress line: {l}"))
+        })
         .collect();
-    assert!(left.is_empty(), "an interrupted render left {left:?}");
+    assert!(percents.windows(2).all(|w| w[0] < w[1]), "{percents:?}");
+    assert_eq!(percents.last(), Some(&100), "{err}");
+}
+
+/// `--validate` validates the Vulkan renderer and `--gpu` picks a Vulkan device: with the CPU
+/// renderer both are errors, never silently ignored.
+#[test]
+fn gpu_options_with_device_cpu_are_errors() {
+    assert_rejected(&["--validate"], "--validate");
+    assert_rejected(&["--validate"], "--device cpu");
+    assert_rejected(&["--gpu", "0"], "--gpu 0");
+    assert_rejected(&["--gpu", "0"], "--device cpu");
+}
+
+/// A bad `--gpu` fails under `auto` too (instead of rendering on the CPU).
+#[test]
+fn bad_gpu_index_under_auto_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--gpu", "99", "--out", "a.png"]);
+    args[2] = "auto";
+    let out = lensray(&args, dir.path());
+    let err = stderr(&out);
+    assert!(!out.status.success(), "accepted --gpu 99: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("--gpu 99"), "{err}");
+    assert!(!dir.path().join("a.png").exists());
+}
+
+/// With `--validate` and no validation layer, `auto` does not fall back to an unvalidated CPU
+/// render: one line naming the package to install.
+#[test]
+fn validate_without_the_layer_names_the_package() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--validate", "--out", "a.png"]);
+    args[2] = "auto";
+    let out = Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(&args)
+        .current_dir(dir.path())
+        // The loader then searches only this (empty) folder for explicit layers.
+        .env("VK_LAYER_PATH", dir.path().join("no-layers"))
+        .output()
+        .expect("run lensray");
+    let err = stderr(&out);
+    assert!(!out.status.success(), "rendered without validation: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--validate") && err.contains("vulkan-validationlayers"),
+        "{err}"
+    );
+    assert!(!dir.path().join("a.png").exists());
+}
+
+/// `bench --device auto` falls back to the CPU like `render`, with the same notice.
+#[test]
+fn bench_auto_falls_back_to_the_cpu() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "bench", "--device", "auto", "--width", "16", "--height", "12", "--spp", "1", "--runs", "1",
+    ];
+    let out = lensray_without_vulkan(&args, dir.path());
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(err.starts_with("notice: rendering on the CPU"), "{err}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("CPU reference"));
+}
+
+/// GPU bench: medians over runs; an AOV bench reports G-buffer passes per second, not rays.
+#[test]
+fn gpu_bench_reports_medians_and_gbuffer_passes() {
+    let dir = tempfile::tempdir().unwrap();
+    for shading in ["unlit", "depth"] {
+        let args = [
+            "bench",
+            "--device",
+            "gpu",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--spp",
+            "2",
+            "--runs",
+            "3",
+            "--shading",
+            shading,
+        ];
+        let out = lensray(&args, dir.path());
+        let err = stderr(&out);
+        if !out.status.success() {
+            skip_or_fail("gpu_bench_reports_medians_and_gbuffer_passes", &err);
+            return;
+        }
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains("median") && text.contains("3 runs"), "{text}");
+        let rate = |unit: &str| -> f64 {
+            let line = text
+                .lines()
+                .find(|l| l.starts_with("throughput:"))
+                .unwrap_or_else(|| panic!("no throughput line: {text}"));
+            assert!(line.ends_with(unit), "{shading}: {line}");
+            line.split_whitespace().nth(1).unwrap().parse().unwrap()
+        };
+        let value = if shading == "depth" {
+            rate("G-buffer passes/s")
+        } else {
+            rate("Mrays/s")
+        };
+        assert!(value > 0.0, "{shading}: {text}");
+    }
 }

@@ -2,7 +2,8 @@
 //! every test ends by checking that the validation layer reported nothing, also after the
 //! renderer (device, instance) was destroyed.
 //!
-//! Without a ray-query device these tests fail, unless LENSRAY_SKIP_GPU_TESTS=1.
+//! Without a ray-query device (or the validation layer) these tests fail, unless
+//! LENSRAY_SKIP_GPU_TESTS=1; then they are skipped, and scripts/test.sh reports how many.
 
 mod gpu_support;
 
@@ -23,8 +24,8 @@ fn bogus_device_index_is_a_clear_error() {
     .err()
     .expect("device 99 must not exist");
     let text = err.to_string();
-    if is_no_device(&err) && std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
-        println!("SKIPPED bogus_device_index_is_a_clear_error: {text}");
+    if may_skip(&err) {
+        record_skip("bogus_device_index_is_a_clear_error", &text);
         return;
     }
     assert!(
@@ -55,6 +56,51 @@ fn shader_layouts_match_rust() {
         report.mismatches.join("\n")
     );
     finish(gpu, log);
+}
+
+/// Even with LENSRAY_SKIP_GPU_TESTS=1, only a machine that cannot run GPU tests skips them: a
+/// failing pipeline, a Vulkan error or bad input fails the test.
+#[test]
+fn only_a_missing_device_or_layer_may_skip() {
+    let no_device = GpuError::NoRayQueryDevice("none".into());
+    let no_layer = GpuError::MissingLayer("VK_LAYER_KHRONOS_validation".into());
+    for e in [&no_device, &no_layer, &GpuError::NoDriver] {
+        assert!(may_skip_when(true, e), "{e}");
+        assert!(!may_skip_when(false, e), "{e}");
+    }
+    let real_failures = [
+        GpuError::Vulkan {
+            call: "vkCreateComputePipelines",
+            result: ash::vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+        },
+        GpuError::Invalid("bad input".into()),
+        GpuError::NoScene,
+        GpuError::Validation {
+            count: 1,
+            first: "leak".into(),
+        },
+    ];
+    for e in &real_failures {
+        assert!(!may_skip_when(true, e), "{e} must fail, not skip");
+    }
+}
+
+/// `close` destroys every object and fails on the validation layer's leak report, which only
+/// comes while the device is destroyed.
+#[test]
+fn close_fails_on_a_leaked_object() {
+    let Some((gpu, log)) = renderer("close_fails_on_a_leaked_object") else {
+        return;
+    };
+    gpu.leak_an_object_for_tests().expect("create a sampler");
+    assert_no_validation_messages(&log, "before the device is destroyed");
+    let err = gpu.close().expect_err("a leaked sampler must fail close()");
+    let text = err.to_string();
+    assert!(
+        matches!(err, GpuError::Validation { .. }) && text.contains("VkSampler"),
+        "unexpected error: {text}"
+    );
+    assert!(log.instance_destroyed());
 }
 
 #[test]
@@ -564,15 +610,18 @@ fn gpu_matches_cpu_on_project_scenes() {
 fn list_devices_reports_a_ray_query_device() {
     let devices = match lensray::gpu::list_devices() {
         Ok(d) => d,
-        Err(e) if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
-            println!("SKIPPED list_devices_reports_a_ray_query_device: {e}");
+        Err(e) if may_skip(&e) => {
+            record_skip("list_devices_reports_a_ray_query_device", &e.to_string());
             return;
         }
         Err(e) => panic!("list_devices: {e}"),
     };
     let usable: Vec<_> = devices.iter().filter(|d| d.ray_query).collect();
     if usable.is_empty() && std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
-        println!("SKIPPED list_devices_reports_a_ray_query_device: no ray-query device");
+        record_skip(
+            "list_devices_reports_a_ray_query_device",
+            "no Vulkan device with ray queries",
+        );
         return;
     }
     assert!(!usable.is_empty(), "no ray-query device in {devices:#?}");

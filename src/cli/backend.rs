@@ -24,17 +24,36 @@ pub struct RenderReport {
 
 impl Backend {
     /// Opens the chosen device and loads the scene. `Auto` falls back to the CPU with a one-line
-    /// notice saying why.
+    /// notice saying why, unless the command asked for something only the GPU has: a device
+    /// (`--gpu`) or validation of the Vulkan renderer (`--validate`). Both are errors with
+    /// `--device cpu`, where they would mean nothing.
     pub fn open(choice: DeviceChoice, options: &GpuOptions, scene: &Scene) -> Result<Self> {
         match choice {
-            DeviceChoice::Cpu => Ok(Backend::Cpu(Box::new(Renderer::new(scene)))),
+            DeviceChoice::Cpu => {
+                if options.validate {
+                    bail!(
+                        "--validate checks the Vulkan renderer: it cannot be used with \
+                         --device cpu"
+                    );
+                }
+                if let Some(index) = options.device_index {
+                    bail!(
+                        "--gpu {index} picks a Vulkan device: it cannot be used with --device cpu"
+                    );
+                }
+                Ok(Backend::Cpu(Box::new(Renderer::new(scene))))
+            }
             DeviceChoice::Gpu => Self::open_gpu(options, scene).context("--device gpu"),
             DeviceChoice::Auto => match Self::open_gpu(options, scene) {
                 Ok(gpu) => Ok(gpu),
-                Err(error) => {
-                    eprintln!("notice: rendering on the CPU: no usable GPU ({error:#})");
-                    Ok(Backend::Cpu(Box::new(Renderer::new(scene))))
-                }
+                Err(error) => match options.device_index {
+                    Some(index) => Err(error.context(format!("--gpu {index}"))),
+                    None if options.validate => Err(error.context("--validate")),
+                    None => {
+                        eprintln!("notice: rendering on the CPU: no usable GPU ({error:#})");
+                        Ok(Backend::Cpu(Box::new(Renderer::new(scene))))
+                    }
+                },
             },
         }
     }
@@ -115,18 +134,12 @@ impl Backend {
         }
     }
 
-    /// With `--validate`: the validation layer's warnings and errors, as an error.
-    pub fn check_validation(&self) -> Result<()> {
-        if let Backend::Gpu(gpu) = self {
-            let messages = gpu.validation_messages();
-            if let Some(first) = messages.first() {
-                bail!(
-                    "Vulkan validation reported {} message(s); first: {}",
-                    messages.len(),
-                    first.lines().next().unwrap_or("")
-                );
-            }
+    /// Releases the device. With `--validate`, fails on any message of the validation layer,
+    /// including its leak report, which comes while the device and instance are destroyed.
+    pub fn close(self) -> Result<()> {
+        match self {
+            Backend::Cpu(_) => Ok(()),
+            Backend::Gpu(gpu) => Ok(gpu.close()?),
         }
-        Ok(())
     }
 }

@@ -2,14 +2,16 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Args, ValueEnum};
 
 use super::args::DeviceChoice;
-use crate::gpu::{BenchOptions, GpuOptions};
+use super::backend::Backend;
+use crate::gpu::GpuOptions;
 use crate::reference::Renderer;
+use crate::render::stats::median;
 use crate::render::Shading;
-use crate::resolve::resolve;
+use crate::resolve::{resolve, Resolved};
 use crate::scene::file::SceneDescription;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -22,9 +24,13 @@ pub enum BenchScene {
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// cpu: the CPU reference; gpu (or auto): the Vulkan compute pass, timed with timestamps.
-    #[arg(long, value_enum, default_value_t = DeviceChoice::Cpu)]
+    /// cpu: the CPU reference; gpu: the Vulkan passes, timed with timestamps; auto: the GPU
+    /// when a device with ray queries exists, else the CPU (as `render`).
+    #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
     pub device: DeviceChoice,
+    /// Use this Vulkan device (index from `lensray info`).
+    #[arg(long, value_name = "INDEX")]
+    pub gpu: Option<usize>,
     /// A named scene...
     #[arg(long, value_enum, default_value_t = BenchScene::Default, conflicts_with = "scene_file")]
     pub scene: BenchScene,
@@ -45,16 +51,6 @@ pub struct BenchArgs {
     /// Triangles of the dense scene.
     #[arg(long, default_value_t = 1_000_000)]
     pub dense_triangles: usize,
-}
-
-pub fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        0.5 * (values[n / 2 - 1] + values[n / 2])
-    }
 }
 
 fn bench_scene(args: &BenchArgs) -> Result<SceneDescription> {
@@ -81,38 +77,51 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     settings.image.height = Some(args.height);
     settings.image.spp = Some(args.spp);
     settings.render.shading = Some(args.shading);
-    let resolved = resolve(&settings, &description.scene)?;
+    let Resolved { camera, render } = resolve(&settings, &description.scene)?;
     let triangles = description.scene.triangle_count();
-    if args.device != DeviceChoice::Cpu {
-        let options = BenchOptions {
-            gpu: GpuOptions::default(),
-            repeats: args.runs as u32,
-        };
-        let report = crate::gpu::bench(
-            &description.scene,
-            &resolved.camera,
-            &resolved.render,
-            &options,
-        )
-        .context("--device gpu")?;
-        println!(
-            "bench: {} ({} triangles), {:?}",
-            description.source, triangles, args.shading
-        );
-        print!("{report}");
-        return Ok(());
+    let options = GpuOptions {
+        validate: false,
+        device_index: args.gpu,
+    };
+    match Backend::open(args.device, &options, &description.scene)? {
+        Backend::Gpu(mut gpu) => {
+            let report = crate::gpu::bench_renderer(
+                &mut gpu,
+                &description.scene,
+                &camera,
+                &render,
+                args.runs as u32,
+            )?;
+            println!(
+                "bench: {} ({} triangles), {:?}",
+                description.source, triangles, args.shading
+            );
+            println!("{report}");
+            Ok(gpu.close()?)
+        }
+        Backend::Cpu(_) => {
+            println!(
+                "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, CPU reference on {} threads",
+                description.source,
+                triangles,
+                args.width,
+                args.height,
+                args.spp,
+                args.shading,
+                rayon::current_num_threads()
+            );
+            bench_cpu(args, &description, &camera, &render);
+            Ok(())
+        }
     }
-    println!(
-        "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, CPU reference on {} threads",
-        description.source,
-        triangles,
-        args.width,
-        args.height,
-        args.spp,
-        args.shading,
-        rayon::current_num_threads()
-    );
+}
 
+fn bench_cpu(
+    args: &BenchArgs,
+    description: &SceneDescription,
+    camera: &crate::camera::Camera,
+    render: &crate::render::RenderSettings,
+) {
     let mut builds = Vec::new();
     let mut renderer = None;
     for _ in 0..args.runs.min(3) {
@@ -123,16 +132,16 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let renderer = renderer.expect("at least one build");
     println!(
         "  BVH build: median {:.3} s over {} builds",
-        median(builds.clone()),
+        median(&builds),
         builds.len()
     );
 
     // Warm-up: page in the BVH and spin up the thread pool.
-    let _ = renderer.render(&resolved.camera, &resolved.render, &mut |_, _| {});
+    let _ = renderer.render(camera, render, &mut |_, _| {});
     let mut rates = Vec::new();
     let mut times = Vec::new();
     for run in 0..args.runs {
-        let (_, stats) = renderer.render(&resolved.camera, &resolved.render, &mut |_, _| {});
+        let (_, stats) = renderer.render(camera, render, &mut |_, _| {});
         let rate = stats.rays_per_second() / 1e6;
         println!(
             "  run {}: {:.3} s, {} rays, {:.2} Mrays/s",
@@ -144,12 +153,17 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         rates.push(rate);
         times.push(stats.elapsed.as_secs_f64());
     }
-    let per_core = median(rates.clone()) / rayon::current_num_threads() as f64;
+    let per_core = median(&rates) / rayon::current_num_threads() as f64;
+    let what = if render.shading.is_aov() {
+        // An AOV is one traced ray per pixel centre: say how many images per second that is.
+        format!(", {:.1} AOV images/s", 1.0 / median(&times).max(1e-9))
+    } else {
+        String::new()
+    };
     println!(
-        "  median: {:.3} s, {:.2} Mrays/s ({:.2} Mrays/s per thread)",
-        median(times),
-        median(rates),
+        "  median: {:.3} s, {:.2} Mrays/s ({:.2} Mrays/s per thread){what}",
+        median(&times),
+        median(&rates),
         per_core
     );
-    Ok(())
 }

@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::args::{parse_pixel, DeviceChoice, ViewArgs};
 use super::backend::Backend;
-use super::progress::Progress;
+use super::progress::{Progress, ProgressMode};
 use crate::gpu::GpuOptions;
 use crate::output::PendingOutput;
 use crate::resolve::{resolve, Resolved};
@@ -36,6 +36,9 @@ pub struct RenderArgs {
     /// Use this Vulkan device (index from `lensray info`).
     #[arg(long, value_name = "INDEX")]
     pub gpu: Option<usize>,
+    /// How to show progress: a bar on a terminal, plain lines, or nothing.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
 }
 
 /// The scene the options name, or the built-in default scene.
@@ -71,6 +74,7 @@ impl Default for RenderArgs {
             focus_at: None,
             validate: false,
             gpu: None,
+            progress: ProgressMode::Auto,
         }
     }
 }
@@ -103,10 +107,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
 
-    let mut progress = Progress::new("rendering");
+    let mut progress = Progress::new("rendering", args.progress);
     let (image, report) = backend.render(&camera, &render, &mut |d, t| progress.update(d, t))?;
     progress.finish();
-    backend.check_validation()?;
+    let device = backend.describe();
+    backend.close()?;
     output.finish(&image, render.shading)?;
     println!(
         "{}: {}x{} px, {} spp, {:?} shading, {} triangles, on {}: {:.2} s total, {:.2} Mrays/s",
@@ -116,7 +121,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         render.spp,
         render.shading,
         description.scene.triangle_count(),
-        backend.describe(),
+        device,
         start.elapsed().as_secs_f64(),
         report.rays as f64 / report.trace_seconds.max(1e-9) / 1e6
     );

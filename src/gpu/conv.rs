@@ -168,7 +168,6 @@ impl RasterPush {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
 
     use crate::camera::{CameraParams, LensParams, ProjectionParams};
     use glam::{Vec2, Vec3};

@@ -379,6 +379,15 @@ impl Context {
         })
     }
 
+    /// Creates a sampler and forgets it: a deliberate leak for the tests of the leak report.
+    pub fn leak_sampler(&self) -> Result<(), GpuError> {
+        let info = vk::SamplerCreateInfo::default();
+        // SAFETY: valid create-info on a live device; the handle is dropped on purpose.
+        unsafe { self.device.create_sampler(&info, None) }
+            .map(|_| ())
+            .map_err(vk_err("vkCreateSampler"))
+    }
+
     /// Nanoseconds between two timestamps of this queue (0 without timestamp support).
     pub fn elapsed_ns(&self, start: u64, end: u64) -> f64 {
         if !self.timestamps {

@@ -8,6 +8,12 @@ pub enum GpuError {
     /// The Vulkan loader library could not be found or opened.
     #[error("cannot load the Vulkan library: {0}")]
     Loader(String),
+    /// The loader found no Vulkan driver (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER).
+    #[error(
+        "no Vulkan driver is installed (Debian/Ubuntu: apt-get install mesa-vulkan-drivers for \
+         lavapipe, or your GPU vendor's driver)"
+    )]
+    NoDriver,
     /// A Vulkan call returned an error code.
     #[error("Vulkan call {call} failed: {result}")]
     Vulkan {
@@ -33,9 +39,13 @@ pub enum GpuError {
     },
     /// The validation layer was asked for but is not installed.
     #[error(
-        "validation requested but {0} is not available (install the Vulkan validation layers)"
+        "validation requested but the layer {0} is not installed (Debian/Ubuntu: apt-get install \
+         vulkan-validationlayers; elsewhere: the Vulkan SDK)"
     )]
     MissingLayer(String),
+    /// The validation layer reported warnings or errors (leaks at shutdown included).
+    #[error("Vulkan validation reported {count} message(s); first: {first}")]
+    Validation { count: usize, first: String },
     /// A call that needs a scene came before `load_scene`.
     #[error("no scene loaded: call GpuRenderer::load_scene first")]
     NoScene,

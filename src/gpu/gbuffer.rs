@@ -14,6 +14,7 @@ use super::device::Context;
 use super::error::{vk_err, GpuError};
 use super::image::Image;
 use super::pipeline::{GraphicsDesc, Pipeline};
+use super::query::QueryPool;
 use super::scene::SceneBuffers;
 use super::shader;
 use crate::camera::Camera;
@@ -235,6 +236,9 @@ pub(crate) struct GBufferPass {
     pipeline: Pipeline,
     pub targets: Option<GBufferTargets>,
     render_pass: RenderPass,
+    timestamps: QueryPool,
+    /// GPU time of the last pass's draw (timestamps around the render pass), ms.
+    pub last_gpu_ms: f64,
 }
 
 impl GBufferPass {
@@ -256,6 +260,8 @@ impl GBufferPass {
             pipeline,
             targets: None,
             render_pass,
+            timestamps: QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?,
+            last_gpu_ms: 0.0,
         })
     }
 
@@ -302,7 +308,10 @@ impl GBufferPass {
         let ctx = &self.ctx;
         let pipeline = &self.pipeline;
         let render_pass = self.render_pass.handle;
+        let timestamps = &self.timestamps;
         ctx.submit_and_wait(|cmd| {
+            timestamps.reset(cmd);
+            timestamps.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
             let clear = [
                 vk::ClearValue {
                     color: vk::ClearColorValue { float32: [0.0; 4] },
@@ -356,6 +365,7 @@ impl GBufferPass {
                 }
                 ctx.device.cmd_end_render_pass(cmd);
             }
+            timestamps.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
             for (image, buffer) in [
                 (&targets.normal, &normal_rb),
                 (&targets.albedo, &albedo_rb),
@@ -395,6 +405,8 @@ impl GBufferPass {
             );
             Ok(())
         })?;
+        let ticks = self.timestamps.results()?;
+        self.last_gpu_ms = self.ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6;
         let normal: &[[f32; 4]] = bytemuck::cast_slice(normal_rb.read()?);
         let albedo: &[[f32; 4]] = bytemuck::cast_slice(albedo_rb.read()?);
         let depth: &[f32] = bytemuck::cast_slice(depth_rb.read()?);

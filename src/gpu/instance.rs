@@ -152,8 +152,10 @@ impl Instance {
         }
         // SAFETY: every pointer in `info` refers to locals that live until the call returns;
         // the messenger's user data is the boxed log kept in the returned value.
-        let instance =
-            unsafe { entry.create_instance(&info, None) }.map_err(vk_err("vkCreateInstance"))?;
+        let instance = unsafe { entry.create_instance(&info, None) }.map_err(|e| match e {
+            vk::Result::ERROR_INCOMPATIBLE_DRIVER => GpuError::NoDriver,
+            e => vk_err("vkCreateInstance")(e),
+        })?;
 
         let debug = if validation {
             let loader = ext::debug_utils::Instance::new(&entry, &instance);

@@ -53,7 +53,7 @@ use crate::camera::Camera;
 use crate::render::{Image, RenderSettings, Shading};
 use crate::scene::Scene;
 
-pub use bench::{bench, BenchOptions, BenchReport};
+pub use bench::{bench, bench_renderer, BenchOptions, BenchReport, BenchedPass};
 pub use device::DeviceReport;
 pub use error::GpuError;
 pub use gbuffer::{focus_distance_at, GBuffer};
@@ -147,7 +147,10 @@ impl GpuRenderer {
     ) -> Result<GBuffer, GpuError> {
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         check_size(camera)?;
-        self.gbuffer.render(scene, camera, background)
+        let gbuffer = self.gbuffer.render(scene, camera, background)?;
+        self.timings.gbuffer_passes += 1;
+        self.timings.gbuffer_gpu_ms += self.gbuffer.last_gpu_ms;
+        Ok(gbuffer)
     }
 
     /// Renders `settings.shading`: `Unlit` and `Lit` through the thin lens with the compute
@@ -163,7 +166,9 @@ impl GpuRenderer {
         if settings.spp == 0 {
             return Err(GpuError::Invalid("spp must be at least 1".into()));
         }
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        if self.scene.is_none() {
+            return Err(GpuError::NoScene);
+        }
         if camera.width > self.ctx.report.max_image_dimension_2d
             || camera.height > self.ctx.report.max_image_dimension_2d
         {
@@ -179,7 +184,7 @@ impl GpuRenderer {
             }
             aov => {
                 progress(0, 1);
-                let g = self.gbuffer.render(scene, camera, settings.background)?;
+                let g = self.render_gbuffer(camera, settings.background)?;
                 progress(1, 1);
                 let pixels = (0..g.coverage.len())
                     .map(|i| match aov {
@@ -195,6 +200,34 @@ impl GpuRenderer {
                 })
             }
         }
+    }
+
+    /// Destroys every Vulkan object, then, with validation on, fails on any message the layer
+    /// reported, the leak report of the device's and instance's destruction included.
+    pub fn close(self) -> Result<(), GpuError> {
+        let log = self.log.clone();
+        drop(self);
+        let messages = log.messages();
+        if let Some(first) = messages.first() {
+            return Err(GpuError::Validation {
+                count: messages.len(),
+                first: first.lines().next().unwrap_or("").to_string(),
+            });
+        }
+        if !log.instance_destroyed() {
+            // Only possible if an object outlived its renderer (an Arc kept elsewhere).
+            return Err(GpuError::Invalid(
+                "the Vulkan instance outlived the renderer: an object leaked".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Creates a sampler that nothing destroys, so tests can check that [`Self::close`] fails
+    /// on the validation layer's leak report.
+    #[doc(hidden)]
+    pub fn leak_an_object_for_tests(&self) -> Result<(), GpuError> {
+        self.ctx.leak_sampler()
     }
 
     /// Validation warnings and errors so far (empty without validation).

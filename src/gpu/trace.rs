@@ -54,6 +54,9 @@ pub struct Timings {
     pub dispatches: u64,
     /// The longest of those dispatches.
     pub longest_dispatch_ms: f64,
+    /// G-buffer passes drawn, and their GPU time (draw only, no readback), summed.
+    pub gbuffer_passes: u64,
+    pub gbuffer_gpu_ms: f64,
     /// Bytes of the loaded scene's BLASes before and after compaction.
     pub blas_bytes: u64,
     pub blas_compacted_bytes: u64,

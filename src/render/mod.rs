@@ -2,6 +2,7 @@
 
 pub mod film;
 pub mod settings;
+pub mod stats;
 
 pub use film::Image;
 pub use settings::{PointLight, RenderSettings, Shading};

@@ -10,8 +10,9 @@ use lensray::gpu::{GpuError, GpuOptions, GpuRenderer, ValidationLog};
 use lensray::render::{Image, PointLight, RenderSettings, Shading};
 use lensray::scene::{Material, Mesh, Scene};
 
-/// Opens the renderer with validation on. Without a ray-query device this panics, unless
-/// `LENSRAY_SKIP_GPU_TESTS=1`, when it prints a skip line and returns `None`.
+/// Opens the renderer with validation on. If that fails, the test fails, with one exception:
+/// with `LENSRAY_SKIP_GPU_TESTS=1`, when the machine cannot run GPU tests at all (see
+/// [`may_skip`]), the skip is recorded and this returns `None`.
 pub fn renderer(test: &str) -> Option<(GpuRenderer, ValidationLog)> {
     match GpuRenderer::new(&GpuOptions {
         validate: true,
@@ -21,17 +22,66 @@ pub fn renderer(test: &str) -> Option<(GpuRenderer, ValidationLog)> {
             let log = r.validation_log();
             Some((r, log))
         }
-        Err(e) => {
-            if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
-                println!("SKIPPED {test}: no usable Vulkan ray-query device: {e}");
-                None
-            } else {
-                panic!(
-                    "{test}: cannot open a Vulkan device with ray queries: {e}\n\
-                     (set LENSRAY_SKIP_GPU_TESTS=1 to skip the GPU tests on such a machine)"
-                );
-            }
+        Err(e) if may_skip(&e) => {
+            record_skip(test, &e.to_string());
+            None
         }
+        Err(e) => panic!(
+            "{test}: cannot open a Vulkan device with ray queries and validation: {e}\n\
+             (on a machine without one, LENSRAY_SKIP_GPU_TESTS=1 skips the GPU tests)"
+        ),
+    }
+}
+
+/// True when `LENSRAY_SKIP_GPU_TESTS=1` and `e` says the machine cannot run GPU tests at all:
+/// no Vulkan loader or driver, no device with ray queries, or no validation layer. Any other
+/// error (a pipeline bug, out of memory) fails the test whatever the variable says.
+pub fn may_skip(e: &GpuError) -> bool {
+    may_skip_when(
+        std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1"),
+        e,
+    )
+}
+
+/// [`may_skip`] with the variable's value given.
+pub fn may_skip_when(skip_requested: bool, e: &GpuError) -> bool {
+    skip_requested
+        && matches!(
+            e,
+            GpuError::Loader(_)
+                | GpuError::NoDriver
+                | GpuError::NoRayQueryDevice(_)
+                | GpuError::MissingLayer(_)
+        )
+}
+
+/// A GPU command failed with `stderr`. With `LENSRAY_SKIP_GPU_TESTS=1` on a machine that cannot
+/// run GPU tests (checked here by opening the device with validation, as the command does) the
+/// skip is recorded; in every other case the test fails with the command's message.
+pub fn skip_or_fail(test: &str, stderr: &str) {
+    match GpuRenderer::new(&GpuOptions {
+        validate: true,
+        device_index: None,
+    }) {
+        Err(e) if may_skip(&e) => record_skip(test, &e.to_string()),
+        Err(e) => panic!("{test}: the GPU command failed: {stderr}(the device does not open: {e})"),
+        Ok(_) => panic!("{test}: the GPU command failed although a device opens: {stderr}"),
+    }
+}
+
+/// Records a skipped test: a line on stdout, and one in the file `LENSRAY_SKIP_LOG` names,
+/// which scripts/test.sh counts and reports in its last lines.
+pub fn record_skip(test: &str, reason: &str) {
+    println!("SKIPPED {test}: {reason}");
+    if let Ok(path) = std::env::var("LENSRAY_SKIP_LOG") {
+        use std::io::Write;
+        let line = format!("{test}\t{}\n", reason.replace(['\n', '\t'], " "));
+        std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&path)
+            .and_then(|mut f| f.write_all(line.as_bytes()))
+            .unwrap_or_else(|e| panic!("cannot record the skip in {path}: {e}"));
     }
 }
 
@@ -46,10 +96,13 @@ pub fn assert_no_validation_messages(log: &ValidationLog, when: &str) {
     );
 }
 
-/// Drops the renderer, then checks the log (leaks are reported during destruction).
+/// Closes the renderer, which destroys every object and fails on any validation message, the
+/// leak report at shutdown included; then checks the log once more.
 pub fn finish(renderer: GpuRenderer, log: ValidationLog) {
     assert_no_validation_messages(&log, "while rendering");
-    drop(renderer);
+    if let Err(e) = renderer.close() {
+        panic!("closing the renderer: {e}");
+    }
     assert!(
         log.instance_destroyed(),
         "the Vulkan instance outlived the renderer: some GPU object leaked"
@@ -206,25 +259,15 @@ pub fn output_dir() -> PathBuf {
     dir
 }
 
-fn srgb8(v: f32) -> u8 {
-    let v = v.clamp(0.0, 1.0);
-    let s = if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
-}
-
 /// Writes an image as an sRGB PNG under target/test-output.
 pub fn write_png(image: &Image, name: &str) -> PathBuf {
     let path = output_dir().join(name);
-    let mut buf = image::RgbImage::new(image.width, image.height);
-    for (i, p) in image.pixels.iter().enumerate() {
-        let (x, y) = (i as u32 % image.width, i as u32 / image.width);
-        buf.put_pixel(x, y, image::Rgb([srgb8(p.x), srgb8(p.y), srgb8(p.z)]));
-    }
-    buf.save(&path).expect("write PNG");
+    // The encoding lensray's own PNGs use (sRGB, 8 bits).
+    let bytes = lensray::output::to_display_bytes(image, Shading::Unlit);
+    image::RgbImage::from_raw(image.width, image.height, bytes)
+        .expect("3 bytes per pixel")
+        .save(&path)
+        .expect("write PNG");
     path
 }
 
@@ -250,9 +293,4 @@ pub fn write_comparison(a: &Image, b: &Image, name: &str) -> String {
         .map(|p| p.display().to_string())
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// True when a GpuError says that no device can trace ray queries.
-pub fn is_no_device(e: &GpuError) -> bool {
-    matches!(e, GpuError::NoRayQueryDevice(_) | GpuError::Loader(_))
 }
