@@ -1,9 +1,12 @@
 //! The CPU reference renderer against analytic answers.
 
+use std::path::PathBuf;
+
 use glam::{Vec2, Vec3, Vec3A};
 use lensray::camera::{Camera, CameraParams, LensParams, ProjectionParams};
+use lensray::output::linear_to_srgb;
 use lensray::reference::{Accel, Renderer, WatertightRay};
-use lensray::render::{PointLight, RenderSettings, Shading};
+use lensray::render::{Image, PointLight, RenderSettings, Shading};
 use lensray::sampler::hash_u32;
 use lensray::scene::{Material, Mesh, Scene};
 
@@ -153,43 +156,154 @@ fn lit_matches_lambert_with_inverse_square() {
     );
 }
 
+/// Writes an image as an sRGB PNG under target/test-output (for a failing test to show).
+fn write_png(image: &Image, name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/test-output");
+    std::fs::create_dir_all(&dir).expect("create target/test-output");
+    let path = dir.join(name);
+    let encode = |v: f32| (linear_to_srgb(v).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    let mut buf = image::RgbImage::new(image.width, image.height);
+    for (i, p) in image.pixels.iter().enumerate() {
+        let (x, y) = (i as u32 % image.width, i as u32 / image.width);
+        buf.put_pixel(x, y, image::Rgb([encode(p.x), encode(p.y), encode(p.z)]));
+    }
+    buf.save(&path).expect("write PNG");
+    path
+}
+
+/// What a pixel of the shadow scene shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Seen {
+    Occluder,
+    LitWall,
+    ShadowedWall,
+    /// Anything else (only ever a rendered value).
+    Other,
+}
+
 #[test]
 fn shadow_ray_blocks_the_light() {
-    let kd = Vec3::splat(0.8);
-    let ke = Vec3::new(0.05, 0.0, 0.0);
-    // Wall at z = -4, an occluder at z = -2 between it and a light at the eye.
+    // The camera looks along -z at a wall z = WALL; a square occluder [-H, H]^2 at z = OCC sits
+    // between the wall and a point light up and to the right, so the shadow falls down and to
+    // the left of where the occluder itself is seen. Wall: red emission plus a grey diffuse
+    // term; occluder: blue emission, no diffuse term. Each of the three cases has its own value.
+    const WALL: f32 = -4.0;
+    const OCC: f32 = -2.5;
+    const H: f32 = 0.2;
+    let light = Vec3::new(0.8, 0.3, -1.0);
+    let wall_emission = Vec3::new(0.05, 0.0, 0.0);
+    let occluder_emission = Vec3::new(0.0, 0.0, 0.05);
     let scene = Scene {
         meshes: vec![
-            quad(-50.0, 50.0, -50.0, 50.0, -4.0, 0),
-            quad(-0.2, 0.2, -0.2, 0.2, -2.0, 1),
+            quad(-50.0, 50.0, -50.0, 50.0, WALL, 0),
+            quad(-H, H, -H, H, OCC, 1),
         ],
         materials: vec![
-            material("wall", kd, ke),
-            material("occluder", Vec3::ZERO, Vec3::ZERO),
+            material("wall", Vec3::splat(0.8), wall_emission),
+            material("occluder", Vec3::ZERO, occluder_emission),
         ],
     };
+    let (width, height) = (128u32, 96u32);
+    let cam = camera(width, height, LensParams::Pinhole);
     let mut s = settings(Shading::Lit, 1);
-    s.light.position = Vec3::new(0.0, 0.0, -1.0);
-    let renderer = Renderer::new(&scene);
-    // A ray to a wall point behind the occluder as seen from the light, but visible to the camera.
-    let p = Vec3::new(0.5, 0.0, -4.0);
-    let ray = lensray::camera::Ray {
-        origin: Vec3::new(1.0, 0.0, 0.0),
-        direction: (p - Vec3::new(1.0, 0.0, 0.0)).normalize(),
+    s.light.position = light;
+    let (image, _) = Renderer::new(&scene).render(&cam, &s, &mut |_, _| {});
+
+    // The analytic class of the ray through a raster point, written out independently of the
+    // camera module: vfov 40 degrees, square pixels, row 0 at the top, camera +x = world +x.
+    let half_height = (20.0f32).to_radians().tan();
+    let pixel_size = 2.0 * half_height / height as f32;
+    let inside = |p: Vec3| p.x.abs() < H && p.y.abs() < H;
+    let analytic = |col: u32, row: u32| {
+        let dir = Vec3::new(
+            (col as f32 + 0.5 - width as f32 / 2.0) * pixel_size,
+            (height as f32 / 2.0 - row as f32 - 0.5) * pixel_size,
+            -1.0,
+        );
+        if inside(dir * (OCC / dir.z)) {
+            return Seen::Occluder;
+        }
+        let p = dir * (WALL / dir.z);
+        // The segment from the wall point to the light crosses the occluder's plane here.
+        let q = p + (light - p) * ((OCC - WALL) / (light.z - WALL));
+        if inside(q) {
+            Seen::ShadowedWall
+        } else {
+            Seen::LitWall
+        }
     };
-    let hit = renderer.intersect(&ray).expect("wall");
-    let surface = renderer.surface_point(&ray, &hit);
-    let origin = lensray::reference::shadow_origin(&surface);
-    assert!((origin - p).length() < 1e-3);
-    // From (0.5, 0, -4) to (0, 0, -1) the segment crosses z = -2 at x = 1/6: inside the occluder.
-    let cam = camera(8, 8, LensParams::Pinhole);
-    let (image, _) = renderer.render(&cam, &s, &mut |_, _| {});
-    // The centre pixels see the occluder itself (black); pixels that see the wall around the
-    // occluder's shadow are lit. Check one wall pixel in the umbra exists with only emission.
-    let shadowed = image.pixels.iter().filter(|&&c| c == ke).count();
-    let lit = image.pixels.iter().filter(|&&c| c.y > 0.0).count();
-    assert!(shadowed > 0, "no pixel in shadow: {:?}", image.pixels);
-    assert!(lit > 0, "no lit pixel");
+    let rendered = |col: u32, row: u32| {
+        let c = image.get(col, row);
+        if c == occluder_emission {
+            Seen::Occluder
+        } else if c == wall_emission {
+            Seen::ShadowedWall
+        } else if c.x > wall_emission.x && c.y > 0.0 && c.z > 0.0 {
+            Seen::LitWall
+        } else {
+            Seen::Other
+        }
+    };
+
+    // Film samples are jittered inside the pixel: only pixels whose 3x3 neighbourhood is all of
+    // one class are sure to be that class (every boundary here is an axis-aligned line).
+    let mut mismatches = Vec::new();
+    let mut checked = 0;
+    for row in 1..height - 1 {
+        for col in 1..width - 1 {
+            let class = analytic(col, row);
+            let uniform =
+                (row - 1..=row + 1).all(|r| (col - 1..=col + 1).all(|c| analytic(c, r) == class));
+            if uniform {
+                checked += 1;
+                let got = rendered(col, row);
+                if got != class {
+                    mismatches.push(format!("({col},{row}): expected {class:?}, got {got:?}"));
+                }
+            }
+        }
+    }
+    let bounding_box = |class_of: &dyn Fn(u32, u32) -> Seen| {
+        let mut b = [u32::MAX, u32::MAX, 0, 0];
+        for row in 0..height {
+            for col in 0..width {
+                if class_of(col, row) == Seen::ShadowedWall {
+                    b = [b[0].min(col), b[1].min(row), b[2].max(col), b[3].max(row)];
+                }
+            }
+        }
+        b
+    };
+    let expected_box = bounding_box(&analytic);
+    let rendered_box = bounding_box(&rendered);
+    let box_differs = expected_box
+        .iter()
+        .zip(&rendered_box)
+        .any(|(a, b)| a.abs_diff(*b) > 1);
+    let shadowed = (0..height)
+        .flat_map(|r| (0..width).map(move |c| (c, r)))
+        .filter(|&(c, r)| analytic(c, r) == Seen::ShadowedWall)
+        .count();
+    if !mismatches.is_empty() || box_differs {
+        let png = write_png(&image, "shadow.png");
+        panic!(
+            "{} of {checked} pixels differ from the analytic shadow: {}\n\
+             shadow box (min col, min row, max col, max row): analytic {expected_box:?}, \
+             rendered {rendered_box:?}; image: {}",
+            mismatches.len(),
+            mismatches.join(", "),
+            png.display()
+        );
+    }
+    // Test set-up: a shadow of many pixels, displaced from the occluder, with plenty checked.
+    assert!(
+        shadowed > 100,
+        "only {shadowed} pixels in the analytic shadow"
+    );
+    assert!(
+        checked > (width * height / 2) as usize,
+        "only {checked} pixels checked"
+    );
 }
 
 #[test]
