@@ -20,6 +20,9 @@ pub use packet::PACKET_SIZE;
 /// Above this many triangles the build trades a little traversal speed for build time.
 const LARGE_SCENE_TRIANGLES: usize = 250_000;
 
+/// Collapse traversal cost for those large scenes (fast_build's; other costs were no faster).
+const LARGE_SCENE_COLLAPSE_TRAVERSAL_COST: f32 = 3.0;
+
 /// obvhs's ray with its inverse direction from one vector division (`Ray::new` does three scalar
 /// ones); zero components become huge finite values, as obvhs's `safe_inverse` makes them, with
 /// the sign obvhs's node test assumes (it orders slabs by `direction < 0`, so -0 must give a
@@ -70,7 +73,7 @@ impl Accel {
             .collect();
         let params = if triangles.len() > LARGE_SCENE_TRIANGLES {
             BvhBuildParams {
-                collapse_traversal_cost: std::env::var("CTC").map_or(3.0, |v| v.parse().unwrap()),
+                collapse_traversal_cost: LARGE_SCENE_COLLAPSE_TRAVERSAL_COST,
                 ..BvhBuildParams::fast_build()
             }
         } else {
