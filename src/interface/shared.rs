@@ -24,6 +24,14 @@ shader_interface! {
         SHADOW_ORIGIN_OFFSET: f32 = 1e-4;
         PI: f32 = std::f32::consts::PI;
 
+        /// What the preview window shows (`preview::ViewMode`, shaders/resolve.comp): the
+        /// thin-lens accumulation, a G-buffer AOV, or each pixel's circle of confusion.
+        VIEW_FINAL: u32 = 0;
+        VIEW_ALBEDO: u32 = 1;
+        VIEW_NORMAL: u32 = 2;
+        VIEW_DEPTH: u32 = 3;
+        VIEW_COC: u32 = 4;
+
         /// Workgroups: trace.comp is TRACE_GROUP_SIZE x TRACE_GROUP_SIZE (a coherent tile).
         TRACE_GROUP_SIZE: u32 = 8;
         PROBE_GROUP_SIZE: u32 = 64;
