@@ -52,6 +52,23 @@ Ray lens_ray(Camera cam, Ray pinhole, vec2 lens_u) {
     return r;
 }
 
+// thin_lens.rs: ThinLens::ray_spread_radius
+float ray_spread_radius(float aperture_radius, float focus_distance, float z, float lens_z) {
+    return aperture_radius * abs(focus_distance - z) / (focus_distance - lens_z);
+}
+
+// projective.rs: Camera::coc_radius_pixels (the camera's lens and screen scale passed in).
+float coc_radius_pixels(uint projection, float aperture_radius, float focus_distance,
+                        float near_z, float pixels_per_screen_unit, float z) {
+    float screen_radius;
+    if (projection == PROJECTION_PERSPECTIVE) {
+        screen_radius = aperture_radius * abs(1.0 / focus_distance - 1.0 / z);
+    } else {
+        screen_radius = ray_spread_radius(aperture_radius, focus_distance, z, near_z);
+    }
+    return screen_radius * pixels_per_screen_unit;
+}
+
 // projective.rs: Camera::pinhole_ray_camera
 Ray pinhole_ray_camera(Camera cam, vec2 p_raster) {
     vec3 p_screen = (cam.screen_from_raster * vec4(p_raster, 0.0, 1.0)).xyz;

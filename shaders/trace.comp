@@ -1,8 +1,9 @@
 #version 460
 // Thin-lens compute pass: spp camera samples per pixel, each traced with a ray query against the
 // TLAS and shaded as specified for every renderer (src/render/settings.rs, the CPU reference).
-// One dispatch covers some rows (strided) and a range of samples; sums accumulate in `accum`, which holds a
-// band of rows of the image (bounded by the device's storage-buffer range).
+// One dispatch covers some rows (strided) and a range of samples; sums accumulate in `accum`
+// (xyz: the sum, w: how many samples), which holds a band of rows of the image (bounded by the
+// device's storage-buffer range).
 #extension GL_EXT_ray_query : require
 
 #include "camera.glsl"
@@ -84,13 +85,15 @@ void main() {
         return;
     }
     uint slot = band_row * params.width + x;
-    vec3 sum = accum[slot].xyz;
+    vec4 before = accum[slot];
+    vec3 sum = before.xyz;
     uint rays = 0u;
     for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
         CameraSample cs = camera_sample(params.seed, uvec2(x, y), params.width, s);
         Ray ray = generate_ray(params.camera, cs.film, cs.lens);
         sum += shade(ray, rays);
     }
-    accum[slot] = vec4(sum, 0.0);
+    // w counts the samples added (exact in float up to 2^24): the preview divides by it.
+    accum[slot] = vec4(sum, before.w + float(pc.sample_end - pc.sample_begin));
     atomicAdd(rays_traced, rays);
 }

@@ -143,11 +143,16 @@ impl Camera {
         }
     }
 
+    /// Raster pixels per screen-space unit (the screen window's height spans the image's).
+    pub fn pixels_per_screen_unit(&self) -> f32 {
+        self.height as f32 / (2.0 * self.screen_window.half_height)
+    }
+
     /// Radius, in pixels, of the circle of confusion of a point at view depth z: the image of
     /// that point spreads over the film points whose lens-ray bundles reach it. Perspective:
     /// A |1/F - 1/z| on the screen plane z = 1; orthographic: the object-space spread itself.
     pub fn coc_radius_pixels(&self, z: f32) -> f32 {
-        let pixels_per_screen_unit = self.height as f32 / (2.0 * self.screen_window.half_height);
+        let pixels_per_screen_unit = self.pixels_per_screen_unit();
         let screen_radius = match self.projection {
             Projection::Perspective { .. } => {
                 self.lens.aperture_radius * (1.0 / self.lens.focus_distance - 1.0 / z).abs()

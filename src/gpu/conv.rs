@@ -119,16 +119,21 @@ impl FlatScene {
     }
 }
 
+/// `Camera.projection` / `ResolvePush.projection` of the shaders.
+pub(crate) fn projection_code(camera: &Camera) -> u32 {
+    match camera.projection {
+        Projection::Perspective { .. } => PROJECTION_PERSPECTIVE,
+        Projection::Orthographic { .. } => PROJECTION_ORTHOGRAPHIC,
+    }
+}
+
 impl GpuCamera {
     pub fn new(camera: &Camera) -> Self {
         Self {
             // glam and GLSL are both column-major.
             world_from_camera: camera.world_from_camera.to_cols_array(),
             screen_from_raster: camera.screen_from_raster.to_cols_array(),
-            projection: match camera.projection {
-                Projection::Perspective { .. } => PROJECTION_PERSPECTIVE,
-                Projection::Orthographic { .. } => PROJECTION_ORTHOGRAPHIC,
-            },
+            projection: projection_code(camera),
             near_z: camera.near,
             aperture_radius: camera.lens.aperture_radius,
             focus_distance: camera.lens.focus_distance,

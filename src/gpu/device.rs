@@ -10,6 +10,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::error::{alloc_err, vk_err, GpuError};
 use super::instance::Instance;
+use super::surface::Surface;
 
 /// What `lensray info` shows about one Vulkan device.
 #[derive(Clone, Debug, PartialEq)]
@@ -272,7 +273,8 @@ fn device_type(r: &DeviceReport) -> vk::PhysicalDeviceType {
 /// an `Arc<Context>`), after its allocator and command pool.
 pub(crate) struct Context {
     /// Kept alive until the device is destroyed.
-    _instance: Arc<Instance>,
+    pub instance: Arc<Instance>,
+    pub physical_device: vk::PhysicalDevice,
     pub device: ash::Device,
     pub accel: khr::acceleration_structure::Device,
     pub queue: vk::Queue,
@@ -287,17 +289,34 @@ pub(crate) struct Context {
 }
 
 impl Context {
-    pub fn new(instance: Arc<Instance>, device_index: Option<usize>) -> Result<Self, GpuError> {
+    /// `surface`: a window the device must present to (adds VK_KHR_swapchain).
+    pub fn new(
+        instance: Arc<Instance>,
+        device_index: Option<usize>,
+        surface: Option<&Surface>,
+    ) -> Result<Self, GpuError> {
         let devices = enumerate(&instance.instance)?;
         let (physical, report) = select(&devices, device_index)?;
         let (queue_family, timestamp_bits) = queue_family(&instance.instance, physical)
             .ok_or_else(|| GpuError::NoRayQueryDevice("no graphics + compute queue".into()))?;
+        if let Some(surface) = surface {
+            if !surface.supported_by(physical, queue_family)? {
+                return Err(GpuError::Invalid(format!(
+                    "{} cannot present to this window (its queue family {queue_family} lacks \
+                     presentation support)",
+                    report.name
+                )));
+            }
+        }
 
         let priorities = [1.0f32];
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
-        let extensions: Vec<_> = DEVICE_EXTENSIONS.iter().map(|e| e.as_ptr()).collect();
+        let mut extensions: Vec<_> = DEVICE_EXTENSIONS.iter().map(|e| e.as_ptr()).collect();
+        if surface.is_some() {
+            extensions.push(khr::swapchain::NAME.as_ptr());
+        }
         let mut f12 = vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
         let mut f_as = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
             .acceleration_structure(true);
@@ -368,7 +387,8 @@ impl Context {
             } else {
                 (1u64 << timestamp_bits) - 1
             },
-            _instance: instance,
+            instance,
+            physical_device: physical,
             device,
             accel,
             queue,

@@ -270,13 +270,8 @@ impl GBufferPass {
         scene.bind(&self.pipeline);
     }
 
-    pub fn render(
-        &mut self,
-        scene: &SceneBuffers,
-        camera: &Camera,
-        background: Vec3,
-    ) -> Result<GBuffer, GpuError> {
-        let (width, height) = (camera.width, camera.height);
+    /// Makes the targets `width` x `height` (recreating them on a size change).
+    pub fn ensure_targets(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
         if self
             .targets
             .as_ref()
@@ -290,6 +285,94 @@ impl GBufferPass {
                 height,
             )?);
         }
+        Ok(())
+    }
+
+    /// Records the pass into `cmd` (targets of the camera's size must exist): afterwards the
+    /// images are in TRANSFER_SRC_OPTIMAL, their writes ordered before transfers and compute
+    /// reads. `timestamps`: a pool and the first of two queries written around the draw.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneBuffers,
+        camera: &Camera,
+        background: Vec3,
+        timestamps: Option<(&QueryPool, u32)>,
+    ) {
+        let ctx = &self.ctx;
+        let targets = self.targets.as_ref().expect("ensure_targets first");
+        let (width, height) = (targets.width, targets.height);
+        let push = RasterPush::new(camera);
+        if let Some((pool, first)) = timestamps {
+            pool.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, first);
+        }
+        let clear = [
+            vk::ClearValue {
+                color: vk::ClearColorValue { float32: [0.0; 4] },
+            },
+            vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: background.extend(0.0).to_array(),
+                },
+            },
+            vk::ClearValue {
+                color: vk::ClearColorValue { float32: [0.0; 4] },
+            },
+            vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            },
+        ];
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: vk::Extent2D { width, height },
+        };
+        let begin = vk::RenderPassBeginInfo::default()
+            .render_pass(self.render_pass.handle)
+            .framebuffer(targets.framebuffer)
+            .render_area(area)
+            .clear_values(&clear);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: width as f32,
+            height: height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: recording state; the framebuffer matches the render pass; the scene
+        // buffers bound in the pipeline's set are live.
+        unsafe {
+            ctx.device
+                .cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+            ctx.device.cmd_set_viewport(cmd, 0, &[viewport]);
+            ctx.device.cmd_set_scissor(cmd, 0, &[area]);
+        }
+        self.pipeline.bind(cmd, bytemuck::bytes_of(&push));
+        let vertices = scene.triangle_count * 3;
+        // SAFETY: inside the render pass with a graphics pipeline bound.
+        unsafe {
+            if vertices > 0 {
+                ctx.device.cmd_draw(cmd, vertices, 1, 0, 0);
+            }
+            ctx.device.cmd_end_render_pass(cmd);
+        }
+        if let Some((pool, first)) = timestamps {
+            pool.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, first + 1);
+        }
+    }
+
+    /// Draws the G-buffer of `camera` and reads it back to the host.
+    pub fn render(
+        &mut self,
+        scene: &SceneBuffers,
+        camera: &Camera,
+        background: Vec3,
+    ) -> Result<GBuffer, GpuError> {
+        let (width, height) = (camera.width, camera.height);
+        self.ensure_targets(width, height)?;
         let targets = self.targets.as_ref().expect("targets were just created");
         let pixels = u64::from(width) * u64::from(height);
         let readback = |name, bytes_per_pixel: u64| {
@@ -304,68 +387,10 @@ impl GBufferPass {
         let normal_rb = readback("G-buffer normal readback", 16)?;
         let albedo_rb = readback("G-buffer albedo readback", 16)?;
         let depth_rb = readback("G-buffer depth readback", 4)?;
-        let push = RasterPush::new(camera);
         let ctx = &self.ctx;
-        let pipeline = &self.pipeline;
-        let render_pass = self.render_pass.handle;
-        let timestamps = &self.timestamps;
         ctx.submit_and_wait(|cmd| {
-            timestamps.reset(cmd);
-            timestamps.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
-            let clear = [
-                vk::ClearValue {
-                    color: vk::ClearColorValue { float32: [0.0; 4] },
-                },
-                vk::ClearValue {
-                    color: vk::ClearColorValue {
-                        float32: background.extend(0.0).to_array(),
-                    },
-                },
-                vk::ClearValue {
-                    color: vk::ClearColorValue { float32: [0.0; 4] },
-                },
-                vk::ClearValue {
-                    depth_stencil: vk::ClearDepthStencilValue {
-                        depth: 1.0,
-                        stencil: 0,
-                    },
-                },
-            ];
-            let area = vk::Rect2D {
-                offset: vk::Offset2D { x: 0, y: 0 },
-                extent: vk::Extent2D { width, height },
-            };
-            let begin = vk::RenderPassBeginInfo::default()
-                .render_pass(render_pass)
-                .framebuffer(targets.framebuffer)
-                .render_area(area)
-                .clear_values(&clear);
-            let viewport = vk::Viewport {
-                x: 0.0,
-                y: 0.0,
-                width: width as f32,
-                height: height as f32,
-                min_depth: 0.0,
-                max_depth: 1.0,
-            };
-            // SAFETY: recording state; the framebuffer matches the render pass; the scene
-            // buffers bound in the pipeline's set are live.
-            unsafe {
-                ctx.device
-                    .cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-                ctx.device.cmd_set_viewport(cmd, 0, &[viewport]);
-                ctx.device.cmd_set_scissor(cmd, 0, &[area]);
-            }
-            pipeline.bind(cmd, bytemuck::bytes_of(&push));
-            let vertices = scene.triangle_count * 3;
-            // SAFETY: inside the render pass with a graphics pipeline bound.
-            unsafe {
-                if vertices > 0 {
-                    ctx.device.cmd_draw(cmd, vertices, 1, 0, 0);
-                }
-                ctx.device.cmd_end_render_pass(cmd);
-            }
-            timestamps.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+            self.timestamps.reset(cmd);
+            self.record(cmd, scene, camera, background, Some((&self.timestamps, 0)));
             for (image, buffer) in [
                 (&targets.normal, &normal_rb),
                 (&targets.albedo, &albedo_rb),

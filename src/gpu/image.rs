@@ -118,3 +118,38 @@ impl Drop for Image {
         }
     }
 }
+
+/// One image's layout transition with the memory dependency around it (colour aspect).
+pub(crate) struct Transition {
+    pub old: vk::ImageLayout,
+    pub new: vk::ImageLayout,
+    pub src_stage: vk::PipelineStageFlags,
+    pub src_access: vk::AccessFlags,
+    pub dst_stage: vk::PipelineStageFlags,
+    pub dst_access: vk::AccessFlags,
+}
+
+/// Records `transition` of `image`.
+pub(crate) fn transition(ctx: &Context, cmd: vk::CommandBuffer, image: vk::Image, t: &Transition) {
+    let barrier = [vk::ImageMemoryBarrier::default()
+        .old_layout(t.old)
+        .new_layout(t.new)
+        .src_access_mask(t.src_access)
+        .dst_access_mask(t.dst_access)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image)
+        .subresource_range(subresource_range(vk::ImageAspectFlags::COLOR))];
+    // SAFETY: recording state; the image is live and in `old` layout (or `old` is UNDEFINED).
+    unsafe {
+        ctx.device.cmd_pipeline_barrier(
+            cmd,
+            t.src_stage,
+            t.dst_stage,
+            vk::DependencyFlags::empty(),
+            &[],
+            &[],
+            &barrier,
+        )
+    };
+}

@@ -1,7 +1,7 @@
 //! The Vulkan instance and, when validation is on, the Khronos validation layer with
 //! synchronization validation and a debug-utils messenger that records warnings and errors.
 
-use std::ffi::{c_void, CStr};
+use std::ffi::{c_char, c_void, CStr};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -42,7 +42,7 @@ impl ValidationLog {
 /// Owns the instance and the messenger; destroys them in order on drop.
 pub(crate) struct Instance {
     /// The loaded Vulkan library: dropped (unloaded) after the instance is destroyed.
-    _entry: ash::Entry,
+    pub entry: ash::Entry,
     pub instance: ash::Instance,
     debug: Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     /// The messenger callbacks receive a pointer to this box: it must outlive the instance.
@@ -95,13 +95,14 @@ fn messenger_info(log: &ValidationLog) -> vk::DebugUtilsMessengerCreateInfoEXT<'
 }
 
 impl Instance {
-    pub fn new(validation: bool) -> Result<Self, GpuError> {
+    /// `window_extensions`: what a window surface needs (`ash_window`), empty when headless.
+    pub fn new(validation: bool, window_extensions: &[*const c_char]) -> Result<Self, GpuError> {
         // SAFETY: loading the system Vulkan loader runs its initialisation code; nothing else
         // in this process replaces or unloads it while `entry` lives.
         let entry = unsafe { ash::Entry::load() }.map_err(loader_err)?;
 
         let mut layers = Vec::new();
-        let mut extensions = Vec::new();
+        let mut extensions = window_extensions.to_vec();
         let mut sync_validation = false;
         if validation {
             // SAFETY: plain enumeration query on a loaded entry.
@@ -173,7 +174,7 @@ impl Instance {
             None
         };
         Ok(Self {
-            _entry: entry,
+            entry,
             instance,
             debug,
             _log_box: log_box,

@@ -42,7 +42,13 @@ mod pipeline;
 mod probe;
 mod query;
 mod scene;
+mod frames;
+mod overlay;
+mod resolve;
 mod shader;
+mod surface;
+mod swapchain;
+mod viewer;
 mod trace;
 
 use std::sync::Arc;
@@ -60,9 +66,14 @@ pub use gbuffer::{focus_distance_at, GBuffer};
 pub use instance::ValidationLog;
 pub use layout_probe::LayoutReport;
 pub use probe::{ProbeQuery, ProbeResult};
+pub use overlay::OverlayFrame;
 pub use trace::Timings;
+pub use viewer::{FrameRequest, FrameResult, FrameTimes, PresentMode, Viewer, ViewerOptions};
 
 use device::Context;
+use error::vk_err;
+use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
+use surface::Surface;
 use gbuffer::GBufferPass;
 use instance::Instance;
 use scene::SceneBuffers;
@@ -80,7 +91,7 @@ pub struct GpuOptions {
 
 /// Every Vulkan device, with what it lacks for lensray (for `lensray info`).
 pub fn list_devices() -> Result<Vec<DeviceReport>, GpuError> {
-    let instance = Instance::new(false)?;
+    let instance = Instance::new(false, &[])?;
     Ok(device::enumerate(&instance.instance)?
         .into_iter()
         .map(|(_, r)| r)
@@ -101,19 +112,40 @@ pub struct GpuRenderer {
 impl GpuRenderer {
     /// Opens the device; a clear error when no device (or not the chosen one) has ray queries.
     pub fn new(options: &GpuOptions) -> Result<Self, GpuError> {
-        let instance = Arc::new(Instance::new(options.validate)?);
+        Ok(Self::open(options, None)?.0)
+    }
+
+    /// Opens the device, able to present to `window` when given (returned as a surface).
+    fn open(
+        options: &GpuOptions,
+        window: Option<(RawDisplayHandle, RawWindowHandle)>,
+    ) -> Result<(Self, Option<Surface>), GpuError> {
+        let window_extensions = match window {
+            Some((display, _)) => ash_window::enumerate_required_extensions(display)
+                .map_err(vk_err("vkEnumerateInstanceExtensionProperties"))?,
+            None => &[],
+        };
+        let instance = Arc::new(Instance::new(options.validate, window_extensions)?);
         let log = instance.log.clone();
-        let ctx = Arc::new(Context::new(instance, options.device_index)?);
+        let surface = window
+            .map(|(display, window)| Surface::new(&instance, display, window))
+            .transpose()?;
+        let ctx = Arc::new(Context::new(
+            instance,
+            options.device_index,
+            surface.as_ref(),
+        )?);
         let gbuffer = GBufferPass::new(&ctx)?;
         let trace = TracePass::new(&ctx)?;
-        Ok(Self {
+        let renderer = Self {
             trace,
             gbuffer,
             scene: None,
             timings: Timings::default(),
             log,
             ctx,
-        })
+        };
+        Ok((renderer, surface))
     }
 
     pub fn device_name(&self) -> String {
@@ -207,20 +239,7 @@ impl GpuRenderer {
     pub fn close(self) -> Result<(), GpuError> {
         let log = self.log.clone();
         drop(self);
-        let messages = log.messages();
-        if let Some(first) = messages.first() {
-            return Err(GpuError::Validation {
-                count: messages.len(),
-                first: first.lines().next().unwrap_or("").to_string(),
-            });
-        }
-        if !log.instance_destroyed() {
-            // Only possible if an object outlived its renderer (an Arc kept elsewhere).
-            return Err(GpuError::Invalid(
-                "the Vulkan instance outlived the renderer: an object leaked".into(),
-            ));
-        }
-        Ok(())
+        check_validation_log(&log)
     }
 
     /// Creates a sampler that nothing destroys, so tests can check that [`Self::close`] fails
@@ -273,6 +292,25 @@ impl GpuRenderer {
     pub fn set_max_band_pixels(&mut self, pixels: u64) {
         self.trace.max_band_pixels = pixels.max(1);
     }
+}
+
+/// After every object of a renderer was dropped: any validation message (the leak report of
+/// the device's and instance's destruction included) is an error, and so is an instance still
+/// alive (an object kept elsewhere).
+fn check_validation_log(log: &ValidationLog) -> Result<(), GpuError> {
+    let messages = log.messages();
+    if let Some(first) = messages.first() {
+        return Err(GpuError::Validation {
+            count: messages.len(),
+            first: first.lines().next().unwrap_or("").to_string(),
+        });
+    }
+    if !log.instance_destroyed() {
+        return Err(GpuError::Invalid(
+            "the Vulkan instance outlived the renderer: an object leaked".into(),
+        ));
+    }
+    Ok(())
 }
 
 fn check_size(camera: &Camera) -> Result<(), GpuError> {

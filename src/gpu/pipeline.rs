@@ -225,6 +225,21 @@ impl Pipeline {
         unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
     }
 
+    /// Points binding `binding` at a storage image `view` (in GENERAL layout when used).
+    pub fn bind_storage_image(&self, binding: u32, view: vk::ImageView) {
+        let info = [vk::DescriptorImageInfo::default()
+            .image_view(view)
+            .image_layout(vk::ImageLayout::GENERAL)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+            .image_info(&info);
+        // SAFETY: the set is not in use by a pending command buffer (callers rebind only
+        // between frames, after waiting) and the view is live.
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+
     pub fn bind_accel(&self, binding: u32, accel: vk::AccelerationStructureKHR) {
         let handles = [accel];
         let mut accel_info = vk::WriteDescriptorSetAccelerationStructureKHR::default()

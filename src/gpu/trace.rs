@@ -144,7 +144,8 @@ impl TracePass {
             ctx,
             "trace params",
             std::mem::size_of::<TraceParams>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            // TRANSFER_DST: the preview updates it inside its frames' command buffers.
+            vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::CpuToGpu,
         )?;
         let counters = Buffer::new(
@@ -183,6 +184,54 @@ impl TracePass {
         scene.bind(&self.pipeline);
         self.pipeline
             .bind_accel(TRACE_BINDING_TLAS, scene.accel.tlas.handle);
+    }
+
+    /// Points the pass at an accumulation buffer of the caller's (the preview's, one vec4 per
+    /// pixel of the whole image); a later `render` makes and binds its own again.
+    pub fn bind_accumulation(&mut self, buffer: &Buffer) {
+        self.accum = None;
+        self.pipeline
+            .bind_buffer(TRACE_BINDING_ACCUM, vk::DescriptorType::STORAGE_BUFFER, buffer);
+    }
+
+    /// Records an update of the uniform parameters, ordered before later dispatches and after
+    /// earlier ones (frames in flight share the buffer; the queue orders the updates).
+    pub fn record_params(&self, cmd: vk::CommandBuffer, params: &TraceParams) {
+        let ctx = &self.ctx;
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::UNIFORM_READ,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        // SAFETY: recording state; the buffer has TRANSFER_DST usage and the data is a
+        // multiple of 4 bytes under 64 KiB.
+        unsafe {
+            ctx.device
+                .cmd_update_buffer(cmd, self.params.buffer, 0, bytemuck::bytes_of(params))
+        };
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::UNIFORM_READ,
+        );
+    }
+
+    /// Records one dispatch of the blocks and samples `push` names, over an image `width`
+    /// pixels wide (parameters and accumulation bound and ordered by the caller).
+    pub fn record_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush, width: u32) {
+        self.pipeline.bind(cmd, bytemuck::bytes_of(&push));
+        // SAFETY: compute pipeline and its complete descriptor set are bound.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_dispatch(cmd, width.div_ceil(GROUP), push.block_count, 1)
+        };
     }
 
     /// Renders with the scene last bound by `bind_scene`.
@@ -377,12 +426,7 @@ impl TracePass {
             );
             self.timestamps
                 .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
-            self.pipeline.bind(cmd, bytemuck::bytes_of(&push));
-            // SAFETY: compute pipeline and its complete descriptor set are bound.
-            unsafe {
-                ctx.device
-                    .cmd_dispatch(cmd, width.div_ceil(GROUP), push.block_count, 1)
-            };
+            self.record_dispatch(cmd, push, width);
             self.timestamps
                 .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
             if let Some(bytes) = copy_out {

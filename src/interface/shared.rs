@@ -51,6 +51,13 @@ shader_interface! {
         PROBE_BINDING_QUERIES: u32 = 0;
         PROBE_BINDING_RESULTS: u32 = 1;
         PROBE_BINDING_CAMERA: u32 = 2;
+        /// resolve.comp (the preview): the accumulation, the G-buffer images, the display image.
+        RESOLVE_GROUP_SIZE: u32 = 8;
+        RESOLVE_BINDING_ACCUM: u32 = 0;
+        RESOLVE_BINDING_NORMAL: u32 = 1;
+        RESOLVE_BINDING_ALBEDO: u32 = 2;
+        RESOLVE_BINDING_VIEW_DEPTH: u32 = 3;
+        RESOLVE_BINDING_DISPLAY: u32 = 4;
         /// layout_probe.comp.
         LAYOUT_PROBE_BINDING_OUT: u32 = 0;
         LAYOUT_PROBE_BINDING_PARAMS: u32 = 1;
@@ -102,6 +109,26 @@ shader_interface! {
             eye: [f32; 4],
             /// xyz: the view axis; w: 1 orthographic (viewer direction is the axis), 0 perspective.
             forward: [f32; 4],
+        }
+        /// Push constants of resolve.comp: what to show and the lens data of the circle of
+        /// confusion (camera.glsl's coc_radius_pixels mirrors Camera::coc_radius_pixels).
+        Std430 struct ResolvePush as ResolvePush {
+            width: u32,
+            height: u32,
+            /// VIEW_*
+            view: u32,
+            /// PROJECTION_*
+            projection: u32,
+            aperture_radius: f32,
+            focus_distance: f32,
+            near_z: f32,
+            far_z: f32,
+            /// Pixels per screen-space unit (height / screen window height).
+            pixels_per_screen_unit: f32,
+            /// The circle-of-confusion radius, in pixels, shown as white.
+            coc_display_max: f32,
+            pad0: u32,
+            pad1: u32,
         }
         /// A material of the scene's storage buffer.
         Std430 struct GpuMaterial as Material {

@@ -1,6 +1,7 @@
 //! What every renderer (CPU reference, GPU paths) shares: what to compute and the image it fills.
 
 pub mod film;
+pub mod progressive;
 pub mod settings;
 pub mod stats;
 

@@ -1,0 +1,639 @@
+//! The preview window's renderer. Every frame: the raster G-buffer of the current camera, some
+//! thin-lens samples added to an accumulation that stays on the device (sized from the measured
+//! speed), the resolve of the chosen view into a display image, its copy into the window image,
+//! the egui panel over it, present. Frames in flight (`frames`) overlap host and device; the
+//! only waits are for a frame slot's own earlier frame, and, on rare events (resize, pick,
+//! screenshot), for the device.
+
+use ash::vk;
+use glam::Vec3;
+use gpu_allocator::MemoryLocation;
+use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
+
+use super::buffer::{barrier, Buffer};
+use super::error::{vk_err, GpuError};
+use super::frames::{FrameSlot, Frames, FRAMES_IN_FLIGHT};
+use super::image::{transition, Transition};
+use super::overlay::{Overlay, OverlayFrame};
+use super::resolve::ResolvePass;
+use super::surface::Surface;
+use super::swapchain::{Acquired, Swapchain};
+use super::{check_validation_log, GpuOptions, GpuRenderer, ValidationLog};
+use crate::camera::Camera;
+use crate::interface::{ResolvePush, TraceParams, TracePush, TRACE_GROUP_SIZE, VIEW_FINAL};
+use crate::render::progressive::ProgressiveSchedule;
+use crate::render::{Image, RenderSettings};
+use crate::scene::Scene;
+
+/// How the window waits for the display (VkPresentModeKHR).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum PresentMode {
+    /// Wait for vertical blank, never tear (always available).
+    #[default]
+    Fifo,
+    /// Replace the queued image with the newest: no tearing, no waiting.
+    Mailbox,
+    /// Present at once; may tear.
+    Immediate,
+}
+
+/// Trace time aimed at per frame: the G-buffer view stays responsive while samples accumulate.
+const TRACE_MS_PER_FRAME: f64 = 20.0;
+const INITIAL_SAMPLES_PER_FRAME: u64 = 1 << 15;
+/// Dispatches per frame, at most (each is one group of rows of one sample, or whole samples).
+const MAX_DISPATCHES_PER_FRAME: usize = 64;
+/// The circle of confusion shown as white in the CoC view, pixels.
+const COC_DISPLAY_MAX: f32 = 16.0;
+
+/// What the next frame shows.
+pub struct FrameRequest<'a> {
+    pub camera: &'a Camera,
+    pub settings: &'a RenderSettings,
+    /// `crate::interface::VIEW_*`. Samples are added only in the final view.
+    pub view: u32,
+    /// The camera, lens or shading changed: the accumulation starts again.
+    pub restart: bool,
+    pub target_spp: u32,
+    /// Read the G-buffer's view depth at this pixel (answered in this frame's result).
+    pub pick: Option<[u32; 2]>,
+    pub overlay: Option<OverlayFrame>,
+}
+
+/// GPU times of one finished frame, ms (timestamps).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameTimes {
+    pub gbuffer_ms: f64,
+    pub trace_ms: f64,
+    pub resolve_ms: f64,
+    /// Copy to the window and the panel.
+    pub present_ms: f64,
+    pub total_ms: f64,
+    /// Pixel-samples the frame traced.
+    pub trace_work: u64,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameResult {
+    /// False when nothing was drawn (window minimised or being resized).
+    pub drawn: bool,
+    /// Samples every pixel has.
+    pub spp: u32,
+    pub converged: bool,
+    /// With a pick: the view depth there, `None` where no surface covers the pixel.
+    pub picked_depth: Option<Option<f32>>,
+    /// Times of the latest finished frame.
+    pub times: Option<FrameTimes>,
+}
+
+pub struct ViewerOptions {
+    pub gpu: GpuOptions,
+    pub present_mode: PresentMode,
+}
+
+/// The accumulation of the current image size.
+struct Accumulation {
+    buffer: Buffer,
+    schedule: ProgressiveSchedule,
+}
+
+pub struct Viewer {
+    // Fields drop in order, after `Drop` waited for the device: frame slots, the panel, the
+    // passes' images, the swapchain, its surface, then the renderer (device, instance).
+    frames: Frames,
+    overlay: Option<Overlay>,
+    resolve: ResolvePass,
+    accum: Option<Accumulation>,
+    swapchain: Option<Swapchain>,
+    surface: Surface,
+    gpu: GpuRenderer,
+    present_mode: PresentMode,
+    recreate: bool,
+    samples_per_frame: u64,
+    log: ValidationLog,
+}
+
+impl Viewer {
+    /// Opens the device for the window, uploads `scene` and builds its acceleration
+    /// structures.
+    pub fn new(
+        options: &ViewerOptions,
+        display: RawDisplayHandle,
+        window: RawWindowHandle,
+        scene: &Scene,
+    ) -> Result<Self, GpuError> {
+        let (mut gpu, surface) = GpuRenderer::open(&options.gpu, Some((display, window)))?;
+        let surface = surface.expect("opened with a window");
+        gpu.load_scene(scene)?;
+        let ctx = gpu.ctx.clone();
+        Ok(Self {
+            frames: Frames::new(&ctx)?,
+            overlay: None,
+            resolve: ResolvePass::new(&ctx)?,
+            accum: None,
+            swapchain: None,
+            surface,
+            log: gpu.validation_log(),
+            gpu,
+            present_mode: options.present_mode,
+            recreate: true,
+            samples_per_frame: INITIAL_SAMPLES_PER_FRAME,
+        })
+    }
+
+    pub fn device_name(&self) -> String {
+        self.gpu.device_name()
+    }
+
+    pub fn present_mode(&self) -> Option<PresentMode> {
+        let mode = self.swapchain.as_ref()?.present_mode;
+        Some(match mode {
+            vk::PresentModeKHR::MAILBOX => PresentMode::Mailbox,
+            vk::PresentModeKHR::IMMEDIATE => PresentMode::Immediate,
+            _ => PresentMode::Fifo,
+        })
+    }
+
+    /// Call before building the frame's camera: (re)creates the swapchain when the window
+    /// changed and returns the image size to render, `None` while the window has no area.
+    pub fn prepare(&mut self, window_size: [u32; 2]) -> Result<Option<[u32; 2]>, GpuError> {
+        let current = self
+            .swapchain
+            .as_ref()
+            .map(|s| [s.extent.width, s.extent.height]);
+        if self.recreate || current.is_none() || current != Some(window_size) {
+            self.recreate_swapchain(window_size)?;
+        }
+        Ok(self
+            .swapchain
+            .as_ref()
+            .map(|s| [s.extent.width, s.extent.height]))
+    }
+
+    fn recreate_swapchain(&mut self, window_size: [u32; 2]) -> Result<(), GpuError> {
+        self.wait_idle()?;
+        let ctx = self.gpu.ctx.clone();
+        let old = self.swapchain.take();
+        let new = Swapchain::new(
+            &ctx,
+            &self.surface,
+            window_size,
+            present_mode_vk(self.present_mode),
+            old.as_ref(),
+        )?;
+        drop(old);
+        self.recreate = false;
+        let Some(swapchain) = new else {
+            return Ok(()); // minimised: nothing to draw into
+        };
+        if self
+            .overlay
+            .as_ref()
+            .is_none_or(|o| o.format() != swapchain.format)
+        {
+            self.overlay = None;
+            self.overlay = Some(Overlay::new(&ctx, swapchain.format, FRAMES_IN_FLIGHT)?);
+        }
+        self.overlay
+            .as_mut()
+            .expect("created above")
+            .attach(&swapchain)?;
+        let (width, height) = (swapchain.extent.width, swapchain.extent.height);
+        self.swapchain = Some(swapchain);
+        self.resize_images(width, height)
+    }
+
+    /// The G-buffer, accumulation and display images of a new size. No frame is in flight.
+    fn resize_images(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
+        let ctx = self.gpu.ctx.clone();
+        let bytes = u64::from(width) * u64::from(height) * 16;
+        if bytes > u64::from(ctx.report.max_storage_buffer_range) {
+            return Err(GpuError::Invalid(format!(
+                "a {width}x{height} preview needs a {bytes}-byte accumulation buffer, more than \
+                 the device's storage buffer range ({})",
+                ctx.report.max_storage_buffer_range
+            )));
+        }
+        self.gpu.gbuffer.ensure_targets(width, height)?;
+        let target = self.accum.as_ref().map_or(0, |a| a.schedule.target());
+        self.accum = None;
+        let buffer = Buffer::new(
+            &ctx,
+            "preview accumulation",
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        self.gpu.trace.bind_accumulation(&buffer);
+        let targets = self.gpu.gbuffer.targets.as_ref().expect("ensured above");
+        self.resolve.bind(&buffer, targets, width, height)?;
+        self.accum = Some(Accumulation {
+            buffer,
+            schedule: ProgressiveSchedule::new(width, height, TRACE_GROUP_SIZE, target),
+        });
+        Ok(())
+    }
+
+    /// Draws one frame (after [`Self::prepare`], with a camera of the size it returned).
+    pub fn draw(&mut self, request: FrameRequest<'_>) -> Result<FrameResult, GpuError> {
+        let mut result = FrameResult::default();
+        let (Some(swapchain), Some(accum)) = (self.swapchain.as_ref(), self.accum.as_mut()) else {
+            return Ok(result);
+        };
+        let camera = request.camera;
+        if [camera.width, camera.height] != [swapchain.extent.width, swapchain.extent.height] {
+            return Err(GpuError::Invalid(format!(
+                "the camera is {}x{} but the window image {}x{}",
+                camera.width, camera.height, swapchain.extent.width, swapchain.extent.height
+            )));
+        }
+        let slot = &mut self.frames.slots[self.frames.current];
+        slot.wait()?;
+        if slot.submitted {
+            result.times = Some(read_times(&self.gpu, slot)?);
+            if let Some(t) = result.times.filter(|t| t.trace_ms > 0.0) {
+                // Shrinks at once, grows at most 2x per frame.
+                let rate = t.trace_work as f64 / t.trace_ms;
+                self.samples_per_frame = ((rate * TRACE_MS_PER_FRAME) as u64)
+                    .min(2 * self.samples_per_frame)
+                    .clamp(1024, 1 << 26);
+            }
+        }
+        let ids = std::mem::take(&mut slot.textures_to_free);
+        if let Some(overlay) = self.overlay.as_mut() {
+            overlay.free_textures(&ids)?;
+        }
+        let image_index = match swapchain.acquire(slot.image_acquired)? {
+            Acquired::Image(i) => i,
+            Acquired::OutOfDate => {
+                self.recreate = true;
+                return Ok(result);
+            }
+        };
+        if let (Some(overlay), Some(frame)) = (self.overlay.as_mut(), request.overlay.as_ref()) {
+            overlay.set_textures(&frame.textures)?;
+            slot.textures_to_free = frame.textures.free.iter().copied().collect();
+        }
+
+        if request.restart {
+            accum.schedule.restart();
+        }
+        accum.schedule.set_target(request.target_spp);
+        let work = if request.view == VIEW_FINAL {
+            accum
+                .schedule
+                .plan(self.samples_per_frame, MAX_DISPATCHES_PER_FRAME)
+        } else {
+            Vec::new()
+        };
+        slot.trace_work = work.iter().map(|w| w.pixel_samples).sum();
+
+        let ctx = self.gpu.ctx.clone();
+        let device = &ctx.device;
+        let cmd = slot.cmd;
+        // SAFETY: the slot's previous frame finished (fence waited): its command buffer may be
+        // reset and re-recorded, its fence reset.
+        unsafe {
+            device
+                .reset_fences(&[slot.fence])
+                .map_err(vk_err("vkResetFences"))?;
+            device
+                .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
+                .map_err(vk_err("vkResetCommandBuffer"))?;
+            device
+                .begin_command_buffer(
+                    cmd,
+                    &vk::CommandBufferBeginInfo::default()
+                        .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+                )
+                .map_err(vk_err("vkBeginCommandBuffer"))?;
+        }
+        // The previous frame's work on the shared images and buffers comes first.
+        barrier(
+            &ctx,
+            cmd,
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_WRITE,
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        slot.timestamps.reset(cmd);
+        let scene = self.gpu.scene.as_ref().ok_or(GpuError::NoScene)?;
+        self.gpu.gbuffer.record(
+            cmd,
+            scene,
+            camera,
+            request.settings.background,
+            Some((&slot.timestamps, 0)),
+        );
+        let targets = self.gpu.gbuffer.targets.as_ref().expect("sized in prepare");
+        if let Some([x, y]) = request.pick {
+            record_pick(&ctx, cmd, targets.view_depth.image, slot, x, y);
+        }
+
+        slot.timestamps
+            .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
+        if request.restart {
+            // SAFETY: recording state; the buffer has TRANSFER_DST usage.
+            unsafe { device.cmd_fill_buffer(cmd, accum.buffer.buffer, 0, vk::WHOLE_SIZE, 0) };
+            self.gpu.trace.record_params(
+                cmd,
+                &TraceParams::new(camera, request.settings),
+            );
+        }
+        for item in &work {
+            barrier(
+                &ctx,
+                cmd,
+                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            );
+            let push = TracePush {
+                band_origin: 0,
+                band_height: camera.height,
+                block_first: item.block_first,
+                block_stride: item.block_stride,
+                block_count: item.block_count,
+                sample_begin: item.sample_begin,
+                sample_end: item.sample_end,
+                pad: 0,
+            };
+            self.gpu.trace.record_dispatch(cmd, push, camera.width);
+        }
+        slot.timestamps
+            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 3);
+        barrier(
+            &ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ,
+        );
+        self.resolve
+            .record(cmd, targets, &resolve_push(camera, request.view));
+        slot.timestamps
+            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 4);
+
+        let window_image = swapchain.images[image_index as usize];
+        let display = self.resolve.display.as_ref().expect("bound in prepare");
+        record_copy_to_window(&ctx, cmd, display.image, window_image, swapchain.extent);
+        if let Some(overlay) = self.overlay.as_mut() {
+            overlay.record(cmd, image_index, request.overlay.as_ref())?;
+        }
+        slot.timestamps
+            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 5);
+        // SAFETY: recording began above.
+        unsafe { device.end_command_buffer(cmd) }.map_err(vk_err("vkEndCommandBuffer"))?;
+
+        let waits = [slot.image_acquired];
+        // The first use of the window image is the copy into it.
+        let wait_stages = [vk::PipelineStageFlags::TRANSFER];
+        let signals = [swapchain.rendered[image_index as usize]];
+        let cmds = [cmd];
+        let submit = vk::SubmitInfo::default()
+            .wait_semaphores(&waits)
+            .wait_dst_stage_mask(&wait_stages)
+            .command_buffers(&cmds)
+            .signal_semaphores(&signals);
+        // SAFETY: the command buffer is recorded; the semaphores and fence are the slot's and
+        // the image's, unsignalled and not waited on by anything pending.
+        unsafe { device.queue_submit(ctx.queue, &[submit], slot.fence) }
+            .map_err(vk_err("vkQueueSubmit"))?;
+        slot.submitted = true;
+        if !swapchain.present(image_index)? {
+            self.recreate = true;
+        }
+        if request.pick.is_some() {
+            // A rare event: wait for this frame so the focus applies to the next one.
+            slot.wait()?;
+            let depth = bytemuck::cast_slice::<u8, f32>(slot.pick.read()?)[0];
+            result.picked_depth = Some((depth > 0.0).then_some(depth));
+        }
+        self.frames.advance();
+        result.drawn = true;
+        result.spp = accum.schedule.samples_complete();
+        result.converged = accum.schedule.converged();
+        Ok(result)
+    }
+
+    /// The accumulation so far (sum / samples per pixel; black where none yet), for
+    /// screenshots. Waits for the device.
+    pub fn read_accumulation(&mut self) -> Result<Option<Image>, GpuError> {
+        let Some(accum) = self.accum.as_ref() else {
+            return Ok(None);
+        };
+        let Some(targets) = self.gpu.gbuffer.targets.as_ref() else {
+            return Ok(None);
+        };
+        let (width, height) = (targets.width, targets.height);
+        self.wait_idle()?;
+        let ctx = self.gpu.ctx.clone();
+        let readback = Buffer::new(
+            &ctx,
+            "preview screenshot readback",
+            accum.buffer.size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        ctx.submit_and_wait(|cmd| {
+            let region = vk::BufferCopy::default().size(accum.buffer.size);
+            // SAFETY: recording state; the preview's frames finished (waited above).
+            unsafe {
+                ctx.device
+                    .cmd_copy_buffer(cmd, accum.buffer.buffer, readback.buffer, &[region])
+            };
+            barrier(
+                &ctx,
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::HOST,
+                vk::AccessFlags::HOST_READ,
+            );
+            Ok(())
+        })?;
+        let sums: &[[f32; 4]] = bytemuck::cast_slice(readback.read()?);
+        let pixels = (width * height) as usize;
+        Ok(Some(Image {
+            width,
+            height,
+            pixels: sums[..pixels]
+                .iter()
+                .map(|s| {
+                    if s[3] > 0.0 {
+                        Vec3::new(s[0], s[1], s[2]) / s[3]
+                    } else {
+                        Vec3::ZERO
+                    }
+                })
+                .collect(),
+        }))
+    }
+
+    fn wait_idle(&self) -> Result<(), GpuError> {
+        // SAFETY: a live device; used on rare events only (resize, screenshot, exit).
+        unsafe { self.gpu.ctx.device.device_wait_idle() }.map_err(vk_err("vkDeviceWaitIdle"))
+    }
+
+    /// Destroys every Vulkan object; with validation on, fails on any message, the leak report
+    /// of the device's and instance's destruction included.
+    pub fn close(self) -> Result<(), GpuError> {
+        let log = self.log.clone();
+        drop(self);
+        check_validation_log(&log)
+    }
+
+    pub fn validation_log(&self) -> ValidationLog {
+        self.log.clone()
+    }
+}
+
+impl Drop for Viewer {
+    fn drop(&mut self) {
+        // Nothing may be in use when the fields are destroyed.
+        let _ = self.wait_idle();
+    }
+}
+
+fn present_mode_vk(mode: PresentMode) -> vk::PresentModeKHR {
+    match mode {
+        PresentMode::Fifo => vk::PresentModeKHR::FIFO,
+        PresentMode::Mailbox => vk::PresentModeKHR::MAILBOX,
+        PresentMode::Immediate => vk::PresentModeKHR::IMMEDIATE,
+    }
+}
+
+fn resolve_push(camera: &Camera, view: u32) -> ResolvePush {
+    ResolvePush {
+        width: camera.width,
+        height: camera.height,
+        view,
+        projection: super::conv::projection_code(camera),
+        aperture_radius: camera.lens.aperture_radius,
+        focus_distance: camera.lens.focus_distance,
+        near_z: camera.near,
+        far_z: camera.far,
+        pixels_per_screen_unit: camera.pixels_per_screen_unit(),
+        coc_display_max: COC_DISPLAY_MAX,
+        pad0: 0,
+        pad1: 0,
+    }
+}
+
+fn read_times(gpu: &GpuRenderer, slot: &FrameSlot) -> Result<FrameTimes, GpuError> {
+    let t = slot.timestamps.results()?;
+    let ms = |a: usize, b: usize| gpu.ctx.elapsed_ns(t[a], t[b]) * 1e-6;
+    Ok(FrameTimes {
+        gbuffer_ms: ms(0, 1),
+        trace_ms: ms(2, 3),
+        resolve_ms: ms(3, 4),
+        present_ms: ms(4, 5),
+        total_ms: ms(0, 5),
+        trace_work: slot.trace_work,
+    })
+}
+
+/// Copies the view depth at (x, y) (G-buffer in TRANSFER_SRC_OPTIMAL) to the slot's pick buffer.
+fn record_pick(
+    ctx: &super::device::Context,
+    cmd: vk::CommandBuffer,
+    view_depth: vk::Image,
+    slot: &FrameSlot,
+    x: u32,
+    y: u32,
+) {
+    let region = vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_offset(vk::Offset3D {
+            x: x as i32,
+            y: y as i32,
+            z: 0,
+        })
+        .image_extent(vk::Extent3D {
+            width: 1,
+            height: 1,
+            depth: 1,
+        });
+    // SAFETY: the G-buffer pass left the image in TRANSFER_SRC_OPTIMAL with its writes ordered
+    // before transfers; (x, y) lies inside it (checked by the caller).
+    unsafe {
+        ctx.device.cmd_copy_image_to_buffer(
+            cmd,
+            view_depth,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            slot.pick.buffer,
+            &[region],
+        )
+    };
+    barrier(
+        ctx,
+        cmd,
+        vk::PipelineStageFlags::TRANSFER,
+        vk::AccessFlags::TRANSFER_WRITE,
+        vk::PipelineStageFlags::HOST,
+        vk::AccessFlags::HOST_READ,
+    );
+}
+
+/// Blits the display image (TRANSFER_SRC_OPTIMAL) onto the window image, which ends in
+/// TRANSFER_DST_OPTIMAL for the overlay's render pass.
+fn record_copy_to_window(
+    ctx: &super::device::Context,
+    cmd: vk::CommandBuffer,
+    display: vk::Image,
+    window: vk::Image,
+    extent: vk::Extent2D,
+) {
+    transition(
+        ctx,
+        cmd,
+        window,
+        &Transition {
+            old: vk::ImageLayout::UNDEFINED,
+            new: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            // Chained to the acquire semaphore's wait at the transfer stage.
+            src_stage: vk::PipelineStageFlags::TRANSFER,
+            src_access: vk::AccessFlags::empty(),
+            dst_stage: vk::PipelineStageFlags::TRANSFER,
+            dst_access: vk::AccessFlags::TRANSFER_WRITE,
+        },
+    );
+    let layers = vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    let corner = vk::Offset3D {
+        x: extent.width as i32,
+        y: extent.height as i32,
+        z: 1,
+    };
+    let region = vk::ImageBlit::default()
+        .src_subresource(layers)
+        .src_offsets([vk::Offset3D::default(), corner])
+        .dst_subresource(layers)
+        .dst_offsets([vk::Offset3D::default(), corner]);
+    // SAFETY: both images are live, of the same size, in the layouts named; a 1:1 blit only
+    // reorders channels (RGBA8 -> the window's BGRA8/RGBA8 UNORM).
+    unsafe {
+        ctx.device.cmd_blit_image(
+            cmd,
+            display,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            window,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            &[region],
+            vk::Filter::NEAREST,
+        )
+    };
+}

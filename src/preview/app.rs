@@ -1,0 +1,539 @@
+//! The preview window: a winit application whose frames the GPU viewer draws. Input (real or
+//! scripted) moves the camera rig; every change restarts the accumulation; once the target
+//! sample count is reached the event loop waits for input and uses no CPU.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{Context as _, Result};
+use glam::Vec2;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, ModifiersState};
+use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::window::{Window, WindowId};
+
+use super::bindings::{action_for_key, wheel_action, Action, PointerButton, WheelAction, WheelModifier};
+use super::input::{Gesture, InputState};
+use super::panel::{Panel, PanelStats};
+use super::rig::CameraRig;
+use super::player::ScriptPlayer;
+use super::script::ScriptEvent;
+use super::stats::FrameLog;
+use super::view::ViewMode;
+use crate::camera::Camera;
+use crate::gpu::{FrameRequest, OverlayFrame, Viewer, ViewerOptions};
+use crate::output::PendingOutput;
+use crate::render::RenderSettings;
+use crate::scene::file::SceneDescription;
+
+/// Everything the preview starts from.
+pub struct PreviewConfig {
+    pub description: SceneDescription,
+    /// The scene file's settings with the command line's on top.
+    pub rig: CameraRig,
+    /// The scene file given on the command line (for the `C` key's render command).
+    pub scene_path: Option<PathBuf>,
+    pub viewer: ViewerOptions,
+    pub view: ViewMode,
+    /// Stop after this many frames.
+    pub frames: Option<u64>,
+    /// Save the accumulation here on exit.
+    pub screenshot: Option<PathBuf>,
+    pub script: ScriptPlayer,
+}
+
+/// What the exit line reports.
+#[derive(Clone, Debug)]
+pub struct PreviewSummary {
+    pub frames: u64,
+    pub median_frame_ms: f64,
+    pub median_gbuffer_ms: f64,
+    pub spp: u32,
+    pub target_spp: u32,
+}
+
+impl std::fmt::Display for PreviewSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "preview: {} frames drawn, median frame time {:.1} ms, median G-buffer pass {:.2} ms, \
+             {} of {} samples per pixel reached",
+            self.frames, self.median_frame_ms, self.median_gbuffer_ms, self.spp, self.target_spp
+        )
+    }
+}
+
+/// Opens the window and runs until it is closed, Escape, `--frames` or the script's `quit`.
+pub fn run(config: PreviewConfig) -> Result<PreviewSummary> {
+    let event_loop = EventLoop::new().context("cannot open a window (is a display available?)")?;
+    let mut app = App::new(config);
+    event_loop
+        .run_app(&mut app)
+        .context("the window's event loop failed")?;
+    app.finish()
+}
+
+struct Gui {
+    ctx: egui::Context,
+    state: egui_winit::State,
+}
+
+struct App {
+    config: PreviewConfig,
+    // Drop order: the viewer (device, surface) before the window it draws into.
+    viewer: Option<Viewer>,
+    gui: Option<Gui>,
+    window: Option<Arc<Window>>,
+    panel: Panel,
+    input: InputState,
+    log: FrameLog,
+    /// What the last frame rendered: a change restarts the accumulation.
+    last: Option<(Camera, RenderSettings)>,
+    pending_pick: Option<Vec2>,
+    spp: u32,
+    converged: bool,
+    last_fly: Instant,
+    error: Option<anyhow::Error>,
+    closed: bool,
+}
+
+impl App {
+    fn new(config: PreviewConfig) -> Self {
+        let panel = Panel::new(config.view, config.rig.settings().image.spp.unwrap_or(16));
+        Self {
+            config,
+            viewer: None,
+            gui: None,
+            window: None,
+            panel,
+            input: InputState::default(),
+            log: FrameLog::default(),
+            last: None,
+            pending_pick: None,
+            spp: 0,
+            converged: false,
+            last_fly: Instant::now(),
+            error: None,
+            closed: false,
+        }
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: anyhow::Error) {
+        if self.error.is_none() {
+            self.error = Some(error);
+        }
+        self.exit(event_loop);
+    }
+
+    fn exit(&mut self, event_loop: &ActiveEventLoop) {
+        self.closed = true;
+        event_loop.exit();
+    }
+
+    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let settings = self.config.rig.settings();
+        let (width, height) = (
+            settings.image.width.unwrap_or(crate::resolve::DEFAULT_WIDTH),
+            settings.image.height.unwrap_or(crate::resolve::DEFAULT_HEIGHT),
+        );
+        let attributes = Window::default_attributes()
+            .with_title(format!("lensray preview: {}", self.config.description.source))
+            .with_inner_size(PhysicalSize::new(width, height));
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .context("cannot create the window")?,
+        );
+        let display = window.display_handle().context("window display handle")?;
+        let handle = window.window_handle().context("window handle")?;
+        let viewer = Viewer::new(
+            &self.config.viewer,
+            display.as_raw(),
+            handle.as_raw(),
+            &self.config.description.scene,
+        )
+        .context("preview")?;
+        let ctx = egui::Context::default();
+        let state = egui_winit::State::new(
+            ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            None,
+        );
+        self.gui = Some(Gui { ctx, state });
+        self.viewer = Some(viewer);
+        self.window = Some(window);
+        Ok(())
+    }
+
+    /// Applies a discrete action (a key, the panel's buttons or the script).
+    fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) -> Result<()> {
+        let rig = &mut self.config.rig;
+        match action {
+            Action::FocusUnderCursor => self.pending_pick = Some(self.input.cursor),
+            Action::FocusNearer => rig.step_focus(-1),
+            Action::FocusFarther => rig.step_focus(1),
+            Action::ApertureWider => rig.step_aperture(1),
+            Action::ApertureNarrower => rig.step_aperture(-1),
+            Action::ToggleProjection => rig.toggle_projection(),
+            Action::SetView(view) => self.panel.view = view,
+            Action::NextView => self.panel.view = self.panel.view.next(),
+            Action::Screenshot => {
+                let path = self.panel.screenshot_path();
+                self.save_screenshot(&path)?;
+            }
+            Action::PrintCamera => self.print_camera()?,
+            Action::ResetCamera => rig.reset(),
+            Action::ToggleHelp => self.panel.show_help = !self.panel.show_help,
+            Action::Quit => self.exit(event_loop),
+            // Held keys move the camera every frame while down.
+            Action::Fly(direction) => self.input.hold(direction, true),
+        }
+        Ok(())
+    }
+
+    fn gesture(&mut self, gesture: Gesture) {
+        match gesture {
+            Gesture::Orbit(d) => self.config.rig.orbit(f64::from(d.x), f64::from(d.y)),
+            Gesture::Pan(d) => self.config.rig.pan(f64::from(d.x), f64::from(d.y)),
+            Gesture::Click(at) => self.pending_pick = Some(at),
+        }
+    }
+
+    fn scroll(&mut self, steps: f64, modifier: Option<WheelModifier>) {
+        let rig = &mut self.config.rig;
+        match wheel_action(modifier) {
+            WheelAction::Dolly => rig.dolly(steps),
+            WheelAction::Focus => rig.step_focus(steps),
+            WheelAction::Aperture => rig.step_aperture(steps.round() as i32),
+        }
+    }
+
+    fn save_screenshot(&mut self, path: &std::path::Path) -> Result<()> {
+        let output = PendingOutput::create(path)?;
+        let viewer = self.viewer.as_mut().context("no window yet")?;
+        let image = viewer
+            .read_accumulation()?
+            .context("nothing rendered yet to save")?;
+        let shading = self.last.as_ref().map(|(_, s)| s.shading);
+        output.finish(&image, shading.unwrap_or_default())?;
+        eprintln!(
+            "screenshot: {} ({} samples per pixel)",
+            path.display(),
+            self.spp
+        );
+        Ok(())
+    }
+
+    fn print_camera(&self) -> Result<()> {
+        let resolved = self
+            .config
+            .rig
+            .resolve(&self.config.description.scene)
+            .context("camera")?;
+        let snippet = super::snippet::camera_snippet(
+            self.config.rig.settings(),
+            &resolved,
+            self.config.scene_path.as_deref(),
+        );
+        println!("{snippet}");
+        Ok(())
+    }
+
+    fn replay_script(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        while let Some(event) = self.config.script.next_due(self.converged) {
+            match event {
+                ScriptEvent::Key(name) => {
+                    let action = action_for_key(&name)
+                        .with_context(|| format!("script: no action on key {name}"))?;
+                    match action {
+                        // A scripted press of a fly key moves the camera as one frame's hold.
+                        Action::Fly(direction) => self.config.rig.fly(direction.vector(), 0.1),
+                        action => self.act(event_loop, action)?,
+                    }
+                }
+                ScriptEvent::Click { x, y } => {
+                    let at = Vec2::new(x as f32, y as f32);
+                    self.input.cursor = at;
+                    self.pending_pick = Some(at);
+                }
+                ScriptEvent::Drag { button, from, to } => {
+                    let [from, to] = [from, to].map(|p| Vec2::new(p[0] as f32, p[1] as f32));
+                    self.input.move_to(from);
+                    self.input.press(button);
+                    if let Some(g) = self.input.move_to(to) {
+                        self.gesture(g);
+                    }
+                    self.input.release(button);
+                }
+                ScriptEvent::Scroll { steps, modifier } => self.scroll(steps, modifier),
+                ScriptEvent::Resize { width, height } => {
+                    let window = self.window.as_ref().context("no window")?;
+                    if width == 0 || height == 0 {
+                        window.set_minimized(true);
+                    } else {
+                        window.set_minimized(false);
+                        let _ = window.request_inner_size(PhysicalSize::new(width, height));
+                    }
+                }
+                ScriptEvent::WaitConverged => {}
+                ScriptEvent::Screenshot(path) => self.save_screenshot(&path)?,
+                ScriptEvent::Quit => self.exit(event_loop),
+            }
+        }
+        Ok(())
+    }
+
+    fn frame(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let (Some(window), Some(viewer)) = (self.window.clone(), self.viewer.as_mut()) else {
+            return Ok(());
+        };
+        let size = window.inner_size();
+        let Some([width, height]) = viewer.prepare([size.width, size.height])? else {
+            return Ok(()); // minimised
+        };
+        let now = Instant::now();
+        let fly = self.input.fly_direction();
+        if fly != glam::Vec3::ZERO {
+            let seconds = (now - self.last_fly).as_secs_f64().min(0.1);
+            self.config.rig.fly(fly, seconds);
+        }
+        self.last_fly = now;
+
+        // The panel first: it may change the lens before this frame's camera is built.
+        let gui = self.gui.as_mut().context("no GUI")?;
+        let raw_input = gui.state.take_egui_input(&window);
+        let stats = PanelStats {
+            spp: self.spp,
+            device: viewer.device_name(),
+            times: self.log.last_times(),
+            frame_ms: self.log.last_frame_ms(),
+        };
+        let rig = &mut self.config.rig;
+        let panel = &mut self.panel;
+        let output = gui.ctx.run(raw_input, |ctx| panel.ui(ctx, rig, &stats));
+        gui.state
+            .handle_platform_output(&window, output.platform_output);
+        let overlay = OverlayFrame {
+            primitives: gui.ctx.tessellate(output.shapes, output.pixels_per_point),
+            textures: output.textures_delta,
+            pixels_per_point: output.pixels_per_point,
+        };
+        for action in self.panel.take_actions() {
+            self.act(event_loop, action)?;
+        }
+
+        self.config.rig.set_image_size(width, height);
+        let resolved = self
+            .config
+            .rig
+            .resolve(&self.config.description.scene)
+            .context("camera")?;
+        let current = (resolved.camera.clone(), resolved.render);
+        let restart = self.last.as_ref() != Some(&current);
+        let pick = self.pending_pick.take().and_then(|at| {
+            let (x, y) = (at.x.floor(), at.y.floor());
+            (x >= 0.0 && y >= 0.0 && (x as u32) < width && (y as u32) < height)
+                .then_some([x as u32, y as u32])
+        });
+        let viewer = self.viewer.as_mut().context("no viewer")?;
+        let result = viewer.draw(FrameRequest {
+            camera: &resolved.camera,
+            settings: &resolved.render,
+            view: self.panel.view.code(),
+            restart,
+            target_spp: self.panel.target_spp,
+            pick,
+            overlay: Some(overlay),
+        })?;
+        if result.drawn {
+            self.last = Some(current);
+            self.log.record(now, result.times);
+            self.spp = result.spp;
+            self.converged = result.converged;
+        }
+        if let Some(depth) = result.picked_depth {
+            match depth {
+                Some(d) => {
+                    self.config.rig.set_focus_distance(f64::from(d));
+                    eprintln!("focus: {d:.4} (view depth under the cursor)");
+                }
+                None => eprintln!("focus: nothing under the cursor to focus on"),
+            }
+        }
+        if self
+            .config
+            .frames
+            .is_some_and(|limit| self.log.frames() >= limit)
+        {
+            self.exit(event_loop);
+        }
+        Ok(())
+    }
+
+    /// Whether more frames are needed now: accumulating, moving, a pick or a script waiting.
+    fn busy(&self) -> bool {
+        let converging = self.panel.view == ViewMode::Final && !self.converged;
+        converging
+            || self.pending_pick.is_some()
+            || self.input.fly_direction() != glam::Vec3::ZERO
+            || self.config.script.pending()
+            || self.config.frames.is_some()
+            || self.last.is_none()
+    }
+
+    fn finish(mut self) -> Result<PreviewSummary> {
+        if let Some(error) = self.error.take() {
+            return Err(error);
+        }
+        if let Some(path) = self.config.screenshot.clone() {
+            self.save_screenshot(&path)?;
+        }
+        let summary = PreviewSummary {
+            frames: self.log.frames(),
+            median_frame_ms: self.log.median_frame_ms(),
+            median_gbuffer_ms: self.log.median_gbuffer_ms(),
+            spp: self.spp,
+            target_spp: self.panel.target_spp,
+        };
+        self.gui = None;
+        if let Some(viewer) = self.viewer.take() {
+            viewer.close().context("preview")?;
+        }
+        drop(self.window.take());
+        Ok(summary)
+    }
+}
+
+fn pointer_button(button: MouseButton) -> Option<PointerButton> {
+    match button {
+        MouseButton::Left => Some(PointerButton::Left),
+        MouseButton::Right => Some(PointerButton::Right),
+        MouseButton::Middle => Some(PointerButton::Middle),
+        _ => None,
+    }
+}
+
+/// winit's key as the bindings name it: named keys by their `NamedKey` name, characters
+/// upper-case.
+fn key_name(key: &Key) -> Option<String> {
+    match key {
+        Key::Named(named) => Some(format!("{named:?}")),
+        Key::Character(c) => Some(c.to_uppercase()),
+        _ => None,
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_none() && !self.closed {
+            if let Err(e) = self.open(event_loop) {
+                self.fail(event_loop, e);
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        let Some(window) = self.window.clone() else {
+            return;
+        };
+        let consumed = match self.gui.as_mut() {
+            Some(gui) => gui.state.on_window_event(&window, &event).consumed,
+            None => false,
+        };
+        let result = match event {
+            WindowEvent::CloseRequested => {
+                self.exit(event_loop);
+                Ok(())
+            }
+            WindowEvent::RedrawRequested => self.frame(event_loop),
+            WindowEvent::ModifiersChanged(m) => {
+                let state: ModifiersState = m.state();
+                self.input.ctrl = state.control_key();
+                self.input.shift = state.shift_key();
+                Ok(())
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                let at = Vec2::new(position.x as f32, position.y as f32);
+                if let Some(g) = self.input.move_to(at).filter(|_| !consumed) {
+                    self.gesture(g);
+                }
+                Ok(())
+            }
+            WindowEvent::MouseInput { state, button, .. } if !consumed => {
+                if let Some(button) = pointer_button(button) {
+                    match state {
+                        ElementState::Pressed => self.input.press(button),
+                        ElementState::Released => {
+                            if let Some(g) = self.input.release(button) {
+                                self.gesture(g);
+                            }
+                        }
+                    }
+                }
+                Ok(())
+            }
+            WindowEvent::MouseWheel { delta, .. } if !consumed => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                let modifier = if self.input.ctrl {
+                    Some(WheelModifier::Ctrl)
+                } else if self.input.shift {
+                    Some(WheelModifier::Shift)
+                } else {
+                    None
+                };
+                self.scroll(steps, modifier);
+                Ok(())
+            }
+            WindowEvent::KeyboardInput { event, .. } if !consumed => {
+                let down = event.state == ElementState::Pressed;
+                match key_name(&event.logical_key).and_then(|k| action_for_key(&k)) {
+                    Some(Action::Fly(direction)) => {
+                        self.input.hold(direction, down);
+                        Ok(())
+                    }
+                    Some(action) if down && !event.repeat => self.act(event_loop, action),
+                    _ => Ok(()),
+                }
+            }
+            _ => Ok(()),
+        };
+        if let Err(e) = result {
+            self.fail(event_loop, e);
+            return;
+        }
+        // Any input shows in the next frame.
+        window.request_redraw();
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if self.closed {
+            return;
+        }
+        if let Err(e) = self.replay_script(event_loop) {
+            self.fail(event_loop, e);
+            return;
+        }
+        if self.busy() {
+            event_loop.set_control_flow(ControlFlow::Poll);
+            if let Some(window) = &self.window {
+                window.request_redraw();
+            }
+        } else if let Some(at) = self.config.script.next_wake() {
+            event_loop.set_control_flow(ControlFlow::WaitUntil(at));
+        } else {
+            // Converged and idle: sleep until the next input.
+            self.log.pause();
+            event_loop.set_control_flow(ControlFlow::Wait);
+        }
+    }
+}

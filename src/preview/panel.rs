@@ -1,0 +1,176 @@
+//! The lens panel (egui): the lens and the view to edit, the frame's timings to read, and the
+//! controls' help.
+
+use std::path::PathBuf;
+
+use super::bindings::{controls_help, Action};
+use super::rig::CameraRig;
+use super::view::ViewMode;
+use crate::gpu::FrameTimes;
+use crate::settings::ProjectionKind;
+
+/// What the panel shows of the renderer.
+pub struct PanelStats {
+    pub spp: u32,
+    pub device: String,
+    pub times: Option<FrameTimes>,
+    pub frame_ms: Option<f64>,
+}
+
+pub struct Panel {
+    pub view: ViewMode,
+    pub target_spp: u32,
+    pub show_help: bool,
+    /// Buttons pressed this frame, for the app to carry out.
+    actions: Vec<Action>,
+    screenshots: u32,
+}
+
+impl Panel {
+    pub fn new(view: ViewMode, target_spp: u32) -> Self {
+        Self {
+            view,
+            target_spp,
+            show_help: false,
+            actions: Vec::new(),
+            screenshots: 0,
+        }
+    }
+
+    pub fn take_actions(&mut self) -> Vec<Action> {
+        std::mem::take(&mut self.actions)
+    }
+
+    /// The next free name for a `P` screenshot in the working directory.
+    pub fn screenshot_path(&mut self) -> PathBuf {
+        loop {
+            self.screenshots += 1;
+            let path = PathBuf::from(format!("lensray-preview-{:03}.png", self.screenshots));
+            if !path.exists() {
+                return path;
+            }
+        }
+    }
+
+    pub fn ui(&mut self, ctx: &egui::Context, rig: &mut CameraRig, stats: &PanelStats) {
+        egui::Window::new("Lens")
+            .default_pos([8.0, 8.0])
+            .resizable(false)
+            .show(ctx, |ui| {
+                self.lens(ui, rig);
+                ui.separator();
+                self.view_controls(ui);
+                ui.separator();
+                Self::timings(ui, stats, self.target_spp);
+                ui.horizontal(|ui| {
+                    if ui.button("Screenshot (P)").clicked() {
+                        self.actions.push(Action::Screenshot);
+                    }
+                    if ui.button("Print camera (C)").clicked() {
+                        self.actions.push(Action::PrintCamera);
+                    }
+                    if ui.button("Reset (R)").clicked() {
+                        self.actions.push(Action::ResetCamera);
+                    }
+                    if ui.button("Help (H)").clicked() {
+                        self.show_help = !self.show_help;
+                    }
+                });
+            });
+        if self.show_help {
+            egui::Window::new("Controls")
+                .default_pos([8.0, 380.0])
+                .open(&mut self.show_help)
+                .show(ctx, |ui| ui.monospace(controls_help()));
+        }
+    }
+
+    fn lens(&mut self, ui: &mut egui::Ui, rig: &mut CameraRig) {
+        let r = rig.readout();
+        let mut projection = r.projection;
+        ui.horizontal(|ui| {
+            ui.label("Projection");
+            ui.selectable_value(&mut projection, ProjectionKind::Perspective, "perspective");
+            ui.selectable_value(&mut projection, ProjectionKind::Orthographic, "orthographic");
+        });
+        if projection != r.projection {
+            rig.set_projection(projection);
+        }
+        egui::Grid::new("lens").num_columns(2).show(ui, |ui| {
+            if let (Some(mut focal), Some(mut n)) = (r.focal_length_mm, r.f_number) {
+                ui.label("Focal length (mm)");
+                if ui
+                    .add(egui::DragValue::new(&mut focal).speed(0.5).range(1.0..=2000.0))
+                    .changed()
+                {
+                    rig.set_focal_length_mm(focal);
+                }
+                ui.end_row();
+                ui.label("f-number");
+                if ui
+                    .add(egui::DragValue::new(&mut n).speed(0.05).range(0.5..=64.0))
+                    .changed()
+                {
+                    rig.set_f_number(n);
+                }
+                ui.end_row();
+            }
+            ui.label("Aperture radius");
+            let mut radius = r.aperture_radius;
+            let physical = r.focal_length_mm.is_some();
+            let edited = ui
+                .add_enabled(
+                    !physical,
+                    egui::DragValue::new(&mut radius)
+                        .speed(0.001)
+                        .range(0.0..=f64::MAX),
+                )
+                .changed();
+            if edited {
+                rig.set_aperture_radius(radius);
+            }
+            ui.end_row();
+            ui.label("Focus distance");
+            let mut focus = r.focus_distance;
+            if ui
+                .add(
+                    egui::DragValue::new(&mut focus)
+                        .speed(0.01)
+                        .range(1e-3..=f64::MAX),
+                )
+                .changed()
+            {
+                rig.set_focus_distance(focus);
+            }
+            ui.end_row();
+        });
+    }
+
+    fn view_controls(&mut self, ui: &mut egui::Ui) {
+        egui::ComboBox::from_label("View")
+            .selected_text(self.view.label())
+            .show_ui(ui, |ui| {
+                for view in ViewMode::ALL {
+                    ui.selectable_value(&mut self.view, view, view.label());
+                }
+            });
+        ui.horizontal(|ui| {
+            ui.label("Target spp");
+            ui.add(egui::DragValue::new(&mut self.target_spp).range(1..=1 << 20));
+        });
+    }
+
+    fn timings(ui: &mut egui::Ui, stats: &PanelStats, target: u32) {
+        ui.label(format!("{} spp of {target}", stats.spp));
+        if let Some(ms) = stats.frame_ms {
+            ui.label(format!("frame {ms:.1} ms ({:.0} fps)", 1e3 / ms.max(1e-3)));
+        }
+        if let Some(t) = stats.times {
+            ui.label(format!(
+                "G-buffer {:.2} ms, trace {:.1} ms, resolve {:.2} ms, present {:.2} ms",
+                t.gbuffer_ms, t.trace_ms, t.resolve_ms, t.present_ms
+            ));
+        }
+        ui.small(&stats.device);
+    }
+}
