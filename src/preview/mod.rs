@@ -1,0 +1,7 @@
+//! `lensray preview`'s logic without a window: the interactive camera, what the window shows,
+//! the controls, scripted input, and the camera printout. The Vulkan viewer and the event loop
+//! drive these; nothing here knows about winit, Vulkan or egui, so all of it is unit-tested.
+
+pub mod view;
+
+pub use view::ViewMode;
