@@ -2,6 +2,8 @@
 //! the controls, scripted input, and the camera printout. The Vulkan viewer and the event loop
 //! drive these; nothing here knows about winit, Vulkan or egui, so all of it is unit-tested.
 
+pub mod bindings;
 pub mod view;
 
+pub use bindings::{action_for_key, controls_help, Action};
 pub use view::ViewMode;
