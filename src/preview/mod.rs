@@ -3,7 +3,12 @@
 //! drive these; nothing here knows about winit, Vulkan or egui, so all of it is unit-tested.
 
 pub mod bindings;
+pub mod rig;
 pub mod view;
 
+#[cfg(test)]
+pub(crate) mod test_scene;
+
 pub use bindings::{action_for_key, controls_help, Action};
+pub use rig::{CameraRig, LensReadout};
 pub use view::ViewMode;
