@@ -4,6 +4,7 @@
 
 pub mod bindings;
 pub mod rig;
+pub mod script;
 pub mod view;
 
 #[cfg(test)]
@@ -11,4 +12,5 @@ pub(crate) mod test_scene;
 
 pub use bindings::{action_for_key, controls_help, Action};
 pub use rig::{CameraRig, LensReadout};
+pub use script::{ScriptEvent, TimedEvent};
 pub use view::ViewMode;
