@@ -5,6 +5,7 @@
 pub mod bindings;
 pub mod rig;
 pub mod script;
+pub mod snippet;
 pub mod view;
 
 #[cfg(test)]
