@@ -10,6 +10,7 @@
 use glam::{DQuat, DVec3};
 
 use crate::camera::physical::{PhysicalLens, MM_PER_WORLD_UNIT};
+use crate::camera::Projection;
 use crate::resolve::{
     resolve, Resolved, SettingsError, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM,
     DEFAULT_VFOV_DEGREES,
@@ -25,7 +26,7 @@ pub const MAX_ELEVATION_DEGREES: f64 = 89.0;
 pub const DOLLY_FACTOR_PER_STEP: f64 = 0.9;
 /// Focus steps per doubling of the focus distance.
 pub const FOCUS_STEPS_PER_OCTAVE: f64 = 8.0;
-/// f-number steps per stop: third stops, each multiplies N by 2^(1/6).
+/// Stops per aperture step with physical units: third stops (N times 2^(1/6) per step).
 pub const F_STOPS_PER_STEP: f64 = 1.0 / 3.0;
 /// The f-numbers the aperture steps and the panel allow.
 pub const F_NUMBER_RANGE: (f64, f64) = (0.5, 64.0);
@@ -204,10 +205,8 @@ impl CameraRig {
             projection: c.projection.unwrap_or(ProjectionKind::Perspective),
             vfov_degrees: c.vfov_degrees.unwrap_or(DEFAULT_VFOV_DEGREES),
             ortho_height: match camera.projection {
-                crate::camera::Projection::Orthographic { height } => {
-                    c.ortho_height.unwrap_or(height as f64)
-                }
-                crate::camera::Projection::Perspective { .. } => 0.0,
+                Projection::Orthographic { height } => c.ortho_height.unwrap_or(height as f64),
+                Projection::Perspective { .. } => 0.0,
             },
             // A pinhole gets the distance resolve would focus a lens at, for the focus controls.
             focus_distance: c.focus_distance.unwrap_or(axis_distance),
@@ -222,7 +221,8 @@ impl CameraRig {
         rig.settings.image.width = Some(camera.width);
         rig.settings.image.height = Some(camera.height);
         rig.commit();
-        // A pinned camera that no longer resolves would be a bug here, not the user's input.
+        // The pinned camera must resolve too: a pinhole's new focus distance must lie beyond an
+        // orthographic near plane the user gave.
         rig.resolve(scene)?;
         Ok(rig)
     }
