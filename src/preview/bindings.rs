@@ -67,7 +67,7 @@ impl Action {
             Action::ApertureWider => "wider aperture (more blur)",
             Action::ApertureNarrower => "narrower aperture (less blur)",
             Action::ToggleProjection => "switch perspective / orthographic",
-            Action::SetView(view) => return format!("show the {view}"),
+            Action::SetView(view) => return format!("view: {view}"),
             Action::NextView => "next view",
             Action::Screenshot => "save a screenshot",
             Action::PrintCamera => "print the camera as scene-file TOML and a render command",
@@ -319,7 +319,7 @@ mod tests {
             assert!(help.contains(gesture) && help.contains(what));
         }
         assert!(help.contains("  H, F1 "), "{help}");
-        assert!(help.contains("show the circle of confusion"));
+        assert!(help.contains("view: circle of confusion"));
         assert!(help.contains("fly forward (hold)"));
     }
 }

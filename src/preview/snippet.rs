@@ -107,11 +107,26 @@ pub fn explicit_settings(settings: &Settings, resolved: &Resolved) -> Settings {
         },
         render: RenderStyle {
             shading: Some(render.shading),
-            background: Some(array(render.background)),
+            background: Some(
+                settings
+                    .render
+                    .background
+                    .unwrap_or(array(render.background)),
+            ),
         },
         light: LightSettings {
-            position: Some(array(render.light.position)),
-            intensity: Some(array(render.light.intensity)),
+            position: Some(
+                settings
+                    .light
+                    .position
+                    .unwrap_or(array(render.light.position)),
+            ),
+            intensity: Some(
+                settings
+                    .light
+                    .intensity
+                    .unwrap_or(array(render.light.intensity)),
+            ),
         },
     }
 }

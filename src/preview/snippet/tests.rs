@@ -127,6 +127,8 @@ fn physical_camera_reads_back_exactly() {
     physical_file.camera.aperture_radius = None;
     physical_file.camera.focal_length_mm = Some(50.0);
     physical_file.camera.f_number = Some(4.0);
+    physical_file.light.position = Some([1.0, 2.5, -0.3]);
+    physical_file.light.intensity = Some([3.0, 2.0, 1.0]);
     let mut rig = CameraRig::new(physical_file.clone(), &unit_cube()).unwrap();
     rig.set_aperture_radius(0.03);
     assert_round_trip(&rig, &physical_file);
@@ -176,7 +178,7 @@ fn every_value_is_written() {
         "seed = 7",
         "[render]",
         "shading = \"unlit\"",
-        "background = [",
+        "background = [0.1, 0.2, 0.3]",
         "[light]",
         "position = [",
         "intensity = [",
@@ -194,14 +196,8 @@ fn every_value_is_written() {
         "lensray render --scene scenes/cube.toml --projection perspective --eye 0.3,0.7,5 \
          --target 0,0.1,0 --up 0,1,0 --vfov 40 --aperture-radius 0.1 --focus-distance 4.5 \
          --near {near} --far {} --width 160 --height 120 --spp 8 --seed 7 --shading unlit \
-         --background {},{},{} --light-position {},{},{} --light-intensity ",
-        resolved.camera.far as f64,
-        0.1f32 as f64,
-        0.2f32 as f64,
-        0.3f32 as f64,
-        light.x,
-        light.y,
-        light.z,
+         --background 0.1,0.2,0.3 --light-position {},{},{} --light-intensity ",
+        resolved.camera.far as f64, light.x, light.y, light.z,
     );
     assert!(
         snippet.command.starts_with(&expected),
