@@ -2,7 +2,7 @@
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use lensray::cli;
 
 #[derive(Parser)]
@@ -22,6 +22,9 @@ struct Cli {
 enum Command {
     /// Render an image headless (default: the built-in scene to lensray.png).
     Render(Box<cli::render::RenderArgs>),
+    /// A window to frame the shot and pick the focus, with ray-traced depth of field converging
+    /// live (controls below, and H in the window).
+    Preview(Box<cli::preview::PreviewArgs>),
     /// Measure rays per second of a renderer.
     Bench(cli::bench::BenchArgs),
     /// Write a generated scene (OBJ + MTL + scene file).
@@ -31,7 +34,14 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    // The preview's controls come from its key-binding table, listed after its options.
+    let command = Cli::command().mut_subcommand("preview", |c| {
+        c.after_help(format!("Controls:\n{}", lensray::preview::controls_help()))
+    });
+    let cli = match command
+        .try_get_matches()
+        .and_then(|m| Cli::from_arg_matches(&m))
+    {
         Ok(cli) => cli,
         Err(error) if !error.use_stderr() => error.exit(), // --help, --version
         Err(error) => {
@@ -50,6 +60,7 @@ fn main() -> ExitCode {
             cli::render::run(&cli::render::RenderArgs::default())
         }
         Some(Command::Render(args)) => cli::render::run(args),
+        Some(Command::Preview(args)) => cli::preview::run(args),
         Some(Command::Bench(args)) => cli::bench::run(args),
         Some(Command::Generate(args)) => cli::generate::run(args),
         Some(Command::Info) => cli::info::run(),

@@ -5,5 +5,6 @@ pub mod backend;
 pub mod bench;
 pub mod generate;
 pub mod info;
+pub mod preview;
 pub mod progress;
 pub mod render;

@@ -34,22 +34,22 @@ mod buffer;
 mod conv;
 mod device;
 mod error;
+mod frames;
 mod gbuffer;
 mod image;
 mod instance;
 mod layout_probe;
+mod overlay;
 mod pipeline;
 mod probe;
 mod query;
-mod scene;
-mod frames;
-mod overlay;
 mod resolve;
+mod scene;
 mod shader;
 mod surface;
 mod swapchain;
-mod viewer;
 mod trace;
+mod viewer;
 
 use std::sync::Arc;
 
@@ -65,18 +65,18 @@ pub use error::GpuError;
 pub use gbuffer::{focus_distance_at, GBuffer};
 pub use instance::ValidationLog;
 pub use layout_probe::LayoutReport;
-pub use probe::{ProbeQuery, ProbeResult};
 pub use overlay::OverlayFrame;
+pub use probe::{ProbeQuery, ProbeResult};
 pub use trace::Timings;
 pub use viewer::{FrameRequest, FrameResult, FrameTimes, PresentMode, Viewer, ViewerOptions};
 
 use device::Context;
 use error::vk_err;
-use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
-use surface::Surface;
 use gbuffer::GBufferPass;
 use instance::Instance;
+use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 use scene::SceneBuffers;
+use surface::Surface;
 use trace::TracePass;
 
 /// How to open the GPU.

@@ -33,13 +33,7 @@ impl Surface {
         // viewer is dropped before the window), and the instance has the extensions
         // `ash_window::enumerate_required_extensions` named for this display.
         let handle = unsafe {
-            ash_window::create_surface(
-                &instance.entry,
-                &instance.instance,
-                display,
-                window,
-                None,
-            )
+            ash_window::create_surface(&instance.entry, &instance.instance, display, window, None)
         }
         .map_err(vk_err("vkCreate*SurfaceKHR"))?;
         Ok(Self {

@@ -190,8 +190,11 @@ impl TracePass {
     /// pixel of the whole image); a later `render` makes and binds its own again.
     pub fn bind_accumulation(&mut self, buffer: &Buffer) {
         self.accum = None;
-        self.pipeline
-            .bind_buffer(TRACE_BINDING_ACCUM, vk::DescriptorType::STORAGE_BUFFER, buffer);
+        self.pipeline.bind_buffer(
+            TRACE_BINDING_ACCUM,
+            vk::DescriptorType::STORAGE_BUFFER,
+            buffer,
+        );
     }
 
     /// Records an update of the uniform parameters, ordered before later dispatches and after

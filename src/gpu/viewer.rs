@@ -236,8 +236,24 @@ impl Viewer {
     }
 
     /// Draws one frame (after [`Self::prepare`], with a camera of the size it returned).
-    pub fn draw(&mut self, request: FrameRequest<'_>) -> Result<FrameResult, GpuError> {
+    pub fn draw(&mut self, mut request: FrameRequest<'_>) -> Result<FrameResult, GpuError> {
         let mut result = FrameResult::default();
+        // This slot's previous frame must be finished before anything of it is reused.
+        let slot = &mut self.frames.slots[self.frames.current];
+        slot.wait()?;
+        // egui's texture changes apply whether or not this frame is drawn (uploads wait for
+        // the queue themselves). What egui frees goes after the frame that last drew with it:
+        // textures queued on this slot two frames ago can go now.
+        let done = std::mem::take(&mut slot.textures_to_free);
+        if let Some(overlay) = self.overlay.as_mut() {
+            overlay.free_textures(&done)?;
+            if let Some(frame) = request.overlay.as_mut() {
+                overlay.set_textures(&frame.textures)?;
+                slot.textures_to_free
+                    .extend(frame.textures.free.iter().copied());
+                frame.textures.clear();
+            }
+        }
         let (Some(swapchain), Some(accum)) = (self.swapchain.as_ref(), self.accum.as_mut()) else {
             return Ok(result);
         };
@@ -249,7 +265,6 @@ impl Viewer {
             )));
         }
         let slot = &mut self.frames.slots[self.frames.current];
-        slot.wait()?;
         if slot.submitted {
             result.times = Some(read_times(&self.gpu, slot)?);
             if let Some(t) = result.times.filter(|t| t.trace_ms > 0.0) {
@@ -260,10 +275,6 @@ impl Viewer {
                     .clamp(1024, 1 << 26);
             }
         }
-        let ids = std::mem::take(&mut slot.textures_to_free);
-        if let Some(overlay) = self.overlay.as_mut() {
-            overlay.free_textures(&ids)?;
-        }
         let image_index = match swapchain.acquire(slot.image_acquired)? {
             Acquired::Image(i) => i,
             Acquired::OutOfDate => {
@@ -271,10 +282,6 @@ impl Viewer {
                 return Ok(result);
             }
         };
-        if let (Some(overlay), Some(frame)) = (self.overlay.as_mut(), request.overlay.as_ref()) {
-            overlay.set_textures(&frame.textures)?;
-            slot.textures_to_free = frame.textures.free.iter().copied().collect();
-        }
 
         if request.restart {
             accum.schedule.restart();
@@ -337,10 +344,9 @@ impl Viewer {
         if request.restart {
             // SAFETY: recording state; the buffer has TRANSFER_DST usage.
             unsafe { device.cmd_fill_buffer(cmd, accum.buffer.buffer, 0, vk::WHOLE_SIZE, 0) };
-            self.gpu.trace.record_params(
-                cmd,
-                &TraceParams::new(camera, request.settings),
-            );
+            self.gpu
+                .trace
+                .record_params(cmd, &TraceParams::new(camera, request.settings));
         }
         for item in &work {
             barrier(

@@ -16,11 +16,13 @@ use winit::keyboard::{Key, ModifiersState};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::{Window, WindowId};
 
-use super::bindings::{action_for_key, wheel_action, Action, PointerButton, WheelAction, WheelModifier};
+use super::bindings::{
+    action_for_key, wheel_action, Action, PointerButton, WheelAction, WheelModifier,
+};
 use super::input::{Gesture, InputState};
 use super::panel::{Panel, PanelStats};
-use super::rig::CameraRig;
 use super::player::ScriptPlayer;
+use super::rig::CameraRig;
 use super::script::ScriptEvent;
 use super::stats::FrameLog;
 use super::view::ViewMode;
@@ -137,11 +139,20 @@ impl App {
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         let settings = self.config.rig.settings();
         let (width, height) = (
-            settings.image.width.unwrap_or(crate::resolve::DEFAULT_WIDTH),
-            settings.image.height.unwrap_or(crate::resolve::DEFAULT_HEIGHT),
+            settings
+                .image
+                .width
+                .unwrap_or(crate::resolve::DEFAULT_WIDTH),
+            settings
+                .image
+                .height
+                .unwrap_or(crate::resolve::DEFAULT_HEIGHT),
         );
         let attributes = Window::default_attributes()
-            .with_title(format!("lensray preview: {}", self.config.description.source))
+            .with_title(format!(
+                "lensray preview: {}",
+                self.config.description.source
+            ))
             .with_inner_size(PhysicalSize::new(width, height));
         let window = Arc::new(
             event_loop
@@ -177,8 +188,8 @@ impl App {
         let rig = &mut self.config.rig;
         match action {
             Action::FocusUnderCursor => self.pending_pick = Some(self.input.cursor),
-            Action::FocusNearer => rig.step_focus(-1),
-            Action::FocusFarther => rig.step_focus(1),
+            Action::FocusNearer => rig.step_focus(-1.0),
+            Action::FocusFarther => rig.step_focus(1.0),
             Action::ApertureWider => rig.step_aperture(1),
             Action::ApertureNarrower => rig.step_aperture(-1),
             Action::ToggleProjection => rig.toggle_projection(),
@@ -221,8 +232,17 @@ impl App {
         let image = viewer
             .read_accumulation()?
             .context("nothing rendered yet to save")?;
-        let shading = self.last.as_ref().map(|(_, s)| s.shading);
-        output.finish(&image, shading.unwrap_or_default())?;
+        let shading = match &self.last {
+            Some((_, settings)) => settings.shading,
+            None => {
+                self.config
+                    .rig
+                    .resolve(&self.config.description.scene)?
+                    .render
+                    .shading
+            }
+        };
+        output.finish(&image, shading)?;
         eprintln!(
             "screenshot: {} ({} samples per pixel)",
             path.display(),
@@ -317,7 +337,9 @@ impl App {
         };
         let rig = &mut self.config.rig;
         let panel = &mut self.panel;
-        let output = gui.ctx.run(raw_input, |ctx| panel.ui(ctx, rig, &stats));
+        let output = gui
+            .ctx
+            .run_ui(raw_input, |ui| panel.ui(ui.ctx(), rig, &stats));
         gui.state
             .handle_platform_output(&window, output.platform_output);
         let overlay = OverlayFrame {

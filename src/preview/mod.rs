@@ -1,11 +1,17 @@
-//! `lensray preview`'s logic without a window: the interactive camera, what the window shows,
-//! the controls, scripted input, and the camera printout. The Vulkan viewer and the event loop
-//! drive these; nothing here knows about winit, Vulkan or egui, so all of it is unit-tested.
+//! `lensray preview`: the window (`app`, winit + the egui `panel`, drawn by `gpu::Viewer`) and
+//! its logic, which knows nothing of winit, Vulkan or egui and is unit-tested: the interactive
+//! camera (`rig`), what the window shows (`view`), the controls (`bindings`, `input`), scripted
+//! input (`script`, `player`), the camera printout (`snippet`) and frame statistics (`stats`).
 
+pub mod app;
 pub mod bindings;
+pub mod input;
+pub mod panel;
+pub mod player;
 pub mod rig;
 pub mod script;
 pub mod snippet;
+pub mod stats;
 pub mod view;
 
 #[cfg(test)]

@@ -91,7 +91,11 @@ impl Panel {
         ui.horizontal(|ui| {
             ui.label("Projection");
             ui.selectable_value(&mut projection, ProjectionKind::Perspective, "perspective");
-            ui.selectable_value(&mut projection, ProjectionKind::Orthographic, "orthographic");
+            ui.selectable_value(
+                &mut projection,
+                ProjectionKind::Orthographic,
+                "orthographic",
+            );
         });
         if projection != r.projection {
             rig.set_projection(projection);
@@ -100,7 +104,11 @@ impl Panel {
             if let (Some(mut focal), Some(mut n)) = (r.focal_length_mm, r.f_number) {
                 ui.label("Focal length (mm)");
                 if ui
-                    .add(egui::DragValue::new(&mut focal).speed(0.5).range(1.0..=2000.0))
+                    .add(
+                        egui::DragValue::new(&mut focal)
+                            .speed(0.5)
+                            .range(1.0..=2000.0),
+                    )
                     .changed()
                 {
                     rig.set_focal_length_mm(focal);
