@@ -96,6 +96,9 @@ struct App {
     /// What the last frame rendered: a change restarts the accumulation.
     last: Option<(Camera, RenderSettings)>,
     pending_pick: Option<Vec2>,
+    /// A scripted resize not yet seen in a drawn frame (size, when asked): `wait converged`
+    /// waits for it, or for 2 s if the window manager refuses it.
+    awaiting_size: Option<([u32; 2], Instant)>,
     spp: u32,
     converged: bool,
     last_fly: Instant,
@@ -116,6 +119,7 @@ impl App {
             log: FrameLog::default(),
             last: None,
             pending_pick: None,
+            awaiting_size: None,
             spp: 0,
             converged: false,
             last_fly: Instant::now(),
@@ -267,7 +271,17 @@ impl App {
     }
 
     fn replay_script(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
-        while let Some(event) = self.config.script.next_due(self.converged) {
+        if self
+            .awaiting_size
+            .is_some_and(|(_, asked)| asked.elapsed() > std::time::Duration::from_secs(2))
+        {
+            self.awaiting_size = None;
+        }
+        loop {
+            let settled = self.converged && self.awaiting_size.is_none();
+            let Some(event) = self.config.script.next_due(settled) else {
+                break;
+            };
             match event {
                 ScriptEvent::Key(name) => {
                     let action = action_for_key(&name)
@@ -300,6 +314,7 @@ impl App {
                     } else {
                         window.set_minimized(false);
                         let _ = window.request_inner_size(PhysicalSize::new(width, height));
+                        self.awaiting_size = Some(([width, height], Instant::now()));
                     }
                 }
                 ScriptEvent::WaitConverged => {}
@@ -375,6 +390,12 @@ impl App {
             overlay: Some(overlay),
         })?;
         if result.drawn {
+            if self
+                .awaiting_size
+                .is_some_and(|(size, _)| size == [width, height])
+            {
+                self.awaiting_size = None;
+            }
             self.last = Some(current);
             self.log.record(now, result.times);
             self.spp = result.spp;
@@ -406,6 +427,7 @@ impl App {
             || self.pending_pick.is_some()
             || self.input.fly_direction() != glam::Vec3::ZERO
             || self.config.script.pending()
+            || self.awaiting_size.is_some()
             || self.config.frames.is_some()
             || self.last.is_none()
     }

@@ -1,0 +1,323 @@
+//! The preview window as a user runs it, under a private Xvfb server started by each test, on
+//! the Vulkan device (lavapipe in CI) with validation on: the converged accumulation equals the
+//! headless render, a click focuses on the surface under the cursor, a resize storm passes
+//! without a validation message, and the keys that print or save work.
+
+mod gpu_support;
+
+use std::io::Read;
+use std::path::Path;
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use glam::{UVec2, Vec2};
+use lensray::reference::Renderer;
+use lensray::resolve::resolve;
+
+/// An Xvfb server on a free display (it picks one and tells us, `-displayfd`), stopped on drop.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start() -> Xvfb {
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1280x1024x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("cannot start Xvfb (scripts/test.sh installs the package xvfb)");
+        let mut out = child.stdout.take().expect("piped");
+        let mut number = String::new();
+        let mut byte = [0u8; 1];
+        while out.read(&mut byte).unwrap_or(0) == 1 && byte[0] != b'\n' {
+            number.push(byte[0] as char);
+        }
+        assert!(!number.is_empty(), "Xvfb did not report its display");
+        Xvfb {
+            child,
+            display: format!(":{}", number.trim()),
+        }
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Runs lensray in `dir` on `x`'s display; kills it after `limit`.
+fn lensray(x: &Xvfb, dir: &Path, args: &[&str], limit: Duration) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(args)
+        .current_dir(dir)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run lensray");
+    let start = Instant::now();
+    while child.try_wait().expect("wait").is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let out = child.wait_with_output().expect("output");
+            panic!(
+                "lensray {args:?} still ran after {limit:?}; stderr:\n{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("output")
+}
+
+const LIMIT: Duration = Duration::from_secs(120);
+
+/// The preview's options of these tests: small, few samples, depth of field on.
+const VIEW: [&str; 12] = [
+    "--width",
+    "160",
+    "--height",
+    "120",
+    "--spp",
+    "4",
+    "--seed",
+    "3",
+    "--aperture-radius",
+    "0.15",
+    "--focus-distance",
+    "8",
+];
+
+/// Runs `preview --validate` with `script` and `extra`; `None` after recording a skip.
+fn preview(test: &str, dir: &Path, script: &str, extra: &[&str]) -> Option<Output> {
+    std::fs::write(dir.join("script.txt"), script).unwrap();
+    let x = Xvfb::start();
+    let mut args = vec!["preview", "--validate", "--script", "script.txt"];
+    args.extend_from_slice(&VIEW);
+    args.extend_from_slice(extra);
+    let out = lensray(&x, dir, &args, LIMIT);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    if !out.status.success() {
+        gpu_support::skip_or_fail(test, &stderr);
+        return None;
+    }
+    assert!(
+        !stderr.contains("vulkan:"),
+        "{test}: validation messages:\n{stderr}"
+    );
+    Some(out)
+}
+
+fn read_exr(path: &Path) -> image::Rgb32FImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb32f()
+}
+
+/// With a fixed camera, the screenshot after convergence is the headless render of the same
+/// camera, spp and seed, float for float (the same samples summed in the same order).
+#[test]
+fn converged_preview_equals_the_headless_render() {
+    for shading in ["unlit", "lit"] {
+        let dir = tempfile::tempdir().unwrap();
+        let script = "0 wait converged\n0 quit\n";
+        let Some(out) = preview(
+            "converged_preview_equals_the_headless_render",
+            dir.path(),
+            script,
+            &["--shading", shading, "--screenshot", "preview.exr"],
+        ) else {
+            return;
+        };
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            stdout.contains("4 of 4 samples per pixel reached"),
+            "{stdout}"
+        );
+        let mut args = vec!["render", "--device", "gpu", "--shading", shading];
+        args.extend_from_slice(&VIEW);
+        args.extend_from_slice(&["--out", "render.exr"]);
+        let render = Command::new(env!("CARGO_BIN_EXE_lensray"))
+            .args(&args)
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert!(
+            render.status.success(),
+            "{}",
+            String::from_utf8_lossy(&render.stderr)
+        );
+        let a = read_exr(&dir.path().join("preview.exr"));
+        let b = read_exr(&dir.path().join("render.exr"));
+        assert_eq!(a.dimensions(), b.dimensions(), "window size");
+        let differing = a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count();
+        let worst = a
+            .pixels()
+            .zip(b.pixels())
+            .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+            .fold(0.0f32, f32::max);
+        if differing > 0 {
+            let keep = gpu_support::output_dir().join(format!("preview-vs-render-{shading}"));
+            let _ = std::fs::create_dir_all(&keep);
+            for f in ["preview.exr", "render.exr"] {
+                let _ = std::fs::copy(dir.path().join(f), keep.join(f));
+            }
+            panic!(
+                "{shading}: {differing} pixels differ (by up to {worst}); images in {}",
+                keep.display()
+            );
+        }
+    }
+}
+
+/// The view depth the preview's camera sees through the centre of `pixel`, traced on the CPU.
+fn traced_depth(pixel: UVec2) -> f32 {
+    let description = lensray::scene::builtin::default_scene();
+    let args = lensray::cli::args::ViewArgs {
+        width: Some(160),
+        height: Some(120),
+        aperture_radius: Some(0.15),
+        focus_distance: Some(8.0),
+        ..Default::default()
+    };
+    let settings = lensray::cli::render::merged_settings(&description.settings, &args);
+    let camera = resolve(&settings, &description.scene).unwrap().camera;
+    let ray = camera.generate_ray(pixel.as_vec2() + Vec2::splat(0.5), Vec2::splat(0.5));
+    let hit = Renderer::new(&description.scene)
+        .intersect(&ray)
+        .expect("a surface under the test pixel");
+    camera.view_depth(ray.at(hit.t))
+}
+
+/// A scripted click sets the focus distance to the depth of the object under the cursor
+/// (read from the G-buffer), within 1%.
+#[test]
+fn click_focuses_on_the_surface_under_the_cursor() {
+    // The first sphere (left, near) and the floor further back.
+    for pixel in [UVec2::new(25, 90), UVec2::new(120, 110)] {
+        let dir = tempfile::tempdir().unwrap();
+        let script = format!(
+            "0 click {}.5 {}.5\n0 wait converged\n0 quit\n",
+            pixel.x, pixel.y
+        );
+        let Some(out) = preview(
+            "click_focuses_on_the_surface_under_the_cursor",
+            dir.path(),
+            &script,
+            &[],
+        ) else {
+            return;
+        };
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let focus: f32 = stderr
+            .lines()
+            .find_map(|l| l.strip_prefix("focus: "))
+            .and_then(|r| r.split_whitespace().next())
+            .and_then(|d| d.parse().ok())
+            .unwrap_or_else(|| panic!("no focus line: {stderr}"));
+        let expected = traced_depth(pixel);
+        assert!(
+            (focus / expected - 1.0).abs() < 0.01,
+            "pixel {pixel}: focused at {focus}, the surface there is at {expected}"
+        );
+    }
+}
+
+/// Resizing to 1x1, minimising, back and forth: no crash, no validation message, and the
+/// window still converges at its last size.
+#[test]
+fn a_resize_storm_passes_without_validation_messages() {
+    let dir = tempfile::tempdir().unwrap();
+    let script = "\
+0.1 resize 1x1
+0.1 resize 0x0
+0.1 resize 320x200
+0 resize 64x64
+0.05 resize 7x300
+0.1 resize 0x0
+0.1 resize 200x150
+0 wait converged
+0 quit
+";
+    let Some(out) = preview(
+        "a_resize_storm_passes_without_validation_messages",
+        dir.path(),
+        script,
+        &["--screenshot", "after.png"],
+    ) else {
+        return;
+    };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("4 of 4 samples"), "{stdout}");
+    let shot = image::open(dir.path().join("after.png")).expect("screenshot");
+    assert_eq!((shot.width(), shot.height()), (200, 150));
+}
+
+/// C prints the camera as a scene-file snippet and a render command; P saves the
+/// accumulation; V switches the view; the panel's help lists the controls.
+#[test]
+fn keys_print_the_camera_and_save_screenshots() {
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 wait converged\n0 key C\n0 key P\n0 key V\n0.1 key 1\n0 quit\n";
+    let Some(out) = preview(
+        "keys_print_the_camera_and_save_screenshots",
+        dir.path(),
+        script,
+        &[],
+    ) else {
+        return;
+    };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("[camera]") && stdout.contains("lensray render"),
+        "{stdout}"
+    );
+    let shot = image::open(dir.path().join("lensray-preview-001.png")).expect("P screenshot");
+    assert_eq!((shot.width(), shot.height()), (160, 120));
+}
+
+#[test]
+fn help_lists_the_controls() {
+    let out = Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(["preview", "--help"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        "Controls:",
+        "left drag",
+        "Escape",
+        "--present-mode",
+        "--script",
+    ] {
+        assert!(text.contains(needle), "no {needle} in:\n{text}");
+    }
+}
+
+#[test]
+fn bad_scripts_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bad.txt"), "0 jump\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(["preview", "--script", "bad.txt"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("bad.txt") && err.contains("line 1"), "{err}");
+}
