@@ -56,6 +56,7 @@ pub struct PreviewSummary {
     pub median_gbuffer_ms: f64,
     pub spp: u32,
     pub target_spp: u32,
+    pub median_input_to_frame_ms: Option<f64>,
 }
 
 impl std::fmt::Display for PreviewSummary {
@@ -65,7 +66,11 @@ impl std::fmt::Display for PreviewSummary {
             "preview: {} frames drawn, median frame time {:.1} ms, median G-buffer pass {:.2} ms, \
              {} of {} samples per pixel reached",
             self.frames, self.median_frame_ms, self.median_gbuffer_ms, self.spp, self.target_spp
-        )
+        )?;
+        if let Some(ms) = self.median_input_to_frame_ms {
+            write!(f, ", median input to frame {ms:.1} ms")?;
+        }
+        Ok(())
     }
 }
 
@@ -99,6 +104,8 @@ struct App {
     /// A scripted resize not yet seen in a drawn frame (size, when asked): `wait converged`
     /// waits for it, or for 2 s if the window manager refuses it.
     awaiting_size: Option<([u32; 2], Instant)>,
+    /// The view of the last frame drawn.
+    shown_view: Option<ViewMode>,
     spp: u32,
     converged: bool,
     last_fly: Instant,
@@ -120,6 +127,7 @@ impl App {
             last: None,
             pending_pick: None,
             awaiting_size: None,
+            shown_view: None,
             spp: 0,
             converged: false,
             last_fly: Instant::now(),
@@ -189,6 +197,7 @@ impl App {
 
     /// Applies a discrete action (a key, the panel's buttons or the script).
     fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) -> Result<()> {
+        self.log.input(Instant::now());
         let rig = &mut self.config.rig;
         match action {
             Action::FocusUnderCursor => self.pending_pick = Some(self.input.cursor),
@@ -214,6 +223,7 @@ impl App {
     }
 
     fn gesture(&mut self, gesture: Gesture) {
+        self.log.input(Instant::now());
         match gesture {
             Gesture::Orbit(d) => self.config.rig.orbit(f64::from(d.x), f64::from(d.y)),
             Gesture::Pan(d) => self.config.rig.pan(f64::from(d.x), f64::from(d.y)),
@@ -222,6 +232,7 @@ impl App {
     }
 
     fn scroll(&mut self, steps: f64, modifier: Option<WheelModifier>) {
+        self.log.input(Instant::now());
         let rig = &mut self.config.rig;
         match wheel_action(modifier) {
             WheelAction::Dolly => rig.dolly(steps),
@@ -374,6 +385,7 @@ impl App {
             .context("camera")?;
         let current = (resolved.camera.clone(), resolved.render);
         let restart = self.last.as_ref() != Some(&current);
+        let changed = restart || Some(self.panel.view) != self.shown_view;
         let pick = self.pending_pick.take().and_then(|at| {
             let (x, y) = (at.x.floor(), at.y.floor());
             (x >= 0.0 && y >= 0.0 && (x as u32) < width && (y as u32) < height)
@@ -390,6 +402,10 @@ impl App {
             overlay: Some(overlay),
         })?;
         if result.drawn {
+            if changed {
+                self.log.shown(Instant::now());
+            }
+            self.shown_view = Some(self.panel.view);
             if self
                 .awaiting_size
                 .is_some_and(|(size, _)| size == [width, height])
@@ -445,6 +461,7 @@ impl App {
             median_gbuffer_ms: self.log.median_gbuffer_ms(),
             spp: self.spp,
             target_spp: self.panel.target_spp,
+            median_input_to_frame_ms: self.log.median_input_to_frame_ms(),
         };
         self.gui = None;
         if let Some(viewer) = self.viewer.take() {

@@ -14,6 +14,10 @@ pub struct FrameLog {
     frame_ms: Vec<f64>,
     gbuffer_ms: Vec<f64>,
     last_times: Option<FrameTimes>,
+    /// The oldest input not yet shown by a frame.
+    input_at: Option<Instant>,
+    /// From an input to the submission of the first frame that shows it, ms.
+    input_to_frame_ms: Vec<f64>,
 }
 
 impl FrameLog {
@@ -28,6 +32,24 @@ impl FrameLog {
             self.gbuffer_ms.push(t.gbuffer_ms);
             self.last_times = Some(t);
         }
+    }
+
+    /// An input that changes the picture arrived.
+    pub fn input(&mut self, at: Instant) {
+        self.input_at.get_or_insert(at);
+    }
+
+    /// The frame submitted at `at` shows every input so far.
+    pub fn shown(&mut self, at: Instant) {
+        if let Some(input) = self.input_at.take() {
+            self.input_to_frame_ms
+                .push((at - input).as_secs_f64() * 1e3);
+        }
+    }
+
+    /// Median time from an input to the submission of the frame showing it (None: no input).
+    pub fn median_input_to_frame_ms(&self) -> Option<f64> {
+        (!self.input_to_frame_ms.is_empty()).then(|| median(&self.input_to_frame_ms))
     }
 
     /// The event loop slept (converged): the next frame's interval is not a frame time.
