@@ -14,15 +14,19 @@ struct Query {
     uint sample_index;
     uint dim;
     uint hash_input;
-    uint pad;
+    uint sampler_kind;
 };
 
 struct Result {
     uint hash;          // hash_u32(hash_input)
     uint key;           // sample_key(seed, pixel_y * width + pixel_x, sample_index)
     uint sample_bits;   // floatBitsToUint(sample_1d(key, dim))
-    uint pad;
-    vec4 camera_sample; // film.xy, lens.xy of camera_sample(seed, pixel, width, sample_index)
+    uint permuted;      // laine_karras_permutation(hash_input, seed)
+    uint scrambled;     // owen_scramble_reversed(hash_input, seed)
+    uint shuffled;      // shuffle_index(hash_input, seed)
+    uint sobol;         // sobol_reversed(dim % 2, hash_input)
+    uint dimension_bits; // floatBitsToUint(sample_dimension(sampler_kind, seed, pixel index, sample_index, dim))
+    vec4 camera_sample; // film.xy, lens.xy of camera_sample(sampler_kind, seed, pixel, width, sample_index)
     vec4 origin;        // generate_ray(cam, film, lens)
     vec4 direction;
 };
@@ -42,8 +46,15 @@ void main() {
     r.hash = hash_u32(q.hash_input);
     r.key = sample_key(q.seed, q.pixel_y * q.width + q.pixel_x, q.sample_index);
     r.sample_bits = floatBitsToUint(sample_1d(r.key, q.dim));
-    r.pad = 0u;
-    CameraSample cs = camera_sample(q.seed, uvec2(q.pixel_x, q.pixel_y), q.width, q.sample_index);
+    r.permuted = laine_karras_permutation(q.hash_input, q.seed);
+    r.scrambled = owen_scramble_reversed(q.hash_input, q.seed);
+    r.shuffled = shuffle_index(q.hash_input, q.seed);
+    r.sobol = sobol_reversed(q.dim % 2u, q.hash_input);
+    uint pixel_index = q.pixel_y * q.width + q.pixel_x;
+    r.dimension_bits = floatBitsToUint(
+        sample_dimension(q.sampler_kind, q.seed, pixel_index, q.sample_index, q.dim));
+    CameraSample cs = camera_sample(q.sampler_kind, q.seed, uvec2(q.pixel_x, q.pixel_y), q.width,
+                                    q.sample_index);
     r.camera_sample = vec4(cs.film, cs.lens);
     Ray ray = generate_ray(cam, cs.film, cs.lens);
     r.origin = vec4(ray.origin, 1.0);

@@ -24,6 +24,10 @@ layout(std140, set = 0, binding = 8) uniform Params {
     uint height;
     uint seed;
     uint shading;
+    uint sampler_kind;  // SAMPLER_SOBOL or SAMPLER_INDEPENDENT
+    uint pad0;
+    uint pad1;
+    uint pad2;
 } params;
 
 // This dispatch covers the blocks of 8 rows block_first + i * block_stride (i < block_count)
@@ -111,7 +115,7 @@ void main() {
     vec3 sum = accum[slot].xyz;
     uint rays = 0u;
     for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
-        CameraSample cs = camera_sample(params.seed, uvec2(x, y), params.width, s);
+        CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y), params.width, s);
         Ray ray = generate_ray(params.cam, cs.film, cs.lens);
         sum += shade(ray, rays);
     }

@@ -12,7 +12,11 @@ use lensray::camera::{Camera, LensParams};
 use lensray::gpu::{focus_distance_at, GpuError, GpuOptions, GpuRenderer, ProbeQuery};
 use lensray::reference::Renderer as CpuRenderer;
 use lensray::render::{Image, Shading};
-use lensray::sampler::{camera_sample, hash_u32, sample_1d, sample_key};
+use lensray::sampler::owen::{laine_karras_permutation, owen_scramble_reversed, shuffle_index};
+use lensray::sampler::sobol::sobol_reversed;
+use lensray::sampler::{
+    camera_sample, hash_u32, sample_1d, sample_dimension, sample_key, SamplerKind,
+};
 
 #[test]
 fn bogus_device_index_is_a_clear_error() {
@@ -75,6 +79,7 @@ fn sampler_and_camera_mirrors_match_rust() {
             61,
         ),
     ];
+    let kinds = [SamplerKind::Sobol, SamplerKind::Independent];
     for cam in &cams {
         let queries: Vec<ProbeQuery> = (0..4096u32)
             .map(|i| ProbeQuery {
@@ -82,24 +87,45 @@ fn sampler_and_camera_mirrors_match_rust() {
                 pixel_x: i % cam.width,
                 pixel_y: (i / 7) % cam.height,
                 width: cam.width,
-                sample_index: i % 33,
+                // Small indices and large ones (the shuffled lens index uses all 32 bits).
+                sample_index: if i % 5 == 0 { hash_u32(i) } else { i % 33 },
                 dim: i % 6,
                 hash_input: i.wrapping_mul(0x9e37_79b9) ^ (i << 7),
-                pad: 0,
+                sampler_kind: kinds[(i / 2) as usize % 2].id(),
             })
             .collect();
         let results = gpu.probe_mirrors(cam, &queries).expect("probe");
         let mut worst_ray = 0.0f32;
         for (q, r) in queries.iter().zip(&results) {
             assert_eq!(r.hash, hash_u32(q.hash_input), "hash_u32({})", q.hash_input);
-            let key = sample_key(q.seed, q.pixel_y * q.width + q.pixel_x, q.sample_index);
+            let pixel_index = q.pixel_y * q.width + q.pixel_x;
+            let key = sample_key(q.seed, pixel_index, q.sample_index);
             assert_eq!(r.key, key, "sample_key for {q:?}");
             assert_eq!(
                 r.sample_bits,
                 sample_1d(key, q.dim).to_bits(),
                 "sample_1d for {q:?}"
             );
+            let (x, seed) = (q.hash_input, q.seed);
+            assert_eq!(
+                [r.permuted, r.scrambled, r.shuffled, r.sobol],
+                [
+                    laine_karras_permutation(x, seed),
+                    owen_scramble_reversed(x, seed),
+                    shuffle_index(x, seed),
+                    sobol_reversed(q.dim % 2, x),
+                ],
+                "Owen scrambling and Sobol' points of {x:#x} with seed {seed:#x}"
+            );
+            let kind = kinds[q.sampler_kind as usize];
+            assert_eq!(kind.id(), q.sampler_kind);
+            assert_eq!(
+                r.dimension_bits,
+                sample_dimension(kind, q.seed, pixel_index, q.sample_index, q.dim).to_bits(),
+                "sample_dimension for {q:?}"
+            );
             let cs = camera_sample(
+                kind,
                 q.seed,
                 UVec2::new(q.pixel_x, q.pixel_y),
                 q.width,
@@ -514,6 +540,7 @@ fn gpu_matches_cpu_on_project_scenes() {
                     height: Some(72),
                     spp: Some(4),
                     seed: Some(3),
+                    sampler: None,
                 },
                 render: RenderStyle {
                     shading: Some(shading),

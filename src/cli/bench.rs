@@ -10,6 +10,7 @@ use crate::gpu::{BenchOptions, GpuOptions};
 use crate::reference::Renderer;
 use crate::render::Shading;
 use crate::resolve::resolve;
+use crate::sampler::SamplerKind;
 use crate::scene::file::SceneDescription;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -39,6 +40,8 @@ pub struct BenchArgs {
     pub spp: u32,
     #[arg(long, value_enum, default_value_t = Shading::Unlit)]
     pub shading: Shading,
+    #[arg(long, value_enum, default_value_t = SamplerKind::default())]
+    pub sampler: SamplerKind,
     /// Timed runs (after one warm-up run).
     #[arg(long, default_value_t = 5)]
     pub runs: usize,
@@ -81,6 +84,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     settings.image.height = Some(args.height);
     settings.image.spp = Some(args.spp);
     settings.render.shading = Some(args.shading);
+    settings.image.sampler = Some(args.sampler);
     let resolved = resolve(&settings, &description.scene)?;
     let triangles = description.scene.triangle_count();
     if args.device != DeviceChoice::Cpu {
@@ -96,20 +100,21 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         )
         .context("--device gpu")?;
         println!(
-            "bench: {} ({} triangles), {:?}",
-            description.source, triangles, args.shading
+            "bench: {} ({} triangles), {:?}, {} sampler",
+            description.source, triangles, args.shading, args.sampler
         );
         print!("{report}");
         return Ok(());
     }
     println!(
-        "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, CPU reference on {} threads",
+        "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, {} sampler, CPU reference on {} threads",
         description.source,
         triangles,
         args.width,
         args.height,
         args.spp,
         args.shading,
+        args.sampler,
         rayon::current_num_threads()
     );
 

@@ -109,11 +109,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     backend.check_validation()?;
     output.finish(&image, render.shading)?;
     println!(
-        "{}: {}x{} px, {} spp, {:?} shading, {} triangles, on {}: {:.2} s total, {:.2} Mrays/s",
+        "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, on {}: {:.2} s total, {:.2} Mrays/s",
         args.out.display(),
         camera.width,
         camera.height,
         render.spp,
+        render.sampler,
         render.shading,
         description.scene.triangle_count(),
         backend.describe(),

@@ -159,7 +159,7 @@ impl GpuCamera {
 pub(crate) const SHADING_UNLIT: u32 = 0;
 pub(crate) const SHADING_LIT: u32 = 1;
 
-/// The `Params` uniform block of trace.comp (std140; 208 bytes).
+/// The `Params` uniform block of trace.comp (std140; 224 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct TraceParams {
@@ -171,6 +171,9 @@ pub(crate) struct TraceParams {
     pub height: u32,
     pub seed: u32,
     pub shading: u32,
+    /// `SamplerKind::id`.
+    pub sampler_kind: u32,
+    pub pad: [u32; 3],
 }
 
 impl TraceParams {
@@ -187,6 +190,8 @@ impl TraceParams {
                 Shading::Lit => SHADING_LIT,
                 _ => SHADING_UNLIT,
             },
+            sampler_kind: settings.sampler.id(),
+            pad: [0; 3],
         }
     }
 }
@@ -303,7 +308,7 @@ mod tests {
     #[test]
     fn std140_sizes() {
         assert_eq!(std::mem::size_of::<GpuCamera>(), 144);
-        assert_eq!(std::mem::size_of::<TraceParams>(), 144 + 48 + 16);
+        assert_eq!(std::mem::size_of::<TraceParams>(), 144 + 48 + 32);
         assert_eq!(std::mem::size_of::<RasterPush>(), 96);
     }
 }

@@ -1,5 +1,5 @@
 //! A check of the GLSL mirrors (shaders/sampler.glsl, shaders/camera.glsl): evaluates them for
-//! a list of queries with probe.comp so tests can compare against src/sampler.rs and src/camera.
+//! a list of queries with probe.comp so tests can compare against src/sampler/ and src/camera.
 
 use std::sync::Arc;
 
@@ -26,7 +26,8 @@ pub struct ProbeQuery {
     pub sample_index: u32,
     pub dim: u32,
     pub hash_input: u32,
-    pub pad: u32,
+    /// `SamplerKind::id`.
+    pub sampler_kind: u32,
 }
 
 /// What the shader computed (layout of `Result` in probe.comp).
@@ -39,8 +40,19 @@ pub struct ProbeResult {
     pub key: u32,
     /// Bits of `sample_1d(key, dim)`.
     pub sample_bits: u32,
-    pub pad: u32,
-    /// film.x, film.y, lens.x, lens.y of `camera_sample(seed, pixel, width, sample_index)`.
+    /// `laine_karras_permutation(hash_input, seed)`.
+    pub permuted: u32,
+    /// `owen_scramble_reversed(hash_input, seed)`.
+    pub scrambled: u32,
+    /// `shuffle_index(hash_input, seed)`.
+    pub shuffled: u32,
+    /// `sobol_reversed(dim % 2, hash_input)`.
+    pub sobol: u32,
+    /// Bits of `sample_dimension(sampler_kind, seed, pixel_y * width + pixel_x, sample_index,
+    /// dim)`.
+    pub dimension_bits: u32,
+    /// film.x, film.y, lens.x, lens.y of `camera_sample(sampler_kind, seed, pixel, width,
+    /// sample_index)`.
     pub camera_sample: [f32; 4],
     /// `generate_ray(camera, film, lens)`: origin (w = 1) and direction (w = 0).
     pub origin: [f32; 4],

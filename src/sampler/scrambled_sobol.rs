@@ -1,0 +1,152 @@
+//! The default sampler: padded, shuffled, Owen-scrambled Sobol' pairs (Burley 2020). The camera's
+//! four dimensions are two 2-D pairs, film and lens; each pair is the first two Sobol' dimensions,
+//! a (0, 2)-sequence, Owen-scrambled per pixel and per dimension, and the lens pair's sample order
+//! is shuffled per pixel, so film and lens are paired at random. Every 2^k samples of a pixel are
+//! thus stratified in film and in lens alike; docs/sampler.md has the measurements that chose
+//! this over the jointly stratified 4-D Sobol' points.
+
+use super::hash::{hash_u32, unit_float};
+use super::owen::{owen_scramble_reversed, shuffle_index};
+use super::sobol::sobol_reversed;
+use super::{DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y};
+
+/// The Owen-scrambling seed of dimension `dim` of the pixel with key `pixel_key`.
+#[inline]
+pub fn scramble_seed(pixel_key: u32, dim: u32) -> u32 {
+    hash_u32(pixel_key ^ dim.wrapping_mul(0x9e37_79b9))
+}
+
+/// The seed of the sample-order shuffle of 2-D pair `pair` (dimensions 2 pair, 2 pair + 1).
+#[inline]
+pub fn shuffle_seed(pixel_key: u32, pair: u32) -> u32 {
+    hash_u32(scramble_seed(pixel_key, 2 * pair))
+}
+
+/// Dimension `dim` of sample `sample_index` of the pixel with key `pixel_key`, in [0, 1), on
+/// its own. Pair 0 (film) keeps the sample order; later pairs are shuffled.
+#[inline]
+pub fn sobol_1d(pixel_key: u32, sample_index: u32, dim: u32) -> f32 {
+    let pair = dim / 2;
+    let index = if pair == 0 {
+        sample_index
+    } else {
+        shuffle_index(sample_index, shuffle_seed(pixel_key, pair))
+    };
+    unit_float(owen_scramble_reversed(
+        sobol_reversed(dim % 2, index),
+        scramble_seed(pixel_key, dim),
+    ))
+}
+
+/// What the camera's dimensions need of one pixel, computed once per pixel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SobolPixel {
+    pub film_x: u32,
+    pub film_y: u32,
+    pub lens_shuffle: u32,
+    pub lens_x: u32,
+    pub lens_y: u32,
+}
+
+#[inline]
+pub fn sobol_pixel(pixel_key: u32) -> SobolPixel {
+    SobolPixel {
+        film_x: scramble_seed(pixel_key, DIM_FILM_X),
+        film_y: scramble_seed(pixel_key, DIM_FILM_Y),
+        lens_shuffle: shuffle_seed(pixel_key, DIM_LENS_X / 2),
+        lens_x: scramble_seed(pixel_key, DIM_LENS_X),
+        lens_y: scramble_seed(pixel_key, DIM_LENS_Y),
+    }
+}
+
+/// Film offset (x, y) and lens position (x, y) of sample `sample_index`: `sobol_1d` of the
+/// camera's four dimensions.
+#[inline]
+pub fn sobol_sample(pixel: &SobolPixel, sample_index: u32) -> [f32; 4] {
+    let lens_index = shuffle_index(sample_index, pixel.lens_shuffle);
+    [
+        unit_float(owen_scramble_reversed(
+            sobol_reversed(0, sample_index),
+            pixel.film_x,
+        )),
+        unit_float(owen_scramble_reversed(
+            sobol_reversed(1, sample_index),
+            pixel.film_y,
+        )),
+        unit_float(owen_scramble_reversed(
+            sobol_reversed(0, lens_index),
+            pixel.lens_x,
+        )),
+        unit_float(owen_scramble_reversed(
+            sobol_reversed(1, lens_index),
+            pixel.lens_y,
+        )),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampler::pixel_key;
+
+    #[test]
+    fn camera_dimensions_equal_the_dimensions_on_their_own() {
+        for (seed, pixel_index) in [(0u32, 0u32), (7, 12345), (0xffff_ffff, 999)] {
+            let key = pixel_key(seed, pixel_index);
+            let pixel = sobol_pixel(key);
+            for s in (0..300).chain([1 << 20, u32::MAX]) {
+                let dims = sobol_sample(&pixel, s);
+                for (dim, &u) in dims.iter().enumerate() {
+                    assert_eq!(u.to_bits(), sobol_1d(key, s, dim as u32).to_bits());
+                }
+            }
+        }
+    }
+
+    /// The cell of (x, y) in the grid of 2^a x 2^(k - a) elementary intervals.
+    fn cell(x: f32, y: f32, k: u32, a: u32) -> usize {
+        let column = (x * (1u32 << a) as f32) as usize;
+        let row = (y * (1u32 << (k - a)) as f32) as usize;
+        (column << (k - a)) | row
+    }
+
+    /// For 2^k samples of one pixel, from `first` (a multiple of 2^k): the first (a, b) pair
+    /// whose grid of 2^a x 2^(k-a) intervals lacks a point, if any.
+    fn unstratified(key: u32, first: u32, k: u32, dims: [usize; 2]) -> Option<(u32, usize)> {
+        let pixel = sobol_pixel(key);
+        let points: Vec<[f32; 4]> = (first..first + (1 << k))
+            .map(|s| sobol_sample(&pixel, s))
+            .collect();
+        (0..=k).find_map(|a| {
+            let mut seen = vec![false; 1 << k];
+            for p in &points {
+                seen[cell(p[dims[0]], p[dims[1]], k, a)] = true;
+            }
+            let empty = seen.iter().filter(|&&s| !s).count();
+            (empty > 0).then_some((a, empty))
+        })
+    }
+
+    #[test]
+    fn film_and_lens_are_stratified_in_every_power_of_two_block() {
+        for (seed, pixel_index) in [(0u32, 0u32), (1, 5), (42, 640 * 479 + 639), (9, 77)] {
+            let key = crate::sampler::pixel_key(seed, pixel_index);
+            for k in 0..=10 {
+                for block in [0u32, 1, 3] {
+                    for (name, dims) in [("film", [0, 1]), ("lens", [2, 3])] {
+                        if let Some((a, empty)) = unstratified(key, block << k, k, dims) {
+                            panic!(
+                                "seed {seed} pixel {pixel_index}: {name} samples {}..{} leave \
+                                 {empty} of the {} intervals of 2^-{a} x 2^-{} empty",
+                                block << k,
+                                (block + 1) << k,
+                                1 << k,
+                                k - a
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
