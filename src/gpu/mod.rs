@@ -9,8 +9,8 @@
 //! Files: `instance` (instance, validation, messenger), `device` (device reports, selection,
 //! logical device, allocator, submissions), `buffer`, `image`, `query`, `accel` (BLAS/TLAS),
 //! `shader` (embedded SPIR-V), `pipeline`, `scene` (scene buffers), `gbuffer` (raster pass),
-//! `trace` (compute pass), `probe` (GLSL mirror checks), `conv` (host <-> shader layouts),
-//! `error`, `bench`.
+//! `trace` (compute pass), `probe` (GLSL mirror checks), `sampler_cost` (sample generation
+//! timed alone), `conv` (host <-> shader layouts), `error`, `bench`.
 //!
 //! ```no_run
 //! use lensray::gpu::{GpuOptions, GpuRenderer};
@@ -39,6 +39,7 @@ mod instance;
 mod pipeline;
 mod probe;
 mod query;
+mod sampler_cost;
 mod scene;
 mod shader;
 mod trace;
@@ -217,6 +218,18 @@ impl GpuRenderer {
         queries: &[ProbeQuery],
     ) -> Result<Vec<ProbeResult>, GpuError> {
         probe::run(&self.ctx, camera, queries)
+    }
+
+    /// GPU milliseconds that generating the camera samples of a render with `camera`'s size and
+    /// `settings` takes on its own (the compute pass's sample loop without tracing), to compare
+    /// with [`Timings::trace_gpu_ms`].
+    pub fn sample_generation_ms(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<f64, GpuError> {
+        check_size(camera)?;
+        sampler_cost::run(&self.ctx, camera.width, camera.height, settings)
     }
 
     /// Caps the pixel-samples per dispatch of the compute pass (tests use it to force several

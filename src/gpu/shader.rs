@@ -17,6 +17,7 @@ pub(crate) const GBUFFER_VERT: &[u8] = spirv!("gbuffer.vert");
 pub(crate) const GBUFFER_FRAG: &[u8] = spirv!("gbuffer.frag");
 pub(crate) const TRACE_COMP: &[u8] = spirv!("trace.comp");
 pub(crate) const PROBE_COMP: &[u8] = spirv!("probe.comp");
+pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
 
 /// A shader module, destroyed on drop (once its pipelines are created).
 pub(crate) struct ShaderModule<'a> {
