@@ -4,14 +4,18 @@
 //!    scene and the Cornell scene (their own camera and lit shading), through the CPU renderer;
 //!    the slope of log RMSE between 16 and 256 spp; the reference's own error.
 //! 2. What the error does between powers of two (default scene).
-//! 3. The design decision: joint 4-D Sobol' points against padded, shuffled 2-D pairs (and the
-//!    pairs without the shuffle, and independent samples), unlit, so that only the visibility
-//!    through the lens (depth of field) is measured.
+//! 3. The design decision, unlit so that only the visibility through the lens (depth of field) is
+//!    measured: the default (film and lens pairs jointly stratified through the lens index)
+//!    against padded, randomly shuffled 2-D pairs (Burley 2020), Joe and Kuo's 4-D Sobol' points,
+//!    the pairs without any shuffle, and independent samples; with the t-values of each design.
 //! 4. The cost of sample generation as a fraction of the render time, CPU and GPU.
 //!
 //! `cargo bench --bench sampler [-- --width W --height H --reference-spp N]` measures (default
 //! 320x240, reference 4096 spp). Under `cargo test --all-targets` (no `--bench` argument) it only
 //! runs a tiny smoke version. The GPU part is skipped with a line when no ray-query device exists.
+//! `cargo bench --bench sampler -- --search-lens-index [--seed S --iterations N]` reruns the
+//! search that chose `LENS_INDEX_COLUMNS` (from their first 12 columns, or from scratch with
+//! `--from-scratch`).
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -25,11 +29,12 @@ use lensray::reference::Renderer;
 use lensray::render::compare::rmse;
 use lensray::render::{Image, RenderSettings, Shading};
 use lensray::resolve::resolve;
-use lensray::sampler::owen::owen_scramble_reversed;
-use lensray::sampler::scrambled_sobol::scramble_seed;
-use lensray::sampler::sobol::sobol;
+use lensray::sampler::owen::{owen_scramble_reversed, shuffle_index};
+use lensray::sampler::quality::{camera_matrices, t_value, GeneratorMatrix};
+use lensray::sampler::scrambled_sobol::{scramble_seed, shuffle_seed};
+use lensray::sampler::sobol::{sobol, sobol_reversed, LENS_INDEX_COLUMNS, SOBOL_MATRICES};
 use lensray::sampler::{
-    pixel_camera_sample, pixel_key, pixel_sampler, sobol_pixel, sobol_sample, unit_float,
+    pixel_camera_samples, pixel_key, pixel_sampler, sobol_pixel, sobol_sample, unit_float,
     SamplerKind,
 };
 use lensray::scene::file::SceneDescription;
@@ -280,12 +285,27 @@ fn between_powers(o: &Options) {
 /// Film offset and lens position of sample `index` of the pixel with key `key`.
 type Candidate = fn(u32, u32) -> [f32; 4];
 
-fn candidate_pairs(key: u32, index: u32) -> [f32; 4] {
+/// The default: film pair at the index, lens pair at the lens index.
+fn candidate_default(key: u32, index: u32) -> [f32; 4] {
     sobol_sample(&sobol_pixel(key), index)
 }
 
-/// Sobol' dimensions 0-3 (Joe-Kuo), each Owen-scrambled: film and lens stratified jointly.
-fn candidate_joint_4d(key: u32, index: u32) -> [f32; 4] {
+/// Padded 2-D pairs (Burley 2020): the lens pair at a per-pixel random shuffle of the index.
+fn candidate_shuffled_pairs(key: u32, index: u32) -> [f32; 4] {
+    let lens = shuffle_index(index, shuffle_seed(key, 1));
+    std::array::from_fn(|d| {
+        let i = if d < 2 { index } else { lens };
+        let seed = scramble_seed(key, d as u32);
+        unit_float(owen_scramble_reversed(
+            sobol_reversed(d as u32 % 2, i),
+            seed,
+        ))
+    })
+}
+
+/// Sobol' dimensions 1-4 (Joe-Kuo), each Owen-scrambled: jointly stratified 4-D points whose
+/// lens pair is not a (0, 2)-sequence.
+fn candidate_joe_kuo_4d(key: u32, index: u32) -> [f32; 4] {
     std::array::from_fn(|d| {
         let seed = scramble_seed(key, d as u32);
         unit_float(owen_scramble_reversed(sobol(d, index).reverse_bits(), seed))
@@ -349,17 +369,18 @@ fn decision(o: &Options) {
         "== Joint 4-D Sobol' or padded 2-D pairs: unlit RMSE ({}x{}, reference {} spp)",
         o.width, o.height, o.reference_spp
     );
-    let candidates: [(&str, Candidate); 4] = [
-        ("2-D pairs, shuffled (default)", candidate_pairs),
-        ("joint 4-D Sobol'", candidate_joint_4d),
-        ("2-D pairs, unshuffled", candidate_pairs_unshuffled),
+    let candidates: [(&str, Candidate); 5] = [
+        ("pairs at the lens index (default)", candidate_default),
+        ("pairs, randomly shuffled", candidate_shuffled_pairs),
+        ("Joe-Kuo 4-D", candidate_joe_kuo_4d),
+        ("pairs, same index", candidate_pairs_unshuffled),
         ("independent", candidate_independent),
     ];
     for (name, desc) in scenes() {
         let renderer = Renderer::new(&desc.scene);
         let (camera, settings) = resolved(&desc, o.width, o.height, Some(Shading::Unlit));
         let (reference, own) = reference(&renderer, &camera, &settings, o.reference_spp);
-        // The candidate "pairs" is the renderer's own sampler: same image, bit for bit.
+        // The default candidate is the renderer's own sampler: same image, bit for bit.
         let check = RenderSettings {
             spp: 4,
             seed: 9,
@@ -367,7 +388,16 @@ fn decision(o: &Options) {
         };
         assert_eq!(
             render(&renderer, &camera, &check).pixels,
-            unlit_estimate(&renderer, &desc, &camera, &settings, candidate_pairs, 4, 9).pixels,
+            unlit_estimate(
+                &renderer,
+                &desc,
+                &camera,
+                &settings,
+                candidate_default,
+                4,
+                9
+            )
+            .pixels,
             "the benchmark's estimator differs from the renderer"
         );
         println!("{name}: reference's own RMSE ~ {own:.5}");
@@ -397,19 +427,118 @@ fn decision(o: &Options) {
     }
 }
 
+/// The generator matrices of the candidates with a digital structure (the shuffled pairs have
+/// none across pairs: their film-lens t-values are those of random pairings).
+fn t_value_table() {
+    let [i, p, c3, c4] = SOBOL_MATRICES;
+    let default = camera_matrices();
+    let designs: [(&str, [GeneratorMatrix; 4]); 2] = [
+        ("pairs at the lens index (default)", default),
+        ("Joe-Kuo 4-D", [i, p, c3, c4]),
+    ];
+    println!("== t-values of 2^m points (0 = one point in every elementary interval)");
+    for (name, [fx, fy, lx, ly]) in designs {
+        println!("{name}:");
+        println!("| m | film | lens | film x, lens x | film y, lens y | film x, lens y | film y, lens x | 4-D |");
+        for m in 1..=12 {
+            let t = |ms: &[&GeneratorMatrix]| t_value(ms, m);
+            println!(
+                "| {m} | {} | {} | {} | {} | {} | {} | {} |",
+                t(&[&fx, &fy]),
+                t(&[&lx, &ly]),
+                t(&[&fx, &lx]),
+                t(&[&fy, &ly]),
+                t(&[&fx, &ly]),
+                t(&[&fy, &lx]),
+                t(&[&fx, &fy, &lx, &ly])
+            );
+        }
+    }
+}
+
+/// The weighted t-values that `--search-lens-index` minimises for lens index columns `u`:
+/// matched film-lens pairs and the 4-D set weigh 3, crossed pairs 2, m = 1..16 (4-D to 12).
+fn lens_index_objective(u: &[u32; 16]) -> u32 {
+    let index = |i: u32| -> u32 {
+        let mut lens = i & 0xffff_0000;
+        for (bit, &column) in u.iter().enumerate() {
+            if (i >> bit) & 1 == 1 {
+                lens ^= column;
+            }
+        }
+        lens
+    };
+    let [fx, fy, _, _] = SOBOL_MATRICES;
+    let lx: GeneratorMatrix = std::array::from_fn(|j| sobol(0, index(1 << j)));
+    let ly: GeneratorMatrix = std::array::from_fn(|j| sobol(1, index(1 << j)));
+    (1..=16)
+        .map(|m| {
+            let t = |ms: &[&GeneratorMatrix]| t_value(ms, m);
+            3 * (t(&[&fx, &lx]) + t(&[&fy, &ly]))
+                + 2 * (t(&[&fx, &ly]) + t(&[&fy, &lx]))
+                + if m <= 12 {
+                    3 * t(&[&fx, &fy, &lx, &ly])
+                } else {
+                    0
+                }
+        })
+        .sum()
+}
+
+/// Hill climbing over the free bits of the lens index columns (bit c set, random lower bits):
+/// a random column's lower bits change, kept when the objective does not grow.
+fn search_lens_index(args: &[String]) {
+    let value = |name: &str, default: u32| -> u32 {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|i| args.get(i + 1))
+            .map(|v| v.parse().expect("a number"))
+            .unwrap_or(default)
+    };
+    let mut state = lensray::sampler::hash_u32(value("--seed", 3));
+    let mut next = || {
+        state = lensray::sampler::hash_u32(state.wrapping_add(0x9e37_79b9));
+        state
+    };
+    let from_scratch = args.iter().any(|a| a == "--from-scratch");
+    let fixed = if from_scratch { 1 } else { 12 };
+    let mut u: [u32; 16] = std::array::from_fn(|c| {
+        if c < fixed && !from_scratch {
+            LENS_INDEX_COLUMNS[c]
+        } else {
+            (1 << c) | (next() & ((1 << c) - 1))
+        }
+    });
+    let mut best = lens_index_objective(&u);
+    println!(
+        "start: objective {best}; the shipped columns score {}",
+        lens_index_objective(&LENS_INDEX_COLUMNS)
+    );
+    for _ in 0..value("--iterations", 1500) {
+        let c = fixed + (next() as usize % (16 - fixed));
+        let mut v = u;
+        v[c] ^= next() & ((1 << c) - 1);
+        let o = lens_index_objective(&v);
+        if o <= best {
+            (u, best) = (v, o);
+        }
+    }
+    println!("objective {best}: LENS_INDEX_COLUMNS = {u:?}");
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
 }
 
-/// Seconds to generate every camera sample of a render, as the renderer does (rows in parallel,
-/// a pixel's samples after its per-pixel set-up).
+/// Seconds to generate every camera sample of a render, as the renderer does (rows in parallel;
+/// per pixel the set-up, then packets of 16 samples).
 fn generation_seconds(camera: &Camera, settings: &RenderSettings) -> f64 {
     let start = Instant::now();
     let total: f32 = (0..camera.height)
         .into_par_iter()
         .map(|y| {
-            let mut sum = Vec2::ZERO;
+            let mut sum = [0.0f32; 16];
             for x in 0..camera.width {
                 let state = pixel_sampler(
                     settings.sampler,
@@ -417,12 +546,16 @@ fn generation_seconds(camera: &Camera, settings: &RenderSettings) -> f64 {
                     UVec2::new(x, y),
                     camera.width,
                 );
-                for s in 0..settings.spp {
-                    let c = pixel_camera_sample(&state, s);
-                    sum += c.film + c.lens;
+                for first in (0..settings.spp).step_by(16) {
+                    let dims = pixel_camera_samples::<16>(&state, first);
+                    for dim in black_box(dims) {
+                        for (s, v) in sum.iter_mut().zip(dim) {
+                            *s += v;
+                        }
+                    }
                 }
             }
-            black_box(sum).element_sum()
+            sum.iter().sum::<f32>()
         })
         .sum();
     black_box(total);
@@ -501,8 +634,16 @@ fn cost(o: &Options) {
 }
 
 fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if args.iter().any(|a| a == "--search-lens-index") {
+        search_lens_index(&args);
+        return;
+    }
     let o = options();
     let start = Instant::now();
+    if o.full {
+        t_value_table();
+    }
     cost(&o);
     rmse_table(&o);
     between_powers(&o);

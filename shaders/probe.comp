@@ -21,7 +21,7 @@ struct Result {
     uint hash;          // hash_u32(hash_input)
     uint key;           // sample_key(seed, pixel_y * width + pixel_x, sample_index)
     uint sample_bits;   // floatBitsToUint(sample_1d(key, dim))
-    uint permuted;      // laine_karras_permutation(hash_input, seed)
+    uint lens;          // lens_index(hash_input)
     uint scrambled;     // owen_scramble_reversed(hash_input, seed)
     uint shuffled;      // shuffle_index(hash_input, seed)
     uint sobol;         // sobol_reversed(dim % 2, hash_input)
@@ -46,7 +46,7 @@ void main() {
     r.hash = hash_u32(q.hash_input);
     r.key = sample_key(q.seed, q.pixel_y * q.width + q.pixel_x, q.sample_index);
     r.sample_bits = floatBitsToUint(sample_1d(r.key, q.dim));
-    r.permuted = laine_karras_permutation(q.hash_input, q.seed);
+    r.lens = lens_index(q.hash_input);
     r.scrambled = owen_scramble_reversed(q.hash_input, q.seed);
     r.shuffled = shuffle_index(q.hash_input, q.seed);
     r.sobol = sobol_reversed(q.dim % 2u, q.hash_input);

@@ -1,7 +1,7 @@
 // Mirror of src/sampler/ (mod.rs, hash.rs, independent.rs, owen.rs, sobol.rs,
 // scrambled_sobol.rs), function by function. 32-bit integer arithmetic only, so every value
 // equals the CPU's bit for bit. The generator matrices of sobol.rs are not needed here: the
-// sampler uses the closed forms of the first two Sobol' dimensions.
+// sampler uses the closed forms of the first two Sobol' dimensions (and quality.rs is analysis).
 #ifndef LENSRAY_SAMPLER_GLSL
 #define LENSRAY_SAMPLER_GLSL
 
@@ -85,6 +85,17 @@ uint sobol_reversed(uint dim, uint index) {
     return x;
 }
 
+const uint LENS_INDEX_COLUMNS[16] = uint[16](
+    1u, 3u, 4u, 13u, 22u, 41u, 85u, 194u, 429u, 803u, 1522u, 3562u, 4535u, 14805u, 21617u, 40615u);
+
+uint lens_index(uint index) {
+    uint lens = index & 0xffff0000u;
+    for (uint bit = 0u; bit < 16u; ++bit) {
+        lens ^= LENS_INDEX_COLUMNS[bit] & (0u - ((index >> bit) & 1u));
+    }
+    return lens;
+}
+
 // scrambled_sobol.rs
 
 uint scramble_seed(uint pixel_key, uint dim) {
@@ -97,7 +108,9 @@ uint shuffle_seed(uint pixel_key, uint pair) {
 
 float sobol_1d(uint pixel_key, uint sample_index, uint dim) {
     uint pair = dim / 2u;
-    uint index = pair == 0u ? sample_index : shuffle_index(sample_index, shuffle_seed(pixel_key, pair));
+    uint index = pair == 0u ? sample_index
+               : pair == 1u ? lens_index(sample_index)
+                            : shuffle_index(sample_index, shuffle_seed(pixel_key, pair));
     return unit_float(owen_scramble_reversed(sobol_reversed(dim % 2u, index),
                                              scramble_seed(pixel_key, dim)));
 }
@@ -105,7 +118,6 @@ float sobol_1d(uint pixel_key, uint sample_index, uint dim) {
 struct SobolPixel {
     uint film_x;
     uint film_y;
-    uint lens_shuffle;
     uint lens_x;
     uint lens_y;
 };
@@ -114,18 +126,17 @@ SobolPixel sobol_pixel(uint pixel_key) {
     SobolPixel p;
     p.film_x = scramble_seed(pixel_key, DIM_FILM_X);
     p.film_y = scramble_seed(pixel_key, DIM_FILM_Y);
-    p.lens_shuffle = shuffle_seed(pixel_key, DIM_LENS_X / 2u);
     p.lens_x = scramble_seed(pixel_key, DIM_LENS_X);
     p.lens_y = scramble_seed(pixel_key, DIM_LENS_Y);
     return p;
 }
 
 vec4 sobol_sample(SobolPixel pixel, uint sample_index) {
-    uint lens_index = shuffle_index(sample_index, pixel.lens_shuffle);
+    uint lens = lens_index(sample_index);
     return vec4(unit_float(owen_scramble_reversed(sobol_reversed(0u, sample_index), pixel.film_x)),
                 unit_float(owen_scramble_reversed(sobol_reversed(1u, sample_index), pixel.film_y)),
-                unit_float(owen_scramble_reversed(sobol_reversed(0u, lens_index), pixel.lens_x)),
-                unit_float(owen_scramble_reversed(sobol_reversed(1u, lens_index), pixel.lens_y)));
+                unit_float(owen_scramble_reversed(sobol_reversed(0u, lens), pixel.lens_x)),
+                unit_float(owen_scramble_reversed(sobol_reversed(1u, lens), pixel.lens_y)));
 }
 
 // mod.rs
@@ -154,7 +165,7 @@ PixelSampler pixel_sampler(uint kind, uint seed, uvec2 pixel, uint width) {
     s.kind = kind;
     s.pixel = pixel;
     s.key = pixel_key(seed, pixel.y * width + pixel.x);
-    s.sobol = kind == SAMPLER_SOBOL ? sobol_pixel(s.key) : SobolPixel(0u, 0u, 0u, 0u, 0u);
+    s.sobol = kind == SAMPLER_SOBOL ? sobol_pixel(s.key) : SobolPixel(0u, 0u, 0u, 0u);
     return s;
 }
 

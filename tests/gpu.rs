@@ -12,8 +12,8 @@ use lensray::camera::{Camera, LensParams};
 use lensray::gpu::{focus_distance_at, GpuError, GpuOptions, GpuRenderer, ProbeQuery};
 use lensray::reference::Renderer as CpuRenderer;
 use lensray::render::{Image, Shading};
-use lensray::sampler::owen::{laine_karras_permutation, owen_scramble_reversed, shuffle_index};
-use lensray::sampler::sobol::sobol_reversed;
+use lensray::sampler::owen::{owen_scramble_reversed, shuffle_index};
+use lensray::sampler::sobol::{lens_index, sobol_reversed};
 use lensray::sampler::{
     camera_sample, hash_u32, sample_1d, sample_dimension, sample_key, SamplerKind,
 };
@@ -108,14 +108,14 @@ fn sampler_and_camera_mirrors_match_rust() {
             );
             let (x, seed) = (q.hash_input, q.seed);
             assert_eq!(
-                [r.permuted, r.scrambled, r.shuffled, r.sobol],
+                [r.lens, r.scrambled, r.shuffled, r.sobol],
                 [
-                    laine_karras_permutation(x, seed),
+                    lens_index(x),
                     owen_scramble_reversed(x, seed),
                     shuffle_index(x, seed),
                     sobol_reversed(q.dim % 2, x),
                 ],
-                "Owen scrambling and Sobol' points of {x:#x} with seed {seed:#x}"
+                "lens index, Owen scrambling and Sobol' points of {x:#x} with seed {seed:#x}"
             );
             let kind = kinds[q.sampler_kind as usize];
             assert_eq!(kind.id(), q.sampler_kind);

@@ -40,8 +40,8 @@ pub struct ProbeResult {
     pub key: u32,
     /// Bits of `sample_1d(key, dim)`.
     pub sample_bits: u32,
-    /// `laine_karras_permutation(hash_input, seed)`.
-    pub permuted: u32,
+    /// `lens_index(hash_input)`.
+    pub lens: u32,
     /// `owen_scramble_reversed(hash_input, seed)`.
     pub scrambled: u32,
     /// `shuffle_index(hash_input, seed)`.

@@ -1,4 +1,4 @@
-//! The primary rays of a packet of samples at once: `pixel_camera_sample` then `Camera::generate_ray`
+//! The primary rays of a packet of samples at once: `pixel_camera_samples` then `Camera::generate_ray`
 //! for every lane, laid out by lane so the divisions and square roots vectorize. Operation for
 //! operation the same arithmetic as the camera module (glam's `transform_point3`,
 //! `transform_vector3`, `normalize`; `ThinLens::lens_ray`; `concentric_sample_disk`), so the rays
@@ -9,7 +9,7 @@ use glam::{Mat4, Vec3};
 
 use super::accel::PACKET_SIZE;
 use crate::camera::{Camera, Projection};
-use crate::sampler::{pixel_camera_sample, PixelSampler};
+use crate::sampler::{pixel_camera_samples, PixelSampler};
 
 type Lanes = [f32; PACKET_SIZE];
 
@@ -72,15 +72,12 @@ pub fn primary_rays(
     origins: &mut [Vec3; PACKET_SIZE],
     directions: &mut [Vec3; PACKET_SIZE],
 ) {
-    let mut film = Lanes3::splat(Vec3::ZERO);
-    let (mut lens_x, mut lens_y) = ([0.0; PACKET_SIZE], [0.0; PACKET_SIZE]);
-    for l in 0..PACKET_SIZE {
-        let sample = pixel_camera_sample(sampler, first + l as u32);
-        film.x[l] = sample.film.x;
-        film.y[l] = sample.film.y;
-        lens_x[l] = sample.lens.x;
-        lens_y[l] = sample.lens.y;
-    }
+    let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
+    let film = Lanes3 {
+        x: film_x,
+        y: film_y,
+        z: [0.0; PACKET_SIZE],
+    };
     // Camera::pinhole_ray_camera.
     let screen = transform(&camera.screen_from_raster, &film, true);
     let near = camera.near;

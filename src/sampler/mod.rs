@@ -3,14 +3,15 @@
 //! `shaders/sampler.glsl` mirrors this module function by function with 32-bit integer arithmetic
 //! only, so the GPU reproduces the CPU's samples bit for bit.
 //!
-//! Two kinds ([`SamplerKind`]): `sobol` (the default; padded, shuffled, Owen-scrambled Sobol'
-//! pairs, `scrambled_sobol.rs`) and `independent` (a hash per dimension: white noise, kept for
-//! comparisons). Both are progressive: sample i does not depend on how many samples are taken,
+//! Two kinds ([`SamplerKind`]): `sobol` (the default; Owen-scrambled Sobol' points stratified in
+//! film, in lens and jointly, `scrambled_sobol.rs`) and `independent` (a hash per dimension: white
+//! noise, kept for comparisons). Both are progressive: sample i does not depend on how many samples are taken,
 //! so samples 0..8 then 8..16 add up to the image of 0..16.
 
 pub mod hash;
 pub mod independent;
 pub mod owen;
+pub mod quality;
 pub mod scrambled_sobol;
 pub mod sobol;
 
@@ -134,6 +135,38 @@ pub fn pixel_camera_sample(state: &PixelSampler, sample_index: u32) -> CameraSam
     }
 }
 
+/// Film x, film y, lens x and lens y of samples `first..first + N` of the sampler's pixel, as
+/// [`pixel_camera_sample`] gives them, computed lane by lane so that the compiler vectorizes the
+/// integer work (the CPU renderer's packets; the shaders need no such batch).
+#[inline]
+pub fn pixel_camera_samples<const N: usize>(state: &PixelSampler, first: u32) -> [[f32; N]; 4] {
+    let mut dims = [[0.0f32; N]; 4];
+    match state.kind {
+        SamplerKind::Sobol => {
+            for lane in 0..N {
+                let u = sobol_sample(&state.sobol, first.wrapping_add(lane as u32));
+                for (dim, value) in dims.iter_mut().zip(u) {
+                    dim[lane] = value;
+                }
+            }
+        }
+        SamplerKind::Independent => {
+            for lane in 0..N {
+                let u = independent_sample(state.key, first.wrapping_add(lane as u32));
+                for (dim, value) in dims.iter_mut().zip(u) {
+                    dim[lane] = value;
+                }
+            }
+        }
+    }
+    let (x, y) = (state.pixel.x as f32, state.pixel.y as f32);
+    for lane in 0..N {
+        dims[0][lane] += x;
+        dims[1][lane] += y;
+    }
+    dims
+}
+
 /// Sample `sample_index` of pixel (column, row) of an image `width` pixels wide.
 #[inline]
 pub fn camera_sample(
@@ -172,6 +205,24 @@ mod tests {
                     let dim = |d| sample_dimension(kind, 11, y * 640 + x, s, d);
                     assert_eq!(c.film, Vec2::new(x as f32 + dim(0), y as f32 + dim(1)));
                     assert_eq!(c.lens, Vec2::new(dim(2), dim(3)));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn batches_equal_single_samples() {
+        for kind in KINDS {
+            let state = pixel_sampler(kind, 5, UVec2::new(600, 400), 640);
+            for first in [0u32, 16, 1 << 20, u32::MAX - 7] {
+                let [fx, fy, lx, ly] = pixel_camera_samples::<16>(&state, first);
+                for lane in 0..16 {
+                    let c = pixel_camera_sample(&state, first.wrapping_add(lane as u32));
+                    assert_eq!(
+                        [fx[lane], fy[lane], lx[lane], ly[lane]].map(f32::to_bits),
+                        [c.film.x, c.film.y, c.lens.x, c.lens.y].map(f32::to_bits),
+                        "{kind} lane {lane} from {first}"
+                    );
                 }
             }
         }

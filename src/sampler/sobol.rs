@@ -4,10 +4,11 @@
 //! projections", 2008; file new-joe-kuo-6.21201): dimension 1 is van der Corput's (the identity),
 //! dimensions 2-4 have (s, a, m) = (1, 0, [1]), (2, 1, [1, 3]), (3, 1, [1, 3, 1]).
 //!
-//! The sampler only needs the first two dimensions, a (0, 2)-sequence: every aligned block of 2^k
-//! points has one point in each of the 2^k elementary intervals of area 2^-k. Both have closed
-//! forms in the reversed digit order that Owen scrambling works in ([`sobol_reversed`]); the
-//! matrices define them and test them, and serve the 4-D variant measured in `benches/sampler.rs`.
+//! The sampler uses the first two dimensions, a (0, 2)-sequence (every aligned block of 2^k points
+//! has one point in each of the 2^k elementary intervals of area 2^-k), twice: at the sample
+//! index for the film and at [`lens_index`] of it for the lens. Both dimensions have closed forms
+//! in the reversed digit order that Owen scrambling works in ([`sobol_reversed`]); the matrices
+//! define them and test them, and serve the Joe-Kuo 4-D variant measured in `benches/sampler.rs`.
 
 /// Joe-Kuo (s, a, m_1..m_s) of dimensions 2, 3, 4 (dimension 1 is the identity).
 const JOE_KUO: [(u32, u32, [u32; 3]); 3] =
@@ -86,6 +87,29 @@ pub fn sobol_reversed(dim: u32, index: u32) -> u32 {
     x
 }
 
+/// Columns 0..16 of U, the linear map from a sample's index to its lens index: column c is the
+/// lens index of sample 2^c (bit c set, and lower bits only, so bit c of a lens index depends on
+/// the index's bits c and up: U maps every aligned block of 2^k indices onto an aligned block).
+/// Higher index bits map to themselves. The lens pair is thus
+/// the same (0, 2)-sequence as the film pair, with generator matrices (I U, P U), and U was
+/// chosen so that the four film-lens pairs and the whole 4-D set are also well stratified:
+/// hill climbing over U's free bits minimising a weighted sum of t-values for 2^1..2^16 points
+/// (`cargo bench --bench sampler -- --search-lens-index`; t-values in docs/sampler.md).
+pub const LENS_INDEX_COLUMNS: [u32; 16] = [
+    1, 3, 4, 13, 22, 41, 85, 194, 429, 803, 1522, 3562, 4535, 14805, 21617, 40615,
+];
+
+/// The lens pair's index of sample `index`: U times the index's bits (see
+/// [`LENS_INDEX_COLUMNS`]), branch-free so that it vectorizes.
+#[inline]
+pub fn lens_index(index: u32) -> u32 {
+    let mut lens = index & 0xffff_0000;
+    for (bit, &column) in LENS_INDEX_COLUMNS.iter().enumerate() {
+        lens ^= column & 0u32.wrapping_sub((index >> bit) & 1);
+    }
+    lens
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -119,6 +143,30 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    #[test]
+    fn lens_index_maps_aligned_blocks_onto_aligned_blocks() {
+        for (c, &column) in LENS_INDEX_COLUMNS.iter().enumerate() {
+            assert_eq!(
+                column >> c,
+                1,
+                "column {c} must have bit {c} as its highest"
+            );
+        }
+        for k in [0u32, 1, 4, 8, 12, 16, 18] {
+            for block in [0u32, 1, 5, 1000] {
+                let mut images: Vec<u32> = (block << k..(block + 1) << k).map(lens_index).collect();
+                images.sort_unstable();
+                let first = images[0] & !((1u32 << k) - 1);
+                let expected: Vec<u32> = (first..first + (1 << k)).collect();
+                assert_eq!(images, expected, "block {block} of 2^{k}");
+            }
+        }
+        // Linear: the image of a XOR is the XOR of the images.
+        for (a, b) in [(3u32, 5u32), (0xdead_beef, 0x1234_5678), (u32::MAX, 1)] {
+            assert_eq!(lens_index(a ^ b), lens_index(a) ^ lens_index(b));
         }
     }
 
