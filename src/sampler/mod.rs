@@ -160,10 +160,8 @@ pub fn pixel_camera_samples<const N: usize>(state: &PixelSampler, first: u32) ->
         }
     }
     let (x, y) = (state.pixel.x as f32, state.pixel.y as f32);
-    for lane in 0..N {
-        dims[0][lane] += x;
-        dims[1][lane] += y;
-    }
+    dims[0].iter_mut().for_each(|v| *v += x);
+    dims[1].iter_mut().for_each(|v| *v += y);
     dims
 }
 
@@ -238,6 +236,42 @@ mod tests {
         assert_eq!(SamplerKind::default(), SamplerKind::Sobol);
         assert_eq!(SamplerKind::Sobol.id(), 0);
         assert_eq!(SamplerKind::Independent.id(), 1);
+    }
+
+    /// Whether samples `first..first + 2^k` of pixel (0, 0) put one film point and one lens point
+    /// in each elementary interval of area 2^-k (film positions are exact at pixel 0).
+    fn stratified(kind: SamplerKind, seed: u32, first: u32, k: u32) -> bool {
+        let samples: Vec<CameraSample> = (first..first + (1 << k))
+            .map(|s| camera_sample(kind, seed, UVec2::ZERO, 64, s))
+            .collect();
+        let one_per_cell = |point: &dyn Fn(&CameraSample) -> Vec2, a: u32| {
+            let mut seen = vec![false; 1 << k];
+            for c in &samples {
+                let p = point(c);
+                let column = (p.x * (1u32 << a) as f32) as usize;
+                let row = (p.y * (1u32 << (k - a)) as f32) as usize;
+                seen[(column << (k - a)) | row] = true;
+            }
+            seen.iter().all(|&s| s)
+        };
+        (0..=k).all(|a| one_per_cell(&|c| c.film, a) && one_per_cell(&|c| c.lens, a))
+    }
+
+    #[test]
+    fn camera_samples_are_stratified_in_film_and_lens() {
+        for seed in [0, 1, 77] {
+            for k in 0..=8 {
+                for first in [0, 1 << k, 5 << k] {
+                    assert!(
+                        stratified(SamplerKind::Sobol, seed, first, k),
+                        "seed {seed}: samples {first}..{} are not stratified",
+                        first + (1 << k)
+                    );
+                }
+            }
+        }
+        // The control: independent samples leave intervals empty.
+        assert!(!stratified(SamplerKind::Independent, 0, 0, 4));
     }
 
     #[test]
