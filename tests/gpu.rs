@@ -395,6 +395,40 @@ fn split_dispatches_accumulate_identically() {
     finish(gpu, log);
 }
 
+/// Progressive rendering: samples 0..8 then 8..16, accumulated by two dispatches, give exactly
+/// the image of one dispatch of 0..16 with the default (Sobol') sampler.
+#[test]
+fn sample_ranges_add_up_to_the_whole() {
+    let Some((mut gpu, log)) = renderer("sample_ranges_add_up_to_the_whole") else {
+        return;
+    };
+    gpu.load_scene(&test_scene()).expect("load scene");
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.15,
+        focus_distance: 4.5,
+    };
+    let cam = camera(false, lens, 32, 24);
+    let s = settings(Shading::Unlit, 16);
+    assert_eq!(s.sampler, SamplerKind::Sobol);
+    let whole = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
+    gpu.set_samples_per_dispatch(32 * 24 * 8);
+    let mut calls = Vec::new();
+    let halves = gpu
+        .render(&cam, &s, &mut |done, total| calls.push((done, total)))
+        .expect("render");
+    let total = 32 * 24 * 16;
+    assert_eq!(
+        calls,
+        [(0, total), (total / 2, total), (total, total)],
+        "expected the samples 0..8 then 8..16"
+    );
+    if whole != halves {
+        let files = write_comparison(&halves, &whole, "sample-ranges");
+        panic!("samples 0..8 + 8..16 differ from 0..16; wrote {files}");
+    }
+    finish(gpu, log);
+}
+
 #[test]
 fn aovs_come_from_the_gbuffer() {
     let Some((mut gpu, log)) = renderer("aovs_come_from_the_gbuffer") else {
