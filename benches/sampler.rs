@@ -10,8 +10,8 @@
 //!    the pairs without any shuffle, and independent samples; with the t-values of each design.
 //! 4. The cost of sample generation as a fraction of the render time, CPU and GPU.
 //!
-//! `cargo bench --bench sampler [-- --width W --height H --reference-spp N]` measures (default
-//! 320x240, reference 4096 spp). Under `cargo test --all-targets` (no `--bench` argument) it only
+//! `cargo bench --bench sampler [-- --width W --height H --reference-spp N --only PART]` measures
+//! (default 320x240, reference 4096 spp; PART is one of t-values, cost, rmse, between, decision). Under `cargo test --all-targets` (no `--bench` argument) it only
 //! runs a tiny smoke version. The GPU part is skipped with a line when no ray-query device exists.
 //! `cargo bench --bench sampler -- --search-lens-index [--seed S --iterations N]` reruns the
 //! search that chose `LENS_INDEX_COLUMNS` (from their first 12 columns, or from scratch with
@@ -641,12 +641,25 @@ fn main() {
     }
     let o = options();
     let start = Instant::now();
-    if o.full {
+    let only = args
+        .iter()
+        .position(|a| a == "--only")
+        .and_then(|i| args.get(i + 1));
+    let run = |part: &str| only.is_none_or(|o| o == part);
+    if o.full && run("t-values") {
         t_value_table();
     }
-    cost(&o);
-    rmse_table(&o);
-    between_powers(&o);
-    decision(&o);
+    if run("cost") {
+        cost(&o);
+    }
+    if run("rmse") {
+        rmse_table(&o);
+    }
+    if run("between") {
+        between_powers(&o);
+    }
+    if run("decision") {
+        decision(&o);
+    }
     println!("(benchmark took {:.0} s)", start.elapsed().as_secs_f64());
 }
