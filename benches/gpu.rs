@@ -12,6 +12,7 @@ use glam::Vec3;
 use lensray::camera::{CameraParams, LensParams, ProjectionParams};
 use lensray::gpu::{bench, BenchOptions, GpuOptions};
 use lensray::render::{PointLight, RenderSettings, Shading};
+use lensray::sampler::SamplerKind;
 use lensray::scene::{Material, Mesh, Scene};
 
 /// A UV sphere with vertex normals (the scene generators' own).
@@ -89,6 +90,7 @@ fn main() {
         let settings = RenderSettings {
             spp,
             seed: 1,
+            sampler: SamplerKind::default(),
             shading,
             background: Vec3::new(0.1, 0.2, 0.3),
             light: PointLight {

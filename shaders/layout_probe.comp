@@ -19,6 +19,9 @@ layout(std430, set = 0, binding = LAYOUT_PROBE_BINDING_RASTER) readonly buffer R
 layout(std430, set = 0, binding = LAYOUT_PROBE_BINDING_MATERIALS) readonly buffer MaterialBlock {
     Material materials[2];
 };
+layout(std430, set = 0, binding = LAYOUT_PROBE_BINDING_RESOLVE) readonly buffer ResolveBlock {
+    ResolvePush resolve;
+};
 layout(push_constant) uniform PushBlock { TracePush pc; };
 
 void main() {
@@ -28,4 +31,5 @@ void main() {
     i = layout_probe_RasterPush(raster, i);
     i = layout_probe_Material(materials[0], i);
     i = layout_probe_Material(materials[1], i);
+    i = layout_probe_ResolvePush(resolve, i);
 }

@@ -6,29 +6,10 @@
 
 layout(local_size_x = PROBE_GROUP_SIZE) in;
 
-struct Query {
-    uint seed;
-    uint pixel_x;
-    uint pixel_y;
-    uint width;
-    uint sample_index;
-    uint dim;
-    uint hash_input;
-    uint pad;
-};
+// struct ProbeQuery and ProbeResult: the generated interface.glsl.
 
-struct Result {
-    uint hash;          // hash_u32(hash_input)
-    uint key;           // sample_key(seed, pixel_y * width + pixel_x, sample_index)
-    uint sample_bits;   // floatBitsToUint(sample_1d(key, dim))
-    uint pad;
-    vec4 camera_sample; // film.xy, lens.xy of camera_sample(seed, pixel, width, sample_index)
-    vec4 origin;        // generate_ray(cam, film, lens)
-    vec4 direction;
-};
-
-layout(std430, set = 0, binding = PROBE_BINDING_QUERIES) readonly buffer Queries { Query queries[]; };
-layout(std430, set = 0, binding = PROBE_BINDING_RESULTS) writeonly buffer Results { Result results[]; };
+layout(std430, set = 0, binding = PROBE_BINDING_QUERIES) readonly buffer Queries { ProbeQuery queries[]; };
+layout(std430, set = 0, binding = PROBE_BINDING_RESULTS) writeonly buffer Results { ProbeResult results[]; };
 layout(std140, set = 0, binding = PROBE_BINDING_CAMERA) uniform CameraBlock { Camera cam; };
 layout(push_constant) uniform Push { uint count; } pc;
 
@@ -37,13 +18,20 @@ void main() {
     if (i >= pc.count) {
         return;
     }
-    Query q = queries[i];
-    Result r;
+    ProbeQuery q = queries[i];
+    ProbeResult r;
     r.hash = hash_u32(q.hash_input);
     r.key = sample_key(q.seed, q.pixel_y * q.width + q.pixel_x, q.sample_index);
     r.sample_bits = floatBitsToUint(sample_1d(r.key, q.dim));
-    r.pad = 0u;
-    CameraSample cs = camera_sample(q.seed, uvec2(q.pixel_x, q.pixel_y), q.width, q.sample_index);
+    r.lens = lens_index(q.hash_input);
+    r.scrambled = owen_scramble_reversed(q.hash_input, q.seed);
+    r.shuffled = shuffle_index(q.hash_input, q.seed);
+    r.sobol = sobol_reversed(q.dim % 2u, q.hash_input);
+    uint pixel_index = q.pixel_y * q.width + q.pixel_x;
+    r.dimension_bits = floatBitsToUint(
+        sample_dimension(q.sampler_kind, q.seed, pixel_index, q.sample_index, q.dim));
+    CameraSample cs = camera_sample(q.sampler_kind, q.seed, uvec2(q.pixel_x, q.pixel_y), q.width,
+                                    q.sample_index);
     r.camera_sample = vec4(cs.film, cs.lens);
     Ray ray = generate_ray(cam, cs.film, cs.lens);
     r.origin = vec4(ray.origin, 1.0);

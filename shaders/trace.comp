@@ -89,7 +89,7 @@ void main() {
     vec3 sum = before.xyz;
     uint rays = 0u;
     for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
-        CameraSample cs = camera_sample(params.seed, uvec2(x, y), params.width, s);
+        CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y), params.width, s);
         Ray ray = generate_ray(params.camera, cs.film, cs.lens);
         sum += shade(ray, rays);
     }

@@ -167,6 +167,7 @@ pub fn resolve(settings: &Settings, scene: &Scene) -> Result<Resolved, SettingsE
     let render = RenderSettings {
         spp,
         seed: settings.image.seed.unwrap_or(0),
+        sampler: settings.image.sampler.unwrap_or_default(),
         shading: settings.render.shading.unwrap_or(Shading::Lit),
         background: colour(
             "background",

@@ -5,6 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::render::Shading;
+use crate::sampler::SamplerKind;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
@@ -38,6 +39,7 @@ pub struct ImageSettings {
     pub height: Option<u32>,
     pub spp: Option<u32>,
     pub seed: Option<u32>,
+    pub sampler: Option<SamplerKind>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
@@ -96,7 +98,7 @@ impl Settings {
             near,
             far
         );
-        overlay!(i, self.image, width, height, spp, seed);
+        overlay!(i, self.image, width, height, spp, seed, sampler);
         overlay!(r, self.render, shading, background);
         overlay!(l, self.light, position, intensity);
         self

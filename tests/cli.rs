@@ -71,12 +71,31 @@ fn default_scene_renders_png_and_exr() {
         assert_eq!((img.width(), img.height()), (48, 32), "{name} size");
         let summary = String::from_utf8_lossy(&out.stdout);
         assert!(summary.contains("Mrays/s"), "summary line: {summary}");
+        assert!(
+            summary.contains("(sobol sampler)"),
+            "summary line: {summary}"
+        );
     }
     let names: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
     assert_eq!(names.len(), 2, "only the two images remain: {names:?}");
+}
+
+#[test]
+fn sampler_option_picks_the_sampler() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = lensray(
+        &render_args(&["--sampler", "independent", "--out", "i.png"]),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let summary = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        summary.contains("(independent sampler)"),
+        "summary line: {summary}"
+    );
 }
 
 #[test]
@@ -114,6 +133,7 @@ fn bad_numbers_are_rejected_with_one_line() {
         "height",
     );
     assert_rejected(&["--spp", "0"], "spp");
+    assert_rejected(&["--sampler", "bogus"], "sampler");
     assert_rejected(&["--width", "0"], "0x32");
     assert_rejected(&["--height", "20000"], "48x20000");
     assert_rejected(&["--width", "abc"], "width");

@@ -13,7 +13,11 @@ use lensray::camera::{Camera, LensParams};
 use lensray::gpu::{focus_distance_at, GpuError, GpuOptions, GpuRenderer, ProbeQuery};
 use lensray::reference::Renderer as CpuRenderer;
 use lensray::render::{Image, Shading};
-use lensray::sampler::{camera_sample, hash_u32, sample_1d, sample_key};
+use lensray::sampler::owen::{owen_scramble_reversed, shuffle_index};
+use lensray::sampler::sobol::{lens_index, sobol_reversed};
+use lensray::sampler::{
+    camera_sample, hash_u32, sample_1d, sample_dimension, sample_key, SamplerKind,
+};
 
 #[test]
 fn bogus_device_index_is_a_clear_error() {
@@ -46,8 +50,8 @@ fn shader_layouts_match_rust() {
         return;
     };
     let report = gpu.probe_layouts().expect("layout probe");
-    // TraceParams 52 + TracePush 8 + RasterPush 24 + 2 materials x 8.
-    assert_eq!(report.scalars_checked, 52 + 8 + 24 + 16);
+    // TraceParams 56 + TracePush 8 + RasterPush 24 + 2 materials x 8 + ResolvePush 12.
+    assert_eq!(report.scalars_checked, 56 + 8 + 24 + 16 + 12);
     assert!(
         report.mismatches.is_empty(),
         "{} of {} scalars are read elsewhere than Rust wrote them:\n{}",
@@ -141,6 +145,7 @@ fn sampler_and_camera_mirrors_match_rust() {
             61,
         ),
     ];
+    let kinds = [SamplerKind::Sobol, SamplerKind::Independent];
     for cam in &cams {
         let queries: Vec<ProbeQuery> = (0..4096u32)
             .map(|i| ProbeQuery {
@@ -148,24 +153,45 @@ fn sampler_and_camera_mirrors_match_rust() {
                 pixel_x: i % cam.width,
                 pixel_y: (i / 7) % cam.height,
                 width: cam.width,
-                sample_index: i % 33,
+                // Small indices and large ones (the shuffled lens index uses all 32 bits).
+                sample_index: if i % 5 == 0 { hash_u32(i) } else { i % 33 },
                 dim: i % 6,
                 hash_input: i.wrapping_mul(0x9e37_79b9) ^ (i << 7),
-                pad: 0,
+                sampler_kind: kinds[(i / 2) as usize % 2].id(),
             })
             .collect();
         let results = gpu.probe_mirrors(cam, &queries).expect("probe");
         let mut worst_ray = 0.0f32;
         for (q, r) in queries.iter().zip(&results) {
             assert_eq!(r.hash, hash_u32(q.hash_input), "hash_u32({})", q.hash_input);
-            let key = sample_key(q.seed, q.pixel_y * q.width + q.pixel_x, q.sample_index);
+            let pixel_index = q.pixel_y * q.width + q.pixel_x;
+            let key = sample_key(q.seed, pixel_index, q.sample_index);
             assert_eq!(r.key, key, "sample_key for {q:?}");
             assert_eq!(
                 r.sample_bits,
                 sample_1d(key, q.dim).to_bits(),
                 "sample_1d for {q:?}"
             );
+            let (x, seed) = (q.hash_input, q.seed);
+            assert_eq!(
+                [r.lens, r.scrambled, r.shuffled, r.sobol],
+                [
+                    lens_index(x),
+                    owen_scramble_reversed(x, seed),
+                    shuffle_index(x, seed),
+                    sobol_reversed(q.dim % 2, x),
+                ],
+                "lens index, Owen scrambling and Sobol' points of {x:#x} with seed {seed:#x}"
+            );
+            let kind = kinds[q.sampler_kind as usize];
+            assert_eq!(kind.id(), q.sampler_kind);
+            assert_eq!(
+                r.dimension_bits,
+                sample_dimension(kind, q.seed, pixel_index, q.sample_index, q.dim).to_bits(),
+                "sample_dimension for {q:?}"
+            );
             let cs = camera_sample(
+                kind,
                 q.seed,
                 UVec2::new(q.pixel_x, q.pixel_y),
                 q.width,
@@ -435,6 +461,40 @@ fn split_dispatches_accumulate_identically() {
     finish(gpu, log);
 }
 
+/// Progressive rendering: samples 0..8 then 8..16, accumulated by two dispatches, give exactly
+/// the image of one dispatch of 0..16 with the default (Sobol') sampler.
+#[test]
+fn sample_ranges_add_up_to_the_whole() {
+    let Some((mut gpu, log)) = renderer("sample_ranges_add_up_to_the_whole") else {
+        return;
+    };
+    gpu.load_scene(&test_scene()).expect("load scene");
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.15,
+        focus_distance: 4.5,
+    };
+    let cam = camera(false, lens, 32, 24);
+    let s = settings(Shading::Unlit, 16);
+    assert_eq!(s.sampler, SamplerKind::Sobol);
+    let whole = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
+    gpu.set_samples_per_dispatch(32 * 24 * 8);
+    let mut calls = Vec::new();
+    let halves = gpu
+        .render(&cam, &s, &mut |done, total| calls.push((done, total)))
+        .expect("render");
+    let total = 32 * 24 * 16;
+    assert_eq!(
+        calls,
+        [(0, total), (total / 2, total), (total, total)],
+        "expected the samples 0..8 then 8..16"
+    );
+    if whole != halves {
+        let files = write_comparison(&halves, &whole, "sample-ranges");
+        panic!("samples 0..8 + 8..16 differ from 0..16; wrote {files}");
+    }
+    finish(gpu, log);
+}
+
 #[test]
 fn aovs_come_from_the_gbuffer() {
     let Some((mut gpu, log)) = renderer("aovs_come_from_the_gbuffer") else {
@@ -580,6 +640,7 @@ fn gpu_matches_cpu_on_project_scenes() {
                     height: Some(72),
                     spp: Some(4),
                     seed: Some(3),
+                    sampler: None,
                 },
                 render: RenderStyle {
                     shading: Some(shading),

@@ -7,7 +7,7 @@ use lensray::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray::output::linear_to_srgb;
 use lensray::reference::{Accel, Renderer, WatertightRay};
 use lensray::render::{Image, PointLight, RenderSettings, Shading};
-use lensray::sampler::hash_u32;
+use lensray::sampler::{hash_u32, SamplerKind};
 use lensray::scene::{Material, Mesh, Scene};
 
 mod edge_fit;
@@ -62,6 +62,7 @@ fn settings(shading: Shading, spp: u32) -> RenderSettings {
     RenderSettings {
         spp,
         seed: 1,
+        sampler: SamplerKind::default(),
         shading,
         background: Vec3::new(0.2, 0.3, 0.4),
         light: PointLight {
@@ -140,7 +141,13 @@ fn lit_matches_lambert_with_inverse_square() {
     for row in 0..16 {
         for col in 0..16 {
             // Recompute the sample's hit point with the same sampler, then the formula by hand.
-            let sample = lensray::sampler::camera_sample(s.seed, glam::UVec2::new(col, row), 16, 0);
+            let sample = lensray::sampler::camera_sample(
+                s.sampler,
+                s.seed,
+                glam::UVec2::new(col, row),
+                16,
+                0,
+            );
             let ray = cam.generate_ray(sample.film, sample.lens);
             let t = (-4.0 - ray.origin.z) / ray.direction.z;
             let p = ray.at(t);
@@ -597,22 +604,27 @@ fn packet_primary_rays_equal_generate_ray_bit_for_bit() {
             .expect("valid camera");
             let packet = lensray::reference::PACKET_SIZE as u32;
             for (px, py) in [(0, 0), (36, 22), (18, 11), (5, 17)] {
-                for seed in [1, 99] {
+                for (seed, kind) in [(1, SamplerKind::Sobol), (99, SamplerKind::Independent)] {
                     for first in [0, packet, 3 * packet] {
                         let pixel = glam::UVec2::new(px, py);
+                        let sampler = lensray::sampler::pixel_sampler(kind, seed, pixel, cam.width);
                         let mut origins = [Vec3::ZERO; lensray::reference::PACKET_SIZE];
                         let mut directions = origins;
                         lensray::reference::primary_rays(
                             &cam,
-                            seed,
-                            pixel,
+                            &sampler,
                             first,
                             &mut origins,
                             &mut directions,
                         );
                         for l in 0..packet {
-                            let sample =
-                                lensray::sampler::camera_sample(seed, pixel, cam.width, first + l);
+                            let sample = lensray::sampler::camera_sample(
+                                kind,
+                                seed,
+                                pixel,
+                                cam.width,
+                                first + l,
+                            );
                             let ray = cam.generate_ray(sample.film, sample.lens);
                             let bits = |v: Vec3| v.to_array().map(f32::to_bits);
                             assert_eq!(

@@ -406,6 +406,7 @@ width = 640
 height = 480
 spp = 16
 seed = 7
+sampler = "independent"
 
 [render]
 shading = "lit"
@@ -442,6 +443,10 @@ fn scene_file_with_all_sections_and_relative_mesh() {
         assert_eq!(
             (s.image.width, s.image.height, s.image.spp, s.image.seed),
             (Some(640), Some(480), Some(16), Some(7))
+        );
+        assert_eq!(
+            s.image.sampler,
+            Some(lensray::sampler::SamplerKind::Independent)
         );
         assert_eq!(s.render.shading, Some(Shading::Lit));
         assert_eq!(s.render.background, Some([0.1, 0.2, 0.3]));
@@ -525,6 +530,12 @@ fn scene_file_errors() {
         Some((3, 11)),
         "shiny",
     );
+    toml_error(
+        "sampler.toml",
+        "mesh = \"tri.obj\"\n[image]\nsampler = \"bogus\"\n",
+        Some((3, 11)),
+        "bogus",
+    );
 
     // The mesh file is missing: the message names the scene file and the OBJ.
     let e = load_err(&write(d, "gone.toml", "mesh = \"gone.obj\"\n"), "gone.toml");
@@ -592,6 +603,7 @@ fn scene_file_text_reads_back_to_the_same_settings() {
     odd.camera.sensor_height_mm = Some(24.0);
     odd.camera.eye = Some([1e-7, -3.25e12, 0.1 + 0.2]);
     odd.image.seed = Some(u32::MAX);
+    odd.image.sampler = Some(lensray::sampler::SamplerKind::Independent);
     odd.render.shading = Some(Shading::Albedo);
     cases.push(("odd".into(), odd));
     cases.push(("empty".into(), Settings::default()));

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 
 use crate::render::Shading;
+use crate::sampler::SamplerKind;
 use crate::settings::{
     CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
 };
@@ -115,6 +116,9 @@ pub struct ViewArgs {
     /// Seed of the deterministic sampler.
     #[arg(long, value_name = "S")]
     pub seed: Option<u32>,
+    /// How samples are drawn (default sobol).
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerKind>,
     #[arg(long, value_enum)]
     pub shading: Option<Shading>,
     /// Background colour, linear RGB.
@@ -151,6 +155,7 @@ impl ViewArgs {
                 height: self.height,
                 spp: self.spp,
                 seed: self.seed,
+                sampler: self.sampler,
             },
             render: RenderStyle {
                 shading: self.shading,

@@ -12,6 +12,7 @@ use crate::reference::Renderer;
 use crate::render::stats::median;
 use crate::render::Shading;
 use crate::resolve::{resolve, Resolved};
+use crate::sampler::SamplerKind;
 use crate::scene::file::SceneDescription;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -45,6 +46,8 @@ pub struct BenchArgs {
     pub spp: u32,
     #[arg(long, value_enum, default_value_t = Shading::Unlit)]
     pub shading: Shading,
+    #[arg(long, value_enum, default_value_t = SamplerKind::default())]
+    pub sampler: SamplerKind,
     /// Timed runs (after one warm-up run).
     #[arg(long, default_value_t = 5)]
     pub runs: usize,
@@ -77,6 +80,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     settings.image.height = Some(args.height);
     settings.image.spp = Some(args.spp);
     settings.render.shading = Some(args.shading);
+    settings.image.sampler = Some(args.sampler);
     let Resolved { camera, render } = resolve(&settings, &description.scene)?;
     let triangles = description.scene.triangle_count();
     let options = GpuOptions {
@@ -93,21 +97,23 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 args.runs as u32,
             )?;
             println!(
-                "bench: {} ({} triangles), {:?}",
-                description.source, triangles, args.shading
+                "bench: {} ({} triangles), {:?}, {} sampler",
+                description.source, triangles, args.shading, args.sampler
             );
             println!("{report}");
             Ok(gpu.close()?)
         }
         Backend::Cpu(_) => {
             println!(
-                "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, CPU reference on {} threads",
+                "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, {} sampler, CPU reference \
+                 on {} threads",
                 description.source,
                 triangles,
                 args.width,
                 args.height,
                 args.spp,
                 args.shading,
+                args.sampler,
                 rayon::current_num_threads()
             );
             bench_cpu(args, &description, &camera, &render);

@@ -114,11 +114,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     backend.close()?;
     output.finish(&image, render.shading)?;
     println!(
-        "{}: {}x{} px, {} spp, {:?} shading, {} triangles, on {}: {:.2} s total, {:.2} Mrays/s",
+        "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, on {}: {:.2} s total, {:.2} Mrays/s",
         args.out.display(),
         camera.width,
         camera.height,
         render.spp,
+        render.sampler,
         render.shading,
         description.scene.triangle_count(),
         device,

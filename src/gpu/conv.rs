@@ -155,6 +155,10 @@ impl TraceParams {
                 Shading::Lit => SHADING_LIT,
                 _ => SHADING_UNLIT,
             },
+            sampler_kind: settings.sampler.id(),
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         }
     }
 }

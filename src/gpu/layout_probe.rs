@@ -17,8 +17,9 @@ use super::pipeline::Pipeline;
 use super::shader;
 use crate::interface::glsl::{scalars_of, GlslStruct};
 use crate::interface::{
-    GpuMaterial, RasterPush, TraceParams, TracePush, LAYOUT_PROBE_BINDING_MATERIALS,
+    GpuMaterial, RasterPush, ResolvePush, TraceParams, TracePush, LAYOUT_PROBE_BINDING_MATERIALS,
     LAYOUT_PROBE_BINDING_OUT, LAYOUT_PROBE_BINDING_PARAMS, LAYOUT_PROBE_BINDING_RASTER,
+    LAYOUT_PROBE_BINDING_RESOLVE,
 };
 
 /// What the probe found: how many scalars it compared, and a line per one read elsewhere.
@@ -53,6 +54,7 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
     let push: TracePush = patterned(2);
     let raster: RasterPush = patterned(3);
     let materials: [GpuMaterial; 2] = [patterned(4), patterned(5)];
+    let resolve: ResolvePush = patterned(6);
     let mut want = Vec::new();
     expected(&params, &mut want);
     expected(&push, &mut want);
@@ -60,6 +62,7 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
     for m in &materials {
         expected(m, &mut want);
     }
+    expected(&resolve, &mut want);
 
     let (storage, uniform) = (
         vk::DescriptorType::STORAGE_BUFFER,
@@ -71,6 +74,7 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
         (LAYOUT_PROBE_BINDING_PARAMS, uniform, compute),
         (LAYOUT_PROBE_BINDING_RASTER, storage, compute),
         (LAYOUT_PROBE_BINDING_MATERIALS, storage, compute),
+        (LAYOUT_PROBE_BINDING_RESOLVE, storage, compute),
     ];
     let pipeline = Pipeline::compute(
         ctx,
@@ -103,6 +107,13 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
         bytemuck::cast_slice(&materials),
         vk::BufferUsageFlags::STORAGE_BUFFER,
     )?;
+    let resolve_buffer = Buffer::with_data(
+        ctx,
+        "layout probe resolve",
+        bytemuck::bytes_of(&resolve),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?;
+    pipeline.bind_buffer(LAYOUT_PROBE_BINDING_RESOLVE, storage, &resolve_buffer);
     pipeline.bind_buffer(LAYOUT_PROBE_BINDING_OUT, storage, &output);
     pipeline.bind_buffer(LAYOUT_PROBE_BINDING_PARAMS, uniform, &params_buffer);
     pipeline.bind_buffer(LAYOUT_PROBE_BINDING_RASTER, storage, &raster_buffer);

@@ -10,8 +10,10 @@
 //! logical device, allocator, submissions), `buffer`, `image`, `query`, `accel` (BLAS/TLAS),
 //! `shader` (embedded SPIR-V), `pipeline`, `scene` (scene buffers), `gbuffer` (raster pass),
 //! `trace` (compute pass), `probe` (GLSL mirror checks), `layout_probe` (shared struct layouts
-//! as the shaders read them), `conv` (host data -> the structs of `crate::interface`),
-//! `error`, `bench`.
+//! as the shaders read them), `sampler_cost` (sample generation timed alone), `conv` (host data
+//! -> the structs of `crate::interface`), `error`, `bench`; for the preview window: `surface`,
+//! `swapchain`, `frames` (frames in flight), `resolve` (display pass), `overlay` (egui panel),
+//! `viewer`.
 //!
 //! ```no_run
 //! use lensray::gpu::{GpuOptions, GpuRenderer};
@@ -44,6 +46,7 @@ mod pipeline;
 mod probe;
 mod query;
 mod resolve;
+mod sampler_cost;
 mod scene;
 mod shader;
 mod surface;
@@ -278,6 +281,18 @@ impl GpuRenderer {
     #[doc(hidden)]
     pub fn probe_layouts(&mut self) -> Result<LayoutReport, GpuError> {
         layout_probe::run(&self.ctx)
+    }
+
+    /// GPU milliseconds that generating the camera samples of a render with `camera`'s size and
+    /// `settings` takes on its own (the compute pass's sample loop without tracing), to compare
+    /// with [`Timings::trace_gpu_ms`].
+    pub fn sample_generation_ms(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<f64, GpuError> {
+        check_size(camera)?;
+        sampler_cost::run(&self.ctx, camera.width, camera.height, settings)
     }
 
     /// Caps the pixel-samples per dispatch of the compute pass (tests use it to force several

@@ -1,10 +1,9 @@
 //! A check of the GLSL mirrors (shaders/sampler.glsl, shaders/camera.glsl): evaluates them for
-//! a list of queries with probe.comp so tests can compare against src/sampler.rs and src/camera.
+//! a list of queries with probe.comp so tests can compare against src/sampler/ and src/camera.
 
 use std::sync::Arc;
 
 use ash::vk;
-use bytemuck::{Pod, Zeroable};
 use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier, Buffer};
@@ -16,38 +15,7 @@ use crate::camera::Camera;
 use crate::interface::{
     GpuCamera, PROBE_BINDING_CAMERA, PROBE_BINDING_QUERIES, PROBE_BINDING_RESULTS, PROBE_GROUP_SIZE,
 };
-
-/// One evaluation request (layout of `Query` in probe.comp).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ProbeQuery {
-    pub seed: u32,
-    pub pixel_x: u32,
-    pub pixel_y: u32,
-    pub width: u32,
-    pub sample_index: u32,
-    pub dim: u32,
-    pub hash_input: u32,
-    pub pad: u32,
-}
-
-/// What the shader computed (layout of `Result` in probe.comp).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct ProbeResult {
-    /// `hash_u32(hash_input)`.
-    pub hash: u32,
-    /// `sample_key(seed, pixel_y * width + pixel_x, sample_index)`.
-    pub key: u32,
-    /// Bits of `sample_1d(key, dim)`.
-    pub sample_bits: u32,
-    pub pad: u32,
-    /// film.x, film.y, lens.x, lens.y of `camera_sample(seed, pixel, width, sample_index)`.
-    pub camera_sample: [f32; 4],
-    /// `generate_ray(camera, film, lens)`: origin (w = 1) and direction (w = 0).
-    pub origin: [f32; 4],
-    pub direction: [f32; 4],
-}
+pub use crate::interface::{ProbeQuery, ProbeResult};
 
 pub(crate) fn run(
     ctx: &Arc<Context>,

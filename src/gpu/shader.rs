@@ -19,6 +19,7 @@ pub(crate) const TRACE_COMP: &[u8] = spirv!("trace.comp");
 pub(crate) const PROBE_COMP: &[u8] = spirv!("probe.comp");
 pub(crate) const LAYOUT_PROBE_COMP: &[u8] = spirv!("layout_probe.comp");
 pub(crate) const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
+pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
 
 /// A shader module, destroyed on drop (once its pipelines are created).
 pub(crate) struct ShaderModule<'a> {

@@ -185,21 +185,28 @@ pub fn scalars_of<S: GlslStruct>() -> Vec<Scalar> {
     out
 }
 
-/// A constant's GLSL type and literal.
+/// A constant's GLSL declaration.
 pub trait GlslConst {
-    fn glsl(&self) -> (&'static str, String);
+    fn declaration(&self, name: &str) -> String;
 }
 
 impl GlslConst for u32 {
-    fn glsl(&self) -> (&'static str, String) {
-        ("uint", format!("{self}u"))
+    fn declaration(&self, name: &str) -> String {
+        format!("const uint {name} = {self}u;")
     }
 }
 
 impl GlslConst for f32 {
-    fn glsl(&self) -> (&'static str, String) {
+    fn declaration(&self, name: &str) -> String {
         // Debug prints the shortest text that reads back as the same f32 ("1e30", "0.0001").
-        ("float", format!("{self:?}"))
+        format!("const float {name} = {self:?};")
+    }
+}
+
+impl<const N: usize> GlslConst for [u32; N] {
+    fn declaration(&self, name: &str) -> String {
+        let items: Vec<String> = self.iter().map(|v| format!("{v}u")).collect();
+        format!("const uint {name}[{N}] = uint[{N}]({});", items.join(", "))
     }
 }
 
@@ -235,10 +242,9 @@ impl HeaderWriter {
     }
 
     pub fn constant<T: GlslConst>(&mut self, name: &str, doc: &[&str], value: T) {
-        let (ty, literal) = value.glsl();
         self.comment(doc, "");
-        self.text
-            .push_str(&format!("const {ty} {name} = {literal};\n"));
+        self.text.push_str(&value.declaration(name));
+        self.text.push('\n');
     }
 
     pub fn structure<S: GlslStruct>(&mut self, doc: &[&str]) {

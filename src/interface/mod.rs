@@ -22,7 +22,7 @@ mod tests {
         // Hand-computed std140: two mat4 (128) + 4 scalars = 144; then three vec4 and four
         // scalars.
         assert_eq!(GpuCamera::size(Layout::Std140), 144);
-        assert_eq!(TraceParams::size(Layout::Std140), 144 + 48 + 16);
+        assert_eq!(TraceParams::size(Layout::Std140), 144 + 48 + 32);
         assert_eq!(RasterPush::size(Layout::Std430), 96);
         assert_eq!(std::mem::offset_of!(TraceParams, width), 192);
     }
@@ -44,7 +44,7 @@ mod tests {
         assert!(header.contains("struct TraceParams {\n    Camera camera;"));
         assert!(header.contains("uint layout_probe_Camera(Camera v, uint i)"));
         let scalars = scalars_of::<TraceParams>();
-        assert_eq!(scalars.len(), 144 / 4 + 12 + 4);
+        assert_eq!(scalars.len(), 144 / 4 + 12 + 8);
         assert_eq!(scalars[17].path, "v.camera.screen_from_raster[0][1]");
         assert_eq!(scalars[17].offset, 64 + 4);
     }

@@ -32,6 +32,23 @@ shader_interface! {
         VIEW_DEPTH: u32 = 3;
         VIEW_COC: u32 = 4;
 
+        /// Sample dimensions the camera takes (sampler::camera_sample); later consumers take
+        /// dimensions from DIM_FIRST_FREE on.
+        DIM_FILM_X: u32 = 0;
+        DIM_FILM_Y: u32 = 1;
+        DIM_LENS_X: u32 = 2;
+        DIM_LENS_Y: u32 = 3;
+        DIM_FIRST_FREE: u32 = 4;
+        /// `TraceParams.sampler_kind` (`sampler::SamplerKind`).
+        SAMPLER_SOBOL: u32 = 0;
+        SAMPLER_INDEPENDENT: u32 = 1;
+        /// Columns of the lens pair's index map (sampler/sobol.rs, lens_index): a fixed linear
+        /// remapping of the sample index's 16 low bits, found by a search for joint film x lens
+        /// stratification (`cargo bench --bench sampler -- --search-lens-index`).
+        LENS_INDEX_COLUMNS: [u32; 16] = [
+            1, 3, 4, 13, 22, 41, 85, 194, 429, 803, 1522, 3562, 4535, 14805, 21617, 40615,
+        ];
+
         /// Workgroups: trace.comp is TRACE_GROUP_SIZE x TRACE_GROUP_SIZE (a coherent tile).
         TRACE_GROUP_SIZE: u32 = 8;
         PROBE_GROUP_SIZE: u32 = 64;
@@ -58,11 +75,14 @@ shader_interface! {
         RESOLVE_BINDING_ALBEDO: u32 = 2;
         RESOLVE_BINDING_VIEW_DEPTH: u32 = 3;
         RESOLVE_BINDING_DISPLAY: u32 = 4;
+        /// sampler_cost.comp (the benchmark of sample generation alone).
+        SAMPLER_COST_BINDING_SUMS: u32 = 0;
         /// layout_probe.comp.
         LAYOUT_PROBE_BINDING_OUT: u32 = 0;
         LAYOUT_PROBE_BINDING_PARAMS: u32 = 1;
         LAYOUT_PROBE_BINDING_RASTER: u32 = 2;
         LAYOUT_PROBE_BINDING_MATERIALS: u32 = 3;
+        LAYOUT_PROBE_BINDING_RESOLVE: u32 = 4;
     }
     structs {
         /// The camera as the shaders see it (shaders/camera.glsl); there is no second camera:
@@ -88,6 +108,11 @@ shader_interface! {
             seed: u32,
             /// SHADING_*
             shading: u32,
+            /// SAMPLER_* (`sampler::SamplerKind::id`).
+            sampler_kind: u32,
+            pad0: u32,
+            pad1: u32,
+            pad2: u32,
         }
         /// Push constants of one trace.comp dispatch: the blocks of TRACE_GROUP_SIZE rows
         /// block_first + i * block_stride (i < block_count) of the band of band_height rows from
@@ -129,6 +154,52 @@ shader_interface! {
             coc_display_max: f32,
             pad0: u32,
             pad1: u32,
+        }
+        /// Push constants of sampler_cost.comp.
+        Std430 struct SamplerCostPush as SamplerCostPush {
+            width: u32,
+            height: u32,
+            seed: u32,
+            /// SAMPLER_*
+            sampler_kind: u32,
+            spp: u32,
+        }
+        /// One request of probe.comp (the GLSL mirror check).
+        Std430 struct ProbeQuery as ProbeQuery {
+            seed: u32,
+            pixel_x: u32,
+            pixel_y: u32,
+            width: u32,
+            sample_index: u32,
+            dim: u32,
+            hash_input: u32,
+            /// SAMPLER_*
+            sampler_kind: u32,
+        }
+        /// What probe.comp computed for a query.
+        Std430 struct ProbeResult as ProbeResult {
+            /// hash_u32(hash_input)
+            hash: u32,
+            /// sample_key(seed, pixel_y * width + pixel_x, sample_index)
+            key: u32,
+            /// bits of sample_1d(key, dim)
+            sample_bits: u32,
+            /// lens_index(hash_input)
+            lens: u32,
+            /// owen_scramble_reversed(hash_input, seed)
+            scrambled: u32,
+            /// shuffle_index(hash_input, seed)
+            shuffled: u32,
+            /// sobol_reversed(dim % 2, hash_input)
+            sobol: u32,
+            /// bits of sample_dimension(sampler_kind, seed, pixel index, sample_index, dim)
+            dimension_bits: u32,
+            /// film.xy, lens.xy of camera_sample(sampler_kind, seed, pixel, width, sample_index)
+            camera_sample: [f32; 4],
+            /// generate_ray(camera, film, lens): origin (w = 1)
+            origin: [f32; 4],
+            /// ... and direction (w = 0)
+            direction: [f32; 4],
         }
         /// A material of the scene's storage buffer.
         Std430 struct GpuMaterial as Material {

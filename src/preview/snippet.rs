@@ -104,6 +104,7 @@ pub fn explicit_settings(settings: &Settings, resolved: &Resolved) -> Settings {
             height: Some(camera.height),
             spp: Some(render.spp),
             seed: Some(render.seed),
+            sampler: Some(render.sampler),
         },
         render: RenderStyle {
             shading: Some(render.shading),
@@ -186,6 +187,7 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>) -> String {
     option("height", i.height.map(|x| x.to_string()));
     option("spp", i.spp.map(|x| x.to_string()));
     option("seed", i.seed.map(|x| x.to_string()));
+    option("sampler", i.sampler.map(|s| s.name().to_string()));
     option("shading", r.shading.map(value_name));
     option("background", r.background.map(triple));
     option("light-position", l.position.map(triple));

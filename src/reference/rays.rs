@@ -1,15 +1,15 @@
-//! The primary rays of a packet of samples at once: `camera_sample` then `Camera::generate_ray`
+//! The primary rays of a packet of samples at once: `pixel_camera_samples` then `Camera::generate_ray`
 //! for every lane, laid out by lane so the divisions and square roots vectorize. Operation for
 //! operation the same arithmetic as the camera module (glam's `transform_point3`,
 //! `transform_vector3`, `normalize`; `ThinLens::lens_ray`; `concentric_sample_disk`), so the rays
 //! are bit-identical to `Camera::generate_ray` (tests/reference.rs checks it); the camera module
 //! stays the definition the GLSL mirrors.
 
-use glam::{Mat4, UVec2, Vec3};
+use glam::{Mat4, Vec3};
 
 use super::accel::PACKET_SIZE;
 use crate::camera::{Camera, Projection};
-use crate::sampler::camera_sample;
+use crate::sampler::{pixel_camera_samples, PixelSampler};
 
 type Lanes = [f32; PACKET_SIZE];
 
@@ -62,25 +62,22 @@ fn normalize(v: &mut Lanes3) {
     }
 }
 
-/// World-space primary rays of samples `first..first + PACKET_SIZE` of `pixel` (the caller uses
-/// the first `spp - first` of them), as `Camera::generate_ray(sample.film, sample.lens)` makes them.
+/// World-space primary rays of samples `first..first + PACKET_SIZE` of the sampler's pixel (the
+/// caller uses the first `spp - first` of them), as `Camera::generate_ray(sample.film,
+/// sample.lens)` makes them.
 pub fn primary_rays(
     camera: &Camera,
-    seed: u32,
-    pixel: UVec2,
+    sampler: &PixelSampler,
     first: u32,
     origins: &mut [Vec3; PACKET_SIZE],
     directions: &mut [Vec3; PACKET_SIZE],
 ) {
-    let mut film = Lanes3::splat(Vec3::ZERO);
-    let (mut lens_x, mut lens_y) = ([0.0; PACKET_SIZE], [0.0; PACKET_SIZE]);
-    for l in 0..PACKET_SIZE {
-        let sample = camera_sample(seed, pixel, camera.width, first + l as u32);
-        film.x[l] = sample.film.x;
-        film.y[l] = sample.film.y;
-        lens_x[l] = sample.lens.x;
-        lens_y[l] = sample.lens.y;
-    }
+    let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
+    let film = Lanes3 {
+        x: film_x,
+        y: film_y,
+        z: [0.0; PACKET_SIZE],
+    };
     // Camera::pinhole_ray_camera.
     let screen = transform(&camera.screen_from_raster, &film, true);
     let near = camera.near;

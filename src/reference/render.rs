@@ -12,6 +12,7 @@ use super::rays::primary_rays;
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
 use crate::render::{Image, RenderSettings, Shading};
+use crate::sampler::pixel_sampler;
 use crate::scene::{Material, Scene};
 
 /// Rows rendered between two progress reports.
@@ -134,16 +135,10 @@ impl Renderer {
         let mut origins = [Vec3::ZERO; PACKET_SIZE];
         let mut directions = [Vec3::ZERO; PACKET_SIZE];
         let mut hits = [None; PACKET_SIZE];
+        let sampler = pixel_sampler(settings.sampler, settings.seed, pixel, camera.width);
         for first in (0..settings.spp).step_by(PACKET_SIZE) {
             let n = (settings.spp - first).min(PACKET_SIZE as u32) as usize;
-            primary_rays(
-                camera,
-                settings.seed,
-                pixel,
-                first,
-                &mut origins,
-                &mut directions,
-            );
+            primary_rays(camera, &sampler, first, &mut origins, &mut directions);
             self.accel.closest_hits(
                 &origins[..n],
                 &directions[..n],

@@ -1,5 +1,6 @@
 //! What every renderer (CPU reference, GPU paths) shares: what to compute and the image it fills.
 
+pub mod compare;
 pub mod film;
 pub mod progressive;
 pub mod settings;

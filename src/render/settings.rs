@@ -3,6 +3,8 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+use crate::sampler::SamplerKind;
+
 /// What a pixel shows. `Unlit` and `Lit` are traced through the thin lens; the rest are AOVs:
 /// the raster G-buffer's content, the surface seen by the aperture-centre ray at each pixel centre.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize, clap::ValueEnum)]
@@ -40,6 +42,8 @@ pub struct RenderSettings {
     /// Samples per pixel, >= 1.
     pub spp: u32,
     pub seed: u32,
+    /// How the camera's samples are drawn.
+    pub sampler: SamplerKind,
     pub shading: Shading,
     /// Linear RGB seen on a miss.
     pub background: Vec3,

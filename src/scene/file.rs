@@ -16,6 +16,7 @@
 //! width = 640
 //! height = 480
 //! spp = 32
+//! sampler = "sobol"
 //! [render]
 //! shading = "lit"
 //! background = [0.0, 0.0, 0.0]

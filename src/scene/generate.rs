@@ -287,6 +287,7 @@ pub(crate) fn describe(
                 height: Some(480),
                 spp: Some(spp),
                 seed: None,
+                sampler: None,
             },
             render: RenderStyle {
                 shading: Some(Shading::Lit),

@@ -8,6 +8,7 @@ use glam::Vec3;
 use lensray::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray::gpu::{GpuError, GpuOptions, GpuRenderer, ValidationLog};
 use lensray::render::{Image, PointLight, RenderSettings, Shading};
+use lensray::sampler::SamplerKind;
 use lensray::scene::{Material, Mesh, Scene};
 
 /// Opens the renderer with validation on. If that fails, the test fails, with one exception:
@@ -215,6 +216,7 @@ pub fn settings(shading: Shading, spp: u32) -> RenderSettings {
     RenderSettings {
         spp,
         seed: 7,
+        sampler: SamplerKind::default(),
         shading,
         background: BACKGROUND,
         light: PointLight {

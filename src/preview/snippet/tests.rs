@@ -42,6 +42,7 @@ fn file_settings() -> Settings {
             height: Some(120),
             spp: Some(8),
             seed: Some(7),
+            sampler: Some(crate::sampler::SamplerKind::Independent),
         },
         render: RenderStyle {
             shading: Some(Shading::Unlit),
@@ -195,7 +196,7 @@ fn every_value_is_written() {
     let expected = format!(
         "lensray render --scene scenes/cube.toml --projection perspective --eye 0.3,0.7,5 \
          --target 0,0.1,0 --up 0,1,0 --vfov 40 --aperture-radius 0.1 --focus-distance 4.5 \
-         --near {near} --far {} --width 160 --height 120 --spp 8 --seed 7 --shading unlit \
+         --near {near} --far {} --width 160 --height 120 --spp 8 --seed 7 --sampler independent --shading unlit \
          --background 0.1,0.2,0.3 --light-position {},{},{} --light-intensity ",
         resolved.camera.far as f64, light.x, light.y, light.z,
     );
