@@ -11,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/setup.sh >/dev/null
 cargo build --release --quiet
-bin=$PWD/target/release/lensray
+bin=$(realpath "${CARGO_TARGET_DIR:-target}")/release/lensray
 work=$(mktemp -d)
 xvfb=""
 cleanup() { [ -n "$xvfb" ] && kill "$xvfb" 2>/dev/null; rm -rf "$work"; }

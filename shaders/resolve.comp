@@ -36,23 +36,24 @@ void main() {
         return;
     }
     ivec2 q = ivec2(p);
-    vec4 normal = imageLoad(g_normal, q);  // w = 1 where a surface covers the pixel
-    vec3 albedo = imageLoad(g_albedo, q).xyz;
-    float depth = imageLoad(g_depth, q).x;
+    // Each view loads only the images it needs (lavapipe pays for every load).
     vec3 shown;
     if (pc.view == VIEW_FINAL) {
         vec4 a = accum[p.y * pc.width + p.x];
-        shown = a.w > 0.0 ? encode_srgb(a.xyz / a.w) : encode_srgb(albedo);
+        // Pixels the accumulation has not reached yet show the pinhole albedo meanwhile.
+        shown = encode_srgb(a.w > 0.0 ? a.xyz / a.w : imageLoad(g_albedo, q).xyz);
     } else if (pc.view == VIEW_ALBEDO) {
-        shown = encode_srgb(albedo);
+        shown = encode_srgb(imageLoad(g_albedo, q).xyz);
     } else if (pc.view == VIEW_NORMAL) {
+        vec4 normal = imageLoad(g_normal, q);  // w = 1 where a surface covers the pixel
         shown = normal.w > 0.5 ? 0.5 * normal.xyz + 0.5 : vec3(0.0);
     } else if (pc.view == VIEW_DEPTH) {
-        shown = vec3(depth / pc.far_z);
+        shown = vec3(imageLoad(g_depth, q).x / pc.far_z);
     } else {
         // Circle of confusion: grey from 0 (sharp) to white at coc_display_max pixels, pixels
-        // sharper than half a pixel in green (what the focus plane cuts).
-        if (normal.w < 0.5) {
+        // sharper than half a pixel in green (what the focus plane cuts). Depth 0: no surface.
+        float depth = imageLoad(g_depth, q).x;
+        if (depth <= 0.0) {
             shown = vec3(0.0);
         } else {
             float coc = coc_radius_pixels(pc.projection, pc.aperture_radius, pc.focus_distance,
