@@ -106,6 +106,8 @@ struct App {
     awaiting_size: Option<([u32; 2], Instant)>,
     /// The view of the last frame drawn.
     shown_view: Option<ViewMode>,
+    /// The window has no area: nothing to draw until it comes back.
+    minimised: bool,
     spp: u32,
     converged: bool,
     last_fly: Instant,
@@ -128,6 +130,7 @@ impl App {
             pending_pick: None,
             awaiting_size: None,
             shown_view: None,
+            minimised: false,
             spp: 0,
             converged: false,
             last_fly: Instant::now(),
@@ -342,8 +345,10 @@ impl App {
         };
         let size = window.inner_size();
         let Some([width, height]) = viewer.prepare([size.width, size.height])? else {
-            return Ok(()); // minimised
+            self.minimised = true;
+            return Ok(());
         };
+        self.minimised = false;
         let now = Instant::now();
         let fly = self.input.fly_direction();
         if fly != glam::Vec3::ZERO {
@@ -582,6 +587,22 @@ impl ApplicationHandler for App {
         }
         if let Err(e) = self.replay_script(event_loop) {
             self.fail(event_loop, e);
+            return;
+        }
+        if self.minimised {
+            // Nothing to draw: wake for the script's next event, or when the window returns
+            // (its resize event asks for a frame).
+            self.log.pause();
+            let wake = self.config.script.pending().then(|| {
+                self.config
+                    .script
+                    .next_wake()
+                    .unwrap_or_else(|| Instant::now() + std::time::Duration::from_millis(50))
+            });
+            event_loop.set_control_flow(match wake {
+                Some(at) => ControlFlow::WaitUntil(at),
+                None => ControlFlow::Wait,
+            });
             return;
         }
         if self.busy() {
