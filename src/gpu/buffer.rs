@@ -174,3 +174,21 @@ pub(crate) fn barrier(
         )
     };
 }
+
+/// Orders writes of `src_stage` (with `src_access`) before host reads of mapped memory: the
+/// last command of every readback.
+pub(crate) fn barrier_to_host(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    src_stage: vk::PipelineStageFlags,
+    src_access: vk::AccessFlags,
+) {
+    barrier(
+        ctx,
+        cmd,
+        src_stage,
+        src_access,
+        vk::PipelineStageFlags::HOST,
+        vk::AccessFlags::HOST_READ,
+    );
+}

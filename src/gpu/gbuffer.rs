@@ -9,7 +9,7 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
-use super::buffer::{barrier, Buffer};
+use super::buffer::{barrier_to_host, Buffer};
 use super::device::Context;
 use super::error::{vk_err, GpuError};
 use super::image::Image;
@@ -420,13 +420,11 @@ impl GBufferPass {
                     )
                 };
             }
-            barrier(
+            barrier_to_host(
                 ctx,
                 cmd,
                 vk::PipelineStageFlags::TRANSFER,
                 vk::AccessFlags::TRANSFER_WRITE,
-                vk::PipelineStageFlags::HOST,
-                vk::AccessFlags::HOST_READ,
             );
             Ok(())
         })?;

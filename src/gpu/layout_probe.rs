@@ -10,7 +10,7 @@ use ash::vk;
 use bytemuck::Pod;
 use gpu_allocator::MemoryLocation;
 
-use super::buffer::{barrier, Buffer};
+use super::buffer::{barrier_to_host, Buffer};
 use super::device::Context;
 use super::error::GpuError;
 use super::pipeline::Pipeline;
@@ -122,13 +122,11 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
         pipeline.bind(cmd, bytemuck::bytes_of(&push));
         // SAFETY: compute pipeline and complete set bound.
         unsafe { ctx.device.cmd_dispatch(cmd, 1, 1, 1) };
-        barrier(
+        barrier_to_host(
             ctx,
             cmd,
             vk::PipelineStageFlags::COMPUTE_SHADER,
             vk::AccessFlags::SHADER_WRITE,
-            vk::PipelineStageFlags::HOST,
-            vk::AccessFlags::HOST_READ,
         );
         Ok(())
     })?;

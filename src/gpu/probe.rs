@@ -6,7 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::buffer::{barrier, Buffer};
+use super::buffer::{barrier_to_host, Buffer};
 use super::device::Context;
 use super::error::GpuError;
 use super::pipeline::Pipeline;
@@ -66,13 +66,11 @@ pub(crate) fn run(
             ctx.device
                 .cmd_dispatch(cmd, count.div_ceil(PROBE_GROUP_SIZE), 1, 1)
         };
-        barrier(
+        barrier_to_host(
             ctx,
             cmd,
             vk::PipelineStageFlags::COMPUTE_SHADER,
             vk::AccessFlags::SHADER_WRITE,
-            vk::PipelineStageFlags::HOST,
-            vk::AccessFlags::HOST_READ,
         );
         Ok(())
     })?;

@@ -8,7 +8,7 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
-use super::buffer::{barrier, Buffer};
+use super::buffer::{barrier, barrier_to_host, Buffer};
 use super::device::Context;
 use super::error::GpuError;
 use super::pipeline::{Binding, Pipeline};
@@ -451,13 +451,11 @@ impl TracePass {
                         .cmd_copy_buffer(cmd, a.accum.buffer, a.readback.buffer, &[region])
                 };
             }
-            barrier(
+            barrier_to_host(
                 ctx,
                 cmd,
                 vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
                 vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE,
-                vk::PipelineStageFlags::HOST,
-                vk::AccessFlags::HOST_READ,
             );
             Ok(())
         })

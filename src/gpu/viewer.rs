@@ -10,7 +10,7 @@ use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
-use super::buffer::{barrier, Buffer};
+use super::buffer::{barrier, barrier_to_host, Buffer};
 use super::error::{vk_err, GpuError};
 use super::frames::{FrameSlot, Frames, FRAMES_IN_FLIGHT};
 use super::image::{transition, Transition};
@@ -452,13 +452,11 @@ impl Viewer {
                 ctx.device
                     .cmd_copy_buffer(cmd, accum.buffer.buffer, readback.buffer, &[region])
             };
-            barrier(
+            barrier_to_host(
                 &ctx,
                 cmd,
                 vk::PipelineStageFlags::TRANSFER,
                 vk::AccessFlags::TRANSFER_WRITE,
-                vk::PipelineStageFlags::HOST,
-                vk::AccessFlags::HOST_READ,
             );
             Ok(())
         })?;
@@ -580,13 +578,11 @@ fn record_pick(
             &[region],
         )
     };
-    barrier(
+    barrier_to_host(
         ctx,
         cmd,
         vk::PipelineStageFlags::TRANSFER,
         vk::AccessFlags::TRANSFER_WRITE,
-        vk::PipelineStageFlags::HOST,
-        vk::AccessFlags::HOST_READ,
     );
 }
 
