@@ -10,6 +10,7 @@ pub mod cli;
 pub mod gpu;
 pub mod interface;
 pub mod output;
+pub mod paths;
 pub mod preview;
 pub mod reference;
 pub mod render;

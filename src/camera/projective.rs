@@ -69,6 +69,19 @@ impl Camera {
         }
     }
 
+    /// The same camera with another film resolution (same field of view and lens).
+    pub fn with_resolution(&self, width: u32, height: u32) -> Self {
+        Self::new(
+            self.projection,
+            self.frame,
+            self.lens,
+            self.near,
+            self.far,
+            width,
+            height,
+        )
+    }
+
     pub fn is_orthographic(&self) -> bool {
         matches!(self.projection, Projection::Orthographic { .. })
     }

@@ -2,7 +2,10 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, ValueEnum};
+use clap::Args;
+
+use crate::gpu::GpuOptions;
+use crate::paths::{DeviceChoice, PathChoice, PathOptions};
 
 use crate::render::Shading;
 use crate::sampler::SamplerKind;
@@ -42,14 +45,44 @@ pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum DeviceChoice {
-    /// The GPU when a Vulkan device with ray queries exists, else the CPU.
-    Auto,
-    /// The CPU reference renderer.
-    Cpu,
-    /// The Vulkan renderer; an error when no device has ray queries.
-    Gpu,
+/// Which device and which algorithm: shared by `render`, `bench` and `preview`.
+#[derive(Args, Clone, Copy, Debug, Default)]
+pub struct PathArgs {
+    /// Which algorithm renders: rayquery (Vulkan ray queries), software (lensray's BVH in the
+    /// compute shader: any Vulkan device), cpu (the reference), or auto: the fastest the device
+    /// supports, measured on a small render of the shot.
+    #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
+    pub path: PathChoice,
+    /// Which device: a Vulkan device (gpu), the CPU, or auto: a Vulkan device when one is
+    /// usable, else the CPU.
+    #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
+    pub device: DeviceChoice,
+    /// Turn on the Vulkan validation layer; any warning or error fails the command.
+    #[arg(long)]
+    pub validate: bool,
+    /// Use this Vulkan device (index from `lensray info`).
+    #[arg(long, value_name = "INDEX")]
+    pub gpu: Option<usize>,
+    /// Act as if the Vulkan device had no ray queries (to try the software path where it
+    /// would be the only one).
+    #[arg(long)]
+    pub hide_ray_query: bool,
+}
+
+impl PathArgs {
+    pub fn options(&self) -> PathOptions {
+        PathOptions {
+            path: self.path,
+            device: self.device,
+            gpu: crate::gpu::with_hidden_ray_query(
+                GpuOptions {
+                    validate: self.validate,
+                    device_index: self.gpu,
+                },
+                self.hide_ray_query,
+            ),
+        }
+    }
 }
 
 /// Camera, image and shading options; each overrides the scene file.

@@ -5,10 +5,8 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 
-use super::args::DeviceChoice;
-use super::backend::Backend;
-use crate::gpu::GpuOptions;
-use crate::reference::Renderer;
+use super::args::PathArgs;
+use crate::paths::{self, OpenedPath};
 use crate::render::stats::median;
 use crate::render::Shading;
 use crate::resolve::{resolve, Resolved};
@@ -25,13 +23,8 @@ pub enum BenchScene {
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// cpu: the CPU reference; gpu: the Vulkan passes, timed with timestamps; auto: the GPU
-    /// when a device with ray queries exists, else the CPU (as `render`).
-    #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
-    pub device: DeviceChoice,
-    /// Use this Vulkan device (index from `lensray info`).
-    #[arg(long, value_name = "INDEX")]
-    pub gpu: Option<usize>,
+    #[command(flatten)]
+    pub path: PathArgs,
     /// A named scene...
     #[arg(long, value_enum, default_value_t = BenchScene::Default, conflicts_with = "scene_file")]
     pub scene: BenchScene,
@@ -83,93 +76,43 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     settings.image.sampler = Some(args.sampler);
     let Resolved { camera, render } = resolve(&settings, &description.scene)?;
     let triangles = description.scene.triangle_count();
-    let options = GpuOptions {
-        validate: false,
-        device_index: args.gpu,
-    };
-    match Backend::open(args.device, &options, &description.scene)? {
-        Backend::Gpu(mut gpu) => {
-            let report = crate::gpu::bench_renderer(
-                &mut gpu,
-                &description.scene,
-                &camera,
-                &render,
-                args.runs as u32,
-            )?;
-            println!(
-                "bench: {} ({} triangles), {:?}, {} sampler",
-                description.source, triangles, args.shading, args.sampler
-            );
-            println!("{report}");
-            Ok(gpu.close()?)
-        }
-        Backend::Cpu(_) => {
-            println!(
-                "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, {} sampler, CPU reference \
-                 on {} threads",
-                description.source,
-                triangles,
-                args.width,
-                args.height,
-                args.spp,
-                args.shading,
-                args.sampler,
-                rayon::current_num_threads()
-            );
-            bench_cpu(args, &description, &camera, &render);
-            Ok(())
-        }
-    }
-}
-
-fn bench_cpu(
-    args: &BenchArgs,
-    description: &SceneDescription,
-    camera: &crate::camera::Camera,
-    render: &crate::render::RenderSettings,
-) {
-    let mut builds = Vec::new();
-    let mut renderer = None;
-    for _ in 0..args.runs.min(3) {
-        let r = Renderer::new(&description.scene);
-        builds.push(r.bvh_build_time().as_secs_f64());
-        renderer = Some(r);
-    }
-    let renderer = renderer.expect("at least one build");
+    let OpenedPath { mut path, why } =
+        paths::open(&args.path.options(), &description.scene, (&camera, &render))?;
     println!(
-        "  BVH build: median {:.3} s over {} builds",
-        median(&builds),
-        builds.len()
+        "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, {} sampler, path {} ({why}) on {}",
+        description.source,
+        triangles,
+        args.width,
+        args.height,
+        args.spp,
+        args.shading,
+        args.sampler,
+        path.kind(),
+        path.device_name()
     );
-
-    // Warm-up: page in the BVH and spin up the thread pool.
-    let _ = renderer.render(camera, render, &mut |_, _| {});
+    // Warm-up: compiles pipelines, pages in the BVH, spins up the thread pool.
+    path.render(&camera, &render, &mut |_, _| {})?;
     let mut rates = Vec::new();
     let mut times = Vec::new();
     for run in 0..args.runs {
-        let (_, stats) = renderer.render(camera, render, &mut |_, _| {});
-        let rate = stats.rays_per_second() / 1e6;
+        let before = path.report();
+        path.render(&camera, &render, &mut |_, _| {})?;
+        let report = path.report().since(&before);
+        let rate = report.rays_per_second() / 1e6;
         println!(
             "  run {}: {:.3} s, {} rays, {:.2} Mrays/s",
             run + 1,
-            stats.elapsed.as_secs_f64(),
-            stats.rays,
+            report.trace_seconds,
+            report.rays,
             rate
         );
         rates.push(rate);
-        times.push(stats.elapsed.as_secs_f64());
+        times.push(report.trace_seconds);
     }
-    let per_core = median(&rates) / rayon::current_num_threads() as f64;
-    let what = if render.shading.is_aov() {
-        // An AOV is one traced ray per pixel centre: say how many images per second that is.
-        format!(", {:.1} AOV images/s", 1.0 / median(&times).max(1e-9))
-    } else {
-        String::new()
-    };
     println!(
-        "  median: {:.3} s, {:.2} Mrays/s ({:.2} Mrays/s per thread){what}",
+        "  median: {:.3} s, {:.2} Mrays/s",
         median(&times),
-        median(&rates),
-        per_core
+        median(&rates)
     );
+    path.close()
 }

@@ -1,7 +1,6 @@
 //! The command line: one module per subcommand.
 
 pub mod args;
-pub mod backend;
 pub mod bench;
 pub mod generate;
 pub mod info;

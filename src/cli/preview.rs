@@ -5,9 +5,9 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 
-use super::args::ViewArgs;
+use super::args::{PathArgs, ViewArgs};
 use super::render::{load_scene, merged_settings};
-use crate::gpu::{GpuOptions, PresentMode, ViewerOptions};
+use crate::gpu::{PresentMode, ViewerOptions};
 use crate::preview::app::{run as run_window, PreviewConfig};
 use crate::preview::player::ScriptPlayer;
 use crate::preview::{CameraRig, ViewMode};
@@ -32,12 +32,8 @@ pub struct PreviewArgs {
     /// `wait converged`, `screenshot FILE`, `quit`; one per line after a delay in seconds).
     #[arg(long, value_name = "FILE")]
     pub script: Option<PathBuf>,
-    /// Turn on the Vulkan validation layer; any warning or error fails the command.
-    #[arg(long)]
-    pub validate: bool,
-    /// Use this Vulkan device (index from `lensray info`).
-    #[arg(long, value_name = "INDEX")]
-    pub gpu: Option<usize>,
+    #[command(flatten)]
+    pub path: PathArgs,
 }
 
 pub fn run(args: &PreviewArgs) -> Result<()> {
@@ -60,10 +56,7 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
         description,
         rig,
         viewer: ViewerOptions {
-            gpu: GpuOptions {
-                validate: args.validate,
-                device_index: args.gpu,
-            },
+            gpu: args.path.options().gpu,
             present_mode: args.present_mode,
         },
         view: args.initial_view,

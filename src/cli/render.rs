@@ -6,11 +6,12 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 
-use super::args::{parse_pixel, DeviceChoice, ViewArgs};
-use super::backend::Backend;
+use super::args::{parse_pixel, PathArgs, ViewArgs};
 use super::progress::{Progress, ProgressMode};
-use crate::gpu::GpuOptions;
+use crate::camera::Camera;
 use crate::output::PendingOutput;
+use crate::paths::{self, OpenedPath};
+use crate::render::path::RenderPath;
 use crate::resolve::{resolve, Resolved};
 use crate::scene::file::SceneDescription;
 use crate::settings::Settings;
@@ -21,21 +22,14 @@ pub const DEFAULT_OUTPUT: &str = "lensray.png";
 pub struct RenderArgs {
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Which renderer: the GPU (Vulkan ray queries) or the CPU reference.
-    #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
-    pub device: DeviceChoice,
+    #[command(flatten)]
+    pub path: PathArgs,
     /// Output image: .png (sRGB) or .exr (linear float).
     #[arg(long, value_name = "FILE", default_value = DEFAULT_OUTPUT)]
     pub out: PathBuf,
     /// Autofocus: focus on the surface seen at this pixel (column,row).
     #[arg(long, value_parser = parse_pixel, value_name = "X,Y")]
     pub focus_at: Option<[u32; 2]>,
-    /// Turn on the Vulkan validation layer; any warning or error fails the command.
-    #[arg(long)]
-    pub validate: bool,
-    /// Use this Vulkan device (index from `lensray info`).
-    #[arg(long, value_name = "INDEX")]
-    pub gpu: Option<usize>,
     /// How to show progress: a bar on a terminal, plain lines, or nothing.
     #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
     pub progress: ProgressMode,
@@ -69,11 +63,9 @@ impl Default for RenderArgs {
     fn default() -> Self {
         Self {
             view: ViewArgs::default(),
-            device: DeviceChoice::Auto,
+            path: PathArgs::default(),
             out: PathBuf::from(DEFAULT_OUTPUT),
             focus_at: None,
-            validate: false,
-            gpu: None,
             progress: ProgressMode::Auto,
         }
     }
@@ -91,13 +83,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         mut render,
     } = resolve(&settings, &description.scene).with_context(context)?;
 
-    let options = GpuOptions {
-        validate: args.validate,
-        device_index: args.gpu,
-    };
-    let mut backend = Backend::open(args.device, &options, &description.scene)?;
+    let OpenedPath { mut path, why } =
+        paths::open(&args.path.options(), &description.scene, (&camera, &render))?;
     if let Some(pixel) = args.focus_at {
-        let focus = backend.focus_distance_at(&camera, pixel)?;
+        let focus = focus_depth_at(path.as_mut(), &camera, pixel)?;
         settings.camera.focus_distance = Some(focus as f64);
         Resolved { camera, render } =
             resolve(&settings, &description.scene).with_context(context)?;
@@ -108,13 +97,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
 
     let mut progress = Progress::new("rendering", args.progress);
-    let (image, report) = backend.render(&camera, &render, &mut |d, t| progress.update(d, t))?;
+    let before = path.report();
+    let image = path.render(&camera, &render, &mut |d, t| progress.update(d, t))?;
     progress.finish();
-    let device = backend.describe();
-    backend.close()?;
+    let report = path.report().since(&before);
+    let (kind, device) = (path.kind(), path.device_name());
+    path.close()?;
     output.finish(&image, render.shading)?;
     println!(
-        "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, on {}: {:.2} s total, {:.2} Mrays/s",
+        "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, path {kind} ({why}) on {}: {:.2} s total, {:.2} Mrays/s",
         args.out.display(),
         camera.width,
         camera.height,
@@ -124,7 +115,21 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         description.scene.triangle_count(),
         device,
         start.elapsed().as_secs_f64(),
-        report.rays as f64 / report.trace_seconds.max(1e-9) / 1e6
+        report.rays_per_second() / 1e6
     );
     Ok(())
+}
+
+/// Autofocus: the view depth at `pixel`, or an error naming the pixel when it shows no surface.
+fn focus_depth_at(path: &mut dyn RenderPath, camera: &Camera, pixel: [u32; 2]) -> Result<f32> {
+    let [x, y] = pixel;
+    if x >= camera.width || y >= camera.height {
+        anyhow::bail!(
+            "--focus-at {x},{y} lies outside the {}x{} image",
+            camera.width,
+            camera.height
+        );
+    }
+    path.focus_depth_at(camera, pixel)?
+        .with_context(|| format!("--focus-at {x},{y}: no surface at that pixel to focus on"))
 }

@@ -52,6 +52,7 @@ mod shader;
 mod surface;
 mod swapchain;
 mod trace;
+mod traversal_shim;
 mod viewer;
 
 use std::sync::Arc;
@@ -59,7 +60,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use crate::camera::Camera;
-use crate::render::{Image, RenderSettings, Shading};
+use crate::render::{Accumulation, Image, RenderSettings, Shading};
 use crate::scene::Scene;
 
 pub use bench::{bench, bench_renderer, BenchOptions, BenchReport, BenchedPass};
@@ -71,6 +72,7 @@ pub use layout_probe::LayoutReport;
 pub use overlay::OverlayFrame;
 pub use probe::{ProbeQuery, ProbeResult};
 pub use trace::Timings;
+pub use traversal_shim::{with_hidden_ray_query, with_traversal, Traversal};
 pub use viewer::{FrameRequest, FrameResult, FrameTimes, PresentMode, Viewer, ViewerOptions};
 
 use device::Context;
@@ -214,8 +216,15 @@ impl GpuRenderer {
         }
         match settings.shading {
             Shading::Unlit | Shading::Lit => {
-                self.trace
-                    .render(camera, settings, &mut self.timings, progress)
+                let mut accumulation = Accumulation::new(camera.width, camera.height);
+                self.accumulate(
+                    camera,
+                    settings,
+                    0..settings.spp,
+                    &mut accumulation,
+                    progress,
+                )?;
+                Ok(accumulation.image())
             }
             aov => {
                 progress(0, 1);
@@ -235,6 +244,37 @@ impl GpuRenderer {
                 })
             }
         }
+    }
+
+    /// Traces samples `samples` (thin lens, `Unlit` or `Lit`) of every pixel and adds them to
+    /// `accumulation`, which has the camera's size. `progress(done, total)` counts
+    /// pixel-samples.
+    pub fn accumulate(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: std::ops::Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(), GpuError> {
+        check_size(camera)?;
+        if settings.shading.is_aov() {
+            return Err(GpuError::Invalid(format!(
+                "{:?} is read from the G-buffer: it has no samples to accumulate",
+                settings.shading
+            )));
+        }
+        if self.scene.is_none() {
+            return Err(GpuError::NoScene);
+        }
+        self.trace.accumulate(
+            camera,
+            settings,
+            samples,
+            accumulation,
+            &mut self.timings,
+            progress,
+        )
     }
 
     /// Destroys every Vulkan object, then, with validation on, fails on any message the layer
@@ -265,6 +305,11 @@ impl GpuRenderer {
 
     pub fn timings(&self) -> Timings {
         self.timings
+    }
+
+    /// Bytes of device memory allocated now (every buffer and image of the renderer).
+    pub fn allocated_bytes(&self) -> u64 {
+        self.ctx.allocator().generate_report().total_allocated_bytes
     }
 
     /// Evaluates the GLSL sampler and camera mirrors for `queries` with `camera` (tests).

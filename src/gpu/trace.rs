@@ -2,10 +2,10 @@
 //! split into dispatches of bounded size (bands of rows x ranges of samples), one submission
 //! each, accumulating sums in a float buffer; the host divides by spp at the end.
 
+use std::ops::Range;
 use std::sync::Arc;
 
 use ash::vk;
-use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier, barrier_to_host, Buffer};
@@ -20,7 +20,7 @@ use crate::interface::{
     TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_COUNTERS, TRACE_BINDING_PARAMS,
     TRACE_BINDING_TLAS, TRACE_GROUP_SIZE as GROUP,
 };
-use crate::render::{Image, RenderSettings};
+use crate::render::{Accumulation, RenderSettings};
 
 /// Pixel-samples of the first dispatches: ~0.03-0.1 s on lavapipe (2 cores, 80k triangles).
 const INITIAL_SAMPLES_PER_DISPATCH: u64 = 1 << 16;
@@ -99,7 +99,7 @@ pub(crate) struct TracePass {
     counters: Buffer,
     timestamps: QueryPool,
     /// Accumulation and readback buffers of the current image size.
-    accum: Option<Accumulation>,
+    accum: Option<DeviceSums>,
     first_dispatch_done: bool,
     /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
     pub samples_per_dispatch: u64,
@@ -237,17 +237,29 @@ impl TracePass {
         };
     }
 
-    /// Renders with the scene last bound by `bind_scene`.
-    pub fn render(
+    /// Adds samples `samples` of every pixel to `accumulation` (of the camera's size), with the
+    /// scene last bound by `bind_scene`. Each band's sums go to the device and come back, and
+    /// the shader adds sample after sample to them, so any split of a range gives the same sums.
+    pub fn accumulate(
         &mut self,
         camera: &Camera,
         settings: &RenderSettings,
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
         timings: &mut Timings,
         progress: &mut dyn FnMut(u64, u64),
-    ) -> Result<Image, GpuError> {
+    ) -> Result<(), GpuError> {
         let (width, height) = (camera.width, camera.height);
-        let spp = settings.spp.max(1);
         let pixels = u64::from(width) * u64::from(height);
+        if (accumulation.width, accumulation.height) != (width, height) {
+            return Err(GpuError::Invalid(format!(
+                "accumulation {}x{} does not match the {width}x{height} image",
+                accumulation.width, accumulation.height
+            )));
+        }
+        if samples.is_empty() {
+            return Ok(());
+        }
         // The sums live in a storage buffer covering a band of rows, bounded by the device's
         // storage-buffer range (128 MiB on lavapipe); bands are copied into the readback buffer.
         let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
@@ -259,7 +271,7 @@ impl TracePass {
         if self
             .accum
             .as_ref()
-            .is_none_or(|a| a.accum_bytes != accum_bytes || a.readback_bytes != readback_bytes)
+            .is_none_or(|a| a.accum_bytes != accum_bytes || a.staging_bytes != readback_bytes)
         {
             self.accum = None;
             let accum = Buffer::new(
@@ -271,11 +283,12 @@ impl TracePass {
                     | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuOnly,
             )?;
-            let readback = Buffer::new(
+            // Host-visible both ways: the sums go up through it and come back into it.
+            let staging = Buffer::new(
                 &self.ctx,
-                "trace readback",
+                "trace sums staging",
                 readback_bytes,
-                vk::BufferUsageFlags::TRANSFER_DST,
+                vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuToCpu,
             )?;
             self.pipeline.bind_buffer(
@@ -283,23 +296,29 @@ impl TracePass {
                 vk::DescriptorType::STORAGE_BUFFER,
                 &accum,
             );
-            self.accum = Some(Accumulation {
+            self.accum = Some(DeviceSums {
                 accum,
-                readback,
+                staging,
                 accum_bytes,
-                readback_bytes,
+                staging_bytes: readback_bytes,
             });
         }
+        self.accum
+            .as_mut()
+            .expect("created above")
+            .staging
+            .write(bytemuck::cast_slice(&accumulation.sums))?;
         self.params
             .write(bytemuck::bytes_of(&TraceParams::new(camera, settings)))?;
 
-        let total = pixels * u64::from(spp);
+        let (first_sample, spp) = (samples.start, samples.end);
+        let total = pixels * u64::from(spp - first_sample);
         let mut done = 0u64;
         progress(0, total);
         let mut band_origin = 0;
         while band_origin < height {
             let band_height = band_rows.min(height - band_origin);
-            let mut sample_begin = 0;
+            let mut sample_begin = first_sample;
             let mut first_of_band = true;
             while sample_begin < spp {
                 // Re-planned per range of samples, from the latest measured speed. Any split
@@ -347,17 +366,10 @@ impl TracePass {
             band_origin += band_height;
         }
 
-        let readback = &self.accum.as_ref().expect("created above").readback;
-        let sums: &[[f32; 4]] = bytemuck::cast_slice(readback.read()?);
-        let spp_f = spp as f32;
-        Ok(Image {
-            width,
-            height,
-            pixels: sums[..pixels as usize]
-                .iter()
-                .map(|s| Vec3::new(s[0], s[1], s[2]) / spp_f)
-                .collect(),
-        })
+        let staging = &self.accum.as_ref().expect("created above").staging;
+        let sums: &[[f32; 4]] = bytemuck::cast_slice(staging.read()?);
+        accumulation.sums.copy_from_slice(&sums[..pixels as usize]);
+        Ok(())
     }
 
     /// Adds the last dispatch's GPU time and ray count (the pipeline's first dispatch apart),
@@ -386,15 +398,16 @@ impl TracePass {
         Ok(())
     }
 
-    /// One submission: optional clear of the band's sums, one dispatch between two timestamps,
-    /// optional copy of `copy_out` bytes of sums into the readback buffer at the band's rows.
+    /// One submission: optional upload of the band's sums from the staging buffer (`load`), one
+    /// dispatch between two timestamps, optional copy of `copy_out` bytes of sums back into the
+    /// staging buffer at the band's rows.
     /// The dispatch covers the blocks of GROUP rows `block_first + i * block_stride`,
     /// i < block_count, of the band.
     fn dispatch(
         &self,
         push: TracePush,
         width: u32,
-        clear: bool,
+        load: bool,
         copy_out: Option<u64>,
     ) -> Result<(), GpuError> {
         let ctx = &self.ctx;
@@ -410,11 +423,20 @@ impl TracePass {
                 vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
             );
             self.timestamps.reset(cmd);
-            // SAFETY: recording state; both buffers have TRANSFER_DST usage.
+            let band = vk::BufferCopy::default()
+                .src_offset(0)
+                .dst_offset(u64::from(push.band_origin) * u64::from(width) * 16)
+                .size(u64::from(push.band_height) * u64::from(width) * 16);
+            // SAFETY: recording state; the buffers have the TRANSFER usages used and the band's
+            // sums fit both (sizes computed in `accumulate`).
             unsafe {
-                if clear {
+                if load {
+                    let up = vk::BufferCopy::default()
+                        .src_offset(band.dst_offset)
+                        .dst_offset(0)
+                        .size(band.size);
                     ctx.device
-                        .cmd_fill_buffer(cmd, a.accum.buffer, 0, a.accum_bytes, 0);
+                        .cmd_copy_buffer(cmd, a.staging.buffer, a.accum.buffer, &[up]);
                 }
                 ctx.device
                     .cmd_fill_buffer(cmd, self.counters.buffer, 0, vk::WHOLE_SIZE, 0);
@@ -441,14 +463,14 @@ impl TracePass {
                     vk::PipelineStageFlags::TRANSFER,
                     vk::AccessFlags::TRANSFER_READ,
                 );
-                let region = vk::BufferCopy::default()
-                    .src_offset(0)
-                    .dst_offset(u64::from(push.band_origin) * u64::from(width) * 16)
-                    .size(bytes);
-                // SAFETY: the band's sums fit both buffers (sizes computed in `render`).
+                // SAFETY: the band's sums fit both buffers (sizes computed in `accumulate`).
                 unsafe {
-                    ctx.device
-                        .cmd_copy_buffer(cmd, a.accum.buffer, a.readback.buffer, &[region])
+                    ctx.device.cmd_copy_buffer(
+                        cmd,
+                        a.accum.buffer,
+                        a.staging.buffer,
+                        &[band.size(bytes)],
+                    )
                 };
             }
             barrier_to_host(
@@ -462,12 +484,12 @@ impl TracePass {
     }
 }
 
-/// The sums of one band of rows, and the whole image's readback buffer.
-struct Accumulation {
+/// The sums of one band of rows, and the whole image's staging buffer.
+struct DeviceSums {
     accum: Buffer,
-    readback: Buffer,
+    staging: Buffer,
     accum_bytes: u64,
-    readback_bytes: u64,
+    staging_bytes: u64,
 }
 
 #[cfg(test)]

@@ -92,6 +92,13 @@ impl Accel {
         }
     }
 
+    /// Bytes of the BVH and of its leaf-ordered triangles.
+    pub fn bytes(&self) -> u64 {
+        (std::mem::size_of_val(self.bvh.nodes.as_slice())
+            + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
+            + std::mem::size_of_val(self.vertices.as_slice())) as u64
+    }
+
     /// The caller's triangle index of each slot.
     pub fn slot_to_triangle(&self) -> &[u32] {
         &self.bvh.primitive_indices

@@ -1,6 +1,7 @@
 //! The reference render loop: every pixel, every sample, in parallel over rows.
 
 use std::f32::consts::FRAC_1_PI;
+use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -11,7 +12,7 @@ use super::accel::{Accel, Hit, PACKET_SIZE};
 use super::rays::primary_rays;
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
-use crate::render::{Image, RenderSettings, Shading};
+use crate::render::{Accumulation, Image, RenderSettings, Shading};
 use crate::sampler::pixel_sampler;
 use crate::scene::{Material, Scene};
 
@@ -72,6 +73,11 @@ impl Renderer {
         self.accel.build_time
     }
 
+    /// Bytes of the acceleration structure (BVH and leaf-ordered triangles).
+    pub fn accel_bytes(&self) -> u64 {
+        self.accel.bytes()
+    }
+
     /// Closest hit along a world-space ray, t in (0, inf).
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         self.accel
@@ -90,12 +96,79 @@ impl Renderer {
         settings: &RenderSettings,
         progress: &mut dyn FnMut(u64, u64),
     ) -> (Image, RenderStats) {
+        if settings.shading.is_aov() {
+            return self.render_aov(camera, settings, progress);
+        }
+        let mut accumulation = Accumulation::new(camera.width, camera.height);
+        let stats = self.accumulate(
+            camera,
+            settings,
+            0..settings.spp,
+            &mut accumulation,
+            progress,
+        );
+        (accumulation.image(), stats)
+    }
+
+    /// Adds samples `samples` of every pixel (thin lens, `Unlit` or `Lit`) to `accumulation`,
+    /// which has the camera's size; `progress(done_rows, total_rows)` is called between bands
+    /// of rows. Each pixel's samples are added one after the other to its sum, so any split of
+    /// a range gives the same sums.
+    pub fn accumulate(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> RenderStats {
+        debug_assert_eq!(
+            (accumulation.width, accumulation.height),
+            (camera.width, camera.height)
+        );
+        self.for_each_row(camera, &mut accumulation.sums, progress, |y, row| {
+            let mut rays = 0;
+            for (x, sum) in row.iter_mut().enumerate() {
+                let pixel = UVec2::new(x as u32, y);
+                rays += self.add_pixel_samples(camera, settings, pixel, samples.clone(), sum);
+            }
+            rays
+        })
+    }
+
+    /// The AOVs: the surface seen by the aperture-centre ray through each pixel centre.
+    fn render_aov(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> (Image, RenderStats) {
+        let mut image = Image::new(camera.width, camera.height);
+        let stats = self.for_each_row(camera, &mut image.pixels, progress, |y, row| {
+            for (x, value) in row.iter_mut().enumerate() {
+                // The G-buffer's definition: the aperture-centre ray through the pixel centre.
+                let centre = UVec2::new(x as u32, y).as_vec2() + Vec2::splat(0.5);
+                let ray = camera.generate_ray(centre, Vec2::splat(0.5));
+                *value = self.aov(camera, &ray, settings);
+            }
+            row.len() as u64
+        });
+        (image, stats)
+    }
+
+    /// Runs `row_fn(y, row)` over the image's rows in parallel, band after band, counting the
+    /// rays it returns.
+    fn for_each_row<T: Send>(
+        &self,
+        camera: &Camera,
+        pixels: &mut [T],
+        progress: &mut dyn FnMut(u64, u64),
+        row_fn: impl Fn(u32, &mut [T]) -> u64 + Sync,
+    ) -> RenderStats {
         let start = Instant::now();
         let (width, height) = (camera.width, camera.height);
-        let mut image = Image::new(width, height);
         let rays = AtomicU64::new(0);
-        for (band, rows) in image
-            .pixels
+        for (band, rows) in pixels
             .chunks_mut((width * ROWS_PER_BAND) as usize)
             .enumerate()
         {
@@ -103,41 +176,36 @@ impl Renderer {
                 .enumerate()
                 .for_each(|(r, row)| {
                     let y = band as u32 * ROWS_PER_BAND + r as u32;
-                    let mut row_rays = 0;
-                    for (x, pixel) in row.iter_mut().enumerate() {
-                        let (value, n) = self.pixel(camera, settings, UVec2::new(x as u32, y));
-                        *pixel = value;
-                        row_rays += n;
-                    }
-                    rays.fetch_add(row_rays, Ordering::Relaxed);
+                    rays.fetch_add(row_fn(y, row), Ordering::Relaxed);
                 });
             let done = ((band as u32 + 1) * ROWS_PER_BAND).min(height);
             progress(done as u64, height as u64);
         }
-        let stats = RenderStats {
+        RenderStats {
             elapsed: start.elapsed(),
             rays: rays.into_inner(),
-        };
-        (image, stats)
+        }
     }
 
-    /// The average of the pixel's samples, and the number of rays traced for it.
-    fn pixel(&self, camera: &Camera, settings: &RenderSettings, pixel: UVec2) -> (Vec3, u64) {
-        if settings.shading.is_aov() {
-            // The G-buffer's definition: the aperture-centre ray through the pixel centre.
-            let centre = pixel.as_vec2() + Vec2::splat(0.5);
-            let ray = camera.generate_ray(centre, Vec2::splat(0.5));
-            return (self.aov(camera, &ray, settings), 1);
-        }
-        let mut sum = Vec3::ZERO;
+    /// Adds the pixel's samples `samples` to its `[sum, count]`; returns the rays traced.
+    fn add_pixel_samples(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        pixel: UVec2,
+        samples: Range<u32>,
+        sum_and_count: &mut [f32; 4],
+    ) -> u64 {
+        let [r, g, b, count] = *sum_and_count;
+        let mut sum = Vec3::new(r, g, b);
         let mut rays = 0;
         // The samples of a pixel are coherent: their primary rays are traced as packets.
         let mut origins = [Vec3::ZERO; PACKET_SIZE];
         let mut directions = [Vec3::ZERO; PACKET_SIZE];
         let mut hits = [None; PACKET_SIZE];
         let sampler = pixel_sampler(settings.sampler, settings.seed, pixel, camera.width);
-        for first in (0..settings.spp).step_by(PACKET_SIZE) {
-            let n = (settings.spp - first).min(PACKET_SIZE as u32) as usize;
+        for first in samples.clone().step_by(PACKET_SIZE) {
+            let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
             primary_rays(camera, &sampler, first, &mut origins, &mut directions);
             self.accel.closest_hits(
                 &origins[..n],
@@ -156,7 +224,8 @@ impl Renderer {
                 rays += count;
             }
         }
-        (sum / settings.spp as f32, rays)
+        *sum_and_count = [sum.x, sum.y, sum.z, count + samples.len() as f32];
+        rays
     }
 
     /// `unlit` and `lit`, with the number of rays traced.

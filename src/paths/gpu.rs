@@ -1,0 +1,95 @@
+//! The GPU paths: the Vulkan renderer with one traversal (ray queries or lensray's BVH).
+
+use std::ops::Range;
+
+use anyhow::Result;
+use glam::Vec3;
+
+use crate::camera::Camera;
+use crate::gpu::{focus_distance_at, GpuRenderer};
+use crate::render::path::{Clock, PathKind, PathReport, RenderPath};
+use crate::render::{Accumulation, Image, RenderSettings};
+use crate::scene::Scene;
+
+pub struct GpuPath {
+    renderer: GpuRenderer,
+    kind: PathKind,
+    peak_device_bytes: u64,
+}
+
+impl GpuPath {
+    /// `renderer` must be able to run `kind`'s traversal.
+    pub fn new(renderer: GpuRenderer, kind: PathKind) -> Result<Self> {
+        debug_assert!(kind.is_gpu());
+        Ok(Self {
+            peak_device_bytes: renderer.allocated_bytes(),
+            renderer,
+            kind,
+        })
+    }
+
+    fn note_memory(&mut self) {
+        self.peak_device_bytes = self.peak_device_bytes.max(self.renderer.allocated_bytes());
+    }
+}
+
+impl RenderPath for GpuPath {
+    fn kind(&self) -> PathKind {
+        self.kind
+    }
+
+    fn device_name(&self) -> String {
+        self.renderer.device_name()
+    }
+
+    fn load_scene(&mut self, scene: &Scene) -> Result<()> {
+        self.renderer.load_scene(scene)?;
+        self.note_memory();
+        Ok(())
+    }
+
+    fn add_samples(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<()> {
+        super::check_accumulation(camera, settings, accumulation)?;
+        self.renderer
+            .accumulate(camera, settings, samples, accumulation, progress)?;
+        self.note_memory();
+        Ok(())
+    }
+
+    fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image> {
+        let image = self.renderer.render(camera, settings, &mut |_, _| {})?;
+        self.note_memory();
+        Ok(image)
+    }
+
+    fn focus_depth_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<Option<f32>> {
+        let gbuffer = self.renderer.render_gbuffer(camera, Vec3::ZERO)?;
+        self.note_memory();
+        Ok(focus_distance_at(&gbuffer, pixel[0], pixel[1]))
+    }
+
+    fn report(&self) -> PathReport {
+        let t = self.renderer.timings();
+        // The pipeline's first dispatch is timed apart (lazy compilation); its rays and time
+        // count here so that a render's report covers all of it.
+        PathReport {
+            rays: t.rays_traced + t.first_dispatch_rays,
+            trace_seconds: (t.trace_gpu_ms + t.first_dispatch_ms.unwrap_or(0.0)) * 1e-3,
+            clock: Clock::GpuTimestamps,
+            build_seconds: t.accel_build_wall_ms * 1e-3,
+            accel_bytes: t.blas_compacted_bytes,
+            peak_device_bytes: self.peak_device_bytes,
+        }
+    }
+
+    fn close(self: Box<Self>) -> Result<()> {
+        Ok(self.renderer.close()?)
+    }
+}

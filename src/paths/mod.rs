@@ -1,0 +1,291 @@
+//! The render paths behind [`RenderPath`], and the choice of one: `--device` says which device,
+//! `--path` which algorithm; `auto` measures the paths the device supports and takes the
+//! fastest.
+
+mod cpu;
+mod gpu;
+
+use std::fmt;
+
+use anyhow::{bail, Context, Result};
+
+pub use cpu::CpuPath;
+pub use gpu::GpuPath;
+
+use crate::camera::Camera;
+use crate::gpu::{GpuOptions, GpuRenderer, Traversal};
+use crate::render::path::{PathKind, RenderPath};
+use crate::render::{Accumulation, RenderSettings, Shading};
+use crate::scene::Scene;
+
+/// Which device renders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum DeviceChoice {
+    /// A Vulkan device when one is usable, else the CPU.
+    #[default]
+    Auto,
+    /// The CPU (the reference renderer).
+    Cpu,
+    /// A Vulkan device; an error when none is usable.
+    Gpu,
+}
+
+/// Which algorithm renders: a path, or `auto`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum PathChoice {
+    /// The fastest path the device supports, measured on a small render of the shot.
+    #[default]
+    Auto,
+    /// Vulkan ray queries (VK_KHR_ray_query).
+    #[value(name = "rayquery")]
+    RayQuery,
+    /// lensray's own BVH traversed in the compute shader: any Vulkan device.
+    Software,
+    /// The CPU reference renderer.
+    Cpu,
+}
+
+impl PathChoice {
+    pub fn kind(self) -> Option<PathKind> {
+        match self {
+            PathChoice::Auto => None,
+            PathChoice::RayQuery => Some(PathKind::RayQuery),
+            PathChoice::Software => Some(PathKind::Software),
+            PathChoice::Cpu => Some(PathKind::Cpu),
+        }
+    }
+}
+
+impl From<PathKind> for PathChoice {
+    fn from(kind: PathKind) -> Self {
+        match kind {
+            PathKind::RayQuery => PathChoice::RayQuery,
+            PathKind::Software => PathChoice::Software,
+            PathKind::Cpu => PathChoice::Cpu,
+        }
+    }
+}
+
+impl fmt::Display for PathChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.kind() {
+            Some(kind) => kind.fmt(f),
+            None => f.write_str("auto"),
+        }
+    }
+}
+
+/// How to open a path.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PathOptions {
+    pub path: PathChoice,
+    pub device: DeviceChoice,
+    /// Validation and device index of the Vulkan device.
+    pub gpu: GpuOptions,
+}
+
+/// An open path with its scene loaded, and why it was chosen (for the summary line).
+pub struct OpenedPath {
+    pub path: Box<dyn RenderPath>,
+    pub why: String,
+}
+
+/// The GPU path of a traversal.
+pub fn traversal_of(kind: PathKind) -> Option<Traversal> {
+    match kind {
+        PathKind::RayQuery => Some(Traversal::RayQuery),
+        PathKind::Software => Some(Traversal::Software),
+        PathKind::Cpu => None,
+    }
+}
+
+fn kind_of(traversal: Traversal) -> PathKind {
+    match traversal {
+        Traversal::RayQuery => PathKind::RayQuery,
+        Traversal::Software => PathKind::Software,
+    }
+}
+
+/// Opens the path `options` ask for and loads `scene`. `auto` renders a small version of
+/// `shot` with each path the device supports and keeps the fastest. Under `--device auto`, a
+/// missing or unusable Vulkan device falls back to the CPU with a notice, unless a Vulkan
+/// option (`--validate`, `--gpu`) or a GPU path was asked for.
+pub fn open(
+    options: &PathOptions,
+    scene: &Scene,
+    shot: (&Camera, &RenderSettings),
+) -> Result<OpenedPath> {
+    let gpu_option = if options.gpu.validate {
+        Some("--validate checks the Vulkan renderer")
+    } else if options.gpu.device_index.is_some() {
+        Some("--gpu picks a Vulkan device")
+    } else {
+        None
+    };
+    let wants_cpu = options.device == DeviceChoice::Cpu || options.path == PathChoice::Cpu;
+    if wants_cpu {
+        if let Some(option) = gpu_option {
+            let by = if options.path == PathChoice::Cpu {
+                "--path cpu"
+            } else {
+                "--device cpu"
+            };
+            bail!("{option}: it cannot be used with {by}");
+        }
+        match (options.device, options.path) {
+            (DeviceChoice::Gpu, _) => {
+                bail!("--path cpu runs on the CPU: it cannot be used with --device gpu")
+            }
+            (_, PathChoice::RayQuery | PathChoice::Software) => bail!(
+                "--path {} runs on a Vulkan device: it cannot be used with --device cpu",
+                options.path
+            ),
+            _ => {}
+        }
+        let why = if options.path == PathChoice::Cpu {
+            "asked for"
+        } else {
+            "--device cpu"
+        };
+        return open_cpu(scene, why);
+    }
+
+    let traversal = options.path.kind().and_then(traversal_of);
+    let gpu_options = crate::gpu::with_traversal(options.gpu, traversal);
+    let renderer = match GpuRenderer::new(&gpu_options) {
+        Ok(renderer) => renderer,
+        Err(error) => {
+            let error = anyhow::Error::from(error);
+            return match (options.path, options.device, gpu_option) {
+                (PathChoice::Auto, DeviceChoice::Auto, None) => {
+                    eprintln!("notice: rendering on the CPU: no usable GPU ({error:#})");
+                    open_cpu(scene, "auto: no usable Vulkan device")
+                }
+                (PathChoice::Auto, DeviceChoice::Auto, Some(_)) => {
+                    Err(error.context(if options.gpu.validate {
+                        "--validate".to_string()
+                    } else {
+                        format!("--gpu {}", options.gpu.device_index.unwrap_or(0))
+                    }))
+                }
+                (PathChoice::Auto, _, _) => Err(error.context("--device gpu")),
+                (path, _, _) => Err(error.context(format!("--path {path}"))),
+            };
+        }
+    };
+    let mut renderer = renderer;
+    renderer.load_scene(scene)?;
+    if let Some(kind) = options.path.kind() {
+        let traversal = traversal_of(kind).expect("a GPU path");
+        renderer
+            .set_traversal(traversal)
+            .with_context(|| format!("--path {kind}"))?;
+        return Ok(OpenedPath {
+            path: Box::new(GpuPath::new(renderer, kind)?),
+            why: "asked for".into(),
+        });
+    }
+    let kinds: Vec<PathKind> = renderer.traversals().into_iter().map(kind_of).collect();
+    let (kind, why) = match kinds.as_slice() {
+        [] => bail!(
+            "the Vulkan device {} runs no lensray path",
+            renderer.device_name()
+        ),
+        [only] => (
+            *only,
+            format!("auto: the only path {} supports", renderer.device_name()),
+        ),
+        _ => fastest(&mut renderer, &kinds, shot)?,
+    };
+    renderer.set_traversal(traversal_of(kind).expect("a GPU path"))?;
+    Ok(OpenedPath {
+        path: Box::new(GpuPath::new(renderer, kind)?),
+        why,
+    })
+}
+
+fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
+    let mut path = CpuPath::new();
+    path.load_scene(scene)?;
+    Ok(OpenedPath {
+        path: Box::new(path),
+        why: why.into(),
+    })
+}
+
+/// Width of the calibration render of `auto` (its height keeps the shot's aspect).
+const CALIBRATION_WIDTH: u32 = 96;
+/// Samples per pixel of each timed calibration render.
+const CALIBRATION_SPP: u32 = 2;
+
+/// Times each path on a small render of the shot (lit, as the most work; after a warm-up that
+/// compiles the pipeline) and returns the fastest, with the measured ratio.
+fn fastest(
+    renderer: &mut GpuRenderer,
+    kinds: &[PathKind],
+    (camera, settings): (&Camera, &RenderSettings),
+) -> Result<(PathKind, String)> {
+    let height = ((u64::from(CALIBRATION_WIDTH) * u64::from(camera.height))
+        / u64::from(camera.width.max(1)))
+    .max(1) as u32;
+    let small = camera.with_resolution(CALIBRATION_WIDTH, height);
+    let lit = RenderSettings {
+        shading: if settings.shading.is_aov() {
+            Shading::Lit
+        } else {
+            settings.shading
+        },
+        spp: CALIBRATION_SPP,
+        ..*settings
+    };
+    let mut times = Vec::new();
+    for &kind in kinds {
+        renderer.set_traversal(traversal_of(kind).expect("a GPU path"))?;
+        let mut seconds = f64::INFINITY;
+        for round in 0..3 {
+            let before = renderer.timings();
+            let mut accumulation = Accumulation::new(small.width, small.height);
+            renderer.accumulate(&small, &lit, 0..lit.spp, &mut accumulation, &mut |_, _| {})?;
+            let after = renderer.timings();
+            // Round 0 compiles the pipeline (its first dispatch is timed apart).
+            if round > 0 {
+                seconds = seconds.min((after.trace_gpu_ms - before.trace_gpu_ms) * 1e-3);
+            }
+        }
+        times.push((kind, seconds));
+    }
+    times.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let (best, best_s) = times[0];
+    let (next, next_s) = times[1];
+    let why = format!(
+        "auto: {best} traced a {}x{} calibration {:.2}x faster than {next}",
+        small.width,
+        small.height,
+        next_s / best_s.max(1e-12)
+    );
+    Ok((best, why))
+}
+
+/// The accumulation must match the camera, and only traced shadings add samples.
+fn check_accumulation(
+    camera: &Camera,
+    settings: &RenderSettings,
+    accumulation: &Accumulation,
+) -> Result<()> {
+    if (accumulation.width, accumulation.height) != (camera.width, camera.height) {
+        bail!(
+            "accumulation {}x{} does not match the {}x{} image",
+            accumulation.width,
+            accumulation.height,
+            camera.width,
+            camera.height
+        );
+    }
+    if settings.shading.is_aov() {
+        bail!(
+            "{:?} is an AOV: it has no samples to accumulate",
+            settings.shading
+        );
+    }
+    Ok(())
+}
