@@ -32,6 +32,8 @@ pub(crate) struct FrameSlot {
     pub trace_work: u64,
     /// egui textures to free once this slot's frame finished.
     pub textures_to_free: Vec<egui::TextureId>,
+    /// Host-visible staging of samples traced on the CPU (the CPU path), made on first use.
+    pub upload: Option<Buffer>,
 }
 
 impl FrameSlot {
@@ -59,6 +61,7 @@ impl FrameSlot {
             submitted: false,
             trace_work: 0,
             textures_to_free: Vec::new(),
+            upload: None,
         };
         let fence_info = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
         // SAFETY: valid create-infos on a live device; destroyed in Drop.

@@ -57,6 +57,18 @@ pub struct FrameRequest<'a> {
     /// Read the G-buffer's view depth at this pixel (answered in this frame's result).
     pub pick: Option<[u32; 2]>,
     pub overlay: Option<OverlayFrame>,
+    /// The samples come from the host (the CPU path) instead of the trace pass.
+    pub host: Option<HostSamples<'a>>,
+}
+
+/// Samples traced on the host for the frame's camera.
+pub struct HostSamples<'a> {
+    /// New sums and counts of the whole image (`[r, g, b, n]` per pixel, row-major) to show
+    /// from this frame on; `None` keeps what the accumulation holds.
+    pub sums: Option<&'a [[f32; 4]]>,
+    /// Samples every pixel has, and whether that is the target.
+    pub spp: u32,
+    pub converged: bool,
 }
 
 /// GPU times of one finished frame, ms (timestamps).
@@ -287,7 +299,7 @@ impl Viewer {
             accum.schedule.restart();
         }
         accum.schedule.set_target(request.target_spp);
-        let work = if request.view == VIEW_FINAL {
+        let work = if request.view == VIEW_FINAL && request.host.is_none() {
             accum
                 .schedule
                 .plan(self.samples_per_frame, MAX_DISPATCHES_PER_FRAME)
@@ -347,6 +359,40 @@ impl Viewer {
             self.gpu
                 .trace
                 .record_params(cmd, &TraceParams::new(camera, request.settings));
+        }
+        if let Some(sums) = request.host.as_ref().and_then(|h| h.sums) {
+            let bytes: &[u8] = bytemuck::cast_slice(sums);
+            if bytes.len() as u64 > accum.buffer.size {
+                return Err(GpuError::Invalid(format!(
+                    "{} bytes of host samples for a {}-byte accumulation",
+                    bytes.len(),
+                    accum.buffer.size
+                )));
+            }
+            if slot.upload.as_ref().is_none_or(|b| b.size < bytes.len() as u64) {
+                slot.upload = None;
+                slot.upload = Some(Buffer::new(
+                    &ctx,
+                    "preview host samples",
+                    bytes.len() as u64,
+                    vk::BufferUsageFlags::TRANSFER_SRC,
+                    MemoryLocation::CpuToGpu,
+                )?);
+            }
+            let upload = slot.upload.as_mut().expect("created above");
+            upload.write(bytes)?;
+            barrier(
+                &ctx,
+                cmd,
+                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_READ,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+            );
+            let region = vk::BufferCopy::default().size(bytes.len() as u64);
+            // SAFETY: recording state; the slot's upload buffer is not in use (its fence was
+            // waited) and the region fits both buffers (checked above).
+            unsafe { device.cmd_copy_buffer(cmd, upload.buffer, accum.buffer.buffer, &[region]) };
         }
         for item in &work {
             barrier(
@@ -421,8 +467,16 @@ impl Viewer {
         }
         self.frames.advance();
         result.drawn = true;
-        result.spp = accum.schedule.samples_complete();
-        result.converged = accum.schedule.converged();
+        match &request.host {
+            Some(host) => {
+                result.spp = host.spp;
+                result.converged = host.converged;
+            }
+            None => {
+                result.spp = accum.schedule.samples_complete();
+                result.converged = accum.schedule.converged();
+            }
+        }
         Ok(result)
     }
 

@@ -289,3 +289,21 @@ fn check_accumulation(
     }
     Ok(())
 }
+
+/// The preview window always draws with Vulkan; the path only says who traces the samples.
+/// Returns the window's Vulkan options and whether the CPU path traces.
+pub fn preview_options(options: &PathOptions) -> Result<(GpuOptions, bool)> {
+    let cpu = match (options.device, options.path) {
+        (DeviceChoice::Cpu, PathChoice::RayQuery | PathChoice::Software) => bail!(
+            "--path {} runs on a Vulkan device: it cannot be used with --device cpu",
+            options.path
+        ),
+        (DeviceChoice::Gpu, PathChoice::Cpu) => {
+            bail!("--path cpu runs on the CPU: it cannot be used with --device gpu")
+        }
+        (DeviceChoice::Cpu, _) | (_, PathChoice::Cpu) => true,
+        _ => false,
+    };
+    let traversal = options.path.kind().and_then(traversal_of);
+    Ok((crate::gpu::with_traversal(options.gpu, traversal), cpu))
+}

@@ -16,6 +16,7 @@ use winit::keyboard::{Key, ModifiersState};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::{Window, WindowId};
 
+use super::cpu_feed::CpuFeed;
 use super::bindings::{
     action_for_key, wheel_action, Action, PointerButton, WheelAction, WheelModifier,
 };
@@ -27,10 +28,13 @@ use super::script::ScriptEvent;
 use super::stats::FrameLog;
 use super::view::ViewMode;
 use crate::camera::Camera;
-use crate::gpu::{FrameRequest, OverlayFrame, Viewer, ViewerOptions};
+use crate::gpu::{FrameRequest, HostSamples, OverlayFrame, Viewer, ViewerOptions};
 use crate::output::PendingOutput;
 use crate::render::RenderSettings;
 use crate::scene::file::SceneDescription;
+
+/// How often the window looks for the CPU path's samples while it waits for them.
+const CPU_PATH_POLL: std::time::Duration = std::time::Duration::from_millis(30);
 
 /// Everything the preview starts from.
 pub struct PreviewConfig {
@@ -40,6 +44,8 @@ pub struct PreviewConfig {
     /// The scene file given on the command line (for the `C` key's render command).
     pub scene_path: Option<PathBuf>,
     pub viewer: ViewerOptions,
+    /// Trace the samples on the CPU (the CPU path) instead of the GPU's trace pass.
+    pub cpu_path: bool,
     pub view: ViewMode,
     /// Stop after this many frames.
     pub frames: Option<u64>,
@@ -93,6 +99,10 @@ struct App {
     config: PreviewConfig,
     // Drop order: the viewer (device, surface) before the window it draws into.
     viewer: Option<Viewer>,
+    /// The CPU path's worker, when it traces the samples.
+    cpu_feed: Option<CpuFeed>,
+    /// Samples of the current shot the CPU path delivered.
+    cpu_spp: u32,
     gui: Option<Gui>,
     window: Option<Arc<Window>>,
     panel: Panel,
@@ -121,6 +131,8 @@ impl App {
         Self {
             config,
             viewer: None,
+            cpu_feed: None,
+            cpu_spp: 0,
             gui: None,
             window: None,
             panel,
@@ -193,6 +205,9 @@ impl App {
             None,
         );
         self.gui = Some(Gui { ctx, state });
+        if self.config.cpu_path {
+            self.cpu_feed = Some(CpuFeed::new(&self.config.description.scene));
+        }
         self.viewer = Some(viewer);
         self.window = Some(window);
         Ok(())
@@ -396,6 +411,21 @@ impl App {
             (x >= 0.0 && y >= 0.0 && (x as u32) < width && (y as u32) < height)
                 .then_some([x as u32, y as u32])
         });
+        let snapshot = self.cpu_feed.as_mut().and_then(|feed| {
+            feed.request(&resolved.camera, &resolved.render, self.panel.target_spp);
+            feed.take_latest()
+        });
+        if restart {
+            self.cpu_spp = 0;
+        }
+        if let Some(snapshot) = &snapshot {
+            self.cpu_spp = snapshot.spp;
+        }
+        let host = self.cpu_feed.as_ref().map(|_| HostSamples {
+            sums: snapshot.as_ref().map(|s| s.sums.as_slice()),
+            spp: self.cpu_spp,
+            converged: self.cpu_spp >= self.panel.target_spp,
+        });
         let viewer = self.viewer.as_mut().context("no viewer")?;
         let result = viewer.draw(FrameRequest {
             camera: &resolved.camera,
@@ -405,6 +435,7 @@ impl App {
             target_spp: self.panel.target_spp,
             pick,
             overlay: Some(overlay),
+            host,
         })?;
         if result.drawn {
             if changed {
@@ -453,6 +484,18 @@ impl App {
             || self.last.is_none()
     }
 
+    /// Busy only because the CPU path has not reached the target yet.
+    fn waiting_for_cpu_only(&self) -> bool {
+        self.cpu_feed.is_some()
+            && self.busy()
+            && self.pending_pick.is_none()
+            && self.input.fly_direction() == glam::Vec3::ZERO
+            && !self.config.script.pending()
+            && self.awaiting_size.is_none()
+            && self.config.frames.is_none()
+            && self.last.is_some()
+    }
+
     fn finish(mut self) -> Result<PreviewSummary> {
         if let Some(error) = self.error.take() {
             return Err(error);
@@ -469,6 +512,7 @@ impl App {
             median_input_to_frame_ms: self.log.median_input_to_frame_ms(),
         };
         self.gui = None;
+        self.cpu_feed = None;
         if let Some(viewer) = self.viewer.take() {
             viewer.close().context("preview")?;
         }
@@ -605,7 +649,15 @@ impl ApplicationHandler for App {
             });
             return;
         }
-        if self.busy() {
+        if self.waiting_for_cpu_only() {
+            // The CPU path traces on its worker: look for its samples now and then instead of
+            // drawing frames that would take the cores it needs.
+            let at = Instant::now() + CPU_PATH_POLL;
+            event_loop.set_control_flow(ControlFlow::WaitUntil(at));
+            if let Some(window) = &self.window {
+                window.request_redraw();
+            }
+        } else if self.busy() {
             event_loop.set_control_flow(ControlFlow::Poll);
             if let Some(window) = &self.window {
                 window.request_redraw();

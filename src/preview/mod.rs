@@ -5,6 +5,7 @@
 
 pub mod app;
 pub mod bindings;
+pub mod cpu_feed;
 pub mod input;
 pub mod panel;
 pub mod player;
