@@ -128,17 +128,25 @@ fn read_exr(path: &Path) -> image::Rgb32FImage {
 }
 
 /// With a fixed camera, the screenshot after convergence is the headless render of the same
-/// camera, spp and seed, float for float (the same samples summed in the same order).
+/// camera, spp, seed and path, float for float (the same samples summed in the same order),
+/// whichever path traces the samples.
 #[test]
 fn converged_preview_equals_the_headless_render() {
-    for shading in ["unlit", "lit"] {
+    for (path, shading) in [("rayquery", "unlit"), ("rayquery", "lit"), ("cpu", "lit")] {
         let dir = tempfile::tempdir().unwrap();
         let script = "0 wait converged\n0 quit\n";
         let Some(out) = preview(
             "converged_preview_equals_the_headless_render",
             dir.path(),
             script,
-            &["--shading", shading, "--screenshot", "preview.exr"],
+            &[
+                "--path",
+                path,
+                "--shading",
+                shading,
+                "--screenshot",
+                "preview.exr",
+            ],
         ) else {
             return;
         };
@@ -147,7 +155,7 @@ fn converged_preview_equals_the_headless_render() {
             stdout.contains("4 of 4 samples per pixel reached"),
             "{stdout}"
         );
-        let mut args = vec!["render", "--device", "gpu", "--shading", shading];
+        let mut args = vec!["render", "--path", path, "--shading", shading];
         args.extend_from_slice(&VIEW);
         args.extend_from_slice(&["--out", "render.exr"]);
         let render = Command::new(env!("CARGO_BIN_EXE_lensray"))
@@ -170,13 +178,14 @@ fn converged_preview_equals_the_headless_render() {
             .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
             .fold(0.0f32, f32::max);
         if differing > 0 {
-            let keep = gpu_support::output_dir().join(format!("preview-vs-render-{shading}"));
+            let keep =
+                gpu_support::output_dir().join(format!("preview-vs-render-{path}-{shading}"));
             let _ = std::fs::create_dir_all(&keep);
             for f in ["preview.exr", "render.exr"] {
                 let _ = std::fs::copy(dir.path().join(f), keep.join(f));
             }
             panic!(
-                "{shading}: {differing} pixels differ (by up to {worst}); images in {}",
+                "{path}, {shading}: {differing} pixels differ (by up to {worst}); images in {}",
                 keep.display()
             );
         }

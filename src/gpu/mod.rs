@@ -73,7 +73,9 @@ pub use overlay::OverlayFrame;
 pub use probe::{ProbeQuery, ProbeResult};
 pub use trace::Timings;
 pub use traversal_shim::{with_hidden_ray_query, with_traversal, Traversal};
-pub use viewer::{FrameRequest, HostSamples, FrameResult, FrameTimes, PresentMode, Viewer, ViewerOptions};
+pub use viewer::{
+    FrameRequest, FrameResult, FrameTimes, HostSamples, PresentMode, Viewer, ViewerOptions,
+};
 
 use device::Context;
 use error::vk_err;

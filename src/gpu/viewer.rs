@@ -369,7 +369,11 @@ impl Viewer {
                     accum.buffer.size
                 )));
             }
-            if slot.upload.as_ref().is_none_or(|b| b.size < bytes.len() as u64) {
+            if slot
+                .upload
+                .as_ref()
+                .is_none_or(|b| b.size < bytes.len() as u64)
+            {
                 slot.upload = None;
                 slot.upload = Some(Buffer::new(
                     &ctx,

@@ -16,10 +16,10 @@ use winit::keyboard::{Key, ModifiersState};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::{Window, WindowId};
 
-use super::cpu_feed::CpuFeed;
 use super::bindings::{
     action_for_key, wheel_action, Action, PointerButton, WheelAction, WheelModifier,
 };
+use super::cpu_feed::CpuFeed;
 use super::input::{Gesture, InputState};
 use super::panel::{Panel, PanelStats};
 use super::player::ScriptPlayer;

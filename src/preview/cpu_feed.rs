@@ -132,7 +132,9 @@ fn work(renderer: &Renderer, shared: &(Mutex<Shared>, Condvar)) {
                         break job;
                     }
                 }
-                state = wake.wait(state).expect("the window does not panic while locked");
+                state = wake
+                    .wait(state)
+                    .expect("the window does not panic while locked");
             }
         };
         if accumulation

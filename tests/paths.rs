@@ -1,0 +1,207 @@
+//! The render-path interface: every path continues a render exactly, agrees with the CPU
+//! reference, answers focus queries alike, and the choice of a path (`--path`, `--device`)
+//! refuses contradictions with one clear line.
+
+mod gpu_support;
+
+use gpu_support::{camera, compare, may_skip, record_skip, settings, test_scene, write_comparison};
+use lensray::camera::LensParams;
+use lensray::gpu::{GpuError, GpuOptions};
+use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathOptions};
+use lensray::render::path::PathKind;
+use lensray::render::{Accumulation, Shading};
+
+fn shot() -> (lensray::camera::Camera, lensray::render::RenderSettings) {
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.12,
+        focus_distance: 5.0,
+    };
+    (camera(false, lens, 64, 48), settings(Shading::Lit, 8))
+}
+
+/// Opens `path` (validation on for GPU paths); `None` after recording a skip where the
+/// machine has no usable device and LENSRAY_SKIP_GPU_TESTS=1.
+fn open(test: &str, path: PathChoice) -> Option<OpenedPath> {
+    let (cam, s) = shot();
+    let options = PathOptions {
+        path,
+        device: DeviceChoice::Auto,
+        gpu: GpuOptions {
+            validate: path != PathChoice::Cpu,
+            ..GpuOptions::default()
+        },
+    };
+    match paths::open(&options, &test_scene(), (&cam, &s)) {
+        Ok(opened) => Some(opened),
+        Err(e) => match e.downcast_ref::<GpuError>() {
+            Some(gpu) if may_skip(gpu) => {
+                record_skip(test, &format!("{e:#}"));
+                None
+            }
+            _ => panic!("{test}: --path {path}: {e:#}"),
+        },
+    }
+}
+
+/// The paths this machine runs: the CPU, and the GPU paths its Vulkan device supports.
+fn available(test: &str) -> Vec<PathChoice> {
+    let mut kinds = vec![PathChoice::Cpu];
+    if let Some(opened) = open(test, PathChoice::Auto) {
+        let device = opened.path.device_name();
+        opened.path.close().expect("close");
+        for kind in [PathKind::RayQuery, PathKind::Software] {
+            let options = PathOptions {
+                path: kind.into(),
+                ..PathOptions::default()
+            };
+            let (cam, s) = shot();
+            if let Ok(opened) = paths::open(&options, &test_scene(), (&cam, &s)) {
+                opened.path.close().expect("close");
+                kinds.push(kind.into());
+            } else {
+                println!("{test}: {device} does not run --path {kind}");
+            }
+        }
+    }
+    kinds
+}
+
+/// Samples 0..3 then 3..8 added to one accumulation give the sums of 0..8 in one call, bit for
+/// bit, on every path.
+#[test]
+fn every_path_continues_a_render_exactly() {
+    let test = "every_path_continues_a_render_exactly";
+    for choice in available(test) {
+        let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
+            continue;
+        };
+        let (cam, s) = shot();
+        let mut whole = Accumulation::new(cam.width, cam.height);
+        path.add_samples(&cam, &s, 0..8, &mut whole, &mut |_, _| {})
+            .expect("0..8");
+        let mut parts = Accumulation::new(cam.width, cam.height);
+        path.add_samples(&cam, &s, 0..3, &mut parts, &mut |_, _| {})
+            .expect("0..3");
+        assert_eq!(parts.samples(), 3, "{choice}");
+        path.add_samples(&cam, &s, 3..8, &mut parts, &mut |_, _| {})
+            .expect("3..8");
+        let differing = whole
+            .sums
+            .iter()
+            .zip(&parts.sums)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(
+            differing, 0,
+            "{choice}: {differing} pixels of 0..3 + 3..8 differ from 0..8"
+        );
+        assert_eq!(whole.samples(), 8);
+        let rendered = path.render(&cam, &s, &mut |_, _| {}).expect("render");
+        assert_eq!(
+            rendered,
+            whole.image(),
+            "{choice}: render() is add_samples(0..spp)"
+        );
+        let report = path.report();
+        assert!(report.rays > 0 && report.trace_seconds > 0.0, "{report:?}");
+        path.close().expect("close: validation messages or leaks");
+    }
+}
+
+/// Each GPU path renders the CPU reference's image (the statistics of tests/gpu.rs), and finds
+/// the same focus depth at a pixel.
+#[test]
+fn gpu_paths_agree_with_the_cpu_reference() {
+    let test = "gpu_paths_agree_with_the_cpu_reference";
+    let (cam, s) = shot();
+    let Some(OpenedPath { path: mut cpu, .. }) = open(test, PathChoice::Cpu) else {
+        return;
+    };
+    let reference = cpu.render(&cam, &s, &mut |_, _| {}).expect("cpu render");
+    let focus_pixels = [[32, 24], [10, 40], [60, 5]];
+    let reference_depths: Vec<Option<f32>> = focus_pixels
+        .iter()
+        .map(|&p| cpu.focus_depth_at(&cam, p).expect("cpu focus"))
+        .collect();
+    for choice in available(test)
+        .into_iter()
+        .filter(|c| *c != PathChoice::Cpu)
+    {
+        let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
+            continue;
+        };
+        let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
+        let diff = compare(&image, &reference, 1.0 / 255.0);
+        println!("{choice}: {diff:?}");
+        if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
+            let files = write_comparison(&image, &reference, &format!("path-{choice}-vs-cpu"));
+            panic!("{choice}: differs from the CPU reference: {diff:?}; wrote {files}");
+        }
+        for (&pixel, expected) in focus_pixels.iter().zip(&reference_depths) {
+            let depth = path.focus_depth_at(&cam, pixel).expect("focus");
+            match (depth, expected) {
+                (Some(d), Some(e)) => assert!(
+                    (d - e).abs() <= 1e-4 * e.abs(),
+                    "{choice}: focus depth at {pixel:?} is {d}, the CPU's {e}"
+                ),
+                (d, e) => assert_eq!(d.is_some(), e.is_some(), "{choice} at {pixel:?}"),
+            }
+        }
+        path.close().expect("close: validation messages or leaks");
+    }
+}
+
+/// `auto` names its choice and its reason; a GPU path when a device is usable.
+#[test]
+fn auto_says_what_it_chose_and_why() {
+    let test = "auto_says_what_it_chose_and_why";
+    let Some(OpenedPath { path, why }) = open(test, PathChoice::Auto) else {
+        return;
+    };
+    println!("auto: {} on {} ({why})", path.kind(), path.device_name());
+    assert!(why.starts_with("auto: "), "{why}");
+    assert!(
+        path.kind().is_gpu(),
+        "a usable Vulkan device, yet {}",
+        path.kind()
+    );
+    path.close().expect("close");
+}
+
+/// Choices that contradict each other are one-line errors, before any device opens.
+#[test]
+fn contradictory_choices_are_errors() {
+    let (cam, s) = shot();
+    let scene = test_scene();
+    let cases = [
+        (
+            PathChoice::RayQuery,
+            DeviceChoice::Cpu,
+            GpuOptions::default(),
+            "--path rayquery runs on a Vulkan device: it cannot be used with --device cpu",
+        ),
+        (
+            PathChoice::Cpu,
+            DeviceChoice::Gpu,
+            GpuOptions::default(),
+            "--path cpu runs on the CPU: it cannot be used with --device gpu",
+        ),
+        (
+            PathChoice::Cpu,
+            DeviceChoice::Auto,
+            GpuOptions {
+                validate: true,
+                ..GpuOptions::default()
+            },
+            "--validate checks the Vulkan renderer: it cannot be used with --path cpu",
+        ),
+    ];
+    for (path, device, gpu, expected) in cases {
+        let options = PathOptions { path, device, gpu };
+        let error = match paths::open(&options, &scene, (&cam, &s)) {
+            Ok(_) => panic!("{options:?} must be refused"),
+            Err(e) => format!("{e:#}"),
+        };
+        assert_eq!(error, expected);
+    }
+}
