@@ -116,11 +116,12 @@ pub fn open(
     shot: (&Camera, &RenderSettings),
 ) -> Result<OpenedPath> {
     let gpu_option = if options.gpu.validate {
-        Some("--validate checks the Vulkan renderer")
-    } else if options.gpu.device_index.is_some() {
-        Some("--gpu picks a Vulkan device")
+        Some("--validate checks the Vulkan renderer".to_string())
     } else {
-        None
+        options
+            .gpu
+            .device_index
+            .map(|index| format!("--gpu {index} picks a Vulkan device"))
     };
     let wants_cpu = options.device == DeviceChoice::Cpu || options.path == PathChoice::Cpu;
     if wants_cpu {
@@ -193,7 +194,7 @@ pub fn open(
         ),
         [only] => (
             *only,
-            format!("auto: the only path {} supports", renderer.device_name()),
+            "auto: the only path this device supports".to_string(),
         ),
         _ => fastest(&mut renderer, &kinds, shot)?,
     };
