@@ -86,6 +86,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let options = GpuOptions {
         validate: false,
         device_index: args.gpu,
+        ..Default::default()
     };
     match Backend::open(args.device, &options, &description.scene)? {
         Backend::Gpu(mut gpu) => {

@@ -63,6 +63,7 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
             gpu: GpuOptions {
                 validate: args.validate,
                 device_index: args.gpu,
+                ..Default::default()
             },
             present_mode: args.present_mode,
         },

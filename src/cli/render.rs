@@ -94,6 +94,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let options = GpuOptions {
         validate: args.validate,
         device_index: args.gpu,
+        ..Default::default()
     };
     let mut backend = Backend::open(args.device, &options, &description.scene)?;
     if let Some(pixel) = args.focus_at {
