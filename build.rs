@@ -1,6 +1,8 @@
 //! Compiles the GLSL shaders in `shaders/` to SPIR-V (Vulkan 1.2, SPIR-V 1.4) with shaderc.
 //! Each `shaders/NAME.{vert,frag,comp}` becomes `$OUT_DIR/NAME.STAGE.spv`, embedded by
 //! `src/gpu/shader.rs` with `include_bytes!`. `#include "x.glsl"` resolves in `shaders/`.
+//! A shader listed in `VARIANTS` is compiled once per variant instead, with that variant's macro
+//! defined, into `$OUT_DIR/VARIANT.STAGE.spv`.
 //! A compile error fails the build with the file and line of every message.
 //!
 //! First it writes `$OUT_DIR/interface.glsl` from `src/interface/shared.rs`, the one definition
@@ -25,6 +27,16 @@ mod interface {
 }
 
 const INTERFACE_HEADER: &str = "interface.glsl";
+
+/// Shaders compiled more than once: file name, then (output name, macro defined) per variant.
+/// trace.comp: one closest-hit implementation each (src/gpu/trace.rs picks the pipeline).
+const VARIANTS: &[(&str, &[(&str, &str)])] = &[(
+    "trace.comp",
+    &[
+        ("trace_rayquery.comp", "TRAVERSAL_RAY_QUERY"),
+        ("trace_software.comp", "TRAVERSAL_SOFTWARE"),
+    ],
+)];
 
 fn main() {
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
@@ -58,33 +70,26 @@ fn main() {
         };
         let source = std::fs::read_to_string(&path).expect("read shader");
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        let mut options = shaderc::CompileOptions::new().expect("shaderc options");
-        options.set_target_env(
-            shaderc::TargetEnv::Vulkan,
-            shaderc::EnvVersion::Vulkan1_2 as u32,
-        );
-        options.set_target_spirv(shaderc::SpirvVersion::V1_4);
-        options.set_optimization_level(shaderc::OptimizationLevel::Performance);
-        options.set_warnings_as_errors();
-        let include_dir = shader_dir.clone();
-        let generated_dir = out.clone();
-        options.set_include_callback(move |requested, _kind, requester, _depth| {
-            let dir = if requested == INTERFACE_HEADER {
-                &generated_dir
-            } else {
-                &include_dir
+        let variants: Vec<(String, Option<&str>)> =
+            match VARIANTS.iter().find(|(file, _)| *file == name) {
+                Some((_, list)) => list
+                    .iter()
+                    .map(|(out_name, define)| (out_name.to_string(), Some(*define)))
+                    .collect(),
+                None => vec![(name.clone(), None)],
             };
-            resolve_include(dir, requested, requester)
-        });
-        match compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options)) {
-            Ok(artifact) => {
-                if artifact.get_num_warnings() > 0 {
-                    println!("cargo:warning={}", artifact.get_warning_messages());
+        for (out_name, define) in variants {
+            let options = compile_options(&shader_dir, &out, define);
+            match compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options)) {
+                Ok(artifact) => {
+                    if artifact.get_num_warnings() > 0 {
+                        println!("cargo:warning={}", artifact.get_warning_messages());
+                    }
+                    let target = out.join(format!("{out_name}.spv"));
+                    std::fs::write(&target, artifact.as_binary_u8()).expect("write SPIR-V");
                 }
-                let target = out.join(format!("{name}.spv"));
-                std::fs::write(&target, artifact.as_binary_u8()).expect("write SPIR-V");
+                Err(e) => failures.push(format!("{} ({out_name}):\n{e}", path.display())),
             }
-            Err(e) => failures.push(format!("{}:\n{e}", path.display())),
         }
     }
     if !failures.is_empty() {
@@ -95,6 +100,37 @@ fn main() {
         }
         panic!("shader compilation failed:\n{}", failures.join("\n"));
     }
+}
+
+/// Vulkan 1.2 / SPIR-V 1.4, optimised, warnings as errors, includes from `shaders/` (and the
+/// generated header from `$OUT_DIR`), `define` set when given.
+fn compile_options<'a>(
+    shader_dir: &Path,
+    out: &Path,
+    define: Option<&str>,
+) -> shaderc::CompileOptions<'a> {
+    let mut options = shaderc::CompileOptions::new().expect("shaderc options");
+    options.set_target_env(
+        shaderc::TargetEnv::Vulkan,
+        shaderc::EnvVersion::Vulkan1_2 as u32,
+    );
+    options.set_target_spirv(shaderc::SpirvVersion::V1_4);
+    options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+    options.set_warnings_as_errors();
+    if let Some(define) = define {
+        options.add_macro_definition(define, None);
+    }
+    let include_dir = shader_dir.to_path_buf();
+    let generated_dir = out.to_path_buf();
+    options.set_include_callback(move |requested, _kind, requester, _depth| {
+        let dir = if requested == INTERFACE_HEADER {
+            &generated_dir
+        } else {
+            &include_dir
+        };
+        resolve_include(dir, requested, requester)
+    });
+    options
 }
 
 fn resolve_include(

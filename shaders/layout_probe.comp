@@ -22,6 +22,11 @@ layout(std430, set = 0, binding = LAYOUT_PROBE_BINDING_MATERIALS) readonly buffe
 layout(std430, set = 0, binding = LAYOUT_PROBE_BINDING_RESOLVE) readonly buffer ResolveBlock {
     ResolvePush resolve;
 };
+// Two of each: the second one's scalars check the array stride.
+layout(std430, set = 0, binding = LAYOUT_PROBE_BINDING_BVH) readonly buffer BvhBlock {
+    BvhNode bvh_nodes[2];
+    BvhTriangle bvh_triangles[2];
+};
 layout(push_constant) uniform PushBlock { TracePush pc; };
 
 void main() {
@@ -32,4 +37,8 @@ void main() {
     i = layout_probe_Material(materials[0], i);
     i = layout_probe_Material(materials[1], i);
     i = layout_probe_ResolvePush(resolve, i);
+    i = layout_probe_BvhNode(bvh_nodes[0], i);
+    i = layout_probe_BvhNode(bvh_nodes[1], i);
+    i = layout_probe_BvhTriangle(bvh_triangles[0], i);
+    i = layout_probe_BvhTriangle(bvh_triangles[1], i);
 }

@@ -1,10 +1,16 @@
 #version 460
-// Thin-lens compute pass: spp camera samples per pixel, each traced with a ray query against the
-// TLAS and shaded as specified for every renderer (src/render/settings.rs, the CPU reference).
-// One dispatch covers some rows (strided) and a range of samples; sums accumulate in `accum`
-// (xyz: the sum, w: how many samples), which holds a band of rows of the image (bounded by the
-// device's storage-buffer range).
+// Thin-lens compute pass: spp camera samples per pixel, each traced and shaded as specified for
+// every renderer (shading.glsl; src/render/settings.rs, the CPU reference). build.rs compiles it
+// once per closest-hit implementation: TRAVERSAL_RAY_QUERY (ray queries against the TLAS,
+// hit_rayquery.glsl) and TRAVERSAL_SOFTWARE (the project's own BVH, hit_software.glsl, no
+// ray-tracing extension). One dispatch covers some rows (strided) and a range of samples; sums
+// accumulate in `accum` (xyz: the sum, w: how many samples), which holds a band of rows of the
+// image (bounded by the device's storage-buffer range).
+#if defined(TRAVERSAL_RAY_QUERY)
 #extension GL_EXT_ray_query : require
+#elif !defined(TRAVERSAL_SOFTWARE)
+#error "define TRAVERSAL_RAY_QUERY or TRAVERSAL_SOFTWARE"
+#endif
 
 #include "camera.glsl"
 #include "sampler.glsl"
@@ -13,67 +19,25 @@
 
 layout(local_size_x = TRACE_GROUP_SIZE, local_size_y = TRACE_GROUP_SIZE) in;
 
-layout(set = 0, binding = TRACE_BINDING_TLAS) uniform accelerationStructureEXT tlas;
 layout(std430, set = 0, binding = TRACE_BINDING_ACCUM) buffer Accum { vec4 accum[]; };
 layout(std430, set = 0, binding = TRACE_BINDING_COUNTERS) buffer Counters { uint rays_traced; };
 layout(std140, set = 0, binding = TRACE_BINDING_PARAMS) uniform ParamsBlock { TraceParams params; };
 layout(push_constant) uniform PushBlock { TracePush pc; };
 
-// The radiance along `ray`; `rays` counts the ray queries traced.
-vec3 shade(Ray ray, inout uint rays) {
-    rayQueryEXT rq;
-    rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT, 0xFFu, ray.origin, 0.0, ray.direction, T_MAX);
-    while (rayQueryProceedEXT(rq)) {
-    }
-    rays += 1u;
-    if (rayQueryGetIntersectionTypeEXT(rq, true) == gl_RayQueryCommittedIntersectionNoneEXT) {
-        return params.background.xyz;
-    }
-    uint tri = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(rq, true))
-             + uint(rayQueryGetIntersectionPrimitiveIndexEXT(rq, true));
-    Material mat = materials[triangle_material(tri)];
-    if (params.shading == SHADING_UNLIT) {
-        return mat.diffuse.xyz;
-    }
+// What the hit implementations return: the global triangle index (as `instance custom index +
+// primitive index` names it), the distance, and the barycentric weights of v1 and v2.
+struct Hit {
+    uint triangle;
+    float t;
+    vec2 barycentrics;
+};
 
-    float t = rayQueryGetIntersectionTEXT(rq, true);
-    vec2 b = rayQueryGetIntersectionBarycentricsEXT(rq, true);  // weights of v1, v2
-    vec3 p = ray_at(ray, t);
-    vec3 ng = triangle_geometric_normal(tri);
-    vec3 ns = ng;
-    if (triangle_has_normals(tri)) {
-        vec3 n0 = normals[indices[3u * tri]].xyz;
-        vec3 n1 = normals[indices[3u * tri + 1u]].xyz;
-        vec3 n2 = normals[indices[3u * tri + 2u]].xyz;
-        ns = normalize((1.0 - b.x - b.y) * n0 + b.x * n1 + b.y * n2);
-    }
-    if (dot(ng, ray.direction) > 0.0) {
-        ng = -ng;
-    }
-    if (dot(ns, ray.direction) > 0.0) {
-        ns = -ns;
-    }
-
-    vec3 radiance = mat.emission.xyz;
-    // reference/surface.rs: shadow_origin
-    vec3 o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
-    vec3 to_light = params.light_position.xyz - o;
-    float dist = length(to_light);
-    vec3 l = to_light / dist;
-    float c = dot(ns, l);
-    if (c > 0.0) {
-        rayQueryEXT shadow;
-        rayQueryInitializeEXT(shadow, tlas, gl_RayFlagsOpaqueEXT | gl_RayFlagsTerminateOnFirstHitEXT,
-                              0xFFu, o, 0.0, l, dist);
-        while (rayQueryProceedEXT(shadow)) {
-        }
-        rays += 1u;
-        if (rayQueryGetIntersectionTypeEXT(shadow, true) == gl_RayQueryCommittedIntersectionNoneEXT) {
-            radiance += mat.diffuse.xyz * (1.0 / PI) * params.light_intensity.xyz * c / (dist * dist);
-        }
-    }
-    return radiance;
-}
+#if defined(TRAVERSAL_RAY_QUERY)
+#include "hit_rayquery.glsl"
+#else
+#include "hit_software.glsl"
+#endif
+#include "shading.glsl"
 
 void main() {
     uint x = gl_GlobalInvocationID.x;

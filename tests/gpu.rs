@@ -24,6 +24,7 @@ fn bogus_device_index_is_a_clear_error() {
     let err = GpuRenderer::new(&GpuOptions {
         validate: true,
         device_index: Some(99),
+        ..Default::default()
     })
     .err()
     .expect("device 99 must not exist");
@@ -50,8 +51,9 @@ fn shader_layouts_match_rust() {
         return;
     };
     let report = gpu.probe_layouts().expect("layout probe");
-    // TraceParams 56 + TracePush 8 + RasterPush 24 + 2 materials x 8 + ResolvePush 12.
-    assert_eq!(report.scalars_checked, 56 + 8 + 24 + 16 + 12);
+    // TraceParams 56 + TracePush 8 + RasterPush 24 + 2 materials x 8 + ResolvePush 12
+    // + 2 BVH nodes x 16 + 2 BVH triangles x 12.
+    assert_eq!(report.scalars_checked, 56 + 8 + 24 + 16 + 12 + 32 + 24);
     assert!(
         report.mismatches.is_empty(),
         "{} of {} scalars are read elsewhere than Rust wrote them:\n{}",

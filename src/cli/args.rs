@@ -74,13 +74,12 @@ impl PathArgs {
         PathOptions {
             path: self.path,
             device: self.device,
-            gpu: crate::gpu::with_hidden_ray_query(
-                GpuOptions {
-                    validate: self.validate,
-                    device_index: self.gpu,
-                },
-                self.hide_ray_query,
-            ),
+            gpu: GpuOptions {
+                validate: self.validate,
+                device_index: self.gpu,
+                hide_ray_query: self.hide_ray_query,
+                traversal: None,
+            },
         }
     }
 }

@@ -43,16 +43,14 @@ impl AccelStruct {
             .offset(0)
             .size(size)
             .ty(ty);
+        let fns = ctx.accel()?;
         // SAFETY: the buffer is bound, large enough and has the storage usage.
-        let handle = unsafe { ctx.accel.create_acceleration_structure(&info, None) }
+        let handle = unsafe { fns.create_acceleration_structure(&info, None) }
             .map_err(vk_err("vkCreateAccelerationStructureKHR"))?;
         let address_info =
             vk::AccelerationStructureDeviceAddressInfoKHR::default().acceleration_structure(handle);
         // SAFETY: `handle` was just created on this device.
-        let address = unsafe {
-            ctx.accel
-                .get_acceleration_structure_device_address(&address_info)
-        };
+        let address = unsafe { fns.get_acceleration_structure_device_address(&address_info) };
         Ok(Self {
             ctx: ctx.clone(),
             handle,
@@ -64,12 +62,12 @@ impl AccelStruct {
 
 impl Drop for AccelStruct {
     fn drop(&mut self) {
-        // SAFETY: no submission using it is pending (users wait); destroyed before its buffer.
-        unsafe {
-            self.ctx
-                .accel
-                .destroy_acceleration_structure(self.handle, None)
-        };
+        // Created only through `Context::accel`, so the functions exist.
+        if let Some(fns) = &self.ctx.accel {
+            // SAFETY: no submission using it is pending (users wait); destroyed before its
+            // buffer.
+            unsafe { fns.destroy_acceleration_structure(self.handle, None) };
+        }
     }
 }
 
@@ -84,6 +82,8 @@ pub(crate) struct SceneAccel {
     pub build_wall_ns: f64,
     pub blas_bytes: u64,
     pub blas_compacted_bytes: u64,
+    /// Bytes the structures keep on the device: compacted BLASes, TLAS and its instances.
+    pub device_bytes: u64,
 }
 
 fn align_up(x: u64, a: u64) -> u64 {
@@ -111,6 +111,7 @@ pub(crate) fn build(
     indices: &Buffer,
 ) -> Result<SceneAccel, GpuError> {
     let start = Instant::now();
+    let fns = ctx.accel()?;
     let meshes: Vec<_> = flat
         .meshes
         .iter()
@@ -161,7 +162,7 @@ pub(crate) fn build(
         let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
         // SAFETY: `info` describes valid geometry; one primitive count per geometry.
         unsafe {
-            ctx.accel.get_acceleration_structure_build_sizes(
+            fns.get_acceleration_structure_build_sizes(
                 vk::AccelerationStructureBuildTypeKHR::DEVICE,
                 info,
                 &[m.triangle_count],
@@ -223,17 +224,14 @@ pub(crate) fn build(
         if !infos.is_empty() {
             // SAFETY: every info has a destination, scratch inside `scratch` (aligned, disjoint
             // per build) and inputs in live buffers with the build-input usage.
-            unsafe {
-                ctx.accel
-                    .cmd_build_acceleration_structures(cmd, &infos, &range_refs)
-            };
+            unsafe { fns.cmd_build_acceleration_structures(cmd, &infos, &range_refs) };
         }
         build_to_build_barrier(ctx, cmd);
         if let Some(q) = &compact_sizes {
             // SAFETY: the structures were built with ALLOW_COMPACTION; the barrier above
             // orders the builds before the query.
             unsafe {
-                ctx.accel.cmd_write_acceleration_structures_properties(
+                fns.cmd_write_acceleration_structures_properties(
                     cmd,
                     &handles,
                     vk::QueryType::ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR,
@@ -296,7 +294,7 @@ pub(crate) fn build(
     let mut tlas_sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
     // SAFETY: valid instance geometry description.
     unsafe {
-        ctx.accel.get_acceleration_structure_build_sizes(
+        fns.get_acceleration_structure_build_sizes(
             vk::AccelerationStructureBuildTypeKHR::DEVICE,
             &tlas_info,
             &[instance_count],
@@ -331,15 +329,12 @@ pub(crate) fn build(
                 .dst(dst.handle)
                 .mode(vk::CopyAccelerationStructureModeKHR::COMPACT);
             // SAFETY: `src` was built with ALLOW_COMPACTION, `dst` has the queried size.
-            unsafe { ctx.accel.cmd_copy_acceleration_structure(cmd, &copy) };
+            unsafe { fns.cmd_copy_acceleration_structure(cmd, &copy) };
         }
         build_to_build_barrier(ctx, cmd);
         // SAFETY: the instances reference the compacted BLASes, whose copies the barrier
         // above orders before this build; scratch is aligned and large enough.
-        unsafe {
-            ctx.accel
-                .cmd_build_acceleration_structures(cmd, &[tlas_info], &[&tlas_range])
-        };
+        unsafe { fns.cmd_build_acceleration_structures(cmd, &[tlas_info], &[&tlas_range]) };
         barrier(
             ctx,
             cmd,
@@ -363,6 +358,9 @@ pub(crate) fn build(
         build_wall_ns: start.elapsed().as_nanos() as f64,
         blas_bytes,
         blas_compacted_bytes,
+        device_bytes: blas_compacted_bytes
+            + tlas_sizes.acceleration_structure_size
+            + instance_data.len() as u64,
     })
 }
 

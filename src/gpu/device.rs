@@ -11,6 +11,8 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use super::error::{alloc_err, vk_err, GpuError};
 use super::instance::Instance;
 use super::surface::Surface;
+use super::traversal::Traversal;
+use super::GpuOptions;
 
 /// What `lensray info` shows about one Vulkan device.
 #[derive(Clone, Debug, PartialEq)]
@@ -26,10 +28,16 @@ pub struct DeviceReport {
     pub driver_version: String,
     /// Driver name and info (VkPhysicalDeviceDriverProperties), e.g. "llvmpipe: Mesa 25.0.7".
     pub driver: String,
-    /// Whether lensray can render on it: the extensions and features below are all present.
+    /// Whether it can run the ray-query traversal: the extensions and features below are all
+    /// present.
     pub ray_query: bool,
     /// What is missing for ray queries (extension names, features); empty when `ray_query`.
     pub missing: Vec<String>,
+    /// Whether it can run the software traversal (Vulkan 1.2 and a graphics + compute queue;
+    /// no ray-tracing support needed).
+    pub software: bool,
+    /// What is missing for the software traversal; empty when `software`.
+    pub missing_software: Vec<String>,
     pub max_image_dimension_2d: u32,
     pub max_compute_work_group_count: [u32; 3],
     pub max_compute_work_group_size: [u32; 3],
@@ -46,6 +54,43 @@ pub(crate) const DEVICE_EXTENSIONS: [&CStr; 3] = [
     khr::ray_query::NAME,
     khr::deferred_host_operations::NAME,
 ];
+
+impl DeviceReport {
+    /// The traversals this device can run, ray queries first.
+    pub fn traversals(&self) -> Vec<Traversal> {
+        let mut out = Vec::new();
+        if self.ray_query {
+            out.push(Traversal::RayQuery);
+        }
+        if self.software {
+            out.push(Traversal::Software);
+        }
+        out
+    }
+
+    fn can_run(&self, traversal: Option<Traversal>) -> bool {
+        match traversal {
+            Some(Traversal::RayQuery) => self.ray_query,
+            _ => self.software,
+        }
+    }
+
+    fn missing_for(&self, traversal: Option<Traversal>) -> &[String] {
+        match traversal {
+            Some(Traversal::RayQuery) => &self.missing,
+            _ => &self.missing_software,
+        }
+    }
+
+    /// Reports the device as lacking ray queries (`GpuOptions::hide_ray_query`).
+    fn hide_ray_query(&mut self) {
+        if self.ray_query {
+            self.ray_query = false;
+            self.missing
+                .push("VK_KHR_ray_query (hidden by GpuOptions::hide_ray_query)".into());
+        }
+    }
+}
 
 fn version_string(v: u32) -> String {
     format!(
@@ -102,9 +147,10 @@ pub(crate) fn report(
     let has = |name: &CStr| exts.iter().any(|e| e.extension_name_as_c_str() == Ok(name));
 
     let mut missing = Vec::new();
+    let mut missing_software = Vec::new();
     let api_ok = props.api_version >= vk::API_VERSION_1_2;
     if !api_ok {
-        missing.push(format!(
+        missing_software.push(format!(
             "Vulkan 1.2 (device has {})",
             version_string(props.api_version)
         ));
@@ -156,8 +202,10 @@ pub(crate) fn report(
     }
     let family = queue_family(instance, pd);
     if family.is_none() {
-        missing.push("a graphics + compute queue".into());
+        missing_software.push("a graphics + compute queue".into());
     }
+    // Ray queries need everything the software traversal needs, first in the list.
+    missing.splice(0..0, missing_software.iter().cloned());
     let limits = props.limits;
     Ok(DeviceReport {
         index,
@@ -172,6 +220,8 @@ pub(crate) fn report(
         driver,
         ray_query: missing.is_empty(),
         missing,
+        software: missing_software.is_empty(),
+        missing_software,
         max_image_dimension_2d: limits.max_image_dimension2_d,
         max_compute_work_group_count: limits.max_compute_work_group_count,
         max_compute_work_group_size: limits.max_compute_work_group_size,
@@ -196,18 +246,34 @@ pub(crate) fn enumerate(
         .collect()
 }
 
-fn describe_missing(reports: &[DeviceReport]) -> String {
+fn describe_missing(reports: &[DeviceReport], traversal: Option<Traversal>) -> String {
     reports
         .iter()
-        .map(|r| format!("{}: missing {}", r.name, r.missing.join(", ")))
+        .map(|r| {
+            format!(
+                "{}: missing {}",
+                r.name,
+                r.missing_for(traversal).join(", ")
+            )
+        })
         .collect::<Vec<_>>()
         .join("; ")
 }
 
-/// Picks the device: the one asked for, else the best type (discrete first) with ray queries.
+/// What a device must support for `traversal` (None: either), for error messages.
+fn requirement(traversal: Option<Traversal>) -> &'static str {
+    match traversal {
+        Some(Traversal::RayQuery) => "supports VK_KHR_ray_query",
+        _ => "can run lensray (Vulkan 1.2 with a graphics + compute queue)",
+    }
+}
+
+/// Picks the device: the one asked for, else the best type (discrete first) that can run
+/// `traversal` (None: either traversal; ties go to a device with ray queries).
 pub(crate) fn select(
     devices: &[(vk::PhysicalDevice, DeviceReport)],
     index: Option<usize>,
+    traversal: Option<Traversal>,
 ) -> Result<(vk::PhysicalDevice, DeviceReport), GpuError> {
     let reports: Vec<DeviceReport> = devices.iter().map(|(_, r)| r.clone()).collect();
     if let Some(index) = index {
@@ -230,31 +296,36 @@ pub(crate) fn select(
                 names,
             });
         };
-        if !r.ray_query {
+        if !r.can_run(traversal) {
+            let what = match traversal {
+                Some(Traversal::RayQuery) => "does not support VK_KHR_ray_query",
+                _ => "cannot run lensray",
+            };
             return Err(GpuError::NoRayQueryDevice(format!(
-                "Vulkan device {index} does not support VK_KHR_ray_query ({}: missing {})",
+                "Vulkan device {index} {what} ({}: missing {})",
                 r.name,
-                r.missing.join(", ")
+                r.missing_for(traversal).join(", ")
             )));
         }
         return Ok((*pd, r.clone()));
     }
     if devices.is_empty() {
-        return Err(GpuError::NoRayQueryDevice(
-            "no Vulkan device supports VK_KHR_ray_query (no Vulkan device found; install a \
-             driver, e.g. Mesa's lavapipe >= 24.1)"
-                .into(),
-        ));
+        return Err(GpuError::NoRayQueryDevice(format!(
+            "no Vulkan device {} (no Vulkan device found; install a driver, e.g. Mesa's \
+             lavapipe >= 24.1)",
+            requirement(traversal)
+        )));
     }
     devices
         .iter()
-        .filter(|(_, r)| r.ray_query)
-        .min_by_key(|(pd, r)| (type_rank(device_type(r)), *pd != devices[0].0))
+        .filter(|(_, r)| r.can_run(traversal))
+        .min_by_key(|(pd, r)| (type_rank(device_type(r)), !r.ray_query, *pd != devices[0].0))
         .map(|(pd, r)| (*pd, r.clone()))
         .ok_or_else(|| {
             GpuError::NoRayQueryDevice(format!(
-                "no Vulkan device supports VK_KHR_ray_query (found: {})",
-                describe_missing(&reports)
+                "no Vulkan device {} (found: {})",
+                requirement(traversal),
+                describe_missing(&reports, traversal)
             ))
         })
 }
@@ -276,7 +347,10 @@ pub(crate) struct Context {
     pub instance: Arc<Instance>,
     pub physical_device: vk::PhysicalDevice,
     pub device: ash::Device,
-    pub accel: khr::acceleration_structure::Device,
+    /// The acceleration-structure functions, when ray queries are enabled.
+    pub accel: Option<khr::acceleration_structure::Device>,
+    /// The traversals this device was opened for (ray queries enabled or not).
+    pub traversals: Vec<Traversal>,
     pub queue: vk::Queue,
     pub command_pool: vk::CommandPool,
     allocator: ManuallyDrop<Mutex<Allocator>>,
@@ -290,13 +364,26 @@ pub(crate) struct Context {
 
 impl Context {
     /// `surface`: a window the device must present to (adds VK_KHR_swapchain).
+    /// With `options.traversal` Software, or a device without (or hiding) ray queries, the
+    /// ray-tracing extensions and features are not enabled.
     pub fn new(
         instance: Arc<Instance>,
-        device_index: Option<usize>,
+        options: &GpuOptions,
         surface: Option<&Surface>,
     ) -> Result<Self, GpuError> {
-        let devices = enumerate(&instance.instance)?;
-        let (physical, report) = select(&devices, device_index)?;
+        let mut devices = enumerate(&instance.instance)?;
+        if options.hide_ray_query {
+            for (_, r) in &mut devices {
+                r.hide_ray_query();
+            }
+        }
+        let (physical, report) = select(&devices, options.device_index, options.traversal)?;
+        let traversals: Vec<Traversal> = report
+            .traversals()
+            .into_iter()
+            .filter(|t| options.traversal.is_none_or(|wanted| wanted == *t))
+            .collect();
+        let ray_query = traversals.contains(&Traversal::RayQuery);
         let (queue_family, timestamp_bits) = queue_family(&instance.instance, physical)
             .ok_or_else(|| GpuError::NoRayQueryDevice("no graphics + compute queue".into()))?;
         if let Some(surface) = surface {
@@ -313,18 +400,23 @@ impl Context {
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
-        let mut extensions: Vec<_> = DEVICE_EXTENSIONS.iter().map(|e| e.as_ptr()).collect();
+        let mut extensions: Vec<_> = Vec::new();
+        if ray_query {
+            extensions.extend(DEVICE_EXTENSIONS.iter().map(|e| e.as_ptr()));
+        }
         if surface.is_some() {
             extensions.push(khr::swapchain::NAME.as_ptr());
         }
-        let mut f12 = vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
+        // Device addresses only feed the acceleration-structure builds.
+        let mut f12 =
+            vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(ray_query);
         let mut f_as = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
             .acceleration_structure(true);
         let mut f_rq = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
-        let mut features = vk::PhysicalDeviceFeatures2::default()
-            .push_next(&mut f12)
-            .push_next(&mut f_as)
-            .push_next(&mut f_rq);
+        let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut f12);
+        if ray_query {
+            features = features.push_next(&mut f_as).push_next(&mut f_rq);
+        }
         let info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_extension_names(&extensions)
@@ -335,18 +427,22 @@ impl Context {
             .map_err(vk_err("vkCreateDevice"))?;
         // SAFETY: the queue family was requested with one queue.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let accel = khr::acceleration_structure::Device::new(&instance.instance, &device);
+        let accel = ray_query
+            .then(|| khr::acceleration_structure::Device::new(&instance.instance, &device));
 
-        let mut as_props = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
-        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut as_props);
-        // SAFETY: the extension is enabled; query only.
-        unsafe {
-            instance
-                .instance
-                .get_physical_device_properties2(physical, &mut props2)
-        };
-        let scratch_alignment =
-            u64::from(as_props.min_acceleration_structure_scratch_offset_alignment).max(1);
+        let mut scratch_alignment = 1;
+        if ray_query {
+            let mut as_props = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
+            let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut as_props);
+            // SAFETY: the extension is enabled; query only.
+            unsafe {
+                instance
+                    .instance
+                    .get_physical_device_properties2(physical, &mut props2)
+            };
+            scratch_alignment =
+                u64::from(as_props.min_acceleration_structure_scratch_offset_alignment).max(1);
+        }
 
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
@@ -365,7 +461,7 @@ impl Context {
             device: device.clone(),
             physical_device: physical,
             debug_settings: Default::default(),
-            buffer_device_address: true,
+            buffer_device_address: ray_query,
             allocation_sizes: Default::default(),
         });
         let allocator = match allocator {
@@ -391,12 +487,20 @@ impl Context {
             physical_device: physical,
             device,
             accel,
+            traversals,
             queue,
             command_pool,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             report,
             scratch_alignment,
         })
+    }
+
+    /// The acceleration-structure functions; an error when ray queries are not enabled.
+    pub fn accel(&self) -> Result<&khr::acceleration_structure::Device, GpuError> {
+        self.accel
+            .as_ref()
+            .ok_or_else(|| GpuError::Invalid("ray queries are not enabled on this device".into()))
     }
 
     /// Creates a sampler and forgets it: a deliberate leak for the tests of the leak report.
@@ -526,6 +630,12 @@ mod tests {
                 driver: String::new(),
                 ray_query: missing.is_empty(),
                 missing: missing.iter().map(|m| m.to_string()).collect(),
+                software: !missing.iter().any(|m| m.starts_with("Vulkan 1.2")),
+                missing_software: missing
+                    .iter()
+                    .filter(|m| m.starts_with("Vulkan 1.2"))
+                    .map(|m| m.to_string())
+                    .collect(),
                 max_image_dimension_2d: 16384,
                 max_compute_work_group_count: [65535; 3],
                 max_compute_work_group_size: [1024; 3],
@@ -545,9 +655,45 @@ mod tests {
             fake(2, "igpu", "integrated GPU", &[]),
             fake(3, "dgpu", "discrete GPU", &[]),
         ];
-        assert_eq!(select(&devices, None).unwrap().1.name, "dgpu");
-        assert_eq!(select(&devices[..3], None).unwrap().1.name, "igpu");
-        assert_eq!(select(&devices, Some(0)).unwrap().1.name, "llvmpipe");
+        let rq = Some(Traversal::RayQuery);
+        assert_eq!(select(&devices, None, rq).unwrap().1.name, "dgpu");
+        assert_eq!(select(&devices[..3], None, rq).unwrap().1.name, "igpu");
+        assert_eq!(select(&devices, Some(0), rq).unwrap().1.name, "llvmpipe");
+        // Either traversal: discrete first, ray queries breaking the tie.
+        assert_eq!(select(&devices, None, None).unwrap().1.name, "dgpu");
+        assert_eq!(select(&devices[..3], None, None).unwrap().1.name, "old");
+        assert_eq!(
+            select(&devices[..3], None, Some(Traversal::Software))
+                .unwrap()
+                .1
+                .name,
+            "old"
+        );
+        assert_eq!(select(&devices, Some(1), None).unwrap().1.name, "old");
+        assert!(select(&devices, Some(1), rq).is_err());
+    }
+
+    #[test]
+    fn software_needs_no_ray_queries() {
+        let mut d = fake(0, "old", "discrete GPU", &["VK_KHR_ray_query"]).1;
+        assert_eq!(d.traversals(), vec![Traversal::Software]);
+        let mut full = fake(1, "new", "CPU", &[]).1;
+        assert_eq!(
+            full.traversals(),
+            vec![Traversal::RayQuery, Traversal::Software]
+        );
+        full.hide_ray_query();
+        assert_eq!(full.traversals(), vec![Traversal::Software]);
+        assert!(full.missing.iter().any(|m| m.contains("hidden")));
+        d.software = false;
+        d.missing_software = vec!["Vulkan 1.2 (device has 1.1.0)".into()];
+        let devices = [(vk::Handle::from_raw(1), d)];
+        let text = select(&devices, None, None).unwrap_err().to_string();
+        assert_eq!(
+            text,
+            "no Vulkan device can run lensray (Vulkan 1.2 with a graphics + compute queue) \
+             (found: old: missing Vulkan 1.2 (device has 1.1.0))"
+        );
     }
 
     #[test]
@@ -558,23 +704,27 @@ mod tests {
             "CPU",
             &["VK_KHR_acceleration_structure", "VK_KHR_ray_query"],
         )];
-        let text = select(&devices, None).unwrap_err().to_string();
+        let text = select(&devices, None, Some(Traversal::RayQuery))
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             text,
             "no Vulkan device supports VK_KHR_ray_query (found: llvmpipe (LLVM 15.0.6, 256 \
              bits): missing VK_KHR_acceleration_structure, VK_KHR_ray_query)"
         );
-        let text = select(&devices, Some(0)).unwrap_err().to_string();
+        let text = select(&devices, Some(0), Some(Traversal::RayQuery))
+            .unwrap_err()
+            .to_string();
         assert!(
             text.contains("device 0") && text.contains("missing"),
             "{text}"
         );
-        let text = select(&devices, Some(5)).unwrap_err().to_string();
+        let text = select(&devices, Some(5), None).unwrap_err().to_string();
         assert!(
             text.contains("index 5") && text.contains("1 device(s)"),
             "{text}"
         );
-        let text = select(&[], None).unwrap_err().to_string();
+        let text = select(&[], None, None).unwrap_err().to_string();
         assert!(text.contains("no Vulkan device found"), "{text}");
     }
 }

@@ -3,6 +3,8 @@
 use ash::vk;
 use thiserror::Error;
 
+use super::traversal::Traversal;
+
 #[derive(Debug, Error)]
 pub enum GpuError {
     /// The Vulkan loader library could not be found or opened.
@@ -27,9 +29,18 @@ pub enum GpuError {
         #[source]
         source: gpu_allocator::AllocationError,
     },
-    /// No device (or not the chosen one) can trace rays with ray queries.
+    /// No device (or not the chosen one) can run lensray with the requested traversal (ray
+    /// queries, or any for the software traversal).
     #[error("{0}")]
     NoRayQueryDevice(String),
+    /// The opened device cannot trace with this traversal (not supported, hidden, or not
+    /// requested when it was opened).
+    #[error("the {traversal} traversal is not available on {device} (available: {available})")]
+    TraversalUnavailable {
+        traversal: Traversal,
+        device: String,
+        available: String,
+    },
     /// `GpuOptions::device_index` names no device.
     #[error("Vulkan device index {index} does not exist: {count} device(s) found{names}")]
     DeviceIndex {

@@ -17,9 +17,9 @@ use super::pipeline::Pipeline;
 use super::shader;
 use crate::interface::glsl::{scalars_of, GlslStruct};
 use crate::interface::{
-    GpuMaterial, RasterPush, ResolvePush, TraceParams, TracePush, LAYOUT_PROBE_BINDING_MATERIALS,
-    LAYOUT_PROBE_BINDING_OUT, LAYOUT_PROBE_BINDING_PARAMS, LAYOUT_PROBE_BINDING_RASTER,
-    LAYOUT_PROBE_BINDING_RESOLVE,
+    GpuBvhNode, GpuBvhTriangle, GpuMaterial, RasterPush, ResolvePush, TraceParams, TracePush,
+    LAYOUT_PROBE_BINDING_BVH, LAYOUT_PROBE_BINDING_MATERIALS, LAYOUT_PROBE_BINDING_OUT,
+    LAYOUT_PROBE_BINDING_PARAMS, LAYOUT_PROBE_BINDING_RASTER, LAYOUT_PROBE_BINDING_RESOLVE,
 };
 
 /// What the probe found: how many scalars it compared, and a line per one read elsewhere.
@@ -55,6 +55,8 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
     let raster: RasterPush = patterned(3);
     let materials: [GpuMaterial; 2] = [patterned(4), patterned(5)];
     let resolve: ResolvePush = patterned(6);
+    let bvh_nodes: [GpuBvhNode; 2] = [patterned(7), patterned(8)];
+    let bvh_triangles: [GpuBvhTriangle; 2] = [patterned(9), patterned(10)];
     let mut want = Vec::new();
     expected(&params, &mut want);
     expected(&push, &mut want);
@@ -63,6 +65,12 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
         expected(m, &mut want);
     }
     expected(&resolve, &mut want);
+    for n in &bvh_nodes {
+        expected(n, &mut want);
+    }
+    for t in &bvh_triangles {
+        expected(t, &mut want);
+    }
 
     let (storage, uniform) = (
         vk::DescriptorType::STORAGE_BUFFER,
@@ -75,6 +83,7 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
         (LAYOUT_PROBE_BINDING_RASTER, storage, compute),
         (LAYOUT_PROBE_BINDING_MATERIALS, storage, compute),
         (LAYOUT_PROBE_BINDING_RESOLVE, storage, compute),
+        (LAYOUT_PROBE_BINDING_BVH, storage, compute),
     ];
     let pipeline = Pipeline::compute(
         ctx,
@@ -113,6 +122,16 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
         bytemuck::bytes_of(&resolve),
         vk::BufferUsageFlags::STORAGE_BUFFER,
     )?;
+    // The block's two arrays back to back (std430: the node array's size is a multiple of 16).
+    let mut bvh_bytes = bytemuck::cast_slice::<_, u8>(&bvh_nodes).to_vec();
+    bvh_bytes.extend_from_slice(bytemuck::cast_slice(&bvh_triangles));
+    let bvh_buffer = Buffer::with_data(
+        ctx,
+        "layout probe BVH",
+        &bvh_bytes,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?;
+    pipeline.bind_buffer(LAYOUT_PROBE_BINDING_BVH, storage, &bvh_buffer);
     pipeline.bind_buffer(LAYOUT_PROBE_BINDING_RESOLVE, storage, &resolve_buffer);
     pipeline.bind_buffer(LAYOUT_PROBE_BINDING_OUT, storage, &output);
     pipeline.bind_buffer(LAYOUT_PROBE_BINDING_PARAMS, uniform, &params_buffer);

@@ -1,5 +1,7 @@
-//! The Vulkan renderer (ash, raw Vulkan 1.2 + VK_KHR_ray_query): a raster G-buffer pass and a
-//! thin-lens compute pass that traces ray queries against per-mesh BLASes under one TLAS.
+//! The Vulkan renderer (ash, raw Vulkan 1.2): a raster G-buffer pass and a thin-lens compute
+//! pass that finds closest hits with one of two [`Traversal`]s: VK_KHR_ray_query against
+//! per-mesh BLASes under one TLAS, or a software traversal of the project's own BVH in the
+//! shader, which needs no ray-tracing support.
 //!
 //! The camera is the Rust [`Camera`]: the raster pass projects with `clip_from_world()`, the
 //! compute pass generates rays with `shaders/camera.glsl`, a function-by-function mirror of
@@ -8,7 +10,7 @@
 //!
 //! Files: `instance` (instance, validation, messenger), `device` (device reports, selection,
 //! logical device, allocator, submissions), `buffer`, `image`, `query`, `accel` (BLAS/TLAS),
-//! `shader` (embedded SPIR-V), `pipeline`, `scene` (scene buffers), `gbuffer` (raster pass),
+//! `bvh` (the software traversal's BVH, flattened), `traversal`, `shader` (embedded SPIR-V), `pipeline`, `scene` (scene buffers), `gbuffer` (raster pass),
 //! `trace` (compute pass), `probe` (GLSL mirror checks), `layout_probe` (shared struct layouts
 //! as the shaders read them), `sampler_cost` (sample generation timed alone), `conv` (host data
 //! -> the structs of `crate::interface`), `error`, `bench`; for the preview window: `surface`,
@@ -19,8 +21,9 @@
 //! use lensray::gpu::{GpuOptions, GpuRenderer};
 //! # fn demo(scene: &lensray::scene::Scene, camera: &lensray::camera::Camera,
 //! #         settings: &lensray::render::RenderSettings) -> Result<(), lensray::gpu::GpuError> {
-//! let mut gpu = GpuRenderer::new(&GpuOptions { validate: false, device_index: None })?;
-//! gpu.load_scene(scene)?; // BLAS per mesh (compacted) + TLAS, scene arrays uploaded
+//! let mut gpu = GpuRenderer::new(&GpuOptions::default())?;
+//! gpu.load_scene(scene)?; // BLAS per mesh (compacted) + TLAS and/or BVH, scene arrays uploaded
+//! println!("tracing with {} of {:?}", gpu.traversal(), gpu.traversals());
 //! let image = gpu.render(camera, settings, &mut |done, total| eprint!("\r{done}/{total}"))?;
 //! let gbuffer = gpu.render_gbuffer(camera, settings.background)?;
 //! let focus = lensray::gpu::focus_distance_at(&gbuffer, camera.width / 2, camera.height / 2);
@@ -33,6 +36,7 @@
 mod accel;
 mod bench;
 mod buffer;
+mod bvh;
 mod conv;
 mod device;
 mod error;
@@ -52,7 +56,7 @@ mod shader;
 mod surface;
 mod swapchain;
 mod trace;
-mod traversal_shim;
+mod traversal;
 mod viewer;
 
 use std::sync::Arc;
@@ -64,6 +68,7 @@ use crate::render::{Accumulation, Image, RenderSettings, Shading};
 use crate::scene::Scene;
 
 pub use bench::{bench, bench_renderer, BenchOptions, BenchReport, BenchedPass};
+pub use bvh::BvhParams;
 pub use device::DeviceReport;
 pub use error::GpuError;
 pub use gbuffer::{focus_distance_at, GBuffer};
@@ -72,7 +77,7 @@ pub use layout_probe::LayoutReport;
 pub use overlay::OverlayFrame;
 pub use probe::{ProbeQuery, ProbeResult};
 pub use trace::Timings;
-pub use traversal_shim::{with_hidden_ray_query, with_traversal, Traversal};
+pub use traversal::Traversal;
 pub use viewer::{
     FrameRequest, FrameResult, FrameTimes, HostSamples, PresentMode, Viewer, ViewerOptions,
 };
@@ -92,8 +97,16 @@ pub struct GpuOptions {
     /// Enable VK_LAYER_KHRONOS_validation (with synchronization validation) and record its
     /// warnings and errors (see [`GpuRenderer::validation_messages`]).
     pub validate: bool,
-    /// Use this device of [`list_devices`]; default: the best one with ray queries.
+    /// Use this device of [`list_devices`]; default: the best one for `traversal` (discrete
+    /// first).
     pub device_index: Option<usize>,
+    /// The traversal to open the device for: `RayQuery` needs a device with ray queries,
+    /// `Software` enables no ray-tracing extension and builds only the BVH; None opens both
+    /// where the device has ray queries (ray queries in use first), else software only.
+    pub traversal: Option<Traversal>,
+    /// Treat every device as lacking VK_KHR_ray_query (tests of the software traversal on a
+    /// device that has it).
+    pub hide_ray_query: bool,
 }
 
 /// Every Vulkan device, with what it lacks for lensray (for `lensray info`).
@@ -111,13 +124,15 @@ pub struct GpuRenderer {
     trace: TracePass,
     gbuffer: GBufferPass,
     scene: Option<SceneBuffers>,
+    bvh_params: BvhParams,
     timings: Timings,
     log: ValidationLog,
     ctx: Arc<Context>,
 }
 
 impl GpuRenderer {
-    /// Opens the device; a clear error when no device (or not the chosen one) has ray queries.
+    /// Opens the device; a clear error when no device (or not the chosen one) can run the
+    /// requested traversal.
     pub fn new(options: &GpuOptions) -> Result<Self, GpuError> {
         Ok(Self::open(options, None)?.0)
     }
@@ -137,17 +152,14 @@ impl GpuRenderer {
         let surface = window
             .map(|(display, window)| Surface::new(&instance, display, window))
             .transpose()?;
-        let ctx = Arc::new(Context::new(
-            instance,
-            options.device_index,
-            surface.as_ref(),
-        )?);
+        let ctx = Arc::new(Context::new(instance, options, surface.as_ref())?);
         let gbuffer = GBufferPass::new(&ctx)?;
         let trace = TracePass::new(&ctx)?;
         let renderer = Self {
             trace,
             gbuffer,
             scene: None,
+            bvh_params: BvhParams::default(),
             timings: Timings::default(),
             log,
             ctx,
@@ -163,16 +175,44 @@ impl GpuRenderer {
         self.ctx.report.clone()
     }
 
-    /// Uploads the scene and builds its acceleration structures (replacing any earlier scene).
+    /// The traversals this device can trace with (what it was opened for).
+    pub fn traversals(&self) -> Vec<Traversal> {
+        self.trace.traversals()
+    }
+
+    /// The traversal `render` uses.
+    pub fn traversal(&self) -> Traversal {
+        self.trace.traversal()
+    }
+
+    /// Uses `traversal` from now on (the preview's later frames included); an error when the
+    /// device was not opened for it.
+    pub fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
+        self.trace.set_traversal(traversal)
+    }
+
+    /// How the software traversal's BVH of later `load_scene` calls is built (benchmarks).
+    #[doc(hidden)]
+    pub fn set_bvh_params(&mut self, params: BvhParams) {
+        self.bvh_params = params;
+    }
+
+    /// Uploads the scene and builds the structures of the device's traversals: acceleration
+    /// structures, the software traversal's BVH, or both (replacing any earlier scene).
     pub fn load_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
         self.scene = None;
-        let buffers = SceneBuffers::new(&self.ctx, scene)?;
+        let buffers = SceneBuffers::new(&self.ctx, scene, &self.bvh_params)?;
         self.gbuffer.bind_scene(&buffers);
         self.trace.bind_scene(&buffers);
-        self.timings.accel_build_gpu_ms = buffers.accel.build_gpu_ns * 1e-6;
-        self.timings.accel_build_wall_ms = buffers.accel.build_wall_ns * 1e-6;
-        self.timings.blas_bytes = buffers.accel.blas_bytes;
-        self.timings.blas_compacted_bytes = buffers.accel.blas_compacted_bytes;
+        let t = &mut self.timings;
+        let accel = buffers.accel.as_ref();
+        t.accel_build_gpu_ms = accel.map_or(0.0, |a| a.build_gpu_ns * 1e-6);
+        t.accel_build_wall_ms = accel.map_or(0.0, |a| a.build_wall_ns * 1e-6);
+        t.blas_bytes = accel.map_or(0, |a| a.blas_bytes);
+        t.blas_compacted_bytes = accel.map_or(0, |a| a.blas_compacted_bytes);
+        t.accel_bytes = accel.map_or(0, |a| a.device_bytes);
+        t.bvh_bytes = buffers.bvh.as_ref().map_or(0, |b| b.bytes);
+        t.bvh_build_ms = buffers.bvh.as_ref().map_or(0.0, |b| b.build_ns * 1e-6);
         self.scene = Some(buffers);
         Ok(())
     }

@@ -1,5 +1,6 @@
-//! The thin-lens compute pass (shaders/trace.comp): camera samples traced with ray queries,
-//! split into dispatches of bounded size (bands of rows x ranges of samples), one submission
+//! The thin-lens compute pass (shaders/trace.comp): camera samples traced with one pipeline per
+//! traversal the device was opened for (ray queries, or the software BVH traversal; the one in
+//! use is `traversal()`), split into dispatches of bounded size (bands of rows x ranges of samples), one submission
 //! each, accumulating sums in a float buffer; the host divides by spp at the end.
 
 use std::ops::Range;
@@ -13,8 +14,9 @@ use super::device::Context;
 use super::error::GpuError;
 use super::pipeline::{Binding, Pipeline};
 use super::query::QueryPool;
-use super::scene::SceneBuffers;
+use super::scene::{BvhBuffers, SceneBuffers};
 use super::shader;
+use super::traversal::Traversal;
 use crate::camera::Camera;
 use crate::interface::{
     TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_COUNTERS, TRACE_BINDING_PARAMS,
@@ -41,8 +43,8 @@ pub struct Timings {
     pub accel_build_gpu_ms: f64,
     /// Wall-clock time of the whole build (uploads, builds, compaction).
     pub accel_build_wall_ms: f64,
-    /// GPU time of the very first dispatch of the trace pipeline (drivers may compile lazily),
-    /// excluded from `trace_gpu_ms`.
+    /// GPU time of the very first dispatch of a trace pipeline (drivers may compile lazily; each
+    /// traversal's pipeline has its own, the latest is kept), excluded from `trace_gpu_ms`.
     pub first_dispatch_ms: Option<f64>,
     /// Rays traced by that first dispatch.
     pub first_dispatch_rays: u64,
@@ -60,12 +62,29 @@ pub struct Timings {
     /// Bytes of the loaded scene's BLASes before and after compaction.
     pub blas_bytes: u64,
     pub blas_compacted_bytes: u64,
+    /// Device bytes of the ray-query structures of the loaded scene (compacted BLASes, TLAS,
+    /// instances); 0 without ray queries.
+    pub accel_bytes: u64,
+    /// Device bytes of the software traversal's BVH (nodes and leaf-ordered triangles); 0 when
+    /// the device was opened without the software traversal.
+    pub bvh_bytes: u64,
+    /// Host time of the BVH build and flattening (upload excluded).
+    pub bvh_build_ms: f64,
 }
 
 impl Timings {
     /// Rays per second of the trace pass, first dispatch excluded.
     pub fn rays_per_second(&self) -> Option<f64> {
         (self.trace_gpu_ms > 0.0).then(|| self.rays_traced as f64 / (self.trace_gpu_ms * 1e-3))
+    }
+
+    /// Device bytes of `traversal`'s structures for the loaded scene (the scene arrays, shared
+    /// by both, not counted).
+    pub fn traversal_bytes(&self, traversal: Traversal) -> u64 {
+        match traversal {
+            Traversal::RayQuery => self.accel_bytes,
+            Traversal::Software => self.bvh_bytes,
+        }
     }
 }
 
@@ -92,15 +111,25 @@ impl Split {
     }
 }
 
+/// The pipeline of one traversal.
+struct TracePipeline {
+    traversal: Traversal,
+    pipeline: Pipeline,
+    /// Its first dispatch (lazily compiled by some drivers) is timed apart.
+    first_dispatch_done: bool,
+}
+
 pub(crate) struct TracePass {
     ctx: Arc<Context>,
-    pipeline: Pipeline,
+    /// One per traversal of the device, in `ctx.traversals` order.
+    pipelines: Vec<TracePipeline>,
+    /// Index of the one in use.
+    current: usize,
     params: Buffer,
     counters: Buffer,
     timestamps: QueryPool,
     /// Accumulation and readback buffers of the current image size.
     accum: Option<DeviceSums>,
-    first_dispatch_done: bool,
     /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
     pub samples_per_dispatch: u64,
     /// Current size of a dispatch, adapted to the measured speed.
@@ -109,15 +138,86 @@ pub(crate) struct TracePass {
 }
 
 impl TracePass {
+    /// Creates a pipeline for each traversal of `ctx.traversals`; the first is in use.
     pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let pipelines = ctx
+            .traversals
+            .iter()
+            .map(|&t| {
+                Ok(TracePipeline {
+                    traversal: t,
+                    pipeline: Self::pipeline(ctx, t)?,
+                    first_dispatch_done: false,
+                })
+            })
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        if pipelines.is_empty() {
+            return Err(GpuError::Invalid(
+                "the device was opened with no traversal to trace with".into(),
+            ));
+        }
+        let params = Buffer::new(
+            ctx,
+            "trace params",
+            std::mem::size_of::<TraceParams>() as u64,
+            // TRANSFER_DST: the preview updates it inside its frames' command buffers.
+            vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let counters = Buffer::new(
+            ctx,
+            "trace ray counter",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        for p in &pipelines {
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_PARAMS,
+                vk::DescriptorType::UNIFORM_BUFFER,
+                &params,
+            );
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_COUNTERS,
+                vk::DescriptorType::STORAGE_BUFFER,
+                &counters,
+            );
+        }
+        let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipelines,
+            current: 0,
+            params,
+            counters,
+            timestamps,
+            accum: None,
+            samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
+            adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
+            max_band_pixels: MAX_BAND_PIXELS,
+        })
+    }
+
+    /// The compute pipeline of `traversal`: the scene arrays, that traversal's structures, and
+    /// the pass's own buffers.
+    fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
         let compute = vk::ShaderStageFlags::COMPUTE;
         let mut bindings: Vec<Binding> = SceneBuffers::bindings(compute).to_vec();
+        let spirv = match traversal {
+            Traversal::RayQuery => {
+                bindings.push((
+                    TRACE_BINDING_TLAS,
+                    vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+                    compute,
+                ));
+                shader::TRACE_RAYQUERY_COMP
+            }
+            Traversal::Software => {
+                bindings.extend(BvhBuffers::bindings(compute));
+                shader::TRACE_SOFTWARE_COMP
+            }
+        };
         bindings.extend([
-            (
-                TRACE_BINDING_TLAS,
-                vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
-                compute,
-            ),
             (
                 TRACE_BINDING_ACCUM,
                 vk::DescriptorType::STORAGE_BUFFER,
@@ -134,67 +234,82 @@ impl TracePass {
                 compute,
             ),
         ]);
-        let pipeline = Pipeline::compute(
+        Pipeline::compute(
             ctx,
-            shader::TRACE_COMP,
+            spirv,
             &bindings,
             std::mem::size_of::<TracePush>() as u32,
-        )?;
-        let params = Buffer::new(
-            ctx,
-            "trace params",
-            std::mem::size_of::<TraceParams>() as u64,
-            // TRANSFER_DST: the preview updates it inside its frames' command buffers.
-            vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::CpuToGpu,
-        )?;
-        let counters = Buffer::new(
-            ctx,
-            "trace ray counter",
-            16,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
-        pipeline.bind_buffer(
-            TRACE_BINDING_PARAMS,
-            vk::DescriptorType::UNIFORM_BUFFER,
-            &params,
-        );
-        pipeline.bind_buffer(
-            TRACE_BINDING_COUNTERS,
-            vk::DescriptorType::STORAGE_BUFFER,
-            &counters,
-        );
-        let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
-        Ok(Self {
-            ctx: ctx.clone(),
-            pipeline,
-            params,
-            counters,
-            timestamps,
-            accum: None,
-            first_dispatch_done: false,
-            samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
-            adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
-            max_band_pixels: MAX_BAND_PIXELS,
-        })
+        )
+    }
+
+    /// The traversals this pass can trace with.
+    pub fn traversals(&self) -> Vec<Traversal> {
+        self.pipelines.iter().map(|p| p.traversal).collect()
+    }
+
+    /// The traversal in use.
+    pub fn traversal(&self) -> Traversal {
+        self.pipelines[self.current].traversal
+    }
+
+    /// Uses `traversal` from now on; an error when the device was not opened for it.
+    pub fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
+        let index = self
+            .pipelines
+            .iter()
+            .position(|p| p.traversal == traversal)
+            .ok_or_else(|| GpuError::TraversalUnavailable {
+                traversal,
+                device: self.ctx.report.name.clone(),
+                available: self
+                    .traversals()
+                    .iter()
+                    .map(|t| t.name())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })?;
+        self.current = index;
+        Ok(())
+    }
+
+    fn pipeline_in_use(&self) -> &Pipeline {
+        &self.pipelines[self.current].pipeline
     }
 
     pub fn bind_scene(&self, scene: &SceneBuffers) {
-        scene.bind(&self.pipeline);
-        self.pipeline
-            .bind_accel(TRACE_BINDING_TLAS, scene.accel.tlas.handle);
+        for p in &self.pipelines {
+            scene.bind(&p.pipeline);
+            match p.traversal {
+                Traversal::RayQuery => {
+                    if let Some(accel) = &scene.accel {
+                        p.pipeline.bind_accel(TRACE_BINDING_TLAS, accel.tlas.handle);
+                    }
+                }
+                Traversal::Software => {
+                    if let Some(bvh) = &scene.bvh {
+                        bvh.bind(&p.pipeline);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Points every pipeline's accumulation binding at `buffer`.
+    fn bind_accum_buffer(&self, buffer: &Buffer) {
+        for p in &self.pipelines {
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_ACCUM,
+                vk::DescriptorType::STORAGE_BUFFER,
+                buffer,
+            );
+        }
     }
 
     /// Points the pass at an accumulation buffer of the caller's (the preview's, one vec4 per
     /// pixel of the whole image); a later `render` makes and binds its own again.
     pub fn bind_accumulation(&mut self, buffer: &Buffer) {
         self.accum = None;
-        self.pipeline.bind_buffer(
-            TRACE_BINDING_ACCUM,
-            vk::DescriptorType::STORAGE_BUFFER,
-            buffer,
-        );
+        self.bind_accum_buffer(buffer);
     }
 
     /// Records an update of the uniform parameters, ordered before later dispatches and after
@@ -228,7 +343,7 @@ impl TracePass {
     /// Records one dispatch of the blocks and samples `push` names, over an image `width`
     /// pixels wide (parameters and accumulation bound and ordered by the caller).
     pub fn record_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush, width: u32) {
-        self.pipeline.bind(cmd, bytemuck::bytes_of(&push));
+        self.pipeline_in_use().bind(cmd, bytemuck::bytes_of(&push));
         // SAFETY: compute pipeline and its complete descriptor set are bound.
         unsafe {
             self.ctx
@@ -291,11 +406,7 @@ impl TracePass {
                 vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuToCpu,
             )?;
-            self.pipeline.bind_buffer(
-                TRACE_BINDING_ACCUM,
-                vk::DescriptorType::STORAGE_BUFFER,
-                &accum,
-            );
+            self.bind_accum_buffer(&accum);
             self.accum = Some(DeviceSums {
                 accum,
                 staging,
@@ -378,7 +489,7 @@ impl TracePass {
         let ticks = self.timestamps.results()?;
         let gpu_ms = self.ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6;
         let rays = u64::from(bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0]);
-        if self.first_dispatch_done {
+        if self.pipelines[self.current].first_dispatch_done {
             if gpu_ms > 0.0 {
                 let rate = work as f64 / gpu_ms;
                 // Shrinks at once, grows at most 2x per dispatch.
@@ -393,7 +504,7 @@ impl TracePass {
         } else {
             timings.first_dispatch_ms = Some(gpu_ms);
             timings.first_dispatch_rays = rays;
-            self.first_dispatch_done = true;
+            self.pipelines[self.current].first_dispatch_done = true;
         }
         Ok(())
     }

@@ -64,6 +64,13 @@ shader_interface! {
         TRACE_BINDING_ACCUM: u32 = 6;
         TRACE_BINDING_COUNTERS: u32 = 7;
         TRACE_BINDING_PARAMS: u32 = 8;
+        /// trace.comp, software traversal (shaders/hit_software.glsl): the BVH's nodes and its
+        /// triangles in leaf order.
+        TRACE_BINDING_BVH_NODES: u32 = 9;
+        TRACE_BINDING_BVH_TRIANGLES: u32 = 10;
+        /// Entries of the software traversal's stack of nodes still to visit; the BVH build
+        /// refuses deeper trees (src/gpu/bvh.rs).
+        BVH_STACK_SIZE: u32 = 64;
         /// probe.comp.
         PROBE_BINDING_QUERIES: u32 = 0;
         PROBE_BINDING_RESULTS: u32 = 1;
@@ -83,6 +90,7 @@ shader_interface! {
         LAYOUT_PROBE_BINDING_RASTER: u32 = 2;
         LAYOUT_PROBE_BINDING_MATERIALS: u32 = 3;
         LAYOUT_PROBE_BINDING_RESOLVE: u32 = 4;
+        LAYOUT_PROBE_BINDING_BVH: u32 = 5;
     }
     structs {
         /// The camera as the shaders see it (shaders/camera.glsl); there is no second camera:
@@ -207,6 +215,27 @@ shader_interface! {
             diffuse: [f32; 4],
             /// Ke
             emission: [f32; 4],
+        }
+        /// An inner node of the software traversal's BVH (src/gpu/bvh.rs): the boxes of both
+        /// children, so one node fetch tests two boxes (Aila and Laine's layout). A child is
+        /// another node (count 0: `link` indexes the node array) or a leaf (count > 0: `count`
+        /// triangles from `link` in the leaf-ordered triangle array).
+        Std430 struct GpuBvhNode as BvhNode {
+            /// Child a: min x, max x, min y, max y.
+            a_xy: [f32; 4],
+            /// Child b: min x, max x, min y, max y.
+            b_xy: [f32; 4],
+            /// min z, max z of child a, then of child b.
+            ab_z: [f32; 4],
+            /// Link of a, link of b, triangle count of a, of b.
+            children: [u32; 4],
+        }
+        /// A triangle of the software traversal, in BVH leaf order: its vertices, and in
+        /// `v0[3]` the global triangle index as a float (exact: indices stay below 2^24).
+        Std430 struct GpuBvhTriangle as BvhTriangle {
+            v0: [f32; 4],
+            v1: [f32; 4],
+            v2: [f32; 4],
         }
     }
 }

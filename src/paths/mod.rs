@@ -152,7 +152,10 @@ pub fn open(
     }
 
     let traversal = options.path.kind().and_then(traversal_of);
-    let gpu_options = crate::gpu::with_traversal(options.gpu, traversal);
+    let gpu_options = GpuOptions {
+        traversal,
+        ..options.gpu
+    };
     let renderer = match GpuRenderer::new(&gpu_options) {
         Ok(renderer) => renderer,
         Err(error) => {
@@ -306,5 +309,11 @@ pub fn preview_options(options: &PathOptions) -> Result<(GpuOptions, bool)> {
         _ => false,
     };
     let traversal = options.path.kind().and_then(traversal_of);
-    Ok((crate::gpu::with_traversal(options.gpu, traversal), cpu))
+    Ok((
+        GpuOptions {
+            traversal,
+            ..options.gpu
+        },
+        cpu,
+    ))
 }

@@ -15,9 +15,14 @@ use lensray::scene::{Material, Mesh, Scene};
 /// with `LENSRAY_SKIP_GPU_TESTS=1`, when the machine cannot run GPU tests at all (see
 /// [`may_skip`]), the skip is recorded and this returns `None`.
 pub fn renderer(test: &str) -> Option<(GpuRenderer, ValidationLog)> {
+    renderer_with(test, &GpuOptions::default())
+}
+
+/// [`renderer`] with `options` (validation forced on).
+pub fn renderer_with(test: &str, options: &GpuOptions) -> Option<(GpuRenderer, ValidationLog)> {
     match GpuRenderer::new(&GpuOptions {
         validate: true,
-        device_index: None,
+        ..*options
     }) {
         Ok(r) => {
             let log = r.validation_log();
@@ -63,6 +68,7 @@ pub fn skip_or_fail(test: &str, stderr: &str) {
     match GpuRenderer::new(&GpuOptions {
         validate: true,
         device_index: None,
+        ..Default::default()
     }) {
         Err(e) if may_skip(&e) => record_skip(test, &e.to_string()),
         Err(e) => panic!("{test}: the GPU command failed: {stderr}(the device does not open: {e})"),

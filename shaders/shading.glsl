@@ -1,0 +1,59 @@
+// Shading of the thin-lens compute pass, as specified for every renderer (src/render/settings.rs,
+// the CPU reference): unlit (the diffuse colour of the closest hit) or lit (emission + one point
+// light with a shadow ray). Include after a hit implementation (hit_rayquery.glsl or
+// hit_software.glsl), which defines
+//   bool closest_hit(vec3 origin, vec3 direction, float t_max, out Hit hit);
+//   bool occluded(vec3 origin, vec3 direction, float t_max);
+// over t in (0, t_max), and the trace parameters `params`.
+#ifndef LENSRAY_SHADING_GLSL
+#define LENSRAY_SHADING_GLSL
+
+// The radiance along `ray`; `rays` counts the rays traced.
+vec3 shade(Ray ray, inout uint rays) {
+    Hit hit;
+    bool found = closest_hit(ray.origin, ray.direction, T_MAX, hit);
+    rays += 1u;
+    if (!found) {
+        return params.background.xyz;
+    }
+    uint tri = hit.triangle;
+    Material mat = materials[triangle_material(tri)];
+    if (params.shading == SHADING_UNLIT) {
+        return mat.diffuse.xyz;
+    }
+
+    vec2 b = hit.barycentrics;  // weights of v1, v2
+    vec3 p = ray_at(ray, hit.t);
+    vec3 ng = triangle_geometric_normal(tri);
+    vec3 ns = ng;
+    if (triangle_has_normals(tri)) {
+        vec3 n0 = normals[indices[3u * tri]].xyz;
+        vec3 n1 = normals[indices[3u * tri + 1u]].xyz;
+        vec3 n2 = normals[indices[3u * tri + 2u]].xyz;
+        ns = normalize((1.0 - b.x - b.y) * n0 + b.x * n1 + b.y * n2);
+    }
+    if (dot(ng, ray.direction) > 0.0) {
+        ng = -ng;
+    }
+    if (dot(ns, ray.direction) > 0.0) {
+        ns = -ns;
+    }
+
+    vec3 radiance = mat.emission.xyz;
+    // reference/surface.rs: shadow_origin
+    vec3 o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
+    vec3 to_light = params.light_position.xyz - o;
+    float dist = length(to_light);
+    vec3 l = to_light / dist;
+    float c = dot(ns, l);
+    if (c > 0.0) {
+        bool blocked = occluded(o, l, dist);
+        rays += 1u;
+        if (!blocked) {
+            radiance += mat.diffuse.xyz * (1.0 / PI) * params.light_intensity.xyz * c / (dist * dist);
+        }
+    }
+    return radiance;
+}
+
+#endif

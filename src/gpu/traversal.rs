@@ -1,0 +1,43 @@
+//! Which closest-hit implementation the compute pass uses.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// How the compute pass finds the closest hit of a ray: both shade alike (shaders/shading.glsl).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Traversal {
+    /// VK_KHR_ray_query against the driver's acceleration structures (BLAS per mesh + TLAS).
+    RayQuery,
+    /// A stack-based traversal in the shader of the project's own BVH (src/gpu/bvh.rs): needs
+    /// no ray-tracing support.
+    Software,
+}
+
+impl Traversal {
+    pub const ALL: [Traversal; 2] = [Traversal::RayQuery, Traversal::Software];
+
+    /// The name used on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Traversal::RayQuery => "rayquery",
+            Traversal::Software => "software",
+        }
+    }
+}
+
+impl fmt::Display for Traversal {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Traversal {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Traversal::ALL
+            .into_iter()
+            .find(|t| t.name() == s)
+            .ok_or_else(|| format!("unknown traversal '{s}' (expected rayquery or software)"))
+    }
+}
