@@ -205,3 +205,42 @@ fn contradictory_choices_are_errors() {
         assert_eq!(error, expected);
     }
 }
+
+/// A device without ray queries (hidden here) runs the software path: `auto` takes it as the
+/// only one, and asking for `rayquery` is a clear error.
+#[test]
+fn without_ray_queries_the_software_path_runs() {
+    let test = "without_ray_queries_the_software_path_runs";
+    let (cam, s) = shot();
+    let hidden = |path| PathOptions {
+        path,
+        device: DeviceChoice::Gpu,
+        gpu: GpuOptions {
+            validate: true,
+            hide_ray_query: true,
+            ..GpuOptions::default()
+        },
+    };
+    let OpenedPath { mut path, why } =
+        match paths::open(&hidden(PathChoice::Auto), &test_scene(), (&cam, &s)) {
+            Ok(opened) => opened,
+            Err(e) => match e.downcast_ref::<GpuError>() {
+                Some(gpu) if may_skip(gpu) => return record_skip(test, &format!("{e:#}")),
+                _ => panic!("{test}: {e:#}"),
+            },
+        };
+    assert_eq!(path.kind(), PathKind::Software, "{why}");
+    assert_eq!(why, "auto: the only path this device supports");
+    let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
+    assert!(image.pixels.iter().any(|p| p.max_element() > 0.0));
+    path.close().expect("close: validation messages or leaks");
+
+    let error = match paths::open(&hidden(PathChoice::RayQuery), &test_scene(), (&cam, &s)) {
+        Ok(_) => panic!("--path rayquery must fail without ray queries"),
+        Err(e) => format!("{e:#}"),
+    };
+    assert!(
+        error.starts_with("--path rayquery: ") && error.contains("VK_KHR_ray_query"),
+        "{error}"
+    );
+}

@@ -132,7 +132,12 @@ fn read_exr(path: &Path) -> image::Rgb32FImage {
 /// whichever path traces the samples.
 #[test]
 fn converged_preview_equals_the_headless_render() {
-    for (path, shading) in [("rayquery", "unlit"), ("rayquery", "lit"), ("cpu", "lit")] {
+    for (path, shading) in [
+        ("rayquery", "unlit"),
+        ("rayquery", "lit"),
+        ("software", "lit"),
+        ("cpu", "lit"),
+    ] {
         let dir = tempfile::tempdir().unwrap();
         let script = "0 wait converged\n0 quit\n";
         let Some(out) = preview(

@@ -156,6 +156,11 @@ impl Viewer {
         self.gpu.device_name()
     }
 
+    /// The renderer behind the window (to pick its traversal before the first frame).
+    pub fn renderer_mut(&mut self) -> &mut GpuRenderer {
+        &mut self.gpu
+    }
+
     pub fn present_mode(&self) -> Option<PresentMode> {
         let mode = self.swapchain.as_ref()?.present_mode;
         Some(match mode {

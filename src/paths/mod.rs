@@ -189,6 +189,19 @@ pub fn open(
             why: "asked for".into(),
         });
     }
+    let (kind, why) = pick_traversal(&mut renderer, shot)?;
+    Ok(OpenedPath {
+        path: Box::new(GpuPath::new(renderer, kind)?),
+        why,
+    })
+}
+
+/// `auto` on an open Vulkan device with a scene loaded: the only traversal it runs, or the
+/// fastest on a small render of `shot`. Sets it, and says which and why.
+pub fn pick_traversal(
+    renderer: &mut GpuRenderer,
+    shot: (&Camera, &RenderSettings),
+) -> Result<(PathKind, String)> {
     let kinds: Vec<PathKind> = renderer.traversals().into_iter().map(kind_of).collect();
     let (kind, why) = match kinds.as_slice() {
         [] => bail!(
@@ -199,13 +212,10 @@ pub fn open(
             *only,
             "auto: the only path this device supports".to_string(),
         ),
-        _ => fastest(&mut renderer, &kinds, shot)?,
+        _ => fastest(renderer, &kinds, shot)?,
     };
     renderer.set_traversal(traversal_of(kind).expect("a GPU path"))?;
-    Ok(OpenedPath {
-        path: Box::new(GpuPath::new(renderer, kind)?),
-        why,
-    })
+    Ok((kind, why))
 }
 
 fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {

@@ -30,6 +30,7 @@ use super::view::ViewMode;
 use crate::camera::Camera;
 use crate::gpu::{FrameRequest, HostSamples, OverlayFrame, Viewer, ViewerOptions};
 use crate::output::PendingOutput;
+use crate::paths;
 use crate::render::RenderSettings;
 use crate::scene::file::SceneDescription;
 
@@ -205,9 +206,27 @@ impl App {
             None,
         );
         self.gui = Some(Gui { ctx, state });
-        if self.config.cpu_path {
+        let mut viewer = viewer;
+        let path = if self.config.cpu_path {
             self.cpu_feed = Some(CpuFeed::new(&self.config.description.scene));
-        }
+            "path cpu (samples traced on the CPU, shown by the GPU)".to_string()
+        } else {
+            let shot = self
+                .config
+                .rig
+                .resolve(&self.config.description.scene)
+                .context("camera")?;
+            let renderer = viewer.renderer_mut();
+            let (kind, why) = if self.config.viewer.gpu.traversal.is_some() {
+                let traversal = renderer.traversal();
+                (traversal.to_string(), "asked for".to_string())
+            } else {
+                let (kind, why) = paths::pick_traversal(renderer, (&shot.camera, &shot.render))?;
+                (kind.to_string(), why)
+            };
+            format!("path {kind} ({why})")
+        };
+        eprintln!("preview: {path} on {}", viewer.device_name());
         self.viewer = Some(viewer);
         self.window = Some(window);
         Ok(())
