@@ -2,10 +2,11 @@
 //! traversal) on the built-in default scene and on the dense benchmark scene (`lensray generate
 //! dense`, ~1M triangles), measured in one run: each traversal is warmed up, then timed
 //! `--repeat` times with GPU timestamps; the table gives medians and the software/rayquery ratio.
-//! `--bvh-sweep` instead times the software traversal on the default scene for several BVH
-//! builds (leaf size, collapse cost, build quality).
+//! `--bvh-sweep` instead times the software traversal on the default scene (`--dense`: the dense
+//! one) for several BVH builds (leaf size, collapse cost, build quality), also interleaved.
 //!
-//! `cargo bench --bench traversal -- [--repeat N] [--triangles N] [--spp N] [--bvh-sweep]`
+//! `cargo bench --bench traversal -- [--repeat N] [--triangles N] [--width W] [--height H]
+//! [--spp N] [--unlit] [--separate] [--bvh-sweep [--dense]]`
 //! measures; under `cargo test --all-targets` (no `--bench` argument) it only runs a tiny smoke
 //! version. Without a Vulkan device it fails, unless LENSRAY_SKIP_GPU_TESTS=1.
 
@@ -27,6 +28,10 @@ struct Args {
     bvh_sweep: bool,
     /// Open the device once per traversal, for that traversal alone.
     separate: bool,
+    /// Unlit (camera rays only) instead of lit (camera + shadow rays).
+    unlit: bool,
+    /// The BVH sweep on the dense scene instead of the default one.
+    dense_sweep: bool,
 }
 
 fn args() -> Args {
@@ -46,10 +51,12 @@ fn args() -> Args {
         spp: value("--spp").unwrap_or(if measure { 4 } else { 1 }) as u32,
         bvh_sweep: argv.iter().any(|a| a == "--bvh-sweep"),
         separate: argv.iter().any(|a| a == "--separate"),
+        unlit: argv.iter().any(|a| a == "--unlit"),
+        dense_sweep: argv.iter().any(|a| a == "--dense"),
     }
 }
 
-/// The scene's own camera and settings at the bench's size, lit.
+/// The scene's own camera and settings at the bench's size, lit unless `--unlit`.
 fn resolve(desc: &SceneDescription, a: &Args) -> (Camera, RenderSettings) {
     use lensray::settings::{ImageSettings, RenderStyle, Settings};
     let over = Settings {
@@ -61,7 +68,11 @@ fn resolve(desc: &SceneDescription, a: &Args) -> (Camera, RenderSettings) {
             sampler: None,
         },
         render: RenderStyle {
-            shading: Some(Shading::Lit),
+            shading: Some(if a.unlit {
+                Shading::Unlit
+            } else {
+                Shading::Lit
+            }),
             background: None,
         },
         ..Default::default()
@@ -141,12 +152,13 @@ fn compare_traversals(name: &str, desc: &SceneDescription, a: &Args) -> Result<(
     gpu.load_scene(&desc.scene)?;
     let t = gpu.timings();
     println!(
-        "{name}: {} triangles, {}x{} at {} spp lit, {} | BVH {:.1} MiB (host build {:.0} ms), \
+        "{name}: {} triangles, {}x{} at {} spp {:?}, {} | BVH {:.1} MiB (host build {:.0} ms), \
          BLAS+TLAS {:.1} MiB",
         desc.scene.triangle_count(),
         a.width,
         a.height,
         a.spp,
+        settings.shading,
         gpu.device_name(),
         t.bvh_bytes as f64 / (1 << 20) as f64,
         t.bvh_build_ms,
@@ -186,11 +198,12 @@ fn compare_traversals(name: &str, desc: &SceneDescription, a: &Args) -> Result<(
 fn bvh_sweep(desc: &SceneDescription, a: &Args) -> Result<(), GpuError> {
     let (camera, settings) = resolve(desc, a);
     println!(
-        "BVH builds on the default scene ({} triangles), software traversal, {}x{} at {} spp lit:",
+        "BVH builds ({} triangles), software traversal, {}x{} at {} spp {:?}:",
         desc.scene.triangle_count(),
         a.width,
         a.height,
-        a.spp
+        a.spp,
+        settings.shading
     );
     let choices = [
         (1, 10, true),
@@ -230,7 +243,9 @@ fn bvh_sweep(desc: &SceneDescription, a: &Args) -> Result<(), GpuError> {
 fn main() {
     let a = args();
     let default = lensray::scene::builtin::default_scene();
-    let result = if a.bvh_sweep {
+    let result = if a.bvh_sweep && a.dense_sweep {
+        bvh_sweep(&lensray::scene::generate::dense(a.triangles), &a)
+    } else if a.bvh_sweep {
         bvh_sweep(&default, &a)
     } else {
         compare_traversals("default", &default, &a).and_then(|()| {
