@@ -694,7 +694,9 @@ fn list_devices_reports_a_ray_query_device() {
     }
     let text = lensray::cli::info::format_devices(&devices);
     assert!(
-        text.contains(&usable[0].name) && text.contains("ray queries        yes"),
+        text.contains(&usable[0].name)
+            && text.contains("ray queries        yes")
+            && text.contains("paths              rayquery, software, cpu"),
         "{text}"
     );
     // The renderer picks a usable device, and names it.

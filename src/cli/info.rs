@@ -4,7 +4,8 @@ use anyhow::{Context, Result};
 
 use crate::gpu::{list_devices, DeviceReport};
 
-/// Prints every Vulkan device with its ray-query support and the limits that matter.
+/// Prints every Vulkan device with its ray-query support, the render paths it runs and the
+/// limits that matter.
 pub fn run() -> Result<()> {
     let devices = list_devices().context("listing Vulkan devices")?;
     print!("{}", format_devices(&devices));
@@ -16,9 +17,12 @@ pub fn format_devices(devices: &[DeviceReport]) -> String {
     if devices.is_empty() {
         return "no Vulkan devices found (install a Vulkan driver, e.g. Mesa's lavapipe)\n".into();
     }
-    let usable = devices.iter().filter(|d| d.ray_query).count();
+    let usable = devices
+        .iter()
+        .filter(|d| !d.traversals().is_empty())
+        .count();
     let mut out = format!(
-        "{} Vulkan device(s), {usable} usable for GPU rendering (VK_KHR_ray_query):\n",
+        "{} Vulkan device(s), {usable} usable for GPU rendering:\n",
         devices.len()
     );
     for d in devices {
@@ -36,6 +40,15 @@ pub fn format_devices(devices: &[DeviceReport]) -> String {
                 d.missing.join(", ")
             );
         }
+        let paths: Vec<&str> = d.traversals().iter().map(|t| t.name()).collect();
+        out += &if paths.is_empty() {
+            format!(
+                "    paths              cpu only: missing {}\n",
+                d.missing_software.join(", ")
+            )
+        } else {
+            format!("    paths              {}, cpu\n", paths.join(", "))
+        };
         out += &format!("    max image 2D       {} px\n", d.max_image_dimension_2d);
         let [gx, gy, gz] = d.max_compute_work_group_count;
         let [sx, sy, sz] = d.max_compute_work_group_size;

@@ -87,7 +87,7 @@ impl DeviceReport {
         if self.ray_query {
             self.ray_query = false;
             self.missing
-                .push("VK_KHR_ray_query (hidden by GpuOptions::hide_ray_query)".into());
+                .push("VK_KHR_ray_query (hidden: --hide-ray-query)".into());
         }
     }
 }
