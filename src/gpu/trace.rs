@@ -43,10 +43,10 @@ pub struct Timings {
     pub accel_build_gpu_ms: f64,
     /// Wall-clock time of the whole build (uploads, builds, compaction).
     pub accel_build_wall_ms: f64,
-    /// GPU time of the very first dispatch of a trace pipeline (drivers may compile lazily; each
-    /// traversal's pipeline has its own, the latest is kept), excluded from `trace_gpu_ms`.
+    /// GPU time of the very first dispatch of each trace pipeline (drivers may compile lazily;
+    /// each traversal's pipeline has its own), summed, excluded from `trace_gpu_ms`.
     pub first_dispatch_ms: Option<f64>,
-    /// Rays traced by that first dispatch.
+    /// Rays traced by those first dispatches.
     pub first_dispatch_rays: u64,
     /// GPU time of every later dispatch of the trace pass, summed.
     pub trace_gpu_ms: f64,
@@ -502,8 +502,9 @@ impl TracePass {
             timings.rays_traced += rays;
             timings.dispatches += 1;
         } else {
-            timings.first_dispatch_ms = Some(gpu_ms);
-            timings.first_dispatch_rays = rays;
+            // Summed over the pipelines (one per traversal), so that reports can subtract.
+            timings.first_dispatch_ms = Some(timings.first_dispatch_ms.unwrap_or(0.0) + gpu_ms);
+            timings.first_dispatch_rays += rays;
             self.pipelines[self.current].first_dispatch_done = true;
         }
         Ok(())

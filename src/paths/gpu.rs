@@ -6,7 +6,7 @@ use anyhow::Result;
 use glam::Vec3;
 
 use crate::camera::Camera;
-use crate::gpu::{focus_distance_at, GpuRenderer};
+use crate::gpu::{focus_distance_at, GpuRenderer, Traversal};
 use crate::render::path::{Clock, PathKind, PathReport, RenderPath};
 use crate::render::{Accumulation, Image, RenderSettings};
 use crate::scene::Scene;
@@ -77,14 +77,18 @@ impl RenderPath for GpuPath {
 
     fn report(&self) -> PathReport {
         let t = self.renderer.timings();
+        let traversal = self.renderer.traversal();
         // The pipeline's first dispatch is timed apart (lazy compilation); its rays and time
         // count here so that a render's report covers all of it.
         PathReport {
             rays: t.rays_traced + t.first_dispatch_rays,
             trace_seconds: (t.trace_gpu_ms + t.first_dispatch_ms.unwrap_or(0.0)) * 1e-3,
             clock: Clock::GpuTimestamps,
-            build_seconds: t.accel_build_wall_ms * 1e-3,
-            accel_bytes: t.blas_compacted_bytes,
+            build_seconds: match traversal {
+                Traversal::RayQuery => t.accel_build_wall_ms * 1e-3,
+                Traversal::Software => t.bvh_build_ms * 1e-3,
+            },
+            accel_bytes: t.traversal_bytes(traversal),
             peak_device_bytes: self.peak_device_bytes,
         }
     }
