@@ -27,8 +27,8 @@ pub struct BenchArgs {
         value_name = "PATH,..."
     )]
     pub paths: Vec<PathChoice>,
-    /// Which device runs the GPU paths' default list: auto (a Vulkan device when one is usable,
-    /// plus the CPU), gpu (the GPU paths only), cpu (the CPU path only).
+    /// Which devices the default list of paths uses: auto (the GPU paths of a usable Vulkan
+    /// device, plus the CPU), gpu (the GPU paths only), cpu (the CPU path only).
     #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
     pub device: DeviceChoice,
     /// Turn on the Vulkan validation layer for the GPU paths; any message fails the bench.
