@@ -113,6 +113,9 @@ pub fn paths_to_run(
         seen.push(*k);
         new
     });
+    if kinds.is_empty() {
+        bail!("no path to run: the Vulkan device supports none of lensray's GPU paths");
+    }
     Ok(kinds)
 }
 

@@ -212,39 +212,19 @@ mod tests {
         settings.image.height = Some(8);
         let resolved = crate::resolve::resolve(&settings, &scene.description.scene).unwrap();
         let dir = tempfile::tempdir().unwrap();
-        let first = obtain(
-            Some(dir.path()),
-            &scene,
-            &resolved.camera,
-            &resolved.render,
-            4,
-            &mut |_| {},
-        )
-        .unwrap();
+        let reference = |spp| {
+            let (camera, render) = (&resolved.camera, &resolved.render);
+            obtain(Some(dir.path()), &scene, camera, render, spp, &mut |_| {}).unwrap()
+        };
+        let first = reference(4);
         assert!(!first.info.cached && first.info.file.is_some());
         assert!(first.info.noise_rmse > 0.0 && first.info.noise_rmse.is_finite());
-        let second = obtain(
-            Some(dir.path()),
-            &scene,
-            &resolved.camera,
-            &resolved.render,
-            4,
-            &mut |_| {},
-        )
-        .unwrap();
+        let second = reference(4);
         assert!(second.info.cached);
         assert_eq!(second.image, first.image);
         assert_eq!(second.info.noise_rmse, first.info.noise_rmse);
         // Another sample count is another reference.
-        let other = obtain(
-            Some(dir.path()),
-            &scene,
-            &resolved.camera,
-            &resolved.render,
-            8,
-            &mut |_| {},
-        )
-        .unwrap();
+        let other = reference(8);
         assert!(!other.info.cached);
     }
 }
