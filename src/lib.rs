@@ -3,6 +3,7 @@
 
 #![deny(unsafe_code)]
 
+pub mod bench;
 pub mod camera;
 pub mod cli;
 // The Vulkan module is the only place allowed to use `unsafe` (each block says why).

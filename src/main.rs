@@ -25,7 +25,7 @@ enum Command {
     /// A window to frame the shot and pick the focus, with ray-traced depth of field converging
     /// live (controls below, and H in the window).
     Preview(Box<cli::preview::PreviewArgs>),
-    /// Measure rays per second of a renderer.
+    /// Compare the render paths: time, rays/s, memory and error against a converged reference.
     Bench(cli::bench::BenchArgs),
     /// Write a generated scene (OBJ + MTL + scene file).
     Generate(cli::generate::GenerateArgs),

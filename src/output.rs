@@ -45,22 +45,11 @@ impl PendingOutput {
     /// later leaves nothing behind.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let format = format_of(path)?;
-        let dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let unwritable = |source| OutputError::Unwritable {
-            path: path.to_owned(),
-            source,
-        };
-        if path.is_dir() {
-            return Err(unwritable(std::io::Error::other("it is a directory")));
-        }
-        drop(temp_file_in(dir).map_err(unwritable)?);
+        let dir = writable_dir_of(path)?;
         Ok(Self {
             path: path.to_owned(),
             format,
-            dir: dir.to_owned(),
+            dir,
         })
     }
 
@@ -102,6 +91,58 @@ impl PendingOutput {
         })?;
         Ok(())
     }
+}
+
+/// Any other output file (a report, a plot): checked writable up front like [`PendingOutput`],
+/// then written to a temporary file beside it and renamed into place.
+pub struct PendingFile {
+    path: PathBuf,
+    dir: PathBuf,
+}
+
+impl PendingFile {
+    pub fn create(path: &Path) -> Result<Self, OutputError> {
+        Ok(Self {
+            dir: writable_dir_of(path)?,
+            path: path.to_owned(),
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    pub fn finish(self, bytes: &[u8]) -> Result<(), OutputError> {
+        let unwritable = |source| OutputError::Unwritable {
+            path: self.path.clone(),
+            source,
+        };
+        let mut temp = temp_file_in(&self.dir).map_err(unwritable)?;
+        temp.as_file_mut()
+            .write_all(bytes)
+            .and_then(|()| temp.as_file_mut().flush())
+            .map_err(unwritable)?;
+        temp.persist(&self.path).map_err(|e| unwritable(e.error))?;
+        Ok(())
+    }
+}
+
+/// The folder `path` will be written in, once a temporary file could be created there (the
+/// probe is removed at once, so a run that fails later leaves nothing behind).
+fn writable_dir_of(path: &Path) -> Result<PathBuf, OutputError> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let unwritable = |source| OutputError::Unwritable {
+        path: path.to_owned(),
+        source,
+    };
+    if path.is_dir() {
+        return Err(unwritable(std::io::Error::other("it is a directory")));
+    }
+    drop(temp_file_in(dir).map_err(unwritable)?);
+    Ok(dir.to_owned())
 }
 
 /// A temporary file beside the output (same file system, so the final rename is atomic); it is

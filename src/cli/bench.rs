@@ -1,118 +1,162 @@
-//! `lensray bench`: throughput of a renderer on a named scene, median of several runs.
+//! `lensray bench`: the command line of `crate::bench`. Output files are checked writable
+//! before any work and written whole at the end (temporary file, then rename).
 
 use std::path::PathBuf;
 
-use anyhow::Result;
-use clap::{Args, ValueEnum};
+use anyhow::{bail, Result};
+use clap::Args;
 
-use super::args::PathArgs;
-use crate::paths::{self, OpenedPath};
-use crate::render::stats::median;
-use crate::render::Shading;
-use crate::resolve::{resolve, Resolved};
+use crate::bench::options::{
+    BenchOptions, NamedScene, SceneChoice, SweepKind, TracedShading, DEFAULT_CACHE_DIR,
+    DEFAULT_REFERENCE_SPP,
+};
+use crate::gpu::GpuOptions;
+use crate::output::PendingFile;
+use crate::paths::{DeviceChoice, PathChoice};
 use crate::sampler::SamplerKind;
-use crate::scene::file::SceneDescription;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum BenchScene {
-    /// The built-in default scene.
-    Default,
-    /// The generated dense scene (>= 1M triangles; generated into assets/generated on first use).
-    Dense,
-}
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    #[command(flatten)]
-    pub path: PathArgs,
-    /// A named scene...
-    #[arg(long, value_enum, default_value_t = BenchScene::Default, conflicts_with = "scene_file")]
-    pub scene: BenchScene,
+    /// Paths to compare, comma-separated: rayquery, software, cpu, auto (the path `--path auto`
+    /// picks) [default: every path this machine can run].
+    #[arg(
+        long,
+        alias = "path",
+        value_enum,
+        value_delimiter = ',',
+        value_name = "PATH,..."
+    )]
+    pub paths: Vec<PathChoice>,
+    /// Which devices the default list of paths uses: auto (the GPU paths of a usable Vulkan
+    /// device, plus the CPU), gpu (the GPU paths only), cpu (the CPU path only).
+    #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
+    pub device: DeviceChoice,
+    /// Turn on the Vulkan validation layer for the GPU paths; any message fails the bench.
+    #[arg(long)]
+    pub validate: bool,
+    /// Use this Vulkan device (index from `lensray info`).
+    #[arg(long, value_name = "INDEX")]
+    pub gpu: Option<usize>,
+    /// Act as if the Vulkan device had no ray queries.
+    #[arg(long)]
+    pub hide_ray_query: bool,
+    /// A named scene [default: default]...
+    #[arg(long, value_enum, conflicts_with = "scene_file")]
+    pub scene: Option<NamedScene>,
     /// ...or a scene file / mesh.
     #[arg(long, value_name = "FILE")]
     pub scene_file: Option<PathBuf>,
-    #[arg(long, default_value_t = 640)]
-    pub width: u32,
-    #[arg(long, default_value_t = 480)]
-    pub height: u32,
-    #[arg(long, default_value_t = 16)]
-    pub spp: u32,
-    #[arg(long, value_enum, default_value_t = Shading::Unlit)]
-    pub shading: Shading,
-    #[arg(long, value_enum, default_value_t = SamplerKind::default())]
-    pub sampler: SamplerKind,
-    /// Timed runs (after one warm-up run).
-    #[arg(long, default_value_t = 5)]
-    pub runs: usize,
-    /// Triangles of the dense scene.
-    #[arg(long, default_value_t = 1_000_000)]
+    /// Triangles of `--scene dense`.
+    #[arg(long, value_name = "N", default_value_t = crate::cli::generate::DEFAULT_DENSE_TRIANGLES)]
     pub dense_triangles: usize,
+    #[arg(long, value_name = "W", default_value_t = crate::resolve::DEFAULT_WIDTH)]
+    pub width: u32,
+    #[arg(long, value_name = "H", default_value_t = crate::resolve::DEFAULT_HEIGHT)]
+    pub height: u32,
+    /// Samples per pixel (the largest of the spp sweep).
+    #[arg(long, value_name = "N", default_value_t = crate::resolve::DEFAULT_SPP)]
+    pub spp: u32,
+    #[arg(long, value_enum, default_value_t = TracedShading::Unlit)]
+    pub shading: TracedShading,
+    /// How samples are drawn [default: the scene's, else sobol].
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerKind>,
+    /// Seed of the paths' samples (the reference uses another).
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u32>,
+    /// Timed runs per path and point, after one warm-up run.
+    #[arg(long, alias = "runs", value_name = "N", default_value_t = 5, value_parser = parse_repeat)]
+    pub repeat: usize,
+    /// Samples per pixel of the converged reference (CPU, rendered once and cached).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_REFERENCE_SPP)]
+    pub reference_spp: u32,
+    /// Where references are cached.
+    #[arg(long, value_name = "DIR", default_value = DEFAULT_CACHE_DIR)]
+    pub cache_dir: PathBuf,
+    /// Render the reference every time instead of caching it.
+    #[arg(long)]
+    pub no_cache: bool,
+    /// Measure over a range of work: spp (error against time), resolution, triangles
+    /// (generated scenes). Without it, one point; `--plot` then sweeps spp.
+    #[arg(long, value_enum)]
+    pub sweep: Option<SweepKind>,
+    /// The sweep's values instead of its defaults: "1,4,16", "160x120,640x480", "10k,1M".
+    #[arg(long, value_name = "LIST")]
+    pub sweep_points: Option<String>,
+    /// Write every figure as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Draw error against time (or time against the swept quantity) as a PNG.
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
 }
 
-fn bench_scene(args: &BenchArgs) -> Result<SceneDescription> {
-    if let Some(path) = &args.scene_file {
-        return Ok(crate::scene::file::load(path)?);
+fn parse_repeat(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err("the number of timed runs must be a whole number >= 1".into()),
     }
-    Ok(match args.scene {
-        BenchScene::Default => crate::scene::builtin::default_scene(),
-        BenchScene::Dense => {
-            let path = crate::cli::generate::ensure_dense_scene(
-                std::path::Path::new("assets/generated"),
-                args.dense_triangles,
-            )?;
-            crate::scene::file::load(&path)?
+}
+
+impl BenchArgs {
+    pub fn options(&self) -> BenchOptions {
+        BenchOptions {
+            scene: match (&self.scene_file, self.scene) {
+                (Some(file), _) => SceneChoice::File(file.clone()),
+                (None, scene) => SceneChoice::Named(scene.unwrap_or(NamedScene::Default)),
+            },
+            dense_triangles: self.dense_triangles,
+            paths: self.paths.clone(),
+            device: self.device,
+            gpu: crate::gpu::with_hidden_ray_query(
+                GpuOptions {
+                    validate: self.validate,
+                    device_index: self.gpu,
+                },
+                self.hide_ray_query,
+            ),
+            width: self.width,
+            height: self.height,
+            spp: self.spp,
+            shading: self.shading,
+            sampler: self.sampler,
+            seed: self.seed,
+            repeat: self.repeat,
+            reference_spp: self.reference_spp,
+            cache_dir: (!self.no_cache).then(|| self.cache_dir.clone()),
+            // A plot needs curves: without a sweep it sweeps spp.
+            sweep: self.sweep.or(self.plot.as_ref().map(|_| SweepKind::Spp)),
+            sweep_points: self.sweep_points.clone(),
         }
-    })
+    }
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
-    anyhow::ensure!(args.runs >= 1, "--runs must be at least 1");
-    let description = bench_scene(args)?;
-    let mut settings = description.settings.clone();
-    settings.image.width = Some(args.width);
-    settings.image.height = Some(args.height);
-    settings.image.spp = Some(args.spp);
-    settings.render.shading = Some(args.shading);
-    settings.image.sampler = Some(args.sampler);
-    let Resolved { camera, render } = resolve(&settings, &description.scene)?;
-    let triangles = description.scene.triangle_count();
-    let OpenedPath { mut path, why } =
-        paths::open(&args.path.options(), &description.scene, (&camera, &render))?;
-    println!(
-        "bench: {} ({} triangles), {}x{} px, {} spp, {:?}, {} sampler, path {} ({why}) on {}",
-        description.source,
-        triangles,
-        args.width,
-        args.height,
-        args.spp,
-        args.shading,
-        args.sampler,
-        path.kind(),
-        path.device_name()
-    );
-    // Warm-up: compiles pipelines, pages in the BVH, spins up the thread pool.
-    path.render(&camera, &render, &mut |_, _| {})?;
-    let mut rates = Vec::new();
-    let mut times = Vec::new();
-    for run in 0..args.runs {
-        let before = path.report();
-        path.render(&camera, &render, &mut |_, _| {})?;
-        let report = path.report().since(&before);
-        let rate = report.rays_per_second() / 1e6;
-        println!(
-            "  run {}: {:.3} s, {} rays, {:.2} Mrays/s",
-            run + 1,
-            report.trace_seconds,
-            report.rays,
-            rate
-        );
-        rates.push(rate);
-        times.push(report.trace_seconds);
+    if let Some(plot) = &args.plot {
+        if !plot
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+        {
+            bail!(
+                "--plot {}: the plot is a PNG (name it .png)",
+                plot.display()
+            );
+        }
     }
-    println!(
-        "  median: {:.3} s, {:.2} Mrays/s",
-        median(&times),
-        median(&rates)
-    );
-    path.close()
+    // Fail on a bad output path before spending minutes measuring.
+    let json = args.json.as_deref().map(PendingFile::create).transpose()?;
+    let plot = args.plot.as_deref().map(PendingFile::create).transpose()?;
+    let report = crate::bench::run(&args.options(), &mut |line| eprintln!("{line}"))?;
+    print!("{}", crate::bench::table::render(&report));
+    if let Some(json) = json {
+        let path = json.path().display().to_string();
+        json.finish(report.to_json().as_bytes())?;
+        println!("wrote {path}");
+    }
+    if let Some(plot) = plot {
+        let path = plot.path().display().to_string();
+        plot.finish(&crate::bench::plot::png(&report)?)?;
+        println!("wrote {path}");
+    }
+    Ok(())
 }

@@ -1,0 +1,247 @@
+//! `lensray bench`: the render paths compared on equal terms. Each path renders the same shot
+//! after a warm-up, N times; the report gives its time (median and spread), rays, memory, and
+//! its error against a converged reference, so paths can be compared at equal error as well
+//! as at equal samples. A sweep (spp, resolution, triangles) repeats this over a range of work.
+//!
+//! Files: `options` (what to measure), `choose` (which paths), `scenes`, `sweep` (the points),
+//! `reference` (the cached converged image), `runs` (timing one path at one point), `report`
+//! (the results, also the JSON file), `table`, `plot`, `machine`.
+
+pub mod choose;
+pub mod machine;
+pub mod options;
+pub mod plot;
+pub mod reference;
+pub mod report;
+pub mod runs;
+pub mod scenes;
+pub mod sweep;
+pub mod table;
+
+use std::rc::Rc;
+
+use anyhow::{bail, ensure, Context, Result};
+
+use crate::camera::Camera;
+use crate::paths::{self, OpenedPath};
+use crate::render::path::PathKind;
+use crate::render::RenderSettings;
+use crate::resolve::{resolve, Resolved};
+use options::{BenchOptions, SceneChoice, SweepKind};
+use reference::Reference;
+use report::{BenchReport, PathInfo, PointReport, SceneInfo, SettingsInfo};
+use runs::Measurement;
+use scenes::BenchScene;
+use sweep::SweepValue;
+
+/// Runs the bench `options` describe; `log` receives progress and notices (stderr on the
+/// command line).
+pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchReport> {
+    ensure!(options.repeat >= 1, "--repeat must be at least 1");
+    ensure!(
+        options.reference_spp >= 2,
+        "--reference-spp must be at least 2"
+    );
+    let values = sweep::values(options.sweep, options.sweep_points.as_deref(), options.spp)?;
+    if options.sweep == Some(SweepKind::Triangles) && options.scene != SceneChoice::default_scene()
+    {
+        bail!("--sweep triangles renders generated scenes: it takes no --scene or --scene-file");
+    }
+    let max_spp = values
+        .iter()
+        .map(|v| spp_of(*v, options))
+        .max()
+        .unwrap_or(options.spp);
+    if options.reference_spp < 4 * max_spp {
+        log(&format!(
+            "notice: --reference-spp {} is less than 4x the {max_spp} spp measured: errors near the reference's own are not meaningful",
+            options.reference_spp
+        ));
+    }
+
+    let base = scenes::load(&options.scene, options.dense_triangles)?;
+    let base_shot = shot(&base, options, SweepValue::Spp(options.spp))?;
+    let kinds = choose::paths_to_run(options, &base, (&base_shot.camera, &base_shot.render), log)?;
+    let mut report = BenchReport {
+        schema: report::SCHEMA,
+        lensray_version: env!("CARGO_PKG_VERSION"),
+        machine: machine::describe(),
+        scene: SceneInfo {
+            name: base.name.clone(),
+            triangles: base.triangles,
+        },
+        settings: SettingsInfo {
+            width: options.width,
+            height: options.height,
+            spp: options.spp,
+            shading: base_shot.render.shading,
+            sampler: base_shot.render.sampler,
+            seed: base_shot.render.seed,
+            repeat: options.repeat,
+            reference_spp: options.reference_spp,
+        },
+        sweep: options.sweep,
+        paths: Vec::new(),
+        points: Vec::new(),
+    };
+
+    // A triangle sweep renders one scene per point; the other sweeps share the base scene,
+    // and each path is opened once for all of its points.
+    let groups: Vec<Vec<SweepValue>> = if options.sweep == Some(SweepKind::Triangles) {
+        values.iter().map(|v| vec![*v]).collect()
+    } else {
+        vec![values]
+    };
+    let mut base = Some(base);
+    for group in groups {
+        let scene = match (group[0], base.take()) {
+            (SweepValue::Triangles(n), _) => {
+                log(&format!("generating a scene of at least {n} triangles"));
+                scenes::dense(n)
+            }
+            (_, Some(base)) => base,
+            (_, None) => unreachable!("one group unless the sweep is of triangles"),
+        };
+        let points = measure_group(options, &kinds, &scene, &group, &mut report.paths, log)?;
+        report.points.extend(points);
+    }
+    if options.sweep == Some(SweepKind::Triangles) {
+        report.scene = SceneInfo {
+            name: "generated dense".into(),
+            triangles: report.points.first().map_or(0, |p| p.triangles),
+        };
+    }
+    Ok(report)
+}
+
+/// The shot at one point: the scene's settings with the options' and the point's on top.
+fn shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> Result<Resolved> {
+    let mut settings = scene.description.settings.clone();
+    let (width, height) = match value {
+        SweepValue::Resolution { width, height } => (width, height),
+        _ => (options.width, options.height),
+    };
+    settings.image.width = Some(width);
+    settings.image.height = Some(height);
+    settings.image.spp = Some(spp_of(value, options));
+    settings.image.sampler = options.sampler.or(settings.image.sampler);
+    settings.image.seed = options.seed.or(settings.image.seed);
+    settings.render.shading = Some(options.shading.into());
+    resolve(&settings, &scene.description.scene)
+        .with_context(|| format!("scene {}", scene.description.source))
+}
+
+fn spp_of(value: SweepValue, options: &BenchOptions) -> u32 {
+    match value {
+        SweepValue::Spp(spp) => spp,
+        _ => options.spp,
+    }
+}
+
+/// The points of one scene: their references, then each path opened once and measured at
+/// every point.
+fn measure_group(
+    options: &BenchOptions,
+    kinds: &[PathKind],
+    scene: &BenchScene,
+    values: &[SweepValue],
+    paths_seen: &mut Vec<PathInfo>,
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<PointReport>> {
+    let shots: Vec<Resolved> = values
+        .iter()
+        .map(|v| shot(scene, options, *v))
+        .collect::<Result<_>>()?;
+    // Points that differ only in spp share one reference.
+    let mut references: Vec<Rc<Reference>> = Vec::new();
+    for s in &shots {
+        let same = references
+            .iter()
+            .find(|r| (r.image.width, r.image.height) == (s.camera.width, s.camera.height));
+        let reference = match same {
+            Some(r) => Rc::clone(r),
+            None => Rc::new(reference::obtain(
+                options.cache_dir.as_deref(),
+                scene,
+                &s.camera,
+                &s.render,
+                options.reference_spp,
+                log,
+            )?),
+        };
+        references.push(reference);
+    }
+
+    let mut results: Vec<Vec<Measurement>> = vec![Vec::new(); values.len()];
+    for &kind in kinds {
+        let first = (&shots[0].camera, &shots[0].render);
+        let OpenedPath { mut path, .. } = paths::open(
+            &choose::path_options(kind, options),
+            &scene.description.scene,
+            first,
+        )
+        .with_context(|| format!("--paths {kind}"))?;
+        if !paths_seen.iter().any(|p| p.path == kind) {
+            paths_seen.push(PathInfo {
+                path: kind,
+                device: path.device_name(),
+            });
+        }
+        for ((s, reference), result) in shots.iter().zip(&references).zip(&mut results) {
+            log(&format!(
+                "measuring {kind}: {} ({} triangles), {}x{}, {} spp",
+                scene.name, scene.triangles, s.camera.width, s.camera.height, s.render.spp
+            ));
+            let measurement = runs::measure(
+                path.as_mut(),
+                &s.camera,
+                &s.render,
+                options.repeat,
+                &reference.image,
+            )
+            .with_context(|| format!("--paths {kind}"))?;
+            result.push(measurement);
+        }
+        path.close().with_context(|| format!("--paths {kind}"))?;
+    }
+
+    Ok(shots
+        .iter()
+        .zip(references)
+        .zip(results)
+        .map(|((s, reference), mut results)| {
+            set_speedups(&mut results);
+            point_report(scene, &s.camera, &s.render, &reference, results)
+        })
+        .collect())
+}
+
+/// Each path's speed against the CPU path's at the same point (CPU median / path median).
+fn set_speedups(results: &mut [Measurement]) {
+    let cpu = results
+        .iter()
+        .find(|m| m.path == PathKind::Cpu)
+        .map(|m| m.trace_seconds.median);
+    if let Some(cpu) = cpu {
+        for m in results {
+            m.speedup_vs_cpu = Some(cpu / m.trace_seconds.median.max(1e-12));
+        }
+    }
+}
+
+fn point_report(
+    scene: &BenchScene,
+    camera: &Camera,
+    render: &RenderSettings,
+    reference: &Reference,
+    results: Vec<Measurement>,
+) -> PointReport {
+    PointReport {
+        width: camera.width,
+        height: camera.height,
+        spp: render.spp,
+        triangles: scene.triangles,
+        reference: reference.info.clone(),
+        results,
+    }
+}

@@ -1,0 +1,136 @@
+//! What a bench run measures: the scene, the paths, the shot, the repetitions, the reference
+//! and the sweep. The command line (`cli::bench`) fills this in; tests may too.
+
+use std::path::PathBuf;
+
+use crate::gpu::GpuOptions;
+use crate::paths::{DeviceChoice, PathChoice};
+use crate::sampler::SamplerKind;
+
+/// The named scenes a bench can use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum NamedScene {
+    /// The built-in default scene (seven spheres on a checkerboard).
+    Default,
+    /// The generated dense scene (`--dense-triangles`, default 1M).
+    Dense,
+    /// The generated Cornell-box-style room.
+    Cornell,
+}
+
+impl NamedScene {
+    pub fn name(self) -> &'static str {
+        match self {
+            NamedScene::Default => "default",
+            NamedScene::Dense => "dense",
+            NamedScene::Cornell => "cornell",
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SceneChoice {
+    Named(NamedScene),
+    File(PathBuf),
+}
+
+impl SceneChoice {
+    pub fn default_scene() -> Self {
+        SceneChoice::Named(NamedScene::Default)
+    }
+}
+
+/// What a sweep varies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum SweepKind {
+    /// Samples per pixel 1, 2, 4, ... up to --spp: error against time, one curve per path.
+    Spp,
+    /// Image sizes 160x120 to 1280x960.
+    Resolution,
+    /// Generated scenes of about 10k to 1M triangles.
+    Triangles,
+}
+
+impl SweepKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            SweepKind::Spp => "spp",
+            SweepKind::Resolution => "resolution",
+            SweepKind::Triangles => "triangles",
+        }
+    }
+}
+
+/// The traced shadings (the AOVs are one deterministic pass: no error to compare).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum TracedShading {
+    Unlit,
+    Lit,
+}
+
+impl From<TracedShading> for crate::render::Shading {
+    fn from(shading: TracedShading) -> Self {
+        match shading {
+            TracedShading::Unlit => crate::render::Shading::Unlit,
+            TracedShading::Lit => crate::render::Shading::Lit,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    pub scene: SceneChoice,
+    /// Triangles of the dense scene.
+    pub dense_triangles: usize,
+    /// Paths to compare, in this order; empty: every path the machine can run.
+    pub paths: Vec<PathChoice>,
+    pub device: DeviceChoice,
+    /// Validation and device index for the GPU paths.
+    pub gpu: GpuOptions,
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub shading: TracedShading,
+    /// The scene's own when `None`.
+    pub sampler: Option<SamplerKind>,
+    pub seed: Option<u32>,
+    /// Timed runs after the warm-up, >= 1.
+    pub repeat: usize,
+    /// Samples per pixel of the converged reference.
+    pub reference_spp: u32,
+    /// Where references are kept between runs; `None`: rendered every time.
+    pub cache_dir: Option<PathBuf>,
+    pub sweep: Option<SweepKind>,
+    /// The sweep's values instead of its defaults ("1,4,16"; "160x120,320x240"; "10000,1000000").
+    pub sweep_points: Option<String>,
+}
+
+/// Where references are cached unless `--cache-dir` says otherwise (relative to the working
+/// folder, as cargo's own `target/`).
+pub const DEFAULT_CACHE_DIR: &str = "target/lensray-bench-cache";
+pub const DEFAULT_REFERENCE_SPP: u32 = 1024;
+
+impl Default for BenchOptions {
+    fn default() -> Self {
+        Self {
+            scene: SceneChoice::Named(NamedScene::Default),
+            dense_triangles: crate::cli::generate::DEFAULT_DENSE_TRIANGLES,
+            paths: Vec::new(),
+            device: DeviceChoice::Auto,
+            gpu: GpuOptions::default(),
+            width: crate::resolve::DEFAULT_WIDTH,
+            height: crate::resolve::DEFAULT_HEIGHT,
+            spp: crate::resolve::DEFAULT_SPP,
+            shading: TracedShading::Unlit,
+            sampler: None,
+            seed: None,
+            repeat: 5,
+            reference_spp: DEFAULT_REFERENCE_SPP,
+            cache_dir: Some(PathBuf::from(DEFAULT_CACHE_DIR)),
+            sweep: None,
+            sweep_points: None,
+        }
+    }
+}

@@ -1,0 +1,96 @@
+//! Everything a bench measured: what the table, the JSON file and the plot are made from.
+//! The JSON file is this structure as it is (`schema` names its version).
+
+use serde::Serialize;
+
+use super::machine::Machine;
+use super::options::SweepKind;
+use super::reference::ReferenceInfo;
+use super::runs::Measurement;
+use crate::render::path::PathKind;
+use crate::render::Shading;
+use crate::sampler::SamplerKind;
+
+pub const SCHEMA: &str = "lensray-bench/1";
+
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    pub schema: &'static str,
+    pub lensray_version: &'static str,
+    pub machine: Machine,
+    pub scene: SceneInfo,
+    pub settings: SettingsInfo,
+    /// What the points vary; `null` for a single point.
+    pub sweep: Option<SweepKind>,
+    /// The paths measured, each with the device it ran on.
+    pub paths: Vec<PathInfo>,
+    pub points: Vec<PointReport>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneInfo {
+    /// "default", "dense", "cornell", a file's path, or "generated dense" (triangle sweep).
+    pub name: String,
+    /// Triangles of the scene (of the first point's scene in a triangle sweep).
+    pub triangles: usize,
+}
+
+/// The shot as asked for; each point says what it varied.
+#[derive(Clone, Debug, Serialize)]
+pub struct SettingsInfo {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub shading: Shading,
+    pub sampler: SamplerKind,
+    pub seed: u32,
+    /// Timed runs per path and point, after one warm-up.
+    pub repeat: usize,
+    pub reference_spp: u32,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct PathInfo {
+    pub path: PathKind,
+    pub device: String,
+}
+
+/// One configuration and every path's measurement of it.
+#[derive(Clone, Debug, Serialize)]
+pub struct PointReport {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub triangles: usize,
+    pub reference: ReferenceInfo,
+    pub results: Vec<Measurement>,
+}
+
+impl PointReport {
+    /// The value the sweep varies at this point, as a number for tables and plots.
+    pub fn swept(&self, sweep: Option<SweepKind>) -> f64 {
+        match sweep {
+            None | Some(SweepKind::Spp) => f64::from(self.spp),
+            Some(SweepKind::Resolution) => f64::from(self.width) * f64::from(self.height),
+            Some(SweepKind::Triangles) => self.triangles as f64,
+        }
+    }
+
+    /// The same, in words: "16", "640x480", "1022560".
+    pub fn swept_label(&self, sweep: Option<SweepKind>) -> String {
+        match sweep {
+            None | Some(SweepKind::Spp) => self.spp.to_string(),
+            Some(SweepKind::Resolution) => format!("{}x{}", self.width, self.height),
+            Some(SweepKind::Triangles) => self.triangles.to_string(),
+        }
+    }
+}
+
+impl BenchReport {
+    pub fn to_json(&self) -> String {
+        // Plain data (numbers, strings, enums): serialising cannot fail.
+        let mut text = serde_json::to_string_pretty(self).expect("a bench report serialises");
+        text.push('\n');
+        text
+    }
+}

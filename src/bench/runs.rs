@@ -1,0 +1,125 @@
+//! Timing one path at one configuration: a warm-up render (pipelines compiled, BVH paged in,
+//! thread pool started), then N timed renders; their median and spread, and the error of the
+//! image against the reference.
+
+use std::time::Instant;
+
+use anyhow::Result;
+use serde::Serialize;
+
+use crate::camera::Camera;
+use crate::render::compare::rmse;
+use crate::render::path::{Clock, PathKind, RenderPath};
+use crate::render::stats::{median, range};
+use crate::render::{Image, RenderSettings};
+
+/// One timed render.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Run {
+    /// Trace time as the path measures it (GPU timestamps on GPU paths).
+    pub trace_seconds: f64,
+    /// Host wall clock around the whole render call (uploads and readback included).
+    pub wall_seconds: f64,
+    pub rays: u64,
+}
+
+/// Median and extremes of repeated measurements.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Spread {
+    pub median: f64,
+    pub min: f64,
+    pub max: f64,
+}
+
+impl Spread {
+    pub fn of(values: &[f64]) -> Self {
+        let (min, max) = range(values);
+        Self {
+            median: median(values),
+            min,
+            max,
+        }
+    }
+}
+
+/// One path at one configuration.
+#[derive(Clone, Debug, Serialize)]
+pub struct Measurement {
+    pub path: PathKind,
+    pub device: String,
+    /// How `trace_seconds` was measured.
+    pub clock: Clock,
+    pub runs: Vec<Run>,
+    pub trace_seconds: Spread,
+    pub wall_seconds: Spread,
+    /// Rays of one render (camera and shadow rays).
+    pub rays: u64,
+    /// `rays` over the median trace time.
+    pub rays_per_second: f64,
+    /// Device memory held at the peak so far (0 for the CPU).
+    pub peak_device_bytes: u64,
+    /// The acceleration structure's size (device memory on GPU paths, host memory on the CPU).
+    pub accel_bytes: u64,
+    /// Time to build the scene's acceleration structure when the path loaded it.
+    pub build_seconds: f64,
+    /// Against the reference, over every pixel and channel.
+    pub rmse: f64,
+    /// 20 log10(1 / RMSE): the peak is 1, the brightest diffuse colour, in linear units.
+    pub psnr_db: f64,
+    /// How many times faster than the CPU path at the same point (median trace times), when
+    /// the CPU path was measured there.
+    pub speedup_vs_cpu: Option<f64>,
+}
+
+pub fn psnr_db(rmse: f64) -> f64 {
+    -20.0 * rmse.log10()
+}
+
+/// Warm-up, then `repeat` timed renders of `settings` (samples 0..spp into a fresh
+/// accumulation each time); the error is that of the last image (every run gives the same).
+pub fn measure(
+    path: &mut dyn RenderPath,
+    camera: &Camera,
+    settings: &RenderSettings,
+    repeat: usize,
+    reference: &Image,
+) -> Result<Measurement> {
+    path.render(camera, settings, &mut |_, _| {})?;
+    let mut runs = Vec::with_capacity(repeat);
+    let mut image = None;
+    for _ in 0..repeat {
+        let before = path.report();
+        let start = Instant::now();
+        image = Some(path.render(camera, settings, &mut |_, _| {})?);
+        let wall_seconds = start.elapsed().as_secs_f64();
+        let done = path.report().since(&before);
+        runs.push(Run {
+            trace_seconds: done.trace_seconds,
+            wall_seconds,
+            rays: done.rays,
+        });
+    }
+    let image = image.expect("at least one run");
+    let report = path.report();
+    let trace: Vec<f64> = runs.iter().map(|r| r.trace_seconds).collect();
+    let wall: Vec<f64> = runs.iter().map(|r| r.wall_seconds).collect();
+    let trace_seconds = Spread::of(&trace);
+    let rays = runs.last().map_or(0, |r| r.rays);
+    let error = rmse(&image, reference);
+    Ok(Measurement {
+        path: path.kind(),
+        device: path.device_name(),
+        clock: report.clock,
+        runs,
+        trace_seconds,
+        wall_seconds: Spread::of(&wall),
+        rays,
+        rays_per_second: rays as f64 / trace_seconds.median.max(1e-12),
+        peak_device_bytes: report.peak_device_bytes,
+        accel_bytes: report.accel_bytes,
+        build_seconds: report.build_seconds,
+        rmse: error,
+        psnr_db: psnr_db(error),
+        speedup_vs_cpu: None,
+    })
+}

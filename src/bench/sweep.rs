@@ -1,0 +1,137 @@
+//! The points a bench measures: one point without a sweep, else the swept values in increasing
+//! order (so that peaks of memory reported at a point cover that point and the smaller ones).
+
+use anyhow::{bail, ensure, Context, Result};
+
+use super::options::SweepKind;
+
+/// One measured configuration's swept value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum SweepValue {
+    Spp(u32),
+    Resolution {
+        width: u32,
+        height: u32,
+    },
+    /// At least this many triangles (the generated scene may have a few more).
+    Triangles(usize),
+}
+
+/// Image sizes of the resolution sweep (4:3, each 4x the pixels of the last).
+pub const RESOLUTIONS: [(u32, u32); 4] = [(160, 120), (320, 240), (640, 480), (1280, 960)];
+/// Triangle counts of the triangle sweep: about half a decade apart from 10k to 1M.
+pub const TRIANGLES: [usize; 5] = [10_000, 30_000, 100_000, 300_000, 1_000_000];
+
+/// The values to measure: `list` (the `--sweep-points` text) or the sweep's defaults; without
+/// a sweep the one point at `spp`.
+pub fn values(kind: Option<SweepKind>, list: Option<&str>, spp: u32) -> Result<Vec<SweepValue>> {
+    let mut values = match (kind, list) {
+        (None, Some(_)) => bail!("--sweep-points needs --sweep spp|resolution|triangles"),
+        (None, None) => vec![SweepValue::Spp(spp)],
+        (Some(kind), Some(list)) => parse_list(kind, list)?,
+        (Some(SweepKind::Spp), None) => spp_ladder(spp).into_iter().map(SweepValue::Spp).collect(),
+        (Some(SweepKind::Resolution), None) => RESOLUTIONS
+            .iter()
+            .map(|&(width, height)| SweepValue::Resolution { width, height })
+            .collect(),
+        (Some(SweepKind::Triangles), None) => TRIANGLES
+            .iter()
+            .copied()
+            .map(SweepValue::Triangles)
+            .collect(),
+    };
+    values.sort();
+    values.dedup();
+    Ok(values)
+}
+
+/// 1, 2, 4, ... below `spp`, then `spp` itself.
+pub fn spp_ladder(spp: u32) -> Vec<u32> {
+    let mut ladder: Vec<u32> = (0..32)
+        .map(|k| 1u32 << k)
+        .take_while(|&s| s < spp)
+        .collect();
+    ladder.push(spp);
+    ladder
+}
+
+fn parse_list(kind: SweepKind, list: &str) -> Result<Vec<SweepValue>> {
+    let items: Vec<&str> = list
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .collect();
+    ensure!(!items.is_empty(), "--sweep-points: no values in '{list}'");
+    items
+        .iter()
+        .map(|item| parse_value(kind, item).with_context(|| format!("--sweep-points {list}")))
+        .collect()
+}
+
+fn parse_value(kind: SweepKind, item: &str) -> Result<SweepValue> {
+    Ok(match kind {
+        SweepKind::Spp => SweepValue::Spp(positive(item, "a sample count")?),
+        SweepKind::Resolution => {
+            let (w, h) = item
+                .split_once(['x', 'X'])
+                .with_context(|| format!("'{item}' is not an image size like 320x240"))?;
+            SweepValue::Resolution {
+                width: positive(w, "an image width")?,
+                height: positive(h, "an image height")?,
+            }
+        }
+        SweepKind::Triangles => {
+            // "10k" and "1M" read as they are meant.
+            let (digits, scale) = match item.chars().last() {
+                Some('k' | 'K') => (&item[..item.len() - 1], 1_000),
+                Some('m' | 'M') => (&item[..item.len() - 1], 1_000_000),
+                _ => (item, 1),
+            };
+            let count: u32 = positive(digits, "a triangle count")?;
+            SweepValue::Triangles(count as usize * scale)
+        }
+    })
+}
+
+fn positive(text: &str, what: &str) -> Result<u32> {
+    match text.trim().parse::<u32>() {
+        Ok(v) if v > 0 => Ok(v),
+        _ => bail!("'{text}' is not {what} (a whole number >= 1)"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_and_lists() {
+        assert_eq!(spp_ladder(16), [1, 2, 4, 8, 16]);
+        assert_eq!(spp_ladder(12), [1, 2, 4, 8, 12]);
+        assert_eq!(spp_ladder(1), [1]);
+        assert_eq!(values(None, None, 16).unwrap(), [SweepValue::Spp(16)]);
+        assert_eq!(
+            values(Some(SweepKind::Triangles), Some("1M, 10k"), 4).unwrap(),
+            [
+                SweepValue::Triangles(10_000),
+                SweepValue::Triangles(1_000_000)
+            ]
+        );
+        assert_eq!(
+            values(Some(SweepKind::Resolution), Some("64x48,32x24"), 4).unwrap(),
+            [
+                SweepValue::Resolution {
+                    width: 32,
+                    height: 24
+                },
+                SweepValue::Resolution {
+                    width: 64,
+                    height: 48
+                }
+            ]
+        );
+        assert!(values(Some(SweepKind::Spp), Some("0"), 4).is_err());
+        assert!(values(Some(SweepKind::Resolution), Some("64"), 4).is_err());
+        assert!(values(None, Some("1,2"), 4).is_err());
+    }
+}
