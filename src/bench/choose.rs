@@ -126,7 +126,10 @@ fn gpu_paths(
     may_fall_back: bool,
     log: &mut dyn FnMut(&str),
 ) -> Result<Option<(String, Vec<PathKind>)>> {
-    let renderer = match GpuRenderer::new(&crate::gpu::with_traversal(gpu, None)) {
+    let renderer = match GpuRenderer::new(&GpuOptions {
+        traversal: None,
+        ..gpu
+    }) {
         Ok(renderer) => renderer,
         Err(error) if may_fall_back => {
             log(&format!(

@@ -126,7 +126,7 @@ fn shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> Result
     settings.image.spp = Some(spp_of(value, options));
     settings.image.sampler = options.sampler.or(settings.image.sampler);
     settings.image.seed = options.seed.or(settings.image.seed);
-    settings.render.shading = Some(options.shading.into());
+    settings.render.shading = Some(options.shading);
     resolve(&settings, &scene.description.scene)
         .with_context(|| format!("scene {}", scene.description.source))
 }

@@ -63,22 +63,6 @@ impl SweepKind {
     }
 }
 
-/// The traced shadings (the AOVs are one deterministic pass: no error to compare).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum TracedShading {
-    Unlit,
-    Lit,
-}
-
-impl From<TracedShading> for crate::render::Shading {
-    fn from(shading: TracedShading) -> Self {
-        match shading {
-            TracedShading::Unlit => crate::render::Shading::Unlit,
-            TracedShading::Lit => crate::render::Shading::Lit,
-        }
-    }
-}
-
 #[derive(Clone, Debug)]
 pub struct BenchOptions {
     pub scene: SceneChoice,
@@ -92,7 +76,7 @@ pub struct BenchOptions {
     pub width: u32,
     pub height: u32,
     pub spp: u32,
-    pub shading: TracedShading,
+    pub shading: crate::render::Shading,
     /// The scene's own when `None`.
     pub sampler: Option<SamplerKind>,
     pub seed: Option<u32>,
@@ -123,7 +107,7 @@ impl Default for BenchOptions {
             width: crate::resolve::DEFAULT_WIDTH,
             height: crate::resolve::DEFAULT_HEIGHT,
             spp: crate::resolve::DEFAULT_SPP,
-            shading: TracedShading::Unlit,
+            shading: crate::render::Shading::Unlit,
             sampler: None,
             seed: None,
             repeat: 5,

@@ -56,6 +56,8 @@ pub struct Measurement {
     pub rays: u64,
     /// `rays` over the median trace time.
     pub rays_per_second: f64,
+    /// AOV benches: images (GPU: G-buffer passes) per second at the median time.
+    pub aov_passes_per_second: Option<f64>,
     /// Device memory held at the peak so far (0 for the CPU).
     pub peak_device_bytes: u64,
     /// The acceleration structure's size (device memory on GPU paths, host memory on the CPU).
@@ -93,8 +95,14 @@ pub fn measure(
         image = Some(path.render(camera, settings, &mut |_, _| {})?);
         let wall_seconds = start.elapsed().as_secs_f64();
         let done = path.report().since(&before);
+        // An AOV is one pass (GPU: the raster G-buffer), timed as such; no rays on the GPU.
+        let trace_seconds = if settings.shading.is_aov() {
+            done.aov_seconds
+        } else {
+            done.trace_seconds
+        };
         runs.push(Run {
-            trace_seconds: done.trace_seconds,
+            trace_seconds,
             wall_seconds,
             rays: done.rays,
         });
@@ -115,6 +123,10 @@ pub fn measure(
         wall_seconds: Spread::of(&wall),
         rays,
         rays_per_second: rays as f64 / trace_seconds.median.max(1e-12),
+        aov_passes_per_second: settings
+            .shading
+            .is_aov()
+            .then(|| 1.0 / trace_seconds.median.max(1e-12)),
         peak_device_bytes: report.peak_device_bytes,
         accel_bytes: report.accel_bytes,
         build_seconds: report.build_seconds,

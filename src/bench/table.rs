@@ -100,7 +100,10 @@ pub fn render(report: &BenchReport) -> String {
                     unit.show(t.max, false)
                 ),
                 Unit::for_seconds(m.wall_seconds.median).show(m.wall_seconds.median, true),
-                format!("{:.2}", m.rays_per_second / 1e6),
+                match m.aov_passes_per_second {
+                    Some(passes) => format!("{passes:.1} passes/s"),
+                    None => format!("{:.2}", m.rays_per_second / 1e6),
+                },
                 m.rays.to_string(),
                 mib(m.peak_device_bytes),
                 mib(m.accel_bytes),

@@ -7,12 +7,12 @@ use anyhow::{bail, Result};
 use clap::Args;
 
 use crate::bench::options::{
-    BenchOptions, NamedScene, SceneChoice, SweepKind, TracedShading, DEFAULT_CACHE_DIR,
-    DEFAULT_REFERENCE_SPP,
+    BenchOptions, NamedScene, SceneChoice, SweepKind, DEFAULT_CACHE_DIR, DEFAULT_REFERENCE_SPP,
 };
 use crate::gpu::GpuOptions;
 use crate::output::PendingFile;
 use crate::paths::{DeviceChoice, PathChoice};
+use crate::render::Shading;
 use crate::sampler::SamplerKind;
 
 #[derive(Args, Debug)]
@@ -56,8 +56,8 @@ pub struct BenchArgs {
     /// Samples per pixel (the largest of the spp sweep).
     #[arg(long, value_name = "N", default_value_t = crate::resolve::DEFAULT_SPP)]
     pub spp: u32,
-    #[arg(long, value_enum, default_value_t = TracedShading::Unlit)]
-    pub shading: TracedShading,
+    #[arg(long, value_enum, default_value_t = Shading::Unlit)]
+    pub shading: Shading,
     /// How samples are drawn [default: the scene's, else sobol].
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerKind>,
@@ -108,13 +108,12 @@ impl BenchArgs {
             dense_triangles: self.dense_triangles,
             paths: self.paths.clone(),
             device: self.device,
-            gpu: crate::gpu::with_hidden_ray_query(
-                GpuOptions {
-                    validate: self.validate,
-                    device_index: self.gpu,
-                },
-                self.hide_ray_query,
-            ),
+            gpu: GpuOptions {
+                validate: self.validate,
+                device_index: self.gpu,
+                hide_ray_query: self.hide_ray_query,
+                traversal: None,
+            },
             width: self.width,
             height: self.height,
             spp: self.spp,

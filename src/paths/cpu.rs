@@ -27,6 +27,8 @@ impl CpuPath {
                 build_seconds: 0.0,
                 accel_bytes: 0,
                 peak_device_bytes: 0,
+                aov_passes: 0,
+                aov_seconds: 0.0,
             },
         }
     }
@@ -80,8 +82,8 @@ impl RenderPath for CpuPath {
 
     fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image> {
         let (image, stats) = self.renderer()?.render(camera, settings, &mut |_, _| {});
-        self.report.rays += stats.rays;
-        self.report.trace_seconds += stats.elapsed.as_secs_f64();
+        self.report.aov_passes += 1;
+        self.report.aov_seconds += stats.elapsed.as_secs_f64();
         Ok(image)
     }
 

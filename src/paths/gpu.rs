@@ -90,6 +90,8 @@ impl RenderPath for GpuPath {
             },
             accel_bytes: t.traversal_bytes(traversal),
             peak_device_bytes: self.peak_device_bytes,
+            aov_passes: t.gbuffer_passes,
+            aov_seconds: t.gbuffer_gpu_ms * 1e-3,
         }
     }
 

@@ -74,6 +74,10 @@ pub struct PathReport {
     pub accel_bytes: u64,
     /// Bytes of all device memory the path holds at its peak so far (0 on the CPU).
     pub peak_device_bytes: u64,
+    /// AOV images made (GPU: raster G-buffer passes; CPU: traced AOV images), and their time
+    /// (GPU: timestamps of the G-buffer draws; CPU: wall clock).
+    pub aov_passes: u64,
+    pub aov_seconds: f64,
 }
 
 impl PathReport {
@@ -86,6 +90,8 @@ impl PathReport {
         PathReport {
             rays: self.rays - earlier.rays,
             trace_seconds: self.trace_seconds - earlier.trace_seconds,
+            aov_passes: self.aov_passes - earlier.aov_passes,
+            aov_seconds: self.aov_seconds - earlier.aov_seconds,
             ..*self
         }
     }
