@@ -45,14 +45,9 @@ pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
     }
 }
 
-/// Which device and which algorithm: shared by `render`, `bench` and `preview`.
+/// Which device: shared by `render`, `preview` (through [`PathArgs`]) and `bench`.
 #[derive(Args, Clone, Copy, Debug, Default)]
-pub struct PathArgs {
-    /// Which algorithm renders: rayquery (Vulkan ray queries), software (lensray's BVH in the
-    /// compute shader: any Vulkan device), cpu (the reference), or auto: the fastest the device
-    /// supports, measured on a small render of the shot.
-    #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
-    pub path: PathChoice,
+pub struct DeviceArgs {
     /// Which device: a Vulkan device (gpu), the CPU, or auto: a Vulkan device when one is
     /// usable, else the CPU.
     #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
@@ -69,17 +64,36 @@ pub struct PathArgs {
     pub hide_ray_query: bool,
 }
 
+impl DeviceArgs {
+    /// The Vulkan options these name (every traversal the device runs).
+    pub fn gpu_options(&self) -> GpuOptions {
+        GpuOptions {
+            validate: self.validate,
+            device_index: self.gpu,
+            hide_ray_query: self.hide_ray_query,
+            traversal: None,
+        }
+    }
+}
+
+/// Which device and which algorithm: shared by `render` and `preview`.
+#[derive(Args, Clone, Copy, Debug, Default)]
+pub struct PathArgs {
+    /// Which algorithm renders: rayquery (Vulkan ray queries), software (lensray's BVH in the
+    /// compute shader: any Vulkan device), cpu (the reference), or auto: the fastest the device
+    /// supports, measured on a small render of the shot.
+    #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
+    pub path: PathChoice,
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
 impl PathArgs {
     pub fn options(&self) -> PathOptions {
         PathOptions {
             path: self.path,
-            device: self.device,
-            gpu: GpuOptions {
-                validate: self.validate,
-                device_index: self.gpu,
-                hide_ray_query: self.hide_ray_query,
-                traversal: None,
-            },
+            device: self.device.device,
+            gpu: self.device.gpu_options(),
         }
     }
 }

@@ -6,12 +6,12 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 use clap::Args;
 
+use super::args::DeviceArgs;
 use crate::bench::options::{
     BenchOptions, NamedScene, SceneChoice, SweepKind, DEFAULT_CACHE_DIR, DEFAULT_REFERENCE_SPP,
 };
-use crate::gpu::GpuOptions;
 use crate::output::PendingFile;
-use crate::paths::{DeviceChoice, PathChoice};
+use crate::paths::PathChoice;
 use crate::render::Shading;
 use crate::sampler::SamplerKind;
 
@@ -27,19 +27,10 @@ pub struct BenchArgs {
         value_name = "PATH,..."
     )]
     pub paths: Vec<PathChoice>,
-    /// Which devices the default list of paths uses: auto (the GPU paths of a usable Vulkan
-    /// device, plus the CPU), gpu (the GPU paths only), cpu (the CPU path only).
-    #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
-    pub device: DeviceChoice,
-    /// Turn on the Vulkan validation layer for the GPU paths; any message fails the bench.
-    #[arg(long)]
-    pub validate: bool,
-    /// Use this Vulkan device (index from `lensray info`).
-    #[arg(long, value_name = "INDEX")]
-    pub gpu: Option<usize>,
-    /// Act as if the Vulkan device had no ray queries.
-    #[arg(long)]
-    pub hide_ray_query: bool,
+    /// With `--device`: which devices the default list of paths uses: auto (the GPU paths of a
+    /// usable Vulkan device, plus the CPU), gpu (the GPU paths only), cpu (the CPU path only).
+    #[command(flatten)]
+    pub device: DeviceArgs,
     /// A named scene [default: default]...
     #[arg(long, value_enum, conflicts_with = "scene_file")]
     pub scene: Option<NamedScene>,
@@ -107,13 +98,8 @@ impl BenchArgs {
             },
             dense_triangles: self.dense_triangles,
             paths: self.paths.clone(),
-            device: self.device,
-            gpu: GpuOptions {
-                validate: self.validate,
-                device_index: self.gpu,
-                hide_ray_query: self.hide_ray_query,
-                traversal: None,
-            },
+            device: self.device.device,
+            gpu: self.device.gpu_options(),
             width: self.width,
             height: self.height,
             spp: self.spp,
