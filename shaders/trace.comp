@@ -74,12 +74,15 @@ void main() {
         vec4 entry = plan[pixel_index];
         if (entry.w == HYBRID_SHORTCUT) {
             // Sample s: the shortcut value, plus (traced - shortcut) * HYBRID_CHECK_INVERSE with
-            // probability 1 / HYBRID_CHECK_INVERSE (a hash of the pixel and sample): unbiased.
+            // probability 1 / HYBRID_CHECK_INVERSE: unbiased. The choice hashes the 8x8 tile
+            // and the sample, so that the pixels of a workgroup (run in lockstep) check alike.
             vec3 shortcut = entry.xyz;
+            uint tile = (y / TRACE_GROUP_SIZE) * ((params.width + TRACE_GROUP_SIZE - 1u) / TRACE_GROUP_SIZE)
+                      + x / TRACE_GROUP_SIZE;
             for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
                 vec3 value = shortcut;
-                uint key = sample_key(params.seed, pixel_index, s);
-                if (hash_u32(key ^ HYBRID_CHECK_SALT) % HYBRID_CHECK_INVERSE == 0u) {
+                uint key = sample_key(params.seed ^ HYBRID_CHECK_SALT, tile, s);
+                if (hash_u32(key) % HYBRID_CHECK_INVERSE == 0u) {
                     CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y),
                                                     params.width, s);
                     Ray ray = generate_ray(params.camera, cs.film, cs.lens);

@@ -3,12 +3,14 @@
 //! host (`Plan::new`: circle of confusion from the G-buffer depth, maximum over 8x8 tiles,
 //! dilated by each tile's maximum over the tiles it reaches), then the trace pass in its hybrid
 //! mode (shaders/trace.comp) with the device's fastest traversal:
-//! - dilated CoC under half a pixel and a G-buffer without edges around the pixel: the
-//!   *shortcut*, the G-buffer's value (unlit: its albedo; lit: the surface shaded with one
-//!   shadow ray). Each sample is traced too with probability 1 / HYBRID_CHECK_INVERSE (a hash of
-//!   pixel and sample) and adds (traced - shortcut) * HYBRID_CHECK_INVERSE: unbiased;
+//! - no G-buffer edge within the pixel's dilated CoC (at least one pixel; so in particular a
+//!   dilated CoC under half a pixel with a uniform neighbourhood): the *shortcut*, the
+//!   G-buffer's value (unlit: its albedo; lit: the surface shaded with one shadow ray). Each
+//!   sample is traced too with probability 1 / HYBRID_CHECK_INVERSE (a hash of the 8x8 tile and
+//!   the sample) and adds (traced - shortcut) * HYBRID_CHECK_INVERSE: unbiased;
 //! - otherwise samples `0..n` are traced, `n` growing with the dilated CoC up to spp (edges in
-//!   focus: spp); the pixel's count stops at `n`, so its value is the mean of `n` samples.
+//!   focus: spp); the pixel's count stops at `n`, so its value is the mean of `n` samples;
+//! - the 8 pixels of a tile row share one decision (they run in lockstep).
 //!
 //! Whether a pixel traces sample `i` depends on the plan (camera, settings, scene) only, never on
 //! the range asked for, so any split of a range gives the same sums, as for every path.
@@ -31,9 +33,13 @@ use crate::scene::Scene;
 pub const TILE: u32 = 8;
 /// Dilated CoC radius (pixels) under which a pixel may take the shortcut.
 pub const SHORTCUT_COC: f32 = 0.5;
-/// Dilated CoC radius (pixels) from which a pixel traces every sample; between SHORTCUT_COC
-/// and this, `ceil(spp * coc / FULL_SPP_COC)` samples.
-pub const FULL_SPP_COC: f32 = 4.0;
+/// Dilated CoC radius (pixels) from which a pixel with G-buffer edges within its circle of
+/// confusion traces every sample; between SHORTCUT_COC and this, `ceil(spp * coc /
+/// FULL_SPP_COC)` samples.
+pub const FULL_SPP_COC: f32 = 2.0;
+/// Pixels of a row that a device runs in lockstep (lavapipe: 8 invocations, one row of an 8x8
+/// workgroup): they share one decision (shortcut, or the most samples of any of them).
+pub const SEGMENT: u32 = 8;
 /// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
 const MAX_REACH_TILES: i64 = 16;
 
@@ -131,6 +137,12 @@ impl Plan {
             }
         }
         let no_edge_within = |x: u32, y: u32, r: u32| {
+            // Beyond the frame the G-buffer knows nothing, and a blurred pixel's lens rays
+            // reach there: a window that crosses the border is not uniform (r = 1, the pixel
+            // and its neighbours, stays inside: film samples do not leave the pixel).
+            if r > 1 && (x < r || y < r || x + r >= w || y + r >= h) {
+                return false;
+            }
             let (x0, y0) = (x.saturating_sub(r) as usize, y.saturating_sub(r) as usize);
             let (x1, y1) = ((x + r + 1).min(w) as usize, (y + r + 1).min(h) as usize);
             table[y1 * stride + x1] + table[y0 * stride + x0]
@@ -138,40 +150,54 @@ impl Plan {
         };
 
         let spp = spp.max(1);
-        let mut entries = Vec::with_capacity((w * h) as usize);
-        let mut shortcut_pixels = 0u64;
-        let mut planned = 0u64;
+        // Per pixel: None for the shortcut, else the samples to trace.
+        let mut samples: Vec<Option<u32>> = Vec::with_capacity((w * h) as usize);
         for y in 0..h {
             for x in 0..w {
                 let coc = dilated[((y / TILE) * tw + x / TILE) as usize];
-                let samples = if coc < SHORTCUT_COC {
-                    if no_edge_within(x, y, 1) {
-                        None
-                    } else {
-                        Some(spp)
-                    }
-                } else if coc >= FULL_SPP_COC || !no_edge_within(x, y, coc.ceil() as u32) {
+                // The G-buffer is uniform over the pixel and its circle of confusion: every lens
+                // ray is expected to see what the G-buffer sees (checked, unbiased).
+                let radius = if coc < SHORTCUT_COC {
+                    1
+                } else {
+                    coc.ceil() as u32 + 1
+                };
+                samples.push(if no_edge_within(x, y, radius) {
+                    None
+                } else if coc < SHORTCUT_COC || coc >= FULL_SPP_COC {
                     Some(spp)
                 } else {
                     let n = (spp as f32 * coc / FULL_SPP_COC).ceil() as u32;
                     Some(n.clamp(1, spp))
-                };
-                entries.push(match samples {
-                    None => {
-                        shortcut_pixels += 1;
-                        let value = if lit {
-                            Vec3::ZERO
-                        } else {
-                            gbuffer.albedo[index(x, y)]
-                        };
-                        [value.x, value.y, value.z, HYBRID_SHORTCUT]
-                    }
-                    Some(n) => {
-                        planned += u64::from(n);
-                        [0.0, 0.0, 0.0, n as f32]
-                    }
                 });
             }
+        }
+        // SIMD coherence: a device runs neighbouring invocations in lockstep (lavapipe: the 8
+        // of one tile row), so a segment of a row traces as long as its busiest pixel. Where
+        // one pixel of a segment traces, all of it traces that many samples (for free).
+        for row in samples.chunks_mut(w as usize) {
+            for segment in row.chunks_mut(SEGMENT as usize) {
+                if segment.iter().any(Option::is_some) {
+                    let n = segment.iter().flatten().copied().max();
+                    segment.fill(n);
+                }
+            }
+        }
+        let mut entries = Vec::with_capacity((w * h) as usize);
+        let mut shortcut_pixels = 0u64;
+        let mut planned = 0u64;
+        for (i, n) in samples.into_iter().enumerate() {
+            entries.push(match n {
+                None => {
+                    shortcut_pixels += 1;
+                    let value = if lit { Vec3::ZERO } else { gbuffer.albedo[i] };
+                    [value.x, value.y, value.z, HYBRID_SHORTCUT]
+                }
+                Some(n) => {
+                    planned += u64::from(n);
+                    [0.0, 0.0, 0.0, n as f32]
+                }
+            });
         }
         Plan {
             width: w,
@@ -188,6 +214,26 @@ impl Plan {
     pub fn shortcut_fraction(&self) -> f64 {
         self.shortcut_pixels as f64 / (self.entries.len().max(1)) as f64
     }
+}
+
+/// The camera whose G-buffer plans: `camera`, except that a perspective camera's raster
+/// clipping planes move out (near / 100, far x 100). Perspective rays start at the eye and are
+/// not clipped by them (only orthographic rays start on the near plane), so a surface nearer
+/// than `near` (the floor under the lens) is seen by the trace pass: the plan must see it too,
+/// or it takes the background for the shortcut there. Same rays, same pixels.
+fn planning_camera(camera: &Camera) -> Camera {
+    if camera.is_orthographic() {
+        return camera.clone();
+    }
+    Camera::new(
+        camera.projection,
+        camera.frame,
+        camera.lens,
+        camera.near * 0.01,
+        camera.far * 100.0,
+        camera.width,
+        camera.height,
+    )
 }
 
 /// The hybrid path: a GPU path (any traversal; `paths::open` picks the device's fastest) whose
@@ -239,7 +285,7 @@ impl RenderPath for HybridPath {
         super::check_accumulation(camera, settings, accumulation)?;
         let start = Instant::now();
         let renderer = self.inner.renderer_mut();
-        let gbuffer = renderer.render_gbuffer(camera, settings.background)?;
+        let gbuffer = renderer.render_gbuffer(&planning_camera(camera), settings.background)?;
         let plan = Plan::new(camera, &gbuffer, settings.shading, settings.spp);
         renderer.set_plan(Some(&plan.entries))?;
         self.plan_seconds += start.elapsed().as_secs_f64();
@@ -313,6 +359,7 @@ mod tests {
         for y in 0..4 {
             for x in 0..4 {
                 gbuffer.view_depth[(y * w + x) as usize] = 1.0;
+                gbuffer.albedo[(y * w + x) as usize] = Vec3::splat(0.9);
             }
         }
         let near_coc = camera.coc_radius_pixels(1.0);
