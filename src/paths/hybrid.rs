@@ -164,7 +164,7 @@ impl Plan {
                 };
                 samples.push(if no_edge_within(x, y, radius) {
                     None
-                } else if coc < SHORTCUT_COC || coc >= FULL_SPP_COC {
+                } else if !(SHORTCUT_COC..FULL_SPP_COC).contains(&coc) {
                     Some(spp)
                 } else {
                     let n = (spp as f32 * coc / FULL_SPP_COC).ceil() as u32;
