@@ -6,6 +6,10 @@
 // ray-tracing extension). One dispatch covers some rows (strided) and a range of samples; sums
 // accumulate in `accum` (xyz: the sum, w: how many samples), which holds a band of rows of the
 // image (bounded by the device's storage-buffer range).
+// The hybrid path (src/paths/hybrid.rs, docs/hybrid.md) runs it in TRACE_MODE_HYBRID: a plan
+// per pixel says how many samples to trace, or that the pixel takes a shortcut value, checked
+// by tracing a sample with probability 1 / HYBRID_CHECK_INVERSE (unbiased); TRACE_MODE_SHORTCUT
+// (lit) first shades the aperture-centre ray of each shortcut pixel into the plan.
 #if defined(TRAVERSAL_RAY_QUERY)
 #extension GL_EXT_ray_query : require
 #elif !defined(TRAVERSAL_SOFTWARE)
@@ -22,6 +26,7 @@ layout(local_size_x = TRACE_GROUP_SIZE, local_size_y = TRACE_GROUP_SIZE) in;
 layout(std430, set = 0, binding = TRACE_BINDING_ACCUM) buffer Accum { vec4 accum[]; };
 layout(std430, set = 0, binding = TRACE_BINDING_COUNTERS) buffer Counters { uint rays_traced; };
 layout(std140, set = 0, binding = TRACE_BINDING_PARAMS) uniform ParamsBlock { TraceParams params; };
+layout(std430, set = 0, binding = TRACE_BINDING_PLAN) buffer Plan { vec4 plan[]; };
 layout(push_constant) uniform PushBlock { TracePush pc; };
 
 // What the hit implementations return: the global triangle index (as `instance custom index +
@@ -49,15 +54,64 @@ void main() {
         return;
     }
     uint slot = band_row * params.width + x;
+    uint pixel_index = y * params.width + x;
+    uint rays = 0u;
+    if (pc.mode == TRACE_MODE_SHORTCUT) {
+        // The shortcut value of a lit pixel: the G-buffer's surface (the aperture-centre ray
+        // at the pixel centre: concentric_sample_disk(0.5, 0.5) is the lens centre), shaded
+        // with one shadow ray.
+        if (plan[pixel_index].w == HYBRID_SHORTCUT) {
+            Ray ray = generate_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
+            plan[pixel_index].xyz = shade(ray, rays);
+        }
+        atomicAdd(rays_traced, rays);
+        return;
+    }
     vec4 before = accum[slot];
     vec3 sum = before.xyz;
-    uint rays = 0u;
-    for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
-        CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y), params.width, s);
-        Ray ray = generate_ray(params.camera, cs.film, cs.lens);
-        sum += shade(ray, rays);
+    uint added = 0u;
+    if (pc.mode == TRACE_MODE_HYBRID) {
+        vec4 entry = plan[pixel_index];
+        if (entry.w == HYBRID_SHORTCUT) {
+            // Sample s: the shortcut value, plus (traced - shortcut) * HYBRID_CHECK_INVERSE with
+            // probability 1 / HYBRID_CHECK_INVERSE: unbiased. The choice hashes the 8x8 tile
+            // and the sample, so that the pixels of a workgroup (run in lockstep) check alike.
+            vec3 shortcut = entry.xyz;
+            uint tile = (y / TRACE_GROUP_SIZE) * ((params.width + TRACE_GROUP_SIZE - 1u) / TRACE_GROUP_SIZE)
+                      + x / TRACE_GROUP_SIZE;
+            for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
+                vec3 value = shortcut;
+                uint key = sample_key(params.seed ^ HYBRID_CHECK_SALT, tile, s);
+                if (hash_u32(key) % HYBRID_CHECK_INVERSE == 0u) {
+                    CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y),
+                                                    params.width, s);
+                    Ray ray = generate_ray(params.camera, cs.film, cs.lens);
+                    value += (shade(ray, rays) - shortcut) * float(HYBRID_CHECK_INVERSE);
+                }
+                sum += value;
+            }
+            added = pc.sample_end - pc.sample_begin;
+        } else {
+            // Samples i < entry.w are traced; the pixel's count stops there.
+            uint end = min(pc.sample_end, uint(entry.w));
+            for (uint s = pc.sample_begin; s < end; ++s) {
+                CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y),
+                                                params.width, s);
+                Ray ray = generate_ray(params.camera, cs.film, cs.lens);
+                sum += shade(ray, rays);
+            }
+            added = end > pc.sample_begin ? end - pc.sample_begin : 0u;
+        }
+    } else {
+        for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
+            CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y),
+                                            params.width, s);
+            Ray ray = generate_ray(params.camera, cs.film, cs.lens);
+            sum += shade(ray, rays);
+        }
+        added = pc.sample_end - pc.sample_begin;
     }
     // w counts the samples added (exact in float up to 2^24): the preview divides by it.
-    accum[slot] = vec4(sum, before.w + float(pc.sample_end - pc.sample_begin));
+    accum[slot] = vec4(sum, before.w + float(added));
     atomicAdd(rays_traced, rays);
 }

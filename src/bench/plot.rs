@@ -100,6 +100,7 @@ fn colour(path: PathKind) -> RGBColor {
     match path {
         PathKind::RayQuery => RGBColor(200, 40, 40),
         PathKind::Software => RGBColor(30, 90, 200),
+        PathKind::Hybrid => RGBColor(150, 60, 180),
         PathKind::Cpu => RGBColor(20, 140, 60),
     }
 }

@@ -17,7 +17,7 @@ use crate::sampler::SamplerKind;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// Paths to compare, comma-separated: rayquery, software, cpu, auto (the path `--path auto`
+    /// Paths to compare, comma-separated: rayquery, software, hybrid, cpu, auto (the path `--path auto`
     /// picks) [default: every path this machine can run].
     #[arg(
         long,

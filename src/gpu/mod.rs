@@ -319,6 +319,12 @@ impl GpuRenderer {
         )
     }
 
+    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel, row-major;
+    /// see `interface::TRACE_BINDING_PLAN`), or `None` to trace every sample again.
+    pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
+        self.trace.set_plan(plan)
+    }
+
     /// Destroys every Vulkan object, then, with validation on, fails on any message the layer
     /// reported, the leak report of the device's and instance's destruction included.
     pub fn close(self) -> Result<(), GpuError> {

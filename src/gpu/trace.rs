@@ -20,9 +20,10 @@ use super::traversal::Traversal;
 use crate::camera::Camera;
 use crate::interface::{
     TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_COUNTERS, TRACE_BINDING_PARAMS,
-    TRACE_BINDING_TLAS, TRACE_GROUP_SIZE as GROUP,
+    TRACE_BINDING_PLAN, TRACE_BINDING_TLAS, TRACE_GROUP_SIZE as GROUP, TRACE_MODE_ALL,
+    TRACE_MODE_HYBRID, TRACE_MODE_SHORTCUT,
 };
-use crate::render::{Accumulation, RenderSettings};
+use crate::render::{Accumulation, RenderSettings, Shading};
 
 /// Pixel-samples of the first dispatches: ~0.03-0.1 s on lavapipe (2 cores, 80k triangles).
 const INITIAL_SAMPLES_PER_DISPATCH: u64 = 1 << 16;
@@ -127,6 +128,11 @@ pub(crate) struct TracePass {
     current: usize,
     params: Buffer,
     counters: Buffer,
+    /// The hybrid path's plan (one vec4 per pixel, see TRACE_BINDING_PLAN); a placeholder of
+    /// one entry while none is set (the binding must be valid in every mode).
+    plan: Buffer,
+    /// Pixels of the plan set by `set_plan`; `None`: every sample of every pixel is traced.
+    plan_pixels: Option<u64>,
     timestamps: QueryPool,
     /// Accumulation and readback buffers of the current image size.
     accum: Option<DeviceSums>,
@@ -183,6 +189,14 @@ impl TracePass {
                 &counters,
             );
         }
+        let plan = Self::plan_buffer(ctx, 16)?;
+        for p in &pipelines {
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_PLAN,
+                vk::DescriptorType::STORAGE_BUFFER,
+                &plan,
+            );
+        }
         let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
         Ok(Self {
             ctx: ctx.clone(),
@@ -190,12 +204,49 @@ impl TracePass {
             current: 0,
             params,
             counters,
+            plan,
+            plan_pixels: None,
             timestamps,
             accum: None,
             samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
             adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
             max_band_pixels: MAX_BAND_PIXELS,
         })
+    }
+
+    fn plan_buffer(ctx: &Arc<Context>, bytes: u64) -> Result<Buffer, GpuError> {
+        // Written by the host, read (and, lit, completed by the shortcut pre-pass) by the shader.
+        Buffer::new(
+            ctx,
+            "hybrid plan",
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )
+    }
+
+    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel of the
+    /// image, row-major: see TRACE_BINDING_PLAN), or `None` to trace every sample again.
+    pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
+        let Some(plan) = plan else {
+            self.plan_pixels = None;
+            return Ok(());
+        };
+        let bytes = (plan.len() as u64 * 16).max(16);
+        if self.plan.size < bytes {
+            // Every earlier submission has completed (each is waited for).
+            self.plan = Self::plan_buffer(&self.ctx, bytes)?;
+            for p in &self.pipelines {
+                p.pipeline.bind_buffer(
+                    TRACE_BINDING_PLAN,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    &self.plan,
+                );
+            }
+        }
+        self.plan.write(bytemuck::cast_slice(plan))?;
+        self.plan_pixels = Some(plan.len() as u64);
+        Ok(())
     }
 
     /// The compute pipeline of `traversal`: the scene arrays, that traversal's structures, and
@@ -231,6 +282,11 @@ impl TracePass {
             (
                 TRACE_BINDING_PARAMS,
                 vk::DescriptorType::UNIFORM_BUFFER,
+                compute,
+            ),
+            (
+                TRACE_BINDING_PLAN,
+                vk::DescriptorType::STORAGE_BUFFER,
                 compute,
             ),
         ]);
@@ -375,6 +431,15 @@ impl TracePass {
         if samples.is_empty() {
             return Ok(());
         }
+        let mode = match self.plan_pixels {
+            None => TRACE_MODE_ALL,
+            Some(n) if n == pixels => TRACE_MODE_HYBRID,
+            Some(n) => {
+                return Err(GpuError::Invalid(format!(
+                    "the hybrid plan has {n} pixels, the image {pixels}"
+                )))
+            }
+        };
         // The sums live in a storage buffer covering a band of rows, bounded by the device's
         // storage-buffer range (128 MiB on lavapipe); bands are copied into the readback buffer.
         let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
@@ -429,6 +494,21 @@ impl TracePass {
         let mut band_origin = 0;
         while band_origin < height {
             let band_height = band_rows.min(height - band_origin);
+            if mode == TRACE_MODE_HYBRID && settings.shading == Shading::Lit {
+                // The shortcut values of the band's lit shortcut pixels, into the plan.
+                let push = TracePush {
+                    band_origin,
+                    band_height,
+                    block_first: 0,
+                    block_stride: 1,
+                    block_count: band_height.div_ceil(GROUP),
+                    sample_begin: 0,
+                    sample_end: 0,
+                    mode: TRACE_MODE_SHORTCUT,
+                };
+                self.dispatch(push, width, false, None)?;
+                self.record_timing(timings, None)?;
+            }
             let mut sample_begin = first_sample;
             let mut first_of_band = true;
             while sample_begin < spp {
@@ -454,7 +534,7 @@ impl TracePass {
                         block_count,
                         sample_begin,
                         sample_end,
-                        pad: 0,
+                        mode,
                     };
                     let copy_out = (sample_end == spp && group + 1 == groups)
                         .then_some(u64::from(band_height) * u64::from(width) * 16);
@@ -468,7 +548,7 @@ impl TracePass {
                         .sum();
                     let work =
                         u64::from(rows) * u64::from(width) * u64::from(sample_end - sample_begin);
-                    self.record_timing(timings, work)?;
+                    self.record_timing(timings, Some(work))?;
                     done += work;
                     progress(done, total);
                 }
@@ -484,13 +564,14 @@ impl TracePass {
     }
 
     /// Adds the last dispatch's GPU time and ray count (the pipeline's first dispatch apart),
-    /// and sizes the next dispatches from its speed (`work` pixel-samples).
-    fn record_timing(&mut self, timings: &mut Timings, work: u64) -> Result<(), GpuError> {
+    /// and sizes the next dispatches from its speed (`work` pixel-samples; `None`: a pass that
+    /// says nothing of the speed of tracing samples).
+    fn record_timing(&mut self, timings: &mut Timings, work: Option<u64>) -> Result<(), GpuError> {
         let ticks = self.timestamps.results()?;
         let gpu_ms = self.ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6;
         let rays = u64::from(bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0]);
         if self.pipelines[self.current].first_dispatch_done {
-            if gpu_ms > 0.0 {
+            if let Some(work) = work.filter(|_| gpu_ms > 0.0) {
                 let rate = work as f64 / gpu_ms;
                 // Shrinks at once, grows at most 2x per dispatch.
                 self.adaptive_samples = ((rate * TARGET_DISPATCH_MS) as u64)

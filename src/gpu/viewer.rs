@@ -20,7 +20,9 @@ use super::surface::Surface;
 use super::swapchain::{Acquired, Swapchain};
 use super::{check_validation_log, GpuOptions, GpuRenderer, ValidationLog};
 use crate::camera::Camera;
-use crate::interface::{ResolvePush, TraceParams, TracePush, TRACE_GROUP_SIZE, VIEW_FINAL};
+use crate::interface::{
+    ResolvePush, TraceParams, TracePush, TRACE_GROUP_SIZE, TRACE_MODE_ALL, VIEW_FINAL,
+};
 use crate::render::progressive::ProgressiveSchedule;
 use crate::render::{Image, RenderSettings};
 use crate::scene::Scene;
@@ -420,7 +422,7 @@ impl Viewer {
                 block_count: item.block_count,
                 sample_begin: item.sample_begin,
                 sample_end: item.sample_end,
-                pad: 0,
+                mode: TRACE_MODE_ALL,
             };
             self.gpu.trace.record_dispatch(cmd, push, camera.width);
         }

@@ -68,6 +68,24 @@ shader_interface! {
         /// triangles in leaf order.
         TRACE_BINDING_BVH_NODES: u32 = 9;
         TRACE_BINDING_BVH_TRIANGLES: u32 = 10;
+        /// trace.comp, hybrid path (src/paths/hybrid.rs, docs/hybrid.md): one vec4 per pixel of
+        /// the whole image: xyz the shortcut value, w the samples to trace (w >= 1: samples
+        /// i < w are traced, later ones skipped) or HYBRID_SHORTCUT (the pixel takes the
+        /// shortcut value, checked by tracing with probability 1 / HYBRID_CHECK_INVERSE).
+        TRACE_BINDING_PLAN: u32 = 11;
+        /// `TracePush.mode`: trace every sample (rayquery, software); the hybrid's traced mode
+        /// (reads the plan); the hybrid's shortcut pre-pass (lit: shades the aperture-centre
+        /// ray at the pixel centre of every shortcut pixel into the plan's xyz).
+        TRACE_MODE_ALL: u32 = 0;
+        TRACE_MODE_HYBRID: u32 = 1;
+        TRACE_MODE_SHORTCUT: u32 = 2;
+        /// Plan entry w of a shortcut pixel.
+        HYBRID_SHORTCUT: f32 = -1.0;
+        /// A shortcut pixel's sample is traced too with probability 1 / HYBRID_CHECK_INVERSE
+        /// (and weighted by HYBRID_CHECK_INVERSE), which makes the shortcut unbiased.
+        HYBRID_CHECK_INVERSE: u32 = 16;
+        /// Salt of that choice's hash (apart from the sampler's own uses of the sample key).
+        HYBRID_CHECK_SALT: u32 = 0x68796272;
         /// Entries of the software traversal's stack of nodes still to visit; the BVH build
         /// refuses deeper trees (src/gpu/bvh.rs).
         BVH_STACK_SIZE: u32 = 64;
@@ -134,7 +152,8 @@ shader_interface! {
             block_count: u32,
             sample_begin: u32,
             sample_end: u32,
-            pad: u32,
+            /// TRACE_MODE_*
+            mode: u32,
         }
         /// Push constants of the G-buffer pass.
         Std430 struct RasterPush as RasterPush {

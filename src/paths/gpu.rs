@@ -1,4 +1,5 @@
-//! The GPU paths: the Vulkan renderer with one traversal (ray queries or lensray's BVH).
+//! The GPU paths: the Vulkan renderer with one traversal (ray queries or lensray's BVH); the
+//! hybrid path (`super::hybrid`) wraps one.
 
 use std::ops::Range;
 
@@ -28,7 +29,12 @@ impl GpuPath {
         })
     }
 
-    fn note_memory(&mut self) {
+    /// The renderer (the hybrid path drives it with a plan).
+    pub(super) fn renderer_mut(&mut self) -> &mut GpuRenderer {
+        &mut self.renderer
+    }
+
+    pub(super) fn note_memory(&mut self) {
         self.peak_device_bytes = self.peak_device_bytes.max(self.renderer.allocated_bytes());
     }
 }

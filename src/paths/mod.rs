@@ -4,6 +4,7 @@
 
 mod cpu;
 mod gpu;
+pub mod hybrid;
 
 use std::fmt;
 
@@ -11,6 +12,7 @@ use anyhow::{bail, Context, Result};
 
 pub use cpu::CpuPath;
 pub use gpu::GpuPath;
+pub use hybrid::HybridPath;
 
 use crate::camera::Camera;
 use crate::gpu::{GpuOptions, GpuRenderer, Traversal};
@@ -41,6 +43,8 @@ pub enum PathChoice {
     RayQuery,
     /// lensray's own BVH traversed in the compute shader: any Vulkan device.
     Software,
+    /// G-buffer-guided: rays only where the circle of confusion needs them (docs/hybrid.md).
+    Hybrid,
     /// The CPU reference renderer.
     Cpu,
 }
@@ -51,6 +55,7 @@ impl PathChoice {
             PathChoice::Auto => None,
             PathChoice::RayQuery => Some(PathKind::RayQuery),
             PathChoice::Software => Some(PathKind::Software),
+            PathChoice::Hybrid => Some(PathKind::Hybrid),
             PathChoice::Cpu => Some(PathKind::Cpu),
         }
     }
@@ -61,6 +66,7 @@ impl From<PathKind> for PathChoice {
         match kind {
             PathKind::RayQuery => PathChoice::RayQuery,
             PathKind::Software => PathChoice::Software,
+            PathKind::Hybrid => PathChoice::Hybrid,
             PathKind::Cpu => PathChoice::Cpu,
         }
     }
@@ -90,12 +96,13 @@ pub struct OpenedPath {
     pub why: String,
 }
 
-/// The GPU path of a traversal.
+/// The traversal a GPU path is tied to (`None`: the CPU, or the hybrid, which traces with the
+/// device's fastest).
 pub fn traversal_of(kind: PathKind) -> Option<Traversal> {
     match kind {
         PathKind::RayQuery => Some(Traversal::RayQuery),
         PathKind::Software => Some(Traversal::Software),
-        PathKind::Cpu => None,
+        PathKind::Hybrid | PathKind::Cpu => None,
     }
 }
 
@@ -137,7 +144,7 @@ pub fn open(
             (DeviceChoice::Gpu, _) => {
                 bail!("--path cpu runs on the CPU: it cannot be used with --device gpu")
             }
-            (_, PathChoice::RayQuery | PathChoice::Software) => bail!(
+            (_, PathChoice::RayQuery | PathChoice::Software | PathChoice::Hybrid) => bail!(
                 "--path {} runs on a Vulkan device: it cannot be used with --device cpu",
                 options.path
             ),
@@ -179,6 +186,13 @@ pub fn open(
     };
     let mut renderer = renderer;
     renderer.load_scene(scene)?;
+    if options.path == PathChoice::Hybrid {
+        let (traversal, why) = pick_traversal(&mut renderer, shot)?;
+        return Ok(OpenedPath {
+            path: Box::new(HybridPath::new(renderer)?),
+            why: format!("asked for; traces with {traversal} ({why})"),
+        });
+    }
     if let Some(kind) = options.path.kind() {
         let traversal = traversal_of(kind).expect("a GPU path");
         renderer
@@ -307,6 +321,9 @@ fn check_accumulation(
 /// The preview window always draws with Vulkan; the path only says who traces the samples.
 /// Returns the window's Vulkan options and whether the CPU path traces.
 pub fn preview_options(options: &PathOptions) -> Result<(GpuOptions, bool)> {
+    if options.path == PathChoice::Hybrid {
+        bail!("--path hybrid: not in the preview yet (render and bench run it)");
+    }
     let cpu = match (options.device, options.path) {
         (DeviceChoice::Cpu, PathChoice::RayQuery | PathChoice::Software) => bail!(
             "--path {} runs on a Vulkan device: it cannot be used with --device cpu",

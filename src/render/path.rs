@@ -22,17 +22,27 @@ pub enum PathKind {
     /// GPU compute pass, closest hits from lensray's own BVH traversed in the shader: needs no
     /// ray-tracing support.
     Software,
+    /// GPU, guided by the raster G-buffer: pixels whose dilated circle of confusion is under
+    /// half a pixel take the G-buffer's value (checked by a few traced samples, unbiased), the
+    /// others trace a number of samples that grows with it (docs/hybrid.md).
+    Hybrid,
     /// The CPU reference renderer.
     Cpu,
 }
 
 impl PathKind {
-    pub const ALL: [PathKind; 3] = [PathKind::RayQuery, PathKind::Software, PathKind::Cpu];
+    pub const ALL: [PathKind; 4] = [
+        PathKind::RayQuery,
+        PathKind::Software,
+        PathKind::Hybrid,
+        PathKind::Cpu,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             PathKind::RayQuery => "rayquery",
             PathKind::Software => "software",
+            PathKind::Hybrid => "hybrid",
             PathKind::Cpu => "cpu",
         }
     }

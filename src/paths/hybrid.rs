@@ -1,0 +1,380 @@
+//! The hybrid path (issue 10, docs/hybrid.md): the raster G-buffer decides where rays are
+//! needed. Per call of `add_samples`: the G-buffer of the shot, then a plan per pixel on the
+//! host (`Plan::new`: circle of confusion from the G-buffer depth, maximum over 8x8 tiles,
+//! dilated by each tile's maximum over the tiles it reaches), then the trace pass in its hybrid
+//! mode (shaders/trace.comp) with the device's fastest traversal:
+//! - no G-buffer edge within the pixel's dilated CoC (at least one pixel; so in particular a
+//!   dilated CoC under half a pixel with a uniform neighbourhood): the *shortcut*, the
+//!   G-buffer's value (unlit: its albedo; lit: the surface shaded with one shadow ray). Each
+//!   sample is traced too with probability 1 / HYBRID_CHECK_INVERSE (a hash of the 8x8 tile and
+//!   the sample) and adds (traced - shortcut) * HYBRID_CHECK_INVERSE: unbiased;
+//! - otherwise samples `0..n` are traced, `n` growing with the dilated CoC up to spp (edges in
+//!   focus: spp); the pixel's count stops at `n`, so its value is the mean of `n` samples;
+//! - the 8 pixels of a tile row share one decision (they run in lockstep).
+//!
+//! Whether a pixel traces sample `i` depends on the plan (camera, settings, scene) only, never on
+//! the range asked for, so any split of a range gives the same sums, as for every path.
+
+use std::ops::Range;
+use std::time::Instant;
+
+use anyhow::Result;
+use glam::Vec3;
+
+use super::gpu::GpuPath;
+use crate::camera::Camera;
+use crate::gpu::{GBuffer, GpuRenderer};
+use crate::interface::{HYBRID_CHECK_INVERSE, HYBRID_SHORTCUT};
+use crate::render::path::{PathKind, PathReport, RenderPath};
+use crate::render::{Accumulation, Image, RenderSettings, Shading};
+use crate::scene::Scene;
+
+/// Side of the tiles over which the circle of confusion is maximised, pixels.
+pub const TILE: u32 = 8;
+/// Dilated CoC radius (pixels) under which a pixel may take the shortcut.
+pub const SHORTCUT_COC: f32 = 0.5;
+/// Dilated CoC radius (pixels) from which a pixel with G-buffer edges within its circle of
+/// confusion traces every sample; between SHORTCUT_COC and this, `ceil(spp * coc /
+/// FULL_SPP_COC)` samples.
+pub const FULL_SPP_COC: f32 = 2.0;
+/// Pixels of a row that a device runs in lockstep (lavapipe: 8 invocations, one row of an 8x8
+/// workgroup): they share one decision (shortcut, or the most samples of any of them).
+pub const SEGMENT: u32 = 8;
+/// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
+const MAX_REACH_TILES: i64 = 16;
+
+/// Per pixel: what the trace pass does (see `interface::TRACE_BINDING_PLAN`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    pub width: u32,
+    pub height: u32,
+    /// xyz: the shortcut value (unlit; lit: filled on the device), w: samples to trace, or
+    /// HYBRID_SHORTCUT.
+    pub entries: Vec<[f32; 4]>,
+    /// Pixels that take the shortcut.
+    pub shortcut_pixels: u64,
+    /// Camera samples the trace pass is expected to trace for samples 0..spp (the planned ones,
+    /// plus the shortcut pixels' checks), and that a path tracing all of them traces.
+    pub expected_samples: f64,
+    pub all_samples: u64,
+}
+
+impl Plan {
+    /// The plan of `spp` samples of `shading` (`Unlit` or `Lit`) seen by `camera`, from its
+    /// G-buffer (of the camera's size).
+    pub fn new(camera: &Camera, gbuffer: &GBuffer, shading: Shading, spp: u32) -> Plan {
+        let (w, h) = (gbuffer.width, gbuffer.height);
+        let (tw, th) = (w.div_ceil(TILE), h.div_ceil(TILE));
+        let index = |x: u32, y: u32| (y * w + x) as usize;
+
+        // Circle of confusion per pixel (0 where nothing is covered: the background is at
+        // infinity, but a background pixel is only blurred by what covers it, which dilation
+        // brings in), maximum per tile.
+        let mut tile_max = vec![0f32; (tw * th) as usize];
+        for y in 0..h {
+            for x in 0..w {
+                let i = index(x, y);
+                if gbuffer.coverage[i] {
+                    let coc = camera.coc_radius_pixels(gbuffer.view_depth[i]);
+                    let t = ((y / TILE) * tw + x / TILE) as usize;
+                    tile_max[t] = tile_max[t].max(coc);
+                }
+            }
+        }
+        // Each tile spreads its maximum to the tiles within its reach: those whose nearest
+        // pixel lies within that many pixels (Chebyshev distance).
+        let mut dilated = tile_max.clone();
+        for ty in 0..i64::from(th) {
+            for tx in 0..i64::from(tw) {
+                let m = tile_max[(ty * i64::from(tw) + tx) as usize];
+                if m <= 0.0 {
+                    continue;
+                }
+                let reach = ((m / TILE as f32) as i64 + 1).min(MAX_REACH_TILES);
+                for dy in -reach..=reach {
+                    for dx in -reach..=reach {
+                        let (x, y) = (tx + dx, ty + dy);
+                        if x < 0 || y < 0 || x >= i64::from(tw) || y >= i64::from(th) {
+                            continue;
+                        }
+                        let gap = (dx.abs().max(dy.abs()) - 1).max(0) * i64::from(TILE);
+                        if gap as f32 <= m {
+                            let t = (y * i64::from(tw) + x) as usize;
+                            dilated[t] = dilated[t].max(m);
+                        }
+                    }
+                }
+            }
+        }
+
+        // Edges of the G-buffer: a pixel differs from its right or lower neighbour in what the
+        // shading depends on (unlit: coverage and albedo; lit: also the normal and depth).
+        let lit = shading == Shading::Lit;
+        let differs = |a: usize, b: usize| {
+            if gbuffer.coverage[a] != gbuffer.coverage[b] || gbuffer.albedo[a] != gbuffer.albedo[b]
+            {
+                return true;
+            }
+            if !lit || !gbuffer.coverage[a] {
+                return false;
+            }
+            let (da, db) = (gbuffer.view_depth[a], gbuffer.view_depth[b]);
+            gbuffer.normal[a].dot(gbuffer.normal[b]) < 0.995
+                || (da - db).abs() > 0.02 * da.abs().max(db.abs())
+        };
+        // Summed-area table of the edge marks: "no edge within r pixels" in O(1).
+        let stride = (w + 1) as usize;
+        let mut table = vec![0u32; stride * (h + 1) as usize];
+        for y in 0..h {
+            let mut row = 0u32;
+            for x in 0..w {
+                let i = index(x, y);
+                let edge =
+                    (x + 1 < w && differs(i, i + 1)) || (y + 1 < h && differs(i, i + w as usize));
+                row += u32::from(edge);
+                let at = (y as usize + 1) * stride + x as usize + 1;
+                table[at] = table[at - stride] + row;
+            }
+        }
+        let no_edge_within = |x: u32, y: u32, r: u32| {
+            // Beyond the frame the G-buffer knows nothing, and a blurred pixel's lens rays
+            // reach there: a window that crosses the border is not uniform (r = 1, the pixel
+            // and its neighbours, stays inside: film samples do not leave the pixel).
+            if r > 1 && (x < r || y < r || x + r >= w || y + r >= h) {
+                return false;
+            }
+            let (x0, y0) = (x.saturating_sub(r) as usize, y.saturating_sub(r) as usize);
+            let (x1, y1) = ((x + r + 1).min(w) as usize, (y + r + 1).min(h) as usize);
+            table[y1 * stride + x1] + table[y0 * stride + x0]
+                == table[y0 * stride + x1] + table[y1 * stride + x0]
+        };
+
+        let spp = spp.max(1);
+        // Per pixel: None for the shortcut, else the samples to trace.
+        let mut samples: Vec<Option<u32>> = Vec::with_capacity((w * h) as usize);
+        for y in 0..h {
+            for x in 0..w {
+                let coc = dilated[((y / TILE) * tw + x / TILE) as usize];
+                // The G-buffer is uniform over the pixel and its circle of confusion: every lens
+                // ray is expected to see what the G-buffer sees (checked, unbiased).
+                let radius = if coc < SHORTCUT_COC {
+                    1
+                } else {
+                    coc.ceil() as u32 + 1
+                };
+                samples.push(if no_edge_within(x, y, radius) {
+                    None
+                } else if !(SHORTCUT_COC..FULL_SPP_COC).contains(&coc) {
+                    Some(spp)
+                } else {
+                    let n = (spp as f32 * coc / FULL_SPP_COC).ceil() as u32;
+                    Some(n.clamp(1, spp))
+                });
+            }
+        }
+        // SIMD coherence: a device runs neighbouring invocations in lockstep (lavapipe: the 8
+        // of one tile row), so a segment of a row traces as long as its busiest pixel. Where
+        // one pixel of a segment traces, all of it traces that many samples (for free).
+        for row in samples.chunks_mut(w as usize) {
+            for segment in row.chunks_mut(SEGMENT as usize) {
+                if segment.iter().any(Option::is_some) {
+                    let n = segment.iter().flatten().copied().max();
+                    segment.fill(n);
+                }
+            }
+        }
+        let mut entries = Vec::with_capacity((w * h) as usize);
+        let mut shortcut_pixels = 0u64;
+        let mut planned = 0u64;
+        for (i, n) in samples.into_iter().enumerate() {
+            entries.push(match n {
+                None => {
+                    shortcut_pixels += 1;
+                    let value = if lit { Vec3::ZERO } else { gbuffer.albedo[i] };
+                    [value.x, value.y, value.z, HYBRID_SHORTCUT]
+                }
+                Some(n) => {
+                    planned += u64::from(n);
+                    [0.0, 0.0, 0.0, n as f32]
+                }
+            });
+        }
+        Plan {
+            width: w,
+            height: h,
+            entries,
+            shortcut_pixels,
+            expected_samples: planned as f64
+                + shortcut_pixels as f64 * f64::from(spp) / f64::from(HYBRID_CHECK_INVERSE),
+            all_samples: u64::from(w) * u64::from(h) * u64::from(spp),
+        }
+    }
+
+    /// The fraction of pixels that take the shortcut.
+    pub fn shortcut_fraction(&self) -> f64 {
+        self.shortcut_pixels as f64 / (self.entries.len().max(1)) as f64
+    }
+}
+
+/// The camera whose G-buffer plans: `camera`, except that a perspective camera's raster
+/// clipping planes move out (near / 100, far x 100). Perspective rays start at the eye and are
+/// not clipped by them (only orthographic rays start on the near plane), so a surface nearer
+/// than `near` (the floor under the lens) is seen by the trace pass: the plan must see it too,
+/// or it takes the background for the shortcut there. Same rays, same pixels.
+fn planning_camera(camera: &Camera) -> Camera {
+    if camera.is_orthographic() {
+        return camera.clone();
+    }
+    Camera::new(
+        camera.projection,
+        camera.frame,
+        camera.lens,
+        camera.near * 0.01,
+        camera.far * 100.0,
+        camera.width,
+        camera.height,
+    )
+}
+
+/// The hybrid path: a GPU path (any traversal; `paths::open` picks the device's fastest) whose
+/// trace pass follows a plan made from the G-buffer.
+pub struct HybridPath {
+    inner: GpuPath,
+    /// Wall-clock seconds of the plans (G-buffer draw and readback, host planning), counted in
+    /// the report's trace time: they are part of what the path costs.
+    plan_seconds: f64,
+    last_plan: Option<Plan>,
+}
+
+impl HybridPath {
+    pub fn new(renderer: GpuRenderer) -> Result<Self> {
+        Ok(Self {
+            inner: GpuPath::new(renderer, PathKind::Hybrid)?,
+            plan_seconds: 0.0,
+            last_plan: None,
+        })
+    }
+
+    /// The plan of the last `add_samples` call.
+    pub fn last_plan(&self) -> Option<&Plan> {
+        self.last_plan.as_ref()
+    }
+}
+
+impl RenderPath for HybridPath {
+    fn kind(&self) -> PathKind {
+        PathKind::Hybrid
+    }
+
+    fn device_name(&self) -> String {
+        self.inner.device_name()
+    }
+
+    fn load_scene(&mut self, scene: &Scene) -> Result<()> {
+        self.inner.load_scene(scene)
+    }
+
+    fn add_samples(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<()> {
+        super::check_accumulation(camera, settings, accumulation)?;
+        let start = Instant::now();
+        let renderer = self.inner.renderer_mut();
+        let gbuffer = renderer.render_gbuffer(&planning_camera(camera), settings.background)?;
+        let plan = Plan::new(camera, &gbuffer, settings.shading, settings.spp);
+        renderer.set_plan(Some(&plan.entries))?;
+        self.plan_seconds += start.elapsed().as_secs_f64();
+        let traced = renderer.accumulate(camera, settings, samples, accumulation, progress);
+        let cleared = renderer.set_plan(None);
+        self.last_plan = Some(plan);
+        traced?;
+        cleared?;
+        self.inner.note_memory();
+        Ok(())
+    }
+
+    fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image> {
+        self.inner.aov(camera, settings)
+    }
+
+    fn focus_depth_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<Option<f32>> {
+        self.inner.focus_depth_at(camera, pixel)
+    }
+
+    fn report(&self) -> PathReport {
+        let report = self.inner.report();
+        PathReport {
+            trace_seconds: report.trace_seconds + self.plan_seconds,
+            ..report
+        }
+    }
+
+    fn close(self: Box<Self>) -> Result<()> {
+        Box::new(self.inner).close()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::camera::{CameraParams, LensParams, ProjectionParams};
+
+    /// A 64x32 G-buffer: a wall at the focus distance, with a near square (blurred) over tile
+    /// (0, 0). The tiles the square's CoC reaches are traced, the far ones take the shortcut.
+    #[test]
+    fn dilation_spreads_a_blurred_foreground_over_sharp_neighbours() {
+        let camera = CameraParams {
+            eye: Vec3::ZERO,
+            target: Vec3::new(0.0, 0.0, -1.0),
+            up: Vec3::Y,
+            projection: ProjectionParams::Perspective { vfov_degrees: 45.0 },
+            lens: LensParams::ThinLens {
+                aperture_radius: 0.4,
+                focus_distance: 5.0,
+            },
+            near: 0.1,
+            far: 100.0,
+            width: 64,
+            height: 32,
+        }
+        .build()
+        .expect("camera");
+        let (w, h) = (64u32, 32u32);
+        let n = (w * h) as usize;
+        let mut gbuffer = GBuffer {
+            width: w,
+            height: h,
+            view_depth: vec![5.0; n],
+            normal: vec![Vec3::Z; n],
+            albedo: vec![Vec3::splat(0.5); n],
+            coverage: vec![true; n],
+        };
+        for y in 0..4 {
+            for x in 0..4 {
+                gbuffer.view_depth[(y * w + x) as usize] = 1.0;
+                gbuffer.albedo[(y * w + x) as usize] = Vec3::splat(0.9);
+            }
+        }
+        let near_coc = camera.coc_radius_pixels(1.0);
+        assert!(near_coc > 9.0 && near_coc < 16.0, "{near_coc}");
+        let plan = Plan::new(&camera, &gbuffer, Shading::Unlit, 16);
+        let traced = |x: u32, y: u32| plan.entries[(y * w + x) as usize][3] != HYBRID_SHORTCUT;
+        // The square's tile, its neighbours and the tiles within its CoC are traced...
+        assert!(traced(0, 0) && traced(8, 0) && traced(0, 8) && traced(16, 16));
+        // ...the tiles beyond take the shortcut, with the G-buffer's albedo.
+        assert!(!traced(40, 20) && !traced(63, 31));
+        assert_eq!(plan.entries[(20 * w + 40) as usize][..3], [0.5; 3]);
+        assert_eq!(
+            plan.entries[0][3], 16.0,
+            "CoC over FULL_SPP_COC: every sample"
+        );
+        assert!(plan.shortcut_pixels > 0 && plan.expected_samples < plan.all_samples as f64);
+    }
+}

@@ -1,0 +1,190 @@
+//! The hybrid path (docs/hybrid.md): it converges to the image of the paths that trace every
+//! sample (no bias: image-mean error within noise, RMSE against a converged reference
+//! comparable), and an in-focus shot takes the G-buffer shortcut for most pixels.
+
+mod gpu_support;
+
+use gpu_support::{camera, may_skip, record_skip, settings, test_scene};
+use lensray::camera::{Camera, LensParams};
+use lensray::gpu::{GpuError, GpuOptions, GpuRenderer};
+use lensray::paths::{self, DeviceChoice, HybridPath, OpenedPath, PathChoice, PathOptions};
+use lensray::render::compare::{mean_error, rmse};
+use lensray::render::path::RenderPath;
+use lensray::render::{Image, RenderSettings, Shading};
+
+/// The hybrid path on a validated device with the test scene loaded.
+fn hybrid(test: &str) -> Option<HybridPath> {
+    let renderer = match GpuRenderer::new(&GpuOptions {
+        validate: true,
+        ..GpuOptions::default()
+    }) {
+        Ok(renderer) => renderer,
+        Err(e) if may_skip(&e) => {
+            record_skip(test, &e.to_string());
+            return None;
+        }
+        Err(e) => panic!("{test}: {e}"),
+    };
+    let mut path = HybridPath::new(renderer).expect("hybrid path");
+    path.load_scene(&test_scene()).expect("load scene");
+    Some(path)
+}
+
+/// `choice` opened as `render --path` opens it (validation on for GPU paths).
+fn open(test: &str, choice: PathChoice, shot: (&Camera, &RenderSettings)) -> Option<OpenedPath> {
+    let options = PathOptions {
+        path: choice,
+        device: DeviceChoice::Auto,
+        gpu: GpuOptions {
+            validate: choice != PathChoice::Cpu,
+            ..GpuOptions::default()
+        },
+    };
+    match paths::open(&options, &test_scene(), shot) {
+        Ok(opened) => Some(opened),
+        Err(e) => match e.downcast_ref::<GpuError>() {
+            Some(gpu) if may_skip(gpu) => {
+                record_skip(test, &format!("{e:#}"));
+                None
+            }
+            _ => panic!("{test}: --path {choice}: {e:#}"),
+        },
+    }
+}
+
+fn render(test: &str, choice: PathChoice, cam: &Camera, s: &RenderSettings) -> Option<Image> {
+    let OpenedPath { mut path, .. } = open(test, choice, (cam, s))?;
+    let image = path.render(cam, s, &mut |_, _| {}).expect("render");
+    path.close().expect("close: validation messages or leaks");
+    Some(image)
+}
+
+fn blurred_shot(width: u32, height: u32) -> Camera {
+    // Focused near the middle of the scene: sharp and blurred regions, foreground over sharp
+    // background included.
+    camera(
+        false,
+        LensParams::ThinLens {
+            aperture_radius: 0.12,
+            focus_distance: 5.0,
+        },
+        width,
+        height,
+    )
+}
+
+/// Hybrid and rayquery (software where the device has no ray queries) at equal spp against a
+/// CPU reference of 16x the samples and another seed: the hybrid's image-mean error is within
+/// noise (4 standard errors), and its RMSE is comparable to the full path's.
+fn converges(test: &str, shading: Shading) {
+    let cam = blurred_shot(96, 72);
+    let s = settings(shading, 64);
+    let reference_settings = RenderSettings {
+        spp: 1024,
+        seed: s.seed ^ 0x5bd1_e995,
+        ..s
+    };
+    let Some(reference) = render(test, PathChoice::Cpu, &cam, &reference_settings) else {
+        return;
+    };
+    let Some(mut path) = hybrid(test) else {
+        return;
+    };
+    let image = path
+        .render(&cam, &s, &mut |_, _| {})
+        .expect("hybrid render");
+    let plan = path.last_plan().expect("a plan").clone();
+    let hybrid_rays = path.report().rays;
+    Box::new(path)
+        .close()
+        .expect("close: validation messages or leaks");
+    let full_choice = {
+        let options = PathOptions {
+            path: PathChoice::RayQuery,
+            ..PathOptions::default()
+        };
+        match paths::open(&options, &test_scene(), (&cam, &s)) {
+            Ok(opened) => {
+                opened.path.close().expect("close");
+                PathChoice::RayQuery
+            }
+            Err(_) => PathChoice::Software,
+        }
+    };
+    let Some(full) = render(test, full_choice, &cam, &s) else {
+        return;
+    };
+
+    let (hybrid_mean, full_mean) = (
+        mean_error(&image, &reference),
+        mean_error(&full, &reference),
+    );
+    let (hybrid_rmse, full_rmse) = (rmse(&image, &reference), rmse(&full, &reference));
+    println!(
+        "{shading:?}: shortcut {:.1}% of pixels, {:.1}% of the samples expected traced, \
+         {hybrid_rays} rays; mean error hybrid {hybrid_mean:?}, {full_choice} {full_mean:?}; \
+         RMSE hybrid {hybrid_rmse:.3e}, {full_choice} {full_rmse:.3e}",
+        100.0 * plan.shortcut_fraction(),
+        100.0 * plan.expected_samples / plan.all_samples as f64,
+    );
+    assert!(
+        plan.shortcut_pixels > 0 && plan.shortcut_fraction() < 1.0,
+        "the shot must mix shortcut and traced pixels"
+    );
+    assert!(
+        hybrid_mean.mean.abs() <= 4.0 * hybrid_mean.standard_error,
+        "{shading:?}: the hybrid's image mean is off by {hybrid_mean:?}: biased"
+    );
+    assert!(
+        full_mean.mean.abs() <= 4.0 * full_mean.standard_error,
+        "{shading:?}: {full_choice}'s image mean is off by {full_mean:?}"
+    );
+    assert!(
+        hybrid_rmse <= 2.0 * full_rmse,
+        "{shading:?}: hybrid RMSE {hybrid_rmse:.3e} against {full_choice}'s {full_rmse:.3e}"
+    );
+}
+
+#[test]
+fn hybrid_converges_to_the_full_image_unlit() {
+    converges("hybrid_converges_to_the_full_image_unlit", Shading::Unlit);
+}
+
+#[test]
+fn hybrid_converges_to_the_full_image_lit() {
+    converges("hybrid_converges_to_the_full_image_lit", Shading::Lit);
+}
+
+/// A pinhole shot is in focus everywhere: most pixels take the shortcut and the path traces a
+/// small fraction of the rays of a full render, with an image close to the full one.
+#[test]
+fn an_in_focus_shot_takes_the_shortcut() {
+    let test = "an_in_focus_shot_takes_the_shortcut";
+    let cam = camera(false, LensParams::Pinhole, 96, 72);
+    let s = settings(Shading::Unlit, 32);
+    let Some(mut path) = hybrid(test) else {
+        return;
+    };
+    let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
+    let plan = path.last_plan().expect("a plan").clone();
+    let rays = path.report().rays;
+    Box::new(path).close().expect("close");
+    let all = u64::from(cam.width) * u64::from(cam.height) * u64::from(s.spp);
+    println!(
+        "shortcut {:.1}% of pixels; {rays} rays of {all} ({:.1}%)",
+        100.0 * plan.shortcut_fraction(),
+        100.0 * rays as f64 / all as f64
+    );
+    assert!(
+        plan.shortcut_fraction() > 0.7,
+        "{:.3}",
+        plan.shortcut_fraction()
+    );
+    // The warm-up of `paths::open` is not here: every ray counted is this render's.
+    assert!(rays * 4 < all, "{rays} rays of {all}");
+    let Some(full) = render(test, PathChoice::Software, &cam, &s) else {
+        return;
+    };
+    let error = rmse(&image, &full);
+    assert!(error < 0.05, "RMSE {error} against the full render");
+}
