@@ -184,7 +184,10 @@ fn gpu_paths_measure_the_cpu_error() {
         if m["path"] == "hybrid" {
             // Another estimator (fewer samples, checked shortcuts): at 32x24 and 2 spp its
             // error is of the same order; tests/hybrid.rs checks that it converges.
-            assert!(rmse < 2.5 * cpu, "hybrid: RMSE {rmse} against the CPU's {cpu}");
+            assert!(
+                rmse < 2.5 * cpu,
+                "hybrid: RMSE {rmse} against the CPU's {cpu}"
+            );
             continue;
         }
         assert!(
