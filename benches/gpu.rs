@@ -97,6 +97,7 @@ fn main() {
                 position: Vec3::new(3.0, 8.0, 4.0),
                 intensity: Vec3::splat(100.0),
             },
+            shared_samples: false,
         };
         match bench(&scene, &camera, &settings, &options) {
             Ok(report) => println!("--- gpu bench, {shading:?}\n{report}\n"),

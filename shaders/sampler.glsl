@@ -159,6 +159,13 @@ PixelSampler pixel_sampler(uint kind, uint seed, uvec2 pixel, uint width) {
     return s;
 }
 
+// mod.rs: shared_pixel_sampler
+PixelSampler shared_pixel_sampler(uint kind, uint seed, uvec2 pixel) {
+    PixelSampler s = pixel_sampler(kind, seed, uvec2(0u), 1u);
+    s.pixel = pixel;
+    return s;
+}
+
 CameraSample pixel_camera_sample(PixelSampler state, uint sample_index) {
     vec4 u = state.kind == SAMPLER_INDEPENDENT ? independent_sample(state.key, sample_index)
                                                : sobol_sample(state.sobol, sample_index);

@@ -4,18 +4,14 @@
 // hit_software.glsl), which defines
 //   bool closest_hit(vec3 origin, vec3 direction, float t_max, out Hit hit);
 //   bool occluded(vec3 origin, vec3 direction, float t_max);
-// over t in (0, t_max), and the trace parameters `params`.
+// over t in (0, t_max), and the trace parameters `params`. shade_hit shades a hit found either way
+// (the raster path's rasterized one included).
 #ifndef LENSRAY_SHADING_GLSL
 #define LENSRAY_SHADING_GLSL
 
-// The radiance along `ray`; `rays` counts the rays traced.
-vec3 shade(Ray ray, inout uint rays) {
-    Hit hit;
-    bool found = closest_hit(ray.origin, ray.direction, T_MAX, hit);
-    rays += 1u;
-    if (!found) {
-        return params.background.xyz;
-    }
+// The radiance leaving `hit` (the closest hit of `ray`) towards the ray's origin; `rays` counts
+// the shadow ray.
+vec3 shade_hit(Ray ray, Hit hit, inout uint rays) {
     uint tri = hit.triangle;
     Material mat = materials[triangle_material(tri)];
     if (params.shading == SHADING_UNLIT) {
@@ -54,6 +50,35 @@ vec3 shade(Ray ray, inout uint rays) {
         }
     }
     return radiance;
+}
+
+// The radiance along `ray`; `rays` counts the rays traced.
+vec3 shade(Ray ray, inout uint rays) {
+    Hit hit;
+    bool found = closest_hit(ray.origin, ray.direction, T_MAX, hit);
+    rays += 1u;
+    if (!found) {
+        return params.background.xyz;
+    }
+    return shade_hit(ray, hit, rays);
+}
+
+// The hit of `ray` with the plane of triangle `tri` (the raster path: the rasterizer found the
+// triangle; only the distance and barycentric weights of v1, v2 are needed for shading).
+Hit triangle_plane_hit(Ray ray, uint tri) {
+    vec3 v0 = positions[indices[3u * tri]].xyz;
+    vec3 e1 = positions[indices[3u * tri + 1u]].xyz - v0;
+    vec3 e2 = positions[indices[3u * tri + 2u]].xyz - v0;
+    // Moller-Trumbore without the inside tests.
+    vec3 p = cross(ray.direction, e2);
+    float inv_det = 1.0 / dot(e1, p);
+    vec3 s = ray.origin - v0;
+    vec3 q = cross(s, e1);
+    Hit hit;
+    hit.triangle = tri;
+    hit.barycentrics = vec2(dot(s, p), dot(ray.direction, q)) * inv_det;
+    hit.t = dot(e2, q) * inv_det;
+    return hit;
 }
 
 #endif

@@ -10,6 +10,8 @@
 // per pixel says how many samples to trace, or that the pixel takes a shortcut value, checked
 // by tracing a sample with probability 1 / HYBRID_CHECK_INVERSE (unbiased); TRACE_MODE_SHORTCUT
 // (lit) first shades the aperture-centre ray of each shortcut pixel into the plan.
+// The raster path (src/paths/raster.rs, docs/raster.md) runs it in TRACE_MODE_RASTER after each
+// of its raster passes: one camera sample shared by all pixels, whose first hit the pass drew.
 #if defined(TRAVERSAL_RAY_QUERY)
 #extension GL_EXT_ray_query : require
 #elif !defined(TRAVERSAL_SOFTWARE)
@@ -27,6 +29,9 @@ layout(std430, set = 0, binding = TRACE_BINDING_ACCUM) buffer Accum { vec4 accum
 layout(std430, set = 0, binding = TRACE_BINDING_COUNTERS) buffer Counters { uint rays_traced; };
 layout(std140, set = 0, binding = TRACE_BINDING_PARAMS) uniform ParamsBlock { TraceParams params; };
 layout(std430, set = 0, binding = TRACE_BINDING_PLAN) buffer Plan { vec4 plan[]; };
+layout(std430, set = 0, binding = TRACE_BINDING_VISIBILITY) readonly buffer Visibility {
+    uint visibility[];
+};
 layout(push_constant) uniform PushBlock { TracePush pc; };
 
 // What the hit implementations return: the global triangle index (as `instance custom index +
@@ -43,6 +48,15 @@ struct Hit {
 #include "hit_software.glsl"
 #endif
 #include "shading.glsl"
+
+// Camera sample `s` of pixel (x, y): its own, or with shared samples those of pixel (0, 0)
+// offset to it (sampler.glsl, src/sampler).
+CameraSample pixel_sample(uint x, uint y, uint s) {
+    PixelSampler state = params.shared_samples != 0u
+        ? shared_pixel_sampler(params.sampler_kind, params.seed, uvec2(x, y))
+        : pixel_sampler(params.sampler_kind, params.seed, uvec2(x, y), params.width);
+    return pixel_camera_sample(state, s);
+}
 
 void main() {
     uint x = gl_GlobalInvocationID.x;
@@ -83,8 +97,7 @@ void main() {
                 vec3 value = shortcut;
                 uint key = sample_key(params.seed ^ HYBRID_CHECK_SALT, tile, s);
                 if (hash_u32(key) % HYBRID_CHECK_INVERSE == 0u) {
-                    CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y),
-                                                    params.width, s);
+                    CameraSample cs = pixel_sample(x, y, s);
                     Ray ray = generate_ray(params.camera, cs.film, cs.lens);
                     value += (shade(ray, rays) - shortcut) * float(HYBRID_CHECK_INVERSE);
                 }
@@ -95,17 +108,28 @@ void main() {
             // Samples i < entry.w are traced; the pixel's count stops there.
             uint end = min(pc.sample_end, uint(entry.w));
             for (uint s = pc.sample_begin; s < end; ++s) {
-                CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y),
-                                                params.width, s);
+                CameraSample cs = pixel_sample(x, y, s);
                 Ray ray = generate_ray(params.camera, cs.film, cs.lens);
                 sum += shade(ray, rays);
             }
             added = end > pc.sample_begin ? end - pc.sample_begin : 0u;
         }
+    } else if (pc.mode == TRACE_MODE_RASTER) {
+        // One sample, shared by every pixel: the raster pass drew what its lens ray sees first.
+        uint s = pc.sample_begin;
+        CameraSample cs = pixel_sample(x, y, s);
+        Ray ray = generate_ray(params.camera, cs.film, cs.lens);
+        uint seen = visibility[pixel_index];
+        vec3 value = params.background.xyz;
+        if (seen != 0u) {
+            value = shade_hit(ray, triangle_plane_hit(ray, seen - 1u), rays);
+        }
+        rays += 1u;  // the camera ray, resolved by the rasterizer instead of a traversal
+        sum += value;
+        added = 1u;
     } else {
         for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
-            CameraSample cs = camera_sample(params.sampler_kind, params.seed, uvec2(x, y),
-                                            params.width, s);
+            CameraSample cs = pixel_sample(x, y, s);
             Ray ray = generate_ray(params.camera, cs.film, cs.lens);
             sum += shade(ray, rays);
         }

@@ -177,6 +177,7 @@ pub fn resolve(settings: &Settings, scene: &Scene) -> Result<Resolved, SettingsE
             position: light_position,
             intensity: light_intensity,
         },
+        shared_samples: false,
     };
     Ok(Resolved { camera, render })
 }

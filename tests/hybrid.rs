@@ -4,13 +4,13 @@
 
 mod gpu_support;
 
-use gpu_support::{camera, may_skip, record_skip, settings, test_scene};
+use gpu_support::{camera, may_skip, record_skip, render_path as render, settings, test_scene};
 use lensray::camera::{Camera, LensParams};
-use lensray::gpu::{GpuError, GpuOptions, GpuRenderer};
-use lensray::paths::{self, DeviceChoice, HybridPath, OpenedPath, PathChoice, PathOptions};
+use lensray::gpu::{GpuOptions, GpuRenderer};
+use lensray::paths::{self, HybridPath, PathChoice, PathOptions};
 use lensray::render::compare::{mean_error, rmse};
 use lensray::render::path::RenderPath;
-use lensray::render::{Image, RenderSettings, Shading};
+use lensray::render::{RenderSettings, Shading};
 
 /// The hybrid path on a validated device with the test scene loaded.
 fn hybrid(test: &str) -> Option<HybridPath> {
@@ -28,35 +28,6 @@ fn hybrid(test: &str) -> Option<HybridPath> {
     let mut path = HybridPath::new(renderer).expect("hybrid path");
     path.load_scene(&test_scene()).expect("load scene");
     Some(path)
-}
-
-/// `choice` opened as `render --path` opens it (validation on for GPU paths).
-fn open(test: &str, choice: PathChoice, shot: (&Camera, &RenderSettings)) -> Option<OpenedPath> {
-    let options = PathOptions {
-        path: choice,
-        device: DeviceChoice::Auto,
-        gpu: GpuOptions {
-            validate: choice != PathChoice::Cpu,
-            ..GpuOptions::default()
-        },
-    };
-    match paths::open(&options, &test_scene(), shot) {
-        Ok(opened) => Some(opened),
-        Err(e) => match e.downcast_ref::<GpuError>() {
-            Some(gpu) if may_skip(gpu) => {
-                record_skip(test, &format!("{e:#}"));
-                None
-            }
-            _ => panic!("{test}: --path {choice}: {e:#}"),
-        },
-    }
-}
-
-fn render(test: &str, choice: PathChoice, cam: &Camera, s: &RenderSettings) -> Option<Image> {
-    let OpenedPath { mut path, .. } = open(test, choice, (cam, s))?;
-    let image = path.render(cam, s, &mut |_, _| {}).expect("render");
-    path.close().expect("close: validation messages or leaks");
-    Some(image)
 }
 
 fn blurred_shot(width: u32, height: u32) -> Camera {

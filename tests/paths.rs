@@ -4,12 +4,14 @@
 
 mod gpu_support;
 
-use gpu_support::{camera, compare, may_skip, record_skip, settings, test_scene, write_comparison};
+use gpu_support::{
+    camera, compare, may_skip, open_path, record_skip, settings, test_scene, write_comparison,
+};
 use lensray::camera::LensParams;
 use lensray::gpu::{GpuError, GpuOptions};
 use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathOptions};
 use lensray::render::path::PathKind;
-use lensray::render::{Accumulation, Shading};
+use lensray::render::{Accumulation, RenderSettings, Shading};
 
 fn shot() -> (lensray::camera::Camera, lensray::render::RenderSettings) {
     let lens = LensParams::ThinLens {
@@ -19,28 +21,11 @@ fn shot() -> (lensray::camera::Camera, lensray::render::RenderSettings) {
     (camera(false, lens, 64, 48), settings(Shading::Lit, 8))
 }
 
-/// Opens `path` (validation on for GPU paths); `None` after recording a skip where the
-/// machine has no usable device and LENSRAY_SKIP_GPU_TESTS=1.
+/// Opens `path` on the shot (validation on for GPU paths); `None` after recording a skip where
+/// the machine has no usable device and LENSRAY_SKIP_GPU_TESTS=1.
 fn open(test: &str, path: PathChoice) -> Option<OpenedPath> {
     let (cam, s) = shot();
-    let options = PathOptions {
-        path,
-        device: DeviceChoice::Auto,
-        gpu: GpuOptions {
-            validate: path != PathChoice::Cpu,
-            ..GpuOptions::default()
-        },
-    };
-    match paths::open(&options, &test_scene(), (&cam, &s)) {
-        Ok(opened) => Some(opened),
-        Err(e) => match e.downcast_ref::<GpuError>() {
-            Some(gpu) if may_skip(gpu) => {
-                record_skip(test, &format!("{e:#}"));
-                None
-            }
-            _ => panic!("{test}: --path {path}: {e:#}"),
-        },
-    }
+    open_path(test, path, (&cam, &s))
 }
 
 /// The paths this machine runs: the CPU, and the GPU paths its Vulkan device supports.
@@ -49,7 +34,12 @@ fn available(test: &str) -> Vec<PathChoice> {
     if let Some(opened) = open(test, PathChoice::Auto) {
         let device = opened.path.device_name();
         opened.path.close().expect("close");
-        for kind in [PathKind::RayQuery, PathKind::Software, PathKind::Hybrid] {
+        for kind in [
+            PathKind::RayQuery,
+            PathKind::Software,
+            PathKind::Hybrid,
+            PathKind::Raster,
+        ] {
             let options = PathOptions {
                 path: kind.into(),
                 ..PathOptions::default()
@@ -123,6 +113,14 @@ fn gpu_paths_agree_with_the_cpu_reference() {
         return;
     };
     let reference = cpu.render(&cam, &s, &mut |_, _| {}).expect("cpu render");
+    // The raster path's estimator: every pixel draws the same camera samples.
+    let shared = RenderSettings {
+        shared_samples: true,
+        ..s
+    };
+    let shared_reference = cpu
+        .render(&cam, &shared, &mut |_, _| {})
+        .expect("cpu render, shared samples");
     let focus_pixels = [[32, 24], [10, 40], [60, 5]];
     let reference_depths: Vec<Option<f32>> = focus_pixels
         .iter()
@@ -137,10 +135,15 @@ fn gpu_paths_agree_with_the_cpu_reference() {
             continue;
         };
         let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
-        let diff = compare(&image, &reference, 1.0 / 255.0);
+        let reference = if choice == PathChoice::Raster {
+            &shared_reference
+        } else {
+            &reference
+        };
+        let diff = compare(&image, reference, 1.0 / 255.0);
         println!("{choice}: {diff:?}");
         if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
-            let files = write_comparison(&image, &reference, &format!("path-{choice}-vs-cpu"));
+            let files = write_comparison(&image, reference, &format!("path-{choice}-vs-cpu"));
             panic!("{choice}: differs from the CPU reference: {diff:?}; wrote {files}");
         }
         for (&pixel, expected) in focus_pixels.iter().zip(&reference_depths) {

@@ -69,6 +69,7 @@ fn settings(shading: Shading, spp: u32) -> RenderSettings {
             position: Vec3::new(0.0, 0.0, 0.0),
             intensity: Vec3::splat(10.0),
         },
+        shared_samples: false,
     }
 }
 

@@ -100,6 +100,7 @@ fn settings(shading: Shading, sampler: SamplerKind, spp: u32, seed: u32) -> Rend
             position: Vec3::new(2.0, 3.0, 1.0),
             intensity: Vec3::splat(60.0),
         },
+        shared_samples: false,
     }
 }
 

@@ -145,9 +145,10 @@ fn gpu_paths(
         .into_iter()
         .filter(|&k| paths::traversal_of(k).is_some_and(|t| traversals.contains(&t)))
         .collect();
-    // The hybrid traces with whichever traversal the device has (the fastest).
+    // The hybrid and raster paths trace with whichever traversal the device has (the
+    // fastest).
     if !kinds.is_empty() {
-        kinds.push(PathKind::Hybrid);
+        kinds.extend([PathKind::Hybrid, PathKind::Raster]);
     }
     let name = renderer.device_name();
     renderer.close()?;

@@ -101,6 +101,7 @@ fn colour(path: PathKind) -> RGBColor {
         PathKind::RayQuery => RGBColor(200, 40, 40),
         PathKind::Software => RGBColor(30, 90, 200),
         PathKind::Hybrid => RGBColor(150, 60, 180),
+        PathKind::Raster => RGBColor(230, 140, 20),
         PathKind::Cpu => RGBColor(20, 140, 60),
     }
 }

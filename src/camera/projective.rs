@@ -1,7 +1,7 @@
 //! The projective camera: the transform chain camera -> screen -> NDC -> raster built once, and
 //! ray generation through a point of a pixel (slides "To generate a ray through pixel (i,j)").
 
-use glam::{Mat4, Vec2, Vec3, Vec4Swizzles};
+use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use super::film::{self, ScreenWindow};
 use super::look_at::CameraFrame;
@@ -97,6 +97,56 @@ impl Camera {
             * self.ndc_from_screen
             * self.screen_from_camera
             * self.camera_from_world
+    }
+
+    /// The raster path's matrix for one camera sample shared by every pixel (film offset
+    /// `film_u` in [0, 1)^2 within the pixel, lens sample `lens_u`): rasterizing with it, the
+    /// pixel centre (column + 0.5, row + 0.5) sees what `generate_ray((column, row) + film_u,
+    /// lens_u)` hits. The lens shear ([`ThinLens::pinhole_from_camera`]) moves the centre of
+    /// projection to the lens point with the focal plane fixed, and a raster translation by
+    /// `0.5 - film_u` brings the film sample to the pixel centre, where the rasterizer samples.
+    /// Depth is reversed (1 at the near plane, 0 at the far plane: compare with GREATER) so
+    /// that float depth keeps its relative precision when the near plane is moved close to the
+    /// lens (see [`Self::for_rasterizing_rays`]).
+    pub fn clip_from_world_through_lens(&self, film_u: Vec2, lens_u: Vec2) -> Mat4 {
+        let to_pixel_centre = Mat4::from_translation((Vec2::splat(0.5) - film_u).extend(0.0));
+        let reversed_depth = Mat4::from_cols(
+            Vec4::X,
+            Vec4::Y,
+            Vec4::new(0.0, 0.0, -1.0, 0.0),
+            Vec4::new(0.0, 0.0, 1.0, 1.0),
+        );
+        let pinhole_from_camera = self
+            .lens
+            .pinhole_from_camera(self.lens.lens_point(lens_u), self.lens_plane_z());
+        reversed_depth
+            * film::clip_from_ndc()
+            * self.ndc_from_raster
+            * to_pixel_centre
+            * self.raster_from_screen
+            * self.screen_from_camera
+            * pinhole_from_camera
+            * self.camera_from_world
+    }
+
+    /// The camera whose raster passes see what its rays see: a perspective camera's clipping
+    /// planes move out (near / 100, far x 100). Perspective rays start at the eye and are not
+    /// clipped by them (only orthographic rays start on the near plane), so a surface nearer
+    /// than `near` (the floor under the lens) is hit by rays and must be drawn too. Same
+    /// screen window, same pixels.
+    pub fn for_rasterizing_rays(&self) -> Camera {
+        if self.is_orthographic() {
+            return self.clone();
+        }
+        Self::new(
+            self.projection,
+            self.frame,
+            self.lens,
+            self.near * 0.01,
+            self.far * 100.0,
+            self.width,
+            self.height,
+        )
     }
 
     /// World point -> (raster x, raster y, depth in [0, 1]), with the perspective divide.

@@ -7,7 +7,7 @@
 //! 4. The new ray from that lens point through the focal-plane point. Averaging over many such rays
 //!    blurs everything off the focal plane. Why all of them meet there: see `physical`.
 
-use glam::{Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::Ray;
 
@@ -39,12 +39,41 @@ impl ThinLens {
             return *pinhole;
         }
         let focus = self.focal_point(pinhole);
-        let lens = self.aperture_radius * concentric_sample_disk(lens_u);
+        let lens = self.lens_point(lens_u);
         let origin = pinhole.origin + Vec3::new(lens.x, lens.y, 0.0);
         Ray {
             origin,
             direction: (focus - origin).normalize(),
         }
+    }
+
+    /// Step 3: the point of the aperture disk (camera-space x, y, relative to the lens centre)
+    /// that the uniform sample `lens_u` in [0, 1)^2 picks.
+    pub fn lens_point(&self, lens_u: Vec2) -> Vec2 {
+        self.aperture_radius * concentric_sample_disk(lens_u)
+    }
+
+    /// The accumulation-buffer view of steps 1-4 (the raster path): for one lens point `lens`
+    /// (from [`Self::lens_point`]) of a lens in the plane z = `lens_z`, the camera-space shear
+    /// that turns every lens ray through that point into the aperture-centre ray of the same
+    /// film point. A point p lies on the lens ray of film point f iff p's image under this
+    /// shear lies on f's aperture-centre ray: the lens ray leaves `lens` and meets the focal
+    /// plane where the aperture-centre ray does, so along it x moves by
+    /// `-lens.x * (focus - z) / (focus - lens_z)` relative to that ray (similar triangles;
+    /// likewise y). Hence `x' = x - lens.x * (focus - z) / (focus - lens_z)`, z unchanged: the
+    /// focal plane stays fixed and depth keeps its meaning. Followed by the usual projection,
+    /// this is the sheared (off-axis) projection whose centre of projection is the lens point.
+    pub fn pinhole_from_camera(&self, lens: Vec2, lens_z: f32) -> Mat4 {
+        let depth = self.focus_distance - lens_z;
+        // x' = x + (lens.x / depth) z - lens.x * focus / depth.
+        let shear = lens / depth;
+        let offset = -lens * self.focus_distance / depth;
+        Mat4::from_cols(
+            Vec4::X,
+            Vec4::Y,
+            Vec4::new(shear.x, shear.y, 1.0, 0.0),
+            Vec4::new(offset.x, offset.y, 0.0, 1.0),
+        )
     }
 
     /// Radius of the bundle of lens rays of one film point where it crosses depth z, for a lens

@@ -156,7 +156,7 @@ impl TraceParams {
                 _ => SHADING_UNLIT,
             },
             sampler_kind: settings.sampler.id(),
-            pad0: 0,
+            shared_samples: u32::from(settings.shared_samples),
             pad1: 0,
             pad2: 0,
         }

@@ -251,6 +251,7 @@ impl GBufferPass {
                 frag: shader::GBUFFER_FRAG,
                 render_pass: render_pass.handle,
                 color_attachments: 3,
+                depth_compare: vk::CompareOp::LESS,
             },
             &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX),
             std::mem::size_of::<RasterPush>() as u32,

@@ -58,6 +58,7 @@ mod swapchain;
 mod trace;
 mod traversal;
 mod viewer;
+mod visibility;
 
 use std::sync::Arc;
 
@@ -90,6 +91,7 @@ use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 use scene::SceneBuffers;
 use surface::Surface;
 use trace::TracePass;
+use visibility::VisibilityPass;
 
 /// How to open the GPU.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -123,6 +125,8 @@ pub fn list_devices() -> Result<Vec<DeviceReport>, GpuError> {
 pub struct GpuRenderer {
     trace: TracePass,
     gbuffer: GBufferPass,
+    /// The raster path's pass, made on its first use.
+    visibility: Option<VisibilityPass>,
     scene: Option<SceneBuffers>,
     bvh_params: BvhParams,
     timings: Timings,
@@ -158,6 +162,7 @@ impl GpuRenderer {
         let renderer = Self {
             trace,
             gbuffer,
+            visibility: None,
             scene: None,
             bvh_params: BvhParams::default(),
             timings: Timings::default(),
@@ -204,6 +209,9 @@ impl GpuRenderer {
         let buffers = SceneBuffers::new(&self.ctx, scene, &self.bvh_params)?;
         self.gbuffer.bind_scene(&buffers);
         self.trace.bind_scene(&buffers);
+        if let Some(visibility) = &self.visibility {
+            visibility.bind_scene(&buffers);
+        }
         let t = &mut self.timings;
         let accel = buffers.accel.as_ref();
         t.accel_build_gpu_ms = accel.map_or(0.0, |a| a.build_gpu_ns * 1e-6);
@@ -315,6 +323,66 @@ impl GpuRenderer {
             samples,
             accumulation,
             &mut self.timings,
+            None,
+            progress,
+        )
+    }
+
+    /// The raster path (accumulation-buffer depth of field, docs/raster.md): adds samples
+    /// `samples` of every pixel as `accumulate` does, but each sample is one camera sample
+    /// shared by every pixel (`settings.shared_samples` is implied): the scene is rasterized
+    /// through that sample's lens point (`Camera::clip_from_world_through_lens`), and the
+    /// shading pass shades what each pixel sees along its lens ray (lit: with a shadow ray of
+    /// the traversal in use).
+    pub fn accumulate_rasterized(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: std::ops::Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(), GpuError> {
+        check_size(camera)?;
+        if settings.shading.is_aov() {
+            return Err(GpuError::Invalid(format!(
+                "{:?} is read from the G-buffer: it has no samples to accumulate",
+                settings.shading
+            )));
+        }
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        if self.visibility.is_none() {
+            let pass = VisibilityPass::new(&self.ctx)?;
+            pass.bind_scene(scene);
+            self.visibility = Some(pass);
+        }
+        let visibility = self.visibility.as_mut().expect("made above");
+        if visibility.ensure_targets(camera.width, camera.height)? {
+            let targets = visibility.targets.as_ref().expect("just made");
+            self.trace.bind_visibility(&targets.buffer);
+        }
+        let visibility = &*visibility;
+        let settings = RenderSettings {
+            shared_samples: true,
+            ..*settings
+        };
+        let raster_camera = camera.for_rasterizing_rays();
+        let shared = crate::sampler::shared_pixel_sampler(
+            settings.sampler,
+            settings.seed,
+            glam::UVec2::ZERO,
+        );
+        let record = |cmd, sample| {
+            // Pixel (0, 0)'s sample: its film position is the offset within the pixel.
+            let cs = crate::sampler::pixel_camera_sample(&shared, sample);
+            visibility.record(cmd, scene, &raster_camera, cs.film, cs.lens);
+        };
+        self.trace.accumulate(
+            camera,
+            &settings,
+            samples,
+            accumulation,
+            &mut self.timings,
+            Some(&record),
             progress,
         )
     }

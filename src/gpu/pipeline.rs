@@ -30,6 +30,8 @@ pub(crate) struct GraphicsDesc<'a> {
     pub frag: &'a [u8],
     pub render_pass: vk::RenderPass,
     pub color_attachments: u32,
+    /// LESS for the course's depth (0 at the near plane), GREATER for reversed depth.
+    pub depth_compare: vk::CompareOp,
 }
 
 impl Pipeline {
@@ -177,7 +179,7 @@ impl Pipeline {
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(true)
             .depth_write_enable(true)
-            .depth_compare_op(vk::CompareOp::LESS);
+            .depth_compare_op(desc.depth_compare);
         let blend: Vec<_> = (0..desc.color_attachments)
             .map(|_| {
                 vk::PipelineColorBlendAttachmentState::default()

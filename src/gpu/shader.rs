@@ -20,6 +20,8 @@ pub(crate) const TRACE_SOFTWARE_COMP: &[u8] = spirv!("trace_software.comp");
 pub(crate) const PROBE_COMP: &[u8] = spirv!("probe.comp");
 pub(crate) const LAYOUT_PROBE_COMP: &[u8] = spirv!("layout_probe.comp");
 pub(crate) const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
+pub(crate) const VISIBILITY_VERT: &[u8] = spirv!("visibility.vert");
+pub(crate) const VISIBILITY_FRAG: &[u8] = spirv!("visibility.frag");
 pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
 
 /// A shader module, destroyed on drop (once its pipelines are created).

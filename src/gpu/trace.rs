@@ -20,8 +20,8 @@ use super::traversal::Traversal;
 use crate::camera::Camera;
 use crate::interface::{
     TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_COUNTERS, TRACE_BINDING_PARAMS,
-    TRACE_BINDING_PLAN, TRACE_BINDING_TLAS, TRACE_GROUP_SIZE as GROUP, TRACE_MODE_ALL,
-    TRACE_MODE_HYBRID, TRACE_MODE_SHORTCUT,
+    TRACE_BINDING_PLAN, TRACE_BINDING_TLAS, TRACE_BINDING_VISIBILITY, TRACE_GROUP_SIZE as GROUP,
+    TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER, TRACE_MODE_SHORTCUT,
 };
 use crate::render::{Accumulation, RenderSettings, Shading};
 
@@ -133,6 +133,8 @@ pub(crate) struct TracePass {
     plan: Buffer,
     /// Pixels of the plan set by `set_plan`; `None`: every sample of every pixel is traced.
     plan_pixels: Option<u64>,
+    /// Placeholder of the raster path's visibility binding until `bind_visibility`.
+    _visibility_placeholder: Buffer,
     timestamps: QueryPool,
     /// Accumulation and readback buffers of the current image size.
     accum: Option<DeviceSums>,
@@ -190,11 +192,23 @@ impl TracePass {
             );
         }
         let plan = Self::plan_buffer(ctx, 16)?;
+        let visibility = Buffer::new(
+            ctx,
+            "raster visibility placeholder",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
         for p in &pipelines {
             p.pipeline.bind_buffer(
                 TRACE_BINDING_PLAN,
                 vk::DescriptorType::STORAGE_BUFFER,
                 &plan,
+            );
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_VISIBILITY,
+                vk::DescriptorType::STORAGE_BUFFER,
+                &visibility,
             );
         }
         let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
@@ -206,6 +220,7 @@ impl TracePass {
             counters,
             plan,
             plan_pixels: None,
+            _visibility_placeholder: visibility,
             timestamps,
             accum: None,
             samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
@@ -249,6 +264,18 @@ impl TracePass {
         Ok(())
     }
 
+    /// Points the raster path's visibility binding at `buffer` (one uint per pixel, owned by
+    /// the visibility pass, which outlives the pass's use of it).
+    pub fn bind_visibility(&self, buffer: &Buffer) {
+        for p in &self.pipelines {
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_VISIBILITY,
+                vk::DescriptorType::STORAGE_BUFFER,
+                buffer,
+            );
+        }
+    }
+
     /// The compute pipeline of `traversal`: the scene arrays, that traversal's structures, and
     /// the pass's own buffers.
     fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
@@ -286,6 +313,11 @@ impl TracePass {
             ),
             (
                 TRACE_BINDING_PLAN,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
+            (
+                TRACE_BINDING_VISIBILITY,
                 vk::DescriptorType::STORAGE_BUFFER,
                 compute,
             ),
@@ -418,6 +450,7 @@ impl TracePass {
         samples: Range<u32>,
         accumulation: &mut Accumulation,
         timings: &mut Timings,
+        raster: Option<&RecordSample<'_>>,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(), GpuError> {
         let (width, height) = (camera.width, camera.height);
@@ -432,7 +465,13 @@ impl TracePass {
             return Ok(());
         }
         let mode = match self.plan_pixels {
+            None if raster.is_some() => TRACE_MODE_RASTER,
             None => TRACE_MODE_ALL,
+            Some(_) if raster.is_some() => {
+                return Err(GpuError::Invalid(
+                    "the raster path does not follow a hybrid plan".into(),
+                ))
+            }
             Some(n) if n == pixels => TRACE_MODE_HYBRID,
             Some(n) => {
                 return Err(GpuError::Invalid(format!(
@@ -506,8 +545,33 @@ impl TracePass {
                     sample_end: 0,
                     mode: TRACE_MODE_SHORTCUT,
                 };
-                self.dispatch(push, width, false, None)?;
+                self.dispatch(push, width, false, None, None)?;
                 self.record_timing(timings, None)?;
+            }
+            if let Some(record_sample) = raster {
+                // One submission per sample: its raster pass, then the shading of the band.
+                for sample in first_sample..spp {
+                    let push = TracePush {
+                        band_origin,
+                        band_height,
+                        block_first: 0,
+                        block_stride: 1,
+                        block_count: band_height.div_ceil(GROUP),
+                        sample_begin: sample,
+                        sample_end: sample + 1,
+                        mode,
+                    };
+                    let copy_out = (sample + 1 == spp)
+                        .then_some(u64::from(band_height) * u64::from(width) * 16);
+                    let record = |cmd| record_sample(cmd, sample);
+                    self.dispatch(push, width, sample == first_sample, copy_out, Some(&record))?;
+                    let work = u64::from(band_height) * u64::from(width);
+                    self.record_timing(timings, Some(work))?;
+                    done += work;
+                    progress(done, total);
+                }
+                band_origin += band_height;
+                continue;
             }
             let mut sample_begin = first_sample;
             let mut first_of_band = true;
@@ -538,7 +602,7 @@ impl TracePass {
                     };
                     let copy_out = (sample_end == spp && group + 1 == groups)
                         .then_some(u64::from(band_height) * u64::from(width) * 16);
-                    self.dispatch(push, width, first_of_band, copy_out)?;
+                    self.dispatch(push, width, first_of_band, copy_out, None)?;
                     first_of_band = false;
                     let rows: u32 = (0..block_count)
                         .map(|b| {
@@ -592,8 +656,9 @@ impl TracePass {
     }
 
     /// One submission: optional upload of the band's sums from the staging buffer (`load`), one
-    /// dispatch between two timestamps, optional copy of `copy_out` bytes of sums back into the
-    /// staging buffer at the band's rows.
+    /// dispatch between two timestamps (after what `before` records: the raster path's pass),
+    /// optional copy of `copy_out` bytes of sums back into the staging buffer at the band's
+    /// rows.
     /// The dispatch covers the blocks of GROUP rows `block_first + i * block_stride`,
     /// i < block_count, of the band.
     fn dispatch(
@@ -602,6 +667,7 @@ impl TracePass {
         width: u32,
         load: bool,
         copy_out: Option<u64>,
+        before: Option<&dyn Fn(vk::CommandBuffer)>,
     ) -> Result<(), GpuError> {
         let ctx = &self.ctx;
         let a = self.accum.as_ref().expect("accumulation buffer");
@@ -644,6 +710,9 @@ impl TracePass {
             );
             self.timestamps
                 .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+            if let Some(record) = before {
+                record(cmd);
+            }
             self.record_dispatch(cmd, push, width);
             self.timestamps
                 .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
@@ -676,6 +745,9 @@ impl TracePass {
         })
     }
 }
+
+/// Records the raster pass of one sample (the raster path), before that sample's shading.
+pub(crate) type RecordSample<'a> = dyn Fn(vk::CommandBuffer, u32) + 'a;
 
 /// The sums of one band of rows, and the whole image's staging buffer.
 struct DeviceSums {

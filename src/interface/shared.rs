@@ -73,12 +73,20 @@ shader_interface! {
         /// i < w are traced, later ones skipped) or HYBRID_SHORTCUT (the pixel takes the
         /// shortcut value, checked by tracing with probability 1 / HYBRID_CHECK_INVERSE).
         TRACE_BINDING_PLAN: u32 = 11;
+        /// trace.comp, raster path (src/paths/raster.rs, docs/raster.md): one uint per pixel of
+        /// the whole image, what the raster pass of the current sample sees there: the global
+        /// triangle index + 1, or 0 (nothing).
+        TRACE_BINDING_VISIBILITY: u32 = 12;
         /// `TracePush.mode`: trace every sample (rayquery, software); the hybrid's traced mode
         /// (reads the plan); the hybrid's shortcut pre-pass (lit: shades the aperture-centre
         /// ray at the pixel centre of every shortcut pixel into the plan's xyz).
         TRACE_MODE_ALL: u32 = 0;
         TRACE_MODE_HYBRID: u32 = 1;
         TRACE_MODE_SHORTCUT: u32 = 2;
+        /// The raster path's shading pass: one sample (sample_begin), whose visibility the
+        /// raster pass drew with the matrix of that (shared) camera sample; shades the
+        /// triangle it names along the sample's lens ray.
+        TRACE_MODE_RASTER: u32 = 3;
         /// Plan entry w of a shortcut pixel.
         HYBRID_SHORTCUT: f32 = -1.0;
         /// A shortcut pixel's sample is traced too with probability 1 / HYBRID_CHECK_INVERSE
@@ -136,7 +144,9 @@ shader_interface! {
             shading: u32,
             /// SAMPLER_* (`sampler::SamplerKind::id`).
             sampler_kind: u32,
-            pad0: u32,
+            /// 1: every pixel draws the camera samples of pixel (0, 0)
+            /// (`RenderSettings::shared_samples`, sampler.glsl's shared_pixel_sampler).
+            shared_samples: u32,
             pad1: u32,
             pad2: u32,
         }
@@ -154,6 +164,11 @@ shader_interface! {
             sample_end: u32,
             /// TRACE_MODE_*
             mode: u32,
+        }
+        /// Push constants of the raster path's visibility pass (shaders/visibility.vert).
+        Std430 struct VisibilityPush as VisibilityPush {
+            /// `Camera::clip_from_world_through_lens` of the pass's camera sample.
+            clip_from_world: [f32; 16],
         }
         /// Push constants of the G-buffer pass.
         Std430 struct RasterPush as RasterPush {

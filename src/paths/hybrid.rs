@@ -216,26 +216,6 @@ impl Plan {
     }
 }
 
-/// The camera whose G-buffer plans: `camera`, except that a perspective camera's raster
-/// clipping planes move out (near / 100, far x 100). Perspective rays start at the eye and are
-/// not clipped by them (only orthographic rays start on the near plane), so a surface nearer
-/// than `near` (the floor under the lens) is seen by the trace pass: the plan must see it too,
-/// or it takes the background for the shortcut there. Same rays, same pixels.
-fn planning_camera(camera: &Camera) -> Camera {
-    if camera.is_orthographic() {
-        return camera.clone();
-    }
-    Camera::new(
-        camera.projection,
-        camera.frame,
-        camera.lens,
-        camera.near * 0.01,
-        camera.far * 100.0,
-        camera.width,
-        camera.height,
-    )
-}
-
 /// The hybrid path: a GPU path (any traversal; `paths::open` picks the device's fastest) whose
 /// trace pass follows a plan made from the G-buffer.
 pub struct HybridPath {
@@ -285,7 +265,8 @@ impl RenderPath for HybridPath {
         super::check_accumulation(camera, settings, accumulation)?;
         let start = Instant::now();
         let renderer = self.inner.renderer_mut();
-        let gbuffer = renderer.render_gbuffer(&planning_camera(camera), settings.background)?;
+        let gbuffer =
+            renderer.render_gbuffer(&camera.for_rasterizing_rays(), settings.background)?;
         let plan = Plan::new(camera, &gbuffer, settings.shading, settings.spp);
         renderer.set_plan(Some(&plan.entries))?;
         self.plan_seconds += start.elapsed().as_secs_f64();

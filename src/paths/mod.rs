@@ -5,6 +5,7 @@
 mod cpu;
 mod gpu;
 pub mod hybrid;
+mod raster;
 
 use std::fmt;
 
@@ -13,6 +14,7 @@ use anyhow::{bail, Context, Result};
 pub use cpu::CpuPath;
 pub use gpu::GpuPath;
 pub use hybrid::HybridPath;
+pub use raster::RasterPath;
 
 use crate::camera::Camera;
 use crate::gpu::{GpuOptions, GpuRenderer, Traversal};
@@ -45,6 +47,9 @@ pub enum PathChoice {
     Software,
     /// G-buffer-guided: rays only where the circle of confusion needs them (docs/hybrid.md).
     Hybrid,
+    /// Accumulation-buffer depth of field: the scene rasterized through one lens point per
+    /// sample (docs/raster.md).
+    Raster,
     /// The CPU reference renderer.
     Cpu,
 }
@@ -56,6 +61,7 @@ impl PathChoice {
             PathChoice::RayQuery => Some(PathKind::RayQuery),
             PathChoice::Software => Some(PathKind::Software),
             PathChoice::Hybrid => Some(PathKind::Hybrid),
+            PathChoice::Raster => Some(PathKind::Raster),
             PathChoice::Cpu => Some(PathKind::Cpu),
         }
     }
@@ -67,6 +73,7 @@ impl From<PathKind> for PathChoice {
             PathKind::RayQuery => PathChoice::RayQuery,
             PathKind::Software => PathChoice::Software,
             PathKind::Hybrid => PathChoice::Hybrid,
+            PathKind::Raster => PathChoice::Raster,
             PathKind::Cpu => PathChoice::Cpu,
         }
     }
@@ -96,13 +103,13 @@ pub struct OpenedPath {
     pub why: String,
 }
 
-/// The traversal a GPU path is tied to (`None`: the CPU, or the hybrid, which traces with the
-/// device's fastest).
+/// The traversal a GPU path is tied to (`None`: the CPU, or the hybrid and raster paths, which
+/// trace with the device's fastest).
 pub fn traversal_of(kind: PathKind) -> Option<Traversal> {
     match kind {
         PathKind::RayQuery => Some(Traversal::RayQuery),
         PathKind::Software => Some(Traversal::Software),
-        PathKind::Hybrid | PathKind::Cpu => None,
+        PathKind::Hybrid | PathKind::Raster | PathKind::Cpu => None,
     }
 }
 
@@ -144,7 +151,13 @@ pub fn open(
             (DeviceChoice::Gpu, _) => {
                 bail!("--path cpu runs on the CPU: it cannot be used with --device gpu")
             }
-            (_, PathChoice::RayQuery | PathChoice::Software | PathChoice::Hybrid) => bail!(
+            (
+                _,
+                PathChoice::RayQuery
+                | PathChoice::Software
+                | PathChoice::Hybrid
+                | PathChoice::Raster,
+            ) => bail!(
                 "--path {} runs on a Vulkan device: it cannot be used with --device cpu",
                 options.path
             ),
@@ -186,10 +199,15 @@ pub fn open(
     };
     let mut renderer = renderer;
     renderer.load_scene(scene)?;
-    if options.path == PathChoice::Hybrid {
+    if matches!(options.path, PathChoice::Hybrid | PathChoice::Raster) {
         let (traversal, why) = pick_traversal(&mut renderer, shot)?;
+        let path: Box<dyn RenderPath> = if options.path == PathChoice::Hybrid {
+            Box::new(HybridPath::new(renderer)?)
+        } else {
+            Box::new(RasterPath::new(renderer)?)
+        };
         return Ok(OpenedPath {
-            path: Box::new(HybridPath::new(renderer)?),
+            path,
             why: format!("asked for; traces with {traversal} ({why})"),
         });
     }
@@ -321,8 +339,11 @@ fn check_accumulation(
 /// The preview window always draws with Vulkan; the path only says who traces the samples.
 /// Returns the window's Vulkan options and whether the CPU path traces.
 pub fn preview_options(options: &PathOptions) -> Result<(GpuOptions, bool)> {
-    if options.path == PathChoice::Hybrid {
-        bail!("--path hybrid: not in the preview yet (render and bench run it)");
+    if matches!(options.path, PathChoice::Hybrid | PathChoice::Raster) {
+        bail!(
+            "--path {}: not in the preview yet (render and bench run it)",
+            options.path
+        );
     }
     let cpu = match (options.device, options.path) {
         (DeviceChoice::Cpu, PathChoice::RayQuery | PathChoice::Software) => bail!(

@@ -13,7 +13,7 @@ use super::rays::primary_rays;
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
 use crate::render::{Accumulation, Image, RenderSettings, Shading};
-use crate::sampler::pixel_sampler;
+use crate::sampler::{pixel_sampler, shared_pixel_sampler};
 use crate::scene::{Material, Scene};
 
 /// Rows rendered between two progress reports.
@@ -203,7 +203,11 @@ impl Renderer {
         let mut origins = [Vec3::ZERO; PACKET_SIZE];
         let mut directions = [Vec3::ZERO; PACKET_SIZE];
         let mut hits = [None; PACKET_SIZE];
-        let sampler = pixel_sampler(settings.sampler, settings.seed, pixel, camera.width);
+        let sampler = if settings.shared_samples {
+            shared_pixel_sampler(settings.sampler, settings.seed, pixel)
+        } else {
+            pixel_sampler(settings.sampler, settings.seed, pixel, camera.width)
+        };
         for first in samples.clone().step_by(PACKET_SIZE) {
             let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
             primary_rays(camera, &sampler, first, &mut origins, &mut directions);

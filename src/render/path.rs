@@ -26,15 +26,20 @@ pub enum PathKind {
     /// half a pixel take the G-buffer's value (checked by a few traced samples, unbiased), the
     /// others trace a number of samples that grows with it (docs/hybrid.md).
     Hybrid,
+    /// GPU, accumulation-buffer depth of field: per camera sample (shared by every pixel) the
+    /// scene rasterized through that lens point with a sheared projection, then shaded
+    /// (docs/raster.md).
+    Raster,
     /// The CPU reference renderer.
     Cpu,
 }
 
 impl PathKind {
-    pub const ALL: [PathKind; 4] = [
+    pub const ALL: [PathKind; 5] = [
         PathKind::RayQuery,
         PathKind::Software,
         PathKind::Hybrid,
+        PathKind::Raster,
         PathKind::Cpu,
     ];
 
@@ -43,6 +48,7 @@ impl PathKind {
             PathKind::RayQuery => "rayquery",
             PathKind::Software => "software",
             PathKind::Hybrid => "hybrid",
+            PathKind::Raster => "raster",
             PathKind::Cpu => "cpu",
         }
     }

@@ -48,4 +48,10 @@ pub struct RenderSettings {
     /// Linear RGB seen on a miss.
     pub background: Vec3,
     pub light: PointLight,
+    /// Every pixel draws the same camera samples (those of pixel (0, 0), offset to its own
+    /// position: `sampler::shared_pixel_sampler`) instead of its own. The `raster` path's
+    /// estimator, which projects the whole image through one lens point per pass; the other
+    /// paths take it to reproduce that path. Off by default: shared lens samples show blur as
+    /// ghost copies instead of noise (docs/raster.md).
+    pub shared_samples: bool,
 }

@@ -122,6 +122,17 @@ pub fn pixel_sampler(kind: SamplerKind, seed: u32, pixel: UVec2, width: u32) -> 
     }
 }
 
+/// The sampler of pixel (column, row) when every pixel draws the same camera samples: those of
+/// pixel (0, 0), offset to this pixel (`RenderSettings::shared_samples`). Each pixel's estimate
+/// stays unbiased and stratified; only neighbours are no longer independent.
+#[inline]
+pub fn shared_pixel_sampler(kind: SamplerKind, seed: u32, pixel: UVec2) -> PixelSampler {
+    PixelSampler {
+        pixel,
+        ..pixel_sampler(kind, seed, UVec2::ZERO, 1)
+    }
+}
+
 /// Sample `sample_index` of the sampler's pixel.
 #[inline]
 pub fn pixel_camera_sample(state: &PixelSampler, sample_index: u32) -> CameraSample {

@@ -245,3 +245,58 @@ fn zero_aperture_lens_is_the_pinhole() {
         }
     }
 }
+
+/// The raster path's sheared projection (`Camera::clip_from_world_through_lens`): a point on
+/// the lens ray of film point p and lens sample u lands, rasterized with the matrix of film
+/// offset fract(p) and lens sample u, exactly on the centre of p's pixel, for perspective and
+/// orthographic cameras; and its depth is reversed (1 at the near plane, 0 at the far one).
+#[test]
+fn sheared_projection_sends_lens_rays_to_their_pixel_centre() {
+    let mut rng = Rng::new(0x5eed_1e25);
+    let mut worst = 0.0f64;
+    for (setup, cam, r) in thin_lens_cameras() {
+        for p in film_points(&r, &mut rng) {
+            // Film points strictly inside the image (a pixel to land in).
+            let p = p.clamp(
+                Vec2::splat(0.25),
+                Vec2::new(r.width as f32, r.height as f32) - 0.25,
+            );
+            let film_u = p - p.floor();
+            for lens_u in lens_samples(&mut rng).into_iter().take(40) {
+                let ray = cam.generate_ray(p, lens_u);
+                let clip_from_world = cam.clip_from_world_through_lens(film_u, lens_u);
+                for t in [0.3f32, 1.0, 3.0, 7.0] {
+                    let point = ray.at(t * cam.lens.focus_distance);
+                    let z = cam.view_depth(point);
+                    if z <= cam.near || z >= cam.far {
+                        continue;
+                    }
+                    let clip = clip_from_world * point.extend(1.0);
+                    let ndc = clip.truncate() / clip.w;
+                    // Vulkan clip space -> raster: x, y from [-1, 1] to [0, size].
+                    let raster = Vec2::new(
+                        (ndc.x + 1.0) * 0.5 * r.width as f32,
+                        (ndc.y + 1.0) * 0.5 * r.height as f32,
+                    );
+                    let centre = p.floor() + 0.5;
+                    let error = f64::from((raster - centre).abs().max_element());
+                    worst = worst.max(error);
+                    assert!(
+                        error < 2e-3,
+                        "{}: film {p}, lens {lens_u}, t {t}: rasterized at {raster}, pixel \
+                         centre {centre} (off by {error:.2e} px)",
+                        setup.name
+                    );
+                    let pinhole_depth = cam.project(point).z;
+                    assert!(
+                        (ndc.z - (1.0 - pinhole_depth)).abs() < 1e-4,
+                        "{}: reversed depth {} vs 1 - {pinhole_depth}",
+                        setup.name,
+                        ndc.z
+                    );
+                }
+            }
+        }
+    }
+    println!("worst distance from the pixel centre: {worst:.2e} px");
+}

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use glam::Vec3;
 use lensray::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray::gpu::{GpuError, GpuOptions, GpuRenderer, ValidationLog};
+use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathOptions};
 use lensray::render::{Image, PointLight, RenderSettings, Shading};
 use lensray::sampler::SamplerKind;
 use lensray::scene::{Material, Mesh, Scene};
@@ -229,7 +230,48 @@ pub fn settings(shading: Shading, spp: u32) -> RenderSettings {
             position: Vec3::new(2.0, 4.0, 3.0),
             intensity: Vec3::new(30.0, 28.0, 25.0),
         },
+        shared_samples: false,
     }
+}
+
+/// `choice` opened on the test scene as `render --path` opens it (validation on for GPU
+/// paths); `None` (skip recorded) where the machine cannot run it and skipping is allowed.
+pub fn open_path(
+    test: &str,
+    choice: PathChoice,
+    shot: (&Camera, &RenderSettings),
+) -> Option<OpenedPath> {
+    let options = PathOptions {
+        path: choice,
+        device: DeviceChoice::Auto,
+        gpu: GpuOptions {
+            validate: choice != PathChoice::Cpu,
+            ..GpuOptions::default()
+        },
+    };
+    match paths::open(&options, &test_scene(), shot) {
+        Ok(opened) => Some(opened),
+        Err(e) => match e.downcast_ref::<GpuError>() {
+            Some(gpu) if may_skip(gpu) => {
+                record_skip(test, &format!("{e:#}"));
+                None
+            }
+            _ => panic!("{test}: --path {choice}: {e:#}"),
+        },
+    }
+}
+
+/// `choice`'s render of the test scene (see `open_path`), closed with the validation check.
+pub fn render_path(
+    test: &str,
+    choice: PathChoice,
+    cam: &Camera,
+    s: &RenderSettings,
+) -> Option<Image> {
+    let OpenedPath { mut path, .. } = open_path(test, choice, (cam, s))?;
+    let image = path.render(cam, s, &mut |_, _| {}).expect("render");
+    path.close().expect("close: validation messages or leaks");
+    Some(image)
 }
 
 /// Statistics of |a - b| per channel.

@@ -1,0 +1,19 @@
+#version 460
+// Raster path, visibility pass (src/gpu/visibility.rs): pulls triangle corners from the scene
+// arrays (non-indexed draw of 3 vertices per triangle) and projects them through one lens point
+// with Camera::clip_from_world_through_lens. The triangle index goes to the fragment stage as a
+// flat varying (gl_PrimitiveID there would need the geometry-shader feature).
+#define SCENE_SET 0
+#include "scene.glsl"
+
+layout(push_constant) uniform PushBlock { VisibilityPush pc; };
+
+layout(location = 0) flat out uint out_triangle;
+
+void main() {
+    uint tri = uint(gl_VertexIndex) / 3u;
+    uint corner = uint(gl_VertexIndex) % 3u;
+    vec3 p = positions[indices[3u * tri + corner]].xyz;
+    out_triangle = tri;
+    gl_Position = pc.clip_from_world * vec4(p, 1.0);
+}

@@ -1,0 +1,350 @@
+//! The raster path's visibility pass (accumulation-buffer depth of field, docs/raster.md): the
+//! scene rasterized through one lens point (`Camera::clip_from_world_through_lens`) into an
+//! R32_UINT image of triangle index + 1 (0: nothing) with reversed D32 depth, then copied into
+//! a storage buffer that the shading pass (trace.comp, TRACE_MODE_RASTER) reads.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec2;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::{barrier, Buffer};
+use super::device::Context;
+use super::error::{vk_err, GpuError};
+use super::image::Image;
+use super::pipeline::{GraphicsDesc, Pipeline};
+use super::scene::SceneBuffers;
+use super::shader;
+use crate::camera::Camera;
+use crate::interface::VisibilityPush;
+
+const TRIANGLE_FORMAT: vk::Format = vk::Format::R32_UINT;
+const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// One colour target (triangle + 1) and a depth buffer; the colour ends in
+/// TRANSFER_SRC_OPTIMAL for the copy into the buffer.
+struct RenderPass {
+    ctx: Arc<Context>,
+    handle: vk::RenderPass,
+}
+
+impl RenderPass {
+    fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let attachment = |format, store, final_layout| {
+            vk::AttachmentDescription::default()
+                .format(format)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(store)
+                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .initial_layout(vk::ImageLayout::UNDEFINED)
+                .final_layout(final_layout)
+        };
+        let attachments = [
+            attachment(
+                TRIANGLE_FORMAT,
+                vk::AttachmentStoreOp::STORE,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            ),
+            attachment(
+                DEPTH_FORMAT,
+                vk::AttachmentStoreOp::DONT_CARE,
+                vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            ),
+        ];
+        let color_ref = [vk::AttachmentReference::default()
+            .attachment(0)
+            .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
+        let depth_ref = vk::AttachmentReference::default()
+            .attachment(1)
+            .layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+        let subpasses = [vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&color_ref)
+            .depth_stencil_attachment(&depth_ref)];
+        let stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+            | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
+        let writes = vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
+        let dependencies = [
+            // The previous pass's attachment writes and its copy out before this pass.
+            vk::SubpassDependency::default()
+                .src_subpass(vk::SUBPASS_EXTERNAL)
+                .dst_subpass(0)
+                .src_stage_mask(stages | vk::PipelineStageFlags::TRANSFER)
+                .src_access_mask(writes)
+                .dst_stage_mask(stages)
+                .dst_access_mask(writes | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ),
+            // This pass's writes before the copy into the buffer.
+            vk::SubpassDependency::default()
+                .src_subpass(0)
+                .dst_subpass(vk::SUBPASS_EXTERNAL)
+                .src_stage_mask(stages)
+                .src_access_mask(writes)
+                .dst_stage_mask(vk::PipelineStageFlags::TRANSFER)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ),
+        ];
+        let info = vk::RenderPassCreateInfo::default()
+            .attachments(&attachments)
+            .subpasses(&subpasses)
+            .dependencies(&dependencies);
+        // SAFETY: valid create-info on a live device.
+        let handle = unsafe { ctx.device.create_render_pass(&info, None) }
+            .map_err(vk_err("vkCreateRenderPass"))?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            handle,
+        })
+    }
+}
+
+impl Drop for RenderPass {
+    fn drop(&mut self) {
+        // SAFETY: no pending submission uses it (pipelines and framebuffers only needed it at
+        // creation).
+        unsafe { self.ctx.device.destroy_render_pass(self.handle, None) };
+    }
+}
+
+/// The images of one size, their framebuffer, and the buffer the shading pass reads.
+pub(crate) struct VisibilityTargets {
+    ctx: Arc<Context>,
+    framebuffer: vk::Framebuffer,
+    triangle: Image,
+    #[allow(dead_code)] // owned here: the framebuffer uses its view
+    depth: Image,
+    /// One uint per pixel, row-major: TRACE_BINDING_VISIBILITY.
+    pub buffer: Buffer,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl VisibilityTargets {
+    fn new(
+        ctx: &Arc<Context>,
+        render_pass: vk::RenderPass,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, GpuError> {
+        let triangle = Image::new(
+            ctx,
+            "raster visibility",
+            width,
+            height,
+            TRIANGLE_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageAspectFlags::COLOR,
+        )?;
+        let depth = Image::new(
+            ctx,
+            "raster visibility depth",
+            width,
+            height,
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            vk::ImageAspectFlags::DEPTH,
+        )?;
+        let buffer = Buffer::new(
+            ctx,
+            "raster visibility buffer",
+            u64::from(width) * u64::from(height) * 4,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        let views = [triangle.view, depth.view];
+        let info = vk::FramebufferCreateInfo::default()
+            .render_pass(render_pass)
+            .attachments(&views)
+            .width(width)
+            .height(height)
+            .layers(1);
+        // SAFETY: the views match the render pass's attachments and live as long as the
+        // framebuffer (same struct, destroyed after it).
+        let framebuffer = unsafe { ctx.device.create_framebuffer(&info, None) }
+            .map_err(vk_err("vkCreateFramebuffer"))?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            framebuffer,
+            triangle,
+            depth,
+            buffer,
+            width,
+            height,
+        })
+    }
+}
+
+impl Drop for VisibilityTargets {
+    fn drop(&mut self) {
+        // SAFETY: no pending submission; destroyed before its image views (fields drop later).
+        unsafe { self.ctx.device.destroy_framebuffer(self.framebuffer, None) };
+    }
+}
+
+pub(crate) struct VisibilityPass {
+    ctx: Arc<Context>,
+    pipeline: Pipeline,
+    pub targets: Option<VisibilityTargets>,
+    render_pass: RenderPass,
+}
+
+impl VisibilityPass {
+    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let render_pass = RenderPass::new(ctx)?;
+        let pipeline = Pipeline::graphics(
+            ctx,
+            &GraphicsDesc {
+                vert: shader::VISIBILITY_VERT,
+                frag: shader::VISIBILITY_FRAG,
+                render_pass: render_pass.handle,
+                color_attachments: 1,
+                depth_compare: vk::CompareOp::GREATER,
+            },
+            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX),
+            std::mem::size_of::<VisibilityPush>() as u32,
+        )?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            targets: None,
+            render_pass,
+        })
+    }
+
+    /// Points the pipeline's set at a newly loaded scene.
+    pub fn bind_scene(&self, scene: &SceneBuffers) {
+        scene.bind(&self.pipeline);
+    }
+
+    /// Makes the targets `width` x `height` (recreating them on a size change); true when they
+    /// were recreated (the buffer must be bound again).
+    pub fn ensure_targets(&mut self, width: u32, height: u32) -> Result<bool, GpuError> {
+        if self
+            .targets
+            .as_ref()
+            .is_some_and(|t| t.width == width && t.height == height)
+        {
+            return Ok(false);
+        }
+        self.targets = None;
+        self.targets = Some(VisibilityTargets::new(
+            &self.ctx,
+            self.render_pass.handle,
+            width,
+            height,
+        )?);
+        Ok(true)
+    }
+
+    /// Records the pass for one camera sample shared by every pixel (`film_u`, `lens_u`; the
+    /// camera as `Camera::for_rasterizing_rays` gives it) and the copy into the buffer, whose
+    /// writes are then ordered before compute-shader reads. Earlier compute reads of the
+    /// buffer are ordered before the copy.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneBuffers,
+        camera: &Camera,
+        film_u: Vec2,
+        lens_u: Vec2,
+    ) {
+        let ctx = &self.ctx;
+        let targets = self.targets.as_ref().expect("ensure_targets first");
+        let (width, height) = (targets.width, targets.height);
+        let push = VisibilityPush {
+            clip_from_world: camera
+                .clip_from_world_through_lens(film_u, lens_u)
+                .to_cols_array(),
+        };
+        let clear = [
+            vk::ClearValue {
+                color: vk::ClearColorValue { uint32: [0; 4] },
+            },
+            // Reversed depth: 0 is the far plane.
+            vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 0.0,
+                    stencil: 0,
+                },
+            },
+        ];
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: vk::Extent2D { width, height },
+        };
+        let begin = vk::RenderPassBeginInfo::default()
+            .render_pass(self.render_pass.handle)
+            .framebuffer(targets.framebuffer)
+            .render_area(area)
+            .clear_values(&clear);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: width as f32,
+            height: height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: recording state; the framebuffer matches the render pass; the scene
+        // buffers bound in the pipeline's set are live.
+        unsafe {
+            ctx.device
+                .cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+            ctx.device.cmd_set_viewport(cmd, 0, &[viewport]);
+            ctx.device.cmd_set_scissor(cmd, 0, &[area]);
+        }
+        self.pipeline.bind(cmd, bytemuck::bytes_of(&push));
+        let vertices = scene.triangle_count * 3;
+        // SAFETY: inside the render pass with a graphics pipeline bound.
+        unsafe {
+            if vertices > 0 {
+                ctx.device.cmd_draw(cmd, vertices, 1, 0, 0);
+            }
+            ctx.device.cmd_end_render_pass(cmd);
+        }
+        // The previous sample's shading pass read the buffer: before the copy overwrites it.
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            });
+        // SAFETY: the render pass left the image in TRANSFER_SRC_OPTIMAL and its outgoing
+        // dependency orders the attachment writes before this copy; the buffer holds a uint
+        // per pixel.
+        unsafe {
+            ctx.device.cmd_copy_image_to_buffer(
+                cmd,
+                targets.triangle.image,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                targets.buffer.buffer,
+                &[region],
+            )
+        };
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ,
+        );
+    }
+}
