@@ -318,8 +318,7 @@ impl GpuRenderer {
             return Err(GpuError::NoScene);
         }
         self.trace.accumulate(
-            camera,
-            settings,
+            (camera, settings),
             samples,
             accumulation,
             &mut self.timings,
@@ -377,8 +376,7 @@ impl GpuRenderer {
             visibility.record(cmd, scene, &raster_camera, cs.film, cs.lens);
         };
         self.trace.accumulate(
-            camera,
-            &settings,
+            (camera, &settings),
             samples,
             accumulation,
             &mut self.timings,

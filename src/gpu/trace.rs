@@ -445,8 +445,7 @@ impl TracePass {
     /// the shader adds sample after sample to them, so any split of a range gives the same sums.
     pub fn accumulate(
         &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
+        (camera, settings): (&Camera, &RenderSettings),
         samples: Range<u32>,
         accumulation: &mut Accumulation,
         timings: &mut Timings,
