@@ -21,6 +21,7 @@ pub(crate) const PROBE_COMP: &[u8] = spirv!("probe.comp");
 pub(crate) const LAYOUT_PROBE_COMP: &[u8] = spirv!("layout_probe.comp");
 pub(crate) const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
 pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
+pub(crate) const HYBRID_PLAN_COMP: &[u8] = spirv!("hybrid_plan.comp");
 
 /// A shader module, destroyed on drop (once its pipelines are created).
 pub(crate) struct ShaderModule<'a> {
