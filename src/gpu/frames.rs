@@ -13,8 +13,9 @@ use super::error::{vk_err, GpuError};
 use super::query::QueryPool;
 
 pub(crate) const FRAMES_IN_FLIGHT: usize = 2;
-/// Timestamps of a frame: G-buffer start/end, trace start/end, resolve end, frame end.
-pub(crate) const FRAME_QUERIES: u32 = 6;
+/// Timestamps of a frame: G-buffer start/end, trace start/end, resolve end, frame end, the
+/// hybrid plan's start/end (adjacent when the frame makes no plan).
+pub(crate) const FRAME_QUERIES: u32 = 8;
 
 pub(crate) struct FrameSlot {
     ctx: Arc<Context>,

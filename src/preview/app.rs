@@ -224,7 +224,11 @@ impl App {
                 let (kind, why) = paths::pick_traversal(renderer, (&shot.camera, &shot.render))?;
                 (kind.to_string(), why)
             };
-            format!("path {kind} ({why})")
+            if self.config.viewer.hybrid {
+                format!("path hybrid (traces with {kind}: {why}; plan made on the device)")
+            } else {
+                format!("path {kind} ({why})")
+            }
         };
         eprintln!("preview: {path} on {}", viewer.device_name());
         self.viewer = Some(viewer);
