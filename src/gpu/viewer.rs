@@ -472,6 +472,7 @@ impl Viewer {
             }
             self.plan_spp = Some(request.target_spp);
         }
+        slot.made_plan = make_plan;
         slot.timestamps
             .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 7);
         let mode = if self.hybrid {
@@ -675,7 +676,7 @@ fn read_times(gpu: &GpuRenderer, slot: &FrameSlot) -> Result<FrameTimes, GpuErro
         // The plan (timed apart) is recorded inside the trace span.
         trace_ms: ms(2, 3) - ms(6, 7),
         resolve_ms: ms(3, 4),
-        plan_ms: ms(6, 7),
+        plan_ms: if slot.made_plan { ms(6, 7) } else { 0.0 },
         present_ms: ms(4, 5),
         total_ms: ms(0, 5),
         trace_work: slot.trace_work,
