@@ -1,21 +1,24 @@
 #version 460
 // The hybrid path's plan on the device, from the G-buffer images: the same rules as the host's
 // reference `Plan::new` (src/paths/hybrid.rs, docs/hybrid.md), in four dispatches recorded in
-// one command buffer (HybridPlanPush.step):
-//   TILES    one workgroup per HYBRID_TILE x HYBRID_TILE tile: each pixel's circle of confusion
-//            (0 where nothing is covered), its tile's maximum; each pixel's edge mark (it differs
-//            from its right or lower neighbour) into the summed-area table;
-//   ROWS     one invocation per row: prefix sums of the marks along the row;
-//   COLUMNS  one invocation per column: prefix sums down the column (the table is complete);
-//   ENTRIES  one workgroup per tile: the tile's dilated CoC (maximum of the tiles that reach it),
-//            per pixel the shortcut or a sample count, per row segment (a tile row) the busiest
-//            pixel's count, the plan entries (TRACE_BINDING_PLAN).
+// one command buffer (HybridPlanPush.step), one invocation per tile, row, column or segment (no
+// barriers or shared memory: CPU drivers pay much for them):
+//   TILES    per tile: each pixel's circle of confusion (0 where nothing is covered), the tile's
+//            maximum; each pixel's edge mark (it differs from its right or lower neighbour)
+//            into the summed-area table;
+//   ROWS     per row: prefix sums of the marks along the row;
+//   COLUMNS  per column: prefix sums down the column (the table is complete);
+//   DILATE   per tile: its dilated CoC (maximum of the tiles that reach it);
+//   ENTRIES  per row segment (a tile row: its pixels share the tile's CoC): per pixel the
+//            shortcut or the sample count, the segment's shared decision, the plan entries
+//            (TRACE_BINDING_PLAN).
 // Arithmetic that decides is written as the host writes it (no contraction: `precise`), so the
 // plans are equal (tests/hybrid.rs).
 
 #include "camera.glsl"
 
 layout(local_size_x = HYBRID_PLAN_GROUP_SIZE) in;
+
 
 layout(set = 0, binding = HYBRID_PLAN_BINDING_NORMAL, rgba32f) readonly uniform image2D g_normal;
 layout(set = 0, binding = HYBRID_PLAN_BINDING_ALBEDO, rgba32f) readonly uniform image2D g_albedo;
@@ -24,11 +27,6 @@ layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_TILES) buffer Tiles { floa
 layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_EDGES) buffer Edges { uint table[]; };
 layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_PLAN) writeonly buffer Plan { vec4 plan[]; };
 layout(push_constant) uniform PushBlock { HybridPlanPush pc; };
-
-// Non-negative floats order as their bits: maxima by atomicMax on the bits.
-shared uint tile_bits;
-// Per pixel of the tile: -1 shortcut, else the samples to trace.
-shared int counts[HYBRID_TILE][HYBRID_TILE];
 
 const int REACH = int(HYBRID_MAX_REACH_TILES);
 const int SIDE = 2 * REACH + 1;
@@ -55,44 +53,44 @@ bool differs(ivec2 a, ivec2 b) {
 
 uint stride() { return pc.width + 1u; }
 
-// The tile this workgroup plans, and its pixel of local index i.
-uvec2 tile_pixel(uint i) {
-    return gl_WorkGroupID.xy * HYBRID_TILE + uvec2(i % HYBRID_TILE, i / HYBRID_TILE);
-}
-
+// One invocation per tile (serial over its pixels: no barriers, which cost much on CPU
+// drivers).
 void step_tiles() {
-    uint i = gl_LocalInvocationIndex;
-    if (i == 0u) {
-        tile_bits = 0u;
+    uint t = gl_GlobalInvocationID.x;
+    if (t >= pc.tiles_x * pc.tiles_y) {
+        return;
     }
-    barrier();
-    uvec2 p = tile_pixel(i);
-    if (p.x < pc.width && p.y < pc.height) {
-        ivec2 q = ivec2(p);
-        if (imageLoad(g_normal, q).w > 0.5) {
-            float coc = coc_radius_pixels(pc.projection, pc.aperture_radius, pc.focus_distance,
-                                          pc.near_z, pc.pixels_per_screen_unit,
-                                          imageLoad(g_depth, q).x);
-            atomicMax(tile_bits, floatBitsToUint(coc));
-        }
-        bool edge = (p.x + 1u < pc.width && differs(q, q + ivec2(1, 0)))
-                 || (p.y + 1u < pc.height && differs(q, q + ivec2(0, 1)));
-        table[(p.y + 1u) * stride() + p.x + 1u] = edge ? 1u : 0u;
-        // The table's first row and column stay 0.
-        if (p.x == 0u) {
-            table[(p.y + 1u) * stride()] = 0u;
-        }
-        if (p.y == 0u) {
-            table[p.x + 1u] = 0u;
+    uvec2 corner = uvec2(t % pc.tiles_x, t / pc.tiles_x) * HYBRID_TILE;
+    float tile = 0.0;
+    for (uint ly = 0u; ly < HYBRID_TILE; ++ly) {
+        for (uint lx = 0u; lx < HYBRID_TILE; ++lx) {
+            uvec2 p = corner + uvec2(lx, ly);
+            if (p.x >= pc.width || p.y >= pc.height) {
+                continue;
+            }
+            ivec2 q = ivec2(p);
+            if (imageLoad(g_normal, q).w > 0.5) {
+                tile = max(tile, coc_radius_pixels(pc.projection, pc.aperture_radius,
+                                                   pc.focus_distance, pc.near_z,
+                                                   pc.pixels_per_screen_unit,
+                                                   imageLoad(g_depth, q).x));
+            }
+            bool edge = (p.x + 1u < pc.width && differs(q, q + ivec2(1, 0)))
+                     || (p.y + 1u < pc.height && differs(q, q + ivec2(0, 1)));
+            table[(p.y + 1u) * stride() + p.x + 1u] = edge ? 1u : 0u;
+            // The table's first row and column stay 0.
             if (p.x == 0u) {
-                table[0] = 0u;
+                table[(p.y + 1u) * stride()] = 0u;
+            }
+            if (p.y == 0u) {
+                table[p.x + 1u] = 0u;
+                if (p.x == 0u) {
+                    table[0] = 0u;
+                }
             }
         }
     }
-    barrier();
-    if (i == 0u) {
-        tile_max[gl_WorkGroupID.y * pc.tiles_x + gl_WorkGroupID.x] = uintBitsToFloat(tile_bits);
-    }
+    tile_max[t] = tile;
 }
 
 void step_rows() {
@@ -134,63 +132,70 @@ bool no_edge_within(uvec2 p, uint r) {
     return table[y1 * s + x1] + table[y0 * s + x0] == table[y0 * s + x1] + table[y1 * s + x0];
 }
 
-void step_entries() {
-    uint i = gl_LocalInvocationIndex;
-    ivec2 tile = ivec2(gl_WorkGroupID.xy);
-    if (i == 0u) {
-        tile_bits = 0u;
+// One invocation per tile: its dilated CoC, the maximum of the tiles within
+// HYBRID_MAX_REACH_TILES whose CoC m reaches it (Chebyshev distance d in tiles:
+// d <= floor(m / HYBRID_TILE) + 1, i.e. (d - 1) * HYBRID_TILE <= m), after the tiles' own.
+void step_dilate() {
+    uint t = gl_GlobalInvocationID.x;
+    uint count = pc.tiles_x * pc.tiles_y;
+    if (t >= count) {
+        return;
     }
-    barrier();
-    // Dilation: the tiles within HYBRID_MAX_REACH_TILES whose CoC m reaches this one (Chebyshev
-    // distance d in tiles: d <= floor(m / HYBRID_TILE) + 1, i.e. (d - 1) * HYBRID_TILE <= m).
+    ivec2 tile = ivec2(t % pc.tiles_x, t / pc.tiles_x);
     float best = 0.0;
-    for (int k = int(i); k < SIDE * SIDE; k += int(HYBRID_PLAN_GROUP_SIZE)) {
-        ivec2 d = ivec2(k % SIDE, k / SIDE) - REACH;
-        ivec2 s = tile + d;
-        if (s.x < 0 || s.y < 0 || s.x >= int(pc.tiles_x) || s.y >= int(pc.tiles_y)) {
+    for (int dy = -REACH; dy <= REACH; ++dy) {
+        int y = tile.y + dy;
+        if (y < 0 || y >= int(pc.tiles_y)) {
             continue;
         }
-        float m = tile_max[uint(s.y) * pc.tiles_x + uint(s.x)];
-        int gap = max(max(abs(d.x), abs(d.y)) - 1, 0) * int(HYBRID_TILE);
-        if (m > 0.0 && float(gap) <= m) {
-            best = max(best, m);
+        for (int dx = -REACH; dx <= REACH; ++dx) {
+            int x = tile.x + dx;
+            if (x < 0 || x >= int(pc.tiles_x)) {
+                continue;
+            }
+            float m = tile_max[uint(y) * pc.tiles_x + uint(x)];
+            int gap = max(max(abs(dx), abs(dy)) - 1, 0) * int(HYBRID_TILE);
+            if (m > 0.0 && float(gap) <= m) {
+                best = max(best, m);
+            }
         }
     }
-    atomicMax(tile_bits, floatBitsToUint(best));
-    barrier();
-    float coc = uintBitsToFloat(tile_bits);
+    tile_max[count + t] = best;
+}
 
-    uvec2 p = tile_pixel(i);
-    uvec2 local = uvec2(i % HYBRID_TILE, i / HYBRID_TILE);
-    int n = -1;
-    if (p.x < pc.width && p.y < pc.height) {
-        // Beyond the width and height any radius crosses the frame: clamped before converting.
-        uint radius = coc < HYBRID_SHORTCUT_COC ? 1u : uint(ceil(min(coc, 1e7))) + 1u;
-        uint spp = max(pc.spp, 1u);
-        if (no_edge_within(p, radius)) {
-            n = -1;
-        } else if (!(coc >= HYBRID_SHORTCUT_COC && coc < HYBRID_FULL_SPP_COC)) {
-            n = int(spp);
+// One invocation per segment (HYBRID_SEGMENT == HYBRID_TILE: a tile row): per pixel the
+// shortcut or the samples to trace; where one pixel traces, all of the segment traces the
+// busiest pixel's count; the entries.
+void step_entries() {
+    uint g = gl_GlobalInvocationID.x;
+    if (g >= pc.tiles_x * pc.height) {
+        return;
+    }
+    uint y = g / pc.tiles_x;
+    uint tx = g % pc.tiles_x;
+    float coc = tile_max[pc.tiles_x * pc.tiles_y + (y / HYBRID_TILE) * pc.tiles_x + tx];
+    // Beyond the width and height any radius crosses the frame: clamped before converting.
+    uint radius = coc < HYBRID_SHORTCUT_COC ? 1u : uint(ceil(min(coc, 1e7))) + 1u;
+    uint spp = max(pc.spp, 1u);
+    int planned = int(spp);
+    if (coc >= HYBRID_SHORTCUT_COC && coc < HYBRID_FULL_SPP_COC) {
+        precise float n = ceil(float(spp) * coc / HYBRID_FULL_SPP_COC);
+        planned = int(clamp(uint(n), 1u, spp));
+    }
+    uint x0 = tx * HYBRID_TILE;
+    uint x1 = min(x0 + HYBRID_TILE, pc.width);
+    // Every pixel of a segment has the same CoC, so the same count where it traces.
+    bool traces = false;
+    for (uint x = x0; x < x1; ++x) {
+        traces = traces || !no_edge_within(uvec2(x, y), radius);
+    }
+    for (uint x = x0; x < x1; ++x) {
+        uint index = y * pc.width + x;
+        if (traces) {
+            plan[index] = vec4(0.0, 0.0, 0.0, float(planned));
         } else {
-            precise float planned = ceil(float(spp) * coc / HYBRID_FULL_SPP_COC);
-            n = int(clamp(uint(planned), 1u, spp));
-        }
-    }
-    counts[local.y][local.x] = n;
-    barrier();
-    // A segment (HYBRID_SEGMENT == HYBRID_TILE: a tile row) traces as long as its busiest pixel:
-    // where one pixel traces, all of it traces that many samples.
-    int busiest = -1;
-    for (uint x = 0u; x < HYBRID_TILE; ++x) {
-        busiest = max(busiest, counts[local.y][x]);
-    }
-    if (p.x < pc.width && p.y < pc.height) {
-        uint index = p.y * pc.width + p.x;
-        if (busiest < 0) {
-            vec3 value = pc.shading == SHADING_LIT ? vec3(0.0) : imageLoad(g_albedo, ivec2(p)).xyz;
+            vec3 value = pc.shading == SHADING_LIT ? vec3(0.0) : imageLoad(g_albedo, ivec2(x, y)).xyz;
             plan[index] = vec4(value, HYBRID_SHORTCUT);
-        } else {
-            plan[index] = vec4(0.0, 0.0, 0.0, float(busiest));
         }
     }
 }
@@ -202,6 +207,8 @@ void main() {
         step_rows();
     } else if (pc.step == HYBRID_PLAN_STEP_COLUMNS) {
         step_columns();
+    } else if (pc.step == HYBRID_PLAN_STEP_DILATE) {
+        step_dilate();
     } else {
         step_entries();
     }

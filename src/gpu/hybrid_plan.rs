@@ -20,8 +20,8 @@ use crate::interface::{
     HybridPlanPush, HYBRID_PLAN_BINDING_ALBEDO, HYBRID_PLAN_BINDING_EDGES,
     HYBRID_PLAN_BINDING_NORMAL, HYBRID_PLAN_BINDING_PLAN, HYBRID_PLAN_BINDING_TILES,
     HYBRID_PLAN_BINDING_VIEW_DEPTH, HYBRID_PLAN_GROUP_SIZE, HYBRID_PLAN_STEP_COLUMNS,
-    HYBRID_PLAN_STEP_ENTRIES, HYBRID_PLAN_STEP_ROWS, HYBRID_PLAN_STEP_TILES, HYBRID_SEGMENT,
-    HYBRID_TILE, SHADING_LIT, SHADING_UNLIT,
+    HYBRID_PLAN_STEP_DILATE, HYBRID_PLAN_STEP_ENTRIES, HYBRID_PLAN_STEP_ROWS,
+    HYBRID_PLAN_STEP_TILES, HYBRID_SEGMENT, HYBRID_TILE, SHADING_LIT, SHADING_UNLIT,
 };
 use crate::render::Shading;
 
@@ -32,7 +32,7 @@ const _: () = assert!(HYBRID_TILE * HYBRID_TILE == HYBRID_PLAN_GROUP_SIZE);
 
 /// The plan pass's scratch buffers of one image size.
 struct Scratch {
-    /// Per tile: the maximum CoC of its pixels (f32).
+    /// Per tile: the maximum CoC of its pixels (f32), then per tile its dilated CoC.
     tiles: Buffer,
     /// The summed-area table of edge marks, (width + 1) x (height + 1) u32.
     edges: Buffer,
@@ -96,7 +96,7 @@ impl HybridPlanPass {
                 tiles: Buffer::new(
                     &self.ctx,
                     "hybrid plan tiles",
-                    tiles * 4,
+                    tiles * 8,
                     usage,
                     MemoryLocation::GpuOnly,
                 )?,
@@ -173,19 +173,15 @@ impl HybridPlanPass {
             near_z: camera.near,
             pixels_per_screen_unit: camera.pixels_per_screen_unit(),
         };
+        // One invocation per tile, row, column, tile, segment.
         let steps = [
-            (HYBRID_PLAN_STEP_TILES, [tiles_x, tiles_y]),
-            (
-                HYBRID_PLAN_STEP_ROWS,
-                [height.div_ceil(HYBRID_PLAN_GROUP_SIZE), 1],
-            ),
-            (
-                HYBRID_PLAN_STEP_COLUMNS,
-                [width.div_ceil(HYBRID_PLAN_GROUP_SIZE), 1],
-            ),
-            (HYBRID_PLAN_STEP_ENTRIES, [tiles_x, tiles_y]),
+            (HYBRID_PLAN_STEP_TILES, tiles_x * tiles_y),
+            (HYBRID_PLAN_STEP_ROWS, height),
+            (HYBRID_PLAN_STEP_COLUMNS, width),
+            (HYBRID_PLAN_STEP_DILATE, tiles_x * tiles_y),
+            (HYBRID_PLAN_STEP_ENTRIES, tiles_x * height),
         ];
-        for (step, [x, y]) in steps {
+        for (step, invocations) in steps {
             // Earlier steps' writes (and earlier readers of the scratch and plan) first.
             barrier(
                 ctx,
@@ -198,7 +194,10 @@ impl HybridPlanPass {
             self.pipeline.bind(cmd, bytemuck::bytes_of(&push(step)));
             // SAFETY: compute pipeline and its complete set bound (`bind`); the images are in
             // GENERAL.
-            unsafe { ctx.device.cmd_dispatch(cmd, x, y, 1) };
+            unsafe {
+                ctx.device
+                    .cmd_dispatch(cmd, invocations.div_ceil(HYBRID_PLAN_GROUP_SIZE), 1, 1)
+            };
         }
         barrier(
             ctx,

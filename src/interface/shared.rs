@@ -100,17 +100,20 @@ shader_interface! {
         HYBRID_FULL_SPP_COC: f32 = 2.0;
         /// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
         HYBRID_MAX_REACH_TILES: u32 = 16;
-        /// hybrid_plan.comp: invocations per workgroup (one 8x8 tile, or 64 rows / columns).
+        /// hybrid_plan.comp: invocations per workgroup (each plans a tile, a row, a column or
+        /// a segment).
         HYBRID_PLAN_GROUP_SIZE: u32 = 64;
-        /// `HybridPlanPush.step`: the dispatches of one plan, in order. TILES: per pixel its
-        /// CoC (maximum per tile) and its edge mark; ROWS, COLUMNS: the summed-area table of
-        /// the edge marks (prefix sums along rows, then columns); ENTRIES: per tile its
-        /// dilated CoC, per pixel the decision, per segment the busiest pixel's, the entries.
+        /// `HybridPlanPush.step`: the dispatches of one plan, in order. TILES: per tile its
+        /// pixels' CoC maximum and edge marks; ROWS, COLUMNS: the summed-area table of the edge
+        /// marks (prefix sums along rows, then columns); DILATE: per tile its dilated CoC;
+        /// ENTRIES: per segment the decision of its pixels, the entries.
         HYBRID_PLAN_STEP_TILES: u32 = 0;
         HYBRID_PLAN_STEP_ROWS: u32 = 1;
         HYBRID_PLAN_STEP_COLUMNS: u32 = 2;
-        HYBRID_PLAN_STEP_ENTRIES: u32 = 3;
-        /// hybrid_plan.comp's bindings: the G-buffer images, the per-tile CoC maxima, the
+        HYBRID_PLAN_STEP_DILATE: u32 = 3;
+        HYBRID_PLAN_STEP_ENTRIES: u32 = 4;
+        /// hybrid_plan.comp's bindings: the G-buffer images, the per-tile CoC maxima (then the
+        /// dilated ones), the
         /// summed-area table of edge marks ((width + 1) x (height + 1) uints), the plan (the
         /// trace pass's TRACE_BINDING_PLAN buffer).
         HYBRID_PLAN_BINDING_NORMAL: u32 = 0;
