@@ -696,7 +696,7 @@ fn list_devices_reports_a_ray_query_device() {
     assert!(
         text.contains(&usable[0].name)
             && text.contains("ray queries        yes")
-            && text.contains("paths              rayquery, software, cpu"),
+            && text.contains("paths              rayquery, software, hybrid, raster, cpu"),
         "{text}"
     );
     // The renderer picks a usable device, and names it.

@@ -7,7 +7,7 @@ mod gpu_support;
 use gpu_support::{camera, may_skip, record_skip, render_path as render, settings, test_scene};
 use lensray::camera::{Camera, LensParams};
 use lensray::gpu::{GpuOptions, GpuRenderer};
-use lensray::paths::{self, HybridPath, PathChoice, PathOptions};
+use lensray::paths::{self, hybrid, HybridPath, PathChoice, PathOptions};
 use lensray::render::compare::{mean_error, rmse};
 use lensray::render::path::RenderPath;
 use lensray::render::{RenderSettings, Shading};
@@ -158,4 +158,65 @@ fn an_in_focus_shot_takes_the_shortcut() {
     };
     let error = rmse(&image, &full);
     assert!(error < 0.05, "RMSE {error} against the full render");
+}
+
+/// The plan made on the device (shaders/hybrid_plan.comp, what `render --path hybrid` and the
+/// preview use) equals the host's reference `Plan::new` entry for entry, on the test scene:
+/// blurred (foreground and background), pinhole and orthographic shots, unlit and lit, odd
+/// sizes (partial tiles), and several sample counts.
+#[test]
+fn the_device_plan_equals_the_host_plan() {
+    let test = "the_device_plan_equals_the_host_plan";
+    let renderer = match GpuRenderer::new(&GpuOptions {
+        validate: true,
+        ..GpuOptions::default()
+    }) {
+        Ok(renderer) => renderer,
+        Err(e) if may_skip(&e) => {
+            record_skip(test, &e.to_string());
+            return;
+        }
+        Err(e) => panic!("{test}: {e}"),
+    };
+    let mut renderer = renderer;
+    renderer.load_scene(&test_scene()).expect("load scene");
+    let thin = |aperture_radius, focus_distance| LensParams::ThinLens {
+        aperture_radius,
+        focus_distance,
+    };
+    let shots = [
+        (camera(false, thin(0.12, 5.0), 96, 72), 64),
+        (camera(false, thin(0.3, 3.0), 101, 67), 16),
+        (camera(false, thin(0.02, 6.0), 80, 60), 7),
+        (camera(false, LensParams::Pinhole, 96, 72), 32),
+        (camera(true, thin(0.2, 5.5), 90, 70), 64),
+    ];
+    for (cam, spp) in &shots {
+        for shading in [Shading::Unlit, Shading::Lit] {
+            let s = settings(shading, *spp);
+            let host = hybrid::host_plan(&mut renderer, cam, &s).expect("host plan");
+            let device = hybrid::device_plan(&mut renderer, cam, &s).expect("device plan");
+            let differing: Vec<usize> = (0..host.entries.len())
+                .filter(|&i| host.entries[i] != device.entries[i])
+                .collect();
+            assert!(
+                differing.is_empty(),
+                "{}x{} {:?} {shading:?} {spp} spp: {} of {} entries differ, first at pixel {}: \
+                 host {:?}, device {:?}",
+                cam.width,
+                cam.height,
+                cam.lens,
+                differing.len(),
+                host.entries.len(),
+                differing[0],
+                host.entries[differing[0]],
+                device.entries[differing[0]]
+            );
+            assert_eq!(host, device);
+            assert!(host.shortcut_pixels > 0 || *spp == 16);
+        }
+    }
+    renderer
+        .close()
+        .expect("close: validation messages or leaks");
 }

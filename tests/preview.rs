@@ -129,29 +129,42 @@ fn read_exr(path: &Path) -> image::Rgb32FImage {
 
 /// With a fixed camera, the screenshot after convergence is the headless render of the same
 /// camera, spp, seed and path, float for float (the same samples summed in the same order),
-/// whichever path traces the samples.
+/// whichever path traces the samples. The hybrid too: the preview's plan, made on the device
+/// from its G-buffer, is the render's (the same pass; tests/hybrid.rs holds both to the host's
+/// reference plan). `--hide-ray-query` pins the hybrid's traversal to `software` in both
+/// commands (else each picks the faster by a timed calibration, which may differ).
 #[test]
 fn converged_preview_equals_the_headless_render() {
-    for (path, shading) in [
-        ("rayquery", "unlit"),
-        ("rayquery", "lit"),
-        ("software", "lit"),
-        ("cpu", "lit"),
+    for (path, shading, extra) in [
+        ("rayquery", "unlit", &[][..]),
+        ("rayquery", "lit", &[]),
+        ("software", "lit", &[]),
+        ("cpu", "lit", &[]),
+        ("hybrid", "unlit", &["--hide-ray-query"]),
+        ("hybrid", "lit", &["--hide-ray-query"]),
     ] {
         let dir = tempfile::tempdir().unwrap();
-        let script = "0 wait converged\n0 quit\n";
+        // The hybrid's camera goes orthographic and back (key O) first: each restart plans
+        // again, and the last plan is the render's.
+        let script = if path == "hybrid" {
+            "0 wait converged\n0 key O\n0 wait converged\n0 key O\n0 wait converged\n0 quit\n"
+        } else {
+            "0 wait converged\n0 quit\n"
+        };
+        let mut options = vec![
+            "--path",
+            path,
+            "--shading",
+            shading,
+            "--screenshot",
+            "preview.exr",
+        ];
+        options.extend_from_slice(extra);
         let Some(out) = preview(
             "converged_preview_equals_the_headless_render",
             dir.path(),
             script,
-            &[
-                "--path",
-                path,
-                "--shading",
-                shading,
-                "--screenshot",
-                "preview.exr",
-            ],
+            &options,
         ) else {
             return;
         };
@@ -160,8 +173,14 @@ fn converged_preview_equals_the_headless_render() {
             stdout.contains("4 of 4 samples per pixel reached"),
             "{stdout}"
         );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains(&format!("preview: path {path}")),
+            "{path}: {stderr}"
+        );
         let mut args = vec!["render", "--path", path, "--shading", shading];
         args.extend_from_slice(&VIEW);
+        args.extend_from_slice(extra);
         args.extend_from_slice(&["--out", "render.exr"]);
         let render = Command::new(env!("CARGO_BIN_EXE_lensray"))
             .args(&args)

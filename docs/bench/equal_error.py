@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-# lensray bench JSON -> for each hybrid point, the time the other path (default: software)
-# needs for the same RMSE (log-log interpolation between its sweep points), over the hybrid's.
-# Usage: equal_error.py FILE.json [OTHER_PATH]
+# lensray bench JSON -> for each point of a path (default: hybrid), the time the other path
+# (default: software) needs for the same RMSE (log-log interpolation between its sweep points),
+# over the path's own. Usage: equal_error.py FILE.json [OTHER_PATH [PATH]]
 import json, math, sys
 # Time at equal error: for each hybrid point, the software time to reach its RMSE (log-log
 # interpolation between software's sweep points), over the hybrid's time.
@@ -21,6 +21,7 @@ def t_at(e):
     # extrapolate with error ~ t^-1/2 from nearest
     s,t,e1 = min(sw, key=lambda x: abs(math.log(x[2]/e)))
     return t*(e1/e)**2
-for s,t,e in sorted(pts["hybrid"]):
+path = sys.argv[3] if len(sys.argv) > 3 else "hybrid"
+for s,t,e in sorted(pts[path]):
     ts = t_at(e)
-    print(f"spp {s:3d}: hybrid {t*1e3:8.0f} ms RMSE {e:.3e}; {base} reaches that RMSE in {ts*1e3:8.0f} ms: {ts/t:.2f}x")
+    print(f"spp {s:3d}: {path} {t*1e3:8.0f} ms RMSE {e:.3e}; {base} reaches that RMSE in {ts*1e3:8.0f} ms: {ts/t:.2f}x")

@@ -47,7 +47,11 @@ pub fn format_devices(devices: &[DeviceReport]) -> String {
                 d.missing_software.join(", ")
             )
         } else {
-            format!("    paths              {}, cpu\n", paths.join(", "))
+            // The hybrid and raster paths trace with any of the device's traversals.
+            format!(
+                "    paths              {}, hybrid, raster, cpu\n",
+                paths.join(", ")
+            )
         };
         out += &format!("    max image 2D       {} px\n", d.max_image_dimension_2d);
         let [gx, gy, gz] = d.max_compute_work_group_count;

@@ -47,7 +47,7 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
         Some(path) => crate::preview::script::load(path)?,
         None => Vec::new(),
     };
-    let (gpu, cpu_path) = crate::paths::preview_options(&args.path.options())?;
+    let choice = crate::paths::preview_options(&args.path.options())?;
     let description = load_scene(&args.view)?;
     let settings = merged_settings(&description.settings, &args.view);
     let rig = CameraRig::new(settings, &description.scene)
@@ -57,10 +57,11 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
         description,
         rig,
         viewer: ViewerOptions {
-            gpu,
+            gpu: choice.gpu,
             present_mode: args.present_mode,
+            hybrid: choice.hybrid,
         },
-        cpu_path,
+        cpu_path: choice.cpu,
         view: args.initial_view,
         frames: args.frames,
         screenshot: args.screenshot.clone(),

@@ -13,8 +13,9 @@ use super::error::{vk_err, GpuError};
 use super::query::QueryPool;
 
 pub(crate) const FRAMES_IN_FLIGHT: usize = 2;
-/// Timestamps of a frame: G-buffer start/end, trace start/end, resolve end, frame end.
-pub(crate) const FRAME_QUERIES: u32 = 6;
+/// Timestamps of a frame: G-buffer start/end, trace start/end, resolve end, frame end, the
+/// hybrid plan's start/end (adjacent when the frame makes no plan).
+pub(crate) const FRAME_QUERIES: u32 = 8;
 
 pub(crate) struct FrameSlot {
     ctx: Arc<Context>,
@@ -30,6 +31,8 @@ pub(crate) struct FrameSlot {
     pub submitted: bool,
     /// Pixel-samples its trace dispatches did (to size later frames from their speed).
     pub trace_work: u64,
+    /// Whether its frame made the hybrid's plan (its plan timestamps mean something).
+    pub made_plan: bool,
     /// egui textures to free once this slot's frame finished.
     pub textures_to_free: Vec<egui::TextureId>,
     /// Host-visible staging of samples traced on the CPU (the CPU path), made on first use.
@@ -60,6 +63,7 @@ impl FrameSlot {
             )?,
             submitted: false,
             trace_work: 0,
+            made_plan: false,
             textures_to_free: Vec::new(),
             upload: None,
         };

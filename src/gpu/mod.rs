@@ -42,6 +42,7 @@ mod device;
 mod error;
 mod frames;
 mod gbuffer;
+mod hybrid_plan;
 mod image;
 mod instance;
 mod layout_probe;
@@ -83,9 +84,11 @@ pub use viewer::{
     FrameRequest, FrameResult, FrameTimes, HostSamples, PresentMode, Viewer, ViewerOptions,
 };
 
+use ash::vk;
 use device::Context;
 use error::vk_err;
 use gbuffer::GBufferPass;
+use hybrid_plan::HybridPlanPass;
 use instance::Instance;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 use scene::SceneBuffers;
@@ -127,6 +130,8 @@ pub struct GpuRenderer {
     gbuffer: GBufferPass,
     /// The raster path's pass, made on its first use.
     visibility: Option<VisibilityPass>,
+    /// The hybrid path's plan on the device (the render path's and the preview's).
+    hybrid_plan: HybridPlanPass,
     scene: Option<SceneBuffers>,
     bvh_params: BvhParams,
     timings: Timings,
@@ -159,10 +164,12 @@ impl GpuRenderer {
         let ctx = Arc::new(Context::new(instance, options, surface.as_ref())?);
         let gbuffer = GBufferPass::new(&ctx)?;
         let trace = TracePass::new(&ctx)?;
+        let hybrid_plan = HybridPlanPass::new(&ctx)?;
         let renderer = Self {
             trace,
             gbuffer,
             visibility: None,
+            hybrid_plan,
             scene: None,
             bvh_params: BvhParams::default(),
             timings: Timings::default(),
@@ -389,6 +396,54 @@ impl GpuRenderer {
     /// see `interface::TRACE_BINDING_PLAN`), or `None` to trace every sample again.
     pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
         self.trace.set_plan(plan)
+    }
+
+    /// The hybrid path's plan made on the device (shaders/hybrid_plan.comp) for later
+    /// `accumulate` calls: one submission draws the G-buffer of `planning` (the camera whose
+    /// raster the plan reads, `Camera::for_rasterizing_rays`) and plans `spp` samples
+    /// of `shading` seen by `camera` from it. Nothing is read back; `read_plan` can.
+    pub fn plan_on_device(
+        &mut self,
+        camera: &Camera,
+        planning: &Camera,
+        background: Vec3,
+        shading: Shading,
+        spp: u32,
+    ) -> Result<(), GpuError> {
+        check_size(camera)?;
+        if (planning.width, planning.height) != (camera.width, camera.height) {
+            return Err(GpuError::Invalid(
+                "the planning camera's size differs from the camera's".into(),
+            ));
+        }
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        self.gbuffer.ensure_targets(camera.width, camera.height)?;
+        self.trace.ensure_plan_capacity(pixels)?;
+        let targets = self.gbuffer.targets.as_ref().expect("ensured above");
+        self.hybrid_plan
+            .bind(targets, self.trace.plan_buffer_ref())?;
+        let ctx = &self.ctx;
+        let (gbuffer, plan) = (&self.gbuffer, &self.hybrid_plan);
+        ctx.submit_and_wait(|cmd| {
+            gbuffer.record(cmd, scene, planning, background, None);
+            plan.record(cmd, targets, camera, shading, spp);
+            buffer::barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            );
+            Ok(())
+        })?;
+        self.timings.gbuffer_passes += 1;
+        self.trace.use_device_plan(pixels);
+        Ok(())
+    }
+
+    /// The entries of the plan last made by `plan_on_device` (`pixels` of them).
+    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.trace.read_plan(pixels)
     }
 
     /// Destroys every Vulkan object, then, with validation on, fails on any message the layer

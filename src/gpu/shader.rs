@@ -23,6 +23,7 @@ pub(crate) const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
 pub(crate) const VISIBILITY_VERT: &[u8] = spirv!("visibility.vert");
 pub(crate) const VISIBILITY_FRAG: &[u8] = spirv!("visibility.frag");
 pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
+pub(crate) const HYBRID_PLAN_COMP: &[u8] = spirv!("hybrid_plan.comp");
 
 /// A shader module, destroyed on drop (once its pipelines are created).
 pub(crate) struct ShaderModule<'a> {

@@ -230,7 +230,8 @@ impl TracePass {
     }
 
     fn plan_buffer(ctx: &Arc<Context>, bytes: u64) -> Result<Buffer, GpuError> {
-        // Written by the host, read (and, lit, completed by the shortcut pre-pass) by the shader.
+        // Written by the host (`set_plan`) or the device plan pass, read (and, lit, completed by
+        // the shortcut pre-pass) by the shader; host-visible so that the device plan reads back.
         Buffer::new(
             ctx,
             "hybrid plan",
@@ -247,9 +248,17 @@ impl TracePass {
             self.plan_pixels = None;
             return Ok(());
         };
-        let bytes = (plan.len() as u64 * 16).max(16);
+        self.ensure_plan_capacity(plan.len() as u64)?;
+        self.plan.write(bytemuck::cast_slice(plan))?;
+        self.plan_pixels = Some(plan.len() as u64);
+        Ok(())
+    }
+
+    /// Makes the plan buffer hold at least `pixels` entries (a new buffer, bound to every
+    /// pipeline, when it is smaller). No submission using it may be pending.
+    pub fn ensure_plan_capacity(&mut self, pixels: u64) -> Result<(), GpuError> {
+        let bytes = (pixels * 16).max(16);
         if self.plan.size < bytes {
-            // Every earlier submission has completed (each is waited for).
             self.plan = Self::plan_buffer(&self.ctx, bytes)?;
             for p in &self.pipelines {
                 p.pipeline.bind_buffer(
@@ -259,8 +268,6 @@ impl TracePass {
                 );
             }
         }
-        self.plan.write(bytemuck::cast_slice(plan))?;
-        self.plan_pixels = Some(plan.len() as u64);
         Ok(())
     }
 
@@ -274,6 +281,27 @@ impl TracePass {
                 buffer,
             );
         }
+    }
+
+    /// The plan buffer (for the device plan pass to write).
+    pub fn plan_buffer_ref(&self) -> &Buffer {
+        &self.plan
+    }
+
+    /// Later `accumulate` calls follow the plan of `pixels` entries that the device plan pass
+    /// wrote into the plan buffer.
+    pub fn use_device_plan(&mut self, pixels: u64) {
+        self.plan_pixels = Some(pixels);
+    }
+
+    /// The plan's entries as the device left them (host-visible buffer; the caller waited for
+    /// the submissions that wrote it).
+    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+        let entries: &[[f32; 4]] = bytemuck::cast_slice(self.plan.read()?);
+        entries
+            .get(..pixels as usize)
+            .map(<[_]>::to_vec)
+            .ok_or_else(|| GpuError::Invalid(format!("the plan buffer has no {pixels} entries")))
     }
 
     /// The compute pipeline of `traversal`: the scene arrays, that traversal's structures, and

@@ -1,7 +1,11 @@
 //! The preview window's renderer. Every frame: the raster G-buffer of the current camera, some
 //! thin-lens samples added to an accumulation that stays on the device (sized from the measured
 //! speed), the resolve of the chosen view into a display image, its copy into the window image,
-//! the egui panel over it, present. Frames in flight (`frames`) overlap host and device; the
+//! the egui panel over it, present. The hybrid path (`ViewerOptions::hybrid`) draws the G-buffer
+//! with its planning camera and, in the first frame that traces after a restart, makes its plan
+//! on the device from that G-buffer (`HybridPlanPass`, plus the lit shortcut pre-pass) before the
+//! trace dispatches, which then run in TRACE_MODE_HYBRID; the plan stays until the next restart.
+//! Frames in flight (`frames`) overlap host and device; the
 //! only waits are for a frame slot's own earlier frame, and, on rare events (resize, pick,
 //! screenshot), for the device.
 
@@ -21,10 +25,11 @@ use super::swapchain::{Acquired, Swapchain};
 use super::{check_validation_log, GpuOptions, GpuRenderer, ValidationLog};
 use crate::camera::Camera;
 use crate::interface::{
-    ResolvePush, TraceParams, TracePush, TRACE_GROUP_SIZE, TRACE_MODE_ALL, VIEW_FINAL,
+    ResolvePush, TraceParams, TracePush, TRACE_GROUP_SIZE, TRACE_MODE_ALL, TRACE_MODE_HYBRID,
+    TRACE_MODE_SHORTCUT, VIEW_FINAL,
 };
 use crate::render::progressive::ProgressiveSchedule;
-use crate::render::{Image, RenderSettings};
+use crate::render::{Image, RenderSettings, Shading};
 use crate::scene::Scene;
 
 /// How the window waits for the display (VkPresentModeKHR).
@@ -77,8 +82,11 @@ pub struct HostSamples<'a> {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameTimes {
     pub gbuffer_ms: f64,
+    /// The trace dispatches (and a restart's clear), the plan excluded.
     pub trace_ms: f64,
     pub resolve_ms: f64,
+    /// The hybrid's plan (and lit shortcut pre-pass), in the frames that make one; else 0.
+    pub plan_ms: f64,
     /// Copy to the window and the panel.
     pub present_ms: f64,
     pub total_ms: f64,
@@ -102,6 +110,8 @@ pub struct FrameResult {
 pub struct ViewerOptions {
     pub gpu: GpuOptions,
     pub present_mode: PresentMode,
+    /// Trace as the hybrid path does (docs/hybrid.md, "In the preview").
+    pub hybrid: bool,
 }
 
 /// The accumulation of the current image size.
@@ -123,6 +133,11 @@ pub struct Viewer {
     present_mode: PresentMode,
     recreate: bool,
     samples_per_frame: u64,
+    /// The hybrid path traces.
+    hybrid: bool,
+    /// The spp of the hybrid plan in the plan buffer for the current accumulation; `None`
+    /// until the first frame after a restart that traces makes it.
+    plan_spp: Option<u32>,
     log: ValidationLog,
 }
 
@@ -151,6 +166,8 @@ impl Viewer {
             present_mode: options.present_mode,
             recreate: true,
             samples_per_frame: INITIAL_SAMPLES_PER_FRAME,
+            hybrid: options.hybrid,
+            plan_spp: None,
         })
     }
 
@@ -246,6 +263,16 @@ impl Viewer {
         )?;
         self.gpu.trace.bind_accumulation(&buffer);
         let targets = self.gpu.gbuffer.targets.as_ref().expect("ensured above");
+        if self.hybrid {
+            self.gpu
+                .trace
+                .ensure_plan_capacity(u64::from(width) * u64::from(height))?;
+            self.gpu
+                .hybrid_plan
+                .bind(targets, self.gpu.trace.plan_buffer_ref())?;
+            // A new size restarts the accumulation: the plan is made again.
+            self.plan_spp = None;
+        }
         self.resolve.bind(&buffer, targets, width, height)?;
         self.accum = Some(Accumulation {
             buffer,
@@ -302,8 +329,13 @@ impl Viewer {
             }
         };
 
-        if request.restart {
+        // The hybrid's plan depends on the target spp (sample counts grow with it): a new
+        // target restarts its accumulation.
+        let restart = request.restart
+            || (self.hybrid && self.plan_spp.is_some_and(|spp| spp != request.target_spp));
+        if restart {
             accum.schedule.restart();
+            self.plan_spp = None;
         }
         accum.schedule.set_target(request.target_spp);
         let work = if request.view == VIEW_FINAL && request.host.is_none() {
@@ -346,10 +378,13 @@ impl Viewer {
         );
         slot.timestamps.reset(cmd);
         let scene = self.gpu.scene.as_ref().ok_or(GpuError::NoScene)?;
+        // The hybrid plans from the G-buffer of its planning camera (same rays and pixels, the
+        // raster's clipping planes moved out), which the views show as well.
+        let planning = self.hybrid.then(|| camera.for_rasterizing_rays());
         self.gpu.gbuffer.record(
             cmd,
             scene,
-            camera,
+            planning.as_ref().unwrap_or(camera),
             request.settings.background,
             Some((&slot.timestamps, 0)),
         );
@@ -360,7 +395,7 @@ impl Viewer {
 
         slot.timestamps
             .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
-        if request.restart {
+        if restart {
             // SAFETY: recording state; the buffer has TRANSFER_DST usage.
             unsafe { device.cmd_fill_buffer(cmd, accum.buffer.buffer, 0, vk::WHOLE_SIZE, 0) };
             self.gpu
@@ -405,6 +440,44 @@ impl Viewer {
             // waited) and the region fits both buffers (checked above).
             unsafe { device.cmd_copy_buffer(cmd, upload.buffer, accum.buffer.buffer, &[region]) };
         }
+        slot.timestamps
+            .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 6);
+        let make_plan = self.hybrid && !work.is_empty() && self.plan_spp.is_none();
+        if make_plan {
+            // The plan of the current camera and settings, from the G-buffer drawn above,
+            // into the trace pass's plan buffer; lit: the shortcut values of the shortcut
+            // pixels too (one pre-pass over the image, with the parameters recorded above at
+            // the restart).
+            self.gpu.hybrid_plan.record(
+                cmd,
+                targets,
+                camera,
+                request.settings.shading,
+                request.target_spp,
+            );
+            if request.settings.shading == Shading::Lit {
+                let push = TracePush {
+                    band_origin: 0,
+                    band_height: camera.height,
+                    block_first: 0,
+                    block_stride: 1,
+                    block_count: camera.height.div_ceil(TRACE_GROUP_SIZE),
+                    sample_begin: 0,
+                    sample_end: 0,
+                    mode: TRACE_MODE_SHORTCUT,
+                };
+                self.gpu.trace.record_dispatch(cmd, push, camera.width);
+            }
+            self.plan_spp = Some(request.target_spp);
+        }
+        slot.made_plan = make_plan;
+        slot.timestamps
+            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 7);
+        let mode = if self.hybrid {
+            TRACE_MODE_HYBRID
+        } else {
+            TRACE_MODE_ALL
+        };
         for item in &work {
             barrier(
                 &ctx,
@@ -422,7 +495,7 @@ impl Viewer {
                 block_count: item.block_count,
                 sample_begin: item.sample_begin,
                 sample_end: item.sample_end,
-                mode: TRACE_MODE_ALL,
+                mode,
             };
             self.gpu.trace.record_dispatch(cmd, push, camera.width);
         }
@@ -598,8 +671,10 @@ fn read_times(gpu: &GpuRenderer, slot: &FrameSlot) -> Result<FrameTimes, GpuErro
     let ms = |a: usize, b: usize| gpu.ctx.elapsed_ns(t[a], t[b]) * 1e-6;
     Ok(FrameTimes {
         gbuffer_ms: ms(0, 1),
-        trace_ms: ms(2, 3),
+        // The plan (timed apart) is recorded inside the trace span.
+        trace_ms: ms(2, 3) - ms(6, 7),
         resolve_ms: ms(3, 4),
+        plan_ms: if slot.made_plan { ms(6, 7) } else { 0.0 },
         present_ms: ms(4, 5),
         total_ms: ms(0, 5),
         trace_work: slot.trace_work,

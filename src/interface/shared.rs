@@ -94,6 +94,42 @@ shader_interface! {
         HYBRID_CHECK_INVERSE: u32 = 16;
         /// Salt of that choice's hash (apart from the sampler's own uses of the sample key).
         HYBRID_CHECK_SALT: u32 = 0x68796272;
+        /// The hybrid's plan (src/paths/hybrid.rs `Plan::new` on the host, the same rules in
+        /// shaders/hybrid_plan.comp on the device): side of the square tiles over which the
+        /// circle of confusion is maximised, pixels (also the workgroup tile of hybrid_plan.comp).
+        HYBRID_TILE: u32 = 8;
+        /// Pixels of a row that a device runs in lockstep and that share one decision (lavapipe:
+        /// one row of an 8x8 workgroup). hybrid_plan.comp takes it to be HYBRID_TILE.
+        HYBRID_SEGMENT: u32 = 8;
+        /// Dilated CoC radius (pixels) under which a pixel may take the shortcut.
+        HYBRID_SHORTCUT_COC: f32 = 0.5;
+        /// Dilated CoC radius (pixels) from which a traced pixel traces every sample; between
+        /// HYBRID_SHORTCUT_COC and this, ceil(spp * coc / HYBRID_FULL_SPP_COC).
+        HYBRID_FULL_SPP_COC: f32 = 2.0;
+        /// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
+        HYBRID_MAX_REACH_TILES: u32 = 16;
+        /// hybrid_plan.comp: invocations per workgroup (each plans a tile, a row, a column or
+        /// a segment).
+        HYBRID_PLAN_GROUP_SIZE: u32 = 64;
+        /// `HybridPlanPush.step`: the dispatches of one plan, in order. TILES: per tile its
+        /// pixels' CoC maximum and edge marks; ROWS, COLUMNS: the summed-area table of the edge
+        /// marks (prefix sums along rows, then columns); DILATE: per tile its dilated CoC;
+        /// ENTRIES: per segment the decision of its pixels, the entries.
+        HYBRID_PLAN_STEP_TILES: u32 = 0;
+        HYBRID_PLAN_STEP_ROWS: u32 = 1;
+        HYBRID_PLAN_STEP_COLUMNS: u32 = 2;
+        HYBRID_PLAN_STEP_DILATE: u32 = 3;
+        HYBRID_PLAN_STEP_ENTRIES: u32 = 4;
+        /// hybrid_plan.comp's bindings: the G-buffer images, the per-tile CoC maxima (then the
+        /// dilated ones), the
+        /// summed-area table of edge marks ((width + 1) x (height + 1) uints), the plan (the
+        /// trace pass's TRACE_BINDING_PLAN buffer).
+        HYBRID_PLAN_BINDING_NORMAL: u32 = 0;
+        HYBRID_PLAN_BINDING_ALBEDO: u32 = 1;
+        HYBRID_PLAN_BINDING_VIEW_DEPTH: u32 = 2;
+        HYBRID_PLAN_BINDING_TILES: u32 = 3;
+        HYBRID_PLAN_BINDING_EDGES: u32 = 4;
+        HYBRID_PLAN_BINDING_PLAN: u32 = 5;
         /// Entries of the software traversal's stack of nodes still to visit; the BVH build
         /// refuses deeper trees (src/gpu/bvh.rs).
         BVH_STACK_SIZE: u32 = 64;
@@ -196,6 +232,26 @@ shader_interface! {
             coc_display_max: f32,
             pad0: u32,
             pad1: u32,
+        }
+        /// Push constants of hybrid_plan.comp: the image, the step, what the plan is for and
+        /// the lens data of the circle of confusion (camera.glsl's coc_radius_pixels).
+        Std430 struct HybridPlanPush as HybridPlanPush {
+            width: u32,
+            height: u32,
+            tiles_x: u32,
+            tiles_y: u32,
+            /// HYBRID_PLAN_STEP_*
+            step: u32,
+            /// SHADING_*
+            shading: u32,
+            spp: u32,
+            /// PROJECTION_*
+            projection: u32,
+            aperture_radius: f32,
+            focus_distance: f32,
+            near_z: f32,
+            /// Pixels per screen-space unit (Camera::pixels_per_screen_unit).
+            pixels_per_screen_unit: f32,
         }
         /// Push constants of sampler_cost.comp.
         Std430 struct SamplerCostPush as SamplerCostPush {

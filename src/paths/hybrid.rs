@@ -24,25 +24,27 @@ use glam::Vec3;
 use super::gpu::GpuPath;
 use crate::camera::Camera;
 use crate::gpu::{GBuffer, GpuRenderer};
-use crate::interface::{HYBRID_CHECK_INVERSE, HYBRID_SHORTCUT};
+use crate::interface::{
+    HYBRID_CHECK_INVERSE, HYBRID_FULL_SPP_COC, HYBRID_MAX_REACH_TILES, HYBRID_SEGMENT,
+    HYBRID_SHORTCUT, HYBRID_SHORTCUT_COC, HYBRID_TILE,
+};
 use crate::render::path::{PathKind, PathReport, RenderPath};
 use crate::render::{Accumulation, Image, RenderSettings, Shading};
 use crate::scene::Scene;
 
 /// Side of the tiles over which the circle of confusion is maximised, pixels.
-pub const TILE: u32 = 8;
+pub const TILE: u32 = HYBRID_TILE;
 /// Dilated CoC radius (pixels) under which a pixel may take the shortcut.
-pub const SHORTCUT_COC: f32 = 0.5;
+pub const SHORTCUT_COC: f32 = HYBRID_SHORTCUT_COC;
 /// Dilated CoC radius (pixels) from which a pixel with G-buffer edges within its circle of
 /// confusion traces every sample; between SHORTCUT_COC and this, `ceil(spp * coc /
 /// FULL_SPP_COC)` samples.
-pub const FULL_SPP_COC: f32 = 2.0;
+pub const FULL_SPP_COC: f32 = HYBRID_FULL_SPP_COC;
 /// Pixels of a row that a device runs in lockstep (lavapipe: 8 invocations, one row of an 8x8
 /// workgroup): they share one decision (shortcut, or the most samples of any of them).
-pub const SEGMENT: u32 = 8;
+pub const SEGMENT: u32 = HYBRID_SEGMENT;
 /// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
-const MAX_REACH_TILES: i64 = 16;
-
+const MAX_REACH_TILES: i64 = HYBRID_MAX_REACH_TILES as i64;
 /// Per pixel: what the trace pass does (see `interface::TRACE_BINDING_PLAN`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
@@ -210,10 +212,65 @@ impl Plan {
         }
     }
 
+    /// A plan from its entries (as the device plan pass writes them), with its counts.
+    pub fn from_entries(width: u32, height: u32, entries: Vec<[f32; 4]>, spp: u32) -> Plan {
+        let spp = spp.max(1);
+        let shortcut_pixels = entries.iter().filter(|e| e[3] == HYBRID_SHORTCUT).count() as u64;
+        let planned: u64 = entries
+            .iter()
+            .filter(|e| e[3] != HYBRID_SHORTCUT)
+            .map(|e| e[3] as u64)
+            .sum();
+        Plan {
+            width,
+            height,
+            entries,
+            shortcut_pixels,
+            expected_samples: planned as f64
+                + shortcut_pixels as f64 * f64::from(spp) / f64::from(HYBRID_CHECK_INVERSE),
+            all_samples: u64::from(width) * u64::from(height) * u64::from(spp),
+        }
+    }
+
     /// The fraction of pixels that take the shortcut.
     pub fn shortcut_fraction(&self) -> f64 {
         self.shortcut_pixels as f64 / (self.entries.len().max(1)) as f64
     }
+}
+
+/// The plan of `settings` seen by `camera`, made on the device (shaders/hybrid_plan.comp: the
+/// G-buffer and the plan in one submission, no G-buffer readback) and left in the renderer for
+/// its later `accumulate` calls. Its entries are read back (a mapped buffer) for the counts.
+pub fn device_plan(
+    renderer: &mut GpuRenderer,
+    camera: &Camera,
+    settings: &RenderSettings,
+) -> Result<Plan> {
+    renderer.plan_on_device(
+        camera,
+        &camera.for_rasterizing_rays(),
+        settings.background,
+        settings.shading,
+        settings.spp,
+    )?;
+    let entries = renderer.read_plan(u64::from(camera.width) * u64::from(camera.height))?;
+    Ok(Plan::from_entries(
+        camera.width,
+        camera.height,
+        entries,
+        settings.spp,
+    ))
+}
+
+/// The reference plan of `settings` seen by `camera`: the G-buffer read back, `Plan::new` on
+/// the host.
+pub fn host_plan(
+    renderer: &mut GpuRenderer,
+    camera: &Camera,
+    settings: &RenderSettings,
+) -> Result<Plan> {
+    let gbuffer = renderer.render_gbuffer(&camera.for_rasterizing_rays(), settings.background)?;
+    Ok(Plan::new(camera, &gbuffer, settings.shading, settings.spp))
 }
 
 /// The hybrid path: a GPU path (any traversal; `paths::open` picks the device's fastest) whose
@@ -265,10 +322,7 @@ impl RenderPath for HybridPath {
         super::check_accumulation(camera, settings, accumulation)?;
         let start = Instant::now();
         let renderer = self.inner.renderer_mut();
-        let gbuffer =
-            renderer.render_gbuffer(&camera.for_rasterizing_rays(), settings.background)?;
-        let plan = Plan::new(camera, &gbuffer, settings.shading, settings.spp);
-        renderer.set_plan(Some(&plan.entries))?;
+        let plan = device_plan(renderer, camera, settings)?;
         self.plan_seconds += start.elapsed().as_secs_f64();
         let traced = renderer.accumulate(camera, settings, samples, accumulation, progress);
         let cleared = renderer.set_plan(None);

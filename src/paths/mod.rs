@@ -336,32 +336,44 @@ fn check_accumulation(
     Ok(())
 }
 
+/// Who traces the preview's samples (`preview_options`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PreviewChoice {
+    /// The window's Vulkan options (the traversal, when the path names one).
+    pub gpu: GpuOptions,
+    /// The CPU path traces (the window only shows).
+    pub cpu: bool,
+    /// The hybrid path: the trace dispatches follow a plan made on the device from each
+    /// restart's G-buffer (docs/hybrid.md, "In the preview").
+    pub hybrid: bool,
+}
+
 /// The preview window always draws with Vulkan; the path only says who traces the samples.
-/// Returns the window's Vulkan options and whether the CPU path traces.
-pub fn preview_options(options: &PathOptions) -> Result<(GpuOptions, bool)> {
-    if matches!(options.path, PathChoice::Hybrid | PathChoice::Raster) {
-        bail!(
-            "--path {}: not in the preview yet (render and bench run it)",
-            options.path
-        );
+pub fn preview_options(options: &PathOptions) -> Result<PreviewChoice> {
+    if options.path == PathChoice::Raster {
+        bail!("--path raster: not in the preview yet (render and bench run it)");
     }
     let cpu = match (options.device, options.path) {
-        (DeviceChoice::Cpu, PathChoice::RayQuery | PathChoice::Software) => bail!(
-            "--path {} runs on a Vulkan device: it cannot be used with --device cpu",
-            options.path
-        ),
+        (DeviceChoice::Cpu, PathChoice::RayQuery | PathChoice::Software | PathChoice::Hybrid) => {
+            bail!(
+                "--path {} runs on a Vulkan device: it cannot be used with --device cpu",
+                options.path
+            )
+        }
         (DeviceChoice::Gpu, PathChoice::Cpu) => {
             bail!("--path cpu runs on the CPU: it cannot be used with --device gpu")
         }
         (DeviceChoice::Cpu, _) | (_, PathChoice::Cpu) => true,
         _ => false,
     };
+    // The hybrid traces with the device's fastest traversal (picked as `render` picks it).
     let traversal = options.path.kind().and_then(traversal_of);
-    Ok((
-        GpuOptions {
+    Ok(PreviewChoice {
+        gpu: GpuOptions {
             traversal,
             ..options.gpu
         },
         cpu,
-    ))
+        hybrid: options.path == PathChoice::Hybrid,
+    })
 }

@@ -64,6 +64,10 @@ pub struct PreviewSummary {
     pub spp: u32,
     pub target_spp: u32,
     pub median_input_to_frame_ms: Option<f64>,
+    /// Samples per pixel traced per second while accumulating (first frames excluded).
+    pub samples_per_pixel_per_second: Option<f64>,
+    /// Median GPU time of the hybrid's plans, in the frames that made one.
+    pub median_plan_ms: Option<f64>,
 }
 
 impl std::fmt::Display for PreviewSummary {
@@ -76,6 +80,12 @@ impl std::fmt::Display for PreviewSummary {
         )?;
         if let Some(ms) = self.median_input_to_frame_ms {
             write!(f, ", median input to frame {ms:.1} ms")?;
+        }
+        if let Some(ms) = self.median_plan_ms {
+            write!(f, ", median hybrid plan {ms:.2} ms")?;
+        }
+        if let Some(rate) = self.samples_per_pixel_per_second.filter(|r| *r > 0.0) {
+            write!(f, ", {rate:.3} samples per pixel per second")?;
         }
         Ok(())
     }
@@ -224,7 +234,11 @@ impl App {
                 let (kind, why) = paths::pick_traversal(renderer, (&shot.camera, &shot.render))?;
                 (kind.to_string(), why)
             };
-            format!("path {kind} ({why})")
+            if self.config.viewer.hybrid {
+                format!("path hybrid (traces with {kind}: {why}; plan made on the device)")
+            } else {
+                format!("path {kind} ({why})")
+            }
         };
         eprintln!("preview: {path} on {}", viewer.device_name());
         self.viewer = Some(viewer);
@@ -468,7 +482,8 @@ impl App {
                 self.awaiting_size = None;
             }
             self.last = Some(current);
-            self.log.record(now, result.times);
+            self.log
+                .record(now, result.times, u64::from(width) * u64::from(height));
             self.spp = result.spp;
             self.converged = result.converged;
         }
@@ -529,6 +544,8 @@ impl App {
             spp: self.spp,
             target_spp: self.panel.target_spp,
             median_input_to_frame_ms: self.log.median_input_to_frame_ms(),
+            samples_per_pixel_per_second: self.log.samples_per_pixel_per_second(),
+            median_plan_ms: self.log.median_plan_ms(),
         };
         self.gui = None;
         self.cpu_feed = None;

@@ -13,25 +13,53 @@ pub struct FrameLog {
     /// Wall-clock time between consecutive frames, ms.
     frame_ms: Vec<f64>,
     gbuffer_ms: Vec<f64>,
+    /// GPU times of the hybrid's plans (frames that made one).
+    plan_ms: Vec<f64>,
     last_times: Option<FrameTimes>,
     /// The oldest input not yet shown by a frame.
     input_at: Option<Instant>,
     /// From an input to the submission of the first frame that shows it, ms.
     input_to_frame_ms: Vec<f64>,
+    /// Samples per pixel traced (finished frames' trace work over the image's pixels) and the
+    /// frame intervals they came in, ms, from frame SETTLE_FRAMES on (pipeline compiles and the
+    /// first plan excluded).
+    samples_per_pixel: f64,
+    sampled_ms: f64,
 }
+
+/// Frames left out of the sample rate at the start.
+const SETTLE_FRAMES: u64 = 5;
 
 impl FrameLog {
     /// A frame was drawn at `at`; `times` are the GPU times of an earlier finished frame.
-    pub fn record(&mut self, at: Instant, times: Option<FrameTimes>) {
+    /// `pixels`: of the image.
+    pub fn record(&mut self, at: Instant, times: Option<FrameTimes>, pixels: u64) {
         self.frames += 1;
+        let settled = self.frames > SETTLE_FRAMES;
         if let Some(previous) = self.previous {
-            self.frame_ms.push((at - previous).as_secs_f64() * 1e3);
+            let ms = (at - previous).as_secs_f64() * 1e3;
+            self.frame_ms.push(ms);
+            if settled {
+                self.sampled_ms += ms;
+            }
         }
         self.previous = Some(at);
         if let Some(t) = times {
             self.gbuffer_ms.push(t.gbuffer_ms);
+            if t.plan_ms > 0.0 {
+                self.plan_ms.push(t.plan_ms);
+            }
             self.last_times = Some(t);
+            if settled {
+                self.samples_per_pixel += t.trace_work as f64 / pixels.max(1) as f64;
+            }
         }
+    }
+
+    /// Samples per pixel traced per second of frames (None before any was timed): the rate
+    /// at which the accumulation grows while nothing moves.
+    pub fn samples_per_pixel_per_second(&self) -> Option<f64> {
+        (self.sampled_ms > 0.0).then(|| self.samples_per_pixel / (self.sampled_ms * 1e-3))
     }
 
     /// An input that changes the picture arrived.
@@ -67,6 +95,11 @@ impl FrameLog {
 
     pub fn median_gbuffer_ms(&self) -> f64 {
         median(&self.gbuffer_ms)
+    }
+
+    /// Median GPU time of the hybrid's plans (None: no plan was made).
+    pub fn median_plan_ms(&self) -> Option<f64> {
+        (!self.plan_ms.is_empty()).then(|| median(&self.plan_ms))
     }
 
     pub fn last_frame_ms(&self) -> Option<f64> {
