@@ -10,12 +10,14 @@
 //!
 //! Files: `instance` (instance, validation, messenger), `device` (device reports, selection,
 //! logical device, allocator, submissions), `buffer`, `image`, `query`, `accel` (BLAS/TLAS),
-//! `bvh` (the software traversal's BVH, flattened), `traversal`, `shader` (embedded SPIR-V), `pipeline`, `scene` (scene buffers), `gbuffer` (raster pass),
-//! `trace` (compute pass), `probe` (GLSL mirror checks), `layout_probe` (shared struct layouts
-//! as the shaders read them), `sampler_cost` (sample generation timed alone), `conv` (host data
-//! -> the structs of `crate::interface`), `error`, `bench`; for the preview window: `surface`,
-//! `swapchain`, `frames` (frames in flight), `resolve` (display pass), `overlay` (egui panel),
-//! `viewer`.
+//! `bvh` (the software traversal's BVH, flattened), `traversal`, `shader` (embedded SPIR-V),
+//! `pipeline`, `scene` (scene buffers), `draw` (a raster pass's scene draw), `gbuffer` (raster
+//! pass), `trace` (compute pass), `visibility` (the raster path's pass), `hybrid_plan` (the
+//! hybrid path's plan on the device), `probe` (GLSL mirror checks), `layout_probe` (shared
+//! struct layouts as the shaders read them), `sampler_cost` (sample generation timed alone),
+//! `conv` (host data -> the structs of `crate::interface`), `error`, `bench`; for the preview
+//! window: `surface`, `swapchain`, `frames` (frames in flight), `resolve` (display pass),
+//! `overlay` (egui panel), `viewer`.
 //!
 //! ```no_run
 //! use lensray::gpu::{GpuOptions, GpuRenderer};
@@ -39,6 +41,7 @@ mod buffer;
 mod bvh;
 mod conv;
 mod device;
+mod draw;
 mod error;
 mod frames;
 mod gbuffer;
@@ -314,13 +317,7 @@ impl GpuRenderer {
         accumulation: &mut Accumulation,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(), GpuError> {
-        check_size(camera)?;
-        if settings.shading.is_aov() {
-            return Err(GpuError::Invalid(format!(
-                "{:?} is read from the G-buffer: it has no samples to accumulate",
-                settings.shading
-            )));
-        }
+        check_samples(camera, settings)?;
         if self.scene.is_none() {
             return Err(GpuError::NoScene);
         }
@@ -348,13 +345,7 @@ impl GpuRenderer {
         accumulation: &mut Accumulation,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(), GpuError> {
-        check_size(camera)?;
-        if settings.shading.is_aov() {
-            return Err(GpuError::Invalid(format!(
-                "{:?} is read from the G-buffer: it has no samples to accumulate",
-                settings.shading
-            )));
-        }
+        check_samples(camera, settings)?;
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         if self.visibility.is_none() {
             let pass = VisibilityPass::new(&self.ctx)?;
@@ -538,6 +529,18 @@ fn check_validation_log(log: &ValidationLog) -> Result<(), GpuError> {
         return Err(GpuError::Invalid(
             "the Vulkan instance outlived the renderer: an object leaked".into(),
         ));
+    }
+    Ok(())
+}
+
+/// What accumulating samples needs: an image the device can hold, a traced shading.
+fn check_samples(camera: &Camera, settings: &RenderSettings) -> Result<(), GpuError> {
+    check_size(camera)?;
+    if settings.shading.is_aov() {
+        return Err(GpuError::Invalid(format!(
+            "{:?} is read from the G-buffer: it has no samples to accumulate",
+            settings.shading
+        )));
     }
     Ok(())
 }

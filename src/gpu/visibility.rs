@@ -11,6 +11,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier, Buffer};
 use super::device::Context;
+use super::draw::{record_scene_draw, SceneDraw};
 use super::error::{vk_err, GpuError};
 use super::image::Image;
 use super::pipeline::{GraphicsDesc, Pipeline};
@@ -271,40 +272,20 @@ impl VisibilityPass {
                 },
             },
         ];
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent: vk::Extent2D { width, height },
-        };
-        let begin = vk::RenderPassBeginInfo::default()
-            .render_pass(self.render_pass.handle)
-            .framebuffer(targets.framebuffer)
-            .render_area(area)
-            .clear_values(&clear);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: width as f32,
-            height: height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
-        // SAFETY: recording state; the framebuffer matches the render pass; the scene
-        // buffers bound in the pipeline's set are live.
-        unsafe {
-            ctx.device
-                .cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-            ctx.device.cmd_set_viewport(cmd, 0, &[viewport]);
-            ctx.device.cmd_set_scissor(cmd, 0, &[area]);
-        }
-        self.pipeline.bind(cmd, bytemuck::bytes_of(&push));
-        let vertices = scene.triangle_count * 3;
-        // SAFETY: inside the render pass with a graphics pipeline bound.
-        unsafe {
-            if vertices > 0 {
-                ctx.device.cmd_draw(cmd, vertices, 1, 0, 0);
-            }
-            ctx.device.cmd_end_render_pass(cmd);
-        }
+        record_scene_draw(
+            ctx,
+            cmd,
+            scene,
+            &SceneDraw {
+                render_pass: self.render_pass.handle,
+                framebuffer: targets.framebuffer,
+                width,
+                height,
+                clear: &clear,
+                pipeline: &self.pipeline,
+                push: bytemuck::bytes_of(&push),
+            },
+        );
         // The previous sample's shading pass read the buffer: before the copy overwrites it.
         barrier(
             ctx,
