@@ -131,8 +131,9 @@ fn read_exr(path: &Path) -> image::Rgb32FImage {
 /// camera, spp, seed and path, float for float (the same samples summed in the same order),
 /// whichever path traces the samples. The hybrid too: the preview's plan, made on the device
 /// from its G-buffer, is the render's (the same pass; tests/hybrid.rs holds both to the host's
-/// reference plan). `--hide-ray-query` pins the hybrid's traversal to `software` in both
-/// commands (else each picks the faster by a timed calibration, which may differ).
+/// reference plan). The raster path too (one raster pass per sample, whole samples per frame).
+/// `--hide-ray-query` pins the hybrid's and the lit raster path's traversal to `software` in
+/// both commands (else each picks the faster by a timed calibration, which may differ).
 #[test]
 fn converged_preview_equals_the_headless_render() {
     for (path, shading, extra) in [
@@ -142,11 +143,13 @@ fn converged_preview_equals_the_headless_render() {
         ("cpu", "lit", &[]),
         ("hybrid", "unlit", &["--hide-ray-query"]),
         ("hybrid", "lit", &["--hide-ray-query"]),
+        ("raster", "unlit", &[]),
+        ("raster", "lit", &["--hide-ray-query"]),
     ] {
         let dir = tempfile::tempdir().unwrap();
-        // The hybrid's camera goes orthographic and back (key O) first: each restart plans
-        // again, and the last plan is the render's.
-        let script = if path == "hybrid" {
+        // The hybrid's and raster path's camera goes orthographic and back (key O) first: each
+        // restart plans (hybrid) or projects (raster) again, and the last is the render's.
+        let script = if path == "hybrid" || path == "raster" {
             "0 wait converged\n0 key O\n0 wait converged\n0 key O\n0 wait converged\n0 quit\n"
         } else {
             "0 wait converged\n0 quit\n"

@@ -60,6 +60,7 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
             gpu: choice.gpu,
             present_mode: args.present_mode,
             hybrid: choice.hybrid,
+            raster: choice.raster,
         },
         cpu_path: choice.cpu,
         view: args.initial_view,

@@ -346,32 +346,16 @@ impl GpuRenderer {
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(), GpuError> {
         check_samples(camera, settings)?;
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        if self.visibility.is_none() {
-            let pass = VisibilityPass::new(&self.ctx)?;
-            pass.bind_scene(scene);
-            self.visibility = Some(pass);
-        }
-        let visibility = self.visibility.as_mut().expect("made above");
-        if visibility.ensure_targets(camera.width, camera.height)? {
-            let targets = visibility.targets.as_ref().expect("just made");
-            self.trace.bind_visibility(&targets.buffer);
-        }
-        let visibility = &*visibility;
+        self.prepare_raster(camera.width, camera.height)?;
         let settings = RenderSettings {
             shared_samples: true,
             ..*settings
         };
         let raster_camera = camera.for_rasterizing_rays();
-        let shared = crate::sampler::shared_pixel_sampler(
-            settings.sampler,
-            settings.seed,
-            glam::UVec2::ZERO,
-        );
+        let visibility = self.visibility.as_ref().expect("prepared");
+        let scene = self.scene.as_ref().expect("prepared");
         let record = |cmd, sample| {
-            // Pixel (0, 0)'s sample: its film position is the offset within the pixel.
-            let cs = crate::sampler::pixel_camera_sample(&shared, sample);
-            visibility.record(cmd, scene, &raster_camera, cs.film, cs.lens);
+            visibility.record_sample(cmd, scene, &raster_camera, &settings, sample);
         };
         self.trace.accumulate(
             (camera, &settings),
@@ -381,6 +365,23 @@ impl GpuRenderer {
             Some(&record),
             progress,
         )
+    }
+
+    /// Makes the raster path's visibility pass (on first use) and its targets for a `width` x
+    /// `height` image, bound to the trace pass.
+    fn prepare_raster(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        if self.visibility.is_none() {
+            let pass = VisibilityPass::new(&self.ctx)?;
+            pass.bind_scene(scene);
+            self.visibility = Some(pass);
+        }
+        let visibility = self.visibility.as_mut().expect("made above");
+        if visibility.ensure_targets(width, height)? {
+            let targets = visibility.targets.as_ref().expect("just made");
+            self.trace.bind_visibility(&targets.buffer);
+        }
+        Ok(())
     }
 
     /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel, row-major;

@@ -26,7 +26,7 @@ use super::{check_validation_log, GpuOptions, GpuRenderer, ValidationLog};
 use crate::camera::Camera;
 use crate::interface::{
     ResolvePush, TraceParams, TracePush, TRACE_GROUP_SIZE, TRACE_MODE_ALL, TRACE_MODE_HYBRID,
-    TRACE_MODE_SHORTCUT, VIEW_FINAL,
+    TRACE_MODE_RASTER, TRACE_MODE_SHORTCUT, VIEW_FINAL,
 };
 use crate::render::progressive::ProgressiveSchedule;
 use crate::render::{Image, RenderSettings, Shading};
@@ -112,6 +112,9 @@ pub struct ViewerOptions {
     pub present_mode: PresentMode,
     /// Trace as the hybrid path does (docs/hybrid.md, "In the preview").
     pub hybrid: bool,
+    /// Draw samples as the raster path does: per sample a visibility pass through its lens
+    /// point, then the shading pass (docs/raster.md).
+    pub raster: bool,
 }
 
 /// The accumulation of the current image size.
@@ -135,6 +138,8 @@ pub struct Viewer {
     samples_per_frame: u64,
     /// The hybrid path traces.
     hybrid: bool,
+    /// The raster path draws the samples.
+    raster: bool,
     /// The spp of the hybrid plan in the plan buffer for the current accumulation; `None`
     /// until the first frame after a restart that traces makes it.
     plan_spp: Option<u32>,
@@ -167,6 +172,7 @@ impl Viewer {
             recreate: true,
             samples_per_frame: INITIAL_SAMPLES_PER_FRAME,
             hybrid: options.hybrid,
+            raster: options.raster,
             plan_spp: None,
         })
     }
@@ -262,6 +268,9 @@ impl Viewer {
             MemoryLocation::GpuOnly,
         )?;
         self.gpu.trace.bind_accumulation(&buffer);
+        if self.raster {
+            self.gpu.prepare_raster(width, height)?;
+        }
         let targets = self.gpu.gbuffer.targets.as_ref().expect("ensured above");
         if self.hybrid {
             self.gpu
@@ -339,9 +348,16 @@ impl Viewer {
         }
         accum.schedule.set_target(request.target_spp);
         let work = if request.view == VIEW_FINAL && request.host.is_none() {
-            accum
-                .schedule
-                .plan(self.samples_per_frame, MAX_DISPATCHES_PER_FRAME)
+            accum.schedule.plan(
+                // The raster path draws whole samples: one raster pass serves every row.
+                if self.raster {
+                    self.samples_per_frame
+                        .max(u64::from(camera.width) * u64::from(camera.height))
+                } else {
+                    self.samples_per_frame
+                },
+                MAX_DISPATCHES_PER_FRAME,
+            )
         } else {
             Vec::new()
         };
@@ -395,12 +411,17 @@ impl Viewer {
 
         slot.timestamps
             .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
+        // The raster path's estimator: every pixel draws the same camera samples.
+        let traced_settings = RenderSettings {
+            shared_samples: self.raster || request.settings.shared_samples,
+            ..*request.settings
+        };
         if restart {
             // SAFETY: recording state; the buffer has TRANSFER_DST usage.
             unsafe { device.cmd_fill_buffer(cmd, accum.buffer.buffer, 0, vk::WHOLE_SIZE, 0) };
             self.gpu
                 .trace
-                .record_params(cmd, &TraceParams::new(camera, request.settings));
+                .record_params(cmd, &TraceParams::new(camera, &traced_settings));
         }
         if let Some(sums) = request.host.as_ref().and_then(|h| h.sums) {
             let bytes: &[u8] = bytemuck::cast_slice(sums);
@@ -478,7 +499,35 @@ impl Viewer {
         } else {
             TRACE_MODE_ALL
         };
+        let raster_camera = self.raster.then(|| camera.for_rasterizing_rays());
         for item in &work {
+            if let Some(raster_camera) = &raster_camera {
+                // Per sample: the raster pass through its lens point, then its shading.
+                let visibility = self.gpu.visibility.as_ref().expect("prepared in resize");
+                for sample in item.sample_begin..item.sample_end {
+                    visibility.record_sample(cmd, scene, raster_camera, &traced_settings, sample);
+                    barrier(
+                        &ctx,
+                        cmd,
+                        vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+                        vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
+                        vk::PipelineStageFlags::COMPUTE_SHADER,
+                        vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                    );
+                    let push = TracePush {
+                        band_origin: 0,
+                        band_height: camera.height,
+                        block_first: item.block_first,
+                        block_stride: item.block_stride,
+                        block_count: item.block_count,
+                        sample_begin: sample,
+                        sample_end: sample + 1,
+                        mode: TRACE_MODE_RASTER,
+                    };
+                    self.gpu.trace.record_dispatch(cmd, push, camera.width);
+                }
+                continue;
+            }
             barrier(
                 &ctx,
                 cmd,

@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::Vec2;
+use glam::{UVec2, Vec2};
 use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier, Buffer};
@@ -19,6 +19,8 @@ use super::scene::SceneBuffers;
 use super::shader;
 use crate::camera::Camera;
 use crate::interface::VisibilityPush;
+use crate::render::RenderSettings;
+use crate::sampler::{pixel_camera_sample, shared_pixel_sampler};
 
 const TRIANGLE_FORMAT: vk::Format = vk::Format::R32_UINT;
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -238,6 +240,22 @@ impl VisibilityPass {
             height,
         )?);
         Ok(true)
+    }
+
+    /// Records the pass of camera sample `sample`, shared by every pixel: pixel (0, 0)'s
+    /// sample (`sampler::shared_pixel_sampler`), whose film position is the offset within the
+    /// pixel. See `record`.
+    pub fn record_sample(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneBuffers,
+        camera: &Camera,
+        settings: &RenderSettings,
+        sample: u32,
+    ) {
+        let shared = shared_pixel_sampler(settings.sampler, settings.seed, UVec2::ZERO);
+        let cs = pixel_camera_sample(&shared, sample);
+        self.record(cmd, scene, camera, cs.film, cs.lens);
     }
 
     /// Records the pass for one camera sample shared by every pixel (`film_u`, `lens_u`; the

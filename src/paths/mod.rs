@@ -346,15 +346,18 @@ pub struct PreviewChoice {
     /// The hybrid path: the trace dispatches follow a plan made on the device from each
     /// restart's G-buffer (docs/hybrid.md, "In the preview").
     pub hybrid: bool,
+    /// The raster path: per sample a raster pass through its lens point, then the shading
+    /// pass (docs/raster.md).
+    pub raster: bool,
 }
 
 /// The preview window always draws with Vulkan; the path only says who traces the samples.
 pub fn preview_options(options: &PathOptions) -> Result<PreviewChoice> {
-    if options.path == PathChoice::Raster {
-        bail!("--path raster: not in the preview yet (render and bench run it)");
-    }
     let cpu = match (options.device, options.path) {
-        (DeviceChoice::Cpu, PathChoice::RayQuery | PathChoice::Software | PathChoice::Hybrid) => {
+        (
+            DeviceChoice::Cpu,
+            PathChoice::RayQuery | PathChoice::Software | PathChoice::Hybrid | PathChoice::Raster,
+        ) => {
             bail!(
                 "--path {} runs on a Vulkan device: it cannot be used with --device cpu",
                 options.path
@@ -366,7 +369,8 @@ pub fn preview_options(options: &PathOptions) -> Result<PreviewChoice> {
         (DeviceChoice::Cpu, _) | (_, PathChoice::Cpu) => true,
         _ => false,
     };
-    // The hybrid traces with the device's fastest traversal (picked as `render` picks it).
+    // The hybrid and raster paths trace with the device's fastest traversal (picked as `render`
+    // picks it).
     let traversal = options.path.kind().and_then(traversal_of);
     Ok(PreviewChoice {
         gpu: GpuOptions {
@@ -375,5 +379,6 @@ pub fn preview_options(options: &PathOptions) -> Result<PreviewChoice> {
         },
         cpu,
         hybrid: options.path == PathChoice::Hybrid,
+        raster: options.path == PathChoice::Raster,
     })
 }

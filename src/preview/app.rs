@@ -236,6 +236,8 @@ impl App {
             };
             if self.config.viewer.hybrid {
                 format!("path hybrid (traces with {kind}: {why}; plan made on the device)")
+            } else if self.config.viewer.raster {
+                format!("path raster (shadow rays with {kind}: {why})")
             } else {
                 format!("path {kind} ({why})")
             }
