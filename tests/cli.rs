@@ -267,7 +267,9 @@ fn device_gpu_renders_and_autofocuses_with_validation() {
     assert!(err.contains("autofocus: pixel 40,14"), "{err}");
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("path rayquery (auto: ") || text.contains("path software (auto: "),
+        ["rayquery", "software", "hybrid", "raster"]
+            .iter()
+            .any(|path| text.contains(&format!("path {path} (auto: "))),
         "{text}"
     );
     let img = image::open(dir.path().join("g.exr")).expect("EXR written");

@@ -177,6 +177,53 @@ fn auto_says_what_it_chose_and_why() {
     path.close().expect("close");
 }
 
+/// `auto` weighs every GPU path: the raster path is left out, with the reason, where the shot's
+/// blur would show as ghost copies at its spp, and considered in a nearly pinhole shot at many
+/// samples; whatever it picks renders.
+#[test]
+fn auto_considers_the_hybrid_and_raster_paths() {
+    let test = "auto_considers_the_hybrid_and_raster_paths";
+    let (_, s) = shot();
+    let blurred = camera(
+        false,
+        LensParams::ThinLens {
+            aperture_radius: 0.5,
+            focus_distance: 5.0,
+        },
+        64,
+        48,
+    );
+    let Some(OpenedPath { path, why }) = open_path(test, PathChoice::Auto, (&blurred, &s)) else {
+        return;
+    };
+    println!("blurred, {} spp: {} ({why})", s.spp, path.kind());
+    path.close().expect("close");
+    assert!(
+        why.contains("raster left out: circles of confusion up to"),
+        "{why}"
+    );
+    let sharp = camera(
+        false,
+        LensParams::ThinLens {
+            aperture_radius: 0.001,
+            focus_distance: 5.0,
+        },
+        64,
+        48,
+    );
+    let many = settings(Shading::Unlit, 64);
+    let Some(OpenedPath { mut path, why }) = open_path(test, PathChoice::Auto, (&sharp, &many))
+    else {
+        return;
+    };
+    println!("nearly pinhole, 64 spp: {} ({why})", path.kind());
+    assert!(!why.contains("left out"), "{why}");
+    let small = RenderSettings { spp: 2, ..many };
+    let image = path.render(&sharp, &small, &mut |_, _| {}).expect("render");
+    assert_eq!(image.pixels.len(), 64 * 48);
+    path.close().expect("close: validation messages or leaks");
+}
+
 /// Choices that contradict each other are one-line errors, before any device opens.
 #[test]
 fn contradictory_choices_are_errors() {
@@ -215,8 +262,9 @@ fn contradictory_choices_are_errors() {
     }
 }
 
-/// A device without ray queries (hidden here) runs the software path: `auto` takes it as the
-/// only one, and asking for `rayquery` is a clear error.
+/// A device without ray queries (hidden here) runs the software traversal: `auto` takes it as
+/// the only one (for itself, the hybrid and the raster path), and asking for `rayquery` is a
+/// clear error.
 #[test]
 fn without_ray_queries_the_software_path_runs() {
     let test = "without_ray_queries_the_software_path_runs";
@@ -238,8 +286,11 @@ fn without_ray_queries_the_software_path_runs() {
                 _ => panic!("{test}: {e:#}"),
             },
         };
-    assert_eq!(path.kind(), PathKind::Software, "{why}");
-    assert_eq!(why, "auto: the only path this device supports");
+    assert_ne!(path.kind(), PathKind::RayQuery, "{why}");
+    assert!(
+        why.contains("software (the only path this device supports)"),
+        "{why}"
+    );
     let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
     assert!(image.pixels.iter().any(|p| p.max_element() > 0.0));
     path.close().expect("close: validation messages or leaks");

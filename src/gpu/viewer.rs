@@ -177,6 +177,18 @@ impl Viewer {
         })
     }
 
+    /// Draws samples as `path` does from now on: the hybrid or raster path, else the
+    /// renderer's traversal (`--path auto` picks after the window opened, before its first
+    /// frame).
+    pub fn use_path(&mut self, path: crate::render::path::PathKind) {
+        use crate::render::path::PathKind;
+        self.hybrid = path == PathKind::Hybrid;
+        self.raster = path == PathKind::Raster;
+        self.plan_spp = None;
+        // The passes' images are made again for the path (plan buffer, visibility targets).
+        self.recreate = true;
+    }
+
     pub fn device_name(&self) -> String {
         self.gpu.device_name()
     }

@@ -2,6 +2,7 @@
 //! `--path` which algorithm; `auto` measures the paths the device supports and takes the
 //! fastest.
 
+mod auto;
 mod cpu;
 mod gpu;
 pub mod hybrid;
@@ -11,6 +12,7 @@ use std::fmt;
 
 use anyhow::{bail, Context, Result};
 
+pub use auto::{pick_path, pick_traversal};
 pub use cpu::CpuPath;
 pub use gpu::GpuPath;
 pub use hybrid::HybridPath;
@@ -19,7 +21,7 @@ pub use raster::RasterPath;
 use crate::camera::Camera;
 use crate::gpu::{GpuOptions, GpuRenderer, Traversal};
 use crate::render::path::{PathKind, RenderPath};
-use crate::render::{Accumulation, RenderSettings, Shading};
+use crate::render::{Accumulation, RenderSettings};
 use crate::scene::Scene;
 
 /// Which device renders.
@@ -221,33 +223,13 @@ pub fn open(
             why: "asked for".into(),
         });
     }
-    let (kind, why) = pick_traversal(&mut renderer, shot)?;
-    Ok(OpenedPath {
-        path: Box::new(GpuPath::new(renderer, kind)?),
-        why,
-    })
-}
-
-/// `auto` on an open Vulkan device with a scene loaded: the only traversal it runs, or the
-/// fastest on a small render of `shot`. Sets it, and says which and why.
-pub fn pick_traversal(
-    renderer: &mut GpuRenderer,
-    shot: (&Camera, &RenderSettings),
-) -> Result<(PathKind, String)> {
-    let kinds: Vec<PathKind> = renderer.traversals().into_iter().map(kind_of).collect();
-    let (kind, why) = match kinds.as_slice() {
-        [] => bail!(
-            "the Vulkan device {} runs no lensray path",
-            renderer.device_name()
-        ),
-        [only] => (
-            *only,
-            "auto: the only path this device supports".to_string(),
-        ),
-        _ => fastest(renderer, &kinds, shot)?,
+    let (kind, why) = pick_path(&mut renderer, shot)?;
+    let path: Box<dyn RenderPath> = match kind {
+        PathKind::Hybrid => Box::new(HybridPath::new(renderer)?),
+        PathKind::Raster => Box::new(RasterPath::new(renderer)?),
+        _ => Box::new(GpuPath::new(renderer, kind)?),
     };
-    renderer.set_traversal(traversal_of(kind).expect("a GPU path"))?;
-    Ok((kind, why))
+    Ok(OpenedPath { path, why })
 }
 
 fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
@@ -257,59 +239,6 @@ fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
         path: Box::new(path),
         why: why.into(),
     })
-}
-
-/// Width of the calibration render of `auto` (its height keeps the shot's aspect).
-const CALIBRATION_WIDTH: u32 = 96;
-/// Samples per pixel of each timed calibration render.
-const CALIBRATION_SPP: u32 = 2;
-
-/// Times each path on a small render of the shot (lit, as the most work; after a warm-up that
-/// compiles the pipeline) and returns the fastest, with the measured ratio.
-fn fastest(
-    renderer: &mut GpuRenderer,
-    kinds: &[PathKind],
-    (camera, settings): (&Camera, &RenderSettings),
-) -> Result<(PathKind, String)> {
-    let height = ((u64::from(CALIBRATION_WIDTH) * u64::from(camera.height))
-        / u64::from(camera.width.max(1)))
-    .max(1) as u32;
-    let small = camera.with_resolution(CALIBRATION_WIDTH, height);
-    let lit = RenderSettings {
-        shading: if settings.shading.is_aov() {
-            Shading::Lit
-        } else {
-            settings.shading
-        },
-        spp: CALIBRATION_SPP,
-        ..*settings
-    };
-    let mut times = Vec::new();
-    for &kind in kinds {
-        renderer.set_traversal(traversal_of(kind).expect("a GPU path"))?;
-        let mut seconds = f64::INFINITY;
-        for round in 0..3 {
-            let before = renderer.timings();
-            let mut accumulation = Accumulation::new(small.width, small.height);
-            renderer.accumulate(&small, &lit, 0..lit.spp, &mut accumulation, &mut |_, _| {})?;
-            let after = renderer.timings();
-            // Round 0 compiles the pipeline (its first dispatch is timed apart).
-            if round > 0 {
-                seconds = seconds.min((after.trace_gpu_ms - before.trace_gpu_ms) * 1e-3);
-            }
-        }
-        times.push((kind, seconds));
-    }
-    times.sort_by(|a, b| a.1.total_cmp(&b.1));
-    let (best, best_s) = times[0];
-    let (next, next_s) = times[1];
-    let why = format!(
-        "auto: {best} traced a {}x{} calibration {:.2}x faster than {next}",
-        small.width,
-        small.height,
-        next_s / best_s.max(1e-12)
-    );
-    Ok((best, why))
 }
 
 /// The accumulation must match the camera, and only traced shadings add samples.

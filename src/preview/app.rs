@@ -31,6 +31,7 @@ use crate::camera::Camera;
 use crate::gpu::{FrameRequest, HostSamples, OverlayFrame, Viewer, ViewerOptions};
 use crate::output::PendingOutput;
 use crate::paths;
+use crate::render::path::PathKind;
 use crate::render::RenderSettings;
 use crate::scene::file::SceneDescription;
 
@@ -227,16 +228,25 @@ impl App {
                 .resolve(&self.config.description.scene)
                 .context("camera")?;
             let renderer = viewer.renderer_mut();
+            let shot = (&shot.camera, &shot.render);
+            let asked = self.config.viewer.hybrid || self.config.viewer.raster;
             let (kind, why) = if self.config.viewer.gpu.traversal.is_some() {
                 let traversal = renderer.traversal();
                 (traversal.to_string(), "asked for".to_string())
+            } else if asked {
+                let (kind, why) = paths::pick_traversal(renderer, shot)?;
+                (kind.to_string(), why)
             } else {
-                let (kind, why) = paths::pick_traversal(renderer, (&shot.camera, &shot.render))?;
+                // auto: any GPU path, the hybrid and raster paths included.
+                let (kind, why) = paths::pick_path(renderer, shot)?;
+                viewer.use_path(kind);
+                self.config.viewer.hybrid = kind == PathKind::Hybrid;
+                self.config.viewer.raster = kind == PathKind::Raster;
                 (kind.to_string(), why)
             };
-            if self.config.viewer.hybrid {
+            if asked && self.config.viewer.hybrid {
                 format!("path hybrid (traces with {kind}: {why}; plan made on the device)")
-            } else if self.config.viewer.raster {
+            } else if asked && self.config.viewer.raster {
                 format!("path raster (shadow rays with {kind}: {why})")
             } else {
                 format!("path {kind} ({why})")
