@@ -10,7 +10,7 @@
 // per pixel says how many samples to trace, or that the pixel takes a shortcut value, checked
 // by tracing a sample with probability 1 / HYBRID_CHECK_INVERSE (unbiased); TRACE_MODE_SHORTCUT
 // (lit) first shades the aperture-centre ray of each shortcut pixel into the plan.
-// The raster path (src/paths/raster.rs, docs/raster.md) runs it in TRACE_MODE_RASTER after each
+// The raster path (src/paths/gpu.rs, docs/raster.md) runs it in TRACE_MODE_RASTER after each
 // of its raster passes: one camera sample shared by all pixels, whose first hit the pass drew.
 #if defined(TRAVERSAL_RAY_QUERY)
 #extension GL_EXT_ray_query : require

@@ -73,7 +73,7 @@ shader_interface! {
         /// i < w are traced, later ones skipped) or HYBRID_SHORTCUT (the pixel takes the
         /// shortcut value, checked by tracing with probability 1 / HYBRID_CHECK_INVERSE).
         TRACE_BINDING_PLAN: u32 = 11;
-        /// trace.comp, raster path (src/paths/raster.rs, docs/raster.md): one uint per pixel of
+        /// trace.comp, raster path (src/paths/gpu.rs, docs/raster.md): one uint per pixel of
         /// the whole image, what the raster pass of the current sample sees there: the global
         /// triangle index + 1, or 0 (nothing).
         TRACE_BINDING_VISIBILITY: u32 = 12;

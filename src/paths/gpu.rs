@@ -1,5 +1,9 @@
-//! The GPU paths: the Vulkan renderer with one traversal (ray queries or lensray's BVH); the
-//! hybrid path (`super::hybrid`) wraps one.
+//! The GPU paths: the Vulkan renderer with one traversal (ray queries or lensray's BVH), or
+//! the raster path (accumulation-buffer depth of field, docs/raster.md: each camera sample
+//! shared by every pixel, rasterized through its lens point with
+//! `Camera::clip_from_world_through_lens`, then shaded, lit with shadow rays of the device's
+//! fastest traversal; with the same shared samples `rayquery` computes the same estimator);
+//! the hybrid path (`super::hybrid`) wraps one.
 
 use std::ops::Range;
 
@@ -63,8 +67,15 @@ impl RenderPath for GpuPath {
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<()> {
         super::check_accumulation(camera, settings, accumulation)?;
-        self.renderer
-            .accumulate(camera, settings, samples, accumulation, progress)?;
+        if self.kind == PathKind::Raster {
+            // Accumulation-buffer depth of field (docs/raster.md): every pixel shares each
+            // camera sample, rasterized through its lens point, then shaded.
+            self.renderer
+                .accumulate_rasterized(camera, settings, samples, accumulation, progress)?;
+        } else {
+            self.renderer
+                .accumulate(camera, settings, samples, accumulation, progress)?;
+        }
         self.note_memory();
         Ok(())
     }

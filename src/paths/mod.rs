@@ -6,7 +6,6 @@ mod auto;
 mod cpu;
 mod gpu;
 pub mod hybrid;
-mod raster;
 
 use std::fmt;
 
@@ -16,7 +15,6 @@ pub use auto::{pick_path, pick_traversal};
 pub use cpu::CpuPath;
 pub use gpu::GpuPath;
 pub use hybrid::HybridPath;
-pub use raster::RasterPath;
 
 use crate::camera::Camera;
 use crate::gpu::{GpuOptions, GpuRenderer, Traversal};
@@ -206,7 +204,7 @@ pub fn open(
         let path: Box<dyn RenderPath> = if options.path == PathChoice::Hybrid {
             Box::new(HybridPath::new(renderer)?)
         } else {
-            Box::new(RasterPath::new(renderer)?)
+            Box::new(GpuPath::new(renderer, PathKind::Raster)?)
         };
         return Ok(OpenedPath {
             path,
@@ -226,7 +224,7 @@ pub fn open(
     let (kind, why) = pick_path(&mut renderer, shot)?;
     let path: Box<dyn RenderPath> = match kind {
         PathKind::Hybrid => Box::new(HybridPath::new(renderer)?),
-        PathKind::Raster => Box::new(RasterPath::new(renderer)?),
+        PathKind::Raster => Box::new(GpuPath::new(renderer, PathKind::Raster)?),
         _ => Box::new(GpuPath::new(renderer, kind)?),
     };
     Ok(OpenedPath { path, why })
