@@ -70,8 +70,13 @@ impl RenderPath for GpuPath {
         if self.kind == PathKind::Raster {
             // Accumulation-buffer depth of field (docs/raster.md): every pixel shares each
             // camera sample, rasterized through its lens point, then shaded.
-            self.renderer
-                .accumulate_rasterized(camera, settings, samples, accumulation, progress)?;
+            self.renderer.accumulate_rasterized(
+                camera,
+                settings,
+                samples,
+                accumulation,
+                progress,
+            )?;
         } else {
             self.renderer
                 .accumulate(camera, settings, samples, accumulation, progress)?;
