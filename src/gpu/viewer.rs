@@ -360,16 +360,9 @@ impl Viewer {
         }
         accum.schedule.set_target(request.target_spp);
         let work = if request.view == VIEW_FINAL && request.host.is_none() {
-            accum.schedule.plan(
-                // The raster path draws whole samples: one raster pass serves every row.
-                if self.raster {
-                    self.samples_per_frame
-                        .max(u64::from(camera.width) * u64::from(camera.height))
-                } else {
-                    self.samples_per_frame
-                },
-                MAX_DISPATCHES_PER_FRAME,
-            )
+            accum
+                .schedule
+                .plan(self.samples_per_frame, MAX_DISPATCHES_PER_FRAME)
         } else {
             Vec::new()
         };
@@ -514,10 +507,21 @@ impl Viewer {
         let raster_camera = self.raster.then(|| camera.for_rasterizing_rays());
         for item in &work {
             if let Some(raster_camera) = &raster_camera {
-                // Per sample: the raster pass through its lens point, then its shading.
+                // Per sample: the raster pass through its lens point, then its shading. A sample
+                // split into groups of rows over several frames is rasterized with its first
+                // group (group 0); the later groups read that visibility (the queue keeps the
+                // frames in order, and nothing else writes it until the next sample).
                 let visibility = self.gpu.visibility.as_ref().expect("prepared in resize");
                 for sample in item.sample_begin..item.sample_end {
-                    visibility.record_sample(cmd, scene, raster_camera, &traced_settings, sample);
+                    if item.block_first == 0 {
+                        visibility.record_sample(
+                            cmd,
+                            scene,
+                            raster_camera,
+                            &traced_settings,
+                            sample,
+                        );
+                    }
                     barrier(
                         &ctx,
                         cmd,
