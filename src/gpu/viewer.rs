@@ -506,63 +506,51 @@ impl Viewer {
         };
         let raster_camera = self.raster.then(|| camera.for_rasterizing_rays());
         for item in &work {
-            if let Some(raster_camera) = &raster_camera {
-                // Per sample: the raster pass through its lens point, then its shading. A sample
-                // split into groups of rows over several frames is rasterized with its first
-                // group (group 0); the later groups read that visibility (the queue keeps the
-                // frames in order, and nothing else writes it until the next sample).
-                let visibility = self.gpu.visibility.as_ref().expect("prepared in resize");
-                for sample in item.sample_begin..item.sample_end {
-                    if item.block_first == 0 {
-                        visibility.record_sample(
-                            cmd,
-                            scene,
-                            raster_camera,
-                            &traced_settings,
-                            sample,
-                        );
-                    }
-                    barrier(
-                        &ctx,
-                        cmd,
-                        vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-                        vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
-                        vk::PipelineStageFlags::COMPUTE_SHADER,
-                        vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-                    );
-                    let push = TracePush {
-                        band_origin: 0,
-                        band_height: camera.height,
-                        block_first: item.block_first,
-                        block_stride: item.block_stride,
-                        block_count: item.block_count,
-                        sample_begin: sample,
-                        sample_end: sample + 1,
-                        mode: TRACE_MODE_RASTER,
-                    };
-                    self.gpu.trace.record_dispatch(cmd, push, camera.width);
-                }
-                continue;
-            }
-            barrier(
-                &ctx,
-                cmd,
-                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-            );
-            let push = TracePush {
-                band_origin: 0,
-                band_height: camera.height,
-                block_first: item.block_first,
-                block_stride: item.block_stride,
-                block_count: item.block_count,
-                sample_begin: item.sample_begin,
-                sample_end: item.sample_end,
-                mode,
+            // The raster path shades one sample per dispatch, after that sample's raster pass
+            // through its lens point. A sample split into groups of rows over several frames is
+            // rasterized with its first group (group 0); the later groups read that visibility
+            // (the queue keeps the frames in order, and nothing else writes it until the next
+            // sample).
+            let (dispatches, mode) = match raster_camera {
+                Some(_) => (
+                    (item.sample_begin..item.sample_end)
+                        .map(|s| (s, s + 1))
+                        .collect::<Vec<_>>(),
+                    TRACE_MODE_RASTER,
+                ),
+                None => (vec![(item.sample_begin, item.sample_end)], mode),
             };
-            self.gpu.trace.record_dispatch(cmd, push, camera.width);
+            for (sample_begin, sample_end) in dispatches {
+                if let (Some(raster_camera), 0) = (&raster_camera, item.block_first) {
+                    let visibility = self.gpu.visibility.as_ref().expect("prepared in resize");
+                    visibility.record_sample(
+                        cmd,
+                        scene,
+                        raster_camera,
+                        &traced_settings,
+                        sample_begin,
+                    );
+                }
+                barrier(
+                    &ctx,
+                    cmd,
+                    vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                );
+                let push = TracePush {
+                    band_origin: 0,
+                    band_height: camera.height,
+                    block_first: item.block_first,
+                    block_stride: item.block_stride,
+                    block_count: item.block_count,
+                    sample_begin,
+                    sample_end,
+                    mode,
+                };
+                self.gpu.trace.record_dispatch(cmd, push, camera.width);
+            }
         }
         slot.timestamps
             .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 3);
