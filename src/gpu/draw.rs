@@ -2,11 +2,119 @@
 //! record alike (render pass over the whole framebuffer, dynamic viewport and scissor, one
 //! non-indexed draw of 3 pulled vertices per triangle).
 
+use std::sync::Arc;
+
 use ash::vk;
 
 use super::device::Context;
+use super::error::{vk_err, GpuError};
 use super::pipeline::Pipeline;
 use super::scene::SceneBuffers;
+
+/// The depth buffer of every scene draw.
+pub(crate) const SCENE_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// The render pass of a scene draw: colour targets cleared, stored and left in
+/// TRANSFER_SRC_OPTIMAL (for readbacks, copies and compute reads), and a D32 depth buffer.
+pub(crate) struct SceneRenderPass {
+    ctx: Arc<Context>,
+    pub handle: vk::RenderPass,
+}
+
+impl SceneRenderPass {
+    /// Colour attachments of `color_formats` (locations 0, 1, ...), then the depth buffer.
+    pub fn new(ctx: &Arc<Context>, color_formats: &[vk::Format]) -> Result<Self, GpuError> {
+        let color = |format| {
+            vk::AttachmentDescription::default()
+                .format(format)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .initial_layout(vk::ImageLayout::UNDEFINED)
+                .final_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+        };
+        let depth = vk::AttachmentDescription::default()
+            .format(SCENE_DEPTH_FORMAT)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .initial_layout(vk::ImageLayout::UNDEFINED)
+            .final_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+        let attachments: Vec<_> = color_formats
+            .iter()
+            .map(|&format| color(format))
+            .chain(std::iter::once(depth))
+            .collect();
+        let color_refs: Vec<_> = (0..color_formats.len() as u32)
+            .map(|i| {
+                vk::AttachmentReference::default()
+                    .attachment(i)
+                    .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            })
+            .collect();
+        let depth_ref = vk::AttachmentReference::default()
+            .attachment(color_formats.len() as u32)
+            .layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+        let subpasses = [vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&color_refs)
+            .depth_stencil_attachment(&depth_ref)];
+        let attachment_stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+            | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
+        let attachment_writes = vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
+        let dependencies = [
+            // Earlier readbacks / passes of these images before this pass writes them.
+            vk::SubpassDependency::default()
+                .src_subpass(vk::SUBPASS_EXTERNAL)
+                .dst_subpass(0)
+                .src_stage_mask(
+                    attachment_stages
+                        | vk::PipelineStageFlags::TRANSFER
+                        | vk::PipelineStageFlags::COMPUTE_SHADER,
+                )
+                .src_access_mask(attachment_writes)
+                .dst_stage_mask(attachment_stages)
+                .dst_access_mask(
+                    attachment_writes | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
+                ),
+            // This pass's writes before readbacks and later shader reads.
+            vk::SubpassDependency::default()
+                .src_subpass(0)
+                .dst_subpass(vk::SUBPASS_EXTERNAL)
+                .src_stage_mask(attachment_stages)
+                .src_access_mask(attachment_writes)
+                .dst_stage_mask(
+                    vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+                )
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::SHADER_READ),
+        ];
+        let info = vk::RenderPassCreateInfo::default()
+            .attachments(&attachments)
+            .subpasses(&subpasses)
+            .dependencies(&dependencies);
+        // SAFETY: valid create-info on a live device.
+        let handle = unsafe { ctx.device.create_render_pass(&info, None) }
+            .map_err(vk_err("vkCreateRenderPass"))?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            handle,
+        })
+    }
+}
+
+impl Drop for SceneRenderPass {
+    fn drop(&mut self) {
+        // SAFETY: no pending submission uses it (pipelines and framebuffers only needed it at
+        // creation).
+        unsafe { self.ctx.device.destroy_render_pass(self.handle, None) };
+    }
+}
 
 /// A render pass instance and what it draws with.
 pub(crate) struct SceneDraw<'a> {

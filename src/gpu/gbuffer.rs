@@ -11,7 +11,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier_to_host, Buffer};
 use super::device::Context;
-use super::draw::{record_scene_draw, SceneDraw};
+use super::draw::{record_scene_draw, SceneDraw, SceneRenderPass, SCENE_DEPTH_FORMAT};
 use super::error::{vk_err, GpuError};
 use super::image::Image;
 use super::pipeline::{GraphicsDesc, Pipeline};
@@ -54,104 +54,6 @@ pub fn focus_distance_at(gbuffer: &GBuffer, x: u32, y: u32) -> Option<f32> {
 const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 const ALBEDO_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 const VIEW_DEPTH_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
-const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
-
-struct RenderPass {
-    ctx: Arc<Context>,
-    handle: vk::RenderPass,
-}
-
-impl RenderPass {
-    fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let color = |format| {
-            vk::AttachmentDescription::default()
-                .format(format)
-                .samples(vk::SampleCountFlags::TYPE_1)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
-                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
-                .initial_layout(vk::ImageLayout::UNDEFINED)
-                .final_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-        };
-        let attachments = [
-            color(NORMAL_FORMAT),
-            color(ALBEDO_FORMAT),
-            color(VIEW_DEPTH_FORMAT),
-            vk::AttachmentDescription::default()
-                .format(DEPTH_FORMAT)
-                .samples(vk::SampleCountFlags::TYPE_1)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::DONT_CARE)
-                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
-                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
-                .initial_layout(vk::ImageLayout::UNDEFINED)
-                .final_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
-        ];
-        let color_refs = [0, 1, 2].map(|i| {
-            vk::AttachmentReference::default()
-                .attachment(i)
-                .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-        });
-        let depth_ref = vk::AttachmentReference::default()
-            .attachment(3)
-            .layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-        let subpasses = [vk::SubpassDescription::default()
-            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-            .color_attachments(&color_refs)
-            .depth_stencil_attachment(&depth_ref)];
-        let attachment_stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-            | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
-        let attachment_writes = vk::AccessFlags::COLOR_ATTACHMENT_WRITE
-            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
-        let dependencies = [
-            // Earlier readbacks / passes of these images before this pass writes them.
-            vk::SubpassDependency::default()
-                .src_subpass(vk::SUBPASS_EXTERNAL)
-                .dst_subpass(0)
-                .src_stage_mask(
-                    attachment_stages
-                        | vk::PipelineStageFlags::TRANSFER
-                        | vk::PipelineStageFlags::COMPUTE_SHADER,
-                )
-                .src_access_mask(attachment_writes)
-                .dst_stage_mask(attachment_stages)
-                .dst_access_mask(
-                    attachment_writes | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
-                ),
-            // This pass's writes before readbacks and later shader reads.
-            vk::SubpassDependency::default()
-                .src_subpass(0)
-                .dst_subpass(vk::SUBPASS_EXTERNAL)
-                .src_stage_mask(attachment_stages)
-                .src_access_mask(attachment_writes)
-                .dst_stage_mask(
-                    vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-                )
-                .dst_access_mask(vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::SHADER_READ),
-        ];
-        let info = vk::RenderPassCreateInfo::default()
-            .attachments(&attachments)
-            .subpasses(&subpasses)
-            .dependencies(&dependencies);
-        // SAFETY: valid create-info on a live device.
-        let handle = unsafe { ctx.device.create_render_pass(&info, None) }
-            .map_err(vk_err("vkCreateRenderPass"))?;
-        Ok(Self {
-            ctx: ctx.clone(),
-            handle,
-        })
-    }
-}
-
-impl Drop for RenderPass {
-    fn drop(&mut self) {
-        // SAFETY: no pending submission uses it (pipelines and framebuffers only needed it at
-        // creation).
-        unsafe { self.ctx.device.destroy_render_pass(self.handle, None) };
-    }
-}
 
 /// The G-buffer images of one size and their framebuffer.
 pub(crate) struct GBufferTargets {
@@ -197,7 +99,7 @@ impl GBufferTargets {
             "G-buffer depth",
             width,
             height,
-            DEPTH_FORMAT,
+            SCENE_DEPTH_FORMAT,
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             vk::ImageAspectFlags::DEPTH,
         )?;
@@ -236,7 +138,7 @@ pub(crate) struct GBufferPass {
     ctx: Arc<Context>,
     pipeline: Pipeline,
     pub targets: Option<GBufferTargets>,
-    render_pass: RenderPass,
+    render_pass: SceneRenderPass,
     timestamps: QueryPool,
     /// GPU time of the last pass's draw (timestamps around the render pass), ms.
     pub last_gpu_ms: f64,
@@ -244,7 +146,8 @@ pub(crate) struct GBufferPass {
 
 impl GBufferPass {
     pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let render_pass = RenderPass::new(ctx)?;
+        let render_pass =
+            SceneRenderPass::new(ctx, &[NORMAL_FORMAT, ALBEDO_FORMAT, VIEW_DEPTH_FORMAT])?;
         let pipeline = Pipeline::graphics(
             ctx,
             &GraphicsDesc {

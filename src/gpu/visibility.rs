@@ -11,7 +11,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier, Buffer};
 use super::device::Context;
-use super::draw::{record_scene_draw, SceneDraw};
+use super::draw::{record_scene_draw, SceneDraw, SceneRenderPass, SCENE_DEPTH_FORMAT};
 use super::error::{vk_err, GpuError};
 use super::image::Image;
 use super::pipeline::{GraphicsDesc, Pipeline};
@@ -23,94 +23,6 @@ use crate::render::RenderSettings;
 use crate::sampler::{pixel_camera_sample, shared_pixel_sampler};
 
 const TRIANGLE_FORMAT: vk::Format = vk::Format::R32_UINT;
-const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
-
-/// One colour target (triangle + 1) and a depth buffer; the colour ends in
-/// TRANSFER_SRC_OPTIMAL for the copy into the buffer.
-struct RenderPass {
-    ctx: Arc<Context>,
-    handle: vk::RenderPass,
-}
-
-impl RenderPass {
-    fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let attachment = |format, store, final_layout| {
-            vk::AttachmentDescription::default()
-                .format(format)
-                .samples(vk::SampleCountFlags::TYPE_1)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(store)
-                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
-                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
-                .initial_layout(vk::ImageLayout::UNDEFINED)
-                .final_layout(final_layout)
-        };
-        let attachments = [
-            attachment(
-                TRIANGLE_FORMAT,
-                vk::AttachmentStoreOp::STORE,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            ),
-            attachment(
-                DEPTH_FORMAT,
-                vk::AttachmentStoreOp::DONT_CARE,
-                vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-            ),
-        ];
-        let color_ref = [vk::AttachmentReference::default()
-            .attachment(0)
-            .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
-        let depth_ref = vk::AttachmentReference::default()
-            .attachment(1)
-            .layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-        let subpasses = [vk::SubpassDescription::default()
-            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-            .color_attachments(&color_ref)
-            .depth_stencil_attachment(&depth_ref)];
-        let stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-            | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
-        let writes = vk::AccessFlags::COLOR_ATTACHMENT_WRITE
-            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
-        let dependencies = [
-            // The previous pass's attachment writes and its copy out before this pass.
-            vk::SubpassDependency::default()
-                .src_subpass(vk::SUBPASS_EXTERNAL)
-                .dst_subpass(0)
-                .src_stage_mask(stages | vk::PipelineStageFlags::TRANSFER)
-                .src_access_mask(writes)
-                .dst_stage_mask(stages)
-                .dst_access_mask(writes | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ),
-            // This pass's writes before the copy into the buffer.
-            vk::SubpassDependency::default()
-                .src_subpass(0)
-                .dst_subpass(vk::SUBPASS_EXTERNAL)
-                .src_stage_mask(stages)
-                .src_access_mask(writes)
-                .dst_stage_mask(vk::PipelineStageFlags::TRANSFER)
-                .dst_access_mask(vk::AccessFlags::TRANSFER_READ),
-        ];
-        let info = vk::RenderPassCreateInfo::default()
-            .attachments(&attachments)
-            .subpasses(&subpasses)
-            .dependencies(&dependencies);
-        // SAFETY: valid create-info on a live device.
-        let handle = unsafe { ctx.device.create_render_pass(&info, None) }
-            .map_err(vk_err("vkCreateRenderPass"))?;
-        Ok(Self {
-            ctx: ctx.clone(),
-            handle,
-        })
-    }
-}
-
-impl Drop for RenderPass {
-    fn drop(&mut self) {
-        // SAFETY: no pending submission uses it (pipelines and framebuffers only needed it at
-        // creation).
-        unsafe { self.ctx.device.destroy_render_pass(self.handle, None) };
-    }
-}
 
 /// The images of one size, their framebuffer, and the buffer the shading pass reads.
 pub(crate) struct VisibilityTargets {
@@ -146,7 +58,7 @@ impl VisibilityTargets {
             "raster visibility depth",
             width,
             height,
-            DEPTH_FORMAT,
+            SCENE_DEPTH_FORMAT,
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             vk::ImageAspectFlags::DEPTH,
         )?;
@@ -191,12 +103,12 @@ pub(crate) struct VisibilityPass {
     ctx: Arc<Context>,
     pipeline: Pipeline,
     pub targets: Option<VisibilityTargets>,
-    render_pass: RenderPass,
+    render_pass: SceneRenderPass,
 }
 
 impl VisibilityPass {
     pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let render_pass = RenderPass::new(ctx)?;
+        let render_pass = SceneRenderPass::new(ctx, &[TRIANGLE_FORMAT])?;
         let pipeline = Pipeline::graphics(
             ctx,
             &GraphicsDesc {
