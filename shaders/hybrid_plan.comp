@@ -3,6 +3,7 @@
 // reference `Plan::new` (src/paths/hybrid.rs, docs/hybrid.md), in four dispatches recorded in
 // one command buffer (HybridPlanPush.step), one invocation per tile, row, column or segment (no
 // barriers or shared memory: CPU drivers pay much for them):
+//   (lit: trace.comp's pre-pass first: each pixel's shortcut value and shadow state)
 //   TILES    per tile: each pixel's circle of confusion (0 where nothing is covered), the tile's
 //            maximum; each pixel's edge mark (it differs from its right or lower neighbour)
 //            into the summed-area table;
@@ -25,14 +26,17 @@ layout(set = 0, binding = HYBRID_PLAN_BINDING_ALBEDO, rgba32f) readonly uniform 
 layout(set = 0, binding = HYBRID_PLAN_BINDING_VIEW_DEPTH, r32f) readonly uniform image2D g_depth;
 layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_TILES) buffer Tiles { float tile_max[]; };
 layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_EDGES) buffer Edges { uint table[]; };
-layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_PLAN) writeonly buffer Plan { vec4 plan[]; };
+// Lit, the pre-pass (trace.comp's TRACE_MODE_SHORTCUT) left each pixel's shortcut value in xyz
+// and its shadow state in w; ENTRIES writes the entries over them (keeping xyz).
+layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_PLAN) buffer Plan { vec4 plan[]; };
 layout(push_constant) uniform PushBlock { HybridPlanPush pc; };
 
 const int REACH = int(HYBRID_MAX_REACH_TILES);
 const int SIDE = 2 * REACH + 1;
 
 // What the shading depends on differs between pixels a and b (unlit: coverage and albedo; lit:
-// also the normal and depth).
+// also the normal, the depth and whether the light is blocked, from the pre-pass: a shadow
+// boundary, which no G-buffer shows).
 bool differs(ivec2 a, ivec2 b) {
     vec4 na = imageLoad(g_normal, a);
     vec4 nb = imageLoad(g_normal, b);
@@ -48,7 +52,8 @@ bool differs(ivec2 a, ivec2 b) {
     float da = imageLoad(g_depth, a).x;
     float db = imageLoad(g_depth, b).x;
     precise float limit = 0.02 * max(abs(da), abs(db));
-    return d < 0.995 || abs(da - db) > limit;
+    bool shadow_edge = plan[a.y * int(pc.width) + a.x].w != plan[b.y * int(pc.width) + b.x].w;
+    return d < 0.995 || abs(da - db) > limit || shadow_edge;
 }
 
 uint stride() { return pc.width + 1u; }
@@ -191,10 +196,15 @@ void step_entries() {
     }
     for (uint x = x0; x < x1; ++x) {
         uint index = y * pc.width + x;
+        // Lit, every pixel keeps the pre-pass's value in xyz: the shortcut samples of its
+        // neighbours reproject onto it (trace.comp).
+        vec3 value = pc.shading == SHADING_LIT ? plan[index].xyz : vec3(0.0);
         if (traces) {
-            plan[index] = vec4(0.0, 0.0, 0.0, float(planned));
+            plan[index] = vec4(value, float(planned));
         } else {
-            vec3 value = pc.shading == SHADING_LIT ? vec3(0.0) : imageLoad(g_albedo, ivec2(x, y)).xyz;
+            if (pc.shading != SHADING_LIT) {
+                value = imageLoad(g_albedo, ivec2(x, y)).xyz;
+            }
             plan[index] = vec4(value, HYBRID_SHORTCUT);
         }
     }

@@ -10,8 +10,10 @@
 #define LENSRAY_SHADING_GLSL
 
 // The radiance leaving `hit` (the closest hit of `ray`) towards the ray's origin; `rays` counts
-// the shadow ray.
-vec3 shade_hit(Ray ray, Hit hit, inout uint rays) {
+// the shadow ray, `shadowed` says whether it was blocked (the hybrid's plan looks for shadow
+// boundaries).
+vec3 shade_hit_shadowed(Ray ray, Hit hit, inout uint rays, out bool shadowed) {
+    shadowed = false;
     uint tri = hit.triangle;
     Material mat = materials[triangle_material(tri)];
     if (params.shading == SHADING_UNLIT) {
@@ -45,11 +47,17 @@ vec3 shade_hit(Ray ray, Hit hit, inout uint rays) {
     if (c > 0.0) {
         bool blocked = occluded(o, l, dist);
         rays += 1u;
+        shadowed = blocked;
         if (!blocked) {
             radiance += mat.diffuse.xyz * (1.0 / PI) * params.light_intensity.xyz * c / (dist * dist);
         }
     }
     return radiance;
+}
+
+vec3 shade_hit(Ray ray, Hit hit, inout uint rays) {
+    bool shadowed;
+    return shade_hit_shadowed(ray, hit, rays, shadowed);
 }
 
 // The radiance along `ray`; `rays` counts the rays traced.

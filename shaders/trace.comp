@@ -9,7 +9,7 @@
 // The hybrid path (src/paths/hybrid.rs, docs/hybrid.md) runs it in TRACE_MODE_HYBRID: a plan
 // per pixel says how many samples to trace, or that the pixel takes a shortcut value, checked
 // by tracing a sample with probability 1 / HYBRID_CHECK_INVERSE (unbiased); TRACE_MODE_SHORTCUT
-// (lit) first shades the aperture-centre ray of each shortcut pixel into the plan.
+// (lit) first shades the aperture-centre ray of each pixel into the plan, before its steps.
 // The raster path (src/paths/gpu.rs, docs/raster.md) runs it in TRACE_MODE_RASTER after each
 // of its raster passes: one camera sample shared by all pixels, whose first hit the pass drew.
 #if defined(TRAVERSAL_RAY_QUERY)
@@ -32,6 +32,9 @@ layout(std430, set = 0, binding = TRACE_BINDING_PLAN) buffer Plan { vec4 plan[];
 layout(std430, set = 0, binding = TRACE_BINDING_VISIBILITY) readonly buffer Visibility {
     uint visibility[];
 };
+layout(std430, set = 0, binding = TRACE_BINDING_SURFACE_DEPTH) buffer SurfaceDepth {
+    float surface_depth[];
+};
 layout(push_constant) uniform PushBlock { TracePush pc; };
 
 // What the hit implementations return: the global triangle index (as `instance custom index +
@@ -49,13 +52,56 @@ struct Hit {
 #endif
 #include "shading.glsl"
 
-// Camera sample `s` of pixel (x, y): its own, or with shared samples those of pixel (0, 0)
-// offset to it (sampler.glsl, src/sampler).
-CameraSample pixel_sample(uint x, uint y, uint s) {
-    PixelSampler state = params.shared_samples != 0u
+// The camera samples of pixel (x, y): its own, or with shared samples those of pixel (0, 0)
+// offset to it (sampler.glsl, src/sampler). Made once per pixel, outside the sample loops.
+PixelSampler samples_of(uint x, uint y) {
+    return params.shared_samples != 0u
         ? shared_pixel_sampler(params.sampler_kind, params.seed, uvec2(x, y))
         : pixel_sampler(params.sampler_kind, params.seed, uvec2(x, y), params.width);
-    return pixel_camera_sample(state, s);
+}
+
+// The lit shortcut value of a camera sample of pixel (x, y): where the sample's lens ray meets
+// the plane at the pixel's surface depth, seen through the lens centre, the pre-pass's values
+// (plan xyz: each pixel's surface shaded along its aperture-centre ray) interpolated there. On
+// a diffuse surface with no edge or shadow boundary within the circle of confusion (the plan's
+// rule for a shortcut) this follows the traced sample closely, where the pixel's own value
+// alone misses the shading's change across the pixel and the aperture: the checks add
+// (traced - this) * HYBRID_CHECK_INVERSE, so the closer, the less noise. Unbiased either way.
+struct Reprojection {
+    float depth;  // camera-space depth of the pixel's surface; 0: none (the pixel's own value)
+    mat2 raster_from_screen;
+    vec2 screen_origin;
+};
+
+Reprojection reprojection(uint pixel_index) {
+    Reprojection r;
+    r.depth = surface_depth[pixel_index];
+    mat4 m = params.camera.screen_from_raster;
+    r.raster_from_screen = inverse(mat2(m[0].xy, m[1].xy));
+    r.screen_origin = m[3].xy;
+    return r;
+}
+
+vec3 reprojected_shortcut(Reprojection r, uint pixel_index, CameraSample cs) {
+    if (r.depth <= 0.0) {
+        return plan[pixel_index].xyz;
+    }
+    Ray c = lens_ray(params.camera, pinhole_ray_camera(params.camera, cs.film), cs.lens);
+    vec3 p = ray_at(c, (r.depth - c.origin.z) / c.direction.z);
+    vec2 screen = params.camera.projection == PROJECTION_PERSPECTIVE ? p.xy / p.z : p.xy;
+    // Bilinear between pixel centres, clamped to the image.
+    vec2 q = r.raster_from_screen * (screen - r.screen_origin) - 0.5;
+    vec2 base = floor(q);
+    vec2 f = q - base;
+    uint w = params.width;
+    ivec2 hi = ivec2(w, params.height) - 1;
+    ivec2 a = clamp(ivec2(base), ivec2(0), hi);
+    ivec2 b = clamp(ivec2(base) + 1, ivec2(0), hi);
+    vec3 v00 = plan[uint(a.y) * w + uint(a.x)].xyz;
+    vec3 v10 = plan[uint(a.y) * w + uint(b.x)].xyz;
+    vec3 v01 = plan[uint(b.y) * w + uint(a.x)].xyz;
+    vec3 v11 = plan[uint(b.y) * w + uint(b.x)].xyz;
+    return mix(mix(v00, v10, f.x), mix(v01, v11, f.x), f.y);
 }
 
 void main() {
@@ -71,16 +117,31 @@ void main() {
     uint pixel_index = y * params.width + x;
     uint rays = 0u;
     if (pc.mode == TRACE_MODE_SHORTCUT) {
-        // The shortcut value of a lit pixel: the G-buffer's surface (the aperture-centre ray
-        // at the pixel centre: concentric_sample_disk(0.5, 0.5) is the lens centre), shaded
-        // with one shadow ray.
-        if (plan[pixel_index].w == HYBRID_SHORTCUT) {
-            Ray ray = generate_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
-            plan[pixel_index].xyz = shade(ray, rays);
+        // The lit pre-pass of the hybrid's plan: the G-buffer's surface (the aperture-centre
+        // ray at the pixel centre: concentric_sample_disk(0.5, 0.5) is the lens centre), shaded
+        // with one shadow ray (the shortcut value), and whether that ray was blocked (the
+        // plan's edge test compares it between neighbours: a shadow boundary is an edge).
+        // Its camera-space depth goes to surface_depth, for the reprojection below.
+        vec2 centre = vec2(x, y) + 0.5;
+        Ray ray = generate_ray(params.camera, centre, vec2(0.5));
+        Hit hit;
+        bool found = closest_hit(ray.origin, ray.direction, T_MAX, hit);
+        rays += 1u;
+        bool shadowed = false;
+        vec3 value = params.background.xyz;
+        float depth = 0.0;
+        if (found) {
+            value = shade_hit_shadowed(ray, hit, rays, shadowed);
+            // The world ray is the camera-space ray under a rigid transform: same t.
+            Ray c = lens_ray(params.camera, pinhole_ray_camera(params.camera, centre), vec2(0.5));
+            depth = c.origin.z + hit.t * c.direction.z;
         }
+        plan[pixel_index] = vec4(value, shadowed ? 1.0 : 0.0);
+        surface_depth[pixel_index] = depth;
         atomicAdd(rays_traced, rays);
         return;
     }
+    PixelSampler sampler_state = samples_of(x, y);
     vec4 before = accum[slot];
     vec3 sum = before.xyz;
     uint added = 0u;
@@ -93,13 +154,21 @@ void main() {
             vec3 shortcut = entry.xyz;
             uint tile = (y / TRACE_GROUP_SIZE) * ((params.width + TRACE_GROUP_SIZE - 1u) / TRACE_GROUP_SIZE)
                       + x / TRACE_GROUP_SIZE;
+            // Lit, per sample: reprojected (above); unlit the albedo is the value of every
+            // lens ray of a uniform neighbourhood.
+            bool lit = params.shading == SHADING_LIT;
+            Reprojection r = reprojection(pixel_index);
             for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
-                vec3 value = shortcut;
                 uint key = sample_key(params.seed ^ HYBRID_CHECK_SALT, tile, s);
-                if (hash_u32(key) % HYBRID_CHECK_INVERSE == 0u) {
-                    CameraSample cs = pixel_sample(x, y, s);
+                bool check = hash_u32(key) % HYBRID_CHECK_INVERSE == 0u;
+                CameraSample cs;
+                if (lit || check) {
+                    cs = pixel_camera_sample(sampler_state, s);
+                }
+                vec3 value = lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut;
+                if (check) {
                     Ray ray = generate_ray(params.camera, cs.film, cs.lens);
-                    value += (shade(ray, rays) - shortcut) * float(HYBRID_CHECK_INVERSE);
+                    value += (shade(ray, rays) - value) * float(HYBRID_CHECK_INVERSE);
                 }
                 sum += value;
             }
@@ -108,7 +177,7 @@ void main() {
             // Samples i < entry.w are traced; the pixel's count stops there.
             uint end = min(pc.sample_end, uint(entry.w));
             for (uint s = pc.sample_begin; s < end; ++s) {
-                CameraSample cs = pixel_sample(x, y, s);
+                CameraSample cs = pixel_camera_sample(sampler_state, s);
                 Ray ray = generate_ray(params.camera, cs.film, cs.lens);
                 sum += shade(ray, rays);
             }
@@ -117,7 +186,7 @@ void main() {
     } else if (pc.mode == TRACE_MODE_RASTER) {
         // One sample, shared by every pixel: the raster pass drew what its lens ray sees first.
         uint s = pc.sample_begin;
-        CameraSample cs = pixel_sample(x, y, s);
+        CameraSample cs = pixel_camera_sample(sampler_state, s);
         Ray ray = generate_ray(params.camera, cs.film, cs.lens);
         uint seen = visibility[pixel_index];
         vec3 value = params.background.xyz;
@@ -129,7 +198,7 @@ void main() {
         added = 1u;
     } else {
         for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
-            CameraSample cs = pixel_sample(x, y, s);
+            CameraSample cs = pixel_camera_sample(sampler_state, s);
             Ray ray = generate_ray(params.camera, cs.film, cs.lens);
             sum += shade(ray, rays);
         }

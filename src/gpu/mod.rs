@@ -69,6 +69,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use crate::camera::Camera;
+use crate::interface::TraceParams;
 use crate::render::{Accumulation, Image, RenderSettings, Shading};
 use crate::scene::Scene;
 
@@ -392,15 +393,14 @@ impl GpuRenderer {
 
     /// The hybrid path's plan made on the device (shaders/hybrid_plan.comp) for later
     /// `accumulate` calls: one submission draws the G-buffer of `planning` (the camera whose
-    /// raster the plan reads, `Camera::for_rasterizing_rays`) and plans `spp` samples
-    /// of `shading` seen by `camera` from it. Nothing is read back; `read_plan` can.
+    /// raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
+    /// pixel's shortcut value and shadow state), and plans `settings.spp` samples seen by
+    /// `camera` from them. Nothing is read back; `read_plan` can.
     pub fn plan_on_device(
         &mut self,
         camera: &Camera,
         planning: &Camera,
-        background: Vec3,
-        shading: Shading,
-        spp: u32,
+        settings: &RenderSettings,
     ) -> Result<(), GpuError> {
         check_size(camera)?;
         if (planning.width, planning.height) != (camera.width, camera.height) {
@@ -416,10 +416,16 @@ impl GpuRenderer {
         self.hybrid_plan
             .bind(targets, self.trace.plan_buffer_ref())?;
         let ctx = &self.ctx;
-        let (gbuffer, plan) = (&self.gbuffer, &self.hybrid_plan);
+        let (gbuffer, plan, trace) = (&self.gbuffer, &self.hybrid_plan, &self.trace);
+        let lit = settings.shading == Shading::Lit;
         ctx.submit_and_wait(|cmd| {
-            gbuffer.record(cmd, scene, planning, background, None);
-            plan.record(cmd, targets, camera, shading, spp);
+            gbuffer.record(cmd, scene, planning, settings.background, None);
+            if lit {
+                trace.record_params(cmd, &TraceParams::new(camera, settings));
+                trace.record_clear_ray_counter(cmd);
+                trace.record_lit_prepass(cmd, camera.width, camera.height);
+            }
+            plan.record(cmd, targets, camera, settings.shading, settings.spp);
             buffer::barrier_to_host(
                 ctx,
                 cmd,
@@ -428,9 +434,38 @@ impl GpuRenderer {
             );
             Ok(())
         })?;
+        if lit {
+            self.timings.rays_traced += self.trace.rays_counted()?;
+        }
         self.timings.gbuffer_passes += 1;
         self.trace.use_device_plan(pixels);
         Ok(())
+    }
+
+    /// The hybrid's lit pre-pass alone (the host plan's input, `paths::hybrid::host_plan`): per
+    /// pixel the shortcut value (xyz) and whether its shadow ray was blocked (w, 1 or 0).
+    pub fn lit_prepass(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        check_size(camera)?;
+        self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        self.trace.ensure_plan_capacity(pixels)?;
+        let (ctx, trace) = (&self.ctx, &self.trace);
+        ctx.submit_and_wait(|cmd| {
+            trace.record_params(cmd, &TraceParams::new(camera, settings));
+            trace.record_lit_prepass(cmd, camera.width, camera.height);
+            buffer::barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            );
+            Ok(())
+        })?;
+        self.trace.read_plan(pixels)
     }
 
     /// The entries of the plan last made by `plan_on_device` (`pixels` of them).

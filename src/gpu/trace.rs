@@ -20,10 +20,11 @@ use super::traversal::Traversal;
 use crate::camera::Camera;
 use crate::interface::{
     TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_COUNTERS, TRACE_BINDING_PARAMS,
-    TRACE_BINDING_PLAN, TRACE_BINDING_TLAS, TRACE_BINDING_VISIBILITY, TRACE_GROUP_SIZE as GROUP,
-    TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER, TRACE_MODE_SHORTCUT,
+    TRACE_BINDING_PLAN, TRACE_BINDING_SURFACE_DEPTH, TRACE_BINDING_TLAS, TRACE_BINDING_VISIBILITY,
+    TRACE_GROUP_SIZE as GROUP, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER,
+    TRACE_MODE_SHORTCUT,
 };
-use crate::render::{Accumulation, RenderSettings, Shading};
+use crate::render::{Accumulation, RenderSettings};
 
 /// Pixel-samples of the first dispatches: ~0.03-0.1 s on lavapipe (2 cores, 80k triangles).
 const INITIAL_SAMPLES_PER_DISPATCH: u64 = 1 << 16;
@@ -131,10 +132,15 @@ pub(crate) struct TracePass {
     /// The hybrid path's plan (one vec4 per pixel, see TRACE_BINDING_PLAN); a placeholder of
     /// one entry while none is set (the binding must be valid in every mode).
     plan: Buffer,
+    /// Per pixel of the plan: the camera-space depth of the surface its aperture-centre ray
+    /// hits (0: none), from the lit pre-pass (TRACE_BINDING_SURFACE_DEPTH).
+    surface_depth: Buffer,
     /// Pixels of the plan set by `set_plan`; `None`: every sample of every pixel is traced.
     plan_pixels: Option<u64>,
     /// Placeholder of the raster path's visibility binding until `bind_visibility`.
     _visibility_placeholder: Buffer,
+    /// Placeholder of the accumulation binding until a render or the preview binds one.
+    _accum_placeholder: Buffer,
     timestamps: QueryPool,
     /// Accumulation and readback buffers of the current image size.
     accum: Option<DeviceSums>,
@@ -192,6 +198,7 @@ impl TracePass {
             );
         }
         let plan = Self::plan_buffer(ctx, 16)?;
+        let surface_depth = Self::surface_depth_buffer(ctx, 16)?;
         let visibility = Buffer::new(
             ctx,
             "raster visibility placeholder",
@@ -199,11 +206,30 @@ impl TracePass {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
+        // Until a render or the preview binds its own: the hybrid's lit pre-pass (which does
+        // not touch the sums) may run first, and every binding must be valid.
+        let accum_placeholder = Buffer::new(
+            ctx,
+            "trace accumulation placeholder",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
         for p in &pipelines {
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_ACCUM,
+                vk::DescriptorType::STORAGE_BUFFER,
+                &accum_placeholder,
+            );
             p.pipeline.bind_buffer(
                 TRACE_BINDING_PLAN,
                 vk::DescriptorType::STORAGE_BUFFER,
                 &plan,
+            );
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_SURFACE_DEPTH,
+                vk::DescriptorType::STORAGE_BUFFER,
+                &surface_depth,
             );
             p.pipeline.bind_buffer(
                 TRACE_BINDING_VISIBILITY,
@@ -219,8 +245,10 @@ impl TracePass {
             params,
             counters,
             plan,
+            surface_depth,
             plan_pixels: None,
             _visibility_placeholder: visibility,
+            _accum_placeholder: accum_placeholder,
             timestamps,
             accum: None,
             samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
@@ -254,21 +282,39 @@ impl TracePass {
         Ok(())
     }
 
-    /// Makes the plan buffer hold at least `pixels` entries (a new buffer, bound to every
-    /// pipeline, when it is smaller). No submission using it may be pending.
+    /// Makes the plan buffer hold at least `pixels` entries, and the surface depths as many (new
+    /// buffers, bound to every pipeline, when they are smaller). No submission using them may
+    /// be pending.
     pub fn ensure_plan_capacity(&mut self, pixels: u64) -> Result<(), GpuError> {
         let bytes = (pixels * 16).max(16);
         if self.plan.size < bytes {
             self.plan = Self::plan_buffer(&self.ctx, bytes)?;
+            self.surface_depth = Self::surface_depth_buffer(&self.ctx, bytes / 4)?;
             for p in &self.pipelines {
                 p.pipeline.bind_buffer(
                     TRACE_BINDING_PLAN,
                     vk::DescriptorType::STORAGE_BUFFER,
                     &self.plan,
                 );
+                p.pipeline.bind_buffer(
+                    TRACE_BINDING_SURFACE_DEPTH,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    &self.surface_depth,
+                );
             }
         }
         Ok(())
+    }
+
+    fn surface_depth_buffer(ctx: &Arc<Context>, bytes: u64) -> Result<Buffer, GpuError> {
+        // Written by the lit pre-pass, read by the hybrid's lit shortcut samples.
+        Buffer::new(
+            ctx,
+            "hybrid surface depth",
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )
     }
 
     /// Points the raster path's visibility binding at `buffer` (one uint per pixel, owned by
@@ -346,6 +392,11 @@ impl TracePass {
             ),
             (
                 TRACE_BINDING_VISIBILITY,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
+            (
+                TRACE_BINDING_SURFACE_DEPTH,
                 vk::DescriptorType::STORAGE_BUFFER,
                 compute,
             ),
@@ -456,6 +507,49 @@ impl TracePass {
         );
     }
 
+    /// Records the hybrid's lit pre-pass over a `width` x `height` image (TRACE_MODE_SHORTCUT:
+    /// each pixel's shortcut value and shadow state into the plan buffer, which must hold the
+    /// image), after the parameters of the camera and settings; the plan's steps follow it.
+    /// Ordered after earlier transfers and dispatches (parameter updates, clears).
+    pub fn record_lit_prepass(&self, cmd: vk::CommandBuffer, width: u32, height: u32) {
+        barrier(
+            &self.ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        let push = TracePush {
+            band_origin: 0,
+            band_height: height,
+            block_first: 0,
+            block_stride: 1,
+            block_count: height.div_ceil(GROUP),
+            sample_begin: 0,
+            sample_end: 0,
+            mode: TRACE_MODE_SHORTCUT,
+        };
+        self.record_dispatch(cmd, push, width);
+    }
+
+    /// The rays counted since the counter was last cleared (host-visible; the caller waited).
+    pub fn rays_counted(&self) -> Result<u64, GpuError> {
+        Ok(u64::from(
+            bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0],
+        ))
+    }
+
+    /// Records a clear of the ray counter.
+    pub fn record_clear_ray_counter(&self, cmd: vk::CommandBuffer) {
+        // SAFETY: recording state; the counters buffer has TRANSFER_DST usage.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_fill_buffer(cmd, self.counters.buffer, 0, vk::WHOLE_SIZE, 0)
+        };
+    }
+
     /// Records one dispatch of the blocks and samples `push` names, over an image `width`
     /// pixels wide (parameters and accumulation bound and ordered by the caller).
     pub fn record_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush, width: u32) {
@@ -560,21 +654,6 @@ impl TracePass {
         let mut band_origin = 0;
         while band_origin < height {
             let band_height = band_rows.min(height - band_origin);
-            if mode == TRACE_MODE_HYBRID && settings.shading == Shading::Lit {
-                // The shortcut values of the band's lit shortcut pixels, into the plan.
-                let push = TracePush {
-                    band_origin,
-                    band_height,
-                    block_first: 0,
-                    block_stride: 1,
-                    block_count: band_height.div_ceil(GROUP),
-                    sample_begin: 0,
-                    sample_end: 0,
-                    mode: TRACE_MODE_SHORTCUT,
-                };
-                self.dispatch(push, width, false, None, None)?;
-                self.record_timing(timings, None)?;
-            }
             if let Some(record_sample) = raster {
                 // One submission per sample: its raster pass, then the shading of the band.
                 for sample in first_sample..spp {
@@ -660,7 +739,7 @@ impl TracePass {
     fn record_timing(&mut self, timings: &mut Timings, work: Option<u64>) -> Result<(), GpuError> {
         let ticks = self.timestamps.results()?;
         let gpu_ms = self.ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6;
-        let rays = u64::from(bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0]);
+        let rays = self.rays_counted()?;
         if self.pipelines[self.current].first_dispatch_done {
             if let Some(work) = work.filter(|_| gpu_ms > 0.0) {
                 let rate = work as f64 / gpu_ms;
@@ -713,20 +792,19 @@ impl TracePass {
                 .src_offset(0)
                 .dst_offset(u64::from(push.band_origin) * u64::from(width) * 16)
                 .size(u64::from(push.band_height) * u64::from(width) * 16);
-            // SAFETY: recording state; the buffers have the TRANSFER usages used and the band's
-            // sums fit both (sizes computed in `accumulate`).
-            unsafe {
-                if load {
-                    let up = vk::BufferCopy::default()
-                        .src_offset(band.dst_offset)
-                        .dst_offset(0)
-                        .size(band.size);
+            if load {
+                let up = vk::BufferCopy::default()
+                    .src_offset(band.dst_offset)
+                    .dst_offset(0)
+                    .size(band.size);
+                // SAFETY: recording state; the buffers have the TRANSFER usages used and the
+                // band's sums fit both (sizes computed in `accumulate`).
+                unsafe {
                     ctx.device
-                        .cmd_copy_buffer(cmd, a.staging.buffer, a.accum.buffer, &[up]);
-                }
-                ctx.device
-                    .cmd_fill_buffer(cmd, self.counters.buffer, 0, vk::WHOLE_SIZE, 0);
+                        .cmd_copy_buffer(cmd, a.staging.buffer, a.accum.buffer, &[up])
+                };
             }
+            self.record_clear_ray_counter(cmd);
             barrier(
                 ctx,
                 cmd,

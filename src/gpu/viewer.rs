@@ -26,7 +26,7 @@ use super::{check_validation_log, GpuOptions, GpuRenderer, ValidationLog};
 use crate::camera::Camera;
 use crate::interface::{
     ResolvePush, TraceParams, TracePush, TRACE_GROUP_SIZE, TRACE_MODE_ALL, TRACE_MODE_HYBRID,
-    TRACE_MODE_RASTER, TRACE_MODE_SHORTCUT, VIEW_FINAL,
+    TRACE_MODE_RASTER, VIEW_FINAL,
 };
 use crate::render::progressive::ProgressiveSchedule;
 use crate::render::{Image, RenderSettings, Shading};
@@ -471,9 +471,14 @@ impl Viewer {
         let make_plan = self.hybrid && !work.is_empty() && self.plan_spp.is_none();
         if make_plan {
             // The plan of the current camera and settings, from the G-buffer drawn above,
-            // into the trace pass's plan buffer; lit: the shortcut values of the shortcut
-            // pixels too (one pre-pass over the image, with the parameters recorded above at
-            // the restart).
+            // into the trace pass's plan buffer; lit, after the pre-pass that leaves each
+            // pixel's shortcut value and shadow state there (with the parameters recorded
+            // above at the restart; the plan's steps order themselves after it).
+            if request.settings.shading == Shading::Lit {
+                self.gpu
+                    .trace
+                    .record_lit_prepass(cmd, camera.width, camera.height);
+            }
             self.gpu.hybrid_plan.record(
                 cmd,
                 targets,
@@ -481,19 +486,6 @@ impl Viewer {
                 request.settings.shading,
                 request.target_spp,
             );
-            if request.settings.shading == Shading::Lit {
-                let push = TracePush {
-                    band_origin: 0,
-                    band_height: camera.height,
-                    block_first: 0,
-                    block_stride: 1,
-                    block_count: camera.height.div_ceil(TRACE_GROUP_SIZE),
-                    sample_begin: 0,
-                    sample_end: 0,
-                    mode: TRACE_MODE_SHORTCUT,
-                };
-                self.gpu.trace.record_dispatch(cmd, push, camera.width);
-            }
             self.plan_spp = Some(request.target_spp);
         }
         slot.made_plan = make_plan;

@@ -77,9 +77,15 @@ shader_interface! {
         /// the whole image, what the raster pass of the current sample sees there: the global
         /// triangle index + 1, or 0 (nothing).
         TRACE_BINDING_VISIBILITY: u32 = 12;
+        /// trace.comp, hybrid path, lit: one float per pixel of the whole image, the
+        /// camera-space depth of the surface the pixel's aperture-centre ray hits (0: none),
+        /// written by the lit pre-pass; the lit shortcut samples reproject through it.
+        TRACE_BINDING_SURFACE_DEPTH: u32 = 13;
         /// `TracePush.mode`: trace every sample (rayquery, software); the hybrid's traced mode
-        /// (reads the plan); the hybrid's shortcut pre-pass (lit: shades the aperture-centre
-        /// ray at the pixel centre of every shortcut pixel into the plan's xyz).
+        /// (reads the plan); the hybrid's lit pre-pass, before the plan's steps: per pixel the
+        /// aperture-centre ray at the pixel centre, shaded, into the plan entry's xyz (the lit
+        /// shortcut value), and whether its shadow ray was blocked into w (1 or 0: the plan's
+        /// edge test sees shadow boundaries through it; its entries step overwrites w).
         TRACE_MODE_ALL: u32 = 0;
         TRACE_MODE_HYBRID: u32 = 1;
         TRACE_MODE_SHORTCUT: u32 = 2;

@@ -4,10 +4,13 @@
 //! dilated by each tile's maximum over the tiles it reaches), then the trace pass in its hybrid
 //! mode (shaders/trace.comp) with the device's fastest traversal:
 //! - no G-buffer edge within the pixel's dilated CoC (at least one pixel; so in particular a
-//!   dilated CoC under half a pixel with a uniform neighbourhood): the *shortcut*, the
-//!   G-buffer's value (unlit: its albedo; lit: the surface shaded with one shadow ray). Each
-//!   sample is traced too with probability 1 / HYBRID_CHECK_INVERSE (a hash of the 8x8 tile and
-//!   the sample) and adds (traced - shortcut) * HYBRID_CHECK_INVERSE: unbiased;
+//!   dilated CoC under half a pixel with a uniform neighbourhood; lit, a shadow boundary found
+//!   by the lit pre-pass counts as an edge): the *shortcut*. Unlit its value is the G-buffer's
+//!   albedo; lit, per sample, the pre-pass's image (each pixel's surface shaded along its
+//!   aperture-centre ray, with one shadow ray) interpolated where the sample's lens ray meets
+//!   the pixel's surface depth. Each sample is traced too with probability
+//!   1 / HYBRID_CHECK_INVERSE (a hash of the 8x8 tile and the sample) and adds
+//!   (traced - shortcut) * HYBRID_CHECK_INVERSE: unbiased;
 //! - otherwise samples `0..n` are traced, `n` growing with the dilated CoC up to spp (edges in
 //!   focus: spp); the pixel's count stops at `n`, so its value is the mean of `n` samples;
 //! - the 8 pixels of a tile row share one decision (they run in lockstep).
@@ -50,8 +53,8 @@ const MAX_REACH_TILES: i64 = HYBRID_MAX_REACH_TILES as i64;
 pub struct Plan {
     pub width: u32,
     pub height: u32,
-    /// xyz: the shortcut value (unlit; lit: filled on the device), w: samples to trace, or
-    /// HYBRID_SHORTCUT.
+    /// xyz: the shortcut value (unlit: the albedo; lit: the pre-pass's), w: samples to trace,
+    /// or HYBRID_SHORTCUT.
     pub entries: Vec<[f32; 4]>,
     /// Pixels that take the shortcut.
     pub shortcut_pixels: u64,
@@ -62,9 +65,10 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// The plan of `spp` samples of `shading` (`Unlit` or `Lit`) seen by `camera`, from its
-    /// G-buffer (of the camera's size).
-    pub fn new(camera: &Camera, gbuffer: &GBuffer, shading: Shading, spp: u32) -> Plan {
+    /// The plan of `spp` samples seen by `camera`, from its G-buffer (of the camera's size):
+    /// unlit for `lit == None`; lit with the lit pre-pass's output (`GpuRenderer::lit_prepass`:
+    /// per pixel the shortcut value and 1 where its shadow ray was blocked, else 0).
+    pub fn new(camera: &Camera, gbuffer: &GBuffer, lit: Option<&[[f32; 4]]>, spp: u32) -> Plan {
         let (w, h) = (gbuffer.width, gbuffer.height);
         let (tw, th) = (w.div_ceil(TILE), h.div_ceil(TILE));
         let index = |x: u32, y: u32| (y * w + x) as usize;
@@ -110,19 +114,20 @@ impl Plan {
         }
 
         // Edges of the G-buffer: a pixel differs from its right or lower neighbour in what the
-        // shading depends on (unlit: coverage and albedo; lit: also the normal and depth).
-        let lit = shading == Shading::Lit;
+        // shading depends on (unlit: coverage and albedo; lit: also the normal, the depth and
+        // whether the light is blocked: a shadow boundary, which no G-buffer shows).
         let differs = |a: usize, b: usize| {
             if gbuffer.coverage[a] != gbuffer.coverage[b] || gbuffer.albedo[a] != gbuffer.albedo[b]
             {
                 return true;
             }
-            if !lit || !gbuffer.coverage[a] {
+            let Some(prepass) = lit.filter(|_| gbuffer.coverage[a]) else {
                 return false;
-            }
+            };
             let (da, db) = (gbuffer.view_depth[a], gbuffer.view_depth[b]);
             gbuffer.normal[a].dot(gbuffer.normal[b]) < 0.995
                 || (da - db).abs() > 0.02 * da.abs().max(db.abs())
+                || prepass[a][3] != prepass[b][3]
         };
         // Summed-area table of the edge marks: "no edge within r pixels" in O(1).
         let stride = (w + 1) as usize;
@@ -189,15 +194,21 @@ impl Plan {
         let mut shortcut_pixels = 0u64;
         let mut planned = 0u64;
         for (i, n) in samples.into_iter().enumerate() {
+            // Lit, every pixel keeps the pre-pass's value: the shortcut samples of its
+            // neighbours reproject onto it (trace.comp).
+            let value = match lit {
+                Some(prepass) => Vec3::from_slice(&prepass[i][..3]),
+                None if n.is_none() => gbuffer.albedo[i],
+                None => Vec3::ZERO,
+            };
             entries.push(match n {
                 None => {
                     shortcut_pixels += 1;
-                    let value = if lit { Vec3::ZERO } else { gbuffer.albedo[i] };
                     [value.x, value.y, value.z, HYBRID_SHORTCUT]
                 }
                 Some(n) => {
                     planned += u64::from(n);
-                    [0.0, 0.0, 0.0, n as f32]
+                    [value.x, value.y, value.z, n as f32]
                 }
             });
         }
@@ -246,13 +257,7 @@ pub fn device_plan(
     camera: &Camera,
     settings: &RenderSettings,
 ) -> Result<Plan> {
-    renderer.plan_on_device(
-        camera,
-        &camera.for_rasterizing_rays(),
-        settings.background,
-        settings.shading,
-        settings.spp,
-    )?;
+    renderer.plan_on_device(camera, &camera.for_rasterizing_rays(), settings)?;
     let entries = renderer.read_plan(u64::from(camera.width) * u64::from(camera.height))?;
     Ok(Plan::from_entries(
         camera.width,
@@ -262,15 +267,24 @@ pub fn device_plan(
     ))
 }
 
-/// The reference plan of `settings` seen by `camera`: the G-buffer read back, `Plan::new` on
-/// the host.
+/// The reference plan of `settings` seen by `camera`: the G-buffer (and, lit, the lit
+/// pre-pass) read back, `Plan::new` on the host.
 pub fn host_plan(
     renderer: &mut GpuRenderer,
     camera: &Camera,
     settings: &RenderSettings,
 ) -> Result<Plan> {
     let gbuffer = renderer.render_gbuffer(&camera.for_rasterizing_rays(), settings.background)?;
-    Ok(Plan::new(camera, &gbuffer, settings.shading, settings.spp))
+    let prepass = match settings.shading {
+        Shading::Lit => Some(renderer.lit_prepass(camera, settings)?),
+        _ => None,
+    };
+    Ok(Plan::new(
+        camera,
+        &gbuffer,
+        prepass.as_deref(),
+        settings.spp,
+    ))
 }
 
 /// The hybrid path: a GPU path (any traversal; `paths::open` picks the device's fastest) whose
@@ -399,7 +413,7 @@ mod tests {
         }
         let near_coc = camera.coc_radius_pixels(1.0);
         assert!(near_coc > 9.0 && near_coc < 16.0, "{near_coc}");
-        let plan = Plan::new(&camera, &gbuffer, Shading::Unlit, 16);
+        let plan = Plan::new(&camera, &gbuffer, None, 16);
         let traced = |x: u32, y: u32| plan.entries[(y * w + x) as usize][3] != HYBRID_SHORTCUT;
         // The square's tile, its neighbours and the tiles within its CoC are traced...
         assert!(traced(0, 0) && traced(8, 0) && traced(0, 8) && traced(16, 16));
