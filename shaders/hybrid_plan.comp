@@ -169,8 +169,8 @@ void step_dilate() {
 }
 
 // One invocation per segment (HYBRID_SEGMENT == HYBRID_TILE: a tile row): per pixel the
-// shortcut or the samples to trace; where one pixel traces, all of the segment traces the
-// busiest pixel's count; the entries.
+// shortcut or the samples to trace (every one); where one pixel traces, all of the segment
+// traces; the entries.
 void step_entries() {
     uint g = gl_GlobalInvocationID.x;
     if (g >= pc.tiles_x * pc.height) {
@@ -181,15 +181,11 @@ void step_entries() {
     float coc = tile_max[pc.tiles_x * pc.tiles_y + (y / HYBRID_TILE) * pc.tiles_x + tx];
     // Beyond the width and height any radius crosses the frame: clamped before converting.
     uint radius = coc < HYBRID_SHORTCUT_COC ? 1u : uint(ceil(min(coc, 1e7))) + 1u;
-    uint spp = max(pc.spp, 1u);
-    int planned = int(spp);
-    if (coc >= HYBRID_SHORTCUT_COC && coc < HYBRID_FULL_SPP_COC) {
-        precise float n = ceil(float(spp) * coc / HYBRID_FULL_SPP_COC);
-        planned = int(clamp(uint(n), 1u, spp));
-    }
+    // A traced pixel traces every sample (as the host's plan).
+    uint planned = max(pc.spp, 1u);
     uint x0 = tx * HYBRID_TILE;
     uint x1 = min(x0 + HYBRID_TILE, pc.width);
-    // Every pixel of a segment has the same CoC, so the same count where it traces.
+    // Every pixel of a segment has the same CoC: one window radius.
     bool traces = false;
     for (uint x = x0; x < x1; ++x) {
         traces = traces || !no_edge_within(uvec2(x, y), radius);

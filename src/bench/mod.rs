@@ -77,6 +77,8 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
             shading: base_shot.render.shading,
             sampler: base_shot.render.sampler,
             seed: base_shot.render.seed,
+            aperture_radius: base_shot.camera.lens.aperture_radius,
+            focus_distance: base_shot.camera.lens.focus_distance,
             repeat: options.repeat,
             reference_spp: options.reference_spp,
         },
@@ -127,6 +129,14 @@ fn shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> Result
     settings.image.sampler = options.sampler.or(settings.image.sampler);
     settings.image.seed = options.seed.or(settings.image.seed);
     settings.render.shading = Some(options.shading);
+    if let Some(radius) = options.aperture_radius {
+        // As `render --aperture-radius`: the radius replaces a physical lens's.
+        settings.camera.aperture_radius = Some(radius);
+        settings.camera.focal_length_mm = None;
+        settings.camera.f_number = None;
+        settings.camera.sensor_height_mm = None;
+    }
+    settings.camera.focus_distance = options.focus_distance.or(settings.camera.focus_distance);
     resolve(&settings, &scene.description.scene)
         .with_context(|| format!("scene {}", scene.description.source))
 }

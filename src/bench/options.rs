@@ -77,6 +77,10 @@ pub struct BenchOptions {
     pub height: u32,
     pub spp: u32,
     pub shading: crate::render::Shading,
+    /// The scene's own when `None` (a radius replaces a lens given by focal length and
+    /// f-number, as on `render`).
+    pub aperture_radius: Option<f64>,
+    pub focus_distance: Option<f64>,
     /// The scene's own when `None`.
     pub sampler: Option<SamplerKind>,
     pub seed: Option<u32>,
@@ -108,6 +112,8 @@ impl Default for BenchOptions {
             height: crate::resolve::DEFAULT_HEIGHT,
             spp: crate::resolve::DEFAULT_SPP,
             shading: crate::render::Shading::Unlit,
+            aperture_radius: None,
+            focus_distance: None,
             sampler: None,
             seed: None,
             repeat: 5,

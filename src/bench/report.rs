@@ -44,6 +44,9 @@ pub struct SettingsInfo {
     pub shading: Shading,
     pub sampler: SamplerKind,
     pub seed: u32,
+    /// The lens of the shot (world units; radius 0: pinhole).
+    pub aperture_radius: f32,
+    pub focus_distance: f32,
     /// Timed runs per path and point, after one warm-up.
     pub repeat: usize,
     pub reference_spp: u32,

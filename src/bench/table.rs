@@ -12,13 +12,15 @@ pub fn render(report: &BenchReport) -> String {
     let s = &report.settings;
     let _ = writeln!(
         out,
-        "bench: {} ({} triangles), {}x{} px, {} spp, {:?} shading, {} sampler, seed {}, median of {} run(s) after a warm-up{}",
+        "bench: {} ({} triangles), {}x{} px, {} spp, {:?} shading, aperture radius {} focused at {}, {} sampler, seed {}, median of {} run(s) after a warm-up{}",
         report.scene.name,
         report.scene.triangles,
         s.width,
         s.height,
         s.spp,
         s.shading,
+        s.aperture_radius,
+        s.focus_distance,
         s.sampler.name(),
         s.seed,
         s.repeat,

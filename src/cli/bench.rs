@@ -49,6 +49,12 @@ pub struct BenchArgs {
     pub spp: u32,
     #[arg(long, value_enum, default_value_t = Shading::Unlit)]
     pub shading: Shading,
+    /// Lens aperture radius, world units (0 = pinhole) [default: the scene's].
+    #[arg(long, value_name = "R")]
+    pub aperture_radius: Option<f64>,
+    /// Distance to the plane in focus, world units [default: the scene's].
+    #[arg(long, value_name = "D")]
+    pub focus_distance: Option<f64>,
     /// How samples are drawn [default: the scene's, else sobol].
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerKind>,
@@ -104,6 +110,8 @@ impl BenchArgs {
             height: self.height,
             spp: self.spp,
             shading: self.shading,
+            aperture_radius: self.aperture_radius,
+            focus_distance: self.focus_distance,
             sampler: self.sampler,
             seed: self.seed,
             repeat: self.repeat,

@@ -109,9 +109,6 @@ shader_interface! {
         HYBRID_SEGMENT: u32 = 8;
         /// Dilated CoC radius (pixels) under which a pixel may take the shortcut.
         HYBRID_SHORTCUT_COC: f32 = 0.5;
-        /// Dilated CoC radius (pixels) from which a traced pixel traces every sample; between
-        /// HYBRID_SHORTCUT_COC and this, ceil(spp * coc / HYBRID_FULL_SPP_COC).
-        HYBRID_FULL_SPP_COC: f32 = 2.0;
         /// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
         HYBRID_MAX_REACH_TILES: u32 = 16;
         /// hybrid_plan.comp: invocations per workgroup (each plans a tile, a row, a column or

@@ -11,8 +11,10 @@
 //!   the pixel's surface depth. Each sample is traced too with probability
 //!   1 / HYBRID_CHECK_INVERSE (a hash of the 8x8 tile and the sample) and adds
 //!   (traced - shortcut) * HYBRID_CHECK_INVERSE: unbiased;
-//! - otherwise samples `0..n` are traced, `n` growing with the dilated CoC up to spp (edges in
-//!   focus: spp); the pixel's count stops at `n`, so its value is the mean of `n` samples;
+//! - otherwise every sample is traced. So the samples a pixel costs grow with its dilated CoC
+//!   through the window it must see uniform: from the shortcut's checks (spp / 16) to spp. (A
+//!   plan entry may stop a pixel's count at `n` < spp; fewer samples where the CoC is small
+//!   measured worse at equal error, docs/hybrid.md, so the plan does not);
 //! - the 8 pixels of a tile row share one decision (they run in lockstep).
 //!
 //! Whether a pixel traces sample `i` depends on the plan (camera, settings, scene) only, never on
@@ -28,8 +30,8 @@ use super::gpu::GpuPath;
 use crate::camera::Camera;
 use crate::gpu::{GBuffer, GpuRenderer};
 use crate::interface::{
-    HYBRID_CHECK_INVERSE, HYBRID_FULL_SPP_COC, HYBRID_MAX_REACH_TILES, HYBRID_SEGMENT,
-    HYBRID_SHORTCUT, HYBRID_SHORTCUT_COC, HYBRID_TILE,
+    HYBRID_CHECK_INVERSE, HYBRID_MAX_REACH_TILES, HYBRID_SEGMENT, HYBRID_SHORTCUT,
+    HYBRID_SHORTCUT_COC, HYBRID_TILE,
 };
 use crate::render::path::{PathKind, PathReport, RenderPath};
 use crate::render::{Accumulation, Image, RenderSettings, Shading};
@@ -39,10 +41,6 @@ use crate::scene::Scene;
 pub const TILE: u32 = HYBRID_TILE;
 /// Dilated CoC radius (pixels) under which a pixel may take the shortcut.
 pub const SHORTCUT_COC: f32 = HYBRID_SHORTCUT_COC;
-/// Dilated CoC radius (pixels) from which a pixel with G-buffer edges within its circle of
-/// confusion traces every sample; between SHORTCUT_COC and this, `ceil(spp * coc /
-/// FULL_SPP_COC)` samples.
-pub const FULL_SPP_COC: f32 = HYBRID_FULL_SPP_COC;
 /// Pixels of a row that a device runs in lockstep (lavapipe: 8 invocations, one row of an 8x8
 /// workgroup): they share one decision (shortcut, or the most samples of any of them).
 pub const SEGMENT: u32 = HYBRID_SEGMENT;
@@ -157,7 +155,9 @@ impl Plan {
         };
 
         let spp = spp.max(1);
-        // Per pixel: None for the shortcut, else the samples to trace.
+        // Per pixel: None for the shortcut, else the samples to trace: all of them. (Fewer
+        // where the circle of confusion is small, ceil(spp * coc / 2 px) below 2 px, lost more
+        // in error than it saved in time at every aperture measured: docs/hybrid.md.)
         let mut samples: Vec<Option<u32>> = Vec::with_capacity((w * h) as usize);
         for y in 0..h {
             for x in 0..w {
@@ -169,14 +169,7 @@ impl Plan {
                 } else {
                     coc.ceil() as u32 + 1
                 };
-                samples.push(if no_edge_within(x, y, radius) {
-                    None
-                } else if !(SHORTCUT_COC..FULL_SPP_COC).contains(&coc) {
-                    Some(spp)
-                } else {
-                    let n = (spp as f32 * coc / FULL_SPP_COC).ceil() as u32;
-                    Some(n.clamp(1, spp))
-                });
+                samples.push((!no_edge_within(x, y, radius)).then_some(spp));
             }
         }
         // SIMD coherence: a device runs neighbouring invocations in lockstep (lavapipe: the 8
@@ -420,10 +413,7 @@ mod tests {
         // ...the tiles beyond take the shortcut, with the G-buffer's albedo.
         assert!(!traced(40, 20) && !traced(63, 31));
         assert_eq!(plan.entries[(20 * w + 40) as usize][..3], [0.5; 3]);
-        assert_eq!(
-            plan.entries[0][3], 16.0,
-            "CoC over FULL_SPP_COC: every sample"
-        );
+        assert_eq!(plan.entries[0][3], 16.0, "traced: every sample");
         assert!(plan.shortcut_pixels > 0 && plan.expected_samples < plan.all_samples as f64);
     }
 }
