@@ -177,9 +177,9 @@ fn auto_says_what_it_chose_and_why() {
     path.close().expect("close");
 }
 
-/// `auto` weighs every GPU path: the raster path is left out, with the reason, where the shot's
-/// blur would show as ghost copies at its spp, and considered in a nearly pinhole shot at many
-/// samples; whatever it picks renders.
+/// `auto` weighs every GPU path: the hybrid always (lit too), the raster path left out, with the
+/// reason, where the shot's blur would show as ghost copies at its spp, and considered in a
+/// nearly pinhole shot at many samples; whatever it picks renders.
 #[test]
 fn auto_considers_the_hybrid_and_raster_paths() {
     let test = "auto_considers_the_hybrid_and_raster_paths";
@@ -200,6 +200,11 @@ fn auto_considers_the_hybrid_and_raster_paths() {
     path.close().expect("close");
     assert!(
         why.contains("raster left out: circles of confusion up to"),
+        "{why}"
+    );
+    // Lit too, the hybrid is timed against the traced path (its error at equal spp is theirs).
+    assert!(
+        !why.contains("hybrid left out") && why.contains("calibration"),
         "{why}"
     );
     let sharp = camera(

@@ -109,7 +109,7 @@ fn largest_coc_pixels(renderer: &mut GpuRenderer, camera: &Camera, small: &Camer
 }
 
 /// `auto` with every GPU path: the device's fastest traversal path (`pick_traversal`), the
-/// hybrid (unlit only) and the raster path, timed by the wall clock on the calibration shot (their plans
+/// hybrid and the raster path, timed by the wall clock on the calibration shot (their plans
 /// and raster passes included), the fastest kept. The raster path is left out where the shot's
 /// circles of confusion reach `sqrt(spp) / 2` pixels: there its samples, shared by every
 /// pixel, show as ghost copies instead of noise (docs/raster.md). Leaves the renderer on the
@@ -120,15 +120,9 @@ pub fn pick_path(
 ) -> Result<(PathKind, String)> {
     let (traced, traced_why) = pick_traversal(renderer, shot)?;
     let (small, lit) = calibration_shot(shot);
-    let mut candidates = vec![traced];
-    // Lit, the hybrid's plan cannot see shadow edges: its error at equal spp is ~2x the traced
-    // paths' on the default scene, so its speed at equal spp says nothing (docs/hybrid.md).
-    let hybrid_note = if lit.shading == Shading::Lit {
-        "; hybrid left out: lit, its plan misses shadow edges"
-    } else {
-        candidates.push(PathKind::Hybrid);
-        ""
-    };
+    // The hybrid's error at equal spp is the traced paths' (unlit and lit, docs/hybrid.md), so
+    // its time at equal spp is the measure.
+    let mut candidates = vec![traced, PathKind::Hybrid];
     let coc = largest_coc_pixels(renderer, shot.0, &small)?;
     let ghost_free = (shot.1.spp as f32).sqrt() / 2.0;
     let raster_note = if coc <= ghost_free {
@@ -141,15 +135,6 @@ pub fn pick_path(
             shot.1.spp
         )
     };
-    if let [only] = candidates[..] {
-        return Ok((
-            only,
-            format!(
-                "auto: {only}{hybrid_note}{raster_note}; traversal {only} ({})",
-                traced_why.trim_start_matches("auto: ")
-            ),
-        ));
-    }
     let mut times = Vec::new();
     for &kind in &candidates {
         let mut seconds = f64::INFINITY;
@@ -193,7 +178,7 @@ pub fn pick_path(
     let (next, next_s) = times[1];
     let traversal = traversal_of(traced).expect("a traversal path");
     let why = format!(
-        "auto: {best} rendered a {}x{} calibration {:.2}x faster than {next}{hybrid_note}{}; {} \
+        "auto: {best} rendered a {}x{} calibration {:.2}x faster than {next}{}; {} \
          {traversal} ({})",
         small.width,
         small.height,
