@@ -29,6 +29,9 @@ layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_EDGES) buffer Edges { uint
 // Lit, the pre-pass (trace.comp's TRACE_MODE_SHORTCUT) left each pixel's shortcut value in xyz
 // and its shadow state in w; ENTRIES writes the entries over them (keeping xyz).
 layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_PLAN) buffer Plan { vec4 plan[]; };
+layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_SURFACE_DEPTH) writeonly buffer SurfaceDepth {
+    float surface_depth[];
+};
 layout(push_constant) uniform PushBlock { HybridPlanPush pc; };
 
 const int REACH = int(HYBRID_MAX_REACH_TILES);
@@ -195,6 +198,9 @@ void step_entries() {
         // Lit, every pixel keeps the pre-pass's value in xyz: the shortcut samples of its
         // neighbours reproject onto it (trace.comp).
         vec3 value = pc.shading == SHADING_LIT ? plan[index].xyz : vec3(0.0);
+        // The surface's depth at the pixel centre, for the lit reprojection (trace.comp).
+        ivec2 q = ivec2(x, y);
+        surface_depth[index] = imageLoad(g_normal, q).w > 0.5 ? imageLoad(g_depth, q).x : 0.0;
         if (traces) {
             plan[index] = vec4(value, float(planned));
         } else {

@@ -32,7 +32,7 @@ layout(std430, set = 0, binding = TRACE_BINDING_PLAN) buffer Plan { vec4 plan[];
 layout(std430, set = 0, binding = TRACE_BINDING_VISIBILITY) readonly buffer Visibility {
     uint visibility[];
 };
-layout(std430, set = 0, binding = TRACE_BINDING_SURFACE_DEPTH) buffer SurfaceDepth {
+layout(std430, set = 0, binding = TRACE_BINDING_SURFACE_DEPTH) readonly buffer SurfaceDepth {
     float surface_depth[];
 };
 layout(push_constant) uniform PushBlock { TracePush pc; };
@@ -121,23 +121,16 @@ void main() {
         // ray at the pixel centre: concentric_sample_disk(0.5, 0.5) is the lens centre), shaded
         // with one shadow ray (the shortcut value), and whether that ray was blocked (the
         // plan's edge test compares it between neighbours: a shadow boundary is an edge).
-        // Its camera-space depth goes to surface_depth, for the reprojection below.
-        vec2 centre = vec2(x, y) + 0.5;
-        Ray ray = generate_ray(params.camera, centre, vec2(0.5));
+        Ray ray = generate_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
         Hit hit;
         bool found = closest_hit(ray.origin, ray.direction, T_MAX, hit);
         rays += 1u;
         bool shadowed = false;
         vec3 value = params.background.xyz;
-        float depth = 0.0;
         if (found) {
             value = shade_hit_shadowed(ray, hit, rays, shadowed);
-            // The world ray is the camera-space ray under a rigid transform: same t.
-            Ray c = lens_ray(params.camera, pinhole_ray_camera(params.camera, centre), vec2(0.5));
-            depth = c.origin.z + hit.t * c.direction.z;
         }
         plan[pixel_index] = vec4(value, shadowed ? 1.0 : 0.0);
-        surface_depth[pixel_index] = depth;
         atomicAdd(rays_traced, rays);
         return;
     }

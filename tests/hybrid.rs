@@ -110,8 +110,9 @@ fn converges(test: &str, shading: Shading) {
         full_mean.mean.abs() <= 4.0 * full_mean.standard_error,
         "{shading:?}: {full_choice}'s image mean is off by {full_mean:?}"
     );
+    // Where it traces it traces the same samples; its shortcut pixels add almost nothing.
     assert!(
-        hybrid_rmse <= 2.0 * full_rmse,
+        hybrid_rmse <= 1.1 * full_rmse,
         "{shading:?}: hybrid RMSE {hybrid_rmse:.3e} against {full_choice}'s {full_rmse:.3e}"
     );
 }
@@ -223,7 +224,7 @@ fn the_device_plan_equals_the_host_plan() {
 
 /// Lit, the shortcut follows the shading: on the built-in default scene (curved spheres, shadows
 /// over the floor, strong blur) the hybrid's error against a converged reference is that of a
-/// path tracing every sample (measured 1.03x here). Before the plan saw shadow boundaries and
+/// path tracing every sample (measured 1.000x here). Before the plan saw shadow boundaries and
 /// the shortcut samples were reprojected onto the pre-pass's image it was 1.33x here, 2.2x at
 /// 640x480 (docs/hybrid.md).
 #[test]
@@ -306,7 +307,7 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
         "the hybrid's image mean is off by {hybrid_mean:?}: biased"
     );
     assert!(
-        hybrid_rmse <= 1.12 * full_rmse,
+        hybrid_rmse <= 1.05 * full_rmse,
         "lit hybrid RMSE {hybrid_rmse:.3e} against {full_rmse:.3e} tracing every sample"
     );
 }

@@ -18,10 +18,11 @@ use super::shader;
 use crate::camera::Camera;
 use crate::interface::{
     HybridPlanPush, HYBRID_PLAN_BINDING_ALBEDO, HYBRID_PLAN_BINDING_EDGES,
-    HYBRID_PLAN_BINDING_NORMAL, HYBRID_PLAN_BINDING_PLAN, HYBRID_PLAN_BINDING_TILES,
-    HYBRID_PLAN_BINDING_VIEW_DEPTH, HYBRID_PLAN_GROUP_SIZE, HYBRID_PLAN_STEP_COLUMNS,
-    HYBRID_PLAN_STEP_DILATE, HYBRID_PLAN_STEP_ENTRIES, HYBRID_PLAN_STEP_ROWS,
-    HYBRID_PLAN_STEP_TILES, HYBRID_SEGMENT, HYBRID_TILE, SHADING_LIT, SHADING_UNLIT,
+    HYBRID_PLAN_BINDING_NORMAL, HYBRID_PLAN_BINDING_PLAN, HYBRID_PLAN_BINDING_SURFACE_DEPTH,
+    HYBRID_PLAN_BINDING_TILES, HYBRID_PLAN_BINDING_VIEW_DEPTH, HYBRID_PLAN_GROUP_SIZE,
+    HYBRID_PLAN_STEP_COLUMNS, HYBRID_PLAN_STEP_DILATE, HYBRID_PLAN_STEP_ENTRIES,
+    HYBRID_PLAN_STEP_ROWS, HYBRID_PLAN_STEP_TILES, HYBRID_SEGMENT, HYBRID_TILE, SHADING_LIT,
+    SHADING_UNLIT,
 };
 use crate::render::Shading;
 
@@ -58,6 +59,7 @@ impl HybridPlanPass {
             (HYBRID_PLAN_BINDING_TILES, storage, compute),
             (HYBRID_PLAN_BINDING_EDGES, storage, compute),
             (HYBRID_PLAN_BINDING_PLAN, storage, compute),
+            (HYBRID_PLAN_BINDING_SURFACE_DEPTH, storage, compute),
         ];
         let pipeline = Pipeline::compute(
             ctx,
@@ -72,10 +74,15 @@ impl HybridPlanPass {
         })
     }
 
-    /// Binds the G-buffer `targets` and the trace pass's `plan` buffer (at least one entry per
-    /// pixel), with scratch buffers of the targets' size. No submission using the pass may be
-    /// pending (descriptor updates).
-    pub fn bind(&mut self, targets: &GBufferTargets, plan: &Buffer) -> Result<(), GpuError> {
+    /// Binds the G-buffer `targets` and the trace pass's `plan` and `surface_depth` buffers (at
+    /// least one entry per pixel), with scratch buffers of the targets' size. No submission
+    /// using the pass may be pending (descriptor updates).
+    pub fn bind(
+        &mut self,
+        targets: &GBufferTargets,
+        plan: &Buffer,
+        surface_depth: &Buffer,
+    ) -> Result<(), GpuError> {
         let (width, height) = (targets.width, targets.height);
         if plan.size < u64::from(width) * u64::from(height) * 16 {
             return Err(GpuError::Invalid(format!(
@@ -120,6 +127,7 @@ impl HybridPlanPass {
         p.bind_buffer(HYBRID_PLAN_BINDING_TILES, storage, &scratch.tiles);
         p.bind_buffer(HYBRID_PLAN_BINDING_EDGES, storage, &scratch.edges);
         p.bind_buffer(HYBRID_PLAN_BINDING_PLAN, storage, plan);
+        p.bind_buffer(HYBRID_PLAN_BINDING_SURFACE_DEPTH, storage, surface_depth);
         Ok(())
     }
 

@@ -413,8 +413,11 @@ impl GpuRenderer {
         self.gbuffer.ensure_targets(camera.width, camera.height)?;
         self.trace.ensure_plan_capacity(pixels)?;
         let targets = self.gbuffer.targets.as_ref().expect("ensured above");
-        self.hybrid_plan
-            .bind(targets, self.trace.plan_buffer_ref())?;
+        self.hybrid_plan.bind(
+            targets,
+            self.trace.plan_buffer_ref(),
+            self.trace.surface_depth_ref(),
+        )?;
         let ctx = &self.ctx;
         let (gbuffer, plan, trace) = (&self.gbuffer, &self.hybrid_plan, &self.trace);
         let lit = settings.shading == Shading::Lit;

@@ -132,8 +132,8 @@ pub(crate) struct TracePass {
     /// The hybrid path's plan (one vec4 per pixel, see TRACE_BINDING_PLAN); a placeholder of
     /// one entry while none is set (the binding must be valid in every mode).
     plan: Buffer,
-    /// Per pixel of the plan: the camera-space depth of the surface its aperture-centre ray
-    /// hits (0: none), from the lit pre-pass (TRACE_BINDING_SURFACE_DEPTH).
+    /// Per pixel of the plan: the camera-space depth of the surface the G-buffer sees (0:
+    /// none), from the device plan (TRACE_BINDING_SURFACE_DEPTH).
     surface_depth: Buffer,
     /// Pixels of the plan set by `set_plan`; `None`: every sample of every pixel is traced.
     plan_pixels: Option<u64>,
@@ -307,7 +307,7 @@ impl TracePass {
     }
 
     fn surface_depth_buffer(ctx: &Arc<Context>, bytes: u64) -> Result<Buffer, GpuError> {
-        // Written by the lit pre-pass, read by the hybrid's lit shortcut samples.
+        // Written by the device plan, read by the hybrid's lit shortcut samples.
         Buffer::new(
             ctx,
             "hybrid surface depth",
@@ -332,6 +332,11 @@ impl TracePass {
     /// The plan buffer (for the device plan pass to write).
     pub fn plan_buffer_ref(&self) -> &Buffer {
         &self.plan
+    }
+
+    /// The surface depths (for the device plan pass to write).
+    pub fn surface_depth_ref(&self) -> &Buffer {
+        &self.surface_depth
     }
 
     /// Later `accumulate` calls follow the plan of `pixels` entries that the device plan pass

@@ -288,9 +288,11 @@ impl Viewer {
             self.gpu
                 .trace
                 .ensure_plan_capacity(u64::from(width) * u64::from(height))?;
-            self.gpu
-                .hybrid_plan
-                .bind(targets, self.gpu.trace.plan_buffer_ref())?;
+            self.gpu.hybrid_plan.bind(
+                targets,
+                self.gpu.trace.plan_buffer_ref(),
+                self.gpu.trace.surface_depth_ref(),
+            )?;
             // A new size restarts the accumulation: the plan is made again.
             self.plan_spp = None;
         }

@@ -78,8 +78,8 @@ shader_interface! {
         /// triangle index + 1, or 0 (nothing).
         TRACE_BINDING_VISIBILITY: u32 = 12;
         /// trace.comp, hybrid path, lit: one float per pixel of the whole image, the
-        /// camera-space depth of the surface the pixel's aperture-centre ray hits (0: none),
-        /// written by the lit pre-pass; the lit shortcut samples reproject through it.
+        /// camera-space depth of the surface the G-buffer sees at the pixel centre (0: none),
+        /// written by the plan; the lit shortcut samples reproject through it.
         TRACE_BINDING_SURFACE_DEPTH: u32 = 13;
         /// `TracePush.mode`: trace every sample (rayquery, software); the hybrid's traced mode
         /// (reads the plan); the hybrid's lit pre-pass, before the plan's steps: per pixel the
@@ -133,6 +133,8 @@ shader_interface! {
         HYBRID_PLAN_BINDING_TILES: u32 = 3;
         HYBRID_PLAN_BINDING_EDGES: u32 = 4;
         HYBRID_PLAN_BINDING_PLAN: u32 = 5;
+        /// The trace pass's TRACE_BINDING_SURFACE_DEPTH, written by the entries step.
+        HYBRID_PLAN_BINDING_SURFACE_DEPTH: u32 = 6;
         /// Entries of the software traversal's stack of nodes still to visit; the BVH build
         /// refuses deeper trees (src/gpu/bvh.rs).
         BVH_STACK_SIZE: u32 = 64;
