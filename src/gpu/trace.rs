@@ -185,57 +185,34 @@ impl TracePass {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
+        let plan = Self::plan_buffer(ctx, 16)?;
+        let surface_depth = Self::surface_depth_buffer(ctx, 16)?;
+        let placeholder = |name| {
+            Buffer::new(
+                ctx,
+                name,
+                16,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        let visibility = placeholder("raster visibility placeholder")?;
+        // Until a render or the preview binds its own: the hybrid's lit pre-pass (which does
+        // not touch the sums) may run first, and every binding must be valid.
+        let accum_placeholder = placeholder("trace accumulation placeholder")?;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
         for p in &pipelines {
-            p.pipeline.bind_buffer(
+            let pipeline = &p.pipeline;
+            pipeline.bind_buffer(
                 TRACE_BINDING_PARAMS,
                 vk::DescriptorType::UNIFORM_BUFFER,
                 &params,
             );
-            p.pipeline.bind_buffer(
-                TRACE_BINDING_COUNTERS,
-                vk::DescriptorType::STORAGE_BUFFER,
-                &counters,
-            );
-        }
-        let plan = Self::plan_buffer(ctx, 16)?;
-        let surface_depth = Self::surface_depth_buffer(ctx, 16)?;
-        let visibility = Buffer::new(
-            ctx,
-            "raster visibility placeholder",
-            16,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuOnly,
-        )?;
-        // Until a render or the preview binds its own: the hybrid's lit pre-pass (which does
-        // not touch the sums) may run first, and every binding must be valid.
-        let accum_placeholder = Buffer::new(
-            ctx,
-            "trace accumulation placeholder",
-            16,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuOnly,
-        )?;
-        for p in &pipelines {
-            p.pipeline.bind_buffer(
-                TRACE_BINDING_ACCUM,
-                vk::DescriptorType::STORAGE_BUFFER,
-                &accum_placeholder,
-            );
-            p.pipeline.bind_buffer(
-                TRACE_BINDING_PLAN,
-                vk::DescriptorType::STORAGE_BUFFER,
-                &plan,
-            );
-            p.pipeline.bind_buffer(
-                TRACE_BINDING_SURFACE_DEPTH,
-                vk::DescriptorType::STORAGE_BUFFER,
-                &surface_depth,
-            );
-            p.pipeline.bind_buffer(
-                TRACE_BINDING_VISIBILITY,
-                vk::DescriptorType::STORAGE_BUFFER,
-                &visibility,
-            );
+            pipeline.bind_buffer(TRACE_BINDING_COUNTERS, storage, &counters);
+            pipeline.bind_buffer(TRACE_BINDING_ACCUM, storage, &accum_placeholder);
+            pipeline.bind_buffer(TRACE_BINDING_PLAN, storage, &plan);
+            pipeline.bind_buffer(TRACE_BINDING_SURFACE_DEPTH, storage, &surface_depth);
+            pipeline.bind_buffer(TRACE_BINDING_VISIBILITY, storage, &visibility);
         }
         let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
         Ok(Self {
