@@ -116,6 +116,45 @@ impl Drop for SceneRenderPass {
     }
 }
 
+/// A framebuffer of a scene render pass over `views`, which its owner keeps alive longer
+/// (declared after it, so dropped after it).
+pub(crate) struct SceneFramebuffer {
+    ctx: Arc<Context>,
+    pub handle: vk::Framebuffer,
+}
+
+impl SceneFramebuffer {
+    pub fn new(
+        ctx: &Arc<Context>,
+        render_pass: vk::RenderPass,
+        views: &[vk::ImageView],
+        width: u32,
+        height: u32,
+    ) -> Result<Self, GpuError> {
+        let info = vk::FramebufferCreateInfo::default()
+            .render_pass(render_pass)
+            .attachments(views)
+            .width(width)
+            .height(height)
+            .layers(1);
+        // SAFETY: the views match the render pass's attachments and outlive the framebuffer
+        // (the owner declares them after it).
+        let handle = unsafe { ctx.device.create_framebuffer(&info, None) }
+            .map_err(vk_err("vkCreateFramebuffer"))?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            handle,
+        })
+    }
+}
+
+impl Drop for SceneFramebuffer {
+    fn drop(&mut self) {
+        // SAFETY: no pending submission uses it; its views are dropped after it.
+        unsafe { self.ctx.device.destroy_framebuffer(self.handle, None) };
+    }
+}
+
 /// A render pass instance and what it draws with.
 pub(crate) struct SceneDraw<'a> {
     pub render_pass: vk::RenderPass,

@@ -11,8 +11,10 @@ use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier_to_host, Buffer};
 use super::device::Context;
-use super::draw::{record_scene_draw, SceneDraw, SceneRenderPass, SCENE_DEPTH_FORMAT};
-use super::error::{vk_err, GpuError};
+use super::draw::{
+    record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
+};
+use super::error::GpuError;
 use super::image::Image;
 use super::pipeline::{GraphicsDesc, Pipeline};
 use super::query::QueryPool;
@@ -57,8 +59,8 @@ const VIEW_DEPTH_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 
 /// The G-buffer images of one size and their framebuffer.
 pub(crate) struct GBufferTargets {
-    ctx: Arc<Context>,
-    framebuffer: vk::Framebuffer,
+    /// First: dropped before the images whose views it uses.
+    framebuffer: SceneFramebuffer,
     pub normal: Image,
     pub albedo: Image,
     pub view_depth: Image,
@@ -103,19 +105,14 @@ impl GBufferTargets {
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             vk::ImageAspectFlags::DEPTH,
         )?;
-        let views = [normal.view, albedo.view, view_depth.view, depth.view];
-        let info = vk::FramebufferCreateInfo::default()
-            .render_pass(render_pass)
-            .attachments(&views)
-            .width(width)
-            .height(height)
-            .layers(1);
-        // SAFETY: the views match the render pass's attachments and live as long as the
-        // framebuffer (same struct, destroyed after it).
-        let framebuffer = unsafe { ctx.device.create_framebuffer(&info, None) }
-            .map_err(vk_err("vkCreateFramebuffer"))?;
+        let framebuffer = SceneFramebuffer::new(
+            ctx,
+            render_pass,
+            &[normal.view, albedo.view, view_depth.view, depth.view],
+            width,
+            height,
+        )?;
         Ok(Self {
-            ctx: ctx.clone(),
             framebuffer,
             normal,
             albedo,
@@ -124,13 +121,6 @@ impl GBufferTargets {
             width,
             height,
         })
-    }
-}
-
-impl Drop for GBufferTargets {
-    fn drop(&mut self) {
-        // SAFETY: no pending submission; destroyed before its image views (fields drop later).
-        unsafe { self.ctx.device.destroy_framebuffer(self.framebuffer, None) };
     }
 }
 
@@ -236,7 +226,7 @@ impl GBufferPass {
             scene,
             &SceneDraw {
                 render_pass: self.render_pass.handle,
-                framebuffer: targets.framebuffer,
+                framebuffer: targets.framebuffer.handle,
                 width,
                 height,
                 clear: &clear,

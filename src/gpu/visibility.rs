@@ -11,8 +11,10 @@ use gpu_allocator::MemoryLocation;
 
 use super::buffer::{barrier, Buffer};
 use super::device::Context;
-use super::draw::{record_scene_draw, SceneDraw, SceneRenderPass, SCENE_DEPTH_FORMAT};
-use super::error::{vk_err, GpuError};
+use super::draw::{
+    record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
+};
+use super::error::GpuError;
 use super::image::Image;
 use super::pipeline::{GraphicsDesc, Pipeline};
 use super::scene::SceneBuffers;
@@ -26,8 +28,8 @@ const TRIANGLE_FORMAT: vk::Format = vk::Format::R32_UINT;
 
 /// The images of one size, their framebuffer, and the buffer the shading pass reads.
 pub(crate) struct VisibilityTargets {
-    ctx: Arc<Context>,
-    framebuffer: vk::Framebuffer,
+    /// First: dropped before the images whose views it uses.
+    framebuffer: SceneFramebuffer,
     triangle: Image,
     #[allow(dead_code)] // owned here: the framebuffer uses its view
     depth: Image,
@@ -69,19 +71,14 @@ impl VisibilityTargets {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        let views = [triangle.view, depth.view];
-        let info = vk::FramebufferCreateInfo::default()
-            .render_pass(render_pass)
-            .attachments(&views)
-            .width(width)
-            .height(height)
-            .layers(1);
-        // SAFETY: the views match the render pass's attachments and live as long as the
-        // framebuffer (same struct, destroyed after it).
-        let framebuffer = unsafe { ctx.device.create_framebuffer(&info, None) }
-            .map_err(vk_err("vkCreateFramebuffer"))?;
+        let framebuffer = SceneFramebuffer::new(
+            ctx,
+            render_pass,
+            &[triangle.view, depth.view],
+            width,
+            height,
+        )?;
         Ok(Self {
-            ctx: ctx.clone(),
             framebuffer,
             triangle,
             depth,
@@ -89,13 +86,6 @@ impl VisibilityTargets {
             width,
             height,
         })
-    }
-}
-
-impl Drop for VisibilityTargets {
-    fn drop(&mut self) {
-        // SAFETY: no pending submission; destroyed before its image views (fields drop later).
-        unsafe { self.ctx.device.destroy_framebuffer(self.framebuffer, None) };
     }
 }
 
@@ -208,7 +198,7 @@ impl VisibilityPass {
             scene,
             &SceneDraw {
                 render_pass: self.render_pass.handle,
-                framebuffer: targets.framebuffer,
+                framebuffer: targets.framebuffer.handle,
                 width,
                 height,
                 clear: &clear,
