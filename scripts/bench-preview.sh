@@ -9,17 +9,7 @@
 # Extra arguments go to every `lensray preview` (e.g. --scene assets/cornell/cornell.toml).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-source scripts/setup.sh >/dev/null
-cargo build --release --quiet
-bin=$(realpath "${CARGO_TARGET_DIR:-target}")/release/lensray
-work=$(mktemp -d)
-xvfb=""
-cleanup() { [ -n "$xvfb" ] && kill "$xvfb" 2>/dev/null; rm -rf "$work"; }
-trap cleanup EXIT
-Xvfb -displayfd 3 -screen 0 1920x1080x24 -nolisten tcp 3>"$work/display" 2>/dev/null &
-xvfb=$!
-for _ in $(seq 100); do [ -s "$work/display" ] && break; sleep 0.1; done
-export DISPLAY=":$(head -1 "$work/display")"
+source scripts/preview-bench-env.sh
 size=(--width 1280 --height 720)
 run() { "$bin" preview "${size[@]}" "$@"; }
 
