@@ -424,9 +424,7 @@ impl GpuRenderer {
         ctx.submit_and_wait(|cmd| {
             gbuffer.record(cmd, scene, planning, settings.background, None);
             if lit {
-                trace.record_params(cmd, &TraceParams::new(camera, settings));
-                trace.record_clear_ray_counter(cmd);
-                trace.record_lit_prepass(cmd, camera.width, camera.height);
+                record_lit_prepass(trace, cmd, camera, settings);
             }
             plan.record(cmd, targets, camera, settings.shading, settings.spp);
             buffer::barrier_to_host(
@@ -458,8 +456,7 @@ impl GpuRenderer {
         self.trace.ensure_plan_capacity(pixels)?;
         let (ctx, trace) = (&self.ctx, &self.trace);
         ctx.submit_and_wait(|cmd| {
-            trace.record_params(cmd, &TraceParams::new(camera, settings));
-            trace.record_lit_prepass(cmd, camera.width, camera.height);
+            record_lit_prepass(trace, cmd, camera, settings);
             buffer::barrier_to_host(
                 ctx,
                 cmd,
@@ -582,6 +579,19 @@ fn check_samples(camera: &Camera, settings: &RenderSettings) -> Result<(), GpuEr
         )));
     }
     Ok(())
+}
+
+/// The hybrid's lit pre-pass with the parameters of `camera` and `settings`, its rays counted
+/// from zero (the render path's plan and the host plan's input record it alike).
+fn record_lit_prepass(
+    trace: &TracePass,
+    cmd: vk::CommandBuffer,
+    camera: &Camera,
+    settings: &RenderSettings,
+) {
+    trace.record_params(cmd, &TraceParams::new(camera, settings));
+    trace.record_clear_ray_counter(cmd);
+    trace.record_lit_prepass(cmd, camera.width, camera.height);
 }
 
 fn check_size(camera: &Camera) -> Result<(), GpuError> {
