@@ -1,7 +1,7 @@
 #version 460
 // G-buffer pass, fragment stage: shading normal facing the viewer, albedo, linear view depth.
 
-#include "interface.glsl"
+#include "raster_surface.glsl"
 
 layout(push_constant) uniform PushBlock { RasterPush pc; };
 
@@ -15,13 +15,7 @@ layout(location = 1) out vec4 out_albedo;
 layout(location = 2) out float out_depth;
 
 void main() {
-    // The viewing direction: along the axis (orthographic) or from the eye (perspective).
-    vec3 d = pc.forward.w > 0.5 ? pc.forward.xyz : in_world - pc.eye.xyz;
-    vec3 ns = normalize(in_normal);
-    if (dot(ns, d) > 0.0) {
-        ns = -ns;
-    }
-    out_normal = vec4(ns, 1.0);
+    out_normal = vec4(viewer_facing_normal(pc, in_normal, in_world), 1.0);
     out_albedo = vec4(in_albedo, 1.0);
     out_depth = in_view_depth;
 }

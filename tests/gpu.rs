@@ -11,6 +11,7 @@ use glam::{UVec2, Vec2, Vec3};
 use gpu_support::*;
 use lensray::camera::{Camera, LensParams};
 use lensray::gpu::{focus_distance_at, GpuError, GpuOptions, GpuRenderer, ProbeQuery};
+use lensray::interface::{VIEW_ALBEDO, VIEW_COC, VIEW_DEPTH, VIEW_NORMAL};
 use lensray::reference::Renderer as CpuRenderer;
 use lensray::render::{Image, Shading};
 use lensray::sampler::owen::{owen_scramble_reversed, shuffle_index};
@@ -572,6 +573,60 @@ fn gpu_aovs_match_cpu_aovs() {
                 diff.max_abs,
                 write_comparison(&g, &c, &name)
             );
+        }
+    }
+    finish(gpu, log);
+}
+
+/// The preview draws its non-final views with the view pass, straight into the window image,
+/// and the final view's frames with the G-buffer and the resolve: both routes must show the
+/// same bytes, background included.
+#[test]
+fn preview_views_by_both_routes_are_equal() {
+    let Some((mut gpu, log)) = renderer("preview_views_by_both_routes_are_equal") else {
+        return;
+    };
+    gpu.load_scene(&test_scene()).expect("load scene");
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.1,
+        focus_distance: 5.0,
+    };
+    for orthographic in [false, true] {
+        let cam = camera(orthographic, lens, 96, 64);
+        for view in [VIEW_ALBEDO, VIEW_NORMAL, VIEW_DEPTH, VIEW_COC] {
+            let routes = gpu
+                .probe_view_routes(&cam, BACKGROUND, view)
+                .expect("both routes");
+            let differ: Vec<i32> = routes
+                .resolved
+                .iter()
+                .zip(&routes.drawn)
+                .map(|(a, b)| {
+                    (0..4)
+                        .map(|c| (a[c] as i32 - b[c] as i32).abs())
+                        .max()
+                        .unwrap()
+                })
+                .filter(|&d| d > 0)
+                .collect();
+            if !differ.is_empty() {
+                let name = format!("view{view}-ortho{orthographic}");
+                for (pixels, route) in [(&routes.resolved, "resolved"), (&routes.drawn, "drawn")] {
+                    let bytes = pixels.iter().flatten().copied().collect();
+                    image::RgbaImage::from_raw(cam.width, cam.height, bytes)
+                        .expect("4 bytes per pixel")
+                        .save(output_dir().join(format!("{name}-{route}.png")))
+                        .expect("write PNG");
+                }
+                panic!(
+                    "view {view} (ortho {orthographic}): {} of {} pixels differ between the \
+                     resolve and the view pass, by up to {}/255; wrote {name}-*.png under {}",
+                    differ.len(),
+                    routes.drawn.len(),
+                    differ.iter().max().unwrap(),
+                    output_dir().display()
+                );
+            }
         }
     }
     finish(gpu, log);

@@ -272,8 +272,9 @@ fn click_focuses_on_the_surface_under_the_cursor() {
     }
 }
 
-/// Resizing to 1x1, minimising, back and forth: no crash, no validation message, and the
-/// window still converges at its last size.
+/// Resizing to 1x1, minimising, back and forth, partly in views the view pass draws (albedo,
+/// circle of confusion) and with a click there (a G-buffer frame among them): no crash, no
+/// validation message, and the window still converges at its last size.
 #[test]
 fn a_resize_storm_passes_without_validation_messages() {
     let dir = tempfile::tempdir().unwrap();
@@ -281,10 +282,14 @@ fn a_resize_storm_passes_without_validation_messages() {
 0.1 resize 1x1
 0.1 resize 0x0
 0.1 resize 320x200
+0 key 2
 0 resize 64x64
 0.05 resize 7x300
+0.05 click 3 150
+0 key 5
 0.1 resize 0x0
 0.1 resize 200x150
+0.05 key 1
 0 wait converged
 0 quit
 ";

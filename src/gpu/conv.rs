@@ -7,8 +7,8 @@ use glam::Mat4;
 
 use crate::camera::{Camera, Projection};
 use crate::interface::{
-    GpuCamera, GpuMaterial, RasterPush, TraceParams, PROJECTION_ORTHOGRAPHIC,
-    PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
+    GpuCamera, GpuMaterial, RasterPush, ResolvePush, TraceParams, ViewParams,
+    PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
 };
 use crate::render::{RenderSettings, Shading};
 use crate::scene::Scene;
@@ -119,7 +119,7 @@ impl FlatScene {
     }
 }
 
-/// `Camera.projection` / `ResolvePush.projection` of the shaders.
+/// `Camera.projection` / `ViewParams.projection` of the shaders.
 pub(crate) fn projection_code(camera: &Camera) -> u32 {
     match camera.projection {
         Projection::Perspective { .. } => PROJECTION_PERSPECTIVE,
@@ -159,6 +159,38 @@ impl TraceParams {
             shared_samples: u32::from(settings.shared_samples),
             pad1: 0,
             pad2: 0,
+        }
+    }
+}
+
+/// The circle of confusion shown as white in the preview's CoC view, pixels.
+pub(crate) const COC_DISPLAY_MAX: f32 = 16.0;
+
+impl ViewParams {
+    /// View `view` (VIEW_*) of `camera`.
+    pub fn new(camera: &Camera, view: u32) -> Self {
+        Self {
+            view,
+            projection: projection_code(camera),
+            aperture_radius: camera.lens.aperture_radius,
+            focus_distance: camera.lens.focus_distance,
+            near_z: camera.near,
+            far_z: camera.far,
+            pixels_per_screen_unit: camera.pixels_per_screen_unit(),
+            coc_display_max: COC_DISPLAY_MAX,
+        }
+    }
+}
+
+impl ResolvePush {
+    /// View `view` (VIEW_*) of `camera`, over the camera's image.
+    pub fn new(camera: &Camera, view: u32) -> Self {
+        Self {
+            width: camera.width,
+            height: camera.height,
+            pad0: 0,
+            pad1: 0,
+            shown: ViewParams::new(camera, view),
         }
     }
 }

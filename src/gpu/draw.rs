@@ -14,8 +14,9 @@ use super::scene::SceneBuffers;
 /// The depth buffer of every scene draw.
 pub(crate) const SCENE_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// The render pass of a scene draw: colour targets cleared, stored and left in
-/// TRANSFER_SRC_OPTIMAL (for readbacks, copies and compute reads), and a D32 depth buffer.
+/// The render pass of a scene draw: colour targets cleared, stored and left in a transfer
+/// layout (TRANSFER_SRC_OPTIMAL for readbacks, copies and compute reads; TRANSFER_DST_OPTIMAL
+/// for the window image the panel's pass takes over), and a D32 depth buffer.
 pub(crate) struct SceneRenderPass {
     ctx: Arc<Context>,
     pub handle: vk::RenderPass,
@@ -24,6 +25,15 @@ pub(crate) struct SceneRenderPass {
 impl SceneRenderPass {
     /// Colour attachments of `color_formats` (locations 0, 1, ...), then the depth buffer.
     pub fn new(ctx: &Arc<Context>, color_formats: &[vk::Format]) -> Result<Self, GpuError> {
+        Self::with_final_layout(ctx, color_formats, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+    }
+
+    /// [`Self::new`] with the colour targets left in `final_layout`.
+    pub fn with_final_layout(
+        ctx: &Arc<Context>,
+        color_formats: &[vk::Format],
+        final_layout: vk::ImageLayout,
+    ) -> Result<Self, GpuError> {
         let color = |format| {
             vk::AttachmentDescription::default()
                 .format(format)
@@ -33,7 +43,7 @@ impl SceneRenderPass {
                 .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
                 .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
                 .initial_layout(vk::ImageLayout::UNDEFINED)
-                .final_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                .final_layout(final_layout)
         };
         let depth = vk::AttachmentDescription::default()
             .format(SCENE_DEPTH_FORMAT)
@@ -92,7 +102,11 @@ impl SceneRenderPass {
                 .dst_stage_mask(
                     vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
                 )
-                .dst_access_mask(vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::SHADER_READ),
+                .dst_access_mask(
+                    vk::AccessFlags::TRANSFER_READ
+                        | vk::AccessFlags::TRANSFER_WRITE
+                        | vk::AccessFlags::SHADER_READ,
+                ),
         ];
         let info = vk::RenderPassCreateInfo::default()
             .attachments(&attachments)

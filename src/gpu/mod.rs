@@ -61,6 +61,8 @@ mod surface;
 mod swapchain;
 mod trace;
 mod traversal;
+mod view_pass;
+mod view_probe;
 mod viewer;
 mod visibility;
 
@@ -84,6 +86,7 @@ pub use overlay::OverlayFrame;
 pub use probe::{ProbeQuery, ProbeResult};
 pub use trace::Timings;
 pub use traversal::Traversal;
+pub use view_probe::ViewRoutes;
 pub use viewer::{
     FrameRequest, FrameResult, FrameTimes, HostSamples, PresentMode, Viewer, ViewerOptions,
 };
@@ -516,6 +519,27 @@ impl GpuRenderer {
         queries: &[ProbeQuery],
     ) -> Result<Vec<ProbeResult>, GpuError> {
         probe::run(&self.ctx, camera, queries)
+    }
+
+    /// Preview view `view` (VIEW_*, not the final one) of `camera` by both of the preview's
+    /// routes: G-buffer and resolve, and the view pass (tests).
+    #[doc(hidden)]
+    pub fn probe_view_routes(
+        &mut self,
+        camera: &Camera,
+        background: Vec3,
+        view: u32,
+    ) -> Result<ViewRoutes, GpuError> {
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        check_size(camera)?;
+        view_probe::run(
+            &self.ctx,
+            &mut self.gbuffer,
+            scene,
+            camera,
+            background,
+            view,
+        )
     }
 
     /// Reads every field of the shared structs back through the shaders' blocks (tests).

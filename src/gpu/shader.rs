@@ -15,6 +15,7 @@ macro_rules! spirv {
 
 pub(crate) const GBUFFER_VERT: &[u8] = spirv!("gbuffer.vert");
 pub(crate) const GBUFFER_FRAG: &[u8] = spirv!("gbuffer.frag");
+pub(crate) const VIEW_FRAG: &[u8] = spirv!("view.frag");
 pub(crate) const TRACE_RAYQUERY_COMP: &[u8] = spirv!("trace_rayquery.comp");
 pub(crate) const TRACE_SOFTWARE_COMP: &[u8] = spirv!("trace_software.comp");
 pub(crate) const PROBE_COMP: &[u8] = spirv!("probe.comp");

@@ -1,13 +1,16 @@
-//! The preview window's renderer. Every frame: the raster G-buffer of the current camera, some
-//! thin-lens samples added to an accumulation that stays on the device (sized from the measured
-//! speed), the resolve of the chosen view into a display image, its copy into the window image,
-//! the egui panel over it, present. The hybrid path (`ViewerOptions::hybrid`) draws the G-buffer
-//! with its planning camera and, in the first frame that traces after a restart, makes its plan
-//! on the device from that G-buffer (`HybridPlanPass`, plus the lit shortcut pre-pass) before the
-//! trace dispatches, which then run in TRACE_MODE_HYBRID; the plan stays until the next restart.
-//! Frames in flight (`frames`) overlap host and device; the
-//! only waits are for a frame slot's own earlier frame, and, on rare events (resize, pick,
-//! screenshot), for the device.
+//! The preview window's renderer. Every frame of the final view: the raster G-buffer of the
+//! current camera, some thin-lens samples added to an accumulation that stays on the device
+//! (sized from the measured speed), the resolve into a display image, its copy into the window
+//! image, the egui panel over it, present. The other views (albedo, normal, depth, circle of
+//! confusion) trace nothing: their frames draw the view with the view pass straight into the
+//! window image (`ViewPass`: the G-buffer's vertex stage, one 8-bit target; the same bytes as
+//! G-buffer and resolve), then the panel. The hybrid path (`ViewerOptions::hybrid`) draws the
+//! G-buffer with its planning camera and, in the first frame that traces after a restart, makes
+//! its plan on the device from that G-buffer (`HybridPlanPass`, plus the lit shortcut
+//! pre-pass) before the trace dispatches, which then run in TRACE_MODE_HYBRID; the plan stays
+//! until the next restart. Frames in flight (`frames`) overlap host and device; the only waits
+//! are for a frame slot's own earlier frame, and, on rare events (resize, pick, screenshot),
+//! for the device.
 
 use ash::vk;
 use glam::Vec3;
@@ -22,11 +25,12 @@ use super::overlay::{Overlay, OverlayFrame};
 use super::resolve::ResolvePass;
 use super::surface::Surface;
 use super::swapchain::{Acquired, Swapchain};
+use super::view_pass::ViewPass;
 use super::{check_validation_log, GpuOptions, GpuRenderer, ValidationLog};
 use crate::camera::Camera;
 use crate::interface::{
-    ResolvePush, TraceParams, TracePush, TRACE_GROUP_SIZE, TRACE_MODE_ALL, TRACE_MODE_HYBRID,
-    TRACE_MODE_RASTER, VIEW_FINAL,
+    ResolvePush, TraceParams, TracePush, ViewParams, TRACE_GROUP_SIZE, TRACE_MODE_ALL,
+    TRACE_MODE_HYBRID, TRACE_MODE_RASTER, VIEW_FINAL,
 };
 use crate::render::progressive::ProgressiveSchedule;
 use crate::render::{Image, RenderSettings, Shading};
@@ -49,8 +53,6 @@ const TRACE_MS_PER_FRAME: f64 = 20.0;
 const INITIAL_SAMPLES_PER_FRAME: u64 = 1 << 15;
 /// Dispatches per frame, at most (each is one group of rows of one sample, or whole samples).
 const MAX_DISPATCHES_PER_FRAME: usize = 64;
-/// The circle of confusion shown as white in the CoC view, pixels.
-const COC_DISPLAY_MAX: f32 = 16.0;
 
 /// What the next frame shows.
 pub struct FrameRequest<'a> {
@@ -81,6 +83,7 @@ pub struct HostSamples<'a> {
 /// GPU times of one finished frame, ms (timestamps).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameTimes {
+    /// The G-buffer pass, or the view pass in the frames of a non-final view.
     pub gbuffer_ms: f64,
     /// The trace dispatches (and a restart's clear), the plan excluded.
     pub trace_ms: f64,
@@ -128,6 +131,8 @@ pub struct Viewer {
     // passes' images, the swapchain, its surface, then the renderer (device, instance).
     frames: Frames,
     overlay: Option<Overlay>,
+    /// Draws the non-final views straight into the window image (made with the swapchain).
+    view_pass: Option<ViewPass>,
     resolve: ResolvePass,
     accum: Option<Accumulation>,
     swapchain: Option<Swapchain>,
@@ -162,6 +167,7 @@ impl Viewer {
         Ok(Self {
             frames: Frames::new(&ctx)?,
             overlay: None,
+            view_pass: None,
             resolve: ResolvePass::new(&ctx)?,
             accum: None,
             swapchain: None,
@@ -251,6 +257,26 @@ impl Viewer {
             .as_mut()
             .expect("created above")
             .attach(&swapchain)?;
+        if self
+            .view_pass
+            .as_ref()
+            .is_none_or(|v| v.format() != swapchain.format)
+        {
+            self.view_pass = None;
+            // Left as the copy into the window leaves it, for the panel's pass.
+            let pass = ViewPass::new(
+                &ctx,
+                swapchain.format,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            )?;
+            pass.bind_scene(self.gpu.scene.as_ref().ok_or(GpuError::NoScene)?);
+            self.view_pass = Some(pass);
+        }
+        self.view_pass.as_mut().expect("created above").attach(
+            &swapchain.views,
+            swapchain.extent.width,
+            swapchain.extent.height,
+        )?;
         let (width, height) = (swapchain.extent.width, swapchain.extent.height);
         self.swapchain = Some(swapchain);
         self.resize_images(width, height)
@@ -404,13 +430,37 @@ impl Viewer {
         // The hybrid plans from the G-buffer of its planning camera (same rays and pixels, the
         // raster's clipping planes moved out), which the views show as well.
         let planning = self.hybrid.then(|| camera.for_rasterizing_rays());
-        self.gpu.gbuffer.record(
-            cmd,
-            scene,
-            planning.as_ref().unwrap_or(camera),
-            request.settings.background,
-            Some((&slot.timestamps, 0)),
-        );
+        let raster_camera = planning.as_ref().unwrap_or(camera);
+        // A view other than the final one, without a pick (which reads the G-buffer), is drawn
+        // by the view pass straight into the window image: no G-buffer, resolve or copy.
+        let view_pass = self
+            .view_pass
+            .as_ref()
+            .filter(|_| request.view != VIEW_FINAL && request.pick.is_none());
+        match view_pass {
+            Some(pass) => {
+                slot.timestamps
+                    .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+                pass.record(
+                    cmd,
+                    scene,
+                    raster_camera,
+                    request.settings.background,
+                    ViewParams::new(camera, request.view),
+                    image_index as usize,
+                );
+                slot.timestamps
+                    .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+            }
+            None => self.gpu.gbuffer.record(
+                cmd,
+                scene,
+                raster_camera,
+                request.settings.background,
+                Some((&slot.timestamps, 0)),
+            ),
+        }
+        let direct = view_pass.is_some();
         let targets = self.gpu.gbuffer.targets.as_ref().expect("sized in prepare");
         if let Some([x, y]) = request.pick {
             record_pick(&ctx, cmd, targets.view_depth.image, slot, x, y);
@@ -556,14 +606,18 @@ impl Viewer {
             vk::PipelineStageFlags::COMPUTE_SHADER,
             vk::AccessFlags::SHADER_READ,
         );
-        self.resolve
-            .record(cmd, targets, &resolve_push(camera, request.view));
+        if !direct {
+            self.resolve
+                .record(cmd, targets, &ResolvePush::new(camera, request.view));
+        }
         slot.timestamps
             .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 4);
 
-        let window_image = swapchain.images[image_index as usize];
-        let display = self.resolve.display.as_ref().expect("bound in prepare");
-        record_copy_to_window(&ctx, cmd, display.image, window_image, swapchain.extent);
+        if !direct {
+            let window_image = swapchain.images[image_index as usize];
+            let display = self.resolve.display.as_ref().expect("bound in prepare");
+            record_copy_to_window(&ctx, cmd, display.image, window_image, swapchain.extent);
+        }
         if let Some(overlay) = self.overlay.as_mut() {
             overlay.record(cmd, image_index, request.overlay.as_ref())?;
         }
@@ -573,8 +627,12 @@ impl Viewer {
         unsafe { device.end_command_buffer(cmd) }.map_err(vk_err("vkEndCommandBuffer"))?;
 
         let waits = [slot.image_acquired];
-        // The first use of the window image is the copy into it.
-        let wait_stages = [vk::PipelineStageFlags::TRANSFER];
+        // The first use of the window image is the view pass or the copy into it.
+        let wait_stages = [if direct {
+            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+        } else {
+            vk::PipelineStageFlags::TRANSFER
+        }];
         let signals = [swapchain.rendered[image_index as usize]];
         let cmds = [cmd];
         let submit = vk::SubmitInfo::default()
@@ -693,23 +751,6 @@ fn present_mode_vk(mode: PresentMode) -> vk::PresentModeKHR {
         PresentMode::Fifo => vk::PresentModeKHR::FIFO,
         PresentMode::Mailbox => vk::PresentModeKHR::MAILBOX,
         PresentMode::Immediate => vk::PresentModeKHR::IMMEDIATE,
-    }
-}
-
-fn resolve_push(camera: &Camera, view: u32) -> ResolvePush {
-    ResolvePush {
-        width: camera.width,
-        height: camera.height,
-        view,
-        projection: super::conv::projection_code(camera),
-        aperture_radius: camera.lens.aperture_radius,
-        focus_distance: camera.lens.focus_distance,
-        near_z: camera.near,
-        far_z: camera.far,
-        pixels_per_screen_unit: camera.pixels_per_screen_unit(),
-        coc_display_max: COC_DISPLAY_MAX,
-        pad0: 0,
-        pad1: 0,
     }
 }
 

@@ -218,11 +218,9 @@ shader_interface! {
             /// xyz: the view axis; w: 1 orthographic (viewer direction is the axis), 0 perspective.
             forward: [f32; 4],
         }
-        /// Push constants of resolve.comp: what to show and the lens data of the circle of
+        /// What a preview view shows (shaders/views.glsl) and the lens data of its circle of
         /// confusion (camera.glsl's coc_radius_pixels mirrors Camera::coc_radius_pixels).
-        Std430 struct ResolvePush as ResolvePush {
-            width: u32,
-            height: u32,
+        Std430 struct ViewParams as ViewParams {
             /// VIEW_*
             view: u32,
             /// PROJECTION_*
@@ -235,8 +233,20 @@ shader_interface! {
             pixels_per_screen_unit: f32,
             /// The circle-of-confusion radius, in pixels, shown as white.
             coc_display_max: f32,
+        }
+        /// Push constants of resolve.comp: the image size and the view.
+        Std430 struct ResolvePush as ResolvePush {
+            width: u32,
+            height: u32,
             pad0: u32,
             pad1: u32,
+            shown: ViewParams,
+        }
+        /// Push constants of the view pass (gbuffer.vert reads the leading RasterPush,
+        /// view.frag the view).
+        Std430 struct ViewPush as ViewPush {
+            raster: RasterPush,
+            shown: ViewParams,
         }
         /// Push constants of hybrid_plan.comp: the image, the step, what the plan is for and
         /// the lens data of the circle of confusion (camera.glsl's coc_radius_pixels).
