@@ -97,7 +97,7 @@ shader_interface! {
         HYBRID_SHORTCUT: f32 = -1.0;
         /// A shortcut pixel's sample is traced too with probability 1 / HYBRID_CHECK_INVERSE
         /// (and weighted by HYBRID_CHECK_INVERSE), which makes the shortcut unbiased.
-        HYBRID_CHECK_INVERSE: u32 = 16;
+        HYBRID_CHECK_INVERSE: u32 = 32;
         /// Salt of that choice's hash (apart from the sampler's own uses of the sample key).
         HYBRID_CHECK_SALT: u32 = 0x68796272;
         /// The hybrid's plan (src/paths/hybrid.rs `Plan::new` on the host, the same rules in

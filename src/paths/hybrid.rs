@@ -12,7 +12,7 @@
 //!   1 / HYBRID_CHECK_INVERSE (a hash of the 8x8 tile and the sample) and adds
 //!   (traced - shortcut) * HYBRID_CHECK_INVERSE: unbiased;
 //! - otherwise every sample is traced. So the samples a pixel costs grow with its dilated CoC
-//!   through the window it must see uniform: from the shortcut's checks (spp / 16) to spp. (A
+//!   through the window it must see uniform: from the shortcut's checks (spp / 32) to spp. (A
 //!   plan entry may stop a pixel's count at `n` < spp; fewer samples where the CoC is small
 //!   measured worse at equal error, docs/hybrid.md, so the plan does not);
 //! - the 8 pixels of a tile row share one decision (they run in lockstep).
