@@ -15,7 +15,7 @@ use super::draw::{
     record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
 };
 use super::error::GpuError;
-use super::image::Image;
+use super::image::{record_copy_to_buffer, Image};
 use super::pipeline::{GraphicsDesc, Pipeline};
 use super::query::QueryPool;
 use super::scene::SceneBuffers;
@@ -271,29 +271,16 @@ impl GBufferPass {
                 (&targets.albedo, &albedo_rb),
                 (&targets.view_depth, &depth_rb),
             ] {
-                let region = vk::BufferImageCopy::default()
-                    .image_subresource(vk::ImageSubresourceLayers {
-                        aspect_mask: vk::ImageAspectFlags::COLOR,
-                        mip_level: 0,
-                        base_array_layer: 0,
-                        layer_count: 1,
-                    })
-                    .image_extent(vk::Extent3D {
-                        width,
-                        height,
-                        depth: 1,
-                    });
-                // SAFETY: the render pass left the image in TRANSFER_SRC_OPTIMAL and its
-                // outgoing dependency orders the attachment writes before this copy.
-                unsafe {
-                    ctx.device.cmd_copy_image_to_buffer(
-                        cmd,
-                        image.image,
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        buffer.buffer,
-                        &[region],
-                    )
-                };
+                // The render pass left the image in TRANSFER_SRC_OPTIMAL and its outgoing
+                // dependency orders the attachment writes before this copy.
+                record_copy_to_buffer(
+                    ctx,
+                    cmd,
+                    image.image,
+                    buffer.buffer,
+                    [0, 0],
+                    [width, height],
+                );
             }
             barrier_to_host(
                 ctx,

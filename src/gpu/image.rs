@@ -153,3 +153,43 @@ pub(crate) fn transition(ctx: &Context, cmd: vk::CommandBuffer, image: vk::Image
         )
     };
 }
+
+/// Records a copy of the `extent` pixels at `offset` of colour image `image` (in
+/// TRANSFER_SRC_OPTIMAL, its writes ordered before transfers) into `buffer`, packed row by row.
+pub(crate) fn record_copy_to_buffer(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    buffer: vk::Buffer,
+    offset: [u32; 2],
+    extent: [u32; 2],
+) {
+    let region = vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_offset(vk::Offset3D {
+            x: offset[0] as i32,
+            y: offset[1] as i32,
+            z: 0,
+        })
+        .image_extent(vk::Extent3D {
+            width: extent[0],
+            height: extent[1],
+            depth: 1,
+        });
+    // SAFETY: recording state; the caller's image is in TRANSFER_SRC_OPTIMAL with the region
+    // inside it, and the buffer holds the region's texels.
+    unsafe {
+        ctx.device.cmd_copy_image_to_buffer(
+            cmd,
+            image,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            buffer,
+            &[region],
+        )
+    };
+}

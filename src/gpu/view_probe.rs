@@ -12,7 +12,7 @@ use super::buffer::{barrier_to_host, Buffer};
 use super::device::Context;
 use super::error::GpuError;
 use super::gbuffer::GBufferPass;
-use super::image::Image;
+use super::image::{record_copy_to_buffer, Image};
 use super::resolve::{ResolvePass, DISPLAY_FORMAT};
 use super::scene::SceneBuffers;
 use super::view_pass::ViewPass;
@@ -85,30 +85,17 @@ pub(crate) fn run(
             ViewParams::new(camera, view),
             0,
         );
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D {
-                width,
-                height,
-                depth: 1,
-            });
+        // The resolve and the view pass left their images in TRANSFER_SRC_OPTIMAL, their
+        // writes ordered before transfers; the buffers hold the whole image.
         for (image, buffer) in [(display, &resolved_rb), (&target, &drawn_rb)] {
-            // SAFETY: the resolve and the view pass left their images in TRANSFER_SRC_OPTIMAL,
-            // their writes ordered before transfers; the buffers hold the whole image.
-            unsafe {
-                ctx.device.cmd_copy_image_to_buffer(
-                    cmd,
-                    image.image,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    buffer.buffer,
-                    &[region],
-                )
-            };
+            record_copy_to_buffer(
+                ctx,
+                cmd,
+                image.image,
+                buffer.buffer,
+                [0, 0],
+                [width, height],
+            );
         }
         barrier_to_host(
             ctx,

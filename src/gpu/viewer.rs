@@ -20,7 +20,7 @@ use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 use super::buffer::{barrier, barrier_to_host, Buffer};
 use super::error::{vk_err, GpuError};
 use super::frames::{FrameSlot, Frames, FRAMES_IN_FLIGHT};
-use super::image::{transition, Transition};
+use super::image::{record_copy_to_buffer, transition, Transition};
 use super::overlay::{Overlay, OverlayFrame};
 use super::resolve::ResolvePass;
 use super::surface::Surface;
@@ -778,34 +778,9 @@ fn record_pick(
     x: u32,
     y: u32,
 ) {
-    let region = vk::BufferImageCopy::default()
-        .image_subresource(vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        })
-        .image_offset(vk::Offset3D {
-            x: x as i32,
-            y: y as i32,
-            z: 0,
-        })
-        .image_extent(vk::Extent3D {
-            width: 1,
-            height: 1,
-            depth: 1,
-        });
-    // SAFETY: the G-buffer pass left the image in TRANSFER_SRC_OPTIMAL with its writes ordered
-    // before transfers; (x, y) lies inside it (checked by the caller).
-    unsafe {
-        ctx.device.cmd_copy_image_to_buffer(
-            cmd,
-            view_depth,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            slot.pick.buffer,
-            &[region],
-        )
-    };
+    // The G-buffer pass left the image in TRANSFER_SRC_OPTIMAL with its writes ordered before
+    // transfers; (x, y) lies inside it (checked by the caller).
+    record_copy_to_buffer(ctx, cmd, view_depth, slot.pick.buffer, [x, y], [1, 1]);
     barrier_to_host(
         ctx,
         cmd,

@@ -15,7 +15,7 @@ use super::draw::{
     record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
 };
 use super::error::GpuError;
-use super::image::Image;
+use super::image::{record_copy_to_buffer, Image};
 use super::pipeline::{GraphicsDesc, Pipeline};
 use super::scene::SceneBuffers;
 use super::shader;
@@ -215,30 +215,16 @@ impl VisibilityPass {
             vk::PipelineStageFlags::TRANSFER,
             vk::AccessFlags::TRANSFER_WRITE,
         );
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D {
-                width,
-                height,
-                depth: 1,
-            });
-        // SAFETY: the render pass left the image in TRANSFER_SRC_OPTIMAL and its outgoing
-        // dependency orders the attachment writes before this copy; the buffer holds a uint
-        // per pixel.
-        unsafe {
-            ctx.device.cmd_copy_image_to_buffer(
-                cmd,
-                targets.triangle.image,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                targets.buffer.buffer,
-                &[region],
-            )
-        };
+        // The render pass left the image in TRANSFER_SRC_OPTIMAL and its outgoing dependency
+        // orders the attachment writes before this copy; the buffer holds a uint per pixel.
+        record_copy_to_buffer(
+            ctx,
+            cmd,
+            targets.triangle.image,
+            targets.buffer.buffer,
+            [0, 0],
+            [width, height],
+        );
         barrier(
             ctx,
             cmd,
