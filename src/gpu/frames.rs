@@ -33,6 +33,8 @@ pub(crate) struct FrameSlot {
     pub trace_work: u64,
     /// Whether its frame made the hybrid's plan (its plan timestamps mean something).
     pub made_plan: bool,
+    /// Whether its frame drew the G-buffer or the view pass (its G-buffer time means something).
+    pub drew_gbuffer: bool,
     /// egui textures to free once this slot's frame finished.
     pub textures_to_free: Vec<egui::TextureId>,
     /// Host-visible staging of samples traced on the CPU (the CPU path), made on first use.
@@ -64,6 +66,7 @@ impl FrameSlot {
             submitted: false,
             trace_work: 0,
             made_plan: false,
+            drew_gbuffer: false,
             textures_to_free: Vec::new(),
             upload: None,
         };

@@ -3,6 +3,7 @@
 //! `clip_from_world()`. The targets stay alive in the renderer (in TRANSFER_SRC_OPTIMAL layout)
 //! for later passes; `render` also reads them back to the host.
 
+use std::cell::Cell;
 use std::sync::Arc;
 
 use ash::vk;
@@ -59,6 +60,9 @@ const VIEW_DEPTH_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 
 /// The G-buffer images of one size and their framebuffer.
 pub(crate) struct GBufferTargets {
+    /// The colour images' layout after the commands recorded so far (recorded in submission
+    /// order): the G-buffer pass leaves TRANSFER_SRC_OPTIMAL, the preview's resolve GENERAL.
+    pub layout: Cell<vk::ImageLayout>,
     /// First: dropped before the images whose views it uses.
     framebuffer: SceneFramebuffer,
     pub normal: Image,
@@ -113,6 +117,7 @@ impl GBufferTargets {
             height,
         )?;
         Ok(Self {
+            layout: Cell::new(vk::ImageLayout::UNDEFINED),
             framebuffer,
             normal,
             albedo,
@@ -234,6 +239,7 @@ impl GBufferPass {
                 push: bytemuck::bytes_of(&push),
             },
         );
+        targets.layout.set(vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
         if let Some((pool, first)) = timestamps {
             pool.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, first + 1);
         }

@@ -88,26 +88,31 @@ impl ResolvePass {
         Ok(())
     }
 
-    /// Records the resolve: the G-buffer images (left in TRANSFER_SRC_OPTIMAL by their pass) go
-    /// to GENERAL, the display is written and left in TRANSFER_SRC_OPTIMAL for the copy.
+    /// Records the resolve: the G-buffer images go to GENERAL (from TRANSFER_SRC_OPTIMAL after
+    /// their pass in this frame, or already there from an earlier resolve), the display is
+    /// written and left in TRANSFER_SRC_OPTIMAL for the copy.
     pub fn record(&self, cmd: vk::CommandBuffer, targets: &GBufferTargets, push: &ResolvePush) {
         let ctx = &self.ctx;
         let display = self.display.as_ref().expect("bind first");
-        for image in [&targets.normal, &targets.albedo, &targets.view_depth] {
-            transition(
-                ctx,
-                cmd,
-                image.image,
-                &Transition {
-                    old: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    new: vk::ImageLayout::GENERAL,
-                    src_stage: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-                        | vk::PipelineStageFlags::TRANSFER,
-                    src_access: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-                    dst_stage: vk::PipelineStageFlags::COMPUTE_SHADER,
-                    dst_access: vk::AccessFlags::SHADER_READ,
-                },
-            );
+        let old = targets.layout.get();
+        if old != vk::ImageLayout::GENERAL {
+            for image in [&targets.normal, &targets.albedo, &targets.view_depth] {
+                transition(
+                    ctx,
+                    cmd,
+                    image.image,
+                    &Transition {
+                        old,
+                        new: vk::ImageLayout::GENERAL,
+                        src_stage: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                            | vk::PipelineStageFlags::TRANSFER,
+                        src_access: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+                        dst_stage: vk::PipelineStageFlags::COMPUTE_SHADER,
+                        dst_access: vk::AccessFlags::SHADER_READ,
+                    },
+                );
+            }
+            targets.layout.set(vk::ImageLayout::GENERAL);
         }
         transition(
             ctx,

@@ -1,7 +1,8 @@
 //! The preview window's renderer. Every frame of the final view: the raster G-buffer of the
-//! current camera, some thin-lens samples added to an accumulation that stays on the device
-//! (sized from the measured speed), the resolve into a display image, its copy into the window
-//! image, the egui panel over it, present. The other views (albedo, normal, depth, circle of
+//! current camera (until every pixel has a sample: the resolve shows it where none is yet), some
+//! thin-lens samples added to an accumulation that stays on the device (sized from the measured
+//! speed), the resolve into a display image, its copy into the window image, the egui panel over
+//! it, present. The other views (albedo, normal, depth, circle of
 //! confusion) trace nothing: their frames draw the view with the view pass straight into the
 //! window image (`ViewPass`: the G-buffer's vertex stage, one 8-bit target; the same bytes as
 //! G-buffer and resolve), then the panel. The hybrid path (`ViewerOptions::hybrid`) draws the
@@ -85,6 +86,9 @@ pub struct HostSamples<'a> {
 pub struct FrameTimes {
     /// The G-buffer pass, or the view pass in the frames of a non-final view.
     pub gbuffer_ms: f64,
+    /// Whether the frame drew either (the final view skips the G-buffer once every pixel has
+    /// a sample).
+    pub gbuffer_drawn: bool,
     /// The trace dispatches (and a restart's clear), the plan excluded.
     pub trace_ms: f64,
     pub resolve_ms: f64,
@@ -437,7 +441,22 @@ impl Viewer {
             .view_pass
             .as_ref()
             .filter(|_| request.view != VIEW_FINAL && request.pick.is_none());
+        let make_plan = self.hybrid && !work.is_empty() && self.plan_spp.is_none();
+        // The final view shows the G-buffer only where the accumulation has no sample yet: once
+        // every pixel has one, a frame that neither picks nor plans from it skips the pass.
+        let skip_gbuffer = request.view == VIEW_FINAL
+            && request.pick.is_none()
+            && !make_plan
+            && request.host.is_none()
+            && accum.schedule.samples_complete() > 0;
+        slot.drew_gbuffer = !skip_gbuffer;
         match view_pass {
+            None if skip_gbuffer => {
+                slot.timestamps
+                    .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+                slot.timestamps
+                    .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+            }
             Some(pass) => {
                 slot.timestamps
                     .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
@@ -520,7 +539,6 @@ impl Viewer {
         }
         slot.timestamps
             .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 6);
-        let make_plan = self.hybrid && !work.is_empty() && self.plan_spp.is_none();
         if make_plan {
             // The plan of the current camera and settings, from the G-buffer drawn above,
             // into the trace pass's plan buffer; lit, after the pre-pass that leaves each
@@ -759,6 +777,7 @@ fn read_times(gpu: &GpuRenderer, slot: &FrameSlot) -> Result<FrameTimes, GpuErro
     let ms = |a: usize, b: usize| gpu.ctx.elapsed_ns(t[a], t[b]) * 1e-6;
     Ok(FrameTimes {
         gbuffer_ms: ms(0, 1),
+        gbuffer_drawn: slot.drew_gbuffer,
         // The plan (timed apart) is recorded inside the trace span.
         trace_ms: ms(2, 3) - ms(6, 7),
         resolve_ms: ms(3, 4),

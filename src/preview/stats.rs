@@ -45,7 +45,9 @@ impl FrameLog {
         }
         self.previous = Some(at);
         if let Some(t) = times {
-            self.gbuffer_ms.push(t.gbuffer_ms);
+            if t.gbuffer_drawn {
+                self.gbuffer_ms.push(t.gbuffer_ms);
+            }
             if t.plan_ms > 0.0 {
                 self.plan_ms.push(t.plan_ms);
             }
