@@ -174,9 +174,15 @@ impl Panel {
             ui.label(format!("frame {ms:.1} ms ({:.0} fps)", 1e3 / ms.max(1e-3)));
         }
         if let Some(t) = stats.times {
+            // The final view skips the G-buffer once every pixel has a sample.
+            let gbuffer = if t.gbuffer_drawn {
+                format!("{:.2} ms", t.gbuffer_ms)
+            } else {
+                "skipped".to_owned()
+            };
             ui.label(format!(
-                "G-buffer {:.2} ms, trace {:.1} ms, resolve {:.2} ms, present {:.2} ms",
-                t.gbuffer_ms, t.trace_ms, t.resolve_ms, t.present_ms
+                "G-buffer {gbuffer}, trace {:.1} ms, resolve {:.2} ms, present {:.2} ms",
+                t.trace_ms, t.resolve_ms, t.present_ms
             ));
         }
         ui.small(&stats.device);
