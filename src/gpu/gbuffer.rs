@@ -10,13 +10,13 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
-use super::buffer::{barrier_to_host, Buffer};
+use super::buffer::Buffer;
 use super::device::Context;
 use super::draw::{
     record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
 };
 use super::error::GpuError;
-use super::image::{record_copy_to_buffer, Image};
+use super::image::{record_readbacks, Image};
 use super::pipeline::{GraphicsDesc, Pipeline};
 use super::query::QueryPool;
 use super::scene::SceneBuffers;
@@ -272,27 +272,18 @@ impl GBufferPass {
         ctx.submit_and_wait(|cmd| {
             self.timestamps.reset(cmd);
             self.record(cmd, scene, camera, background, Some((&self.timestamps, 0)));
-            for (image, buffer) in [
-                (&targets.normal, &normal_rb),
-                (&targets.albedo, &albedo_rb),
-                (&targets.view_depth, &depth_rb),
-            ] {
-                // The render pass left the image in TRANSFER_SRC_OPTIMAL and its outgoing
-                // dependency orders the attachment writes before this copy.
-                record_copy_to_buffer(
-                    ctx,
-                    cmd,
-                    image.image,
-                    buffer.buffer,
-                    [0, 0],
-                    [width, height],
-                );
-            }
-            barrier_to_host(
+            // The render pass left the images in TRANSFER_SRC_OPTIMAL and its outgoing
+            // dependency orders the attachment writes before these copies.
+            record_readbacks(
                 ctx,
                 cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::AccessFlags::TRANSFER_WRITE,
+                &[
+                    (&targets.normal, &normal_rb),
+                    (&targets.albedo, &albedo_rb),
+                    (&targets.view_depth, &depth_rb),
+                ],
+                width,
+                height,
             );
             Ok(())
         })?;

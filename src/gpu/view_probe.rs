@@ -8,11 +8,11 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
-use super::buffer::{barrier_to_host, Buffer};
+use super::buffer::Buffer;
 use super::device::Context;
 use super::error::GpuError;
 use super::gbuffer::GBufferPass;
-use super::image::{record_copy_to_buffer, Image};
+use super::image::{record_readbacks, Image};
 use super::resolve::{ResolvePass, DISPLAY_FORMAT};
 use super::scene::SceneBuffers;
 use super::view_pass::ViewPass;
@@ -87,21 +87,12 @@ pub(crate) fn run(
         );
         // The resolve and the view pass left their images in TRANSFER_SRC_OPTIMAL, their
         // writes ordered before transfers; the buffers hold the whole image.
-        for (image, buffer) in [(display, &resolved_rb), (&target, &drawn_rb)] {
-            record_copy_to_buffer(
-                ctx,
-                cmd,
-                image.image,
-                buffer.buffer,
-                [0, 0],
-                [width, height],
-            );
-        }
-        barrier_to_host(
+        record_readbacks(
             ctx,
             cmd,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
+            &[(display, &resolved_rb), (&target, &drawn_rb)],
+            width,
+            height,
         );
         Ok(())
     })?;
