@@ -182,8 +182,9 @@ void step_entries() {
     uint y = g / pc.tiles_x;
     uint tx = g % pc.tiles_x;
     float coc = tile_max[pc.tiles_x * pc.tiles_y + (y / HYBRID_TILE) * pc.tiles_x + tx];
-    // Beyond the width and height any radius crosses the frame: clamped before converting.
-    uint radius = coc < HYBRID_SHORTCUT_COC ? 1u : uint(ceil(min(coc, 1e7))) + 1u;
+    // src/paths/hybrid.rs: window_radius (why 1 + floor(coc + 1/2)). Beyond the width and
+    // height any radius crosses the frame: clamped before converting.
+    uint radius = 1u + uint(floor(min(coc, 1e7) + HYBRID_SHORTCUT_COC));
     // A traced pixel traces every sample (as the host's plan).
     uint planned = max(pc.spp, 1u);
     uint x0 = tx * HYBRID_TILE;

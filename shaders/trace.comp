@@ -104,6 +104,18 @@ vec3 reprojected_shortcut(Reprojection r, uint pixel_index, CameraSample cs) {
     return mix(mix(v00, v10, f.x), mix(v01, v11, f.x), f.y);
 }
 
+// The radiance along `ray`, whose first hit the visibility pass drew at `pixel_index` (the
+// raster path's sample, the hybrid's lit pre-pass); `shadowed` as shade_hit_shadowed says.
+vec3 shade_rasterized(Ray ray, uint pixel_index, inout uint rays, out bool shadowed) {
+    uint seen = visibility[pixel_index];
+    rays += 1u;  // the camera ray, resolved by the rasterizer instead of a traversal
+    shadowed = false;
+    if (seen == 0u) {
+        return params.background.xyz;
+    }
+    return shade_hit_shadowed(ray, triangle_plane_hit(ray, seen - 1u), rays, shadowed);
+}
+
 void main() {
     uint x = gl_GlobalInvocationID.x;
     uint block = gl_WorkGroupID.y;
@@ -117,19 +129,15 @@ void main() {
     uint pixel_index = y * params.width + x;
     uint rays = 0u;
     if (pc.mode == TRACE_MODE_SHORTCUT) {
-        // The lit pre-pass of the hybrid's plan: the G-buffer's surface (the aperture-centre
-        // ray at the pixel centre: concentric_sample_disk(0.5, 0.5) is the lens centre), shaded
-        // with one shadow ray (the shortcut value), and whether that ray was blocked (the
-        // plan's edge test compares it between neighbours: a shadow boundary is an edge).
+        // The lit pre-pass of the hybrid's plan: the surface seen along the aperture-centre
+        // ray at the pixel centre (concentric_sample_disk(0.5, 0.5) is the lens centre), which
+        // the visibility pass rasterized through the lens centre just before (as the raster
+        // path does: no traversal for it), shaded with one shadow ray (the shortcut value),
+        // and whether that ray was blocked (the plan's edge test compares it between
+        // neighbours: a shadow boundary is an edge).
         Ray ray = generate_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
-        Hit hit;
-        bool found = closest_hit(ray.origin, ray.direction, T_MAX, hit);
-        rays += 1u;
-        bool shadowed = false;
-        vec3 value = params.background.xyz;
-        if (found) {
-            value = shade_hit_shadowed(ray, hit, rays, shadowed);
-        }
+        bool shadowed;
+        vec3 value = shade_rasterized(ray, pixel_index, rays, shadowed);
         plan[pixel_index] = vec4(value, shadowed ? 1.0 : 0.0);
         atomicAdd(rays_traced, rays);
         return;
@@ -181,13 +189,8 @@ void main() {
         uint s = pc.sample_begin;
         CameraSample cs = pixel_camera_sample(sampler_state, s);
         Ray ray = generate_ray(params.camera, cs.film, cs.lens);
-        uint seen = visibility[pixel_index];
-        vec3 value = params.background.xyz;
-        if (seen != 0u) {
-            value = shade_hit(ray, triangle_plane_hit(ray, seen - 1u), rays);
-        }
-        rays += 1u;  // the camera ray, resolved by the rasterizer instead of a traversal
-        sum += value;
+        bool shadowed;
+        sum += shade_rasterized(ray, pixel_index, rays, shadowed);
         added = 1u;
     } else {
         for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {

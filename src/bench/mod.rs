@@ -24,7 +24,7 @@ use anyhow::{bail, ensure, Context, Result};
 
 use crate::camera::Camera;
 use crate::paths::{self, OpenedPath};
-use crate::render::path::PathKind;
+use crate::render::path::{PathKind, RenderPath};
 use crate::render::RenderSettings;
 use crate::resolve::{resolve, Resolved};
 use options::{BenchOptions, SceneChoice, SweepKind};
@@ -148,8 +148,8 @@ fn spp_of(value: SweepValue, options: &BenchOptions) -> u32 {
     }
 }
 
-/// The points of one scene: their references, then each path opened once and measured at
-/// every point.
+/// The points of one scene: their references, then every path opened once and, point by point,
+/// measured in turns.
 fn measure_group(
     options: &BenchOptions,
     kinds: &[PathKind],
@@ -182,10 +182,11 @@ fn measure_group(
         references.push(reference);
     }
 
-    let mut results: Vec<Vec<Measurement>> = vec![Vec::new(); values.len()];
+    // Every path open at once, so that each point's repeats can take turns between them.
+    let mut opened: Vec<Box<dyn RenderPath>> = Vec::with_capacity(kinds.len());
     for &kind in kinds {
         let first = (&shots[0].camera, &shots[0].render);
-        let OpenedPath { mut path, .. } = paths::open(
+        let OpenedPath { path, .. } = paths::open(
             &choose::path_options(kind, options),
             &scene.description.scene,
             first,
@@ -197,21 +198,28 @@ fn measure_group(
                 device: path.device_name(),
             });
         }
-        for ((s, reference), result) in shots.iter().zip(&references).zip(&mut results) {
-            log(&format!(
-                "measuring {kind}: {} ({} triangles), {}x{}, {} spp",
-                scene.name, scene.triangles, s.camera.width, s.camera.height, s.render.spp
-            ));
-            let measurement = runs::measure(
-                path.as_mut(),
-                &s.camera,
-                &s.render,
-                options.repeat,
-                &reference.image,
-            )
-            .with_context(|| format!("--paths {kind}"))?;
-            result.push(measurement);
-        }
+        opened.push(path);
+    }
+    let mut results: Vec<Vec<Measurement>> = Vec::with_capacity(values.len());
+    for (s, reference) in shots.iter().zip(&references) {
+        log(&format!(
+            "measuring {}: {} ({} triangles), {}x{}, {} spp",
+            kinds_list(kinds),
+            scene.name,
+            scene.triangles,
+            s.camera.width,
+            s.camera.height,
+            s.render.spp
+        ));
+        results.push(runs::measure_interleaved(
+            &mut opened,
+            &s.camera,
+            &s.render,
+            options.repeat,
+            &reference.image,
+        )?);
+    }
+    for (path, kind) in opened.into_iter().zip(kinds) {
         path.close().with_context(|| format!("--paths {kind}"))?;
     }
 
@@ -224,6 +232,14 @@ fn measure_group(
             point_report(scene, &s.camera, &s.render, &reference, results)
         })
         .collect())
+}
+
+fn kinds_list(kinds: &[PathKind]) -> String {
+    kinds
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Each path's speed against the CPU path's at the same point (CPU median / path median).

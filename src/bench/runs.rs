@@ -1,10 +1,10 @@
-//! Timing one path at one configuration: a warm-up render (pipelines compiled, BVH paged in,
-//! thread pool started), then N timed renders; their median and spread, and the error of the
-//! image against the reference.
+//! Timing the paths at one configuration: a warm-up render each (pipelines compiled, BVH paged
+//! in, thread pool started), then N rounds of timed renders, one per path; each path's median
+//! and spread, and the error of its image against the reference.
 
 use std::time::Instant;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use serde::Serialize;
 
 use crate::camera::Camera;
@@ -77,44 +77,87 @@ pub fn psnr_db(rmse: f64) -> f64 {
     -20.0 * rmse.log10()
 }
 
-/// Warm-up, then `repeat` timed renders of `settings` (samples 0..spp into a fresh
-/// accumulation each time); the error is that of the last image (every run gives the same).
-pub fn measure(
-    path: &mut dyn RenderPath,
+/// Each path's warm-up render, then `repeat` rounds in which every path renders `settings`
+/// once, timed (samples 0..spp into a fresh accumulation each time). Interleaved rather than
+/// path after path: a slow phase of a shared machine (minutes long here) then slows every path
+/// alike instead of one, and the ratios hold. The error is that of each path's last image
+/// (every run gives the same).
+pub fn measure_interleaved(
+    paths: &mut [Box<dyn RenderPath>],
     camera: &Camera,
     settings: &RenderSettings,
     repeat: usize,
     reference: &Image,
-) -> Result<Measurement> {
-    path.render(camera, settings, &mut |_, _| {})?;
-    let mut runs = Vec::with_capacity(repeat);
-    let mut image = None;
-    for _ in 0..repeat {
-        let before = path.report();
-        let start = Instant::now();
-        image = Some(path.render(camera, settings, &mut |_, _| {})?);
-        let wall_seconds = start.elapsed().as_secs_f64();
-        let done = path.report().since(&before);
-        // An AOV is one pass (GPU: the raster G-buffer), timed as such; no rays on the GPU.
-        let trace_seconds = if settings.shading.is_aov() {
-            done.aov_seconds
-        } else {
-            done.trace_seconds
-        };
-        runs.push(Run {
-            trace_seconds,
-            wall_seconds,
-            rays: done.rays,
-        });
+) -> Result<Vec<Measurement>> {
+    for path in paths.iter_mut() {
+        path.render(camera, settings, &mut |_, _| {})
+            .with_context(|| format!("--paths {}", path.kind()))?;
     }
-    let image = image.expect("at least one run");
+    let mut runs = vec![Vec::with_capacity(repeat); paths.len()];
+    let mut images = vec![None; paths.len()];
+    for _ in 0..repeat {
+        for ((path, runs), image) in paths.iter_mut().zip(&mut runs).zip(&mut images) {
+            let (run, rendered) = timed_render(path.as_mut(), camera, settings)
+                .with_context(|| format!("--paths {}", path.kind()))?;
+            runs.push(run);
+            *image = Some(rendered);
+        }
+    }
+    paths
+        .iter()
+        .zip(runs)
+        .zip(images)
+        .map(|((path, runs), image)| {
+            let image = image.expect("at least one run");
+            Ok(measurement(
+                path.as_ref(),
+                settings,
+                runs,
+                &image,
+                reference,
+            ))
+        })
+        .collect()
+}
+
+fn timed_render(
+    path: &mut dyn RenderPath,
+    camera: &Camera,
+    settings: &RenderSettings,
+) -> Result<(Run, Image)> {
+    let before = path.report();
+    let start = Instant::now();
+    let image = path.render(camera, settings, &mut |_, _| {})?;
+    let wall_seconds = start.elapsed().as_secs_f64();
+    let done = path.report().since(&before);
+    // An AOV is one pass (GPU: the raster G-buffer), timed as such; no rays on the GPU.
+    let trace_seconds = if settings.shading.is_aov() {
+        done.aov_seconds
+    } else {
+        done.trace_seconds
+    };
+    let run = Run {
+        trace_seconds,
+        wall_seconds,
+        rays: done.rays,
+    };
+    Ok((run, image))
+}
+
+fn measurement(
+    path: &dyn RenderPath,
+    settings: &RenderSettings,
+    runs: Vec<Run>,
+    image: &Image,
+    reference: &Image,
+) -> Measurement {
     let report = path.report();
     let trace: Vec<f64> = runs.iter().map(|r| r.trace_seconds).collect();
     let wall: Vec<f64> = runs.iter().map(|r| r.wall_seconds).collect();
     let trace_seconds = Spread::of(&trace);
     let rays = runs.last().map_or(0, |r| r.rays);
-    let error = rmse(&image, reference);
-    Ok(Measurement {
+    let error = rmse(image, reference);
+    Measurement {
         path: path.kind(),
         device: path.device_name(),
         clock: report.clock,
@@ -133,5 +176,5 @@ pub fn measure(
         rmse: error,
         psnr_db: psnr_db(error),
         speedup_vs_cpu: None,
-    })
+    }
 }

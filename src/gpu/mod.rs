@@ -372,7 +372,7 @@ impl GpuRenderer {
     }
 
     /// Makes the raster path's visibility pass (on first use) and its targets for a `width` x
-    /// `height` image, bound to the trace pass.
+    /// `height` image, bound to the trace pass (the hybrid's lit pre-pass uses it too).
     fn prepare_raster(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         if self.visibility.is_none() {
@@ -411,6 +411,10 @@ impl GpuRenderer {
                 "the planning camera's size differs from the camera's".into(),
             ));
         }
+        let lit = settings.shading == Shading::Lit;
+        if lit {
+            self.prepare_raster(camera.width, camera.height)?;
+        }
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         let pixels = u64::from(camera.width) * u64::from(camera.height);
         self.gbuffer.ensure_targets(camera.width, camera.height)?;
@@ -423,11 +427,11 @@ impl GpuRenderer {
         )?;
         let ctx = &self.ctx;
         let (gbuffer, plan, trace) = (&self.gbuffer, &self.hybrid_plan, &self.trace);
-        let lit = settings.shading == Shading::Lit;
+        let visibility = self.visibility.as_ref();
         ctx.submit_and_wait(|cmd| {
             gbuffer.record(cmd, scene, planning, settings.background, None);
-            if lit {
-                record_lit_prepass(trace, cmd, camera, settings);
+            if let Some(visibility) = visibility.filter(|_| lit) {
+                record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
             }
             plan.record(cmd, targets, camera, settings.shading, settings.spp);
             buffer::barrier_to_host(
@@ -454,12 +458,14 @@ impl GpuRenderer {
         settings: &RenderSettings,
     ) -> Result<Vec<[f32; 4]>, GpuError> {
         check_size(camera)?;
-        self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        self.prepare_raster(camera.width, camera.height)?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let visibility = self.visibility.as_ref().expect("prepared above");
         let pixels = u64::from(camera.width) * u64::from(camera.height);
         self.trace.ensure_plan_capacity(pixels)?;
         let (ctx, trace) = (&self.ctx, &self.trace);
         ctx.submit_and_wait(|cmd| {
-            record_lit_prepass(trace, cmd, camera, settings);
+            record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
             buffer::barrier_to_host(
                 ctx,
                 cmd,
@@ -606,15 +612,17 @@ fn check_samples(camera: &Camera, settings: &RenderSettings) -> Result<(), GpuEr
 }
 
 /// The hybrid's lit pre-pass with the parameters of `camera` and `settings`, its rays counted
-/// from zero (the render path's plan and the host plan's input record it alike).
+/// from zero (the render path's plan and the host plan's input record it alike): the
+/// visibility pass through the lens centre, then the shading of what it saw.
 fn record_lit_prepass(
-    trace: &TracePass,
+    (trace, visibility, scene): (&TracePass, &VisibilityPass, &SceneBuffers),
     cmd: vk::CommandBuffer,
     camera: &Camera,
     settings: &RenderSettings,
 ) {
     trace.record_params(cmd, &TraceParams::new(camera, settings));
     trace.record_clear_ray_counter(cmd);
+    visibility.record_aperture_centre(cmd, scene, camera);
     trace.record_lit_prepass(cmd, camera.width, camera.height);
 }
 

@@ -310,7 +310,9 @@ impl Viewer {
             MemoryLocation::GpuOnly,
         )?;
         self.gpu.trace.bind_accumulation(&buffer);
-        if self.raster {
+        // The hybrid's lit pre-pass rasterizes through the lens centre (the shading can turn
+        // lit at any frame).
+        if self.raster || self.hybrid {
             self.gpu.prepare_raster(width, height)?;
         }
         let targets = self.gpu.gbuffer.targets.as_ref().expect("ensured above");
@@ -545,6 +547,8 @@ impl Viewer {
             // pixel's shortcut value and shadow state there (with the parameters recorded
             // above at the restart; the plan's steps order themselves after it).
             if request.settings.shading == Shading::Lit {
+                let visibility = self.gpu.visibility.as_ref().expect("prepared in resize");
+                visibility.record_aperture_centre(cmd, scene, camera);
                 self.gpu
                     .trace
                     .record_lit_prepass(cmd, camera.width, camera.height);

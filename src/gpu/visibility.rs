@@ -160,6 +160,21 @@ impl VisibilityPass {
         self.record(cmd, scene, camera, cs.film, cs.lens);
     }
 
+    /// Records the pass along each pixel's aperture-centre ray through its centre (the hybrid's
+    /// lit pre-pass shades what it sees: trace.comp, TRACE_MODE_SHORTCUT). `camera` is the
+    /// traced camera; its raster counterpart is taken here.
+    pub fn record_aperture_centre(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneBuffers,
+        camera: &Camera,
+    ) {
+        // Film offset 0.5 is the pixel centre; lens_u (0.5, 0.5) the lens centre
+        // (concentric_sample_disk), as generate_ray is given them in the pre-pass.
+        let centre = Vec2::splat(0.5);
+        self.record(cmd, scene, &camera.for_rasterizing_rays(), centre, centre);
+    }
+
     /// Records the pass for one camera sample shared by every pixel (`film_u`, `lens_u`; the
     /// camera as `Camera::for_rasterizing_rays` gives it) and the copy into the buffer, whose
     /// writes are then ordered before compute-shader reads. Earlier compute reads of the

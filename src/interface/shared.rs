@@ -83,7 +83,8 @@ shader_interface! {
         TRACE_BINDING_SURFACE_DEPTH: u32 = 13;
         /// `TracePush.mode`: trace every sample (rayquery, software); the hybrid's traced mode
         /// (reads the plan); the hybrid's lit pre-pass, before the plan's steps: per pixel the
-        /// aperture-centre ray at the pixel centre, shaded, into the plan entry's xyz (the lit
+        /// aperture-centre ray at the pixel centre (its hit rasterized by the visibility pass
+        /// through the lens centre), shaded, into the plan entry's xyz (the lit
         /// shortcut value), and whether its shadow ray was blocked into w (1 or 0: the plan's
         /// edge test sees shadow boundaries through it; its entries step overwrites w).
         TRACE_MODE_ALL: u32 = 0;
@@ -107,7 +108,9 @@ shader_interface! {
         /// Pixels of a row that a device runs in lockstep and that share one decision (lavapipe:
         /// one row of an 8x8 workgroup). hybrid_plan.comp takes it to be HYBRID_TILE.
         HYBRID_SEGMENT: u32 = 8;
-        /// Dilated CoC radius (pixels) under which a pixel may take the shortcut.
+        /// Dilated CoC radius (pixels) under which a pixel may take the shortcut with a window
+        /// of its neighbours only; also half a pixel, the film samples' reach from its centre
+        /// (`paths::hybrid::window_radius`).
         HYBRID_SHORTCUT_COC: f32 = 0.5;
         /// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
         HYBRID_MAX_REACH_TILES: u32 = 16;

@@ -46,6 +46,18 @@ pub const SHORTCUT_COC: f32 = HYBRID_SHORTCUT_COC;
 pub const SEGMENT: u32 = HYBRID_SEGMENT;
 /// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
 const MAX_REACH_TILES: i64 = HYBRID_MAX_REACH_TILES as i64;
+/// The half-width (pixels, Chebyshev) of the window of G-buffer pixels that must hold no edge
+/// for a pixel with dilated circle of confusion `coc` to take the shortcut. Its lens rays reach
+/// image points within `0.5 + coc` of its centre (film samples stay in the pixel); an edge
+/// crossing there lies between two pixel centres, one of them within `floor(0.5 + coc)` and the
+/// other one further, and marks the first of the pair (left or upper): so `1 + floor(0.5 +
+/// coc)`. Below half a pixel (`SHORTCUT_COC`) that is 1: the pixel and its neighbours, the
+/// issue's in-focus rule. hybrid_plan.comp computes it alike.
+pub fn window_radius(coc: f32) -> u32 {
+    // Beyond any image the radius crosses the frame: clamped before converting.
+    1 + (coc.min(1e7) + SHORTCUT_COC).floor() as u32
+}
+
 /// Per pixel: what the trace pass does (see `interface::TRACE_BINDING_PLAN`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
@@ -164,11 +176,7 @@ impl Plan {
                 let coc = dilated[((y / TILE) * tw + x / TILE) as usize];
                 // The G-buffer is uniform over the pixel and its circle of confusion: every lens
                 // ray is expected to see what the G-buffer sees (checked, unbiased).
-                let radius = if coc < SHORTCUT_COC {
-                    1
-                } else {
-                    coc.ceil() as u32 + 1
-                };
+                let radius = window_radius(coc);
                 samples.push((!no_edge_within(x, y, radius)).then_some(spp));
             }
         }
@@ -367,6 +375,37 @@ mod tests {
 
     use super::*;
     use crate::camera::{CameraParams, LensParams, ProjectionParams};
+
+    /// The window is the smallest that sees every edge a pixel's lens rays can reach: along a
+    /// row, an edge at `e` (between the centres of pixels k and k + 1, k <= e <= k + 1: at a
+    /// centre either pair may differ, marked on k) is reached from pixel j when
+    /// |e - j| <= 0.5 + coc; then |k - j| <= window_radius(coc), and one less would miss some
+    /// such edge.
+    #[test]
+    fn the_window_sees_every_edge_within_reach() {
+        for step in 0..=400 {
+            let coc = step as f32 * 0.0125;
+            let r = window_radius(coc) as i64;
+            let mut farthest = 0;
+            // Edges over [-8, 8] in 1/64 px steps, pixel j = 0.
+            for e64 in -512..=512 {
+                let e = e64 as f32 / 64.0;
+                if e.abs() <= 0.5 + coc {
+                    let k = e.floor() as i64;
+                    let lower = if e == e.floor() { k - 1 } else { k };
+                    farthest = farthest.max(k.abs()).max(lower.abs());
+                }
+            }
+            assert_eq!(
+                r, farthest,
+                "coc {coc}: radius {r}, farthest mark {farthest}"
+            );
+        }
+        assert_eq!(window_radius(0.0), 1);
+        assert_eq!(window_radius(0.49), 1);
+        assert_eq!(window_radius(0.5), 2);
+        assert_eq!(window_radius(f32::INFINITY), 1 + 1e7 as u32);
+    }
 
     /// A 64x32 G-buffer: a wall at the focus distance, with a near square (blurred) over tile
     /// (0, 0). The tiles the square's CoC reaches are traced, the far ones take the shortcut.
