@@ -149,6 +149,45 @@ fn bench_writes_json_and_plot_and_reuses_the_cached_reference() {
     let reference = &json["points"][0]["reference"];
     assert_eq!(reference["cached"], true);
     assert!(reference["noise_rmse"].as_f64().unwrap() > 0.0);
+
+    // How much is in focus: the default camera's blur (CoC up to 15.6 px at 640x480, so
+    // ~0.8 px at this bench's 32 px width), then a pinhole, where every surface is in focus.
+    let focus = |json: &Value| {
+        let f = &json["points"][0]["focus"];
+        let get = |k: &str| f[k].as_f64().unwrap_or_else(|| panic!("focus.{k} in {f}"));
+        (
+            get("in_focus_fraction"),
+            get("background_fraction"),
+            get("mean_coc_pixels"),
+            get("largest_coc_pixels"),
+        )
+    };
+    let (in_focus, background, mean, largest) = focus(&json);
+    assert!(
+        (0.2..0.6).contains(&background) && in_focus + background < 1.0,
+        "focus {in_focus} background {background}"
+    );
+    assert!(
+        0.0 < mean && mean < largest && (0.6..1.0).contains(&largest),
+        "CoC mean {mean} largest {largest}"
+    );
+    let pinhole = bench(
+        &[
+            "--paths",
+            "cpu",
+            "--aperture-radius",
+            "0",
+            "--json",
+            "c.json",
+        ],
+        dir.path(),
+    );
+    assert!(pinhole.status.success(), "{}", text(&pinhole.stderr));
+    let (in_focus, background, mean, largest) = focus(&read_json(&dir.path().join("c.json")));
+    assert!(
+        (in_focus + background - 1.0).abs() < 1e-12 && (mean, largest) == (0.0, 0.0),
+        "pinhole: in focus {in_focus}, background {background}, CoC mean {mean} largest {largest}"
+    );
 }
 
 /// Every path this machine runs (validation on) measures the error the CPU does: same sampler

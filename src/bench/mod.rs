@@ -4,10 +4,12 @@
 //! as at equal samples. A sweep (spp, resolution, triangles) repeats this over a range of work.
 //!
 //! Files: `options` (what to measure), `choose` (which paths), `scenes`, `sweep` (the points),
-//! `reference` (the cached converged image), `runs` (timing one path at one point), `report`
-//! (the results, also the JSON file), `table`, `plot`, `machine`.
+//! `reference` (the cached converged image), `focus` (how much of the shot is in focus), `runs`
+//! (timing the paths at one point), `report` (the results, also the JSON file), `table`, `plot`,
+//! `machine`.
 
 pub mod choose;
+pub mod focus;
 pub mod machine;
 pub mod options;
 pub mod plot;
@@ -24,9 +26,11 @@ use anyhow::{bail, ensure, Context, Result};
 
 use crate::camera::Camera;
 use crate::paths::{self, OpenedPath};
+use crate::reference::Renderer as CpuRenderer;
 use crate::render::path::{PathKind, RenderPath};
 use crate::render::RenderSettings;
 use crate::resolve::{resolve, Resolved};
+use focus::FocusInfo;
 use options::{BenchOptions, SceneChoice, SweepKind};
 use reference::Reference;
 use report::{BenchReport, PathInfo, PointReport, SceneInfo, SettingsInfo};
@@ -223,13 +227,15 @@ fn measure_group(
         path.close().with_context(|| format!("--paths {kind}"))?;
     }
 
+    let cpu = CpuRenderer::new(&scene.description.scene);
     Ok(shots
         .iter()
         .zip(references)
         .zip(results)
         .map(|((s, reference), mut results)| {
             set_speedups(&mut results);
-            point_report(scene, &s.camera, &s.render, &reference, results)
+            let focus = FocusInfo::of(&cpu, &s.camera, &s.render);
+            point_report(scene, (&s.camera, &s.render), &reference, focus, results)
         })
         .collect())
 }
@@ -257,9 +263,9 @@ fn set_speedups(results: &mut [Measurement]) {
 
 fn point_report(
     scene: &BenchScene,
-    camera: &Camera,
-    render: &RenderSettings,
+    (camera, render): (&Camera, &RenderSettings),
     reference: &Reference,
+    focus: FocusInfo,
     results: Vec<Measurement>,
 ) -> PointReport {
     PointReport {
@@ -268,6 +274,7 @@ fn point_report(
         spp: render.spp,
         triangles: scene.triangles,
         reference: reference.info.clone(),
+        focus,
         results,
     }
 }

@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use super::focus::FocusInfo;
 use super::machine::Machine;
 use super::options::SweepKind;
 use super::reference::ReferenceInfo;
@@ -66,6 +67,8 @@ pub struct PointReport {
     pub spp: u32,
     pub triangles: usize,
     pub reference: ReferenceInfo,
+    /// How much of the shot is in focus (the hybrid's gain depends on it).
+    pub focus: FocusInfo,
     pub results: Vec<Measurement>,
 }
 

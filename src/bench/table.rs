@@ -62,6 +62,17 @@ pub fn render(report: &BenchReport) -> String {
             "reference {}x{}: CPU at {} spp, seed {}, {how}; its own noise: RMSE ~{:.2e}",
             point.width, point.height, r.spp, r.seed, r.noise_rmse
         );
+        let f = &point.focus;
+        let _ = writeln!(
+            out,
+            "focus {}x{}: {:.1} % of the pixels in focus (CoC < 0.5 px), {:.1} % background; CoC of the surfaces: mean {:.1} px, largest {:.1} px",
+            point.width,
+            point.height,
+            100.0 * f.in_focus_fraction,
+            100.0 * f.background_fraction,
+            f.mean_coc_pixels,
+            f.largest_coc_pixels
+        );
     }
 
     let swept = match report.sweep {
