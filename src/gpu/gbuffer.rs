@@ -16,7 +16,7 @@ use super::draw::{
     record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
 };
 use super::error::GpuError;
-use super::image::{record_readbacks, Image};
+use super::image::{record_readbacks, transition, Image, Transition};
 use super::pipeline::{GraphicsDesc, Pipeline};
 use super::query::QueryPool;
 use super::scene::SceneBuffers;
@@ -76,6 +76,28 @@ pub(crate) struct GBufferTargets {
 }
 
 impl GBufferTargets {
+    /// Records the colour images' transition from `old` (TRANSFER_SRC_OPTIMAL after their pass)
+    /// to GENERAL for compute-shader reads (the preview's resolve, the hybrid's plan), their
+    /// pass's writes ordered before those reads. The caller keeps `layout` up to date.
+    pub fn record_to_general(&self, ctx: &Context, cmd: vk::CommandBuffer, old: vk::ImageLayout) {
+        for image in [&self.normal, &self.albedo, &self.view_depth] {
+            transition(
+                ctx,
+                cmd,
+                image.image,
+                &Transition {
+                    old,
+                    new: vk::ImageLayout::GENERAL,
+                    src_stage: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                        | vk::PipelineStageFlags::TRANSFER,
+                    src_access: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+                    dst_stage: vk::PipelineStageFlags::COMPUTE_SHADER,
+                    dst_access: vk::AccessFlags::SHADER_READ,
+                },
+            );
+        }
+    }
+
     fn new(
         ctx: &Arc<Context>,
         render_pass: vk::RenderPass,

@@ -144,23 +144,7 @@ impl HybridPlanPass {
         spp: u32,
     ) {
         let ctx = &self.ctx;
-        let images = [&targets.normal, &targets.albedo, &targets.view_depth];
-        for image in images {
-            transition(
-                ctx,
-                cmd,
-                image.image,
-                &Transition {
-                    old: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    new: vk::ImageLayout::GENERAL,
-                    src_stage: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-                        | vk::PipelineStageFlags::TRANSFER,
-                    src_access: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-                    dst_stage: vk::PipelineStageFlags::COMPUTE_SHADER,
-                    dst_access: vk::AccessFlags::SHADER_READ,
-                },
-            );
-        }
+        targets.record_to_general(ctx, cmd, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
         let (width, height) = (targets.width, targets.height);
         let (tiles_x, tiles_y) = (width.div_ceil(HYBRID_TILE), height.div_ceil(HYBRID_TILE));
         let push = |step| HybridPlanPush {
@@ -215,7 +199,7 @@ impl HybridPlanPass {
             vk::PipelineStageFlags::COMPUTE_SHADER,
             vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
         );
-        for image in images {
+        for image in [&targets.normal, &targets.albedo, &targets.view_depth] {
             transition(
                 ctx,
                 cmd,

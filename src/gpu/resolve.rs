@@ -96,22 +96,7 @@ impl ResolvePass {
         let display = self.display.as_ref().expect("bind first");
         let old = targets.layout.get();
         if old != vk::ImageLayout::GENERAL {
-            for image in [&targets.normal, &targets.albedo, &targets.view_depth] {
-                transition(
-                    ctx,
-                    cmd,
-                    image.image,
-                    &Transition {
-                        old,
-                        new: vk::ImageLayout::GENERAL,
-                        src_stage: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-                            | vk::PipelineStageFlags::TRANSFER,
-                        src_access: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-                        dst_stage: vk::PipelineStageFlags::COMPUTE_SHADER,
-                        dst_access: vk::AccessFlags::SHADER_READ,
-                    },
-                );
-            }
+            targets.record_to_general(ctx, cmd, old);
             targets.layout.set(vk::ImageLayout::GENERAL);
         }
         transition(
