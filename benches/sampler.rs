@@ -8,14 +8,20 @@
 //!    measured: the default (film and lens pairs jointly stratified through the lens index)
 //!    against padded, randomly shuffled 2-D pairs (Burley 2020), Joe and Kuo's 4-D Sobol' points,
 //!    the pairs without any shuffle, and independent samples; with the t-values of each design.
-//! 4. The cost of sample generation as a fraction of the render time, CPU and GPU.
+//! 4. The same designs on single straight edges seen through the lens, by blur radius: the floor
+//!    of the error ratio to independent sampling on the integrand that dominates the renders'.
+//! 5. The cost of sample generation as a fraction of the render time, CPU and GPU.
 //!
 //! `cargo bench --bench sampler [-- --width W --height H --reference-spp N --only PART]` measures
-//! (default 320x240, reference 4096 spp; PART is one of t-values, cost, rmse, between, decision). Under `cargo test --all-targets` (no `--bench` argument) it only
+//! (default 320x240, reference 4096 spp; PART is one of t-values, cost, rmse, between, decision,
+//! edges). Under `cargo test --all-targets` (no `--bench` argument) it only
 //! runs a tiny smoke version. The GPU part is skipped with a line when no ray-query device exists.
 //! `cargo bench --bench sampler -- --search-lens-index [--seed S --iterations N]` reruns the
 //! search that chose `LENS_INDEX_COLUMNS` (from their first 12 columns, or from scratch with
 //! `--from-scratch`).
+
+#[path = "sampler/edges.rs"]
+mod edges;
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -283,7 +289,7 @@ fn between_powers(o: &Options) {
 }
 
 /// Film offset and lens position of sample `index` of the pixel with key `key`.
-type Candidate = fn(u32, u32) -> [f32; 4];
+pub type Candidate = fn(u32, u32) -> [f32; 4];
 
 /// The default: film pair at the index, lens pair at the lens index.
 fn candidate_default(key: u32, index: u32) -> [f32; 4] {
@@ -362,6 +368,52 @@ fn unlit_estimate(
             }
         });
     image
+}
+
+/// The error ratio to independent sampling on single straight edges (`edges.rs`), by blur radius.
+fn edges_table(o: &Options) {
+    let (trials, reference_spp, spp) = if o.full {
+        (4000, 4096, vec![4, 16, 64])
+    } else {
+        (40, 256, vec![4, 16])
+    };
+    println!(
+        "== One straight edge through pixel and lens: RMSE / independent sampling's ({trials} random edges, reference {reference_spp} spp)"
+    );
+    let candidates: [(&str, Candidate); 4] = [
+        ("pairs at the lens index (default)", candidate_default),
+        ("Joe-Kuo 4-D", candidate_joe_kuo_4d),
+        ("pairs, randomly shuffled", candidate_shuffled_pairs),
+        ("independent", candidate_independent),
+    ];
+    print!("| where the edge is | design |");
+    for n in &spp {
+        print!(" {n} spp |");
+    }
+    println!();
+    let blurs = [
+        edges::Blur::Radius(0.0),
+        edges::Blur::Radius(0.25),
+        edges::Blur::Radius(0.5),
+        edges::Blur::Radius(1.0),
+        edges::Blur::Radius(2.0),
+        edges::Blur::Radius(4.0),
+        edges::Blur::Radius(16.0),
+        edges::Blur::LensOnly,
+        edges::Blur::LensOnlySquare,
+    ];
+    let functions: Vec<Candidate> = candidates.iter().map(|c| c.1).collect();
+    for blur in blurs {
+        let mse = edges::mean_squared_errors(blur, &functions, &spp, trials, reference_spp);
+        let independent = mse.last().expect("independent is the last candidate");
+        for ((name, _), errors) in candidates.iter().zip(&mse).take(candidates.len() - 1) {
+            print!("| {} | {name} |", blur.label());
+            for (e, i) in errors.iter().zip(independent) {
+                print!(" {:.3} |", (e / i).sqrt());
+            }
+            println!();
+        }
+    }
 }
 
 fn decision(o: &Options) {
@@ -660,6 +712,9 @@ fn main() {
     }
     if run("decision") {
         decision(&o);
+    }
+    if run("edges") {
+        edges_table(&o);
     }
     println!("(benchmark took {:.0} s)", start.elapsed().as_secs_f64());
 }
