@@ -402,7 +402,7 @@ fn edges_table(o: &Options) {
         edges::Blur::LensOnly,
         edges::Blur::LensOnlySquare,
     ];
-    let functions: Vec<Candidate> = candidates.iter().map(|c| c.1).collect();
+    let functions: Vec<edges::Design> = candidates.iter().map(|c| &c.1 as edges::Design).collect();
     for blur in blurs {
         let mse = edges::mean_squared_errors(blur, &functions, &spp, trials, reference_spp);
         let independent = mse.last().expect("independent is the last candidate");
@@ -412,6 +412,25 @@ fn edges_table(o: &Options) {
                 print!(" {:.3} |", (e / i).sqrt());
             }
             println!();
+        }
+    }
+    println!("== Every lens index map of the first 16 samples on edges blurred by 0.25-4 px: RMSE / independent sampling's, geometric mean over the radii");
+    println!("| rank | columns 0-3 | 4 spp | 16 spp |");
+    let shipped: [u32; 4] = std::array::from_fn(|c| LENS_INDEX_COLUMNS[c]);
+    let maps = edges::first_sixteen_lens_maps(&candidate_independent, trials, reference_spp);
+    for (rank, (columns, ratios)) in maps.iter().enumerate() {
+        if rank < 5 || rank + 1 == maps.len() || *columns == shipped {
+            let mark = if *columns == shipped {
+                " (shipped)"
+            } else {
+                ""
+            };
+            println!(
+                "| {} | {columns:?}{mark} | {:.3} | {:.3} |",
+                rank + 1,
+                ratios[0],
+                ratios[1]
+            );
         }
     }
 }

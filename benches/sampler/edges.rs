@@ -13,9 +13,13 @@ use glam::Vec2;
 use rayon::prelude::*;
 
 use lensray::camera::thin_lens::concentric_sample_disk;
+use lensray::sampler::owen::owen_scramble_reversed;
+use lensray::sampler::scrambled_sobol::scramble_seed;
+use lensray::sampler::sobol::{sobol_reversed, LENS_INDEX_COLUMNS};
 use lensray::sampler::{hash_u32, pixel_key, unit_float};
 
-use super::Candidate;
+/// A sampler design: film x, film y, lens x, lens y of sample `index` of the pixel with `key`.
+pub type Design<'a> = &'a (dyn Fn(u32, u32) -> [f32; 4] + Sync);
 
 /// Where the edge lies: through the pixel and the lens jointly, or through the lens only.
 #[derive(Clone, Copy)]
@@ -74,7 +78,7 @@ impl Edge {
         f64::from(u8::from(p.dot(self.normal) > self.offset))
     }
 
-    fn estimate(&self, blur: Blur, candidate: Candidate, key: u32, spp: u32) -> f64 {
+    fn estimate(&self, blur: Blur, candidate: Design, key: u32, spp: u32) -> f64 {
         (0..spp)
             .map(|i| self.covers(blur, candidate(key, i)))
             .sum::<f64>()
@@ -86,7 +90,7 @@ impl Edge {
 /// `reference_spp` estimate with the first candidate and other keys; `[candidate][spp]`.
 pub fn mean_squared_errors(
     blur: Blur,
-    candidates: &[Candidate],
+    candidates: &[Design],
     spp: &[u32],
     trials: u32,
     reference_spp: u32,
@@ -119,4 +123,81 @@ pub fn mean_squared_errors(
                 .collect()
         })
         .collect()
+}
+
+/// The default design with other lens index columns 0..4, which alone decide the first 16
+/// samples' lens points (column c has bit c set and any lower bits: 2 x 4 x 8 choices).
+fn with_first_columns(columns: [u32; 4]) -> impl Fn(u32, u32) -> [f32; 4] + Sync {
+    move |key, index| {
+        let mut lens = index & 0xffff_0000;
+        for (bit, &column) in LENS_INDEX_COLUMNS.iter().enumerate().skip(4) {
+            lens ^= column & 0u32.wrapping_sub((index >> bit) & 1);
+        }
+        for (bit, &column) in columns.iter().enumerate() {
+            lens ^= column & 0u32.wrapping_sub((index >> bit) & 1);
+        }
+        let indices = [index, index, lens, lens];
+        std::array::from_fn(|d| {
+            unit_float(owen_scramble_reversed(
+                sobol_reversed(d as u32 % 2, indices[d]),
+                scramble_seed(key, d as u32),
+            ))
+        })
+    }
+}
+
+/// Every choice of the first four lens index columns, scored on edges blurred by 0.25-4 px at 4
+/// and 16 spp (the error ratio to `independent`, geometric mean over the radii), best first.
+pub fn first_sixteen_lens_maps(
+    independent: Design,
+    trials: u32,
+    reference_spp: u32,
+) -> Vec<([u32; 4], Vec<f64>)> {
+    let shipped = with_first_columns(std::array::from_fn(|c| LENS_INDEX_COLUMNS[c]));
+    for index in 0..1024 {
+        let pixel = lensray::sampler::sobol_pixel(7);
+        assert_eq!(
+            shipped(7, index),
+            lensray::sampler::sobol_sample(&pixel, index),
+            "the benchmark's design differs from the sampler"
+        );
+    }
+    let radii = [0.25, 0.5, 1.0, 2.0, 4.0];
+    let spp = [4, 16];
+    let mut maps = Vec::new();
+    for c1 in 0..2 {
+        for c2 in 0..4 {
+            for c3 in 0..8 {
+                maps.push([1, 2 | c1, 4 | c2, 8 | c3]);
+            }
+        }
+    }
+    let designs: Vec<_> = maps.iter().map(|&m| with_first_columns(m)).collect();
+    let mut all: Vec<Design> = designs.iter().map(|d| d as Design).collect();
+    all.push(independent);
+    // log of the error ratio to independent sampling, per map and spp, summed over the radii
+    let mut log_ratio = vec![vec![0.0f64; spp.len()]; maps.len()];
+    for r in radii {
+        let mse = mean_squared_errors(Blur::Radius(r), &all, &spp, trials, reference_spp);
+        let independent = mse.last().expect("independent is last");
+        for (sums, errors) in log_ratio.iter_mut().zip(&mse) {
+            for ((sum, e), i) in sums.iter_mut().zip(errors).zip(independent) {
+                *sum += 0.5 * (e / i).ln();
+            }
+        }
+    }
+    let mut scored: Vec<([u32; 4], Vec<f64>)> = maps
+        .into_iter()
+        .zip(log_ratio)
+        .map(|(m, sums)| {
+            (
+                m,
+                sums.iter()
+                    .map(|s| (s / radii.len() as f64).exp())
+                    .collect(),
+            )
+        })
+        .collect();
+    scored.sort_by(|a, b| a.1[1].total_cmp(&b.1[1]));
+    scored
 }
