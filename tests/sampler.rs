@@ -20,9 +20,9 @@ const WIDTH: u32 = 48;
 const HEIGHT: u32 = 36;
 const REFERENCE_SPP: u32 = 4096;
 const BACKGROUND: Vec3 = Vec3::new(0.1, 0.12, 0.15);
-/// At 16 spp the error of a stratified 16-point set on an edge is ~0.4x that of independent
-/// points at best, and ~0.5x on edges blurred by the lens (docs/sampler.md: the 0.4 came
-/// from a sampler that had rounded 16 spp up to 25); measured here: 0.52.
+/// Not the 0.4: on one edge, 16 of these points reach 0.41x independent sampling's error
+/// in focus, the best case, and 0.44-0.57x on edges blurred by the lens (`cargo bench --bench
+/// sampler -- --only edges`; docs/sampler.md, "The floor on edges"). Measured here: 0.52.
 const MAX_RATIO_AT_16_SPP: f64 = 0.55;
 
 /// A rectangle facing +z at depth z, centre (x, y), half sides (w, h), turned by `degrees`.
