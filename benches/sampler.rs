@@ -289,7 +289,7 @@ fn between_powers(o: &Options) {
 }
 
 /// Film offset and lens position of sample `index` of the pixel with key `key`.
-pub type Candidate = fn(u32, u32) -> [f32; 4];
+type Candidate = fn(u32, u32) -> [f32; 4];
 
 /// The default: film pair at the index, lens pair at the lens index.
 fn candidate_default(key: u32, index: u32) -> [f32; 4] {
