@@ -23,10 +23,11 @@ pub enum Format {
 pub enum OutputError {
     #[error("output {path}: unknown extension (use .png or .exr)")]
     UnknownExtension { path: PathBuf },
-    #[error("output {path}: cannot write there: {source}")]
+    /// `reason` is in the message and not a source, so that the one line says it once.
+    #[error("output {path}: cannot write there: {reason}")]
     Unwritable {
         path: PathBuf,
-        source: std::io::Error,
+        reason: std::io::Error,
     },
     #[error("output {path}: encoding failed: {message}")]
     Encode { path: PathBuf, message: String },
@@ -63,9 +64,9 @@ impl PendingOutput {
             path: self.path.clone(),
             message,
         };
-        let mut temp = temp_file_in(&self.dir).map_err(|source| OutputError::Unwritable {
+        let mut temp = temp_file_in(&self.dir).map_err(|reason| OutputError::Unwritable {
             path: self.path.clone(),
-            source,
+            reason,
         })?;
         let (w, h) = (image.width, image.height);
         {
@@ -87,7 +88,7 @@ impl PendingOutput {
         let path = self.path.clone();
         temp.persist(&path).map_err(|e| OutputError::Unwritable {
             path,
-            source: e.error,
+            reason: e.error,
         })?;
         Ok(())
     }
@@ -113,9 +114,9 @@ impl PendingFile {
     }
 
     pub fn finish(self, bytes: &[u8]) -> Result<(), OutputError> {
-        let unwritable = |source| OutputError::Unwritable {
+        let unwritable = |reason| OutputError::Unwritable {
             path: self.path.clone(),
-            source,
+            reason,
         };
         let mut temp = temp_file_in(&self.dir).map_err(unwritable)?;
         temp.as_file_mut()
@@ -134,9 +135,9 @@ fn writable_dir_of(path: &Path) -> Result<PathBuf, OutputError> {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let unwritable = |source| OutputError::Unwritable {
+    let unwritable = |reason| OutputError::Unwritable {
         path: path.to_owned(),
-        source,
+        reason,
     };
     if path.is_dir() {
         return Err(unwritable(std::io::Error::other("it is a directory")));
@@ -153,7 +154,25 @@ fn temp_file_in(dir: &Path) -> std::io::Result<NamedTempFile> {
     // An image is no secret: the usual rw-r--r-- rather than the temp file's private 0600.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
-    builder.tempfile_in(dir)
+    // tempfile names its random file in the error; the user named the output, which the
+    // message already gives, so keep only the system's reason.
+    builder.tempfile_in(dir).map_err(|e| system_reason(e, dir))
+}
+
+/// What went wrong, without the temporary file's name that tempfile adds to its errors (the
+/// message names the output the user gave).
+fn system_reason(e: std::io::Error, dir: &Path) -> std::io::Error {
+    use std::io::ErrorKind;
+    let reason = match e.kind() {
+        ErrorKind::NotFound if !dir.is_dir() => "no such folder",
+        ErrorKind::NotFound => "cannot create a file in that folder",
+        ErrorKind::PermissionDenied => "permission denied",
+        ErrorKind::ReadOnlyFilesystem => "read-only file system",
+        ErrorKind::NotADirectory => "a parent is not a folder",
+        ErrorKind::StorageFull => "no space left",
+        _ => return e,
+    };
+    std::io::Error::new(e.kind(), reason)
 }
 
 fn write_exr<W: Write + Seek>(writer: W, floats: &[f32], w: u32, h: u32) -> Result<(), String> {

@@ -205,7 +205,13 @@ fn bad_files_are_rejected_with_one_line() {
 #[test]
 fn bad_outputs_are_rejected_before_rendering() {
     assert_rejected(&["--out", "image.jpg"], "extension");
-    assert_rejected(&["--out", "/nonexistent-dir/x.png"], "cannot write");
+    // The reason, not the name of the temporary file the check made.
+    assert_rejected(
+        &["--out", "/nonexistent-dir/x.png"],
+        "/nonexistent-dir/x.png: cannot write there: no such folder",
+    );
+    let under_a_file = concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml/x.png");
+    assert_rejected(&["--out", under_a_file], "a parent is not a folder");
 }
 
 /// Runs lensray with the Vulkan loader pointed at no driver at all: the machine "has no GPU".
