@@ -94,12 +94,26 @@ impl std::fmt::Display for PreviewSummary {
 
 /// Opens the window and runs until it is closed, Escape, `--frames` or the script's `quit`.
 pub fn run(config: PreviewConfig) -> Result<PreviewSummary> {
-    let event_loop = EventLoop::new().context("cannot open a window (is a display available?)")?;
+    let event_loop = EventLoop::new().map_err(|e| {
+        anyhow::anyhow!(
+            "cannot open a window (is a display available?): {}",
+            without_source_location(&e.to_string())
+        )
+    })?;
     let mut app = App::new(config);
     event_loop
         .run_app(&mut app)
         .context("the window's event loop failed")?;
     app.finish()
+}
+
+/// winit's OS errors start with the winit source line that raised them ("os error at
+/// <file>:<line>: <reason>"); the user needs the reason only.
+fn without_source_location(message: &str) -> &str {
+    message
+        .strip_prefix("os error at ")
+        .and_then(|rest| rest.split_once(": "))
+        .map_or(message, |(_, reason)| reason)
 }
 
 struct Gui {
@@ -717,5 +731,21 @@ impl ApplicationHandler for App {
             self.log.pause();
             event_loop.set_control_flow(ControlFlow::Wait);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::without_source_location;
+
+    #[test]
+    fn winit_errors_lose_their_source_location() {
+        assert_eq!(
+            without_source_location(
+                "os error at /home/u/.cargo/registry/src/winit-0.30.13/src/platform_impl/linux/mod.rs:765: neither WAYLAND_DISPLAY nor WAYLAND_SOCKET nor DISPLAY is set."
+            ),
+            "neither WAYLAND_DISPLAY nor WAYLAND_SOCKET nor DISPLAY is set."
+        );
+        assert_eq!(without_source_location("no display"), "no display");
     }
 }
