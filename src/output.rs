@@ -154,8 +154,6 @@ fn temp_file_in(dir: &Path) -> std::io::Result<NamedTempFile> {
     // An image is no secret: the usual rw-r--r-- rather than the temp file's private 0600.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
-    // tempfile names its random file in the error; the user named the output, which the
-    // message already gives, so keep only the system's reason.
     builder.tempfile_in(dir).map_err(|e| system_reason(e, dir))
 }
 
