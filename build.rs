@@ -1,8 +1,11 @@
 //! Compiles the GLSL shaders in `shaders/` to SPIR-V (Vulkan 1.2, SPIR-V 1.4) with shaderc.
-//! Each `shaders/NAME.{vert,frag,comp}` becomes `$OUT_DIR/NAME.STAGE.spv`, embedded by
-//! `src/gpu/shader.rs` with `include_bytes!`. `#include "x.glsl"` resolves in `shaders/`.
-//! A shader listed in `VARIANTS` is compiled once per variant instead, with that variant's macro
-//! defined, into `$OUT_DIR/VARIANT.STAGE.spv`.
+//! `shaders/` has the layers of `src/gpu/`: `include/` (what the shaders share: camera, sampler,
+//! scene, shading), `passes/` (the renderer's passes), `present/` (the preview window's) and
+//! `probes/` (tests' and benchmarks', compiled only with the `probes` feature, as their Rust
+//! side). Each `shaders/LAYER/NAME.{vert,frag,comp}` becomes `$OUT_DIR/NAME.STAGE.spv`, embedded
+//! by `src/gpu/core/shader.rs` with `include_bytes!`. `#include "x.glsl"` resolves in
+//! `shaders/include/`. A shader listed in `VARIANTS` is compiled once per variant instead, with
+//! that variant's macro defined, into `$OUT_DIR/VARIANT.STAGE.spv`.
 //! A compile error fails the build with the file and line of every message.
 //!
 //! First it writes `$OUT_DIR/interface.glsl` from `src/interface/shared.rs`, the one definition
@@ -29,7 +32,7 @@ mod interface {
 const INTERFACE_HEADER: &str = "interface.glsl";
 
 /// Shaders compiled more than once: file name, then (output name, macro defined) per variant.
-/// trace.comp: one closest-hit implementation each (src/gpu/trace.rs picks the pipeline).
+/// trace.comp: one closest-hit implementation each (src/gpu/passes/trace.rs picks the pipeline).
 const VARIANTS: &[(&str, &[(&str, &str)])] = &[(
     "trace.comp",
     &[
@@ -52,11 +55,21 @@ fn main() {
         .expect("write interface.glsl");
 
     let compiler = shaderc::Compiler::new().expect("shaderc: cannot create a compiler");
-    let mut entries: Vec<PathBuf> = std::fs::read_dir(&shader_dir)
-        .expect("read shaders/")
-        .map(|e| e.expect("read shaders/").path())
-        .collect();
+    let mut layers = vec!["passes", "present"];
+    if std::env::var_os("CARGO_FEATURE_PROBES").is_some() {
+        layers.push("probes");
+    }
+    let mut entries: Vec<PathBuf> = Vec::new();
+    for layer in layers {
+        let dir = shader_dir.join(layer);
+        entries.extend(
+            std::fs::read_dir(&dir)
+                .unwrap_or_else(|e| panic!("read {}: {e}", dir.display()))
+                .map(|e| e.expect("read shaders/").path()),
+        );
+    }
     entries.sort();
+    let include_dir = shader_dir.join("include");
 
     let mut failures = Vec::new();
     for path in entries {
@@ -79,7 +92,7 @@ fn main() {
                 None => vec![(name.clone(), None)],
             };
         for (out_name, define) in variants {
-            let options = compile_options(&shader_dir, &out, define);
+            let options = compile_options(&include_dir, &out, define);
             match compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options)) {
                 Ok(artifact) => {
                     if artifact.get_num_warnings() > 0 {
@@ -102,10 +115,10 @@ fn main() {
     }
 }
 
-/// Vulkan 1.2 / SPIR-V 1.4, optimised, warnings as errors, includes from `shaders/` (and the
+/// Vulkan 1.2 / SPIR-V 1.4, optimised, warnings as errors, includes from `shaders/include/` (and the
 /// generated header from `$OUT_DIR`), `define` set when given.
 fn compile_options<'a>(
-    shader_dir: &Path,
+    include_dir: &Path,
     out: &Path,
     define: Option<&str>,
 ) -> shaderc::CompileOptions<'a> {
@@ -120,7 +133,7 @@ fn compile_options<'a>(
     if let Some(define) = define {
         options.add_macro_definition(define, None);
     }
-    let include_dir = shader_dir.to_path_buf();
+    let include_dir = include_dir.to_path_buf();
     let generated_dir = out.to_path_buf();
     options.set_include_callback(move |requested, _kind, requester, _depth| {
         let dir = if requested == INTERFACE_HEADER {

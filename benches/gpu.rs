@@ -11,9 +11,9 @@ mod gpu_support;
 use glam::Vec3;
 use lensray::camera::{CameraParams, LensParams, ProjectionParams};
 use lensray::gpu::{bench, BenchOptions, GpuOptions};
-use lensray::render::{PointLight, RenderSettings, Shading};
 use lensray::sampler::SamplerKind;
 use lensray::scene::{Material, Mesh, Scene};
+use lensray::settings::{PointLight, RenderSettings, Shading};
 
 /// A UV sphere with vertex normals (the scene generators' own).
 fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32, material: u32) -> Mesh {

@@ -30,11 +30,10 @@ use glam::{UVec2, Vec2, Vec3};
 use rayon::prelude::*;
 
 use lensray::camera::Camera;
+use lensray::film::compare::rmse;
+use lensray::film::Image;
 use lensray::gpu::{GpuOptions, GpuRenderer};
 use lensray::reference::Renderer;
-use lensray::render::compare::rmse;
-use lensray::render::{Image, RenderSettings, Shading};
-use lensray::resolve::resolve;
 use lensray::sampler::owen::{owen_scramble_reversed, shuffle_index};
 use lensray::sampler::quality::{camera_matrices, t_value, GeneratorMatrix};
 use lensray::sampler::scrambled_sobol::{scramble_seed, shuffle_seed};
@@ -44,7 +43,9 @@ use lensray::sampler::{
     SamplerKind,
 };
 use lensray::scene::file::SceneDescription;
+use lensray::settings::shot;
 use lensray::settings::Settings;
+use lensray::settings::{RenderSettings, Shading};
 
 const KINDS: [SamplerKind; 2] = [SamplerKind::Sobol, SamplerKind::Independent];
 /// Seeds of the measured renders; the reference uses others.
@@ -122,7 +123,7 @@ fn resolved(
     over.image.width = Some(width);
     over.image.height = Some(height);
     over.render.shading = shading;
-    let r = resolve(&desc.settings.clone().overridden_by(&over), &desc.scene).expect("resolve");
+    let r = shot(&desc.settings.clone().overridden_by(&over), &desc.scene).expect("resolve");
     (r.camera, r.render)
 }
 

@@ -15,9 +15,9 @@ mod gpu_support;
 
 use lensray::camera::Camera;
 use lensray::gpu::{bench_renderer, BvhParams, GpuError, GpuOptions, GpuRenderer, Traversal};
-use lensray::render::stats::{median, range};
-use lensray::render::{RenderSettings, Shading};
 use lensray::scene::{Scene, SceneDescription};
+use lensray::settings::{RenderSettings, Shading};
+use lensray::stats::{median, range};
 
 struct Args {
     repeat: u32,
@@ -57,7 +57,7 @@ fn args() -> Args {
 }
 
 /// The scene's own camera and settings at the bench's size, lit unless `--unlit`.
-fn resolve(desc: &SceneDescription, a: &Args) -> (Camera, RenderSettings) {
+fn shot(desc: &SceneDescription, a: &Args) -> (Camera, RenderSettings) {
     use lensray::settings::{ImageSettings, RenderStyle, Settings};
     let over = Settings {
         image: ImageSettings {
@@ -77,7 +77,7 @@ fn resolve(desc: &SceneDescription, a: &Args) -> (Camera, RenderSettings) {
         },
         ..Default::default()
     };
-    let r = lensray::resolve::resolve(&desc.settings.clone().overridden_by(&over), &desc.scene)
+    let r = lensray::settings::shot(&desc.settings.clone().overridden_by(&over), &desc.scene)
         .expect("resolve settings");
     (r.camera, r.render)
 }
@@ -147,7 +147,7 @@ fn time_interleaved(
 }
 
 fn compare_traversals(name: &str, desc: &SceneDescription, a: &Args) -> Result<(), GpuError> {
-    let (camera, settings) = resolve(desc, a);
+    let (camera, settings) = shot(desc, a);
     let mut gpu = GpuRenderer::new(&GpuOptions::default())?;
     gpu.load_scene(&desc.scene)?;
     let t = gpu.timings();
@@ -196,7 +196,7 @@ fn compare_traversals(name: &str, desc: &SceneDescription, a: &Args) -> Result<(
 }
 
 fn bvh_sweep(desc: &SceneDescription, a: &Args) -> Result<(), GpuError> {
-    let (camera, settings) = resolve(desc, a);
+    let (camera, settings) = shot(desc, a);
     println!(
         "BVH builds ({} triangles), software traversal, {}x{} at {} spp {:?}:",
         desc.scene.triangle_count(),

@@ -6,6 +6,7 @@
 pub mod bench;
 pub mod camera;
 pub mod cli;
+pub mod film;
 // The Vulkan module is the only place allowed to use `unsafe` (each block says why).
 #[allow(unsafe_code)]
 pub mod gpu;
@@ -14,8 +15,7 @@ pub mod output;
 pub mod paths;
 pub mod preview;
 pub mod reference;
-pub mod render;
-pub mod resolve;
 pub mod sampler;
 pub mod scene;
 pub mod settings;
+pub mod stats;

@@ -11,7 +11,9 @@ use image::{ExtendedColorType, ImageEncoder};
 use tempfile::NamedTempFile;
 use thiserror::Error;
 
-use crate::render::{Image, Shading};
+use crate::film::Image;
+
+use crate::settings::Shading;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {

@@ -10,15 +10,16 @@ mod gpu_support;
 use glam::{UVec2, Vec2, Vec3};
 use gpu_support::*;
 use lensray::camera::{Camera, LensParams};
+use lensray::film::Image;
 use lensray::gpu::{focus_distance_at, GpuError, GpuOptions, GpuRenderer, ProbeQuery};
 use lensray::interface::{VIEW_ALBEDO, VIEW_COC, VIEW_DEPTH, VIEW_NORMAL};
 use lensray::reference::Renderer as CpuRenderer;
-use lensray::render::{Image, Shading};
 use lensray::sampler::owen::{owen_scramble_reversed, shuffle_index};
 use lensray::sampler::sobol::{lens_index, sobol_reversed};
 use lensray::sampler::{
     camera_sample, hash_u32, sample_1d, sample_dimension, sample_key, SamplerKind,
 };
+use lensray::settings::Shading;
 
 #[test]
 fn bogus_device_index_is_a_clear_error() {
@@ -706,7 +707,7 @@ fn gpu_matches_cpu_on_project_scenes() {
                 ..Default::default()
             };
             let resolved =
-                lensray::resolve::resolve(&desc.settings.clone().overridden_by(&over), &desc.scene)
+                lensray::settings::shot(&desc.settings.clone().overridden_by(&over), &desc.scene)
                     .expect("resolve settings");
             let image = gpu
                 .render(&resolved.camera, &resolved.render, &mut |_, _| {})

@@ -9,10 +9,11 @@ mod gpu_support;
 
 use gpu_support::*;
 use lensray::camera::{Camera, LensParams};
+use lensray::film::Image;
 use lensray::gpu::{GpuError, GpuOptions, Traversal};
 use lensray::reference::Renderer as CpuRenderer;
-use lensray::render::{Image, RenderSettings, Shading};
 use lensray::scene::Scene;
+use lensray::settings::{RenderSettings, Shading};
 
 /// The project's scenes (built-in default, Cornell box) as the CLI resolves them, small.
 fn project_scenes(
@@ -49,7 +50,7 @@ fn project_scenes(
                 ..Default::default()
             };
             let resolved =
-                lensray::resolve::resolve(&desc.settings.clone().overridden_by(&over), &desc.scene)
+                lensray::settings::shot(&desc.settings.clone().overridden_by(&over), &desc.scene)
                     .expect("resolve settings");
             (name, desc.scene, resolved.camera, resolved.render)
         })

@@ -6,11 +6,11 @@ mod gpu_support;
 
 use gpu_support::{camera, may_skip, record_skip, render_path as render, settings, test_scene};
 use lensray::camera::{Camera, LensParams};
+use lensray::film::compare::{mean_error, rmse};
 use lensray::gpu::{GpuOptions, GpuRenderer};
+use lensray::paths::RenderPath;
 use lensray::paths::{self, hybrid, HybridPath, PathChoice, PathOptions};
-use lensray::render::compare::{mean_error, rmse};
-use lensray::render::path::RenderPath;
-use lensray::render::{RenderSettings, Shading};
+use lensray::settings::{RenderSettings, Shading};
 
 /// The hybrid path on a validated device with the test scene loaded.
 fn hybrid(test: &str) -> Option<HybridPath> {
@@ -247,7 +247,7 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
         },
         ..Default::default()
     };
-    let resolved = lensray::resolve::resolve(
+    let resolved = lensray::settings::shot(
         &description.settings.clone().overridden_by(&over),
         &description.scene,
     )

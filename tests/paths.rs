@@ -8,12 +8,13 @@ use gpu_support::{
     camera, compare, may_skip, open_path, record_skip, settings, test_scene, write_comparison,
 };
 use lensray::camera::LensParams;
+use lensray::film::Accumulation;
 use lensray::gpu::{GpuError, GpuOptions};
+use lensray::paths::PathKind;
 use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathOptions};
-use lensray::render::path::PathKind;
-use lensray::render::{Accumulation, RenderSettings, Shading};
+use lensray::settings::{RenderSettings, Shading};
 
-fn shot() -> (lensray::camera::Camera, lensray::render::RenderSettings) {
+fn shot() -> (lensray::camera::Camera, lensray::settings::RenderSettings) {
     let lens = LensParams::ThinLens {
         aperture_radius: 0.12,
         focus_distance: 5.0,

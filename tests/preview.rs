@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 
 use glam::{UVec2, Vec2};
 use lensray::reference::Renderer;
-use lensray::resolve::resolve;
+use lensray::settings::shot;
 
 /// An Xvfb server on a free display (it picks one and tells us, `-displayfd`), stopped on drop.
 struct Xvfb {
@@ -230,7 +230,7 @@ fn traced_depth(pixel: UVec2) -> f32 {
         ..Default::default()
     };
     let settings = lensray::cli::render::merged_settings(&description.settings, &args);
-    let camera = resolve(&settings, &description.scene).unwrap().camera;
+    let camera = shot(&settings, &description.scene).unwrap().camera;
     let ray = camera.generate_ray(pixel.as_vec2() + Vec2::splat(0.5), Vec2::splat(0.5));
     let hit = Renderer::new(&description.scene)
         .intersect(&ray)

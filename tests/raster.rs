@@ -7,8 +7,9 @@ mod gpu_support;
 
 use gpu_support::{camera, compare, open_path, render_path, settings, write_comparison};
 use lensray::camera::{Camera, LensParams};
+use lensray::film::Image;
 use lensray::paths::PathChoice;
-use lensray::render::{Image, RenderSettings, Shading};
+use lensray::settings::{RenderSettings, Shading};
 
 fn blurred_shot(orthographic: bool) -> Camera {
     camera(

@@ -4,11 +4,12 @@ use std::path::PathBuf;
 
 use glam::{Vec2, Vec3, Vec3A};
 use lensray::camera::{Camera, CameraParams, LensParams, ProjectionParams};
+use lensray::film::Image;
 use lensray::output::linear_to_srgb;
 use lensray::reference::{Accel, Renderer, WatertightRay};
-use lensray::render::{Image, PointLight, RenderSettings, Shading};
 use lensray::sampler::{hash_u32, SamplerKind};
 use lensray::scene::{Material, Mesh, Scene};
+use lensray::settings::{PointLight, RenderSettings, Shading};
 
 mod edge_fit;
 

@@ -10,11 +10,12 @@ use std::sync::OnceLock;
 use glam::{UVec2, Vec2, Vec3};
 use gpu_support::write_png;
 use lensray::camera::{Camera, CameraParams, LensParams, ProjectionParams};
+use lensray::film::compare::{correlation, error_image, mean_error, neighbour_correlation, rmse};
+use lensray::film::Image;
 use lensray::reference::Renderer;
-use lensray::render::compare::{correlation, error_image, mean_error, neighbour_correlation, rmse};
-use lensray::render::{Image, PointLight, RenderSettings, Shading};
 use lensray::sampler::{pixel_key, sobol_pixel, sobol_sample, SamplerKind};
 use lensray::scene::{Material, Mesh, Scene};
+use lensray::settings::{PointLight, RenderSettings, Shading};
 
 const WIDTH: u32 = 48;
 const HEIGHT: u32 = 36;

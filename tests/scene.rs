@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use clap::Parser;
 use glam::Vec3;
 use lensray::cli::generate::{ensure_dense_scene, generate, run, GenerateArgs, Which};
-use lensray::render::Shading;
 use lensray::scene::builtin::{default_sphere_centers, DEFAULT_EYE, DEFAULT_SUBJECT};
 use lensray::scene::file::{read_scene_file, scene_file_text};
 use lensray::scene::generate::{cornell_box, cuboid, dense, sphere_row, uv_sphere};
@@ -14,6 +13,7 @@ use lensray::scene::{
     default_scene, load, load_obj, load_scene_file, write_obj, Material, Scene, SceneDescription,
     SceneError,
 };
+use lensray::settings::Shading;
 use lensray::settings::{ProjectionKind, Settings};
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {

@@ -8,9 +8,9 @@ use super::options::BenchOptions;
 use super::scenes::BenchScene;
 use crate::camera::Camera;
 use crate::gpu::{GpuOptions, GpuRenderer};
+use crate::paths::PathKind;
 use crate::paths::{self, DeviceChoice, PathChoice, PathOptions};
-use crate::render::path::PathKind;
-use crate::render::RenderSettings;
+use crate::settings::RenderSettings;
 
 /// How to open `kind` for the bench: GPU paths on the Vulkan device the options name; the CPU
 /// path without the Vulkan options (which concern only the GPU paths here).

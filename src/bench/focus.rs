@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use crate::camera::Camera;
 use crate::reference::Renderer as CpuRenderer;
-use crate::render::{RenderSettings, Shading};
+use crate::settings::{RenderSettings, Shading};
 
 /// Circles of confusion under this radius (pixels) are in focus: the hybrid's shortcut rule.
 const IN_FOCUS_COC: f32 = crate::paths::hybrid::SHORTCUT_COC;

@@ -26,10 +26,10 @@ use anyhow::{bail, ensure, Context, Result};
 
 use crate::camera::Camera;
 use crate::paths::{self, OpenedPath};
+use crate::paths::{PathKind, RenderPath};
 use crate::reference::Renderer as CpuRenderer;
-use crate::render::path::{PathKind, RenderPath};
-use crate::render::RenderSettings;
-use crate::resolve::{resolve, Resolved};
+use crate::settings::RenderSettings;
+use crate::settings::Shot;
 use focus::FocusInfo;
 use options::{BenchOptions, SceneChoice, SweepKind};
 use reference::Reference;
@@ -64,7 +64,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
     }
 
     let base = scenes::load(&options.scene, options.dense_triangles)?;
-    let base_shot = shot(&base, options, SweepValue::Spp(options.spp))?;
+    let base_shot = bench_shot(&base, options, SweepValue::Spp(options.spp))?;
     let kinds = choose::paths_to_run(options, &base, (&base_shot.camera, &base_shot.render), log)?;
     let mut report = BenchReport {
         schema: report::SCHEMA,
@@ -121,7 +121,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
 }
 
 /// The shot at one point: the scene's settings with the options' and the point's on top.
-fn shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> Result<Resolved> {
+fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> Result<Shot> {
     let mut settings = scene.description.settings.clone();
     let (width, height) = match value {
         SweepValue::Resolution { width, height } => (width, height),
@@ -141,7 +141,7 @@ fn shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> Result
         settings.camera.sensor_height_mm = None;
     }
     settings.camera.focus_distance = options.focus_distance.or(settings.camera.focus_distance);
-    resolve(&settings, &scene.description.scene)
+    crate::settings::shot(&settings, &scene.description.scene)
         .with_context(|| format!("scene {}", scene.description.source))
 }
 
@@ -162,9 +162,9 @@ fn measure_group(
     paths_seen: &mut Vec<PathInfo>,
     log: &mut dyn FnMut(&str),
 ) -> Result<Vec<PointReport>> {
-    let shots: Vec<Resolved> = values
+    let shots: Vec<Shot> = values
         .iter()
-        .map(|v| shot(scene, options, *v))
+        .map(|v| bench_shot(scene, options, *v))
         .collect::<Result<_>>()?;
     // Points that differ only in spp share one reference.
     let mut references: Vec<Rc<Reference>> = Vec::new();

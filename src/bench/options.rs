@@ -76,7 +76,7 @@ pub struct BenchOptions {
     pub width: u32,
     pub height: u32,
     pub spp: u32,
-    pub shading: crate::render::Shading,
+    pub shading: crate::settings::Shading,
     /// The scene's own when `None` (a radius replaces a lens given by focal length and
     /// f-number, as on `render`).
     pub aperture_radius: Option<f64>,
@@ -108,10 +108,10 @@ impl Default for BenchOptions {
             paths: Vec::new(),
             device: DeviceChoice::Auto,
             gpu: GpuOptions::default(),
-            width: crate::resolve::DEFAULT_WIDTH,
-            height: crate::resolve::DEFAULT_HEIGHT,
-            spp: crate::resolve::DEFAULT_SPP,
-            shading: crate::render::Shading::Unlit,
+            width: crate::settings::DEFAULT_WIDTH,
+            height: crate::settings::DEFAULT_HEIGHT,
+            spp: crate::settings::DEFAULT_SPP,
+            shading: crate::settings::Shading::Unlit,
             aperture_radius: None,
             focus_distance: None,
             sampler: None,

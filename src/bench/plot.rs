@@ -13,7 +13,7 @@ use plotters::style::{register_font, FontStyle};
 
 use super::options::SweepKind;
 use super::report::BenchReport;
-use crate::render::path::PathKind;
+use crate::paths::PathKind;
 
 const SIZE: (u32, u32) = (1024, 720);
 const FONT: &str = "sans-serif";

@@ -13,10 +13,11 @@ use serde::Serialize;
 
 use super::scenes::{BenchScene, Fingerprint};
 use crate::camera::Camera;
+use crate::film::compare::rmse;
+use crate::film::{Accumulation, Image};
 use crate::paths::CpuPath;
-use crate::render::compare::rmse;
-use crate::render::path::RenderPath;
-use crate::render::{Accumulation, Image, RenderSettings};
+use crate::paths::RenderPath;
+use crate::settings::RenderSettings;
 
 /// Bumped when the file layout or the meaning of the key changes.
 const FORMAT: &[u8; 8] = b"LRREF001";
@@ -214,7 +215,7 @@ mod tests {
         let mut settings = scene.description.settings.clone();
         settings.image.width = Some(12);
         settings.image.height = Some(8);
-        let resolved = crate::resolve::resolve(&settings, &scene.description.scene).unwrap();
+        let resolved = crate::settings::shot(&settings, &scene.description.scene).unwrap();
         let dir = tempfile::tempdir().unwrap();
         let reference = |spp| {
             let (camera, render) = (&resolved.camera, &resolved.render);

@@ -8,9 +8,9 @@ use super::machine::Machine;
 use super::options::SweepKind;
 use super::reference::ReferenceInfo;
 use super::runs::Measurement;
-use crate::render::path::PathKind;
-use crate::render::Shading;
+use crate::paths::PathKind;
 use crate::sampler::SamplerKind;
+use crate::settings::Shading;
 
 pub const SCHEMA: &str = "lensray-bench/1";
 

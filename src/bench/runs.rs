@@ -8,10 +8,11 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 
 use crate::camera::Camera;
-use crate::render::compare::rmse;
-use crate::render::path::{Clock, PathKind, RenderPath};
-use crate::render::stats::{median, range};
-use crate::render::{Image, RenderSettings};
+use crate::film::compare::rmse;
+use crate::film::Image;
+use crate::paths::{Clock, PathKind, RenderPath};
+use crate::settings::RenderSettings;
+use crate::stats::{median, range};
 
 /// One timed render.
 #[derive(Clone, Copy, Debug, Serialize)]

@@ -5,7 +5,7 @@ use std::fmt::Write;
 
 use super::options::SweepKind;
 use super::report::BenchReport;
-use crate::render::path::Clock;
+use crate::paths::Clock;
 
 pub fn render(report: &BenchReport) -> String {
     let mut out = String::new();

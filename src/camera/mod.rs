@@ -30,18 +30,18 @@
 //! # Files, in the order of the slides
 //! - [`look_at`]: world -> camera.
 //! - [`projection`]: the orthographic and perspective camera -> screen matrices ("Linear Models").
-//! - [`film`]: screen -> NDC -> raster.
+//! - [`raster`]: screen -> NDC -> raster.
 //! - [`projective`]: the chain built once, and ray generation through pixel (i, j).
 //! - [`thin_lens`]: depth of field ("Non-Linear Models": aperture-centre ray, focal plane, lens rays).
 //! - [`physical`]: the thin-lens equation 1/s_o + 1/s_i = 1/f ("Paraxial Approximation").
 //! - [`params`]: what a user gives, validated.
 
-pub mod film;
 pub mod look_at;
 pub mod params;
 pub mod physical;
 pub mod projection;
 pub mod projective;
+pub mod raster;
 pub mod ray;
 pub mod thin_lens;
 

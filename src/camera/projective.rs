@@ -3,8 +3,8 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
-use super::film::{self, ScreenWindow};
 use super::look_at::CameraFrame;
+use super::raster::{self, ScreenWindow};
 use super::{Projection, Ray, ThinLens};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -45,8 +45,8 @@ impl Camera {
         let screen_window = ScreenWindow::new(projection.screen_half_height(), width, height);
         let ndc_from_screen = screen_window.ndc_from_screen();
         let screen_from_ndc = screen_window.screen_from_ndc();
-        let raster_from_ndc = film::raster_from_ndc(width, height);
-        let ndc_from_raster = film::ndc_from_raster(width, height);
+        let raster_from_ndc = raster::raster_from_ndc(width, height);
+        let ndc_from_raster = raster::ndc_from_raster(width, height);
         Self {
             projection,
             frame,
@@ -93,7 +93,7 @@ impl Camera {
 
     /// The raster pass's matrix: the same chain ending in Vulkan clip space.
     pub fn clip_from_world(&self) -> Mat4 {
-        film::clip_from_ndc()
+        raster::clip_from_ndc()
             * self.ndc_from_screen
             * self.screen_from_camera
             * self.camera_from_world
@@ -120,7 +120,7 @@ impl Camera {
             .lens
             .pinhole_from_camera(self.lens.lens_point(lens_u), self.lens_plane_z());
         reversed_depth
-            * film::clip_from_ndc()
+            * raster::clip_from_ndc()
             * self.ndc_from_raster
             * to_pixel_centre
             * self.raster_from_screen

@@ -7,8 +7,8 @@ use clap::Args;
 use crate::gpu::GpuOptions;
 use crate::paths::{DeviceChoice, PathChoice, PathOptions};
 
-use crate::render::Shading;
 use crate::sampler::SamplerKind;
+use crate::settings::Shading;
 use crate::settings::{
     CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
 };

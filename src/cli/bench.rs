@@ -12,8 +12,8 @@ use crate::bench::options::{
 };
 use crate::output::PendingFile;
 use crate::paths::PathChoice;
-use crate::render::Shading;
 use crate::sampler::SamplerKind;
+use crate::settings::Shading;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -40,12 +40,12 @@ pub struct BenchArgs {
     /// Triangles of `--scene dense`.
     #[arg(long, value_name = "N", default_value_t = crate::cli::generate::DEFAULT_DENSE_TRIANGLES)]
     pub dense_triangles: usize,
-    #[arg(long, value_name = "W", default_value_t = crate::resolve::DEFAULT_WIDTH)]
+    #[arg(long, value_name = "W", default_value_t = crate::settings::DEFAULT_WIDTH)]
     pub width: u32,
-    #[arg(long, value_name = "H", default_value_t = crate::resolve::DEFAULT_HEIGHT)]
+    #[arg(long, value_name = "H", default_value_t = crate::settings::DEFAULT_HEIGHT)]
     pub height: u32,
     /// Samples per pixel (the largest of the spp sweep).
-    #[arg(long, value_name = "N", default_value_t = crate::resolve::DEFAULT_SPP)]
+    #[arg(long, value_name = "N", default_value_t = crate::settings::DEFAULT_SPP)]
     pub spp: u32,
     #[arg(long, value_enum, default_value_t = Shading::Unlit)]
     pub shading: Shading,

@@ -10,11 +10,11 @@ use super::args::{parse_pixel, PathArgs, ViewArgs};
 use super::progress::{Progress, ProgressMode};
 use crate::camera::Camera;
 use crate::output::PendingOutput;
+use crate::paths::RenderPath;
 use crate::paths::{self, OpenedPath};
-use crate::render::path::RenderPath;
-use crate::resolve::{resolve, Resolved};
 use crate::scene::file::SceneDescription;
 use crate::settings::Settings;
+use crate::settings::{shot, Shot};
 
 pub const DEFAULT_OUTPUT: &str = "lensray.png";
 
@@ -78,18 +78,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let description = load_scene(&args.view)?;
     let mut settings = merged_settings(&description.settings, &args.view);
     let context = || format!("scene {}", description.source);
-    let Resolved {
+    let Shot {
         mut camera,
         mut render,
-    } = resolve(&settings, &description.scene).with_context(context)?;
+    } = shot(&settings, &description.scene).with_context(context)?;
 
     let OpenedPath { mut path, why } =
         paths::open(&args.path.options(), &description.scene, (&camera, &render))?;
     if let Some(pixel) = args.focus_at {
         let focus = focus_depth_at(path.as_mut(), &camera, pixel)?;
         settings.camera.focus_distance = Some(focus as f64);
-        Resolved { camera, render } =
-            resolve(&settings, &description.scene).with_context(context)?;
+        Shot { camera, render } = shot(&settings, &description.scene).with_context(context)?;
         eprintln!(
             "autofocus: pixel {},{} is {focus:.4} away along the view axis",
             pixel[0], pixel[1]

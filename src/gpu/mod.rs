@@ -22,7 +22,7 @@
 //! ```no_run
 //! use lensray::gpu::{GpuOptions, GpuRenderer};
 //! # fn demo(scene: &lensray::scene::Scene, camera: &lensray::camera::Camera,
-//! #         settings: &lensray::render::RenderSettings) -> Result<(), lensray::gpu::GpuError> {
+//! #         settings: &lensray::settings::RenderSettings) -> Result<(), lensray::gpu::GpuError> {
 //! let mut gpu = GpuRenderer::new(&GpuOptions::default())?;
 //! gpu.load_scene(scene)?; // BLAS per mesh (compacted) + TLAS and/or BVH, scene arrays uploaded
 //! println!("tracing with {} of {:?}", gpu.traversal(), gpu.traversals());
@@ -35,73 +35,55 @@
 
 #![deny(clippy::undocumented_unsafe_blocks)]
 
-mod accel;
-mod bench;
-mod buffer;
-mod bvh;
-mod conv;
-mod device;
-mod draw;
-mod error;
-mod frames;
-mod gbuffer;
-mod hybrid_plan;
-mod image;
-mod instance;
-mod layout_probe;
-mod overlay;
-mod pipeline;
-mod probe;
-mod query;
-mod resolve;
-mod sampler_cost;
+mod core;
+mod passes;
+mod present;
+#[cfg(feature = "probes")]
+mod probes;
 mod scene;
-mod shader;
-mod surface;
-mod swapchain;
-mod trace;
 mod traversal;
-mod view_pass;
-mod view_probe;
-mod viewer;
-mod visibility;
 
 use std::sync::Arc;
 
 use glam::Vec3;
 
 use crate::camera::Camera;
+use crate::film::{Accumulation, Image};
 use crate::interface::TraceParams;
-use crate::render::{Accumulation, Image, RenderSettings, Shading};
 use crate::scene::Scene;
+use crate::settings::{RenderSettings, Shading};
 
-pub use bench::{bench, bench_renderer, BenchOptions, BenchReport, BenchedPass};
-pub use bvh::BvhParams;
-pub use device::DeviceReport;
-pub use error::GpuError;
-pub use gbuffer::{focus_distance_at, GBuffer};
-pub use instance::ValidationLog;
-pub use layout_probe::LayoutReport;
-pub use overlay::OverlayFrame;
-pub use probe::{ProbeQuery, ProbeResult};
-pub use trace::Timings;
-pub use traversal::Traversal;
-pub use view_probe::ViewRoutes;
-pub use viewer::{
+pub use core::device::DeviceReport;
+pub use core::error::GpuError;
+pub use core::instance::ValidationLog;
+pub use passes::gbuffer::{focus_distance_at, GBuffer};
+pub use passes::trace::Timings;
+pub use present::overlay::OverlayFrame;
+pub use present::viewer::{
     FrameRequest, FrameResult, FrameTimes, HostSamples, PresentMode, Viewer, ViewerOptions,
 };
+#[cfg(feature = "probes")]
+pub use probes::layouts::LayoutReport;
+#[cfg(feature = "probes")]
+pub use probes::mirrors::{ProbeQuery, ProbeResult};
+#[cfg(feature = "probes")]
+pub use probes::timing::{bench, bench_renderer, BenchOptions, BenchReport, BenchedPass};
+#[cfg(feature = "probes")]
+pub use probes::view_routes::ViewRoutes;
+pub use scene::bvh::BvhParams;
+pub use traversal::Traversal;
 
 use ash::vk;
-use device::Context;
-use error::vk_err;
-use gbuffer::GBufferPass;
-use hybrid_plan::HybridPlanPass;
-use instance::Instance;
+use core::device::Context;
+use core::error::vk_err;
+use core::instance::Instance;
+use passes::gbuffer::GBufferPass;
+use passes::hybrid_plan::HybridPlanPass;
+use passes::trace::TracePass;
+use passes::visibility::VisibilityPass;
+use present::surface::Surface;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 use scene::SceneBuffers;
-use surface::Surface;
-use trace::TracePass;
-use visibility::VisibilityPass;
 
 /// How to open the GPU.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -124,7 +106,7 @@ pub struct GpuOptions {
 /// Every Vulkan device, with what it lacks for lensray (for `lensray info`).
 pub fn list_devices() -> Result<Vec<DeviceReport>, GpuError> {
     let instance = Instance::new(false, &[])?;
-    Ok(device::enumerate(&instance.instance)?
+    Ok(core::device::enumerate(&instance.instance)?
         .into_iter()
         .map(|(_, r)| r)
         .collect())
@@ -208,12 +190,6 @@ impl GpuRenderer {
     /// device was not opened for it.
     pub fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
         self.trace.set_traversal(traversal)
-    }
-
-    /// How the software traversal's BVH of later `load_scene` calls is built (benchmarks).
-    #[doc(hidden)]
-    pub fn set_bvh_params(&mut self, params: BvhParams) {
-        self.bvh_params = params;
     }
 
     /// Uploads the scene and builds the structures of the device's traversals: acceleration
@@ -434,7 +410,7 @@ impl GpuRenderer {
                 record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
             }
             plan.record(cmd, targets, camera, settings.shading, settings.spp);
-            buffer::barrier_to_host(
+            core::buffer::barrier_to_host(
                 ctx,
                 cmd,
                 vk::PipelineStageFlags::COMPUTE_SHADER,
@@ -466,7 +442,7 @@ impl GpuRenderer {
         let (ctx, trace) = (&self.ctx, &self.trace);
         ctx.submit_and_wait(|cmd| {
             record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
-            buffer::barrier_to_host(
+            core::buffer::barrier_to_host(
                 ctx,
                 cmd,
                 vk::PipelineStageFlags::COMPUTE_SHADER,
@@ -490,13 +466,6 @@ impl GpuRenderer {
         check_validation_log(&log)
     }
 
-    /// Creates a sampler that nothing destroys, so tests can check that [`Self::close`] fails
-    /// on the validation layer's leak report.
-    #[doc(hidden)]
-    pub fn leak_an_object_for_tests(&self) -> Result<(), GpuError> {
-        self.ctx.leak_sampler()
-    }
-
     /// Validation warnings and errors so far (empty without validation).
     pub fn validation_messages(&self) -> Vec<String> {
         self.log.messages()
@@ -515,68 +484,6 @@ impl GpuRenderer {
     /// Bytes of device memory allocated now (every buffer and image of the renderer).
     pub fn allocated_bytes(&self) -> u64 {
         self.ctx.allocator().generate_report().total_allocated_bytes
-    }
-
-    /// Evaluates the GLSL sampler and camera mirrors for `queries` with `camera` (tests).
-    #[doc(hidden)]
-    pub fn probe_mirrors(
-        &mut self,
-        camera: &Camera,
-        queries: &[ProbeQuery],
-    ) -> Result<Vec<ProbeResult>, GpuError> {
-        probe::run(&self.ctx, camera, queries)
-    }
-
-    /// Preview view `view` (VIEW_*, not the final one) of `camera` by both of the preview's
-    /// routes: G-buffer and resolve, and the view pass (tests).
-    #[doc(hidden)]
-    pub fn probe_view_routes(
-        &mut self,
-        camera: &Camera,
-        background: Vec3,
-        view: u32,
-    ) -> Result<ViewRoutes, GpuError> {
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        check_size(camera)?;
-        view_probe::run(
-            &self.ctx,
-            &mut self.gbuffer,
-            scene,
-            camera,
-            background,
-            view,
-        )
-    }
-
-    /// Reads every field of the shared structs back through the shaders' blocks (tests).
-    #[doc(hidden)]
-    pub fn probe_layouts(&mut self) -> Result<LayoutReport, GpuError> {
-        layout_probe::run(&self.ctx)
-    }
-
-    /// GPU milliseconds that generating the camera samples of a render with `camera`'s size and
-    /// `settings` takes on its own (the compute pass's sample loop without tracing), to compare
-    /// with [`Timings::trace_gpu_ms`].
-    pub fn sample_generation_ms(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-    ) -> Result<f64, GpuError> {
-        check_size(camera)?;
-        sampler_cost::run(&self.ctx, camera.width, camera.height, settings)
-    }
-
-    /// Caps the pixel-samples per dispatch of the compute pass (tests use it to force several
-    /// submissions). By default dispatches are sized from the measured speed to last ~0.15 s.
-    #[doc(hidden)]
-    pub fn set_samples_per_dispatch(&mut self, samples: u64) {
-        self.trace.samples_per_dispatch = samples.max(1);
-    }
-
-    /// Most pixels whose sums the compute pass holds at once (tests use it to force bands).
-    #[doc(hidden)]
-    pub fn set_max_band_pixels(&mut self, pixels: u64) {
-        self.trace.max_band_pixels = pixels.max(1);
     }
 }
 

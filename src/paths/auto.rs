@@ -9,9 +9,10 @@ use anyhow::{bail, Result};
 
 use super::{hybrid, kind_of, traversal_of};
 use crate::camera::Camera;
+use crate::film::Accumulation;
 use crate::gpu::GpuRenderer;
-use crate::render::path::PathKind;
-use crate::render::{Accumulation, RenderSettings, Shading};
+use crate::paths::PathKind;
+use crate::settings::{RenderSettings, Shading};
 
 /// `auto` on an open Vulkan device with a scene loaded: the only traversal it runs, or the
 /// fastest on a small render of `shot`. Sets it, and says which and why.

@@ -6,10 +6,11 @@ use anyhow::Result;
 use glam::{UVec2, Vec2};
 
 use crate::camera::Camera;
+use crate::film::{Accumulation, Image};
+use crate::paths::{Clock, PathKind, PathReport, RenderPath};
 use crate::reference::Renderer;
-use crate::render::path::{Clock, PathKind, PathReport, RenderPath};
-use crate::render::{Accumulation, Image, RenderSettings};
 use crate::scene::Scene;
+use crate::settings::RenderSettings;
 
 pub struct CpuPath {
     renderer: Option<Renderer>,

@@ -11,10 +11,11 @@ use anyhow::Result;
 use glam::Vec3;
 
 use crate::camera::Camera;
+use crate::film::{Accumulation, Image};
 use crate::gpu::{focus_distance_at, GpuRenderer, Traversal};
-use crate::render::path::{Clock, PathKind, PathReport, RenderPath};
-use crate::render::{Accumulation, Image, RenderSettings};
+use crate::paths::{Clock, PathKind, PathReport, RenderPath};
 use crate::scene::Scene;
+use crate::settings::RenderSettings;
 
 pub struct GpuPath {
     renderer: GpuRenderer,

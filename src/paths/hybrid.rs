@@ -28,14 +28,15 @@ use glam::Vec3;
 
 use super::gpu::GpuPath;
 use crate::camera::Camera;
+use crate::film::{Accumulation, Image};
 use crate::gpu::{GBuffer, GpuRenderer};
 use crate::interface::{
     HYBRID_CHECK_INVERSE, HYBRID_MAX_REACH_TILES, HYBRID_SEGMENT, HYBRID_SHORTCUT,
     HYBRID_SHORTCUT_COC, HYBRID_TILE,
 };
-use crate::render::path::{PathKind, PathReport, RenderPath};
-use crate::render::{Accumulation, Image, RenderSettings, Shading};
+use crate::paths::{PathKind, PathReport, RenderPath};
 use crate::scene::Scene;
+use crate::settings::{RenderSettings, Shading};
 
 /// Side of the tiles over which the circle of confusion is maximised, pixels.
 pub const TILE: u32 = HYBRID_TILE;

@@ -6,6 +6,7 @@ mod auto;
 mod cpu;
 mod gpu;
 pub mod hybrid;
+mod path;
 
 use std::fmt;
 
@@ -15,12 +16,13 @@ pub use auto::{pick_path, pick_traversal};
 pub use cpu::CpuPath;
 pub use gpu::GpuPath;
 pub use hybrid::HybridPath;
+pub use path::{Clock, PathKind, PathReport, RenderPath};
 
 use crate::camera::Camera;
+use crate::film::Accumulation;
 use crate::gpu::{GpuOptions, GpuRenderer, Traversal};
-use crate::render::path::{PathKind, RenderPath};
-use crate::render::{Accumulation, RenderSettings};
 use crate::scene::Scene;
+use crate::settings::RenderSettings;
 
 /// Which device renders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]

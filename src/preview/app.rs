@@ -20,20 +20,20 @@ use super::bindings::{
     action_for_key, wheel_action, Action, PointerButton, WheelAction, WheelModifier,
 };
 use super::cpu_feed::CpuFeed;
+use super::frame_log::FrameLog;
 use super::input::{Gesture, InputState};
 use super::panel::{Panel, PanelStats};
 use super::player::ScriptPlayer;
 use super::rig::CameraRig;
 use super::script::ScriptEvent;
-use super::stats::FrameLog;
 use super::view::ViewMode;
 use crate::camera::Camera;
 use crate::gpu::{FrameRequest, HostSamples, OverlayFrame, Viewer, ViewerOptions};
 use crate::output::PendingOutput;
 use crate::paths;
-use crate::render::path::PathKind;
-use crate::render::RenderSettings;
+use crate::paths::PathKind;
 use crate::scene::file::SceneDescription;
+use crate::settings::RenderSettings;
 
 /// How often the window looks for the CPU path's samples while it waits for them.
 const CPU_PATH_POLL: std::time::Duration = std::time::Duration::from_millis(30);
@@ -195,11 +195,11 @@ impl App {
             settings
                 .image
                 .width
-                .unwrap_or(crate::resolve::DEFAULT_WIDTH),
+                .unwrap_or(crate::settings::DEFAULT_WIDTH),
             settings
                 .image
                 .height
-                .unwrap_or(crate::resolve::DEFAULT_HEIGHT),
+                .unwrap_or(crate::settings::DEFAULT_HEIGHT),
         );
         let attributes = Window::default_attributes()
             .with_title(format!(
@@ -239,7 +239,7 @@ impl App {
             let shot = self
                 .config
                 .rig
-                .resolve(&self.config.description.scene)
+                .shot(&self.config.description.scene)
                 .context("camera")?;
             let renderer = viewer.renderer_mut();
             let shot = (&shot.camera, &shot.render);
@@ -329,7 +329,7 @@ impl App {
             None => {
                 self.config
                     .rig
-                    .resolve(&self.config.description.scene)?
+                    .shot(&self.config.description.scene)?
                     .render
                     .shading
             }
@@ -347,7 +347,7 @@ impl App {
         let resolved = self
             .config
             .rig
-            .resolve(&self.config.description.scene)
+            .shot(&self.config.description.scene)
             .context("camera")?;
         let snippet = super::snippet::camera_snippet(
             self.config.rig.settings(),
@@ -460,7 +460,7 @@ impl App {
         let resolved = self
             .config
             .rig
-            .resolve(&self.config.description.scene)
+            .shot(&self.config.description.scene)
             .context("camera")?;
         let current = (resolved.camera.clone(), resolved.render);
         let restart = self.last.as_ref() != Some(&current);

@@ -7,9 +7,10 @@ use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 
 use crate::camera::Camera;
+use crate::film::Accumulation;
 use crate::reference::Renderer;
-use crate::render::{Accumulation, RenderSettings};
 use crate::scene::Scene;
+use crate::settings::RenderSettings;
 
 /// What the worker should trace.
 #[derive(Clone)]

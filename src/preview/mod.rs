@@ -1,18 +1,18 @@
 //! `lensray preview`: the window (`app`, winit + the egui `panel`, drawn by `gpu::Viewer`) and
 //! its logic, which knows nothing of winit, Vulkan or egui and is unit-tested: the interactive
 //! camera (`rig`), what the window shows (`view`), the controls (`bindings`, `input`), scripted
-//! input (`script`, `player`), the camera printout (`snippet`) and frame statistics (`stats`).
+//! input (`script`, `player`), the camera printout (`snippet`) and frame statistics (`frame_log`).
 
 pub mod app;
 pub mod bindings;
 pub mod cpu_feed;
+pub mod frame_log;
 pub mod input;
 pub mod panel;
 pub mod player;
 pub mod rig;
 pub mod script;
 pub mod snippet;
-pub mod stats;
 pub mod view;
 
 #[cfg(test)]

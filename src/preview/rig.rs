@@ -11,11 +11,10 @@ use glam::{DQuat, DVec3};
 
 use crate::camera::physical::{PhysicalLens, MM_PER_WORLD_UNIT};
 use crate::camera::Projection;
-use crate::resolve::{
-    resolve, Resolved, SettingsError, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM,
-    DEFAULT_VFOV_DEGREES,
-};
 use crate::scene::Scene;
+use crate::settings::{
+    shot, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES,
+};
 use crate::settings::{ProjectionKind, Settings};
 
 /// Orbit rate of a left drag.
@@ -177,7 +176,7 @@ pub struct CameraRig {
 impl CameraRig {
     /// Pins the camera that `settings` resolve to for `scene`.
     pub fn new(settings: Settings, scene: &Scene) -> Result<Self, SettingsError> {
-        let Resolved { camera, render: _ } = resolve(&settings, scene)?;
+        let Shot { camera, render: _ } = shot(&settings, scene)?;
         let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
         let c = &settings.camera;
         // Given values are kept as given (f64); derived ones come from the resolved camera, whose
@@ -223,7 +222,7 @@ impl CameraRig {
         rig.commit();
         // The pinned camera must resolve too: a pinhole's new focus distance must lie beyond an
         // orthographic near plane the user gave.
-        rig.resolve(scene)?;
+        rig.shot(scene)?;
         Ok(rig)
     }
 
@@ -235,8 +234,8 @@ impl CameraRig {
 
     /// The camera and render settings of the current view, exactly as `lensray render` would
     /// resolve [`CameraRig::settings`].
-    pub fn resolve(&self, scene: &Scene) -> Result<Resolved, SettingsError> {
-        resolve(&self.settings, scene)
+    pub fn shot(&self, scene: &Scene) -> Result<Shot, SettingsError> {
+        shot(&self.settings, scene)
     }
 
     /// Bounding-sphere radius of the scene.

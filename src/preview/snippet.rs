@@ -11,10 +11,10 @@ use clap::ValueEnum;
 use glam::Vec3;
 
 use crate::camera::Projection;
-use crate::resolve::{Resolved, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES};
 use crate::settings::{
     CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
 };
+use crate::settings::{Shot, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES};
 
 /// The two printouts of one camera.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,13 +35,9 @@ impl std::fmt::Display for CameraSnippet {
     }
 }
 
-/// The snippet of the camera `settings` resolved to (`resolved` is what `resolve(settings)`
+/// The snippet of the camera `settings` resolved to (`resolved` is what `shot(settings)`
 /// returned). The command names `--scene` only when `scene` is given.
-pub fn camera_snippet(
-    settings: &Settings,
-    resolved: &Resolved,
-    scene: Option<&Path>,
-) -> CameraSnippet {
+pub fn camera_snippet(settings: &Settings, resolved: &Shot, scene: Option<&Path>) -> CameraSnippet {
     let explicit = explicit_settings(settings, resolved);
     CameraSnippet {
         toml: toml::to_string(&explicit).expect("settings serialize to TOML"),
@@ -56,7 +52,7 @@ fn array(v: Vec3) -> [f64; 3] {
 /// `settings` with every value `resolve` filled in written out. Values the user gave stay as
 /// given (f64); derived ones come from the resolved f32 values, which convert back exactly. Only
 /// the projection's own size is written (`--vfov` and `--ortho-height` exclude each other).
-pub fn explicit_settings(settings: &Settings, resolved: &Resolved) -> Settings {
+pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
     let (camera, render) = (&resolved.camera, &resolved.render);
     let c = &settings.camera;
     let physical = c.focal_length_mm.is_some();

@@ -12,9 +12,10 @@ use super::accel::{Accel, Hit, PACKET_SIZE};
 use super::rays::primary_rays;
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
-use crate::render::{Accumulation, Image, RenderSettings, Shading};
+use crate::film::{Accumulation, Image};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler};
 use crate::scene::{Material, Scene};
+use crate::settings::{RenderSettings, Shading};
 
 /// Rows rendered between two progress reports.
 const ROWS_PER_BAND: u32 = 16;

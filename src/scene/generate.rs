@@ -10,7 +10,7 @@ use glam::Vec3;
 
 use super::file::SceneDescription;
 use super::{Bounds, Material, Mesh, Scene};
-use crate::render::Shading;
+use crate::settings::Shading;
 use crate::settings::{
     CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
 };

@@ -1,10 +1,10 @@
 //! 1. Each matrix against the course's formulas.
 
 use glam::{DVec3, Vec3, Vec4};
-use lensray::camera::film::{self, ScreenWindow};
 use lensray::camera::projection::{
     orthographic, orthographic_inverse, perspective, perspective_inverse,
 };
+use lensray::camera::raster::{self, ScreenWindow};
 use lensray::camera::Projection;
 
 use crate::common::*;
@@ -241,13 +241,13 @@ fn film_matrices_match_screen_window_formulas() {
         );
         assert_eq!(
             cam.raster_from_ndc,
-            film::raster_from_ndc(cam.width, cam.height),
-            "{name}: camera uses film::raster_from_ndc"
+            raster::raster_from_ndc(cam.width, cam.height),
+            "{name}: camera uses raster::raster_from_ndc"
         );
         assert_eq!(
             cam.ndc_from_raster,
-            film::ndc_from_raster(cam.width, cam.height),
-            "{name}: camera uses film::ndc_from_raster"
+            raster::ndc_from_raster(cam.width, cam.height),
+            "{name}: camera uses raster::ndc_from_raster"
         );
 
         for i in 0..300 {

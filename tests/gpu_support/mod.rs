@@ -6,11 +6,12 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use lensray::camera::{Camera, CameraParams, LensParams, ProjectionParams};
+use lensray::film::Image;
 use lensray::gpu::{GpuError, GpuOptions, GpuRenderer, ValidationLog};
 use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathOptions};
-use lensray::render::{Image, PointLight, RenderSettings, Shading};
 use lensray::sampler::SamplerKind;
 use lensray::scene::{Material, Mesh, Scene};
+use lensray::settings::{PointLight, RenderSettings, Shading};
 
 /// Opens the renderer with validation on. If that fails, the test fails, with one exception:
 /// with `LENSRAY_SKIP_GPU_TESTS=1`, when the machine cannot run GPU tests at all (see

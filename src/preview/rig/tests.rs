@@ -51,7 +51,7 @@ fn target(rig: &CameraRig) -> DVec3 {
 }
 
 fn camera(rig: &CameraRig) -> Camera {
-    rig.resolve(&unit_cube()).expect("rig resolves").camera
+    rig.shot(&unit_cube()).expect("rig resolves").camera
 }
 
 fn assert_close(actual: f64, expected: f64, tolerance: f64) {
@@ -95,9 +95,9 @@ fn pinning_keeps_the_resolved_camera_exactly() {
         physical_settings(),
         ortho,
     ] {
-        let expected = resolve(&settings, &scene).unwrap();
+        let expected = shot(&settings, &scene).unwrap();
         let rig = CameraRig::new(settings.clone(), &scene).unwrap();
-        let pinned = rig.resolve(&scene).unwrap();
+        let pinned = rig.shot(&scene).unwrap();
         let mut expected_camera = expected.camera;
         if settings.camera.aperture_radius.is_none() && settings.camera.focal_length_mm.is_none() {
             // A pinhole gets a focus distance for the focus controls: the target's distance.
@@ -213,7 +213,7 @@ fn dolly_scales_the_distance_by_0_9_per_step() {
     rig.dolly(10_000.0);
     assert!(eye(&rig).z > 0.0);
     assert_eq!(target(&rig), DVec3::ZERO);
-    rig.resolve(&unit_cube()).expect("still a camera");
+    rig.shot(&unit_cube()).expect("still a camera");
 }
 
 #[test]
@@ -392,7 +392,7 @@ fn focal_length_switches_to_physical_units_and_keeps_focus_beyond_it() {
     assert_eq!(rig.readout().f_number, Some(64.0));
     rig.step_focus(-8.0);
     assert_close(rig.readout().focus_distance, 0.085 * 1.001, EPS);
-    assert!(rig.resolve(&unit_cube()).is_ok());
+    assert!(rig.shot(&unit_cube()).is_ok());
 }
 
 #[test]

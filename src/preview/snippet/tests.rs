@@ -10,10 +10,10 @@ use crate::camera::Camera;
 use crate::cli::render::{merged_settings, RenderArgs};
 use crate::preview::test_scene::unit_cube;
 use crate::preview::CameraRig;
-use crate::render::{RenderSettings, Shading};
-use crate::resolve::resolve;
 use crate::scene::file::read_scene_file;
 use crate::scene::Scene;
+use crate::settings::shot;
+use crate::settings::{RenderSettings, Shading};
 
 #[derive(Parser)]
 #[command(name = "lensray")]
@@ -71,14 +71,14 @@ fn args_from_command(command: &str, file: &Settings) -> (Settings, Option<PathBu
 }
 
 fn resolved_parts(settings: &Settings, scene: &Scene) -> (Camera, RenderSettings) {
-    let r = resolve(settings, scene).unwrap_or_else(|e| panic!("{e}: {settings:?}"));
+    let r = shot(settings, scene).unwrap_or_else(|e| panic!("{e}: {settings:?}"));
     (r.camera, r.render)
 }
 
 /// Prints the rig's camera both ways and checks each reads back to the same camera.
 fn assert_round_trip(rig: &CameraRig, file: &Settings) {
     let scene = unit_cube();
-    let resolved = rig.resolve(&scene).unwrap();
+    let resolved = rig.shot(&scene).unwrap();
     let original = (resolved.camera.clone(), resolved.render);
     let snippet = camera_snippet(rig.settings(), &resolved, None);
     let explicit = explicit_settings(rig.settings(), &resolved);
@@ -155,7 +155,7 @@ fn default_pinhole_camera_reads_back_exactly() {
 fn every_value_is_written() {
     let file = file_settings();
     let rig = CameraRig::new(file, &unit_cube()).unwrap();
-    let resolved = rig.resolve(&unit_cube()).unwrap();
+    let resolved = rig.shot(&unit_cube()).unwrap();
     let snippet = camera_snippet(
         rig.settings(),
         &resolved,
@@ -216,7 +216,7 @@ fn derived_light_is_the_resolved_one() {
     // Light above the eye by half the scene radius, intensity pi d^2 (see resolve).
     let file = file_settings();
     let rig = CameraRig::new(file, &unit_cube()).unwrap();
-    let resolved = rig.resolve(&unit_cube()).unwrap();
+    let resolved = rig.shot(&unit_cube()).unwrap();
     let explicit = explicit_settings(rig.settings(), &resolved);
     let position = explicit.light.position.unwrap();
     let expected = resolved.camera.frame.eye + resolved.camera.frame.true_up * (0.5 * 3f32.sqrt());

@@ -1,0 +1,279 @@
+//! Host-side conversions: the scene flattened into the arrays the shaders and the acceleration
+//! structure builds read, and the camera / settings into the structs of `crate::interface`
+//! (their GLSL layouts are generated from the same definition).
+
+use bytemuck::Zeroable;
+use glam::Mat4;
+
+use crate::camera::{Camera, Projection};
+use crate::interface::{
+    GpuCamera, GpuMaterial, RasterPush, ResolvePush, TraceParams, ViewParams,
+    PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
+};
+use crate::scene::Scene;
+use crate::settings::{RenderSettings, Shading};
+
+use crate::gpu::core::error::GpuError;
+
+/// One mesh's range in the flattened arrays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct MeshRange {
+    pub first_triangle: u32,
+    pub triangle_count: u32,
+}
+
+/// Every mesh concatenated: one vertex array (vec4 positions and normals, std430 friendly),
+/// global vertex indices, per-triangle info, materials.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FlatScene {
+    pub positions: Vec<[f32; 4]>,
+    pub normals: Vec<[f32; 4]>,
+    pub indices: Vec<u32>,
+    pub tri_info: Vec<u32>,
+    pub materials: Vec<GpuMaterial>,
+    pub meshes: Vec<MeshRange>,
+}
+
+/// Instance custom indices have 24 bits: the first triangle of every mesh must fit.
+const MAX_TRIANGLES: usize = 1 << 24;
+
+impl FlatScene {
+    pub fn new(scene: &Scene) -> Result<Self, GpuError> {
+        let total = scene.triangle_count();
+        if total > MAX_TRIANGLES {
+            return Err(GpuError::Invalid(format!(
+                "{total} triangles: the GPU path handles at most {MAX_TRIANGLES}"
+            )));
+        }
+        let mut flat = FlatScene {
+            materials: scene
+                .materials
+                .iter()
+                .map(|m| GpuMaterial {
+                    diffuse: m.diffuse.extend(0.0).to_array(),
+                    emission: m.emission.extend(0.0).to_array(),
+                })
+                .collect(),
+            ..Default::default()
+        };
+        if flat.materials.is_empty() {
+            // Shaders index a non-empty array; no triangle may refer to it (checked below).
+            flat.materials.push(GpuMaterial::zeroed());
+        }
+        for (m, mesh) in scene.meshes.iter().enumerate() {
+            let has_normals = !mesh.normals.is_empty();
+            if has_normals && mesh.normals.len() != mesh.positions.len() {
+                return Err(GpuError::Invalid(format!(
+                    "mesh {m} ({}) has {} normals for {} positions",
+                    mesh.name,
+                    mesh.normals.len(),
+                    mesh.positions.len()
+                )));
+            }
+            if mesh.material_ids.len() != mesh.triangles.len() {
+                return Err(GpuError::Invalid(format!(
+                    "mesh {m} ({}) has {} material ids for {} triangles",
+                    mesh.name,
+                    mesh.material_ids.len(),
+                    mesh.triangles.len()
+                )));
+            }
+            let base = flat.positions.len() as u32;
+            flat.meshes.push(MeshRange {
+                first_triangle: flat.tri_info.len() as u32,
+                triangle_count: mesh.triangles.len() as u32,
+            });
+            flat.positions
+                .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
+            if has_normals {
+                flat.normals
+                    .extend(mesh.normals.iter().map(|n| n.extend(0.0).to_array()));
+            } else {
+                flat.normals
+                    .extend(std::iter::repeat_n([0.0; 4], mesh.positions.len()));
+            }
+            for (t, (tri, &material)) in mesh.triangles.iter().zip(&mesh.material_ids).enumerate() {
+                if tri.iter().any(|&i| i as usize >= mesh.positions.len()) {
+                    return Err(GpuError::Invalid(format!(
+                        "mesh {m} ({}) triangle {t} has a vertex index out of range",
+                        mesh.name
+                    )));
+                }
+                if material as usize >= scene.materials.len() {
+                    return Err(GpuError::Invalid(format!(
+                        "mesh {m} ({}) triangle {t} uses material {material} of {}",
+                        mesh.name,
+                        scene.materials.len()
+                    )));
+                }
+                flat.indices.extend(tri.iter().map(|&i| base + i));
+                flat.tri_info
+                    .push(material | if has_normals { TRI_HAS_NORMALS } else { 0 });
+            }
+        }
+        Ok(flat)
+    }
+
+    pub fn triangle_count(&self) -> u32 {
+        self.tri_info.len() as u32
+    }
+}
+
+/// `Camera.projection` / `ViewParams.projection` of the shaders.
+pub(crate) fn projection_code(camera: &Camera) -> u32 {
+    match camera.projection {
+        Projection::Perspective { .. } => PROJECTION_PERSPECTIVE,
+        Projection::Orthographic { .. } => PROJECTION_ORTHOGRAPHIC,
+    }
+}
+
+impl GpuCamera {
+    pub fn new(camera: &Camera) -> Self {
+        Self {
+            // glam and GLSL are both column-major.
+            world_from_camera: camera.world_from_camera.to_cols_array(),
+            screen_from_raster: camera.screen_from_raster.to_cols_array(),
+            projection: projection_code(camera),
+            near_z: camera.near,
+            aperture_radius: camera.lens.aperture_radius,
+            focus_distance: camera.lens.focus_distance,
+        }
+    }
+}
+
+impl TraceParams {
+    pub fn new(camera: &Camera, settings: &RenderSettings) -> Self {
+        Self {
+            camera: GpuCamera::new(camera),
+            background: settings.background.extend(0.0).to_array(),
+            light_position: settings.light.position.extend(1.0).to_array(),
+            light_intensity: settings.light.intensity.extend(0.0).to_array(),
+            width: camera.width,
+            height: camera.height,
+            seed: settings.seed,
+            shading: match settings.shading {
+                Shading::Lit => SHADING_LIT,
+                _ => SHADING_UNLIT,
+            },
+            sampler_kind: settings.sampler.id(),
+            shared_samples: u32::from(settings.shared_samples),
+            pad1: 0,
+            pad2: 0,
+        }
+    }
+}
+
+/// The circle of confusion shown as white in the preview's CoC view, pixels.
+pub(crate) const COC_DISPLAY_MAX: f32 = 16.0;
+
+impl ViewParams {
+    /// View `view` (VIEW_*) of `camera`.
+    pub fn new(camera: &Camera, view: u32) -> Self {
+        Self {
+            view,
+            projection: projection_code(camera),
+            aperture_radius: camera.lens.aperture_radius,
+            focus_distance: camera.lens.focus_distance,
+            near_z: camera.near,
+            far_z: camera.far,
+            pixels_per_screen_unit: camera.pixels_per_screen_unit(),
+            coc_display_max: COC_DISPLAY_MAX,
+        }
+    }
+}
+
+impl ResolvePush {
+    /// View `view` (VIEW_*) of `camera`, over the camera's image.
+    pub fn new(camera: &Camera, view: u32) -> Self {
+        Self {
+            width: camera.width,
+            height: camera.height,
+            pad0: 0,
+            pad1: 0,
+            shown: ViewParams::new(camera, view),
+        }
+    }
+}
+
+impl RasterPush {
+    pub fn new(camera: &Camera) -> Self {
+        let clip: Mat4 = camera.clip_from_world();
+        let ortho = if camera.is_orthographic() { 1.0 } else { 0.0 };
+        Self {
+            clip_from_world: clip.to_cols_array(),
+            eye: camera.frame.eye.extend(1.0).to_array(),
+            forward: camera.frame.forward.extend(ortho).to_array(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+
+    use crate::camera::{CameraParams, LensParams, ProjectionParams};
+    use glam::{Vec2, Vec3};
+
+    /// The raster pass uses `clip_from_world()` as is: Vulkan's clip space has y down and depth
+    /// in [0, 1]. A point on the pinhole ray through raster point (x, y) must land at
+    /// NDC (2x/w - 1, 2y/h - 1), with depth 0 on the near plane and 1 on the far plane.
+    #[test]
+    fn clip_from_world_is_vulkan_clip_space() {
+        for projection in [
+            ProjectionParams::Perspective { vfov_degrees: 50.0 },
+            ProjectionParams::Orthographic { height: 3.0 },
+        ] {
+            let cam = CameraParams {
+                eye: Vec3::new(1.0, 2.0, 3.0),
+                target: Vec3::new(-0.5, 0.2, -1.0),
+                up: Vec3::Y,
+                projection,
+                lens: LensParams::Pinhole,
+                near: 0.5,
+                far: 20.0,
+                width: 160,
+                height: 90,
+            }
+            .build()
+            .unwrap();
+            let clip = cam.clip_from_world();
+            for raster in [
+                Vec2::new(0.5, 0.5),
+                Vec2::new(159.5, 10.25),
+                Vec2::new(80.0, 89.0),
+            ] {
+                let ray = cam.generate_ray(raster, Vec2::splat(0.5));
+                for depth in [cam.near, 2.0, cam.far] {
+                    // The point of the ray at view depth `depth`.
+                    let t =
+                        (depth - cam.view_depth(ray.origin)) / ray.direction.dot(cam.frame.forward);
+                    let p = ray.at(t);
+                    let h = clip * p.extend(1.0);
+                    let ndc = h.truncate() / h.w;
+                    let expected_x = 2.0 * raster.x / 160.0 - 1.0;
+                    let expected_y = 2.0 * raster.y / 90.0 - 1.0;
+                    // The course's depth in [0, 1]: (z - n) / (f - n) orthographic,
+                    // f (z - n) / (z (f - n)) perspective.
+                    let (n, f) = (cam.near, cam.far);
+                    let expected_z = if cam.is_orthographic() {
+                        (depth - n) / (f - n)
+                    } else {
+                        f * (depth - n) / (depth * (f - n))
+                    };
+                    assert!(
+                        (ndc.x - expected_x).abs() < 1e-4,
+                        "{projection:?} x {ndc} {raster}"
+                    );
+                    assert!(
+                        (ndc.y - expected_y).abs() < 1e-4,
+                        "{projection:?} y {ndc} {raster}"
+                    );
+                    assert!(
+                        (ndc.z - expected_z).abs() < 1e-4,
+                        "{projection:?} z {ndc} at {depth}"
+                    );
+                    assert!(h.w > 0.0);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,219 @@
+//! The hybrid path's plan on the device (shaders/hybrid_plan.comp): from the G-buffer images
+//! already drawn in the same command buffer into the trace pass's plan buffer
+//! (TRACE_BINDING_PLAN), with no readback. The rules are those of the host's reference
+//! `paths::hybrid::Plan::new`; tests/hybrid.rs checks that both plans are equal.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::camera::Camera;
+use crate::gpu::core::buffer::{barrier, Buffer};
+use crate::gpu::core::device::Context;
+use crate::gpu::core::error::GpuError;
+use crate::gpu::core::image::{transition, Transition};
+use crate::gpu::core::pipeline::Pipeline;
+use crate::gpu::core::shader;
+use crate::gpu::passes::gbuffer::GBufferTargets;
+use crate::interface::{
+    HybridPlanPush, HYBRID_PLAN_BINDING_ALBEDO, HYBRID_PLAN_BINDING_EDGES,
+    HYBRID_PLAN_BINDING_NORMAL, HYBRID_PLAN_BINDING_PLAN, HYBRID_PLAN_BINDING_SURFACE_DEPTH,
+    HYBRID_PLAN_BINDING_TILES, HYBRID_PLAN_BINDING_VIEW_DEPTH, HYBRID_PLAN_GROUP_SIZE,
+    HYBRID_PLAN_STEP_COLUMNS, HYBRID_PLAN_STEP_DILATE, HYBRID_PLAN_STEP_ENTRIES,
+    HYBRID_PLAN_STEP_ROWS, HYBRID_PLAN_STEP_TILES, HYBRID_SEGMENT, HYBRID_TILE, SHADING_LIT,
+    SHADING_UNLIT,
+};
+use crate::settings::Shading;
+
+// hybrid_plan.comp's ENTRIES step takes a segment to be one tile row, and a tile to be one
+// workgroup.
+const _: () = assert!(HYBRID_SEGMENT == HYBRID_TILE);
+const _: () = assert!(HYBRID_TILE * HYBRID_TILE == HYBRID_PLAN_GROUP_SIZE);
+
+/// The plan pass's scratch buffers of one image size.
+struct Scratch {
+    /// Per tile: the maximum CoC of its pixels (f32), then per tile its dilated CoC.
+    tiles: Buffer,
+    /// The summed-area table of edge marks, (width + 1) x (height + 1) u32.
+    edges: Buffer,
+    width: u32,
+    height: u32,
+}
+
+pub(crate) struct HybridPlanPass {
+    ctx: Arc<Context>,
+    pipeline: Pipeline,
+    scratch: Option<Scratch>,
+}
+
+impl HybridPlanPass {
+    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let image = vk::DescriptorType::STORAGE_IMAGE;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let bindings = [
+            (HYBRID_PLAN_BINDING_NORMAL, image, compute),
+            (HYBRID_PLAN_BINDING_ALBEDO, image, compute),
+            (HYBRID_PLAN_BINDING_VIEW_DEPTH, image, compute),
+            (HYBRID_PLAN_BINDING_TILES, storage, compute),
+            (HYBRID_PLAN_BINDING_EDGES, storage, compute),
+            (HYBRID_PLAN_BINDING_PLAN, storage, compute),
+            (HYBRID_PLAN_BINDING_SURFACE_DEPTH, storage, compute),
+        ];
+        let pipeline = Pipeline::compute(
+            ctx,
+            shader::HYBRID_PLAN_COMP,
+            &bindings,
+            std::mem::size_of::<HybridPlanPush>() as u32,
+        )?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            scratch: None,
+        })
+    }
+
+    /// Binds the G-buffer `targets` and the trace pass's `plan` and `surface_depth` buffers (at
+    /// least one entry per pixel), with scratch buffers of the targets' size. No submission
+    /// using the pass may be pending (descriptor updates).
+    pub fn bind(
+        &mut self,
+        targets: &GBufferTargets,
+        plan: &Buffer,
+        surface_depth: &Buffer,
+    ) -> Result<(), GpuError> {
+        let (width, height) = (targets.width, targets.height);
+        if plan.size < u64::from(width) * u64::from(height) * 16 {
+            return Err(GpuError::Invalid(format!(
+                "a {}-byte plan buffer for a {width}x{height} image",
+                plan.size
+            )));
+        }
+        if self
+            .scratch
+            .as_ref()
+            .is_none_or(|s| (s.width, s.height) != (width, height))
+        {
+            self.scratch = None;
+            let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+            let tiles = u64::from(width.div_ceil(HYBRID_TILE) * height.div_ceil(HYBRID_TILE));
+            let table = (u64::from(width) + 1) * (u64::from(height) + 1);
+            self.scratch = Some(Scratch {
+                tiles: Buffer::new(
+                    &self.ctx,
+                    "hybrid plan tiles",
+                    tiles * 8,
+                    usage,
+                    MemoryLocation::GpuOnly,
+                )?,
+                edges: Buffer::new(
+                    &self.ctx,
+                    "hybrid plan edge table",
+                    table * 4,
+                    usage,
+                    MemoryLocation::GpuOnly,
+                )?,
+                width,
+                height,
+            });
+        }
+        let scratch = self.scratch.as_ref().expect("created above");
+        let p = &self.pipeline;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        p.bind_storage_image(HYBRID_PLAN_BINDING_NORMAL, targets.normal.view);
+        p.bind_storage_image(HYBRID_PLAN_BINDING_ALBEDO, targets.albedo.view);
+        p.bind_storage_image(HYBRID_PLAN_BINDING_VIEW_DEPTH, targets.view_depth.view);
+        p.bind_buffer(HYBRID_PLAN_BINDING_TILES, storage, &scratch.tiles);
+        p.bind_buffer(HYBRID_PLAN_BINDING_EDGES, storage, &scratch.edges);
+        p.bind_buffer(HYBRID_PLAN_BINDING_PLAN, storage, plan);
+        p.bind_buffer(HYBRID_PLAN_BINDING_SURFACE_DEPTH, storage, surface_depth);
+        Ok(())
+    }
+
+    /// Records the plan of `spp` samples of `shading` seen by `camera` (the lens the CoC is
+    /// computed with; the G-buffer was drawn with its planning camera, same rays and pixels)
+    /// after the G-buffer pass: the images go from TRANSFER_SRC_OPTIMAL to GENERAL and back, the
+    /// plan's writes are ordered before later compute reads.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        targets: &GBufferTargets,
+        camera: &Camera,
+        shading: Shading,
+        spp: u32,
+    ) {
+        let ctx = &self.ctx;
+        targets.record_to_general(ctx, cmd, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
+        let (width, height) = (targets.width, targets.height);
+        let (tiles_x, tiles_y) = (width.div_ceil(HYBRID_TILE), height.div_ceil(HYBRID_TILE));
+        let push = |step| HybridPlanPush {
+            width,
+            height,
+            tiles_x,
+            tiles_y,
+            step,
+            shading: if shading == Shading::Lit {
+                SHADING_LIT
+            } else {
+                SHADING_UNLIT
+            },
+            spp,
+            projection: crate::gpu::core::conv::projection_code(camera),
+            aperture_radius: camera.lens.aperture_radius,
+            focus_distance: camera.lens.focus_distance,
+            near_z: camera.near,
+            pixels_per_screen_unit: camera.pixels_per_screen_unit(),
+        };
+        // One invocation per tile, row, column, tile, segment.
+        let steps = [
+            (HYBRID_PLAN_STEP_TILES, tiles_x * tiles_y),
+            (HYBRID_PLAN_STEP_ROWS, height),
+            (HYBRID_PLAN_STEP_COLUMNS, width),
+            (HYBRID_PLAN_STEP_DILATE, tiles_x * tiles_y),
+            (HYBRID_PLAN_STEP_ENTRIES, tiles_x * height),
+        ];
+        for (step, invocations) in steps {
+            // Earlier steps' writes (and earlier readers of the scratch and plan) first.
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            );
+            self.pipeline.bind(cmd, bytemuck::bytes_of(&push(step)));
+            // SAFETY: compute pipeline and its complete set bound (`bind`); the images are in
+            // GENERAL.
+            unsafe {
+                ctx.device
+                    .cmd_dispatch(cmd, invocations.div_ceil(HYBRID_PLAN_GROUP_SIZE), 1, 1)
+            };
+        }
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        for image in [&targets.normal, &targets.albedo, &targets.view_depth] {
+            transition(
+                ctx,
+                cmd,
+                image.image,
+                &Transition {
+                    old: vk::ImageLayout::GENERAL,
+                    new: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    src_stage: vk::PipelineStageFlags::COMPUTE_SHADER,
+                    src_access: vk::AccessFlags::empty(),
+                    dst_stage: vk::PipelineStageFlags::COMPUTE_SHADER
+                        | vk::PipelineStageFlags::TRANSFER,
+                    dst_access: vk::AccessFlags::SHADER_READ | vk::AccessFlags::TRANSFER_READ,
+                },
+            );
+        }
+    }
+}

@@ -1,0 +1,868 @@
+//! The thin-lens compute pass (shaders/trace.comp): camera samples traced with one pipeline per
+//! traversal the device was opened for (ray queries, or the software BVH traversal; the one in
+//! use is `traversal()`), split into dispatches of bounded size (bands of rows x ranges of samples), one submission
+//! each, accumulating sums in a float buffer; the host divides by spp at the end.
+
+use std::ops::Range;
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::camera::Camera;
+use crate::film::Accumulation;
+use crate::gpu::core::buffer::{barrier, barrier_to_host, Buffer};
+use crate::gpu::core::device::Context;
+use crate::gpu::core::error::GpuError;
+use crate::gpu::core::pipeline::{Binding, Pipeline};
+use crate::gpu::core::query::QueryPool;
+use crate::gpu::core::shader;
+use crate::gpu::scene::{BvhBuffers, SceneBuffers};
+use crate::gpu::traversal::Traversal;
+use crate::interface::{
+    TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_COUNTERS, TRACE_BINDING_PARAMS,
+    TRACE_BINDING_PLAN, TRACE_BINDING_SURFACE_DEPTH, TRACE_BINDING_TLAS, TRACE_BINDING_VISIBILITY,
+    TRACE_GROUP_SIZE as GROUP, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER,
+    TRACE_MODE_SHORTCUT,
+};
+use crate::settings::RenderSettings;
+
+/// Pixel-samples of the first dispatches: ~0.03-0.1 s on lavapipe (2 cores, 80k triangles).
+const INITIAL_SAMPLES_PER_DISPATCH: u64 = 1 << 16;
+/// The most pixel-samples per dispatch, however fast the device.
+pub(crate) const MAX_SAMPLES_PER_DISPATCH: u64 = 1 << 22;
+/// Dispatch duration aimed at when sizing the next dispatches from the last one's timestamps
+/// (well under the ~0.5 s that a single dispatch should not exceed).
+const TARGET_DISPATCH_MS: f64 = 100.0;
+
+/// Most pixels whose sums are held at once (64 MiB); larger images go in bands of rows.
+const MAX_BAND_PIXELS: u64 = 1 << 22;
+
+/// Timing of the GPU passes, from timestamp queries (milliseconds).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// GPU time of the acceleration-structure builds (BLAS + TLAS) of the loaded scene. lavapipe
+    /// builds on the CPU inside the submission, so see also `accel_build_wall_ms`.
+    pub accel_build_gpu_ms: f64,
+    /// Wall-clock time of the whole build (uploads, builds, compaction).
+    pub accel_build_wall_ms: f64,
+    /// GPU time of the very first dispatch of each trace pipeline (drivers may compile lazily;
+    /// each traversal's pipeline has its own), summed, excluded from `trace_gpu_ms`.
+    pub first_dispatch_ms: Option<f64>,
+    /// Rays traced by those first dispatches.
+    pub first_dispatch_rays: u64,
+    /// GPU time of every later dispatch of the trace pass, summed.
+    pub trace_gpu_ms: f64,
+    /// Rays (camera + shadow) traced by those dispatches.
+    pub rays_traced: u64,
+    /// Number of dispatches counted in `trace_gpu_ms`.
+    pub dispatches: u64,
+    /// The longest of those dispatches.
+    pub longest_dispatch_ms: f64,
+    /// G-buffer passes drawn, and their GPU time (draw only, no readback), summed.
+    pub gbuffer_passes: u64,
+    pub gbuffer_gpu_ms: f64,
+    /// Bytes of the loaded scene's BLASes before and after compaction.
+    pub blas_bytes: u64,
+    pub blas_compacted_bytes: u64,
+    /// Device bytes of the ray-query structures of the loaded scene (compacted BLASes, TLAS,
+    /// instances); 0 without ray queries.
+    pub accel_bytes: u64,
+    /// Device bytes of the software traversal's BVH (nodes and leaf-ordered triangles); 0 when
+    /// the device was opened without the software traversal.
+    pub bvh_bytes: u64,
+    /// Host time of the BVH build and flattening (upload excluded).
+    pub bvh_build_ms: f64,
+}
+
+impl Timings {
+    /// Rays per second of the trace pass, first dispatch excluded.
+    pub fn rays_per_second(&self) -> Option<f64> {
+        (self.trace_gpu_ms > 0.0).then(|| self.rays_traced as f64 / (self.trace_gpu_ms * 1e-3))
+    }
+
+    /// Device bytes of `traversal`'s structures for the loaded scene (the scene arrays, shared
+    /// by both, not counted).
+    pub fn traversal_bytes(&self, traversal: Traversal) -> u64 {
+        match traversal {
+            Traversal::RayQuery => self.accel_bytes,
+            Traversal::Software => self.bvh_bytes,
+        }
+    }
+}
+
+/// How one render is split: `samples_per` samples of `rows_per` rows per dispatch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Split {
+    pub samples_per: u32,
+    pub rows_per: u32,
+}
+
+impl Split {
+    pub fn new(width: u32, height: u32, spp: u32, budget: u64) -> Self {
+        let pixels = u64::from(width) * u64::from(height);
+        let samples_per = (budget / pixels.max(1)).clamp(1, u64::from(spp.max(1))) as u32;
+        let rows_per = if u64::from(samples_per) * pixels <= budget {
+            height
+        } else {
+            (budget / u64::from(width).max(1)).clamp(1, u64::from(height)) as u32
+        };
+        Self {
+            samples_per,
+            rows_per,
+        }
+    }
+}
+
+/// The pipeline of one traversal.
+struct TracePipeline {
+    traversal: Traversal,
+    pipeline: Pipeline,
+    /// Its first dispatch (lazily compiled by some drivers) is timed apart.
+    first_dispatch_done: bool,
+}
+
+pub(crate) struct TracePass {
+    ctx: Arc<Context>,
+    /// One per traversal of the device, in `ctx.traversals` order.
+    pipelines: Vec<TracePipeline>,
+    /// Index of the one in use.
+    current: usize,
+    params: Buffer,
+    counters: Buffer,
+    /// The hybrid path's plan (one vec4 per pixel, see TRACE_BINDING_PLAN); a placeholder of
+    /// one entry while none is set (the binding must be valid in every mode).
+    plan: Buffer,
+    /// Per pixel of the plan: the camera-space depth of the surface the G-buffer sees (0:
+    /// none), from the device plan (TRACE_BINDING_SURFACE_DEPTH).
+    surface_depth: Buffer,
+    /// Pixels of the plan set by `set_plan`; `None`: every sample of every pixel is traced.
+    plan_pixels: Option<u64>,
+    /// Placeholder of the raster path's visibility binding until `bind_visibility`.
+    _visibility_placeholder: Buffer,
+    /// Placeholder of the accumulation binding until a render or the preview binds one.
+    _accum_placeholder: Buffer,
+    timestamps: QueryPool,
+    /// Accumulation and readback buffers of the current image size.
+    accum: Option<DeviceSums>,
+    /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
+    pub samples_per_dispatch: u64,
+    /// Current size of a dispatch, adapted to the measured speed.
+    adaptive_samples: u64,
+    pub max_band_pixels: u64,
+}
+
+impl TracePass {
+    /// Creates a pipeline for each traversal of `ctx.traversals`; the first is in use.
+    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let pipelines = ctx
+            .traversals
+            .iter()
+            .map(|&t| {
+                Ok(TracePipeline {
+                    traversal: t,
+                    pipeline: Self::pipeline(ctx, t)?,
+                    first_dispatch_done: false,
+                })
+            })
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        if pipelines.is_empty() {
+            return Err(GpuError::Invalid(
+                "the device was opened with no traversal to trace with".into(),
+            ));
+        }
+        let params = Buffer::new(
+            ctx,
+            "trace params",
+            std::mem::size_of::<TraceParams>() as u64,
+            // TRANSFER_DST: the preview updates it inside its frames' command buffers.
+            vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let counters = Buffer::new(
+            ctx,
+            "trace ray counter",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let plan = Self::plan_buffer(ctx, 16)?;
+        let surface_depth = Self::surface_depth_buffer(ctx, 16)?;
+        let placeholder = |name| {
+            Buffer::new(
+                ctx,
+                name,
+                16,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        let visibility = placeholder("raster visibility placeholder")?;
+        // Until a render or the preview binds its own: the hybrid's lit pre-pass (which does
+        // not touch the sums) may run first, and every binding must be valid.
+        let accum_placeholder = placeholder("trace accumulation placeholder")?;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        for p in &pipelines {
+            let pipeline = &p.pipeline;
+            pipeline.bind_buffer(
+                TRACE_BINDING_PARAMS,
+                vk::DescriptorType::UNIFORM_BUFFER,
+                &params,
+            );
+            pipeline.bind_buffer(TRACE_BINDING_COUNTERS, storage, &counters);
+            pipeline.bind_buffer(TRACE_BINDING_ACCUM, storage, &accum_placeholder);
+            pipeline.bind_buffer(TRACE_BINDING_PLAN, storage, &plan);
+            pipeline.bind_buffer(TRACE_BINDING_SURFACE_DEPTH, storage, &surface_depth);
+            pipeline.bind_buffer(TRACE_BINDING_VISIBILITY, storage, &visibility);
+        }
+        let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipelines,
+            current: 0,
+            params,
+            counters,
+            plan,
+            surface_depth,
+            plan_pixels: None,
+            _visibility_placeholder: visibility,
+            _accum_placeholder: accum_placeholder,
+            timestamps,
+            accum: None,
+            samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
+            adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
+            max_band_pixels: MAX_BAND_PIXELS,
+        })
+    }
+
+    fn plan_buffer(ctx: &Arc<Context>, bytes: u64) -> Result<Buffer, GpuError> {
+        // Written by the host (`set_plan`) or the device plan pass, read (and, lit, completed by
+        // the shortcut pre-pass) by the shader; host-visible so that the device plan reads back.
+        Buffer::new(
+            ctx,
+            "hybrid plan",
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )
+    }
+
+    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel of the
+    /// image, row-major: see TRACE_BINDING_PLAN), or `None` to trace every sample again.
+    pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
+        let Some(plan) = plan else {
+            self.plan_pixels = None;
+            return Ok(());
+        };
+        self.ensure_plan_capacity(plan.len() as u64)?;
+        self.plan.write(bytemuck::cast_slice(plan))?;
+        self.plan_pixels = Some(plan.len() as u64);
+        Ok(())
+    }
+
+    /// Makes the plan buffer hold at least `pixels` entries, and the surface depths as many (new
+    /// buffers, bound to every pipeline, when they are smaller). No submission using them may
+    /// be pending.
+    pub fn ensure_plan_capacity(&mut self, pixels: u64) -> Result<(), GpuError> {
+        let bytes = (pixels * 16).max(16);
+        if self.plan.size < bytes {
+            self.plan = Self::plan_buffer(&self.ctx, bytes)?;
+            self.surface_depth = Self::surface_depth_buffer(&self.ctx, bytes / 4)?;
+            for p in &self.pipelines {
+                p.pipeline.bind_buffer(
+                    TRACE_BINDING_PLAN,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    &self.plan,
+                );
+                p.pipeline.bind_buffer(
+                    TRACE_BINDING_SURFACE_DEPTH,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    &self.surface_depth,
+                );
+            }
+        }
+        Ok(())
+    }
+
+    fn surface_depth_buffer(ctx: &Arc<Context>, bytes: u64) -> Result<Buffer, GpuError> {
+        // Written by the device plan, read by the hybrid's lit shortcut samples.
+        Buffer::new(
+            ctx,
+            "hybrid surface depth",
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )
+    }
+
+    /// Points the raster path's visibility binding at `buffer` (one uint per pixel, owned by
+    /// the visibility pass, which outlives the pass's use of it).
+    pub fn bind_visibility(&self, buffer: &Buffer) {
+        for p in &self.pipelines {
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_VISIBILITY,
+                vk::DescriptorType::STORAGE_BUFFER,
+                buffer,
+            );
+        }
+    }
+
+    /// The plan buffer (for the device plan pass to write).
+    pub fn plan_buffer_ref(&self) -> &Buffer {
+        &self.plan
+    }
+
+    /// The surface depths (for the device plan pass to write).
+    pub fn surface_depth_ref(&self) -> &Buffer {
+        &self.surface_depth
+    }
+
+    /// Later `accumulate` calls follow the plan of `pixels` entries that the device plan pass
+    /// wrote into the plan buffer.
+    pub fn use_device_plan(&mut self, pixels: u64) {
+        self.plan_pixels = Some(pixels);
+    }
+
+    /// The plan's entries as the device left them (host-visible buffer; the caller waited for
+    /// the submissions that wrote it).
+    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+        let entries: &[[f32; 4]] = bytemuck::cast_slice(self.plan.read()?);
+        entries
+            .get(..pixels as usize)
+            .map(<[_]>::to_vec)
+            .ok_or_else(|| GpuError::Invalid(format!("the plan buffer has no {pixels} entries")))
+    }
+
+    /// The compute pipeline of `traversal`: the scene arrays, that traversal's structures, and
+    /// the pass's own buffers.
+    fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let mut bindings: Vec<Binding> = SceneBuffers::bindings(compute).to_vec();
+        let spirv = match traversal {
+            Traversal::RayQuery => {
+                bindings.push((
+                    TRACE_BINDING_TLAS,
+                    vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+                    compute,
+                ));
+                shader::TRACE_RAYQUERY_COMP
+            }
+            Traversal::Software => {
+                bindings.extend(BvhBuffers::bindings(compute));
+                shader::TRACE_SOFTWARE_COMP
+            }
+        };
+        bindings.extend([
+            (
+                TRACE_BINDING_ACCUM,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
+            (
+                TRACE_BINDING_COUNTERS,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
+            (
+                TRACE_BINDING_PARAMS,
+                vk::DescriptorType::UNIFORM_BUFFER,
+                compute,
+            ),
+            (
+                TRACE_BINDING_PLAN,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
+            (
+                TRACE_BINDING_VISIBILITY,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
+            (
+                TRACE_BINDING_SURFACE_DEPTH,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
+        ]);
+        Pipeline::compute(
+            ctx,
+            spirv,
+            &bindings,
+            std::mem::size_of::<TracePush>() as u32,
+        )
+    }
+
+    /// The traversals this pass can trace with.
+    pub fn traversals(&self) -> Vec<Traversal> {
+        self.pipelines.iter().map(|p| p.traversal).collect()
+    }
+
+    /// The traversal in use.
+    pub fn traversal(&self) -> Traversal {
+        self.pipelines[self.current].traversal
+    }
+
+    /// Uses `traversal` from now on; an error when the device was not opened for it.
+    pub fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
+        let index = self
+            .pipelines
+            .iter()
+            .position(|p| p.traversal == traversal)
+            .ok_or_else(|| GpuError::TraversalUnavailable {
+                traversal,
+                device: self.ctx.report.name.clone(),
+                available: self
+                    .traversals()
+                    .iter()
+                    .map(|t| t.name())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })?;
+        self.current = index;
+        Ok(())
+    }
+
+    fn pipeline_in_use(&self) -> &Pipeline {
+        &self.pipelines[self.current].pipeline
+    }
+
+    pub fn bind_scene(&self, scene: &SceneBuffers) {
+        for p in &self.pipelines {
+            scene.bind(&p.pipeline);
+            match p.traversal {
+                Traversal::RayQuery => {
+                    if let Some(accel) = &scene.accel {
+                        p.pipeline.bind_accel(TRACE_BINDING_TLAS, accel.tlas.handle);
+                    }
+                }
+                Traversal::Software => {
+                    if let Some(bvh) = &scene.bvh {
+                        bvh.bind(&p.pipeline);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Points every pipeline's accumulation binding at `buffer`.
+    fn bind_accum_buffer(&self, buffer: &Buffer) {
+        for p in &self.pipelines {
+            p.pipeline.bind_buffer(
+                TRACE_BINDING_ACCUM,
+                vk::DescriptorType::STORAGE_BUFFER,
+                buffer,
+            );
+        }
+    }
+
+    /// Points the pass at an accumulation buffer of the caller's (the preview's, one vec4 per
+    /// pixel of the whole image); a later `render` makes and binds its own again.
+    pub fn bind_accumulation(&mut self, buffer: &Buffer) {
+        self.accum = None;
+        self.bind_accum_buffer(buffer);
+    }
+
+    /// Records an update of the uniform parameters, ordered before later dispatches and after
+    /// earlier ones (frames in flight share the buffer; the queue orders the updates).
+    pub fn record_params(&self, cmd: vk::CommandBuffer, params: &TraceParams) {
+        let ctx = &self.ctx;
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::UNIFORM_READ,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        // SAFETY: recording state; the buffer has TRANSFER_DST usage and the data is a
+        // multiple of 4 bytes under 64 KiB.
+        unsafe {
+            ctx.device
+                .cmd_update_buffer(cmd, self.params.buffer, 0, bytemuck::bytes_of(params))
+        };
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::UNIFORM_READ,
+        );
+    }
+
+    /// Records the hybrid's lit pre-pass over a `width` x `height` image (TRACE_MODE_SHORTCUT:
+    /// each pixel's shortcut value and shadow state into the plan buffer, which must hold the
+    /// image), after the parameters of the camera and settings; the plan's steps follow it.
+    /// Ordered after earlier transfers and dispatches (parameter updates, clears).
+    pub fn record_lit_prepass(&self, cmd: vk::CommandBuffer, width: u32, height: u32) {
+        barrier(
+            &self.ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        let push = TracePush {
+            band_origin: 0,
+            band_height: height,
+            block_first: 0,
+            block_stride: 1,
+            block_count: height.div_ceil(GROUP),
+            sample_begin: 0,
+            sample_end: 0,
+            mode: TRACE_MODE_SHORTCUT,
+        };
+        self.record_dispatch(cmd, push, width);
+    }
+
+    /// The rays counted since the counter was last cleared (host-visible; the caller waited).
+    pub fn rays_counted(&self) -> Result<u64, GpuError> {
+        Ok(u64::from(
+            bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0],
+        ))
+    }
+
+    /// Records a clear of the ray counter.
+    pub fn record_clear_ray_counter(&self, cmd: vk::CommandBuffer) {
+        // SAFETY: recording state; the counters buffer has TRANSFER_DST usage.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_fill_buffer(cmd, self.counters.buffer, 0, vk::WHOLE_SIZE, 0)
+        };
+    }
+
+    /// Records one dispatch of the blocks and samples `push` names, over an image `width`
+    /// pixels wide (parameters and accumulation bound and ordered by the caller).
+    pub fn record_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush, width: u32) {
+        self.pipeline_in_use().bind(cmd, bytemuck::bytes_of(&push));
+        // SAFETY: compute pipeline and its complete descriptor set are bound.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_dispatch(cmd, width.div_ceil(GROUP), push.block_count, 1)
+        };
+    }
+
+    /// Adds samples `samples` of every pixel to `accumulation` (of the camera's size), with the
+    /// scene last bound by `bind_scene`. Each band's sums go to the device and come back, and
+    /// the shader adds sample after sample to them, so any split of a range gives the same sums.
+    pub fn accumulate(
+        &mut self,
+        (camera, settings): (&Camera, &RenderSettings),
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
+        timings: &mut Timings,
+        raster: Option<&RecordSample<'_>>,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(), GpuError> {
+        let (width, height) = (camera.width, camera.height);
+        let pixels = u64::from(width) * u64::from(height);
+        if (accumulation.width, accumulation.height) != (width, height) {
+            return Err(GpuError::Invalid(format!(
+                "accumulation {}x{} does not match the {width}x{height} image",
+                accumulation.width, accumulation.height
+            )));
+        }
+        if samples.is_empty() {
+            return Ok(());
+        }
+        let mode = match self.plan_pixels {
+            None if raster.is_some() => TRACE_MODE_RASTER,
+            None => TRACE_MODE_ALL,
+            Some(_) if raster.is_some() => {
+                return Err(GpuError::Invalid(
+                    "the raster path does not follow a hybrid plan".into(),
+                ))
+            }
+            Some(n) if n == pixels => TRACE_MODE_HYBRID,
+            Some(n) => {
+                return Err(GpuError::Invalid(format!(
+                    "the hybrid plan has {n} pixels, the image {pixels}"
+                )))
+            }
+        };
+        // The sums live in a storage buffer covering a band of rows, bounded by the device's
+        // storage-buffer range (128 MiB on lavapipe); bands are copied into the readback buffer.
+        let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
+            .min(self.max_band_pixels)
+            .max(u64::from(width));
+        let band_rows = (max_band_pixels / u64::from(width)).clamp(1, u64::from(height)) as u32;
+        let accum_bytes = u64::from(band_rows) * u64::from(width) * 16;
+        let readback_bytes = pixels * 16;
+        if self
+            .accum
+            .as_ref()
+            .is_none_or(|a| a.accum_bytes != accum_bytes || a.staging_bytes != readback_bytes)
+        {
+            self.accum = None;
+            let accum = Buffer::new(
+                &self.ctx,
+                "trace accumulation",
+                accum_bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?;
+            // Host-visible both ways: the sums go up through it and come back into it.
+            let staging = Buffer::new(
+                &self.ctx,
+                "trace sums staging",
+                readback_bytes,
+                vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?;
+            self.bind_accum_buffer(&accum);
+            self.accum = Some(DeviceSums {
+                accum,
+                staging,
+                accum_bytes,
+                staging_bytes: readback_bytes,
+            });
+        }
+        self.accum
+            .as_mut()
+            .expect("created above")
+            .staging
+            .write(bytemuck::cast_slice(&accumulation.sums))?;
+        self.params
+            .write(bytemuck::bytes_of(&TraceParams::new(camera, settings)))?;
+
+        let (first_sample, spp) = (samples.start, samples.end);
+        let total = pixels * u64::from(spp - first_sample);
+        let mut done = 0u64;
+        progress(0, total);
+        let mut band_origin = 0;
+        while band_origin < height {
+            let band_height = band_rows.min(height - band_origin);
+            if let Some(record_sample) = raster {
+                // One submission per sample: its raster pass, then the shading of the band.
+                for sample in first_sample..spp {
+                    let push = TracePush {
+                        band_origin,
+                        band_height,
+                        block_first: 0,
+                        block_stride: 1,
+                        block_count: band_height.div_ceil(GROUP),
+                        sample_begin: sample,
+                        sample_end: sample + 1,
+                        mode,
+                    };
+                    let copy_out = (sample + 1 == spp)
+                        .then_some(u64::from(band_height) * u64::from(width) * 16);
+                    let record = |cmd| record_sample(cmd, sample);
+                    self.dispatch(push, width, sample == first_sample, copy_out, Some(&record))?;
+                    let work = u64::from(band_height) * u64::from(width);
+                    self.record_timing(timings, Some(work))?;
+                    done += work;
+                    progress(done, total);
+                }
+                band_origin += band_height;
+                continue;
+            }
+            let mut sample_begin = first_sample;
+            let mut first_of_band = true;
+            while sample_begin < spp {
+                // Re-planned per range of samples, from the latest measured speed. Any split
+                // adds each pixel's samples in the same order: the sums do not depend on it.
+                let budget = self.adaptive_samples.min(self.samples_per_dispatch);
+                let split = Split::new(width, band_height, spp - sample_begin, budget);
+                let sample_end = (sample_begin + split.samples_per).min(spp);
+                // The band's blocks of GROUP rows are dealt out to `groups` dispatches with a
+                // stride, so each dispatch covers the whole band evenly (similar cost per
+                // dispatch, sky and geometry mixed alike, which keeps the speed-based sizing
+                // accurate) while each workgroup still traces a coherent 8x8 tile.
+                let blocks = band_height.div_ceil(GROUP);
+                let blocks_per = (split.rows_per / GROUP).max(1);
+                let groups = blocks.div_ceil(blocks_per);
+                for group in 0..groups {
+                    let block_count = (blocks - group).div_ceil(groups);
+                    let push = TracePush {
+                        band_origin,
+                        band_height,
+                        block_first: group,
+                        block_stride: groups,
+                        block_count,
+                        sample_begin,
+                        sample_end,
+                        mode,
+                    };
+                    let copy_out = (sample_end == spp && group + 1 == groups)
+                        .then_some(u64::from(band_height) * u64::from(width) * 16);
+                    self.dispatch(push, width, first_of_band, copy_out, None)?;
+                    first_of_band = false;
+                    let rows: u32 = (0..block_count)
+                        .map(|b| {
+                            let first = (group + b * groups) * GROUP;
+                            GROUP.min(band_height - first)
+                        })
+                        .sum();
+                    let work =
+                        u64::from(rows) * u64::from(width) * u64::from(sample_end - sample_begin);
+                    self.record_timing(timings, Some(work))?;
+                    done += work;
+                    progress(done, total);
+                }
+                sample_begin = sample_end;
+            }
+            band_origin += band_height;
+        }
+
+        let staging = &self.accum.as_ref().expect("created above").staging;
+        let sums: &[[f32; 4]] = bytemuck::cast_slice(staging.read()?);
+        accumulation.sums.copy_from_slice(&sums[..pixels as usize]);
+        Ok(())
+    }
+
+    /// Adds the last dispatch's GPU time and ray count (the pipeline's first dispatch apart),
+    /// and sizes the next dispatches from its speed (`work` pixel-samples; `None`: a pass that
+    /// says nothing of the speed of tracing samples).
+    fn record_timing(&mut self, timings: &mut Timings, work: Option<u64>) -> Result<(), GpuError> {
+        let ticks = self.timestamps.results()?;
+        let gpu_ms = self.ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6;
+        let rays = self.rays_counted()?;
+        if self.pipelines[self.current].first_dispatch_done {
+            if let Some(work) = work.filter(|_| gpu_ms > 0.0) {
+                let rate = work as f64 / gpu_ms;
+                // Shrinks at once, grows at most 2x per dispatch.
+                self.adaptive_samples = ((rate * TARGET_DISPATCH_MS) as u64)
+                    .min(2 * self.adaptive_samples)
+                    .clamp(1024, MAX_SAMPLES_PER_DISPATCH);
+            }
+            timings.trace_gpu_ms += gpu_ms;
+            timings.longest_dispatch_ms = timings.longest_dispatch_ms.max(gpu_ms);
+            timings.rays_traced += rays;
+            timings.dispatches += 1;
+        } else {
+            // Summed over the pipelines (one per traversal), so that reports can subtract.
+            timings.first_dispatch_ms = Some(timings.first_dispatch_ms.unwrap_or(0.0) + gpu_ms);
+            timings.first_dispatch_rays += rays;
+            self.pipelines[self.current].first_dispatch_done = true;
+        }
+        Ok(())
+    }
+
+    /// One submission: optional upload of the band's sums from the staging buffer (`load`), one
+    /// dispatch between two timestamps (after what `before` records: the raster path's pass),
+    /// optional copy of `copy_out` bytes of sums back into the staging buffer at the band's
+    /// rows.
+    /// The dispatch covers the blocks of GROUP rows `block_first + i * block_stride`,
+    /// i < block_count, of the band.
+    fn dispatch(
+        &self,
+        push: TracePush,
+        width: u32,
+        load: bool,
+        copy_out: Option<u64>,
+        before: Option<&dyn Fn(vk::CommandBuffer)>,
+    ) -> Result<(), GpuError> {
+        let ctx = &self.ctx;
+        let a = self.accum.as_ref().expect("accumulation buffer");
+        ctx.submit_and_wait(|cmd| {
+            // Earlier submissions (previous dispatch, host reads) before anything here.
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_WRITE,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+            );
+            self.timestamps.reset(cmd);
+            let band = vk::BufferCopy::default()
+                .src_offset(0)
+                .dst_offset(u64::from(push.band_origin) * u64::from(width) * 16)
+                .size(u64::from(push.band_height) * u64::from(width) * 16);
+            if load {
+                let up = vk::BufferCopy::default()
+                    .src_offset(band.dst_offset)
+                    .dst_offset(0)
+                    .size(band.size);
+                // SAFETY: recording state; the buffers have the TRANSFER usages used and the
+                // band's sums fit both (sizes computed in `accumulate`).
+                unsafe {
+                    ctx.device
+                        .cmd_copy_buffer(cmd, a.staging.buffer, a.accum.buffer, &[up])
+                };
+            }
+            self.record_clear_ray_counter(cmd);
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            );
+            self.timestamps
+                .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+            if let Some(record) = before {
+                record(cmd);
+            }
+            self.record_dispatch(cmd, push, width);
+            self.timestamps
+                .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+            if let Some(bytes) = copy_out {
+                barrier(
+                    ctx,
+                    cmd,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_WRITE,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_READ,
+                );
+                // SAFETY: the band's sums fit both buffers (sizes computed in `accumulate`).
+                unsafe {
+                    ctx.device.cmd_copy_buffer(
+                        cmd,
+                        a.accum.buffer,
+                        a.staging.buffer,
+                        &[band.size(bytes)],
+                    )
+                };
+            }
+            barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE,
+            );
+            Ok(())
+        })
+    }
+}
+
+/// Records the raster pass of one sample (the raster path), before that sample's shading.
+pub(crate) type RecordSample<'a> = dyn Fn(vk::CommandBuffer, u32) + 'a;
+
+/// The sums of one band of rows, and the whole image's staging buffer.
+struct DeviceSums {
+    accum: Buffer,
+    staging: Buffer,
+    accum_bytes: u64,
+    staging_bytes: u64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Split;
+
+    #[test]
+    fn split_stays_within_budget() {
+        for &(w, h, spp, budget) in &[
+            (640u32, 480u32, 16u32, 1u64 << 18),
+            (64, 48, 4, 1 << 18),
+            (4000, 3000, 1, 1 << 18),
+            (1, 1, 1000, 1 << 18),
+            (100_000, 2, 3, 1000),
+        ] {
+            let s = Split::new(w, h, spp, budget);
+            assert!(s.samples_per >= 1 && s.samples_per <= spp);
+            assert!(s.rows_per >= 1 && s.rows_per <= h);
+            let per = u64::from(s.samples_per) * u64::from(s.rows_per) * u64::from(w);
+            assert!(per <= budget.max(u64::from(w)), "{w}x{h} spp {spp}: {s:?}");
+        }
+    }
+}

@@ -1,0 +1,79 @@
+//! A check of the GLSL mirrors (shaders/sampler.glsl, shaders/camera.glsl): evaluates them for
+//! a list of queries with probe.comp so tests can compare against src/sampler/ and src/camera.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::camera::Camera;
+use crate::gpu::core::buffer::{barrier_to_host, Buffer};
+use crate::gpu::core::device::Context;
+use crate::gpu::core::error::GpuError;
+use crate::gpu::core::pipeline::Pipeline;
+use crate::gpu::core::shader;
+use crate::interface::{
+    GpuCamera, PROBE_BINDING_CAMERA, PROBE_BINDING_QUERIES, PROBE_BINDING_RESULTS, PROBE_GROUP_SIZE,
+};
+pub use crate::interface::{ProbeQuery, ProbeResult};
+
+pub(crate) fn run(
+    ctx: &Arc<Context>,
+    camera: &Camera,
+    queries: &[ProbeQuery],
+) -> Result<Vec<ProbeResult>, GpuError> {
+    let (storage, uniform) = (
+        vk::DescriptorType::STORAGE_BUFFER,
+        vk::DescriptorType::UNIFORM_BUFFER,
+    );
+    let compute = vk::ShaderStageFlags::COMPUTE;
+    let bindings = [
+        (PROBE_BINDING_QUERIES, storage, compute),
+        (PROBE_BINDING_RESULTS, storage, compute),
+        (PROBE_BINDING_CAMERA, uniform, compute),
+    ];
+    let pipeline = Pipeline::compute(ctx, shader::MIRRORS_COMP, &bindings, 4)?;
+    let input = Buffer::with_data(
+        ctx,
+        "probe queries",
+        bytemuck::cast_slice(queries),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?;
+    let bytes = (queries.len() * std::mem::size_of::<ProbeResult>()) as u64;
+    let output = Buffer::new(
+        ctx,
+        "probe results",
+        bytes,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let mut cam = Buffer::new(
+        ctx,
+        "probe camera",
+        std::mem::size_of::<GpuCamera>() as u64,
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+        MemoryLocation::CpuToGpu,
+    )?;
+    cam.write(bytemuck::bytes_of(&GpuCamera::new(camera)))?;
+    pipeline.bind_buffer(PROBE_BINDING_QUERIES, storage, &input);
+    pipeline.bind_buffer(PROBE_BINDING_RESULTS, storage, &output);
+    pipeline.bind_buffer(PROBE_BINDING_CAMERA, uniform, &cam);
+    let count = queries.len() as u32;
+    ctx.submit_and_wait(|cmd| {
+        pipeline.bind(cmd, bytemuck::bytes_of(&count));
+        // SAFETY: compute pipeline and complete set bound.
+        unsafe {
+            ctx.device
+                .cmd_dispatch(cmd, count.div_ceil(PROBE_GROUP_SIZE), 1, 1)
+        };
+        barrier_to_host(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_WRITE,
+        );
+        Ok(())
+    })?;
+    let results: &[ProbeResult] = bytemuck::cast_slice(output.read()?);
+    Ok(results[..queries.len()].to_vec())
+}

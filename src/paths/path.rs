@@ -1,0 +1,177 @@
+//! The render-path interface: one algorithm for the thin-lens image on one device. The CPU
+//! reference and each GPU path implement it (`crate::paths`), so `render`, `bench` and
+//! `preview` drive every path the same way and compare them on equal terms.
+
+use std::fmt;
+use std::ops::Range;
+
+use anyhow::Result;
+use serde::Serialize;
+
+use crate::camera::Camera;
+use crate::film::{Accumulation, Image};
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+
+/// The algorithms lensray can render with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum PathKind {
+    /// GPU compute pass, closest hits from Vulkan ray queries (VK_KHR_ray_query).
+    #[value(name = "rayquery")]
+    RayQuery,
+    /// GPU compute pass, closest hits from lensray's own BVH traversed in the shader: needs no
+    /// ray-tracing support.
+    Software,
+    /// GPU, guided by the raster G-buffer: pixels whose dilated circle of confusion is under
+    /// half a pixel take the G-buffer's value (checked by a few traced samples, unbiased), the
+    /// others trace a number of samples that grows with it (docs/hybrid.md).
+    Hybrid,
+    /// GPU, accumulation-buffer depth of field: per camera sample (shared by every pixel) the
+    /// scene rasterized through that lens point with a sheared projection, then shaded
+    /// (docs/raster.md).
+    Raster,
+    /// The CPU reference renderer.
+    Cpu,
+}
+
+impl PathKind {
+    pub const ALL: [PathKind; 5] = [
+        PathKind::RayQuery,
+        PathKind::Software,
+        PathKind::Hybrid,
+        PathKind::Raster,
+        PathKind::Cpu,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            PathKind::RayQuery => "rayquery",
+            PathKind::Software => "software",
+            PathKind::Hybrid => "hybrid",
+            PathKind::Raster => "raster",
+            PathKind::Cpu => "cpu",
+        }
+    }
+
+    pub fn is_gpu(self) -> bool {
+        self != PathKind::Cpu
+    }
+}
+
+impl fmt::Display for PathKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// How a path's trace time was measured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Clock {
+    /// GPU timestamp queries around each dispatch (a pipeline's first dispatch excluded: drivers
+    /// may compile it lazily).
+    GpuTimestamps,
+    /// Host wall clock.
+    WallClock,
+}
+
+/// What a path did since it was opened.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PathReport {
+    /// Camera and shadow rays traced.
+    pub rays: u64,
+    /// Time spent tracing, seconds.
+    pub trace_seconds: f64,
+    pub clock: Clock,
+    /// Time spent building the loaded scene's acceleration structures, seconds.
+    pub build_seconds: f64,
+    /// Bytes of the acceleration structures the path traverses (device memory for GPU paths,
+    /// host memory for the CPU).
+    pub accel_bytes: u64,
+    /// Bytes of all device memory the path holds at its peak so far (0 on the CPU).
+    pub peak_device_bytes: u64,
+    /// AOV images made (GPU: raster G-buffer passes; CPU: traced AOV images), and their time
+    /// (GPU: timestamps of the G-buffer draws; CPU: wall clock).
+    pub aov_passes: u64,
+    pub aov_seconds: f64,
+}
+
+impl PathReport {
+    pub fn rays_per_second(&self) -> f64 {
+        self.rays as f64 / self.trace_seconds.max(1e-12)
+    }
+
+    /// What happened between `earlier` and `self` (peaks and sizes are kept).
+    pub fn since(&self, earlier: &PathReport) -> PathReport {
+        PathReport {
+            rays: self.rays - earlier.rays,
+            trace_seconds: self.trace_seconds - earlier.trace_seconds,
+            aov_passes: self.aov_passes - earlier.aov_passes,
+            aov_seconds: self.aov_seconds - earlier.aov_seconds,
+            ..*self
+        }
+    }
+}
+
+/// One render path, open on its device.
+pub trait RenderPath {
+    fn kind(&self) -> PathKind;
+
+    /// The device it runs on, in words ("llvmpipe (LLVM 15.0.6, 256 bits)", "CPU, 2 threads").
+    fn device_name(&self) -> String;
+
+    /// Loads `scene` (and builds what the path traverses), replacing any earlier scene.
+    fn load_scene(&mut self, scene: &Scene) -> Result<()>;
+
+    /// Adds samples `samples` of every pixel (thin lens: `Unlit` or `Lit`) to `accumulation`,
+    /// which has the camera's size. Any split of a range into calls gives the same sums.
+    /// `progress(done, total)` reports the work done in the call.
+    fn add_samples(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<()>;
+
+    /// An AOV (`Depth`, `Normal`, `Albedo`): the surface seen by the aperture-centre ray at each
+    /// pixel centre (GPU paths: the raster G-buffer).
+    fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image>;
+
+    /// The view depth of the surface seen through the centre of `pixel` by the aperture-centre
+    /// ray, `None` where no surface is (autofocus, click to focus).
+    fn focus_depth_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<Option<f32>>;
+
+    /// What the path did since it was opened.
+    fn report(&self) -> PathReport;
+
+    /// Releases the device; with validation on, fails on any message of the layer, the leak
+    /// report of the device's destruction included.
+    fn close(self: Box<Self>) -> Result<()>;
+
+    /// The whole image of `settings`: traced samples 0..spp, or the AOV.
+    fn render(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<Image> {
+        if settings.shading.is_aov() {
+            progress(0, 1);
+            let image = self.aov(camera, settings)?;
+            progress(1, 1);
+            return Ok(image);
+        }
+        let mut accumulation = Accumulation::new(camera.width, camera.height);
+        self.add_samples(
+            camera,
+            settings,
+            0..settings.spp,
+            &mut accumulation,
+            progress,
+        )?;
+        Ok(accumulation.image())
+    }
+}

@@ -1,0 +1,20 @@
+//! What to render, from what a user gives to what a path computes:
+//! - [`user`]: the settings of a scene file or the command line, every field optional (the
+//!   command line overrides the file);
+//! - [`shot`]: those settings and the scene made into a [`Shot`], a validated camera and the
+//!   render settings, with a default for what neither gives;
+//! - [`render`]: the render settings every path (CPU and GPU) computes from: samples, seed,
+//!   sampler, shading, background and light.
+
+pub mod render;
+pub mod shot;
+pub mod user;
+
+pub use render::{PointLight, RenderSettings, Shading};
+pub use shot::{
+    shot, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_HEIGHT, DEFAULT_SENSOR_HEIGHT_MM,
+    DEFAULT_SPP, DEFAULT_VFOV_DEGREES, DEFAULT_WIDTH,
+};
+pub use user::{
+    CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
+};

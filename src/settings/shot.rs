@@ -1,0 +1,183 @@
+//! Settings (file overridden by command line) + scene -> a validated camera and render settings.
+//! What neither gives gets a default; a bare mesh is framed from the front (+z looking toward -z).
+
+use glam::{DVec3, Vec3};
+use thiserror::Error;
+
+use crate::camera::physical::PhysicalLens;
+use crate::camera::{Camera, CameraError, CameraParams, LensParams, ProjectionParams};
+use crate::scene::Scene;
+use crate::settings::{PointLight, RenderSettings, Shading};
+use crate::settings::{ProjectionKind, Settings};
+
+pub const DEFAULT_WIDTH: u32 = 640;
+pub const DEFAULT_HEIGHT: u32 = 480;
+pub const DEFAULT_SPP: u32 = 16;
+pub const DEFAULT_VFOV_DEGREES: f64 = 40.0;
+pub const DEFAULT_F_NUMBER: f64 = 2.8;
+/// Full-frame sensor height.
+pub const DEFAULT_SENSOR_HEIGHT_MM: f64 = 24.0;
+const DEFAULT_BACKGROUND: [f64; 3] = [0.1, 0.1, 0.1];
+
+#[derive(Debug, Error, PartialEq)]
+pub enum SettingsError {
+    #[error(transparent)]
+    Camera(#[from] CameraError),
+    #[error("{0} must be finite and not negative, got {1:?}")]
+    BadColour(&'static str, [f64; 3]),
+    #[error("{0} must be finite, got {1:?}")]
+    NotFinite(&'static str, [f64; 3]),
+    #[error("spp must be at least 1")]
+    ZeroSpp,
+    #[error("{0}")]
+    Conflict(&'static str),
+    #[error("the scene has no triangles to frame")]
+    EmptyScene,
+}
+
+pub struct Shot {
+    pub camera: Camera,
+    pub render: RenderSettings,
+}
+
+fn vec3(v: [f64; 3]) -> Vec3 {
+    DVec3::from_array(v).as_vec3()
+}
+
+fn colour(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
+    if v.iter().all(|c| c.is_finite() && *c >= 0.0) {
+        Ok(vec3(v))
+    } else {
+        Err(SettingsError::BadColour(name, v))
+    }
+}
+
+fn point(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(vec3(v))
+    } else {
+        Err(SettingsError::NotFinite(name, v))
+    }
+}
+
+/// Fills in defaults and validates everything.
+pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
+    let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
+    let c = &settings.camera;
+    let radius = (0.5 * bounds.diagonal().length()).max(1e-3) as f64;
+    let vfov_degrees = c.vfov_degrees.unwrap_or(DEFAULT_VFOV_DEGREES);
+    let projection_kind = c.projection.unwrap_or(ProjectionKind::Perspective);
+
+    let target = c
+        .target
+        .map(|t| point("target", t))
+        .transpose()?
+        .unwrap_or(bounds.center());
+    let up = c.up.map(|u| point("up", u)).transpose()?.unwrap_or(Vec3::Y);
+    let eye = match c.eye {
+        Some(e) => point("eye", e)?,
+        None => {
+            // Far enough back that the bounding sphere fits the view (with a margin).
+            let half_angle = (vfov_degrees.clamp(1.0, 179.0) * 0.5).to_radians();
+            target + Vec3::Z * (1.1 * radius / half_angle.sin()) as f32
+        }
+    };
+
+    let projection = match projection_kind {
+        ProjectionKind::Perspective => ProjectionParams::Perspective { vfov_degrees },
+        // By default the orthographic view frames what the perspective one shows at the target.
+        ProjectionKind::Orthographic => ProjectionParams::Orthographic {
+            height: c.ortho_height.unwrap_or(
+                2.0 * (vfov_degrees.clamp(1.0, 179.0) * 0.5).to_radians().tan()
+                    * (target - eye).length() as f64,
+            ),
+        },
+    };
+
+    // Depth of the scene along the view axis decides near and far.
+    let forward = (target - eye).normalize_or_zero();
+    let deepest = bounds
+        .corners()
+        .iter()
+        .map(|&p| (p - eye).dot(forward))
+        .fold(f32::MIN, f32::max) as f64;
+    let far = c.far.unwrap_or((deepest * 1.05).max(1e-2));
+    let near = c.near.unwrap_or(far * 1e-4);
+    let axis_distance = (target - eye).length() as f64;
+
+    if c.focal_length_mm.is_none() && (c.f_number.is_some() || c.sensor_height_mm.is_some()) {
+        return Err(SettingsError::Conflict(
+            "f-number and sensor height need a focal length (--focal-length-mm)",
+        ));
+    }
+    let lens = match (c.aperture_radius, c.focal_length_mm) {
+        (Some(_), Some(_)) => {
+            return Err(SettingsError::Conflict(
+                "give either an aperture radius or a focal length (physical units), not both",
+            ))
+        }
+        (Some(aperture_radius), None) => LensParams::ThinLens {
+            aperture_radius,
+            focus_distance: c.focus_distance.unwrap_or(axis_distance),
+        },
+        (None, Some(focal_length_mm)) => LensParams::Physical {
+            lens: PhysicalLens {
+                focal_length_mm,
+                f_number: c.f_number.unwrap_or(DEFAULT_F_NUMBER),
+                sensor_height_mm: c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM),
+            },
+            focus_distance: c.focus_distance.unwrap_or(axis_distance),
+        },
+        (None, None) => match c.focus_distance {
+            Some(focus_distance) => LensParams::ThinLens {
+                aperture_radius: 0.0,
+                focus_distance,
+            },
+            None => LensParams::Pinhole,
+        },
+    };
+
+    let camera = CameraParams {
+        eye,
+        target,
+        up,
+        projection,
+        lens,
+        near,
+        far,
+        width: settings.image.width.unwrap_or(DEFAULT_WIDTH),
+        height: settings.image.height.unwrap_or(DEFAULT_HEIGHT),
+    }
+    .build()?;
+
+    let spp = settings.image.spp.unwrap_or(DEFAULT_SPP);
+    if spp == 0 {
+        return Err(SettingsError::ZeroSpp);
+    }
+    let light_position = match settings.light.position {
+        Some(p) => point("light position", p)?,
+        // A light above the eye: everything the camera sees is lit, shadows fall behind objects.
+        None => eye + camera.frame.true_up * (0.5 * radius) as f32,
+    };
+    let light_intensity = match settings.light.intensity {
+        Some(i) => colour("light intensity", i)?,
+        // pi d^2 makes the irradiance at the target about 1, so a lit surface shows about Kd.
+        None => Vec3::splat(std::f32::consts::PI * (light_position - target).length_squared()),
+    };
+    let render = RenderSettings {
+        spp,
+        seed: settings.image.seed.unwrap_or(0),
+        sampler: settings.image.sampler.unwrap_or_default(),
+        shading: settings.render.shading.unwrap_or(Shading::Lit),
+        background: colour(
+            "background",
+            settings.render.background.unwrap_or(DEFAULT_BACKGROUND),
+        )?,
+        light: PointLight {
+            position: light_position,
+            intensity: light_intensity,
+        },
+        shared_samples: false,
+    };
+    Ok(Shot { camera, render })
+}

@@ -1,0 +1,118 @@
+//! Settings a user may give in a scene file or on the command line. Every field is optional:
+//! the command line overrides the file, and what neither gives gets a default (see `resolve`).
+//! Field names are the scene file's TOML keys.
+
+use serde::{Deserialize, Serialize};
+
+use crate::sampler::SamplerKind;
+use crate::settings::Shading;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum ProjectionKind {
+    Perspective,
+    Orthographic,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraSettings {
+    pub projection: Option<ProjectionKind>,
+    pub eye: Option<[f64; 3]>,
+    pub target: Option<[f64; 3]>,
+    pub up: Option<[f64; 3]>,
+    pub vfov_degrees: Option<f64>,
+    pub ortho_height: Option<f64>,
+    pub aperture_radius: Option<f64>,
+    pub focus_distance: Option<f64>,
+    pub focal_length_mm: Option<f64>,
+    pub f_number: Option<f64>,
+    pub sensor_height_mm: Option<f64>,
+    pub near: Option<f64>,
+    pub far: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImageSettings {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub spp: Option<u32>,
+    pub seed: Option<u32>,
+    pub sampler: Option<SamplerKind>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderStyle {
+    pub shading: Option<Shading>,
+    pub background: Option<[f64; 3]>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightSettings {
+    pub position: Option<[f64; 3]>,
+    /// W/sr per channel.
+    pub intensity: Option<[f64; 3]>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Settings {
+    #[serde(default)]
+    pub camera: CameraSettings,
+    #[serde(default)]
+    pub image: ImageSettings,
+    #[serde(default)]
+    pub render: RenderStyle,
+    #[serde(default)]
+    pub light: LightSettings,
+}
+
+/// `a.or(b)` field by field: what `over` sets wins.
+macro_rules! overlay {
+    ($over:expr, $base:expr, $($field:ident),*) => {
+        $( $base.$field = $over.$field.or($base.$field); )*
+    };
+}
+
+impl Settings {
+    /// These settings with every field that `over` sets replaced by its value.
+    pub fn overridden_by(mut self, over: &Settings) -> Settings {
+        let (c, i, r, l) = (&over.camera, &over.image, &over.render, &over.light);
+        overlay!(
+            c,
+            self.camera,
+            projection,
+            eye,
+            target,
+            up,
+            vfov_degrees,
+            ortho_height,
+            aperture_radius,
+            focus_distance,
+            focal_length_mm,
+            f_number,
+            sensor_height_mm,
+            near,
+            far
+        );
+        overlay!(i, self.image, width, height, spp, seed, sampler);
+        overlay!(r, self.render, shading, background);
+        overlay!(l, self.light, position, intensity);
+        self
+    }
+}
+
+macro_rules! is_unset {
+    ($($t:ty),*) => {
+        $(impl $t {
+            /// Whether no field is set (such a section is left out of a written scene file).
+            pub fn is_unset(&self) -> bool {
+                *self == Self::default()
+            }
+        })*
+    };
+}
+is_unset!(CameraSettings, ImageSettings, RenderStyle, LightSettings);
