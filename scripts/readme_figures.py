@@ -1,0 +1,322 @@
+#!/usr/bin/env python3
+"""Every performance and error figure README.md quotes, computed from the stored measurements
+under docs/bench/ (standard library only).
+
+    python3 scripts/readme_figures.py                  # one figure per line: "key: text"
+    python3 scripts/readme_figures.py --check README.md
+
+"text" is the figure exactly as README.md writes it, rounded the way it rounds. --check exits
+non-zero, naming each figure whose text is not found verbatim in the file, so that a README
+figure cannot drift from the stored runs: re-measure, store the JSON, rerun this and copy the
+lines it reports into README.md.
+
+Sources (docs/bench/):
+  default.json, triangles.json, lit-default.json, hybrid-default.json, raster/*.json,
+  hybrid-aperture-default/*.json: `lensray bench --json` runs (commands in docs/bench.md,
+  docs/hybrid.md, docs/raster.md);
+  sampler-*.json, preview.json: tables copied from docs/sampler.md and docs/preview.md, with the
+  command that printed them (`cargo bench --bench sampler -- --only ...`,
+  `./scripts/bench-preview.sh`), which write no JSON of their own.
+"""
+
+import json
+import math
+import statistics
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+BENCH = ROOT / "docs" / "bench"
+
+# The built-in camera's vertical field of view (lensray's DEFAULT_VFOV_DEGREES) and a 35 mm
+# camera's film height (DEFAULT_SENSOR_HEIGHT_MM): they give the focal length that turns an
+# aperture radius into an f-number (docs/hybrid.md, "f-number").
+VFOV_DEGREES = 40.0
+FILM_HEIGHT_MM = 24.0
+# No photographic lens is faster than about f/1: apertures with N >= 1 are "real-camera" ones.
+FASTEST_REAL_F_NUMBER = 1.0
+FULL_STOPS = [math.sqrt(2) ** k for k in range(12)]  # f/1, 1.4, 2, 2.8, ... 45
+
+
+def load(relative):
+    with open(BENCH / relative, encoding="utf-8") as f:
+        return json.load(f)
+
+
+# ---- lensray bench JSON ("schema": "lensray-bench/1", docs/bench.md) ----
+
+def point(run, spp=None, triangles=None):
+    """The point of a bench run at `spp` (and `triangles`): {path: result}."""
+    found = [
+        p for p in run["points"]
+        if (spp is None or p["spp"] == spp) and (triangles is None or p["triangles"] == triangles)
+    ]
+    if len(found) != 1:
+        raise SystemExit(f"readme_figures: {len(found)} points at spp={spp} triangles={triangles}")
+    return {r["path"]: r for r in found[0]["results"]}
+
+
+def median(result):
+    return result["trace_seconds"]["median"]
+
+
+def time_to_error(run, path, error):
+    """The time `path` needs for RMSE `error`: log-log interpolation between its sweep points,
+    else extrapolated from the nearest with error ~ time^-1/2 (docs/bench/equal_error.py)."""
+    pts = sorted(
+        ((median(r), r["rmse"]) for p in run["points"] for r in p["results"] if r["path"] == path),
+        key=lambda x: x[1],
+    )
+    for (t1, e1), (t0, e0) in zip(pts, pts[1:]):
+        if e1 <= error <= e0:
+            f = (math.log(error) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return math.exp(math.log(t0) + f * (math.log(t1) - math.log(t0)))
+    t, e = min(pts, key=lambda x: abs(math.log(x[1] / error)))
+    return t * (e / error) ** 2
+
+
+def equal_error(run, base, path, spp):
+    """How many times sooner `path` reaches its RMSE at `spp` than `base` does."""
+    r = point(run, spp)[path]
+    return time_to_error(run, base, r["rmse"]) / median(r)
+
+
+def equal_spp(run, base, path, spp=None, triangles=None):
+    """`base`'s time over `path`'s at one point (same samples)."""
+    p = point(run, spp, triangles)
+    return median(p[base]) / median(p[path])
+
+
+def f_number(aperture_radius_m):
+    focal_mm = FILM_HEIGHT_MM / 2 / math.tan(math.radians(VFOV_DEGREES) / 2)
+    return focal_mm / (2 * aperture_radius_m * 1000)
+
+
+def full_stop(n):
+    """The nearest full stop, written as on a lens barrel: 8, 5.6, 1.4."""
+    stop = min(FULL_STOPS, key=lambda s: abs(math.log(s / n)))
+    marked = {1.4142: "1.4", 2.8284: "2.8", 5.6569: "5.6", 11.3137: "11", 22.6274: "22"}
+    return marked.get(round(stop, 4), f"{stop:.0f}")
+
+
+# ---- formatting: as README.md writes figures ----
+
+def x(v, digits):
+    return f"{v:.{digits}f}x"
+
+
+def x_range(lo, hi, digits, unit_each=True):
+    """"4.4x-5.1x" (unit_each) or "1.5-3.6x"."""
+    if unit_each:
+        return f"{x(lo, digits)}-{x(hi, digits)}"
+    return f"{lo:.{digits}f}-{x(hi, digits)}"
+
+
+def mrays(rays_per_second):
+    """Mrays/s to three significant digits, at most two decimals: 18.4, 3.81, 0.97."""
+    v = rays_per_second / 1e6
+    return f"{v:.1f}" if v >= 10 else f"{v:.2f}"
+
+
+def percent(v):
+    """Two significant digits: "1.8 %", "0.55 %"."""
+    digits = max(0, 1 - math.floor(math.log10(abs(v))))
+    return f"{v:.{digits}f} %"
+
+
+def claim(holds, text):
+    """A sentence of the README that states a comparison: itself while the data bear it out,
+    else a line that --check cannot find."""
+    return text if holds else f"NO LONGER TRUE: {text}"
+
+
+# ---- the figures ----
+
+def bench_runs():
+    """Every `lensray bench` JSON under docs/bench, by path relative to it."""
+    runs = {}
+    for file in sorted(BENCH.rglob("*.json")):
+        with open(file, encoding="utf-8") as f:
+            data = json.load(f)
+        if data.get("schema") == "lensray-bench/1":
+            runs[file.relative_to(BENCH).as_posix()] = data
+    return runs
+
+
+def figures():
+    out = []
+
+    def fig(key, text):
+        out.append((key, text))
+
+    runs = bench_runs()
+
+    # The machine: every stored bench run must come from one, or the README cannot name it.
+    machines = {json.dumps(r["machine"], sort_keys=True) for r in runs.values()}
+    if len(machines) != 1:
+        raise SystemExit(f"readme_figures: the stored bench runs come from {len(machines)} machines")
+    machine = runs["default.json"]["machine"]
+    fig("machine", f"{machine['cpu']}, {machine['threads']} threads, {machine['os']}")
+    gpu = {p["device"] for r in runs.values() for p in r["paths"] if p["path"] != "cpu"}
+    if len(gpu) != 1:
+        raise SystemExit(f"readme_figures: the stored bench runs name {len(gpu)} Vulkan devices")
+    fig("vulkan device", f"`{gpu.pop()}`")
+
+    # Default scene, 640x480, 16 spp, unlit: every path taking turns (default.json).
+    default = runs["default.json"]
+    d16 = point(default, 16)
+    fig(
+        "default.json 16spp Mrays/s of cpu, software, rayquery",
+        f"{mrays(d16['cpu']['rays_per_second'])}, {mrays(d16['software']['rays_per_second'])} "
+        f"and {mrays(d16['rayquery']['rays_per_second'])} Mrays/s",
+    )
+    software_vs_rayquery = median(d16["rayquery"]) / median(d16["software"])
+    fig("default.json 16spp software/rayquery", f"{x(software_vs_rayquery, 2)} faster")
+    fig(
+        "default.json 16spp speedup_vs_cpu of software, rayquery",
+        f"{x(d16['software']['speedup_vs_cpu'], 2)} and {x(d16['rayquery']['speedup_vs_cpu'], 2)} "
+        "its speed",
+    )
+
+    # The triangle sweep (triangles.json): its largest scene is the 1M-triangle one.
+    triangles = runs["triangles.json"]
+    most = max(p["triangles"] for p in triangles["points"])
+    t1m = point(triangles, triangles=most)
+    fig(
+        f"triangles.json {most}tris Mrays/s of cpu, software, rayquery",
+        f"{mrays(t1m['cpu']['rays_per_second'])}, {mrays(t1m['software']['rays_per_second'])} "
+        f"and {mrays(t1m['rayquery']['rays_per_second'])}",
+    )
+    fig(
+        f"triangles.json {most}tris software/rayquery",
+        f"{x(equal_spp(triangles, 'rayquery', 'software', triangles=most), 2)} at {most / 1e6:.0f}M triangles",
+    )
+    # software against rayquery at 16 spp, over every stored scene (auto's first step).
+    ratios = [software_vs_rayquery] + [
+        equal_spp(triangles, "rayquery", "software", triangles=p["triangles"])
+        for p in triangles["points"]
+    ]
+    fig("default.json+triangles.json 16spp software/rayquery range", x_range(min(ratios), max(ratios), 2))
+
+    # Lit, every GPU path in one run (lit-default.json): equal error against rayquery at 16 spp.
+    lit = runs["lit-default.json"]
+    fig(
+        "lit-default.json 16spp equal-error gain over rayquery of hybrid, raster, software",
+        f"`hybrid` {x(equal_error(lit, 'rayquery', 'hybrid', 16), 2)}, "
+        f"`raster` {x(equal_error(lit, 'rayquery', 'raster', 16), 2)}, "
+        f"`software` {x(equal_error(lit, 'rayquery', 'software', 16), 2)}",
+    )
+
+    # The hybrid against rayquery at equal error, 16 spp, over apertures (docs/hybrid.md):
+    # real-camera apertures (f-number >= 1 for the built-in 40-degree camera), and the built-in
+    # camera's own aperture (the scene's, as the run without --aperture-radius records it).
+    default_aperture = runs["hybrid-default.json"]["settings"]["aperture_radius"]
+    for shading in ("unlit", "lit"):
+        series = {
+            r["settings"]["aperture_radius"]: equal_error(r, "rayquery", "hybrid", 16)
+            for name, r in runs.items()
+            if name.startswith("hybrid-aperture-default/") and r["settings"]["shading"] == shading
+        }
+        real = [a for a in series if f_number(a) >= FASTEST_REAL_F_NUMBER]
+        gains = [series[a] for a in real]
+        fig(f"hybrid-aperture-default/{shading}_* 16spp equal-error hybrid/rayquery, real apertures", x_range(min(gains), max(gains), 1))
+        if shading == "unlit":
+            fig(
+                "hybrid-aperture-default real apertures as f-numbers",
+                f"f/{full_stop(f_number(min(real)))}-f/{full_stop(f_number(max(real)))}",
+            )
+        fig(
+            f"hybrid-aperture-default/{shading}_{default_aperture} 16spp equal-error hybrid/rayquery",
+            f"{x(series[default_aperture], 1)} {shading}",
+        )
+
+    # The raster path against rayquery at equal spp, unlit, every point of the spp sweeps.
+    for name, what, digits in (("raster/default.json", "default", 0), ("raster/dense.json", "dense", 1)):
+        r = runs[name]
+        gains = [equal_spp(r, "rayquery", "raster", spp=p["spp"]) for p in r["points"]]
+        fig(f"{name} equal-spp raster/rayquery range", x_range(min(gains), max(gains), digits, False))
+
+    # The sampler (cargo bench --bench sampler; tables copied into docs/bench/sampler-*.json).
+    rmse = load("sampler-rmse.json")
+    spp = rmse["spp"]
+    for scene, s in rmse["scenes"].items():
+        for sobol, independent, ratio in zip(s["sobol"], s["independent"], s["ratio"]):
+            # The stored ratio is the bench's, from unrounded RMSEs: it must agree with the
+            # rounded ones to within their rounding (a check on the copying).
+            exact = sobol / independent
+            slack = exact * (0.00005 / sobol + 0.00005 / independent) + 0.005
+            if abs(ratio - exact) > slack:
+                raise SystemExit(f"readme_figures: sampler-rmse.json {scene}: ratio {ratio} is not {exact:.3f}")
+        at = [s["ratio"][spp.index(n)] for n in (16, 64, 256)]
+        fig(f"sampler-rmse.json {scene} ratio at 16, 64, 256 spp", ", ".join(f"{v:.2f}x" for v in at))
+    default_s = rmse["scenes"]["default"]
+    fig("sampler-rmse.json default ratio at 16 spp", f"is {default_s['ratio'][spp.index(16)]:.2f}x that of independent")
+    beats = {
+        scene: s["sobol"][spp.index(16)] < s["independent"][spp.index(64)]
+        for scene, s in rmse["scenes"].items()
+    }
+    fig("sampler-rmse.json default sobol@16 < independent@64",
+        claim(beats["default"], "less than independent sampling leaves at 64 spp"))
+    fig("sampler-rmse.json every scene sobol@16 < independent@64",
+        claim(all(beats.values()), "16 spp look better than 64 independent ones"))
+
+    edges = load("sampler-edges.json")
+    floor = min(r["ratio"][edges["spp"].index(16)] for r in edges["rows"] if not r.get("control"))
+    fig("sampler-edges.json lowest ratio at 16 spp", f"{floor:.2f}x at best")
+
+    # Between powers of two: each count's sobol RMSE x spp^0.75 over that of the next power of
+    # two, where the error meets the N^-0.75 trend again.
+    between = {r["spp"]: r["sobol_rmse_x_spp_0_75"] for r in load("sampler-between.json")["rows"]}
+    excess = []
+    for n, v in between.items():
+        if n & (n - 1):
+            nxt = 1 << n.bit_length()
+            excess.append(100 * (v / between[nxt] - 1))
+    fig("sampler-between.json excess over the next power of two", f"{min(excess):.0f}-{max(excess):.0f} %")
+
+    cost = {(r["device"], r["sampler"]): r for r in load("sampler-cost.json")["rows"]}
+    share = {d: 100 * cost[d, "sobol"]["samples_ms"] / cost[d, "sobol"]["render_ms"] for d in ("cpu", "gpu")}
+    fig("sampler-cost.json cpu share", f"{percent(share['cpu'])} of the CPU render time")
+    fig("sampler-cost.json gpu share", f"{percent(share['gpu'])} of the GPU pass's")
+
+    # The preview window (./scripts/bench-preview.sh; docs/bench/preview.json).
+    preview = load("preview.json")
+    gbuffer = statistics.median(preview["gbuffer_view_frame_ms"]["runs"])
+    fig("preview.json G-buffer view frame time", f"{gbuffer:.0f} ms per frame")
+    fig("preview.json G-buffer view fps", f"{1000 / gbuffer:.0f} fps")
+    fig("preview.json G-buffer view fps 640x360", f"{1000 / preview['gbuffer_view_frame_ms_640x360']:.0f} fps at 640x360")
+    fig("preview.json accumulating frame", f"{preview['accumulating_frame_ms']:.0f} ms per frame")
+    fig("preview.json spp after 5 s", f"{preview['spp_after_seconds']['5']} samples per pixel after 5 s")
+    fig("preview.json input latency within a frame",
+        claim(preview["input_to_frame_ms"] <= preview["accumulating_frame_ms_in_latency_run"],
+              "the next frame shows an input"))
+    fig("preview.json CPU while converged",
+        claim(preview["cpu_ms_while_converged_3s"] == 0, "no CPU is used once converged"))
+    return out
+
+
+def main(argv):
+    if len(argv) not in (1, 3) or (len(argv) == 3 and argv[1] != "--check"):
+        print("usage: readme_figures.py [--check README.md]", file=sys.stderr)
+        return 2
+    results = figures()
+    if len(argv) == 1:
+        for key, text in results:
+            print(f"{key}: {text}")
+        return 0
+    readme = Path(argv[2]).read_text(encoding="utf-8")
+    # Line breaks inside a figure's sentence count as spaces.
+    flat = " ".join(readme.split())
+    missing = [(key, text) for key, text in results if text not in flat]
+    for key, text in missing:
+        print(f"missing from {argv[2]}: {key}: {text}")
+    if missing:
+        print(f"{len(missing)} of {len(results)} figures differ from the stored runs "
+              "(python3 scripts/readme_figures.py prints them all)")
+        return 1
+    print(f"{argv[2]}: all {len(results)} figures match docs/bench/")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
