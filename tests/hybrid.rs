@@ -9,7 +9,7 @@ use lensray::camera::{Camera, LensParams};
 use lensray::film::compare::{mean_error, rmse};
 use lensray::gpu::{GpuOptions, GpuRenderer};
 use lensray::paths::RenderPath;
-use lensray::paths::{self, hybrid, HybridPath, PathChoice, PathOptions};
+use lensray::paths::{self, hybrid, HybridPath, PathChoice, PathKind, PathOptions};
 use lensray::settings::{RenderSettings, Shading};
 
 /// The hybrid path on a validated device with the test scene loaded.
@@ -55,7 +55,12 @@ fn converges(test: &str, shading: Shading) {
         seed: s.seed ^ 0x5bd1_e995,
         ..s
     };
-    let Some(reference) = render(test, PathChoice::Cpu, &cam, &reference_settings) else {
+    let Some(reference) = render(
+        test,
+        PathChoice::Only(PathKind::Cpu),
+        &cam,
+        &reference_settings,
+    ) else {
         return;
     };
     let Some(mut path) = hybrid(test) else {
@@ -71,15 +76,15 @@ fn converges(test: &str, shading: Shading) {
         .expect("close: validation messages or leaks");
     let full_choice = {
         let options = PathOptions {
-            path: PathChoice::RayQuery,
+            path: PathChoice::Only(PathKind::RayQuery),
             ..PathOptions::default()
         };
         match paths::open(&options, &test_scene(), (&cam, &s)) {
             Ok(opened) => {
                 opened.path.close().expect("close");
-                PathChoice::RayQuery
+                PathChoice::Only(PathKind::RayQuery)
             }
-            Err(_) => PathChoice::Software,
+            Err(_) => PathChoice::Only(PathKind::Software),
         }
     };
     let Some(full) = render(test, full_choice, &cam, &s) else {
@@ -154,7 +159,7 @@ fn an_in_focus_shot_takes_the_shortcut() {
     );
     // The warm-up of `paths::open` is not here: every ray counted is this render's.
     assert!(rays * 4 < all, "{rays} rays of {all}");
-    let Some(full) = render(test, PathChoice::Software, &cam, &s) else {
+    let Some(full) = render(test, PathChoice::Only(PathKind::Software), &cam, &s) else {
         return;
     };
     let error = rmse(&image, &full);

@@ -11,7 +11,7 @@ use lensray::camera::LensParams;
 use lensray::film::Accumulation;
 use lensray::gpu::{GpuError, GpuOptions};
 use lensray::paths::PathKind;
-use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathOptions};
+use lensray::paths::{self, DeviceChoice, DeviceKind, OpenedPath, PathChoice, PathOptions};
 use lensray::settings::{RenderSettings, Shading};
 
 fn shot() -> (lensray::camera::Camera, lensray::settings::RenderSettings) {
@@ -31,7 +31,7 @@ fn open(test: &str, path: PathChoice) -> Option<OpenedPath> {
 
 /// The paths this machine runs: the CPU, and the GPU paths its Vulkan device supports.
 fn available(test: &str) -> Vec<PathChoice> {
-    let mut kinds = vec![PathChoice::Cpu];
+    let mut kinds = vec![PathChoice::Only(PathKind::Cpu)];
     if let Some(opened) = open(test, PathChoice::Auto) {
         let device = opened.path.device_name();
         opened.path.close().expect("close");
@@ -74,7 +74,7 @@ fn every_path_continues_a_render_exactly() {
         path.add_samples(&cam, &s, 0..3, &mut parts, &mut |_, _| {})
             .expect("0..3");
         // The hybrid gives pixels with a small circle of confusion fewer samples.
-        if choice != PathChoice::Hybrid {
+        if choice != PathChoice::Only(PathKind::Hybrid) {
             assert_eq!(parts.samples(), 3, "{choice}");
         }
         path.add_samples(&cam, &s, 3..8, &mut parts, &mut |_, _| {})
@@ -89,7 +89,7 @@ fn every_path_continues_a_render_exactly() {
             differing, 0,
             "{choice}: {differing} pixels of 0..3 + 3..8 differ from 0..8"
         );
-        if choice != PathChoice::Hybrid {
+        if choice != PathChoice::Only(PathKind::Hybrid) {
             assert_eq!(whole.samples(), 8);
         }
         let rendered = path.render(&cam, &s, &mut |_, _| {}).expect("render");
@@ -110,7 +110,7 @@ fn every_path_continues_a_render_exactly() {
 fn gpu_paths_agree_with_the_cpu_reference() {
     let test = "gpu_paths_agree_with_the_cpu_reference";
     let (cam, s) = shot();
-    let Some(OpenedPath { path: mut cpu, .. }) = open(test, PathChoice::Cpu) else {
+    let Some(OpenedPath { path: mut cpu, .. }) = open(test, PathChoice::Only(PathKind::Cpu)) else {
         return;
     };
     let reference = cpu.render(&cam, &s, &mut |_, _| {}).expect("cpu render");
@@ -128,15 +128,14 @@ fn gpu_paths_agree_with_the_cpu_reference() {
         .map(|&p| cpu.focus_depth_at(&cam, p).expect("cpu focus"))
         .collect();
     // The hybrid is another estimator: tests/hybrid.rs checks it converges to the same image.
-    for choice in available(test)
-        .into_iter()
-        .filter(|c| *c != PathChoice::Cpu && *c != PathChoice::Hybrid)
-    {
+    for choice in available(test).into_iter().filter(|c| {
+        *c != PathChoice::Only(PathKind::Cpu) && *c != PathChoice::Only(PathKind::Hybrid)
+    }) {
         let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
             continue;
         };
         let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
-        let reference = if choice == PathChoice::Raster {
+        let reference = if choice == PathChoice::Only(PathKind::Raster) {
             &shared_reference
         } else {
             &reference
@@ -237,19 +236,19 @@ fn contradictory_choices_are_errors() {
     let scene = test_scene();
     let cases = [
         (
-            PathChoice::RayQuery,
-            DeviceChoice::Cpu,
+            PathChoice::Only(PathKind::RayQuery),
+            DeviceChoice::Only(DeviceKind::Cpu),
             GpuOptions::default(),
             "--path rayquery runs on a Vulkan device: it cannot be used with --device cpu",
         ),
         (
-            PathChoice::Cpu,
-            DeviceChoice::Gpu,
+            PathChoice::Only(PathKind::Cpu),
+            DeviceChoice::Only(DeviceKind::Gpu),
             GpuOptions::default(),
             "--path cpu runs on the CPU: it cannot be used with --device gpu",
         ),
         (
-            PathChoice::Cpu,
+            PathChoice::Only(PathKind::Cpu),
             DeviceChoice::Auto,
             GpuOptions {
                 validate: true,
@@ -277,7 +276,7 @@ fn without_ray_queries_the_software_path_runs() {
     let (cam, s) = shot();
     let hidden = |path| PathOptions {
         path,
-        device: DeviceChoice::Gpu,
+        device: DeviceChoice::Only(DeviceKind::Gpu),
         gpu: GpuOptions {
             validate: true,
             hide_ray_query: true,
@@ -301,7 +300,11 @@ fn without_ray_queries_the_software_path_runs() {
     assert!(image.pixels.iter().any(|p| p.max_element() > 0.0));
     path.close().expect("close: validation messages or leaks");
 
-    let error = match paths::open(&hidden(PathChoice::RayQuery), &test_scene(), (&cam, &s)) {
+    let error = match paths::open(
+        &hidden(PathChoice::Only(PathKind::RayQuery)),
+        &test_scene(),
+        (&cam, &s),
+    ) {
         Ok(_) => panic!("--path rayquery must fail without ray queries"),
         Err(e) => format!("{e:#}"),
     };

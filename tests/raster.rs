@@ -8,7 +8,7 @@ mod gpu_support;
 use gpu_support::{camera, compare, open_path, render_path, settings, write_comparison};
 use lensray::camera::{Camera, LensParams};
 use lensray::film::Image;
-use lensray::paths::PathChoice;
+use lensray::paths::{PathChoice, PathKind};
 use lensray::settings::{RenderSettings, Shading};
 
 fn blurred_shot(orthographic: bool) -> Camera {
@@ -25,12 +25,12 @@ fn blurred_shot(orthographic: bool) -> Camera {
 
 /// The traced path this machine runs: rayquery, else software.
 fn traced(test: &str, cam: &Camera, s: &RenderSettings) -> Option<(PathChoice, Image)> {
-    let choice = match open_path(test, PathChoice::RayQuery, (cam, s)) {
+    let choice = match open_path(test, PathChoice::Only(PathKind::RayQuery), (cam, s)) {
         Some(opened) => {
             opened.path.close().expect("close");
-            PathChoice::RayQuery
+            PathChoice::Only(PathKind::RayQuery)
         }
-        None => PathChoice::Software,
+        None => PathChoice::Only(PathKind::Software),
     };
     Some((choice, render_path(test, choice, cam, s)?))
 }
@@ -44,7 +44,7 @@ fn matches_traced(test: &str, orthographic: bool, shading: Shading, bounds: (f32
         shared_samples: true,
         ..settings(shading, 8)
     };
-    let Some(raster) = render_path(test, PathChoice::Raster, &cam, &s) else {
+    let Some(raster) = render_path(test, PathChoice::Only(PathKind::Raster), &cam, &s) else {
         return;
     };
     let Some((choice, traced)) = traced(test, &cam, &s) else {
@@ -68,7 +68,7 @@ fn matches_traced(test: &str, orthographic: bool, shading: Shading, bounds: (f32
         shared_samples: false,
         ..s
     };
-    let Some(again) = render_path(test, PathChoice::Raster, &cam, &own) else {
+    let Some(again) = render_path(test, PathChoice::Only(PathKind::Raster), &cam, &own) else {
         return;
     };
     assert_eq!(

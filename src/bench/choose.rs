@@ -9,24 +9,20 @@ use super::scenes::BenchScene;
 use crate::camera::Camera;
 use crate::gpu::{GpuOptions, GpuRenderer};
 use crate::paths::PathKind;
-use crate::paths::{self, DeviceChoice, PathChoice, PathOptions};
+use crate::paths::{self, Choice, DeviceKind, PathOptions};
 use crate::settings::RenderSettings;
 
 /// How to open `kind` for the bench: GPU paths on the Vulkan device the options name; the CPU
 /// path without the Vulkan options (which concern only the GPU paths here).
 pub fn path_options(kind: PathKind, options: &BenchOptions) -> PathOptions {
-    if kind.is_gpu() {
-        PathOptions {
-            path: kind.into(),
-            device: DeviceChoice::Gpu,
-            gpu: options.gpu,
-        }
-    } else {
-        PathOptions {
-            path: PathChoice::Cpu,
-            device: DeviceChoice::Cpu,
-            gpu: GpuOptions::default(),
-        }
+    PathOptions {
+        path: kind.into(),
+        device: kind.device().into(),
+        gpu: if kind.is_gpu() {
+            options.gpu
+        } else {
+            GpuOptions::default()
+        },
     }
 }
 
@@ -39,38 +35,33 @@ pub fn paths_to_run(
     log: &mut dyn FnMut(&str),
 ) -> Result<Vec<PathKind>> {
     let device = options.device;
-    let gpu_option = if options.gpu.validate {
-        Some("--validate")
-    } else if options.gpu.device_index.is_some() {
-        Some("--gpu")
-    } else {
-        None
+    // The Vulkan options against --device; each path against --device (the Vulkan options
+    // concern only the GPU paths of a list, so the CPU path takes them).
+    let asked = PathOptions {
+        path: Choice::Auto,
+        device,
+        gpu: options.gpu,
     };
-    if device == DeviceChoice::Cpu {
-        if let Some(option) = gpu_option {
-            bail!("{option} concerns the Vulkan paths: it cannot be used with --device cpu");
+    asked.device_to_use("--paths")?;
+    for &path in &options.paths {
+        PathOptions {
+            path,
+            device,
+            gpu: GpuOptions::default(),
         }
-        if let Some(gpu) = options
-            .paths
-            .iter()
-            .find(|p| p.kind().is_some_and(PathKind::is_gpu))
-        {
-            bail!("--paths {gpu} runs on a Vulkan device: it cannot be used with --device cpu");
-        }
+        .device_to_use("--paths")?;
     }
-    if device == DeviceChoice::Gpu && options.paths.contains(&PathChoice::Cpu) {
-        bail!("--paths cpu runs on the CPU: it cannot be used with --device gpu");
-    }
-    let wants_gpu = device != DeviceChoice::Cpu
-        && (options.paths.is_empty() || options.paths.iter().any(|p| *p != PathChoice::Cpu));
+    let cpu = Choice::Only(PathKind::Cpu);
+    let wants_gpu = device != Choice::Only(DeviceKind::Cpu)
+        && (options.paths.is_empty() || options.paths.iter().any(|p| *p != cpu));
     let supported = if wants_gpu {
         // Under --device auto with nothing asked of Vulkan, no device means the CPU alone.
-        let may_fall_back = device == DeviceChoice::Auto
-            && gpu_option.is_none()
+        let may_fall_back = device == Choice::Auto
+            && asked.gpu_option().is_none()
             && options
                 .paths
                 .iter()
-                .all(|p| *p == PathChoice::Cpu || *p == PathChoice::Auto);
+                .all(|p| *p == cpu || *p == Choice::Auto);
         gpu_paths(options.gpu, may_fall_back, log)?
     } else {
         None
@@ -81,12 +72,12 @@ pub fn paths_to_run(
         if let Some((_, gpu_kinds)) = &supported {
             kinds.extend(gpu_kinds);
         }
-        if device != DeviceChoice::Gpu {
+        if device != Choice::Only(DeviceKind::Gpu) {
             kinds.push(PathKind::Cpu);
         }
     }
     for &choice in &options.paths {
-        let kind = match choice.kind() {
+        let kind = match choice.only() {
             Some(PathKind::Cpu) => PathKind::Cpu,
             Some(kind) => {
                 let (name, gpu_kinds) = supported.as_ref().context("no Vulkan device")?;
@@ -143,7 +134,7 @@ fn gpu_paths(
     let traversals = renderer.traversals();
     let mut kinds: Vec<PathKind> = [PathKind::RayQuery, PathKind::Software]
         .into_iter()
-        .filter(|&k| paths::traversal_of(k).is_some_and(|t| traversals.contains(&t)))
+        .filter(|&k| k.traversal().is_some_and(|t| traversals.contains(&t)))
         .collect();
     // The hybrid and raster paths trace with whichever traversal the device has (the
     // fastest).
@@ -163,7 +154,7 @@ fn auto_path(
     log: &mut dyn FnMut(&str),
 ) -> Result<PathKind> {
     let path_options = PathOptions {
-        path: PathChoice::Auto,
+        path: Choice::Auto,
         device: options.device,
         gpu: options.gpu,
     };

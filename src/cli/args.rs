@@ -79,10 +79,8 @@ impl DeviceArgs {
 /// Which device and which algorithm: shared by `render` and `preview`.
 #[derive(Args, Clone, Copy, Debug, Default)]
 pub struct PathArgs {
-    /// Which algorithm renders: rayquery (Vulkan ray queries), software (lensray's BVH in the
-    /// compute shader: any Vulkan device), hybrid (rays only where the G-buffer's circle of
-    /// confusion needs them; render and bench), cpu (the reference), or auto: the fastest the
-    /// device supports, measured on a small render of the shot.
+    /// Which algorithm renders: a path (listed below), or auto: the
+    /// fastest the device supports, measured on a small render of the shot.
     #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
     pub path: PathChoice,
     #[command(flatten)]

@@ -17,8 +17,8 @@ use crate::settings::Shading;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// Paths to compare, comma-separated: rayquery, software, hybrid, cpu, auto (the path `--path auto`
-    /// picks) [default: every path this machine can run].
+    /// Paths to compare, comma-separated (listed below), or auto (the path
+    /// `--path auto` picks) [default: every path this machine can run].
     #[arg(
         long,
         alias = "path",

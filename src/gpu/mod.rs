@@ -254,36 +254,44 @@ impl GpuRenderer {
                 camera.width, camera.height, self.ctx.report.max_image_dimension_2d
             )));
         }
-        match settings.shading {
-            Shading::Unlit | Shading::Lit => {
-                let mut accumulation = Accumulation::new(camera.width, camera.height);
-                self.accumulate(
-                    camera,
-                    settings,
-                    0..settings.spp,
-                    &mut accumulation,
-                    progress,
-                )?;
-                Ok(accumulation.image())
-            }
-            aov => {
+        let (image, ()) = crate::film::whole_image(
+            &mut (self, progress),
+            (camera.width, camera.height),
+            settings,
+            |(this, progress)| {
                 progress(0, 1);
-                let g = self.render_gbuffer(camera, settings.background)?;
+                let image = this.aov(camera, settings)?;
                 progress(1, 1);
-                let pixels = (0..g.coverage.len())
-                    .map(|i| match aov {
-                        Shading::Depth => Vec3::splat(g.view_depth[i]),
-                        Shading::Normal => g.normal[i],
-                        _ => g.albedo[i],
-                    })
-                    .collect();
-                Ok(Image {
-                    width: g.width,
-                    height: g.height,
-                    pixels,
-                })
-            }
+                Ok((image, ()))
+            },
+            |(this, progress), samples, accumulation| {
+                this.accumulate(camera, settings, samples, accumulation, *progress)
+            },
+        )?;
+        Ok(image)
+    }
+
+    /// An AOV of `settings.shading` (`Depth`, `Normal`, `Albedo`) read from the G-buffer.
+    pub fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image, GpuError> {
+        let aov = settings.shading;
+        if !aov.is_aov() {
+            return Err(GpuError::Invalid(format!(
+                "{aov:?} is traced: it is not an AOV of the G-buffer"
+            )));
         }
+        let g = self.render_gbuffer(camera, settings.background)?;
+        let pixels = (0..g.coverage.len())
+            .map(|i| match aov {
+                Shading::Depth => Vec3::splat(g.view_depth[i]),
+                Shading::Normal => g.normal[i],
+                _ => g.albedo[i],
+            })
+            .collect();
+        Ok(Image {
+            width: g.width,
+            height: g.height,
+            pixels,
+        })
     }
 
     /// Traces samples `samples` (thin lens, `Unlit` or `Lit`) of every pixel and adds them to

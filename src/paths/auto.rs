@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 
-use super::{hybrid, kind_of, traversal_of};
+use super::estimator;
 use crate::camera::Camera;
 use crate::film::Accumulation;
 use crate::gpu::GpuRenderer;
@@ -20,7 +20,11 @@ pub fn pick_traversal(
     renderer: &mut GpuRenderer,
     shot: (&Camera, &RenderSettings),
 ) -> Result<(PathKind, String)> {
-    let kinds: Vec<PathKind> = renderer.traversals().into_iter().map(kind_of).collect();
+    let kinds: Vec<PathKind> = renderer
+        .traversals()
+        .into_iter()
+        .map(PathKind::of_traversal)
+        .collect();
     let (kind, why) = match kinds.as_slice() {
         [] => bail!(
             "the Vulkan device {} runs no lensray path",
@@ -32,7 +36,7 @@ pub fn pick_traversal(
         ),
         _ => fastest(renderer, &kinds, shot)?,
     };
-    renderer.set_traversal(traversal_of(kind).expect("a GPU path"))?;
+    renderer.set_traversal(kind.traversal().expect("a GPU path"))?;
     Ok((kind, why))
 }
 
@@ -51,7 +55,7 @@ fn fastest(
     let (small, lit) = calibration_shot((camera, settings));
     let mut times = Vec::new();
     for &kind in kinds {
-        renderer.set_traversal(traversal_of(kind).expect("a GPU path"))?;
+        renderer.set_traversal(kind.traversal().expect("a GPU path"))?;
         let mut seconds = f64::INFINITY;
         for round in 0..3 {
             let before = renderer.timings();
@@ -143,31 +147,14 @@ pub fn pick_path(
         for round in 0..3 {
             let mut accumulation = Accumulation::new(small.width, small.height);
             let start = Instant::now();
-            let samples = 0..lit.spp;
-            match kind {
-                PathKind::Hybrid => {
-                    hybrid::device_plan(renderer, &small, &lit)?;
-                    let traced = renderer.accumulate(
-                        &small,
-                        &lit,
-                        samples,
-                        &mut accumulation,
-                        &mut |_, _| {},
-                    );
-                    renderer.set_plan(None)?;
-                    traced?;
-                }
-                PathKind::Raster => renderer.accumulate_rasterized(
-                    &small,
-                    &lit,
-                    samples,
-                    &mut accumulation,
-                    &mut |_, _| {},
-                )?,
-                _ => {
-                    renderer.accumulate(&small, &lit, samples, &mut accumulation, &mut |_, _| {})?
-                }
-            }
+            estimator(kind).expect("a GPU path").add_samples(
+                renderer,
+                &small,
+                &lit,
+                0..lit.spp,
+                &mut accumulation,
+                &mut |_, _| {},
+            )?;
             if round > 0 {
                 seconds = seconds.min(start.elapsed().as_secs_f64());
             }
@@ -177,7 +164,7 @@ pub fn pick_path(
     times.sort_by(|a, b| a.1.total_cmp(&b.1));
     let (best, best_s) = times[0];
     let (next, next_s) = times[1];
-    let traversal = traversal_of(traced).expect("a traversal path");
+    let traversal = traced.traversal().expect("a traversal path");
     let why = format!(
         "auto: {best} rendered a {}x{} calibration {:.2}x faster than {next}{}; {} \
          {traversal} ({})",

@@ -1,9 +1,6 @@
-//! The GPU paths: the Vulkan renderer with one traversal (ray queries or lensray's BVH), or
-//! the raster path (accumulation-buffer depth of field, docs/raster.md: each camera sample
-//! shared by every pixel, rasterized through its lens point with
-//! `Camera::clip_from_world_through_lens`, then shaded, lit with shadow rays of the device's
-//! fastest traversal; with the same shared samples `rayquery` computes the same estimator);
-//! the hybrid path (`super::hybrid`) wraps one.
+//! What the GPU paths share: the Vulkan renderer with a scene loaded, its AOVs (the raster
+//! G-buffer), focus picking, report and close. A path differs only in how it adds samples, its
+//! [`GpuEstimator`]: `traced` (rayquery, software), `raster`, `hybrid`.
 
 use std::ops::Range;
 
@@ -17,36 +14,64 @@ use crate::paths::{Clock, PathKind, PathReport, RenderPath};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 
-pub struct GpuPath {
+/// How a GPU path adds samples to an accumulation.
+pub trait GpuEstimator {
+    /// The path it makes of `renderer` (the traced path is the traversal in use).
+    fn kind(&self, renderer: &GpuRenderer) -> PathKind;
+
+    /// Adds samples `samples` of every pixel to `accumulation` (checked by the caller: the
+    /// camera's size, a traced shading), as `RenderPath::add_samples`.
+    fn add_samples(
+        &mut self,
+        renderer: &mut GpuRenderer,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<()>;
+
+    /// Host time spent tracing besides the renderer's GPU timestamps (the hybrid's plan).
+    fn host_seconds(&self) -> f64 {
+        0.0
+    }
+}
+
+/// The estimator of a GPU path `kind`; `None` for the CPU.
+pub fn estimator(kind: PathKind) -> Option<Box<dyn GpuEstimator>> {
+    Some(match kind {
+        PathKind::RayQuery | PathKind::Software => Box::new(super::traced::Traced),
+        PathKind::Raster => Box::new(super::raster::Raster),
+        PathKind::Hybrid => Box::new(super::hybrid::Hybrid::default()),
+        PathKind::Cpu => return None,
+    })
+}
+
+/// A GPU path: the renderer and the estimator that adds its samples.
+pub struct GpuPath<E> {
     renderer: GpuRenderer,
-    kind: PathKind,
+    pub(super) estimator: E,
     peak_device_bytes: u64,
 }
 
-impl GpuPath {
-    /// `renderer` must be able to run `kind`'s traversal.
-    pub fn new(renderer: GpuRenderer, kind: PathKind) -> Result<Self> {
-        debug_assert!(kind.is_gpu());
-        Ok(Self {
+impl<E: GpuEstimator> GpuPath<E> {
+    /// `renderer` must trace with the traversal the path needs (set by `paths::open`).
+    pub fn with(renderer: GpuRenderer, estimator: E) -> Self {
+        Self {
             peak_device_bytes: renderer.allocated_bytes(),
             renderer,
-            kind,
-        })
+            estimator,
+        }
     }
 
-    /// The renderer (the hybrid path drives it with a plan).
-    pub(super) fn renderer_mut(&mut self) -> &mut GpuRenderer {
-        &mut self.renderer
-    }
-
-    pub(super) fn note_memory(&mut self) {
+    fn note_memory(&mut self) {
         self.peak_device_bytes = self.peak_device_bytes.max(self.renderer.allocated_bytes());
     }
 }
 
-impl RenderPath for GpuPath {
+impl<E: GpuEstimator> RenderPath for GpuPath<E> {
     fn kind(&self) -> PathKind {
-        self.kind
+        self.estimator.kind(&self.renderer)
     }
 
     fn device_name(&self) -> String {
@@ -68,26 +93,20 @@ impl RenderPath for GpuPath {
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<()> {
         super::check_accumulation(camera, settings, accumulation)?;
-        if self.kind == PathKind::Raster {
-            // Accumulation-buffer depth of field (docs/raster.md): every pixel shares each
-            // camera sample, rasterized through its lens point, then shaded.
-            self.renderer.accumulate_rasterized(
-                camera,
-                settings,
-                samples,
-                accumulation,
-                progress,
-            )?;
-        } else {
-            self.renderer
-                .accumulate(camera, settings, samples, accumulation, progress)?;
-        }
+        let added = self.estimator.add_samples(
+            &mut self.renderer,
+            camera,
+            settings,
+            samples,
+            accumulation,
+            progress,
+        );
         self.note_memory();
-        Ok(())
+        added
     }
 
     fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image> {
-        let image = self.renderer.render(camera, settings, &mut |_, _| {})?;
+        let image = self.renderer.aov(camera, settings)?;
         self.note_memory();
         Ok(image)
     }
@@ -105,7 +124,8 @@ impl RenderPath for GpuPath {
         // count here so that a render's report covers all of it.
         PathReport {
             rays: t.rays_traced + t.first_dispatch_rays,
-            trace_seconds: (t.trace_gpu_ms + t.first_dispatch_ms.unwrap_or(0.0)) * 1e-3,
+            trace_seconds: (t.trace_gpu_ms + t.first_dispatch_ms.unwrap_or(0.0)) * 1e-3
+                + self.estimator.host_seconds(),
             clock: Clock::GpuTimestamps,
             build_seconds: match traversal {
                 Traversal::RayQuery => t.accel_build_wall_ms * 1e-3,

@@ -1,125 +1,41 @@
-//! The render paths behind [`RenderPath`], and the choice of one: `--device` says which device,
-//! `--path` which algorithm; `auto` measures the paths the device supports and takes the
-//! fastest.
+//! The render paths behind [`RenderPath`], one file (or folder) each: `cpu`, `traced`
+//! (`rayquery`, `software`), `raster`, `hybrid`, with what the GPU paths share in `gpu`; and the
+//! choice of one. `--device` says which device, `--path` which algorithm ([`PathKind`] describes
+//! them, [`request`] checks what the two ask for together); `auto` measures the paths the device
+//! supports and takes the fastest (`auto`).
 
 mod auto;
 mod cpu;
 mod gpu;
 pub mod hybrid;
 mod path;
-
-use std::fmt;
+mod raster;
+pub mod request;
+mod traced;
 
 use anyhow::{bail, Context, Result};
 
 pub use auto::{pick_path, pick_traversal};
 pub use cpu::CpuPath;
-pub use gpu::GpuPath;
+pub use gpu::{estimator, GpuEstimator, GpuPath};
 pub use hybrid::HybridPath;
-pub use path::{Clock, PathKind, PathReport, RenderPath};
+pub use path::{
+    Choice, Clock, DeviceChoice, DeviceKind, PathChoice, PathKind, PathReport, RenderPath,
+};
+pub use raster::RasterPath;
+pub use request::PathOptions;
+pub use traced::TracedPath;
 
 use crate::camera::Camera;
 use crate::film::Accumulation;
-use crate::gpu::{GpuOptions, GpuRenderer, Traversal};
+use crate::gpu::{GpuOptions, GpuRenderer};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
-
-/// Which device renders.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
-pub enum DeviceChoice {
-    /// A Vulkan device when one is usable, else the CPU.
-    #[default]
-    Auto,
-    /// The CPU (the reference renderer).
-    Cpu,
-    /// A Vulkan device; an error when none is usable.
-    Gpu,
-}
-
-/// Which algorithm renders: a path, or `auto`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
-pub enum PathChoice {
-    /// The fastest path the device supports, measured on a small render of the shot.
-    #[default]
-    Auto,
-    /// Vulkan ray queries (VK_KHR_ray_query).
-    #[value(name = "rayquery")]
-    RayQuery,
-    /// lensray's own BVH traversed in the compute shader: any Vulkan device.
-    Software,
-    /// G-buffer-guided: rays only where the circle of confusion needs them (docs/hybrid.md).
-    Hybrid,
-    /// Accumulation-buffer depth of field: the scene rasterized through one lens point per
-    /// sample (docs/raster.md).
-    Raster,
-    /// The CPU reference renderer.
-    Cpu,
-}
-
-impl PathChoice {
-    pub fn kind(self) -> Option<PathKind> {
-        match self {
-            PathChoice::Auto => None,
-            PathChoice::RayQuery => Some(PathKind::RayQuery),
-            PathChoice::Software => Some(PathKind::Software),
-            PathChoice::Hybrid => Some(PathKind::Hybrid),
-            PathChoice::Raster => Some(PathKind::Raster),
-            PathChoice::Cpu => Some(PathKind::Cpu),
-        }
-    }
-}
-
-impl From<PathKind> for PathChoice {
-    fn from(kind: PathKind) -> Self {
-        match kind {
-            PathKind::RayQuery => PathChoice::RayQuery,
-            PathKind::Software => PathChoice::Software,
-            PathKind::Hybrid => PathChoice::Hybrid,
-            PathKind::Raster => PathChoice::Raster,
-            PathKind::Cpu => PathChoice::Cpu,
-        }
-    }
-}
-
-impl fmt::Display for PathChoice {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.kind() {
-            Some(kind) => kind.fmt(f),
-            None => f.write_str("auto"),
-        }
-    }
-}
-
-/// How to open a path.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PathOptions {
-    pub path: PathChoice,
-    pub device: DeviceChoice,
-    /// Validation and device index of the Vulkan device.
-    pub gpu: GpuOptions,
-}
 
 /// An open path with its scene loaded, and why it was chosen (for the summary line).
 pub struct OpenedPath {
     pub path: Box<dyn RenderPath>,
     pub why: String,
-}
-
-/// The traversal a GPU path is tied to (`None`: the CPU, or the hybrid and raster paths, which
-/// trace with the device's fastest).
-pub fn traversal_of(kind: PathKind) -> Option<Traversal> {
-    match kind {
-        PathKind::RayQuery => Some(Traversal::RayQuery),
-        PathKind::Software => Some(Traversal::Software),
-        PathKind::Hybrid | PathKind::Raster | PathKind::Cpu => None,
-    }
-}
-
-fn kind_of(traversal: Traversal) -> PathKind {
-    match traversal {
-        Traversal::RayQuery => PathKind::RayQuery,
-        Traversal::Software => PathKind::Software,
-    }
 }
 
 /// Opens the path `options` ask for and loads `scene`. `auto` renders a small version of
@@ -131,41 +47,9 @@ pub fn open(
     scene: &Scene,
     shot: (&Camera, &RenderSettings),
 ) -> Result<OpenedPath> {
-    let gpu_option = if options.gpu.validate {
-        Some("--validate checks the Vulkan renderer".to_string())
-    } else {
-        options
-            .gpu
-            .device_index
-            .map(|index| format!("--gpu {index} picks a Vulkan device"))
-    };
-    let wants_cpu = options.device == DeviceChoice::Cpu || options.path == PathChoice::Cpu;
-    if wants_cpu {
-        if let Some(option) = gpu_option {
-            let by = if options.path == PathChoice::Cpu {
-                "--path cpu"
-            } else {
-                "--device cpu"
-            };
-            bail!("{option}: it cannot be used with {by}");
-        }
-        match (options.device, options.path) {
-            (DeviceChoice::Gpu, _) => {
-                bail!("--path cpu runs on the CPU: it cannot be used with --device gpu")
-            }
-            (
-                _,
-                PathChoice::RayQuery
-                | PathChoice::Software
-                | PathChoice::Hybrid
-                | PathChoice::Raster,
-            ) => bail!(
-                "--path {} runs on a Vulkan device: it cannot be used with --device cpu",
-                options.path
-            ),
-            _ => {}
-        }
-        let why = if options.path == PathChoice::Cpu {
+    let device = options.device_to_use("--path")?;
+    if device == Choice::Only(DeviceKind::Cpu) {
+        let why = if options.path == Choice::Only(PathKind::Cpu) {
             "asked for"
         } else {
             "--device cpu"
@@ -173,63 +57,57 @@ pub fn open(
         return open_cpu(scene, why);
     }
 
-    let traversal = options.path.kind().and_then(traversal_of);
     let gpu_options = GpuOptions {
-        traversal,
+        traversal: options.path.only().and_then(PathKind::traversal),
         ..options.gpu
     };
-    let renderer = match GpuRenderer::new(&gpu_options) {
+    let mut renderer = match GpuRenderer::new(&gpu_options) {
         Ok(renderer) => renderer,
         Err(error) => {
             let error = anyhow::Error::from(error);
-            return match (options.path, options.device, gpu_option) {
-                (PathChoice::Auto, DeviceChoice::Auto, None) => {
+            return match (options.path, options.device, options.gpu_option()) {
+                (Choice::Auto, Choice::Auto, None) => {
                     eprintln!("notice: rendering on the CPU: no usable GPU ({error:#})");
                     open_cpu(scene, "auto: no usable Vulkan device")
                 }
-                (PathChoice::Auto, DeviceChoice::Auto, Some(_)) => {
-                    Err(error.context(if options.gpu.validate {
-                        "--validate".to_string()
-                    } else {
-                        format!("--gpu {}", options.gpu.device_index.unwrap_or(0))
-                    }))
-                }
-                (PathChoice::Auto, _, _) => Err(error.context("--device gpu")),
+                (Choice::Auto, Choice::Auto, Some(option)) => Err(error.context(option.flag)),
+                (Choice::Auto, _, _) => Err(error.context("--device gpu")),
                 (path, _, _) => Err(error.context(format!("--path {path}"))),
             };
         }
     };
-    let mut renderer = renderer;
     renderer.load_scene(scene)?;
-    if matches!(options.path, PathChoice::Hybrid | PathChoice::Raster) {
-        let (traversal, why) = pick_traversal(&mut renderer, shot)?;
-        let path: Box<dyn RenderPath> = if options.path == PathChoice::Hybrid {
-            Box::new(HybridPath::new(renderer)?)
-        } else {
-            Box::new(GpuPath::new(renderer, PathKind::Raster)?)
-        };
-        return Ok(OpenedPath {
-            path,
-            why: format!("asked for; traces with {traversal} ({why})"),
-        });
-    }
-    if let Some(kind) = options.path.kind() {
-        let traversal = traversal_of(kind).expect("a GPU path");
-        renderer
-            .set_traversal(traversal)
-            .with_context(|| format!("--path {kind}"))?;
-        return Ok(OpenedPath {
-            path: Box::new(GpuPath::new(renderer, kind)?),
-            why: "asked for".into(),
-        });
-    }
-    let (kind, why) = pick_path(&mut renderer, shot)?;
-    let path: Box<dyn RenderPath> = match kind {
-        PathKind::Hybrid => Box::new(HybridPath::new(renderer)?),
-        PathKind::Raster => Box::new(GpuPath::new(renderer, PathKind::Raster)?),
-        _ => Box::new(GpuPath::new(renderer, kind)?),
+    let (kind, why) = match options.path.only() {
+        Some(kind) => match kind.traversal() {
+            Some(traversal) => {
+                renderer
+                    .set_traversal(traversal)
+                    .with_context(|| format!("--path {kind}"))?;
+                (kind, "asked for".to_string())
+            }
+            None => {
+                let (traversal, why) = pick_traversal(&mut renderer, shot)?;
+                (kind, format!("asked for; traces with {traversal} ({why})"))
+            }
+        },
+        None => pick_path(&mut renderer, shot)?,
     };
-    Ok(OpenedPath { path, why })
+    Ok(OpenedPath {
+        path: gpu_path(renderer, kind)?,
+        why,
+    })
+}
+
+/// The GPU path `kind` on `renderer` (which traces with the traversal it needs).
+fn gpu_path(renderer: GpuRenderer, kind: PathKind) -> Result<Box<dyn RenderPath>> {
+    Ok(match kind {
+        PathKind::RayQuery | PathKind::Software => {
+            Box::new(TracedPath::with(renderer, traced::Traced))
+        }
+        PathKind::Raster => Box::new(RasterPath::with(renderer, raster::Raster)),
+        PathKind::Hybrid => Box::new(HybridPath::new(renderer)?),
+        PathKind::Cpu => bail!("the CPU path has no Vulkan renderer"),
+    })
 }
 
 fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
@@ -282,32 +160,21 @@ pub struct PreviewChoice {
 
 /// The preview window always draws with Vulkan; the path only says who traces the samples.
 pub fn preview_options(options: &PathOptions) -> Result<PreviewChoice> {
-    let cpu = match (options.device, options.path) {
-        (
-            DeviceChoice::Cpu,
-            PathChoice::RayQuery | PathChoice::Software | PathChoice::Hybrid | PathChoice::Raster,
-        ) => {
-            bail!(
-                "--path {} runs on a Vulkan device: it cannot be used with --device cpu",
-                options.path
-            )
-        }
-        (DeviceChoice::Gpu, PathChoice::Cpu) => {
-            bail!("--path cpu runs on the CPU: it cannot be used with --device gpu")
-        }
-        (DeviceChoice::Cpu, _) | (_, PathChoice::Cpu) => true,
-        _ => false,
-    };
+    // The window is Vulkan's whatever traces, so the Vulkan options stand with the CPU path.
+    let device = PathOptions {
+        gpu: GpuOptions::default(),
+        ..*options
+    }
+    .device_to_use("--path")?;
     // The hybrid and raster paths trace with the device's fastest traversal (picked as `render`
     // picks it).
-    let traversal = options.path.kind().and_then(traversal_of);
     Ok(PreviewChoice {
         gpu: GpuOptions {
-            traversal,
+            traversal: options.path.only().and_then(PathKind::traversal),
             ..options.gpu
         },
-        cpu,
-        hybrid: options.path == PathChoice::Hybrid,
-        raster: options.path == PathChoice::Raster,
+        cpu: device == Choice::Only(DeviceKind::Cpu),
+        hybrid: options.path == Choice::Only(PathKind::Hybrid),
+        raster: options.path == Choice::Only(PathKind::Raster),
     })
 }

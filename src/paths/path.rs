@@ -10,10 +10,13 @@ use serde::Serialize;
 
 use crate::camera::Camera;
 use crate::film::{Accumulation, Image};
+use crate::gpu::Traversal;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 
-/// The algorithms lensray can render with.
+/// The algorithms lensray can render with: the one description of a path. What a path needs
+/// (its device, the GPU traversal it is tied to) is a property here, not another enum kept in
+/// step; `--path` and `--device` choose with [`Choice`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum PathKind {
@@ -35,6 +38,15 @@ pub enum PathKind {
     Cpu,
 }
 
+/// The devices a path runs on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum DeviceKind {
+    /// The CPU (the reference renderer).
+    Cpu,
+    /// A Vulkan device.
+    Gpu,
+}
+
 impl PathKind {
     pub const ALL: [PathKind; 5] = [
         PathKind::RayQuery,
@@ -54,8 +66,33 @@ impl PathKind {
         }
     }
 
+    pub fn device(self) -> DeviceKind {
+        match self {
+            PathKind::Cpu => DeviceKind::Cpu,
+            _ => DeviceKind::Gpu,
+        }
+    }
+
     pub fn is_gpu(self) -> bool {
-        self != PathKind::Cpu
+        self.device() == DeviceKind::Gpu
+    }
+
+    /// The traversal the path is (`None`: the CPU, or the hybrid and raster paths, which trace
+    /// with the device's fastest).
+    pub fn traversal(self) -> Option<Traversal> {
+        match self {
+            PathKind::RayQuery => Some(Traversal::RayQuery),
+            PathKind::Software => Some(Traversal::Software),
+            PathKind::Hybrid | PathKind::Raster | PathKind::Cpu => None,
+        }
+    }
+
+    /// The path that traces every sample with `traversal`.
+    pub fn of_traversal(traversal: Traversal) -> PathKind {
+        match traversal {
+            Traversal::RayQuery => PathKind::RayQuery,
+            Traversal::Software => PathKind::Software,
+        }
     }
 }
 
@@ -64,6 +101,99 @@ impl fmt::Display for PathKind {
         f.write_str(self.name())
     }
 }
+
+impl fmt::Display for DeviceKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            DeviceKind::Cpu => "cpu",
+            DeviceKind::Gpu => "gpu",
+        })
+    }
+}
+
+/// `auto`, or one of `T` (`--path`, `--device`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Choice<T> {
+    /// lensray decides (`auto`).
+    #[default]
+    Auto,
+    Only(T),
+}
+
+/// `--path`: `auto` (the fastest path the device supports, measured on a small render of the
+/// shot) or a path.
+pub type PathChoice = Choice<PathKind>;
+/// `--device`: `auto` (a Vulkan device when one is usable, else the CPU) or a device.
+pub type DeviceChoice = Choice<DeviceKind>;
+
+impl<T: Copy> Choice<T> {
+    /// The one asked for; `None` for `auto`.
+    pub fn only(self) -> Option<T> {
+        match self {
+            Choice::Auto => None,
+            Choice::Only(t) => Some(t),
+        }
+    }
+}
+
+impl<T> From<T> for Choice<T> {
+    fn from(t: T) -> Self {
+        Choice::Only(t)
+    }
+}
+
+impl<T: fmt::Display> fmt::Display for Choice<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Choice::Auto => f.write_str("auto"),
+            Choice::Only(t) => t.fmt(f),
+        }
+    }
+}
+
+/// `auto` followed by every value of `T` (clap's list of a `Choice`).
+const fn choices<T: Copy, const N: usize, const M: usize>(all: [T; N]) -> [Choice<T>; M] {
+    let mut out = [Choice::Auto; M];
+    let mut i = 0;
+    while i < N {
+        out[i + 1] = Choice::Only(all[i]);
+        i += 1;
+    }
+    out
+}
+
+const PATH_CHOICES: [PathChoice; 6] = choices(PathKind::ALL);
+const DEVICE_CHOICES: [DeviceChoice; 3] = choices([DeviceKind::Cpu, DeviceKind::Gpu]);
+
+macro_rules! choice_value_enum {
+    ($t:ty, $all:expr, $auto_help:literal) => {
+        impl clap::ValueEnum for Choice<$t> {
+            fn value_variants<'a>() -> &'a [Self] {
+                &$all
+            }
+
+            fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+                match self {
+                    Choice::Auto => {
+                        Some(clap::builder::PossibleValue::new("auto").help($auto_help))
+                    }
+                    Choice::Only(t) => clap::ValueEnum::to_possible_value(t),
+                }
+            }
+        }
+    };
+}
+
+choice_value_enum!(
+    PathKind,
+    PATH_CHOICES,
+    "The fastest path the device supports, for the shot"
+);
+choice_value_enum!(
+    DeviceKind,
+    DEVICE_CHOICES,
+    "A Vulkan device when one is usable, else the CPU"
+);
 
 /// How a path's trace time was measured.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -158,20 +288,20 @@ pub trait RenderPath {
         settings: &RenderSettings,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<Image> {
-        if settings.shading.is_aov() {
-            progress(0, 1);
-            let image = self.aov(camera, settings)?;
-            progress(1, 1);
-            return Ok(image);
-        }
-        let mut accumulation = Accumulation::new(camera.width, camera.height);
-        self.add_samples(
-            camera,
+        let (image, ()) = crate::film::whole_image(
+            &mut (self, progress),
+            (camera.width, camera.height),
             settings,
-            0..settings.spp,
-            &mut accumulation,
-            progress,
+            |(this, progress)| {
+                progress(0, 1);
+                let image = this.aov(camera, settings)?;
+                progress(1, 1);
+                Ok((image, ()))
+            },
+            |(this, progress), samples, accumulation| {
+                this.add_samples(camera, settings, samples, accumulation, *progress)
+            },
         )?;
-        Ok(accumulation.image())
+        Ok(image)
     }
 }

@@ -97,18 +97,18 @@ impl Renderer {
         settings: &RenderSettings,
         progress: &mut dyn FnMut(u64, u64),
     ) -> (Image, RenderStats) {
-        if settings.shading.is_aov() {
-            return self.render_aov(camera, settings, progress);
-        }
-        let mut accumulation = Accumulation::new(camera.width, camera.height);
-        let stats = self.accumulate(
-            camera,
+        let whole: Result<_, std::convert::Infallible> = crate::film::whole_image(
+            &mut (self, progress),
+            (camera.width, camera.height),
             settings,
-            0..settings.spp,
-            &mut accumulation,
-            progress,
+            |(this, progress)| Ok(this.render_aov(camera, settings, *progress)),
+            |(this, progress), samples, accumulation| {
+                Ok(this.accumulate(camera, settings, samples, accumulation, *progress))
+            },
         );
-        (accumulation.image(), stats)
+        match whole {
+            Ok(rendered) => rendered,
+        }
     }
 
     /// Adds samples `samples` of every pixel (thin lens, `Unlit` or `Lit`) to `accumulation`,

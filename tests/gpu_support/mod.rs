@@ -8,7 +8,7 @@ use glam::Vec3;
 use lensray::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray::film::Image;
 use lensray::gpu::{GpuError, GpuOptions, GpuRenderer, ValidationLog};
-use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathOptions};
+use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathKind, PathOptions};
 use lensray::sampler::SamplerKind;
 use lensray::scene::{Material, Mesh, Scene};
 use lensray::settings::{PointLight, RenderSettings, Shading};
@@ -246,7 +246,7 @@ pub fn open_path(
         path: choice,
         device: DeviceChoice::Auto,
         gpu: GpuOptions {
-            validate: choice != PathChoice::Cpu,
+            validate: choice != PathChoice::Only(PathKind::Cpu),
             ..GpuOptions::default()
         },
     };

@@ -1,41 +1,16 @@
-//! The hybrid path (issue 10, docs/hybrid.md): the raster G-buffer decides where rays are
-//! needed. Per call of `add_samples`: the G-buffer of the shot, then a plan per pixel on the
-//! host (`Plan::new`: circle of confusion from the G-buffer depth, maximum over 8x8 tiles,
-//! dilated by each tile's maximum over the tiles it reaches), then the trace pass in its hybrid
-//! mode (shaders/trace.comp) with the device's fastest traversal:
-//! - no G-buffer edge within the pixel's dilated CoC (at least one pixel; so in particular a
-//!   dilated CoC under half a pixel with a uniform neighbourhood; lit, a shadow boundary found
-//!   by the lit pre-pass counts as an edge): the *shortcut*. Unlit its value is the G-buffer's
-//!   albedo; lit, per sample, the pre-pass's image (each pixel's surface shaded along its
-//!   aperture-centre ray, with one shadow ray) interpolated where the sample's lens ray meets
-//!   the pixel's surface depth. Each sample is traced too with probability
-//!   1 / HYBRID_CHECK_INVERSE (a hash of the 8x8 tile and the sample) and adds
-//!   (traced - shortcut) * HYBRID_CHECK_INVERSE: unbiased;
-//! - otherwise every sample is traced. So the samples a pixel costs grow with its dilated CoC
-//!   through the window it must see uniform: from the shortcut's checks (spp / 32) to spp. (A
-//!   plan entry may stop a pixel's count at `n` < spp; fewer samples where the CoC is small
-//!   measured worse at equal error, docs/hybrid.md, so the plan does not);
-//! - the 8 pixels of a tile row share one decision (they run in lockstep).
-//!
-//! Whether a pixel traces sample `i` depends on the plan (camera, settings, scene) only, never on
-//! the range asked for, so any split of a range gives the same sums, as for every path.
-
-use std::ops::Range;
-use std::time::Instant;
+//! The hybrid path's plan: per pixel, take the G-buffer's shortcut or trace, and how many
+//! samples (see the module above). `Plan::new` is the host's reference; `device_plan` makes the
+//! same plan on the device (shaders/passes/hybrid_plan.comp).
 
 use anyhow::Result;
 use glam::Vec3;
 
-use super::gpu::GpuPath;
 use crate::camera::Camera;
-use crate::film::{Accumulation, Image};
 use crate::gpu::{GBuffer, GpuRenderer};
 use crate::interface::{
     HYBRID_CHECK_INVERSE, HYBRID_MAX_REACH_TILES, HYBRID_SEGMENT, HYBRID_SHORTCUT,
     HYBRID_SHORTCUT_COC, HYBRID_TILE,
 };
-use crate::paths::{PathKind, PathReport, RenderPath};
-use crate::scene::Scene;
 use crate::settings::{RenderSettings, Shading};
 
 /// Side of the tiles over which the circle of confusion is maximised, pixels.
@@ -287,87 +262,6 @@ pub fn host_plan(
         prepass.as_deref(),
         settings.spp,
     ))
-}
-
-/// The hybrid path: a GPU path (any traversal; `paths::open` picks the device's fastest) whose
-/// trace pass follows a plan made from the G-buffer.
-pub struct HybridPath {
-    inner: GpuPath,
-    /// Wall-clock seconds of the plans (G-buffer draw and readback, host planning), counted in
-    /// the report's trace time: they are part of what the path costs.
-    plan_seconds: f64,
-    last_plan: Option<Plan>,
-}
-
-impl HybridPath {
-    pub fn new(renderer: GpuRenderer) -> Result<Self> {
-        Ok(Self {
-            inner: GpuPath::new(renderer, PathKind::Hybrid)?,
-            plan_seconds: 0.0,
-            last_plan: None,
-        })
-    }
-
-    /// The plan of the last `add_samples` call.
-    pub fn last_plan(&self) -> Option<&Plan> {
-        self.last_plan.as_ref()
-    }
-}
-
-impl RenderPath for HybridPath {
-    fn kind(&self) -> PathKind {
-        PathKind::Hybrid
-    }
-
-    fn device_name(&self) -> String {
-        self.inner.device_name()
-    }
-
-    fn load_scene(&mut self, scene: &Scene) -> Result<()> {
-        self.inner.load_scene(scene)
-    }
-
-    fn add_samples(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-        samples: Range<u32>,
-        accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
-    ) -> Result<()> {
-        super::check_accumulation(camera, settings, accumulation)?;
-        let start = Instant::now();
-        let renderer = self.inner.renderer_mut();
-        let plan = device_plan(renderer, camera, settings)?;
-        self.plan_seconds += start.elapsed().as_secs_f64();
-        let traced = renderer.accumulate(camera, settings, samples, accumulation, progress);
-        let cleared = renderer.set_plan(None);
-        self.last_plan = Some(plan);
-        traced?;
-        cleared?;
-        self.inner.note_memory();
-        Ok(())
-    }
-
-    fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image> {
-        self.inner.aov(camera, settings)
-    }
-
-    fn focus_depth_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<Option<f32>> {
-        self.inner.focus_depth_at(camera, pixel)
-    }
-
-    fn report(&self) -> PathReport {
-        let report = self.inner.report();
-        PathReport {
-            trace_seconds: report.trace_seconds + self.plan_seconds,
-            ..report
-        }
-    }
-
-    fn close(self: Box<Self>) -> Result<()> {
-        Box::new(self.inner).close()
-    }
 }
 
 #[cfg(test)]
