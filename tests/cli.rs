@@ -112,11 +112,20 @@ fn bare_obj_is_framed_from_the_front() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
     let img = image::open(dir.path().join("t.png")).unwrap().to_rgb8();
-    // The triangle is framed: the centre pixel shows it (default material 0.8 grey), a corner
-    // shows the background.
-    let centre = img.get_pixel(24, 16);
-    let corner = img.get_pixel(0, 0);
-    assert_ne!(centre, corner, "centre {centre:?} equals corner {corner:?}");
+    // The triangle is framed: the centre pixel shows it, in focus and fully covered (the
+    // default material, 0.8 grey), a corner the default background (0.1 grey); PNG is sRGB.
+    let srgb8 = |linear: f64| {
+        let v = if linear <= 0.003_130_8 {
+            12.92 * linear
+        } else {
+            1.055 * linear.powf(1.0 / 2.4) - 0.055
+        };
+        (v * 255.0).round() as u8
+    };
+    let centre = img.get_pixel(24, 16).0;
+    let corner = img.get_pixel(0, 0).0;
+    assert_eq!(centre, [srgb8(0.8); 3], "centre: the triangle's grey");
+    assert_eq!(corner, [srgb8(0.1); 3], "corner: the background");
 }
 
 #[test]

@@ -4,12 +4,14 @@
 
 mod gpu_support;
 
-use gpu_support::{camera, may_skip, record_skip, render_path as render, settings, test_scene};
+use gpu_support::{
+    camera, may_skip, record_skip, render_path as render, settings, test_scene, traced_path,
+};
 use lensray::camera::{Camera, LensParams};
 use lensray::film::compare::{mean_error, rmse};
 use lensray::gpu::{GpuOptions, GpuRenderer};
 use lensray::paths::RenderPath;
-use lensray::paths::{self, hybrid, HybridPath, PathChoice, PathKind, PathOptions};
+use lensray::paths::{hybrid, HybridPath, PathChoice, PathKind};
 use lensray::settings::{RenderSettings, Shading};
 
 /// The hybrid path on a validated device with the test scene loaded.
@@ -74,19 +76,11 @@ fn converges(test: &str, shading: Shading) {
     Box::new(path)
         .close()
         .expect("close: validation messages or leaks");
-    let full_choice = {
-        let options = PathOptions {
-            path: PathChoice::Only(PathKind::RayQuery),
-            ..PathOptions::default()
-        };
-        match paths::open(&options, &test_scene(), (&cam, &s)) {
-            Ok(opened) => {
-                opened.path.close().expect("close");
-                PathChoice::Only(PathKind::RayQuery)
-            }
-            Err(_) => PathChoice::Only(PathKind::Software),
-        }
+    // The hybrid traced with the device's default traversal: the full render traces with it.
+    let Some(traced) = traced_path(test) else {
+        return;
     };
+    let full_choice = PathChoice::Only(traced);
     let Some(full) = render(test, full_choice, &cam, &s) else {
         return;
     };

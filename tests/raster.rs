@@ -5,7 +5,7 @@
 
 mod gpu_support;
 
-use gpu_support::{camera, compare, open_path, render_path, settings, write_comparison};
+use gpu_support::{camera, compare, render_path, settings, traced_path, write_comparison};
 use lensray::camera::{Camera, LensParams};
 use lensray::film::Image;
 use lensray::paths::{PathChoice, PathKind};
@@ -23,15 +23,9 @@ fn blurred_shot(orthographic: bool) -> Camera {
     )
 }
 
-/// The traced path this machine runs: rayquery, else software.
+/// The traced path the raster path traces its shadow rays with, and its image.
 fn traced(test: &str, cam: &Camera, s: &RenderSettings) -> Option<(PathChoice, Image)> {
-    let choice = match open_path(test, PathChoice::Only(PathKind::RayQuery), (cam, s)) {
-        Some(opened) => {
-            opened.path.close().expect("close");
-            PathChoice::Only(PathKind::RayQuery)
-        }
-        None => PathChoice::Only(PathKind::Software),
-    };
+    let choice = PathChoice::Only(traced_path(test)?);
     Some((choice, render_path(test, choice, cam, s)?))
 }
 

@@ -262,6 +262,18 @@ pub fn open_path(
     }
 }
 
+/// The traced path (`rayquery` or `software`) the Vulkan device traces with by default (ray
+/// queries where it has them): what the hybrid and raster paths are compared with. `None`
+/// (skip recorded) where the machine may skip GPU tests; any other failure fails the test.
+pub fn traced_path(test: &str) -> Option<PathKind> {
+    let (renderer, _) = renderer(test)?;
+    let kind = PathKind::of_traversal(renderer.traversal());
+    renderer
+        .close()
+        .expect("close: validation messages or leaks");
+    Some(kind)
+}
+
 /// `choice`'s render of the test scene (see `open_path`), closed with the validation check.
 pub fn render_path(
     test: &str,
