@@ -4,20 +4,23 @@
 //! shader, which needs no ray-tracing support.
 //!
 //! The camera is the Rust [`Camera`]: the raster pass projects with `clip_from_world()`, the
-//! compute pass generates rays with `shaders/camera.glsl`, a function-by-function mirror of
-//! `src/camera`, fed with the camera's own matrices. This module is the only place in the crate
-//! with `unsafe` code; every Vulkan object is owned by a Rust value and destroyed on drop.
+//! compute pass generates rays with `shaders/include/camera.glsl`, a function-by-function
+//! mirror of `src/camera`, fed with the camera's own matrices. This module is the only place in
+//! the crate with `unsafe` code; every Vulkan object is owned by a Rust value and destroyed on
+//! drop.
 //!
-//! Files: `instance` (instance, validation, messenger), `device` (device reports, selection,
-//! logical device, allocator, submissions), `buffer`, `image`, `query`, `accel` (BLAS/TLAS),
-//! `bvh` (the software traversal's BVH, flattened), `traversal`, `shader` (embedded SPIR-V),
-//! `pipeline`, `scene` (scene buffers), `draw` (a raster pass's scene draw), `gbuffer` (raster
-//! pass), `trace` (compute pass), `visibility` (the raster path's pass), `hybrid_plan` (the
-//! hybrid path's plan on the device), `probe` (GLSL mirror checks), `layout_probe` (shared
-//! struct layouts as the shaders read them), `sampler_cost` (sample generation timed alone),
-//! `conv` (host data -> the structs of `crate::interface`), `error`, `bench`; for the preview
-//! window: `surface`, `swapchain`, `frames` (frames in flight), `resolve` (display pass),
-//! `overlay` (egui panel), `viewer`.
+//! Layers, each a folder (the shaders in `shaders/` have the same ones):
+//! - `core`: Vulkan itself: instance and validation, device and submissions, buffers, images,
+//!   queries, pipelines, embedded SPIR-V, host data in the shaders' layouts, errors;
+//! - `scene`: a scene on the device: its arrays, acceleration structures, the software BVH;
+//! - `passes`: the renderer's passes: G-buffer, thin-lens trace, the raster path's visibility
+//!   pass and the hybrid's plan, each with the renderer's entry points of its path;
+//! - `present`: the preview window: surface, swapchain, frames in flight, resolve, view pass,
+//!   egui overlay, and the viewer that drives a frame;
+//! - `probes` (feature `probes`, on for the crate's tests and benches): GLSL mirror checks,
+//!   shared-struct layouts, the preview's view routes, sample generation cost, pass timings.
+//!
+//! This file holds [`GpuRenderer`], which owns the device and the passes, and its options.
 //!
 //! ```no_run
 //! use lensray::gpu::{GpuOptions, GpuRenderer};
@@ -49,7 +52,6 @@ use glam::Vec3;
 
 use crate::camera::Camera;
 use crate::film::{Accumulation, Image};
-use crate::interface::TraceParams;
 use crate::scene::Scene;
 use crate::settings::{RenderSettings, Shading};
 
@@ -73,7 +75,6 @@ pub use probes::view_routes::ViewRoutes;
 pub use scene::bvh::BvhParams;
 pub use traversal::Traversal;
 
-use ash::vk;
 use core::device::Context;
 use core::error::vk_err;
 use core::instance::Instance;
@@ -319,153 +320,6 @@ impl GpuRenderer {
         )
     }
 
-    /// The raster path (accumulation-buffer depth of field, docs/raster.md): adds samples
-    /// `samples` of every pixel as `accumulate` does, but each sample is one camera sample
-    /// shared by every pixel (`settings.shared_samples` is implied): the scene is rasterized
-    /// through that sample's lens point (`Camera::clip_from_world_through_lens`), and the
-    /// shading pass shades what each pixel sees along its lens ray (lit: with a shadow ray of
-    /// the traversal in use).
-    pub fn accumulate_rasterized(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-        samples: std::ops::Range<u32>,
-        accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
-    ) -> Result<(), GpuError> {
-        check_samples(camera, settings)?;
-        self.prepare_raster(camera.width, camera.height)?;
-        let settings = RenderSettings {
-            shared_samples: true,
-            ..*settings
-        };
-        let raster_camera = camera.for_rasterizing_rays();
-        let visibility = self.visibility.as_ref().expect("prepared");
-        let scene = self.scene.as_ref().expect("prepared");
-        let record = |cmd, sample| {
-            visibility.record_sample(cmd, scene, &raster_camera, &settings, sample);
-        };
-        self.trace.accumulate(
-            (camera, &settings),
-            samples,
-            accumulation,
-            &mut self.timings,
-            Some(&record),
-            progress,
-        )
-    }
-
-    /// Makes the raster path's visibility pass (on first use) and its targets for a `width` x
-    /// `height` image, bound to the trace pass (the hybrid's lit pre-pass uses it too).
-    fn prepare_raster(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        if self.visibility.is_none() {
-            let pass = VisibilityPass::new(&self.ctx)?;
-            pass.bind_scene(scene);
-            self.visibility = Some(pass);
-        }
-        let visibility = self.visibility.as_mut().expect("made above");
-        if visibility.ensure_targets(width, height)? {
-            let targets = visibility.targets.as_ref().expect("just made");
-            self.trace.bind_visibility(&targets.buffer);
-        }
-        Ok(())
-    }
-
-    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel, row-major;
-    /// see `interface::TRACE_BINDING_PLAN`), or `None` to trace every sample again.
-    pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
-        self.trace.set_plan(plan)
-    }
-
-    /// The hybrid path's plan made on the device (shaders/hybrid_plan.comp) for later
-    /// `accumulate` calls: one submission draws the G-buffer of `planning` (the camera whose
-    /// raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
-    /// pixel's shortcut value and shadow state), and plans `settings.spp` samples seen by
-    /// `camera` from them. Nothing is read back; `read_plan` can.
-    pub fn plan_on_device(
-        &mut self,
-        camera: &Camera,
-        planning: &Camera,
-        settings: &RenderSettings,
-    ) -> Result<(), GpuError> {
-        check_size(camera)?;
-        if (planning.width, planning.height) != (camera.width, camera.height) {
-            return Err(GpuError::Invalid(
-                "the planning camera's size differs from the camera's".into(),
-            ));
-        }
-        let lit = settings.shading == Shading::Lit;
-        if lit {
-            self.prepare_raster(camera.width, camera.height)?;
-        }
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let pixels = u64::from(camera.width) * u64::from(camera.height);
-        self.gbuffer.ensure_targets(camera.width, camera.height)?;
-        self.trace.ensure_plan_capacity(pixels)?;
-        let targets = self.gbuffer.targets.as_ref().expect("ensured above");
-        self.hybrid_plan.bind(
-            targets,
-            self.trace.plan_buffer_ref(),
-            self.trace.surface_depth_ref(),
-        )?;
-        let ctx = &self.ctx;
-        let (gbuffer, plan, trace) = (&self.gbuffer, &self.hybrid_plan, &self.trace);
-        let visibility = self.visibility.as_ref();
-        ctx.submit_and_wait(|cmd| {
-            gbuffer.record(cmd, scene, planning, settings.background, None);
-            if let Some(visibility) = visibility.filter(|_| lit) {
-                record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
-            }
-            plan.record(cmd, targets, camera, settings.shading, settings.spp);
-            core::buffer::barrier_to_host(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            );
-            Ok(())
-        })?;
-        if lit {
-            self.timings.rays_traced += self.trace.rays_counted()?;
-        }
-        self.timings.gbuffer_passes += 1;
-        self.trace.use_device_plan(pixels);
-        Ok(())
-    }
-
-    /// The hybrid's lit pre-pass alone (the host plan's input, `paths::hybrid::host_plan`): per
-    /// pixel the shortcut value (xyz) and whether its shadow ray was blocked (w, 1 or 0).
-    pub fn lit_prepass(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-    ) -> Result<Vec<[f32; 4]>, GpuError> {
-        check_size(camera)?;
-        self.prepare_raster(camera.width, camera.height)?;
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let visibility = self.visibility.as_ref().expect("prepared above");
-        let pixels = u64::from(camera.width) * u64::from(camera.height);
-        self.trace.ensure_plan_capacity(pixels)?;
-        let (ctx, trace) = (&self.ctx, &self.trace);
-        ctx.submit_and_wait(|cmd| {
-            record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
-            core::buffer::barrier_to_host(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            );
-            Ok(())
-        })?;
-        self.trace.read_plan(pixels)
-    }
-
-    /// The entries of the plan last made by `plan_on_device` (`pixels` of them).
-    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
-        self.trace.read_plan(pixels)
-    }
-
     /// Destroys every Vulkan object, then, with validation on, fails on any message the layer
     /// reported, the leak report of the device's and instance's destruction included.
     pub fn close(self) -> Result<(), GpuError> {
@@ -524,21 +378,6 @@ fn check_samples(camera: &Camera, settings: &RenderSettings) -> Result<(), GpuEr
         )));
     }
     Ok(())
-}
-
-/// The hybrid's lit pre-pass with the parameters of `camera` and `settings`, its rays counted
-/// from zero (the render path's plan and the host plan's input record it alike): the
-/// visibility pass through the lens centre, then the shading of what it saw.
-fn record_lit_prepass(
-    (trace, visibility, scene): (&TracePass, &VisibilityPass, &SceneBuffers),
-    cmd: vk::CommandBuffer,
-    camera: &Camera,
-    settings: &RenderSettings,
-) {
-    trace.record_params(cmd, &TraceParams::new(camera, settings));
-    trace.record_clear_ray_counter(cmd);
-    visibility.record_aperture_centre(cmd, scene, camera);
-    trace.record_lit_prepass(cmd, camera.width, camera.height);
 }
 
 fn check_size(camera: &Camera) -> Result<(), GpuError> {

@@ -9,6 +9,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::camera::Camera;
+use crate::gpu::core::buffer::barrier_to_host;
 use crate::gpu::core::buffer::{barrier, Buffer};
 use crate::gpu::core::device::Context;
 use crate::gpu::core::error::GpuError;
@@ -16,6 +17,11 @@ use crate::gpu::core::image::{transition, Transition};
 use crate::gpu::core::pipeline::Pipeline;
 use crate::gpu::core::shader;
 use crate::gpu::passes::gbuffer::GBufferTargets;
+use crate::gpu::passes::trace::TracePass;
+use crate::gpu::passes::visibility::VisibilityPass;
+use crate::gpu::scene::SceneBuffers;
+use crate::gpu::{check_size, GpuRenderer};
+use crate::interface::TraceParams;
 use crate::interface::{
     HybridPlanPush, HYBRID_PLAN_BINDING_ALBEDO, HYBRID_PLAN_BINDING_EDGES,
     HYBRID_PLAN_BINDING_NORMAL, HYBRID_PLAN_BINDING_PLAN, HYBRID_PLAN_BINDING_SURFACE_DEPTH,
@@ -24,7 +30,7 @@ use crate::interface::{
     HYBRID_PLAN_STEP_ROWS, HYBRID_PLAN_STEP_TILES, HYBRID_SEGMENT, HYBRID_TILE, SHADING_LIT,
     SHADING_UNLIT,
 };
-use crate::settings::Shading;
+use crate::settings::{RenderSettings, Shading};
 
 // hybrid_plan.comp's ENTRIES step takes a segment to be one tile row, and a tile to be one
 // workgroup.
@@ -216,4 +222,113 @@ impl HybridPlanPass {
             );
         }
     }
+}
+
+/// The hybrid path's entry points (src/paths/hybrid/).
+impl GpuRenderer {
+    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel, row-major;
+    /// see `interface::TRACE_BINDING_PLAN`), or `None` to trace every sample again.
+    pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
+        self.trace.set_plan(plan)
+    }
+    /// The hybrid path's plan made on the device (shaders/hybrid_plan.comp) for later
+    /// `accumulate` calls: one submission draws the G-buffer of `planning` (the camera whose
+    /// raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
+    /// pixel's shortcut value and shadow state), and plans `settings.spp` samples seen by
+    /// `camera` from them. Nothing is read back; `read_plan` can.
+    pub fn plan_on_device(
+        &mut self,
+        camera: &Camera,
+        planning: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<(), GpuError> {
+        check_size(camera)?;
+        if (planning.width, planning.height) != (camera.width, camera.height) {
+            return Err(GpuError::Invalid(
+                "the planning camera's size differs from the camera's".into(),
+            ));
+        }
+        let lit = settings.shading == Shading::Lit;
+        if lit {
+            self.prepare_raster(camera.width, camera.height)?;
+        }
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        self.gbuffer.ensure_targets(camera.width, camera.height)?;
+        self.trace.ensure_plan_capacity(pixels)?;
+        let targets = self.gbuffer.targets.as_ref().expect("ensured above");
+        self.hybrid_plan.bind(
+            targets,
+            self.trace.plan_buffer_ref(),
+            self.trace.surface_depth_ref(),
+        )?;
+        let ctx = &self.ctx;
+        let (gbuffer, plan, trace) = (&self.gbuffer, &self.hybrid_plan, &self.trace);
+        let visibility = self.visibility.as_ref();
+        ctx.submit_and_wait(|cmd| {
+            gbuffer.record(cmd, scene, planning, settings.background, None);
+            if let Some(visibility) = visibility.filter(|_| lit) {
+                record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
+            }
+            plan.record(cmd, targets, camera, settings.shading, settings.spp);
+            barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            );
+            Ok(())
+        })?;
+        if lit {
+            self.timings.rays_traced += self.trace.rays_counted()?;
+        }
+        self.timings.gbuffer_passes += 1;
+        self.trace.use_device_plan(pixels);
+        Ok(())
+    }
+    /// The hybrid's lit pre-pass alone (the host plan's input, `paths::hybrid::host_plan`): per
+    /// pixel the shortcut value (xyz) and whether its shadow ray was blocked (w, 1 or 0).
+    pub fn lit_prepass(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        check_size(camera)?;
+        self.prepare_raster(camera.width, camera.height)?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let visibility = self.visibility.as_ref().expect("prepared above");
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        self.trace.ensure_plan_capacity(pixels)?;
+        let (ctx, trace) = (&self.ctx, &self.trace);
+        ctx.submit_and_wait(|cmd| {
+            record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
+            barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            );
+            Ok(())
+        })?;
+        self.trace.read_plan(pixels)
+    }
+    /// The entries of the plan last made by `plan_on_device` (`pixels` of them).
+    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.trace.read_plan(pixels)
+    }
+}
+
+/// The hybrid's lit pre-pass with the parameters of `camera` and `settings`, its rays counted
+/// from zero (the render path's plan and the host plan's input record it alike): the
+/// visibility pass through the lens centre, then the shading of what it saw.
+fn record_lit_prepass(
+    (trace, visibility, scene): (&TracePass, &VisibilityPass, &SceneBuffers),
+    cmd: vk::CommandBuffer,
+    camera: &Camera,
+    settings: &RenderSettings,
+) {
+    trace.record_params(cmd, &TraceParams::new(camera, settings));
+    trace.record_clear_ray_counter(cmd);
+    visibility.record_aperture_centre(cmd, scene, camera);
+    trace.record_lit_prepass(cmd, camera.width, camera.height);
 }

@@ -10,6 +10,7 @@ use glam::{UVec2, Vec2};
 use gpu_allocator::MemoryLocation;
 
 use crate::camera::Camera;
+use crate::film::Accumulation;
 use crate::gpu::core::buffer::{barrier, Buffer};
 use crate::gpu::core::device::Context;
 use crate::gpu::core::error::GpuError;
@@ -20,6 +21,7 @@ use crate::gpu::passes::draw::{
     record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
 };
 use crate::gpu::scene::SceneBuffers;
+use crate::gpu::{check_samples, GpuRenderer};
 use crate::interface::VisibilityPush;
 use crate::sampler::{pixel_camera_sample, shared_pixel_sampler};
 use crate::settings::RenderSettings;
@@ -248,5 +250,64 @@ impl VisibilityPass {
             vk::PipelineStageFlags::COMPUTE_SHADER,
             vk::AccessFlags::SHADER_READ,
         );
+    }
+}
+
+/// The raster path's entry points (src/paths/raster.rs).
+impl GpuRenderer {
+    /// The raster path (accumulation-buffer depth of field, docs/raster.md): adds samples
+    /// `samples` of every pixel as `accumulate` does, but each sample is one camera sample
+    /// shared by every pixel (`settings.shared_samples` is implied): the scene is rasterized
+    /// through that sample's lens point (`Camera::clip_from_world_through_lens`), and the
+    /// shading pass shades what each pixel sees along its lens ray (lit: with a shadow ray of
+    /// the traversal in use).
+    pub fn accumulate_rasterized(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: std::ops::Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(), GpuError> {
+        check_samples(camera, settings)?;
+        self.prepare_raster(camera.width, camera.height)?;
+        let settings = RenderSettings {
+            shared_samples: true,
+            ..*settings
+        };
+        let raster_camera = camera.for_rasterizing_rays();
+        let visibility = self.visibility.as_ref().expect("prepared");
+        let scene = self.scene.as_ref().expect("prepared");
+        let record = |cmd, sample| {
+            visibility.record_sample(cmd, scene, &raster_camera, &settings, sample);
+        };
+        self.trace.accumulate(
+            (camera, &settings),
+            samples,
+            accumulation,
+            &mut self.timings,
+            Some(&record),
+            progress,
+        )
+    }
+    /// Makes the raster path's visibility pass (on first use) and its targets for a `width` x
+    /// `height` image, bound to the trace pass (the hybrid's lit pre-pass uses it too).
+    pub(in crate::gpu) fn prepare_raster(
+        &mut self,
+        width: u32,
+        height: u32,
+    ) -> Result<(), GpuError> {
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        if self.visibility.is_none() {
+            let pass = VisibilityPass::new(&self.ctx)?;
+            pass.bind_scene(scene);
+            self.visibility = Some(pass);
+        }
+        let visibility = self.visibility.as_mut().expect("made above");
+        if visibility.ensure_targets(width, height)? {
+            let targets = visibility.targets.as_ref().expect("just made");
+            self.trace.bind_visibility(&targets.buffer);
+        }
+        Ok(())
     }
 }
