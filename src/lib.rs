@@ -1,5 +1,12 @@
 //! lensray: thin-lens depth of field, rendered by a CPU reference and Vulkan paths that are
 //! checked against it.
+//!
+//! Top-down: what to render ([`camera`], [`sampler`], [`scene`], [`settings`]), what a render
+//! fills ([`film`]), the algorithms that fill it ([`paths`]: the CPU [`reference`](mod@reference) and the
+//! Vulkan renderer in [`gpu`], which shares its layouts with the shaders through
+//! [`interface`]), and the commands ([`cli`]: `render` writes through [`output`], `preview`
+//! opens the window of [`preview`], `bench` compares the paths with [`bench`](mod@bench), reporting
+//! medians from [`stats`]).
 
 #![deny(unsafe_code)]
 

@@ -160,7 +160,7 @@ fn an_in_focus_shot_takes_the_shortcut() {
     assert!(error < 0.05, "RMSE {error} against the full render");
 }
 
-/// The plan made on the device (shaders/hybrid_plan.comp, what `render --path hybrid` and the
+/// The plan made on the device (shaders/passes/hybrid_plan.comp, what `render --path hybrid` and the
 /// preview use) equals the host's reference `Plan::new` entry for entry, on the test scene:
 /// blurred (foreground and background), pinhole and orthographic shots, unlit and lit, odd
 /// sizes (partial tiles), and several sample counts.

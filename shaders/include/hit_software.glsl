@@ -1,5 +1,5 @@
 // The hit interface (see shading.glsl) answered by a stack-based traversal of the project's own
-// BVH (src/gpu/bvh.rs): nodes hold both children's boxes (one fetch, two slab tests), leaves are
+// BVH (src/gpu/scene/bvh.rs): nodes hold both children's boxes (one fetch, two slab tests), leaves are
 // named by their parent (first triangle, count), triangles are stored in leaf order. Ordered
 // traversal: leaves are tested as soon as their box is hit (shortening the ray), then the nearer
 // inner child is visited first and the other pushed with its entry distance, so that a popped
@@ -176,7 +176,7 @@ bool traverse(vec3 origin, vec3 direction, float t_max, bool any_hit, out uint h
 bool closest_hit(vec3 origin, vec3 direction, float t_max, out Hit hit) {
     uint slot;
     bool found = traverse(origin, direction, t_max, false, slot, hit.t, hit.barycentrics);
-    // Exact: the index is below 2^24 (src/gpu/bvh.rs).
+    // Exact: the index is below 2^24 (src/gpu/scene/bvh.rs).
     hit.triangle = found ? uint(bvh_triangles[slot].v0.w) : 0u;
     return found;
 }

@@ -1,12 +1,12 @@
 #version 460
 // Thin-lens compute pass: spp camera samples per pixel, each traced and shaded as specified for
-// every renderer (shading.glsl; src/render/settings.rs, the CPU reference). build.rs compiles it
+// every renderer (shading.glsl; src/settings/render.rs, the CPU reference). build.rs compiles it
 // once per closest-hit implementation: TRAVERSAL_RAY_QUERY (ray queries against the TLAS,
 // hit_rayquery.glsl) and TRAVERSAL_SOFTWARE (the project's own BVH, hit_software.glsl, no
 // ray-tracing extension). One dispatch covers some rows (strided) and a range of samples; sums
 // accumulate in `accum` (xyz: the sum, w: how many samples), which holds a band of rows of the
 // image (bounded by the device's storage-buffer range).
-// The hybrid path (src/paths/hybrid.rs, docs/hybrid.md) runs it in TRACE_MODE_HYBRID: a plan
+// The hybrid path (src/paths/hybrid/, docs/hybrid.md) runs it in TRACE_MODE_HYBRID: a plan
 // per pixel says how many samples to trace, or that the pixel takes a shortcut value, checked
 // by tracing a sample with probability 1 / HYBRID_CHECK_INVERSE (unbiased); TRACE_MODE_SHORTCUT
 // (lit) first shades the aperture-centre ray of each pixel into the plan, before its steps.

@@ -1,5 +1,5 @@
 #version 460
-// Mirror check: evaluates shaders/sampler.glsl and shaders/camera.glsl for a list of queries so
+// Mirror check: evaluates shaders/include/sampler.glsl and shaders/include/camera.glsl for a list of queries so
 // tests can compare them with src/sampler.rs and src/camera bit for bit.
 #include "camera.glsl"
 #include "sampler.glsl"

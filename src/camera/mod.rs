@@ -1,6 +1,6 @@
 //! The camera: the course's coordinate spaces, projections, ray generation and thin lens.
 //!
-//! This module is the single source of truth for the camera. `shaders/camera.glsl` mirrors it
+//! This module is the single source of truth for the camera. `shaders/include/camera.glsl` mirrors it
 //! function by function, and the raster pass uses the very matrices built here.
 //!
 //! # Spaces and conventions (slide "Coordinate Spaces")

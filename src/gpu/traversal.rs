@@ -3,12 +3,12 @@
 use std::fmt;
 use std::str::FromStr;
 
-/// How the compute pass finds the closest hit of a ray: both shade alike (shaders/shading.glsl).
+/// How the compute pass finds the closest hit of a ray: both shade alike (shaders/include/shading.glsl).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Traversal {
     /// VK_KHR_ray_query against the driver's acceleration structures (BLAS per mesh + TLAS).
     RayQuery,
-    /// A stack-based traversal in the shader of the project's own BVH (src/gpu/bvh.rs): needs
+    /// A stack-based traversal in the shader of the project's own BVH (src/gpu/scene/bvh.rs): needs
     /// no ray-tracing support.
     Software,
 }

@@ -1,6 +1,6 @@
 //! The CPU reference renderer: the ground truth every GPU path is compared with.
 //!
-//! Shading definitions (the GPU compute pass implements the same, see `shaders/trace.comp`):
+//! Shading definitions (the GPU compute pass implements the same, see `shaders/passes/trace.comp`):
 //! - Primary rays: `Camera::generate_ray` from the shared sampler's `camera_sample`, t in (0, inf).
 //! - `unlit`: Kd of the first hit, background on a miss.
 //! - `lit`: Ke plus Kd / pi * I * cos / d^2 from the point light when a shadow ray from

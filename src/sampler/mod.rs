@@ -1,6 +1,6 @@
 //! The deterministic samplers shared by every path: counter-based, so any dimension of any sample
 //! of any pixel can be computed on its own, in any order, on any thread or GPU invocation.
-//! `shaders/sampler.glsl` mirrors this module function by function with 32-bit integer arithmetic
+//! `shaders/include/sampler.glsl` mirrors this module function by function with 32-bit integer arithmetic
 //! only, so the GPU reproduces the CPU's samples bit for bit.
 //!
 //! Two kinds ([`SamplerKind`]): `sobol` (the default; Owen-scrambled Sobol' points stratified in

@@ -1,7 +1,7 @@
 //! What to render, from what a user gives to what a path computes:
 //! - [`user`]: the settings of a scene file or the command line, every field optional (the
 //!   command line overrides the file);
-//! - [`shot`]: those settings and the scene made into a [`Shot`], a validated camera and the
+//! - [`shot`](mod@shot): those settings and the scene made into a [`Shot`], a validated camera and the
 //!   render settings, with a default for what neither gives;
 //! - [`render`]: the render settings every path (CPU and GPU) computes from: samples, seed,
 //!   sampler, shading, background and light.

@@ -1,4 +1,4 @@
-//! The hybrid path's plan on the device (shaders/hybrid_plan.comp): from the G-buffer images
+//! The hybrid path's plan on the device (shaders/passes/hybrid_plan.comp): from the G-buffer images
 //! already drawn in the same command buffer into the trace pass's plan buffer
 //! (TRACE_BINDING_PLAN), with no readback. The rules are those of the host's reference
 //! `paths::hybrid::Plan::new`; tests/hybrid.rs checks that both plans are equal.
@@ -231,7 +231,7 @@ impl GpuRenderer {
     pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
         self.trace.set_plan(plan)
     }
-    /// The hybrid path's plan made on the device (shaders/hybrid_plan.comp) for later
+    /// The hybrid path's plan made on the device (shaders/passes/hybrid_plan.comp) for later
     /// `accumulate` calls: one submission draws the G-buffer of `planning` (the camera whose
     /// raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
     /// pixel's shortcut value and shadow state), and plans `settings.spp` samples seen by

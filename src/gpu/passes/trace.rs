@@ -1,4 +1,4 @@
-//! The thin-lens compute pass (shaders/trace.comp): camera samples traced with one pipeline per
+//! The thin-lens compute pass (shaders/passes/trace.comp): camera samples traced with one pipeline per
 //! traversal the device was opened for (ray queries, or the software BVH traversal; the one in
 //! use is `traversal()`), split into dispatches of bounded size (bands of rows x ranges of samples), one submission
 //! each, accumulating sums in a float buffer; the host divides by spp at the end.

@@ -1,4 +1,4 @@
-//! The preview's resolve pass (shaders/resolve.comp): the accumulation or a G-buffer view into
+//! The preview's resolve pass (shaders/present/resolve.comp): the accumulation or a G-buffer view into
 //! an 8-bit display image, which the viewer then copies to the window.
 
 use std::sync::Arc;

@@ -1,7 +1,7 @@
-//! The preview's view pass (shaders/view.frag): a non-final view (albedo, normal, depth, circle
+//! The preview's view pass (shaders/present/view.frag): a non-final view (albedo, normal, depth, circle
 //! of confusion) rasterized straight into an 8-bit target, the window image. It shows what the
 //! G-buffer pass followed by the resolve shows (the same vertex stage, the encodings of
-//! shaders/views.glsl), for a third of the G-buffer's target bandwidth and without the resolve
+//! shaders/include/views.glsl), for a third of the G-buffer's target bandwidth and without the resolve
 //! and the copy into the window: those frames are what a window that only frames the shot
 //! draws, and on lavapipe they are where the frame rate is won (docs/preview.md).
 

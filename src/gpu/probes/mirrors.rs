@@ -1,4 +1,4 @@
-//! A check of the GLSL mirrors (shaders/sampler.glsl, shaders/camera.glsl): evaluates them for
+//! A check of the GLSL mirrors (shaders/include/sampler.glsl, shaders/include/camera.glsl): evaluates them for
 //! a list of queries with probe.comp so tests can compare against src/sampler/ and src/camera.
 
 use std::sync::Arc;

@@ -1,4 +1,4 @@
-//! How long the GPU takes to generate a render's camera samples alone (shaders/sampler_cost.comp:
+//! How long the GPU takes to generate a render's camera samples alone (shaders/probes/sampler_cost.comp:
 //! the compute pass's sample loop without tracing), to compare with the whole pass's time.
 
 use std::sync::Arc;

@@ -1,4 +1,4 @@
-//! The software traversal's BVH (shaders/hit_software.glsl), built on the host: obvhs's binary
+//! The software traversal's BVH (shaders/include/hit_software.glsl), built on the host: obvhs's binary
 //! BVH (PLOC, reinsertion, SAH leaf collapse), flattened into two storage-buffer arrays:
 //! - nodes that hold both children's boxes (Aila and Laine, "Understanding the efficiency of ray
 //!   traversal on GPUs", 2009): one 64-byte fetch tests two boxes, and a leaf child is named in

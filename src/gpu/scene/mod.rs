@@ -32,7 +32,7 @@ const SCENE_BINDINGS: [u32; 5] = [
     SCENE_BINDING_MATERIALS,
 ];
 
-/// The software traversal's BVH on the device (src/gpu/bvh.rs).
+/// The software traversal's BVH on the device (src/gpu/scene/bvh.rs).
 pub(crate) struct BvhBuffers {
     nodes: Buffer,
     triangles: Buffer,
@@ -67,7 +67,7 @@ impl BvhBuffers {
         })
     }
 
-    /// The descriptors of shaders/hit_software.glsl.
+    /// The descriptors of shaders/include/hit_software.glsl.
     pub fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 2] {
         [TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES]
             .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
@@ -174,7 +174,7 @@ impl SceneBuffers {
         })
     }
 
-    /// The descriptors of shaders/scene.glsl, read by `stages`.
+    /// The descriptors of shaders/include/scene.glsl, read by `stages`.
     pub fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 5] {
         SCENE_BINDINGS.map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
     }

@@ -2,7 +2,7 @@
 //! needed. Per call of `add_samples`: the G-buffer of the shot, then a plan per pixel on the
 //! host (`Plan::new`: circle of confusion from the G-buffer depth, maximum over 8x8 tiles,
 //! dilated by each tile's maximum over the tiles it reaches), then the trace pass in its hybrid
-//! mode (shaders/trace.comp) with the device's fastest traversal:
+//! mode (shaders/passes/trace.comp) with the device's fastest traversal:
 //! - no G-buffer edge within the pixel's dilated CoC (at least one pixel; so in particular a
 //!   dilated CoC under half a pixel with a uniform neighbourhood; lit, a shadow boundary found
 //!   by the lit pre-pass counts as an edge): the *shortcut*. Unlit its value is the G-buffer's

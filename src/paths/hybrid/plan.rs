@@ -226,7 +226,7 @@ impl Plan {
     }
 }
 
-/// The plan of `settings` seen by `camera`, made on the device (shaders/hybrid_plan.comp: the
+/// The plan of `settings` seen by `camera`, made on the device (shaders/passes/hybrid_plan.comp: the
 /// G-buffer and the plan in one submission, no G-buffer readback) and left in the renderer for
 /// its later `accumulate` calls. Its entries are read back (a mapped buffer) for the counts.
 pub fn device_plan(
