@@ -45,17 +45,51 @@ fn bogus_device_index_is_a_clear_error() {
     );
 }
 
-/// Every field of the structs shared with the shaders (src/interface) is read by GLSL where
-/// Rust wrote it: through a std140 uniform block, push constants and std430 storage buffers.
+/// Every field of every struct shared with the shaders (src/interface) is read by GLSL where
+/// Rust wrote it: std140 ones through a uniform block, std430 ones through a storage buffer,
+/// the marked one through push constants too; no struct of the interface's list is left out.
 #[test]
 fn shader_layouts_match_rust() {
+    use lensray::interface::glsl::{ProbeBlock, LAYOUT_PROBE_COPIES};
+    use lensray::interface::shared_structs;
+
     let Some((mut gpu, log)) = renderer("shader_layouts_match_rust") else {
         return;
     };
     let report = gpu.probe_layouts().expect("layout probe");
-    // TraceParams 56 + TracePush 8 + RasterPush 24 + 2 materials x 8 + ResolvePush 12
-    // + 2 BVH nodes x 16 + 2 BVH triangles x 12.
-    assert_eq!(report.scalars_checked, 56 + 8 + 24 + 16 + 12 + 32 + 24);
+    let structs = shared_structs();
+    // Each struct of the list, in order, in its layout's block, then the pushed one.
+    let probed: Vec<(&str, ProbeBlock, usize)> = report
+        .blocks
+        .iter()
+        .map(|b| (b.rust, b.block, b.copies))
+        .collect();
+    let mut expected: Vec<(&str, ProbeBlock, usize)> = structs
+        .iter()
+        .map(|s| (s.rust, ProbeBlock::of(s.layout), LAYOUT_PROBE_COPIES))
+        .collect();
+    expected.extend(
+        structs
+            .iter()
+            .filter(|s| s.probe_push)
+            .map(|s| (s.rust, ProbeBlock::PushConstant, 1)),
+    );
+    assert_eq!(probed, expected, "the probe must read every shared struct");
+    assert!(
+        expected.iter().any(|e| e.1 == ProbeBlock::PushConstant),
+        "a struct must be read through push constants"
+    );
+    let scalars: usize = structs
+        .iter()
+        .map(|s| s.scalars.len() * (LAYOUT_PROBE_COPIES + usize::from(s.probe_push)))
+        .sum();
+    assert_eq!(report.scalars_checked, scalars);
+    println!(
+        "layout probe: {} structs, {} blocks, {} scalars",
+        structs.len(),
+        report.blocks.len(),
+        report.scalars_checked
+    );
     assert!(
         report.mismatches.is_empty(),
         "{} of {} scalars are read elsewhere than Rust wrote them:\n{}",

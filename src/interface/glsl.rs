@@ -210,8 +210,156 @@ impl<const N: usize> GlslConst for [u32; N] {
     }
 }
 
+/// One struct of `shader_interface!`'s list, as the GLSL header and the layout probe take it.
+#[derive(Clone, Debug)]
+pub struct SharedStruct {
+    /// The Rust name (`GpuCamera`) and the GLSL one (`Camera`).
+    pub rust: &'static str,
+    pub glsl: &'static str,
+    pub layout: Layout,
+    /// Bytes in Rust, which `check_layouts` holds to the GLSL size under `layout`; also the
+    /// stride of an array of it (a struct's size is a multiple of its alignment).
+    pub size: usize,
+    pub doc: &'static [&'static str],
+    pub fields: Vec<Field>,
+    /// Every scalar in declaration order (`scalars_of`).
+    pub scalars: Vec<Scalar>,
+    /// Marked `#[layout_probe(push_constant)]`: the layout probe reads it through its
+    /// push-constant block too.
+    pub probe_push: bool,
+}
+
+impl SharedStruct {
+    pub fn of<S: GlslStruct>(
+        rust: &'static str,
+        doc: &'static [&'static str],
+        probe_push: bool,
+    ) -> Self {
+        Self {
+            rust,
+            glsl: S::GLSL,
+            layout: S::LAYOUT,
+            size: std::mem::size_of::<S>(),
+            doc,
+            fields: S::fields(),
+            scalars: scalars_of::<S>(),
+            probe_push,
+        }
+    }
+}
+
+/// The value of a `#[layout_probe(...)]` mark (none: false).
+macro_rules! layout_probe_push {
+    () => {
+        false
+    };
+    (push_constant) => {
+        true
+    };
+}
+
+/// The kinds of block the layout probe reads a struct through: the one its real users read it
+/// through (std140 structs a uniform block, std430 ones a storage buffer), and push constants.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProbeBlock {
+    Uniform,
+    Storage,
+    PushConstant,
+}
+
+impl ProbeBlock {
+    /// The block kind whose layout is `layout`, short of push constants.
+    pub fn of(layout: Layout) -> Self {
+        match layout {
+            Layout::Std140 => ProbeBlock::Uniform,
+            Layout::Std430 => ProbeBlock::Storage,
+        }
+    }
+
+    /// A word for GLSL names.
+    pub fn short_name(self) -> &'static str {
+        match self {
+            ProbeBlock::Uniform => "uniform",
+            ProbeBlock::Storage => "storage",
+            ProbeBlock::PushConstant => "push",
+        }
+    }
+}
+
+/// One block of the layout probe (shaders/probes/layouts.comp, its blocks and `main`
+/// generated in `interface.glsl`): `copies` values of struct `structure` (an index in
+/// `shared_structs()`; an array, whose second value checks the stride) at descriptor binding
+/// `binding` of set 0 (None: the push constants).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ProbeRead {
+    pub structure: usize,
+    pub block: ProbeBlock,
+    pub binding: Option<u32>,
+    pub copies: usize,
+}
+
+/// The layout probe's output: every scalar it read, then how many it stored.
+pub const LAYOUT_PROBE_BINDING_OUT: u32 = 0;
+/// Values of each struct in its descriptor block: the second one checks the array stride.
+pub const LAYOUT_PROBE_COPIES: usize = 2;
+/// Push-constant bytes every Vulkan device has (the least `maxPushConstantsSize`).
+pub const MIN_PUSH_CONSTANTS_SIZE: usize = 128;
+
+/// What the layout probe reads, in order: every struct of `structs` through the block kind of
+/// its layout (binding LAYOUT_PROBE_BINDING_OUT + 1 + its index), then the one marked
+/// `#[layout_probe(push_constant)]` through the push constants.
+pub fn layout_probe_reads(structs: &[SharedStruct]) -> Vec<ProbeRead> {
+    let blocks = structs.iter().enumerate().map(|(k, s)| ProbeRead {
+        structure: k,
+        block: ProbeBlock::of(s.layout),
+        binding: Some(LAYOUT_PROBE_BINDING_OUT + 1 + k as u32),
+        copies: LAYOUT_PROBE_COPIES,
+    });
+    let push = structs
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.probe_push)
+        .map(|(k, _)| ProbeRead {
+            structure: k,
+            block: ProbeBlock::PushConstant,
+            binding: None,
+            copies: 1,
+        });
+    blocks.chain(push).collect()
+}
+
+/// What the layout probe needs of the list: distinct GLSL names (they name its blocks) and at
+/// most one push-constant struct, std430, within MIN_PUSH_CONSTANTS_SIZE.
+pub fn check_probe(structs: &[SharedStruct], errors: &mut Vec<String>) {
+    for (k, s) in structs.iter().enumerate() {
+        if structs[..k].iter().any(|t| t.glsl == s.glsl) {
+            errors.push(format!(
+                "{}: two shared structs are named {} in GLSL",
+                s.rust, s.glsl
+            ));
+        }
+    }
+    let pushed: Vec<&SharedStruct> = structs.iter().filter(|s| s.probe_push).collect();
+    if pushed.len() > 1 {
+        errors.push(format!(
+            "the layout probe has one push-constant block, but {} structs are marked for it",
+            pushed.len()
+        ));
+    }
+    for s in pushed {
+        if s.layout != Layout::Std430 || s.size > MIN_PUSH_CONSTANTS_SIZE {
+            errors.push(format!(
+                "{}: push constants are std430 and at most {MIN_PUSH_CONSTANTS_SIZE} bytes \
+                 everywhere; it is {:?}, {} bytes",
+                s.rust, s.layout, s.size
+            ));
+        }
+    }
+}
+
 /// Writes the GLSL header: constants, struct declarations and, for the layout probe, one
-/// function per struct that stores every scalar into `layout_probe_out`.
+/// function per struct that stores every scalar into `layout_probe_out`, its blocks and the
+/// function that reads them all.
 pub struct HeaderWriter {
     text: String,
     probes: String,
@@ -247,16 +395,14 @@ impl HeaderWriter {
         self.text.push('\n');
     }
 
-    pub fn structure<S: GlslStruct>(&mut self, doc: &[&str]) {
+    pub fn structure(&mut self, s: &SharedStruct) {
         self.text.push('\n');
-        self.comment(doc, "");
+        self.comment(s.doc, "");
         self.text.push_str(&format!(
             "// {:?}: {} bytes.\nstruct {} {{\n",
-            S::LAYOUT,
-            S::size(S::LAYOUT),
-            S::GLSL
+            s.layout, s.size, s.glsl
         ));
-        for field in S::fields() {
+        for field in &s.fields {
             let doc = field.doc.trim();
             let comment = if doc.is_empty() {
                 String::new()
@@ -268,36 +414,77 @@ impl HeaderWriter {
         }
         self.text.push_str("};\n");
 
-        let scalars = scalars_of::<S>();
         self.probes.push_str(&format!(
             "uint layout_probe_{0}({0} v, uint i) {{\n",
-            S::GLSL
+            s.glsl
         ));
-        for (k, s) in scalars.iter().enumerate() {
-            let value = match s.kind {
-                ScalarKind::Uint => s.path.clone(),
-                ScalarKind::Float => format!("floatBitsToUint({})", s.path),
+        for (k, scalar) in s.scalars.iter().enumerate() {
+            let value = match scalar.kind {
+                ScalarKind::Uint => scalar.path.clone(),
+                ScalarKind::Float => format!("floatBitsToUint({})", scalar.path),
             };
             self.probes
                 .push_str(&format!("    layout_probe_out[i + {k}u] = {value};\n"));
         }
         self.probes
-            .push_str(&format!("    return i + {}u;\n}}\n", scalars.len()));
+            .push_str(&format!("    return i + {}u;\n}}\n", s.scalars.len()));
     }
 
-    pub fn finish(self) -> String {
+    /// The header, with the layout probe's blocks and reads (`layout_probe_reads(structs)`).
+    pub fn finish(mut self, structs: &[SharedStruct]) -> String {
+        let reads = layout_probe_reads(structs);
+        self.probes.push_str(&format!(
+            "// Every shared struct through the kind of block its real users read it through, \
+             {LAYOUT_PROBE_COPIES} values\n// of each (the second checks the array stride); the \
+             marked one through push constants too.\n"
+        ));
+        let mut calls = String::new();
+        for read in &reads {
+            let glsl = structs[read.structure].glsl;
+            let decl = match (read.block, read.binding) {
+                (ProbeBlock::Uniform, Some(b)) => {
+                    format!("layout(std140, set = 0, binding = {b}) uniform")
+                }
+                (ProbeBlock::Storage, Some(b)) => {
+                    format!("layout(std430, set = 0, binding = {b}) readonly buffer")
+                }
+                _ => String::from("layout(push_constant) uniform"),
+            };
+            let kind = read.block.short_name();
+            let name = format!("layout_probe_{kind}_{glsl}");
+            let values = if read.block == ProbeBlock::PushConstant {
+                calls.push_str(&format!("    i = layout_probe_{glsl}({name}, i);\n"));
+                name
+            } else {
+                for c in 0..read.copies {
+                    calls.push_str(&format!("    i = layout_probe_{glsl}({name}[{c}], i);\n"));
+                }
+                format!("{name}[{}]", read.copies)
+            };
+            self.probes.push_str(&format!(
+                "{decl} LayoutProbe_{kind}_{glsl} {{ {glsl} {values}; }};\n"
+            ));
+        }
         format!(
-            "{}\n// For the layout probe (shaders/layout_probe.comp): stores of every scalar.\n\
+            "{}\n// For the layout probe (shaders/probes/layouts.comp, src/gpu/probes/layouts.rs): \
+             stores of every scalar.\n\
              #ifdef LENSRAY_LAYOUT_PROBE\n\
+             const uint LAYOUT_PROBE_BINDING_OUT = {LAYOUT_PROBE_BINDING_OUT}u;\n\
              layout(std430, set = 0, binding = LAYOUT_PROBE_BINDING_OUT) writeonly buffer \
-             LayoutProbeOut {{ uint layout_probe_out[]; }};\n{}#endif\n\n#endif\n",
+             LayoutProbeOut {{ uint layout_probe_out[]; }};\n{}\
+             // Stores every scalar of every block above in order, then how many it stored.\n\
+             void layout_probe_all() {{\n    uint i = 0u;\n{calls}    \
+             layout_probe_out[i] = i;\n}}\n#endif\n\n#endif\n",
             self.text, self.probes
         )
     }
 }
 
 /// Declares the constants and structs shared with the shaders, once: the Rust items, the GLSL
-/// header (`glsl_header()`), the layout check (`check_layouts()`) and the list of structs.
+/// header (`glsl_header()`), the layout check (`check_layouts()`) and the list of structs
+/// (`shared_structs()`), from which the layout probe's blocks are generated. A struct marked
+/// `#[layout_probe(push_constant)]` (after its doc comment) is read by the probe through push
+/// constants too.
 macro_rules! shader_interface {
     (
         constants {
@@ -306,6 +493,7 @@ macro_rules! shader_interface {
         structs {
             $(
                 $(#[doc = $sdoc:literal])*
+                $(#[layout_probe($probe:ident)])?
                 $layout:ident struct $sname:ident as $gname:ident {
                     $( $(#[doc = $fdoc:literal])* $fname:ident : $fty:ty ),* $(,)?
                 }
@@ -361,18 +549,35 @@ macro_rules! shader_interface {
             }
         )*
 
+        /// Every shared struct, in declaration order: what the GLSL header declares and the
+        /// layout probe reads (`layout_probe_reads`).
+        pub fn shared_structs() -> Vec<SharedStruct> {
+            vec![$(
+                SharedStruct::of::<$sname>(
+                    stringify!($sname),
+                    &[$($sdoc),*],
+                    layout_probe_push!($($probe)?),
+                )
+            ),*]
+        }
+
         /// The GLSL header `interface.glsl` (written by build.rs, included by the shaders).
         pub fn glsl_header() -> String {
             let mut header = HeaderWriter::new();
             $( header.constant(stringify!($cname), &[$($cdoc),*], $cname); )*
-            $( header.structure::<$sname>(&[$($sdoc),*]); )*
-            header.finish()
+            let structs = shared_structs();
+            for s in &structs {
+                header.structure(s);
+            }
+            header.finish(&structs)
         }
 
-        /// Every field of every shared struct where GLSL expects it (build.rs fails otherwise).
+        /// Every field of every shared struct where GLSL expects it, and the list fit for the
+        /// layout probe (build.rs fails otherwise).
         pub fn check_layouts() -> Result<(), String> {
             let mut errors = Vec::new();
             $( check_layout::<$sname>(&mut errors); )*
+            check_probe(&shared_structs(), &mut errors);
             if errors.is_empty() { Ok(()) } else { Err(errors.join("\n")) }
         }
     };

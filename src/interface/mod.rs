@@ -2,8 +2,9 @@
 //! binding numbers, workgroup sizes, ray offsets) and the structs of uniform blocks, push
 //! constants and storage buffers. build.rs generates the GLSL header `interface.glsl` from the
 //! same definition and refuses to build when Rust lays a struct out differently from GLSL;
-//! `shaders/layout_probe.comp` checks on a device that the shaders read every field where Rust
-//! wrote it (tests/gpu.rs).
+//! `shaders/probes/layouts.comp` checks on a device that the shaders read every field where Rust
+//! wrote it (tests/gpu.rs), through blocks generated from the same list of structs
+//! (`shared_structs()`, `glsl::layout_probe_reads`).
 
 #[macro_use]
 pub mod glsl;
@@ -47,5 +48,54 @@ mod tests {
         assert_eq!(scalars.len(), 144 / 4 + 12 + 8);
         assert_eq!(scalars[17].path, "v.camera.screen_from_raster[0][1]");
         assert_eq!(scalars[17].offset, 64 + 4);
+    }
+
+    #[test]
+    fn layout_probe_reads_every_struct() {
+        let structs = shared_structs();
+        let reads = layout_probe_reads(&structs);
+        let header = glsl_header();
+        for (k, s) in structs.iter().enumerate() {
+            let read = reads.iter().find(|r| r.structure == k).expect(s.rust);
+            assert_eq!(read.block, ProbeBlock::of(s.layout), "{}", s.rust);
+            assert_eq!(read.copies, LAYOUT_PROBE_COPIES);
+            let kind = read.block.short_name();
+            for c in 0..read.copies {
+                let call = format!("layout_probe_{0}(layout_probe_{kind}_{0}[{c}], i);", s.glsl);
+                assert!(header.contains(&call), "{call}");
+            }
+        }
+        let mut bindings: Vec<u32> = reads.iter().filter_map(|r| r.binding).collect();
+        bindings.push(LAYOUT_PROBE_BINDING_OUT);
+        bindings.sort_unstable();
+        bindings.dedup();
+        assert_eq!(bindings.len(), structs.len() + 1, "bindings must differ");
+        let pushed: Vec<&ProbeRead> = reads
+            .iter()
+            .filter(|r| r.block == ProbeBlock::PushConstant)
+            .collect();
+        assert_eq!(pushed.len(), 1);
+        assert_eq!(structs[pushed[0].structure].rust, "TracePush");
+        assert!(header.contains(
+            "layout(push_constant) uniform LayoutProbe_push_TracePush { TracePush \
+             layout_probe_push_TracePush; };"
+        ));
+        assert!(header.contains(
+            "layout(std140, set = 0, binding = 1) uniform LayoutProbe_uniform_Camera { Camera \
+             layout_probe_uniform_Camera[2]; };"
+        ));
+    }
+
+    #[test]
+    fn the_probe_list_refuses_a_second_or_oversized_push() {
+        let mut structs = shared_structs();
+        let mut errors = Vec::new();
+        check_probe(&structs, &mut errors);
+        assert!(errors.is_empty(), "{errors:?}");
+        let view_push = structs.iter_mut().find(|s| s.rust == "ViewPush").unwrap();
+        view_push.probe_push = true;
+        view_push.size = 132;
+        check_probe(&structs, &mut errors);
+        assert_eq!(errors.len(), 2, "{errors:?}");
     }
 }

@@ -24,7 +24,7 @@ shader_interface! {
         SHADOW_ORIGIN_OFFSET: f32 = 1e-4;
         PI: f32 = std::f32::consts::PI;
 
-        /// What the preview window shows (`preview::ViewMode`, shaders/resolve.comp): the
+        /// What the preview window shows (`preview::ViewMode`, shaders/present/resolve.comp): the
         /// thin-lens accumulation, a G-buffer AOV, or each pixel's circle of confusion.
         VIEW_FINAL: u32 = 0;
         VIEW_ALBEDO: u32 = 1;
@@ -53,7 +53,7 @@ shader_interface! {
         TRACE_GROUP_SIZE: u32 = 8;
         PROBE_GROUP_SIZE: u32 = 64;
 
-        /// Scene arrays (shaders/scene.glsl), in the set the including shader names.
+        /// Scene arrays (shaders/include/scene.glsl), in the set the including shader names.
         SCENE_BINDING_POSITIONS: u32 = 0;
         SCENE_BINDING_NORMALS: u32 = 1;
         SCENE_BINDING_INDICES: u32 = 2;
@@ -64,11 +64,11 @@ shader_interface! {
         TRACE_BINDING_ACCUM: u32 = 6;
         TRACE_BINDING_COUNTERS: u32 = 7;
         TRACE_BINDING_PARAMS: u32 = 8;
-        /// trace.comp, software traversal (shaders/hit_software.glsl): the BVH's nodes and its
+        /// trace.comp, software traversal (shaders/include/hit_software.glsl): the BVH's nodes and its
         /// triangles in leaf order.
         TRACE_BINDING_BVH_NODES: u32 = 9;
         TRACE_BINDING_BVH_TRIANGLES: u32 = 10;
-        /// trace.comp, hybrid path (src/paths/hybrid.rs, docs/hybrid.md): one vec4 per pixel of
+        /// trace.comp, hybrid path (src/paths/hybrid/, docs/hybrid.md): one vec4 per pixel of
         /// the whole image: xyz the shortcut value, w the samples to trace (w >= 1: samples
         /// i < w are traced, later ones skipped) or HYBRID_SHORTCUT (the pixel takes the
         /// shortcut value, checked by tracing with probability 1 / HYBRID_CHECK_INVERSE).
@@ -101,8 +101,8 @@ shader_interface! {
         HYBRID_CHECK_INVERSE: u32 = 32;
         /// Salt of that choice's hash (apart from the sampler's own uses of the sample key).
         HYBRID_CHECK_SALT: u32 = 0x68796272;
-        /// The hybrid's plan (src/paths/hybrid.rs `Plan::new` on the host, the same rules in
-        /// shaders/hybrid_plan.comp on the device): side of the square tiles over which the
+        /// The hybrid's plan (src/paths/hybrid/ `Plan::new` on the host, the same rules in
+        /// shaders/passes/hybrid_plan.comp on the device): side of the square tiles over which the
         /// circle of confusion is maximised, pixels (also the workgroup tile of hybrid_plan.comp).
         HYBRID_TILE: u32 = 8;
         /// Pixels of a row that a device runs in lockstep and that share one decision (lavapipe:
@@ -139,7 +139,7 @@ shader_interface! {
         /// The trace pass's TRACE_BINDING_SURFACE_DEPTH, written by the entries step.
         HYBRID_PLAN_BINDING_SURFACE_DEPTH: u32 = 6;
         /// Entries of the software traversal's stack of nodes still to visit; the BVH build
-        /// refuses deeper trees (src/gpu/bvh.rs).
+        /// refuses deeper trees (src/gpu/scene/bvh.rs).
         BVH_STACK_SIZE: u32 = 64;
         /// probe.comp.
         PROBE_BINDING_QUERIES: u32 = 0;
@@ -154,16 +154,12 @@ shader_interface! {
         RESOLVE_BINDING_DISPLAY: u32 = 4;
         /// sampler_cost.comp (the benchmark of sample generation alone).
         SAMPLER_COST_BINDING_SUMS: u32 = 0;
-        /// layout_probe.comp.
-        LAYOUT_PROBE_BINDING_OUT: u32 = 0;
-        LAYOUT_PROBE_BINDING_PARAMS: u32 = 1;
-        LAYOUT_PROBE_BINDING_RASTER: u32 = 2;
-        LAYOUT_PROBE_BINDING_MATERIALS: u32 = 3;
-        LAYOUT_PROBE_BINDING_RESOLVE: u32 = 4;
-        LAYOUT_PROBE_BINDING_BVH: u32 = 5;
     }
+    // Every struct here is read back by the layout probe (src/gpu/probes/layouts.rs) through
+    // the kind of block its layout is for; the one marked `#[layout_probe(push_constant)]`
+    // through push constants too.
     structs {
-        /// The camera as the shaders see it (shaders/camera.glsl); there is no second camera:
+        /// The camera as the shaders see it (shaders/include/camera.glsl); there is no second camera:
         /// the matrices are the Rust camera's.
         Std140 struct GpuCamera as Camera {
             world_from_camera: [f32; 16],
@@ -198,6 +194,7 @@ shader_interface! {
         /// block_first + i * block_stride (i < block_count) of the band of band_height rows from
         /// image row band_origin (the accumulation buffer holds that band), samples
         /// sample_begin..sample_end.
+        #[layout_probe(push_constant)]
         Std430 struct TracePush as TracePush {
             band_origin: u32,
             band_height: u32,
@@ -209,7 +206,7 @@ shader_interface! {
             /// TRACE_MODE_*
             mode: u32,
         }
-        /// Push constants of the raster path's visibility pass (shaders/visibility.vert).
+        /// Push constants of the raster path's visibility pass (shaders/passes/visibility.vert).
         Std430 struct VisibilityPush as VisibilityPush {
             /// `Camera::clip_from_world_through_lens` of the pass's camera sample.
             clip_from_world: [f32; 16],
@@ -221,7 +218,7 @@ shader_interface! {
             /// xyz: the view axis; w: 1 orthographic (viewer direction is the axis), 0 perspective.
             forward: [f32; 4],
         }
-        /// What a preview view shows (shaders/views.glsl) and the lens data of its circle of
+        /// What a preview view shows (shaders/include/views.glsl) and the lens data of its circle of
         /// confusion (camera.glsl's coc_radius_pixels mirrors Camera::coc_radius_pixels).
         Std430 struct ViewParams as ViewParams {
             /// VIEW_*
@@ -324,7 +321,7 @@ shader_interface! {
             /// Ke
             emission: [f32; 4],
         }
-        /// An inner node of the software traversal's BVH (src/gpu/bvh.rs): the boxes of both
+        /// An inner node of the software traversal's BVH (src/gpu/scene/bvh.rs): the boxes of both
         /// children, so one node fetch tests two boxes (Aila and Laine's layout). A child is
         /// another node (count 0: `link` indexes the node array) or a leaf (count > 0: `count`
         /// triangles from `link` in the leaf-ordered triangle array).
