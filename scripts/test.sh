@@ -8,9 +8,12 @@ cd "$(dirname "$0")/.."
 source scripts/setup.sh
 
 skip_log=$(mktemp)
-trap 'rm -f "$skip_log"' EXIT
+# What lensray caches per machine (auto's calibration, the pipeline cache) goes to a fresh
+# folder: the tests neither read nor change the user's.
+cache_dir=$(mktemp -d)
+trap 'rm -rf "$skip_log" "$cache_dir"' EXIT
 status=0
-LENSRAY_SKIP_LOG="$skip_log" cargo test --all-targets "$@" || status=$?
+LENSRAY_SKIP_LOG="$skip_log" LENSRAY_CACHE_DIR="$cache_dir" cargo test --all-targets "$@" || status=$?
 
 skipped=$(wc -l <"$skip_log")
 if [ "$skipped" -gt 0 ]; then

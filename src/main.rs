@@ -27,6 +27,8 @@ enum Command {
     Preview(Box<cli::preview::PreviewArgs>),
     /// Compare the render paths: time, rays/s, memory and error against a converged reference.
     Bench(cli::bench::BenchArgs),
+    /// Measure this machine's paths once and cache the figures `--path auto` decides from.
+    Calibrate(cli::calibrate::CalibrateArgs),
     /// Write a generated scene (OBJ + MTL + scene file).
     Generate(cli::generate::GenerateArgs),
     /// List the Vulkan devices, their ray-query support and the limits that matter.
@@ -62,6 +64,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => cli::render::run(args),
         Some(Command::Preview(args)) => cli::preview::run(args),
         Some(Command::Bench(args)) => cli::bench::run(args),
+        Some(Command::Calibrate(args)) => cli::calibrate::run(args),
         Some(Command::Generate(args)) => cli::generate::run(args),
         Some(Command::Info) => cli::info::run(),
     };

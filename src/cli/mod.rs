@@ -2,6 +2,7 @@
 
 pub mod args;
 pub mod bench;
+pub mod calibrate;
 pub mod generate;
 pub mod info;
 pub mod preview;

@@ -113,6 +113,19 @@ pub fn list_devices() -> Result<Vec<DeviceReport>, GpuError> {
         .collect())
 }
 
+/// The device [`GpuRenderer::new`] would open with `options` (the same selection), without
+/// opening it: the instance and the device list only.
+pub fn preferred_device(options: &GpuOptions) -> Result<DeviceReport, GpuError> {
+    let instance = Instance::new(false, &[])?;
+    let mut devices = core::device::enumerate(&instance.instance)?;
+    if options.hide_ray_query {
+        for (_, report) in &mut devices {
+            report.hide_ray_query();
+        }
+    }
+    Ok(core::device::select(&devices, options.device_index, options.traversal)?.1)
+}
+
 /// The Vulkan renderer. Fields drop in order; everything holds an `Arc` to the device context,
 /// which is destroyed last, then the instance.
 pub struct GpuRenderer {

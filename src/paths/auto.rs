@@ -7,15 +7,16 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 
-use super::estimator;
+use super::{calibration, estimator};
 use crate::camera::Camera;
 use crate::film::Accumulation;
 use crate::gpu::GpuRenderer;
 use crate::paths::PathKind;
 use crate::settings::{RenderSettings, Shading};
 
-/// `auto` on an open Vulkan device with a scene loaded: the only traversal it runs, or the
-/// fastest on a small render of `shot`. Sets it, and says which and why.
+/// `auto` on an open Vulkan device with a scene loaded: the only traversal it runs, the fastest
+/// of the device's cached calibration (`calibration`), or else the fastest on a small render of
+/// `shot`. Sets it, and says which and why.
 pub fn pick_traversal(
     renderer: &mut GpuRenderer,
     shot: (&Camera, &RenderSettings),
@@ -25,19 +26,35 @@ pub fn pick_traversal(
         .into_iter()
         .map(PathKind::of_traversal)
         .collect();
-    let (kind, why) = match kinds.as_slice() {
-        [] => bail!(
+    let calibrated = calibration::load(&calibration::key(&renderer.device_report()))
+        .and_then(|c| c.fastest(kinds.iter().copied(), pixel_samples(shot)));
+    let (kind, why) = match (kinds.as_slice(), calibrated) {
+        ([], _) => bail!(
             "the Vulkan device {} runs no lensray path",
             renderer.device_name()
         ),
-        [only] => (
+        ([only], _) => (
             *only,
             "auto: the only path this device supports".to_string(),
         ),
-        _ => fastest(renderer, &kinds, shot)?,
+        (_, Some((kind, _))) => (
+            kind,
+            "auto: the fastest traversal of this device's calibration (cached)".to_string(),
+        ),
+        (_, None) => fastest(renderer, &kinds, shot)?,
     };
     renderer.set_traversal(kind.traversal().expect("a GPU path"))?;
     Ok((kind, why))
+}
+
+/// The pixel-samples of `shot` (an AOV: one per pixel).
+pub(super) fn pixel_samples((camera, settings): (&Camera, &RenderSettings)) -> u64 {
+    let spp = if settings.shading.is_aov() {
+        1
+    } else {
+        settings.spp
+    };
+    u64::from(camera.width) * u64::from(camera.height) * u64::from(spp)
 }
 
 /// Width of the calibration render of `auto` (its height keeps the shot's aspect).

@@ -5,6 +5,7 @@
 //! supports and takes the fastest (`auto`).
 
 mod auto;
+pub mod calibration;
 mod cpu;
 mod gpu;
 pub mod hybrid;
@@ -61,6 +62,11 @@ pub fn open(
         traversal: options.path.only().and_then(PathKind::traversal),
         ..options.gpu
     };
+    if options.path == Choice::Auto {
+        if let Some(why) = cpu_by_calibration(options, &gpu_options, auto::pixel_samples(shot)) {
+            return open_cpu(scene, &why);
+        }
+    }
     let mut renderer = match GpuRenderer::new(&gpu_options) {
         Ok(renderer) => renderer,
         Err(error) => {
@@ -108,6 +114,42 @@ fn gpu_path(renderer: GpuRenderer, kind: PathKind) -> Result<Box<dyn RenderPath>
         PathKind::Hybrid => Box::new(HybridPath::new(renderer)?),
         PathKind::Cpu => bail!("the CPU path has no Vulkan renderer"),
     })
+}
+
+/// `auto`'s choice of the device, where the CPU may render (`--device auto` and no Vulkan
+/// option): the CPU reference when `calibration::decide` says so, from the device's type and
+/// its cached calibration. A GPU that is not a CPU implementation and has no calibration yet is
+/// calibrated now, once (a failure is a notice: `auto` then times the GPU paths as before).
+/// `None`: the Vulkan device renders (or, if it cannot be opened, `open` says why).
+fn cpu_by_calibration(
+    options: &PathOptions,
+    gpu_options: &GpuOptions,
+    samples: u64,
+) -> Option<String> {
+    if options.device != Choice::Auto || options.gpu_option().is_some() {
+        return None;
+    }
+    let device = crate::gpu::preferred_device(gpu_options).ok()?;
+    let key = calibration::key(&device);
+    let cached = calibration::load(&key).or_else(|| {
+        if device.is_cpu() {
+            return None;
+        }
+        match calibration::measure(gpu_options).and_then(|c| {
+            calibration::store(&c)?;
+            Ok(c)
+        }) {
+            Ok(c) => Some(c),
+            Err(e) => {
+                eprintln!("notice: could not calibrate {}: {e:#}", device.name);
+                None
+            }
+        }
+    });
+    match calibration::decide(&device, cached.as_ref(), samples) {
+        calibration::DeviceDecision::Cpu(why) => Some(why),
+        calibration::DeviceDecision::Gpu(..) => None,
+    }
 }
 
 fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {

@@ -17,7 +17,19 @@ use crate::settings::RenderSettings;
 /// The algorithms lensray can render with: the one description of a path. What a path needs
 /// (its device, the GPU traversal it is tied to) is a property here, not another enum kept in
 /// step; `--path` and `--device` choose with [`Choice`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, clap::ValueEnum)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum PathKind {
     /// GPU compute pass, closest hits from Vulkan ray queries (VK_KHR_ray_query).

@@ -15,7 +15,7 @@ use crate::gpu::traversal::Traversal;
 use crate::gpu::GpuOptions;
 
 /// What `lensray info` shows about one Vulkan device.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct DeviceReport {
     /// Position in the instance's device list (what `GpuOptions::device_index` takes).
     pub index: usize,
@@ -47,6 +47,11 @@ pub struct DeviceReport {
     pub timestamp_period_ns: f32,
     /// Whether graphics and compute queues support timestamps.
     pub timestamps: bool,
+    /// What a pipeline cache's data is valid for (VkPhysicalDeviceProperties): the vendor,
+    /// device and cache UUID, which a driver changes when its compiled code would change.
+    pub vendor_id: u32,
+    pub device_id: u32,
+    pub pipeline_cache_uuid: [u8; 16],
 }
 
 pub(crate) const DEVICE_EXTENSIONS: [&CStr; 3] = [
@@ -56,6 +61,12 @@ pub(crate) const DEVICE_EXTENSIONS: [&CStr; 3] = [
 ];
 
 impl DeviceReport {
+    /// Whether the device is a CPU implementation of Vulkan (VK_PHYSICAL_DEVICE_TYPE_CPU, as
+    /// lavapipe): it runs on the cores the CPU reference renders with.
+    pub fn is_cpu(&self) -> bool {
+        self.device_type == type_name(vk::PhysicalDeviceType::CPU)
+    }
+
     /// The traversals this device can run, ray queries first.
     pub fn traversals(&self) -> Vec<Traversal> {
         let mut out = Vec::new();
@@ -83,7 +94,7 @@ impl DeviceReport {
     }
 
     /// Reports the device as lacking ray queries (`GpuOptions::hide_ray_query`).
-    fn hide_ray_query(&mut self) {
+    pub(crate) fn hide_ray_query(&mut self) {
         if self.ray_query {
             self.ray_query = false;
             self.missing
@@ -230,6 +241,9 @@ pub(crate) fn report(
         timestamp_period_ns: limits.timestamp_period,
         timestamps: limits.timestamp_compute_and_graphics == vk::TRUE
             && family.is_some_and(|(_, bits)| bits > 0),
+        vendor_id: props.vendor_id,
+        device_id: props.device_id,
+        pipeline_cache_uuid: props.pipeline_cache_uuid,
     })
 }
 
@@ -644,6 +658,9 @@ mod tests {
                 max_storage_buffer_range: 1 << 27,
                 timestamp_period_ns: 1.0,
                 timestamps: true,
+                vendor_id: 0,
+                device_id: index as u32,
+                pipeline_cache_uuid: [index as u8; 16],
             },
         )
     }
