@@ -279,6 +279,20 @@ def figures():
     fig("sampler-cost.json cpu share", f"{percent(share['cpu'])} of the CPU render time")
     fig("sampler-cost.json gpu share", f"{percent(share['gpu'])} of the GPU pass's")
 
+    # The default render against the single paths (cargo bench --bench startup;
+    # docs/bench/startup.json).
+    startup = load("startup.json")
+    warm = statistics.median(startup["default"]["warm_s"])
+    single = {p: statistics.median(v["warm_s"]) for p, v in startup["single"].items()}
+    fig("startup.json default warm", f"{warm:.2f} s warm")
+    fig("startup.json fastest single path", f"{min(single.values()):.2f} s for `--path {min(single, key=single.get)}`")
+    fig("startup.json default / fastest", f"{x(warm / min(single.values()), 2)} the fastest single path's time")
+    fig("startup.json cold / warm", f"{startup['default']['cold_s']:.2f} s on the first run")
+    fig("startup.json rayquery / cpu", f"{x(single['rayquery'] / single['cpu'], 1)} as long on `rayquery` as on the CPU reference")
+    picked = startup["default"]["picked"]
+    fig("startup.json stable", f"`{picked[0]}` in {picked.count(picked[0])} of {len(picked)} runs")
+    fig("startup.json machine", f"{startup['machine']['cpu']}, {startup['machine']['threads']} threads")
+
     # The preview window (./scripts/bench-preview.sh; docs/bench/preview.json).
     preview = load("preview.json")
     gbuffer = statistics.median(preview["gbuffer_view_frame_ms"]["runs"])

@@ -11,6 +11,7 @@
 #![deny(unsafe_code)]
 
 pub mod bench;
+pub mod cache;
 pub mod camera;
 pub mod cli;
 pub mod film;

@@ -584,3 +584,66 @@ fn calibrate_caches_the_costs_auto_decides_from() {
     assert_eq!(notices.len(), 1, "stderr: {err}");
     assert!(notices[0].contains("calibration.json"), "{err}");
 }
+
+/// Vulkan pipelines go through a cache kept on disk per device and driver: the first GPU run
+/// writes it, later runs use it silently, and a damaged file is one notice, then replaced.
+#[test]
+fn the_pipeline_cache_is_kept_and_a_damaged_one_is_replaced() {
+    let test = "the_pipeline_cache_is_kept_and_a_damaged_one_is_replaced";
+    let dir = tempfile::tempdir().unwrap();
+    let cache = tempfile::tempdir().unwrap();
+    let args = [
+        "render",
+        "--path",
+        "software",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--spp",
+        "1",
+        "--validate",
+        "--out",
+        "p.png",
+    ];
+    let out = lensray_cached(&args, dir.path(), cache.path());
+    if !out.status.success() {
+        skip_or_fail(test, &stderr(&out));
+        return;
+    }
+    let files: Vec<PathBuf> = std::fs::read_dir(cache.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("pipelines-")
+        })
+        .collect();
+    assert_eq!(files.len(), 1, "one cache file per device: {files:?}");
+    let saved = std::fs::read(&files[0]).unwrap();
+    // VkPipelineCacheHeaderVersionOne: 32 bytes, version 1.
+    assert!(saved.len() >= 32, "{} bytes", saved.len());
+    assert_eq!(&saved[0..8], &[32, 0, 0, 0, 1, 0, 0, 0]);
+
+    let out = lensray_cached(&args, dir.path(), cache.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(!stderr(&out).contains("notice"), "{}", stderr(&out));
+
+    std::fs::write(&files[0], b"not a pipeline cache").unwrap();
+    let out = lensray_cached(&args, dir.path(), cache.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert_eq!(
+        err.lines().filter(|l| l.contains("notice")).count(),
+        1,
+        "{err}"
+    );
+    assert!(err.contains("ignoring the pipeline cache"), "{err}");
+    assert_eq!(
+        std::fs::read(&files[0]).unwrap(),
+        saved,
+        "replaced by the device's"
+    );
+}

@@ -103,15 +103,6 @@ pub fn key(device: &DeviceReport) -> String {
     )
 }
 
-/// Where lensray keeps what it measures or compiles once per machine: `LENSRAY_CACHE_DIR`, else
-/// the platform's cache directory (`$XDG_CACHE_HOME/lensray`, `~/.cache/lensray` on Linux).
-pub fn cache_dir() -> Option<PathBuf> {
-    match std::env::var_os("LENSRAY_CACHE_DIR") {
-        Some(dir) if !dir.is_empty() => Some(PathBuf::from(dir)),
-        _ => dirs::cache_dir().map(|d| d.join("lensray")),
-    }
-}
-
 /// The calibrations of every machine this cache has seen, one entry per key.
 #[derive(Debug, Default, Serialize, Deserialize)]
 struct CacheFile {
@@ -125,7 +116,7 @@ fn cache_file(dir: &Path) -> PathBuf {
 /// The cached calibration for `key`, if any. A file that cannot be read or parsed is ignored
 /// with a notice (it is rewritten by the next calibration).
 pub fn load(key: &str) -> Option<Calibration> {
-    load_from(&cache_dir()?, key)
+    load_from(&crate::cache::dir()?, key)
 }
 
 fn load_from(dir: &Path, key: &str) -> Option<Calibration> {
@@ -153,12 +144,11 @@ fn load_from(dir: &Path, key: &str) -> Option<Calibration> {
 /// Stores `calibration` (replacing the entry of its key) and returns the file. The file is
 /// written whole to a temporary file and renamed, so a reader never sees half of it.
 pub fn store(calibration: &Calibration) -> Result<PathBuf> {
-    let dir = cache_dir().context("no cache directory (set LENSRAY_CACHE_DIR)")?;
+    let dir = crate::cache::dir().context("no cache directory (set LENSRAY_CACHE_DIR)")?;
     store_in(&dir, calibration)
 }
 
 fn store_in(dir: &Path, calibration: &Calibration) -> Result<PathBuf> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let file = cache_file(dir);
     let mut cache = std::fs::read_to_string(&file)
         .ok()
@@ -166,11 +156,7 @@ fn store_in(dir: &Path, calibration: &Calibration) -> Result<PathBuf> {
         .unwrap_or_default();
     cache.calibrations.retain(|c| c.key != calibration.key);
     cache.calibrations.push(calibration.clone());
-    let mut temp = tempfile::NamedTempFile::new_in(dir)
-        .with_context(|| format!("cannot write in {}", dir.display()))?;
-    serde_json::to_writer_pretty(&mut temp, &cache)?;
-    temp.persist(&file)
-        .with_context(|| format!("cannot write {}", file.display()))?;
+    crate::cache::write_whole(&file, serde_json::to_string_pretty(&cache)?.as_bytes())?;
     Ok(file)
 }
 

@@ -10,6 +10,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use crate::gpu::core::error::{alloc_err, vk_err, GpuError};
 use crate::gpu::core::instance::Instance;
+use crate::gpu::core::pipeline_cache;
 use crate::gpu::present::surface::Surface;
 use crate::gpu::traversal::Traversal;
 use crate::gpu::GpuOptions;
@@ -367,6 +368,10 @@ pub(crate) struct Context {
     pub traversals: Vec<Traversal>,
     pub queue: vk::Queue,
     pub command_pool: vk::CommandPool,
+    /// Every pipeline is created through it; loaded from and saved to disk
+    /// (`pipeline_cache`).
+    pub pipeline_cache: vk::PipelineCache,
+    pipeline_cache_file: pipeline_cache::CacheFile,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     pub report: DeviceReport,
     pub scratch_alignment: u64,
@@ -470,6 +475,18 @@ impl Context {
                 return Err(vk_err("vkCreateCommandPool")(e));
             }
         };
+        let pipeline_cache_file = pipeline_cache::load(&report);
+        let pipeline_cache = match create_pipeline_cache(&device, &pipeline_cache_file.data) {
+            Ok(cache) => cache,
+            Err(e) => {
+                // SAFETY: only the pool was created from the device.
+                unsafe {
+                    device.destroy_command_pool(command_pool, None);
+                    device.destroy_device(None);
+                }
+                return Err(e);
+            }
+        };
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.instance.clone(),
             device: device.clone(),
@@ -481,8 +498,9 @@ impl Context {
         let allocator = match allocator {
             Ok(a) => a,
             Err(e) => {
-                // SAFETY: only the pool was created from the device.
+                // SAFETY: only the pool and the pipeline cache were created from the device.
                 unsafe {
+                    device.destroy_pipeline_cache(pipeline_cache, None);
                     device.destroy_command_pool(command_pool, None);
                     device.destroy_device(None);
                 }
@@ -504,6 +522,8 @@ impl Context {
             traversals,
             queue,
             command_pool,
+            pipeline_cache,
+            pipeline_cache_file,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             report,
             scratch_alignment,
@@ -610,6 +630,21 @@ impl Drop for Fence<'_> {
     }
 }
 
+/// The device's pipeline cache, from `data` when the driver takes it (checked against the
+/// device first, `pipeline_cache::load`), else empty.
+fn create_pipeline_cache(device: &ash::Device, data: &[u8]) -> Result<vk::PipelineCache, GpuError> {
+    let info = vk::PipelineCacheCreateInfo::default().initial_data(data);
+    // SAFETY: valid device; `data` is empty or has this device's cache header.
+    match unsafe { device.create_pipeline_cache(&info, None) } {
+        Ok(cache) => Ok(cache),
+        Err(_) if !data.is_empty() => {
+            eprintln!("notice: the driver refused the saved pipeline cache; compiling afresh");
+            create_pipeline_cache(device, &[])
+        }
+        Err(e) => Err(vk_err("vkCreatePipelineCache")(e)),
+    }
+}
+
 impl Drop for Context {
     fn drop(&mut self) {
         // SAFETY: every object created from the device holds an `Arc<Context>` and is gone; the
@@ -617,6 +652,11 @@ impl Drop for Context {
         // device is destroyed.
         unsafe {
             let _ = self.device.device_wait_idle();
+            if let Ok(data) = self.device.get_pipeline_cache_data(self.pipeline_cache) {
+                pipeline_cache::save(&self.pipeline_cache_file, &data);
+            }
+            self.device
+                .destroy_pipeline_cache(self.pipeline_cache, None);
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_command_pool(self.command_pool, None);
             self.device.destroy_device(None);

@@ -8,5 +8,6 @@ pub mod error;
 pub mod image;
 pub mod instance;
 pub mod pipeline;
+pub mod pipeline_cache;
 pub mod query;
 pub mod shader;

@@ -130,7 +130,7 @@ impl Pipeline {
         // SAFETY: the module and layout are live and match the shader's interface.
         this.pipeline = unsafe {
             ctx.device
-                .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
+                .create_compute_pipelines(ctx.pipeline_cache, &info, None)
         }
         .map_err(pipeline_err("vkCreateComputePipelines"))?[0];
         Ok(this)
@@ -206,7 +206,7 @@ impl Pipeline {
         // SAFETY: every referenced state, module, layout and render pass is live.
         this.pipeline = unsafe {
             ctx.device
-                .create_graphics_pipelines(vk::PipelineCache::null(), &info, None)
+                .create_graphics_pipelines(ctx.pipeline_cache, &info, None)
         }
         .map_err(pipeline_err("vkCreateGraphicsPipelines"))?[0];
         Ok(this)
