@@ -796,3 +796,35 @@ fn list_devices_reports_a_ray_query_device() {
     assert!(usable.iter().any(|d| d.name == gpu.device_name()));
     finish(gpu, log);
 }
+
+/// Rays are counted per workgroup, then once into the global counter: unlit, every sample is
+/// exactly one camera ray, so a render of an image whose size is no multiple of the 8x8
+/// workgroups (idle invocations at the edges) counts width x height x spp, on each traversal.
+#[test]
+fn rays_are_counted_exactly_per_workgroup() {
+    let test = "rays_are_counted_exactly_per_workgroup";
+    let Some((mut gpu, log)) = renderer(test) else {
+        return;
+    };
+    gpu.load_scene(&test_scene()).expect("load scene");
+    let cam = camera(
+        false,
+        LensParams::ThinLens {
+            aperture_radius: 0.1,
+            focus_distance: 5.0,
+        },
+        37,
+        23,
+    );
+    let s = settings(Shading::Unlit, 3);
+    for traversal in gpu.traversals() {
+        gpu.set_traversal(traversal).expect("traversal");
+        let before = gpu.timings();
+        gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
+        let after = gpu.timings();
+        let rays = (after.rays_traced + after.first_dispatch_rays)
+            - (before.rays_traced + before.first_dispatch_rays);
+        assert_eq!(rays, 37 * 23 * 3, "{traversal}");
+    }
+    finish(gpu, log);
+}

@@ -116,14 +116,15 @@ vec3 shade_rasterized(Ray ray, uint pixel_index, inout uint rays, out bool shado
     return shade_hit_shadowed(ray, triangle_plane_hit(ray, seen - 1u), rays, shadowed);
 }
 
-void main() {
+// The pixel's work for this dispatch; returns the rays it traced (0 outside the band).
+uint trace_pixel() {
     uint x = gl_GlobalInvocationID.x;
     uint block = gl_WorkGroupID.y;
     uint band_row = (pc.block_first + block * pc.block_stride) * gl_WorkGroupSize.y
                   + gl_LocalInvocationID.y;
     uint y = pc.band_origin + band_row;
     if (x >= params.width || block >= pc.block_count || band_row >= pc.band_height) {
-        return;
+        return 0u;
     }
     uint slot = band_row * params.width + x;
     uint pixel_index = y * params.width + x;
@@ -139,8 +140,7 @@ void main() {
         bool shadowed;
         vec3 value = shade_rasterized(ray, pixel_index, rays, shadowed);
         plan[pixel_index] = vec4(value, shadowed ? 1.0 : 0.0);
-        atomicAdd(rays_traced, rays);
-        return;
+        return rays;
     }
     PixelSampler sampler_state = samples_of(x, y);
     vec4 before = accum[slot];
@@ -202,5 +202,26 @@ void main() {
     }
     // w counts the samples added (exact in float up to 2^24): the preview divides by it.
     accum[slot] = vec4(sum, before.w + float(added));
-    atomicAdd(rays_traced, rays);
+    return rays;
+}
+
+// Rays are summed per workgroup in shared memory and added to the global counter once per
+// workgroup: a global atomic per invocation serializes on one address across the whole GPU.
+shared uint group_rays;
+
+void main() {
+    if (gl_LocalInvocationIndex == 0u) {
+        group_rays = 0u;
+    }
+    memoryBarrierShared();
+    barrier();
+    uint rays = trace_pixel();
+    if (rays != 0u) {
+        atomicAdd(group_rays, rays);
+    }
+    memoryBarrierShared();
+    barrier();
+    if (gl_LocalInvocationIndex == 0u && group_rays != 0u) {
+        atomicAdd(rays_traced, group_rays);
+    }
 }
