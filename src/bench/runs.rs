@@ -22,6 +22,11 @@ pub struct Run {
     /// Host wall clock around the whole render call (uploads and readback included).
     pub wall_seconds: f64,
     pub rays: u64,
+    /// What the render asked of the device (0 on the CPU): queue submissions, host waits on
+    /// the device, bytes read back.
+    pub submits: u64,
+    pub cpu_waits: u64,
+    pub readback_bytes: u64,
 }
 
 /// Median and extremes of repeated measurements.
@@ -55,6 +60,11 @@ pub struct Measurement {
     pub wall_seconds: Spread,
     /// Rays of one render (camera and shadow rays).
     pub rays: u64,
+    /// Of one render (the last): queue submissions, host waits on the device, bytes read back
+    /// (0 on the CPU).
+    pub submits: u64,
+    pub cpu_waits: u64,
+    pub readback_bytes: u64,
     /// `rays` over the median trace time.
     pub rays_per_second: f64,
     /// AOV benches: images (GPU: G-buffer passes) per second at the median time.
@@ -141,6 +151,9 @@ fn timed_render(
         trace_seconds,
         wall_seconds,
         rays: done.rays,
+        submits: done.submits,
+        cpu_waits: done.cpu_waits,
+        readback_bytes: done.readback_bytes,
     };
     Ok((run, image))
 }
@@ -157,6 +170,7 @@ fn measurement(
     let wall: Vec<f64> = runs.iter().map(|r| r.wall_seconds).collect();
     let trace_seconds = Spread::of(&trace);
     let rays = runs.last().map_or(0, |r| r.rays);
+    let last = runs.last().copied();
     let error = rmse(image, reference);
     Measurement {
         path: path.kind(),
@@ -166,6 +180,9 @@ fn measurement(
         trace_seconds,
         wall_seconds: Spread::of(&wall),
         rays,
+        submits: last.map_or(0, |r| r.submits),
+        cpu_waits: last.map_or(0, |r| r.cpu_waits),
+        readback_bytes: last.map_or(0, |r| r.readback_bytes),
         rays_per_second: rays as f64 / trace_seconds.median.max(1e-12),
         aov_passes_per_second: settings
             .shading

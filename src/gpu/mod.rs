@@ -55,7 +55,7 @@ use crate::film::{Accumulation, Image};
 use crate::scene::Scene;
 use crate::settings::{RenderSettings, Shading};
 
-pub use core::device::DeviceReport;
+pub use core::device::{Counters, DeviceReport};
 pub use core::error::GpuError;
 pub use core::instance::ValidationLog;
 pub use passes::gbuffer::{focus_distance_at, GBuffer};
@@ -354,6 +354,11 @@ impl GpuRenderer {
 
     pub fn timings(&self) -> Timings {
         self.timings
+    }
+
+    /// Submissions, host waits and bytes read back since the device was opened.
+    pub fn counters(&self) -> Counters {
+        self.ctx.counters.snapshot()
     }
 
     /// Bytes of device memory allocated now (every buffer and image of the renderer).

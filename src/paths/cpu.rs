@@ -30,6 +30,9 @@ impl CpuPath {
                 peak_device_bytes: 0,
                 aov_passes: 0,
                 aov_seconds: 0.0,
+                submits: 0,
+                cpu_waits: 0,
+                readback_bytes: 0,
             },
         }
     }

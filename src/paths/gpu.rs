@@ -119,6 +119,7 @@ impl<E: GpuEstimator> RenderPath for GpuPath<E> {
 
     fn report(&self) -> PathReport {
         let t = self.renderer.timings();
+        let counters = self.renderer.counters();
         let traversal = self.renderer.traversal();
         // The pipeline's first dispatch is timed apart (lazy compilation); its rays and time
         // count here so that a render's report covers all of it.
@@ -135,6 +136,9 @@ impl<E: GpuEstimator> RenderPath for GpuPath<E> {
             peak_device_bytes: self.peak_device_bytes,
             aov_passes: t.gbuffer_passes,
             aov_seconds: t.gbuffer_gpu_ms * 1e-3,
+            submits: counters.submits,
+            cpu_waits: counters.cpu_waits,
+            readback_bytes: counters.readback_bytes,
         }
     }
 

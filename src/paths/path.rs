@@ -237,6 +237,11 @@ pub struct PathReport {
     /// (GPU: timestamps of the G-buffer draws; CPU: wall clock).
     pub aov_passes: u64,
     pub aov_seconds: f64,
+    /// What the host asked of the device (0 on the CPU): queue submissions, waits that block the
+    /// host on the device, and bytes read back from it.
+    pub submits: u64,
+    pub cpu_waits: u64,
+    pub readback_bytes: u64,
 }
 
 impl PathReport {
@@ -251,6 +256,9 @@ impl PathReport {
             trace_seconds: self.trace_seconds - earlier.trace_seconds,
             aov_passes: self.aov_passes - earlier.aov_passes,
             aov_seconds: self.aov_seconds - earlier.aov_seconds,
+            submits: self.submits - earlier.submits,
+            cpu_waits: self.cpu_waits - earlier.cpu_waits,
+            readback_bytes: self.readback_bytes - earlier.readback_bytes,
             ..*self
         }
     }

@@ -130,6 +130,7 @@ impl Buffer {
 
     /// The contents of a host-visible buffer.
     pub fn read(&self) -> Result<&[u8], GpuError> {
+        self.ctx.counters.read_back(self.size);
         self.allocation
             .as_ref()
             .and_then(|a| a.mapped_slice())

@@ -355,6 +355,62 @@ fn device_type(r: &DeviceReport) -> vk::PhysicalDeviceType {
     }
 }
 
+/// What the host asked of the device since it was opened: queue submissions, waits that block
+/// the host on the device (fences, semaphores), and bytes read back from mapped memory and
+/// query results. Counted where those calls are made (`Context`, `Buffer::read`,
+/// `QueryPool::results`, the preview's frames).
+#[derive(Debug, Default)]
+pub struct DeviceCounters {
+    pub submits: std::sync::atomic::AtomicU64,
+    pub cpu_waits: std::sync::atomic::AtomicU64,
+    pub readback_bytes: std::sync::atomic::AtomicU64,
+}
+
+/// A snapshot of [`DeviceCounters`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Counters {
+    pub submits: u64,
+    pub cpu_waits: u64,
+    pub readback_bytes: u64,
+}
+
+impl Counters {
+    /// What happened between `earlier` and `self`.
+    pub fn since(&self, earlier: &Counters) -> Counters {
+        Counters {
+            submits: self.submits - earlier.submits,
+            cpu_waits: self.cpu_waits - earlier.cpu_waits,
+            readback_bytes: self.readback_bytes - earlier.readback_bytes,
+        }
+    }
+}
+
+impl DeviceCounters {
+    pub fn submitted(&self) {
+        self.submits
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    pub fn waited(&self) {
+        self.cpu_waits
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    pub fn read_back(&self, bytes: u64) {
+        self.readback_bytes
+            .fetch_add(bytes, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    pub fn snapshot(&self) -> Counters {
+        use std::sync::atomic::Ordering::Relaxed;
+        Counters {
+            submits: self.submits.load(Relaxed),
+            cpu_waits: self.cpu_waits.load(Relaxed),
+            readback_bytes: self.readback_bytes.load(Relaxed),
+        }
+    }
+}
+
 /// The logical device and what is created once with it. Destroyed last (everything else holds
 /// an `Arc<Context>`), after its allocator and command pool.
 pub(crate) struct Context {
@@ -372,6 +428,7 @@ pub(crate) struct Context {
     /// (`pipeline_cache`).
     pub pipeline_cache: vk::PipelineCache,
     pipeline_cache_file: pipeline_cache::CacheFile,
+    pub counters: DeviceCounters,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     pub report: DeviceReport,
     pub scratch_alignment: u64,
@@ -524,6 +581,7 @@ impl Context {
             command_pool,
             pipeline_cache,
             pipeline_cache_file,
+            counters: DeviceCounters::default(),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             report,
             scratch_alignment,
@@ -597,6 +655,8 @@ impl Context {
         // SAFETY: the command buffer is fully recorded; the fence is unsignalled.
         unsafe { self.device.queue_submit(self.queue, &[submit], fence.0) }
             .map_err(vk_err("vkQueueSubmit"))?;
+        self.counters.submitted();
+        self.counters.waited();
         // SAFETY: waiting on our own fence.
         unsafe { self.device.wait_for_fences(&[fence.0], true, u64::MAX) }
             .map_err(vk_err("vkWaitForFences"))?;

@@ -52,6 +52,7 @@ impl QueryPool {
     /// Every query's 64-bit result; call after the submission that wrote them finished.
     pub fn results(&self) -> Result<Vec<u64>, GpuError> {
         let mut out = vec![0u64; self.count as usize];
+        self.ctx.counters.read_back(8 * u64::from(self.count));
         // SAFETY: `out` has one u64 per query; the writing submission has completed.
         unsafe {
             self.ctx.device.get_query_pool_results(

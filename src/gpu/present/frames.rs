@@ -87,6 +87,7 @@ impl FrameSlot {
 
     /// Waits until the slot's last frame finished.
     pub fn wait(&self) -> Result<(), GpuError> {
+        self.ctx.counters.waited();
         // SAFETY: our own fence.
         unsafe {
             self.ctx

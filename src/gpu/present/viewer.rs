@@ -667,6 +667,7 @@ impl Viewer {
         // the image's, unsignalled and not waited on by anything pending.
         unsafe { device.queue_submit(ctx.queue, &[submit], slot.fence) }
             .map_err(vk_err("vkQueueSubmit"))?;
+        ctx.counters.submitted();
         slot.submitted = true;
         if !swapchain.present(image_index)? {
             self.recreate = true;
