@@ -469,18 +469,29 @@ fn split_dispatches_accumulate_identically() {
     );
     let s = settings(Shading::Lit, 6);
     let whole = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
-    // Bands of rows and one sample at a time: 64 * 48 * 6 / 1000 -> dozens of submissions,
-    // and sums held for 20 rows at a time (3 bands, the last one shorter).
+    // Bands of rows and one sample at a time: 64 * 48 * 6 / 1000 -> dozens of dispatches,
+    // and sums held for 20 rows at a time (3 bands, the last one shorter). They are recorded
+    // 8 to a submission and nothing waits between them: one wait, at the end.
     gpu.set_samples_per_dispatch(1000);
     gpu.set_max_band_pixels(64 * 20);
     let mut calls = Vec::new();
+    let (before, dispatches_before) = (gpu.counters(), gpu.timings().dispatches);
     let split = gpu
         .render(&cam, &s, &mut |done, total| calls.push((done, total)))
         .expect("render");
+    let counted = gpu.counters().since(&before);
+    let dispatches = gpu.timings().dispatches - dispatches_before;
     assert!(
-        calls.len() > 20,
-        "expected many submissions, got {}",
-        calls.len()
+        dispatches > 20,
+        "expected many dispatches, got {dispatches}"
+    );
+    assert_eq!(counted.submits, dispatches.div_ceil(8), "{counted:?}");
+    assert_eq!(counted.cpu_waits, 1, "{counted:?}");
+    // The image's sums, the ray counter and two timestamps per dispatch.
+    assert_eq!(
+        counted.readback_bytes,
+        64 * 48 * 16 + 16 + 16 * dispatches,
+        "{counted:?}"
     );
     assert!(calls.windows(2).all(|w| w[0].0 <= w[1].0));
     assert_eq!(calls.last().copied(), Some((64 * 48 * 6, 64 * 48 * 6)));
@@ -516,14 +527,11 @@ fn sample_ranges_add_up_to_the_whole() {
     assert_eq!(s.sampler, SamplerKind::Sobol);
     let whole = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
     gpu.set_samples_per_dispatch(32 * 24 * 8);
-    let mut calls = Vec::new();
-    let halves = gpu
-        .render(&cam, &s, &mut |done, total| calls.push((done, total)))
-        .expect("render");
-    let total = 32 * 24 * 16;
+    let dispatches_before = gpu.timings().dispatches;
+    let halves = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
     assert_eq!(
-        calls,
-        [(0, total), (total / 2, total), (total, total)],
+        gpu.timings().dispatches - dispatches_before,
+        2,
         "expected the samples 0..8 then 8..16"
     );
     if whole != halves {

@@ -71,7 +71,7 @@ fn converges(test: &str, shading: Shading) {
     let image = path
         .render(&cam, &s, &mut |_, _| {})
         .expect("hybrid render");
-    let plan = path.last_plan().expect("a plan").clone();
+    let plan = path.last_plan().expect("read the plan").expect("a plan");
     let hybrid_rays = path.report().rays;
     Box::new(path)
         .close()
@@ -137,7 +137,7 @@ fn an_in_focus_shot_takes_the_shortcut() {
         return;
     };
     let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
-    let plan = path.last_plan().expect("a plan").clone();
+    let plan = path.last_plan().expect("read the plan").expect("a plan");
     let rays = path.report().rays;
     Box::new(path).close().expect("close");
     let all = u64::from(cam.width) * u64::from(cam.height) * u64::from(s.spp);
@@ -280,7 +280,11 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
     };
     let mut path = HybridPath::new(renderer).expect("hybrid path");
     let image = path.render(cam, s, &mut |_, _| {}).expect("hybrid render");
-    let shortcut = path.last_plan().expect("a plan").shortcut_fraction();
+    let shortcut = path
+        .last_plan()
+        .expect("read the plan")
+        .expect("a plan")
+        .shortcut_fraction();
     Box::new(path)
         .close()
         .expect("close: validation messages or leaks");

@@ -318,3 +318,44 @@ fn without_ray_queries_the_software_path_runs() {
         "{error}"
     );
 }
+
+/// What a GPU render asks of the host (issue 19): a 640x480, 16-spp render reads back the
+/// image's sums and at most 4 KiB more (ray counter, timestamps), waits once (the hybrid:
+/// twice, its plan first), and records its dispatches several to a submission.
+#[test]
+fn gpu_renders_read_back_once_and_never_wait_between_dispatches() {
+    let test = "gpu_renders_read_back_once_and_never_wait_between_dispatches";
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.05,
+        focus_distance: 5.0,
+    };
+    let cam = camera(false, lens, 640, 480);
+    let s = settings(Shading::Unlit, 16);
+    let image_bytes = 640 * 480 * 16;
+    for kind in PathKind::ALL.into_iter().filter(|k| k.is_gpu()) {
+        let Some(OpenedPath { mut path, .. }) = open_path(test, kind.into(), (&cam, &s)) else {
+            continue;
+        };
+        let before = path.report();
+        path.render(&cam, &s, &mut |_, _| {}).expect("render");
+        let r = path.report().since(&before);
+        path.close().expect("close: validation messages or leaks");
+        println!(
+            "{kind}: {} submits, {} waits, {} bytes read back",
+            r.submits, r.cpu_waits, r.readback_bytes
+        );
+        let waits = if kind == PathKind::Hybrid { 2 } else { 1 };
+        assert_eq!(r.cpu_waits, waits, "{kind}: {r:?}");
+        assert!(
+            r.readback_bytes >= image_bytes && r.readback_bytes <= image_bytes + 4096,
+            "{kind}: {} bytes read back, the image is {image_bytes}",
+            r.readback_bytes
+        );
+        // The raster path: 16 samples, 8 to a submission.
+        let most = if kind == PathKind::Raster { 2 } else { 16 };
+        assert!(
+            r.submits >= 1 && r.submits <= most + waits - 1,
+            "{kind}: {r:?}"
+        );
+    }
+}

@@ -64,6 +64,11 @@ impl<E: GpuEstimator> GpuPath<E> {
         }
     }
 
+    /// The renderer (the hybrid path reads its plan back on request).
+    pub(super) fn renderer(&self) -> &GpuRenderer {
+        &self.renderer
+    }
+
     fn note_memory(&mut self) {
         self.peak_device_bytes = self.peak_device_bytes.max(self.renderer.allocated_bytes());
     }

@@ -429,6 +429,11 @@ pub(crate) struct Context {
     pub pipeline_cache: vk::PipelineCache,
     pipeline_cache_file: pipeline_cache::CacheFile,
     pub counters: DeviceCounters,
+    /// Every `submit` signals the next value of this timeline semaphore.
+    timeline: vk::Semaphore,
+    /// The last value signalled (or to be) by a submission, and the command buffers of the
+    /// submissions not yet known to be finished, with their values.
+    submitted: Mutex<(u64, Vec<(u64, vk::CommandBuffer)>)>,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     pub report: DeviceReport,
     pub scratch_alignment: u64,
@@ -483,9 +488,11 @@ impl Context {
         if surface.is_some() {
             extensions.push(khr::swapchain::NAME.as_ptr());
         }
-        // Device addresses only feed the acceleration-structure builds.
-        let mut f12 =
-            vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(ray_query);
+        // Device addresses only feed the acceleration-structure builds. Timeline semaphores
+        // (core and required in Vulkan 1.2) order and report the submissions (`submit`).
+        let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
+            .buffer_device_address(ray_query)
+            .timeline_semaphore(true);
         let mut f_as = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
             .acceleration_structure(true);
         let mut f_rq = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
@@ -532,12 +539,29 @@ impl Context {
                 return Err(vk_err("vkCreateCommandPool")(e));
             }
         };
+        let mut timeline_info = vk::SemaphoreTypeCreateInfo::default()
+            .semaphore_type(vk::SemaphoreType::TIMELINE)
+            .initial_value(0);
+        let semaphore_info = vk::SemaphoreCreateInfo::default().push_next(&mut timeline_info);
+        // SAFETY: valid device with the timelineSemaphore feature enabled.
+        let timeline = match unsafe { device.create_semaphore(&semaphore_info, None) } {
+            Ok(s) => s,
+            Err(e) => {
+                // SAFETY: only the pool was created from the device.
+                unsafe {
+                    device.destroy_command_pool(command_pool, None);
+                    device.destroy_device(None);
+                }
+                return Err(vk_err("vkCreateSemaphore")(e));
+            }
+        };
         let pipeline_cache_file = pipeline_cache::load(&report);
         let pipeline_cache = match create_pipeline_cache(&device, &pipeline_cache_file.data) {
             Ok(cache) => cache,
             Err(e) => {
-                // SAFETY: only the pool was created from the device.
+                // SAFETY: only the pool and the timeline were created from the device.
                 unsafe {
+                    device.destroy_semaphore(timeline, None);
                     device.destroy_command_pool(command_pool, None);
                     device.destroy_device(None);
                 }
@@ -555,9 +579,11 @@ impl Context {
         let allocator = match allocator {
             Ok(a) => a,
             Err(e) => {
-                // SAFETY: only the pool and the pipeline cache were created from the device.
+                // SAFETY: only the pool, the timeline and the pipeline cache were created from
+                // the device.
                 unsafe {
                     device.destroy_pipeline_cache(pipeline_cache, None);
+                    device.destroy_semaphore(timeline, None);
                     device.destroy_command_pool(command_pool, None);
                     device.destroy_device(None);
                 }
@@ -582,6 +608,8 @@ impl Context {
             pipeline_cache,
             pipeline_cache_file,
             counters: DeviceCounters::default(),
+            timeline,
+            submitted: Mutex::new((0, Vec::new())),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             report,
             scratch_alignment,
@@ -622,23 +650,45 @@ impl Context {
         &self,
         record: impl FnOnce(vk::CommandBuffer) -> Result<(), GpuError>,
     ) -> Result<(), GpuError> {
+        let value = self.submit(record)?;
+        self.wait_until(value)
+    }
+
+    /// Records `record` into a fresh command buffer and submits it without waiting: it
+    /// signals the returned value of the device's timeline when it finishes (`completed`,
+    /// `wait_until`). Submissions run in order on the one queue; a later one orders itself
+    /// after earlier ones with barriers as usual.
+    pub fn submit(
+        &self,
+        record: impl FnOnce(vk::CommandBuffer) -> Result<(), GpuError>,
+    ) -> Result<u64, GpuError> {
         let info = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
-        // SAFETY: the pool belongs to this device and is used from one thread at a time
-        // (`GpuRenderer` methods take `&mut self`).
+        let mut submitted = self.submitted.lock().unwrap_or_else(|p| p.into_inner());
+        // SAFETY: the pool belongs to this device; its users are serialized by the lock.
         let cmd = unsafe { self.device.allocate_command_buffers(&info) }
             .map_err(vk_err("vkAllocateCommandBuffers"))?[0];
-        let result = self.record_submit_wait(cmd, record);
-        // SAFETY: the submission finished (or never started): the buffer is not in use.
-        unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
-        result
+        let value = submitted.0 + 1;
+        match self.record_and_submit(cmd, value, record) {
+            Ok(()) => {
+                submitted.0 = value;
+                submitted.1.push((value, cmd));
+                Ok(value)
+            }
+            Err(e) => {
+                // SAFETY: the submission never started: the buffer is not in use.
+                unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
+                Err(e)
+            }
+        }
     }
 
-    fn record_submit_wait(
+    fn record_and_submit(
         &self,
         cmd: vk::CommandBuffer,
+        value: u64,
         record: impl FnOnce(vk::CommandBuffer) -> Result<(), GpuError>,
     ) -> Result<(), GpuError> {
         let begin = vk::CommandBufferBeginInfo::default()
@@ -649,44 +699,55 @@ impl Context {
         record(cmd)?;
         // SAFETY: recording began above.
         unsafe { self.device.end_command_buffer(cmd) }.map_err(vk_err("vkEndCommandBuffer"))?;
-        let fence = Fence::new(self)?;
         let cmds = [cmd];
-        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
-        // SAFETY: the command buffer is fully recorded; the fence is unsignalled.
-        unsafe { self.device.queue_submit(self.queue, &[submit], fence.0) }
-            .map_err(vk_err("vkQueueSubmit"))?;
+        let signals = [self.timeline];
+        let values = [value];
+        let mut timeline =
+            vk::TimelineSemaphoreSubmitInfo::default().signal_semaphore_values(&values);
+        let submit = vk::SubmitInfo::default()
+            .command_buffers(&cmds)
+            .signal_semaphores(&signals)
+            .push_next(&mut timeline);
+        // SAFETY: the command buffer is fully recorded; the timeline value is above every
+        // value signalled before.
+        unsafe {
+            self.device
+                .queue_submit(self.queue, &[submit], vk::Fence::null())
+        }
+        .map_err(vk_err("vkQueueSubmit"))?;
         self.counters.submitted();
-        self.counters.waited();
-        // SAFETY: waiting on our own fence.
-        unsafe { self.device.wait_for_fences(&[fence.0], true, u64::MAX) }
-            .map_err(vk_err("vkWaitForFences"))?;
         Ok(())
     }
-}
 
-/// A fence destroyed on drop.
-struct Fence<'a>(vk::Fence, &'a Context);
-
-impl<'a> Fence<'a> {
-    fn new(ctx: &'a Context) -> Result<Self, GpuError> {
-        // SAFETY: valid device, default create-info.
-        let f = unsafe {
-            ctx.device
-                .create_fence(&vk::FenceCreateInfo::default(), None)
-        }
-        .map_err(vk_err("vkCreateFence"))?;
-        Ok(Self(f, ctx))
+    /// The last timeline value the device finished, without waiting (progress).
+    pub fn completed(&self) -> Result<u64, GpuError> {
+        // SAFETY: our own timeline semaphore.
+        unsafe { self.device.get_semaphore_counter_value(self.timeline) }
+            .map_err(vk_err("vkGetSemaphoreCounterValue"))
     }
-}
 
-impl Drop for Fence<'_> {
-    fn drop(&mut self) {
-        // SAFETY: drop runs after the wait (or after a failed submit, when the fence is unused);
-        // on a wait error the device is lost and waiting idle first makes destruction legal.
-        unsafe {
-            let _ = self.1.device.device_wait_idle();
-            self.1.device.destroy_fence(self.0, None);
+    /// Waits until the submission that signals `value` (and every earlier one) finished, then
+    /// frees their command buffers.
+    pub fn wait_until(&self, value: u64) -> Result<(), GpuError> {
+        let semaphores = [self.timeline];
+        let values = [value];
+        let info = vk::SemaphoreWaitInfo::default()
+            .semaphores(&semaphores)
+            .values(&values);
+        self.counters.waited();
+        // SAFETY: our own timeline; `value` was signalled by a submission (`submit`).
+        unsafe { self.device.wait_semaphores(&info, u64::MAX) }
+            .map_err(vk_err("vkWaitSemaphores"))?;
+        let mut submitted = self.submitted.lock().unwrap_or_else(|p| p.into_inner());
+        let (done, pending): (Vec<_>, Vec<_>) =
+            submitted.1.drain(..).partition(|(v, _)| *v <= value);
+        submitted.1 = pending;
+        let cmds: Vec<vk::CommandBuffer> = done.into_iter().map(|(_, c)| c).collect();
+        if !cmds.is_empty() {
+            // SAFETY: those submissions finished: the buffers are not in use.
+            unsafe { self.device.free_command_buffers(self.command_pool, &cmds) };
         }
+        Ok(())
     }
 }
 
@@ -717,6 +778,8 @@ impl Drop for Context {
             }
             self.device
                 .destroy_pipeline_cache(self.pipeline_cache, None);
+            // The pending command buffers go with their pool.
+            self.device.destroy_semaphore(self.timeline, None);
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_command_pool(self.command_pool, None);
             self.device.destroy_device(None);

@@ -39,6 +39,10 @@ impl QueryPool {
         };
     }
 
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+
     /// Records a timestamp after the work of `stage` of earlier commands.
     pub fn write(&self, cmd: vk::CommandBuffer, stage: vk::PipelineStageFlags, index: u32) {
         // SAFETY: timestamp pool, index inside it, reset earlier in submission order.
@@ -51,8 +55,15 @@ impl QueryPool {
 
     /// Every query's 64-bit result; call after the submission that wrote them finished.
     pub fn results(&self) -> Result<Vec<u64>, GpuError> {
-        let mut out = vec![0u64; self.count as usize];
-        self.ctx.counters.read_back(8 * u64::from(self.count));
+        self.results_of(self.count)
+    }
+
+    /// The first `count` queries' 64-bit results; call after the submission that wrote them
+    /// finished.
+    pub fn results_of(&self, count: u32) -> Result<Vec<u64>, GpuError> {
+        let count = count.min(self.count);
+        let mut out = vec![0u64; count as usize];
+        self.ctx.counters.read_back(8 * u64::from(count));
         // SAFETY: `out` has one u64 per query; the writing submission has completed.
         unsafe {
             self.ctx.device.get_query_pool_results(

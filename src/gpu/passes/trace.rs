@@ -35,6 +35,12 @@ pub(crate) const MAX_SAMPLES_PER_DISPATCH: u64 = 1 << 22;
 /// (well under the ~0.5 s that a single dispatch should not exceed).
 const TARGET_DISPATCH_MS: f64 = 100.0;
 
+/// Steps (dispatches) recorded per command buffer: each submission signals the timeline, whose
+/// value the progress reads; none is waited for until the last.
+const STEPS_PER_SUBMIT: usize = 8;
+/// How often the progress reads the timeline while a render runs.
+const PROGRESS_POLL: std::time::Duration = std::time::Duration::from_millis(2);
+
 /// Most pixels whose sums are held at once (64 MiB); larger images go in bands of rows.
 const MAX_BAND_PIXELS: u64 = 1 << 22;
 
@@ -183,7 +189,10 @@ impl TracePass {
             ctx,
             "trace ray counter",
             16,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            // TRANSFER_SRC: the first dispatch's count is copied into the second word.
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
         let plan = Self::plan_buffer(ctx, 16)?;
@@ -630,85 +639,70 @@ impl TracePass {
         self.params
             .write(bytemuck::bytes_of(&TraceParams::new(camera, settings)))?;
 
-        let (first_sample, spp) = (samples.start, samples.end);
-        let total = pixels * u64::from(spp - first_sample);
-        let mut done = 0u64;
+        let steps = self.plan_steps(width, height, band_rows, &samples, mode, raster.is_some());
+        let total: u64 = steps.iter().map(|s| s.work).sum();
         progress(0, total);
-        let mut band_origin = 0;
-        while band_origin < height {
-            let band_height = band_rows.min(height - band_origin);
-            if let Some(record_sample) = raster {
-                // One submission per sample: its raster pass, then the shading of the band.
-                for sample in first_sample..spp {
-                    let push = TracePush {
-                        band_origin,
-                        band_height,
-                        block_first: 0,
-                        block_stride: 1,
-                        block_count: band_height.div_ceil(GROUP),
-                        sample_begin: sample,
-                        sample_end: sample + 1,
-                        mode,
-                    };
-                    let copy_out = (sample + 1 == spp)
-                        .then_some(u64::from(band_height) * u64::from(width) * 16);
-                    let record = |cmd| record_sample(cmd, sample);
-                    self.dispatch(push, width, sample == first_sample, copy_out, Some(&record))?;
-                    let work = u64::from(band_height) * u64::from(width);
-                    self.record_timing(timings, Some(work))?;
-                    done += work;
-                    progress(done, total);
+        self.ensure_timestamps(2 * steps.len() as u32)?;
+
+        // Every step is recorded and submitted before any wait: batches of steps per command
+        // buffer, each signalling the device's timeline, which the progress reads.
+        let first_dispatch = !self.pipelines[self.current].first_dispatch_done;
+        let mut batches = Vec::new();
+        for (batch, chunk) in steps.chunks(STEPS_PER_SUBMIT).enumerate() {
+            let first = batch * STEPS_PER_SUBMIT;
+            let value = self.ctx.submit(|cmd| {
+                if first == 0 {
+                    self.timestamps.reset(cmd);
+                    self.record_clear_ray_counter(cmd);
                 }
-                band_origin += band_height;
-                continue;
-            }
-            let mut sample_begin = first_sample;
-            let mut first_of_band = true;
-            while sample_begin < spp {
-                // Re-planned per range of samples, from the latest measured speed. Any split
-                // adds each pixel's samples in the same order: the sums do not depend on it.
-                let budget = self.adaptive_samples.min(self.samples_per_dispatch);
-                let split = Split::new(width, band_height, spp - sample_begin, budget);
-                let sample_end = (sample_begin + split.samples_per).min(spp);
-                // The band's blocks of GROUP rows are dealt out to `groups` dispatches with a
-                // stride, so each dispatch covers the whole band evenly (similar cost per
-                // dispatch, sky and geometry mixed alike, which keeps the speed-based sizing
-                // accurate) while each workgroup still traces a coherent 8x8 tile.
-                let blocks = band_height.div_ceil(GROUP);
-                let blocks_per = (split.rows_per / GROUP).max(1);
-                let groups = blocks.div_ceil(blocks_per);
-                for group in 0..groups {
-                    let block_count = (blocks - group).div_ceil(groups);
-                    let push = TracePush {
-                        band_origin,
-                        band_height,
-                        block_first: group,
-                        block_stride: groups,
-                        block_count,
-                        sample_begin,
-                        sample_end,
-                        mode,
-                    };
-                    let copy_out = (sample_end == spp && group + 1 == groups)
-                        .then_some(u64::from(band_height) * u64::from(width) * 16);
-                    self.dispatch(push, width, first_of_band, copy_out, None)?;
-                    first_of_band = false;
-                    let rows: u32 = (0..block_count)
-                        .map(|b| {
-                            let first = (group + b * groups) * GROUP;
-                            GROUP.min(band_height - first)
-                        })
-                        .sum();
-                    let work =
-                        u64::from(rows) * u64::from(width) * u64::from(sample_end - sample_begin);
-                    self.record_timing(timings, Some(work))?;
-                    done += work;
-                    progress(done, total);
+                for (i, step) in chunk.iter().enumerate() {
+                    let index = (first + i) as u32;
+                    let record = raster
+                        .zip(step.raster_sample)
+                        .map(|(record, sample)| move |cmd| record(cmd, sample));
+                    self.record_step(cmd, step, width, index, record.as_ref().map(|r| r as _));
+                    if index == 0 && first_dispatch {
+                        // The pipeline's first dispatch is reported apart: its rays too.
+                        self.record_copy_first_rays(cmd);
+                    }
                 }
-                sample_begin = sample_end;
-            }
-            band_origin += band_height;
+                if first + chunk.len() == steps.len() {
+                    barrier_to_host(
+                        &self.ctx,
+                        cmd,
+                        vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
+                        vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE,
+                    );
+                }
+                Ok(())
+            })?;
+            let work: u64 = chunk.iter().map(|s| s.work).sum();
+            batches.push((value, work));
         }
+        let last = batches.last().map_or(0, |b| b.0);
+        let mut reported = 0;
+        loop {
+            let completed = self.ctx.completed()?;
+            let done: u64 = batches
+                .iter()
+                .filter(|(value, _)| *value <= completed)
+                .map(|(_, work)| work)
+                .sum();
+            if done > reported {
+                reported = done;
+                progress(done, total);
+            }
+            // One batch has no progress to show before its end.
+            if completed >= last || batches.len() <= 1 {
+                break;
+            }
+            std::thread::sleep(PROGRESS_POLL);
+        }
+        self.ctx.wait_until(last)?;
+        if reported < total {
+            progress(total, total);
+        }
+        self.record_timings(&steps, first_dispatch, timings)?;
 
         let staging = &self.accum.as_ref().expect("created above").staging;
         let sums: &[[f32; 4]] = bytemuck::cast_slice(staging.read()?);
@@ -716,78 +710,217 @@ impl TracePass {
         Ok(())
     }
 
-    /// Adds the last dispatch's GPU time and ray count (the pipeline's first dispatch apart),
-    /// and sizes the next dispatches from its speed (`work` pixel-samples; `None`: a pass that
-    /// says nothing of the speed of tracing samples).
-    fn record_timing(&mut self, timings: &mut Timings, work: Option<u64>) -> Result<(), GpuError> {
-        let ticks = self.timestamps.results()?;
-        let gpu_ms = self.ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6;
-        let rays = self.rays_counted()?;
-        if self.pipelines[self.current].first_dispatch_done {
-            if let Some(work) = work.filter(|_| gpu_ms > 0.0) {
-                let rate = work as f64 / gpu_ms;
-                // Shrinks at once, grows at most 2x per dispatch.
-                self.adaptive_samples = ((rate * TARGET_DISPATCH_MS) as u64)
-                    .min(2 * self.adaptive_samples)
-                    .clamp(1024, MAX_SAMPLES_PER_DISPATCH);
+    /// The dispatches of one `accumulate` call, in order: band after band; in a band, the
+    /// raster path's samples one by one, else ranges of samples of groups of row blocks sized
+    /// by `adaptive_samples` (any split adds each pixel's samples in the same order, so the
+    /// sums do not depend on it).
+    fn plan_steps(
+        &self,
+        width: u32,
+        height: u32,
+        band_rows: u32,
+        samples: &Range<u32>,
+        mode: u32,
+        raster: bool,
+    ) -> Vec<Step> {
+        let (first_sample, spp) = (samples.start, samples.end);
+        let mut steps = Vec::new();
+        let mut band_origin = 0;
+        while band_origin < height {
+            let band_height = band_rows.min(height - band_origin);
+            let band_bytes = u64::from(band_height) * u64::from(width) * 16;
+            let band_start = steps.len();
+            if raster {
+                for sample in first_sample..spp {
+                    steps.push(Step {
+                        push: TracePush {
+                            band_origin,
+                            band_height,
+                            block_first: 0,
+                            block_stride: 1,
+                            block_count: band_height.div_ceil(GROUP),
+                            sample_begin: sample,
+                            sample_end: sample + 1,
+                            mode,
+                        },
+                        load: false,
+                        copy_out: None,
+                        raster_sample: Some(sample),
+                        work: u64::from(band_height) * u64::from(width),
+                    });
+                }
+            } else {
+                let mut sample_begin = first_sample;
+                while sample_begin < spp {
+                    let budget = self.adaptive_samples.min(self.samples_per_dispatch);
+                    let split = Split::new(width, band_height, spp - sample_begin, budget);
+                    let sample_end = (sample_begin + split.samples_per).min(spp);
+                    // The band's blocks of GROUP rows are dealt out to `groups` dispatches with
+                    // a stride, so each dispatch covers the whole band evenly (similar cost per
+                    // dispatch, sky and geometry mixed alike) while each workgroup still traces
+                    // a coherent 8x8 tile.
+                    let blocks = band_height.div_ceil(GROUP);
+                    let blocks_per = (split.rows_per / GROUP).max(1);
+                    let groups = blocks.div_ceil(blocks_per);
+                    for group in 0..groups {
+                        let block_count = (blocks - group).div_ceil(groups);
+                        let rows: u32 = (0..block_count)
+                            .map(|b| GROUP.min(band_height - (group + b * groups) * GROUP))
+                            .sum();
+                        steps.push(Step {
+                            push: TracePush {
+                                band_origin,
+                                band_height,
+                                block_first: group,
+                                block_stride: groups,
+                                block_count,
+                                sample_begin,
+                                sample_end,
+                                mode,
+                            },
+                            load: false,
+                            copy_out: None,
+                            raster_sample: None,
+                            work: u64::from(rows)
+                                * u64::from(width)
+                                * u64::from(sample_end - sample_begin),
+                        });
+                    }
+                    sample_begin = sample_end;
+                }
             }
-            timings.trace_gpu_ms += gpu_ms;
-            timings.longest_dispatch_ms = timings.longest_dispatch_ms.max(gpu_ms);
-            timings.rays_traced += rays;
-            timings.dispatches += 1;
-        } else {
-            // Summed over the pipelines (one per traversal), so that reports can subtract.
-            timings.first_dispatch_ms = Some(timings.first_dispatch_ms.unwrap_or(0.0) + gpu_ms);
-            timings.first_dispatch_rays += rays;
-            self.pipelines[self.current].first_dispatch_done = true;
+            steps[band_start].load = true;
+            steps.last_mut().expect("a band has a step").copy_out = Some(band_bytes);
+            band_origin += band_height;
+        }
+        steps
+    }
+
+    /// A timestamp pool with at least `queries` queries (made anew when it is smaller; no
+    /// submission uses the old one: every `accumulate` waits for its own).
+    fn ensure_timestamps(&mut self, queries: u32) -> Result<(), GpuError> {
+        if self.timestamps.count() < queries {
+            self.timestamps = QueryPool::new(&self.ctx, vk::QueryType::TIMESTAMP, queries)?;
         }
         Ok(())
     }
 
-    /// One submission: optional upload of the band's sums from the staging buffer (`load`), one
-    /// dispatch between two timestamps (after what `before` records: the raster path's pass),
-    /// optional copy of `copy_out` bytes of sums back into the staging buffer at the band's
-    /// rows.
+    /// Keeps the rays counted so far (the pipeline's first dispatch) in the counter's second
+    /// word.
+    fn record_copy_first_rays(&self, cmd: vk::CommandBuffer) {
+        let ctx = &self.ctx;
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_WRITE,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_READ,
+        );
+        let copy = vk::BufferCopy::default()
+            .src_offset(0)
+            .dst_offset(4)
+            .size(4);
+        // SAFETY: recording state; the counters buffer (16 bytes, TRANSFER usages) holds both
+        // words, which do not overlap.
+        unsafe {
+            ctx.device
+                .cmd_copy_buffer(cmd, self.counters.buffer, self.counters.buffer, &[copy])
+        };
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+    }
+
+    /// After a call's wait: each step's GPU time (the pipeline's first dispatch apart), the
+    /// rays counted, and the size of the next calls' dispatches from the measured speed.
+    fn record_timings(
+        &mut self,
+        steps: &[Step],
+        first_dispatch: bool,
+        timings: &mut Timings,
+    ) -> Result<(), GpuError> {
+        let ticks = self.timestamps.results_of(2 * steps.len() as u32)?;
+        let words = bytemuck::cast_slice::<u8, u32>(self.counters.read()?);
+        let (all_rays, first_rays) = (u64::from(words[0]), u64::from(words[1]));
+        let (mut work, mut ms) = (0u64, 0.0f64);
+        for (i, step) in steps.iter().enumerate() {
+            let gpu_ms = self.ctx.elapsed_ns(ticks[2 * i], ticks[2 * i + 1]) * 1e-6;
+            if i == 0 && first_dispatch {
+                timings.first_dispatch_ms = Some(timings.first_dispatch_ms.unwrap_or(0.0) + gpu_ms);
+                continue;
+            }
+            timings.trace_gpu_ms += gpu_ms;
+            timings.longest_dispatch_ms = timings.longest_dispatch_ms.max(gpu_ms);
+            timings.dispatches += 1;
+            if step.raster_sample.is_none() {
+                work += step.work;
+                ms += gpu_ms;
+            }
+        }
+        if first_dispatch {
+            // Summed over the pipelines (one per traversal), so that reports can subtract.
+            timings.first_dispatch_rays += first_rays;
+            timings.rays_traced += all_rays - first_rays;
+            self.pipelines[self.current].first_dispatch_done = true;
+        } else {
+            timings.rays_traced += all_rays;
+        }
+        if work > 0 && ms > 0.0 {
+            // Grows at most 4x per call; shrinks at once.
+            let rate = work as f64 / ms;
+            self.adaptive_samples = ((rate * TARGET_DISPATCH_MS) as u64)
+                .min(4 * self.adaptive_samples)
+                .clamp(1024, MAX_SAMPLES_PER_DISPATCH);
+        }
+        Ok(())
+    }
+
+    /// Records one step: the band's sums up from the staging buffer first (`load`), then one
+    /// dispatch between timestamps `2 index` and `2 index + 1` (after what `before` records:
+    /// the raster path's pass), then the band's sums back to the staging buffer (`copy_out`).
     /// The dispatch covers the blocks of GROUP rows `block_first + i * block_stride`,
     /// i < block_count, of the band.
-    fn dispatch(
+    fn record_step(
         &self,
-        push: TracePush,
+        cmd: vk::CommandBuffer,
+        step: &Step,
         width: u32,
-        load: bool,
-        copy_out: Option<u64>,
+        index: u32,
         before: Option<&dyn Fn(vk::CommandBuffer)>,
-    ) -> Result<(), GpuError> {
+    ) {
         let ctx = &self.ctx;
         let a = self.accum.as_ref().expect("accumulation buffer");
-        ctx.submit_and_wait(|cmd| {
-            // Earlier submissions (previous dispatch, host reads) before anything here.
-            barrier(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::ALL_COMMANDS,
-                vk::AccessFlags::MEMORY_WRITE,
-                vk::PipelineStageFlags::ALL_COMMANDS,
-                vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-            );
-            self.timestamps.reset(cmd);
-            let band = vk::BufferCopy::default()
-                .src_offset(0)
-                .dst_offset(u64::from(push.band_origin) * u64::from(width) * 16)
-                .size(u64::from(push.band_height) * u64::from(width) * 16);
-            if load {
-                let up = vk::BufferCopy::default()
-                    .src_offset(band.dst_offset)
-                    .dst_offset(0)
-                    .size(band.size);
-                // SAFETY: recording state; the buffers have the TRANSFER usages used and the
-                // band's sums fit both (sizes computed in `accumulate`).
-                unsafe {
-                    ctx.device
-                        .cmd_copy_buffer(cmd, a.staging.buffer, a.accum.buffer, &[up])
-                };
-            }
-            self.record_clear_ray_counter(cmd);
+        let push = step.push;
+        // Earlier steps and submissions (the previous dispatch, copies, clears) first.
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_WRITE,
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+        );
+        let band = vk::BufferCopy::default()
+            .src_offset(0)
+            .dst_offset(u64::from(push.band_origin) * u64::from(width) * 16)
+            .size(u64::from(push.band_height) * u64::from(width) * 16);
+        if step.load {
+            let up = vk::BufferCopy::default()
+                .src_offset(band.dst_offset)
+                .dst_offset(0)
+                .size(band.size);
+            // SAFETY: recording state; the buffers have the TRANSFER usages used and the
+            // band's sums fit both (sizes computed in `accumulate`).
+            unsafe {
+                ctx.device
+                    .cmd_copy_buffer(cmd, a.staging.buffer, a.accum.buffer, &[up])
+            };
             barrier(
                 ctx,
                 cmd,
@@ -796,42 +929,48 @@ impl TracePass {
                 vk::PipelineStageFlags::COMPUTE_SHADER,
                 vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
             );
-            self.timestamps
-                .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
-            if let Some(record) = before {
-                record(cmd);
-            }
-            self.record_dispatch(cmd, push, width);
-            self.timestamps
-                .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
-            if let Some(bytes) = copy_out {
-                barrier(
-                    ctx,
-                    cmd,
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::AccessFlags::SHADER_WRITE,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::AccessFlags::TRANSFER_READ,
-                );
-                // SAFETY: the band's sums fit both buffers (sizes computed in `accumulate`).
-                unsafe {
-                    ctx.device.cmd_copy_buffer(
-                        cmd,
-                        a.accum.buffer,
-                        a.staging.buffer,
-                        &[band.size(bytes)],
-                    )
-                };
-            }
-            barrier_to_host(
+        }
+        self.timestamps
+            .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2 * index);
+        if let Some(record) = before {
+            record(cmd);
+        }
+        self.record_dispatch(cmd, push, width);
+        self.timestamps
+            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 2 * index + 1);
+        if let Some(bytes) = step.copy_out {
+            barrier(
                 ctx,
                 cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
-                vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_READ,
             );
-            Ok(())
-        })
+            // SAFETY: the band's sums fit both buffers (sizes computed in `accumulate`).
+            unsafe {
+                ctx.device.cmd_copy_buffer(
+                    cmd,
+                    a.accum.buffer,
+                    a.staging.buffer,
+                    &[band.size(bytes)],
+                )
+            };
+        }
     }
+}
+
+/// One dispatch of an `accumulate` call and what comes with it.
+struct Step {
+    push: TracePush,
+    /// The first step of a band: the band's sums come up from the staging buffer first.
+    load: bool,
+    /// The last step of a band: its sums (bytes) go back to the staging buffer after.
+    copy_out: Option<u64>,
+    /// The raster path's sample, whose raster pass is recorded before the dispatch.
+    raster_sample: Option<u32>,
+    /// Pixel-samples (progress, speed).
+    work: u64,
 }
 
 /// Records the raster pass of one sample (the raster path), before that sample's shading.

@@ -42,7 +42,9 @@ pub struct Hybrid {
     /// Wall-clock seconds of the plans (G-buffer draw and plan on the device, entries read),
     /// counted in the report's trace time: they are part of what the path costs.
     plan_seconds: f64,
-    last_plan: Option<Plan>,
+    /// The size and spp of the last plan, which stays on the device (read back only when
+    /// asked: `HybridPath::last_plan`).
+    last_plan: Option<(u32, u32, u32)>,
 }
 
 /// The hybrid path: a GPU path (any traversal; `paths::open` picks the device's fastest) whose
@@ -54,9 +56,15 @@ impl HybridPath {
         Ok(GpuPath::with(renderer, Hybrid::default()))
     }
 
-    /// The plan of the last `add_samples` call.
-    pub fn last_plan(&self) -> Option<&Plan> {
-        self.estimator.last_plan.as_ref()
+    /// The plan of the last `add_samples` call, read back from the device (tests and
+    /// measurements: a render reads back nothing of it).
+    pub fn last_plan(&self) -> Result<Option<Plan>> {
+        let Some((width, height, spp)) = self.estimator.last_plan else {
+            return Ok(None);
+        };
+        let pixels = u64::from(width) * u64::from(height);
+        let entries = self.renderer().read_plan(pixels)?;
+        Ok(Some(Plan::from_entries(width, height, entries, spp)))
     }
 }
 
@@ -75,11 +83,11 @@ impl GpuEstimator for Hybrid {
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<()> {
         let start = Instant::now();
-        let plan = device_plan(renderer, camera, settings)?;
+        renderer.plan_on_device(camera, &camera.for_rasterizing_rays(), settings)?;
         self.plan_seconds += start.elapsed().as_secs_f64();
         let traced = renderer.accumulate(camera, settings, samples, accumulation, progress);
         let cleared = renderer.set_plan(None);
-        self.last_plan = Some(plan);
+        self.last_plan = Some((camera.width, camera.height, settings.spp));
         traced?;
         cleared?;
         Ok(())
