@@ -176,6 +176,23 @@ fn converged_preview_equals_the_headless_render() {
             stdout.contains("4 of 4 samples per pixel reached"),
             "{stdout}"
         );
+        // Each frame is one submission, waits only for the frame before last (frames in
+        // flight) and reads back its timestamps alone (issue 19).
+        let per_frame: Vec<f64> = stdout
+            .split_once("; per frame ")
+            .map(|(_, rest)| {
+                rest.split(' ')
+                    .filter_map(|w| w.trim_end_matches(',').parse().ok())
+                    .collect()
+            })
+            .unwrap_or_default();
+        let [submits, waits, bytes] = per_frame[..] else {
+            panic!("{path}: no per-frame counters in: {stdout}");
+        };
+        assert!(
+            submits <= 1.0 && waits <= 1.0 && bytes <= 64.0,
+            "{path}: {stdout}"
+        );
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(
             stderr.contains(&format!("preview: path {path}")),

@@ -69,6 +69,8 @@ pub struct PreviewSummary {
     pub samples_per_pixel_per_second: Option<f64>,
     /// Median GPU time of the hybrid's plans, in the frames that made one.
     pub median_plan_ms: Option<f64>,
+    /// What the frames asked of the device (the screenshot's readback excluded).
+    pub counters: Option<crate::gpu::Counters>,
 }
 
 impl std::fmt::Display for PreviewSummary {
@@ -87,6 +89,16 @@ impl std::fmt::Display for PreviewSummary {
         }
         if let Some(rate) = self.samples_per_pixel_per_second.filter(|r| *r > 0.0) {
             write!(f, ", {rate:.3} samples per pixel per second")?;
+        }
+        if let Some(c) = self.counters.filter(|_| self.frames > 0) {
+            let per_frame = |n: u64| n as f64 / self.frames as f64;
+            write!(
+                f,
+                "; per frame {:.2} submits, {:.2} host waits, {:.0} bytes read back",
+                per_frame(c.submits),
+                per_frame(c.cpu_waits),
+                per_frame(c.readback_bytes)
+            )?;
         }
         Ok(())
     }
@@ -127,6 +139,8 @@ struct App {
     viewer: Option<Viewer>,
     /// The CPU path's worker, when it traces the samples.
     cpu_feed: Option<CpuFeed>,
+    /// The device's counters when the frames began (after opening, the scene and `auto`).
+    counters_at_start: crate::gpu::Counters,
     /// Samples of the current shot the CPU path delivered.
     cpu_spp: u32,
     gui: Option<Gui>,
@@ -158,6 +172,7 @@ impl App {
             config,
             viewer: None,
             cpu_feed: None,
+            counters_at_start: crate::gpu::Counters::default(),
             cpu_spp: 0,
             gui: None,
             window: None,
@@ -267,6 +282,7 @@ impl App {
             }
         };
         eprintln!("preview: {path} on {}", viewer.device_name());
+        self.counters_at_start = viewer.renderer_mut().counters();
         self.viewer = Some(viewer);
         self.window = Some(window);
         Ok(())
@@ -560,6 +576,11 @@ impl App {
         if let Some(error) = self.error.take() {
             return Err(error);
         }
+        let start = self.counters_at_start;
+        let counters = self
+            .viewer
+            .as_mut()
+            .map(|v| v.renderer_mut().counters().since(&start));
         if let Some(path) = self.config.screenshot.clone() {
             self.save_screenshot(&path)?;
         }
@@ -572,6 +593,7 @@ impl App {
             median_input_to_frame_ms: self.log.median_input_to_frame_ms(),
             samples_per_pixel_per_second: self.log.samples_per_pixel_per_second(),
             median_plan_ms: self.log.median_plan_ms(),
+            counters,
         };
         self.gui = None;
         self.cpu_feed = None;
