@@ -134,7 +134,7 @@ pub struct GpuRenderer {
     /// The raster path's pass, made on its first use.
     visibility: Option<VisibilityPass>,
     /// The hybrid path's plan on the device (the render path's and the preview's).
-    hybrid_plan: HybridPlanPass,
+    hybrid_plan: Option<HybridPlanPass>,
     scene: Option<SceneBuffers>,
     bvh_params: BvhParams,
     timings: Timings,
@@ -167,12 +167,11 @@ impl GpuRenderer {
         let ctx = Arc::new(Context::new(instance, options, surface.as_ref())?);
         let gbuffer = GBufferPass::new(&ctx)?;
         let trace = TracePass::new(&ctx)?;
-        let hybrid_plan = HybridPlanPass::new(&ctx)?;
         let renderer = Self {
             trace,
             gbuffer,
             visibility: None,
-            hybrid_plan,
+            hybrid_plan: None,
             scene: None,
             bvh_params: BvhParams::default(),
             timings: Timings::default(),

@@ -226,6 +226,14 @@ impl HybridPlanPass {
 
 /// The hybrid path's entry points (src/paths/hybrid/).
 impl GpuRenderer {
+    /// The hybrid plan's pass, made on first use (only the hybrid path compiles its pipeline).
+    pub(in crate::gpu) fn ensure_hybrid_plan(&mut self) -> Result<(), GpuError> {
+        if self.hybrid_plan.is_none() {
+            self.hybrid_plan = Some(HybridPlanPass::new(&self.ctx)?);
+        }
+        Ok(())
+    }
+
     /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel, row-major;
     /// see `interface::TRACE_BINDING_PLAN`), or `None` to trace every sample again.
     pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
@@ -252,18 +260,21 @@ impl GpuRenderer {
         if lit {
             self.prepare_raster(camera.width, camera.height)?;
         }
+        self.ensure_hybrid_plan()?;
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         let pixels = u64::from(camera.width) * u64::from(camera.height);
         self.gbuffer.ensure_targets(camera.width, camera.height)?;
         self.trace.ensure_plan_capacity(pixels)?;
         let targets = self.gbuffer.targets.as_ref().expect("ensured above");
-        self.hybrid_plan.bind(
+        let hybrid_plan = self.hybrid_plan.as_mut().expect("made above");
+        hybrid_plan.bind(
             targets,
             self.trace.plan_buffer_ref(),
             self.trace.surface_depth_ref(),
         )?;
         let ctx = &self.ctx;
-        let (gbuffer, plan, trace) = (&self.gbuffer, &self.hybrid_plan, &self.trace);
+        let plan = self.hybrid_plan.as_ref().expect("made above");
+        let (gbuffer, trace) = (&self.gbuffer, &self.trace);
         let visibility = self.visibility.as_ref();
         ctx.submit_and_wait(|cmd| {
             gbuffer.record(cmd, scene, planning, settings.background, None);

@@ -316,12 +316,15 @@ impl Viewer {
         if self.raster || self.hybrid {
             self.gpu.prepare_raster(width, height)?;
         }
-        let targets = self.gpu.gbuffer.targets.as_ref().expect("ensured above");
         if self.hybrid {
+            self.gpu.ensure_hybrid_plan()?;
+        }
+        let targets = self.gpu.gbuffer.targets.as_ref().expect("ensured above");
+        if let Some(hybrid_plan) = self.gpu.hybrid_plan.as_mut().filter(|_| self.hybrid) {
             self.gpu
                 .trace
                 .ensure_plan_capacity(u64::from(width) * u64::from(height))?;
-            self.gpu.hybrid_plan.bind(
+            hybrid_plan.bind(
                 targets,
                 self.gpu.trace.plan_buffer_ref(),
                 self.gpu.trace.surface_depth_ref(),
@@ -554,7 +557,8 @@ impl Viewer {
                     .trace
                     .record_lit_prepass(cmd, camera.width, camera.height);
             }
-            self.gpu.hybrid_plan.record(
+            let hybrid_plan = self.gpu.hybrid_plan.as_ref().expect("made in resize");
+            hybrid_plan.record(
                 cmd,
                 targets,
                 camera,
