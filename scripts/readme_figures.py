@@ -293,6 +293,19 @@ def figures():
     fig("startup.json stable", f"`{picked[0]}` in {picked.count(picked[0])} of {len(picked)} runs")
     fig("startup.json machine", f"{startup['machine']['cpu']}, {startup['machine']['threads']} threads")
 
+    # The GPU frame (docs/gpu-frame.md): a lensray bench run per design, stored in docs/frame/
+    # (this machine's, apart from the bench runs above).
+    def frame(name):
+        with open(BENCH.parent / "frame" / name, encoding="utf-8") as f:
+            return json.load(f)["points"][0]["results"]
+    after, before = frame("lit-default.json"), frame("lit-default-before.json")
+    image = 640 * 480 * 16
+    submits = {r["submits"] for r in after}
+    fig("frame submits after", f"submits {max(submits)} command buffers" if len(submits) == 1
+        else "NOT ONE FIGURE: submits differ between paths")
+    fig("frame extra readback after", f"at most {max(r['readback_bytes'] for r in after) - image} bytes besides the image")
+    fig("frame submits before", f"submitted {min(r['submits'] for r in before)}-{max(r['submits'] for r in before)}")
+
     # The preview window (./scripts/bench-preview.sh; docs/bench/preview.json).
     preview = load("preview.json")
     gbuffer = statistics.median(preview["gbuffer_view_frame_ms"]["runs"])
