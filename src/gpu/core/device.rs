@@ -719,6 +719,15 @@ impl Context {
         Ok(())
     }
 
+    /// Waits until every submission so far finished (none pending: no wait).
+    pub fn wait_all(&self) -> Result<(), GpuError> {
+        let last = self.submitted.lock().unwrap_or_else(|p| p.into_inner()).0;
+        if last > self.completed()? {
+            self.wait_until(last)?;
+        }
+        Ok(())
+    }
+
     /// The last timeline value the device finished, without waiting (progress).
     pub fn completed(&self) -> Result<u64, GpuError> {
         // SAFETY: our own timeline semaphore.

@@ -265,6 +265,9 @@ impl GpuRenderer {
         let pixels = u64::from(camera.width) * u64::from(camera.height);
         self.gbuffer.ensure_targets(camera.width, camera.height)?;
         self.trace.ensure_plan_capacity(pixels)?;
+        // The render's buffers now, while nothing is pending: the plan is not waited for.
+        self.trace
+            .ensure_accumulation(camera.width, camera.height)?;
         let targets = self.gbuffer.targets.as_ref().expect("ensured above");
         let hybrid_plan = self.hybrid_plan.as_mut().expect("made above");
         hybrid_plan.bind(
@@ -274,12 +277,15 @@ impl GpuRenderer {
         )?;
         let ctx = &self.ctx;
         let plan = self.hybrid_plan.as_ref().expect("made above");
-        let (gbuffer, trace) = (&self.gbuffer, &self.trace);
+        let (gbuffer, trace) = (&self.gbuffer, &mut self.trace);
         let visibility = self.visibility.as_ref();
-        ctx.submit_and_wait(|cmd| {
+        // Not waited for: the render's submissions follow on the queue, and the pre-pass's
+        // rays reach the render's report through the counter (`record_keep_prepass_rays`).
+        ctx.submit(|cmd| {
             gbuffer.record(cmd, scene, planning, settings.background, None);
             if let Some(visibility) = visibility.filter(|_| lit) {
                 record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
+                trace.record_keep_prepass_rays(cmd);
             }
             plan.record(cmd, targets, camera, settings.shading, settings.spp);
             barrier_to_host(
@@ -290,9 +296,6 @@ impl GpuRenderer {
             );
             Ok(())
         })?;
-        if lit {
-            self.timings.rays_traced += self.trace.rays_counted()?;
-        }
         self.timings.gbuffer_passes += 1;
         self.trace.use_device_plan(pixels);
         Ok(())
@@ -323,8 +326,10 @@ impl GpuRenderer {
         })?;
         self.trace.read_plan(pixels)
     }
-    /// The entries of the plan last made by `plan_on_device` (`pixels` of them).
+    /// The entries of the plan last made by `plan_on_device` (`pixels` of them), once it is
+    /// made.
     pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.ctx.wait_all()?;
         self.trace.read_plan(pixels)
     }
 }

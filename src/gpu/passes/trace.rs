@@ -144,6 +144,8 @@ pub(crate) struct TracePass {
     surface_depth: Buffer,
     /// Pixels of the plan set by `set_plan`; `None`: every sample of every pixel is traced.
     plan_pixels: Option<u64>,
+    /// The hybrid's lit pre-pass counted rays into the counter's word 2, not yet reported.
+    prepass_rays_pending: bool,
     /// Placeholder of the raster path's visibility binding until `bind_visibility`.
     _visibility_placeholder: Buffer,
     /// Placeholder of the accumulation binding until a render or the preview binds one.
@@ -234,6 +236,7 @@ impl TracePass {
             plan,
             surface_depth,
             plan_pixels: None,
+            prepass_rays_pending: false,
             _visibility_placeholder: visibility,
             _accum_placeholder: accum_placeholder,
             timestamps,
@@ -525,21 +528,22 @@ impl TracePass {
         self.record_dispatch(cmd, push, width);
     }
 
-    /// The rays counted since the counter was last cleared (host-visible; the caller waited).
-    pub fn rays_counted(&self) -> Result<u64, GpuError> {
-        Ok(u64::from(
-            bytemuck::cast_slice::<u8, u32>(self.counters.read()?)[0],
-        ))
-    }
-
-    /// Records a clear of the ray counter.
+    /// Records a clear of the ray counter (words 0 and 1: all rays, the first dispatch's);
+    /// word 2 keeps the hybrid's lit pre-pass until the next render reads it.
     pub fn record_clear_ray_counter(&self, cmd: vk::CommandBuffer) {
         // SAFETY: recording state; the counters buffer has TRANSFER_DST usage.
         unsafe {
             self.ctx
                 .device
-                .cmd_fill_buffer(cmd, self.counters.buffer, 0, vk::WHOLE_SIZE, 0)
+                .cmd_fill_buffer(cmd, self.counters.buffer, 0, 8, 0)
         };
+    }
+
+    /// Records a copy of the rays counted so far (the hybrid's lit pre-pass) into word 2, which
+    /// the next `accumulate` adds to its report: the plan is not waited for.
+    pub fn record_keep_prepass_rays(&mut self, cmd: vk::CommandBuffer) {
+        self.record_copy_counter(cmd, 8);
+        self.prepass_rays_pending = true;
     }
 
     /// Records one dispatch of the blocks and samples `push` names, over an image `width`
@@ -592,52 +596,14 @@ impl TracePass {
                 )))
             }
         };
-        // The sums live in a storage buffer covering a band of rows, bounded by the device's
-        // storage-buffer range (128 MiB on lavapipe); bands are copied into the readback buffer.
-        let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
-            .min(self.max_band_pixels)
-            .max(u64::from(width));
-        let band_rows = (max_band_pixels / u64::from(width)).clamp(1, u64::from(height)) as u32;
-        let accum_bytes = u64::from(band_rows) * u64::from(width) * 16;
-        let readback_bytes = pixels * 16;
-        if self
-            .accum
-            .as_ref()
-            .is_none_or(|a| a.accum_bytes != accum_bytes || a.staging_bytes != readback_bytes)
-        {
-            self.accum = None;
-            let accum = Buffer::new(
-                &self.ctx,
-                "trace accumulation",
-                accum_bytes,
-                vk::BufferUsageFlags::STORAGE_BUFFER
-                    | vk::BufferUsageFlags::TRANSFER_SRC
-                    | vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuOnly,
-            )?;
-            // Host-visible both ways: the sums go up through it and come back into it.
-            let staging = Buffer::new(
-                &self.ctx,
-                "trace sums staging",
-                readback_bytes,
-                vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuToCpu,
-            )?;
-            self.bind_accum_buffer(&accum);
-            self.accum = Some(DeviceSums {
-                accum,
-                staging,
-                accum_bytes,
-                staging_bytes: readback_bytes,
-            });
-        }
+        let band_rows = self.ensure_accumulation(width, height)?;
         self.accum
             .as_mut()
             .expect("created above")
             .staging
             .write(bytemuck::cast_slice(&accumulation.sums))?;
-        self.params
-            .write(bytemuck::bytes_of(&TraceParams::new(camera, settings)))?;
+        // The parameters go up in the first submission (a pending one may still read them).
+        let params = TraceParams::new(camera, settings);
 
         let steps = self.plan_steps(width, height, band_rows, &samples, mode, raster.is_some());
         let total: u64 = steps.iter().map(|s| s.work).sum();
@@ -653,6 +619,7 @@ impl TracePass {
             let value = self.ctx.submit(|cmd| {
                 if first == 0 {
                     self.timestamps.reset(cmd);
+                    self.record_params(cmd, &params);
                     self.record_clear_ray_counter(cmd);
                 }
                 for (i, step) in chunk.iter().enumerate() {
@@ -708,6 +675,54 @@ impl TracePass {
         let sums: &[[f32; 4]] = bytemuck::cast_slice(staging.read()?);
         accumulation.sums.copy_from_slice(&sums[..pixels as usize]);
         Ok(())
+    }
+
+    /// The accumulation and staging buffers for a `width` x `height` image (made anew, and
+    /// bound, when the size changes), and the rows of a band. The sums live in a storage
+    /// buffer covering a band of rows, bounded by the device's storage-buffer range (128 MiB on
+    /// lavapipe); bands are copied into the readback buffer.
+    pub fn ensure_accumulation(&mut self, width: u32, height: u32) -> Result<u32, GpuError> {
+        let pixels = u64::from(width) * u64::from(height);
+        let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
+            .min(self.max_band_pixels)
+            .max(u64::from(width));
+        let band_rows = (max_band_pixels / u64::from(width)).clamp(1, u64::from(height)) as u32;
+        let accum_bytes = u64::from(band_rows) * u64::from(width) * 16;
+        let readback_bytes = pixels * 16;
+        if self
+            .accum
+            .as_ref()
+            .is_none_or(|a| a.accum_bytes != accum_bytes || a.staging_bytes != readback_bytes)
+        {
+            // A pending submission (the hybrid's plan) binds the old buffers: it finishes first.
+            self.ctx.wait_all()?;
+            self.accum = None;
+            let accum = Buffer::new(
+                &self.ctx,
+                "trace accumulation",
+                accum_bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?;
+            // Host-visible both ways: the sums go up through it and come back into it.
+            let staging = Buffer::new(
+                &self.ctx,
+                "trace sums staging",
+                readback_bytes,
+                vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?;
+            self.bind_accum_buffer(&accum);
+            self.accum = Some(DeviceSums {
+                accum,
+                staging,
+                accum_bytes,
+                staging_bytes: readback_bytes,
+            });
+        }
+        Ok(band_rows)
     }
 
     /// The dispatches of one `accumulate` call, in order: band after band; in a band, the
@@ -808,6 +823,11 @@ impl TracePass {
     /// Keeps the rays counted so far (the pipeline's first dispatch) in the counter's second
     /// word.
     fn record_copy_first_rays(&self, cmd: vk::CommandBuffer) {
+        self.record_copy_counter(cmd, 4);
+    }
+
+    /// Copies the counter's word 0 (rays so far) to the byte offset `to`.
+    fn record_copy_counter(&self, cmd: vk::CommandBuffer, to: u64) {
         let ctx = &self.ctx;
         barrier(
             ctx,
@@ -819,10 +839,10 @@ impl TracePass {
         );
         let copy = vk::BufferCopy::default()
             .src_offset(0)
-            .dst_offset(4)
+            .dst_offset(to)
             .size(4);
         // SAFETY: recording state; the counters buffer (16 bytes, TRANSFER usages) holds both
-        // words, which do not overlap.
+        // words (`to` is 4 or 8), which do not overlap.
         unsafe {
             ctx.device
                 .cmd_copy_buffer(cmd, self.counters.buffer, self.counters.buffer, &[copy])
@@ -848,6 +868,9 @@ impl TracePass {
         let ticks = self.timestamps.results_of(2 * steps.len() as u32)?;
         let words = bytemuck::cast_slice::<u8, u32>(self.counters.read()?);
         let (all_rays, first_rays) = (u64::from(words[0]), u64::from(words[1]));
+        if std::mem::take(&mut self.prepass_rays_pending) {
+            timings.rays_traced += u64::from(words[2]);
+        }
         let (mut work, mut ms) = (0u64, 0.0f64);
         for (i, step) in steps.iter().enumerate() {
             let gpu_ms = self.ctx.elapsed_ns(ticks[2 * i], ticks[2 * i + 1]) * 1e-6;
