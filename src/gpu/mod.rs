@@ -366,6 +366,14 @@ impl GpuRenderer {
     }
 }
 
+impl Drop for GpuRenderer {
+    fn drop(&mut self) {
+        // Nothing of a submission still running may be destroyed: the passes and buffers drop
+        // after this (the device's idle wait comes only with the context, last).
+        let _ = self.ctx.wait_all();
+    }
+}
+
 /// After every object of a renderer was dropped: any validation message (the leak report of
 /// the device's and instance's destruction included) is an error, and so is an instance still
 /// alive (an object kept elsewhere).

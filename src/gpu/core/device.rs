@@ -411,6 +411,15 @@ impl DeviceCounters {
     }
 }
 
+/// A submission not yet known to be finished: its timeline value, command buffer and fence.
+struct Pending {
+    value: u64,
+    cmd: vk::CommandBuffer,
+    /// The host's wait is on the fence (the timeline gives progress): a fence also tells the
+    /// driver that the command buffer may be freed after it.
+    fence: vk::Fence,
+}
+
 /// The logical device and what is created once with it. Destroyed last (everything else holds
 /// an `Arc<Context>`), after its allocator and command pool.
 pub(crate) struct Context {
@@ -433,7 +442,7 @@ pub(crate) struct Context {
     timeline: vk::Semaphore,
     /// The last value signalled (or to be) by a submission, and the command buffers of the
     /// submissions not yet known to be finished, with their values.
-    submitted: Mutex<(u64, Vec<(u64, vk::CommandBuffer)>)>,
+    submitted: Mutex<(u64, Vec<Pending>)>,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     pub report: DeviceReport,
     pub scratch_alignment: u64,
@@ -671,15 +680,30 @@ impl Context {
         let cmd = unsafe { self.device.allocate_command_buffers(&info) }
             .map_err(vk_err("vkAllocateCommandBuffers"))?[0];
         let value = submitted.0 + 1;
-        match self.record_and_submit(cmd, value, record) {
+        // SAFETY: valid device.
+        let fence = match unsafe {
+            self.device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        } {
+            Ok(fence) => fence,
+            Err(e) => {
+                // SAFETY: never submitted: the buffer is not in use.
+                unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
+                return Err(vk_err("vkCreateFence")(e));
+            }
+        };
+        match self.record_and_submit(cmd, value, fence, record) {
             Ok(()) => {
                 submitted.0 = value;
-                submitted.1.push((value, cmd));
+                submitted.1.push(Pending { value, cmd, fence });
                 Ok(value)
             }
             Err(e) => {
-                // SAFETY: the submission never started: the buffer is not in use.
-                unsafe { self.device.free_command_buffers(self.command_pool, &[cmd]) };
+                // SAFETY: the submission never started: the buffer and fence are not in use.
+                unsafe {
+                    self.device.free_command_buffers(self.command_pool, &[cmd]);
+                    self.device.destroy_fence(fence, None);
+                }
                 Err(e)
             }
         }
@@ -689,6 +713,7 @@ impl Context {
         &self,
         cmd: vk::CommandBuffer,
         value: u64,
+        fence: vk::Fence,
         record: impl FnOnce(vk::CommandBuffer) -> Result<(), GpuError>,
     ) -> Result<(), GpuError> {
         let begin = vk::CommandBufferBeginInfo::default()
@@ -709,12 +734,9 @@ impl Context {
             .signal_semaphores(&signals)
             .push_next(&mut timeline);
         // SAFETY: the command buffer is fully recorded; the timeline value is above every
-        // value signalled before.
-        unsafe {
-            self.device
-                .queue_submit(self.queue, &[submit], vk::Fence::null())
-        }
-        .map_err(vk_err("vkQueueSubmit"))?;
+        // value signalled before; the fence is new and unsignalled.
+        unsafe { self.device.queue_submit(self.queue, &[submit], fence) }
+            .map_err(vk_err("vkQueueSubmit"))?;
         self.counters.submitted();
         Ok(())
     }
@@ -735,28 +757,33 @@ impl Context {
             .map_err(vk_err("vkGetSemaphoreCounterValue"))
     }
 
-    /// Waits until the submission that signals `value` (and every earlier one) finished, then
-    /// frees their command buffers.
+    /// Waits until the submission that signals `value` and every earlier one finished (their
+    /// fences), then frees their command buffers and fences.
     pub fn wait_until(&self, value: u64) -> Result<(), GpuError> {
-        let semaphores = [self.timeline];
-        let values = [value];
-        let info = vk::SemaphoreWaitInfo::default()
-            .semaphores(&semaphores)
-            .values(&values);
-        self.counters.waited();
-        // SAFETY: our own timeline; `value` was signalled by a submission (`submit`).
-        unsafe { self.device.wait_semaphores(&info, u64::MAX) }
-            .map_err(vk_err("vkWaitSemaphores"))?;
         let mut submitted = self.submitted.lock().unwrap_or_else(|p| p.into_inner());
-        let (done, pending): (Vec<_>, Vec<_>) =
-            submitted.1.drain(..).partition(|(v, _)| *v <= value);
+        let (done, pending): (Vec<Pending>, Vec<Pending>) =
+            submitted.1.drain(..).partition(|p| p.value <= value);
         submitted.1 = pending;
-        let cmds: Vec<vk::CommandBuffer> = done.into_iter().map(|(_, c)| c).collect();
-        if !cmds.is_empty() {
-            // SAFETY: those submissions finished: the buffers are not in use.
-            unsafe { self.device.free_command_buffers(self.command_pool, &cmds) };
+        if done.is_empty() {
+            return Ok(());
         }
-        Ok(())
+        let fences: Vec<vk::Fence> = done.iter().map(|p| p.fence).collect();
+        self.counters.waited();
+        // SAFETY: our own fences, each of a submission.
+        let waited = unsafe { self.device.wait_for_fences(&fences, true, u64::MAX) }
+            .map_err(vk_err("vkWaitForFences"));
+        let cmds: Vec<vk::CommandBuffer> = done.iter().map(|p| p.cmd).collect();
+        // SAFETY: those submissions finished (or the device is lost): nothing uses the buffers
+        // and fences.
+        unsafe {
+            if waited.is_ok() {
+                self.device.free_command_buffers(self.command_pool, &cmds);
+            }
+            for fence in fences {
+                self.device.destroy_fence(fence, None);
+            }
+        }
+        waited
     }
 }
 
@@ -787,7 +814,11 @@ impl Drop for Context {
             }
             self.device
                 .destroy_pipeline_cache(self.pipeline_cache, None);
-            // The pending command buffers go with their pool.
+            // The pending command buffers go with their pool; their fences go here.
+            let submitted = self.submitted.get_mut().unwrap_or_else(|p| p.into_inner());
+            for pending in submitted.1.drain(..) {
+                self.device.destroy_fence(pending.fence, None);
+            }
             self.device.destroy_semaphore(self.timeline, None);
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_command_pool(self.command_pool, None);
