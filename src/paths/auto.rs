@@ -33,13 +33,13 @@ pub fn pick_traversal(
             "the Vulkan device {} runs no lensray path",
             renderer.device_name()
         ),
-        ([only], _) => (
-            *only,
-            "auto: the only path this device supports".to_string(),
-        ),
         (_, Some((kind, _))) => (
             kind,
             "auto: the fastest traversal of this device's calibration (cached)".to_string(),
+        ),
+        ([only], None) => (
+            *only,
+            "auto: the only path this device supports".to_string(),
         ),
         (_, None) => fastest(renderer, &kinds, shot)?,
     };

@@ -58,13 +58,18 @@ pub fn open(
         return open_cpu(scene, why);
     }
 
-    let gpu_options = GpuOptions {
+    let mut gpu_options = GpuOptions {
         traversal: options.path.only().and_then(PathKind::traversal),
         ..options.gpu
     };
     if options.path == Choice::Auto {
-        if let Some(why) = cpu_by_calibration(options, &gpu_options, auto::pixel_samples(shot)) {
-            return open_cpu(scene, &why);
+        match auto_device(options, &gpu_options, auto::pixel_samples(shot)) {
+            Some(calibration::DeviceDecision::Cpu(why)) => return open_cpu(scene, &why),
+            // The calibrated traversal alone: only its trace pipeline is made.
+            Some(calibration::DeviceDecision::Gpu(traversal, _)) => {
+                gpu_options.traversal = traversal;
+            }
+            None => {}
         }
     }
     let mut renderer = match GpuRenderer::new(&gpu_options) {
@@ -120,12 +125,12 @@ fn gpu_path(renderer: GpuRenderer, kind: PathKind) -> Result<Box<dyn RenderPath>
 /// option): the CPU reference when `calibration::decide` says so, from the device's type and
 /// its cached calibration. A GPU that is not a CPU implementation and has no calibration yet is
 /// calibrated now, once (a failure is a notice: `auto` then times the GPU paths as before).
-/// `None`: the Vulkan device renders (or, if it cannot be opened, `open` says why).
-fn cpu_by_calibration(
+/// `None`: no decision (the CPU may not render, or no device is there: `open` says why).
+fn auto_device(
     options: &PathOptions,
     gpu_options: &GpuOptions,
     samples: u64,
-) -> Option<String> {
+) -> Option<calibration::DeviceDecision> {
     if options.device != Choice::Auto || options.gpu_option().is_some() {
         return None;
     }
@@ -146,10 +151,7 @@ fn cpu_by_calibration(
             }
         }
     });
-    match calibration::decide(&device, cached.as_ref(), samples) {
-        calibration::DeviceDecision::Cpu(why) => Some(why),
-        calibration::DeviceDecision::Gpu(..) => None,
-    }
+    Some(calibration::decide(&device, cached.as_ref(), samples))
 }
 
 fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
