@@ -268,17 +268,13 @@ impl GpuRenderer {
             )));
         }
         let (image, ()) = crate::film::whole_image(
-            &mut (self, progress),
+            self,
+            progress,
             (camera.width, camera.height),
             settings,
-            |(this, progress)| {
-                progress(0, 1);
-                let image = this.aov(camera, settings)?;
-                progress(1, 1);
-                Ok((image, ()))
-            },
-            |(this, progress), samples, accumulation| {
-                this.accumulate(camera, settings, samples, accumulation, *progress)
+            |this, progress| crate::film::one_pass(progress, || this.aov(camera, settings)),
+            |this, samples, accumulation, progress| {
+                this.accumulate(camera, settings, samples, accumulation, progress)
             },
         )?;
         Ok(image)

@@ -309,17 +309,13 @@ pub trait RenderPath {
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<Image> {
         let (image, ()) = crate::film::whole_image(
-            &mut (self, progress),
+            self,
+            progress,
             (camera.width, camera.height),
             settings,
-            |(this, progress)| {
-                progress(0, 1);
-                let image = this.aov(camera, settings)?;
-                progress(1, 1);
-                Ok((image, ()))
-            },
-            |(this, progress), samples, accumulation| {
-                this.add_samples(camera, settings, samples, accumulation, *progress)
+            |this, progress| crate::film::one_pass(progress, || this.aov(camera, settings)),
+            |this, samples, accumulation, progress| {
+                this.add_samples(camera, settings, samples, accumulation, progress)
             },
         )?;
         Ok(image)

@@ -98,12 +98,13 @@ impl Renderer {
         progress: &mut dyn FnMut(u64, u64),
     ) -> (Image, RenderStats) {
         let whole: Result<_, std::convert::Infallible> = crate::film::whole_image(
-            &mut (self, progress),
+            &mut &*self,
+            progress,
             (camera.width, camera.height),
             settings,
-            |(this, progress)| Ok(this.render_aov(camera, settings, *progress)),
-            |(this, progress), samples, accumulation| {
-                Ok(this.accumulate(camera, settings, samples, accumulation, *progress))
+            |this: &mut &Self, progress| Ok(this.render_aov(camera, settings, progress)),
+            |this, samples, accumulation, progress| {
+                Ok(this.accumulate(camera, settings, samples, accumulation, progress))
             },
         );
         match whole {
