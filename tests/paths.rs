@@ -44,7 +44,8 @@ fn available(test: &str) -> Vec<PathChoice> {
 }
 
 /// Samples 0..3 then 3..8 added to one accumulation give the sums of 0..8 in one call, bit for
-/// bit, on every path.
+/// bit, on every path. A GPU path keeps the sums on its device between the calls: it reads back
+/// nothing larger than a few bytes of progress until asked, then the image's sums once.
 #[test]
 fn every_path_continues_a_render_exactly() {
     let test = "every_path_continues_a_render_exactly";
@@ -52,32 +53,60 @@ fn every_path_continues_a_render_exactly() {
         let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
             continue;
         };
+        let gpu = path.kind().is_gpu();
         let (cam, s) = shot();
+        let image_bytes = u64::from(cam.width * cam.height) * 16;
         let mut whole = Accumulation::new(cam.width, cam.height);
         path.add_samples(&cam, &s, 0..8, &mut whole, &mut |_, _| {})
             .expect("0..8");
         let mut parts = Accumulation::new(cam.width, cam.height);
+        let before = path.report();
         path.add_samples(&cam, &s, 0..3, &mut parts, &mut |_, _| {})
             .expect("0..3");
-        // The hybrid gives pixels with a small circle of confusion fewer samples.
-        if choice != PathChoice::Only(PathKind::Hybrid) {
-            assert_eq!(parts.samples(), 3, "{choice}");
-        }
+        assert_eq!(parts.on_host(), !gpu, "{choice}: where the sums are");
         path.add_samples(&cam, &s, 3..8, &mut parts, &mut |_, _| {})
             .expect("3..8");
+        let added = path.report().since(&before);
+        if gpu {
+            assert!(
+                parts.host().is_err(),
+                "{choice}: the host's stale sums must not be readable"
+            );
+            assert!(
+                added.readback_bytes <= 1024,
+                "{choice}: two calls continuing a render read back {} bytes",
+                added.readback_bytes
+            );
+        }
+        // The sums of the last call were copied out at its end: no submission to read them.
+        // Those of an earlier accumulation take one copy, one wait.
+        for (accumulation, submits) in [(&mut parts, 0), (&mut whole, 1)] {
+            let before_read = path.report();
+            path.read_sums(accumulation).expect("read");
+            let read = path.report().since(&before_read);
+            if gpu {
+                assert_eq!(
+                    (read.readback_bytes, read.submits, read.cpu_waits),
+                    (image_bytes, submits, submits),
+                    "{choice}: reading the sums back is one read of the image's sums"
+                );
+            }
+        }
+        let (whole, parts) = (whole.host().expect("read"), parts.host().expect("read"));
+        // The hybrid gives pixels with a small circle of confusion fewer samples.
+        if choice != PathChoice::Only(PathKind::Hybrid) {
+            assert_eq!(parts.samples(), 8, "{choice}");
+        }
         let differing = whole
-            .sums
+            .pixels
             .iter()
-            .zip(&parts.sums)
+            .zip(&parts.pixels)
             .filter(|(a, b)| a != b)
             .count();
         assert_eq!(
             differing, 0,
             "{choice}: {differing} pixels of 0..3 + 3..8 differ from 0..8"
         );
-        if choice != PathChoice::Only(PathKind::Hybrid) {
-            assert_eq!(whole.samples(), 8);
-        }
         let rendered = path.render(&cam, &s, &mut |_, _| {}).expect("render");
         assert_eq!(
             rendered,
@@ -86,6 +115,55 @@ fn every_path_continues_a_render_exactly() {
         );
         let report = path.report();
         assert!(report.rays > 0 && report.trace_seconds > 0.0, "{report:?}");
+        path.close().expect("close: validation messages or leaks");
+    }
+}
+
+/// An accumulation continues on another path: from the CPU to a GPU path (the host's sums go
+/// up once), and back once the GPU path has read them; a path given sums another device holds
+/// refuses with one clear line. The continued sums are those of one path alone, bit for bit
+/// where both trace the same estimator (the CPU and `rayquery`/`software` agree within float
+/// rounding, so the check is the image's).
+#[test]
+fn an_accumulation_moves_between_paths() {
+    let test = "an_accumulation_moves_between_paths";
+    let (cam, s) = shot();
+    let Some(OpenedPath { path: mut cpu, .. }) = open(test, PathChoice::Only(PathKind::Cpu)) else {
+        return;
+    };
+    let mut reference = Accumulation::new(cam.width, cam.height);
+    cpu.add_samples(&cam, &s, 0..8, &mut reference, &mut |_, _| {})
+        .expect("cpu 0..8");
+    let reference = reference.image().expect("on the host");
+    for choice in available(test)
+        .into_iter()
+        .filter(|c| matches!(c.only(), Some(PathKind::RayQuery | PathKind::Software)))
+    {
+        let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
+            continue;
+        };
+        let mut moving = Accumulation::new(cam.width, cam.height);
+        cpu.add_samples(&cam, &s, 0..3, &mut moving, &mut |_, _| {})
+            .expect("cpu 0..3");
+        path.add_samples(&cam, &s, 3..5, &mut moving, &mut |_, _| {})
+            .expect("gpu 3..5");
+        let refused = cpu
+            .add_samples(&cam, &s, 5..8, &mut moving, &mut |_, _| {})
+            .expect_err("the CPU cannot add to sums a GPU holds");
+        let line = format!("{refused:#}");
+        assert!(
+            line.contains("read_sums") && !line.contains('\n'),
+            "{choice}: {line}"
+        );
+        path.read_sums(&mut moving).expect("read");
+        cpu.add_samples(&cam, &s, 5..8, &mut moving, &mut |_, _| {})
+            .expect("cpu 5..8");
+        let image = moving.image().expect("on the host");
+        let diff = compare(&image, &reference, 1.0 / 255.0);
+        assert!(
+            diff.within >= 0.995 && diff.mean_abs < 1e-3,
+            "{choice}: CPU, GPU, CPU in turn differ from the CPU alone: {diff:?}"
+        );
         path.close().expect("close: validation messages or leaks");
     }
 }

@@ -141,13 +141,10 @@ fn render(scene: &BenchScene, camera: &Camera, settings: &RenderSettings) -> Res
     for (accumulation, samples) in halves.iter_mut().zip([0..half, half..settings.spp]) {
         path.add_samples(camera, settings, samples, accumulation, &mut |_, _| {})?;
     }
-    let noise_rmse = 0.5 * rmse(&halves[0].image(), &halves[1].image());
-    let [mut whole, second] = halves;
-    for (sum, other) in whole.sums.iter_mut().zip(&second.sums) {
-        for (a, b) in sum.iter_mut().zip(other) {
-            *a += b;
-        }
-    }
+    let [first, second] = halves.each_ref().map(|h| h.host());
+    let (mut whole, second) = (first?.clone(), second?);
+    let noise_rmse = 0.5 * rmse(&whole.image(), &second.image());
+    whole.add(second);
     Ok((whole.image(), noise_rmse))
 }
 

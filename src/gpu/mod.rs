@@ -276,6 +276,7 @@ impl GpuRenderer {
             |this, samples, accumulation, progress| {
                 this.accumulate(camera, settings, samples, accumulation, progress)
             },
+            |this, accumulation| this.read_sums(accumulation),
         )?;
         Ok(image)
     }
@@ -304,8 +305,9 @@ impl GpuRenderer {
     }
 
     /// Traces samples `samples` (thin lens, `Unlit` or `Lit`) of every pixel and adds them to
-    /// `accumulation`, which has the camera's size. `progress(done, total)` counts
-    /// pixel-samples.
+    /// `accumulation`, which has the camera's size. The sums stay on the device until
+    /// [`read_sums`](Self::read_sums): continuing a render uploads and reads back nothing.
+    /// `progress(done, total)` counts pixel-samples.
     pub fn accumulate(
         &mut self,
         camera: &Camera,
@@ -326,6 +328,12 @@ impl GpuRenderer {
             None,
             progress,
         )
+    }
+
+    /// Brings `accumulation`'s sums to the host when this renderer holds them on its device
+    /// (one read-back of the image's sums); an error when another device holds them.
+    pub fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<(), GpuError> {
+        self.trace.films.read(accumulation)
     }
 
     /// Destroys every Vulkan object, then, with validation on, fails on any message the layer

@@ -172,6 +172,7 @@ pub fn pick_path(
                 &mut accumulation,
                 &mut |_, _| {},
             )?;
+            renderer.read_sums(&mut accumulation)?;
             if round > 0 {
                 seconds = seconds.min(start.elapsed().as_secs_f64());
             }

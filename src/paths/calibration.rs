@@ -175,7 +175,8 @@ fn shot() -> Result<(crate::scene::Scene, Camera, RenderSettings)> {
     ))
 }
 
-/// The cost of `add(spp, accumulation)`: the median wall-clock seconds of `RUNS` renders at
+/// The cost of `add(spp, accumulation)` (samples added, the sums read back: a render's work):
+/// the median wall-clock seconds of `RUNS` renders at
 /// each of `SPP` (after a warm-up, which compiles), a line through the two.
 fn cost(mut add: impl FnMut(u32, &mut Accumulation) -> Result<()>) -> Result<Cost> {
     add(SPP[0], &mut Accumulation::new(WIDTH, HEIGHT))?;
@@ -206,8 +207,10 @@ pub fn measure(gpu: &GpuOptions) -> Result<Calibration> {
     let mut costs = BTreeMap::new();
     let mut cpu = CpuPath::new();
     cpu.load_scene(&scene)?;
-    let cpu_cost =
-        cost(|spp, acc| cpu.add_samples(&camera, &settings, 0..spp, acc, &mut |_, _| {}))?;
+    let cpu_cost = cost(|spp, acc| {
+        cpu.add_samples(&camera, &settings, 0..spp, acc, &mut |_, _| {})?;
+        cpu.read_sums(acc)
+    })?;
     costs.insert(PathKind::Cpu, cpu_cost);
     let mut renderer = GpuRenderer::new(&GpuOptions {
         traversal: None,
@@ -218,7 +221,8 @@ pub fn measure(gpu: &GpuOptions) -> Result<Calibration> {
     for traversal in renderer.traversals() {
         renderer.set_traversal(traversal)?;
         let traversal_cost = cost(|spp, acc| {
-            Ok(renderer.accumulate(&camera, &settings, 0..spp, acc, &mut |_, _| {})?)
+            renderer.accumulate(&camera, &settings, 0..spp, acc, &mut |_, _| {})?;
+            Ok(renderer.read_sums(acc)?)
         })?;
         costs.insert(PathKind::of_traversal(traversal), traversal_cost);
     }

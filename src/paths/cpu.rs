@@ -76,11 +76,18 @@ impl RenderPath for CpuPath {
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<()> {
         super::check_accumulation(camera, settings, accumulation)?;
+        let sums = accumulation.host_mut()?;
         let stats = self
             .renderer()?
-            .accumulate(camera, settings, samples, accumulation, progress);
+            .accumulate(camera, settings, samples, sums, progress);
         self.report.rays += stats.rays;
         self.report.trace_seconds += stats.elapsed.as_secs_f64();
+        Ok(())
+    }
+
+    /// The CPU keeps its sums on the host: nothing to read, unless a device holds them.
+    fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<()> {
+        accumulation.host()?;
         Ok(())
     }
 

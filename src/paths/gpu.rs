@@ -110,6 +110,10 @@ impl<E: GpuEstimator> RenderPath for GpuPath<E> {
         added
     }
 
+    fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<()> {
+        Ok(self.renderer.read_sums(accumulation)?)
+    }
+
     fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image> {
         let image = self.renderer.aov(camera, settings)?;
         self.note_memory();

@@ -275,7 +275,8 @@ pub trait RenderPath {
     fn load_scene(&mut self, scene: &Scene) -> Result<()>;
 
     /// Adds samples `samples` of every pixel (thin lens: `Unlit` or `Lit`) to `accumulation`,
-    /// which has the camera's size. Any split of a range into calls gives the same sums.
+    /// which has the camera's size. Any split of a range into calls gives the same sums. A GPU
+    /// path keeps the sums on its device from call to call: read them with `read_sums`.
     /// `progress(done, total)` reports the work done in the call.
     fn add_samples(
         &mut self,
@@ -293,6 +294,17 @@ pub trait RenderPath {
     /// The view depth of the surface seen through the centre of `pixel` by the aperture-centre
     /// ray, `None` where no surface is (autofocus, click to focus).
     fn focus_depth_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<Option<f32>>;
+
+    /// Brings `accumulation`'s sums to the host (`Accumulation::host`): a GPU path keeps them on
+    /// its device while it adds samples, and reads them back here, once. An error when another
+    /// device holds them.
+    fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<()>;
+
+    /// The mean of each pixel's samples of `accumulation`, its sums read first.
+    fn image_of(&mut self, accumulation: &mut Accumulation) -> Result<Image> {
+        self.read_sums(accumulation)?;
+        Ok(accumulation.image()?)
+    }
 
     /// What the path did since it was opened.
     fn report(&self) -> PathReport;
@@ -317,6 +329,7 @@ pub trait RenderPath {
             |this, samples, accumulation, progress| {
                 this.add_samples(camera, settings, samples, accumulation, progress)
             },
+            |this, accumulation| this.read_sums(accumulation),
         )?;
         Ok(image)
     }

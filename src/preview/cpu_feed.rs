@@ -7,7 +7,7 @@ use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 
 use crate::camera::Camera;
-use crate::film::Accumulation;
+use crate::film::Sums;
 use crate::reference::Renderer;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -116,7 +116,7 @@ impl Drop for CpuFeed {
 /// sums after each; sleeps when the target is reached.
 fn work(renderer: &Renderer, shared: &(Mutex<Shared>, Condvar)) {
     let (lock, wake) = shared;
-    let mut accumulation: Option<(u64, Accumulation)> = None;
+    let mut accumulation: Option<(u64, Sums)> = None;
     loop {
         let job = {
             let mut state = lock.lock().expect("the window does not panic while locked");
@@ -143,7 +143,7 @@ fn work(renderer: &Renderer, shared: &(Mutex<Shared>, Condvar)) {
             .is_none_or(|(generation, _)| *generation != job.generation)
         {
             let (width, height) = (job.camera.width, job.camera.height);
-            accumulation = Some((job.generation, Accumulation::new(width, height)));
+            accumulation = Some((job.generation, Sums::new(width, height)));
         }
         let (_, sums) = accumulation.as_mut().expect("made above");
         let next = sums.samples();
@@ -156,7 +156,7 @@ fn work(renderer: &Renderer, shared: &(Mutex<Shared>, Condvar)) {
         );
         let snapshot = Snapshot {
             generation: job.generation,
-            sums: sums.sums.clone(),
+            sums: sums.pixels.clone(),
             spp: next + 1,
         };
         lock.lock()

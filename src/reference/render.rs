@@ -12,7 +12,7 @@ use super::accel::{Accel, Hit, PACKET_SIZE};
 use super::rays::primary_rays;
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
-use crate::film::{Accumulation, Image};
+use crate::film::{Image, OnDevice, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler};
 use crate::scene::{Material, Scene};
 use crate::settings::{RenderSettings, Shading};
@@ -97,19 +97,19 @@ impl Renderer {
         settings: &RenderSettings,
         progress: &mut dyn FnMut(u64, u64),
     ) -> (Image, RenderStats) {
-        let whole: Result<_, std::convert::Infallible> = crate::film::whole_image(
+        let whole: Result<_, OnDevice> = crate::film::whole_image(
             &mut &*self,
             progress,
             (camera.width, camera.height),
             settings,
             |this: &mut &Self, progress| Ok(this.render_aov(camera, settings, progress)),
             |this, samples, accumulation, progress| {
-                Ok(this.accumulate(camera, settings, samples, accumulation, progress))
+                let sums = accumulation.host_mut()?;
+                Ok(this.accumulate(camera, settings, samples, sums, progress))
             },
+            |_, _| Ok(()),
         );
-        match whole {
-            Ok(rendered) => rendered,
-        }
+        whole.expect("the CPU keeps its accumulation on the host")
     }
 
     /// Adds samples `samples` of every pixel (thin lens, `Unlit` or `Lit`) to `accumulation`,
@@ -121,14 +121,11 @@ impl Renderer {
         camera: &Camera,
         settings: &RenderSettings,
         samples: Range<u32>,
-        accumulation: &mut Accumulation,
+        sums: &mut Sums,
         progress: &mut dyn FnMut(u64, u64),
     ) -> RenderStats {
-        debug_assert_eq!(
-            (accumulation.width, accumulation.height),
-            (camera.width, camera.height)
-        );
-        self.for_each_row(camera, &mut accumulation.sums, progress, |y, row| {
+        debug_assert_eq!((sums.width, sums.height), (camera.width, camera.height));
+        self.for_each_row(camera, &mut sums.pixels, progress, |y, row| {
             let mut rays = 0;
             for (x, sum) in row.iter_mut().enumerate() {
                 let pixel = UVec2::new(x as u32, y);

@@ -750,6 +750,11 @@ impl Context {
         Ok(())
     }
 
+    /// The timeline value of the last submission (0 before any).
+    pub fn last_submitted(&self) -> u64 {
+        self.submitted.lock().unwrap_or_else(|p| p.into_inner()).0
+    }
+
     /// The last timeline value the device finished, without waiting (progress).
     pub fn completed(&self) -> Result<u64, GpuError> {
         // SAFETY: our own timeline semaphore.

@@ -63,6 +63,9 @@ pub enum GpuError {
     /// Input that the GPU path cannot handle (too large, inconsistent).
     #[error("invalid input for the GPU renderer: {0}")]
     Invalid(String),
+    /// An accumulation whose current sums another device holds.
+    #[error(transparent)]
+    OnDevice(#[from] crate::film::OnDevice),
 }
 
 /// Maps the error code of Vulkan call `call` (use the command's name).

@@ -1,7 +1,9 @@
-//! The thin-lens compute pass (shaders/passes/trace.comp): camera samples traced with one pipeline per
-//! traversal the device was opened for (ray queries, or the software BVH traversal; the one in
-//! use is `traversal()`), split into dispatches of bounded size (bands of rows x ranges of samples), one submission
-//! each, accumulating sums in a float buffer; the host divides by spp at the end.
+//! The thin-lens compute pass (shaders/passes/trace.comp): camera samples traced with one
+//! pipeline per traversal the device was opened for (ray queries, or the software BVH
+//! traversal; the one in use is `traversal()`), split into dispatches of bounded size (bands of
+//! rows x ranges of samples), several per submission, none waited for until the last. The
+//! shader adds to a band's sums in a float buffer, copied in and out of the accumulation's film
+//! (`films`), which stays on the device: the host reads it only when asked.
 
 use std::ops::Range;
 use std::sync::Arc;
@@ -17,6 +19,7 @@ use crate::gpu::core::error::GpuError;
 use crate::gpu::core::pipeline::{Binding, Pipeline};
 use crate::gpu::core::query::QueryPool;
 use crate::gpu::core::shader;
+use crate::gpu::passes::films::DeviceFilms;
 use crate::gpu::scene::{BvhBuffers, SceneBuffers};
 use crate::gpu::traversal::Traversal;
 use crate::interface::{
@@ -151,8 +154,10 @@ pub(crate) struct TracePass {
     /// Placeholder of the accumulation binding until a render or the preview binds one.
     _accum_placeholder: Buffer,
     timestamps: QueryPool,
-    /// Accumulation and readback buffers of the current image size.
-    accum: Option<DeviceSums>,
+    /// The band of sums the shader adds to, for the current image size.
+    accum: Option<BandSums>,
+    /// The accumulations' sums on the device.
+    pub films: DeviceFilms,
     /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
     pub samples_per_dispatch: u64,
     /// Current size of a dispatch, adapted to the measured speed.
@@ -241,6 +246,7 @@ impl TracePass {
             _accum_placeholder: accum_placeholder,
             timestamps,
             accum: None,
+            films: DeviceFilms::new(ctx),
             samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
             adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
             max_band_pixels: MAX_BAND_PIXELS,
@@ -559,8 +565,8 @@ impl TracePass {
     }
 
     /// Adds samples `samples` of every pixel to `accumulation` (of the camera's size), with the
-    /// scene last bound by `bind_scene`. Each band's sums go to the device and come back, and
-    /// the shader adds sample after sample to them, so any split of a range gives the same sums.
+    /// scene last bound by `bind_scene`. The sums stay on the device (`films`); the shader adds
+    /// sample after sample to them, so any split of a range gives the same sums.
     pub fn accumulate(
         &mut self,
         (camera, settings): (&Camera, &RenderSettings),
@@ -597,11 +603,8 @@ impl TracePass {
             }
         };
         let band_rows = self.ensure_accumulation(width, height)?;
-        self.accum
-            .as_mut()
-            .expect("created above")
-            .staging
-            .write(bytemuck::cast_slice(&accumulation.sums))?;
+        let (film, start) = self.films.take(accumulation)?;
+        self.films.prepare_finish(film)?;
         // The parameters go up in the first submission (a pending one may still read them).
         let params = TraceParams::new(camera, settings);
 
@@ -621,19 +624,22 @@ impl TracePass {
                     self.timestamps.reset(cmd);
                     self.record_params(cmd, &params);
                     self.record_clear_ray_counter(cmd);
+                    self.films.record_start(cmd, film, start);
                 }
                 for (i, step) in chunk.iter().enumerate() {
                     let index = (first + i) as u32;
                     let record = raster
                         .zip(step.raster_sample)
                         .map(|(record, sample)| move |cmd| record(cmd, sample));
-                    self.record_step(cmd, step, width, index, record.as_ref().map(|r| r as _));
+                    let before = record.as_ref().map(|r| r as _);
+                    self.record_step(cmd, step, (film, width), index, before);
                     if index == 0 && first_dispatch {
                         // The pipeline's first dispatch is reported apart: its rays too.
                         self.record_copy_first_rays(cmd);
                     }
                 }
                 if first + chunk.len() == steps.len() {
+                    self.films.record_finish(cmd, film);
                     barrier_to_host(
                         &self.ctx,
                         cmd,
@@ -669,58 +675,35 @@ impl TracePass {
         if reported < total {
             progress(total, total);
         }
-        self.record_timings(&steps, first_dispatch, timings)?;
-
-        let staging = &self.accum.as_ref().expect("created above").staging;
-        let sums: &[[f32; 4]] = bytemuck::cast_slice(staging.read()?);
-        accumulation.sums.copy_from_slice(&sums[..pixels as usize]);
-        Ok(())
+        self.films.finished(film);
+        self.record_timings(&steps, first_dispatch, timings)
     }
 
-    /// The accumulation and staging buffers for a `width` x `height` image (made anew, and
-    /// bound, when the size changes), and the rows of a band. The sums live in a storage
-    /// buffer covering a band of rows, bounded by the device's storage-buffer range (128 MiB on
-    /// lavapipe); bands are copied into the readback buffer.
+    /// The band buffer for a `width` x `height` image (made anew, and bound, when the size
+    /// changes), and the rows of a band. The shader adds to a storage buffer covering a band of
+    /// rows, bounded by the device's storage-buffer range (128 MiB on lavapipe); each band is
+    /// copied in from the film and back.
     pub fn ensure_accumulation(&mut self, width: u32, height: u32) -> Result<u32, GpuError> {
-        let pixels = u64::from(width) * u64::from(height);
         let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
             .min(self.max_band_pixels)
             .max(u64::from(width));
         let band_rows = (max_band_pixels / u64::from(width)).clamp(1, u64::from(height)) as u32;
-        let accum_bytes = u64::from(band_rows) * u64::from(width) * 16;
-        let readback_bytes = pixels * 16;
-        if self
-            .accum
-            .as_ref()
-            .is_none_or(|a| a.accum_bytes != accum_bytes || a.staging_bytes != readback_bytes)
-        {
-            // A pending submission (the hybrid's plan) binds the old buffers: it finishes first.
+        let bytes = u64::from(band_rows) * u64::from(width) * 16;
+        if self.accum.as_ref().is_none_or(|a| a.bytes != bytes) {
+            // A pending submission (the hybrid's plan) binds the old buffer: it finishes first.
             self.ctx.wait_all()?;
             self.accum = None;
-            let accum = Buffer::new(
+            let buffer = Buffer::new(
                 &self.ctx,
-                "trace accumulation",
-                accum_bytes,
+                "trace band sums",
+                bytes,
                 vk::BufferUsageFlags::STORAGE_BUFFER
                     | vk::BufferUsageFlags::TRANSFER_SRC
                     | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuOnly,
             )?;
-            // Host-visible both ways: the sums go up through it and come back into it.
-            let staging = Buffer::new(
-                &self.ctx,
-                "trace sums staging",
-                readback_bytes,
-                vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuToCpu,
-            )?;
-            self.bind_accum_buffer(&accum);
-            self.accum = Some(DeviceSums {
-                accum,
-                staging,
-                accum_bytes,
-                staging_bytes: readback_bytes,
-            });
+            self.bind_accum_buffer(&buffer);
+            self.accum = Some(BandSums { buffer, bytes });
         }
         Ok(band_rows)
     }
@@ -904,21 +887,22 @@ impl TracePass {
         Ok(())
     }
 
-    /// Records one step: the band's sums up from the staging buffer first (`load`), then one
+    /// Records one step: the band's sums in from film `film` first (`load`), then one
     /// dispatch between timestamps `2 index` and `2 index + 1` (after what `before` records:
-    /// the raster path's pass), then the band's sums back to the staging buffer (`copy_out`).
+    /// the raster path's pass), then the band's sums back to the film (`copy_out`).
     /// The dispatch covers the blocks of GROUP rows `block_first + i * block_stride`,
     /// i < block_count, of the band.
     fn record_step(
         &self,
         cmd: vk::CommandBuffer,
         step: &Step,
-        width: u32,
+        (film, width): (usize, u32),
         index: u32,
         before: Option<&dyn Fn(vk::CommandBuffer)>,
     ) {
         let ctx = &self.ctx;
-        let a = self.accum.as_ref().expect("accumulation buffer");
+        let band_sums = &self.accum.as_ref().expect("band buffer").buffer;
+        let film = self.films.sums(film);
         let push = step.push;
         // Earlier steps and submissions (the previous dispatch, copies, clears) first.
         barrier(
@@ -942,7 +926,7 @@ impl TracePass {
             // band's sums fit both (sizes computed in `accumulate`).
             unsafe {
                 ctx.device
-                    .cmd_copy_buffer(cmd, a.staging.buffer, a.accum.buffer, &[up])
+                    .cmd_copy_buffer(cmd, film.buffer, band_sums.buffer, &[up])
             };
             barrier(
                 ctx,
@@ -972,12 +956,8 @@ impl TracePass {
             );
             // SAFETY: the band's sums fit both buffers (sizes computed in `accumulate`).
             unsafe {
-                ctx.device.cmd_copy_buffer(
-                    cmd,
-                    a.accum.buffer,
-                    a.staging.buffer,
-                    &[band.size(bytes)],
-                )
+                ctx.device
+                    .cmd_copy_buffer(cmd, band_sums.buffer, film.buffer, &[band.size(bytes)])
             };
         }
     }
@@ -986,9 +966,9 @@ impl TracePass {
 /// One dispatch of an `accumulate` call and what comes with it.
 struct Step {
     push: TracePush,
-    /// The first step of a band: the band's sums come up from the staging buffer first.
+    /// The first step of a band: the band's sums come in from the film first.
     load: bool,
-    /// The last step of a band: its sums (bytes) go back to the staging buffer after.
+    /// The last step of a band: its sums (bytes) go back to the film after.
     copy_out: Option<u64>,
     /// The raster path's sample, whose raster pass is recorded before the dispatch.
     raster_sample: Option<u32>,
@@ -999,12 +979,10 @@ struct Step {
 /// Records the raster pass of one sample (the raster path), before that sample's shading.
 pub(crate) type RecordSample<'a> = dyn Fn(vk::CommandBuffer, u32) + 'a;
 
-/// The sums of one band of rows, and the whole image's staging buffer.
-struct DeviceSums {
-    accum: Buffer,
-    staging: Buffer,
-    accum_bytes: u64,
-    staging_bytes: u64,
+/// The sums of one band of rows.
+struct BandSums {
+    buffer: Buffer,
+    bytes: u64,
 }
 
 #[cfg(test)]
