@@ -510,6 +510,42 @@ fn split_dispatches_accumulate_identically() {
     finish(gpu, log);
 }
 
+/// A device opened for one traversal compiles only what a render asks for: a traced render
+/// makes its trace pipeline and nothing else (no raster G-buffer); the G-buffer's pipeline
+/// comes with the first AOV or focus query, once.
+#[test]
+fn a_traced_render_makes_only_its_trace_pipeline() {
+    let test = "a_traced_render_makes_only_its_trace_pipeline";
+    let Some(traversal) = traced_path(test).and_then(|p| p.traversal()) else {
+        return;
+    };
+    let options = GpuOptions {
+        traversal: Some(traversal),
+        ..GpuOptions::default()
+    };
+    let Some((mut gpu, log)) = renderer_with(test, &options) else {
+        return;
+    };
+    gpu.load_scene(&test_scene()).expect("load scene");
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.1,
+        focus_distance: 4.0,
+    };
+    let cam = camera(false, lens, 32, 24);
+    gpu.render(&cam, &settings(Shading::Lit, 2), &mut |_, _| {})
+        .expect("lit render");
+    assert_eq!(gpu.counters().pipelines, 1, "{traversal}: a traced render");
+    gpu.render(&cam, &settings(Shading::Depth, 1), &mut |_, _| {})
+        .expect("depth AOV");
+    gpu.render_gbuffer(&cam, Vec3::ZERO).expect("G-buffer");
+    assert_eq!(
+        gpu.counters().pipelines,
+        2,
+        "{traversal}: and the G-buffer, once"
+    );
+    finish(gpu, log);
+}
+
 /// Progressive rendering: samples 0..8 then 8..16, accumulated by two dispatches, give exactly
 /// the image of one dispatch of 0..16 with the default (Sobol') sampler.
 #[test]

@@ -130,7 +130,9 @@ pub fn preferred_device(options: &GpuOptions) -> Result<DeviceReport, GpuError> 
 /// which is destroyed last, then the instance.
 pub struct GpuRenderer {
     trace: TracePass,
-    gbuffer: GBufferPass,
+    /// The raster G-buffer (AOVs, focus picking, the hybrid's plan, the preview), made on its
+    /// first use: a traced render compiles no raster pipeline.
+    gbuffer: Option<GBufferPass>,
     /// The raster path's pass, made on its first use.
     visibility: Option<VisibilityPass>,
     /// The hybrid path's plan on the device (the render path's and the preview's).
@@ -165,11 +167,10 @@ impl GpuRenderer {
             .map(|(display, window)| Surface::new(&instance, display, window))
             .transpose()?;
         let ctx = Arc::new(Context::new(instance, options, surface.as_ref())?);
-        let gbuffer = GBufferPass::new(&ctx)?;
         let trace = TracePass::new(&ctx)?;
         let renderer = Self {
             trace,
-            gbuffer,
+            gbuffer: None,
             visibility: None,
             hybrid_plan: None,
             scene: None,
@@ -210,7 +211,9 @@ impl GpuRenderer {
     pub fn load_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
         self.scene = None;
         let buffers = SceneBuffers::new(&self.ctx, scene, &self.bvh_params)?;
-        self.gbuffer.bind_scene(&buffers);
+        if let Some(gbuffer) = &self.gbuffer {
+            gbuffer.bind_scene(&buffers);
+        }
         self.trace.bind_scene(&buffers);
         if let Some(visibility) = &self.visibility {
             visibility.bind_scene(&buffers);
@@ -235,12 +238,29 @@ impl GpuRenderer {
         camera: &Camera,
         background: Vec3,
     ) -> Result<GBuffer, GpuError> {
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         check_size(camera)?;
-        let gbuffer = self.gbuffer.render(scene, camera, background)?;
+        if self.scene.is_none() {
+            return Err(GpuError::NoScene);
+        }
+        self.gbuffer_pass()?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let pass = self.gbuffer.as_mut().expect("made above");
+        let gbuffer = pass.render(scene, camera, background)?;
         self.timings.gbuffer_passes += 1;
-        self.timings.gbuffer_gpu_ms += self.gbuffer.last_gpu_ms;
+        self.timings.gbuffer_gpu_ms += pass.last_gpu_ms;
         Ok(gbuffer)
+    }
+
+    /// The G-buffer pass, made (and bound to the loaded scene) on first use.
+    fn gbuffer_pass(&mut self) -> Result<&mut GBufferPass, GpuError> {
+        if self.gbuffer.is_none() {
+            let pass = GBufferPass::new(&self.ctx)?;
+            if let Some(scene) = &self.scene {
+                pass.bind_scene(scene);
+            }
+            self.gbuffer = Some(pass);
+        }
+        Ok(self.gbuffer.as_mut().expect("made above"))
     }
 
     /// Renders `settings.shading`: `Unlit` and `Lit` through the thin lens with the compute

@@ -133,6 +133,7 @@ impl Pipeline {
                 .create_compute_pipelines(ctx.pipeline_cache, &info, None)
         }
         .map_err(pipeline_err("vkCreateComputePipelines"))?[0];
+        ctx.counters.made_pipeline();
         Ok(this)
     }
 
@@ -209,6 +210,7 @@ impl Pipeline {
                 .create_graphics_pipelines(ctx.pipeline_cache, &info, None)
         }
         .map_err(pipeline_err("vkCreateGraphicsPipelines"))?[0];
+        ctx.counters.made_pipeline();
         Ok(this)
     }
 

@@ -261,14 +261,16 @@ impl GpuRenderer {
             self.prepare_raster(camera.width, camera.height)?;
         }
         self.ensure_hybrid_plan()?;
+        self.gbuffer_pass()?
+            .ensure_targets(camera.width, camera.height)?;
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         let pixels = u64::from(camera.width) * u64::from(camera.height);
-        self.gbuffer.ensure_targets(camera.width, camera.height)?;
         self.trace.ensure_plan_capacity(pixels)?;
         // The render's buffers now, while nothing is pending: the plan is not waited for.
         self.trace
             .ensure_accumulation(camera.width, camera.height)?;
-        let targets = self.gbuffer.targets.as_ref().expect("ensured above");
+        let gbuffer = self.gbuffer.as_ref().expect("made above");
+        let targets = gbuffer.targets.as_ref().expect("ensured above");
         let hybrid_plan = self.hybrid_plan.as_mut().expect("made above");
         hybrid_plan.bind(
             targets,
@@ -277,7 +279,7 @@ impl GpuRenderer {
         )?;
         let ctx = &self.ctx;
         let plan = self.hybrid_plan.as_ref().expect("made above");
-        let (gbuffer, trace) = (&self.gbuffer, &mut self.trace);
+        let trace = &mut self.trace;
         let visibility = self.visibility.as_ref();
         // Not waited for: the render's submissions follow on the queue, and the pre-pass's
         // rays reach the render's report through the counter (`record_keep_prepass_rays`).

@@ -298,7 +298,7 @@ impl Viewer {
                 ctx.report.max_storage_buffer_range
             )));
         }
-        self.gpu.gbuffer.ensure_targets(width, height)?;
+        self.gpu.gbuffer_pass()?.ensure_targets(width, height)?;
         let target = self.accum.as_ref().map_or(0, |a| a.schedule.target());
         self.accum = None;
         let buffer = Buffer::new(
@@ -319,7 +319,8 @@ impl Viewer {
         if self.hybrid {
             self.gpu.ensure_hybrid_plan()?;
         }
-        let targets = self.gpu.gbuffer.targets.as_ref().expect("ensured above");
+        let gbuffer = self.gpu.gbuffer.as_ref().expect("made above");
+        let targets = gbuffer.targets.as_ref().expect("ensured above");
         if let Some(hybrid_plan) = self.gpu.hybrid_plan.as_mut().filter(|_| self.hybrid) {
             self.gpu
                 .trace
@@ -437,6 +438,7 @@ impl Viewer {
         );
         slot.timestamps.reset(cmd);
         let scene = self.gpu.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let gbuffer = self.gpu.gbuffer.as_ref().expect("made in resize_images");
         // The hybrid plans from the G-buffer of its planning camera (same rays and pixels, the
         // raster's clipping planes moved out), which the views show as well.
         let planning = self.hybrid.then(|| camera.for_rasterizing_rays());
@@ -477,7 +479,7 @@ impl Viewer {
                 slot.timestamps
                     .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
             }
-            None => self.gpu.gbuffer.record(
+            None => gbuffer.record(
                 cmd,
                 scene,
                 raster_camera,
@@ -486,7 +488,7 @@ impl Viewer {
             ),
         }
         let direct = view_pass.is_some();
-        let targets = self.gpu.gbuffer.targets.as_ref().expect("sized in prepare");
+        let targets = gbuffer.targets.as_ref().expect("sized in prepare");
         if let Some([x, y]) = request.pick {
             record_pick(&ctx, cmd, targets.view_depth.image, slot, x, y);
         }
@@ -703,7 +705,7 @@ impl Viewer {
         let Some(accum) = self.accum.as_ref() else {
             return Ok(None);
         };
-        let Some(targets) = self.gpu.gbuffer.targets.as_ref() else {
+        let Some(targets) = self.gpu.gbuffer.as_ref().and_then(|g| g.targets.as_ref()) else {
             return Ok(None);
         };
         let (width, height) = (targets.width, targets.height);

@@ -46,11 +46,12 @@ impl GpuRenderer {
         background: Vec3,
         view: u32,
     ) -> Result<ViewRoutes, GpuError> {
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         check_size(camera)?;
+        self.gbuffer_pass()?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         view_routes::run(
             &self.ctx,
-            &mut self.gbuffer,
+            self.gbuffer.as_mut().expect("made above"),
             scene,
             camera,
             background,
