@@ -33,9 +33,12 @@
 //! - [`raster`]: screen -> NDC -> raster.
 //! - [`projective`]: the chain built once, and ray generation through pixel (i, j).
 //! - [`thin_lens`]: depth of field ("Non-Linear Models": aperture-centre ray, focal plane, lens rays).
+//! - [`aperture`]: the shape of the lens opening (round, bladed, curved, squeezed) and the
+//!   uniform map of the sampler's lens dimensions onto it.
 //! - [`physical`]: the thin-lens equation 1/s_o + 1/s_i = 1/f ("Paraxial Approximation").
 //! - [`params`]: what a user gives, validated.
 
+pub mod aperture;
 pub mod look_at;
 pub mod params;
 pub mod physical;
@@ -45,6 +48,7 @@ pub mod raster;
 pub mod ray;
 pub mod thin_lens;
 
+pub use aperture::{Aperture, ApertureShape};
 pub use params::{CameraError, CameraParams, LensParams, ProjectionParams};
 pub use projection::Projection;
 pub use projective::Camera;

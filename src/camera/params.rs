@@ -5,7 +5,8 @@ use thiserror::Error;
 
 use super::look_at::CameraFrame;
 use super::physical::PhysicalLens;
-use super::{Camera, Projection, ThinLens};
+use super::aperture::{ApertureShape, MAX_BLADES};
+use super::{Aperture, Camera, Projection, ThinLens};
 
 /// Largest image side accepted.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
@@ -69,6 +70,32 @@ pub enum CameraError {
     FocusWithinFocalLength { focus: f64, focal_length_mm: f64 },
     #[error("image {0}x{1} is out of range: each side must be in 1..={MAX_IMAGE_SIDE}")]
     ImageSize(u32, u32),
+    #[error("aperture blades must be between 3 and {MAX_BLADES}, got {0} (leave them out for a round aperture)")]
+    ApertureBlades(u32),
+    #[error("aperture roundness must be in [0, 1] (0: straight blades, 1: round), got {0}")]
+    ApertureRoundness(f32),
+}
+
+impl ApertureShape {
+    /// The aperture of this shape, each value checked; the error names the first bad one.
+    pub fn build(&self) -> Result<Aperture, CameraError> {
+        if let Some(blades) = self.blades {
+            if !(3..=MAX_BLADES).contains(&blades) {
+                return Err(CameraError::ApertureBlades(blades));
+            }
+        }
+        if !self.rotation_degrees.is_finite() {
+            return Err(CameraError::NotFinite(
+                "aperture rotation",
+                self.rotation_degrees.to_string(),
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.roundness) {
+            return Err(CameraError::ApertureRoundness(self.roundness));
+        }
+        positive("aperture aspect", f64::from(self.aspect))?;
+        Ok(Aperture::new(*self))
+    }
 }
 
 fn finite_vec(name: &'static str, v: Vec3) -> Result<(), CameraError> {
@@ -141,6 +168,7 @@ impl CameraParams {
                     ThinLens {
                         aperture_radius: aperture_radius as f32,
                         focus_distance: focus_distance as f32,
+                        aperture: Aperture::ROUND,
                     },
                     None,
                 )
@@ -164,6 +192,7 @@ impl CameraParams {
                     ThinLens {
                         aperture_radius: lens.aperture_radius() as f32,
                         focus_distance: focus_distance as f32,
+                        aperture: Aperture::ROUND,
                     },
                     Some(vfov),
                 )

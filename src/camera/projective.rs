@@ -5,7 +5,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use super::look_at::CameraFrame;
 use super::raster::{self, ScreenWindow};
-use super::{Projection, Ray, ThinLens};
+use super::{Aperture, Projection, Ray, ThinLens};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
@@ -67,6 +67,13 @@ impl Camera {
             raster_from_screen: raster_from_ndc * ndc_from_screen,
             screen_from_raster: screen_from_ndc * ndc_from_raster,
         }
+    }
+
+    /// The same camera with the aperture `aperture` (the lens's opening; no matrix depends on
+    /// it).
+    pub fn with_aperture(mut self, aperture: Aperture) -> Self {
+        self.lens.aperture = aperture;
+        self
     }
 
     /// The same camera with another film resolution (same field of view and lens).
@@ -214,11 +221,12 @@ impl Camera {
     /// Radius, in pixels, of the circle of confusion of a point at view depth z: the image of
     /// that point spreads over the film points whose lens-ray bundles reach it. Perspective:
     /// A |1/F - 1/z| on the screen plane z = 1; orthographic: the object-space spread itself.
+    /// A is the lens's reach: for a shaped aperture, the circle that holds the shape.
     pub fn coc_radius_pixels(&self, z: f32) -> f32 {
         let pixels_per_screen_unit = self.pixels_per_screen_unit();
         let screen_radius = match self.projection {
             Projection::Perspective { .. } => {
-                self.lens.aperture_radius * (1.0 / self.lens.focus_distance - 1.0 / z).abs()
+                self.lens.reach() * (1.0 / self.lens.focus_distance - 1.0 / z).abs()
             }
             Projection::Orthographic { .. } => self.lens.ray_spread_radius(z, self.near),
         };

@@ -9,21 +9,40 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use super::Ray;
+use super::{Aperture, Ray};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ThinLens {
-    /// World units; 0 is a pinhole.
+    /// World units; 0 is a pinhole. The radius of the circle the aperture's shape is
+    /// inscribed in (before its aspect, see `aperture`).
     pub aperture_radius: f32,
     /// Distance of the focal plane from the lens along the view axis, world units.
     pub focus_distance: f32,
+    /// The opening's shape.
+    pub aperture: Aperture,
 }
 
 impl ThinLens {
     pub const PINHOLE: ThinLens = ThinLens {
         aperture_radius: 0.0,
         focus_distance: 1.0,
+        aperture: Aperture::ROUND,
     };
+
+    /// A round lens.
+    pub fn round(aperture_radius: f32, focus_distance: f32) -> Self {
+        ThinLens {
+            aperture_radius,
+            focus_distance,
+            aperture: Aperture::ROUND,
+        }
+    }
+
+    /// How far lens points reach from the lens centre: the radius of the circle that holds
+    /// the shape, its aspect included (what bounds a circle of confusion).
+    pub fn reach(&self) -> f32 {
+        self.aperture_radius * self.aperture.reach()
+    }
 
     /// Step 2: the point where the aperture-centre ray meets the focal plane.
     pub fn focal_point(&self, pinhole: &Ray) -> Vec3 {
@@ -47,10 +66,10 @@ impl ThinLens {
         }
     }
 
-    /// Step 3: the point of the aperture disk (camera-space x, y, relative to the lens centre)
-    /// that the uniform sample `lens_u` in [0, 1)^2 picks.
+    /// Step 3: the point of the aperture (camera-space x, y, relative to the lens centre) that
+    /// the uniform sample `lens_u` in [0, 1)^2 picks: uniform over the opening's shape.
     pub fn lens_point(&self, lens_u: Vec2) -> Vec2 {
-        self.aperture_radius * concentric_sample_disk(lens_u)
+        self.aperture_radius * self.aperture.unit_point(lens_u)
     }
 
     /// The accumulation-buffer view of steps 1-4 (the raster path): for one lens point `lens`
@@ -77,10 +96,10 @@ impl ThinLens {
     }
 
     /// Radius of the bundle of lens rays of one film point where it crosses depth z, for a lens
-    /// in the plane z = `lens_z`: similar triangles between the lens disk and the focal point
-    /// give `aperture_radius * |focus - z| / (focus - lens_z)`.
+    /// in the plane z = `lens_z`: similar triangles between the lens's reach and the focal
+    /// point give `reach * |focus - z| / (focus - lens_z)`.
     pub fn ray_spread_radius(&self, z: f32, lens_z: f32) -> f32 {
-        self.aperture_radius * (self.focus_distance - z).abs() / (self.focus_distance - lens_z)
+        self.reach() * (self.focus_distance - z).abs() / (self.focus_distance - lens_z)
     }
 }
 

@@ -1,7 +1,7 @@
 //! The primary rays of a packet of samples at once: `pixel_camera_samples` then `Camera::generate_ray`
 //! for every lane, laid out by lane so the divisions and square roots vectorize. Operation for
 //! operation the same arithmetic as the camera module (glam's `transform_point3`,
-//! `transform_vector3`, `normalize`; `ThinLens::lens_ray`; `concentric_sample_disk`), so the rays
+//! `transform_vector3`, `normalize`; `ThinLens::lens_ray` and `lens_point`), so the rays
 //! are bit-identical to `Camera::generate_ray` (tests/reference.rs checks it); the camera module
 //! stays the definition the GLSL mirrors.
 
@@ -103,32 +103,6 @@ pub fn primary_rays(
     // ThinLens::lens_ray.
     let lens = camera.lens;
     if lens.aperture_radius > 0.0 {
-        // concentric_sample_disk: radius and angle for every lane, then the sine and cosine.
-        let mut radius = [0.0; PACKET_SIZE];
-        let mut theta = [0.0; PACKET_SIZE];
-        let mut centre = [false; PACKET_SIZE];
-        for l in 0..PACKET_SIZE {
-            let ox = 2.0 * lens_x[l] - 1.0;
-            let oy = 2.0 * lens_y[l] - 1.0;
-            centre[l] = ox == 0.0 && oy == 0.0;
-            let (r, t) = if ox.abs() > oy.abs() {
-                (ox, std::f32::consts::FRAC_PI_4 * (oy / ox))
-            } else {
-                (
-                    oy,
-                    std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (ox / oy),
-                )
-            };
-            radius[l] = r;
-            theta[l] = t;
-        }
-        let (mut disk_x, mut disk_y) = ([0.0; PACKET_SIZE], [0.0; PACKET_SIZE]);
-        for l in 0..PACKET_SIZE {
-            if !centre[l] {
-                disk_x[l] = radius[l] * theta[l].cos();
-                disk_y[l] = radius[l] * theta[l].sin();
-            }
-        }
         let mut to_focus = Lanes3::splat(Vec3::ZERO);
         for l in 0..PACKET_SIZE {
             // focal_point: pinhole.at((focus_distance - origin.z) / direction.z).
@@ -138,10 +112,10 @@ pub fn primary_rays(
                 origin.y[l] + direction.y[l] * t,
                 origin.z[l] + direction.z[l] * t,
             ];
-            let lx = lens.aperture_radius * disk_x[l];
-            let ly = lens.aperture_radius * disk_y[l];
-            origin.x[l] += lx;
-            origin.y[l] += ly;
+            // ThinLens::lens_point: the aperture's map of the lane's lens sample.
+            let lens_point = lens.lens_point(glam::Vec2::new(lens_x[l], lens_y[l]));
+            origin.x[l] += lens_point.x;
+            origin.y[l] += lens_point.y;
             origin.z[l] += 0.0;
             to_focus.x[l] = focus[0] - origin.x[l];
             to_focus.y[l] = focus[1] - origin.y[l];
