@@ -33,6 +33,54 @@ vec2 concentric_sample_disk(vec2 u) {
     return radius * vec2(cos(theta), sin(theta));
 }
 
+// aperture.rs: sample_fan. `precise`: no fused multiply-adds, the same roundings as Rust.
+vec2 sample_fan(Camera cam, vec2 u) {
+    precise vec2 offset = 2.0 * u - vec2(1.0);
+    if (offset.x == 0.0 && offset.y == 0.0) {
+        return vec2(0.0);
+    }
+    precise float r;
+    precise float a;
+    if (abs(offset.x) > abs(offset.y)) {
+        r = offset.x;
+        a = 0.125 * (offset.y / offset.x);
+    } else {
+        r = offset.y;
+        a = 0.25 - 0.125 * (offset.x / offset.y);
+    }
+    if (r < 0.0) {
+        r = -r;
+        a += 0.5;
+    }
+    if (a < 0.0) {
+        a += 1.0;
+    }
+    uint n = cam.aperture_fan_len;
+    precise float s = a * float(n);
+    uint i = min(uint(s), n - 1u);
+    precise float t = s - float(i);
+    uint j = (i + 1u) % n;
+    vec4 pair_i = cam.aperture_fan[i / 2u];
+    vec4 pair_j = cam.aperture_fan[j / 2u];
+    vec2 p0 = (i % 2u == 0u) ? pair_i.xy : pair_i.zw;
+    vec2 p1 = (j % 2u == 0u) ? pair_j.xy : pair_j.zw;
+    precise vec2 p = r * (p0 + t * (p1 - p0));
+    return p;
+}
+
+// aperture.rs: Aperture::unit_point
+vec2 aperture_unit_point(Camera cam, vec2 u) {
+    vec2 p = cam.aperture_fan_len == 0u ? concentric_sample_disk(u) : sample_fan(cam, u);
+    precise vec2 squeezed = vec2(p.x, p.y * cam.aperture_aspect);
+    return squeezed;
+}
+
+// thin_lens.rs: ThinLens::lens_point
+vec2 lens_point(Camera cam, vec2 lens_u) {
+    precise vec2 p = cam.aperture_radius * aperture_unit_point(cam, lens_u);
+    return p;
+}
+
 // thin_lens.rs: ThinLens::focal_point
 vec3 focal_point(Camera cam, Ray pinhole) {
     float t = (cam.focus_distance - pinhole.origin.z) / pinhole.direction.z;
@@ -45,26 +93,27 @@ Ray lens_ray(Camera cam, Ray pinhole, vec2 lens_u) {
         return pinhole;
     }
     vec3 focus = focal_point(cam, pinhole);
-    vec2 lens = cam.aperture_radius * concentric_sample_disk(lens_u);
+    vec2 lens = lens_point(cam, lens_u);
     Ray r;
     r.origin = pinhole.origin + vec3(lens, 0.0);
     r.direction = normalize(focus - r.origin);
     return r;
 }
 
-// thin_lens.rs: ThinLens::ray_spread_radius
-float ray_spread_radius(float aperture_radius, float focus_distance, float z, float lens_z) {
-    return aperture_radius * abs(focus_distance - z) / (focus_distance - lens_z);
+// thin_lens.rs: ThinLens::ray_spread_radius (`reach`: ThinLens::reach, the circle that holds
+// the aperture's shape).
+float ray_spread_radius(float reach, float focus_distance, float z, float lens_z) {
+    return reach * abs(focus_distance - z) / (focus_distance - lens_z);
 }
 
 // projective.rs: Camera::coc_radius_pixels (the camera's lens and screen scale passed in).
-float coc_radius_pixels(uint projection, float aperture_radius, float focus_distance,
+float coc_radius_pixels(uint projection, float reach, float focus_distance,
                         float near_z, float pixels_per_screen_unit, float z) {
     float screen_radius;
     if (projection == PROJECTION_PERSPECTIVE) {
-        screen_radius = aperture_radius * abs(1.0 / focus_distance - 1.0 / z);
+        screen_radius = reach * abs(1.0 / focus_distance - 1.0 / z);
     } else {
-        screen_radius = ray_spread_radius(aperture_radius, focus_distance, z, near_z);
+        screen_radius = ray_spread_radius(reach, focus_distance, z, near_z);
     }
     return screen_radius * pixels_per_screen_unit;
 }

@@ -36,7 +36,7 @@ vec3 coc_shown(ViewParams v, float depth) {
     if (depth <= 0.0) {
         return vec3(0.0);
     }
-    float coc = coc_radius_pixels(v.projection, v.aperture_radius, v.focus_distance, v.near_z,
+    float coc = coc_radius_pixels(v.projection, v.lens_reach, v.focus_distance, v.near_z,
                                   v.pixels_per_screen_unit, depth);
     return coc < 0.5 ? vec3(0.1, 0.8, 0.2) : vec3(clamp(coc / v.coc_display_max, 0.0, 1.0));
 }

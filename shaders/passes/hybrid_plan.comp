@@ -78,7 +78,7 @@ void step_tiles() {
             }
             ivec2 q = ivec2(p);
             if (imageLoad(g_normal, q).w > 0.5) {
-                tile = max(tile, coc_radius_pixels(pc.projection, pc.aperture_radius,
+                tile = max(tile, coc_radius_pixels(pc.projection, pc.lens_reach,
                                                    pc.focus_distance, pc.near_z,
                                                    pc.pixels_per_screen_unit,
                                                    imageLoad(g_depth, q).x));

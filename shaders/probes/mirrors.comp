@@ -36,5 +36,6 @@ void main() {
     Ray ray = generate_ray(cam, cs.film, cs.lens);
     r.origin = vec4(ray.origin, 1.0);
     r.direction = vec4(ray.direction, 0.0);
+    r.lens_point = vec4(lens_point(cam, cs.lens), 0.0, 0.0);
     results[i] = r;
 }

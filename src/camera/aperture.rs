@@ -31,7 +31,7 @@ use glam::{DVec2, Vec2};
 use super::thin_lens::concentric_sample_disk;
 
 /// Most triangles of a fan (the GPU's camera block holds them, two vertices per vec4).
-pub const MAX_FAN: usize = 64;
+pub const MAX_FAN: usize = crate::interface::APERTURE_MAX_FAN as usize;
 /// Most blades of an iris.
 pub const MAX_BLADES: u32 = 32;
 
@@ -326,7 +326,10 @@ mod tests {
             let area: f32 = triangle_areas(aperture.fan()).iter().sum();
             let n = blades as f32;
             let expected = 0.5 * n * (std::f32::consts::TAU / n).sin();
-            assert!((area - expected).abs() < 1e-5, "{blades}: {area} vs {expected}");
+            assert!(
+                (area - expected).abs() < 1e-5,
+                "{blades}: {area} vs {expected}"
+            );
         }
     }
 
@@ -338,7 +341,11 @@ mod tests {
             roundness: 1.0,
             aspect: 1.0,
         });
-        for u in [Vec2::new(0.1, 0.7), Vec2::new(0.9, 0.2), Vec2::new(0.5, 0.5)] {
+        for u in [
+            Vec2::new(0.1, 0.7),
+            Vec2::new(0.9, 0.2),
+            Vec2::new(0.5, 0.5),
+        ] {
             assert_eq!(round.unit_point(u), concentric_sample_disk(u));
         }
     }
@@ -363,12 +370,15 @@ mod tests {
             fan => triangle_areas(fan).iter().map(|&a| f64::from(a)).sum(),
         } * f64::from(aspect);
         let cell = Vec2::new(2.0 / GRID as f32, 2.0 * aspect / GRID as f32);
-        let corner = |i: usize, j: usize| Vec2::new(-1.0, -aspect) + cell * Vec2::new(i as f32, j as f32);
+        let corner =
+            |i: usize, j: usize| Vec2::new(-1.0, -aspect) + cell * Vec2::new(i as f32, j as f32);
         let mut counts = vec![0u32; GRID * GRID + 1];
         let mut state = 0x853c_49e6_748f_ea9bu64;
         let mut next = || {
             // PCG-style LCG, the top 24 bits.
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (state >> 40) as f32 / (1u64 << 24) as f32
         };
         let whole: Vec<bool> = (0..GRID * GRID)
@@ -410,18 +420,40 @@ mod tests {
     fn samples_are_uniform_over_every_shape() {
         let shapes = [
             ApertureShape::ROUND,
-            ApertureShape { blades: Some(5), rotation_degrees: 15.0, ..ApertureShape::ROUND },
-            ApertureShape { blades: Some(6), ..ApertureShape::ROUND },
-            ApertureShape { blades: Some(9), roundness: 0.5, ..ApertureShape::ROUND },
-            ApertureShape { aspect: 2.0, ..ApertureShape::ROUND },
-            ApertureShape { blades: Some(7), aspect: 0.5, roundness: 0.2, ..ApertureShape::ROUND },
+            ApertureShape {
+                blades: Some(5),
+                rotation_degrees: 15.0,
+                ..ApertureShape::ROUND
+            },
+            ApertureShape {
+                blades: Some(6),
+                ..ApertureShape::ROUND
+            },
+            ApertureShape {
+                blades: Some(9),
+                roundness: 0.5,
+                ..ApertureShape::ROUND
+            },
+            ApertureShape {
+                aspect: 2.0,
+                ..ApertureShape::ROUND
+            },
+            ApertureShape {
+                blades: Some(7),
+                aspect: 0.5,
+                roundness: 0.2,
+                ..ApertureShape::ROUND
+            },
         ];
         for shape in shapes {
             let (chi2, cells) = chi_square(&Aperture::new(shape), 400_000);
             let dof = cells as f64;
             let bound = dof + 5.0 * (2.0 * dof).sqrt();
             assert!(cells > 100, "{shape:?}: {cells} cells");
-            assert!(chi2 < bound, "{shape:?}: chi-square {chi2:.1} over {cells} cells (bound {bound:.1})");
+            assert!(
+                chi2 < bound,
+                "{shape:?}: chi-square {chi2:.1} over {cells} cells (bound {bound:.1})"
+            );
         }
     }
 }

@@ -3,9 +3,9 @@
 use glam::Vec3;
 use thiserror::Error;
 
+use super::aperture::{ApertureShape, MAX_BLADES};
 use super::look_at::CameraFrame;
 use super::physical::PhysicalLens;
-use super::aperture::{ApertureShape, MAX_BLADES};
 use super::{Aperture, Camera, Projection, ThinLens};
 
 /// Largest image side accepted.

@@ -10,7 +10,8 @@ use crate::paths::{DeviceChoice, PathChoice, PathOptions};
 use crate::sampler::SamplerKind;
 use crate::settings::Shading;
 use crate::settings::{
-    CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
+    ApertureSettings, CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle,
+    Settings,
 };
 
 /// Parses "x,y,z" into three finite-or-not numbers (validation names the option later).
@@ -136,6 +137,19 @@ pub struct ViewArgs {
     /// Distance of the focal plane along the view axis, world units.
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub focus_distance: Option<f64>,
+    /// Blades of the iris, 3 to 32 (absent: a round aperture); its vertices lie on the
+    /// aperture's circle.
+    #[arg(long, value_name = "N")]
+    pub aperture_blades: Option<u32>,
+    /// Angle of the first blade's vertex, degrees counter-clockwise from the image's +x axis.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub aperture_rotation: Option<f64>,
+    /// Blades curved as arcs: 0 straight, 1 round.
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub aperture_roundness: Option<f64>,
+    /// Anamorphic squeeze: the aperture's height over its width (2: ovals twice as tall).
+    #[arg(long, value_name = "A", allow_hyphen_values = true)]
+    pub aperture_aspect: Option<f64>,
     /// Focal length in mm (physical units; world units are metres).
     #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub focal_length_mm: Option<f64>,
@@ -194,6 +208,12 @@ impl ViewArgs {
                 sensor_height_mm: self.sensor_height_mm,
                 near: self.near,
                 far: self.far,
+                aperture: ApertureSettings {
+                    blades: self.aperture_blades,
+                    rotation: self.aperture_rotation,
+                    roundness: self.aperture_roundness,
+                    aspect: self.aperture_aspect,
+                },
             },
             image: ImageSettings {
                 width: self.width,

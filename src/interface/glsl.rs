@@ -87,6 +87,28 @@ macro_rules! glsl_vec4 {
 glsl_vec4!([f32; 4], "vec4", Float);
 glsl_vec4!([u32; 4], "uvec4", Uint);
 
+/// An array of vec4 (GLSL's `vec4[N] name;`): 16-byte stride under both layouts.
+macro_rules! glsl_vec4_array {
+    ($n:literal, $glsl:literal) => {
+        impl GlslType for [[f32; 4]; $n] {
+            const GLSL: &'static str = $glsl;
+            fn align(_: Layout) -> usize {
+                16
+            }
+            fn size(_: Layout) -> usize {
+                16 * $n
+            }
+            fn scalars(path: &str, offset: usize, out: &mut Vec<Scalar>) {
+                for i in 0..$n {
+                    <[f32; 4]>::scalars(&format!("{path}[{i}]"), offset + 16 * i, out);
+                }
+            }
+        }
+    };
+}
+
+glsl_vec4_array!(32, "vec4[32]");
+
 /// mat4, column-major on both sides (glam's `to_cols_array`): four vec4 columns.
 impl GlslType for [f32; 16] {
     const GLSL: &'static str = "mat4";

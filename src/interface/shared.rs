@@ -23,6 +23,9 @@ shader_interface! {
         /// (1 + the largest coordinate magnitude): float spacing grows with the coordinates.
         SHADOW_ORIGIN_OFFSET: f32 = 1e-4;
         PI: f32 = std::f32::consts::PI;
+        /// Most triangles of an aperture's fan (camera::aperture): `Camera.aperture_fan` holds
+        /// two vertices per vec4.
+        APERTURE_MAX_FAN: u32 = 64;
 
         /// What the preview window shows (`preview::ViewMode`, shaders/present/resolve.comp): the
         /// thin-lens accumulation, a G-buffer AOV, or each pixel's circle of confusion.
@@ -169,6 +172,14 @@ shader_interface! {
             near_z: f32,
             aperture_radius: f32,
             focus_distance: f32,
+            /// Triangles of the aperture's fan (camera::aperture); 0: a disk.
+            aperture_fan_len: u32,
+            /// The aperture's height over its width.
+            aperture_aspect: f32,
+            pad0: u32,
+            pad1: u32,
+            /// The fan's vertices (unit circumscribed radius), two per vec4: (x0, y0, x1, y1).
+            aperture_fan: [[f32; 4]; 32],
         }
         /// The uniform block of trace.comp.
         Std140 struct TraceParams as TraceParams {
@@ -225,7 +236,8 @@ shader_interface! {
             view: u32,
             /// PROJECTION_*
             projection: u32,
-            aperture_radius: f32,
+            /// ThinLens::reach: the radius of the circle that holds the aperture's shape.
+            lens_reach: f32,
             focus_distance: f32,
             near_z: f32,
             far_z: f32,
@@ -262,7 +274,8 @@ shader_interface! {
             spp: u32,
             /// PROJECTION_*
             projection: u32,
-            aperture_radius: f32,
+            /// ThinLens::reach: the radius of the circle that holds the aperture's shape.
+            lens_reach: f32,
             focus_distance: f32,
             near_z: f32,
             /// Pixels per screen-space unit (Camera::pixels_per_screen_unit).
@@ -313,6 +326,8 @@ shader_interface! {
             origin: [f32; 4],
             /// ... and direction (w = 0)
             direction: [f32; 4],
+            /// lens_point(camera, lens).xy, then 0, 0
+            lens_point: [f32; 4],
         }
         /// A material of the scene's storage buffer.
         Std430 struct GpuMaterial as Material {

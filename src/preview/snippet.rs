@@ -94,6 +94,8 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
                 .then(|| c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM)),
             near: Some(c.near.unwrap_or(camera.near as f64)),
             far: Some(c.far.unwrap_or(camera.far as f64)),
+            // The shape as given: what is left out is the round aperture's default.
+            aperture: c.aperture.clone(),
         },
         image: ImageSettings {
             width: Some(camera.width),
@@ -177,6 +179,11 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>) -> String {
     option("f-number", number(c.f_number));
     option("sensor-height-mm", number(c.sensor_height_mm));
     option("focus-distance", number(c.focus_distance));
+    let a = &c.aperture;
+    option("aperture-blades", a.blades.map(|x| x.to_string()));
+    option("aperture-rotation", number(a.rotation));
+    option("aperture-roundness", number(a.roundness));
+    option("aperture-aspect", number(a.aspect));
     option("near", number(c.near));
     option("far", number(c.far));
     option("width", i.width.map(|x| x.to_string()));

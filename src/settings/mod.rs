@@ -16,5 +16,6 @@ pub use shot::{
     DEFAULT_SPP, DEFAULT_VFOV_DEGREES, DEFAULT_WIDTH,
 };
 pub use user::{
-    CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
+    ApertureSettings, CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle,
+    Settings,
 };

@@ -5,10 +5,12 @@ use glam::{DVec3, Vec3};
 use thiserror::Error;
 
 use crate::camera::physical::PhysicalLens;
-use crate::camera::{Camera, CameraError, CameraParams, LensParams, ProjectionParams};
+use crate::camera::{
+    Aperture, ApertureShape, Camera, CameraError, CameraParams, LensParams, ProjectionParams,
+};
 use crate::scene::Scene;
+use crate::settings::{ApertureSettings, ProjectionKind, Settings};
 use crate::settings::{PointLight, RenderSettings, Shading};
-use crate::settings::{ProjectionKind, Settings};
 
 pub const DEFAULT_WIDTH: u32 = 640;
 pub const DEFAULT_HEIGHT: u32 = 480;
@@ -61,6 +63,17 @@ fn point(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
 }
 
 /// Fills in defaults and validates everything.
+/// The aperture of `a` (round where it names no blades), each value checked.
+fn aperture(a: &ApertureSettings) -> Result<Aperture, SettingsError> {
+    Ok(ApertureShape {
+        blades: a.blades,
+        rotation_degrees: a.rotation.unwrap_or(0.0) as f32,
+        roundness: a.roundness.unwrap_or(0.0) as f32,
+        aspect: a.aspect.unwrap_or(1.0) as f32,
+    }
+    .build()?)
+}
+
 pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
     let c = &settings.camera;
@@ -148,7 +161,8 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
         width: settings.image.width.unwrap_or(DEFAULT_WIDTH),
         height: settings.image.height.unwrap_or(DEFAULT_HEIGHT),
     }
-    .build()?;
+    .build()?
+    .with_aperture(aperture(&c.aperture)?);
 
     let spp = settings.image.spp.unwrap_or(DEFAULT_SPP);
     if spp == 0 {

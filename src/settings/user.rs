@@ -30,6 +30,23 @@ pub struct CameraSettings {
     pub sensor_height_mm: Option<f64>,
     pub near: Option<f64>,
     pub far: Option<f64>,
+    /// `[camera.aperture]`: the opening's shape (round when absent).
+    #[serde(default, skip_serializing_if = "ApertureSettings::is_unset")]
+    pub aperture: ApertureSettings,
+}
+
+/// The aperture's shape (`camera::aperture` states the conventions).
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ApertureSettings {
+    /// Blades of the iris, 3 or more (absent: round).
+    pub blades: Option<u32>,
+    /// Angle of the first blade's vertex, degrees counter-clockwise from the image's +x.
+    pub rotation: Option<f64>,
+    /// 0: straight blades, 1: round; between, blades curved as arcs.
+    pub roundness: Option<f64>,
+    /// Anamorphic squeeze: the aperture's height over its width.
+    pub aspect: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
@@ -98,6 +115,8 @@ impl Settings {
             near,
             far
         );
+        let (a, base) = (&c.aperture, &mut self.camera.aperture);
+        overlay!(a, base, blades, rotation, roundness, aspect);
         overlay!(i, self.image, width, height, spp, seed, sampler);
         overlay!(r, self.render, shading, background);
         overlay!(l, self.light, position, intensity);
@@ -115,4 +134,10 @@ macro_rules! is_unset {
         })*
     };
 }
-is_unset!(CameraSettings, ImageSettings, RenderStyle, LightSettings);
+is_unset!(
+    CameraSettings,
+    ApertureSettings,
+    ImageSettings,
+    RenderStyle,
+    LightSettings
+);

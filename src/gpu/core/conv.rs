@@ -7,7 +7,7 @@ use glam::Mat4;
 
 use crate::camera::{Camera, Projection};
 use crate::interface::{
-    GpuCamera, GpuMaterial, RasterPush, ResolvePush, TraceParams, ViewParams,
+    GpuCamera, GpuMaterial, RasterPush, ResolvePush, TraceParams, ViewParams, APERTURE_MAX_FAN,
     PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
 };
 use crate::scene::Scene;
@@ -137,8 +137,23 @@ impl GpuCamera {
             near_z: camera.near,
             aperture_radius: camera.lens.aperture_radius,
             focus_distance: camera.lens.focus_distance,
+            aperture_fan_len: camera.lens.aperture.fan().len() as u32,
+            aperture_aspect: camera.lens.aperture.shape.aspect,
+            pad0: 0,
+            pad1: 0,
+            aperture_fan: aperture_fan(camera.lens.aperture.fan()),
         }
     }
+}
+
+/// The fan's vertices, two per vec4 (`Camera.aperture_fan`), zeros after the last.
+fn aperture_fan(fan: &[glam::Vec2]) -> [[f32; 4]; APERTURE_MAX_FAN as usize / 2] {
+    let mut out = [[0.0; 4]; APERTURE_MAX_FAN as usize / 2];
+    for (i, v) in fan.iter().enumerate() {
+        out[i / 2][2 * (i % 2)] = v.x;
+        out[i / 2][2 * (i % 2) + 1] = v.y;
+    }
+    out
 }
 
 impl TraceParams {
@@ -172,7 +187,7 @@ impl ViewParams {
         Self {
             view,
             projection: projection_code(camera),
-            aperture_radius: camera.lens.aperture_radius,
+            lens_reach: camera.lens.reach(),
             focus_distance: camera.lens.focus_distance,
             near_z: camera.near,
             far_z: camera.far,

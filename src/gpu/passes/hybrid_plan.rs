@@ -166,7 +166,7 @@ impl HybridPlanPass {
             },
             spp,
             projection: crate::gpu::core::conv::projection_code(camera),
-            aperture_radius: camera.lens.aperture_radius,
+            lens_reach: camera.lens.reach(),
             focus_distance: camera.lens.focus_distance,
             near_z: camera.near,
             pixels_per_screen_unit: camera.pixels_per_screen_unit(),
