@@ -169,6 +169,21 @@ fn bad_numbers_are_rejected_with_one_line() {
 }
 
 #[test]
+fn bad_aperture_shapes_are_rejected_with_one_line() {
+    assert_rejected(&["--aperture-blades", "2"], "aperture blades");
+    assert_rejected(&["--aperture-blades", "33"], "aperture blades");
+    assert_rejected(&["--aperture-blades", "-1"], "aperture-blades");
+    assert_rejected(
+        &["--aperture-blades", "6", "--aperture-roundness", "1.5"],
+        "roundness",
+    );
+    assert_rejected(&["--aperture-roundness", "-0.1"], "roundness");
+    assert_rejected(&["--aperture-aspect", "0"], "aperture aspect");
+    assert_rejected(&["--aperture-aspect", "nan"], "aperture aspect");
+    assert_rejected(&["--aperture-rotation", "inf"], "aperture rotation");
+}
+
+#[test]
 fn bad_files_are_rejected_with_one_line() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path();

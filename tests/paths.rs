@@ -168,6 +168,57 @@ fn an_accumulation_moves_between_paths() {
     }
 }
 
+/// With a shaped aperture (curved, squeezed pentagon) each traced GPU path and the raster path
+/// render the CPU reference's image, as with the round one.
+#[test]
+fn gpu_paths_agree_with_the_cpu_on_a_shaped_aperture() {
+    let test = "gpu_paths_agree_with_the_cpu_on_a_shaped_aperture";
+    let (cam, s) = shot();
+    let cam = cam.with_aperture(
+        lensray::camera::ApertureShape {
+            blades: Some(5),
+            rotation_degrees: 15.0,
+            roundness: 0.3,
+            aspect: 1.4,
+        }
+        .build()
+        .expect("valid aperture"),
+    );
+    let Some(OpenedPath { path: mut cpu, .. }) = open(test, PathChoice::Only(PathKind::Cpu)) else {
+        return;
+    };
+    let shared = RenderSettings {
+        shared_samples: true,
+        ..s
+    };
+    for choice in available(test).into_iter().filter(|c| {
+        matches!(
+            c.only(),
+            Some(PathKind::RayQuery | PathKind::Software | PathKind::Raster)
+        )
+    }) {
+        let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
+            continue;
+        };
+        let settings = if choice == PathChoice::Only(PathKind::Raster) {
+            shared
+        } else {
+            s
+        };
+        let reference = cpu.render(&cam, &settings, &mut |_, _| {}).expect("cpu");
+        let image = path
+            .render(&cam, &settings, &mut |_, _| {})
+            .expect("render");
+        let diff = compare(&image, &reference, 1.0 / 255.0);
+        println!("{choice}: {diff:?}");
+        if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
+            let files = write_comparison(&image, &reference, &format!("aperture-{choice}-vs-cpu"));
+            panic!("{choice}: differs from the CPU reference: {diff:?}; wrote {files}");
+        }
+        path.close().expect("close: validation messages or leaks");
+    }
+}
+
 /// Each GPU path renders the CPU reference's image (the statistics of tests/gpu.rs), and finds
 /// the same focus depth at a pixel.
 #[test]

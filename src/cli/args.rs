@@ -139,7 +139,7 @@ pub struct ViewArgs {
     pub focus_distance: Option<f64>,
     /// Blades of the iris, 3 to 32 (absent: a round aperture); its vertices lie on the
     /// aperture's circle.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub aperture_blades: Option<u32>,
     /// Angle of the first blade's vertex, degrees counter-clockwise from the image's +x axis.
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]

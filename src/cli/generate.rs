@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context};
 
 use crate::scene::file::write_scene_file;
-use crate::scene::generate::{cornell_box, dense, sphere_row};
+use crate::scene::generate::{bokeh, cornell_box, dense, sphere_row};
 use crate::scene::{write_obj, SceneDescription};
 
 /// Triangles of the dense benchmark scene unless `--triangles` says otherwise.
@@ -22,6 +22,8 @@ pub enum Which {
     Spheres,
     /// At least `--triangles` triangles (default 1M) of spheres on a checkerboard, for benchmarks.
     Dense,
+    /// Small bright lights in front of and behind an in-focus subject: the aperture's shape.
+    Bokeh,
 }
 
 impl Which {
@@ -31,6 +33,7 @@ impl Which {
             Which::Cornell => "A Cornell-box-style room (red left wall, green right wall) with a tall box, a sphere in focus and a ceiling light.",
             Which::Spheres => "Five coloured spheres in a row receding in depth on a grey ground, the middle one in focus.",
             Which::Dense => "A benchmark scene: a 10 x 10 grid of finely tessellated spheres on a checkerboard, focused on the middle.",
+            Which::Bokeh => "Small bright lights at several depths in front of and behind an in-focus sphere on a dark background: out-of-focus highlights take the aperture's shape.",
         }
     }
 
@@ -40,6 +43,7 @@ impl Which {
             Which::Cornell => "cornell",
             Which::Spheres => "spheres",
             Which::Dense => "dense",
+            Which::Bokeh => "bokeh",
         }
     }
 }
@@ -94,6 +98,7 @@ pub fn generate(
         Which::Cornell => cornell_box(),
         Which::Spheres => sphere_row(),
         Which::Dense => dense(dense_triangles),
+        Which::Bokeh => bokeh(),
     };
     let name = which.name();
     fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;

@@ -1,4 +1,4 @@
-//! Procedural geometry and the generated scenes (`cornell_box`, `sphere_row`, `dense`).
+//! Procedural geometry and the generated scenes (`cornell_box`, `sphere_row`, `dense`, `bokeh`).
 //!
 //! Conventions: world right-handed, y up, metres. Every primitive is wound counter-clockwise seen
 //! from outside (the geometric normal `cross(b - a, c - a)` points out of solids and to the front
@@ -480,5 +480,57 @@ pub fn dense(min_triangles: usize) -> SceneDescription {
         [0.5, 0.65, 0.85],
         (Vec3::new(-6.0, 12.0, 4.0), [600.0, 600.0, 600.0]),
         "generated dense",
+    )
+}
+
+/// Depths (camera-space z, the subject at 6) and counts of [`bokeh`]'s rows of lights.
+const BOKEH_ROWS: [(f32, u32); 4] = [(3.2, 3), (4.2, 4), (11.0, 5), (16.0, 6)];
+
+/// A scene for the aperture's shape: a grey sphere in focus at 6 m on a dark background, lit by
+/// a point light, and rows of small emissive spheres (3 cm at 6 m, warm and cool hues) at 3.2 and
+/// 4.2 m in front of it and 11 and 16 m behind it, spread across the view so that each
+/// out-of-focus light draws the aperture, turned by 180 degrees in front of the focal plane.
+pub fn bokeh() -> SceneDescription {
+    let mut b = SceneBuilder::new();
+    let grey = b.material("subject", Vec3::splat(0.6), Vec3::ZERO);
+    let eye = Vec3::new(0.0, 0.0, 6.0);
+    let subject = Vec3::ZERO;
+    b.add(uv_sphere("subject", subject, 0.5, 48, 24, grey));
+    let vfov = 30.0f32;
+    let half_height = (0.5 * vfov).to_radians().tan();
+    for (row, &(depth, count)) in BOKEH_ROWS.iter().enumerate() {
+        // Spread over 80 % of the view's width at that depth, each row at its own height.
+        let half_width = 0.8 * half_height * depth * 4.0 / 3.0;
+        let y = [0.72, -0.36, 0.36, -0.72][row] * half_height * depth;
+        for i in 0..count {
+            let t = (i as f32 + 0.5) / count as f32;
+            let x = (2.0 * t - 1.0) * half_width;
+            let colour = hue(
+                0.08 + 0.55 * ((row as u32 * 7 + i) % 5) as f32 / 5.0,
+                0.5,
+                1.0,
+            );
+            let light = b.material(&format!("light_{row}_{i}"), Vec3::ZERO, 12.0 * colour);
+            let center = eye - Vec3::Z * depth + Vec3::new(x, y, 0.0);
+            let radius = 0.03 * depth / 6.0;
+            b.add(uv_sphere(
+                &format!("light_{row}_{i}"),
+                center,
+                radius,
+                12,
+                6,
+                light,
+            ));
+        }
+    }
+    let scene = b.finish();
+    let camera = camera_settings(eye, subject, subject, vfov as f64, 0.25, scene.bounds());
+    describe(
+        scene,
+        camera,
+        256,
+        [0.01, 0.01, 0.015],
+        (Vec3::new(2.0, 3.0, 7.0), [40.0, 40.0, 40.0]),
+        "generated bokeh",
     )
 }
