@@ -138,6 +138,7 @@ impl Panel {
                 rig.set_aperture_radius(radius);
             }
             ui.end_row();
+            self.aperture_shape(ui, rig);
             ui.label("Focus distance");
             let mut focus = r.focus_distance;
             if ui
@@ -152,6 +153,51 @@ impl Panel {
             }
             ui.end_row();
         });
+    }
+
+    /// The iris: blades (or round), rotation, roundness and the anamorphic aspect, live.
+    fn aperture_shape(&mut self, ui: &mut egui::Ui, rig: &mut CameraRig) {
+        let mut a = rig.aperture();
+        let before = a.clone();
+        ui.label("Aperture blades");
+        ui.horizontal(|ui| {
+            let mut round = a.blades.is_none();
+            if ui.checkbox(&mut round, "round").changed() {
+                a.blades = if round { None } else { Some(6) };
+            }
+            if let Some(blades) = a.blades.as_mut() {
+                ui.add(egui::DragValue::new(blades).speed(0.05).range(3..=32));
+            }
+        });
+        ui.end_row();
+        let mut rotation = a.rotation.unwrap_or(0.0);
+        let mut roundness = a.roundness.unwrap_or(0.0);
+        let mut aspect = a.aspect.unwrap_or(1.0);
+        ui.label("Blade rotation");
+        ui.add_enabled(
+            a.blades.is_some(),
+            egui::DragValue::new(&mut rotation)
+                .speed(0.5)
+                .range(-180.0..=180.0)
+                .suffix(" deg"),
+        );
+        ui.end_row();
+        ui.label("Roundness");
+        ui.add_enabled(
+            a.blades.is_some(),
+            egui::Slider::new(&mut roundness, 0.0..=1.0),
+        );
+        ui.end_row();
+        ui.label("Aspect (h / w)");
+        ui.add(egui::Slider::new(&mut aspect, 0.25..=4.0).logarithmic(true));
+        ui.end_row();
+        // Only what differs from the default is written (the C snippet stays short).
+        a.rotation = (rotation != 0.0).then_some(rotation);
+        a.roundness = (roundness != 0.0).then_some(roundness);
+        a.aspect = (aspect != 1.0).then_some(aspect);
+        if a != before {
+            rig.set_aperture(a);
+        }
     }
 
     fn view_controls(&mut self, ui: &mut egui::Ui) {

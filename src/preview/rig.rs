@@ -15,7 +15,7 @@ use crate::scene::Scene;
 use crate::settings::{
     shot, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES,
 };
-use crate::settings::{ProjectionKind, Settings};
+use crate::settings::{ApertureSettings, ProjectionKind, Settings};
 
 /// Orbit rate of a left drag.
 pub const ORBIT_DEGREES_PER_PIXEL: f64 = 0.3;
@@ -425,6 +425,24 @@ impl CameraRig {
 
     /// Sets the aperture radius in world units (0 = pinhole), switching from physical units to
     /// world units with the field of view the lens had, so the framing stays.
+    /// The aperture's shape as the settings give it.
+    pub fn aperture(&self) -> ApertureSettings {
+        self.settings.camera.aperture.clone()
+    }
+
+    /// Sets the aperture's shape; a value `lensray render` would refuse leaves it unchanged.
+    pub fn set_aperture(&mut self, aperture: ApertureSettings) {
+        let blades_ok = aperture
+            .blades
+            .is_none_or(|n| (3..=crate::camera::aperture::MAX_BLADES).contains(&n));
+        let roundness_ok = aperture.roundness.is_none_or(|r| (0.0..=1.0).contains(&r));
+        let aspect_ok = aperture.aspect.is_none_or(|a| a.is_finite() && a > 0.0);
+        let rotation_ok = aperture.rotation.is_none_or(f64::is_finite);
+        if blades_ok && roundness_ok && aspect_ok && rotation_ok {
+            self.settings.camera.aperture = aperture;
+        }
+    }
+
     pub fn set_aperture_radius(&mut self, radius: f64) {
         if !(radius.is_finite() && radius >= 0.0) {
             return;
