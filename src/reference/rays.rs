@@ -101,7 +101,7 @@ pub fn primary_rays(
         }
     };
     // ThinLens::lens_ray.
-    let lens = camera.lens;
+    let lens = &camera.lens;
     if lens.aperture_radius > 0.0 {
         let mut to_focus = Lanes3::splat(Vec3::ZERO);
         for l in 0..PACKET_SIZE {
