@@ -237,3 +237,14 @@ pub fn linear_to_srgb(c: f32) -> f32 {
         1.055 * c.powf(1.0 / 2.4) - 0.055
     }
 }
+
+/// The inverse of [`linear_to_srgb`]: an sRGB-encoded value in [0, 1] to linear.
+pub fn srgb_to_linear(v: f32) -> f32 {
+    if v.is_nan() || v <= 0.0 {
+        0.0
+    } else if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}

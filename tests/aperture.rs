@@ -3,6 +3,7 @@
 //! degrees in front of the focal plane; roundness 1 is the round aperture exactly.
 
 use glam::{Vec2, Vec3};
+use lensray::camera::aperture::ApertureImage;
 use lensray::camera::{ApertureShape, Camera, CameraParams, LensParams, ProjectionParams};
 use lensray::film::Image;
 use lensray::reference::Renderer;
@@ -72,6 +73,16 @@ fn point_scene(z: f32, radius: f32) -> Scene {
 fn in_shape(camera: &Camera, q: Vec2) -> bool {
     let aperture = &camera.lens.aperture;
     let q = Vec2::new(q.x, q.y / aperture.shape.aspect);
+    if let Some(image) = aperture.image() {
+        // Turned back into the image's square.
+        let c = aperture.turn();
+        let p = Vec2::new(c.x * q.x + c.y * q.y, -c.y * q.x + c.x * q.y);
+        if p.x.abs() > 1.0 || p.y.abs() > 1.0 {
+            return false;
+        }
+        let (column, row) = image.cell_of(p);
+        return image.transmission()[(row * image.columns() + column) as usize] > 0.0;
+    }
     let fan = aperture.fan();
     if fan.is_empty() {
         return q.length() <= 1.0;
@@ -124,13 +135,14 @@ fn an_out_of_focus_point_images_as_the_aperture_turned_in_front_of_the_focus() {
         rotation_degrees: 10.0,
         roundness: 0.5,
         aspect: 1.5,
+        ..ApertureShape::ROUND
     };
     // (shape, depth, point radius): the circle of confusion is ~30 px wide in each case, the
     // point's own image under 2 px.
     let cases = [
-        (pentagon, 10.0, 0.05),
-        (pentagon, 2.5, 0.02),
-        (heptagon, 10.0, 0.05),
+        (pentagon.clone(), 10.0, 0.05),
+        (pentagon.clone(), 2.5, 0.02),
+        (heptagon.clone(), 10.0, 0.05),
         (heptagon, 2.5, 0.02),
     ];
     for (shape, z, radius) in cases {
@@ -138,7 +150,7 @@ fn an_out_of_focus_point_images_as_the_aperture_turned_in_front_of_the_focus() {
         let pixels_per_unit = SIZE as f32 / (2.0 * 20f32.to_radians().tan());
         let reach = shape.aspect.max(1.0);
         let aperture_radius = 30.0 / ((1.0 / FOCUS - 1.0 / z).abs() * pixels_per_unit * reach);
-        let cam = camera(aperture_radius, shape);
+        let cam = camera(aperture_radius, shape.clone());
         let renderer = Renderer::new(&point_scene(z, radius));
         let (image, _) = renderer.render(&cam, &settings(1024), &mut |_, _| {});
         let upright = share_inside(&image, &cam, z, false);
@@ -164,11 +176,56 @@ fn roundness_one_renders_the_round_aperture() {
             blades: Some(6),
             rotation_degrees: 25.0,
             roundness: 1.0,
-            aspect: 1.0,
+            ..ApertureShape::ROUND
         },
     );
     let (a, _) = renderer.render(&round, &settings(16), &mut |_, _| {});
     let (b, _) = renderer.render(&curved, &settings(16), &mut |_, _| {});
     assert!(a.pixels.iter().any(|p| p.x > 0.0));
     assert_eq!(a, b, "roundness 1 must render the round aperture");
+}
+
+/// The letter F as a 5 x 7 mask (top row first): neither a half turn nor a mirror maps it
+/// onto itself.
+fn letter_f() -> ApertureShape {
+    const ROWS: [&str; 7] = [
+        "#####", "#....", "#....", "####.", "#....", "#....", "#....",
+    ];
+    let values: Vec<f32> = ROWS
+        .iter()
+        .flat_map(|row| row.chars().map(|c| if c == '#' { 1.0 } else { 0.0 }))
+        .collect();
+    ApertureShape {
+        rotation_degrees: 10.0,
+        image: Some(std::sync::Arc::new(
+            ApertureImage::new(5, 7, &values).expect("an aperture image"),
+        )),
+        ..ApertureShape::ROUND
+    }
+}
+
+/// An aperture image: an out-of-focus point images as the mask (the letter F, turned by 10
+/// degrees), upright beyond the focal plane and turned by 180 degrees in front of it. The
+/// mask's cells are 6 px at this blur, so the point's own 2 px image spills over their edges
+/// more than over a polygon's: at least 85 % falls inside, and at most half as much inside the
+/// other orientation.
+#[test]
+fn an_out_of_focus_point_images_as_the_aperture_image() {
+    let shape = letter_f();
+    for (z, radius) in [(10.0f32, 0.05f32), (2.5, 0.02)] {
+        let pixels_per_unit = SIZE as f32 / (2.0 * 20f32.to_radians().tan());
+        // The image's square is 2 aperture radii wide: 42 px here.
+        let aperture_radius = 21.0 / ((1.0 / FOCUS - 1.0 / z).abs() * pixels_per_unit);
+        let cam = camera(aperture_radius, shape.clone());
+        let renderer = Renderer::new(&point_scene(z, radius));
+        let (image, _) = renderer.render(&cam, &settings(1024), &mut |_, _| {});
+        let upright = share_inside(&image, &cam, z, false);
+        let turned = share_inside(&image, &cam, z, true);
+        println!("letter F at z = {z}: {upright:.3} inside, {turned:.3} inside when turned");
+        assert!(
+            upright >= 0.85 && turned <= 0.5 * upright,
+            "letter F at z = {z}: {upright:.3} of the light inside the footprint, {turned:.3} \
+             inside the footprint turned by 180 degrees"
+        );
+    }
 }

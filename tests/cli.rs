@@ -181,6 +181,28 @@ fn bad_aperture_shapes_are_rejected_with_one_line() {
     assert_rejected(&["--aperture-aspect", "0"], "aperture aspect");
     assert_rejected(&["--aperture-aspect", "nan"], "aperture aspect");
     assert_rejected(&["--aperture-rotation", "inf"], "aperture rotation");
+    // Aperture images: all black, missing, not an image, not PNG or EXR, beside blades.
+    let images = tempfile::tempdir().unwrap();
+    let path = |name: &str| images.path().join(name).to_str().unwrap().to_owned();
+    image::GrayImage::new(8, 8).save(path("black.png")).unwrap();
+    image::GrayImage::from_pixel(8, 8, image::Luma([255]))
+        .save(path("white.png"))
+        .unwrap();
+    std::fs::write(path("text.png"), "not a PNG").unwrap();
+    std::fs::write(path("mask.txt"), "1 1\n1 1\n").unwrap();
+    assert_rejected(&["--aperture-image", &path("black.png")], "all black");
+    assert_rejected(&["--aperture-image", &path("missing.png")], "missing.png");
+    assert_rejected(&["--aperture-image", &path("text.png")], "text.png");
+    assert_rejected(&["--aperture-image", &path("mask.txt")], "png or .exr");
+    assert_rejected(
+        &[
+            "--aperture-image",
+            &path("white.png"),
+            "--aperture-blades",
+            "6",
+        ],
+        "either aperture blades or an aperture image",
+    );
 }
 
 #[test]

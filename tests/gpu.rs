@@ -9,6 +9,7 @@ mod gpu_support;
 
 use glam::{UVec2, Vec2, Vec3};
 use gpu_support::*;
+use lensray::camera::aperture::ApertureImage;
 use lensray::camera::{ApertureShape, Camera, LensParams};
 use lensray::film::Image;
 use lensray::gpu::{focus_distance_at, GpuError, GpuOptions, GpuRenderer, ProbeQuery};
@@ -169,10 +170,34 @@ fn sampler_and_camera_mirrors_match_rust() {
             rotation_degrees,
             roundness,
             aspect,
+            image: None,
         }
         .build()
         .expect("a valid aperture")
     };
+    // An aperture image of odd size (the searches' steps do not divide it) with a gradient, a
+    // hole and an empty row; turned and squeezed.
+    let (columns, rows) = (37u32, 23u32);
+    let values: Vec<f32> = (0..columns * rows)
+        .map(|i| {
+            let (x, y) = (i % columns, i / columns);
+            if y == 3 || (10..14).contains(&x) && (8..12).contains(&y) {
+                0.0
+            } else {
+                0.05 + (x * y) as f32 / (columns * rows) as f32
+            }
+        })
+        .collect();
+    let image = ApertureShape {
+        rotation_degrees: 20.0,
+        aspect: 1.3,
+        image: Some(std::sync::Arc::new(
+            ApertureImage::new(columns, rows, &values).expect("an aperture image"),
+        )),
+        ..ApertureShape::ROUND
+    }
+    .build()
+    .expect("a valid aperture");
     let perspective = camera(
         false,
         LensParams::ThinLens {
@@ -202,8 +227,14 @@ fn sampler_and_camera_mirrors_match_rust() {
         perspective
             .clone()
             .with_aperture(shape(Some(5), -30.0, 0.4, 1.5)),
-        perspective.with_aperture(shape(None, 0.0, 0.0, 2.0)),
-        orthographic.with_aperture(shape(Some(9), 0.0, 0.7, 0.5)),
+        perspective
+            .clone()
+            .with_aperture(shape(None, 0.0, 0.0, 2.0)),
+        orthographic
+            .clone()
+            .with_aperture(shape(Some(9), 0.0, 0.7, 0.5)),
+        perspective.with_aperture(image.clone()),
+        orthographic.with_aperture(image),
     ];
     let kinds = [SamplerKind::Sobol, SamplerKind::Independent];
     for cam in &cams {
@@ -263,12 +294,13 @@ fn sampler_and_camera_mirrors_match_rust() {
                 gpu_cs.map(f32::to_bits),
                 "camera_sample for {q:?}"
             );
-            // Lens points of a bladed aperture: additions, multiplications and a division on
-            // both sides (`precise` in GLSL), bit for bit. The disk's sine and cosine are the
-            // GPU's own, within a few units in the last place.
+            // Lens points of a bladed aperture or an image: additions, multiplications,
+            // divisions and table searches on both sides (`precise` in GLSL), bit for bit. The
+            // disk's sine and cosine are the GPU's own, within a few units in the last place.
             let lens = cam.lens.lens_point(cs.lens);
             let gpu_lens = Vec2::new(r.lens_point[0], r.lens_point[1]);
-            if cam.lens.aperture.fan().is_empty() {
+            let disk = cam.lens.aperture.fan().is_empty() && cam.lens.aperture.image().is_none();
+            if disk {
                 let err = (gpu_lens - lens).length() / cam.lens.reach();
                 assert!(err < 1e-6, "lens_point {lens} vs {gpu_lens} for {q:?}");
             } else {

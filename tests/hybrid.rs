@@ -129,6 +129,7 @@ fn hybrid_converges_with_a_squeezed_bladed_aperture() {
         rotation_degrees: 90.0,
         roundness: 0.2,
         aspect: 1.8,
+        image: None,
     }
     .build()
     .expect("valid aperture");

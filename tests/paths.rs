@@ -168,22 +168,41 @@ fn an_accumulation_moves_between_paths() {
     }
 }
 
-/// With a shaped aperture (curved, squeezed pentagon) each traced GPU path and the raster path
-/// render the CPU reference's image, as with the round one.
+/// With shaped apertures (a curved, squeezed pentagon; an image, a soap-bubble ring brighter
+/// at its rim, squeezed) each traced GPU path and the raster path render the CPU reference's
+/// image, as with the round one.
 #[test]
 fn gpu_paths_agree_with_the_cpu_on_a_shaped_aperture() {
     let test = "gpu_paths_agree_with_the_cpu_on_a_shaped_aperture";
     let (cam, s) = shot();
-    let cam = cam.with_aperture(
-        lensray::camera::ApertureShape {
-            blades: Some(5),
-            rotation_degrees: 15.0,
-            roundness: 0.3,
-            aspect: 1.4,
-        }
-        .build()
-        .expect("valid aperture"),
-    );
+    let pentagon = lensray::camera::ApertureShape {
+        blades: Some(5),
+        rotation_degrees: 15.0,
+        roundness: 0.3,
+        aspect: 1.4,
+        image: None,
+    };
+    let side = 33u32;
+    let ring: Vec<f32> = (0..side * side)
+        .map(|i| {
+            let (x, y) = (i % side, i / side);
+            let r = ((x as f32 + 0.5) / side as f32 * 2.0 - 1.0)
+                .hypot((y as f32 + 0.5) / side as f32 * 2.0 - 1.0);
+            if r <= 1.0 {
+                0.3 + 0.7 * r * r
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let bubble = lensray::camera::ApertureShape {
+        aspect: 1.4,
+        image: Some(std::sync::Arc::new(
+            lensray::camera::aperture::ApertureImage::new(side, side, &ring)
+                .expect("an aperture image"),
+        )),
+        ..lensray::camera::ApertureShape::ROUND
+    };
     let Some(OpenedPath { path: mut cpu, .. }) = open(test, PathChoice::Only(PathKind::Cpu)) else {
         return;
     };
@@ -191,31 +210,40 @@ fn gpu_paths_agree_with_the_cpu_on_a_shaped_aperture() {
         shared_samples: true,
         ..s
     };
-    for choice in available(test).into_iter().filter(|c| {
-        matches!(
-            c.only(),
-            Some(PathKind::RayQuery | PathKind::Software | PathKind::Raster)
-        )
-    }) {
-        let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
-            continue;
-        };
-        let settings = if choice == PathChoice::Only(PathKind::Raster) {
-            shared
-        } else {
-            s
-        };
-        let reference = cpu.render(&cam, &settings, &mut |_, _| {}).expect("cpu");
-        let image = path
-            .render(&cam, &settings, &mut |_, _| {})
-            .expect("render");
-        let diff = compare(&image, &reference, 1.0 / 255.0);
-        println!("{choice}: {diff:?}");
-        if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
-            let files = write_comparison(&image, &reference, &format!("aperture-{choice}-vs-cpu"));
-            panic!("{choice}: differs from the CPU reference: {diff:?}; wrote {files}");
+    for (name, shape) in [("pentagon", pentagon), ("image", bubble)] {
+        let cam = cam
+            .clone()
+            .with_aperture(shape.build().expect("valid aperture"));
+        for choice in available(test).into_iter().filter(|c| {
+            matches!(
+                c.only(),
+                Some(PathKind::RayQuery | PathKind::Software | PathKind::Raster)
+            )
+        }) {
+            let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
+                continue;
+            };
+            let settings = if choice == PathChoice::Only(PathKind::Raster) {
+                shared
+            } else {
+                s
+            };
+            let reference = cpu.render(&cam, &settings, &mut |_, _| {}).expect("cpu");
+            let image = path
+                .render(&cam, &settings, &mut |_, _| {})
+                .expect("render");
+            let diff = compare(&image, &reference, 1.0 / 255.0);
+            println!("{name}, {choice}: {diff:?}");
+            if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
+                let files = write_comparison(
+                    &image,
+                    &reference,
+                    &format!("aperture-{name}-{choice}-vs-cpu"),
+                );
+                panic!("{name}, {choice}: differs from the CPU reference: {diff:?}; wrote {files}");
+            }
+            path.close().expect("close: validation messages or leaks");
         }
-        path.close().expect("close: validation messages or leaks");
     }
 }
 

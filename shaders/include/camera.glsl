@@ -33,7 +33,7 @@ vec2 concentric_sample_disk(vec2 u) {
     return radius * vec2(cos(theta), sin(theta));
 }
 
-// aperture.rs: sample_fan. `precise`: no fused multiply-adds, the same roundings as Rust.
+// aperture/fan.rs: sample_fan. `precise`: no fused multiply-adds, the same roundings as Rust.
 vec2 sample_fan(Camera cam, vec2 u) {
     precise vec2 offset = 2.0 * u - vec2(1.0);
     if (offset.x == 0.0 && offset.y == 0.0) {
@@ -68,9 +68,59 @@ vec2 sample_fan(Camera cam, vec2 u) {
     return p;
 }
 
-// aperture.rs: Aperture::unit_point
+#ifdef APERTURE_TABLE_BINDING
+// The aperture image's tables (aperture/image.rs, ApertureImage::table).
+layout(std430, set = 0, binding = APERTURE_TABLE_BINDING) readonly buffer ApertureTable {
+    float aperture_table[];
+};
+
+// aperture/image.rs: first_step
+uint first_step(uint n) { return n > 1u ? (1u << uint(findMSB(n - 1u))) : 0u; }
+
+// aperture/image.rs: invert, over the n + 1 values of aperture_table from `start`. Returns the
+// interval and the position inside it.
+vec2 invert_table(uint start, uint n, float u) {
+    uint i = 0u;
+    for (uint step = first_step(n); step > 0u; step /= 2u) {
+        if (i + step < n && aperture_table[start + i + step] <= u) {
+            i += step;
+        }
+    }
+    float lo = aperture_table[start + i];
+    float hi = aperture_table[start + i + 1u];
+    precise float w = (u - lo) / (hi - lo);
+    return vec2(float(i), w);
+}
+
+// aperture/image.rs: ApertureImage::sample
+vec2 sample_aperture_image(Camera cam, vec2 u) {
+    uint columns = cam.aperture_image_columns;
+    uint rows = cam.aperture_image_rows;
+    vec2 row = invert_table(0u, rows, u.y);
+    uint start = rows + 1u + uint(row.x) * (columns + 1u);
+    vec2 column = invert_table(start, columns, u.x);
+    precise float x = (column.x + column.y) / float(columns);
+    precise float y = (row.x + row.y) / float(rows);
+    precise vec2 p = vec2(2.0 * x - 1.0, 1.0 - 2.0 * y);
+    return p;
+}
+#endif
+
+// aperture/mod.rs: Aperture::unit_point
 vec2 aperture_unit_point(Camera cam, vec2 u) {
-    vec2 p = cam.aperture_fan_len == 0u ? concentric_sample_disk(u) : sample_fan(cam, u);
+    precise vec2 p;
+#ifdef APERTURE_TABLE_BINDING
+    if (cam.aperture_image_columns > 0u) {
+        vec2 q = sample_aperture_image(cam, u);
+        vec2 c = cam.aperture_turn.xy;
+        p = vec2(c.x * q.x - c.y * q.y, c.y * q.x + c.x * q.y);
+    } else
+#endif
+    if (cam.aperture_fan_len == 0u) {
+        p = concentric_sample_disk(u);
+    } else {
+        p = sample_fan(cam, u);
+    }
     precise vec2 squeezed = vec2(p.x, p.y * cam.aperture_aspect);
     return squeezed;
 }

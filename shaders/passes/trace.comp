@@ -18,6 +18,7 @@
 #error "define TRAVERSAL_RAY_QUERY or TRAVERSAL_SOFTWARE"
 #endif
 
+#define APERTURE_TABLE_BINDING TRACE_BINDING_APERTURE
 #include "camera.glsl"
 #include "sampler.glsl"
 #define SCENE_SET 0

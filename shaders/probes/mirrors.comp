@@ -1,6 +1,8 @@
 #version 460
 // Mirror check: evaluates shaders/include/sampler.glsl and shaders/include/camera.glsl for a list of queries so
 // tests can compare them with src/sampler.rs and src/camera bit for bit.
+#include "interface.glsl"
+#define APERTURE_TABLE_BINDING PROBE_BINDING_APERTURE
 #include "camera.glsl"
 #include "sampler.glsl"
 

@@ -94,7 +94,7 @@ impl ApertureShape {
             return Err(CameraError::ApertureRoundness(self.roundness));
         }
         positive("aperture aspect", f64::from(self.aspect))?;
-        Ok(Aperture::new(*self))
+        Ok(Aperture::new(self.clone()))
     }
 }
 

@@ -81,7 +81,7 @@ impl Camera {
         Self::new(
             self.projection,
             self.frame,
-            self.lens,
+            self.lens.clone(),
             self.near,
             self.far,
             width,
@@ -148,7 +148,7 @@ impl Camera {
         Self::new(
             self.projection,
             self.frame,
-            self.lens,
+            self.lens.clone(),
             self.near * 0.01,
             self.far * 100.0,
             self.width,

@@ -11,7 +11,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::{Aperture, Ray};
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ThinLens {
     /// World units; 0 is a pinhole. The radius of the circle the aperture's shape is
     /// inscribed in (before its aspect, see `aperture`).

@@ -150,6 +150,10 @@ pub struct ViewArgs {
     /// Anamorphic squeeze: the aperture's height over its width (2: ovals twice as tall).
     #[arg(long, value_name = "A", allow_hyphen_values = true)]
     pub aperture_aspect: Option<f64>,
+    /// The aperture's shape as an image (PNG or EXR, transmission in [0, 1]) filling the
+    /// square around the aperture circle, its top row at the top; instead of blades.
+    #[arg(long, value_name = "FILE")]
+    pub aperture_image: Option<std::path::PathBuf>,
     /// Focal length in mm (physical units; world units are metres).
     #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub focal_length_mm: Option<f64>,
@@ -213,6 +217,7 @@ impl ViewArgs {
                     rotation: self.aperture_rotation,
                     roundness: self.aperture_roundness,
                     aspect: self.aperture_aspect,
+                    image: self.aperture_image.clone(),
                 },
             },
             image: ImageSettings {

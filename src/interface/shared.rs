@@ -84,6 +84,10 @@ shader_interface! {
         /// camera-space depth of the surface the G-buffer sees at the pixel centre (0: none),
         /// written by the plan; the lit shortcut samples reproject through it.
         TRACE_BINDING_SURFACE_DEPTH: u32 = 13;
+        /// trace.comp: the aperture image's tables (`ApertureImage::table`: the marginal
+        /// cumulative distribution over rows, then each row's over its columns), floats; a
+        /// placeholder when the aperture is no image.
+        TRACE_BINDING_APERTURE: u32 = 14;
         /// `TracePush.mode`: trace every sample (rayquery, software); the hybrid's traced mode
         /// (reads the plan); the hybrid's lit pre-pass, before the plan's steps: per pixel the
         /// aperture-centre ray at the pixel centre (its hit rasterized by the visibility pass
@@ -148,6 +152,8 @@ shader_interface! {
         PROBE_BINDING_QUERIES: u32 = 0;
         PROBE_BINDING_RESULTS: u32 = 1;
         PROBE_BINDING_CAMERA: u32 = 2;
+        /// The aperture image's tables, as TRACE_BINDING_APERTURE.
+        PROBE_BINDING_APERTURE: u32 = 3;
         /// resolve.comp (the preview): the accumulation, the G-buffer images, the display image.
         RESOLVE_GROUP_SIZE: u32 = 8;
         RESOLVE_BINDING_ACCUM: u32 = 0;
@@ -176,8 +182,12 @@ shader_interface! {
             aperture_fan_len: u32,
             /// The aperture's height over its width.
             aperture_aspect: f32,
-            pad0: u32,
-            pad1: u32,
+            /// Cells of the aperture image (camera::aperture::image) a row and a column; 0: no
+            /// image. Its tables are the storage buffer at APERTURE_TABLE_BINDING.
+            aperture_image_columns: u32,
+            aperture_image_rows: u32,
+            /// (cos, sin) of the aperture's rotation, which turns an image; zw unused.
+            aperture_turn: [f32; 4],
             /// The fan's vertices (unit circumscribed radius), two per vec4: (x0, y0, x1, y1).
             aperture_fan: [[f32; 4]; 32],
         }

@@ -96,8 +96,12 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings), SceneError> {
     if !has_extension(&mesh, "obj") {
         return Err(mesh_error("must be an .obj file"));
     }
+    let mut camera = file.camera;
+    if let Some(image) = camera.aperture.image.as_mut() {
+        *image = path.parent().unwrap_or(Path::new("")).join(&*image);
+    }
     let settings = Settings {
-        camera: file.camera,
+        camera,
         image: file.image,
         render: file.render,
         light: file.light,

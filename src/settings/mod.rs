@@ -6,6 +6,7 @@
 //! - [`render`]: the render settings every path (CPU and GPU) computes from: samples, seed,
 //!   sampler, shading, background and light.
 
+pub mod aperture_image;
 pub mod render;
 pub mod shot;
 pub mod user;

@@ -35,6 +35,8 @@ pub enum SettingsError {
     Conflict(&'static str),
     #[error("the scene has no triangles to frame")]
     EmptyScene,
+    #[error(transparent)]
+    ApertureImage(#[from] super::aperture_image::ApertureImageFileError),
 }
 
 pub struct Shot {
@@ -65,11 +67,22 @@ fn point(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
 /// Fills in defaults and validates everything.
 /// The aperture of `a` (round where it names no blades), each value checked.
 fn aperture(a: &ApertureSettings) -> Result<Aperture, SettingsError> {
+    if a.blades.is_some() && a.image.is_some() {
+        return Err(SettingsError::Conflict(
+            "give either aperture blades or an aperture image, not both",
+        ));
+    }
+    let image = a
+        .image
+        .as_deref()
+        .map(super::aperture_image::load)
+        .transpose()?;
     Ok(ApertureShape {
         blades: a.blades,
         rotation_degrees: a.rotation.unwrap_or(0.0) as f32,
         roundness: a.roundness.unwrap_or(0.0) as f32,
         aspect: a.aspect.unwrap_or(1.0) as f32,
+        image,
     }
     .build()?)
 }

@@ -2,6 +2,8 @@
 //! the command line overrides the file, and what neither gives gets a default (see `resolve`).
 //! Field names are the scene file's TOML keys.
 
+use std::path::PathBuf;
+
 use serde::{Deserialize, Serialize};
 
 use crate::sampler::SamplerKind;
@@ -47,6 +49,9 @@ pub struct ApertureSettings {
     pub roundness: Option<f64>,
     /// Anamorphic squeeze: the aperture's height over its width.
     pub aspect: Option<f64>,
+    /// A transmission map (PNG or EXR) over the square circumscribing the aperture circle,
+    /// instead of blades (a scene file's relative path starts at its folder).
+    pub image: Option<PathBuf>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
@@ -90,7 +95,7 @@ pub struct Settings {
 /// `a.or(b)` field by field: what `over` sets wins.
 macro_rules! overlay {
     ($over:expr, $base:expr, $($field:ident),*) => {
-        $( $base.$field = $over.$field.or($base.$field); )*
+        $( $base.$field = $over.$field.clone().or($base.$field.take()); )*
     };
 }
 
@@ -116,7 +121,7 @@ impl Settings {
             far
         );
         let (a, base) = (&c.aperture, &mut self.camera.aperture);
-        overlay!(a, base, blades, rotation, roundness, aspect);
+        overlay!(a, base, blades, rotation, roundness, aspect, image);
         overlay!(i, self.image, width, height, spp, seed, sampler);
         overlay!(r, self.render, shading, background);
         overlay!(l, self.light, position, intensity);

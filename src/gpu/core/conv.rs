@@ -129,6 +129,8 @@ pub(crate) fn projection_code(camera: &Camera) -> u32 {
 
 impl GpuCamera {
     pub fn new(camera: &Camera) -> Self {
+        let image = camera.lens.aperture.image();
+        let turn = camera.lens.aperture.turn();
         Self {
             // glam and GLSL are both column-major.
             world_from_camera: camera.world_from_camera.to_cols_array(),
@@ -139,8 +141,9 @@ impl GpuCamera {
             focus_distance: camera.lens.focus_distance,
             aperture_fan_len: camera.lens.aperture.fan().len() as u32,
             aperture_aspect: camera.lens.aperture.shape.aspect,
-            pad0: 0,
-            pad1: 0,
+            aperture_image_columns: image.map_or(0, |i| i.columns()),
+            aperture_image_rows: image.map_or(0, |i| i.rows()),
+            aperture_turn: [turn.x, turn.y, 0.0, 0.0],
             aperture_fan: aperture_fan(camera.lens.aperture.fan()),
         }
     }

@@ -19,14 +19,15 @@ use crate::gpu::core::error::GpuError;
 use crate::gpu::core::pipeline::{Binding, Pipeline};
 use crate::gpu::core::query::QueryPool;
 use crate::gpu::core::shader;
+use crate::gpu::passes::aperture::ApertureTable;
 use crate::gpu::passes::films::DeviceFilms;
 use crate::gpu::scene::{BvhBuffers, SceneBuffers};
 use crate::gpu::traversal::Traversal;
 use crate::interface::{
-    TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_COUNTERS, TRACE_BINDING_PARAMS,
-    TRACE_BINDING_PLAN, TRACE_BINDING_SURFACE_DEPTH, TRACE_BINDING_TLAS, TRACE_BINDING_VISIBILITY,
-    TRACE_GROUP_SIZE as GROUP, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER,
-    TRACE_MODE_SHORTCUT,
+    TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_APERTURE, TRACE_BINDING_COUNTERS,
+    TRACE_BINDING_PARAMS, TRACE_BINDING_PLAN, TRACE_BINDING_SURFACE_DEPTH, TRACE_BINDING_TLAS,
+    TRACE_BINDING_VISIBILITY, TRACE_GROUP_SIZE as GROUP, TRACE_MODE_ALL, TRACE_MODE_HYBRID,
+    TRACE_MODE_RASTER, TRACE_MODE_SHORTCUT,
 };
 use crate::settings::RenderSettings;
 
@@ -158,6 +159,8 @@ pub(crate) struct TracePass {
     accum: Option<BandSums>,
     /// The accumulations' sums on the device.
     pub films: DeviceFilms,
+    /// The aperture image's tables (TRACE_BINDING_APERTURE).
+    aperture: ApertureTable,
     /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
     pub samples_per_dispatch: u64,
     /// Current size of a dispatch, adapted to the measured speed.
@@ -217,6 +220,7 @@ impl TracePass {
         // Until a render or the preview binds its own: the hybrid's lit pre-pass (which does
         // not touch the sums) may run first, and every binding must be valid.
         let accum_placeholder = placeholder("trace accumulation placeholder")?;
+        let aperture = ApertureTable::new(ctx)?;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         for p in &pipelines {
             let pipeline = &p.pipeline;
@@ -230,6 +234,7 @@ impl TracePass {
             pipeline.bind_buffer(TRACE_BINDING_PLAN, storage, &plan);
             pipeline.bind_buffer(TRACE_BINDING_SURFACE_DEPTH, storage, &surface_depth);
             pipeline.bind_buffer(TRACE_BINDING_VISIBILITY, storage, &visibility);
+            pipeline.bind_buffer(TRACE_BINDING_APERTURE, storage, &aperture.buffer);
         }
         let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
         Ok(Self {
@@ -247,6 +252,7 @@ impl TracePass {
             timestamps,
             accum: None,
             films: DeviceFilms::new(ctx),
+            aperture,
             samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
             adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
             max_band_pixels: MAX_BAND_PIXELS,
@@ -401,6 +407,11 @@ impl TracePass {
                 vk::DescriptorType::STORAGE_BUFFER,
                 compute,
             ),
+            (
+                TRACE_BINDING_APERTURE,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
         ]);
         Pipeline::compute(
             ctx,
@@ -460,6 +471,26 @@ impl TracePass {
                 }
             }
         }
+    }
+
+    /// Makes the aperture tables those of `camera` (see `ApertureTable::ensure`), binding them
+    /// anew when they change. Called before recording work with `camera`'s parameters.
+    pub fn ensure_aperture(&mut self, camera: &Camera) -> Result<(), GpuError> {
+        if self.aperture.ensure(camera)? {
+            for p in &self.pipelines {
+                p.pipeline.bind_buffer(
+                    TRACE_BINDING_APERTURE,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    &self.aperture.buffer,
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether `ensure_aperture(camera)` would upload new tables (and wait for the device).
+    pub fn aperture_differs(&self, camera: &Camera) -> bool {
+        self.aperture.differs(camera)
     }
 
     /// Points every pipeline's accumulation binding at `buffer`.
@@ -603,6 +634,7 @@ impl TracePass {
             }
         };
         let band_rows = self.ensure_accumulation(width, height)?;
+        self.ensure_aperture(camera)?;
         let (film, start) = self.films.take(accumulation)?;
         self.films.prepare_finish(film)?;
         // The parameters go up in the first submission (a pending one may still read them).

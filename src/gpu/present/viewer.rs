@@ -360,6 +360,11 @@ impl Viewer {
                 frame.textures.clear();
             }
         }
+        if self.gpu.trace.aperture_differs(request.camera) {
+            // Frames in flight bind the old tables (a new aperture image: rare).
+            self.wait_idle()?;
+            self.gpu.trace.ensure_aperture(request.camera)?;
+        }
         let (Some(swapchain), Some(accum)) = (self.swapchain.as_ref(), self.accum.as_mut()) else {
             return Ok(result);
         };

@@ -12,8 +12,10 @@ use crate::gpu::core::device::Context;
 use crate::gpu::core::error::GpuError;
 use crate::gpu::core::pipeline::Pipeline;
 use crate::gpu::core::shader;
+use crate::gpu::passes::aperture::ApertureTable;
 use crate::interface::{
-    GpuCamera, PROBE_BINDING_CAMERA, PROBE_BINDING_QUERIES, PROBE_BINDING_RESULTS, PROBE_GROUP_SIZE,
+    GpuCamera, PROBE_BINDING_APERTURE, PROBE_BINDING_CAMERA, PROBE_BINDING_QUERIES,
+    PROBE_BINDING_RESULTS, PROBE_GROUP_SIZE,
 };
 pub use crate::interface::{ProbeQuery, ProbeResult};
 
@@ -31,6 +33,7 @@ pub(crate) fn run(
         (PROBE_BINDING_QUERIES, storage, compute),
         (PROBE_BINDING_RESULTS, storage, compute),
         (PROBE_BINDING_CAMERA, uniform, compute),
+        (PROBE_BINDING_APERTURE, storage, compute),
     ];
     let pipeline = Pipeline::compute(ctx, shader::MIRRORS_COMP, &bindings, 4)?;
     let input = Buffer::with_data(
@@ -58,6 +61,8 @@ pub(crate) fn run(
     pipeline.bind_buffer(PROBE_BINDING_QUERIES, storage, &input);
     pipeline.bind_buffer(PROBE_BINDING_RESULTS, storage, &output);
     pipeline.bind_buffer(PROBE_BINDING_CAMERA, uniform, &cam);
+    let aperture = ApertureTable::of(ctx, camera)?;
+    pipeline.bind_buffer(PROBE_BINDING_APERTURE, storage, &aperture);
     let count = queries.len() as u32;
     ctx.submit_and_wait(|cmd| {
         pipeline.bind(cmd, bytemuck::bytes_of(&count));

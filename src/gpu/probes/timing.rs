@@ -145,7 +145,7 @@ pub fn bench_renderer(
     let tiny = Camera::new(
         camera.projection,
         camera.frame,
-        camera.lens,
+        camera.lens.clone(),
         camera.near,
         camera.far,
         8,

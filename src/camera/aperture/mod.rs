@@ -15,7 +15,12 @@
 //!   Between, each arc is drawn as `MAX_FAN / N` chords whose vertices lie on it.
 //! - The aspect (anamorphic squeeze) is the shape's height over its width: y is scaled by it
 //!   about the lens centre after everything else, x is not.
-//! - Exposure does not change with the shape: the image is the average over the opening.
+//! - An aperture image (`image`) fills the square circumscribing the circle, its top row at
+//!   the image's top, as a transmission map in [0, 1]: the opening and its brightness profile
+//!   (an apodised or soap-bubble lens is an image). The rotation turns it about the centre,
+//!   the aspect stretches it as it does the blades. Blades and an image exclude each other.
+//! - Exposure does not change with the shape: the image is the average over the opening,
+//!   weighted by its transmission.
 //!
 //! # Sampling
 //! Uniform over the shape and stratified as the sampler's lens dimensions are: the square's
@@ -24,11 +29,19 @@
 //! triangles of equal area around the centre, so that fraction picks a triangle and a point on
 //! its outer edge by one multiplication, with no search, loop or rejection. The arithmetic is
 //! additions, multiplications and one division: the GLSL mirror (`shaders/include/camera.glsl`)
-//! gives the same bits.
+//! gives the same bits. Images: a piecewise-constant 2D distribution ([`image`]).
 
-use glam::{DVec2, Vec2};
+mod fan;
+pub mod image;
+
+use std::sync::Arc;
+
+use glam::Vec2;
 
 use super::thin_lens::concentric_sample_disk;
+use fan::blade_fan;
+pub use fan::sample_fan;
+pub use image::{ApertureImage, ApertureImageError};
 
 /// Most triangles of a fan (the GPU's camera block holds them, two vertices per vec4).
 pub const MAX_FAN: usize = crate::interface::APERTURE_MAX_FAN as usize;
@@ -36,13 +49,15 @@ pub const MAX_FAN: usize = crate::interface::APERTURE_MAX_FAN as usize;
 pub const MAX_BLADES: u32 = 32;
 
 /// What a user says of the aperture's shape (`[camera.aperture]`, `--aperture-*`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ApertureShape {
-    /// `None`: round.
+    /// `None`: round (or the image's shape).
     pub blades: Option<u32>,
     pub rotation_degrees: f32,
     pub roundness: f32,
     pub aspect: f32,
+    /// A transmission map over the circumscribed square (`--aperture-image`).
+    pub image: Option<Arc<ApertureImage>>,
 }
 
 impl ApertureShape {
@@ -51,6 +66,7 @@ impl ApertureShape {
         rotation_degrees: 0.0,
         roundness: 0.0,
         aspect: 1.0,
+        image: None,
     };
 }
 
@@ -61,14 +77,18 @@ impl Default for ApertureShape {
 }
 
 /// The aperture as sampled: the fan of the unit shape (circumscribed radius 1, before the
-/// aspect), or none for a disk.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// aspect), an image's tables, or neither for a disk.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Aperture {
     pub shape: ApertureShape,
     /// `fan_len` vertices counter-clockwise from vertex 0 (at the rotation angle); triangle
     /// (centre, fan[i], fan[(i + 1) % fan_len]) has the same area for every i.
     fan: [Vec2; MAX_FAN],
     fan_len: u32,
+    /// (cos, sin) of the rotation, which turns an image (a fan has it built in).
+    turn: Vec2,
+    /// See `reach`.
+    reach: f32,
 }
 
 impl Default for Aperture {
@@ -82,18 +102,30 @@ impl Aperture {
         shape: ApertureShape::ROUND,
         fan: [Vec2::ZERO; MAX_FAN],
         fan_len: 0,
+        turn: Vec2::X,
+        reach: 1.0,
     };
 
-    /// The aperture of `shape` (checked by `CameraParams::build`: 3..=MAX_BLADES blades,
-    /// roundness in [0, 1], a positive aspect).
+    /// The aperture of `shape` (checked by `ApertureShape::build`: 3..=MAX_BLADES blades,
+    /// roundness in [0, 1], a positive aspect, not both blades and an image).
     pub fn new(shape: ApertureShape) -> Self {
+        let rotation = f64::from(shape.rotation_degrees).to_radians();
+        let turn = Vec2::new(rotation.cos() as f32, rotation.sin() as f32);
+        let reach = match &shape.image {
+            Some(image) => image.reach(turn, shape.aspect),
+            None => shape.aspect.max(1.0),
+        };
         let mut aperture = Aperture {
-            shape,
+            turn,
+            reach,
             ..Self::ROUND
         };
-        let Some(blades) = shape.blades.filter(|_| shape.roundness < 1.0) else {
+        let blades = shape.blades.filter(|_| shape.roundness < 1.0);
+        aperture.shape = shape;
+        let Some(blades) = blades.filter(|_| aperture.shape.image.is_none()) else {
             return aperture;
         };
+        let shape = &aperture.shape;
         let fan = blade_fan(
             blades,
             f64::from(shape.rotation_degrees).to_radians(),
@@ -106,15 +138,29 @@ impl Aperture {
         aperture
     }
 
-    /// The fan's vertices (empty: a disk).
+    /// The fan's vertices (empty: a disk or an image).
     pub fn fan(&self) -> &[Vec2] {
         &self.fan[..self.fan_len as usize]
+    }
+
+    /// The aperture image, if the shape is one.
+    pub fn image(&self) -> Option<&ApertureImage> {
+        self.shape.image.as_deref()
+    }
+
+    /// (cos, sin) of the rotation: what turns an image.
+    pub fn turn(&self) -> Vec2 {
+        self.turn
     }
 
     /// The point of the unit shape (circumscribed radius 1, aspect applied) that the uniform
     /// sample `u` in [0, 1)^2 picks.
     pub fn unit_point(&self, u: Vec2) -> Vec2 {
-        let p = if self.fan_len == 0 {
+        let p = if let Some(image) = self.image() {
+            let q = image.sample(u);
+            let c = self.turn;
+            Vec2::new(c.x * q.x - c.y * q.y, c.y * q.x + c.x * q.y)
+        } else if self.fan_len == 0 {
             concentric_sample_disk(u)
         } else {
             sample_fan(self.fan(), u)
@@ -123,153 +169,10 @@ impl Aperture {
     }
 
     /// How far the shape reaches from the centre, in units of the aperture radius: the
-    /// radius of the circle that holds it (the aspect stretches it vertically).
+    /// radius of the circle that holds it (the aspect stretches it vertically; an image's
+    /// corners may reach past the circle).
     pub fn reach(&self) -> f32 {
-        self.shape.aspect.max(1.0)
-    }
-}
-
-/// Uniform [0, 1)^2 -> uniform over the fan `fan` (equal-area triangles around the origin):
-/// concentric ring r in [0, 1], fraction `a` of the way around it, then the point at `a` of
-/// the fan's outer boundary (triangle floor(a n), a linear position on its outer edge) scaled
-/// by r. Scaled copies of the fan have area proportional to r^2, as the square's rings do, and
-/// each triangle holds 1/n of every ring: the map preserves area.
-pub fn sample_fan(fan: &[Vec2], u: Vec2) -> Vec2 {
-    let offset = 2.0 * u - Vec2::ONE;
-    if offset.x == 0.0 && offset.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    // The concentric map's ring and angle (in turns: its theta / 2 pi).
-    let (mut r, mut a) = if offset.x.abs() > offset.y.abs() {
-        (offset.x, 0.125 * (offset.y / offset.x))
-    } else {
-        (offset.y, 0.25 - 0.125 * (offset.x / offset.y))
-    };
-    if r < 0.0 {
-        r = -r;
-        a += 0.5;
-    }
-    if a < 0.0 {
-        a += 1.0;
-    }
-    let n = fan.len() as u32;
-    let s = a * n as f32;
-    let i = (s as u32).min(n - 1);
-    let t = s - i as f32;
-    let (p0, p1) = (fan[i as usize], fan[((i + 1) % n) as usize]);
-    r * (p0 + t * (p1 - p0))
-}
-
-/// The fan of an iris of `blades` blades of roundness `roundness`, vertex 0 at angle
-/// `rotation` (radians): per blade, the blade's first vertex and points on its arc chosen so
-/// that every triangle of the fan has the same area.
-fn blade_fan(blades: u32, rotation: f64, roundness: f64) -> Vec<DVec2> {
-    let per_blade = if roundness > 0.0 {
-        MAX_FAN / blades as usize
-    } else {
-        1
-    };
-    let half = std::f64::consts::PI / f64::from(blades);
-    let mut fan = Vec::with_capacity(per_blade * blades as usize);
-    // One blade along +x (vertices at -half and +half), then turned into place.
-    let arc = BladeArc::new(half, roundness);
-    let steps = arc.equal_area_steps(per_blade);
-    for k in 0..blades {
-        let turn = rotation + half + 2.0 * half * f64::from(k);
-        let (sin, cos) = turn.sin_cos();
-        for &p in &steps {
-            fan.push(DVec2::new(cos * p.x - sin * p.y, sin * p.x + cos * p.y));
-        }
-    }
-    fan
-}
-
-/// One blade's arc through (cos half, -+sin half): a circle of radius `radius` centred on the
-/// x axis at `centre_x`, from angle -`span` to +`span` about that centre; straight (no arc)
-/// when `radius` is infinite.
-struct BladeArc {
-    half: f64,
-    centre_x: f64,
-    radius: f64,
-    span: f64,
-}
-
-impl BladeArc {
-    fn new(half: f64, roundness: f64) -> Self {
-        let (chord_half, chord_x) = (half.sin(), half.cos());
-        let sagitta = roundness * (1.0 - chord_x);
-        if sagitta <= 0.0 {
-            return BladeArc {
-                half,
-                centre_x: 0.0,
-                radius: f64::INFINITY,
-                span: 0.0,
-            };
-        }
-        let radius = (chord_half * chord_half + sagitta * sagitta) / (2.0 * sagitta);
-        BladeArc {
-            half,
-            centre_x: chord_x + sagitta - radius,
-            radius,
-            span: (chord_half / radius).asin(),
-        }
-    }
-
-    /// The point at parameter `t` in [0, 1] from the first vertex to the second.
-    fn point(&self, t: f64) -> DVec2 {
-        if self.radius.is_infinite() {
-            let y = (2.0 * t - 1.0) * self.half.sin();
-            return DVec2::new(self.half.cos(), y);
-        }
-        let angle = (2.0 * t - 1.0) * self.span;
-        DVec2::new(
-            self.centre_x + self.radius * angle.cos(),
-            self.radius * angle.sin(),
-        )
-    }
-
-    /// `n` points from the first vertex (included) towards the second (excluded) such that
-    /// the n triangles (origin, point i, point i + 1), the last ending at the second vertex,
-    /// have equal areas: the area per triangle is found by bisection so that the n-th step
-    /// lands on the second vertex.
-    fn equal_area_steps(&self, n: usize) -> Vec<DVec2> {
-        let area = |a: DVec2, b: DVec2| 0.5 * a.perp_dot(b);
-        // The parameter after `from` whose triangle has `target` area (area grows with it).
-        let step = |from: f64, target: f64| -> f64 {
-            let (mut lo, mut hi) = (from, 1.0 + 1.0);
-            let a = self.point(from);
-            for _ in 0..100 {
-                let mid = 0.5 * (lo + hi);
-                if area(a, self.point(mid.min(1.0))) + (mid - 1.0).max(0.0) < target {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            0.5 * (lo + hi)
-        };
-        let whole = area(self.point(0.0), self.point(1.0));
-        let (mut lo, mut hi) = (0.0, whole);
-        for _ in 0..100 {
-            let target = 0.5 * (lo + hi);
-            let mut t = 0.0;
-            for _ in 0..n {
-                t = step(t, target);
-            }
-            if t < 1.0 {
-                lo = target;
-            } else {
-                hi = target;
-            }
-        }
-        let target = 0.5 * (lo + hi);
-        let mut t = 0.0;
-        let mut points = Vec::with_capacity(n);
-        for _ in 0..n {
-            points.push(self.point(t));
-            t = step(t, target).min(1.0);
-        }
-        points
+        self.reach
     }
 }
 
@@ -291,7 +194,7 @@ mod tests {
                     blades: Some(blades),
                     rotation_degrees: 15.0,
                     roundness,
-                    aspect: 1.0,
+                    ..ApertureShape::ROUND
                 });
                 let areas = triangle_areas(aperture.fan());
                 let mean = areas.iter().sum::<f32>() / areas.len() as f32;
@@ -339,7 +242,7 @@ mod tests {
             blades: Some(6),
             rotation_degrees: 20.0,
             roundness: 1.0,
-            aspect: 1.0,
+            ..ApertureShape::ROUND
         });
         for u in [
             Vec2::new(0.1, 0.7),
@@ -446,7 +349,7 @@ mod tests {
             },
         ];
         for shape in shapes {
-            let (chi2, cells) = chi_square(&Aperture::new(shape), 400_000);
+            let (chi2, cells) = chi_square(&Aperture::new(shape.clone()), 400_000);
             let dof = cells as f64;
             let bound = dof + 5.0 * (2.0 * dof).sqrt();
             assert!(cells > 100, "{shape:?}: {cells} cells");
