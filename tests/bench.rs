@@ -283,6 +283,58 @@ fn resolution_and_triangle_sweeps_run() {
     }
 }
 
+/// The aperture sweep: the round aperture is measured with the shapes asked for, each path's
+/// cost is its time over the round one's (1 for round), the table prints the costs, and the
+/// shaped images differ from the round one (the shapes reach the renderer).
+#[test]
+fn aperture_sweep_weighs_shapes_against_the_round_aperture() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "--paths",
+        "cpu",
+        "--sweep",
+        "aperture",
+        "--sweep-points",
+        "image,hexagon",
+        "--json",
+        "aperture.json",
+    ];
+    let out = bench(&args, dir.path());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table = text(&out.stdout);
+    assert!(
+        table.contains("aperture cost") && table.contains("cpu: hexagon"),
+        "{table}"
+    );
+    let json = read_json(&dir.path().join("aperture.json"));
+    assert_eq!(json["sweep"], "aperture");
+    let points = json["points"].as_array().unwrap();
+    let shapes: Vec<&str> = points
+        .iter()
+        .map(|p| p["aperture"].as_str().unwrap())
+        .collect();
+    assert_eq!(shapes, ["round", "hexagon", "image"]);
+    let mut errors = Vec::new();
+    for (p, m) in measurements(&json) {
+        check_measurement(m);
+        let cost = m["cost_vs_round"].as_f64().expect("cost_vs_round");
+        let times: Vec<f64> = points[0]["results"][0]["trace_seconds"]["median"]
+            .as_f64()
+            .into_iter()
+            .collect();
+        let expected = m["trace_seconds"]["median"].as_f64().unwrap() / times[0];
+        assert!((cost - expected).abs() < 1e-9, "{cost} vs {expected}");
+        if p["aperture"] == "round" {
+            assert_eq!(cost, 1.0);
+        }
+        errors.push(m["rmse"].as_f64().unwrap());
+    }
+    assert!(
+        errors[0] != errors[1] && errors[0] != errors[2],
+        "the shapes rendered the round image: {errors:?}"
+    );
+}
+
 /// Bad input: one line naming the problem, a non-zero exit, no panic, no file written.
 #[test]
 fn bad_input_is_one_clear_line_and_writes_nothing() {

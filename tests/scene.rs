@@ -993,3 +993,42 @@ fn ensure_dense_scene_generates_only_when_needed() {
     ensure_dense_scene(dir.path(), 40_000).unwrap();
     assert!(obj.is_file());
 }
+
+/// `[camera.aperture] image` is relative to the scene file's folder, as the mesh is, and the
+/// shot reads it as the aperture.
+#[test]
+fn scene_file_aperture_image_is_relative_to_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        dir.path(),
+        "tri.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    std::fs::create_dir_all(dir.path().join("masks")).unwrap();
+    image::GrayImage::from_fn(4, 2, |x, _| image::Luma([if x < 2 { 255 } else { 0 }]))
+        .save(dir.path().join("masks/half.png"))
+        .unwrap();
+    let path = write(
+        dir.path(),
+        "scene.toml",
+        "mesh = \"tri.obj\"\n[camera]\naperture_radius = 0.1\n[camera.aperture]\nimage = \"masks/half.png\"\nrotation = 90.0\n",
+    );
+    let d = load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        d.settings.camera.aperture.image.as_deref(),
+        Some(dir.path().join("masks/half.png").as_path())
+    );
+    let shot = lensray::settings::shot(&d.settings, &d.scene).unwrap_or_else(|e| panic!("{e}"));
+    let aperture = &shot.camera.lens.aperture;
+    let image = aperture.image().expect("an image aperture");
+    assert_eq!((image.columns(), image.rows()), (4, 2));
+    assert_eq!(
+        image.transmission(),
+        &[1.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0]
+    );
+    // The left half, turned by 90 degrees counter-clockwise: the bottom half.
+    for u in [glam::Vec2::new(0.1, 0.2), glam::Vec2::new(0.9, 0.7)] {
+        let p = aperture.unit_point(u);
+        assert!(p.y <= 1e-6 && p.x.abs() <= 1.0 + 1e-6, "{p}");
+    }
+}

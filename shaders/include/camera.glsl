@@ -74,22 +74,20 @@ layout(std430, set = 0, binding = APERTURE_TABLE_BINDING) readonly buffer Apertu
     float aperture_table[];
 };
 
-// aperture/image.rs: first_step
-uint first_step(uint n) { return n > 1u ? (1u << uint(findMSB(n - 1u))) : 0u; }
-
-// aperture/image.rs: invert, over the n + 1 values of aperture_table from `start`. Returns the
-// interval and the position inside it.
+// aperture/image.rs: invert, over the n + 1 values of aperture_table from `start` (a
+// branch-free binary search whose steps depend on n only). Returns the interval and the
+// position inside it.
 vec2 invert_table(uint start, uint n, float u) {
-    uint i = 0u;
-    for (uint step = first_step(n); step > 0u; step /= 2u) {
-        if (i + step < n && aperture_table[start + i + step] <= u) {
-            i += step;
-        }
+    uint base = 0u;
+    for (uint len = n; len > 1u; ) {
+        uint half_len = len / 2u;
+        base = aperture_table[start + base + half_len] <= u ? base + half_len : base;
+        len -= half_len;
     }
-    float lo = aperture_table[start + i];
-    float hi = aperture_table[start + i + 1u];
+    float lo = aperture_table[start + base];
+    float hi = aperture_table[start + base + 1u];
     precise float w = (u - lo) / (hi - lo);
-    return vec2(float(i), w);
+    return vec2(float(base), w);
 }
 
 // aperture/image.rs: ApertureImage::sample

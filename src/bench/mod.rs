@@ -141,8 +141,14 @@ fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> 
         settings.camera.sensor_height_mm = None;
     }
     settings.camera.focus_distance = options.focus_distance.or(settings.camera.focus_distance);
-    crate::settings::shot(&settings, &scene.description.scene)
-        .with_context(|| format!("scene {}", scene.description.source))
+    let mut shot = crate::settings::shot(&settings, &scene.description.scene)
+        .with_context(|| format!("scene {}", scene.description.source))?;
+    if let SweepValue::Aperture(aperture) = value {
+        // The shape replaces the scene's; the radius stays.
+        let aperture = aperture.shape().build()?;
+        shot.camera = shot.camera.with_aperture(aperture);
+    }
+    Ok(shot)
 }
 
 fn spp_of(value: SweepValue, options: &BenchOptions) -> u32 {
@@ -168,12 +174,10 @@ fn measure_group(
         .collect::<Result<_>>()?;
     // Points that differ only in spp share one reference.
     let mut references: Vec<Rc<Reference>> = Vec::new();
-    for s in &shots {
-        let same = references
-            .iter()
-            .find(|r| (r.image.width, r.image.height) == (s.camera.width, s.camera.height));
+    for (i, s) in shots.iter().enumerate() {
+        let same = (0..i).find(|&j| shots[j].camera == s.camera);
         let reference = match same {
-            Some(r) => Rc::clone(r),
+            Some(j) => Rc::clone(&references[j]),
             None => Rc::new(reference::obtain(
                 options.cache_dir.as_deref(),
                 scene,
@@ -205,7 +209,36 @@ fn measure_group(
         opened.push(path);
     }
     let mut results: Vec<Vec<Measurement>> = Vec::with_capacity(values.len());
+    if options.sweep == Some(SweepKind::Aperture) {
+        log(&format!(
+            "measuring {}: {} ({} triangles), {}x{}, {} spp, apertures {} in turns",
+            kinds_list(kinds),
+            scene.name,
+            scene.triangles,
+            options.width,
+            options.height,
+            options.spp,
+            values
+                .iter()
+                .map(|v| match v {
+                    SweepValue::Aperture(a) => a.name(),
+                    _ => "?",
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        let points: Vec<_> = shots
+            .iter()
+            .zip(&references)
+            .map(|(s, r)| (&s.camera, &s.render, &r.image))
+            .collect();
+        results = runs::measure_points_interleaved(&mut opened, &points, options.repeat)?;
+        set_costs_vs_round(&mut results);
+    }
     for (s, reference) in shots.iter().zip(&references) {
+        if options.sweep == Some(SweepKind::Aperture) {
+            break;
+        }
         log(&format!(
             "measuring {}: {} ({} triangles), {}x{}, {} spp",
             kinds_list(kinds),
@@ -232,10 +265,15 @@ fn measure_group(
         .iter()
         .zip(references)
         .zip(results)
-        .map(|((s, reference), mut results)| {
+        .zip(values)
+        .map(|(((s, reference), mut results), value)| {
             set_speedups(&mut results);
             let focus = FocusInfo::of(&cpu, &s.camera, &s.render);
-            point_report(scene, (&s.camera, &s.render), &reference, focus, results)
+            let mut point = point_report(scene, (&s.camera, &s.render), &reference, focus, results);
+            if let SweepValue::Aperture(a) = value {
+                point.aperture = Some(*a);
+            }
+            point
         })
         .collect())
 }
@@ -246,6 +284,23 @@ fn kinds_list(kinds: &[PathKind]) -> String {
         .map(ToString::to_string)
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// Each path's median time at each point over its median time at the first point (the aperture
+/// sweep's round aperture).
+fn set_costs_vs_round(points: &mut [Vec<Measurement>]) {
+    let round: Vec<(PathKind, f64)> = points.first().map_or(Vec::new(), |ms| {
+        ms.iter()
+            .map(|m| (m.path, m.trace_seconds.median))
+            .collect()
+    });
+    for point in points {
+        for m in point {
+            if let Some(&(_, t)) = round.iter().find(|(p, _)| *p == m.path) {
+                m.cost_vs_round = Some(m.trace_seconds.median / t.max(1e-12));
+            }
+        }
+    }
 }
 
 /// Each path's speed against the CPU path's at the same point (CPU median / path median).
@@ -273,6 +328,7 @@ fn point_report(
         height: camera.height,
         spp: render.spp,
         triangles: scene.triangles,
+        aperture: None,
         reference: reference.info.clone(),
         focus,
         results,

@@ -51,6 +51,9 @@ pub enum SweepKind {
     Resolution,
     /// Generated scenes of about 10k to 1M triangles.
     Triangles,
+    /// Aperture shapes (round, 6 blades, 9 curved blades, squeezed, an image): each one's cost
+    /// against the round aperture, measured in turns.
+    Aperture,
 }
 
 impl SweepKind {
@@ -59,6 +62,7 @@ impl SweepKind {
             SweepKind::Spp => "spp",
             SweepKind::Resolution => "resolution",
             SweepKind::Triangles => "triangles",
+            SweepKind::Aperture => "aperture",
         }
     }
 }

@@ -160,6 +160,14 @@ fn draw(report: &BenchReport, rgb: &mut [u8]) -> Result<(), Box<dyn std::error::
             "triangles",
             "time, seconds (median)",
         ),
+        Some(SweepKind::Aperture) => (
+            format!(
+                "Time against aperture shape: {}x{}, {} spp",
+                s.width, s.height, s.spp
+            ),
+            "shape: 1 round, 2 hexagon, 3 curved9, 4 squeezed, 5 image",
+            "time, seconds (median)",
+        ),
     };
 
     let root = BitMapBackend::with_buffer(rgb, SIZE).into_drawing_area();

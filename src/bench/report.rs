@@ -8,6 +8,7 @@ use super::machine::Machine;
 use super::options::SweepKind;
 use super::reference::ReferenceInfo;
 use super::runs::Measurement;
+use super::sweep::BenchAperture;
 use crate::paths::PathKind;
 use crate::sampler::SamplerKind;
 use crate::settings::Shading;
@@ -66,6 +67,9 @@ pub struct PointReport {
     pub height: u32,
     pub spp: u32,
     pub triangles: usize,
+    /// The aperture sweep's shape at this point.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aperture: Option<BenchAperture>,
     pub reference: ReferenceInfo,
     /// How much of the shot is in focus (the hybrid's gain depends on it).
     pub focus: FocusInfo,
@@ -79,6 +83,12 @@ impl PointReport {
             None | Some(SweepKind::Spp) => f64::from(self.spp),
             Some(SweepKind::Resolution) => f64::from(self.width) * f64::from(self.height),
             Some(SweepKind::Triangles) => self.triangles as f64,
+            Some(SweepKind::Aperture) => match self.aperture {
+                Some(a) => {
+                    1.0 + BenchAperture::ALL.iter().position(|&b| b == a).unwrap_or(0) as f64
+                }
+                None => 1.0,
+            },
         }
     }
 
@@ -88,6 +98,7 @@ impl PointReport {
             None | Some(SweepKind::Spp) => self.spp.to_string(),
             Some(SweepKind::Resolution) => format!("{}x{}", self.width, self.height),
             Some(SweepKind::Triangles) => self.triangles.to_string(),
+            Some(SweepKind::Aperture) => self.aperture.map_or("round", |a| a.name()).to_string(),
         }
     }
 }

@@ -82,6 +82,10 @@ pub struct Measurement {
     /// How many times faster than the CPU path at the same point (median trace times), when
     /// the CPU path was measured there.
     pub speedup_vs_cpu: Option<f64>,
+    /// The aperture sweep: this path's median time over its median time with the round
+    /// aperture (the shape's cost; 1 for the round point).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cost_vs_round: Option<f64>,
 }
 
 pub fn psnr_db(rmse: f64) -> f64 {
@@ -100,33 +104,57 @@ pub fn measure_interleaved(
     repeat: usize,
     reference: &Image,
 ) -> Result<Vec<Measurement>> {
-    for path in paths.iter_mut() {
-        path.render(camera, settings, &mut |_, _| {})
-            .with_context(|| format!("--paths {}", path.kind()))?;
-    }
-    let mut runs = vec![Vec::with_capacity(repeat); paths.len()];
-    let mut images = vec![None; paths.len()];
-    for _ in 0..repeat {
-        for ((path, runs), image) in paths.iter_mut().zip(&mut runs).zip(&mut images) {
-            let (run, rendered) = timed_render(path.as_mut(), camera, settings)
+    let mut points = measure_points_interleaved(paths, &[(camera, settings, reference)], repeat)?;
+    Ok(points.remove(0))
+}
+
+/// `measure_interleaved` over several points whose ratios matter (the aperture sweep: each
+/// shape against the round one): every round renders every point with every path, so a slow
+/// phase of the machine slows them alike. Per point, each path's measurement.
+pub fn measure_points_interleaved(
+    paths: &mut [Box<dyn RenderPath>],
+    points: &[(&Camera, &RenderSettings, &Image)],
+    repeat: usize,
+) -> Result<Vec<Vec<Measurement>>> {
+    for &(camera, settings, _) in points {
+        for path in paths.iter_mut() {
+            path.render(camera, settings, &mut |_, _| {})
                 .with_context(|| format!("--paths {}", path.kind()))?;
-            runs.push(run);
-            *image = Some(rendered);
         }
     }
-    paths
+    let mut runs = vec![vec![Vec::with_capacity(repeat); paths.len()]; points.len()];
+    let mut images = vec![vec![None; paths.len()]; points.len()];
+    for _ in 0..repeat {
+        for (&(camera, settings, _), (runs, images)) in
+            points.iter().zip(runs.iter_mut().zip(&mut images))
+        {
+            for ((path, runs), image) in paths.iter_mut().zip(runs).zip(images) {
+                let (run, rendered) = timed_render(path.as_mut(), camera, settings)
+                    .with_context(|| format!("--paths {}", path.kind()))?;
+                runs.push(run);
+                *image = Some(rendered);
+            }
+        }
+    }
+    points
         .iter()
-        .zip(runs)
-        .zip(images)
-        .map(|((path, runs), image)| {
-            let image = image.expect("at least one run");
-            Ok(measurement(
-                path.as_ref(),
-                settings,
-                runs,
-                &image,
-                reference,
-            ))
+        .zip(runs.into_iter().zip(images))
+        .map(|(&(_, settings, reference), (runs, images))| {
+            paths
+                .iter()
+                .zip(runs)
+                .zip(images)
+                .map(|((path, runs), image)| {
+                    let image = image.expect("at least one run");
+                    Ok(measurement(
+                        path.as_ref(),
+                        settings,
+                        runs,
+                        &image,
+                        reference,
+                    ))
+                })
+                .collect()
         })
         .collect()
 }
@@ -194,5 +222,6 @@ fn measurement(
         rmse: error,
         psnr_db: psnr_db(error),
         speedup_vs_cpu: None,
+        cost_vs_round: None,
     }
 }

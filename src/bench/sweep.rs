@@ -3,7 +3,11 @@
 
 use anyhow::{bail, ensure, Context, Result};
 
+use std::sync::Arc;
+
 use super::options::SweepKind;
+use crate::camera::aperture::ApertureImage;
+use crate::camera::ApertureShape;
 
 /// One measured configuration's swept value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -15,6 +19,84 @@ pub enum SweepValue {
     },
     /// At least this many triangles (the generated scene may have a few more).
     Triangles(usize),
+    Aperture(BenchAperture),
+}
+
+/// The aperture sweep's shapes (the round one first: the others are weighed against it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BenchAperture {
+    Round,
+    /// 6 straight blades turned by 15 degrees: the fan's cheapest case.
+    Hexagon,
+    /// 9 blades of roundness 0.5: the largest fan (63 triangles).
+    Curved9,
+    /// Round, squeezed 2x (anamorphic).
+    Squeezed,
+    /// A 64 x 64 soap-bubble image (brighter at the rim): the tables' searches.
+    Image,
+}
+
+impl BenchAperture {
+    pub const ALL: [BenchAperture; 5] = [
+        BenchAperture::Round,
+        BenchAperture::Hexagon,
+        BenchAperture::Curved9,
+        BenchAperture::Squeezed,
+        BenchAperture::Image,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            BenchAperture::Round => "round",
+            BenchAperture::Hexagon => "hexagon",
+            BenchAperture::Curved9 => "curved9",
+            BenchAperture::Squeezed => "squeezed",
+            BenchAperture::Image => "image",
+        }
+    }
+
+    /// The shape (its aperture radius is the shot's).
+    pub fn shape(self) -> ApertureShape {
+        let round = ApertureShape::ROUND;
+        match self {
+            BenchAperture::Round => round,
+            BenchAperture::Hexagon => ApertureShape {
+                blades: Some(6),
+                rotation_degrees: 15.0,
+                ..round
+            },
+            BenchAperture::Curved9 => ApertureShape {
+                blades: Some(9),
+                roundness: 0.5,
+                ..round
+            },
+            BenchAperture::Squeezed => ApertureShape {
+                aspect: 2.0,
+                ..round
+            },
+            BenchAperture::Image => ApertureShape {
+                image: Some(Arc::new(soap_bubble(64))),
+                ..round
+            },
+        }
+    }
+}
+
+/// A disk of transmission 0.3 at the centre rising to 1 at the rim, `side` cells a side.
+fn soap_bubble(side: u32) -> ApertureImage {
+    let values: Vec<f32> = (0..side * side)
+        .map(|i| {
+            let cell = |k: u32| (k as f32 + 0.5) / side as f32 * 2.0 - 1.0;
+            let r = cell(i % side).hypot(cell(i / side));
+            if r <= 1.0 {
+                0.3 + 0.7 * r * r
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    ApertureImage::new(side, side, &values).expect("a disk passes light")
 }
 
 /// Image sizes of the resolution sweep (4:3, each 4x the pixels of the last).
@@ -26,7 +108,9 @@ pub const TRIANGLES: [usize; 5] = [10_000, 30_000, 100_000, 300_000, 1_000_000];
 /// a sweep the one point at `spp`.
 pub fn values(kind: Option<SweepKind>, list: Option<&str>, spp: u32) -> Result<Vec<SweepValue>> {
     let mut values = match (kind, list) {
-        (None, Some(_)) => bail!("--sweep-points needs --sweep spp|resolution|triangles"),
+        (None, Some(_)) => {
+            bail!("--sweep-points needs --sweep spp|resolution|triangles|aperture")
+        }
         (None, None) => vec![SweepValue::Spp(spp)],
         (Some(kind), Some(list)) => parse_list(kind, list)?,
         (Some(SweepKind::Spp), None) => spp_ladder(spp).into_iter().map(SweepValue::Spp).collect(),
@@ -39,7 +123,17 @@ pub fn values(kind: Option<SweepKind>, list: Option<&str>, spp: u32) -> Result<V
             .copied()
             .map(SweepValue::Triangles)
             .collect(),
+        (Some(SweepKind::Aperture), None) => BenchAperture::ALL
+            .iter()
+            .copied()
+            .map(SweepValue::Aperture)
+            .collect(),
     };
+    if kind == Some(SweepKind::Aperture) && values[0] != SweepValue::Aperture(BenchAperture::Round)
+    {
+        // Every shape is weighed against the round one.
+        values.push(SweepValue::Aperture(BenchAperture::Round));
+    }
     values.sort();
     values.dedup();
     Ok(values)
@@ -90,6 +184,14 @@ fn parse_value(kind: SweepKind, item: &str) -> Result<SweepValue> {
             let count: u32 = positive(digits, "a triangle count")?;
             SweepValue::Triangles(count as usize * scale)
         }
+        SweepKind::Aperture => SweepValue::Aperture(
+            BenchAperture::ALL
+                .into_iter()
+                .find(|a| a.name() == item)
+                .with_context(|| {
+                    format!("'{item}' is not round, hexagon, curved9, squeezed or image")
+                })?,
+        ),
     })
 }
 
@@ -133,5 +235,15 @@ mod tests {
         assert!(values(Some(SweepKind::Spp), Some("0"), 4).is_err());
         assert!(values(Some(SweepKind::Resolution), Some("64"), 4).is_err());
         assert!(values(None, Some("1,2"), 4).is_err());
+        // The aperture sweep always measures the round shape, first.
+        assert_eq!(
+            values(Some(SweepKind::Aperture), Some("image,hexagon"), 4).unwrap(),
+            [
+                SweepValue::Aperture(BenchAperture::Round),
+                SweepValue::Aperture(BenchAperture::Hexagon),
+                SweepValue::Aperture(BenchAperture::Image)
+            ]
+        );
+        assert!(values(Some(SweepKind::Aperture), Some("star"), 4).is_err());
     }
 }

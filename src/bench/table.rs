@@ -79,6 +79,7 @@ pub fn render(report: &BenchReport) -> String {
         None | Some(SweepKind::Spp) => "spp",
         Some(SweepKind::Resolution) => "size",
         Some(SweepKind::Triangles) => "triangles",
+        Some(SweepKind::Aperture) => "aperture",
     };
     let mut rows = vec![[
         swept,
@@ -150,6 +151,25 @@ pub fn render(report: &BenchReport) -> String {
         out,
         "time: tracing only, by GPU timestamps (gpu) or the CPU's clock; wall: the whole render call. vs cpu: the CPU path's time over the path's (higher is faster). PSNR: peak 1."
     );
+    if report.sweep == Some(SweepKind::Aperture) {
+        let _ = writeln!(
+            out,
+            "aperture cost (median time over the round aperture's, same path, measured in turns):"
+        );
+        for p in &report.paths {
+            let costs: Vec<String> = report
+                .points
+                .iter()
+                .skip(1)
+                .filter_map(|point| {
+                    let m = point.results.iter().find(|m| m.path == p.path)?;
+                    let cost = m.cost_vs_round?;
+                    Some(format!("{} {cost:.3}x", point.swept_label(report.sweep)))
+                })
+                .collect();
+            let _ = writeln!(out, "  {}: {}", p.path, costs.join(", "));
+        }
+    }
     out
 }
 

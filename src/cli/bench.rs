@@ -74,10 +74,12 @@ pub struct BenchArgs {
     #[arg(long)]
     pub no_cache: bool,
     /// Measure over a range of work: spp (error against time), resolution, triangles
-    /// (generated scenes). Without it, one point; `--plot` then sweeps spp.
+    /// (generated scenes), or aperture shapes (each one's cost against the round aperture,
+    /// measured in turns). Without it, one point; `--plot` then sweeps spp.
     #[arg(long, value_enum)]
     pub sweep: Option<SweepKind>,
-    /// The sweep's values instead of its defaults: "1,4,16", "160x120,640x480", "10k,1M".
+    /// The sweep's values instead of its defaults: "1,4,16", "160x120,640x480", "10k,1M",
+    /// "hexagon,image" (of round, hexagon, curved9, squeezed, image).
     #[arg(long, value_name = "LIST")]
     pub sweep_points: Option<String>,
     /// Write every figure as JSON.

@@ -159,23 +159,33 @@ impl Panel {
     fn aperture_shape(&mut self, ui: &mut egui::Ui, rig: &mut CameraRig) {
         let mut a = rig.aperture();
         let before = a.clone();
+        if let Some(image) = &a.image {
+            ui.label("Aperture image");
+            let name = image.file_name().unwrap_or(image.as_os_str());
+            ui.label(name.to_string_lossy())
+                .on_hover_text(image.display().to_string());
+            ui.end_row();
+        }
+        let has_image = a.image.is_some();
         ui.label("Aperture blades");
-        ui.horizontal(|ui| {
-            let mut round = a.blades.is_none();
-            if ui.checkbox(&mut round, "round").changed() {
-                a.blades = if round { None } else { Some(6) };
-            }
-            if let Some(blades) = a.blades.as_mut() {
-                ui.add(egui::DragValue::new(blades).speed(0.05).range(3..=32));
-            }
+        ui.add_enabled_ui(!has_image, |ui| {
+            ui.horizontal(|ui| {
+                let mut round = a.blades.is_none();
+                if ui.checkbox(&mut round, "round").changed() {
+                    a.blades = if round { None } else { Some(6) };
+                }
+                if let Some(blades) = a.blades.as_mut() {
+                    ui.add(egui::DragValue::new(blades).speed(0.05).range(3..=32));
+                }
+            })
         });
         ui.end_row();
         let mut rotation = a.rotation.unwrap_or(0.0);
         let mut roundness = a.roundness.unwrap_or(0.0);
         let mut aspect = a.aspect.unwrap_or(1.0);
-        ui.label("Blade rotation");
+        ui.label("Rotation");
         ui.add_enabled(
-            a.blades.is_some(),
+            a.blades.is_some() || has_image,
             egui::DragValue::new(&mut rotation)
                 .speed(0.5)
                 .range(-180.0..=180.0)

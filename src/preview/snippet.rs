@@ -184,6 +184,12 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>) -> String {
     option("aperture-rotation", number(a.rotation));
     option("aperture-roundness", number(a.roundness));
     option("aperture-aspect", number(a.aspect));
+    option(
+        "aperture-image",
+        a.image
+            .as_ref()
+            .map(|p| shell_word(&p.display().to_string())),
+    );
     option("near", number(c.near));
     option("far", number(c.far));
     option("width", i.width.map(|x| x.to_string()));

@@ -142,28 +142,23 @@ impl ApertureImage {
 }
 
 /// The interval i of `cdf` (n + 1 non-decreasing values, 0 first, 1 last) with
-/// cdf[i] <= u < cdf[i + 1], and where u lies inside it in [0, 1]. The search halves a fixed
-/// number of times (ceil(log2 n)), whatever u is; it never lands on an empty interval.
+/// cdf[i] <= u < cdf[i + 1], and where u lies inside it in [0, 1]. A branch-free binary search
+/// (the answer stays in [base, base + len), len shrinking to 1): its number of steps depends
+/// on n only, whatever u is, and it never lands on an empty interval.
+#[inline]
 fn invert(cdf: &[f32], u: f32) -> (usize, f32) {
-    let n = cdf.len() - 1;
-    let mut i = 0;
-    let mut step = first_step(n as u32) as usize;
-    while step > 0 {
-        if i + step < n && cdf[i + step] <= u {
-            i += step;
-        }
-        step /= 2;
+    let mut base = 0;
+    let mut len = cdf.len() - 1;
+    while len > 1 {
+        let half = len / 2;
+        base = if cdf[base + half] <= u {
+            base + half
+        } else {
+            base
+        };
+        len -= half;
     }
-    (i, (u - cdf[i]) / (cdf[i + 1] - cdf[i]))
-}
-
-/// The search's first step for n intervals: the largest power of two below n (0 for one).
-pub fn first_step(n: u32) -> u32 {
-    if n > 1 {
-        1 << (31 - (n - 1).leading_zeros())
-    } else {
-        0
-    }
+    (base, (u - cdf[base]) / (cdf[base + 1] - cdf[base]))
 }
 
 /// The marginal and conditional tables of a transmission map (see `ApertureImage::table`).
