@@ -19,6 +19,7 @@ pub mod film;
 #[allow(unsafe_code)]
 pub mod gpu;
 pub mod interface;
+pub mod optics;
 pub mod output;
 pub mod paths;
 pub mod preview;

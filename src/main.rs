@@ -33,6 +33,9 @@ enum Command {
     Generate(cli::generate::GenerateArgs),
     /// List the Vulkan devices, their ray-query support and the limits that matter.
     Info,
+    /// A lens's first-order data (focal lengths, principal planes, pupils, f-number) and
+    /// real-ray data (chief rays, spherical aberration), from its prescription.
+    Lens(cli::lens::LensArgs),
 }
 
 fn main() -> ExitCode {
@@ -67,6 +70,7 @@ fn main() -> ExitCode {
         Some(Command::Calibrate(args)) => cli::calibrate::run(args),
         Some(Command::Generate(args)) => cli::generate::run(args),
         Some(Command::Info) => cli::info::run(),
+        Some(Command::Lens(args)) => cli::lens::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

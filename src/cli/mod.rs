@@ -5,6 +5,7 @@ pub mod bench;
 pub mod calibrate;
 pub mod generate;
 pub mod info;
+pub mod lens;
 pub mod preview;
 pub mod progress;
 pub mod render;

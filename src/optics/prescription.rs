@@ -1,0 +1,310 @@
+//! A lens prescription: the table of a lens's surfaces, scene side first, in the layout of
+//! pbrt's lens files. One surface per row:
+//!
+//! | column | meaning |
+//! |---|---|
+//! | 1 | curvature radius, mm: + when the centre of curvature lies toward the film; 0 marks the aperture stop (a flat opening) |
+//! | 2 | thickness to the next surface along the axis, mm (the last row's is ignored: the film distance comes from focusing) |
+//! | 3 | refractive index (d line) of the medium after the surface, toward the film; 0 or 1: air |
+//! | 4 | clear-aperture diameter, mm (the stop's: its full opening) |
+//! | 5 | optional: the Abbe number of that medium, kept for dispersion |
+//!
+//! `#` starts a comment; blank lines are skipped. A row's problem is reported with its line.
+
+use std::path::Path;
+
+/// One surface of a prescription.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// mm; 0: the aperture stop.
+    pub radius: f64,
+    /// mm, to the next surface.
+    pub thickness: f64,
+    /// Index of the medium after the surface (1 for air).
+    pub index: f64,
+    /// Clear-aperture diameter, mm.
+    pub diameter: f64,
+    /// Abbe number of the medium after the surface, when given.
+    pub abbe: Option<f64>,
+}
+
+impl Surface {
+    pub fn is_stop(&self) -> bool {
+        self.radius == 0.0
+    }
+}
+
+/// A lens: its surfaces, scene side first, checked (see `Prescription::new`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prescription {
+    /// What it is called: a built-in name or the file's.
+    pub name: String,
+    /// The first comment line of its file (its source), if any.
+    pub description: Option<String>,
+    surfaces: Vec<Surface>,
+    stop: usize,
+}
+
+/// Why a prescription cannot be a lens.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum PrescriptionError {
+    #[error("line {line}: {problem}")]
+    Row { line: usize, problem: String },
+    #[error("the lens has no surfaces")]
+    Empty,
+    #[error("the lens has no aperture stop (a row of radius 0)")]
+    NoStop,
+    #[error("the lens has two aperture stops (rows {first} and {second} have radius 0)")]
+    TwoStops { first: usize, second: usize },
+    #[error(
+        "surface {surface}: thickness {thickness} mm before glass (index {index}) must be positive"
+    )]
+    Thickness {
+        surface: usize,
+        thickness: f64,
+        index: f64,
+    },
+    #[error("surface {surface}: clear-aperture diameter must be positive, got {diameter}")]
+    Diameter { surface: usize, diameter: f64 },
+    #[error("surface {surface}: the radius {radius} mm is smaller than the clear-aperture radius {half} mm")]
+    RadiusBelowAperture {
+        surface: usize,
+        radius: f64,
+        half: f64,
+    },
+    #[error("the stop (surface {0}) must be in air (index 1 on both sides)")]
+    StopInGlass(usize),
+    #[error("the last surface must leave the lens into air (index 1), got {0}")]
+    EndsInGlass(f64),
+}
+
+impl Prescription {
+    /// Parses prescription text (see the module doc); `name` names the lens.
+    pub fn parse(name: &str, text: &str) -> Result<Self, PrescriptionError> {
+        let mut surfaces = Vec::new();
+        let mut description = None;
+        for (i, raw) in text.lines().enumerate() {
+            let line = i + 1;
+            let (content, comment) = match raw.split_once('#') {
+                Some((before, after)) => (before, Some(after.trim())),
+                None => (raw, None),
+            };
+            if description.is_none() && surfaces.is_empty() && content.trim().is_empty() {
+                description = comment.filter(|c| !c.is_empty()).map(str::to_owned);
+            }
+            let fields: Vec<&str> = content.split_whitespace().collect();
+            if fields.is_empty() {
+                continue;
+            }
+            let row = |problem: String| PrescriptionError::Row { line, problem };
+            if !(4..=5).contains(&fields.len()) {
+                return Err(row(format!(
+                    "expected 4 numbers (radius, thickness, index, diameter) and an optional Abbe number, got {}",
+                    fields.len()
+                )));
+            }
+            let mut numbers = [0.0; 5];
+            for (k, field) in fields.iter().enumerate() {
+                let value: f64 = field
+                    .parse()
+                    .map_err(|_| row(format!("'{field}' is not a number")))?;
+                if !value.is_finite() {
+                    return Err(row(format!("'{field}' is not a finite number")));
+                }
+                numbers[k] = value;
+            }
+            let index = if numbers[2] == 0.0 { 1.0 } else { numbers[2] };
+            if index < 1.0 {
+                return Err(row(format!("refractive index {index} is below 1")));
+            }
+            surfaces.push(Surface {
+                radius: numbers[0],
+                thickness: numbers[1],
+                index,
+                diameter: numbers[3],
+                abbe: (fields.len() == 5).then_some(numbers[4]),
+            });
+        }
+        Self::new(name, description, surfaces)
+    }
+
+    /// Reads a prescription file; the lens is named after the file's stem.
+    pub fn read(path: &Path) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let name = path
+            .file_stem()
+            .map_or_else(|| "lens".into(), |s| s.to_string_lossy().into_owned());
+        Self::parse(&name, &text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// A lens of `surfaces`, checked: exactly one stop, in air; positive thicknesses before
+    /// glass (and none negative); positive clear apertures within each sphere; air after
+    /// the last surface.
+    pub fn new(
+        name: &str,
+        description: Option<String>,
+        surfaces: Vec<Surface>,
+    ) -> Result<Self, PrescriptionError> {
+        if surfaces.is_empty() {
+            return Err(PrescriptionError::Empty);
+        }
+        let stops: Vec<usize> = (0..surfaces.len())
+            .filter(|&i| surfaces[i].is_stop())
+            .collect();
+        let stop = match stops[..] {
+            [] => return Err(PrescriptionError::NoStop),
+            [stop] => stop,
+            [first, second, ..] => {
+                return Err(PrescriptionError::TwoStops {
+                    first: first + 1,
+                    second: second + 1,
+                })
+            }
+        };
+        let last = surfaces.len() - 1;
+        for (i, s) in surfaces.iter().enumerate() {
+            let surface = i + 1;
+            if s.diameter.is_nan() || s.diameter <= 0.0 {
+                return Err(PrescriptionError::Diameter {
+                    surface,
+                    diameter: s.diameter,
+                });
+            }
+            let glass_after = s.index != 1.0;
+            if i < last && (s.thickness < 0.0 || glass_after && s.thickness <= 0.0) {
+                return Err(PrescriptionError::Thickness {
+                    surface,
+                    thickness: s.thickness,
+                    index: s.index,
+                });
+            }
+            if !s.is_stop() && s.radius.abs() < 0.5 * s.diameter {
+                return Err(PrescriptionError::RadiusBelowAperture {
+                    surface,
+                    radius: s.radius,
+                    half: 0.5 * s.diameter,
+                });
+            }
+        }
+        let before = if stop == 0 {
+            1.0
+        } else {
+            surfaces[stop - 1].index
+        };
+        if surfaces[stop].index != 1.0 || before != 1.0 {
+            return Err(PrescriptionError::StopInGlass(stop + 1));
+        }
+        if surfaces[last].index != 1.0 {
+            return Err(PrescriptionError::EndsInGlass(surfaces[last].index));
+        }
+        Ok(Prescription {
+            name: name.into(),
+            description,
+            surfaces,
+            stop,
+        })
+    }
+
+    pub fn surfaces(&self) -> &[Surface] {
+        &self.surfaces
+    }
+
+    /// The aperture stop's row (0-based).
+    pub fn stop(&self) -> usize {
+        self.stop
+    }
+
+    /// The index of the medium before surface `i` (air before the first).
+    pub fn index_before(&self, i: usize) -> f64 {
+        if i == 0 {
+            1.0
+        } else {
+            self.surfaces[i - 1].index
+        }
+    }
+
+    /// Each surface's vertex on the axis, mm from the first (+ toward the film).
+    pub fn vertices(&self) -> Vec<f64> {
+        let mut z = 0.0;
+        self.surfaces
+            .iter()
+            .map(|s| {
+                let here = z;
+                z += s.thickness;
+                here
+            })
+            .collect()
+    }
+
+    /// The last surface's vertex, mm from the first: the lens's length.
+    pub fn length(&self) -> f64 {
+        let n = self.surfaces.len();
+        self.surfaces[..n - 1].iter().map(|s| s.thickness).sum()
+    }
+
+    /// The same lens with the stop's diameter `diameter` (stopping down or opening).
+    pub fn with_stop_diameter(&self, diameter: f64) -> Self {
+        let mut lens = self.clone();
+        lens.surfaces[lens.stop].diameter = diameter;
+        lens
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SINGLET: &str = "# a test singlet\n0 2 1 20\n50 5 1.5 20\n-50 0 1 20\n";
+
+    #[test]
+    fn parses_rows_comments_and_the_abbe_number() {
+        let lens = Prescription::parse(
+            "t",
+            "# source line\n\n30 4 1.67 25 57.3 # a comment\n-200 1 1 25\n0 2 0 17\n-30 3 1.6 25\n40 0 1 25\n",
+        )
+        .unwrap();
+        assert_eq!(lens.description.as_deref(), Some("source line"));
+        assert_eq!(lens.surfaces().len(), 5);
+        assert_eq!(lens.surfaces()[0].abbe, Some(57.3));
+        assert_eq!(lens.surfaces()[1].abbe, None);
+        assert_eq!(lens.surfaces()[2].index, 1.0);
+        assert_eq!(lens.stop(), 2);
+        assert_eq!(lens.vertices(), [0.0, 4.0, 5.0, 7.0, 10.0]);
+        assert_eq!(lens.length(), 10.0);
+        assert!(Prescription::parse("s", SINGLET).is_ok());
+    }
+
+    #[test]
+    fn bad_prescriptions_are_refused() {
+        let cases: [(&str, &str); 10] = [
+            ("50 5 1.5 20\n-50 0 1 20\n", "no aperture stop"),
+            (
+                "0 1 1 10\n0 1 1 10\n50 5 1.5 20\n-50 0 1 20\n",
+                "two aperture stops",
+            ),
+            ("0 1 1 10\n50 0 1.5 20\n-50 0 1 20\n", "must be positive"),
+            ("0 1 1 10\n50 -1 1 20\n-50 0 1 20\n", "must be positive"),
+            (
+                "0 1 1 10\n50 nan 1.5 20\n-50 0 1 20\n",
+                "not a finite number",
+            ),
+            ("0 1 1 10\n50 5 1.5\n-50 0 1 20\n", "expected 4 numbers"),
+            (
+                "0 1 1 10\n50 5 1.5 0\n-50 0 1 20\n",
+                "diameter must be positive",
+            ),
+            ("0 1 1 10\n50 5 1.5 20\n-50 0 1.5 20\n", "into air"),
+            (
+                "0 1 1 10\n5 5 1.5 20\n-50 0 1 20\n",
+                "smaller than the clear-aperture",
+            ),
+            ("# only a comment\n", "no surfaces"),
+        ];
+        for (text, needle) in cases {
+            let err = Prescription::parse("bad", text)
+                .expect_err(text)
+                .to_string();
+            assert!(err.contains(needle), "{text:?}: {err}");
+        }
+    }
+}

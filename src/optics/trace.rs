@@ -1,0 +1,264 @@
+//! Exact ray tracing through a prescription's spherical surfaces: at each surface, the
+//! intersection with its sphere (the root on the cap around the vertex), the clear aperture
+//! (or the stop's opening), then Snell's law in vector form. A ray that misses a surface,
+//! leaves a clear aperture or is totally internally reflected is blocked (`None`), never NaN.
+//!
+//! Lens space: z along the axis from the first vertex, + toward the film; x, y across it. The
+//! same code is built twice by one macro: in f64 (`wide`, the analysis of `lensray lens`) and
+//! in f32 (`narrow`, what a render traces, and what the GLSL mirrors).
+
+use super::prescription::Prescription;
+
+/// Which way a ray crosses the lens.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Toward {
+    /// From the scene to the film (+z): the first surface first.
+    Film,
+    /// From the film to the scene (-z): the last surface first.
+    Scene,
+}
+
+macro_rules! tracer {
+    ($real:ty, $vec:ty) => {
+        use super::Toward;
+        use crate::optics::prescription::Prescription;
+
+        /// A ray in lens space (mm); `direction` is a unit vector.
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub struct LensRay {
+            pub origin: $vec,
+            pub direction: $vec,
+        }
+
+        /// One surface as the tracer reads it.
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub struct Interface {
+            /// The vertex's z.
+            pub z: $real,
+            /// 0: flat (the stop).
+            pub radius: $real,
+            /// Half the clear aperture (the stop's opening).
+            pub aperture_radius: $real,
+            /// Indices before (scene side) and after (film side).
+            pub index_before: $real,
+            pub index_after: $real,
+        }
+
+        /// The surfaces of a prescription, ready to trace.
+        #[derive(Clone, Debug, PartialEq)]
+        pub struct Elements {
+            pub interfaces: Vec<Interface>,
+        }
+
+        impl Elements {
+            pub fn new(lens: &Prescription) -> Self {
+                let vertices = lens.vertices();
+                let interfaces = lens
+                    .surfaces()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, s)| Interface {
+                        z: vertices[i] as $real,
+                        radius: s.radius as $real,
+                        aperture_radius: (0.5 * s.diameter) as $real,
+                        index_before: lens.index_before(i) as $real,
+                        index_after: s.index as $real,
+                    })
+                    .collect();
+                Elements { interfaces }
+            }
+
+            /// `ray` through every surface in the order `toward` meets them; `None` when it is
+            /// blocked.
+            pub fn trace(&self, ray: LensRay, toward: Toward) -> Option<LensRay> {
+                let mut ray = ray;
+                let n = self.interfaces.len();
+                for k in 0..n {
+                    let i = match toward {
+                        Toward::Film => k,
+                        Toward::Scene => n - 1 - k,
+                    };
+                    ray = self.interfaces[i].pass(ray, toward)?;
+                }
+                Some(ray)
+            }
+        }
+
+        impl Interface {
+            /// The ray after this surface, or `None` if it misses it, leaves the opening or
+            /// is totally internally reflected.
+            pub fn pass(&self, ray: LensRay, toward: Toward) -> Option<LensRay> {
+                let (t, normal) = self.intersect(ray)?;
+                let p = ray.origin + t * ray.direction;
+                if p.x * p.x + p.y * p.y > self.aperture_radius * self.aperture_radius {
+                    return None;
+                }
+                if self.radius == 0.0 {
+                    // The stop: an opening in a plane, no refraction. The ray goes on from
+                    // where it was (a stop at a lens vertex would otherwise start the next
+                    // intersection on that surface).
+                    return Some(ray);
+                }
+                let (from, to) = match toward {
+                    Toward::Film => (self.index_before, self.index_after),
+                    Toward::Scene => (self.index_after, self.index_before),
+                };
+                let direction = refract(ray.direction, normal, from / to)?;
+                Some(LensRay {
+                    origin: p,
+                    direction,
+                })
+            }
+
+            /// The distance along `ray` to this surface and the unit normal there (pointing
+            /// against the ray). For a sphere, the root on the cap around the vertex: the one
+            /// whose point lies on the vertex's side of the centre.
+            pub fn intersect(&self, ray: LensRay) -> Option<($real, $vec)> {
+                if self.radius == 0.0 {
+                    let t = (self.z - ray.origin.z) / ray.direction.z;
+                    if !(t > 0.0 && t.is_finite()) {
+                        return None;
+                    }
+                    let normal = <$vec>::new(0.0, 0.0, -ray.direction.z.signum());
+                    return Some((t, normal));
+                }
+                let centre = <$vec>::new(0.0, 0.0, self.z + self.radius);
+                let o = ray.origin - centre;
+                let b = o.dot(ray.direction);
+                let c = o.dot(o) - self.radius * self.radius;
+                let discriminant = b * b - c;
+                if discriminant.is_nan() || discriminant < 0.0 {
+                    return None;
+                }
+                let root = discriminant.sqrt();
+                // Vertex side: (p.z - centre.z) has the sign of -radius.
+                let on_cap = |t: $real| {
+                    let z = o.z + t * ray.direction.z;
+                    t > 0.0 && z * -self.radius > 0.0
+                };
+                let (near, far) = (-b - root, -b + root);
+                let t = if on_cap(near) {
+                    near
+                } else if on_cap(far) {
+                    far
+                } else {
+                    return None;
+                };
+                let mut normal = (o + t * ray.direction) / self.radius.abs();
+                if normal.dot(ray.direction) > 0.0 {
+                    normal = -normal;
+                }
+                Some((t, normal))
+            }
+        }
+
+        /// Snell's law in vector form: unit `d` into a surface of unit normal `n` (against
+        /// `d`), with `eta` = index before / index after; `None` at total internal
+        /// reflection.
+        pub fn refract(d: $vec, n: $vec, eta: $real) -> Option<$vec> {
+            let cos_i = -n.dot(d);
+            let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+            if sin2_t > 1.0 {
+                return None;
+            }
+            let cos_t = (1.0 - sin2_t).sqrt();
+            Some(eta * d + (eta * cos_i - cos_t) * n)
+        }
+    };
+}
+
+/// f64: the analysis (`lensray lens`, the tests against the optics).
+pub mod wide {
+    tracer!(f64, glam::DVec3);
+}
+
+/// f32: what renders trace (and the GLSL mirrors).
+pub mod narrow {
+    tracer!(f32, glam::Vec3);
+}
+
+/// The f64 elements of `lens`.
+pub fn wide_elements(lens: &Prescription) -> wide::Elements {
+    wide::Elements::new(lens)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::wide::*;
+    use super::*;
+    use glam::DVec3;
+
+    fn singlet() -> Prescription {
+        Prescription::parse("s", "0 2 1 20\n60 8 1.6 30\n-40 0 1 30\n").unwrap()
+    }
+
+    /// Out and back: a ray traced to the film, reversed, comes back to where it started.
+    #[test]
+    fn tracing_is_reversible() {
+        for lens in [
+            singlet(),
+            crate::optics::builtin::lens("double-gauss-50").unwrap(),
+        ] {
+            let elements = Elements::new(&lens);
+            let start = LensRay {
+                origin: DVec3::new(1.0, 2.0, -10.0),
+                direction: DVec3::new(-0.05, -0.1, 1.0).normalize(),
+            };
+            let out = elements.trace(start, Toward::Film).expect("passes");
+            // Reversed from a point past the last surface.
+            let back = elements
+                .trace(
+                    LensRay {
+                        origin: out.origin + 5.0 * out.direction,
+                        direction: -out.direction,
+                    },
+                    Toward::Scene,
+                )
+                .expect("passes back");
+            // Back at the first surface: continue to z = -10.
+            let t = (-10.0 - back.origin.z) / back.direction.z;
+            let p = back.origin + t * back.direction;
+            assert!((p - start.origin).length() < 1e-9, "{}: {p}", lens.name);
+            assert!((back.direction + start.direction).length() < 1e-12);
+        }
+    }
+
+    /// Total internal reflection and clipped rays are blocked: `None`, never NaN.
+    #[test]
+    fn blocked_rays_are_none() {
+        let elements = Elements::new(&singlet());
+        // Outside the stop.
+        let clipped = LensRay {
+            origin: DVec3::new(0.0, 11.0, -1.0),
+            direction: DVec3::Z,
+        };
+        assert!(elements.trace(clipped, Toward::Film).is_none());
+        // From inside the glass at a grazing angle onto the rear surface: total internal
+        // reflection (critical angle asin(1 / 1.6) = 38.7 degrees).
+        let inside = Interface {
+            z: 10.0,
+            radius: 0.0,
+            aperture_radius: 100.0,
+            index_before: 1.6,
+            index_after: 1.0,
+        };
+        let d = DVec3::new(0.0, 60f64.to_radians().sin(), 60f64.to_radians().cos());
+        assert!(refract(d, DVec3::new(0.0, 0.0, -1.0), 1.6).is_none());
+        let glass = Interface {
+            radius: -40.0,
+            ..inside
+        };
+        let grazing = LensRay {
+            origin: DVec3::new(0.0, 0.0, 5.0),
+            direction: d,
+        };
+        assert!(glass.pass(grazing, Toward::Film).is_none());
+        // A ray parallel to a flat surface misses it.
+        assert!(inside
+            .intersect(LensRay {
+                origin: DVec3::ZERO,
+                direction: DVec3::Y
+            })
+            .is_none());
+    }
+}
