@@ -4,7 +4,7 @@
 use super::prescription::Prescription;
 
 /// (name, prescription text).
-pub const LENSES: [(&str, &str); 3] = [
+pub const LENSES: [(&str, &str); 4] = [
     (
         "biconvex-50",
         include_str!("../../assets/lenses/biconvex-50.dat"),
@@ -14,6 +14,10 @@ pub const LENSES: [(&str, &str); 3] = [
         include_str!("../../assets/lenses/double-gauss-50.dat"),
     ),
     ("wide-22", include_str!("../../assets/lenses/wide-22.dat")),
+    (
+        "cooke-triplet-50",
+        include_str!("../../assets/lenses/cooke-triplet-50.dat"),
+    ),
 ];
 
 /// The names of the built-in lenses.
