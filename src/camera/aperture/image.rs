@@ -289,13 +289,7 @@ mod tests {
         let image = ApertureImage::new(c, r, &values).unwrap();
         let samples = 200_000u32;
         let mut counts = vec![0u32; (c * r) as usize];
-        let mut state = 0x853c_49e6_748f_ea9bu64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = super::super::uniform_stream();
         for _ in 0..samples {
             let p = image.sample(Vec2::new(next(), next()));
             assert!(p.x.abs() <= 1.0 && p.y.abs() <= 1.0, "{p}");

@@ -176,6 +176,18 @@ impl Aperture {
     }
 }
 
+/// The aperture tests' uniform numbers in [0, 1): a PCG-style LCG, its top 24 bits.
+#[cfg(test)]
+fn uniform_stream() -> impl FnMut() -> f32 {
+    let mut state = 0x853c_49e6_748f_ea9bu64;
+    move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -276,14 +288,7 @@ mod tests {
         let corner =
             |i: usize, j: usize| Vec2::new(-1.0, -aspect) + cell * Vec2::new(i as f32, j as f32);
         let mut counts = vec![0u32; GRID * GRID + 1];
-        let mut state = 0x853c_49e6_748f_ea9bu64;
-        let mut next = || {
-            // PCG-style LCG, the top 24 bits.
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = uniform_stream();
         let whole: Vec<bool> = (0..GRID * GRID)
             .map(|c| {
                 let (i, j) = (c % GRID, c / GRID);
