@@ -33,6 +33,7 @@ fn camera(aperture_radius: f32, shape: ApertureShape) -> Camera {
     .build()
     .expect("valid camera")
     .with_aperture(shape.build().expect("valid aperture"))
+    .expect("a thin lens takes any aperture")
 }
 
 fn settings(spp: u32) -> RenderSettings {

@@ -223,18 +223,26 @@ fn sampler_and_camera_mirrors_match_rust() {
         orthographic.clone(),
         perspective
             .clone()
-            .with_aperture(shape(Some(6), 15.0, 0.0, 1.0)),
+            .with_aperture(shape(Some(6), 15.0, 0.0, 1.0))
+            .expect("a thin lens takes any aperture"),
         perspective
             .clone()
-            .with_aperture(shape(Some(5), -30.0, 0.4, 1.5)),
+            .with_aperture(shape(Some(5), -30.0, 0.4, 1.5))
+            .expect("a thin lens takes any aperture"),
         perspective
             .clone()
-            .with_aperture(shape(None, 0.0, 0.0, 2.0)),
+            .with_aperture(shape(None, 0.0, 0.0, 2.0))
+            .expect("a thin lens takes any aperture"),
         orthographic
             .clone()
-            .with_aperture(shape(Some(9), 0.0, 0.7, 0.5)),
-        perspective.with_aperture(image.clone()),
-        orthographic.with_aperture(image),
+            .with_aperture(shape(Some(9), 0.0, 0.7, 0.5))
+            .expect("a thin lens takes any aperture"),
+        perspective
+            .with_aperture(image.clone())
+            .expect("a thin lens takes any aperture"),
+        orthographic
+            .with_aperture(image)
+            .expect("a thin lens takes any aperture"),
     ];
     let kinds = [SamplerKind::Sobol, SamplerKind::Independent];
     for cam in &cams {
@@ -485,7 +493,7 @@ fn gpu_matches_cpu(orthographic: bool, shading: Shading) {
         aperture_radius: if orthographic { 0.08 } else { 0.12 },
         focus_distance: 5.0,
     };
-    let cam: Camera = camera(orthographic, lens, 96, 72);
+    let cam: Camera = camera(orthographic, lens.clone(), 96, 72);
     let s = settings(shading, 8);
     let mut last = (0, 0);
     let image = gpu
@@ -699,7 +707,7 @@ fn gpu_aovs_match_cpu_aovs() {
         focus_distance: 4.0,
     };
     for orthographic in [false, true] {
-        let cam = camera(orthographic, lens, 80, 60);
+        let cam = camera(orthographic, lens.clone(), 80, 60);
         for shading in [Shading::Depth, Shading::Normal, Shading::Albedo] {
             let s = settings(shading, 4);
             let g = gpu.render(&cam, &s, &mut |_, _| {}).expect("GPU AOV");
@@ -741,7 +749,7 @@ fn preview_views_by_both_routes_are_equal() {
         focus_distance: 5.0,
     };
     for orthographic in [false, true] {
-        let cam = camera(orthographic, lens, 96, 64);
+        let cam = camera(orthographic, lens.clone(), 96, 64);
         for view in [VIEW_ALBEDO, VIEW_NORMAL, VIEW_DEPTH, VIEW_COC] {
             let routes = gpu
                 .probe_view_routes(&cam, BACKGROUND, view)

@@ -376,7 +376,7 @@ fn depth_of_field_blurs_by_the_circle_of_confusion() {
     };
     let mut failures = Vec::new();
     // In focus: the edge is sharp, only the pixel box filter remains.
-    let (fit, coc, projected) = fit_edge(5.0, lens);
+    let (fit, coc, projected) = fit_edge(5.0, lens.clone());
     println!("in focus: {fit:?}, edge projected at {projected}");
     assert!(
         coc < 1e-3,
@@ -393,7 +393,7 @@ fn depth_of_field_blurs_by_the_circle_of_confusion() {
     // Measured over 8 seeds at 1024 spp: radius within 0.3%, edge within 0.03 px, rms residual
     // (noise) about 0.002; the residual bound catches a blur of another shape.
     for z in [2.5f32, 12.0] {
-        let (fit, coc, projected) = fit_edge(z, lens);
+        let (fit, coc, projected) = fit_edge(z, lens.clone());
         assert!(coc > 5.0, "test set-up: CoC {coc} px at z = {z}");
         let relative = (fit.radius / coc as f64 - 1.0).abs();
         println!(
@@ -590,13 +590,13 @@ fn packet_primary_rays_equal_generate_ray_bit_for_bit() {
         ProjectionParams::Perspective { vfov_degrees: 50.0 },
         ProjectionParams::Orthographic { height: 4.0 },
     ] {
-        for lens in lenses {
+        for lens in lenses.clone() {
             let cam = CameraParams {
                 eye: Vec3::new(0.3, 1.0, 2.0),
                 target: Vec3::new(-0.5, 0.2, -3.0),
                 up: Vec3::Y,
                 projection,
-                lens,
+                lens: lens.clone(),
                 near: 0.01,
                 far: 100.0,
                 width: 37,

@@ -227,14 +227,17 @@ fn a_hexagonal_aperture_keeps_the_sampler_s_advantage() {
         ..default
     };
     let round = shot.camera;
-    let hexagon = round.clone().with_aperture(
-        lensray::camera::ApertureShape {
-            blades: Some(6),
-            ..lensray::camera::ApertureShape::ROUND
-        }
-        .build()
-        .expect("valid aperture"),
-    );
+    let hexagon = round
+        .clone()
+        .with_aperture(
+            lensray::camera::ApertureShape {
+                blades: Some(6),
+                ..lensray::camera::ApertureShape::ROUND
+            }
+            .build()
+            .expect("valid aperture"),
+        )
+        .expect("a thin lens takes any aperture");
     let ratio = |camera: &Camera| {
         let s = settings(SamplerKind::Sobol, REFERENCE_SPP, 1001);
         let reference = renderer.render(camera, &s, &mut |_, _| {}).0;

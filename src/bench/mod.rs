@@ -146,7 +146,7 @@ fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> 
     if let SweepValue::Aperture(aperture) = value {
         // The shape replaces the scene's; the radius stays.
         let aperture = aperture.shape().build()?;
-        shot.camera = shot.camera.with_aperture(aperture);
+        shot.camera = shot.camera.with_aperture(aperture)?;
     }
     Ok(shot)
 }

@@ -36,6 +36,8 @@
 //! - [`aperture`]: the shape of the lens opening (round, bladed, curved, squeezed) and the
 //!   uniform map of the sampler's lens dimensions onto it.
 //! - [`physical`]: the thin-lens equation 1/s_o + 1/s_i = 1/f ("Paraxial Approximation").
+//! - [`real_lens`]: past the course's thin lens, rays refracted through a real lens's
+//!   surfaces (`optics`), focused by moving the lens, sampled toward the exit pupil.
 //! - [`params`]: what a user gives, validated.
 
 pub mod aperture;
@@ -46,6 +48,7 @@ pub mod projection;
 pub mod projective;
 pub mod raster;
 pub mod ray;
+pub mod real_lens;
 pub mod thin_lens;
 
 pub use aperture::{Aperture, ApertureShape};
@@ -53,4 +56,5 @@ pub use params::{CameraError, CameraParams, LensParams, ProjectionParams};
 pub use projection::Projection;
 pub use projective::Camera;
 pub use ray::Ray;
+pub use real_lens::{RealLens, RealLensError, RealLensParams};
 pub use thin_lens::ThinLens;

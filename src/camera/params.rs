@@ -6,6 +6,7 @@ use thiserror::Error;
 use super::aperture::{ApertureShape, MAX_BLADES};
 use super::look_at::CameraFrame;
 use super::physical::PhysicalLens;
+use super::real_lens::{RealLens, RealLensError, RealLensParams};
 use super::{Aperture, Camera, Projection, ThinLens};
 
 /// Largest image side accepted.
@@ -17,7 +18,7 @@ pub enum ProjectionParams {
     Orthographic { height: f64 },
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum LensParams {
     Pinhole,
     /// World units.
@@ -31,9 +32,12 @@ pub enum LensParams {
         lens: PhysicalLens,
         focus_distance: f64,
     },
+    /// A lens prescription traced exactly (`real_lens`); the field of view follows from the
+    /// lens and the film (and replaces `vfov_degrees`).
+    Real(RealLensParams),
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct CameraParams {
     pub eye: Vec3,
     pub target: Vec3,
@@ -74,6 +78,8 @@ pub enum CameraError {
     ApertureBlades(u32),
     #[error("aperture roundness must be in [0, 1] (0: straight blades, 1: round), got {0}")]
     ApertureRoundness(f32),
+    #[error(transparent)]
+    RealLens(#[from] RealLensError),
 }
 
 impl ApertureShape {
@@ -156,9 +162,10 @@ impl CameraParams {
             return Err(CameraError::NearFar { near, far });
         }
 
-        let (lens, physical_vfov) = match self.lens {
+        let mut real_lens = None;
+        let (lens, physical_vfov) = match &self.lens {
             LensParams::Pinhole => (ThinLens::PINHOLE, None),
-            LensParams::ThinLens {
+            &LensParams::ThinLens {
                 aperture_radius,
                 focus_distance,
             } => {
@@ -173,7 +180,7 @@ impl CameraParams {
                     None,
                 )
             }
-            LensParams::Physical {
+            &LensParams::Physical {
                 lens,
                 focus_distance,
             } => {
@@ -196,6 +203,32 @@ impl CameraParams {
                     },
                     Some(vfov),
                 )
+            }
+            LensParams::Real(params) => {
+                if matches!(self.projection, ProjectionParams::Orthographic { .. }) {
+                    return Err(RealLensError::Orthographic.into());
+                }
+                if let Some(n) = params.f_number {
+                    positive("f-number", n)?;
+                }
+                positive("sensor height (mm)", params.sensor_height_mm)?;
+                let focus_distance = self.check_focus(params.focus_distance, near)?;
+                let params = RealLensParams {
+                    focus_distance,
+                    ..params.clone()
+                };
+                let aspect = self.width as f32 / self.height as f32;
+                let real = RealLens::new(params, aspect, Aperture::ROUND)?;
+                // The first-order model: a thin lens at the entrance pupil, its radius the
+                // pupil's, focused where the real lens is.
+                let first_order = ThinLens {
+                    aperture_radius: real.entrance_pupil_radius() as f32,
+                    focus_distance: focus_distance as f32,
+                    aperture: Aperture::ROUND,
+                };
+                let vfov = real.pinhole_vfov();
+                real_lens = Some(real);
+                (first_order, Some(vfov))
             }
         };
 
@@ -227,7 +260,7 @@ impl CameraParams {
             },
         };
 
-        Ok(Camera::new(
+        let camera = Camera::new(
             projection,
             frame,
             lens,
@@ -235,7 +268,11 @@ impl CameraParams {
             far as f32,
             self.width,
             self.height,
-        ))
+        );
+        Ok(match real_lens {
+            Some(real) => camera.with_real_lens(real),
+            None => camera,
+        })
     }
 
     /// The focal plane must lie in front of the lens plane (the eye for perspective, the near

@@ -3,15 +3,23 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
+use std::sync::Arc;
+
 use super::look_at::CameraFrame;
 use super::raster::{self, ScreenWindow};
+use super::real_lens::{RealLens, RealLensError};
 use super::{Aperture, Projection, Ray, ThinLens};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
     pub projection: Projection,
     pub frame: CameraFrame,
+    /// The thin lens, or a real lens's first-order model: the pinhole at its entrance pupil
+    /// with the pupil's radius, focused where it is (what rasterizing passes draw).
     pub lens: ThinLens,
+    /// A real lens whose surfaces the traced paths' camera rays cross (`real_lens`); its
+    /// entrance pupil is camera space's origin.
+    pub real_lens: Option<Arc<RealLens>>,
     pub near: f32,
     pub far: f32,
     pub width: u32,
@@ -51,6 +59,7 @@ impl Camera {
             projection,
             frame,
             lens,
+            real_lens: None,
             near,
             far,
             width,
@@ -71,14 +80,27 @@ impl Camera {
 
     /// The same camera with the aperture `aperture` (the lens's opening; no matrix depends on
     /// it).
-    pub fn with_aperture(mut self, aperture: Aperture) -> Self {
+    /// A real lens's stop takes the shape (its pupil is bounded again): an error if no light
+    /// then reaches the film's centre.
+    pub fn with_aperture(mut self, aperture: Aperture) -> Result<Self, RealLensError> {
+        if let Some(real) = &self.real_lens {
+            let aspect = self.width as f32 / self.height as f32;
+            self.real_lens = Some(Arc::new(real.with_aperture(aperture.clone(), aspect)?));
+        }
         self.lens.aperture = aperture;
+        Ok(self)
+    }
+
+    /// The same camera with a real lens (`real`: built for this image's aspect and the
+    /// aperture `self.lens` has).
+    pub fn with_real_lens(mut self, real: RealLens) -> Self {
+        self.real_lens = Some(Arc::new(real));
         self
     }
 
     /// The same camera with another film resolution (same field of view and lens).
     pub fn with_resolution(&self, width: u32, height: u32) -> Self {
-        Self::new(
+        let mut camera = Self::new(
             self.projection,
             self.frame,
             self.lens.clone(),
@@ -86,7 +108,19 @@ impl Camera {
             self.far,
             width,
             height,
-        )
+        );
+        camera.real_lens = self.real_lens.clone();
+        if let Some(real) = &self.real_lens {
+            let aspect = width as f32 / height as f32;
+            if aspect != real.aspect() {
+                // The film's width follows the aspect: its corners need their own bounds.
+                let rebuilt = real
+                    .with_aperture(self.lens.aperture.clone(), aspect)
+                    .unwrap_or_else(|e| unreachable!("the lens passed light already: {e}"));
+                camera.real_lens = Some(Arc::new(rebuilt));
+            }
+        }
+        camera
     }
 
     pub fn is_orthographic(&self) -> bool {
@@ -201,6 +235,26 @@ impl Camera {
                 .world_from_camera
                 .transform_vector3(camera_ray.direction),
         }
+    }
+
+    /// The camera ray through raster point `p_raster` and lens sample `lens_u`, in world
+    /// space, with its weight (the image averages weight x radiance): the real lens's traced
+    /// ray (`None` when the lens blocks it), or `generate_ray` with weight 1.
+    pub fn generate_ray_through_lens(&self, p_raster: Vec2, lens_u: Vec2) -> Option<(Ray, f32)> {
+        let Some(real) = &self.real_lens else {
+            return Some((self.generate_ray(p_raster, lens_u), 1.0));
+        };
+        let film = real.film_point(p_raster, self.width, self.height);
+        let (camera_ray, weight) = real.camera_ray(film, lens_u)?;
+        Some((
+            Ray {
+                origin: self.world_from_camera.transform_point3(camera_ray.origin),
+                direction: self
+                    .world_from_camera
+                    .transform_vector3(camera_ray.direction),
+            },
+            weight,
+        ))
     }
 
     /// The plane z = lens_z holds the lens: z = 0 (the eye) for perspective, the near plane for

@@ -10,8 +10,8 @@ use crate::paths::{DeviceChoice, PathChoice, PathOptions};
 use crate::sampler::SamplerKind;
 use crate::settings::Shading;
 use crate::settings::{
-    ApertureSettings, CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle,
-    Settings,
+    ApertureSettings, CameraSettings, ImageSettings, LensSettings, LightSettings, ProjectionKind,
+    RenderStyle, Settings,
 };
 
 /// Parses "x,y,z" into three finite-or-not numbers (validation names the option later).
@@ -157,10 +157,20 @@ pub struct ViewArgs {
     /// Focal length in mm (physical units; world units are metres).
     #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub focal_length_mm: Option<f64>,
-    /// f-number N: aperture radius = f / (2N).
+    /// A real lens traced surface by surface: a built-in name (see `lensray lens --help`)
+    /// or a prescription file. Its f-number, focus distance and sensor height are the
+    /// options of those names; the field of view follows from the lens and the film.
+    #[arg(
+        long,
+        value_name = "NAME|FILE",
+        conflicts_with_all = ["focal_length_mm", "aperture_radius", "vfov", "ortho_height"]
+    )]
+    pub lens: Option<String>,
+    /// f-number N: aperture radius = f / (2N); with --lens, the stop is closed until the
+    /// entrance pupil gives N (default: wide open).
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub f_number: Option<f64>,
-    /// Sensor height in mm (field of view from the thin-lens film distance).
+    /// Sensor height in mm (field of view from the thin-lens film distance, or the lens's).
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub sensor_height_mm: Option<f64>,
     /// Near plane distance (default from the scene's extent).
@@ -218,6 +228,9 @@ impl ViewArgs {
                     roundness: self.aperture_roundness,
                     aspect: self.aperture_aspect,
                     image: self.aperture_image.clone(),
+                },
+                lens: LensSettings {
+                    prescription: self.lens.clone(),
                 },
             },
             image: ImageSettings {

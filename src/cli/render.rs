@@ -116,6 +116,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         start.elapsed().as_secs_f64(),
         report.rays_per_second() / 1e6
     );
+    if let Some(real) = &camera.real_lens {
+        println!("  {}", real.summary());
+    }
     Ok(())
 }
 

@@ -21,7 +21,8 @@ pub use cpu::CpuPath;
 pub use gpu::{estimator, GpuEstimator, GpuPath};
 pub use hybrid::HybridPath;
 pub use path::{
-    Choice, Clock, DeviceChoice, DeviceKind, PathChoice, PathKind, PathReport, RenderPath,
+    Choice, Clock, DeviceChoice, DeviceKind, PathChoice, PathKind, PathReport, RealLensSupport,
+    RenderPath,
 };
 pub use raster::RasterPath;
 pub use request::PathOptions;
@@ -49,6 +50,28 @@ pub fn open(
     shot: (&Camera, &RenderSettings),
 ) -> Result<OpenedPath> {
     let device = options.device_to_use("--path")?;
+    if let Some(real) = &shot.0.real_lens {
+        match options.path.only().map(PathKind::real_lens_support) {
+            Some(RealLensSupport::Refused) => bail!(
+                "--path {} does not trace real lenses (--lens {}): use cpu or auto",
+                options.path,
+                real.name()
+            ),
+            Some(RealLensSupport::FirstOrder) => eprintln!(
+                "notice: --path {} renders lens {} by its first-order model (a thin lens at its entrance pupil): no aberrations, distortion or vignetting",
+                options.path,
+                real.name()
+            ),
+            Some(RealLensSupport::Traced) => {}
+            None if device != Choice::Only(DeviceKind::Gpu) => {
+                return open_cpu(scene, "auto: the CPU traces real lenses");
+            }
+            None => bail!(
+                "--device gpu has no path that traces real lenses (--lens {}) yet",
+                real.name()
+            ),
+        }
+    }
     if device == Choice::Only(DeviceKind::Cpu) {
         let why = if options.path == Choice::Only(PathKind::Cpu) {
             "asked for"

@@ -99,6 +99,15 @@ impl PathKind {
         }
     }
 
+    /// How the path renders a real lens (`camera::real_lens`).
+    pub fn real_lens_support(self) -> RealLensSupport {
+        match self {
+            PathKind::Cpu => RealLensSupport::Traced,
+            PathKind::Raster => RealLensSupport::FirstOrder,
+            PathKind::RayQuery | PathKind::Software | PathKind::Hybrid => RealLensSupport::Refused,
+        }
+    }
+
     /// The path that traces every sample with `traversal`.
     pub fn of_traversal(traversal: Traversal) -> PathKind {
         match traversal {
@@ -106,6 +115,18 @@ impl PathKind {
             Traversal::Software => PathKind::Software,
         }
     }
+}
+
+/// What a path does with a real lens.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RealLensSupport {
+    /// Every camera ray is traced through the lens's surfaces.
+    Traced,
+    /// The lens's first-order model: a thin lens at the entrance pupil, with the pupil's
+    /// radius and the real lens's focus (no aberration, distortion or vignetting).
+    FirstOrder,
+    /// The path says so in one line.
+    Refused,
 }
 
 impl fmt::Display for PathKind {

@@ -56,10 +56,16 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
     let (camera, render) = (&resolved.camera, &resolved.render);
     let c = &settings.camera;
     let physical = c.focal_length_mm.is_some();
+    let real = camera.real_lens.as_deref();
     // A pinhole without a focus resolves to `LensParams::Pinhole`: writing a focus would change
     // its (unused) focus distance, so it is written only when the lens has one.
-    let has_lens = physical || c.aperture_radius.is_some() || c.focus_distance.is_some();
+    let has_lens =
+        physical || real.is_some() || c.aperture_radius.is_some() || c.focus_distance.is_some();
     let (projection, vfov_degrees, ortho_height) = match camera.projection {
+        // A real lens's field follows from the lens and the film.
+        Projection::Perspective { .. } if real.is_some() => {
+            (ProjectionKind::Perspective, None, None)
+        }
         Projection::Perspective { .. } => (
             ProjectionKind::Perspective,
             Some(c.vfov_degrees.unwrap_or(DEFAULT_VFOV_DEGREES)),
@@ -83,19 +89,24 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
             up: Some(c.up.unwrap_or([0.0, 1.0, 0.0])),
             vfov_degrees,
             ortho_height,
-            aperture_radius: (!physical && has_lens).then(|| c.aperture_radius.unwrap_or(0.0)),
+            aperture_radius: (!physical && real.is_none() && has_lens)
+                .then(|| c.aperture_radius.unwrap_or(0.0)),
             focus_distance: has_lens.then(|| {
                 c.focus_distance
                     .unwrap_or(camera.lens.focus_distance as f64)
             }),
             focal_length_mm: c.focal_length_mm,
-            f_number: physical.then(|| c.f_number.unwrap_or(DEFAULT_F_NUMBER)),
-            sensor_height_mm: physical
+            f_number: match real {
+                Some(real) => Some(c.f_number.unwrap_or(real.f_number)),
+                None => physical.then(|| c.f_number.unwrap_or(DEFAULT_F_NUMBER)),
+            },
+            sensor_height_mm: (physical || real.is_some())
                 .then(|| c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM)),
             near: Some(c.near.unwrap_or(camera.near as f64)),
             far: Some(c.far.unwrap_or(camera.far as f64)),
             // The shape as given: what is left out is the round aperture's default.
             aperture: c.aperture.clone(),
+            lens: c.lens.clone(),
         },
         image: ImageSettings {
             width: Some(camera.width),

@@ -136,3 +136,29 @@ pub fn primary_rays(
         );
     }
 }
+
+/// The rays of samples `first..first + n` of the sampler's pixel through the camera's real
+/// lens, packed: the first `m` slots (m returned) hold the rays the lens lets through, in
+/// world space, with their weights (`Camera::generate_ray_through_lens`).
+pub fn real_lens_rays(
+    camera: &Camera,
+    sampler: &PixelSampler,
+    (first, n): (u32, usize),
+    origins: &mut [Vec3; PACKET_SIZE],
+    directions: &mut [Vec3; PACKET_SIZE],
+    weights: &mut [f32; PACKET_SIZE],
+) -> usize {
+    let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
+    let mut passed = 0;
+    for l in 0..n {
+        let film = glam::Vec2::new(film_x[l], film_y[l]);
+        let lens = glam::Vec2::new(lens_x[l], lens_y[l]);
+        if let Some((ray, weight)) = camera.generate_ray_through_lens(film, lens) {
+            origins[passed] = ray.origin;
+            directions[passed] = ray.direction;
+            weights[passed] = weight;
+            passed += 1;
+        }
+    }
+    passed
+}

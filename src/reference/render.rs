@@ -9,7 +9,7 @@ use glam::{UVec2, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::accel::{Accel, Hit, PACKET_SIZE};
-use super::rays::primary_rays;
+use super::rays::{primary_rays, real_lens_rays};
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
 use crate::film::{Image, OnDevice, Sums};
@@ -207,6 +207,34 @@ impl Renderer {
         } else {
             pixel_sampler(settings.sampler, settings.seed, pixel, camera.width)
         };
+        if camera.real_lens.is_some() {
+            let mut weights = [0.0; PACKET_SIZE];
+            for first in samples.clone().step_by(PACKET_SIZE) {
+                let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
+                let passed = real_lens_rays(
+                    camera,
+                    &sampler,
+                    (first, n),
+                    &mut origins,
+                    &mut directions,
+                    &mut weights,
+                );
+                let hits = &mut hits[..passed];
+                let (o, d) = (&origins[..passed], &directions[..passed]);
+                self.accel.closest_hits(o, d, 0.0, f32::INFINITY, hits);
+                for i in 0..passed {
+                    let ray = Ray {
+                        origin: origins[i],
+                        direction: directions[i],
+                    };
+                    let (value, count) = self.shade(&ray, hits[i], settings);
+                    sum += weights[i] * value;
+                    rays += count;
+                }
+            }
+            *sum_and_count = [sum.x, sum.y, sum.z, count + samples.len() as f32];
+            return rays;
+        }
         for first in samples.clone().step_by(PACKET_SIZE) {
             let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
             primary_rays(camera, &sampler, first, &mut origins, &mut directions);

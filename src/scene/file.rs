@@ -12,6 +12,9 @@
 //! vfov_degrees = 40.0
 //! aperture_radius = 0.06
 //! focus_distance = 3.3
+//! # Or a real lens instead of the thin one (f_number, focus_distance, sensor_height_mm):
+//! # [camera.lens]
+//! # prescription = "double-gauss-50"   # a built-in name, or a file beside this one
 //! [image]
 //! width = 640
 //! height = 480
@@ -97,8 +100,15 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings), SceneError> {
         return Err(mesh_error("must be an .obj file"));
     }
     let mut camera = file.camera;
+    let folder = path.parent().unwrap_or(Path::new(""));
     if let Some(image) = camera.aperture.image.as_mut() {
-        *image = path.parent().unwrap_or(Path::new("")).join(&*image);
+        *image = folder.join(&*image);
+    }
+    if let Some(lens) = camera.lens.prescription.as_mut() {
+        // A built-in lens's name stays a name.
+        if crate::optics::builtin::lens(lens).is_none() {
+            *lens = folder.join(&*lens).to_string_lossy().into_owned();
+        }
     }
     let settings = Settings {
         camera,

@@ -17,6 +17,6 @@ pub use shot::{
     DEFAULT_SPP, DEFAULT_VFOV_DEGREES, DEFAULT_WIDTH,
 };
 pub use user::{
-    ApertureSettings, CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle,
-    Settings,
+    ApertureSettings, CameraSettings, ImageSettings, LensSettings, LightSettings, ProjectionKind,
+    RenderStyle, Settings,
 };

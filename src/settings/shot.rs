@@ -4,10 +4,15 @@
 use glam::{DVec3, Vec3};
 use thiserror::Error;
 
+use std::sync::Arc;
+
 use crate::camera::physical::PhysicalLens;
 use crate::camera::{
     Aperture, ApertureShape, Camera, CameraError, CameraParams, LensParams, ProjectionParams,
+    RealLensParams,
 };
+use crate::optics::paraxial::FirstOrder;
+use crate::optics::Prescription;
 use crate::scene::Scene;
 use crate::settings::{ApertureSettings, ProjectionKind, Settings};
 use crate::settings::{PointLight, RenderSettings, Shading};
@@ -37,6 +42,14 @@ pub enum SettingsError {
     EmptyScene,
     #[error(transparent)]
     ApertureImage(#[from] super::aperture_image::ApertureImageFileError),
+    #[error("{0}")]
+    Lens(String),
+}
+
+impl From<crate::camera::RealLensError> for SettingsError {
+    fn from(e: crate::camera::RealLensError) -> Self {
+        SettingsError::Camera(e.into())
+    }
 }
 
 pub struct Shot {
@@ -87,11 +100,42 @@ fn aperture(a: &ApertureSettings) -> Result<Aperture, SettingsError> {
     .build()?)
 }
 
+/// The real lens the settings name, if any (a built-in name or a prescription file).
+fn prescription(
+    c: &crate::settings::CameraSettings,
+) -> Result<Option<Prescription>, SettingsError> {
+    let Some(name) = &c.lens.prescription else {
+        return Ok(None);
+    };
+    if c.aperture_radius.is_some() || c.focal_length_mm.is_some() {
+        return Err(SettingsError::Conflict(
+            "give either a real lens (--lens) or a thin lens (aperture radius or focal length), not both",
+        ));
+    }
+    if c.projection == Some(ProjectionKind::Orthographic) {
+        return Err(SettingsError::Conflict(
+            "a real lens (--lens) needs the perspective projection",
+        ));
+    }
+    crate::optics::builtin::resolve(name)
+        .map(Some)
+        .map_err(SettingsError::Lens)
+}
+
 pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
     let c = &settings.camera;
     let radius = (0.5 * bounds.diagonal().length()).max(1e-3) as f64;
-    let vfov_degrees = c.vfov_degrees.unwrap_or(DEFAULT_VFOV_DEGREES);
+    let real_lens = prescription(c)?;
+    let vfov_degrees = match &real_lens {
+        // Framing uses the lens focused at infinity (the field narrows a little nearer).
+        Some(lens) => {
+            let efl = FirstOrder::of(lens).efl;
+            let height = c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM);
+            (2.0 * (0.5 * height / efl).atan()).to_degrees()
+        }
+        None => c.vfov_degrees.unwrap_or(DEFAULT_VFOV_DEGREES),
+    };
     let projection_kind = c.projection.unwrap_or(ProjectionKind::Perspective);
 
     let target = c
@@ -131,12 +175,21 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let near = c.near.unwrap_or(far * 1e-4);
     let axis_distance = (target - eye).length() as f64;
 
-    if c.focal_length_mm.is_none() && (c.f_number.is_some() || c.sensor_height_mm.is_some()) {
+    if c.focal_length_mm.is_none()
+        && real_lens.is_none()
+        && (c.f_number.is_some() || c.sensor_height_mm.is_some())
+    {
         return Err(SettingsError::Conflict(
-            "f-number and sensor height need a focal length (--focal-length-mm)",
+            "f-number and sensor height need a focal length (--focal-length-mm) or a lens (--lens)",
         ));
     }
     let lens = match (c.aperture_radius, c.focal_length_mm) {
+        _ if real_lens.is_some() => LensParams::Real(RealLensParams {
+            prescription: Arc::new(real_lens.expect("checked")),
+            f_number: c.f_number,
+            focus_distance: c.focus_distance.unwrap_or(axis_distance),
+            sensor_height_mm: c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM),
+        }),
         (Some(_), Some(_)) => {
             return Err(SettingsError::Conflict(
                 "give either an aperture radius or a focal length (physical units), not both",
@@ -175,7 +228,7 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
         height: settings.image.height.unwrap_or(DEFAULT_HEIGHT),
     }
     .build()?
-    .with_aperture(aperture(&c.aperture)?);
+    .with_aperture(aperture(&c.aperture)?)?;
 
     let spp = settings.image.spp.unwrap_or(DEFAULT_SPP);
     if spp == 0 {

@@ -35,6 +35,19 @@ pub struct CameraSettings {
     /// `[camera.aperture]`: the opening's shape (round when absent).
     #[serde(default, skip_serializing_if = "ApertureSettings::is_unset")]
     pub aperture: ApertureSettings,
+    /// `[camera.lens]`: a real lens (a thin lens when absent).
+    #[serde(default, skip_serializing_if = "LensSettings::is_unset")]
+    pub lens: LensSettings,
+}
+
+/// A real lens (`camera::real_lens`): its f-number, focus and film are `[camera]`'s
+/// `f_number`, `focus_distance` and `sensor_height_mm`.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LensSettings {
+    /// A built-in lens's name (`lensray lens --help` lists them) or a prescription file (a
+    /// scene file's relative path starts at its folder).
+    pub prescription: Option<String>,
 }
 
 /// The aperture's shape (`camera::aperture` states the conventions).
@@ -103,6 +116,16 @@ impl Settings {
     /// These settings with every field that `over` sets replaced by its value.
     pub fn overridden_by(mut self, over: &Settings) -> Settings {
         let (c, i, r, l) = (&over.camera, &over.image, &over.render, &over.light);
+        // The kind of lens is one choice: a real lens, a thin lens's radius or a focal length
+        // given over replaces whichever the base has.
+        if c.lens.prescription.is_some()
+            || c.aperture_radius.is_some()
+            || c.focal_length_mm.is_some()
+        {
+            self.camera.lens.prescription = None;
+            self.camera.aperture_radius = None;
+            self.camera.focal_length_mm = None;
+        }
         overlay!(
             c,
             self.camera,
@@ -122,6 +145,8 @@ impl Settings {
         );
         let (a, base) = (&c.aperture, &mut self.camera.aperture);
         overlay!(a, base, blades, rotation, roundness, aspect, image);
+        let (lens, base) = (&c.lens, &mut self.camera.lens);
+        overlay!(lens, base, prescription);
         overlay!(i, self.image, width, height, spp, seed, sampler);
         overlay!(r, self.render, shading, background);
         overlay!(l, self.light, position, intensity);
@@ -142,6 +167,7 @@ macro_rules! is_unset {
 is_unset!(
     CameraSettings,
     ApertureSettings,
+    LensSettings,
     ImageSettings,
     RenderStyle,
     LightSettings

@@ -46,7 +46,7 @@ impl Rng {
 }
 
 /// A named set of camera parameters.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Setup {
     pub name: &'static str,
     pub params: CameraParams,
@@ -211,7 +211,9 @@ impl RefCam {
                 aperture_radius,
                 focus_distance,
             } => (aperture_radius, focus_distance),
-            LensParams::Physical { .. } => panic!("RefCam does not model physical lenses"),
+            LensParams::Physical { .. } | LensParams::Real(_) => {
+                panic!("RefCam models the thin lens only")
+            }
         };
         Self {
             eye,

@@ -221,6 +221,7 @@ fn zero_aperture_lens_is_the_pinhole() {
     let mut rng = Rng::new(32);
     for setup in setups() {
         let cam = setup
+            .clone()
             .with_lens(lensray::camera::LensParams::ThinLens {
                 aperture_radius: 0.0,
                 focus_distance: 1e3,

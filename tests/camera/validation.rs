@@ -160,7 +160,10 @@ fn build_rejects_degenerate_frames() {
     ] {
         rejects(
             what,
-            CameraParams { target, ..base },
+            CameraParams {
+                target,
+                ..base.clone()
+            },
             |e| *e == CameraError::EyeIsTarget,
             "EyeIsTarget",
         );
@@ -177,7 +180,7 @@ fn build_rejects_degenerate_frames() {
     ] {
         rejects(
             what,
-            CameraParams { up, ..base },
+            CameraParams { up, ..base.clone() },
             |e| *e == CameraError::UpParallelToView(up),
             &format!("UpParallelToView({up:?})"),
         );

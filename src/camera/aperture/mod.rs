@@ -168,6 +168,35 @@ impl Aperture {
         Vec2::new(p.x, p.y * self.shape.aspect)
     }
 
+    /// How much light passes at point `p` of the unit shape's plane (circumscribed radius 1,
+    /// aspect applied, as `unit_point` gives them): 1 inside a disk or an iris, the cell's
+    /// value for an image, 0 outside. A real lens's stop is this opening (`real_lens`).
+    pub fn transmission(&self, p: Vec2) -> f32 {
+        let q = Vec2::new(p.x, p.y / self.shape.aspect);
+        if let Some(image) = self.image() {
+            // Turn back by the rotation, then read the cell (outside the square: nothing).
+            let c = self.turn;
+            let r = Vec2::new(c.x * q.x + c.y * q.y, c.x * q.y - c.y * q.x);
+            if r.x.abs() > 1.0 || r.y.abs() > 1.0 {
+                return 0.0;
+            }
+            let (column, row) = image.cell_of(r);
+            return image.transmission()[(row * image.columns() + column) as usize];
+        }
+        let fan = self.fan();
+        let inside = if fan.is_empty() {
+            q.length_squared() <= 1.0
+        } else {
+            // The fan is convex and counter-clockwise: inside every edge's left side.
+            (0..fan.len()).all(|i| (fan[(i + 1) % fan.len()] - fan[i]).perp_dot(q - fan[i]) >= 0.0)
+        };
+        if inside {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
     /// How far the shape reaches from the centre, in units of the aperture radius: the
     /// radius of the circle that holds it (the aspect stretches it vertically; an image's
     /// corners may reach past the circle).

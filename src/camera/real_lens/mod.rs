@@ -1,0 +1,298 @@
+//! A real lens in the camera (issue 21; where the course says "in practice, the ray will
+//! refract twice when passing through the lens"): each camera ray leaves a film point, aims at
+//! a point of the exit pupil's bounds and is refracted exactly through every surface of a lens
+//! prescription (`optics::trace::narrow`), the stop's opening shaped as `aperture` says.
+//!
+//! # Spaces
+//! - **Lens space** (mm): z along the axis from the first vertex, + toward the film; x, y are
+//!   camera space's x, y. The film is the plane z = `film_z`.
+//! - **Camera space** (world units, metres) has its origin at the **entrance pupil**'s centre
+//!   and +z toward the scene: `camera = ((x, y, entrance_pupil_z - z) / 1000)`. The pinhole at
+//!   the entrance pupil that the raster G-buffer, the hybrid and the raster path use (the
+//!   lens's first-order model, `Camera::lens`) sits at the same origin, so depths agree.
+//! - The image on the film is inverted: raster (column, row) maps to the film point
+//!   `-(u, v)`, with (u, v) the raster point's offset from the image centre in film mm (+u to
+//!   the image's right, +v up).
+//!
+//! # Radiometry (stated; tested in `tests/real_lens.rs` against an integration over the
+//! exit pupil)
+//! A film point's irradiance is E = integral over the rear plane of L cos^4(theta) / d^2 dA
+//! (theta from the axis, d the film's distance to that plane). A sample drawn uniformly over
+//! the bounds (area A) weighs `T cos^4(theta) A / I0`, T the stop's transmission at the ray
+//! (0 when a surface blocks it), and I0 the integral of T cos^4(theta) over the passing region
+//! seen from the film's centre. So the image's centre shows the scene's radiance at every
+//! f-number (lensray's exposure convention: the f-number changes depth of field, not
+//! brightness), and toward the corners the image darkens as the real lens does: cos^4 (natural
+//! vignetting) times the share of the pupil the clear apertures let through (optical
+//! vignetting, the cat-eye). The estimate is the physical pbrt one up to the constant 1 / E0.
+
+mod focus;
+mod pupil;
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+use thiserror::Error;
+
+use super::physical::MM_PER_WORLD_UNIT;
+use super::{Aperture, Ray};
+use crate::optics::paraxial::FirstOrder;
+use crate::optics::trace::narrow::{Elements, Interface, LensRay};
+use crate::optics::trace::Toward;
+use crate::optics::Prescription;
+pub use pupil::{ExitPupil, PUPIL_BINS};
+
+/// Lenses are marked with f-numbers rounded to a scale of third stops (an f/2.03 design is
+/// sold as f/2): asking for an f-number at most a sixth of a stop (2^(1/12)) wider than the
+/// widest opens the lens fully, and the summary names the real f-number. Wider is an error.
+pub const MARKING_TOLERANCE: f64 = 1.059_463_094_359_295_3;
+
+/// What a user gives for a real lens (`--lens`, `--f-number`, `--focus-distance`,
+/// `--sensor-height-mm`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RealLensParams {
+    pub prescription: Arc<Prescription>,
+    /// `None`: wide open.
+    pub f_number: Option<f64>,
+    /// World units from the entrance pupil along the axis.
+    pub focus_distance: f64,
+    pub sensor_height_mm: f64,
+}
+
+#[derive(Debug, Error, PartialEq)]
+pub enum RealLensError {
+    #[error(
+        "lens {lens} opens to f/{widest:.3} at most (its stop's full diameter); f/{asked} is wider"
+    )]
+    PastFullStop {
+        lens: String,
+        asked: f64,
+        widest: f64,
+    },
+    #[error("lens {lens} cannot focus at {focus} m: the subject must lie beyond its front focal point, more than {nearest:.4} m from the entrance pupil")]
+    CannotFocus {
+        lens: String,
+        focus: f64,
+        nearest: f64,
+    },
+    #[error("lens {lens} at f/{f_number:.3}: no ray from the film's centre passes the lens")]
+    NoLight { lens: String, f_number: f64 },
+    #[error("a real lens (--lens) needs the perspective projection")]
+    Orthographic,
+}
+
+/// A real lens focused and stopped down, ready to trace camera rays.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RealLens {
+    pub params: RealLensParams,
+    /// The prescription with the stop opened to the f-number.
+    pub stopped: Prescription,
+    /// First-order data of `stopped`.
+    pub first_order: FirstOrder,
+    pub f_number: f64,
+    /// Last vertex to the film, mm.
+    pub film_distance_mm: f64,
+    elements: Elements,
+    stop: usize,
+    /// The opening's circumscribed radius at the stop, mm (the shape's unit circle).
+    stop_radius: f32,
+    aperture: Aperture,
+    /// Lens-space z of the film and of the entrance pupil (camera space's origin).
+    film_z: f32,
+    entrance_pupil_z: f32,
+    /// Half the film's height, mm; the film's width follows the image's aspect.
+    film_half_height: f32,
+    /// The image's width over its height.
+    aspect: f32,
+    pupil: ExitPupil,
+}
+
+impl RealLens {
+    /// The lens of `params` for an image of aspect `aspect` (width / height), its stop shaped
+    /// as `aperture`: stopped down, focused, its exit pupil bounded.
+    pub fn new(
+        params: RealLensParams,
+        aspect: f32,
+        aperture: Aperture,
+    ) -> Result<Self, RealLensError> {
+        let lens = &params.prescription;
+        let full = FirstOrder::of(lens);
+        let asked = params.f_number.unwrap_or(full.f_number);
+        if asked < full.f_number / MARKING_TOLERANCE {
+            return Err(RealLensError::PastFullStop {
+                lens: lens.name.clone(),
+                asked,
+                widest: full.f_number,
+            });
+        }
+        let f_number = asked.max(full.f_number);
+        let stop = lens.stop();
+        let stop_diameter = lens.surfaces()[stop].diameter * full.f_number / f_number;
+        let stopped = lens.with_stop_diameter(stop_diameter);
+        let first_order = FirstOrder::of(&stopped);
+        let film_z = focus::film_z(&stopped, &first_order, params.focus_distance)?;
+        let stop_radius = 0.5 * stop_diameter as f32;
+        // The tracer's own check at the stop bounds every shape; `trace` applies the shape.
+        let mut elements = Elements::new(&stopped);
+        elements.interfaces[stop].aperture_radius = stop_radius * aperture.reach();
+        let film_half_height = 0.5 * params.sensor_height_mm as f32;
+        let film_half = Vec2::new(film_half_height * aspect, film_half_height);
+        let mut real = RealLens {
+            film_distance_mm: f64::from(film_z) - stopped.length(),
+            entrance_pupil_z: first_order.entrance_pupil.position_mm as f32,
+            params,
+            stopped,
+            first_order,
+            f_number,
+            elements,
+            stop,
+            stop_radius,
+            aperture,
+            film_z,
+            film_half_height,
+            aspect,
+            pupil: ExitPupil::EMPTY,
+        };
+        real.pupil = ExitPupil::bound(&real, film_half.length());
+        if real.pupil.inverse_centre_integral <= 0.0 {
+            return Err(RealLensError::NoLight {
+                lens: real.name().into(),
+                f_number,
+            });
+        }
+        Ok(real)
+    }
+
+    /// The same lens with the stop shaped as `aperture` (or the same lens if it already is).
+    pub fn with_aperture(&self, aperture: Aperture, aspect: f32) -> Result<Self, RealLensError> {
+        if aperture == self.aperture && aspect == self.aspect() {
+            return Ok(self.clone());
+        }
+        Self::new(self.params.clone(), aspect, aperture)
+    }
+
+    pub fn name(&self) -> &str {
+        &self.params.prescription.name
+    }
+
+    /// The film's width over its height.
+    pub fn aspect(&self) -> f32 {
+        self.aspect
+    }
+
+    pub fn elements(&self) -> &Elements {
+        &self.elements
+    }
+
+    pub fn pupil(&self) -> &ExitPupil {
+        &self.pupil
+    }
+
+    /// The stop's row, its opening's circumscribed radius (mm) and shape.
+    pub fn stop(&self) -> (usize, f32, &Aperture) {
+        (self.stop, self.stop_radius, &self.aperture)
+    }
+
+    pub fn film_z(&self) -> f32 {
+        self.film_z
+    }
+
+    pub fn entrance_pupil_z(&self) -> f32 {
+        self.entrance_pupil_z
+    }
+
+    pub fn film_half_height(&self) -> f32 {
+        self.film_half_height
+    }
+
+    /// The vertical field of view (radians) of the pinhole at the entrance pupil that images
+    /// the film as the lens does to first order: a film height h behind the exit pupil by
+    /// d_xp leaves it at slope h / d_xp, and the pupils' Lagrange invariant turns that into
+    /// h / d_xp * D_xp / D_ep in the scene (no distortion, which the traced rays add).
+    pub fn pinhole_vfov(&self) -> f64 {
+        let fo = &self.first_order;
+        let exit_pupil_z = self.stopped.length() + fo.exit_pupil.position_mm;
+        let d_xp = f64::from(self.film_z) - exit_pupil_z;
+        let slope = f64::from(self.film_half_height) / d_xp * fo.exit_pupil.diameter_mm
+            / fo.entrance_pupil.diameter_mm;
+        2.0 * slope.atan()
+    }
+
+    /// The entrance pupil's radius, world units: the first-order thin lens's aperture.
+    pub fn entrance_pupil_radius(&self) -> f64 {
+        0.5 * self.first_order.entrance_pupil.diameter_mm / MM_PER_WORLD_UNIT
+    }
+
+    /// The film point (lens space, mm) of raster point `p_raster` in an image of
+    /// `width` x `height` pixels: inverted, the film's height spanning the image's.
+    pub fn film_point(&self, p_raster: Vec2, width: u32, height: u32) -> Vec3 {
+        let mm_per_pixel = 2.0 * self.film_half_height / height as f32;
+        let u = (p_raster.x - 0.5 * width as f32) * mm_per_pixel;
+        let v = (0.5 * height as f32 - p_raster.y) * mm_per_pixel;
+        Vec3::new(-u, -v, self.film_z)
+    }
+
+    /// The camera ray (camera space) of film point `film` (from [`Self::film_point`]) and
+    /// lens sample `lens_u` in [0, 1)^2, with its weight (see the module's radiometry); `None`
+    /// when the lens blocks it.
+    pub fn camera_ray(&self, film: Vec3, lens_u: Vec2) -> Option<(Ray, f32)> {
+        let (rear, area) = self.pupil.sample(film, lens_u);
+        let toward_rear = rear - film;
+        let direction = toward_rear.normalize();
+        let start = LensRay {
+            origin: film,
+            direction,
+        };
+        let (out, transmission) = self.trace_to_scene(start)?;
+        let cos2 = direction.z * direction.z;
+        let weight = transmission * (cos2 * cos2) * area * self.pupil.inverse_centre_integral;
+        Some((self.camera_from_lens(out), weight))
+    }
+
+    /// `ray` from the film through every surface to the scene, and the stop's transmission
+    /// where it crosses (`None`: blocked).
+    pub fn trace_to_scene(&self, ray: LensRay) -> Option<(LensRay, f32)> {
+        let mut ray = ray;
+        let mut transmission = 1.0;
+        for i in (0..self.elements.interfaces.len()).rev() {
+            let interface: &Interface = &self.elements.interfaces[i];
+            if i == self.stop {
+                // The opening (flat, in air): the ray goes on unrefracted.
+                let (t, _) = interface.intersect(ray)?;
+                let p = ray.origin + t * ray.direction;
+                transmission = self
+                    .aperture
+                    .transmission(Vec2::new(p.x, p.y) / self.stop_radius);
+                if transmission <= 0.0 {
+                    return None;
+                }
+                continue;
+            }
+            ray = interface.pass(ray, Toward::Scene)?;
+        }
+        Some((ray, transmission))
+    }
+
+    /// A lens-space ray in camera space (world units; +z toward the scene).
+    pub fn camera_from_lens(&self, ray: LensRay) -> Ray {
+        let scale = 1.0 / MM_PER_WORLD_UNIT as f32;
+        Ray {
+            origin: Vec3::new(
+                ray.origin.x * scale,
+                ray.origin.y * scale,
+                (self.entrance_pupil_z - ray.origin.z) * scale,
+            ),
+            direction: Vec3::new(ray.direction.x, ray.direction.y, -ray.direction.z),
+        }
+    }
+
+    /// One line for the render's summary.
+    pub fn summary(&self) -> String {
+        format!(
+            "lens {} at f/{:.2}, film {:.3} mm behind the last vertex",
+            self.name(),
+            self.f_number,
+            self.film_distance_mm
+        )
+    }
+}

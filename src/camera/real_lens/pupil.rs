@@ -1,0 +1,336 @@
+//! Where camera rays aim (after pbrt's exit-pupil bounds): for film points at each distance
+//! from the film's centre, a region of the rear vertex's plane holding every point that rays
+//! passing the lens cross. Sampling it, instead of the whole rear element, lets most rays
+//! through. Regions are found for film points on +x and turned to each film point's angle,
+//! the lens being symmetric about its axis (a shaped stop is bounded by its circumscribed
+//! circle).
+//!
+//! - The region at each bin edge (film radius `r_k`) is the bounding rectangle of the passing
+//!   points of a grid, grown by one grid step (the edge lies between a passing point and a
+//!   failing one). (Ellipses inscribed in the rectangles were tried: off the axis the pupil
+//!   is at once cut by a second opening, and the cut shape pokes out of them.)
+//! - Between two edges the region's centre and half sides are interpolated (the pupil slides
+//!   and narrows smoothly). Each bin checks this at its middle radius: if the points passing
+//!   there do not fit the interpolated region, the bin falls back to one rectangle bounding
+//!   the regions of both edges and of the middle.
+
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+use super::RealLens;
+use crate::optics::trace::narrow::LensRay;
+use crate::optics::trace::Toward;
+
+/// Distances from the film's centre with their own regions, from 0 to the film's corner.
+pub const PUPIL_BINS: usize = 64;
+/// Grid points a side of each search (coarse over the rear element, then fine over the
+/// coarse bounds).
+const GRID: u32 = 80;
+/// Side of the grid that integrates the centre's irradiance.
+const CENTRE_GRID: u32 = 512;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExitPupil {
+    /// Lens-space z of the rear vertex's plane, where the regions lie.
+    pub rear_z: f32,
+    /// The film's half diagonal, mm: the last bin's outer edge.
+    pub film_radius: f32,
+    /// Per bin, for film points on +x, the region the rays are drawn from.
+    pub bins: Vec<PupilBin>,
+    /// 1 / the integral of T cos^4(theta) over the passing region seen from the film's
+    /// centre (mm^-2; see the parent module's radiometry); 0 if nothing passes.
+    pub inverse_centre_integral: f32,
+}
+
+/// A rectangle of the rear plane, by its centre and half sides (zero: nothing passes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    pub centre: Vec2,
+    pub half: Vec2,
+}
+
+impl Region {
+    const EMPTY: Region = Region {
+        centre: Vec2::ZERO,
+        half: Vec2::ZERO,
+    };
+
+    fn lo(&self) -> Vec2 {
+        self.centre - self.half
+    }
+
+    fn hi(&self) -> Vec2 {
+        self.centre + self.half
+    }
+
+    fn is_empty(&self) -> bool {
+        self.half.x <= 0.0 || self.half.y <= 0.0
+    }
+
+    fn union(&self, other: &Region) -> Region {
+        if self.is_empty() {
+            return *other;
+        }
+        if other.is_empty() {
+            return *self;
+        }
+        let (lo, hi) = (self.lo().min(other.lo()), self.hi().max(other.hi()));
+        Region {
+            centre: 0.5 * (lo + hi),
+            half: 0.5 * (hi - lo),
+        }
+    }
+}
+
+/// One bin's regions: at its inner and outer film radius, interpolated between.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PupilBin {
+    pub inner: Region,
+    pub outer: Region,
+}
+
+impl PupilBin {
+    const EMPTY: PupilBin = PupilBin {
+        inner: Region::EMPTY,
+        outer: Region::EMPTY,
+    };
+
+    /// The region at fraction `f` in [0, 1] of the way from the inner to the outer radius.
+    pub fn region(&self, f: f32) -> Region {
+        Region {
+            centre: self.inner.centre + f * (self.outer.centre - self.inner.centre),
+            half: self.inner.half + f * (self.outer.half - self.inner.half),
+        }
+    }
+
+    /// The area of the region at `f`, mm^2.
+    pub fn area(&self, f: f32) -> f32 {
+        let half = self.region(f).half;
+        4.0 * half.x.max(0.0) * half.y.max(0.0)
+    }
+
+    /// The point lens sample `u` in [0, 1)^2 picks, uniform over the region at `f`.
+    pub fn point(&self, f: f32, u: Vec2) -> Vec2 {
+        let region = self.region(f);
+        region.centre + region.half * (2.0 * u - Vec2::ONE)
+    }
+
+    /// Whether every point lies inside the region at `f`, `margin` inside its edge.
+    fn holds(&self, f: f32, points: &[Vec2], margin: Vec2) -> bool {
+        let region = self.region(f);
+        let inner = region.half - margin;
+        if inner.x <= 0.0 || inner.y <= 0.0 {
+            return points.is_empty();
+        }
+        points.iter().all(|&q| {
+            let d = (q - region.centre) / inner;
+            d.x.abs() <= 1.0 && d.y.abs() <= 1.0
+        })
+    }
+}
+
+impl ExitPupil {
+    pub const EMPTY: ExitPupil = ExitPupil {
+        rear_z: 0.0,
+        film_radius: 0.0,
+        bins: Vec::new(),
+        inverse_centre_integral: 0.0,
+    };
+
+    /// The regions of `lens` (everything but its `pupil` built) for a film reaching
+    /// `film_radius` mm from the centre.
+    pub fn bound(lens: &RealLens, film_radius: f32) -> Self {
+        let interfaces = &lens.elements().interfaces;
+        let rear = interfaces[interfaces.len() - 1];
+        let search = Search {
+            lens,
+            rear_z: rear.z,
+            // The rear element's clear aperture, with room for rays that cross its plane
+            // beside it (pbrt's 1.5).
+            whole: Region {
+                centre: Vec2::ZERO,
+                half: Vec2::splat(1.5 * rear.aperture_radius),
+            },
+        };
+        let radius = |k: usize| film_radius * k as f32 / PUPIL_BINS as f32;
+        let edges: Vec<Edge> = (0..=PUPIL_BINS)
+            .into_par_iter()
+            .map(|k| search.edge(radius(k)))
+            .collect();
+        let bins: Vec<PupilBin> = (0..PUPIL_BINS)
+            .into_par_iter()
+            .map(|bin| {
+                let middle = search.passing(0.5 * (radius(bin) + radius(bin + 1)));
+                Edge::bin(&edges[bin], &edges[bin + 1], &middle)
+            })
+            .collect();
+        let mut pupil = ExitPupil {
+            rear_z: rear.z,
+            film_radius,
+            bins,
+            inverse_centre_integral: 0.0,
+        };
+        let integral = pupil.centre_integral(lens);
+        if integral > 0.0 {
+            pupil.inverse_centre_integral = (1.0 / integral) as f32;
+        }
+        pupil
+    }
+
+    /// The bin of film points `r` mm from the centre, and how far across it `r` lies.
+    pub fn bin_at(&self, r: f32) -> (&PupilBin, f32) {
+        let t = r / self.film_radius * PUPIL_BINS as f32;
+        let bin = (t as usize).min(PUPIL_BINS - 1);
+        (&self.bins[bin], (t - bin as f32).clamp(0.0, 1.0))
+    }
+
+    /// The point of the rear plane that lens sample `u` picks for film point `film`, turned
+    /// to the film point's angle, and the area of the region it was drawn from (mm^2).
+    pub fn sample(&self, film: Vec3, u: Vec2) -> (Vec3, f32) {
+        let r = Vec2::new(film.x, film.y).length();
+        let (bin, f) = self.bin_at(r);
+        let q = bin.point(f, u);
+        let (cos, sin) = if r > 0.0 {
+            (film.x / r, film.y / r)
+        } else {
+            (1.0, 0.0)
+        };
+        let turned = Vec2::new(cos * q.x - sin * q.y, sin * q.x + cos * q.y);
+        (turned.extend(self.rear_z), bin.area(f))
+    }
+
+    /// The integral of T cos^4(theta) dA over the rear plane, for the film's centre: a
+    /// midpoint rule over its region (what `RealLens::camera_ray` averages to, there).
+    fn centre_integral(&self, lens: &RealLens) -> f64 {
+        let region = self.bins[0].inner;
+        if region.is_empty() {
+            return 0.0;
+        }
+        let lo = region.lo();
+        let film = Vec3::new(0.0, 0.0, lens.film_z());
+        let cell = 2.0 * region.half / CENTRE_GRID as f32;
+        let sum: f64 = (0..CENTRE_GRID)
+            .into_par_iter()
+            .map(|j| {
+                let mut row = 0.0;
+                for i in 0..CENTRE_GRID {
+                    let q = lo + cell * Vec2::new(i as f32 + 0.5, j as f32 + 0.5);
+                    let direction = (q.extend(self.rear_z) - film).normalize();
+                    let ray = LensRay {
+                        origin: film,
+                        direction,
+                    };
+                    if let Some((_, t)) = lens.trace_to_scene(ray) {
+                        let cos2 = f64::from(direction.z * direction.z);
+                        row += f64::from(t) * cos2 * cos2;
+                    }
+                }
+                row
+            })
+            .sum();
+        sum * f64::from(cell.x * cell.y)
+    }
+}
+
+/// Finds where rays from film points on +x pass.
+struct Search<'a> {
+    lens: &'a RealLens,
+    rear_z: f32,
+    /// Where to look first.
+    whole: Region,
+}
+
+/// The grid points of a rectangle of the rear plane that rays from one film point pass
+/// through, with the grid's spacing.
+struct Passing {
+    points: Vec<Vec2>,
+    step: Vec2,
+}
+
+/// The region found at one film radius.
+struct Edge {
+    passing: Passing,
+    /// The passing points' bounds grown by a step.
+    rectangle: Region,
+}
+
+impl Search<'_> {
+    /// The passing points for film radius `r`: a coarse grid over the whole search, then a
+    /// fine one over the coarse bounds.
+    fn passing(&self, r: f32) -> Passing {
+        let film = Vec3::new(r, 0.0, self.lens.film_z());
+        let coarse = self.grid(film, self.whole);
+        match coarse.bounds() {
+            Some(bounds) => self.grid(film, bounds),
+            None => coarse,
+        }
+    }
+
+    fn edge(&self, r: f32) -> Edge {
+        let passing = self.passing(r);
+        let rectangle = passing.bounds().unwrap_or(Region::EMPTY);
+        Edge { passing, rectangle }
+    }
+
+    /// The points of a `GRID` x `GRID` grid over `region` that rays from `film` pass.
+    fn grid(&self, film: Vec3, region: Region) -> Passing {
+        let (lo, hi) = (region.lo(), region.hi());
+        let step = (hi - lo) / (GRID - 1) as f32;
+        let mut points = Vec::new();
+        for j in 0..GRID {
+            for i in 0..GRID {
+                let q = lo + step * Vec2::new(i as f32, j as f32);
+                let ray = LensRay {
+                    origin: film,
+                    direction: (q.extend(self.rear_z) - film).normalize(),
+                };
+                if self.lens.elements().trace(ray, Toward::Scene).is_some() {
+                    points.push(q);
+                }
+            }
+        }
+        Passing { points, step }
+    }
+}
+
+impl Passing {
+    /// The points' bounds grown by one step; `None` if none passes.
+    fn bounds(&self) -> Option<Region> {
+        let first = *self.points.first()?;
+        let (min, max) = self
+            .points
+            .iter()
+            .fold((first, first), |(lo, hi), &q| (lo.min(q), hi.max(q)));
+        let (lo, hi) = (min - self.step, max + self.step);
+        Some(Region {
+            centre: 0.5 * (lo + hi),
+            half: 0.5 * (hi - lo),
+        })
+    }
+}
+
+impl Edge {
+    /// The bin between edges `inner` and `outer`, checked against the points `middle` that
+    /// pass at its middle radius.
+    fn bin(inner: &Edge, outer: &Edge, middle: &Passing) -> PupilBin {
+        if inner.rectangle.is_empty() && outer.rectangle.is_empty() && middle.points.is_empty() {
+            return PupilBin::EMPTY;
+        }
+        let both_filled = !inner.rectangle.is_empty() && !outer.rectangle.is_empty();
+        let step = inner.passing.step.max(outer.passing.step).max(middle.step);
+        let interpolated = PupilBin {
+            inner: inner.rectangle,
+            outer: outer.rectangle,
+        };
+        // The middle's region reaches a step past its points.
+        if both_filled && interpolated.holds(0.5, &middle.points, step) {
+            return interpolated;
+        }
+        let middle = middle.bounds().unwrap_or(Region::EMPTY);
+        let all = inner.rectangle.union(&outer.rectangle).union(&middle);
+        PupilBin {
+            inner: all,
+            outer: all,
+        }
+    }
+}
