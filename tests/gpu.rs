@@ -327,6 +327,14 @@ fn sampler_and_camera_mirrors_match_rust() {
             let err = (o - ray.origin).length() / (1.0 + ray.origin.length())
                 + (d - ray.direction).length();
             worst_ray = worst_ray.max(err);
+            // A thin lens: the ray through the lens is that ray, weight 1 (tests/gpu_lens.rs
+            // checks real lenses).
+            assert_eq!(
+                r.through_lens_origin,
+                [r.origin[0], r.origin[1], r.origin[2], 1.0],
+                "generate_ray_through_lens for {q:?}"
+            );
+            assert_eq!(r.through_lens_direction, r.direction);
         }
         assert!(worst_ray < 1e-5, "generate_ray differs by {worst_ray}");
     }

@@ -189,4 +189,8 @@ Ray generate_ray(Camera cam, vec2 p_raster, vec2 lens_u) {
     return r;
 }
 
+#ifdef LENS_BINDING
+#include "real_lens.glsl"
+#endif
+
 #endif

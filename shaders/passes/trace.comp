@@ -19,6 +19,7 @@
 #endif
 
 #define APERTURE_TABLE_BINDING TRACE_BINDING_APERTURE
+#define LENS_BINDING TRACE_BINDING_LENS
 #include "camera.glsl"
 #include "sampler.glsl"
 #define SCENE_SET 0
@@ -194,10 +195,15 @@ uint trace_pixel() {
         sum += shade_rasterized(ray, pixel_index, rays, shadowed);
         added = 1u;
     } else {
+        // Through the real lens when there is one (blocked rays add nothing but count as
+        // samples; real_lens.glsl), else the thin lens with weight 1.
         for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
             CameraSample cs = pixel_camera_sample(sampler_state, s);
-            Ray ray = generate_ray(params.camera, cs.film, cs.lens);
-            sum += shade(ray, rays);
+            Ray ray;
+            float weight;
+            if (generate_ray_through_lens(params.camera, cs.film, cs.lens, ray, weight)) {
+                sum += weight * shade(ray, rays);
+            }
         }
         added = pc.sample_end - pc.sample_begin;
     }

@@ -3,6 +3,7 @@
 // tests can compare them with src/sampler.rs and src/camera bit for bit.
 #include "interface.glsl"
 #define APERTURE_TABLE_BINDING PROBE_BINDING_APERTURE
+#define LENS_BINDING PROBE_BINDING_LENS
 #include "camera.glsl"
 #include "sampler.glsl"
 
@@ -39,5 +40,10 @@ void main() {
     r.origin = vec4(ray.origin, 1.0);
     r.direction = vec4(ray.direction, 0.0);
     r.lens_point = vec4(lens_point(cam, cs.lens), 0.0, 0.0);
+    Ray through;
+    float weight;
+    bool passed = generate_ray_through_lens(cam, cs.film, cs.lens, through, weight);
+    r.through_lens_origin = vec4(through.origin, passed ? weight : -1.0);
+    r.through_lens_direction = vec4(through.direction, 0.0);
     results[i] = r;
 }

@@ -108,6 +108,7 @@ macro_rules! glsl_vec4_array {
 }
 
 glsl_vec4_array!(32, "vec4[32]");
+glsl_vec4_array!(64, "vec4[64]");
 
 /// mat4, column-major on both sides (glam's `to_cols_array`): four vec4 columns.
 impl GlslType for [f32; 16] {
@@ -527,9 +528,16 @@ macro_rules! shader_interface {
         $(
             $(#[doc = $sdoc])*
             #[repr(C)]
-            #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+            #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
             pub struct $sname {
                 $( $(#[doc = $fdoc])* pub $fname: $fty, )*
+            }
+
+            /// All zeros (arrays longer than 32 have no derived `Default`).
+            impl Default for $sname {
+                fn default() -> Self {
+                    bytemuck::Zeroable::zeroed()
+                }
             }
 
             impl GlslType for $sname {

@@ -88,6 +88,12 @@ shader_interface! {
         /// cumulative distribution over rows, then each row's over its columns), floats; a
         /// placeholder when the aperture is no image.
         TRACE_BINDING_APERTURE: u32 = 14;
+        /// trace.comp: the real lens (`Lens`, camera::real_lens; shaders/include/real_lens.glsl).
+        TRACE_BINDING_LENS: u32 = 15;
+        /// Most surfaces of a real lens on the GPU, and the exit pupil's bins
+        /// (camera::real_lens::PUPIL_BINS).
+        LENS_MAX_SURFACES: u32 = 32;
+        LENS_PUPIL_BINS: u32 = 64;
         /// `TracePush.mode`: trace every sample (rayquery, software); the hybrid's traced mode
         /// (reads the plan); the hybrid's lit pre-pass, before the plan's steps: per pixel the
         /// aperture-centre ray at the pixel centre (its hit rasterized by the visibility pass
@@ -154,6 +160,8 @@ shader_interface! {
         PROBE_BINDING_CAMERA: u32 = 2;
         /// The aperture image's tables, as TRACE_BINDING_APERTURE.
         PROBE_BINDING_APERTURE: u32 = 3;
+        /// The real lens, as TRACE_BINDING_LENS.
+        PROBE_BINDING_LENS: u32 = 4;
         /// resolve.comp (the preview): the accumulation, the G-buffer images, the display image.
         RESOLVE_GROUP_SIZE: u32 = 8;
         RESOLVE_BINDING_ACCUM: u32 = 0;
@@ -338,6 +346,43 @@ shader_interface! {
             direction: [f32; 4],
             /// lens_point(camera, lens).xy, then 0, 0
             lens_point: [f32; 4],
+            /// generate_ray_through_lens(camera, film, lens): origin, w the weight (-1: the
+            /// real lens blocks the ray)
+            through_lens_origin: [f32; 4],
+            /// ... and direction (w = 0)
+            through_lens_direction: [f32; 4],
+        }
+        /// A real lens as the shaders read it (camera::real_lens; shaders/include/real_lens.glsl),
+        /// focused and stopped down, for one image size; `surface_count` 0: the thin lens.
+        Std430 struct GpuLens as Lens {
+            surface_count: u32,
+            /// The stop's row, and its opening's circumscribed radius (mm).
+            stop: u32,
+            stop_radius: f32,
+            /// Lens-space z of the film and of the entrance pupil (camera space's origin).
+            film_z: f32,
+            entrance_pupil_z: f32,
+            /// Film mm per pixel, and the image's centre in raster coordinates.
+            film_mm_per_pixel: f32,
+            raster_centre_x: f32,
+            raster_centre_y: f32,
+            /// The exit pupil's regions: the rear plane's z, the film's half diagonal (the last
+            /// bin's outer edge), and 1 / the centre's integral of T cos^4.
+            rear_z: f32,
+            film_radius: f32,
+            inverse_centre_integral: f32,
+            /// Where the aperture image's cell transmissions start in the aperture table
+            /// (after its cumulative tables); the stop reads them.
+            aperture_transmission_start: u32,
+            /// Per surface (LENS_MAX_SURFACES): vertex z, radius (0: the stop), clear-aperture
+            /// radius, 0.
+            surface_shape: [[f32; 4]; 32],
+            /// Per surface: the index before it and after it, 0, 0.
+            surface_media: [[f32; 4]; 32],
+            /// Per bin (LENS_PUPIL_BINS): the region at its inner film radius (centre xy, half
+            /// sides zw), and at its outer.
+            pupil_inner: [[f32; 4]; 64],
+            pupil_outer: [[f32; 4]; 64],
         }
         /// A material of the scene's storage buffer.
         Std430 struct GpuMaterial as Material {

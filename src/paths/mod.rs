@@ -50,26 +50,18 @@ pub fn open(
     shot: (&Camera, &RenderSettings),
 ) -> Result<OpenedPath> {
     let device = options.device_to_use("--path")?;
-    if let Some(real) = &shot.0.real_lens {
-        match options.path.only().map(PathKind::real_lens_support) {
-            Some(RealLensSupport::Refused) => bail!(
-                "--path {} does not trace real lenses (--lens {}): use cpu or auto",
-                options.path,
+    let real_lens = shot.0.real_lens.as_deref();
+    if let (Some(real), Some(kind)) = (real_lens, options.path.only()) {
+        match kind.real_lens_support() {
+            RealLensSupport::Refused => bail!(
+                "--path {kind} does not trace real lenses (--lens {}): use cpu, rayquery, software or auto",
                 real.name()
             ),
-            Some(RealLensSupport::FirstOrder) => eprintln!(
-                "notice: --path {} renders lens {} by its first-order model (a thin lens at its entrance pupil): no aberrations, distortion or vignetting",
-                options.path,
+            RealLensSupport::FirstOrder => eprintln!(
+                "notice: --path {kind} renders lens {} by its first-order model (a thin lens at its entrance pupil): no aberrations, distortion or vignetting",
                 real.name()
             ),
-            Some(RealLensSupport::Traced) => {}
-            None if device != Choice::Only(DeviceKind::Gpu) => {
-                return open_cpu(scene, "auto: the CPU traces real lenses");
-            }
-            None => bail!(
-                "--device gpu has no path that traces real lenses (--lens {}) yet",
-                real.name()
-            ),
+            RealLensSupport::Traced => {}
         }
     }
     if device == Choice::Only(DeviceKind::Cpu) {
@@ -124,6 +116,8 @@ pub fn open(
                 (kind, format!("asked for; traces with {traversal} ({why})"))
             }
         },
+        // Only the traversal paths trace a real lens's rays.
+        None if real_lens.is_some() => pick_traversal(&mut renderer, shot)?,
         None => pick_path(&mut renderer, shot)?,
     };
     Ok(OpenedPath {

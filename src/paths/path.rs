@@ -102,9 +102,11 @@ impl PathKind {
     /// How the path renders a real lens (`camera::real_lens`).
     pub fn real_lens_support(self) -> RealLensSupport {
         match self {
-            PathKind::Cpu => RealLensSupport::Traced,
+            PathKind::Cpu | PathKind::RayQuery | PathKind::Software => RealLensSupport::Traced,
             PathKind::Raster => RealLensSupport::FirstOrder,
-            PathKind::RayQuery | PathKind::Software | PathKind::Hybrid => RealLensSupport::Refused,
+            // Its shortcuts and windows bound where thin-lens rays go, not where a real
+            // lens's aberrated, vignetted rays go.
+            PathKind::Hybrid => RealLensSupport::Refused,
         }
     }
 

@@ -40,7 +40,7 @@ use crate::optics::paraxial::FirstOrder;
 use crate::optics::trace::narrow::{Elements, Interface, LensRay};
 use crate::optics::trace::Toward;
 use crate::optics::Prescription;
-pub use pupil::{ExitPupil, PUPIL_BINS};
+pub use pupil::{ExitPupil, PupilBin, Region, PUPIL_BINS};
 
 /// Lenses are marked with f-numbers rounded to a scale of third stops (an f/2.03 design is
 /// sold as f/2): asking for an f-number at most a sixth of a stop (2^(1/12)) wider than the

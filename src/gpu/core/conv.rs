@@ -7,8 +7,9 @@ use glam::Mat4;
 
 use crate::camera::{Camera, Projection};
 use crate::interface::{
-    GpuCamera, GpuMaterial, RasterPush, ResolvePush, TraceParams, ViewParams, APERTURE_MAX_FAN,
-    PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
+    GpuCamera, GpuLens, GpuMaterial, RasterPush, ResolvePush, TraceParams, ViewParams,
+    APERTURE_MAX_FAN, LENS_MAX_SURFACES, LENS_PUPIL_BINS, PROJECTION_ORTHOGRAPHIC,
+    PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
 };
 use crate::scene::Scene;
 use crate::settings::{RenderSettings, Shading};
@@ -158,6 +159,62 @@ fn aperture_fan(fan: &[glam::Vec2]) -> [[f32; 4]; APERTURE_MAX_FAN as usize / 2]
     }
     out
 }
+
+impl GpuLens {
+    /// No real lens: the shaders trace the thin lens.
+    pub fn new_thin() -> Self {
+        GpuLens::zeroed()
+    }
+    /// The real lens of `camera` as the shaders read it (`surface_count` 0: none); an error if
+    /// it has more surfaces than the GPU's block holds.
+    pub fn new(camera: &Camera) -> Result<Self, GpuError> {
+        let mut out = GpuLens::zeroed();
+        let Some(real) = camera.real_lens.as_deref() else {
+            return Ok(out);
+        };
+        let interfaces = &real.elements().interfaces;
+        if interfaces.len() > LENS_MAX_SURFACES as usize {
+            return Err(GpuError::Invalid(format!(
+                "lens {} has {} surfaces: the GPU paths trace at most {LENS_MAX_SURFACES}",
+                real.name(),
+                interfaces.len()
+            )));
+        }
+        let (stop, stop_radius, _) = real.stop();
+        let pupil = real.pupil();
+        out.surface_count = interfaces.len() as u32;
+        out.stop = stop as u32;
+        out.stop_radius = stop_radius;
+        out.film_z = real.film_z();
+        out.entrance_pupil_z = real.entrance_pupil_z();
+        // RealLens::film_point's arithmetic, done here once.
+        out.film_mm_per_pixel = 2.0 * real.film_half_height() / camera.height as f32;
+        out.raster_centre_x = 0.5 * camera.width as f32;
+        out.raster_centre_y = 0.5 * camera.height as f32;
+        out.rear_z = pupil.rear_z;
+        out.film_radius = pupil.film_radius;
+        out.inverse_centre_integral = pupil.inverse_centre_integral;
+        out.aperture_transmission_start = camera
+            .lens
+            .aperture
+            .image()
+            .map_or(0, |image| image.table().len() as u32);
+        for (i, s) in interfaces.iter().enumerate() {
+            out.surface_shape[i] = [s.z, s.radius, s.aperture_radius, 0.0];
+            out.surface_media[i] = [s.index_before, s.index_after, 0.0, 0.0];
+        }
+        for (i, bin) in pupil.bins.iter().enumerate() {
+            let region =
+                |r: &crate::camera::real_lens::Region| [r.centre.x, r.centre.y, r.half.x, r.half.y];
+            out.pupil_inner[i] = region(&bin.inner);
+            out.pupil_outer[i] = region(&bin.outer);
+        }
+        Ok(out)
+    }
+}
+
+// The bins the Rust lens makes are the ones the GPU block holds.
+const _: () = assert!(crate::camera::real_lens::PUPIL_BINS == LENS_PUPIL_BINS as usize);
 
 impl TraceParams {
     pub fn new(camera: &Camera, settings: &RenderSettings) -> Self {

@@ -1,6 +1,8 @@
 //! The aperture image's tables on the device (`camera::aperture::image`): the storage buffer
-//! that trace.comp (TRACE_BINDING_APERTURE) and the mirror probe read. A placeholder while the
-//! aperture is no image; uploaded again only when the camera's image changes.
+//! that trace.comp (TRACE_BINDING_APERTURE) and the mirror probe read: the cumulative tables,
+//! then the cells' transmissions (a real lens's stop reads them, `Lens.aperture_transmission_start`).
+//! A placeholder while the aperture is no image; uploaded again only when the camera's image
+//! changes.
 
 use std::sync::Arc;
 
@@ -32,7 +34,7 @@ impl ApertureTable {
     #[cfg(feature = "probes")]
     pub fn of(ctx: &Arc<Context>, camera: &Camera) -> Result<Buffer, GpuError> {
         match camera.lens.aperture.image() {
-            Some(image) => Self::upload(ctx, image.table()),
+            Some(image) => Self::upload_image(ctx, image),
             None => Self::upload(ctx, &[0.0; 4]),
         }
     }
@@ -44,6 +46,17 @@ impl ApertureTable {
             bytemuck::cast_slice(table),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )
+    }
+
+    /// The image's tables, then its cells' transmissions.
+    fn upload_image(ctx: &Arc<Context>, image: &ApertureImage) -> Result<Buffer, GpuError> {
+        let values: Vec<f32> = image
+            .table()
+            .iter()
+            .chain(image.transmission())
+            .copied()
+            .collect();
+        Self::upload(ctx, &values)
     }
 
     /// Whether `camera`'s aperture image is not the one the buffer holds.
@@ -65,7 +78,7 @@ impl ApertureTable {
         let wanted = camera.lens.aperture.shape.image.as_ref();
         self.ctx.wait_all()?;
         self.buffer = match wanted {
-            Some(image) => Self::upload(&self.ctx, image.table())?,
+            Some(image) => Self::upload_image(&self.ctx, image)?,
             None => Self::upload(&self.ctx, &[0.0; 4])?,
         };
         self.image = wanted.cloned();

@@ -269,7 +269,7 @@ impl GpuRenderer {
         // The render's buffers now, while nothing is pending: the plan is not waited for.
         self.trace
             .ensure_accumulation(camera.width, camera.height)?;
-        self.trace.ensure_aperture(camera)?;
+        self.trace.ensure_camera_tables(camera)?;
         let gbuffer = self.gbuffer.as_ref().expect("made above");
         let targets = gbuffer.targets.as_ref().expect("ensured above");
         let hybrid_plan = self.hybrid_plan.as_mut().expect("made above");
@@ -316,7 +316,7 @@ impl GpuRenderer {
         let visibility = self.visibility.as_ref().expect("prepared above");
         let pixels = u64::from(camera.width) * u64::from(camera.height);
         self.trace.ensure_plan_capacity(pixels)?;
-        self.trace.ensure_aperture(camera)?;
+        self.trace.ensure_camera_tables(camera)?;
         let (ctx, trace) = (&self.ctx, &self.trace);
         ctx.submit_and_wait(|cmd| {
             record_lit_prepass((trace, visibility, scene), cmd, camera, settings);

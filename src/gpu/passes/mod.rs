@@ -1,4 +1,4 @@
-//! The passes of the renderer, one per file: the aperture image's tables (`aperture`), the raster G-buffer (`gbuffer`, drawing the scene
+//! The passes of the renderer, one per file: the aperture image's tables (`aperture`), the real lens (`lens`), the raster G-buffer (`gbuffer`, drawing the scene
 //! with `draw`), the thin-lens compute pass (`trace`) and the accumulations it keeps on the device (`films`), the raster path's visibility pass
 //! (`visibility`) and the hybrid path's plan on the device (`hybrid_plan`).
 
@@ -7,5 +7,6 @@ pub mod draw;
 pub mod films;
 pub mod gbuffer;
 pub mod hybrid_plan;
+pub mod lens;
 pub mod trace;
 pub mod visibility;

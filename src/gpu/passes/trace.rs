@@ -21,13 +21,14 @@ use crate::gpu::core::query::QueryPool;
 use crate::gpu::core::shader;
 use crate::gpu::passes::aperture::ApertureTable;
 use crate::gpu::passes::films::DeviceFilms;
+use crate::gpu::passes::lens::LensBuffer;
 use crate::gpu::scene::{BvhBuffers, SceneBuffers};
 use crate::gpu::traversal::Traversal;
 use crate::interface::{
     TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_APERTURE, TRACE_BINDING_COUNTERS,
-    TRACE_BINDING_PARAMS, TRACE_BINDING_PLAN, TRACE_BINDING_SURFACE_DEPTH, TRACE_BINDING_TLAS,
-    TRACE_BINDING_VISIBILITY, TRACE_GROUP_SIZE as GROUP, TRACE_MODE_ALL, TRACE_MODE_HYBRID,
-    TRACE_MODE_RASTER, TRACE_MODE_SHORTCUT,
+    TRACE_BINDING_LENS, TRACE_BINDING_PARAMS, TRACE_BINDING_PLAN, TRACE_BINDING_SURFACE_DEPTH,
+    TRACE_BINDING_TLAS, TRACE_BINDING_VISIBILITY, TRACE_GROUP_SIZE as GROUP, TRACE_MODE_ALL,
+    TRACE_MODE_HYBRID, TRACE_MODE_RASTER, TRACE_MODE_SHORTCUT,
 };
 use crate::settings::RenderSettings;
 
@@ -161,6 +162,8 @@ pub(crate) struct TracePass {
     pub films: DeviceFilms,
     /// The aperture image's tables (TRACE_BINDING_APERTURE).
     aperture: ApertureTable,
+    /// The real lens (TRACE_BINDING_LENS).
+    lens: LensBuffer,
     /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
     pub samples_per_dispatch: u64,
     /// Current size of a dispatch, adapted to the measured speed.
@@ -221,6 +224,7 @@ impl TracePass {
         // not touch the sums) may run first, and every binding must be valid.
         let accum_placeholder = placeholder("trace accumulation placeholder")?;
         let aperture = ApertureTable::new(ctx)?;
+        let lens = LensBuffer::new(ctx)?;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         for p in &pipelines {
             let pipeline = &p.pipeline;
@@ -235,6 +239,7 @@ impl TracePass {
             pipeline.bind_buffer(TRACE_BINDING_SURFACE_DEPTH, storage, &surface_depth);
             pipeline.bind_buffer(TRACE_BINDING_VISIBILITY, storage, &visibility);
             pipeline.bind_buffer(TRACE_BINDING_APERTURE, storage, &aperture.buffer);
+            pipeline.bind_buffer(TRACE_BINDING_LENS, storage, &lens.buffer);
         }
         let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
         Ok(Self {
@@ -253,6 +258,7 @@ impl TracePass {
             accum: None,
             films: DeviceFilms::new(ctx),
             aperture,
+            lens,
             samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
             adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
             max_band_pixels: MAX_BAND_PIXELS,
@@ -412,6 +418,11 @@ impl TracePass {
                 vk::DescriptorType::STORAGE_BUFFER,
                 compute,
             ),
+            (
+                TRACE_BINDING_LENS,
+                vk::DescriptorType::STORAGE_BUFFER,
+                compute,
+            ),
         ]);
         Pipeline::compute(
             ctx,
@@ -473,24 +484,31 @@ impl TracePass {
         }
     }
 
-    /// Makes the aperture tables those of `camera` (see `ApertureTable::ensure`), binding them
-    /// anew when they change. Called before recording work with `camera`'s parameters.
-    pub fn ensure_aperture(&mut self, camera: &Camera) -> Result<(), GpuError> {
+    /// Makes the aperture tables and the real lens those of `camera` (see
+    /// `ApertureTable::ensure`, `LensBuffer::ensure`), binding them anew when they change.
+    /// Called before recording work with `camera`'s parameters.
+    pub fn ensure_camera_tables(&mut self, camera: &Camera) -> Result<(), GpuError> {
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
         if self.aperture.ensure(camera)? {
             for p in &self.pipelines {
-                p.pipeline.bind_buffer(
-                    TRACE_BINDING_APERTURE,
-                    vk::DescriptorType::STORAGE_BUFFER,
-                    &self.aperture.buffer,
-                );
+                let buffer = &self.aperture.buffer;
+                p.pipeline
+                    .bind_buffer(TRACE_BINDING_APERTURE, storage, buffer);
+            }
+        }
+        if self.lens.ensure(camera)? {
+            for p in &self.pipelines {
+                p.pipeline
+                    .bind_buffer(TRACE_BINDING_LENS, storage, &self.lens.buffer);
             }
         }
         Ok(())
     }
 
-    /// Whether `ensure_aperture(camera)` would upload new tables (and wait for the device).
-    pub fn aperture_differs(&self, camera: &Camera) -> bool {
-        self.aperture.differs(camera)
+    /// Whether `ensure_camera_tables(camera)` would upload new tables (and wait for the
+    /// device).
+    pub fn camera_tables_differ(&self, camera: &Camera) -> bool {
+        self.aperture.differs(camera) || self.lens.differs(camera)
     }
 
     /// Points every pipeline's accumulation binding at `buffer`.
@@ -634,7 +652,7 @@ impl TracePass {
             }
         };
         let band_rows = self.ensure_accumulation(width, height)?;
-        self.ensure_aperture(camera)?;
+        self.ensure_camera_tables(camera)?;
         let (film, start) = self.films.take(accumulation)?;
         self.films.prepare_finish(film)?;
         // The parameters go up in the first submission (a pending one may still read them).

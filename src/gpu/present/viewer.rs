@@ -360,10 +360,10 @@ impl Viewer {
                 frame.textures.clear();
             }
         }
-        if self.gpu.trace.aperture_differs(request.camera) {
+        if self.gpu.trace.camera_tables_differ(request.camera) {
             // Frames in flight bind the old tables (a new aperture image: rare).
             self.wait_idle()?;
-            self.gpu.trace.ensure_aperture(request.camera)?;
+            self.gpu.trace.ensure_camera_tables(request.camera)?;
         }
         let (Some(swapchain), Some(accum)) = (self.swapchain.as_ref(), self.accum.as_mut()) else {
             return Ok(result);

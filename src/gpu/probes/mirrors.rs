@@ -13,9 +13,10 @@ use crate::gpu::core::error::GpuError;
 use crate::gpu::core::pipeline::Pipeline;
 use crate::gpu::core::shader;
 use crate::gpu::passes::aperture::ApertureTable;
+use crate::gpu::passes::lens::LensBuffer;
 use crate::interface::{
-    GpuCamera, PROBE_BINDING_APERTURE, PROBE_BINDING_CAMERA, PROBE_BINDING_QUERIES,
-    PROBE_BINDING_RESULTS, PROBE_GROUP_SIZE,
+    GpuCamera, PROBE_BINDING_APERTURE, PROBE_BINDING_CAMERA, PROBE_BINDING_LENS,
+    PROBE_BINDING_QUERIES, PROBE_BINDING_RESULTS, PROBE_GROUP_SIZE,
 };
 pub use crate::interface::{ProbeQuery, ProbeResult};
 
@@ -34,6 +35,7 @@ pub(crate) fn run(
         (PROBE_BINDING_RESULTS, storage, compute),
         (PROBE_BINDING_CAMERA, uniform, compute),
         (PROBE_BINDING_APERTURE, storage, compute),
+        (PROBE_BINDING_LENS, storage, compute),
     ];
     let pipeline = Pipeline::compute(ctx, shader::MIRRORS_COMP, &bindings, 4)?;
     let input = Buffer::with_data(
@@ -63,6 +65,8 @@ pub(crate) fn run(
     pipeline.bind_buffer(PROBE_BINDING_CAMERA, uniform, &cam);
     let aperture = ApertureTable::of(ctx, camera)?;
     pipeline.bind_buffer(PROBE_BINDING_APERTURE, storage, &aperture);
+    let lens = LensBuffer::of(ctx, camera)?;
+    pipeline.bind_buffer(PROBE_BINDING_LENS, storage, &lens);
     let count = queries.len() as u32;
     ctx.submit_and_wait(|cmd| {
         pipeline.bind(cmd, bytemuck::bytes_of(&count));
