@@ -103,10 +103,21 @@ const VIEW: [&str; 12] = [
 
 /// Runs `preview --validate` with `script` and `extra`; `None` after recording a skip.
 fn preview(test: &str, dir: &Path, script: &str, extra: &[&str]) -> Option<Output> {
+    preview_with(test, dir, script, &VIEW, extra)
+}
+
+/// [`preview`] with the view options `view` instead of [`VIEW`].
+fn preview_with(
+    test: &str,
+    dir: &Path,
+    script: &str,
+    view: &[&str],
+    extra: &[&str],
+) -> Option<Output> {
     std::fs::write(dir.join("script.txt"), script).unwrap();
     let x = Xvfb::start();
     let mut args = vec!["preview", "--validate", "--script", "script.txt"];
-    args.extend_from_slice(&VIEW);
+    args.extend_from_slice(view);
     args.extend_from_slice(extra);
     let out = lensray(&x, dir, &args, LIMIT);
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
@@ -378,4 +389,176 @@ fn bad_scripts_are_one_line_errors() {
     assert!(!out.status.success());
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("bad.txt") && err.contains("line 1"), "{err}");
+}
+
+/// The options of the real-lens tests: small, few samples; the lens frames the default scene.
+const REAL_VIEW: [&str; 8] = [
+    "--width", "160", "--height", "120", "--spp", "4", "--seed", "3",
+];
+
+/// The `lensray render` line the C key printed, run with `extra` in `dir`.
+fn render_printed(stdout: &str, dir: &Path, extra: &[&str]) {
+    let command = stdout
+        .lines()
+        .find(|l| l.starts_with("lensray render "))
+        .unwrap_or_else(|| panic!("no render command printed: {stdout}"));
+    let mut args: Vec<&str> = command.split_whitespace().skip(1).collect();
+    args.extend_from_slice(extra);
+    let render = Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(&args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        render.status.success(),
+        "{command}: {}",
+        String::from_utf8_lossy(&render.stderr)
+    );
+}
+
+/// Both images, pixel for pixel (float for float).
+fn assert_same_image(dir: &Path, a: &str, b: &str, what: &str) {
+    let (x, y) = (read_exr(&dir.join(a)), read_exr(&dir.join(b)));
+    assert_eq!(x.dimensions(), y.dimensions(), "{what}: window size");
+    let differing = x.pixels().zip(y.pixels()).filter(|(p, q)| p != q).count();
+    if differing > 0 {
+        let keep = gpu_support::output_dir().join(format!("preview-vs-render-{what}"));
+        let _ = std::fs::create_dir_all(&keep);
+        for f in [a, b] {
+            let _ = std::fs::copy(dir.join(f), keep.join(f));
+        }
+        panic!(
+            "{what}: {differing} pixels differ; images in {}",
+            keep.display()
+        );
+    }
+}
+
+/// Issue 21 in the preview: opened with `--lens double-gauss-50`, stopped down a stop (two
+/// `-` keys and a Shift+wheel step, third stops each) and focused by a click, the converged
+/// window is the headless render of the command C printed (which names the lens, its
+/// f-number, focus and sensor), float for float.
+#[test]
+fn real_lens_preview_stops_down_focuses_and_equals_the_headless_render() {
+    let test = "real_lens_preview_stops_down_focuses_and_equals_the_headless_render";
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 wait converged\n0 key -\n0 key -\n0 scroll -1 shift\n\
+                  0 click 40.5 80.5\n0 wait converged\n0 key C\n0 quit\n";
+    let extra = [
+        "--lens",
+        "double-gauss-50",
+        "--path",
+        "rayquery",
+        "--screenshot",
+        "preview.exr",
+    ];
+    let Some(out) = preview_with(test, dir.path(), script, &REAL_VIEW, &extra) else {
+        return;
+    };
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(stderr.contains("preview: path rayquery"), "{stderr}");
+    assert!(
+        stdout.contains("4 of 4 samples per pixel reached"),
+        "{stdout}"
+    );
+    let focus: f64 = stderr
+        .lines()
+        .find_map(|l| l.strip_prefix("focus: "))
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|d| d.parse().ok())
+        .unwrap_or_else(|| panic!("no focus line: {stderr}"));
+    let command = stdout
+        .lines()
+        .find(|l| l.starts_with("lensray render "))
+        .unwrap_or_else(|| panic!("no render command: {stdout}"));
+    let value = |option: &str| -> f64 {
+        let words: Vec<&str> = command.split_whitespace().collect();
+        let at = words.iter().position(|w| *w == option);
+        at.and_then(|i| words.get(i + 1)?.parse().ok())
+            .unwrap_or_else(|| panic!("no {option} in: {command}"))
+    };
+    assert!(command.contains("--lens double-gauss-50 "), "{command}");
+    assert!(stdout.contains("[camera.lens]"), "{stdout}");
+    let lens = lensray::optics::builtin::lens("double-gauss-50").unwrap();
+    let widest = lensray::optics::paraxial::FirstOrder::of(&lens).f_number;
+    let f_number = value("--f-number");
+    assert!(
+        (f_number / (widest * 2f64.sqrt()) - 1.0).abs() < 1e-12,
+        "one stop down from f/{widest}: f/{f_number}"
+    );
+    assert!(
+        (value("--focus-distance") - focus).abs() < 1e-4,
+        "{command} vs focus {focus}"
+    );
+    assert_eq!(value("--sensor-height-mm"), 24.0);
+    render_printed(
+        &stdout,
+        dir.path(),
+        &["--path", "rayquery", "--out", "render.exr"],
+    );
+    assert_same_image(dir.path(), "preview.exr", "render.exr", "real-lens");
+}
+
+/// A real lens picked (the panel's picker, scripted) while the hybrid draws: the hybrid
+/// cannot trace it, so the window switches to its traversal path and says so; the converged
+/// image is the headless render of the printed command on that path. Back to the thin lens,
+/// the hybrid draws again.
+#[test]
+fn a_lens_picked_mid_session_leaves_the_hybrid_for_a_traced_path() {
+    let test = "a_lens_picked_mid_session_leaves_the_hybrid_for_a_traced_path";
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 wait converged\n0 lens cooke-triplet-50\n0 wait converged\n0 key C\n\
+                  0 screenshot real.exr\n0 lens thin\n0 wait converged\n0 quit\n";
+    // `--hide-ray-query` pins the traversal to software (see the convergence test above).
+    let extra = ["--path", "hybrid", "--hide-ray-query"];
+    let Some(out) = preview(test, dir.path(), script, &extra) else {
+        return;
+    };
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(
+        stderr.contains(
+            "preview: path software (path hybrid does not trace real lenses: lens cooke-triplet-50)"
+        ),
+        "{stderr}"
+    );
+    assert!(stderr.contains("preview: path hybrid again"), "{stderr}");
+    assert!(stdout.contains("--lens cooke-triplet-50 "), "{stdout}");
+    render_printed(
+        &stdout,
+        dir.path(),
+        &["--path", "software", "--out", "render.exr"],
+    );
+    assert_same_image(dir.path(), "real.exr", "render.exr", "picked-lens");
+}
+
+/// `--path hybrid` with a real lens is refused in one line, as `lensray render` refuses it.
+#[test]
+fn the_hybrid_refuses_a_real_lens_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let x = Xvfb::start();
+    let out = lensray(
+        &x,
+        dir.path(),
+        &[
+            "preview", "--lens", "wide-22", "--path", "hybrid", "--frames", "1",
+        ],
+        LIMIT,
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    if err.contains("cannot open a window") || err.contains("Vulkan") && !err.contains("hybrid") {
+        gpu_support::skip_or_fail("the_hybrid_refuses_a_real_lens_in_one_line", &err);
+        return;
+    }
+    assert!(!out.status.success(), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--path hybrid does not trace real lenses (--lens wide-22)"),
+        "{err}"
+    );
 }

@@ -29,7 +29,8 @@ pub struct PreviewArgs {
     #[arg(long, value_name = "FILE")]
     pub screenshot: Option<PathBuf>,
     /// Replay timed input events from this file (keys, clicks, drags, scrolls, resizes,
-    /// `wait converged`, `screenshot FILE`, `quit`; one per line after a delay in seconds).
+    /// `lens NAME|thin`, `wait converged`, `screenshot FILE`, `quit`; one per line after a
+    /// delay in seconds).
     #[arg(long, value_name = "FILE")]
     pub script: Option<PathBuf>,
     #[command(flatten)]

@@ -24,7 +24,7 @@ use super::frame_log::FrameLog;
 use super::input::{Gesture, InputState};
 use super::panel::{Panel, PanelStats};
 use super::player::ScriptPlayer;
-use super::rig::CameraRig;
+use super::rig::{CameraRig, LensChoice};
 use super::script::ScriptEvent;
 use super::view::ViewMode;
 use crate::camera::Camera;
@@ -37,6 +37,34 @@ use crate::settings::RenderSettings;
 
 /// How often the window looks for the CPU path's samples while it waits for them.
 const CPU_PATH_POLL: std::time::Duration = std::time::Duration::from_millis(30);
+
+/// The GPU paths the window draws with: the one for thin lenses (asked for, or `auto`'s pick)
+/// and the traversal path that traces real lenses where that one cannot (the hybrid, whose
+/// shortcuts bound thin-lens rays only, and `auto`'s raster path, which would show a real
+/// lens's first-order model). The panel may switch lenses at any frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct GpuPaths {
+    thin: PathKind,
+    /// The renderer's traversal, as a path.
+    traced: PathKind,
+    /// `--path raster` asked for: a real lens keeps it and shows its first-order model (with
+    /// a notice, as `lensray render` does).
+    raster_asked: bool,
+    in_use: PathKind,
+    /// The raster path's notice for a real lens was given.
+    first_order_noticed: bool,
+}
+
+impl GpuPaths {
+    /// The path for a camera with (`real`) or without a real lens.
+    fn for_lens(&self, real: bool) -> PathKind {
+        match self.thin {
+            PathKind::Hybrid if real => self.traced,
+            PathKind::Raster if real && !self.raster_asked => self.traced,
+            thin => thin,
+        }
+    }
+}
 
 /// Everything the preview starts from.
 pub struct PreviewConfig {
@@ -139,6 +167,8 @@ struct App {
     viewer: Option<Viewer>,
     /// The CPU path's worker, when it traces the samples.
     cpu_feed: Option<CpuFeed>,
+    /// The GPU paths (`None` while the CPU path traces, or before the window opened).
+    paths: Option<GpuPaths>,
     /// The device's counters when the frames began (after opening, the scene and `auto`).
     counters_at_start: crate::gpu::Counters,
     /// Samples of the current shot the CPU path delivered.
@@ -172,6 +202,7 @@ impl App {
             config,
             viewer: None,
             cpu_feed: None,
+            paths: None,
             counters_at_start: crate::gpu::Counters::default(),
             cpu_spp: 0,
             gui: None,
@@ -256,13 +287,21 @@ impl App {
                 .rig
                 .shot(&self.config.description.scene)
                 .context("camera")?;
+            let real_lens = shot.camera.real_lens.clone();
+            if let (Some(real), true) = (&real_lens, self.config.viewer.hybrid) {
+                anyhow::bail!(
+                    "--path hybrid does not trace real lenses (--lens {}): use cpu, rayquery, software or auto",
+                    real.name()
+                );
+            }
             let renderer = viewer.renderer_mut();
             let shot = (&shot.camera, &shot.render);
             let asked = self.config.viewer.hybrid || self.config.viewer.raster;
             let (kind, why) = if self.config.viewer.gpu.traversal.is_some() {
                 let traversal = renderer.traversal();
                 (traversal.to_string(), "asked for".to_string())
-            } else if asked {
+            } else if asked || real_lens.is_some() {
+                // auto with a real lens: only the traversal paths trace its rays (as `render`).
                 let (kind, why) = paths::pick_traversal(renderer, shot)?;
                 (kind.to_string(), why)
             } else {
@@ -273,6 +312,22 @@ impl App {
                 self.config.viewer.raster = kind == PathKind::Raster;
                 (kind.to_string(), why)
             };
+            let traced = PathKind::of_traversal(viewer.renderer_mut().traversal());
+            let thin = if self.config.viewer.hybrid {
+                PathKind::Hybrid
+            } else if self.config.viewer.raster {
+                PathKind::Raster
+            } else {
+                traced
+            };
+            let raster_asked = asked && self.config.viewer.raster;
+            self.paths = Some(GpuPaths {
+                thin,
+                traced,
+                raster_asked,
+                in_use: thin,
+                first_order_noticed: false,
+            });
             if asked && self.config.viewer.hybrid {
                 format!("path hybrid (traces with {kind}: {why}; plan made on the device)")
             } else if asked && self.config.viewer.raster {
@@ -286,6 +341,30 @@ impl App {
         self.viewer = Some(viewer);
         self.window = Some(window);
         Ok(())
+    }
+
+    /// Draws the lens of `real` (a real lens or not) with the path for it from now on; says so
+    /// when the path changes. Called before `prepare` (which makes the path's passes), and
+    /// after the panel where only a traversal path is asked for (which needs no pass of its
+    /// own).
+    fn follow_lens(&mut self, real: Option<&str>) {
+        let (Some(paths), Some(viewer)) = (self.paths.as_mut(), self.viewer.as_mut()) else {
+            return;
+        };
+        let want = paths.for_lens(real.is_some());
+        if want == paths.in_use {
+            return;
+        }
+        viewer.use_path(want);
+        paths.in_use = want;
+        self.converged = false;
+        match real {
+            Some(name) => eprintln!(
+                "preview: path {want} (path {} does not trace real lenses: lens {name})",
+                paths.thin
+            ),
+            None => eprintln!("preview: path {want} again (a thin lens)"),
+        }
     }
 
     /// Applies a discrete action (a key, the panel's buttons or the script).
@@ -386,6 +465,15 @@ impl App {
             let Some(event) = self.config.script.next_due(settled) else {
                 break;
             };
+            // An input is seen in a frame drawn after it: a `wait converged` that follows in
+            // the same batch waits for that frame (the flag was the last frame's).
+            let input = !matches!(
+                event,
+                ScriptEvent::WaitConverged | ScriptEvent::Screenshot(_) | ScriptEvent::Quit
+            );
+            if input {
+                self.converged = false;
+            }
             match event {
                 ScriptEvent::Key(name) => {
                     let action = action_for_key(&name)
@@ -421,6 +509,23 @@ impl App {
                         self.awaiting_size = Some(([width, height], Instant::now()));
                     }
                 }
+                ScriptEvent::Lens(name) => {
+                    let choice = if name == "thin" {
+                        LensChoice::Thin
+                    } else {
+                        LensChoice::Real(name)
+                    };
+                    let rig = &mut self.config.rig;
+                    if !rig.lens_choices().contains(&choice) {
+                        anyhow::bail!(
+                            "script: no lens {} in the panel's picker (thin or {})",
+                            choice.label(),
+                            crate::optics::builtin::names().join(", ")
+                        );
+                    }
+                    self.log.input(Instant::now());
+                    rig.set_lens(&choice);
+                }
                 ScriptEvent::WaitConverged => {}
                 ScriptEvent::Screenshot(path) => self.save_screenshot(&path)?,
                 ScriptEvent::Quit => self.exit(event_loop),
@@ -430,6 +535,9 @@ impl App {
     }
 
     fn frame(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        // A lens changed since the last frame: its path, before `prepare` makes its passes.
+        let real_name = self.config.rig.readout().real.map(|r| r.name);
+        self.follow_lens(real_name.as_deref());
         let (Some(window), Some(viewer)) = (self.window.clone(), self.viewer.as_mut()) else {
             return Ok(());
         };
@@ -455,6 +563,11 @@ impl App {
             device: viewer.device_name(),
             times: self.log.last_times(),
             frame_ms: self.log.last_frame_ms(),
+            lens_summary: self
+                .last
+                .as_ref()
+                .and_then(|(camera, _)| camera.real_lens.as_ref())
+                .map(|real| real.summary()),
         };
         let rig = &mut self.config.rig;
         let panel = &mut self.panel;
@@ -478,6 +591,20 @@ impl App {
             .rig
             .shot(&self.config.description.scene)
             .context("camera")?;
+        if let Some(real) = &resolved.camera.real_lens {
+            // A real lens picked in this frame: a traversal path traces it (no pass to make).
+            if self.paths.is_some_and(|p| p.for_lens(true) != p.in_use) {
+                self.follow_lens(Some(real.name()));
+            }
+            if let Some(paths) = self
+                .paths
+                .as_mut()
+                .filter(|p| p.in_use == PathKind::Raster && !p.first_order_noticed)
+            {
+                paths.first_order_noticed = true;
+                eprintln!("{}", first_order_notice(real.name()));
+            }
+        }
         let current = (resolved.camera.clone(), resolved.render);
         let restart = self.last.as_ref() != Some(&current);
         let changed = restart || Some(self.panel.view) != self.shown_view;
@@ -530,11 +657,16 @@ impl App {
             self.converged = result.converged;
         }
         if let Some(depth) = result.picked_depth {
+            // The new focus shows from the next frame on.
+            self.converged = false;
             match depth {
-                Some(d) => {
-                    self.config.rig.set_focus_distance(f64::from(d));
-                    eprintln!("focus: {d:.4} (view depth under the cursor)");
-                }
+                Some(d) => match self.config.rig.set_focus_distance(f64::from(d)) {
+                    Some(focus) if focus > f64::from(d) => eprintln!(
+                        "focus: {focus:.4} (the nearest the lens focuses; the view depth under \
+                         the cursor is {d:.4})"
+                    ),
+                    _ => eprintln!("focus: {d:.4} (view depth under the cursor)"),
+                },
                 None => eprintln!("focus: nothing under the cursor to focus on"),
             }
         }
@@ -603,6 +735,13 @@ impl App {
         drop(self.window.take());
         Ok(summary)
     }
+}
+
+/// What `lensray render --path raster` says of a real lens (`paths::open`).
+fn first_order_notice(lens: &str) -> String {
+    format!(
+        "notice: --path raster renders lens {lens} by its first-order model (a thin lens at its entrance pupil): no aberrations, distortion or vignetting"
+    )
 }
 
 fn pointer_button(button: MouseButton) -> Option<PointerButton> {

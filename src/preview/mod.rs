@@ -19,6 +19,6 @@ pub mod view;
 pub(crate) mod test_scene;
 
 pub use bindings::{action_for_key, controls_help, Action};
-pub use rig::{CameraRig, LensReadout};
+pub use rig::{CameraRig, LensChoice, LensReadout, RealLensReadout};
 pub use script::{ScriptEvent, TimedEvent};
 pub use view::ViewMode;

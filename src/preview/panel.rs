@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::bindings::{controls_help, Action};
-use super::rig::CameraRig;
+use super::rig::{CameraRig, LensChoice, LensReadout, SENSOR_HEIGHT_RANGE_MM};
 use super::view::ViewMode;
 use crate::gpu::FrameTimes;
 use crate::settings::ProjectionKind;
@@ -15,6 +15,8 @@ pub struct PanelStats {
     pub device: String,
     pub times: Option<FrameTimes>,
     pub frame_ms: Option<f64>,
+    /// The real lens's summary line (`RealLens::summary`) of the last frame's camera.
+    pub lens_summary: Option<String>,
 }
 
 pub struct Panel {
@@ -57,7 +59,7 @@ impl Panel {
             .default_pos([8.0, 8.0])
             .resizable(false)
             .show(ctx, |ui| {
-                self.lens(ui, rig);
+                self.lens(ui, rig, stats);
                 ui.separator();
                 self.view_controls(ui);
                 ui.separator();
@@ -85,8 +87,34 @@ impl Panel {
         }
     }
 
-    fn lens(&mut self, ui: &mut egui::Ui, rig: &mut CameraRig) {
+    /// The lens picker: the thin lens or a real one (each built-in, and the file the preview
+    /// started with).
+    fn lens_picker(ui: &mut egui::Ui, rig: &mut CameraRig) {
+        let current = rig.lens_choice();
+        let mut picked = current.clone();
+        egui::ComboBox::from_label("Lens")
+            .selected_text(current.label())
+            .show_ui(ui, |ui| {
+                for choice in rig.lens_choices() {
+                    let label = choice.label();
+                    let item = ui.selectable_value(&mut picked, choice.clone(), label);
+                    if let LensChoice::Real(name) = &choice {
+                        item.on_hover_text(name);
+                    }
+                }
+            });
+        if picked != current {
+            rig.set_lens(&picked);
+        }
+    }
+
+    fn lens(&mut self, ui: &mut egui::Ui, rig: &mut CameraRig, stats: &PanelStats) {
+        Self::lens_picker(ui, rig);
         let r = rig.readout();
+        if r.real.is_some() {
+            self.real_lens(ui, rig, &r, stats);
+            return;
+        }
         let mut projection = r.projection;
         ui.horizontal(|ui| {
             ui.label("Projection");
@@ -153,6 +181,78 @@ impl Panel {
             }
             ui.end_row();
         });
+    }
+
+    /// A real lens: its f-number (its widest to f/22), focus (no nearer than it reaches),
+    /// sensor height, the stop's shape, and the summary of the lens as traced.
+    fn real_lens(
+        &mut self,
+        ui: &mut egui::Ui,
+        rig: &mut CameraRig,
+        r: &LensReadout,
+        stats: &PanelStats,
+    ) {
+        let Some(real) = &r.real else {
+            return;
+        };
+        egui::Grid::new("real lens").num_columns(2).show(ui, |ui| {
+            ui.label("Focal length (mm)");
+            ui.label(format!("{:.2}", real.focal_length_mm));
+            ui.end_row();
+            ui.label("f-number");
+            let mut n = r.f_number.unwrap_or(real.f_number_range.0);
+            let (lo, hi) = real.f_number_range;
+            let range = lo.min(n)..=hi.max(n);
+            if ui
+                .add(
+                    egui::DragValue::new(&mut n)
+                        .speed(0.05)
+                        .range(range)
+                        .max_decimals(2),
+                )
+                .on_hover_text(format!("f/{lo:.2} (wide open) to f/{hi}"))
+                .changed()
+            {
+                rig.set_f_number(n);
+            }
+            ui.end_row();
+            ui.label("Focus distance");
+            let mut focus = r.focus_distance;
+            if ui
+                .add(
+                    egui::DragValue::new(&mut focus)
+                        .speed(0.01)
+                        .range(real.nearest_focus..=f64::MAX),
+                )
+                .on_hover_text(format!(
+                    "from the entrance pupil; the lens focuses no nearer than {:.4}",
+                    real.nearest_focus
+                ))
+                .changed()
+            {
+                let _ = rig.set_focus_distance(focus);
+            }
+            ui.end_row();
+            ui.label("Sensor height (mm)");
+            let mut sensor = r.sensor_height_mm.unwrap_or(24.0);
+            let (lo, hi) = SENSOR_HEIGHT_RANGE_MM;
+            if ui
+                .add(egui::DragValue::new(&mut sensor).speed(0.1).range(lo..=hi))
+                .changed()
+            {
+                rig.set_sensor_height_mm(sensor);
+            }
+            ui.end_row();
+            if let Some(vfov) = r.vfov_degrees {
+                ui.label("Field of view");
+                ui.label(format!("{vfov:.1} deg (first order)"));
+                ui.end_row();
+            }
+            self.aperture_shape(ui, rig);
+        });
+        if let Some(summary) = &stats.lens_summary {
+            ui.small(summary);
+        }
     }
 
     /// The iris: blades (or round), rotation, roundness and the anamorphic aspect, live.

@@ -9,6 +9,7 @@
 //! 0.2 drag left 100 100 160 100   # drag with left|right|middle from x0 y0 to x1 y1
 //! 0   scroll -1.5            # wheel steps; `scroll 2 ctrl` or `scroll 1 shift` with a modifier
 //! 0   resize 800x600         # window size; 0 in either side means minimised
+//! 0   lens double-gauss-50   # the panel's lens picker: a real lens by name, or `thin`
 //! 0   wait converged         # until the accumulation reaches the target spp
 //! 0   screenshot out/a.png   # the rest of the line is the path
 //! 1   quit
@@ -44,6 +45,9 @@ pub enum ScriptEvent {
         width: u32,
         height: u32,
     },
+    /// The panel's lens picker: `thin`, or a real lens by the name the picker lists (a
+    /// built-in lens, or the file the preview started with).
+    Lens(String),
     /// Wait until the accumulation reaches the target spp.
     WaitConverged,
     Screenshot(PathBuf),
@@ -160,6 +164,10 @@ fn parse_line(line: &str) -> Result<TimedEvent, String> {
                 .and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)))
                 .ok_or_else(|| format!("'{size}' is not a size like 800x600"))?;
             ScriptEvent::Resize { width, height }
+        }
+        "lens" => {
+            let [lens] = exactly(name, &words, "a lens name or 'thin'")?;
+            ScriptEvent::Lens(lens.to_owned())
         }
         "wait" => match words.as_slice() {
             ["converged"] => ScriptEvent::WaitConverged,

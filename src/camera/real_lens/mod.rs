@@ -110,7 +110,25 @@ pub struct RealLens {
 impl RealLens {
     /// The lens of `params` for an image of aspect `aspect` (width / height), its stop shaped
     /// as `aperture`: stopped down, focused, its exit pupil bounded.
+    ///
+    /// Bounding the exit pupil traces millions of rays (about half a second on two cores), and
+    /// the preview resolves its camera every frame, mostly with the lens unchanged: the last
+    /// few lenses built are kept and returned again for the same arguments (the build is a
+    /// function of them, so the copy is the lens a new build would make).
     pub fn new(
+        params: RealLensParams,
+        aspect: f32,
+        aperture: Aperture,
+    ) -> Result<Self, RealLensError> {
+        if let Some(real) = recent::find(&params, aspect, &aperture) {
+            return Ok(real);
+        }
+        let real = Self::build(params, aspect, aperture)?;
+        recent::keep(&real);
+        Ok(real)
+    }
+
+    fn build(
         params: RealLensParams,
         aspect: f32,
         aperture: Aperture,
@@ -294,5 +312,37 @@ impl RealLens {
             self.f_number,
             self.film_distance_mm
         )
+    }
+}
+
+/// The lenses `RealLens::new` built last, by their arguments.
+mod recent {
+    use std::sync::Mutex;
+
+    use super::{Aperture, RealLens, RealLensParams};
+
+    /// How many are kept (a shaped stop builds the round lens first, then the shaped one).
+    const KEPT: usize = 4;
+
+    static LENSES: Mutex<Vec<RealLens>> = Mutex::new(Vec::new());
+
+    pub fn find(params: &RealLensParams, aspect: f32, aperture: &Aperture) -> Option<RealLens> {
+        let lenses = LENSES.lock().unwrap_or_else(|e| e.into_inner());
+        lenses
+            .iter()
+            .find(|l| {
+                l.aspect.to_bits() == aspect.to_bits()
+                    && l.aperture == *aperture
+                    && l.params == *params
+            })
+            .cloned()
+    }
+
+    pub fn keep(real: &RealLens) {
+        let mut lenses = LENSES.lock().unwrap_or_else(|e| e.into_inner());
+        if lenses.len() == KEPT {
+            lenses.remove(0);
+        }
+        lenses.push(real.clone());
     }
 }

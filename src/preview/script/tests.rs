@@ -19,6 +19,11 @@ fn error(text: &str) -> String {
 #[test]
 fn every_event_kind() {
     assert_eq!(event("0 key O"), ScriptEvent::Key("O".into()));
+    assert_eq!(
+        event("0 lens double-gauss-50"),
+        ScriptEvent::Lens("double-gauss-50".into())
+    );
+    assert_eq!(event("0 lens thin"), ScriptEvent::Lens("thin".into()));
     assert_eq!(event("0 key o"), ScriptEvent::Key("O".into()));
     assert_eq!(event("0 key Escape"), ScriptEvent::Key("Escape".into()));
     assert_eq!(event("0 key ["), ScriptEvent::Key("[".into()));
