@@ -335,10 +335,63 @@ fn aperture_sweep_weighs_shapes_against_the_round_aperture() {
     );
 }
 
+/// The lens sweep (CPU path, default points: every built-in lens with its first-order thin
+/// lens): each lens lets more than 70 % of the camera samples through at the image centre
+/// (issue 21), its thin model all of them; every measurement has a positive cost per camera
+/// ray against the thin model (1 for the thin point itself); under unlit shading the CPU
+/// path's rays are the camera rays counted apart; the table prints the costs.
+#[test]
+fn lens_sweep_reports_pass_shares_and_costs_against_the_thin_lens() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["--paths", "cpu", "--sweep", "lens", "--json", "lens.json"];
+    let out = bench(&args, dir.path());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table = text(&out.stdout);
+    assert!(
+        table.contains("per camera ray vs thin") && table.contains("thin:double-gauss-50"),
+        "{table}"
+    );
+    let json = read_json(&dir.path().join("lens.json"));
+    assert_eq!(json["sweep"], "lens");
+    assert_eq!(json["settings"]["shading"], "unlit");
+    let points = json["points"].as_array().unwrap();
+    let names = lensray::optics::builtin::names();
+    assert_eq!(points.len(), 2 * names.len());
+    for name in names {
+        for model in ["thin", "real"] {
+            let point = points
+                .iter()
+                .find(|p| p["lens"]["lens"] == name && p["lens"]["model"] == model)
+                .unwrap_or_else(|| panic!("no {model} point for {name}"));
+            let lens = &point["lens"];
+            let get = |k: &str| lens[k].as_f64().unwrap_or_else(|| panic!("{k} in {lens}"));
+            let (share, centre) = (get("pass_share"), get("centre_pass_share"));
+            if model == "thin" {
+                assert_eq!((share, centre), (1.0, 1.0), "{name}: {lens}");
+            } else {
+                assert!(centre > 0.7, "{name}: centre pass share {centre}");
+                assert!(0.0 < share && share < 1.0, "{name}: pass share {share}");
+            }
+            assert!(get("f_number") > 1.0, "{lens}");
+            let m = &point["results"][0];
+            check_measurement(m);
+            assert_eq!(m["rays"], lens["camera_rays"], "{name} {model}: {m}");
+            let cost = m["cost_per_camera_ray_vs_thin"]
+                .as_f64()
+                .unwrap_or_else(|| panic!("no cost per camera ray: {m}"));
+            assert!(cost.is_finite() && cost > 0.0, "{name} {model}: {cost}");
+            if model == "thin" {
+                assert_eq!(cost, 1.0);
+            }
+            assert!(m["camera_rays_per_second"].as_f64().unwrap() > 0.0, "{m}");
+        }
+    }
+}
+
 /// Bad input: one line naming the problem, a non-zero exit, no panic, no file written.
 #[test]
 fn bad_input_is_one_clear_line_and_writes_nothing() {
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 8] = [
         (&["--paths", "cpu,warp"], "warp"),
         (&["--repeat", "0"], "--repeat"),
         (&["--paths", "rayquery", "--device", "cpu"], "--device cpu"),
@@ -350,6 +403,21 @@ fn bad_input_is_one_clear_line_and_writes_nothing() {
         (
             &["--paths", "cpu", "--sweep", "spp", "--sweep-points", "0"],
             "--sweep-points",
+        ),
+        (
+            &[
+                "--paths",
+                "cpu",
+                "--sweep",
+                "lens",
+                "--sweep-points",
+                "fisheye",
+            ],
+            "fisheye",
+        ),
+        (
+            &["--sweep", "lens", "--aperture-radius", "0.1"],
+            "--aperture-radius",
         ),
     ];
     for (args, needle) in cases {

@@ -4,12 +4,13 @@
 //! as at equal samples. A sweep (spp, resolution, triangles) repeats this over a range of work.
 //!
 //! Files: `options` (what to measure), `choose` (which paths), `scenes`, `sweep` (the points),
-//! `reference` (the cached converged image), `focus` (how much of the shot is in focus), `runs`
-//! (timing the paths at one point), `report` (the results, also the JSON file), `table`, `plot`,
-//! `machine`.
+//! `reference` (the cached converged image), `focus` (how much of the shot is in focus), `lens`
+//! (the lens sweep's pass shares and costs per camera ray), `runs` (timing the paths at one
+//! point), `report` (the results, also the JSON file), `table`, `plot`, `machine`.
 
 pub mod choose;
 pub mod focus;
+pub mod lens;
 pub mod machine;
 pub mod options;
 pub mod plot;
@@ -31,12 +32,13 @@ use crate::reference::Renderer as CpuRenderer;
 use crate::settings::RenderSettings;
 use crate::settings::Shot;
 use focus::FocusInfo;
+use lens::LensPoint;
 use options::{BenchOptions, SceneChoice, SweepKind};
 use reference::Reference;
 use report::{BenchReport, PathInfo, PointReport, SceneInfo, SettingsInfo};
 use runs::Measurement;
 use scenes::BenchScene;
-use sweep::SweepValue;
+use sweep::{BenchLens, SweepValue};
 
 /// Runs the bench `options` describe; `log` receives progress and notices (stderr on the
 /// command line).
@@ -51,6 +53,9 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
     {
         bail!("--sweep triangles renders generated scenes: it takes no --scene or --scene-file");
     }
+    if options.sweep == Some(SweepKind::Lens) && options.aperture_radius.is_some() {
+        bail!("--sweep lens: the lenses set the aperture (--f-number stops them down); it takes no --aperture-radius");
+    }
     let max_spp = values
         .iter()
         .map(|v| spp_of(*v, options))
@@ -64,8 +69,22 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
     }
 
     let base = scenes::load(&options.scene, options.dense_triangles)?;
-    let base_shot = bench_shot(&base, options, SweepValue::Spp(options.spp))?;
-    let kinds = choose::paths_to_run(options, &base, (&base_shot.camera, &base_shot.render), log)?;
+    // The lens sweep's paths are chosen for a real lens (`auto` picks among those that trace
+    // one).
+    let base_value = match options.sweep {
+        Some(SweepKind::Lens) => values
+            .iter()
+            .copied()
+            .find(|v| matches!(v, SweepValue::Lens(l) if l.real))
+            .unwrap_or(values[0]),
+        _ => SweepValue::Spp(options.spp),
+    };
+    let base_shot = bench_shot(&base, options, base_value)?;
+    let mut kinds =
+        choose::paths_to_run(options, &base, (&base_shot.camera, &base_shot.render), log)?;
+    if options.sweep == Some(SweepKind::Lens) {
+        kinds = lens_paths(options, kinds, log)?;
+    }
     let mut report = BenchReport {
         schema: report::SCHEMA,
         lensray_version: env!("CARGO_PKG_VERSION"),
@@ -141,12 +160,25 @@ fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> 
         settings.camera.sensor_height_mm = None;
     }
     settings.camera.focus_distance = options.focus_distance.or(settings.camera.focus_distance);
+    settings.camera.f_number = options.f_number.or(settings.camera.f_number);
+    if let SweepValue::Lens(lens) = value {
+        // As `render --lens NAME`: the real lens replaces the scene's lens; the field of view
+        // follows from it.
+        settings.camera.lens.prescription = Some(lens.name().to_string());
+        settings.camera.aperture_radius = None;
+        settings.camera.focal_length_mm = None;
+        settings.camera.f_number = options.f_number;
+    }
     let mut shot = crate::settings::shot(&settings, &scene.description.scene)
         .with_context(|| format!("scene {}", scene.description.source))?;
     if let SweepValue::Aperture(aperture) = value {
         // The shape replaces the scene's; the radius stays.
         let aperture = aperture.shape().build()?;
         shot.camera = shot.camera.with_aperture(aperture)?;
+    }
+    if let SweepValue::Lens(BenchLens { real: false, .. }) = value {
+        // The first-order model the camera holds (same framing, pupil and focus), untraced.
+        shot.camera.real_lens = None;
     }
     Ok(shot)
 }
@@ -209,20 +241,30 @@ fn measure_group(
         opened.push(path);
     }
     let mut results: Vec<Vec<Measurement>> = Vec::with_capacity(values.len());
-    if options.sweep == Some(SweepKind::Aperture) {
+    let in_turns = matches!(
+        options.sweep,
+        Some(SweepKind::Aperture) | Some(SweepKind::Lens)
+    );
+    if in_turns {
         log(&format!(
-            "measuring {}: {} ({} triangles), {}x{}, {} spp, apertures {} in turns",
+            "measuring {}: {} ({} triangles), {}x{}, {} spp, {} {} in turns",
             kinds_list(kinds),
             scene.name,
             scene.triangles,
             options.width,
             options.height,
             options.spp,
+            if options.sweep == Some(SweepKind::Lens) {
+                "lenses"
+            } else {
+                "apertures"
+            },
             values
                 .iter()
                 .map(|v| match v {
-                    SweepValue::Aperture(a) => a.name(),
-                    _ => "?",
+                    SweepValue::Aperture(a) => a.name().to_string(),
+                    SweepValue::Lens(l) => l.label(),
+                    _ => "?".into(),
                 })
                 .collect::<Vec<_>>()
                 .join(", ")
@@ -233,10 +275,12 @@ fn measure_group(
             .map(|(s, r)| (&s.camera, &s.render, &r.image))
             .collect();
         results = runs::measure_points_interleaved(&mut opened, &points, options.repeat)?;
-        set_costs_vs_round(&mut results);
+        if options.sweep == Some(SweepKind::Aperture) {
+            set_costs_vs_round(&mut results);
+        }
     }
     for (s, reference) in shots.iter().zip(&references) {
-        if options.sweep == Some(SweepKind::Aperture) {
+        if in_turns {
             break;
         }
         log(&format!(
@@ -260,22 +304,76 @@ fn measure_group(
         path.close().with_context(|| format!("--paths {kind}"))?;
     }
 
+    // The lens sweep: each point's pass shares, then each real lens against its thin model.
+    let mut lenses: Vec<Option<LensPoint>> = vec![None; values.len()];
+    if options.sweep == Some(SweepKind::Lens) {
+        log("counting the camera rays each lens lets through (CPU)");
+        let lens_values: Vec<BenchLens> = values
+            .iter()
+            .map(|v| match v {
+                SweepValue::Lens(l) => *l,
+                _ => unreachable!("the lens sweep's points are lenses"),
+            })
+            .collect();
+        let measured: Vec<LensPoint> = lens_values
+            .iter()
+            .zip(&shots)
+            .map(|(&l, s)| {
+                let real = lens_values
+                    .iter()
+                    .position(|&m| m == BenchLens { real: true, ..l })
+                    .map_or(&s.camera, |i| &shots[i].camera);
+                LensPoint::measure(l, &s.camera, real, &s.render)
+            })
+            .collect();
+        lens::set_costs_vs_thin(&lens_values, &measured, &mut results);
+        lenses = measured.into_iter().map(Some).collect();
+    }
+
     let cpu = CpuRenderer::new(&scene.description.scene);
     Ok(shots
         .iter()
         .zip(references)
         .zip(results)
         .zip(values)
-        .map(|(((s, reference), mut results), value)| {
+        .zip(lenses)
+        .map(|((((s, reference), mut results), value), lens)| {
             set_speedups(&mut results);
             let focus = FocusInfo::of(&cpu, &s.camera, &s.render);
             let mut point = point_report(scene, (&s.camera, &s.render), &reference, focus, results);
             if let SweepValue::Aperture(a) = value {
                 point.aperture = Some(*a);
             }
+            point.lens = lens;
             point
         })
         .collect())
+}
+
+/// The lens sweep's paths: those that trace real lenses (cpu, rayquery, software). The hybrid
+/// refuses them and raster renders their first-order model: asked for, an error; in the
+/// default list, left out with a notice.
+fn lens_paths(
+    options: &BenchOptions,
+    kinds: Vec<PathKind>,
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<PathKind>> {
+    let untraced = |k: &PathKind| matches!(k, PathKind::Hybrid | PathKind::Raster);
+    if let Some(kind) = options.paths.iter().filter_map(|p| p.only()).find(untraced) {
+        bail!("--sweep lens: --paths {kind} does not trace real lenses (hybrid refuses them, raster renders their first-order model); use cpu, rayquery or software");
+    }
+    let (left, kept): (Vec<PathKind>, Vec<PathKind>) = kinds.into_iter().partition(untraced);
+    if !left.is_empty() {
+        log(&format!(
+            "notice: --sweep lens leaves out {}: they do not trace real lenses",
+            kinds_list(&left)
+        ));
+    }
+    ensure!(
+        !kept.is_empty(),
+        "--sweep lens: no path that traces real lenses (cpu, rayquery, software) to run"
+    );
+    Ok(kept)
 }
 
 fn kinds_list(kinds: &[PathKind]) -> String {
@@ -329,6 +427,7 @@ fn point_report(
         spp: render.spp,
         triangles: scene.triangles,
         aperture: None,
+        lens: None,
         reference: reference.info.clone(),
         focus,
         results,

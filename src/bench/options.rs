@@ -54,6 +54,10 @@ pub enum SweepKind {
     /// Aperture shapes (round, 6 blades, 9 curved blades, squeezed, an image): each one's cost
     /// against the round aperture, measured in turns.
     Aperture,
+    /// Real lenses (every built-in one) against their first-order thin lenses, measured in
+    /// turns: time, camera rays that reach the scene per second, each one's cost over the thin
+    /// lens's, and the share of camera samples the lens lets through (image and centre).
+    Lens,
 }
 
 impl SweepKind {
@@ -63,6 +67,7 @@ impl SweepKind {
             SweepKind::Resolution => "resolution",
             SweepKind::Triangles => "triangles",
             SweepKind::Aperture => "aperture",
+            SweepKind::Lens => "lens",
         }
     }
 }
@@ -85,6 +90,9 @@ pub struct BenchOptions {
     /// f-number, as on `render`).
     pub aperture_radius: Option<f64>,
     pub focus_distance: Option<f64>,
+    /// The lens's f-number (a real lens of the lens sweep: `None` opens it fully; else the
+    /// scene's physical lens).
+    pub f_number: Option<f64>,
     /// The scene's own when `None`.
     pub sampler: Option<SamplerKind>,
     pub seed: Option<u32>,
@@ -118,6 +126,7 @@ impl Default for BenchOptions {
             shading: crate::settings::Shading::Unlit,
             aperture_radius: None,
             focus_distance: None,
+            f_number: None,
             sampler: None,
             seed: None,
             repeat: 5,

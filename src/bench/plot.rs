@@ -168,6 +168,11 @@ fn draw(report: &BenchReport, rgb: &mut [u8]) -> Result<(), Box<dyn std::error::
             "shape: 1 round, 2 hexagon, 3 curved9, 4 squeezed, 5 image",
             "time, seconds (median)",
         ),
+        Some(SweepKind::Lens) => (
+            format!("Time against lens: {}x{}, {} spp", s.width, s.height, s.spp),
+            "lens: 1 biconvex-50, 2 double-gauss-50, 3 wide-22, 4 cooke-triplet-50 (+0.5: real)",
+            "time, seconds (median)",
+        ),
     };
 
     let root = BitMapBackend::with_buffer(rgb, SIZE).into_drawing_area();

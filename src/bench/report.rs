@@ -4,6 +4,7 @@
 use serde::Serialize;
 
 use super::focus::FocusInfo;
+use super::lens::LensPoint;
 use super::machine::Machine;
 use super::options::SweepKind;
 use super::reference::ReferenceInfo;
@@ -70,6 +71,9 @@ pub struct PointReport {
     /// The aperture sweep's shape at this point.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub aperture: Option<BenchAperture>,
+    /// The lens sweep's lens at this point, and the share of camera samples it lets through.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lens: Option<LensPoint>,
     pub reference: ReferenceInfo,
     /// How much of the shot is in focus (the hybrid's gain depends on it).
     pub focus: FocusInfo,
@@ -89,6 +93,22 @@ impl PointReport {
                 }
                 None => 1.0,
             },
+            Some(SweepKind::Lens) => match &self.lens {
+                // Lens by lens (1, 2, ...), its thin model half a step before it.
+                Some(l) => {
+                    let index = crate::optics::builtin::names()
+                        .iter()
+                        .position(|n| *n == l.lens)
+                        .unwrap_or(0) as f64;
+                    1.0 + index
+                        + if l.model == super::lens::LensModel::Real {
+                            0.5
+                        } else {
+                            0.0
+                        }
+                }
+                None => 1.0,
+            },
         }
     }
 
@@ -99,6 +119,11 @@ impl PointReport {
             Some(SweepKind::Resolution) => format!("{}x{}", self.width, self.height),
             Some(SweepKind::Triangles) => self.triangles.to_string(),
             Some(SweepKind::Aperture) => self.aperture.map_or("round", |a| a.name()).to_string(),
+            Some(SweepKind::Lens) => match &self.lens {
+                Some(l) if l.model == super::lens::LensModel::Thin => format!("thin:{}", l.lens),
+                Some(l) => l.lens.to_string(),
+                None => "?".into(),
+            },
         }
     }
 }

@@ -86,6 +86,18 @@ pub struct Measurement {
     /// aperture (the shape's cost; 1 for the round point).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cost_vs_round: Option<f64>,
+    /// The lens sweep: camera rays that reach the scene (`LensPoint::camera_rays`) over the
+    /// median trace time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub camera_rays_per_second: Option<f64>,
+    /// The lens sweep: this path's median time over its median time with the lens's
+    /// first-order thin lens (1 for the thin point).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cost_vs_thin: Option<f64>,
+    /// The lens sweep: time per camera ray that reaches the scene over the same with the
+    /// thin lens, same path (issue 21's target: at most 2).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cost_per_camera_ray_vs_thin: Option<f64>,
 }
 
 pub fn psnr_db(rmse: f64) -> f64 {
@@ -223,5 +235,8 @@ fn measurement(
         psnr_db: psnr_db(error),
         speedup_vs_cpu: None,
         cost_vs_round: None,
+        camera_rays_per_second: None,
+        cost_vs_thin: None,
+        cost_per_camera_ray_vs_thin: None,
     }
 }

@@ -20,6 +20,42 @@ pub enum SweepValue {
     /// At least this many triangles (the generated scene may have a few more).
     Triangles(usize),
     Aperture(BenchAperture),
+    Lens(BenchLens),
+}
+
+/// The lens sweep's points: a built-in lens, traced surface by surface (`real`), or its
+/// first-order model (the thin lens at its entrance pupil, of the pupil's radius, focused
+/// where the real lens is: same framing, f-number and focus), which each real lens is
+/// weighed against. Ordered lens by lens, the thin model first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct BenchLens {
+    /// Index into `optics::builtin::LENSES`.
+    pub lens: usize,
+    pub real: bool,
+}
+
+impl BenchLens {
+    /// The built-in lens's name.
+    pub fn name(self) -> &'static str {
+        crate::optics::builtin::LENSES[self.lens].0
+    }
+
+    /// "double-gauss-50", or "thin:double-gauss-50" for its first-order model.
+    pub fn label(self) -> String {
+        if self.real {
+            self.name().to_string()
+        } else {
+            format!("thin:{}", self.name())
+        }
+    }
+
+    /// The other point of the pair (the thin model of a real lens and back).
+    pub fn partner(self) -> BenchLens {
+        BenchLens {
+            real: !self.real,
+            ..self
+        }
+    }
 }
 
 /// The aperture sweep's shapes (the round one first: the others are weighed against it).
@@ -109,7 +145,7 @@ pub const TRIANGLES: [usize; 5] = [10_000, 30_000, 100_000, 300_000, 1_000_000];
 pub fn values(kind: Option<SweepKind>, list: Option<&str>, spp: u32) -> Result<Vec<SweepValue>> {
     let mut values = match (kind, list) {
         (None, Some(_)) => {
-            bail!("--sweep-points needs --sweep spp|resolution|triangles|aperture")
+            bail!("--sweep-points needs --sweep spp|resolution|triangles|aperture|lens")
         }
         (None, None) => vec![SweepValue::Spp(spp)],
         (Some(kind), Some(list)) => parse_list(kind, list)?,
@@ -128,7 +164,21 @@ pub fn values(kind: Option<SweepKind>, list: Option<&str>, spp: u32) -> Result<V
             .copied()
             .map(SweepValue::Aperture)
             .collect(),
+        (Some(SweepKind::Lens), None) => (0..crate::optics::builtin::LENSES.len())
+            .map(|lens| SweepValue::Lens(BenchLens { lens, real: true }))
+            .collect(),
     };
+    if kind == Some(SweepKind::Lens) {
+        // Every real lens is weighed against its own first-order thin lens.
+        let thin: Vec<SweepValue> = values
+            .iter()
+            .filter_map(|v| match v {
+                SweepValue::Lens(l) => Some(SweepValue::Lens(l.partner())),
+                _ => None,
+            })
+            .collect();
+        values.extend(thin);
+    }
     if kind == Some(SweepKind::Aperture) && values[0] != SweepValue::Aperture(BenchAperture::Round)
     {
         // Every shape is weighed against the round one.
@@ -150,12 +200,21 @@ pub fn spp_ladder(spp: u32) -> Vec<u32> {
 }
 
 fn parse_list(kind: SweepKind, list: &str) -> Result<Vec<SweepValue>> {
-    let items: Vec<&str> = list
+    let mut items: Vec<&str> = list
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
         .collect();
     ensure!(!items.is_empty(), "--sweep-points: no values in '{list}'");
+    if kind == SweepKind::Lens {
+        // "thin" names the first-order models, which are always measured.
+        items.retain(|item| *item != "thin");
+        ensure!(
+            !items.is_empty(),
+            "--sweep-points {list}: name a lens too ({}): 'thin' is each lens's first-order model",
+            crate::optics::builtin::names().join(", ")
+        );
+    }
     items
         .iter()
         .map(|item| parse_value(kind, item).with_context(|| format!("--sweep-points {list}")))
@@ -192,6 +251,18 @@ fn parse_value(kind: SweepKind, item: &str) -> Result<SweepValue> {
                     format!("'{item}' is not round, hexagon, curved9, squeezed or image")
                 })?,
         ),
+        SweepKind::Lens => SweepValue::Lens(BenchLens {
+            lens: crate::optics::builtin::LENSES
+                .iter()
+                .position(|(name, _)| *name == item)
+                .with_context(|| {
+                    format!(
+                        "'{item}' is not thin or a built-in lens ({})",
+                        crate::optics::builtin::names().join(", ")
+                    )
+                })?,
+            real: true,
+        }),
     })
 }
 
@@ -245,5 +316,26 @@ mod tests {
             ]
         );
         assert!(values(Some(SweepKind::Aperture), Some("star"), 4).is_err());
+        // Each real lens comes with its thin model, just before it.
+        let lens = |name: &str, real| {
+            let lens = crate::optics::builtin::names()
+                .iter()
+                .position(|n| *n == name)
+                .unwrap();
+            SweepValue::Lens(BenchLens { lens, real })
+        };
+        assert_eq!(
+            values(Some(SweepKind::Lens), Some("thin,double-gauss-50"), 4).unwrap(),
+            [
+                lens("double-gauss-50", false),
+                lens("double-gauss-50", true)
+            ]
+        );
+        let all = values(Some(SweepKind::Lens), None, 4).unwrap();
+        assert_eq!(all.len(), 2 * crate::optics::builtin::LENSES.len());
+        assert_eq!(all[0], lens("biconvex-50", false));
+        assert_eq!(all[1], lens("biconvex-50", true));
+        assert!(values(Some(SweepKind::Lens), Some("thin"), 4).is_err());
+        assert!(values(Some(SweepKind::Lens), Some("fisheye"), 4).is_err());
     }
 }

@@ -80,6 +80,7 @@ pub fn render(report: &BenchReport) -> String {
         Some(SweepKind::Resolution) => "size",
         Some(SweepKind::Triangles) => "triangles",
         Some(SweepKind::Aperture) => "aperture",
+        Some(SweepKind::Lens) => "lens",
     };
     let mut rows = vec![[
         swept,
@@ -170,7 +171,106 @@ pub fn render(report: &BenchReport) -> String {
             let _ = writeln!(out, "  {}: {}", p.path, costs.join(", "));
         }
     }
+    if report.sweep == Some(SweepKind::Lens) {
+        lens_section(&mut out, report);
+    }
     out
+}
+
+/// The lens sweep: each lens's pass shares, then per path its camera rays per second and its
+/// costs against the thin model.
+fn lens_section(out: &mut String, report: &BenchReport) {
+    let _ = writeln!(
+        out,
+        "camera rays (counted on the CPU with the paths' samples; unlit: the paths' own rays): share of camera samples that reach the scene, over the image and at its centre ({}x{} lens grid per central pixel); CPU time to make them all (no scene traced, all threads), and per sample on one thread by piece (ns; camera ray: the whole, sampler excluded):",
+        super::lens::CENTRE_GRID,
+        super::lens::CENTRE_GRID
+    );
+    let mut rows = vec![[
+        "lens",
+        "f/",
+        "samples",
+        "camera rays",
+        "pass (image)",
+        "pass (centre)",
+        "CPU ray making",
+        "sampler ns",
+        "pupil ns",
+        "lens trace ns",
+        "camera ray ns",
+    ]
+    .map(String::from)];
+    for point in &report.points {
+        let Some(l) = &point.lens else { continue };
+        rows.push([
+            point.swept_label(report.sweep),
+            format!("{:.2}", l.f_number),
+            l.camera_samples.to_string(),
+            l.camera_rays.to_string(),
+            format!("{:.1} %", 100.0 * l.pass_share),
+            format!("{:.1} %", 100.0 * l.centre_pass_share),
+            Unit::for_seconds(l.camera_ray_seconds).show(l.camera_ray_seconds, true),
+            format!("{:.1}", l.cpu_pieces.sampler_ns),
+            format!("{:.1}", l.cpu_pieces.pupil_ns),
+            format!("{:.1}", l.cpu_pieces.lens_trace_ns),
+            format!("{:.1}", l.cpu_pieces.camera_ray_ns),
+        ]);
+    }
+    write_rows(out, &rows, 1);
+    let _ = writeln!(
+        out,
+        "cost against the thin lens (same path, measured in turns; per camera ray that reaches the scene, target <= 2x):"
+    );
+    let mut rows = vec![[
+        "lens",
+        "path",
+        "time",
+        "Mcamera rays/s",
+        "time vs thin",
+        "per camera ray vs thin",
+    ]
+    .map(String::from)];
+    for p in &report.paths {
+        for point in &report.points {
+            let Some(m) = point.results.iter().find(|m| m.path == p.path) else {
+                continue;
+            };
+            let t = m.trace_seconds.median;
+            let ratio = |x: Option<f64>| x.map_or_else(|| "-".into(), |x| format!("{x:.2}x"));
+            rows.push([
+                point.swept_label(report.sweep),
+                m.path.to_string(),
+                Unit::for_seconds(t).show(t, true),
+                m.camera_rays_per_second
+                    .map_or_else(|| "-".into(), |r| format!("{:.2}", r / 1e6)),
+                ratio(m.cost_vs_thin),
+                ratio(m.cost_per_camera_ray_vs_thin),
+            ]);
+        }
+    }
+    write_rows(out, &rows, 2);
+}
+
+/// Rows aligned in columns: the first `left` to the left, the others to the right.
+fn write_rows<const N: usize>(out: &mut String, rows: &[[String; N]], left: usize) {
+    let widths: Vec<usize> = (0..N)
+        .map(|c| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0))
+        .collect();
+    for row in rows {
+        let line: Vec<String> = row
+            .iter()
+            .zip(&widths)
+            .enumerate()
+            .map(|(c, (cell, w))| {
+                if c < left {
+                    format!("{cell:<w$}")
+                } else {
+                    format!("{cell:>w$}")
+                }
+            })
+            .collect();
+        let _ = writeln!(out, "  {}", line.join("  ").trim_end());
+    }
 }
 
 fn mib(bytes: u64) -> String {
