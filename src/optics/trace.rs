@@ -87,6 +87,7 @@ macro_rules! tracer {
         impl Interface {
             /// The ray after this surface, or `None` if it misses it, leaves the opening or
             /// is totally internally reflected.
+            #[inline]
             pub fn pass(&self, ray: LensRay, toward: Toward) -> Option<LensRay> {
                 let (t, normal) = self.intersect(ray)?;
                 let p = ray.origin + t * ray.direction;
@@ -113,6 +114,7 @@ macro_rules! tracer {
             /// The distance along `ray` to this surface and the unit normal there (pointing
             /// against the ray). For a sphere, the root on the cap around the vertex: the one
             /// whose point lies on the vertex's side of the centre.
+            #[inline]
             pub fn intersect(&self, ray: LensRay) -> Option<($real, $vec)> {
                 if self.radius == 0.0 {
                     let t = (self.z - ray.origin.z) / ray.direction.z;

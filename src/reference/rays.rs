@@ -149,16 +149,27 @@ pub fn real_lens_rays(
     weights: &mut [f32; PACKET_SIZE],
 ) -> usize {
     let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
-    let mut passed = 0;
+    let Some(real) = camera.real_lens.as_deref() else {
+        return 0;
+    };
+    // RealLens::camera_rays traces the packet's rays together (what
+    // Camera::generate_ray_through_lens gives one by one, bit for bit).
+    let mut samples = [(Vec3::ZERO, glam::Vec2::ZERO); PACKET_SIZE];
     for l in 0..n {
         let film = glam::Vec2::new(film_x[l], film_y[l]);
-        let lens = glam::Vec2::new(lens_x[l], lens_y[l]);
-        if let Some((ray, weight)) = camera.generate_ray_through_lens(film, lens) {
-            origins[passed] = ray.origin;
-            directions[passed] = ray.direction;
-            weights[passed] = weight;
-            passed += 1;
-        }
+        samples[l] = (
+            real.film_point(film, camera.width, camera.height),
+            glam::Vec2::new(lens_x[l], lens_y[l]),
+        );
+    }
+    let mut traced = [None; PACKET_SIZE];
+    real.camera_rays(&samples[..n], &mut traced);
+    let mut passed = 0;
+    for (ray, weight) in traced.into_iter().flatten() {
+        origins[passed] = camera.world_from_camera.transform_point3(ray.origin);
+        directions[passed] = camera.world_from_camera.transform_vector3(ray.direction);
+        weights[passed] = weight;
+        passed += 1;
     }
     passed
 }
