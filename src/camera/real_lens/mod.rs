@@ -427,8 +427,8 @@ mod tests {
             .map(|i| {
                 let raster = Vec2::new((i * 37 % 300) as f32 + 0.3, (i * 11 % 200) as f32 + 0.7);
                 let u = Vec2::new(
-                    (i * 2654435761 % 1000) as f32 / 1000.0,
-                    (i * 40503 % 997) as f32 / 997.0,
+                    (i.wrapping_mul(2654435761) % 1000) as f32 / 1000.0,
+                    (i.wrapping_mul(40503) % 997) as f32 / 997.0,
                 );
                 (real.film_point(raster, 300, 200), u)
             })
