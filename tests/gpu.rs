@@ -9,7 +9,6 @@ mod gpu_support;
 
 use glam::{UVec2, Vec2, Vec3};
 use gpu_support::*;
-use lensray::camera::aperture::ApertureImage;
 use lensray::camera::{ApertureShape, Camera, LensParams};
 use lensray::film::Image;
 use lensray::gpu::{focus_distance_at, GpuError, GpuOptions, GpuRenderer, ProbeQuery};
@@ -175,29 +174,7 @@ fn sampler_and_camera_mirrors_match_rust() {
         .build()
         .expect("a valid aperture")
     };
-    // An aperture image of odd size (the searches' steps do not divide it) with a gradient, a
-    // hole and an empty row; turned and squeezed.
-    let (columns, rows) = (37u32, 23u32);
-    let values: Vec<f32> = (0..columns * rows)
-        .map(|i| {
-            let (x, y) = (i % columns, i / columns);
-            if y == 3 || (10..14).contains(&x) && (8..12).contains(&y) {
-                0.0
-            } else {
-                0.05 + (x * y) as f32 / (columns * rows) as f32
-            }
-        })
-        .collect();
-    let image = ApertureShape {
-        rotation_degrees: 20.0,
-        aspect: 1.3,
-        image: Some(std::sync::Arc::new(
-            ApertureImage::new(columns, rows, &values).expect("an aperture image"),
-        )),
-        ..ApertureShape::ROUND
-    }
-    .build()
-    .expect("a valid aperture");
+    let image = odd_aperture_image().build().expect("a valid aperture");
     let perspective = camera(
         false,
         LensParams::ThinLens {

@@ -9,7 +9,6 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec3};
 use gpu_support::*;
-use lensray::camera::aperture::ApertureImage;
 use lensray::camera::RealLensParams;
 use lensray::camera::{ApertureShape, Camera, CameraParams, LensParams, ProjectionParams};
 use lensray::gpu::ProbeQuery;
@@ -40,29 +39,6 @@ fn lens_camera(name: &str, f_number: Option<f64>, width: u32, height: u32) -> Ca
     .expect("a valid real-lens camera")
 }
 
-/// An aperture image of odd size with a gradient, a hole and an empty row (as tests/gpu.rs).
-fn odd_image() -> ApertureShape {
-    let (columns, rows) = (37u32, 23u32);
-    let values: Vec<f32> = (0..columns * rows)
-        .map(|i| {
-            let (x, y) = (i % columns, i / columns);
-            if y == 3 || (10..14).contains(&x) && (8..12).contains(&y) {
-                0.0
-            } else {
-                0.05 + (x * y) as f32 / (columns * rows) as f32
-            }
-        })
-        .collect();
-    ApertureShape {
-        rotation_degrees: 20.0,
-        aspect: 1.3,
-        image: Some(Arc::new(
-            ApertureImage::new(columns, rows, &values).expect("an aperture image"),
-        )),
-        ..ApertureShape::ROUND
-    }
-}
-
 /// The probe's rays through the lens against `Camera::generate_ray_through_lens`: the same
 /// rays pass, with the same weights, origins and directions. The GPU's sqrt, division and
 /// normalize may differ from Rust's in the last bit, so values are compared to 1e-5; a ray
@@ -81,7 +57,7 @@ fn real_lens_rays_match_the_cpu() {
     let mut failures = Vec::new();
     for name in builtin::names() {
         for f_number in [None, Some(8.0)] {
-            for shape in [ApertureShape::ROUND, hexagon.clone(), odd_image()] {
+            for shape in [ApertureShape::ROUND, hexagon.clone(), odd_aperture_image()] {
                 let cam = lens_camera(name, f_number, 97, 61)
                     .with_aperture(shape.build().expect("valid aperture"))
                     .expect("the stop takes the shape");

@@ -200,6 +200,31 @@ pub fn test_scene() -> Scene {
 
 pub const BACKGROUND: Vec3 = Vec3::new(0.05, 0.1, 0.2);
 
+/// An aperture image of odd size (the table searches' steps do not divide it) with a
+/// gradient, a hole and an empty row; turned and squeezed.
+pub fn odd_aperture_image() -> lensray::camera::ApertureShape {
+    let (columns, rows) = (37u32, 23u32);
+    let values: Vec<f32> = (0..columns * rows)
+        .map(|i| {
+            let (x, y) = (i % columns, i / columns);
+            if y == 3 || (10..14).contains(&x) && (8..12).contains(&y) {
+                0.0
+            } else {
+                0.05 + (x * y) as f32 / (columns * rows) as f32
+            }
+        })
+        .collect();
+    lensray::camera::ApertureShape {
+        rotation_degrees: 20.0,
+        aspect: 1.3,
+        image: Some(std::sync::Arc::new(
+            lensray::camera::aperture::ApertureImage::new(columns, rows, &values)
+                .expect("an aperture image"),
+        )),
+        ..lensray::camera::ApertureShape::ROUND
+    }
+}
+
 pub fn camera(orthographic: bool, lens: LensParams, width: u32, height: u32) -> Camera {
     CameraParams {
         eye: Vec3::new(2.5, 2.2, 4.5),
