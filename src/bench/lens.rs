@@ -12,7 +12,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use glam::{UVec2, Vec2};
+use glam::{UVec2, Vec2, Vec3};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -21,6 +21,7 @@ use super::sweep::BenchLens;
 use crate::camera::Camera;
 use crate::optics::trace::narrow::LensRay;
 use crate::paths::PathKind;
+use crate::reference::PACKET_SIZE;
 use crate::sampler::{pixel_camera_sample, pixel_sampler, shared_pixel_sampler};
 use crate::settings::RenderSettings;
 use crate::stats::median;
@@ -74,6 +75,10 @@ pub struct CpuPieces {
     pub lens_trace_ns: f64,
     /// `generate_ray_through_lens` as a whole (pupil, trace, weight, to world space).
     pub camera_ray_ns: f64,
+    /// What the CPU path runs instead: `RealLens::camera_rays` on packets of `PACKET_SIZE`
+    /// samples traced together by lane (film point, pupil, trace and weight, in camera
+    /// space). The thin lens's figure is `camera_ray_ns`: its packets are made elsewhere.
+    pub packet_ns: f64,
 }
 
 /// Rows of the shot whose samples `CpuPieces` times: every this many.
@@ -184,7 +189,7 @@ impl CpuPieces {
             }
             sum
         });
-        let (mut pupil_ns, mut lens_trace_ns) = (0.0, 0.0);
+        let (mut pupil_ns, mut lens_trace_ns, mut packet_ns) = (0.0, 0.0, camera_ray_ns);
         if let Some(real) = &camera.real_lens {
             let (width, height) = (camera.width, camera.height);
             let pupil = || {
@@ -211,8 +216,24 @@ impl CpuPieces {
                 }
                 sum
             };
+            let packets = || {
+                let mut sum = 0.0;
+                for chunk in samples.chunks(PACKET_SIZE) {
+                    let mut lanes = [(Vec3::ZERO, Vec2::ZERO); PACKET_SIZE];
+                    for (lane, &(film, lens)) in lanes.iter_mut().zip(chunk) {
+                        *lane = (real.film_point(film, width, height), lens);
+                    }
+                    let mut out = [None; PACKET_SIZE];
+                    real.camera_rays(&lanes[..chunk.len()], &mut out);
+                    for (ray, weight) in out.into_iter().flatten() {
+                        sum += ray.direction.x + weight;
+                    }
+                }
+                sum
+            };
             pupil_ns = per_sample(&pupil);
             lens_trace_ns = (per_sample(&traced) - pupil_ns).max(0.0);
+            packet_ns = per_sample(&packets);
         }
         CpuPieces {
             samples: samples.len() as u64,
@@ -220,6 +241,7 @@ impl CpuPieces {
             pupil_ns,
             lens_trace_ns,
             camera_ray_ns,
+            packet_ns,
         }
     }
 }
