@@ -306,6 +306,22 @@ def figures():
     fig("frame extra readback after", f"at most {max(r['readback_bytes'] for r in after) - image} bytes besides the image")
     fig("frame submits before", f"submitted {min(r['submits'] for r in before)}-{max(r['submits'] for r in before)}")
 
+    # Real lenses against their thin models (docs/lens-bench.md): `lensray bench --sweep lens`
+    # runs stored in docs/lens-bench/ (a later machine's, apart from the bench runs above).
+    with open(BENCH.parent / "lens-bench" / "pair.json", encoding="utf-8") as f:
+        pair = json.load(f)
+    real = next(p for p in pair["points"] if p["lens"]["model"] == "real")
+    cost = {r["path"]: r["cost_per_camera_ray_vs_thin"] for r in real["results"]}
+    fig("lens-bench/pair.json cost per camera ray",
+        claim(max(cost.values()) <= 2.0,
+              f"{real['lens']['lens']} costs {x(cost['cpu'], 2)} the thin lens per camera ray on "
+              f"the CPU reference, {x(cost['rayquery'], 2)} on `rayquery` and "
+              f"{x(cost['software'], 2)} on `software`"))
+    fig("lens-bench/pair.json pass share",
+        f"{100 * real['lens']['centre_pass_share']:.1f} % of the camera samples at the image centre")
+    fig("lens-bench/pair.json machine",
+        f"{pair['machine']['cpu']}, {pair['machine']['threads']} threads")
+
     # The preview window (./scripts/bench-preview.sh; docs/bench/preview.json).
     preview = load("preview.json")
     gbuffer = statistics.median(preview["gbuffer_view_frame_ms"]["runs"])
