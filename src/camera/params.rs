@@ -143,6 +143,13 @@ impl CameraParams {
     /// had a negative half height and the image came out mirrored. (Bug found by
     /// `tests/camera.rs`, `validation::build_rejects_values_degenerate_in_f32`.)
     pub fn build(&self) -> Result<Camera, CameraError> {
+        self.build_with_aperture(Aperture::ROUND)
+    }
+
+    /// `build` with the aperture shaped as `aperture`: what `build()?.with_aperture(aperture)`
+    /// gives, but a real lens's exit pupil is bounded once, for the shaped stop (bounding it
+    /// traces millions of rays).
+    pub fn build_with_aperture(&self, aperture: Aperture) -> Result<Camera, CameraError> {
         finite_vec("eye", self.eye)?;
         finite_vec("target", self.target)?;
         finite_vec("up", self.up)?;
@@ -218,7 +225,7 @@ impl CameraParams {
                     ..params.clone()
                 };
                 let aspect = self.width as f32 / self.height as f32;
-                let real = RealLens::new(params, aspect, Aperture::ROUND)?;
+                let real = RealLens::new(params, aspect, aperture.clone())?;
                 // The first-order model: a thin lens at the entrance pupil, its radius the
                 // pupil's, focused where the real lens is.
                 let first_order = ThinLens {
@@ -269,10 +276,12 @@ impl CameraParams {
             self.width,
             self.height,
         );
-        Ok(match real_lens {
+        let camera = match real_lens {
             Some(real) => camera.with_real_lens(real),
             None => camera,
-        })
+        };
+        // The real lens already has its shaped stop: this sets the thin lens's aperture.
+        Ok(camera.with_aperture(aperture)?)
     }
 
     /// The focal plane must lie in front of the lens plane (the eye for perspective, the near

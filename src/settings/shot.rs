@@ -227,8 +227,7 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
         width: settings.image.width.unwrap_or(DEFAULT_WIDTH),
         height: settings.image.height.unwrap_or(DEFAULT_HEIGHT),
     }
-    .build()?
-    .with_aperture(aperture(&c.aperture)?)?;
+    .build_with_aperture(aperture(&c.aperture)?)?;
 
     let spp = settings.image.spp.unwrap_or(DEFAULT_SPP);
     if spp == 0 {
