@@ -359,7 +359,7 @@ mod recent {
 
     use super::{Aperture, RealLens, RealLensParams};
 
-    /// How many are kept (a shaped stop builds the round lens first, then the shaped one).
+    /// How many are kept (the preview goes back and forth between a few lenses and stops).
     const KEPT: usize = 4;
 
     static LENSES: Mutex<Vec<RealLens>> = Mutex::new(Vec::new());
