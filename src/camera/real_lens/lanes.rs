@@ -31,9 +31,9 @@ pub struct Lanes<const N: usize> {
 }
 
 impl<const N: usize> Lanes<N> {
-    /// The first lanes hold `rays` (at most N); the rest start dead.
-    pub fn new(rays: impl IntoIterator<Item = LensRay>) -> Self {
-        let mut lanes = Lanes {
+    /// Every lane dead (`start` brings the samples' lanes to life).
+    fn dead() -> Self {
+        Lanes {
             ox: [0.0; N],
             oy: [0.0; N],
             oz: [0.0; N],
@@ -42,17 +42,7 @@ impl<const N: usize> Lanes<N> {
             dz: [1.0; N],
             alive: [false; N],
             transmission: [1.0; N],
-        };
-        for (l, ray) in rays.into_iter().enumerate().take(N) {
-            lanes.ox[l] = ray.origin.x;
-            lanes.oy[l] = ray.origin.y;
-            lanes.oz[l] = ray.origin.z;
-            lanes.dx[l] = ray.direction.x;
-            lanes.dy[l] = ray.direction.y;
-            lanes.dz[l] = ray.direction.z;
-            lanes.alive[l] = true;
         }
-        lanes
     }
 
     /// The rays from film points toward the pupil points of their lens samples, and the
@@ -62,7 +52,7 @@ impl<const N: usize> Lanes<N> {
     pub fn start(lens: &RealLens, samples: &[(Vec3, Vec2)]) -> (Self, [f32; N]) {
         let n = samples.len().min(N);
         let pupil = lens.pupil();
-        let mut lanes = Lanes::new(std::iter::empty());
+        let mut lanes = Lanes::dead();
         let (mut ux, mut uy) = ([0.0f32; N], [0.0f32; N]);
         for (l, &(film, u)) in samples.iter().enumerate().take(n) {
             lanes.ox[l] = film.x;
@@ -132,8 +122,8 @@ impl<const N: usize> Lanes<N> {
 
     pub fn ray(&self, l: usize) -> LensRay {
         LensRay {
-            origin: glam::Vec3::new(self.ox[l], self.oy[l], self.oz[l]),
-            direction: glam::Vec3::new(self.dx[l], self.dy[l], self.dz[l]),
+            origin: Vec3::new(self.ox[l], self.oy[l], self.oz[l]),
+            direction: Vec3::new(self.dx[l], self.dy[l], self.dz[l]),
         }
     }
 
