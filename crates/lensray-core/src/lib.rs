@@ -1,0 +1,21 @@
+//! lensray's core: everything a render is made of, without Vulkan.
+//!
+//! What to render: the [`camera`] (the course's coordinate spaces and projections, and its lens:
+//! pinhole, thin or real, whose prescriptions [`optics`] reads and traces), the [`sampler`], the
+//! [`scene`] and the [`settings`] a user gives, resolved into one shot. What a render fills: the
+//! [`film`] (image, accumulation, comparison, colour encoding). The CPU [`reference`](mod@reference)
+//! renderer that every other path is checked against, and the [`interface`] whose layouts the
+//! GLSL shaders of `lensray-vulkan` share. [`stats`] and [`cache`] serve the layers above.
+
+#![forbid(unsafe_code)]
+
+pub mod cache;
+pub mod camera;
+pub mod film;
+pub mod interface;
+pub mod optics;
+pub mod reference;
+pub mod sampler;
+pub mod scene;
+pub mod settings;
+pub mod stats;

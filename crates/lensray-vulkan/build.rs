@@ -1,0 +1,162 @@
+//! Compiles the GLSL shaders in `shaders/` to SPIR-V (Vulkan 1.2, SPIR-V 1.4) with shaderc.
+//! `shaders/` has the layers of `src/gpu/`: `include/` (what the shaders share: camera, sampler,
+//! scene, shading), `passes/` (the renderer's passes), `present/` (the preview window's) and
+//! `probes/` (tests' and benchmarks', compiled only with the `probes` feature, as their Rust
+//! side). Each `shaders/LAYER/NAME.{vert,frag,comp}` becomes `$OUT_DIR/NAME.STAGE.spv`, embedded
+//! by `src/gpu/core/shader.rs` with `include_bytes!`. `#include "x.glsl"` resolves in
+//! `shaders/include/`. A shader listed in `VARIANTS` is compiled once per variant instead, with
+//! that variant's macro defined, into `$OUT_DIR/VARIANT.STAGE.spv`.
+//! A compile error fails the build with the file and line of every message.
+//!
+//! First it writes `$OUT_DIR/interface.glsl` from `src/interface/shared.rs`, the one definition
+//! of what the host and the shaders share, and fails if Rust lays out a shared struct
+//! differently from GLSL.
+
+// Brings in the glslang / SPIRV-Tools libraries that Debian's libshaderc needs (see its build.rs).
+extern crate lensray_shaderc_link;
+
+use std::path::{Path, PathBuf};
+
+/// lensray-core's `interface` module, compiled here too (its files use no crate paths).
+#[allow(dead_code)]
+mod interface {
+    #[macro_use]
+    pub mod glsl {
+        include!("../lensray-core/src/interface/glsl.rs");
+    }
+    pub mod shared {
+        include!("../lensray-core/src/interface/shared.rs");
+    }
+}
+
+const INTERFACE_HEADER: &str = "interface.glsl";
+
+/// Shaders compiled more than once: file name, then (output name, macro defined) per variant.
+/// trace.comp: one closest-hit implementation each (src/gpu/passes/trace.rs picks the pipeline).
+const VARIANTS: &[(&str, &[(&str, &str)])] = &[(
+    "trace.comp",
+    &[
+        ("trace_rayquery.comp", "TRAVERSAL_RAY_QUERY"),
+        ("trace_software.comp", "TRAVERSAL_SOFTWARE"),
+    ],
+)];
+
+fn main() {
+    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
+    let out = PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
+    let shader_dir = manifest.join("shaders");
+    println!("cargo:rerun-if-changed=shaders");
+    println!("cargo:rerun-if-changed=../lensray-core/src/interface");
+
+    if let Err(errors) = interface::shared::check_layouts() {
+        panic!("shared structs differ from their GLSL layout:\n{errors}");
+    }
+    std::fs::write(out.join(INTERFACE_HEADER), interface::shared::glsl_header())
+        .expect("write interface.glsl");
+
+    let compiler = shaderc::Compiler::new().expect("shaderc: cannot create a compiler");
+    let mut layers = vec!["passes", "present"];
+    if std::env::var_os("CARGO_FEATURE_PROBES").is_some() {
+        layers.push("probes");
+    }
+    let mut entries: Vec<PathBuf> = Vec::new();
+    for layer in layers {
+        let dir = shader_dir.join(layer);
+        entries.extend(
+            std::fs::read_dir(&dir)
+                .unwrap_or_else(|e| panic!("read {}: {e}", dir.display()))
+                .map(|e| e.expect("read shaders/").path()),
+        );
+    }
+    entries.sort();
+    let include_dir = shader_dir.join("include");
+
+    let mut failures = Vec::new();
+    for path in entries {
+        println!("cargo:rerun-if-changed={}", path.display());
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        let kind = match ext {
+            "vert" => shaderc::ShaderKind::Vertex,
+            "frag" => shaderc::ShaderKind::Fragment,
+            "comp" => shaderc::ShaderKind::Compute,
+            _ => continue, // includes (*.glsl) are compiled as part of their users
+        };
+        let source = std::fs::read_to_string(&path).expect("read shader");
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let variants: Vec<(String, Option<&str>)> =
+            match VARIANTS.iter().find(|(file, _)| *file == name) {
+                Some((_, list)) => list
+                    .iter()
+                    .map(|(out_name, define)| (out_name.to_string(), Some(*define)))
+                    .collect(),
+                None => vec![(name.clone(), None)],
+            };
+        for (out_name, define) in variants {
+            let options = compile_options(&include_dir, &out, define);
+            match compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options)) {
+                Ok(artifact) => {
+                    if artifact.get_num_warnings() > 0 {
+                        println!("cargo:warning={}", artifact.get_warning_messages());
+                    }
+                    let target = out.join(format!("{out_name}.spv"));
+                    std::fs::write(&target, artifact.as_binary_u8()).expect("write SPIR-V");
+                }
+                Err(e) => failures.push(format!("{} ({out_name}):\n{e}", path.display())),
+            }
+        }
+    }
+    if !failures.is_empty() {
+        for f in &failures {
+            for line in f.lines() {
+                println!("cargo:warning={line}");
+            }
+        }
+        panic!("shader compilation failed:\n{}", failures.join("\n"));
+    }
+}
+
+/// Vulkan 1.2 / SPIR-V 1.4, optimised, warnings as errors, includes from `shaders/include/` (and the
+/// generated header from `$OUT_DIR`), `define` set when given.
+fn compile_options<'a>(
+    include_dir: &Path,
+    out: &Path,
+    define: Option<&str>,
+) -> shaderc::CompileOptions<'a> {
+    let mut options = shaderc::CompileOptions::new().expect("shaderc options");
+    options.set_target_env(
+        shaderc::TargetEnv::Vulkan,
+        shaderc::EnvVersion::Vulkan1_2 as u32,
+    );
+    options.set_target_spirv(shaderc::SpirvVersion::V1_4);
+    options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+    options.set_warnings_as_errors();
+    if let Some(define) = define {
+        options.add_macro_definition(define, None);
+    }
+    let include_dir = include_dir.to_path_buf();
+    let generated_dir = out.to_path_buf();
+    options.set_include_callback(move |requested, _kind, requester, _depth| {
+        let dir = if requested == INTERFACE_HEADER {
+            &generated_dir
+        } else {
+            &include_dir
+        };
+        resolve_include(dir, requested, requester)
+    });
+    options
+}
+
+fn resolve_include(
+    dir: &Path,
+    requested: &str,
+    requester: &str,
+) -> Result<shaderc::ResolvedInclude, String> {
+    let path = dir.join(requested);
+    println!("cargo:rerun-if-changed={}", path.display());
+    let content = std::fs::read_to_string(&path)
+        .map_err(|e| format!("{requester}: cannot include {}: {e}", path.display()))?;
+    Ok(shaderc::ResolvedInclude {
+        resolved_name: requested.to_string(),
+        content,
+    })
+}

@@ -1,0 +1,195 @@
+//! Buffers with gpu-allocator memory, staging uploads and host readback.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+
+use crate::core::device::Context;
+use crate::core::error::{alloc_err, vk_err, GpuError};
+
+/// A buffer and its memory, freed on drop.
+pub(crate) struct Buffer {
+    ctx: Arc<Context>,
+    pub buffer: vk::Buffer,
+    allocation: Option<Allocation>,
+    pub size: u64,
+    /// Device address when created with `SHADER_DEVICE_ADDRESS` usage, else 0.
+    pub address: vk::DeviceAddress,
+}
+
+impl Buffer {
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Self, GpuError> {
+        let size = size.max(16);
+        let info = vk::BufferCreateInfo::default()
+            .size(size)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: valid create-info on a live device.
+        let buffer =
+            unsafe { ctx.device.create_buffer(&info, None) }.map_err(vk_err("vkCreateBuffer"))?;
+        let mut this = Self {
+            ctx: ctx.clone(),
+            buffer,
+            allocation: None,
+            size,
+            address: 0,
+        };
+        // SAFETY: `buffer` was just created from this device.
+        let requirements = unsafe { ctx.device.get_buffer_memory_requirements(buffer) };
+        let allocation = ctx
+            .allocator()
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location,
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(alloc_err(name))?;
+        // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
+        let bound = unsafe {
+            ctx.device
+                .bind_buffer_memory(buffer, allocation.memory(), allocation.offset())
+        };
+        this.allocation = Some(allocation);
+        bound.map_err(vk_err("vkBindBufferMemory"))?;
+        if usage.contains(vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS) {
+            let info = vk::BufferDeviceAddressInfo::default().buffer(buffer);
+            // SAFETY: created with SHADER_DEVICE_ADDRESS usage and bound to memory allocated
+            // with the device-address flag (allocator setting `buffer_device_address`).
+            this.address = unsafe { ctx.device.get_buffer_device_address(&info) };
+        }
+        Ok(this)
+    }
+
+    /// A device-local buffer filled with `data` through a staging buffer.
+    pub fn with_data(
+        ctx: &Arc<Context>,
+        name: &str,
+        data: &[u8],
+        usage: vk::BufferUsageFlags,
+    ) -> Result<Self, GpuError> {
+        let buffer = Self::new(
+            ctx,
+            name,
+            data.len() as u64,
+            usage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        if data.is_empty() {
+            return Ok(buffer);
+        }
+        let mut staging = Self::new(
+            ctx,
+            &format!("{name} (staging)"),
+            data.len() as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        staging.write(data)?;
+        ctx.submit_and_wait(|cmd| {
+            let region = vk::BufferCopy::default().size(data.len() as u64);
+            // SAFETY: both buffers are live, large enough, and have the transfer usages.
+            unsafe {
+                ctx.device
+                    .cmd_copy_buffer(cmd, staging.buffer, buffer.buffer, &[region]);
+            }
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_READ,
+            );
+            Ok(())
+        })?;
+        Ok(buffer)
+    }
+
+    /// Copies `data` into a host-visible buffer.
+    pub fn write(&mut self, data: &[u8]) -> Result<(), GpuError> {
+        let slice = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or_else(|| {
+                GpuError::Invalid("write to a buffer that is not host-visible".into())
+            })?;
+        slice[..data.len()].copy_from_slice(data);
+        Ok(())
+    }
+
+    /// The contents of a host-visible buffer.
+    pub fn read(&self) -> Result<&[u8], GpuError> {
+        self.ctx.counters.read_back(self.size);
+        self.allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .map(|s| &s[..self.size as usize])
+            .ok_or_else(|| GpuError::Invalid("read of a buffer that is not host-visible".into()))
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        // SAFETY: users wait for their submissions before dropping resources, so the buffer is
+        // no longer in use; the memory is freed after the buffer is destroyed.
+        unsafe { self.ctx.device.destroy_buffer(self.buffer, None) };
+        if let Some(a) = self.allocation.take() {
+            let _ = self.ctx.allocator().free(a);
+        }
+    }
+}
+
+/// A global memory barrier.
+pub(crate) fn barrier(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    src_stage: vk::PipelineStageFlags,
+    src_access: vk::AccessFlags,
+    dst_stage: vk::PipelineStageFlags,
+    dst_access: vk::AccessFlags,
+) {
+    let memory = [vk::MemoryBarrier::default()
+        .src_access_mask(src_access)
+        .dst_access_mask(dst_access)];
+    // SAFETY: recording into a command buffer in the recording state.
+    unsafe {
+        ctx.device.cmd_pipeline_barrier(
+            cmd,
+            src_stage,
+            dst_stage,
+            vk::DependencyFlags::empty(),
+            &memory,
+            &[],
+            &[],
+        )
+    };
+}
+
+/// Orders writes of `src_stage` (with `src_access`) before host reads of mapped memory: the
+/// last command of every readback.
+pub(crate) fn barrier_to_host(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    src_stage: vk::PipelineStageFlags,
+    src_access: vk::AccessFlags,
+) {
+    barrier(
+        ctx,
+        cmd,
+        src_stage,
+        src_access,
+        vk::PipelineStageFlags::HOST,
+        vk::AccessFlags::HOST_READ,
+    );
+}

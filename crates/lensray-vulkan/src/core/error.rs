@@ -1,0 +1,96 @@
+//! The one error type of the Vulkan renderer, and one mapping function per kind of failing call.
+
+use ash::vk;
+use thiserror::Error;
+
+use crate::traversal::Traversal;
+
+#[derive(Debug, Error)]
+pub enum GpuError {
+    /// The Vulkan loader library could not be found or opened.
+    #[error("cannot load the Vulkan library: {0}")]
+    Loader(String),
+    /// The loader found no Vulkan driver (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER).
+    #[error(
+        "no Vulkan driver is installed (Debian/Ubuntu: apt-get install mesa-vulkan-drivers for \
+         lavapipe, or your GPU vendor's driver)"
+    )]
+    NoDriver,
+    /// A Vulkan call returned an error code.
+    #[error("Vulkan call {call} failed: {result}")]
+    Vulkan {
+        call: &'static str,
+        result: vk::Result,
+    },
+    /// gpu-allocator could not provide memory.
+    #[error("GPU memory allocation for {what} failed: {source}")]
+    Allocation {
+        what: String,
+        #[source]
+        source: gpu_allocator::AllocationError,
+    },
+    /// No device (or not the chosen one) can run lensray with the requested traversal (ray
+    /// queries, or any for the software traversal).
+    #[error("{0}")]
+    NoRayQueryDevice(String),
+    /// The opened device cannot trace with this traversal (not supported, hidden, or not
+    /// requested when it was opened).
+    #[error("the {traversal} traversal is not available on {device} (available: {available})")]
+    TraversalUnavailable {
+        traversal: Traversal,
+        device: String,
+        available: String,
+    },
+    /// `GpuOptions::device_index` names no device.
+    #[error("Vulkan device index {index} does not exist: {count} device(s) found{names}")]
+    DeviceIndex {
+        index: usize,
+        count: usize,
+        names: String,
+    },
+    /// The validation layer was asked for but is not installed.
+    #[error(
+        "validation requested but the layer {0} is not installed (Debian/Ubuntu: apt-get install \
+         vulkan-validationlayers; elsewhere: the Vulkan SDK)"
+    )]
+    MissingLayer(String),
+    /// The validation layer reported warnings or errors (leaks at shutdown included).
+    #[error("Vulkan validation reported {count} message(s); first: {first}")]
+    Validation { count: usize, first: String },
+    /// A call that needs a scene came before `load_scene`.
+    #[error("no scene loaded: call GpuRenderer::load_scene first")]
+    NoScene,
+    /// Input that the GPU path cannot handle (too large, inconsistent).
+    #[error("invalid input for the GPU renderer: {0}")]
+    Invalid(String),
+    /// An accumulation whose current sums another device holds.
+    #[error(transparent)]
+    OnDevice(#[from] lensray_core::film::OnDevice),
+}
+
+/// Maps the error code of Vulkan call `call` (use the command's name).
+pub(crate) fn vk_err(call: &'static str) -> impl FnOnce(vk::Result) -> GpuError {
+    move |result| GpuError::Vulkan { call, result }
+}
+
+/// Maps a pipeline-creation error, which comes with the partially created pipelines.
+pub(crate) fn pipeline_err(
+    call: &'static str,
+) -> impl FnOnce((Vec<vk::Pipeline>, vk::Result)) -> GpuError {
+    move |(_, result)| GpuError::Vulkan { call, result }
+}
+
+/// Maps an allocation failure of gpu-allocator for the resource `what`.
+pub(crate) fn alloc_err(
+    what: &str,
+) -> impl FnOnce(gpu_allocator::AllocationError) -> GpuError + '_ {
+    move |source| GpuError::Allocation {
+        what: what.to_string(),
+        source,
+    }
+}
+
+/// Maps a failure to load the Vulkan library.
+pub(crate) fn loader_err(e: ash::LoadingError) -> GpuError {
+    GpuError::Loader(e.to_string())
+}

@@ -1,0 +1,297 @@
+//! Pipelines with their layout and one descriptor set each (compute and graphics).
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::core::buffer::Buffer;
+use crate::core::device::Context;
+use crate::core::error::{pipeline_err, vk_err, GpuError};
+use crate::core::shader::ShaderModule;
+
+/// One descriptor of a pipeline's set: binding number (from `lensray_core::interface`), type, stages.
+pub(crate) type Binding = (u32, vk::DescriptorType, vk::ShaderStageFlags);
+
+/// A pipeline, its layout, and one descriptor set (with its layout and pool).
+pub(crate) struct Pipeline {
+    ctx: Arc<Context>,
+    pub pipeline: vk::Pipeline,
+    pub layout: vk::PipelineLayout,
+    set_layout: vk::DescriptorSetLayout,
+    pool: vk::DescriptorPool,
+    pub set: vk::DescriptorSet,
+    pub bind_point: vk::PipelineBindPoint,
+    push_stages: vk::ShaderStageFlags,
+}
+
+/// The graphics state of the G-buffer pass.
+pub(crate) struct GraphicsDesc<'a> {
+    pub vert: &'a [u8],
+    pub frag: &'a [u8],
+    pub render_pass: vk::RenderPass,
+    pub color_attachments: u32,
+    /// LESS for the course's depth (0 at the near plane), GREATER for reversed depth.
+    pub depth_compare: vk::CompareOp,
+}
+
+impl Pipeline {
+    /// Layout objects first, then the pipeline; on error `Drop` cleans up what exists.
+    fn with_layout(
+        ctx: &Arc<Context>,
+        bindings: &[Binding],
+        push_size: u32,
+        push_stages: vk::ShaderStageFlags,
+        bind_point: vk::PipelineBindPoint,
+    ) -> Result<Self, GpuError> {
+        let mut this = Self {
+            ctx: ctx.clone(),
+            pipeline: vk::Pipeline::null(),
+            layout: vk::PipelineLayout::null(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            pool: vk::DescriptorPool::null(),
+            set: vk::DescriptorSet::null(),
+            bind_point,
+            push_stages,
+        };
+        let layout_bindings: Vec<_> = bindings
+            .iter()
+            .map(|&(binding, ty, stages)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(binding)
+                    .descriptor_type(ty)
+                    .descriptor_count(1)
+                    .stage_flags(stages)
+            })
+            .collect();
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings);
+        // SAFETY: valid create-info on a live device.
+        this.set_layout = unsafe { ctx.device.create_descriptor_set_layout(&info, None) }
+            .map_err(vk_err("vkCreateDescriptorSetLayout"))?;
+
+        let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
+        for &(_, ty, _) in bindings {
+            match sizes.iter_mut().find(|s| s.ty == ty) {
+                Some(s) => s.descriptor_count += 1,
+                None => sizes.push(vk::DescriptorPoolSize {
+                    ty,
+                    descriptor_count: 1,
+                }),
+            }
+        }
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
+        // SAFETY: valid create-info.
+        this.pool = unsafe { ctx.device.create_descriptor_pool(&pool_info, None) }
+            .map_err(vk_err("vkCreateDescriptorPool"))?;
+        let set_layouts = [this.set_layout];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(this.pool)
+            .set_layouts(&set_layouts);
+        // SAFETY: the pool has room for exactly this set.
+        this.set = unsafe { ctx.device.allocate_descriptor_sets(&alloc) }
+            .map_err(vk_err("vkAllocateDescriptorSets"))?[0];
+
+        let ranges = [vk::PushConstantRange::default()
+            .stage_flags(push_stages)
+            .offset(0)
+            .size(push_size)];
+        let mut layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        if push_size > 0 {
+            layout_info = layout_info.push_constant_ranges(&ranges);
+        }
+        // SAFETY: valid create-info referencing a live set layout.
+        this.layout = unsafe { ctx.device.create_pipeline_layout(&layout_info, None) }
+            .map_err(vk_err("vkCreatePipelineLayout"))?;
+        Ok(this)
+    }
+
+    pub fn compute(
+        ctx: &Arc<Context>,
+        spirv: &[u8],
+        bindings: &[Binding],
+        push_size: u32,
+    ) -> Result<Self, GpuError> {
+        let mut this = Self::with_layout(
+            ctx,
+            bindings,
+            push_size,
+            vk::ShaderStageFlags::COMPUTE,
+            vk::PipelineBindPoint::COMPUTE,
+        )?;
+        let module = ShaderModule::new(ctx, spirv)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module.module)
+            .name(c"main");
+        let info = [vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(this.layout)];
+        // SAFETY: the module and layout are live and match the shader's interface.
+        this.pipeline = unsafe {
+            ctx.device
+                .create_compute_pipelines(ctx.pipeline_cache, &info, None)
+        }
+        .map_err(pipeline_err("vkCreateComputePipelines"))?[0];
+        ctx.counters.made_pipeline();
+        Ok(this)
+    }
+
+    pub fn graphics(
+        ctx: &Arc<Context>,
+        desc: &GraphicsDesc<'_>,
+        bindings: &[Binding],
+        push_size: u32,
+    ) -> Result<Self, GpuError> {
+        let mut this = Self::with_layout(
+            ctx,
+            bindings,
+            push_size,
+            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+            vk::PipelineBindPoint::GRAPHICS,
+        )?;
+        let vert = ShaderModule::new(ctx, desc.vert)?;
+        let frag = ShaderModule::new(ctx, desc.frag)?;
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(vert.module)
+                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(frag.module)
+                .name(c"main"),
+        ];
+        // Vertices are pulled from storage buffers: no vertex input.
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        // The camera frame is left-handed (a mirror of the world): no culling, both windings.
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(true)
+            .depth_write_enable(true)
+            .depth_compare_op(desc.depth_compare);
+        let blend: Vec<_> = (0..desc.color_attachments)
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .blend_enable(false)
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let blend_state = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let info = [vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend_state)
+            .dynamic_state(&dynamic)
+            .layout(this.layout)
+            .render_pass(desc.render_pass)
+            .subpass(0)];
+        // SAFETY: every referenced state, module, layout and render pass is live.
+        this.pipeline = unsafe {
+            ctx.device
+                .create_graphics_pipelines(ctx.pipeline_cache, &info, None)
+        }
+        .map_err(pipeline_err("vkCreateGraphicsPipelines"))?[0];
+        ctx.counters.made_pipeline();
+        Ok(this)
+    }
+
+    /// Points binding `binding` at `buffer` (storage or uniform, whole buffer).
+    pub fn bind_buffer(&self, binding: u32, ty: vk::DescriptorType, buffer: &Buffer) {
+        let info = [vk::DescriptorBufferInfo::default()
+            .buffer(buffer.buffer)
+            .offset(0)
+            .range(vk::WHOLE_SIZE)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(ty)
+            .buffer_info(&info);
+        // SAFETY: no submission using the set is pending (every submission is waited for).
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+
+    /// Points binding `binding` at a storage image `view` (in GENERAL layout when used).
+    pub fn bind_storage_image(&self, binding: u32, view: vk::ImageView) {
+        let info = [vk::DescriptorImageInfo::default()
+            .image_view(view)
+            .image_layout(vk::ImageLayout::GENERAL)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+            .image_info(&info);
+        // SAFETY: the set is not in use by a pending command buffer (callers rebind only
+        // between frames, after waiting) and the view is live.
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+
+    pub fn bind_accel(&self, binding: u32, accel: vk::AccelerationStructureKHR) {
+        let handles = [accel];
+        let mut accel_info = vk::WriteDescriptorSetAccelerationStructureKHR::default()
+            .acceleration_structures(&handles);
+        let mut write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+            .push_next(&mut accel_info);
+        write.descriptor_count = 1;
+        // SAFETY: as in `bind_buffer`; the count is set explicitly for the extension struct.
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+
+    /// Binds the pipeline and its set, and pushes `push` (if non-empty).
+    pub fn bind(&self, cmd: vk::CommandBuffer, push: &[u8]) {
+        // SAFETY: command buffer in the recording state; everything bound is live.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_bind_pipeline(cmd, self.bind_point, self.pipeline);
+            self.ctx.device.cmd_bind_descriptor_sets(
+                cmd,
+                self.bind_point,
+                self.layout,
+                0,
+                &[self.set],
+                &[],
+            );
+            if !push.is_empty() {
+                self.ctx
+                    .device
+                    .cmd_push_constants(cmd, self.layout, self.push_stages, 0, push);
+            }
+        }
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        // SAFETY: no submission using these objects is pending; null handles are ignored by
+        // the destroy commands; the set is freed with its pool.
+        unsafe {
+            let d = &self.ctx.device;
+            d.destroy_pipeline(self.pipeline, None);
+            d.destroy_pipeline_layout(self.layout, None);
+            d.destroy_descriptor_pool(self.pool, None);
+            d.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}

@@ -1,0 +1,272 @@
+//! Accumulations kept on the device: the sums of each [`Accumulation`] a GPU path adds samples
+//! to live in a device-local buffer (a film) for as long as the accumulation does, so that a
+//! render continued call after call uploads nothing and reads nothing back until the host asks
+//! (`read`). A film starts cleared (a new accumulation) or from the host's sums (one the CPU
+//! filled, or read back and changed); the trace pass copies each band of rows in and out of it,
+//! and at the end of its call copies the film to host-visible memory (a copy on the device, no
+//! host read), so that reading the sums after a render needs no submission and no second wait.
+
+use std::sync::{Arc, Weak};
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::core::buffer::{barrier, barrier_to_host, Buffer};
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use lensray_core::film::{Accumulation, Holder, OnDevice};
+
+/// Bytes of one pixel's sums (`[r, g, b, n]` as f32).
+const PIXEL_BYTES: u64 = 16;
+
+/// One accumulation's sums on the device.
+struct Film {
+    /// Dead once the accumulation is dropped: the buffer is then reused or freed.
+    key: Weak<()>,
+    sums: Buffer,
+}
+
+/// What a film needs before samples are added to it, recorded at the head of the call's first
+/// submission (`record_start`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Start {
+    /// It holds the current sums (a continuation).
+    Ready,
+    /// A new accumulation: zeros, nothing uploaded.
+    Clear,
+    /// The host's sums, in the transfer buffer, copied up.
+    Upload,
+}
+
+/// The device's films, who holds them, and the host-visible buffer of uploads and read-backs.
+pub(crate) struct DeviceFilms {
+    ctx: Arc<Context>,
+    holder: Holder,
+    films: Vec<Film>,
+    /// Films of dropped accumulations, freed once the timeline passes the value (a submission
+    /// not yet waited for may still use them).
+    retired: Vec<(u64, Buffer)>,
+    /// One image's sums, host-visible both ways; made for the size in use.
+    transfer: Option<Buffer>,
+    /// The film whose current sums `transfer` holds (copied at the end of the last call that
+    /// added to it, and waited for).
+    in_transfer: Option<Weak<()>>,
+}
+
+impl DeviceFilms {
+    pub fn new(ctx: &Arc<Context>) -> Self {
+        Self {
+            ctx: ctx.clone(),
+            holder: Holder::new(),
+            films: Vec::new(),
+            retired: Vec::new(),
+            transfer: None,
+            in_transfer: None,
+        }
+    }
+
+    /// The film that holds `accumulation` on this device from now on (its index) and what it
+    /// needs first. An accumulation with no film here gets one, cleared when it has no samples,
+    /// else with the host's sums uploaded; an error when another device holds its sums.
+    pub fn take(&mut self, accumulation: &mut Accumulation) -> Result<(usize, Start), GpuError> {
+        let bytes = u64::from(accumulation.width) * u64::from(accumulation.height) * PIXEL_BYTES;
+        self.retire_dead(bytes)?;
+        // The film changes, or the transfer buffer carries an upload.
+        self.in_transfer = None;
+        if let Some(key) = accumulation.held_by(self.holder) {
+            if let Some(index) = self.films.iter().position(|f| f.key.ptr_eq(&key)) {
+                accumulation.hold(self.holder)?;
+                return Ok((index, Start::Ready));
+            }
+        }
+        let start = if !accumulation.on_host() {
+            return Err(OnDevice.into());
+        } else if accumulation.is_empty() {
+            Start::Clear
+        } else {
+            let sums = &accumulation.host()?.pixels;
+            self.transfer(bytes)?.write(bytemuck::cast_slice(sums))?;
+            Start::Upload
+        };
+        let key = accumulation.hold(self.holder)?;
+        // A dead film of the same size is reused (its last use is ordered before ours by the
+        // barrier of `record_start`).
+        if let Some(index) = self
+            .films
+            .iter()
+            .position(|f| f.key.strong_count() == 0 && f.sums.size == bytes)
+        {
+            self.films[index].key = key;
+            return Ok((index, start));
+        }
+        let sums = Buffer::new(
+            &self.ctx,
+            "film sums",
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        self.films.push(Film { key, sums });
+        Ok((self.films.len() - 1, start))
+    }
+
+    /// The buffer of film `index`.
+    pub fn sums(&self, index: usize) -> &Buffer {
+        &self.films[index].sums
+    }
+
+    /// Records what film `index` needs before samples are added (`take`'s `Start`), ordered
+    /// after every earlier use of the buffer and before the copies of the trace pass.
+    pub fn record_start(&self, cmd: vk::CommandBuffer, index: usize, start: Start) {
+        let film = &self.films[index].sums;
+        if start == Start::Ready {
+            return;
+        }
+        barrier(
+            &self.ctx,
+            cmd,
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        match (start, &self.transfer) {
+            (Start::Upload, Some(transfer)) => {
+                let copy = vk::BufferCopy::default().size(film.size);
+                // SAFETY: recording state; both buffers have the image's size and the
+                // TRANSFER usages (`take`).
+                unsafe {
+                    self.ctx
+                        .device
+                        .cmd_copy_buffer(cmd, transfer.buffer, film.buffer, &[copy])
+                };
+            }
+            // SAFETY: recording state; the film has TRANSFER_DST usage and a size that is a
+            // multiple of 4.
+            _ => unsafe {
+                self.ctx
+                    .device
+                    .cmd_fill_buffer(cmd, film.buffer, 0, vk::WHOLE_SIZE, 0)
+            },
+        }
+        barrier(
+            &self.ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+            vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::SHADER_READ,
+        );
+    }
+
+    /// Makes the transfer buffer fit film `index`, before a call records `record_finish`.
+    pub fn prepare_finish(&mut self, index: usize) -> Result<(), GpuError> {
+        let bytes = self.films[index].sums.size;
+        self.transfer(bytes).map(|_| ())
+    }
+
+    /// Records the copy of film `index` to the transfer buffer, ordered after every earlier
+    /// write (the call's last band) and before the host's read (the caller's last barrier).
+    pub fn record_finish(&self, cmd: vk::CommandBuffer, index: usize) {
+        let transfer = self.transfer.as_ref().expect("prepare_finish made it");
+        self.record_copy_out(cmd, &self.films[index].sums, transfer);
+    }
+
+    /// The copy that `record_finish` recorded for film `index` was waited for: the transfer
+    /// buffer holds its sums.
+    pub fn finished(&mut self, index: usize) {
+        self.in_transfer = Some(self.films[index].key.clone());
+    }
+
+    /// Brings `accumulation`'s sums to the host when this device holds them: the image's sums
+    /// read back, with no submission when the call that last added to them copied them out
+    /// (`record_finish`), else one submission and one wait. Nothing to do when the host's are
+    /// current; an error when another device holds them.
+    pub fn read(&mut self, accumulation: &mut Accumulation) -> Result<(), GpuError> {
+        if accumulation.on_host() {
+            return Ok(());
+        }
+        let key = accumulation.held_by(self.holder).ok_or(OnDevice)?;
+        let index = self
+            .films
+            .iter()
+            .position(|f| f.key.ptr_eq(&key))
+            .ok_or(OnDevice)?;
+        if !self.in_transfer.as_ref().is_some_and(|k| k.ptr_eq(&key)) {
+            self.prepare_finish(index)?;
+            let transfer = self.transfer.as_ref().expect("made above");
+            self.ctx.submit_and_wait(|cmd| {
+                self.record_copy_out(cmd, &self.films[index].sums, transfer);
+                barrier_to_host(
+                    &self.ctx,
+                    cmd,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                );
+                Ok(())
+            })?;
+            self.in_transfer = Some(key);
+        }
+        let transfer = self.transfer.as_ref().expect("holds the film");
+        let sums: &[[f32; 4]] = bytemuck::cast_slice(transfer.read()?);
+        accumulation.set_from_device(self.holder, sums);
+        Ok(())
+    }
+
+    /// Records the copy of `film` into `transfer`, after every earlier write.
+    fn record_copy_out(&self, cmd: vk::CommandBuffer, film: &Buffer, transfer: &Buffer) {
+        barrier(
+            &self.ctx,
+            cmd,
+            vk::PipelineStageFlags::ALL_COMMANDS,
+            vk::AccessFlags::MEMORY_WRITE,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::TRANSFER_WRITE,
+        );
+        let copy = vk::BufferCopy::default().size(film.size);
+        // SAFETY: recording state; both buffers have the film's size (`prepare_finish`) and the
+        // TRANSFER usages.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_copy_buffer(cmd, film.buffer, transfer.buffer, &[copy])
+        };
+    }
+
+    /// The host-visible transfer buffer of `bytes` (made anew for another size; no submission
+    /// uses the old one: uploads and read-backs are waited for by the calls that make them).
+    fn transfer(&mut self, bytes: u64) -> Result<&mut Buffer, GpuError> {
+        if self.transfer.as_ref().is_none_or(|t| t.size != bytes) {
+            self.transfer = None;
+            self.in_transfer = None;
+            self.transfer = Some(Buffer::new(
+                &self.ctx,
+                "film transfer",
+                bytes,
+                vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?);
+        }
+        Ok(self.transfer.as_mut().expect("made above"))
+    }
+
+    /// Retires the films of dropped accumulations but one of `bytes` (kept for reuse), and frees the retired ones the device has finished with.
+    fn retire_dead(&mut self, bytes: u64) -> Result<(), GpuError> {
+        let last = self.ctx.last_submitted();
+        let mut spare = false;
+        for film in std::mem::take(&mut self.films) {
+            let dead = film.key.strong_count() == 0;
+            if dead && (spare || film.sums.size != bytes) {
+                self.retired.push((last, film.sums));
+            } else {
+                spare |= dead;
+                self.films.push(film);
+            }
+        }
+        if !self.retired.is_empty() {
+            let completed = self.ctx.completed()?;
+            self.retired.retain(|(value, _)| *value > completed);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,353 @@
+//! The hybrid path's plan on the device (shaders/passes/hybrid_plan.comp): from the G-buffer images
+//! already drawn in the same command buffer into the trace pass's plan buffer
+//! (TRACE_BINDING_PLAN), with no readback. The rules are those of the host's reference
+//! `paths::hybrid::Plan::new`; tests/hybrid.rs checks that both plans are equal.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::core::buffer::barrier_to_host;
+use crate::core::buffer::{barrier, Buffer};
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use crate::core::image::{transition, Transition};
+use crate::core::pipeline::Pipeline;
+use crate::core::shader;
+use crate::passes::gbuffer::GBufferTargets;
+use crate::passes::trace::TracePass;
+use crate::passes::visibility::VisibilityPass;
+use crate::scene::SceneBuffers;
+use crate::{check_size, GpuRenderer};
+use lensray_core::camera::Camera;
+use lensray_core::interface::{
+    HybridPlanPush, HYBRID_PLAN_BINDING_ALBEDO, HYBRID_PLAN_BINDING_EDGES,
+    HYBRID_PLAN_BINDING_NORMAL, HYBRID_PLAN_BINDING_PLAN, HYBRID_PLAN_BINDING_SURFACE_DEPTH,
+    HYBRID_PLAN_BINDING_TILES, HYBRID_PLAN_BINDING_VIEW_DEPTH, HYBRID_PLAN_GROUP_SIZE,
+    HYBRID_PLAN_STEP_COLUMNS, HYBRID_PLAN_STEP_DILATE, HYBRID_PLAN_STEP_ENTRIES,
+    HYBRID_PLAN_STEP_ROWS, HYBRID_PLAN_STEP_TILES, HYBRID_SEGMENT, HYBRID_TILE, SHADING_LIT,
+    SHADING_UNLIT,
+};
+use lensray_core::settings::{RenderSettings, Shading};
+
+// hybrid_plan.comp's ENTRIES step takes a segment to be one tile row, and a tile to be one
+// workgroup.
+const _: () = assert!(HYBRID_SEGMENT == HYBRID_TILE);
+const _: () = assert!(HYBRID_TILE * HYBRID_TILE == HYBRID_PLAN_GROUP_SIZE);
+
+/// The plan pass's scratch buffers of one image size.
+struct Scratch {
+    /// Per tile: the maximum CoC of its pixels (f32), then per tile its dilated CoC.
+    tiles: Buffer,
+    /// The summed-area table of edge marks, (width + 1) x (height + 1) u32.
+    edges: Buffer,
+    width: u32,
+    height: u32,
+}
+
+pub(crate) struct HybridPlanPass {
+    ctx: Arc<Context>,
+    pipeline: Pipeline,
+    scratch: Option<Scratch>,
+}
+
+impl HybridPlanPass {
+    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let image = vk::DescriptorType::STORAGE_IMAGE;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let bindings = [
+            (HYBRID_PLAN_BINDING_NORMAL, image, compute),
+            (HYBRID_PLAN_BINDING_ALBEDO, image, compute),
+            (HYBRID_PLAN_BINDING_VIEW_DEPTH, image, compute),
+            (HYBRID_PLAN_BINDING_TILES, storage, compute),
+            (HYBRID_PLAN_BINDING_EDGES, storage, compute),
+            (HYBRID_PLAN_BINDING_PLAN, storage, compute),
+            (HYBRID_PLAN_BINDING_SURFACE_DEPTH, storage, compute),
+        ];
+        let pipeline = Pipeline::compute(
+            ctx,
+            shader::HYBRID_PLAN_COMP,
+            &bindings,
+            std::mem::size_of::<HybridPlanPush>() as u32,
+        )?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            scratch: None,
+        })
+    }
+
+    /// Binds the G-buffer `targets` and the trace pass's `plan` and `surface_depth` buffers (at
+    /// least one entry per pixel), with scratch buffers of the targets' size. No submission
+    /// using the pass may be pending (descriptor updates).
+    pub fn bind(
+        &mut self,
+        targets: &GBufferTargets,
+        plan: &Buffer,
+        surface_depth: &Buffer,
+    ) -> Result<(), GpuError> {
+        let (width, height) = (targets.width, targets.height);
+        if plan.size < u64::from(width) * u64::from(height) * 16 {
+            return Err(GpuError::Invalid(format!(
+                "a {}-byte plan buffer for a {width}x{height} image",
+                plan.size
+            )));
+        }
+        if self
+            .scratch
+            .as_ref()
+            .is_none_or(|s| (s.width, s.height) != (width, height))
+        {
+            self.scratch = None;
+            let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+            let tiles = u64::from(width.div_ceil(HYBRID_TILE) * height.div_ceil(HYBRID_TILE));
+            let table = (u64::from(width) + 1) * (u64::from(height) + 1);
+            self.scratch = Some(Scratch {
+                tiles: Buffer::new(
+                    &self.ctx,
+                    "hybrid plan tiles",
+                    tiles * 8,
+                    usage,
+                    MemoryLocation::GpuOnly,
+                )?,
+                edges: Buffer::new(
+                    &self.ctx,
+                    "hybrid plan edge table",
+                    table * 4,
+                    usage,
+                    MemoryLocation::GpuOnly,
+                )?,
+                width,
+                height,
+            });
+        }
+        let scratch = self.scratch.as_ref().expect("created above");
+        let p = &self.pipeline;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        p.bind_storage_image(HYBRID_PLAN_BINDING_NORMAL, targets.normal.view);
+        p.bind_storage_image(HYBRID_PLAN_BINDING_ALBEDO, targets.albedo.view);
+        p.bind_storage_image(HYBRID_PLAN_BINDING_VIEW_DEPTH, targets.view_depth.view);
+        p.bind_buffer(HYBRID_PLAN_BINDING_TILES, storage, &scratch.tiles);
+        p.bind_buffer(HYBRID_PLAN_BINDING_EDGES, storage, &scratch.edges);
+        p.bind_buffer(HYBRID_PLAN_BINDING_PLAN, storage, plan);
+        p.bind_buffer(HYBRID_PLAN_BINDING_SURFACE_DEPTH, storage, surface_depth);
+        Ok(())
+    }
+
+    /// Records the plan of `spp` samples of `shading` seen by `camera` (the lens the CoC is
+    /// computed with; the G-buffer was drawn with its planning camera, same rays and pixels)
+    /// after the G-buffer pass: the images go from TRANSFER_SRC_OPTIMAL to GENERAL and back, the
+    /// plan's writes are ordered before later compute reads.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        targets: &GBufferTargets,
+        camera: &Camera,
+        shading: Shading,
+        spp: u32,
+    ) {
+        let ctx = &self.ctx;
+        targets.record_to_general(ctx, cmd, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
+        let (width, height) = (targets.width, targets.height);
+        let (tiles_x, tiles_y) = (width.div_ceil(HYBRID_TILE), height.div_ceil(HYBRID_TILE));
+        let push = |step| HybridPlanPush {
+            width,
+            height,
+            tiles_x,
+            tiles_y,
+            step,
+            shading: if shading == Shading::Lit {
+                SHADING_LIT
+            } else {
+                SHADING_UNLIT
+            },
+            spp,
+            projection: crate::upload::projection_code(camera),
+            lens_reach: camera.lens.reach(),
+            focus_distance: camera.lens.focus_distance,
+            near_z: camera.near,
+            pixels_per_screen_unit: camera.pixels_per_screen_unit(),
+        };
+        // One invocation per tile, row, column, tile, segment.
+        let steps = [
+            (HYBRID_PLAN_STEP_TILES, tiles_x * tiles_y),
+            (HYBRID_PLAN_STEP_ROWS, height),
+            (HYBRID_PLAN_STEP_COLUMNS, width),
+            (HYBRID_PLAN_STEP_DILATE, tiles_x * tiles_y),
+            (HYBRID_PLAN_STEP_ENTRIES, tiles_x * height),
+        ];
+        for (step, invocations) in steps {
+            // Earlier steps' writes (and earlier readers of the scratch and plan) first.
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            );
+            self.pipeline.bind(cmd, bytemuck::bytes_of(&push(step)));
+            // SAFETY: compute pipeline and its complete set bound (`bind`); the images are in
+            // GENERAL.
+            unsafe {
+                ctx.device
+                    .cmd_dispatch(cmd, invocations.div_ceil(HYBRID_PLAN_GROUP_SIZE), 1, 1)
+            };
+        }
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
+        for image in [&targets.normal, &targets.albedo, &targets.view_depth] {
+            transition(
+                ctx,
+                cmd,
+                image.image,
+                &Transition {
+                    old: vk::ImageLayout::GENERAL,
+                    new: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    src_stage: vk::PipelineStageFlags::COMPUTE_SHADER,
+                    src_access: vk::AccessFlags::empty(),
+                    dst_stage: vk::PipelineStageFlags::COMPUTE_SHADER
+                        | vk::PipelineStageFlags::TRANSFER,
+                    dst_access: vk::AccessFlags::SHADER_READ | vk::AccessFlags::TRANSFER_READ,
+                },
+            );
+        }
+    }
+}
+
+/// The hybrid path's entry points (src/paths/hybrid/).
+impl GpuRenderer {
+    /// The hybrid plan's pass, made on first use (only the hybrid path compiles its pipeline).
+    pub(crate) fn ensure_hybrid_plan(&mut self) -> Result<(), GpuError> {
+        if self.hybrid_plan.is_none() {
+            self.hybrid_plan = Some(HybridPlanPass::new(&self.ctx)?);
+        }
+        Ok(())
+    }
+
+    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel, row-major;
+    /// see `interface::TRACE_BINDING_PLAN`), or `None` to trace every sample again.
+    pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
+        self.trace.set_plan(plan)
+    }
+    /// The hybrid path's plan made on the device (shaders/passes/hybrid_plan.comp) for later
+    /// `accumulate` calls: one submission draws the G-buffer of `planning` (the camera whose
+    /// raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
+    /// pixel's shortcut value and shadow state), and plans `settings.spp` samples seen by
+    /// `camera` from them. Nothing is read back; `read_plan` can.
+    pub fn plan_on_device(
+        &mut self,
+        camera: &Camera,
+        planning: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<(), GpuError> {
+        check_size(camera)?;
+        if (planning.width, planning.height) != (camera.width, camera.height) {
+            return Err(GpuError::Invalid(
+                "the planning camera's size differs from the camera's".into(),
+            ));
+        }
+        let lit = settings.shading == Shading::Lit;
+        if lit {
+            self.prepare_raster(camera.width, camera.height)?;
+        }
+        self.ensure_hybrid_plan()?;
+        self.gbuffer_pass()?
+            .ensure_targets(camera.width, camera.height)?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        self.trace.ensure_plan_capacity(pixels)?;
+        // The render's buffers now, while nothing is pending: the plan is not waited for.
+        self.trace
+            .ensure_accumulation(camera.width, camera.height)?;
+        self.trace.ensure_camera_tables(camera)?;
+        let gbuffer = self.gbuffer.as_ref().expect("made above");
+        let targets = gbuffer.targets.as_ref().expect("ensured above");
+        let hybrid_plan = self.hybrid_plan.as_mut().expect("made above");
+        hybrid_plan.bind(
+            targets,
+            self.trace.plan_buffer_ref(),
+            self.trace.surface_depth_ref(),
+        )?;
+        let ctx = &self.ctx;
+        let plan = self.hybrid_plan.as_ref().expect("made above");
+        let trace = &mut self.trace;
+        let visibility = self.visibility.as_ref();
+        // Not waited for: the render's submissions follow on the queue, and the pre-pass's
+        // rays reach the render's report through the counter (`record_keep_prepass_rays`).
+        ctx.submit(|cmd| {
+            gbuffer.record(cmd, scene, planning, settings.background, None);
+            if let Some(visibility) = visibility.filter(|_| lit) {
+                record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
+                trace.record_keep_prepass_rays(cmd);
+            }
+            plan.record(cmd, targets, camera, settings.shading, settings.spp);
+            barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            );
+            Ok(())
+        })?;
+        self.timings.gbuffer_passes += 1;
+        self.trace.use_device_plan(pixels);
+        Ok(())
+    }
+    /// The hybrid's lit pre-pass alone (the host plan's input, `paths::hybrid::host_plan`): per
+    /// pixel the shortcut value (xyz) and whether its shadow ray was blocked (w, 1 or 0).
+    pub fn lit_prepass(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        check_size(camera)?;
+        self.prepare_raster(camera.width, camera.height)?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let visibility = self.visibility.as_ref().expect("prepared above");
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        self.trace.ensure_plan_capacity(pixels)?;
+        self.trace.ensure_camera_tables(camera)?;
+        let (ctx, trace) = (&self.ctx, &self.trace);
+        ctx.submit_and_wait(|cmd| {
+            record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
+            barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            );
+            Ok(())
+        })?;
+        self.trace.read_plan(pixels)
+    }
+    /// The entries of the plan last made by `plan_on_device` (`pixels` of them), once it is
+    /// made.
+    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.ctx.wait_all()?;
+        self.trace.read_plan(pixels)
+    }
+}
+
+/// The hybrid's lit pre-pass with the parameters of `camera` and `settings`, its rays counted
+/// from zero (the render path's plan and the host plan's input record it alike): the
+/// visibility pass through the lens centre, then the shading of what it saw.
+fn record_lit_prepass(
+    (trace, visibility, scene): (&TracePass, &VisibilityPass, &SceneBuffers),
+    cmd: vk::CommandBuffer,
+    camera: &Camera,
+    settings: &RenderSettings,
+) {
+    trace.record_params(cmd, &crate::upload::trace_params(camera, settings));
+    trace.record_clear_ray_counter(cmd);
+    visibility.record_aperture_centre(cmd, scene, camera);
+    trace.record_lit_prepass(cmd, camera.width, camera.height);
+}

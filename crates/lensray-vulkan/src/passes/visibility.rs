@@ -1,0 +1,309 @@
+//! The raster path's visibility pass (accumulation-buffer depth of field, docs/raster.md): the
+//! scene rasterized through one lens point (`Camera::clip_from_world_through_lens`) into an
+//! R32_UINT image of triangle index + 1 (0: nothing) with reversed D32 depth, then copied into
+//! a storage buffer that the shading pass (trace.comp, TRACE_MODE_RASTER) reads.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{UVec2, Vec2};
+use gpu_allocator::MemoryLocation;
+
+use crate::core::buffer::{barrier, Buffer};
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use crate::core::image::{record_copy_to_buffer, Image};
+use crate::core::pipeline::{GraphicsDesc, Pipeline};
+use crate::core::shader;
+use crate::passes::draw::{
+    record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
+};
+use crate::scene::SceneBuffers;
+use crate::{check_samples, GpuRenderer};
+use lensray_core::camera::Camera;
+use lensray_core::film::Accumulation;
+use lensray_core::interface::VisibilityPush;
+use lensray_core::sampler::{pixel_camera_sample, shared_pixel_sampler};
+use lensray_core::settings::RenderSettings;
+
+const TRIANGLE_FORMAT: vk::Format = vk::Format::R32_UINT;
+
+/// The images of one size, their framebuffer, and the buffer the shading pass reads.
+pub(crate) struct VisibilityTargets {
+    /// First: dropped before the images whose views it uses.
+    framebuffer: SceneFramebuffer,
+    triangle: Image,
+    #[allow(dead_code)] // owned here: the framebuffer uses its view
+    depth: Image,
+    /// One uint per pixel, row-major: TRACE_BINDING_VISIBILITY.
+    pub buffer: Buffer,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl VisibilityTargets {
+    fn new(
+        ctx: &Arc<Context>,
+        render_pass: vk::RenderPass,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, GpuError> {
+        let triangle = Image::new(
+            ctx,
+            "raster visibility",
+            width,
+            height,
+            TRIANGLE_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageAspectFlags::COLOR,
+        )?;
+        let depth = Image::new(
+            ctx,
+            "raster visibility depth",
+            width,
+            height,
+            SCENE_DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            vk::ImageAspectFlags::DEPTH,
+        )?;
+        let buffer = Buffer::new(
+            ctx,
+            "raster visibility buffer",
+            u64::from(width) * u64::from(height) * 4,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        let framebuffer = SceneFramebuffer::new(
+            ctx,
+            render_pass,
+            &[triangle.view, depth.view],
+            width,
+            height,
+        )?;
+        Ok(Self {
+            framebuffer,
+            triangle,
+            depth,
+            buffer,
+            width,
+            height,
+        })
+    }
+}
+
+pub(crate) struct VisibilityPass {
+    ctx: Arc<Context>,
+    pipeline: Pipeline,
+    pub targets: Option<VisibilityTargets>,
+    render_pass: SceneRenderPass,
+}
+
+impl VisibilityPass {
+    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let render_pass = SceneRenderPass::new(ctx, &[TRIANGLE_FORMAT])?;
+        let pipeline = Pipeline::graphics(
+            ctx,
+            &GraphicsDesc {
+                vert: shader::VISIBILITY_VERT,
+                frag: shader::VISIBILITY_FRAG,
+                render_pass: render_pass.handle,
+                color_attachments: 1,
+                depth_compare: vk::CompareOp::GREATER,
+            },
+            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX),
+            std::mem::size_of::<VisibilityPush>() as u32,
+        )?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            targets: None,
+            render_pass,
+        })
+    }
+
+    /// Points the pipeline's set at a newly loaded scene.
+    pub fn bind_scene(&self, scene: &SceneBuffers) {
+        scene.bind(&self.pipeline);
+    }
+
+    /// Makes the targets `width` x `height` (recreating them on a size change); true when they
+    /// were recreated (the buffer must be bound again).
+    pub fn ensure_targets(&mut self, width: u32, height: u32) -> Result<bool, GpuError> {
+        if self
+            .targets
+            .as_ref()
+            .is_some_and(|t| t.width == width && t.height == height)
+        {
+            return Ok(false);
+        }
+        self.targets = None;
+        self.targets = Some(VisibilityTargets::new(
+            &self.ctx,
+            self.render_pass.handle,
+            width,
+            height,
+        )?);
+        Ok(true)
+    }
+
+    /// Records the pass of camera sample `sample`, shared by every pixel: pixel (0, 0)'s
+    /// sample (`sampler::shared_pixel_sampler`), whose film position is the offset within the
+    /// pixel. See `record`.
+    pub fn record_sample(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneBuffers,
+        camera: &Camera,
+        settings: &RenderSettings,
+        sample: u32,
+    ) {
+        let shared = shared_pixel_sampler(settings.sampler, settings.seed, UVec2::ZERO);
+        let cs = pixel_camera_sample(&shared, sample);
+        self.record(cmd, scene, camera, cs.film, cs.lens);
+    }
+
+    /// Records the pass along each pixel's aperture-centre ray through its centre (the hybrid's
+    /// lit pre-pass shades what it sees: trace.comp, TRACE_MODE_SHORTCUT). `camera` is the
+    /// traced camera; its raster counterpart is taken here.
+    pub fn record_aperture_centre(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneBuffers,
+        camera: &Camera,
+    ) {
+        // Film offset 0.5 is the pixel centre; lens_u (0.5, 0.5) the lens centre
+        // (concentric_sample_disk), as generate_ray is given them in the pre-pass.
+        let centre = Vec2::splat(0.5);
+        self.record(cmd, scene, &camera.for_rasterizing_rays(), centre, centre);
+    }
+
+    /// Records the pass for one camera sample shared by every pixel (`film_u`, `lens_u`; the
+    /// camera as `Camera::for_rasterizing_rays` gives it) and the copy into the buffer, whose
+    /// writes are then ordered before compute-shader reads. Earlier compute reads of the
+    /// buffer are ordered before the copy.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneBuffers,
+        camera: &Camera,
+        film_u: Vec2,
+        lens_u: Vec2,
+    ) {
+        let ctx = &self.ctx;
+        let targets = self.targets.as_ref().expect("ensure_targets first");
+        let (width, height) = (targets.width, targets.height);
+        let push = VisibilityPush {
+            clip_from_world: camera
+                .clip_from_world_through_lens(film_u, lens_u)
+                .to_cols_array(),
+        };
+        let clear = [
+            vk::ClearValue {
+                color: vk::ClearColorValue { uint32: [0; 4] },
+            },
+            // Reversed depth: 0 is the far plane.
+            vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 0.0,
+                    stencil: 0,
+                },
+            },
+        ];
+        record_scene_draw(
+            ctx,
+            cmd,
+            scene,
+            &SceneDraw {
+                render_pass: self.render_pass.handle,
+                framebuffer: targets.framebuffer.handle,
+                width,
+                height,
+                clear: &clear,
+                pipeline: &self.pipeline,
+                push: bytemuck::bytes_of(&push),
+            },
+        );
+        // The previous sample's shading pass read the buffer: before the copy overwrites it.
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+        );
+        // The render pass left the image in TRANSFER_SRC_OPTIMAL and its outgoing dependency
+        // orders the attachment writes before this copy; the buffer holds a uint per pixel.
+        record_copy_to_buffer(
+            ctx,
+            cmd,
+            targets.triangle.image,
+            targets.buffer.buffer,
+            [0, 0],
+            [width, height],
+        );
+        barrier(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::AccessFlags::TRANSFER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ,
+        );
+    }
+}
+
+/// The raster path's entry points (src/paths/raster.rs).
+impl GpuRenderer {
+    /// The raster path (accumulation-buffer depth of field, docs/raster.md): adds samples
+    /// `samples` of every pixel as `accumulate` does, but each sample is one camera sample
+    /// shared by every pixel (`settings.shared_samples` is implied): the scene is rasterized
+    /// through that sample's lens point (`Camera::clip_from_world_through_lens`), and the
+    /// shading pass shades what each pixel sees along its lens ray (lit: with a shadow ray of
+    /// the traversal in use).
+    pub fn accumulate_rasterized(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: std::ops::Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(), GpuError> {
+        check_samples(camera, settings)?;
+        self.prepare_raster(camera.width, camera.height)?;
+        let settings = RenderSettings {
+            shared_samples: true,
+            ..*settings
+        };
+        let raster_camera = camera.for_rasterizing_rays();
+        let visibility = self.visibility.as_ref().expect("prepared");
+        let scene = self.scene.as_ref().expect("prepared");
+        let record = |cmd, sample| {
+            visibility.record_sample(cmd, scene, &raster_camera, &settings, sample);
+        };
+        self.trace.accumulate(
+            (camera, &settings),
+            samples,
+            accumulation,
+            &mut self.timings,
+            Some(&record),
+            progress,
+        )
+    }
+    /// Makes the raster path's visibility pass (on first use) and its targets for a `width` x
+    /// `height` image, bound to the trace pass (the hybrid's lit pre-pass uses it too).
+    pub(crate) fn prepare_raster(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        if self.visibility.is_none() {
+            let pass = VisibilityPass::new(&self.ctx)?;
+            pass.bind_scene(scene);
+            self.visibility = Some(pass);
+        }
+        let visibility = self.visibility.as_mut().expect("made above");
+        if visibility.ensure_targets(width, height)? {
+            let targets = visibility.targets.as_ref().expect("just made");
+            self.trace.bind_visibility(&targets.buffer);
+        }
+        Ok(())
+    }
+}

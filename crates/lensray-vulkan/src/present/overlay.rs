@@ -1,0 +1,201 @@
+//! The preview's on-screen panel: egui's triangles drawn over the window image by
+//! egui-ash-renderer, in a render pass that loads the copied display image and leaves the
+//! window image ready to present.
+
+use std::sync::Arc;
+
+use ash::vk;
+use egui_ash_renderer::allocator::DefaultAllocator;
+use egui_ash_renderer::{Options, RenderMode, Renderer};
+
+use crate::core::device::Context;
+use crate::core::error::{vk_err, GpuError};
+use crate::present::swapchain::Swapchain;
+
+/// What egui asks the frame to draw.
+pub struct OverlayFrame {
+    pub primitives: Vec<egui::ClippedPrimitive>,
+    pub textures: egui::TexturesDelta,
+    pub pixels_per_point: f32,
+}
+
+pub(crate) struct Overlay {
+    ctx: Arc<Context>,
+    /// Dropped before the render pass its pipeline was made for.
+    renderer: Option<Renderer<DefaultAllocator>>,
+    render_pass: vk::RenderPass,
+    framebuffers: Vec<vk::Framebuffer>,
+    extent: vk::Extent2D,
+    format: vk::Format,
+}
+
+fn egui_err(e: egui_ash_renderer::RendererError) -> GpuError {
+    GpuError::Invalid(format!("the egui renderer failed: {e}"))
+}
+
+impl Overlay {
+    pub fn new(ctx: &Arc<Context>, format: vk::Format, frames: usize) -> Result<Self, GpuError> {
+        let attachment = [vk::AttachmentDescription::default()
+            .format(format)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .initial_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+            .final_layout(vk::ImageLayout::PRESENT_SRC_KHR)];
+        let color_ref = [vk::AttachmentReference::default()
+            .attachment(0)
+            .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
+        let subpass = [vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&color_ref)];
+        let color_stage = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT;
+        let color_rw =
+            vk::AccessFlags::COLOR_ATTACHMENT_READ | vk::AccessFlags::COLOR_ATTACHMENT_WRITE;
+        let dependencies = [
+            // The copy of the display image into the window image comes first.
+            vk::SubpassDependency::default()
+                .src_subpass(vk::SUBPASS_EXTERNAL)
+                .dst_subpass(0)
+                .src_stage_mask(vk::PipelineStageFlags::TRANSFER)
+                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                .dst_stage_mask(color_stage)
+                .dst_access_mask(color_rw),
+            // Presentation waits on the frame's semaphore, signalled after everything.
+            vk::SubpassDependency::default()
+                .src_subpass(0)
+                .dst_subpass(vk::SUBPASS_EXTERNAL)
+                .src_stage_mask(color_stage)
+                .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags::BOTTOM_OF_PIPE)
+                .dst_access_mask(vk::AccessFlags::empty()),
+        ];
+        let info = vk::RenderPassCreateInfo::default()
+            .attachments(&attachment)
+            .subpasses(&subpass)
+            .dependencies(&dependencies);
+        // SAFETY: valid create-info on a live device; destroyed in Drop.
+        let render_pass = unsafe { ctx.device.create_render_pass(&info, None) }
+            .map_err(vk_err("vkCreateRenderPass"))?;
+        let mut this = Self {
+            ctx: ctx.clone(),
+            renderer: None,
+            render_pass,
+            framebuffers: Vec::new(),
+            extent: vk::Extent2D::default(),
+            format,
+        };
+        this.renderer = Some(
+            Renderer::with_default_allocator(
+                &ctx.instance.instance,
+                ctx.physical_device,
+                ctx.device.clone(),
+                RenderMode::RenderPass(render_pass),
+                Options {
+                    in_flight_frames: frames,
+                    enable_depth_test: false,
+                    enable_depth_write: false,
+                    // The window image is UNORM holding sRGB-encoded values: egui encodes.
+                    srgb_framebuffer: false,
+                },
+            )
+            .map_err(egui_err)?,
+        );
+        Ok(this)
+    }
+
+    pub fn format(&self) -> vk::Format {
+        self.format
+    }
+
+    /// Framebuffers for the images of a new swapchain. No frame may be in flight.
+    pub fn attach(&mut self, swapchain: &Swapchain) -> Result<(), GpuError> {
+        self.destroy_framebuffers();
+        for &view in &swapchain.views {
+            let views = [view];
+            let info = vk::FramebufferCreateInfo::default()
+                .render_pass(self.render_pass)
+                .attachments(&views)
+                .width(swapchain.extent.width)
+                .height(swapchain.extent.height)
+                .layers(1);
+            // SAFETY: the view is a live swapchain image view of the render pass's format.
+            let framebuffer = unsafe { self.ctx.device.create_framebuffer(&info, None) }
+                .map_err(vk_err("vkCreateFramebuffer"))?;
+            self.framebuffers.push(framebuffer);
+        }
+        self.extent = swapchain.extent;
+        Ok(())
+    }
+
+    /// Uploads egui's new and changed textures (before recording the frame that uses them).
+    pub fn set_textures(&mut self, textures: &egui::TexturesDelta) -> Result<(), GpuError> {
+        let renderer = self.renderer.as_mut().expect("renderer");
+        for (id, deltas) in &textures.set {
+            for delta in deltas {
+                renderer
+                    .set_texture(self.ctx.queue, self.ctx.command_pool, *id, delta)
+                    .map_err(egui_err)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Frees textures egui no longer uses (after the frames that drew with them finished).
+    pub fn free_textures(&mut self, ids: &[egui::TextureId]) -> Result<(), GpuError> {
+        let renderer = self.renderer.as_mut().expect("renderer");
+        for &id in ids {
+            renderer.free_texture(id).map_err(egui_err)?;
+        }
+        Ok(())
+    }
+
+    /// Records the render pass over window image `image_index` (in TRANSFER_DST_OPTIMAL after
+    /// the copy), leaving it in PRESENT_SRC_KHR.
+    pub fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        image_index: u32,
+        frame: Option<&OverlayFrame>,
+    ) -> Result<(), GpuError> {
+        let begin = vk::RenderPassBeginInfo::default()
+            .render_pass(self.render_pass)
+            .framebuffer(self.framebuffers[image_index as usize])
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D { x: 0, y: 0 },
+                extent: self.extent,
+            });
+        // SAFETY: recording state; the framebuffer was made for this render pass and image.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE)
+        };
+        if let Some(frame) = frame {
+            let renderer = self.renderer.as_mut().expect("renderer");
+            renderer
+                .cmd_draw(cmd, self.extent, frame.pixels_per_point, &frame.primitives)
+                .map_err(egui_err)?;
+        }
+        // SAFETY: inside the render pass begun above.
+        unsafe { self.ctx.device.cmd_end_render_pass(cmd) };
+        Ok(())
+    }
+
+    fn destroy_framebuffers(&mut self) {
+        for framebuffer in self.framebuffers.drain(..) {
+            // SAFETY: callers wait until no frame uses the framebuffers.
+            unsafe { self.ctx.device.destroy_framebuffer(framebuffer, None) };
+        }
+    }
+}
+
+impl Drop for Overlay {
+    fn drop(&mut self) {
+        self.destroy_framebuffers();
+        self.renderer = None;
+        // SAFETY: the viewer waited for the device; the renderer's pipeline is destroyed.
+        unsafe { self.ctx.device.destroy_render_pass(self.render_pass, None) };
+    }
+}

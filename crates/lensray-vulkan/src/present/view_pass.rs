@@ -1,0 +1,172 @@
+//! The preview's view pass (shaders/present/view.frag): a non-final view (albedo, normal, depth, circle
+//! of confusion) rasterized straight into an 8-bit target, the window image. It shows what the
+//! G-buffer pass followed by the resolve shows (the same vertex stage, the encodings of
+//! shaders/include/views.glsl), for a third of the G-buffer's target bandwidth and without the resolve
+//! and the copy into the window: those frames are what a window that only frames the shot
+//! draws, and on lavapipe they are where the frame rate is won (docs/preview.md).
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec3;
+
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use crate::core::image::Image;
+use crate::core::pipeline::{GraphicsDesc, Pipeline};
+use crate::core::shader;
+use crate::passes::draw::{
+    record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
+};
+use crate::scene::SceneBuffers;
+use lensray_core::camera::Camera;
+use lensray_core::film::colour::linear_to_srgb;
+use lensray_core::interface::{ViewParams, ViewPush, VIEW_ALBEDO, VIEW_FINAL};
+
+/// One framebuffer per target image, sharing a depth buffer.
+struct ViewTargets {
+    /// First: dropped before the depth image their views use.
+    framebuffers: Vec<SceneFramebuffer>,
+    #[allow(dead_code)] // alive while the framebuffers use it
+    depth: Image,
+    width: u32,
+    height: u32,
+}
+
+pub(crate) struct ViewPass {
+    ctx: Arc<Context>,
+    pipeline: Pipeline,
+    targets: Option<ViewTargets>,
+    render_pass: SceneRenderPass,
+    format: vk::Format,
+}
+
+impl ViewPass {
+    /// Draws into images of `format`, left in `final_layout`.
+    pub fn new(
+        ctx: &Arc<Context>,
+        format: vk::Format,
+        final_layout: vk::ImageLayout,
+    ) -> Result<Self, GpuError> {
+        let render_pass = SceneRenderPass::with_final_layout(ctx, &[format], final_layout)?;
+        let pipeline = Pipeline::graphics(
+            ctx,
+            &GraphicsDesc {
+                vert: shader::GBUFFER_VERT,
+                frag: shader::VIEW_FRAG,
+                render_pass: render_pass.handle,
+                color_attachments: 1,
+                depth_compare: vk::CompareOp::LESS,
+            },
+            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX),
+            std::mem::size_of::<ViewPush>() as u32,
+        )?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            targets: None,
+            render_pass,
+            format,
+        })
+    }
+
+    pub fn format(&self) -> vk::Format {
+        self.format
+    }
+
+    /// Points the pipeline's set at the scene's arrays.
+    pub fn bind_scene(&self, scene: &SceneBuffers) {
+        scene.bind(&self.pipeline);
+    }
+
+    /// Framebuffers over `views` (target images of `width` x `height`, alive until the next
+    /// `attach` or the pass's drop). No frame may be in flight.
+    pub fn attach(
+        &mut self,
+        views: &[vk::ImageView],
+        width: u32,
+        height: u32,
+    ) -> Result<(), GpuError> {
+        self.targets = None;
+        let depth = Image::new(
+            &self.ctx,
+            "view pass depth",
+            width,
+            height,
+            SCENE_DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            vk::ImageAspectFlags::DEPTH,
+        )?;
+        let framebuffers = views
+            .iter()
+            .map(|&view| {
+                SceneFramebuffer::new(
+                    &self.ctx,
+                    self.render_pass.handle,
+                    &[view, depth.view],
+                    width,
+                    height,
+                )
+            })
+            .collect::<Result<_, _>>()?;
+        self.targets = Some(ViewTargets {
+            framebuffers,
+            depth,
+            width,
+            height,
+        });
+        Ok(())
+    }
+
+    /// Records view `shown.view` (not VIEW_FINAL) of `camera` into target `index`: uncovered
+    /// pixels show the background in the albedo view (as the G-buffer's cleared albedo does),
+    /// black in the others.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneBuffers,
+        camera: &Camera,
+        background: Vec3,
+        shown: ViewParams,
+        index: usize,
+    ) {
+        debug_assert_ne!(shown.view, VIEW_FINAL, "the final view is the resolve's");
+        let targets = self.targets.as_ref().expect("attach first");
+        let clear_color = if shown.view == VIEW_ALBEDO {
+            background.map(|c| linear_to_srgb(c).clamp(0.0, 1.0))
+        } else {
+            Vec3::ZERO
+        };
+        let clear = [
+            vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: clear_color.extend(1.0).to_array(),
+                },
+            },
+            vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            },
+        ];
+        let push = ViewPush {
+            raster: crate::upload::raster_push(camera),
+            shown,
+        };
+        record_scene_draw(
+            &self.ctx,
+            cmd,
+            scene,
+            &SceneDraw {
+                render_pass: self.render_pass.handle,
+                framebuffer: targets.framebuffers[index].handle,
+                width: targets.width,
+                height: targets.height,
+                clear: &clear,
+                pipeline: &self.pipeline,
+                push: bytemuck::bytes_of(&push),
+            },
+        );
+    }
+}

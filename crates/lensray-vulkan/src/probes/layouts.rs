@@ -1,0 +1,207 @@
+//! Runs shaders/probes/layouts.comp: every shared struct of `lensray_core::interface` (the list
+//! `shared_structs()`, from which the shader's blocks are generated too) is written by Rust with
+//! a distinct pattern in each 32-bit word, read by the shader through the kind of block the real
+//! shaders use (std140 uniform, std430 storage buffer, push constants), and stored back scalar by
+//! scalar. A field that GLSL reads at another offset than Rust wrote comes back with another
+//! word's pattern.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use crate::core::pipeline::Pipeline;
+use crate::core::shader;
+use lensray_core::interface::glsl::{layout_probe_reads, ProbeBlock, LAYOUT_PROBE_BINDING_OUT};
+use lensray_core::interface::shared_structs;
+
+/// What the probe found: the blocks it read, how many scalars it compared, and a line per one
+/// read elsewhere.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LayoutReport {
+    /// In the order the shader read them.
+    pub blocks: Vec<ProbedBlock>,
+    pub scalars_checked: usize,
+    pub mismatches: Vec<String>,
+}
+
+/// A block the probe read: `copies` values of the shared struct `rust` (`glsl` in GLSL), each
+/// of `scalars` scalars.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProbedBlock {
+    pub rust: &'static str,
+    pub glsl: &'static str,
+    pub block: ProbeBlock,
+    pub copies: usize,
+    pub scalars: usize,
+}
+
+/// Word k of the value tagged `tag` (below 128): a normal float (exponent of 1.0), so no device
+/// flushes it.
+fn pattern_word(tag: u32, k: usize) -> u32 {
+    0x3f80_0000 | (tag << 16) | k as u32
+}
+
+/// Fills the probe's output with this before the dispatch: a word the shader did not store.
+const UNWRITTEN: u32 = 0xffff_ffff;
+
+pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
+    let structs = shared_structs();
+    let reads = layout_probe_reads(&structs);
+
+    // Per block: its values' bytes and, in the shader's order, each scalar's name and word.
+    let mut want: Vec<(String, u32)> = Vec::new();
+    let mut blocks = Vec::new();
+    let mut contents: Vec<Vec<u8>> = Vec::new();
+    let mut tag = 0;
+    for read in &reads {
+        let s = &structs[read.structure];
+        let mut bytes = Vec::with_capacity(s.size * read.copies);
+        for copy in 0..read.copies {
+            tag += 1;
+            let words: Vec<u32> = (0..s.size / 4).map(|k| pattern_word(tag, k)).collect();
+            for scalar in &s.scalars {
+                let at = match read.block {
+                    ProbeBlock::PushConstant => String::from("push constants"),
+                    block => format!("{} block [{copy}]", block.short_name()),
+                };
+                want.push((
+                    format!("{} ({}) in {at}: {}", s.rust, s.glsl, scalar.path),
+                    words[scalar.offset / 4],
+                ));
+            }
+            bytes.extend_from_slice(bytemuck::cast_slice(&words));
+        }
+        blocks.push(ProbedBlock {
+            rust: s.rust,
+            glsl: s.glsl,
+            block: read.block,
+            copies: read.copies,
+            scalars: s.scalars.len(),
+        });
+        contents.push(bytes);
+    }
+    if tag >= 128 {
+        return Err(GpuError::Invalid(format!(
+            "layout probe: {tag} values, more than its patterns tell apart (127)"
+        )));
+    }
+
+    let compute = vk::ShaderStageFlags::COMPUTE;
+    let storage = vk::DescriptorType::STORAGE_BUFFER;
+    let mut bindings = vec![(LAYOUT_PROBE_BINDING_OUT, storage, compute)];
+    let mut inputs = Vec::new();
+    let mut push: &[u8] = &[];
+    for (read, bytes) in reads.iter().zip(&contents) {
+        let (ty, usage) = match read.block {
+            ProbeBlock::PushConstant => {
+                push = bytes;
+                continue;
+            }
+            ProbeBlock::Uniform => (
+                vk::DescriptorType::UNIFORM_BUFFER,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            ),
+            ProbeBlock::Storage => (storage, vk::BufferUsageFlags::STORAGE_BUFFER),
+        };
+        let binding = read.binding.ok_or_else(|| {
+            GpuError::Invalid("layout probe: a descriptor block without a binding".into())
+        })?;
+        let name = format!("layout probe {}", structs[read.structure].rust);
+        bindings.push((binding, ty, compute));
+        inputs.push((binding, ty, Buffer::with_data(ctx, &name, bytes, usage)?));
+    }
+    check_limits(ctx, &bindings, push.len())?;
+
+    let pipeline = Pipeline::compute(ctx, shader::LAYOUTS_COMP, &bindings, push.len() as u32)?;
+    // The scalars, then the count the shader stored.
+    let mut output = Buffer::new(
+        ctx,
+        "layout probe output",
+        ((want.len() + 1) * 4) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuToCpu,
+    )?;
+    output.write(bytemuck::cast_slice(&vec![UNWRITTEN; want.len() + 1]))?;
+    pipeline.bind_buffer(LAYOUT_PROBE_BINDING_OUT, storage, &output);
+    for (binding, ty, buffer) in &inputs {
+        pipeline.bind_buffer(*binding, *ty, buffer);
+    }
+    ctx.submit_and_wait(|cmd| {
+        pipeline.bind(cmd, push);
+        // SAFETY: compute pipeline and complete set bound.
+        unsafe { ctx.device.cmd_dispatch(cmd, 1, 1, 1) };
+        barrier_to_host(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_WRITE,
+        );
+        Ok(())
+    })?;
+    let got: &[u32] = bytemuck::cast_slice(output.read()?);
+    let mut mismatches: Vec<String> = want
+        .iter()
+        .zip(got)
+        .filter(|((_, w), g)| w != *g)
+        .map(|((name, w), g)| {
+            format!(
+                "{name}: the shader read {g:#010x} (value {} word {}), Rust wrote {w:#010x} \
+                 (value {} word {})",
+                (g >> 16) & 0x7f,
+                g & 0xffff,
+                (w >> 16) & 0x7f,
+                w & 0xffff
+            )
+        })
+        .collect();
+    let stored = got[want.len()];
+    if stored as usize != want.len() {
+        mismatches.push(format!(
+            "the shader stored {stored} scalars (0xffffffff: no count), Rust expected {}",
+            want.len()
+        ));
+    }
+    Ok(LayoutReport {
+        blocks,
+        scalars_checked: want.len(),
+        mismatches,
+    })
+}
+
+/// The probe's one set holds a block per shared struct: fail clearly on a device with fewer
+/// descriptors per stage (Vulkan guarantees 4 storage buffers, 12 uniform buffers, 128 bytes
+/// of push constants) rather than with a validation error.
+fn check_limits(
+    ctx: &Context,
+    bindings: &[(u32, vk::DescriptorType, vk::ShaderStageFlags)],
+    push_size: usize,
+) -> Result<(), GpuError> {
+    // SAFETY: the physical device was enumerated from this instance; a query only.
+    let limits = unsafe {
+        ctx.instance
+            .instance
+            .get_physical_device_properties(ctx.physical_device)
+    }
+    .limits;
+    let count = |ty| bindings.iter().filter(|b| b.1 == ty).count() as u32;
+    let storage = count(vk::DescriptorType::STORAGE_BUFFER);
+    let uniform = count(vk::DescriptorType::UNIFORM_BUFFER);
+    if storage > limits.max_per_stage_descriptor_storage_buffers
+        || uniform > limits.max_per_stage_descriptor_uniform_buffers
+        || storage + uniform > limits.max_per_stage_resources
+        || push_size as u32 > limits.max_push_constants_size
+    {
+        return Err(GpuError::Invalid(format!(
+            "layout probe: needs {storage} storage buffers, {uniform} uniform buffers and \
+             {push_size} bytes of push constants in a compute stage; the device has {}, {} and {}",
+            limits.max_per_stage_descriptor_storage_buffers,
+            limits.max_per_stage_descriptor_uniform_buffers,
+            limits.max_push_constants_size
+        )));
+    }
+    Ok(())
+}

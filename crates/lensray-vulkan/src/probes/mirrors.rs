@@ -1,0 +1,88 @@
+//! A check of the GLSL mirrors (shaders/include/sampler.glsl, shaders/include/camera.glsl): evaluates them for
+//! a list of queries with probe.comp so tests can compare against src/sampler/ and src/camera.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use crate::core::pipeline::Pipeline;
+use crate::core::shader;
+use crate::passes::aperture::ApertureTable;
+use crate::passes::lens::LensBuffer;
+use lensray_core::camera::Camera;
+use lensray_core::interface::{
+    GpuCamera, PROBE_BINDING_APERTURE, PROBE_BINDING_CAMERA, PROBE_BINDING_LENS,
+    PROBE_BINDING_QUERIES, PROBE_BINDING_RESULTS, PROBE_GROUP_SIZE,
+};
+pub use lensray_core::interface::{ProbeQuery, ProbeResult};
+
+pub(crate) fn run(
+    ctx: &Arc<Context>,
+    camera: &Camera,
+    queries: &[ProbeQuery],
+) -> Result<Vec<ProbeResult>, GpuError> {
+    let (storage, uniform) = (
+        vk::DescriptorType::STORAGE_BUFFER,
+        vk::DescriptorType::UNIFORM_BUFFER,
+    );
+    let compute = vk::ShaderStageFlags::COMPUTE;
+    let bindings = [
+        (PROBE_BINDING_QUERIES, storage, compute),
+        (PROBE_BINDING_RESULTS, storage, compute),
+        (PROBE_BINDING_CAMERA, uniform, compute),
+        (PROBE_BINDING_APERTURE, storage, compute),
+        (PROBE_BINDING_LENS, storage, compute),
+    ];
+    let pipeline = Pipeline::compute(ctx, shader::MIRRORS_COMP, &bindings, 4)?;
+    let input = Buffer::with_data(
+        ctx,
+        "probe queries",
+        bytemuck::cast_slice(queries),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?;
+    let bytes = (queries.len() * std::mem::size_of::<ProbeResult>()) as u64;
+    let output = Buffer::new(
+        ctx,
+        "probe results",
+        bytes,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let mut cam = Buffer::new(
+        ctx,
+        "probe camera",
+        std::mem::size_of::<GpuCamera>() as u64,
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+        MemoryLocation::CpuToGpu,
+    )?;
+    cam.write(bytemuck::bytes_of(&crate::upload::gpu_camera(camera)))?;
+    pipeline.bind_buffer(PROBE_BINDING_QUERIES, storage, &input);
+    pipeline.bind_buffer(PROBE_BINDING_RESULTS, storage, &output);
+    pipeline.bind_buffer(PROBE_BINDING_CAMERA, uniform, &cam);
+    let aperture = ApertureTable::of(ctx, camera)?;
+    pipeline.bind_buffer(PROBE_BINDING_APERTURE, storage, &aperture);
+    let lens = LensBuffer::of(ctx, camera)?;
+    pipeline.bind_buffer(PROBE_BINDING_LENS, storage, &lens);
+    let count = queries.len() as u32;
+    ctx.submit_and_wait(|cmd| {
+        pipeline.bind(cmd, bytemuck::bytes_of(&count));
+        // SAFETY: compute pipeline and complete set bound.
+        unsafe {
+            ctx.device
+                .cmd_dispatch(cmd, count.div_ceil(PROBE_GROUP_SIZE), 1, 1)
+        };
+        barrier_to_host(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_WRITE,
+        );
+        Ok(())
+    })?;
+    let results: &[ProbeResult] = bytemuck::cast_slice(output.read()?);
+    Ok(results[..queries.len()].to_vec())
+}

@@ -1,0 +1,84 @@
+//! How long the GPU takes to generate a render's camera samples alone (shaders/probes/sampler_cost.comp:
+//! the compute pass's sample loop without tracing), to compare with the whole pass's time.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::core::buffer::{barrier, Buffer};
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use crate::core::pipeline::Pipeline;
+use crate::core::query::QueryPool;
+use crate::core::shader;
+use lensray_core::interface::{
+    SamplerCostPush, SAMPLER_COST_BINDING_SUMS, TRACE_GROUP_SIZE as GROUP,
+};
+use lensray_core::settings::RenderSettings;
+
+/// GPU milliseconds of generating `settings.spp` camera samples for each pixel of a
+/// `width` x `height` image, one dispatch, timed with timestamps after an untimed warm-up
+/// dispatch (drivers may compile on first use).
+pub(crate) fn run(
+    ctx: &Arc<Context>,
+    width: u32,
+    height: u32,
+    settings: &RenderSettings,
+) -> Result<f64, GpuError> {
+    let storage = (
+        SAMPLER_COST_BINDING_SUMS,
+        vk::DescriptorType::STORAGE_BUFFER,
+        vk::ShaderStageFlags::COMPUTE,
+    );
+    let pipeline = Pipeline::compute(
+        ctx,
+        shader::SAMPLER_COST_COMP,
+        &[storage],
+        std::mem::size_of::<SamplerCostPush>() as u32,
+    )?;
+    let sums = Buffer::new(
+        ctx,
+        "sample sums",
+        u64::from(width) * u64::from(height) * 16,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+    )?;
+    pipeline.bind_buffer(
+        SAMPLER_COST_BINDING_SUMS,
+        vk::DescriptorType::STORAGE_BUFFER,
+        &sums,
+    );
+    let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
+    let push = SamplerCostPush {
+        width,
+        height,
+        seed: settings.seed,
+        sampler_kind: settings.sampler.id(),
+        spp: settings.spp,
+    };
+    for _warm_up_then_timed in 0..2 {
+        ctx.submit_and_wait(|cmd| {
+            barrier(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_WRITE,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
+            );
+            timestamps.reset(cmd);
+            timestamps.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+            pipeline.bind(cmd, bytemuck::bytes_of(&push));
+            // SAFETY: compute pipeline and its complete descriptor set are bound.
+            unsafe {
+                ctx.device
+                    .cmd_dispatch(cmd, width.div_ceil(GROUP), height.div_ceil(GROUP), 1)
+            };
+            timestamps.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+            Ok(())
+        })?;
+    }
+    let ticks = timestamps.results()?;
+    Ok(ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6)
+}

@@ -1,0 +1,195 @@
+//! A scene on the device: the flattened arrays as storage buffers, and the structures of the
+//! traversals the device was opened for: acceleration structures (ray queries) and the
+//! software traversal's BVH.
+
+pub mod accel;
+pub mod bvh;
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::core::buffer::Buffer;
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use crate::core::pipeline::{Binding, Pipeline};
+use crate::traversal::Traversal;
+use crate::upload::FlatScene;
+use accel::SceneAccel;
+use bvh::{BvhParams, FlatBvh};
+use lensray_core::interface::{
+    SCENE_BINDING_INDICES, SCENE_BINDING_MATERIALS, SCENE_BINDING_NORMALS, SCENE_BINDING_POSITIONS,
+    SCENE_BINDING_TRI_INFO, TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES,
+};
+use lensray_core::scene::Scene;
+
+/// The arrays' binding numbers, in the order of the fields below.
+const SCENE_BINDINGS: [u32; 5] = [
+    SCENE_BINDING_POSITIONS,
+    SCENE_BINDING_NORMALS,
+    SCENE_BINDING_INDICES,
+    SCENE_BINDING_TRI_INFO,
+    SCENE_BINDING_MATERIALS,
+];
+
+/// The software traversal's BVH on the device (src/gpu/scene/bvh.rs).
+pub(crate) struct BvhBuffers {
+    nodes: Buffer,
+    triangles: Buffer,
+    /// Bytes of both buffers.
+    pub bytes: u64,
+    /// Host build and flattening time (the upload excluded), nanoseconds.
+    pub build_ns: f64,
+}
+
+impl BvhBuffers {
+    fn new(ctx: &Arc<Context>, flat: &FlatScene, params: &BvhParams) -> Result<Self, GpuError> {
+        let bvh = FlatBvh::build(&flat.positions, &flat.indices, params)?;
+        let limit = u64::from(ctx.report.max_storage_buffer_range);
+        let triangle_bytes = std::mem::size_of_val(bvh.triangles.as_slice()) as u64;
+        if triangle_bytes > limit {
+            return Err(GpuError::Invalid(format!(
+                "the software traversal's triangle array needs {triangle_bytes} bytes, more \
+                 than the device's maximum storage buffer range ({limit} bytes)"
+            )));
+        }
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        Ok(Self {
+            nodes: Buffer::with_data(ctx, "BVH nodes", bytemuck::cast_slice(&bvh.nodes), storage)?,
+            triangles: Buffer::with_data(
+                ctx,
+                "BVH triangles",
+                bytemuck::cast_slice(&bvh.triangles),
+                storage,
+            )?,
+            bytes: bvh.bytes(),
+            build_ns: bvh.build_time.as_nanos() as f64,
+        })
+    }
+
+    /// The descriptors of shaders/include/hit_software.glsl.
+    pub fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 2] {
+        [TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES]
+            .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
+    }
+
+    pub fn bind(&self, pipeline: &Pipeline) {
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        pipeline.bind_buffer(TRACE_BINDING_BVH_NODES, storage, &self.nodes);
+        pipeline.bind_buffer(TRACE_BINDING_BVH_TRIANGLES, storage, &self.triangles);
+    }
+}
+
+pub(crate) struct SceneBuffers {
+    /// With ray queries enabled.
+    pub accel: Option<SceneAccel>,
+    /// When the software traversal may be used.
+    pub bvh: Option<BvhBuffers>,
+    positions: Buffer,
+    normals: Buffer,
+    indices: Buffer,
+    tri_info: Buffer,
+    materials: Buffer,
+    pub triangle_count: u32,
+}
+
+impl SceneBuffers {
+    /// Builds what the device's traversals need (`ctx.traversals`): acceleration structures,
+    /// the BVH of `bvh_params`, or both.
+    pub fn new(
+        ctx: &Arc<Context>,
+        scene: &Scene,
+        bvh_params: &BvhParams,
+    ) -> Result<Self, GpuError> {
+        let flat = FlatScene::new(scene)?;
+        let limit = u64::from(ctx.report.max_storage_buffer_range);
+        for (what, bytes) in [
+            ("vertex", std::mem::size_of_val(flat.positions.as_slice())),
+            ("index", std::mem::size_of_val(flat.indices.as_slice())),
+            ("material", std::mem::size_of_val(flat.materials.as_slice())),
+        ] {
+            if bytes as u64 > limit {
+                return Err(GpuError::Invalid(format!(
+                    "the scene's {what} array needs {bytes} bytes, more than the device's \
+                     maximum storage buffer range ({limit} bytes)"
+                )));
+            }
+        }
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let ray_query = ctx.traversals.contains(&Traversal::RayQuery);
+        let build_input = if ray_query {
+            storage
+                | vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
+                | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS
+        } else {
+            storage
+        };
+        let positions = Buffer::with_data(
+            ctx,
+            "scene positions",
+            bytemuck::cast_slice(&flat.positions),
+            build_input,
+        )?;
+        let indices = Buffer::with_data(
+            ctx,
+            "scene indices",
+            bytemuck::cast_slice(&flat.indices),
+            build_input,
+        )?;
+        let normals = Buffer::with_data(
+            ctx,
+            "scene normals",
+            bytemuck::cast_slice(&flat.normals),
+            storage,
+        )?;
+        let tri_info = Buffer::with_data(
+            ctx,
+            "scene triangle info",
+            bytemuck::cast_slice(&flat.tri_info),
+            storage,
+        )?;
+        let materials = Buffer::with_data(
+            ctx,
+            "scene materials",
+            bytemuck::cast_slice(&flat.materials),
+            storage,
+        )?;
+        let accel = ray_query
+            .then(|| accel::build(ctx, &flat, &positions, &indices))
+            .transpose()?;
+        let bvh = ctx
+            .traversals
+            .contains(&Traversal::Software)
+            .then(|| BvhBuffers::new(ctx, &flat, bvh_params))
+            .transpose()?;
+        Ok(Self {
+            accel,
+            bvh,
+            positions,
+            normals,
+            indices,
+            tri_info,
+            materials,
+            triangle_count: flat.triangle_count(),
+        })
+    }
+
+    /// The descriptors of shaders/include/scene.glsl, read by `stages`.
+    pub fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 5] {
+        SCENE_BINDINGS.map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
+    }
+
+    /// Points the scene's descriptors of `pipeline`'s set at these arrays.
+    pub fn bind(&self, pipeline: &Pipeline) {
+        let buffers = [
+            &self.positions,
+            &self.normals,
+            &self.indices,
+            &self.tri_info,
+            &self.materials,
+        ];
+        for (binding, buffer) in SCENE_BINDINGS.into_iter().zip(buffers) {
+            pipeline.bind_buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer);
+        }
+    }
+}

@@ -1,0 +1,345 @@
+//! The upload of a shot into the structs the shaders read: the scene flattened into the arrays the shaders and the acceleration
+//! structure builds read, and the camera / settings into the structs of `lensray_core::interface`
+//! (their GLSL layouts are generated from the same definition).
+
+use bytemuck::Zeroable;
+use glam::Mat4;
+
+use lensray_core::camera::{Camera, Projection};
+use lensray_core::interface::{
+    GpuCamera, GpuLens, GpuMaterial, RasterPush, ResolvePush, TraceParams, ViewParams,
+    APERTURE_MAX_FAN, LENS_MAX_SURFACES, LENS_PUPIL_BINS, PROJECTION_ORTHOGRAPHIC,
+    PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
+};
+use lensray_core::scene::Scene;
+use lensray_core::settings::{RenderSettings, Shading};
+
+use crate::core::error::GpuError;
+
+/// One mesh's range in the flattened arrays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct MeshRange {
+    pub first_triangle: u32,
+    pub triangle_count: u32,
+}
+
+/// Every mesh concatenated: one vertex array (vec4 positions and normals, std430 friendly),
+/// global vertex indices, per-triangle info, materials.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FlatScene {
+    pub positions: Vec<[f32; 4]>,
+    pub normals: Vec<[f32; 4]>,
+    pub indices: Vec<u32>,
+    pub tri_info: Vec<u32>,
+    pub materials: Vec<GpuMaterial>,
+    pub meshes: Vec<MeshRange>,
+}
+
+/// Instance custom indices have 24 bits: the first triangle of every mesh must fit.
+const MAX_TRIANGLES: usize = 1 << 24;
+
+impl FlatScene {
+    pub fn new(scene: &Scene) -> Result<Self, GpuError> {
+        let total = scene.triangle_count();
+        if total > MAX_TRIANGLES {
+            return Err(GpuError::Invalid(format!(
+                "{total} triangles: the GPU path handles at most {MAX_TRIANGLES}"
+            )));
+        }
+        let mut flat = FlatScene {
+            materials: scene
+                .materials
+                .iter()
+                .map(|m| GpuMaterial {
+                    diffuse: m.diffuse.extend(0.0).to_array(),
+                    emission: m.emission.extend(0.0).to_array(),
+                })
+                .collect(),
+            ..Default::default()
+        };
+        if flat.materials.is_empty() {
+            // Shaders index a non-empty array; no triangle may refer to it (checked below).
+            flat.materials.push(GpuMaterial::zeroed());
+        }
+        for (m, mesh) in scene.meshes.iter().enumerate() {
+            let has_normals = !mesh.normals.is_empty();
+            if has_normals && mesh.normals.len() != mesh.positions.len() {
+                return Err(GpuError::Invalid(format!(
+                    "mesh {m} ({}) has {} normals for {} positions",
+                    mesh.name,
+                    mesh.normals.len(),
+                    mesh.positions.len()
+                )));
+            }
+            if mesh.material_ids.len() != mesh.triangles.len() {
+                return Err(GpuError::Invalid(format!(
+                    "mesh {m} ({}) has {} material ids for {} triangles",
+                    mesh.name,
+                    mesh.material_ids.len(),
+                    mesh.triangles.len()
+                )));
+            }
+            let base = flat.positions.len() as u32;
+            flat.meshes.push(MeshRange {
+                first_triangle: flat.tri_info.len() as u32,
+                triangle_count: mesh.triangles.len() as u32,
+            });
+            flat.positions
+                .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
+            if has_normals {
+                flat.normals
+                    .extend(mesh.normals.iter().map(|n| n.extend(0.0).to_array()));
+            } else {
+                flat.normals
+                    .extend(std::iter::repeat_n([0.0; 4], mesh.positions.len()));
+            }
+            for (t, (tri, &material)) in mesh.triangles.iter().zip(&mesh.material_ids).enumerate() {
+                if tri.iter().any(|&i| i as usize >= mesh.positions.len()) {
+                    return Err(GpuError::Invalid(format!(
+                        "mesh {m} ({}) triangle {t} has a vertex index out of range",
+                        mesh.name
+                    )));
+                }
+                if material as usize >= scene.materials.len() {
+                    return Err(GpuError::Invalid(format!(
+                        "mesh {m} ({}) triangle {t} uses material {material} of {}",
+                        mesh.name,
+                        scene.materials.len()
+                    )));
+                }
+                flat.indices.extend(tri.iter().map(|&i| base + i));
+                flat.tri_info
+                    .push(material | if has_normals { TRI_HAS_NORMALS } else { 0 });
+            }
+        }
+        Ok(flat)
+    }
+
+    pub fn triangle_count(&self) -> u32 {
+        self.tri_info.len() as u32
+    }
+}
+
+/// `Camera.projection` / `ViewParams.projection` of the shaders.
+pub(crate) fn projection_code(camera: &Camera) -> u32 {
+    match camera.projection {
+        Projection::Perspective { .. } => PROJECTION_PERSPECTIVE,
+        Projection::Orthographic { .. } => PROJECTION_ORTHOGRAPHIC,
+    }
+}
+
+/// The camera as the shaders read it (matrices, projection, thin lens and aperture).
+pub fn gpu_camera(camera: &Camera) -> GpuCamera {
+    let image = camera.lens.aperture.image();
+    let turn = camera.lens.aperture.turn();
+    GpuCamera {
+        // glam and GLSL are both column-major.
+        world_from_camera: camera.world_from_camera.to_cols_array(),
+        screen_from_raster: camera.screen_from_raster.to_cols_array(),
+        projection: projection_code(camera),
+        near_z: camera.near,
+        aperture_radius: camera.lens.aperture_radius,
+        focus_distance: camera.lens.focus_distance,
+        aperture_fan_len: camera.lens.aperture.fan().len() as u32,
+        aperture_aspect: camera.lens.aperture.shape.aspect,
+        aperture_image_columns: image.map_or(0, |i| i.columns()),
+        aperture_image_rows: image.map_or(0, |i| i.rows()),
+        aperture_turn: [turn.x, turn.y, 0.0, 0.0],
+        aperture_fan: aperture_fan(camera.lens.aperture.fan()),
+    }
+}
+
+/// The fan's vertices, two per vec4 (`Camera.aperture_fan`), zeros after the last.
+fn aperture_fan(fan: &[glam::Vec2]) -> [[f32; 4]; APERTURE_MAX_FAN as usize / 2] {
+    let mut out = [[0.0; 4]; APERTURE_MAX_FAN as usize / 2];
+    for (i, v) in fan.iter().enumerate() {
+        out[i / 2][2 * (i % 2)] = v.x;
+        out[i / 2][2 * (i % 2) + 1] = v.y;
+    }
+    out
+}
+
+/// No real lens: the shaders trace the thin lens.
+pub fn thin_lens() -> GpuLens {
+    GpuLens::zeroed()
+}
+
+/// The real lens of `camera` as the shaders read it (`surface_count` 0: none); an error if
+/// it has more surfaces than the GPU's block holds.
+pub fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
+    let mut out = GpuLens::zeroed();
+    let Some(real) = camera.real_lens.as_deref() else {
+        return Ok(out);
+    };
+    let interfaces = &real.elements().interfaces;
+    if interfaces.len() > LENS_MAX_SURFACES as usize {
+        return Err(GpuError::Invalid(format!(
+            "lens {} has {} surfaces: the GPU paths trace at most {LENS_MAX_SURFACES}",
+            real.name(),
+            interfaces.len()
+        )));
+    }
+    let (stop, stop_radius, _) = real.stop();
+    let pupil = real.pupil();
+    out.surface_count = interfaces.len() as u32;
+    out.stop = stop as u32;
+    out.stop_radius = stop_radius;
+    out.film_z = real.film_z();
+    out.entrance_pupil_z = real.entrance_pupil_z();
+    // RealLens::film_point's arithmetic, done here once.
+    out.film_mm_per_pixel = 2.0 * real.film_half_height() / camera.height as f32;
+    out.raster_centre_x = 0.5 * camera.width as f32;
+    out.raster_centre_y = 0.5 * camera.height as f32;
+    out.rear_z = pupil.rear_z;
+    out.film_radius = pupil.film_radius;
+    out.inverse_centre_integral = pupil.inverse_centre_integral;
+    out.aperture_transmission_start = camera
+        .lens
+        .aperture
+        .image()
+        .map_or(0, |image| image.table().len() as u32);
+    for (i, s) in interfaces.iter().enumerate() {
+        out.surface_shape[i] = [s.z, s.radius, s.aperture_radius, 0.0];
+        out.surface_media[i] = [s.index_before, s.index_after, 0.0, 0.0];
+    }
+    for (i, bin) in pupil.bins.iter().enumerate() {
+        let region = |r: &lensray_core::camera::real_lens::Region| {
+            [r.centre.x, r.centre.y, r.half.x, r.half.y]
+        };
+        out.pupil_inner[i] = region(&bin.inner);
+        out.pupil_outer[i] = region(&bin.outer);
+    }
+    Ok(out)
+}
+
+// The bins the Rust lens makes are the ones the GPU block holds.
+const _: () = assert!(lensray_core::camera::real_lens::PUPIL_BINS == LENS_PUPIL_BINS as usize);
+
+pub fn trace_params(camera: &Camera, settings: &RenderSettings) -> TraceParams {
+    TraceParams {
+        camera: gpu_camera(camera),
+        background: settings.background.extend(0.0).to_array(),
+        light_position: settings.light.position.extend(1.0).to_array(),
+        light_intensity: settings.light.intensity.extend(0.0).to_array(),
+        width: camera.width,
+        height: camera.height,
+        seed: settings.seed,
+        shading: match settings.shading {
+            Shading::Lit => SHADING_LIT,
+            _ => SHADING_UNLIT,
+        },
+        sampler_kind: settings.sampler.id(),
+        shared_samples: u32::from(settings.shared_samples),
+        pad1: 0,
+        pad2: 0,
+    }
+}
+
+/// The circle of confusion shown as white in the preview's CoC view, pixels.
+pub(crate) const COC_DISPLAY_MAX: f32 = 16.0;
+
+/// View `view` (VIEW_*) of `camera`.
+pub fn view_params(camera: &Camera, view: u32) -> ViewParams {
+    ViewParams {
+        view,
+        projection: projection_code(camera),
+        lens_reach: camera.lens.reach(),
+        focus_distance: camera.lens.focus_distance,
+        near_z: camera.near,
+        far_z: camera.far,
+        pixels_per_screen_unit: camera.pixels_per_screen_unit(),
+        coc_display_max: COC_DISPLAY_MAX,
+    }
+}
+
+/// View `view` (VIEW_*) of `camera`, over the camera's image.
+pub fn resolve_push(camera: &Camera, view: u32) -> ResolvePush {
+    ResolvePush {
+        width: camera.width,
+        height: camera.height,
+        pad0: 0,
+        pad1: 0,
+        shown: view_params(camera, view),
+    }
+}
+
+pub fn raster_push(camera: &Camera) -> RasterPush {
+    let clip: Mat4 = camera.clip_from_world();
+    let ortho = if camera.is_orthographic() { 1.0 } else { 0.0 };
+    RasterPush {
+        clip_from_world: clip.to_cols_array(),
+        eye: camera.frame.eye.extend(1.0).to_array(),
+        forward: camera.frame.forward.extend(ortho).to_array(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+
+    use glam::{Vec2, Vec3};
+    use lensray_core::camera::{CameraParams, LensParams, ProjectionParams};
+
+    /// The raster pass uses `clip_from_world()` as is: Vulkan's clip space has y down and depth
+    /// in [0, 1]. A point on the pinhole ray through raster point (x, y) must land at
+    /// NDC (2x/w - 1, 2y/h - 1), with depth 0 on the near plane and 1 on the far plane.
+    #[test]
+    fn clip_from_world_is_vulkan_clip_space() {
+        for projection in [
+            ProjectionParams::Perspective { vfov_degrees: 50.0 },
+            ProjectionParams::Orthographic { height: 3.0 },
+        ] {
+            let cam = CameraParams {
+                eye: Vec3::new(1.0, 2.0, 3.0),
+                target: Vec3::new(-0.5, 0.2, -1.0),
+                up: Vec3::Y,
+                projection,
+                lens: LensParams::Pinhole,
+                near: 0.5,
+                far: 20.0,
+                width: 160,
+                height: 90,
+            }
+            .build()
+            .unwrap();
+            let clip = cam.clip_from_world();
+            for raster in [
+                Vec2::new(0.5, 0.5),
+                Vec2::new(159.5, 10.25),
+                Vec2::new(80.0, 89.0),
+            ] {
+                let ray = cam.generate_ray(raster, Vec2::splat(0.5));
+                for depth in [cam.near, 2.0, cam.far] {
+                    // The point of the ray at view depth `depth`.
+                    let t =
+                        (depth - cam.view_depth(ray.origin)) / ray.direction.dot(cam.frame.forward);
+                    let p = ray.at(t);
+                    let h = clip * p.extend(1.0);
+                    let ndc = h.truncate() / h.w;
+                    let expected_x = 2.0 * raster.x / 160.0 - 1.0;
+                    let expected_y = 2.0 * raster.y / 90.0 - 1.0;
+                    // The course's depth in [0, 1]: (z - n) / (f - n) orthographic,
+                    // f (z - n) / (z (f - n)) perspective.
+                    let (n, f) = (cam.near, cam.far);
+                    let expected_z = if cam.is_orthographic() {
+                        (depth - n) / (f - n)
+                    } else {
+                        f * (depth - n) / (depth * (f - n))
+                    };
+                    assert!(
+                        (ndc.x - expected_x).abs() < 1e-4,
+                        "{projection:?} x {ndc} {raster}"
+                    );
+                    assert!(
+                        (ndc.y - expected_y).abs() < 1e-4,
+                        "{projection:?} y {ndc} {raster}"
+                    );
+                    assert!(
+                        (ndc.z - expected_z).abs() < 1e-4,
+                        "{projection:?} z {ndc} at {depth}"
+                    );
+                    assert!(h.w > 0.0);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,54 @@
+//! How much of a shot is in focus: what the hybrid path's gain depends on besides the aperture.
+//! From the CPU's depth AOV (one ray per pixel centre through the lens centre) and the camera's
+//! circle of confusion at each depth.
+
+use serde::Serialize;
+
+use lensray_core::camera::Camera;
+use lensray_core::reference::Renderer as CpuRenderer;
+use lensray_core::settings::{RenderSettings, Shading};
+
+/// Circles of confusion under this radius (pixels) are in focus: the hybrid's shortcut rule.
+const IN_FOCUS_COC: f32 = crate::paths::hybrid::SHORTCUT_COC;
+
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct FocusInfo {
+    /// Share of the image's pixels that see a surface with a circle of confusion under half a
+    /// pixel.
+    pub in_focus_fraction: f64,
+    /// Share of the pixels that see no surface (the background).
+    pub background_fraction: f64,
+    /// The mean and the largest circle of confusion (radius, pixels) of the surfaces seen.
+    pub mean_coc_pixels: f64,
+    pub largest_coc_pixels: f32,
+}
+
+impl FocusInfo {
+    pub fn of(cpu: &CpuRenderer, camera: &Camera, settings: &RenderSettings) -> Self {
+        let depth_settings = RenderSettings {
+            shading: Shading::Depth,
+            spp: 1,
+            ..*settings
+        };
+        let (depth, _) = cpu.render(camera, &depth_settings, &mut |_, _| {});
+        let pixels = depth.pixels.len().max(1) as f64;
+        let (mut in_focus, mut background, mut largest, mut sum) = (0usize, 0usize, 0f32, 0f64);
+        for z in depth.pixels.iter().map(|p| p.x) {
+            // The AOV is 0 where nothing is seen.
+            if z <= 0.0 {
+                background += 1;
+                continue;
+            }
+            let coc = camera.coc_radius_pixels(z);
+            largest = largest.max(coc);
+            sum += f64::from(coc);
+            in_focus += usize::from(coc < IN_FOCUS_COC);
+        }
+        Self {
+            in_focus_fraction: in_focus as f64 / pixels,
+            background_fraction: background as f64 / pixels,
+            mean_coc_pixels: sum / (depth.pixels.len() - background).max(1) as f64,
+            largest_coc_pixels: largest,
+        }
+    }
+}

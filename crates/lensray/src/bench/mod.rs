@@ -1,0 +1,435 @@
+//! `lensray bench`: the render paths compared on equal terms. Each path renders the same shot
+//! after a warm-up, N times; the report gives its time (median and spread), rays, memory, and
+//! its error against a converged reference, so paths can be compared at equal error as well
+//! as at equal samples. A sweep (spp, resolution, triangles) repeats this over a range of work.
+//!
+//! Files: `options` (what to measure), `choose` (which paths), `scenes`, `sweep` (the points),
+//! `reference` (the cached converged image), `focus` (how much of the shot is in focus), `lens`
+//! (the lens sweep's pass shares and costs per camera ray), `runs` (timing the paths at one
+//! point), `report` (the results, also the JSON file), `table`, `plot`, `machine`.
+
+pub mod choose;
+pub mod focus;
+pub mod lens;
+pub mod machine;
+pub mod options;
+pub mod plot;
+pub mod reference;
+pub mod report;
+pub mod runs;
+pub mod scenes;
+pub mod sweep;
+pub mod table;
+
+use std::rc::Rc;
+
+use anyhow::{bail, ensure, Context, Result};
+
+use crate::paths::{self, OpenedPath};
+use crate::paths::{PathKind, RenderPath};
+use focus::FocusInfo;
+use lens::LensPoint;
+use lensray_core::camera::Camera;
+use lensray_core::reference::Renderer as CpuRenderer;
+use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
+use options::{BenchOptions, SceneChoice, SweepKind};
+use reference::Reference;
+use report::{BenchReport, PathInfo, PointReport, SceneInfo, SettingsInfo};
+use runs::Measurement;
+use scenes::BenchScene;
+use sweep::{BenchLens, SweepValue};
+
+/// Runs the bench `options` describe; `log` receives progress and notices (stderr on the
+/// command line).
+pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchReport> {
+    ensure!(options.repeat >= 1, "--repeat must be at least 1");
+    ensure!(
+        options.reference_spp >= 2,
+        "--reference-spp must be at least 2"
+    );
+    let values = sweep::values(options.sweep, options.sweep_points.as_deref(), options.spp)?;
+    if options.sweep == Some(SweepKind::Triangles) && options.scene != SceneChoice::default_scene()
+    {
+        bail!("--sweep triangles renders generated scenes: it takes no --scene or --scene-file");
+    }
+    if options.sweep == Some(SweepKind::Lens) && options.aperture_radius.is_some() {
+        bail!("--sweep lens: the lenses set the aperture (--f-number stops them down); it takes no --aperture-radius");
+    }
+    let max_spp = values
+        .iter()
+        .map(|v| spp_of(*v, options))
+        .max()
+        .unwrap_or(options.spp);
+    if options.reference_spp < 4 * max_spp {
+        log(&format!(
+            "notice: --reference-spp {} is less than 4x the {max_spp} spp measured: errors near the reference's own are not meaningful",
+            options.reference_spp
+        ));
+    }
+
+    let base = scenes::load(&options.scene, options.dense_triangles)?;
+    // The lens sweep's paths are chosen for a real lens (`auto` picks among those that trace
+    // one).
+    let base_value = match options.sweep {
+        Some(SweepKind::Lens) => values
+            .iter()
+            .copied()
+            .find(|v| matches!(v, SweepValue::Lens(l) if l.real))
+            .unwrap_or(values[0]),
+        _ => SweepValue::Spp(options.spp),
+    };
+    let base_shot = bench_shot(&base, options, base_value)?;
+    let mut kinds =
+        choose::paths_to_run(options, &base, (&base_shot.camera, &base_shot.render), log)?;
+    if options.sweep == Some(SweepKind::Lens) {
+        kinds = lens_paths(options, kinds, log)?;
+    }
+    let mut report = BenchReport {
+        schema: report::SCHEMA,
+        lensray_version: env!("CARGO_PKG_VERSION"),
+        machine: machine::describe(),
+        scene: SceneInfo {
+            name: base.name.clone(),
+            triangles: base.triangles,
+        },
+        settings: SettingsInfo {
+            width: options.width,
+            height: options.height,
+            spp: options.spp,
+            shading: base_shot.render.shading,
+            sampler: base_shot.render.sampler,
+            seed: base_shot.render.seed,
+            aperture_radius: base_shot.camera.lens.aperture_radius,
+            focus_distance: base_shot.camera.lens.focus_distance,
+            repeat: options.repeat,
+            reference_spp: options.reference_spp,
+        },
+        sweep: options.sweep,
+        paths: Vec::new(),
+        points: Vec::new(),
+    };
+
+    // A triangle sweep renders one scene per point; the other sweeps share the base scene,
+    // and each path is opened once for all of its points.
+    let groups: Vec<Vec<SweepValue>> = if options.sweep == Some(SweepKind::Triangles) {
+        values.iter().map(|v| vec![*v]).collect()
+    } else {
+        vec![values]
+    };
+    let mut base = Some(base);
+    for group in groups {
+        let scene = match (group[0], base.take()) {
+            (SweepValue::Triangles(n), _) => {
+                log(&format!("generating a scene of at least {n} triangles"));
+                scenes::dense(n)
+            }
+            (_, Some(base)) => base,
+            (_, None) => unreachable!("one group unless the sweep is of triangles"),
+        };
+        let points = measure_group(options, &kinds, &scene, &group, &mut report.paths, log)?;
+        report.points.extend(points);
+    }
+    if options.sweep == Some(SweepKind::Triangles) {
+        report.scene = SceneInfo {
+            name: "generated dense".into(),
+            triangles: report.points.first().map_or(0, |p| p.triangles),
+        };
+    }
+    Ok(report)
+}
+
+/// The shot at one point: the scene's settings with the options' and the point's on top.
+fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> Result<Shot> {
+    let mut settings = scene.description.settings.clone();
+    let (width, height) = match value {
+        SweepValue::Resolution { width, height } => (width, height),
+        _ => (options.width, options.height),
+    };
+    settings.image.width = Some(width);
+    settings.image.height = Some(height);
+    settings.image.spp = Some(spp_of(value, options));
+    settings.image.sampler = options.sampler.or(settings.image.sampler);
+    settings.image.seed = options.seed.or(settings.image.seed);
+    settings.render.shading = Some(options.shading);
+    if let Some(radius) = options.aperture_radius {
+        // As `render --aperture-radius`: the radius replaces a physical lens's.
+        settings.camera.aperture_radius = Some(radius);
+        settings.camera.focal_length_mm = None;
+        settings.camera.f_number = None;
+        settings.camera.sensor_height_mm = None;
+    }
+    settings.camera.focus_distance = options.focus_distance.or(settings.camera.focus_distance);
+    settings.camera.f_number = options.f_number.or(settings.camera.f_number);
+    if let SweepValue::Lens(lens) = value {
+        // As `render --lens NAME`: the real lens replaces the scene's lens; the field of view
+        // follows from it.
+        settings.camera.lens.prescription = Some(lens.name().to_string());
+        settings.camera.aperture_radius = None;
+        settings.camera.focal_length_mm = None;
+        settings.camera.f_number = options.f_number;
+    }
+    let mut shot = lensray_core::settings::shot(&settings, &scene.description.scene)
+        .with_context(|| format!("scene {}", scene.description.source))?;
+    if let SweepValue::Aperture(aperture) = value {
+        // The shape replaces the scene's; the radius stays.
+        let aperture = aperture.shape().build()?;
+        shot.camera = shot.camera.with_aperture(aperture)?;
+    }
+    if let SweepValue::Lens(BenchLens { real: false, .. }) = value {
+        // The first-order model the camera holds (same framing, pupil and focus), untraced.
+        shot.camera.real_lens = None;
+    }
+    Ok(shot)
+}
+
+fn spp_of(value: SweepValue, options: &BenchOptions) -> u32 {
+    match value {
+        SweepValue::Spp(spp) => spp,
+        _ => options.spp,
+    }
+}
+
+/// The points of one scene: their references, then every path opened once and, point by point,
+/// measured in turns.
+fn measure_group(
+    options: &BenchOptions,
+    kinds: &[PathKind],
+    scene: &BenchScene,
+    values: &[SweepValue],
+    paths_seen: &mut Vec<PathInfo>,
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<PointReport>> {
+    let shots: Vec<Shot> = values
+        .iter()
+        .map(|v| bench_shot(scene, options, *v))
+        .collect::<Result<_>>()?;
+    // Points that differ only in spp share one reference.
+    let mut references: Vec<Rc<Reference>> = Vec::new();
+    for (i, s) in shots.iter().enumerate() {
+        let same = (0..i).find(|&j| shots[j].camera == s.camera);
+        let reference = match same {
+            Some(j) => Rc::clone(&references[j]),
+            None => Rc::new(reference::obtain(
+                options.cache_dir.as_deref(),
+                scene,
+                &s.camera,
+                &s.render,
+                options.reference_spp,
+                log,
+            )?),
+        };
+        references.push(reference);
+    }
+
+    // Every path open at once, so that each point's repeats can take turns between them.
+    let mut opened: Vec<Box<dyn RenderPath>> = Vec::with_capacity(kinds.len());
+    for &kind in kinds {
+        let first = (&shots[0].camera, &shots[0].render);
+        let OpenedPath { path, .. } = paths::open(
+            &choose::path_options(kind, options),
+            &scene.description.scene,
+            first,
+        )
+        .with_context(|| format!("--paths {kind}"))?;
+        if !paths_seen.iter().any(|p| p.path == kind) {
+            paths_seen.push(PathInfo {
+                path: kind,
+                device: path.device_name(),
+            });
+        }
+        opened.push(path);
+    }
+    let mut results: Vec<Vec<Measurement>> = Vec::with_capacity(values.len());
+    let in_turns = matches!(
+        options.sweep,
+        Some(SweepKind::Aperture) | Some(SweepKind::Lens)
+    );
+    if in_turns {
+        log(&format!(
+            "measuring {}: {} ({} triangles), {}x{}, {} spp, {} {} in turns",
+            kinds_list(kinds),
+            scene.name,
+            scene.triangles,
+            options.width,
+            options.height,
+            options.spp,
+            if options.sweep == Some(SweepKind::Lens) {
+                "lenses"
+            } else {
+                "apertures"
+            },
+            values
+                .iter()
+                .map(|v| match v {
+                    SweepValue::Aperture(a) => a.name().to_string(),
+                    SweepValue::Lens(l) => l.label(),
+                    _ => "?".into(),
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        let points: Vec<_> = shots
+            .iter()
+            .zip(&references)
+            .map(|(s, r)| (&s.camera, &s.render, &r.image))
+            .collect();
+        results = runs::measure_points_interleaved(&mut opened, &points, options.repeat)?;
+        if options.sweep == Some(SweepKind::Aperture) {
+            set_costs_vs_round(&mut results);
+        }
+    }
+    for (s, reference) in shots.iter().zip(&references) {
+        if in_turns {
+            break;
+        }
+        log(&format!(
+            "measuring {}: {} ({} triangles), {}x{}, {} spp",
+            kinds_list(kinds),
+            scene.name,
+            scene.triangles,
+            s.camera.width,
+            s.camera.height,
+            s.render.spp
+        ));
+        results.push(runs::measure_interleaved(
+            &mut opened,
+            &s.camera,
+            &s.render,
+            options.repeat,
+            &reference.image,
+        )?);
+    }
+    for (path, kind) in opened.into_iter().zip(kinds) {
+        path.close().with_context(|| format!("--paths {kind}"))?;
+    }
+
+    // The lens sweep: each point's pass shares, then each real lens against its thin model.
+    let mut lenses: Vec<Option<LensPoint>> = vec![None; values.len()];
+    if options.sweep == Some(SweepKind::Lens) {
+        log("counting the camera rays each lens lets through (CPU)");
+        let lens_values: Vec<BenchLens> = values
+            .iter()
+            .map(|v| match v {
+                SweepValue::Lens(l) => *l,
+                _ => unreachable!("the lens sweep's points are lenses"),
+            })
+            .collect();
+        let measured: Vec<LensPoint> = lens_values
+            .iter()
+            .zip(&shots)
+            .map(|(&l, s)| {
+                let real = lens_values
+                    .iter()
+                    .position(|&m| m == BenchLens { real: true, ..l })
+                    .map_or(&s.camera, |i| &shots[i].camera);
+                LensPoint::measure(l, &s.camera, real, &s.render)
+            })
+            .collect();
+        lens::set_costs_vs_thin(&lens_values, &measured, &mut results);
+        lenses = measured.into_iter().map(Some).collect();
+    }
+
+    let cpu = CpuRenderer::new(&scene.description.scene);
+    Ok(shots
+        .iter()
+        .zip(references)
+        .zip(results)
+        .zip(values)
+        .zip(lenses)
+        .map(|((((s, reference), mut results), value), lens)| {
+            set_speedups(&mut results);
+            let focus = FocusInfo::of(&cpu, &s.camera, &s.render);
+            let mut point = point_report(scene, (&s.camera, &s.render), &reference, focus, results);
+            if let SweepValue::Aperture(a) = value {
+                point.aperture = Some(*a);
+            }
+            point.lens = lens;
+            point
+        })
+        .collect())
+}
+
+/// The lens sweep's paths: those that trace real lenses (cpu, rayquery, software). The hybrid
+/// refuses them and raster renders their first-order model: asked for, an error; in the
+/// default list, left out with a notice.
+fn lens_paths(
+    options: &BenchOptions,
+    kinds: Vec<PathKind>,
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<PathKind>> {
+    let untraced = |k: &PathKind| matches!(k, PathKind::Hybrid | PathKind::Raster);
+    if let Some(kind) = options.paths.iter().filter_map(|p| p.only()).find(untraced) {
+        bail!("--sweep lens: --paths {kind} does not trace real lenses (hybrid refuses them, raster renders their first-order model); use cpu, rayquery or software");
+    }
+    let (left, kept): (Vec<PathKind>, Vec<PathKind>) = kinds.into_iter().partition(untraced);
+    if !left.is_empty() {
+        log(&format!(
+            "notice: --sweep lens leaves out {}: they do not trace real lenses",
+            kinds_list(&left)
+        ));
+    }
+    ensure!(
+        !kept.is_empty(),
+        "--sweep lens: no path that traces real lenses (cpu, rayquery, software) to run"
+    );
+    Ok(kept)
+}
+
+fn kinds_list(kinds: &[PathKind]) -> String {
+    kinds
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Each path's median time at each point over its median time at the first point (the aperture
+/// sweep's round aperture).
+fn set_costs_vs_round(points: &mut [Vec<Measurement>]) {
+    let round: Vec<(PathKind, f64)> = points.first().map_or(Vec::new(), |ms| {
+        ms.iter()
+            .map(|m| (m.path, m.trace_seconds.median))
+            .collect()
+    });
+    for point in points {
+        for m in point {
+            if let Some(&(_, t)) = round.iter().find(|(p, _)| *p == m.path) {
+                m.cost_vs_round = Some(m.trace_seconds.median / t.max(1e-12));
+            }
+        }
+    }
+}
+
+/// Each path's speed against the CPU path's at the same point (CPU median / path median).
+fn set_speedups(results: &mut [Measurement]) {
+    let cpu = results
+        .iter()
+        .find(|m| m.path == PathKind::Cpu)
+        .map(|m| m.trace_seconds.median);
+    if let Some(cpu) = cpu {
+        for m in results {
+            m.speedup_vs_cpu = Some(cpu / m.trace_seconds.median.max(1e-12));
+        }
+    }
+}
+
+fn point_report(
+    scene: &BenchScene,
+    (camera, render): (&Camera, &RenderSettings),
+    reference: &Reference,
+    focus: FocusInfo,
+    results: Vec<Measurement>,
+) -> PointReport {
+    PointReport {
+        width: camera.width,
+        height: camera.height,
+        spp: render.spp,
+        triangles: scene.triangles,
+        aperture: None,
+        lens: None,
+        reference: reference.info.clone(),
+        focus,
+        results,
+    }
+}

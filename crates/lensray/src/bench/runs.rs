@@ -1,0 +1,242 @@
+//! Timing the paths at one configuration: a warm-up render each (pipelines compiled, BVH paged
+//! in, thread pool started), then N rounds of timed renders, one per path; each path's median
+//! and spread, and the error of its image against the reference.
+
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+
+use crate::paths::{Clock, PathKind, RenderPath};
+use lensray_core::camera::Camera;
+use lensray_core::film::compare::rmse;
+use lensray_core::film::Image;
+use lensray_core::settings::RenderSettings;
+use lensray_core::stats::{median, range};
+
+/// One timed render.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Run {
+    /// Trace time as the path measures it (GPU timestamps on GPU paths).
+    pub trace_seconds: f64,
+    /// Host wall clock around the whole render call (uploads and readback included).
+    pub wall_seconds: f64,
+    pub rays: u64,
+    /// What the render asked of the device (0 on the CPU): queue submissions, host waits on
+    /// the device, bytes read back.
+    pub submits: u64,
+    pub cpu_waits: u64,
+    pub readback_bytes: u64,
+}
+
+/// Median and extremes of repeated measurements.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Spread {
+    pub median: f64,
+    pub min: f64,
+    pub max: f64,
+}
+
+impl Spread {
+    pub fn of(values: &[f64]) -> Self {
+        let (min, max) = range(values);
+        Self {
+            median: median(values),
+            min,
+            max,
+        }
+    }
+}
+
+/// One path at one configuration.
+#[derive(Clone, Debug, Serialize)]
+pub struct Measurement {
+    pub path: PathKind,
+    pub device: String,
+    /// How `trace_seconds` was measured.
+    pub clock: Clock,
+    pub runs: Vec<Run>,
+    pub trace_seconds: Spread,
+    pub wall_seconds: Spread,
+    /// Rays of one render (camera and shadow rays).
+    pub rays: u64,
+    /// Of one render (the last): queue submissions, host waits on the device, bytes read back
+    /// (0 on the CPU).
+    pub submits: u64,
+    pub cpu_waits: u64,
+    pub readback_bytes: u64,
+    /// `rays` over the median trace time.
+    pub rays_per_second: f64,
+    /// AOV benches: images (GPU: G-buffer passes) per second at the median time.
+    pub aov_passes_per_second: Option<f64>,
+    /// Device memory held at the peak so far (0 for the CPU).
+    pub peak_device_bytes: u64,
+    /// The acceleration structure's size (device memory on GPU paths, host memory on the CPU).
+    pub accel_bytes: u64,
+    /// Time to build the scene's acceleration structure when the path loaded it.
+    pub build_seconds: f64,
+    /// Against the reference, over every pixel and channel.
+    pub rmse: f64,
+    /// 20 log10(1 / RMSE): the peak is 1, the brightest diffuse colour, in linear units.
+    pub psnr_db: f64,
+    /// How many times faster than the CPU path at the same point (median trace times), when
+    /// the CPU path was measured there.
+    pub speedup_vs_cpu: Option<f64>,
+    /// The aperture sweep: this path's median time over its median time with the round
+    /// aperture (the shape's cost; 1 for the round point).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cost_vs_round: Option<f64>,
+    /// The lens sweep: camera rays that reach the scene (`LensPoint::camera_rays`) over the
+    /// median trace time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub camera_rays_per_second: Option<f64>,
+    /// The lens sweep: this path's median time over its median time with the lens's
+    /// first-order thin lens (1 for the thin point).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cost_vs_thin: Option<f64>,
+    /// The lens sweep: time per camera ray that reaches the scene over the same with the
+    /// thin lens, same path (issue 21's target: at most 2).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cost_per_camera_ray_vs_thin: Option<f64>,
+}
+
+pub fn psnr_db(rmse: f64) -> f64 {
+    -20.0 * rmse.log10()
+}
+
+/// Each path's warm-up render, then `repeat` rounds in which every path renders `settings`
+/// once, timed (samples 0..spp into a fresh accumulation each time). Interleaved rather than
+/// path after path: a slow phase of a shared machine (minutes long here) then slows every path
+/// alike instead of one, and the ratios hold. The error is that of each path's last image
+/// (every run gives the same).
+pub fn measure_interleaved(
+    paths: &mut [Box<dyn RenderPath>],
+    camera: &Camera,
+    settings: &RenderSettings,
+    repeat: usize,
+    reference: &Image,
+) -> Result<Vec<Measurement>> {
+    let mut points = measure_points_interleaved(paths, &[(camera, settings, reference)], repeat)?;
+    Ok(points.remove(0))
+}
+
+/// `measure_interleaved` over several points whose ratios matter (the aperture sweep: each
+/// shape against the round one): every round renders every point with every path, so a slow
+/// phase of the machine slows them alike. Per point, each path's measurement.
+pub fn measure_points_interleaved(
+    paths: &mut [Box<dyn RenderPath>],
+    points: &[(&Camera, &RenderSettings, &Image)],
+    repeat: usize,
+) -> Result<Vec<Vec<Measurement>>> {
+    for &(camera, settings, _) in points {
+        for path in paths.iter_mut() {
+            path.render(camera, settings, &mut |_, _| {})
+                .with_context(|| format!("--paths {}", path.kind()))?;
+        }
+    }
+    let mut runs = vec![vec![Vec::with_capacity(repeat); paths.len()]; points.len()];
+    let mut images = vec![vec![None; paths.len()]; points.len()];
+    for _ in 0..repeat {
+        for (&(camera, settings, _), (runs, images)) in
+            points.iter().zip(runs.iter_mut().zip(&mut images))
+        {
+            for ((path, runs), image) in paths.iter_mut().zip(runs).zip(images) {
+                let (run, rendered) = timed_render(path.as_mut(), camera, settings)
+                    .with_context(|| format!("--paths {}", path.kind()))?;
+                runs.push(run);
+                *image = Some(rendered);
+            }
+        }
+    }
+    points
+        .iter()
+        .zip(runs.into_iter().zip(images))
+        .map(|(&(_, settings, reference), (runs, images))| {
+            paths
+                .iter()
+                .zip(runs)
+                .zip(images)
+                .map(|((path, runs), image)| {
+                    let image = image.expect("at least one run");
+                    Ok(measurement(
+                        path.as_ref(),
+                        settings,
+                        runs,
+                        &image,
+                        reference,
+                    ))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn timed_render(
+    path: &mut dyn RenderPath,
+    camera: &Camera,
+    settings: &RenderSettings,
+) -> Result<(Run, Image)> {
+    let before = path.report();
+    let start = Instant::now();
+    let image = path.render(camera, settings, &mut |_, _| {})?;
+    let wall_seconds = start.elapsed().as_secs_f64();
+    let done = path.report().since(&before);
+    // An AOV is one pass (GPU: the raster G-buffer), timed as such; no rays on the GPU.
+    let trace_seconds = if settings.shading.is_aov() {
+        done.aov_seconds
+    } else {
+        done.trace_seconds
+    };
+    let run = Run {
+        trace_seconds,
+        wall_seconds,
+        rays: done.rays,
+        submits: done.submits,
+        cpu_waits: done.cpu_waits,
+        readback_bytes: done.readback_bytes,
+    };
+    Ok((run, image))
+}
+
+fn measurement(
+    path: &dyn RenderPath,
+    settings: &RenderSettings,
+    runs: Vec<Run>,
+    image: &Image,
+    reference: &Image,
+) -> Measurement {
+    let report = path.report();
+    let trace: Vec<f64> = runs.iter().map(|r| r.trace_seconds).collect();
+    let wall: Vec<f64> = runs.iter().map(|r| r.wall_seconds).collect();
+    let trace_seconds = Spread::of(&trace);
+    let rays = runs.last().map_or(0, |r| r.rays);
+    let last = runs.last().copied();
+    let error = rmse(image, reference);
+    Measurement {
+        path: path.kind(),
+        device: path.device_name(),
+        clock: report.clock,
+        runs,
+        trace_seconds,
+        wall_seconds: Spread::of(&wall),
+        rays,
+        submits: last.map_or(0, |r| r.submits),
+        cpu_waits: last.map_or(0, |r| r.cpu_waits),
+        readback_bytes: last.map_or(0, |r| r.readback_bytes),
+        rays_per_second: rays as f64 / trace_seconds.median.max(1e-12),
+        aov_passes_per_second: settings
+            .shading
+            .is_aov()
+            .then(|| 1.0 / trace_seconds.median.max(1e-12)),
+        peak_device_bytes: report.peak_device_bytes,
+        accel_bytes: report.accel_bytes,
+        build_seconds: report.build_seconds,
+        rmse: error,
+        psnr_db: psnr_db(error),
+        speedup_vs_cpu: None,
+        cost_vs_round: None,
+        camera_rays_per_second: None,
+        cost_vs_thin: None,
+        cost_per_camera_ray_vs_thin: None,
+    }
+}

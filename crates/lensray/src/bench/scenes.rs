@@ -1,0 +1,131 @@
+//! The scenes a bench renders, and a fingerprint of each for the reference cache.
+
+use anyhow::Result;
+
+use super::options::{NamedScene, SceneChoice};
+use lensray_core::scene::file::SceneDescription;
+use lensray_core::scene::Scene;
+
+/// A scene ready to bench: its description, a short name and its fingerprint.
+pub struct BenchScene {
+    pub description: SceneDescription,
+    /// "default", "dense", "cornell", the file's path, or "generated dense" for a sweep.
+    pub name: String,
+    pub triangles: usize,
+    pub fingerprint: u64,
+}
+
+impl BenchScene {
+    pub fn new(description: SceneDescription, name: String) -> Self {
+        Self {
+            triangles: description.scene.triangle_count(),
+            fingerprint: fingerprint(&description.scene),
+            description,
+            name,
+        }
+    }
+}
+
+/// The scene `choice` names. Generated scenes are built in memory (no files written).
+pub fn load(choice: &SceneChoice, dense_triangles: usize) -> Result<BenchScene> {
+    let (description, name) = match choice {
+        SceneChoice::File(path) => (
+            lensray_core::scene::file::load(path)?,
+            path.display().to_string(),
+        ),
+        SceneChoice::Named(named) => (named_scene(*named, dense_triangles), named.name().into()),
+    };
+    Ok(BenchScene::new(description, name))
+}
+
+fn named_scene(named: NamedScene, dense_triangles: usize) -> SceneDescription {
+    match named {
+        NamedScene::Default => lensray_core::scene::builtin::default_scene(),
+        NamedScene::Dense => lensray_core::scene::generate::dense(dense_triangles),
+        NamedScene::Cornell => lensray_core::scene::generate::cornell_box(),
+    }
+}
+
+/// The generated dense scene of at least `triangles` triangles (the triangle sweep's scenes).
+pub fn dense(triangles: usize) -> BenchScene {
+    BenchScene::new(
+        lensray_core::scene::generate::dense(triangles),
+        "generated dense".into(),
+    )
+}
+
+/// A 64-bit FNV-1a-style hash over 32-bit words: stable across runs, platforms and Rust
+/// versions (std's hasher promises none of that), fast enough for millions of triangles.
+#[derive(Clone, Copy, Debug)]
+pub struct Fingerprint(u64);
+
+impl Default for Fingerprint {
+    fn default() -> Self {
+        Fingerprint(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fingerprint {
+    pub fn word(&mut self, word: u32) {
+        self.0 = (self.0 ^ u64::from(word)).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+
+    pub fn words(&mut self, words: impl IntoIterator<Item = u32>) {
+        for w in words {
+            self.word(w);
+        }
+    }
+
+    pub fn bytes(&mut self, bytes: &[u8]) {
+        self.word(bytes.len() as u32);
+        self.words(bytes.iter().map(|&b| u32::from(b)));
+    }
+
+    pub fn finish(self) -> u64 {
+        // A final mix, so that the low bits (the file name) depend on every word.
+        let mut h = self.0;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^ (h >> 33)
+    }
+}
+
+/// Everything of a scene that changes its image: geometry, normals, materials.
+pub fn fingerprint(scene: &Scene) -> u64 {
+    let mut h = Fingerprint::default();
+    let floats = |h: &mut Fingerprint, v: &[glam::Vec3]| {
+        h.word(v.len() as u32);
+        h.words(v.iter().flat_map(|p| p.to_array()).map(f32::to_bits));
+    };
+    h.word(scene.meshes.len() as u32);
+    for mesh in &scene.meshes {
+        floats(&mut h, &mesh.positions);
+        floats(&mut h, &mesh.normals);
+        h.word(mesh.triangles.len() as u32);
+        h.words(mesh.triangles.iter().flatten().copied());
+        h.words(mesh.material_ids.iter().copied());
+    }
+    h.word(scene.materials.len() as u32);
+    for material in &scene.materials {
+        floats(&mut h, &[material.diffuse, material.emission]);
+    }
+    h.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fingerprint_sees_a_moved_vertex_and_a_new_colour() {
+        let scene = lensray_core::scene::builtin::default_scene().scene;
+        let base = fingerprint(&scene);
+        assert_eq!(base, fingerprint(&scene.clone()));
+        let mut moved = scene.clone();
+        moved.meshes[0].positions[0].x += 1e-6;
+        assert_ne!(base, fingerprint(&moved));
+        let mut recoloured = scene;
+        recoloured.materials[0].diffuse.y += 1e-6;
+        assert_ne!(base, fingerprint(&recoloured));
+    }
+}

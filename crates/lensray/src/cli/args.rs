@@ -1,0 +1,253 @@
+//! Command-line options shared by `render` and `bench`, mapped onto [`Settings`].
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::paths::{DeviceChoice, PathChoice, PathOptions};
+use lensray_vulkan::GpuOptions;
+
+use lensray_core::sampler::SamplerKind;
+use lensray_core::settings::Shading;
+use lensray_core::settings::{
+    ApertureSettings, CameraSettings, ImageSettings, LensSettings, LightSettings, ProjectionKind,
+    RenderStyle, Settings,
+};
+
+/// Parses "x,y,z" into three finite-or-not numbers (validation names the option later).
+pub fn parse_triple(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!(
+            "expected three comma-separated numbers like 1,2.5,-3, got '{s}'"
+        ));
+    }
+    let mut out = [0.0; 3];
+    for (o, p) in out.iter_mut().zip(&parts) {
+        *o = p
+            .parse::<f64>()
+            .map_err(|_| format!("'{p}' is not a number (in '{s}')"))?;
+    }
+    Ok(out)
+}
+
+/// Parses "x,y" pixel coordinates.
+pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    match parts.as_slice() {
+        [x, y] => Ok([
+            x.parse()
+                .map_err(|_| format!("'{x}' is not a pixel column"))?,
+            y.parse().map_err(|_| format!("'{y}' is not a pixel row"))?,
+        ]),
+        _ => Err(format!(
+            "expected a pixel as column,row like 320,240, got '{s}'"
+        )),
+    }
+}
+
+/// Which device: shared by `render`, `preview` (through [`PathArgs`]) and `bench`.
+#[derive(Args, Clone, Copy, Debug, Default)]
+pub struct DeviceArgs {
+    /// Which device: a Vulkan device (gpu), the CPU, or auto: a Vulkan device when one is
+    /// usable, else the CPU.
+    #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
+    pub device: DeviceChoice,
+    /// Turn on the Vulkan validation layer; any warning or error fails the command.
+    #[arg(long)]
+    pub validate: bool,
+    /// Use this Vulkan device (index from `lensray info`).
+    #[arg(long, value_name = "INDEX")]
+    pub gpu: Option<usize>,
+    /// Act as if the Vulkan device had no ray queries (to try the software path where it
+    /// would be the only one).
+    #[arg(long)]
+    pub hide_ray_query: bool,
+}
+
+impl DeviceArgs {
+    /// The Vulkan options these name (every traversal the device runs).
+    pub fn gpu_options(&self) -> GpuOptions {
+        GpuOptions {
+            validate: self.validate,
+            device_index: self.gpu,
+            hide_ray_query: self.hide_ray_query,
+            traversal: None,
+        }
+    }
+}
+
+/// Which device and which algorithm: shared by `render` and `preview`.
+#[derive(Args, Clone, Copy, Debug, Default)]
+pub struct PathArgs {
+    /// Which algorithm renders: a path (listed below), or auto: the
+    /// fastest the device supports, measured on a small render of the shot.
+    #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
+    pub path: PathChoice,
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+impl PathArgs {
+    pub fn options(&self) -> PathOptions {
+        PathOptions {
+            path: self.path,
+            device: self.device.device,
+            gpu: self.device.gpu_options(),
+        }
+    }
+}
+
+/// Camera, image and shading options; each overrides the scene file.
+#[derive(Args, Clone, Debug, Default)]
+pub struct ViewArgs {
+    /// Scene file (.toml) or a bare mesh (.obj); the built-in default scene when absent.
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    #[arg(long, value_enum)]
+    pub projection: Option<ProjectionKind>,
+    /// Camera position, world units.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub eye: Option<[f64; 3]>,
+    /// Point the camera looks at.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub target: Option<[f64; 3]>,
+    /// World up direction (default 0,1,0).
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub up: Option<[f64; 3]>,
+    /// Vertical field of view, degrees (perspective).
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_hyphen_values = true,
+        conflicts_with = "ortho_height"
+    )]
+    pub vfov: Option<f64>,
+    /// View height in world units (orthographic).
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    pub ortho_height: Option<f64>,
+    /// Lens aperture radius, world units (0 = pinhole).
+    #[arg(
+        long,
+        value_name = "R",
+        allow_hyphen_values = true,
+        conflicts_with = "focal_length_mm"
+    )]
+    pub aperture_radius: Option<f64>,
+    /// Distance of the focal plane along the view axis, world units.
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
+    pub focus_distance: Option<f64>,
+    /// Blades of the iris, 3 to 32 (absent: a round aperture); its vertices lie on the
+    /// aperture's circle.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub aperture_blades: Option<u32>,
+    /// Angle of the first blade's vertex, degrees counter-clockwise from the image's +x axis.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub aperture_rotation: Option<f64>,
+    /// Blades curved as arcs: 0 straight, 1 round.
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub aperture_roundness: Option<f64>,
+    /// Anamorphic squeeze: the aperture's height over its width (2: ovals twice as tall).
+    #[arg(long, value_name = "A", allow_hyphen_values = true)]
+    pub aperture_aspect: Option<f64>,
+    /// The aperture's shape as an image (PNG or EXR, transmission in [0, 1]) filling the
+    /// square around the aperture circle, its top row at the top; instead of blades.
+    #[arg(long, value_name = "FILE")]
+    pub aperture_image: Option<std::path::PathBuf>,
+    /// Focal length in mm (physical units; world units are metres).
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub focal_length_mm: Option<f64>,
+    /// A real lens traced surface by surface: a built-in name (see `lensray lens --help`)
+    /// or a prescription file. Its f-number, focus distance and sensor height are the
+    /// options of those names; the field of view follows from the lens and the film.
+    #[arg(
+        long,
+        value_name = "NAME|FILE",
+        conflicts_with_all = ["focal_length_mm", "aperture_radius", "vfov", "ortho_height"]
+    )]
+    pub lens: Option<String>,
+    /// f-number N: aperture radius = f / (2N); with --lens, the stop is closed until the
+    /// entrance pupil gives N (default: wide open).
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub f_number: Option<f64>,
+    /// Sensor height in mm (field of view from the thin-lens film distance, or the lens's).
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub sensor_height_mm: Option<f64>,
+    /// Near plane distance (default from the scene's extent).
+    #[arg(long, allow_hyphen_values = true)]
+    pub near: Option<f64>,
+    /// Far plane distance (default from the scene's extent).
+    #[arg(long, allow_hyphen_values = true)]
+    pub far: Option<f64>,
+    #[arg(long, value_name = "W")]
+    pub width: Option<u32>,
+    #[arg(long, value_name = "H")]
+    pub height: Option<u32>,
+    /// Samples per pixel.
+    #[arg(long, value_name = "N")]
+    pub spp: Option<u32>,
+    /// Seed of the deterministic sampler.
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u32>,
+    /// How samples are drawn (default sobol).
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerKind>,
+    #[arg(long, value_enum)]
+    pub shading: Option<Shading>,
+    /// Background colour, linear RGB.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
+    pub background: Option<[f64; 3]>,
+    /// Point light position.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub light_position: Option<[f64; 3]>,
+    /// Point light intensity, W/sr per channel.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
+    pub light_intensity: Option<[f64; 3]>,
+}
+
+impl ViewArgs {
+    pub fn to_settings(&self) -> Settings {
+        Settings {
+            camera: CameraSettings {
+                projection: self.projection,
+                eye: self.eye,
+                target: self.target,
+                up: self.up,
+                vfov_degrees: self.vfov,
+                ortho_height: self.ortho_height,
+                aperture_radius: self.aperture_radius,
+                focus_distance: self.focus_distance,
+                focal_length_mm: self.focal_length_mm,
+                f_number: self.f_number,
+                sensor_height_mm: self.sensor_height_mm,
+                near: self.near,
+                far: self.far,
+                aperture: ApertureSettings {
+                    blades: self.aperture_blades,
+                    rotation: self.aperture_rotation,
+                    roundness: self.aperture_roundness,
+                    aspect: self.aperture_aspect,
+                    image: self.aperture_image.clone(),
+                },
+                lens: LensSettings {
+                    prescription: self.lens.clone(),
+                },
+            },
+            image: ImageSettings {
+                width: self.width,
+                height: self.height,
+                spp: self.spp,
+                seed: self.seed,
+                sampler: self.sampler,
+            },
+            render: RenderStyle {
+                shading: self.shading,
+                background: self.background,
+            },
+            light: LightSettings {
+                position: self.light_position,
+                intensity: self.light_intensity,
+            },
+        }
+    }
+}

@@ -1,0 +1,172 @@
+//! `lensray bench`: the command line of `crate::bench`. Output files are checked writable
+//! before any work and written whole at the end (temporary file, then rename).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Result};
+use clap::Args;
+
+use super::args::DeviceArgs;
+use crate::bench::options::{
+    BenchOptions, NamedScene, SceneChoice, SweepKind, DEFAULT_CACHE_DIR, DEFAULT_REFERENCE_SPP,
+};
+use crate::output::PendingFile;
+use crate::paths::PathChoice;
+use lensray_core::sampler::SamplerKind;
+use lensray_core::settings::Shading;
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Paths to compare, comma-separated (listed below), or auto (the path
+    /// `--path auto` picks) [default: every path this machine can run].
+    #[arg(
+        long,
+        alias = "path",
+        value_enum,
+        value_delimiter = ',',
+        value_name = "PATH,..."
+    )]
+    pub paths: Vec<PathChoice>,
+    /// With `--device`: which devices the default list of paths uses: auto (the GPU paths of a
+    /// usable Vulkan device, plus the CPU), gpu (the GPU paths only), cpu (the CPU path only).
+    #[command(flatten)]
+    pub device: DeviceArgs,
+    /// A named scene [default: default]...
+    #[arg(long, value_enum, conflicts_with = "scene_file")]
+    pub scene: Option<NamedScene>,
+    /// ...or a scene file / mesh.
+    #[arg(long, value_name = "FILE")]
+    pub scene_file: Option<PathBuf>,
+    /// Triangles of `--scene dense`.
+    #[arg(long, value_name = "N", default_value_t = crate::cli::generate::DEFAULT_DENSE_TRIANGLES)]
+    pub dense_triangles: usize,
+    #[arg(long, value_name = "W", default_value_t = lensray_core::settings::DEFAULT_WIDTH)]
+    pub width: u32,
+    #[arg(long, value_name = "H", default_value_t = lensray_core::settings::DEFAULT_HEIGHT)]
+    pub height: u32,
+    /// Samples per pixel (the largest of the spp sweep).
+    #[arg(long, value_name = "N", default_value_t = lensray_core::settings::DEFAULT_SPP)]
+    pub spp: u32,
+    #[arg(long, value_enum, default_value_t = Shading::Unlit)]
+    pub shading: Shading,
+    /// Lens aperture radius, world units (0 = pinhole) [default: the scene's].
+    #[arg(long, value_name = "R")]
+    pub aperture_radius: Option<f64>,
+    /// Distance to the plane in focus, world units [default: the scene's].
+    #[arg(long, value_name = "D")]
+    pub focus_distance: Option<f64>,
+    /// f-number: of `--sweep lens`'s real lenses (stop closed until the entrance pupil gives
+    /// N) [default: each wide open], else of the scene's lens given by focal length.
+    #[arg(long, value_name = "N")]
+    pub f_number: Option<f64>,
+    /// How samples are drawn [default: the scene's, else sobol].
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerKind>,
+    /// Seed of the paths' samples (the reference uses another).
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u32>,
+    /// Timed runs per path and point, after one warm-up run.
+    #[arg(long, alias = "runs", value_name = "N", default_value_t = 5, value_parser = parse_repeat)]
+    pub repeat: usize,
+    /// Samples per pixel of the converged reference (CPU, rendered once and cached).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_REFERENCE_SPP)]
+    pub reference_spp: u32,
+    /// Where references are cached.
+    #[arg(long, value_name = "DIR", default_value = DEFAULT_CACHE_DIR)]
+    pub cache_dir: PathBuf,
+    /// Render the reference every time instead of caching it.
+    #[arg(long)]
+    pub no_cache: bool,
+    /// Measure over a range of work: spp (error against time), resolution, triangles
+    /// (generated scenes), aperture shapes (each one's cost against the round aperture,
+    /// measured in turns), or real lenses (each one's cost per camera ray that reaches the
+    /// scene against its first-order thin lens, and the share of camera samples it lets
+    /// through; cpu, rayquery and software). Without it, one point; `--plot` then sweeps spp.
+    #[arg(long, value_enum)]
+    pub sweep: Option<SweepKind>,
+    /// The sweep's values instead of its defaults: "1,4,16", "160x120,640x480", "10k,1M",
+    /// "hexagon,image" (of round, hexagon, curved9, squeezed, image), "thin,double-gauss-50"
+    /// (built-in lenses; each comes with its thin model, "thin").
+    #[arg(long, value_name = "LIST")]
+    pub sweep_points: Option<String>,
+    /// Write every figure as JSON.
+    #[arg(long, value_name = "FILE", value_parser = boxed_path())]
+    pub json: Option<Box<Path>>,
+    /// Draw error against time (or time against the swept quantity) as a PNG.
+    #[arg(long, value_name = "FILE.png", value_parser = boxed_path())]
+    pub plot: Option<Box<Path>>,
+}
+
+/// A path held in a box: the output files' (keeps `Command::Bench` within clippy's size
+/// bound on an enum's variants).
+fn boxed_path() -> impl clap::builder::TypedValueParser<Value = Box<Path>> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PathBufValueParser::new().map(PathBuf::into_boxed_path)
+}
+
+fn parse_repeat(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err("the number of timed runs must be a whole number >= 1".into()),
+    }
+}
+
+impl BenchArgs {
+    pub fn options(&self) -> BenchOptions {
+        BenchOptions {
+            scene: match (&self.scene_file, self.scene) {
+                (Some(file), _) => SceneChoice::File(file.clone()),
+                (None, scene) => SceneChoice::Named(scene.unwrap_or(NamedScene::Default)),
+            },
+            dense_triangles: self.dense_triangles,
+            paths: self.paths.clone(),
+            device: self.device.device,
+            gpu: self.device.gpu_options(),
+            width: self.width,
+            height: self.height,
+            spp: self.spp,
+            shading: self.shading,
+            aperture_radius: self.aperture_radius,
+            focus_distance: self.focus_distance,
+            f_number: self.f_number,
+            sampler: self.sampler,
+            seed: self.seed,
+            repeat: self.repeat,
+            reference_spp: self.reference_spp,
+            cache_dir: (!self.no_cache).then(|| self.cache_dir.clone()),
+            // A plot needs curves: without a sweep it sweeps spp.
+            sweep: self.sweep.or(self.plot.as_ref().map(|_| SweepKind::Spp)),
+            sweep_points: self.sweep_points.clone(),
+        }
+    }
+}
+
+pub fn run(args: &BenchArgs) -> Result<()> {
+    if let Some(plot) = &args.plot {
+        if !plot
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+        {
+            bail!(
+                "--plot {}: the plot is a PNG (name it .png)",
+                plot.display()
+            );
+        }
+    }
+    // Fail on a bad output path before spending minutes measuring.
+    let json = args.json.as_deref().map(PendingFile::create).transpose()?;
+    let plot = args.plot.as_deref().map(PendingFile::create).transpose()?;
+    let report = crate::bench::run(&args.options(), &mut |line| eprintln!("{line}"))?;
+    print!("{}", crate::bench::table::render(&report));
+    if let Some(json) = json {
+        let path = json.path().display().to_string();
+        json.finish(report.to_json().as_bytes())?;
+        println!("wrote {path}");
+    }
+    if let Some(plot) = plot {
+        let path = plot.path().display().to_string();
+        plot.finish(&crate::bench::plot::png(&report)?)?;
+        println!("wrote {path}");
+    }
+    Ok(())
+}

@@ -1,0 +1,152 @@
+//! `lensray generate cornell|spheres|dense [--out DIR] [--triangles N]`: writes a generated scene
+//! as `<out>/<name>.obj`, `<name>.mtl` and a scene file `<name>.toml` naming the OBJ.
+
+use std::fs;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context};
+
+use lensray_core::scene::file::write_scene_file;
+use lensray_core::scene::generate::{bokeh, cornell_box, dense, sphere_row};
+use lensray_core::scene::{write_obj, SceneDescription};
+
+/// Triangles of the dense benchmark scene unless `--triangles` says otherwise.
+pub const DEFAULT_DENSE_TRIANGLES: usize = 1_000_000;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Which {
+    /// Cornell-box-style room with a box, a sphere and a ceiling light.
+    Cornell,
+    /// A row of coloured spheres receding in depth.
+    Spheres,
+    /// At least `--triangles` triangles (default 1M) of spheres on a checkerboard, for benchmarks.
+    Dense,
+    /// Small bright lights in front of and behind an in-focus subject: the aperture's shape.
+    Bokeh,
+}
+
+impl Which {
+    /// One line on what the scene shows.
+    pub fn description(self) -> &'static str {
+        match self {
+            Which::Cornell => "A Cornell-box-style room (red left wall, green right wall) with a tall box, a sphere in focus and a ceiling light.",
+            Which::Spheres => "Five coloured spheres in a row receding in depth on a grey ground, the middle one in focus.",
+            Which::Dense => "A benchmark scene: a 10 x 10 grid of finely tessellated spheres on a checkerboard, focused on the middle.",
+            Which::Bokeh => "Small bright lights at several depths in front of and behind an in-focus sphere on a dark background: out-of-focus highlights take the aperture's shape.",
+        }
+    }
+
+    /// The file stem of the scene's files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Which::Cornell => "cornell",
+            Which::Spheres => "spheres",
+            Which::Dense => "dense",
+            Which::Bokeh => "bokeh",
+        }
+    }
+}
+
+#[derive(Clone, Debug, clap::Args)]
+pub struct GenerateArgs {
+    /// Which scene to generate.
+    #[arg(value_enum)]
+    pub which: Which,
+    /// Folder to write `<name>.obj`, `<name>.mtl` and `<name>.toml` into (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "assets/generated")]
+    pub out: PathBuf,
+    /// Minimum number of triangles (dense only) [default: 1000000].
+    #[arg(long, value_name = "N")]
+    pub triangles: Option<usize>,
+}
+
+/// Generates the scene and prints where it went.
+pub fn run(args: &GenerateArgs) -> anyhow::Result<()> {
+    if args.triangles.is_some() && args.which != Which::Dense {
+        bail!(
+            "--triangles applies only to `dense`, not `{}`",
+            args.which.name()
+        );
+    }
+    let (path, triangles) = generate(
+        args.which,
+        &args.out,
+        args.triangles.unwrap_or(DEFAULT_DENSE_TRIANGLES),
+    )?;
+    println!("wrote {} ({triangles} triangles)", path.display());
+    Ok(())
+}
+
+/// First line of a generated scene file, recording how it was made.
+fn header(which: Which, dense_triangles: usize) -> String {
+    match which {
+        Which::Dense => format!("lensray generate dense --triangles {dense_triangles}"),
+        other => format!("lensray generate {}", other.name()),
+    }
+}
+
+/// Writes the scene's three files into `out` and returns the scene file's path and the triangle
+/// count. Files are written into a temporary folder first and then renamed into place, the scene
+/// file last, so that a complete scene file means complete OBJ and MTL files.
+pub fn generate(
+    which: Which,
+    out: &Path,
+    dense_triangles: usize,
+) -> anyhow::Result<(PathBuf, usize)> {
+    let description: SceneDescription = match which {
+        Which::Cornell => cornell_box(),
+        Which::Spheres => sphere_row(),
+        Which::Dense => dense(dense_triangles),
+        Which::Bokeh => bokeh(),
+    };
+    let name = which.name();
+    fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let staging = tempfile::Builder::new()
+        .prefix(".lensray-generate-")
+        .tempdir_in(out)
+        .with_context(|| format!("cannot write into {}", out.display()))?;
+    let obj = format!("{name}.obj");
+    write_obj(&description.scene, &staging.path().join(&obj))
+        .with_context(|| format!("cannot write {obj} into {}", out.display()))?;
+    let comment = format!(
+        "{}\n{}\n{} triangles. Units are metres; `mesh` is relative to this file.",
+        header(which, dense_triangles),
+        which.description(),
+        description.scene.triangle_count()
+    );
+    write_scene_file(
+        &staging.path().join(format!("{name}.toml")),
+        &obj,
+        &description.settings,
+        &comment,
+    )
+    .with_context(|| format!("cannot write {name}.toml into {}", out.display()))?;
+    for ext in ["mtl", "obj", "toml"] {
+        let file = format!("{name}.{ext}");
+        fs::rename(staging.path().join(&file), out.join(&file))
+            .with_context(|| format!("cannot move {file} into {}", out.display()))?;
+    }
+    Ok((
+        out.join(format!("{name}.toml")),
+        description.scene.triangle_count(),
+    ))
+}
+
+/// The dense scene's scene file in `dir`, generated only when it is missing or was made with
+/// another triangle count (its first line records the count). Benchmarks call this.
+pub fn ensure_dense_scene(dir: &Path, triangles: usize) -> anyhow::Result<PathBuf> {
+    let toml = dir.join("dense.toml");
+    let expected = format!("# {}", header(Which::Dense, triangles));
+    let up_to_date = fs::File::open(&toml)
+        .ok()
+        .and_then(|f| BufReader::new(f).lines().next())
+        .and_then(Result::ok)
+        .is_some_and(|first| first == expected)
+        && dir.join("dense.obj").is_file()
+        && dir.join("dense.mtl").is_file();
+    if up_to_date {
+        return Ok(toml);
+    }
+    Ok(generate(Which::Dense, dir, triangles)?.0)
+}

@@ -1,0 +1,78 @@
+//! `lensray info`: the Vulkan devices and whether each can run the GPU renderer.
+
+use anyhow::{Context, Result};
+
+use lensray_vulkan::{list_devices, DeviceReport};
+
+/// Prints every Vulkan device with its ray-query support, the render paths it runs and the
+/// limits that matter.
+pub fn run() -> Result<()> {
+    let devices = list_devices().context("listing Vulkan devices")?;
+    print!("{}", format_devices(&devices));
+    Ok(())
+}
+
+/// The text `run` prints.
+pub fn format_devices(devices: &[DeviceReport]) -> String {
+    if devices.is_empty() {
+        return "no Vulkan devices found (install a Vulkan driver, e.g. Mesa's lavapipe)\n".into();
+    }
+    let usable = devices
+        .iter()
+        .filter(|d| !d.traversals().is_empty())
+        .count();
+    let mut out = format!(
+        "{} Vulkan device(s), {usable} usable for GPU rendering:\n",
+        devices.len()
+    );
+    for d in devices {
+        out += &format!("\n[{}] {} ({})\n", d.index, d.name, d.device_type);
+        out += &format!("    Vulkan API         {}\n", d.api_version);
+        out += &format!(
+            "    driver             {} (version {})\n",
+            d.driver, d.driver_version
+        );
+        if d.ray_query {
+            out += "    ray queries        yes\n";
+        } else {
+            out += &format!(
+                "    ray queries        no: missing {}\n",
+                d.missing.join(", ")
+            );
+        }
+        let paths: Vec<&str> = d.traversals().iter().map(|t| t.name()).collect();
+        out += &if paths.is_empty() {
+            format!(
+                "    paths              cpu only: missing {}\n",
+                d.missing_software.join(", ")
+            )
+        } else {
+            // The hybrid and raster paths trace with any of the device's traversals.
+            format!(
+                "    paths              {}, hybrid, raster, cpu\n",
+                paths.join(", ")
+            )
+        };
+        out += &format!("    max image 2D       {} px\n", d.max_image_dimension_2d);
+        let [gx, gy, gz] = d.max_compute_work_group_count;
+        let [sx, sy, sz] = d.max_compute_work_group_size;
+        out += &format!("    compute groups     {gx} x {gy} x {gz}\n");
+        out += &format!(
+            "    compute group size {sx} x {sy} x {sz} ({} invocations)\n",
+            d.max_compute_work_group_invocations
+        );
+        out += &format!(
+            "    max storage buffer {} MiB\n",
+            u64::from(d.max_storage_buffer_range) >> 20
+        );
+        out += &format!(
+            "    timestamps         {}\n",
+            if d.timestamps {
+                format!("yes, {} ns per tick", d.timestamp_period_ns)
+            } else {
+                "no".into()
+            }
+        );
+    }
+    out
+}

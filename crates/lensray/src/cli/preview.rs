@@ -1,0 +1,74 @@
+//! `lensray preview`: the window to frame a shot and pick the focus (see `crate::preview`).
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+
+use super::args::{PathArgs, ViewArgs};
+use super::render::{load_scene, merged_settings};
+use crate::preview::app::{run as run_window, PreviewConfig};
+use crate::preview::player::ScriptPlayer;
+use crate::preview::{CameraRig, ViewMode};
+use lensray_vulkan::{PresentMode, ViewerOptions};
+
+#[derive(Args, Debug)]
+pub struct PreviewArgs {
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// What the window shows first (V cycles, 1-5 pick).
+    #[arg(long = "view", value_enum, default_value_t = ViewMode::Final)]
+    pub initial_view: ViewMode,
+    /// How frames wait for the display.
+    #[arg(long, value_enum, default_value_t = PresentMode::Fifo)]
+    pub present_mode: PresentMode,
+    /// Draw this many frames, then exit.
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u64>,
+    /// On exit, save the accumulation here (.png or .exr), as `render --out` would.
+    #[arg(long, value_name = "FILE")]
+    pub screenshot: Option<PathBuf>,
+    /// Replay timed input events from this file (keys, clicks, drags, scrolls, resizes,
+    /// `lens NAME|thin`, `wait converged`, `screenshot FILE`, `quit`; one per line after a
+    /// delay in seconds).
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
+    #[command(flatten)]
+    pub path: PathArgs,
+}
+
+pub fn run(args: &PreviewArgs) -> Result<()> {
+    if args.frames == Some(0) {
+        anyhow::bail!("--frames must be at least 1");
+    }
+    if let Some(path) = &args.screenshot {
+        crate::output::format_of(path)?;
+    }
+    let script = match &args.script {
+        Some(path) => crate::preview::script::load(path)?,
+        None => Vec::new(),
+    };
+    let choice = crate::paths::preview_options(&args.path.options())?;
+    let description = load_scene(&args.view)?;
+    let settings = merged_settings(&description.settings, &args.view);
+    let rig = CameraRig::new(settings, &description.scene)
+        .with_context(|| format!("scene {}", description.source))?;
+    let config = PreviewConfig {
+        scene_path: args.view.scene.clone(),
+        description,
+        rig,
+        viewer: ViewerOptions {
+            gpu: choice.gpu,
+            present_mode: args.present_mode,
+            estimator: choice.estimator,
+        },
+        cpu_path: choice.cpu,
+        view: args.initial_view,
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+        script: ScriptPlayer::new(script),
+    };
+    let summary = run_window(config)?;
+    println!("{summary}");
+    Ok(())
+}

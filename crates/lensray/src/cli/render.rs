@@ -1,0 +1,137 @@
+//! `lensray render`: one image, headless.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::Args;
+
+use super::args::{parse_pixel, PathArgs, ViewArgs};
+use super::progress::{Progress, ProgressMode};
+use crate::output::PendingOutput;
+use crate::paths::RenderPath;
+use crate::paths::{self, OpenedPath};
+use lensray_core::camera::Camera;
+use lensray_core::scene::file::SceneDescription;
+use lensray_core::settings::Settings;
+use lensray_core::settings::{shot, Shot};
+
+pub const DEFAULT_OUTPUT: &str = "lensray.png";
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub view: ViewArgs,
+    #[command(flatten)]
+    pub path: PathArgs,
+    /// Output image: .png (sRGB) or .exr (linear float).
+    #[arg(long, value_name = "FILE", default_value = DEFAULT_OUTPUT)]
+    pub out: PathBuf,
+    /// Autofocus: focus on the surface seen at this pixel (column,row).
+    #[arg(long, value_parser = parse_pixel, value_name = "X,Y")]
+    pub focus_at: Option<[u32; 2]>,
+    /// How to show progress: a bar on a terminal, plain lines, or nothing.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+}
+
+/// The scene the options name, or the built-in default scene.
+pub fn load_scene(view: &ViewArgs) -> Result<SceneDescription> {
+    match &view.scene {
+        Some(path) => Ok(lensray_core::scene::file::load(path)?),
+        None => Ok(lensray_core::scene::builtin::default_scene()),
+    }
+}
+
+/// The scene file's settings with the command line's on top. Lens options replace the file's
+/// lens as a group, so a file's aperture radius does not clash with a command-line focal length.
+pub fn merged_settings(file: &Settings, view: &ViewArgs) -> Settings {
+    let over = view.to_settings();
+    let mut base = file.clone();
+    if over.camera.focal_length_mm.is_some() {
+        base.camera.aperture_radius = None;
+    }
+    if over.camera.aperture_radius.is_some() {
+        base.camera.focal_length_mm = None;
+        base.camera.f_number = None;
+        base.camera.sensor_height_mm = None;
+    }
+    base.overridden_by(&over)
+}
+
+impl Default for RenderArgs {
+    fn default() -> Self {
+        Self {
+            view: ViewArgs::default(),
+            path: PathArgs::default(),
+            out: PathBuf::from(DEFAULT_OUTPUT),
+            focus_at: None,
+            progress: ProgressMode::Auto,
+        }
+    }
+}
+
+pub fn run(args: &RenderArgs) -> Result<()> {
+    let start = Instant::now();
+    // Fail on a bad output path before spending time on the render.
+    let output = PendingOutput::create(&args.out)?;
+    let description = load_scene(&args.view)?;
+    let mut settings = merged_settings(&description.settings, &args.view);
+    let context = || format!("scene {}", description.source);
+    let Shot {
+        mut camera,
+        mut render,
+    } = shot(&settings, &description.scene).with_context(context)?;
+
+    let OpenedPath { mut path, why } =
+        paths::open(&args.path.options(), &description.scene, (&camera, &render))?;
+    if let Some(pixel) = args.focus_at {
+        let focus = focus_depth_at(path.as_mut(), &camera, pixel)?;
+        settings.camera.focus_distance = Some(focus as f64);
+        Shot { camera, render } = shot(&settings, &description.scene).with_context(context)?;
+        eprintln!(
+            "autofocus: pixel {},{} is {focus:.4} away along the view axis",
+            pixel[0], pixel[1]
+        );
+    }
+
+    let mut progress = Progress::new("rendering", args.progress);
+    let before = path.report();
+    let image = path.render(&camera, &render, &mut |d, t| progress.update(d, t))?;
+    progress.finish();
+    let report = path.report().since(&before);
+    let (kind, device) = (path.kind(), path.device_name());
+    path.close()?;
+    output.finish(&image, render.shading)?;
+    println!(
+        "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, path {kind} ({why}) on {}: {:.2} s total, {:.2} Mrays/s",
+        args.out.display(),
+        camera.width,
+        camera.height,
+        render.spp,
+        render.sampler,
+        render.shading,
+        description.scene.triangle_count(),
+        device,
+        start.elapsed().as_secs_f64(),
+        report.rays_per_second() / 1e6
+    );
+    if let Some(real) = &camera.real_lens {
+        println!("  {}", real.summary());
+    }
+    Ok(())
+}
+
+/// Autofocus: the view depth at `pixel`, or an error naming the pixel when it shows no surface.
+fn focus_depth_at(path: &mut dyn RenderPath, camera: &Camera, pixel: [u32; 2]) -> Result<f32> {
+    let [x, y] = pixel;
+    if x >= camera.width || y >= camera.height {
+        anyhow::bail!(
+            "--focus-at {x},{y} lies outside the {}x{} image",
+            camera.width,
+            camera.height
+        );
+    }
+    path.focus_depth_at(camera, pixel)?
+        .with_context(|| format!("--focus-at {x},{y}: no surface at that pixel to focus on"))
+}

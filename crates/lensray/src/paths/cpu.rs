@@ -1,0 +1,117 @@
+//! The CPU reference as a render path.
+
+use std::ops::Range;
+
+use anyhow::Result;
+use glam::{UVec2, Vec2};
+
+use crate::paths::{Clock, PathKind, PathReport, RenderPath};
+use lensray_core::camera::Camera;
+use lensray_core::film::{Accumulation, Image};
+use lensray_core::reference::Renderer;
+use lensray_core::scene::Scene;
+use lensray_core::settings::RenderSettings;
+
+pub struct CpuPath {
+    renderer: Option<Renderer>,
+    report: PathReport,
+}
+
+impl CpuPath {
+    pub fn new() -> Self {
+        Self {
+            renderer: None,
+            report: PathReport {
+                rays: 0,
+                trace_seconds: 0.0,
+                clock: Clock::WallClock,
+                build_seconds: 0.0,
+                accel_bytes: 0,
+                peak_device_bytes: 0,
+                aov_passes: 0,
+                aov_seconds: 0.0,
+                submits: 0,
+                cpu_waits: 0,
+                readback_bytes: 0,
+            },
+        }
+    }
+
+    fn renderer(&self) -> Result<&Renderer> {
+        self.renderer
+            .as_ref()
+            .ok_or_else(|| anyhow::anyhow!("no scene loaded"))
+    }
+}
+
+impl Default for CpuPath {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl RenderPath for CpuPath {
+    fn kind(&self) -> PathKind {
+        PathKind::Cpu
+    }
+
+    fn device_name(&self) -> String {
+        format!("CPU, {} threads", rayon::current_num_threads())
+    }
+
+    fn load_scene(&mut self, scene: &Scene) -> Result<()> {
+        let renderer = Renderer::new(scene);
+        self.report.build_seconds += renderer.bvh_build_time().as_secs_f64();
+        self.report.accel_bytes = renderer.accel_bytes();
+        self.renderer = Some(renderer);
+        Ok(())
+    }
+
+    fn add_samples(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<()> {
+        super::check_accumulation(camera, settings, accumulation)?;
+        let sums = accumulation.host_mut()?;
+        let stats = self
+            .renderer()?
+            .accumulate(camera, settings, samples, sums, progress);
+        self.report.rays += stats.rays;
+        self.report.trace_seconds += stats.elapsed.as_secs_f64();
+        Ok(())
+    }
+
+    /// The CPU keeps its sums on the host: nothing to read, unless a device holds them.
+    fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<()> {
+        accumulation.host()?;
+        Ok(())
+    }
+
+    fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image> {
+        let (image, stats) = self.renderer()?.render(camera, settings, &mut |_, _| {});
+        self.report.aov_passes += 1;
+        self.report.aov_seconds += stats.elapsed.as_secs_f64();
+        Ok(image)
+    }
+
+    fn focus_depth_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<Option<f32>> {
+        let centre = UVec2::from(pixel).as_vec2() + Vec2::splat(0.5);
+        let ray = camera.generate_ray(centre, Vec2::splat(0.5));
+        Ok(self
+            .renderer()?
+            .intersect(&ray)
+            .map(|hit| camera.view_depth(ray.at(hit.t))))
+    }
+
+    fn report(&self) -> PathReport {
+        self.report
+    }
+
+    fn close(self: Box<Self>) -> Result<()> {
+        Ok(())
+    }
+}

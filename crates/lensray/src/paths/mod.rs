@@ -1,0 +1,240 @@
+//! The render paths behind [`RenderPath`], one file (or folder) each: `cpu`, `traced`
+//! (`rayquery`, `software`), `raster`, `hybrid`, with what the GPU paths share in `gpu`; and the
+//! choice of one. `--device` says which device, `--path` which algorithm ([`PathKind`] describes
+//! them, [`request`] checks what the two ask for together); `auto` measures the paths the device
+//! supports and takes the fastest (`auto`).
+
+mod auto;
+pub mod calibration;
+mod cpu;
+mod gpu;
+pub mod hybrid;
+mod path;
+mod raster;
+pub mod request;
+mod traced;
+
+use anyhow::{bail, Context, Result};
+
+pub use auto::{pick_path, pick_traversal};
+pub use cpu::CpuPath;
+pub use gpu::{estimator, GpuEstimator, GpuPath};
+pub use hybrid::HybridPath;
+pub use path::{
+    Choice, Clock, DeviceChoice, DeviceKind, PathChoice, PathKind, PathReport, RealLensSupport,
+    RenderPath,
+};
+pub use raster::RasterPath;
+pub use request::PathOptions;
+pub use traced::TracedPath;
+
+use lensray_core::camera::Camera;
+use lensray_core::film::Accumulation;
+use lensray_core::scene::Scene;
+use lensray_core::settings::RenderSettings;
+use lensray_vulkan::{Estimator, GpuOptions, GpuRenderer};
+
+/// An open path with its scene loaded, and why it was chosen (for the summary line).
+pub struct OpenedPath {
+    pub path: Box<dyn RenderPath>,
+    pub why: String,
+}
+
+/// Opens the path `options` ask for and loads `scene`. `auto` renders a small version of
+/// `shot` with each path the device supports and keeps the fastest. Under `--device auto`, a
+/// missing or unusable Vulkan device falls back to the CPU with a notice, unless a Vulkan
+/// option (`--validate`, `--gpu`) or a GPU path was asked for.
+pub fn open(
+    options: &PathOptions,
+    scene: &Scene,
+    shot: (&Camera, &RenderSettings),
+) -> Result<OpenedPath> {
+    let device = options.device_to_use("--path")?;
+    let real_lens = shot.0.real_lens.as_deref();
+    if let (Some(real), Some(kind)) = (real_lens, options.path.only()) {
+        match kind.real_lens_support() {
+            RealLensSupport::Refused => bail!(
+                "--path {kind} does not trace real lenses (--lens {}): use cpu, rayquery, software or auto",
+                real.name()
+            ),
+            RealLensSupport::FirstOrder => eprintln!(
+                "notice: --path {kind} renders lens {} by its first-order model (a thin lens at its entrance pupil): no aberrations, distortion or vignetting",
+                real.name()
+            ),
+            RealLensSupport::Traced => {}
+        }
+    }
+    if device == Choice::Only(DeviceKind::Cpu) {
+        let why = if options.path == Choice::Only(PathKind::Cpu) {
+            "asked for"
+        } else {
+            "--device cpu"
+        };
+        return open_cpu(scene, why);
+    }
+
+    let mut gpu_options = GpuOptions {
+        traversal: options.path.only().and_then(PathKind::traversal),
+        ..options.gpu
+    };
+    if options.path == Choice::Auto {
+        match auto_device(options, &gpu_options, auto::pixel_samples(shot)) {
+            Some(calibration::DeviceDecision::Cpu(why)) => return open_cpu(scene, &why),
+            // The calibrated traversal alone: only its trace pipeline is made.
+            Some(calibration::DeviceDecision::Gpu(traversal, _)) => {
+                gpu_options.traversal = traversal;
+            }
+            None => {}
+        }
+    }
+    let mut renderer = match GpuRenderer::new(&gpu_options) {
+        Ok(renderer) => renderer,
+        Err(error) => {
+            let error = anyhow::Error::from(error);
+            return match (options.path, options.device, options.gpu_option()) {
+                (Choice::Auto, Choice::Auto, None) => {
+                    eprintln!("notice: rendering on the CPU: no usable GPU ({error:#})");
+                    open_cpu(scene, "auto: no usable Vulkan device")
+                }
+                (Choice::Auto, Choice::Auto, Some(option)) => Err(error.context(option.flag)),
+                (Choice::Auto, _, _) => Err(error.context("--device gpu")),
+                (path, _, _) => Err(error.context(format!("--path {path}"))),
+            };
+        }
+    };
+    renderer.load_scene(scene)?;
+    let (kind, why) = match options.path.only() {
+        Some(kind) => match kind.traversal() {
+            Some(traversal) => {
+                renderer
+                    .set_traversal(traversal)
+                    .with_context(|| format!("--path {kind}"))?;
+                (kind, "asked for".to_string())
+            }
+            None => {
+                let (traversal, why) = pick_traversal(&mut renderer, shot)?;
+                (kind, format!("asked for; traces with {traversal} ({why})"))
+            }
+        },
+        // Only the traversal paths trace a real lens's rays.
+        None if real_lens.is_some() => pick_traversal(&mut renderer, shot)?,
+        None => pick_path(&mut renderer, shot)?,
+    };
+    Ok(OpenedPath {
+        path: gpu_path(renderer, kind)?,
+        why,
+    })
+}
+
+/// The GPU path `kind` on `renderer` (which traces with the traversal it needs).
+fn gpu_path(renderer: GpuRenderer, kind: PathKind) -> Result<Box<dyn RenderPath>> {
+    Ok(match kind {
+        PathKind::RayQuery | PathKind::Software => {
+            Box::new(TracedPath::with(renderer, traced::Traced))
+        }
+        PathKind::Raster => Box::new(RasterPath::with(renderer, raster::Raster)),
+        PathKind::Hybrid => Box::new(HybridPath::new(renderer)?),
+        PathKind::Cpu => bail!("the CPU path has no Vulkan renderer"),
+    })
+}
+
+/// `auto`'s choice of the device, where the CPU may render (`--device auto` and no Vulkan
+/// option): the CPU reference when `calibration::decide` says so, from the device's type and
+/// its cached calibration. A GPU that is not a CPU implementation and has no calibration yet is
+/// calibrated now, once (a failure is a notice: `auto` then times the GPU paths as before).
+/// `None`: no decision (the CPU may not render, or no device is there: `open` says why).
+fn auto_device(
+    options: &PathOptions,
+    gpu_options: &GpuOptions,
+    samples: u64,
+) -> Option<calibration::DeviceDecision> {
+    if options.device != Choice::Auto || options.gpu_option().is_some() {
+        return None;
+    }
+    let device = lensray_vulkan::preferred_device(gpu_options).ok()?;
+    let key = calibration::key(&device);
+    let cached = calibration::load(&key).or_else(|| {
+        if device.is_cpu() {
+            return None;
+        }
+        match calibration::measure(gpu_options).and_then(|c| {
+            calibration::store(&c)?;
+            Ok(c)
+        }) {
+            Ok(c) => Some(c),
+            Err(e) => {
+                eprintln!("notice: could not calibrate {}: {e:#}", device.name);
+                None
+            }
+        }
+    });
+    Some(calibration::decide(&device, cached.as_ref(), samples))
+}
+
+fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
+    let mut path = CpuPath::new();
+    path.load_scene(scene)?;
+    Ok(OpenedPath {
+        path: Box::new(path),
+        why: why.into(),
+    })
+}
+
+/// The accumulation must match the camera, and only traced shadings add samples.
+fn check_accumulation(
+    camera: &Camera,
+    settings: &RenderSettings,
+    accumulation: &Accumulation,
+) -> Result<()> {
+    if (accumulation.width, accumulation.height) != (camera.width, camera.height) {
+        bail!(
+            "accumulation {}x{} does not match the {}x{} image",
+            accumulation.width,
+            accumulation.height,
+            camera.width,
+            camera.height
+        );
+    }
+    if settings.shading.is_aov() {
+        bail!(
+            "{:?} is an AOV: it has no samples to accumulate",
+            settings.shading
+        );
+    }
+    Ok(())
+}
+
+/// Who traces the preview's samples (`preview_options`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PreviewChoice {
+    /// The window's Vulkan options (the traversal, when the path names one).
+    pub gpu: GpuOptions,
+    /// The CPU path traces (the window only shows).
+    pub cpu: bool,
+    /// How the window adds samples (the path asked for; `auto` decides after the window
+    /// opened).
+    pub estimator: Estimator,
+}
+
+/// The preview window always draws with Vulkan; the path only says who traces the samples.
+pub fn preview_options(options: &PathOptions) -> Result<PreviewChoice> {
+    // The window is Vulkan's whatever traces, so the Vulkan options stand with the CPU path.
+    let device = PathOptions {
+        gpu: GpuOptions::default(),
+        ..*options
+    }
+    .device_to_use("--path")?;
+    // The hybrid and raster paths trace with the device's fastest traversal (picked as `render`
+    // picks it).
+    Ok(PreviewChoice {
+        gpu: GpuOptions {
+            traversal: options.path.only().and_then(PathKind::traversal),
+            ..options.gpu
+        },
+        cpu: device == Choice::Only(DeviceKind::Cpu),
+        estimator: options
+            .path
+            .only()
+            .map_or(Estimator::Traced, PathKind::estimator),
+    })
+}

@@ -1,0 +1,368 @@
+//! The render-path interface: one algorithm for the thin-lens image on one device. The CPU
+//! reference and each GPU path implement it (`crate::paths`), so `render`, `bench` and
+//! `preview` drive every path the same way and compare them on equal terms.
+
+use std::fmt;
+use std::ops::Range;
+
+use anyhow::Result;
+use serde::Serialize;
+
+use lensray_core::camera::Camera;
+use lensray_core::film::{Accumulation, Image};
+use lensray_core::scene::Scene;
+use lensray_core::settings::RenderSettings;
+use lensray_vulkan::{Estimator, Traversal};
+
+/// The algorithms lensray can render with: the one description of a path. What a path needs
+/// (its device, the GPU traversal it is tied to) is a property here, not another enum kept in
+/// step; `--path` and `--device` choose with [`Choice`].
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum PathKind {
+    /// GPU compute pass, closest hits from Vulkan ray queries (VK_KHR_ray_query).
+    #[value(name = "rayquery")]
+    RayQuery,
+    /// GPU compute pass, closest hits from lensray's own BVH traversed in the shader: needs no
+    /// ray-tracing support.
+    Software,
+    /// GPU, guided by the raster G-buffer: pixels whose dilated circle of confusion is under
+    /// half a pixel take the G-buffer's value (checked by a few traced samples, unbiased), the
+    /// others trace a number of samples that grows with it (docs/hybrid.md).
+    Hybrid,
+    /// GPU, accumulation-buffer depth of field: per camera sample (shared by every pixel) the
+    /// scene rasterized through that lens point with a sheared projection, then shaded
+    /// (docs/raster.md).
+    Raster,
+    /// The CPU reference renderer.
+    Cpu,
+}
+
+/// The devices a path runs on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum DeviceKind {
+    /// The CPU (the reference renderer).
+    Cpu,
+    /// A Vulkan device.
+    Gpu,
+}
+
+impl PathKind {
+    pub const ALL: [PathKind; 5] = [
+        PathKind::RayQuery,
+        PathKind::Software,
+        PathKind::Hybrid,
+        PathKind::Raster,
+        PathKind::Cpu,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            PathKind::RayQuery => "rayquery",
+            PathKind::Software => "software",
+            PathKind::Hybrid => "hybrid",
+            PathKind::Raster => "raster",
+            PathKind::Cpu => "cpu",
+        }
+    }
+
+    pub fn device(self) -> DeviceKind {
+        match self {
+            PathKind::Cpu => DeviceKind::Cpu,
+            _ => DeviceKind::Gpu,
+        }
+    }
+
+    pub fn is_gpu(self) -> bool {
+        self.device() == DeviceKind::Gpu
+    }
+
+    /// The traversal the path is (`None`: the CPU, or the hybrid and raster paths, which trace
+    /// with the device's fastest).
+    pub fn traversal(self) -> Option<Traversal> {
+        match self {
+            PathKind::RayQuery => Some(Traversal::RayQuery),
+            PathKind::Software => Some(Traversal::Software),
+            PathKind::Hybrid | PathKind::Raster | PathKind::Cpu => None,
+        }
+    }
+
+    /// How the path adds samples on the Vulkan device (the CPU and both traversals trace).
+    pub fn estimator(self) -> Estimator {
+        match self {
+            PathKind::Hybrid => Estimator::Hybrid,
+            PathKind::Raster => Estimator::Raster,
+            PathKind::RayQuery | PathKind::Software | PathKind::Cpu => Estimator::Traced,
+        }
+    }
+
+    /// How the path renders a real lens (`camera::real_lens`).
+    pub fn real_lens_support(self) -> RealLensSupport {
+        match self {
+            PathKind::Cpu | PathKind::RayQuery | PathKind::Software => RealLensSupport::Traced,
+            PathKind::Raster => RealLensSupport::FirstOrder,
+            // Its shortcuts and windows bound where thin-lens rays go, not where a real
+            // lens's aberrated, vignetted rays go.
+            PathKind::Hybrid => RealLensSupport::Refused,
+        }
+    }
+
+    /// The path that traces every sample with `traversal`.
+    pub fn of_traversal(traversal: Traversal) -> PathKind {
+        match traversal {
+            Traversal::RayQuery => PathKind::RayQuery,
+            Traversal::Software => PathKind::Software,
+        }
+    }
+}
+
+/// What a path does with a real lens.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RealLensSupport {
+    /// Every camera ray is traced through the lens's surfaces.
+    Traced,
+    /// The lens's first-order model: a thin lens at the entrance pupil, with the pupil's
+    /// radius and the real lens's focus (no aberration, distortion or vignetting).
+    FirstOrder,
+    /// The path says so in one line.
+    Refused,
+}
+
+impl fmt::Display for PathKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl fmt::Display for DeviceKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            DeviceKind::Cpu => "cpu",
+            DeviceKind::Gpu => "gpu",
+        })
+    }
+}
+
+/// `auto`, or one of `T` (`--path`, `--device`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Choice<T> {
+    /// lensray decides (`auto`).
+    #[default]
+    Auto,
+    Only(T),
+}
+
+/// `--path`: `auto` (the fastest path the device supports, measured on a small render of the
+/// shot) or a path.
+pub type PathChoice = Choice<PathKind>;
+/// `--device`: `auto` (a Vulkan device when one is usable, else the CPU) or a device.
+pub type DeviceChoice = Choice<DeviceKind>;
+
+impl<T: Copy> Choice<T> {
+    /// The one asked for; `None` for `auto`.
+    pub fn only(self) -> Option<T> {
+        match self {
+            Choice::Auto => None,
+            Choice::Only(t) => Some(t),
+        }
+    }
+}
+
+impl<T> From<T> for Choice<T> {
+    fn from(t: T) -> Self {
+        Choice::Only(t)
+    }
+}
+
+impl<T: fmt::Display> fmt::Display for Choice<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Choice::Auto => f.write_str("auto"),
+            Choice::Only(t) => t.fmt(f),
+        }
+    }
+}
+
+/// `auto` followed by every value of `T` (clap's list of a `Choice`).
+const fn choices<T: Copy, const N: usize, const M: usize>(all: [T; N]) -> [Choice<T>; M] {
+    let mut out = [Choice::Auto; M];
+    let mut i = 0;
+    while i < N {
+        out[i + 1] = Choice::Only(all[i]);
+        i += 1;
+    }
+    out
+}
+
+const PATH_CHOICES: [PathChoice; 6] = choices(PathKind::ALL);
+const DEVICE_CHOICES: [DeviceChoice; 3] = choices([DeviceKind::Cpu, DeviceKind::Gpu]);
+
+macro_rules! choice_value_enum {
+    ($t:ty, $all:expr, $auto_help:literal) => {
+        impl clap::ValueEnum for Choice<$t> {
+            fn value_variants<'a>() -> &'a [Self] {
+                &$all
+            }
+
+            fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+                match self {
+                    Choice::Auto => {
+                        Some(clap::builder::PossibleValue::new("auto").help($auto_help))
+                    }
+                    Choice::Only(t) => clap::ValueEnum::to_possible_value(t),
+                }
+            }
+        }
+    };
+}
+
+choice_value_enum!(
+    PathKind,
+    PATH_CHOICES,
+    "The fastest path the device supports, for the shot"
+);
+choice_value_enum!(
+    DeviceKind,
+    DEVICE_CHOICES,
+    "A Vulkan device when one is usable, else the CPU"
+);
+
+/// How a path's trace time was measured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Clock {
+    /// GPU timestamp queries around each dispatch (a pipeline's first dispatch excluded: drivers
+    /// may compile it lazily).
+    GpuTimestamps,
+    /// Host wall clock.
+    WallClock,
+}
+
+/// What a path did since it was opened.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PathReport {
+    /// Camera and shadow rays traced.
+    pub rays: u64,
+    /// Time spent tracing, seconds.
+    pub trace_seconds: f64,
+    pub clock: Clock,
+    /// Time spent building the loaded scene's acceleration structures, seconds.
+    pub build_seconds: f64,
+    /// Bytes of the acceleration structures the path traverses (device memory for GPU paths,
+    /// host memory for the CPU).
+    pub accel_bytes: u64,
+    /// Bytes of all device memory the path holds at its peak so far (0 on the CPU).
+    pub peak_device_bytes: u64,
+    /// AOV images made (GPU: raster G-buffer passes; CPU: traced AOV images), and their time
+    /// (GPU: timestamps of the G-buffer draws; CPU: wall clock).
+    pub aov_passes: u64,
+    pub aov_seconds: f64,
+    /// What the host asked of the device (0 on the CPU): queue submissions, waits that block the
+    /// host on the device, and bytes read back from it.
+    pub submits: u64,
+    pub cpu_waits: u64,
+    pub readback_bytes: u64,
+}
+
+impl PathReport {
+    pub fn rays_per_second(&self) -> f64 {
+        self.rays as f64 / self.trace_seconds.max(1e-12)
+    }
+
+    /// What happened between `earlier` and `self` (peaks and sizes are kept).
+    pub fn since(&self, earlier: &PathReport) -> PathReport {
+        PathReport {
+            rays: self.rays - earlier.rays,
+            trace_seconds: self.trace_seconds - earlier.trace_seconds,
+            aov_passes: self.aov_passes - earlier.aov_passes,
+            aov_seconds: self.aov_seconds - earlier.aov_seconds,
+            submits: self.submits - earlier.submits,
+            cpu_waits: self.cpu_waits - earlier.cpu_waits,
+            readback_bytes: self.readback_bytes - earlier.readback_bytes,
+            ..*self
+        }
+    }
+}
+
+/// One render path, open on its device.
+pub trait RenderPath {
+    fn kind(&self) -> PathKind;
+
+    /// The device it runs on, in words ("llvmpipe (LLVM 15.0.6, 256 bits)", "CPU, 2 threads").
+    fn device_name(&self) -> String;
+
+    /// Loads `scene` (and builds what the path traverses), replacing any earlier scene.
+    fn load_scene(&mut self, scene: &Scene) -> Result<()>;
+
+    /// Adds samples `samples` of every pixel (thin lens: `Unlit` or `Lit`) to `accumulation`,
+    /// which has the camera's size. Any split of a range into calls gives the same sums. A GPU
+    /// path keeps the sums on its device from call to call: read them with `read_sums`.
+    /// `progress(done, total)` reports the work done in the call.
+    fn add_samples(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<()>;
+
+    /// An AOV (`Depth`, `Normal`, `Albedo`): the surface seen by the aperture-centre ray at each
+    /// pixel centre (GPU paths: the raster G-buffer).
+    fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image>;
+
+    /// The view depth of the surface seen through the centre of `pixel` by the aperture-centre
+    /// ray, `None` where no surface is (autofocus, click to focus).
+    fn focus_depth_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<Option<f32>>;
+
+    /// Brings `accumulation`'s sums to the host (`Accumulation::host`): a GPU path keeps them on
+    /// its device while it adds samples, and reads them back here, once. An error when another
+    /// device holds them.
+    fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<()>;
+
+    /// The mean of each pixel's samples of `accumulation`, its sums read first.
+    fn image_of(&mut self, accumulation: &mut Accumulation) -> Result<Image> {
+        self.read_sums(accumulation)?;
+        Ok(accumulation.image()?)
+    }
+
+    /// What the path did since it was opened.
+    fn report(&self) -> PathReport;
+
+    /// Releases the device; with validation on, fails on any message of the layer, the leak
+    /// report of the device's destruction included.
+    fn close(self: Box<Self>) -> Result<()>;
+
+    /// The whole image of `settings`: traced samples 0..spp, or the AOV.
+    fn render(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<Image> {
+        let (image, ()) = lensray_core::film::whole_image(
+            self,
+            progress,
+            (camera.width, camera.height),
+            settings,
+            |this, progress| lensray_core::film::one_pass(progress, || this.aov(camera, settings)),
+            |this, samples, accumulation, progress| {
+                this.add_samples(camera, settings, samples, accumulation, progress)
+            },
+            |this, accumulation| this.read_sums(accumulation),
+        )?;
+        Ok(image)
+    }
+}

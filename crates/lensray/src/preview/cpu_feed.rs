@@ -1,0 +1,166 @@
+//! The CPU path feeding the preview: a worker thread adds samples of the current shot, one
+//! sample of every pixel at a time, with the CPU reference, and publishes the sums after each;
+//! the window uploads the latest to its accumulation. The window itself (G-buffer, display,
+//! panel) stays on the GPU, so it keeps answering at once while the CPU traces.
+
+use std::sync::{Arc, Condvar, Mutex};
+use std::thread::JoinHandle;
+
+use lensray_core::camera::Camera;
+use lensray_core::film::Sums;
+use lensray_core::reference::Renderer;
+use lensray_core::scene::Scene;
+use lensray_core::settings::RenderSettings;
+
+/// What the worker should trace.
+#[derive(Clone)]
+struct Job {
+    generation: u64,
+    camera: Camera,
+    settings: RenderSettings,
+    target_spp: u32,
+}
+
+/// Sums of the shot of one generation.
+pub struct Snapshot {
+    pub generation: u64,
+    pub sums: Vec<[f32; 4]>,
+    pub spp: u32,
+}
+
+#[derive(Default)]
+struct Shared {
+    job: Option<Job>,
+    latest: Option<Snapshot>,
+    quit: bool,
+}
+
+pub struct CpuFeed {
+    shared: Arc<(Mutex<Shared>, Condvar)>,
+    worker: Option<JoinHandle<()>>,
+    generation: u64,
+    current: Option<(Camera, RenderSettings, u32)>,
+}
+
+impl CpuFeed {
+    /// Builds the CPU reference's BVH of `scene` and starts the worker.
+    pub fn new(scene: &Scene) -> Self {
+        let renderer = Renderer::new(scene);
+        let shared = Arc::new((Mutex::new(Shared::default()), Condvar::new()));
+        let worker_shared = shared.clone();
+        let worker = std::thread::Builder::new()
+            .name("lensray cpu path".into())
+            .spawn(move || work(&renderer, &worker_shared))
+            .expect("a thread can be started");
+        Self {
+            shared,
+            worker: Some(worker),
+            generation: 0,
+            current: None,
+        }
+    }
+
+    /// Asks for `target_spp` samples of this shot; a new shot restarts from 0 samples, a new
+    /// target continues.
+    pub fn request(&mut self, camera: &Camera, settings: &RenderSettings, target_spp: u32) {
+        let shot = (camera.clone(), *settings, target_spp);
+        if self.current.as_ref() == Some(&shot) {
+            return;
+        }
+        let new_shot = self
+            .current
+            .as_ref()
+            .is_none_or(|(c, s, _)| c != camera || s != settings);
+        if new_shot {
+            self.generation += 1;
+        }
+        self.current = Some(shot);
+        let (lock, wake) = &*self.shared;
+        let mut shared = lock.lock().expect("the worker does not panic");
+        shared.job = Some(Job {
+            generation: self.generation,
+            camera: camera.clone(),
+            settings: *settings,
+            target_spp,
+        });
+        wake.notify_all();
+    }
+
+    /// The newest sums of the current shot, if any arrived since the last call.
+    pub fn take_latest(&mut self) -> Option<Snapshot> {
+        let (lock, _) = &*self.shared;
+        let mut shared = lock.lock().expect("the worker does not panic");
+        shared
+            .latest
+            .take()
+            .filter(|s| s.generation == self.generation)
+    }
+}
+
+impl Drop for CpuFeed {
+    fn drop(&mut self) {
+        {
+            let (lock, wake) = &*self.shared;
+            if let Ok(mut shared) = lock.lock() {
+                shared.quit = true;
+            }
+            wake.notify_all();
+        }
+        if let Some(worker) = self.worker.take() {
+            let _ = worker.join();
+        }
+    }
+}
+
+/// The worker: traces one sample of every pixel at a time for the newest job, publishing the
+/// sums after each; sleeps when the target is reached.
+fn work(renderer: &Renderer, shared: &(Mutex<Shared>, Condvar)) {
+    let (lock, wake) = shared;
+    let mut accumulation: Option<(u64, Sums)> = None;
+    loop {
+        let job = {
+            let mut state = lock.lock().expect("the window does not panic while locked");
+            loop {
+                if state.quit {
+                    return;
+                }
+                if let Some(job) = state.job.clone() {
+                    let done = accumulation
+                        .as_ref()
+                        .filter(|(generation, _)| *generation == job.generation)
+                        .map_or(0, |(_, a)| a.samples());
+                    if done < job.target_spp {
+                        break job;
+                    }
+                }
+                state = wake
+                    .wait(state)
+                    .expect("the window does not panic while locked");
+            }
+        };
+        if accumulation
+            .as_ref()
+            .is_none_or(|(generation, _)| *generation != job.generation)
+        {
+            let (width, height) = (job.camera.width, job.camera.height);
+            accumulation = Some((job.generation, Sums::new(width, height)));
+        }
+        let (_, sums) = accumulation.as_mut().expect("made above");
+        let next = sums.samples();
+        renderer.accumulate(
+            &job.camera,
+            &job.settings,
+            next..next + 1,
+            sums,
+            &mut |_, _| {},
+        );
+        let snapshot = Snapshot {
+            generation: job.generation,
+            sums: sums.pixels.clone(),
+            spp: next + 1,
+        };
+        lock.lock()
+            .expect("the window does not panic while locked")
+            .latest = Some(snapshot);
+    }
+}

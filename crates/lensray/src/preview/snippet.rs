@@ -1,0 +1,222 @@
+//! The `C` key: the current camera as text, so the shot can be rendered headless. Two forms: the
+//! scene-file tables (`[camera]`, `[image]`, `[render]`, `[light]`) and the equivalent
+//! `lensray render` command. Every value is explicit, including what `resolve` derived (near, far,
+//! the light), so later changes to defaults cannot change the shot; numbers are printed in
+//! Rust's shortest round-trip form, so they read back to the same bits.
+
+use std::fmt::Write;
+use std::path::Path;
+
+use clap::ValueEnum;
+use glam::Vec3;
+
+use lensray_core::camera::Projection;
+use lensray_core::settings::{
+    CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
+};
+use lensray_core::settings::{
+    Shot, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES,
+};
+
+/// The two printouts of one camera.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraSnippet {
+    /// Scene-file tables, to paste after a file's `mesh = ...` line.
+    pub toml: String,
+    /// One `lensray render ...` line.
+    pub command: String,
+}
+
+impl std::fmt::Display for CameraSnippet {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "# scene file:\n{}\n# command line:\n{}\n",
+            self.toml, self.command
+        )
+    }
+}
+
+/// The snippet of the camera `settings` resolved to (`resolved` is what `shot(settings)`
+/// returned). The command names `--scene` only when `scene` is given.
+pub fn camera_snippet(settings: &Settings, resolved: &Shot, scene: Option<&Path>) -> CameraSnippet {
+    let explicit = explicit_settings(settings, resolved);
+    CameraSnippet {
+        toml: toml::to_string(&explicit).expect("settings serialize to TOML"),
+        command: render_command(&explicit, scene),
+    }
+}
+
+fn array(v: Vec3) -> [f64; 3] {
+    v.as_dvec3().to_array()
+}
+
+/// `settings` with every value `resolve` filled in written out. Values the user gave stay as
+/// given (f64); derived ones come from the resolved f32 values, which convert back exactly. Only
+/// the projection's own size is written (`--vfov` and `--ortho-height` exclude each other).
+pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
+    let (camera, render) = (&resolved.camera, &resolved.render);
+    let c = &settings.camera;
+    let physical = c.focal_length_mm.is_some();
+    let real = camera.real_lens.as_deref();
+    // A pinhole without a focus resolves to `LensParams::Pinhole`: writing a focus would change
+    // its (unused) focus distance, so it is written only when the lens has one.
+    let has_lens =
+        physical || real.is_some() || c.aperture_radius.is_some() || c.focus_distance.is_some();
+    let (projection, vfov_degrees, ortho_height) = match camera.projection {
+        // A real lens's field follows from the lens and the film.
+        Projection::Perspective { .. } if real.is_some() => {
+            (ProjectionKind::Perspective, None, None)
+        }
+        Projection::Perspective { .. } => (
+            ProjectionKind::Perspective,
+            Some(c.vfov_degrees.unwrap_or(DEFAULT_VFOV_DEGREES)),
+            None,
+        ),
+        Projection::Orthographic { height } => (
+            ProjectionKind::Orthographic,
+            None,
+            Some(c.ortho_height.unwrap_or(height as f64)),
+        ),
+    };
+    let eye = c.eye.unwrap_or(array(camera.frame.eye));
+    Settings {
+        camera: CameraSettings {
+            projection: Some(projection),
+            eye: Some(eye),
+            // Without a target given, any point on the view axis frames the same view.
+            target: c
+                .target
+                .or(Some(array(camera.frame.eye + camera.frame.forward))),
+            up: Some(c.up.unwrap_or([0.0, 1.0, 0.0])),
+            vfov_degrees,
+            ortho_height,
+            aperture_radius: (!physical && real.is_none() && has_lens)
+                .then(|| c.aperture_radius.unwrap_or(0.0)),
+            focus_distance: has_lens.then(|| {
+                c.focus_distance
+                    .unwrap_or(camera.lens.focus_distance as f64)
+            }),
+            focal_length_mm: c.focal_length_mm,
+            f_number: match real {
+                Some(real) => Some(c.f_number.unwrap_or(real.f_number)),
+                None => physical.then(|| c.f_number.unwrap_or(DEFAULT_F_NUMBER)),
+            },
+            sensor_height_mm: (physical || real.is_some())
+                .then(|| c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM)),
+            near: Some(c.near.unwrap_or(camera.near as f64)),
+            far: Some(c.far.unwrap_or(camera.far as f64)),
+            // The shape as given: what is left out is the round aperture's default.
+            aperture: c.aperture.clone(),
+            lens: c.lens.clone(),
+        },
+        image: ImageSettings {
+            width: Some(camera.width),
+            height: Some(camera.height),
+            spp: Some(render.spp),
+            seed: Some(render.seed),
+            sampler: Some(render.sampler),
+        },
+        render: RenderStyle {
+            shading: Some(render.shading),
+            background: Some(
+                settings
+                    .render
+                    .background
+                    .unwrap_or(array(render.background)),
+            ),
+        },
+        light: LightSettings {
+            position: Some(
+                settings
+                    .light
+                    .position
+                    .unwrap_or(array(render.light.position)),
+            ),
+            intensity: Some(
+                settings
+                    .light
+                    .intensity
+                    .unwrap_or(array(render.light.intensity)),
+            ),
+        },
+    }
+}
+
+fn triple(v: [f64; 3]) -> String {
+    format!("{},{},{}", v[0], v[1], v[2])
+}
+
+fn value_name(value: impl ValueEnum) -> String {
+    value
+        .to_possible_value()
+        .expect("no skipped variants")
+        .get_name()
+        .to_string()
+}
+
+/// A word the shell passes through unchanged: as is when it is plain, else single-quoted.
+pub fn shell_word(text: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "_-./,=:+@%".contains(c);
+    if !text.is_empty() && text.chars().all(plain) {
+        text.to_string()
+    } else {
+        format!("'{}'", text.replace('\'', r"'\''"))
+    }
+}
+
+/// The `lensray render` options (`cli::args::ViewArgs`) for every value `settings` sets.
+pub fn render_command(settings: &Settings, scene: Option<&Path>) -> String {
+    let mut line = String::from("lensray render");
+    let mut option = |name: &str, value: Option<String>| {
+        if let Some(value) = value {
+            let _ = write!(line, " --{name} {value}");
+        }
+    };
+    option("scene", scene.map(|p| shell_word(&p.display().to_string())));
+    let (c, i, r, l) = (
+        &settings.camera,
+        &settings.image,
+        &settings.render,
+        &settings.light,
+    );
+    option("projection", c.projection.map(value_name));
+    option("eye", c.eye.map(triple));
+    option("target", c.target.map(triple));
+    option("up", c.up.map(triple));
+    let number = |x: Option<f64>| x.map(|x| x.to_string());
+    option("vfov", number(c.vfov_degrees));
+    option("ortho-height", number(c.ortho_height));
+    option("lens", c.lens.prescription.as_deref().map(shell_word));
+    option("aperture-radius", number(c.aperture_radius));
+    option("focal-length-mm", number(c.focal_length_mm));
+    option("f-number", number(c.f_number));
+    option("sensor-height-mm", number(c.sensor_height_mm));
+    option("focus-distance", number(c.focus_distance));
+    let a = &c.aperture;
+    option("aperture-blades", a.blades.map(|x| x.to_string()));
+    option("aperture-rotation", number(a.rotation));
+    option("aperture-roundness", number(a.roundness));
+    option("aperture-aspect", number(a.aspect));
+    option(
+        "aperture-image",
+        a.image
+            .as_ref()
+            .map(|p| shell_word(&p.display().to_string())),
+    );
+    option("near", number(c.near));
+    option("far", number(c.far));
+    option("width", i.width.map(|x| x.to_string()));
+    option("height", i.height.map(|x| x.to_string()));
+    option("spp", i.spp.map(|x| x.to_string()));
+    option("seed", i.seed.map(|x| x.to_string()));
+    option("sampler", i.sampler.map(|s| s.name().to_string()));
+    option("shading", r.shading.map(value_name));
+    option("background", r.background.map(triple));
+    option("light-position", l.position.map(triple));
+    option("light-intensity", l.intensity.map(triple));
+    line
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,218 @@
+//! The compute pass's two closest-hit implementations (ray queries; the software traversal of
+//! the project's own BVH) on the device present (lavapipe on CI), validation on: the software
+//! traversal finds the surfaces ray queries find, shades like the CPU reference, and runs on a
+//! device whose ray queries are hidden.
+//!
+//! Skipping follows tests/gpu.rs (LENSRAY_SKIP_GPU_TESTS=1 on machines without a device).
+
+mod gpu_support;
+
+use gpu_support::*;
+use lensray_core::camera::{Camera, LensParams};
+use lensray_core::film::Image;
+use lensray_core::reference::Renderer as CpuRenderer;
+use lensray_core::scene::Scene;
+use lensray_core::settings::{RenderSettings, Shading};
+use lensray_vulkan::{GpuError, GpuOptions, Traversal};
+
+/// The project's scenes (built-in default, Cornell box) as the CLI resolves them, small.
+fn project_scenes(
+    width: u32,
+    height: u32,
+    spp: u32,
+    shading: Shading,
+) -> Vec<(&'static str, Scene, Camera, RenderSettings)> {
+    use lensray_core::settings::{ImageSettings, RenderStyle, Settings};
+    let cornell =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/cornell/cornell.toml");
+    let scenes = [
+        ("default", lensray_core::scene::builtin::default_scene()),
+        (
+            "cornell",
+            lensray_core::scene::file::load(&cornell).expect("load the Cornell box"),
+        ),
+    ];
+    scenes
+        .into_iter()
+        .map(|(name, desc)| {
+            let over = Settings {
+                image: ImageSettings {
+                    width: Some(width),
+                    height: Some(height),
+                    spp: Some(spp),
+                    seed: Some(3),
+                    sampler: None,
+                },
+                render: RenderStyle {
+                    shading: Some(shading),
+                    background: None,
+                },
+                ..Default::default()
+            };
+            let resolved = lensray_core::settings::shot(
+                &desc.settings.clone().overridden_by(&over),
+                &desc.scene,
+            )
+            .expect("resolve settings");
+            (name, desc.scene, resolved.camera, resolved.render)
+        })
+        .collect()
+}
+
+/// Pixels whose values differ at all.
+fn differing_pixels(a: &Image, b: &Image) -> usize {
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| p != q)
+        .count()
+}
+
+/// Unlit, both traversals find the same surfaces: identical images but for samples through a
+/// shared edge, where either triangle may win the tie.
+#[test]
+fn software_equals_rayquery_unlit() {
+    let Some((mut gpu, log)) = renderer("software_equals_rayquery_unlit") else {
+        return;
+    };
+    let traversals = gpu.traversals();
+    if !traversals.contains(&Traversal::RayQuery) {
+        record_skip(
+            "software_equals_rayquery_unlit",
+            "the device has no ray queries to compare with",
+        );
+        return;
+    }
+    assert_eq!(traversals, vec![Traversal::RayQuery, Traversal::Software]);
+    assert_eq!(gpu.traversal(), Traversal::RayQuery, "ray queries first");
+    for (name, scene, camera, settings) in project_scenes(160, 120, 2, Shading::Unlit) {
+        gpu.load_scene(&scene).expect("load scene");
+        gpu.set_traversal(Traversal::RayQuery).unwrap();
+        let rayquery = gpu
+            .render(&camera, &settings, &mut |_, _| {})
+            .expect("ray-query render");
+        gpu.set_traversal(Traversal::Software).unwrap();
+        assert_eq!(gpu.traversal(), Traversal::Software);
+        let software = gpu
+            .render(&camera, &settings, &mut |_, _| {})
+            .expect("software render");
+        let differing = differing_pixels(&software, &rayquery);
+        let pixels = software.pixels.len();
+        println!("{name}: {differing} of {pixels} pixels differ (shared-edge ties)");
+        // Under 0.1% of the pixels.
+        if differing * 1000 >= pixels {
+            let files = write_comparison(&software, &rayquery, &format!("software-rq-{name}"));
+            panic!("{name}: {differing} of {pixels} pixels differ; wrote {files}");
+        }
+        let t = gpu.timings();
+        assert!(t.accel_bytes > 0 && t.bvh_bytes > 0, "{t:?}");
+    }
+    finish(gpu, log);
+}
+
+/// Lit, the software traversal against the CPU reference with the statistics of tests/gpu.rs
+/// (`gpu_matches_cpu`): the test scene through a thin lens, and the project's scenes.
+#[test]
+fn software_matches_cpu_lit() {
+    let Some((mut gpu, log)) = renderer("software_matches_cpu_lit") else {
+        return;
+    };
+    gpu.set_traversal(Traversal::Software).unwrap();
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.12,
+        focus_distance: 5.0,
+    };
+    let mut cases = vec![(
+        "test-scene",
+        test_scene(),
+        camera(false, lens, 96, 72),
+        settings(Shading::Lit, 8),
+    )];
+    cases.extend(project_scenes(96, 72, 4, Shading::Lit));
+    for (name, scene, camera, settings) in cases {
+        gpu.load_scene(&scene).expect("load scene");
+        let image = gpu
+            .render(&camera, &settings, &mut |_, _| {})
+            .expect("software render");
+        let (reference, _) = CpuRenderer::new(&scene).render(&camera, &settings, &mut |_, _| {});
+        let diff = compare(&image, &reference, 1.0 / 255.0);
+        let label = format!("software-vs-cpu-{name}");
+        println!("{label}: {diff:?}");
+        if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
+            let files = write_comparison(&image, &reference, &label);
+            panic!("{label}: software and CPU differ: {diff:?}; wrote {files}");
+        }
+    }
+    finish(gpu, log);
+}
+
+/// With ray queries hidden the device opens for the software traversal only, builds no
+/// acceleration structures, renders, and refuses ray queries with a clear error.
+#[test]
+fn hidden_ray_queries_leave_the_software_traversal() {
+    let options = GpuOptions {
+        hide_ray_query: true,
+        ..Default::default()
+    };
+    let Some((mut gpu, log)) =
+        renderer_with("hidden_ray_queries_leave_the_software_traversal", &options)
+    else {
+        return;
+    };
+    assert_eq!(gpu.traversals(), vec![Traversal::Software]);
+    assert_eq!(gpu.traversal(), Traversal::Software);
+    assert!(!gpu.device_report().ray_query && gpu.device_report().software);
+    let err = gpu
+        .set_traversal(Traversal::RayQuery)
+        .expect_err("ray queries are hidden");
+    let text = err.to_string();
+    assert!(
+        matches!(err, GpuError::TraversalUnavailable { .. })
+            && text.contains("rayquery")
+            && text.contains("not available")
+            && !text.contains('\n'),
+        "unclear: {text}"
+    );
+
+    let scene = test_scene();
+    gpu.load_scene(&scene).expect("load scene");
+    let t = gpu.timings();
+    assert_eq!(t.accel_bytes, 0, "no acceleration structures: {t:?}");
+    assert!(t.bvh_bytes > 0, "{t:?}");
+    let cam = camera(false, LensParams::Pinhole, 48, 36);
+    let s = settings(Shading::Unlit, 1);
+    let image = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
+    let (reference, _) = CpuRenderer::new(&scene).render(&cam, &s, &mut |_, _| {});
+    let diff = compare(&image, &reference, 1.0 / 255.0);
+    assert!(diff.within >= 0.995, "{diff:?}");
+    finish(gpu, log);
+}
+
+/// Asking for the software traversal alone opens no ray-tracing extension even where the device
+/// has them, and asking for ray queries alone builds no BVH.
+#[test]
+fn a_requested_traversal_builds_only_its_structures() {
+    for traversal in Traversal::ALL {
+        let options = GpuOptions {
+            traversal: Some(traversal),
+            ..Default::default()
+        };
+        let Some((mut gpu, log)) =
+            renderer_with("a_requested_traversal_builds_only_its_structures", &options)
+        else {
+            return;
+        };
+        assert_eq!(gpu.traversals(), vec![traversal]);
+        gpu.load_scene(&test_scene()).expect("load scene");
+        let t = gpu.timings();
+        assert_eq!(
+            (t.accel_bytes > 0, t.bvh_bytes > 0),
+            (
+                traversal == Traversal::RayQuery,
+                traversal == Traversal::Software
+            ),
+            "{traversal}: {t:?}"
+        );
+        finish(gpu, log);
+    }
+}

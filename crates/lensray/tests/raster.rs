@@ -1,0 +1,106 @@
+//! The raster path (docs/raster.md): with the same lens samples per pass, accumulation-buffer
+//! depth of field is the same estimator as tracing every sample, so `raster` renders the image
+//! of `rayquery` (software where the device has no ray queries) with shared samples, unlit
+//! exactly up to the pixels where the rasterizer and the ray-triangle test disagree on an edge.
+
+mod gpu_support;
+
+use gpu_support::{camera, compare, render_path, settings, traced_path, write_comparison};
+use lensray::paths::{PathChoice, PathKind};
+use lensray_core::camera::{Camera, LensParams};
+use lensray_core::film::Image;
+use lensray_core::settings::{RenderSettings, Shading};
+
+fn blurred_shot(orthographic: bool) -> Camera {
+    camera(
+        orthographic,
+        LensParams::ThinLens {
+            aperture_radius: 0.12,
+            focus_distance: 5.0,
+        },
+        96,
+        72,
+    )
+}
+
+/// The traced path the raster path traces its shadow rays with, and its image.
+fn traced(test: &str, cam: &Camera, s: &RenderSettings) -> Option<(PathChoice, Image)> {
+    let choice = PathChoice::Only(traced_path(test)?);
+    Some((choice, render_path(test, choice, cam, s)?))
+}
+
+/// `raster` against the traced path with `shared_samples`: at most `max_differing` of the
+/// pixels differ by more than `tolerance`, and the mean |difference| stays under `max_mean`.
+fn matches_traced(test: &str, orthographic: bool, shading: Shading, bounds: (f32, f64, f64)) {
+    let (tolerance, max_differing, max_mean) = bounds;
+    let cam = blurred_shot(orthographic);
+    let s = RenderSettings {
+        shared_samples: true,
+        ..settings(shading, 8)
+    };
+    let Some(raster) = render_path(test, PathChoice::Only(PathKind::Raster), &cam, &s) else {
+        return;
+    };
+    let Some((choice, traced)) = traced(test, &cam, &s) else {
+        return;
+    };
+    let diff = compare(&raster, &traced, tolerance);
+    println!("{test}: raster vs {choice}: {diff:?}");
+    if 1.0 - diff.within > max_differing || diff.mean_abs > max_mean {
+        let files = write_comparison(&raster, &traced, test);
+        panic!(
+            "{test}: raster differs from {choice} with the same lens samples: {:.3} % of the \
+             pixels beyond {tolerance} (bound {:.3} %), mean |diff| {:.2e} (bound {max_mean:.0e}); \
+             wrote {files}",
+            100.0 * (1.0 - diff.within),
+            100.0 * max_differing,
+            diff.mean_abs
+        );
+    }
+    // Without shared samples the raster path is the same: it always shares them.
+    let own = RenderSettings {
+        shared_samples: false,
+        ..s
+    };
+    let Some(again) = render_path(test, PathChoice::Only(PathKind::Raster), &cam, &own) else {
+        return;
+    };
+    assert_eq!(
+        again, raster,
+        "{test}: the raster path always shares samples"
+    );
+}
+
+/// Unlit, the value of a sample is the colour of the first surface its lens ray meets: equal
+/// wherever the rasterizer and the traversal pick the same triangle.
+#[test]
+fn raster_equals_rayquery_unlit_perspective() {
+    matches_traced(
+        "raster_equals_rayquery_unlit_perspective",
+        false,
+        Shading::Unlit,
+        (1e-6, 0.005, 2e-4),
+    );
+}
+
+#[test]
+fn raster_equals_rayquery_unlit_orthographic() {
+    matches_traced(
+        "raster_equals_rayquery_unlit_orthographic",
+        true,
+        Shading::Unlit,
+        (1e-6, 0.005, 2e-4),
+    );
+}
+
+/// Lit, the hit point comes from the ray and the rasterized triangle's plane instead of the
+/// traversal's hit: equal within float rounding, except where a shadow ray grazes an edge.
+#[test]
+fn raster_matches_rayquery_lit() {
+    matches_traced(
+        "raster_matches_rayquery_lit",
+        false,
+        Shading::Lit,
+        (1e-3, 0.01, 5e-4),
+    );
+}
