@@ -32,6 +32,9 @@ for path in cpu rayquery software hybrid raster; do
     case "$path:$name" in
       hybrid:double-gauss) continue ;; # the hybrid refuses real lenses
     esac
+    # The hybrid and raster paths trace with the traversal a timing race picks, and the two
+    # traversals' images differ in the last bits: pin the software traversal.
+    case "$path" in hybrid | raster) extra+=(--hide-ray-query) ;; esac
     file="$out/$path-$name.exr"
     if "$bin" render --path "$path" "${small[@]}" "${extra[@]}" --out "$file" >/dev/null 2>"$out/err"; then
       echo "$path $name $(sha256sum "$file" | cut -c1-16)"

@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
-"""Every performance and error figure README.md quotes, computed from the stored measurements
-under docs/bench/ (standard library only).
+"""Every performance and error figure README.md and the docs quote, computed from the stored
+measurements under docs/bench/ (standard library only).
 
     python3 scripts/readme_figures.py                  # one figure per line: "key: text"
-    python3 scripts/readme_figures.py --check README.md
+    python3 scripts/readme_figures.py --check README.md docs/cli.md docs/performance.md ...
 
-"text" is the figure exactly as README.md writes it, rounded the way it rounds. --check exits
-non-zero, naming each figure whose text is not found verbatim in the file, so that a README
+"text" is the figure exactly as the page that quotes it writes it, rounded the way it rounds.
+--check passes a figure whose text is found verbatim (line breaks counting as spaces) in any of
+the files given, and exits non-zero naming each figure found in none of them, so that a quoted
 figure cannot drift from the stored runs: re-measure, store the JSON, rerun this and copy the
-lines it reports into README.md.
+lines it reports into the page that quotes them. crates/lensray/tests/readme_figures.rs runs it
+with the pages that quote figures.
 
 Sources (docs/bench/):
   default.json, triangles.json, lit-default.json, hybrid-default.json, raster/*.json,
@@ -99,7 +101,7 @@ def full_stop(n):
     return marked.get(round(stop, 4), f"{stop:.0f}")
 
 
-# ---- formatting: as README.md writes figures ----
+# ---- formatting: as the README and the docs write figures ----
 
 def x(v, digits):
     return f"{v:.{digits}f}x"
@@ -125,8 +127,8 @@ def percent(v):
 
 
 def claim(holds, text):
-    """A sentence of the README that states a comparison: itself while the data bear it out,
-    else a line that --check cannot find."""
+    """A sentence of the README or the docs that states a comparison: itself while the data
+    bear it out, else a line that --check cannot find."""
     return text if holds else f"NO LONGER TRUE: {text}"
 
 
@@ -151,7 +153,7 @@ def figures():
 
     runs = bench_runs()
 
-    # The machine: every stored bench run must come from one, or the README cannot name it.
+    # The machine: every stored bench run must come from one, or the docs cannot name it.
     machines = {json.dumps(r["machine"], sort_keys=True) for r in runs.values()}
     if len(machines) != 1:
         raise SystemExit(f"readme_figures: the stored bench runs come from {len(machines)} machines")
@@ -339,25 +341,25 @@ def figures():
 
 
 def main(argv):
-    if len(argv) not in (1, 3) or (len(argv) == 3 and argv[1] != "--check"):
-        print("usage: readme_figures.py [--check README.md]", file=sys.stderr)
+    if len(argv) != 1 and (len(argv) < 3 or argv[1] != "--check"):
+        print("usage: readme_figures.py [--check FILE.md...]", file=sys.stderr)
         return 2
     results = figures()
     if len(argv) == 1:
         for key, text in results:
             print(f"{key}: {text}")
         return 0
-    readme = Path(argv[2]).read_text(encoding="utf-8")
+    files = argv[2:]
     # Line breaks inside a figure's sentence count as spaces.
-    flat = " ".join(readme.split())
-    missing = [(key, text) for key, text in results if text not in flat]
+    flat = [" ".join(Path(f).read_text(encoding="utf-8").split()) for f in files]
+    missing = [(key, text) for key, text in results if not any(text in page for page in flat)]
     for key, text in missing:
-        print(f"missing from {argv[2]}: {key}: {text}")
+        print(f"missing from every file given: {key}: {text}")
     if missing:
-        print(f"{len(missing)} of {len(results)} figures differ from the stored runs "
+        print(f"{len(missing)} of {len(results)} figures are quoted in none of {' '.join(files)} "
               "(python3 scripts/readme_figures.py prints them all)")
         return 1
-    print(f"{argv[2]}: all {len(results)} figures match docs/bench/")
+    print(f"{' '.join(files)}: all {len(results)} figures match docs/bench/")
     return 0
 
 

@@ -24,6 +24,9 @@ mod interface {
     pub mod glsl {
         include!("../lensray-core/src/interface/glsl.rs");
     }
+    mod header {
+        include!("../lensray-core/src/interface/header.rs");
+    }
     pub mod shared {
         include!("../lensray-core/src/interface/shared.rs");
     }

@@ -52,11 +52,12 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use lensray_core::camera::Camera;
-use lensray_core::film::{Accumulation, Image};
+use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::Scene;
 use lensray_core::settings::{RenderSettings, Shading};
 
-pub use core::device::{Counters, DeviceReport};
+pub use core::adapter::DeviceReport;
+pub use core::counters::Counters;
 pub use core::error::GpuError;
 pub use core::instance::ValidationLog;
 pub use passes::gbuffer::{focus_distance_at, GBuffer};
@@ -70,7 +71,7 @@ pub use probes::layouts::LayoutReport;
 #[cfg(feature = "probes")]
 pub use probes::mirrors::{ProbeQuery, ProbeResult};
 #[cfg(feature = "probes")]
-pub use probes::timing::{bench, bench_renderer, BenchOptions, BenchReport, BenchedPass};
+pub use probes::timing::{bench, bench_renderer, BenchedPass, PassBenchOptions, PassBenchReport};
 #[cfg(feature = "probes")]
 pub use probes::view_routes::ViewRoutes;
 pub use scene::bvh::BvhParams;
@@ -91,11 +92,11 @@ pub enum Estimator {
 use core::device::Context;
 use core::error::vk_err;
 use core::instance::Instance;
+use core::surface::WindowSurface;
 use passes::gbuffer::GBufferPass;
 use passes::hybrid_plan::HybridPlanPass;
 use passes::trace::TracePass;
 use passes::visibility::VisibilityPass;
-use present::surface::Surface;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 use scene::SceneBuffers;
 
@@ -120,7 +121,7 @@ pub struct GpuOptions {
 /// Every Vulkan device, with what it lacks for lensray (for `lensray info`).
 pub fn list_devices() -> Result<Vec<DeviceReport>, GpuError> {
     let instance = Instance::new(false, &[])?;
-    Ok(core::device::enumerate(&instance.instance)?
+    Ok(core::adapter::enumerate(&instance.instance)?
         .into_iter()
         .map(|(_, r)| r)
         .collect())
@@ -130,13 +131,13 @@ pub fn list_devices() -> Result<Vec<DeviceReport>, GpuError> {
 /// opening it: the instance and the device list only.
 pub fn preferred_device(options: &GpuOptions) -> Result<DeviceReport, GpuError> {
     let instance = Instance::new(false, &[])?;
-    let mut devices = core::device::enumerate(&instance.instance)?;
+    let mut devices = core::adapter::enumerate(&instance.instance)?;
     if options.hide_ray_query {
         for (_, report) in &mut devices {
             report.hide_ray_query();
         }
     }
-    Ok(core::device::select(&devices, options.device_index, options.traversal)?.1)
+    Ok(core::adapter::select(&devices, options.device_index, options.traversal)?.1)
 }
 
 /// The Vulkan renderer. Fields drop in order; everything holds an `Arc` to the device context,
@@ -168,7 +169,7 @@ impl GpuRenderer {
     fn open(
         options: &GpuOptions,
         window: Option<(RawDisplayHandle, RawWindowHandle)>,
-    ) -> Result<(Self, Option<Surface>), GpuError> {
+    ) -> Result<(Self, Option<WindowSurface>), GpuError> {
         let window_extensions = match window {
             Some((display, _)) => ash_window::enumerate_required_extensions(display)
                 .map_err(vk_err("vkEnumerateInstanceExtensionProperties"))?,
@@ -177,7 +178,7 @@ impl GpuRenderer {
         let instance = Arc::new(Instance::new(options.validate, window_extensions)?);
         let log = instance.log.clone();
         let surface = window
-            .map(|(display, window)| Surface::new(&instance, display, window))
+            .map(|(display, window)| WindowSurface::new(&instance, display, window))
             .transpose()?;
         let ctx = Arc::new(Context::new(instance, options, surface.as_ref())?);
         let trace = TracePass::new(&ctx)?;
@@ -283,7 +284,7 @@ impl GpuRenderer {
         &mut self,
         camera: &Camera,
         settings: &RenderSettings,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<Image, GpuError> {
         check_size(camera)?;
         if settings.spp == 0 {
@@ -347,7 +348,7 @@ impl GpuRenderer {
         settings: &RenderSettings,
         samples: std::ops::Range<u32>,
         accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<(), GpuError> {
         check_samples(camera, settings)?;
         if self.scene.is_none() {

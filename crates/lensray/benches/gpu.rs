@@ -13,7 +13,7 @@ use lensray_core::camera::{CameraParams, LensParams, ProjectionParams};
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::{Material, Mesh, Scene};
 use lensray_core::settings::{PointLight, RenderSettings, Shading};
-use lensray_vulkan::{bench, BenchOptions, GpuOptions};
+use lensray_vulkan::{bench, GpuOptions, PassBenchOptions};
 
 /// A UV sphere with vertex normals (the scene generators' own).
 fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32, material: u32) -> Mesh {
@@ -82,7 +82,7 @@ fn main() {
     }
     .build()
     .expect("valid camera");
-    let options = BenchOptions {
+    let options = PassBenchOptions {
         gpu: GpuOptions::default(),
         repeats,
     };

@@ -1,4 +1,4 @@
-//! Aperture shapes as a camera shows them (issue 20), on the CPU reference: a small
+//! Aperture shapes as a camera shows them, on the CPU reference: a small
 //! out-of-focus point images as the aperture scaled by its circle of confusion, turned by 180
 //! degrees in front of the focal plane; roundness 1 is the round aperture exactly.
 

@@ -336,8 +336,8 @@ fn aperture_sweep_weighs_shapes_against_the_round_aperture() {
 }
 
 /// The lens sweep (CPU path, default points: every built-in lens with its first-order thin
-/// lens): each lens lets more than 70 % of the camera samples through at the image centre
-/// (issue 21), its thin model all of them; every measurement has a positive cost per camera
+/// lens): each lens lets more than 70 % of the camera samples through at the image centre,
+/// its thin model all of them; every measurement has a positive cost per camera
 /// ray against the thin model (1 for the thin point itself); under unlit shading the CPU
 /// path's rays are the camera rays counted apart; the table prints the costs.
 #[test]

@@ -1,4 +1,4 @@
-//! Real lenses against the optics (issue 21): ray-transfer matrices against traced rays,
+//! Real lenses against the optics: ray-transfer matrices against traced rays,
 //! third-order spherical aberration against the traced one, and `lensray lens` from the
 //! command line (its data, JSON, and one line for a bad lens file).
 

@@ -480,7 +480,7 @@ fn without_ray_queries_the_software_path_runs() {
     );
 }
 
-/// What a GPU render asks of the host (issue 19): a 640x480, 16-spp render reads back the
+/// What a GPU render asks of the host: a 640x480, 16-spp render reads back the
 /// image's sums and at most 4 KiB more (ray counter, timestamps), waits once (the hybrid's
 /// plan too goes unwaited), and records its dispatches several to a submission.
 #[test]

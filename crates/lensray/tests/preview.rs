@@ -188,7 +188,7 @@ fn converged_preview_equals_the_headless_render() {
             "{stdout}"
         );
         // Each frame is one submission, waits only for the frame before last (frames in
-        // flight) and reads back its timestamps alone (issue 19).
+        // flight) and reads back its timestamps alone.
         let per_frame: Vec<f64> = stdout
             .split_once("; per frame ")
             .map(|(_, rest)| {
@@ -434,7 +434,7 @@ fn assert_same_image(dir: &Path, a: &str, b: &str, what: &str) {
     }
 }
 
-/// Issue 21 in the preview: opened with `--lens double-gauss-50`, stopped down a stop (two
+/// A real lens in the preview: opened with `--lens double-gauss-50`, stopped down a stop (two
 /// `-` keys and a Shift+wheel step, third stops each) and focused by a click, the converged
 /// window is the headless render of the command C printed (which names the lens, its
 /// f-number, focus and sensor), float for float.

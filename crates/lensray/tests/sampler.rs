@@ -23,7 +23,7 @@ const WIDTH: u32 = 48;
 const HEIGHT: u32 = 36;
 const REFERENCE_SPP: u32 = 4096;
 const BACKGROUND: Vec3 = Vec3::new(0.1, 0.12, 0.15);
-/// Not the issue's 0.4: on one edge, 16 of these points reach 0.41x independent sampling's error
+/// Looser than 0.4: on one edge, 16 of these points reach 0.41x independent sampling's error
 /// in focus, the best case, and 0.44-0.57x on edges blurred by the lens (`cargo bench --bench
 /// sampler -- --only edges`; docs/sampler.md, "The floor on edges"). Measured here: 0.52.
 const MAX_RATIO_AT_16_SPP: f64 = 0.55;
@@ -199,7 +199,7 @@ fn save(images: &[(&Image, &str)]) -> String {
         .join(", ")
 }
 
-/// The Sobol' sampler keeps its advantage on a hexagonal aperture (issue 20), on the built-in
+/// The Sobol' sampler keeps its advantage on a hexagonal aperture, on the built-in
 /// default scene (80x60, lit, its own lens): at 16 spp its RMSE ratio to independent sampling,
 /// over 8 seeds, is within 10 % of the round aperture's (each against a 4096-spp reference
 /// with its own aperture).

@@ -132,6 +132,15 @@ fn non_negative(name: &'static str, x: f64) -> Result<f64, CameraError> {
     }
 }
 
+/// A checked lens: the thin-lens model the camera is built with (a real lens's first-order
+/// one), the field of view it sets (radians; none where the projection's own applies) and the
+/// real lens, if any.
+struct BuiltLens {
+    thin: ThinLens,
+    vfov: Option<f64>,
+    real: Option<RealLens>,
+}
+
 impl CameraParams {
     /// Validates every parameter and builds the camera; the error names the first bad one.
     ///
@@ -139,9 +148,9 @@ impl CameraParams {
     /// parameters: a value valid in f64 can overflow to infinity or underflow to 0 on conversion
     /// (infinite or NaN matrices), two distinct values can become equal (far == near, or the
     /// orthographic focus and near planes), and a vfov just under 180 degrees (179.999999) can
-    /// round to an f32 half angle past pi/2, whose tangent is negative: the screen window then
-    /// had a negative half height and the image came out mirrored. (Bug found by
-    /// `tests/camera.rs`, `validation::build_rejects_values_degenerate_in_f32`.)
+    /// round to an f32 half angle past pi/2, whose tangent is negative: the screen window would
+    /// have a negative half height and the image would come out mirrored (`tests/camera.rs`,
+    /// `validation::build_rejects_values_degenerate_in_f32`).
     pub fn build(&self) -> Result<Camera, CameraError> {
         self.build_with_aperture(Aperture::ROUND)
     }
@@ -150,27 +159,66 @@ impl CameraParams {
     /// gives, but a real lens's exit pupil is bounded once, for the shaped stop (bounding it
     /// traces millions of rays).
     pub fn build_with_aperture(&self, aperture: Aperture) -> Result<Camera, CameraError> {
+        let frame = self.check_frame()?;
+        self.check_image_size()?;
+        let (near, far) = self.check_clip_planes()?;
+        let lens = self.build_lens(near, &aperture)?;
+        let projection = self.build_projection(lens.vfov)?;
+
+        let camera = Camera::new(
+            projection,
+            frame,
+            lens.thin,
+            near as f32,
+            far as f32,
+            self.width,
+            self.height,
+        );
+        let camera = match lens.real {
+            Some(real) => camera.with_real_lens(real),
+            None => camera,
+        };
+        // The real lens already has its shaped stop: this sets the thin lens's aperture.
+        Ok(camera.with_aperture(aperture)?)
+    }
+
+    /// The camera's frame from eye, target and up, each finite and not degenerate.
+    fn check_frame(&self) -> Result<CameraFrame, CameraError> {
         finite_vec("eye", self.eye)?;
         finite_vec("target", self.target)?;
         finite_vec("up", self.up)?;
         if (self.target - self.eye).length() <= f32::EPSILON * self.eye.length().max(1.0) {
             return Err(CameraError::EyeIsTarget);
         }
-        let frame = CameraFrame::look_at(self.eye, self.target, self.up)
-            .ok_or(CameraError::UpParallelToView(self.up))?;
+        CameraFrame::look_at(self.eye, self.target, self.up)
+            .ok_or(CameraError::UpParallelToView(self.up))
+    }
+
+    /// Each image side in 1..=MAX_IMAGE_SIDE.
+    fn check_image_size(&self) -> Result<(), CameraError> {
         if !(1..=MAX_IMAGE_SIDE).contains(&self.width)
             || !(1..=MAX_IMAGE_SIDE).contains(&self.height)
         {
             return Err(CameraError::ImageSize(self.width, self.height));
         }
+        Ok(())
+    }
+
+    /// Near and far, positive and apart in f32.
+    fn check_clip_planes(&self) -> Result<(f64, f64), CameraError> {
         let near = positive("near", self.near)?;
         let far = positive("far", self.far)?;
         if far as f32 <= near as f32 {
             return Err(CameraError::NearFar { near, far });
         }
+        Ok((near, far))
+    }
 
-        let mut real_lens = None;
-        let (lens, physical_vfov) = match &self.lens {
+    /// The lens of `self.lens`, checked: its thin-lens model, the field of view it sets (none
+    /// for a pinhole or a thin lens in world units) and the real lens, if any, its stop shaped
+    /// as `aperture`.
+    fn build_lens(&self, near: f64, aperture: &Aperture) -> Result<BuiltLens, CameraError> {
+        let (thin, vfov) = match &self.lens {
             LensParams::Pinhole => (ThinLens::PINHOLE, None),
             &LensParams::ThinLens {
                 aperture_radius,
@@ -190,58 +238,87 @@ impl CameraParams {
             &LensParams::Physical {
                 lens,
                 focus_distance,
-            } => {
-                positive("focal length (mm)", lens.focal_length_mm)?;
-                positive("f-number", lens.f_number)?;
-                positive("sensor height (mm)", lens.sensor_height_mm)?;
-                non_negative("aperture radius", lens.aperture_radius())?;
-                let focus_distance = self.check_focus(focus_distance, near)?;
-                let vfov =
-                    lens.vfov(focus_distance)
-                        .ok_or(CameraError::FocusWithinFocalLength {
-                            focus: focus_distance,
-                            focal_length_mm: lens.focal_length_mm,
-                        })?;
-                (
-                    ThinLens {
-                        aperture_radius: lens.aperture_radius() as f32,
-                        focus_distance: focus_distance as f32,
-                        aperture: Aperture::ROUND,
-                    },
-                    Some(vfov),
-                )
-            }
-            LensParams::Real(params) => {
-                if matches!(self.projection, ProjectionParams::Orthographic { .. }) {
-                    return Err(RealLensError::Orthographic.into());
-                }
-                if let Some(n) = params.f_number {
-                    positive("f-number", n)?;
-                }
-                positive("sensor height (mm)", params.sensor_height_mm)?;
-                let focus_distance = self.check_focus(params.focus_distance, near)?;
-                let params = RealLensParams {
-                    focus_distance,
-                    ..params.clone()
-                };
-                let aspect = self.width as f32 / self.height as f32;
-                let real = RealLens::new(params, aspect, aperture.clone())?;
-                // The first-order model: a thin lens at the entrance pupil, its radius the
-                // pupil's, focused where the real lens is.
-                let first_order = ThinLens {
-                    aperture_radius: real.entrance_pupil_radius() as f32,
-                    focus_distance: focus_distance as f32,
-                    aperture: Aperture::ROUND,
-                };
-                let vfov = real.pinhole_vfov();
-                real_lens = Some(real);
-                (first_order, Some(vfov))
-            }
+            } => self.build_physical_lens(&lens, focus_distance, near)?,
+            LensParams::Real(params) => return self.build_real_lens(params, near, aperture),
         };
+        Ok(BuiltLens {
+            thin,
+            vfov,
+            real: None,
+        })
+    }
 
-        let projection = match self.projection {
+    /// A lens in photographic units: its thin-lens model and the field of view it gives.
+    fn build_physical_lens(
+        &self,
+        lens: &PhysicalLens,
+        focus_distance: f64,
+        near: f64,
+    ) -> Result<(ThinLens, Option<f64>), CameraError> {
+        positive("focal length (mm)", lens.focal_length_mm)?;
+        positive("f-number", lens.f_number)?;
+        positive("sensor height (mm)", lens.sensor_height_mm)?;
+        non_negative("aperture radius", lens.aperture_radius())?;
+        let focus_distance = self.check_focus(focus_distance, near)?;
+        let vfov = lens
+            .vfov(focus_distance)
+            .ok_or(CameraError::FocusWithinFocalLength {
+                focus: focus_distance,
+                focal_length_mm: lens.focal_length_mm,
+            })?;
+        Ok((
+            ThinLens {
+                aperture_radius: lens.aperture_radius() as f32,
+                focus_distance: focus_distance as f32,
+                aperture: Aperture::ROUND,
+            },
+            Some(vfov),
+        ))
+    }
+
+    /// A lens prescription traced exactly, its stop shaped as `aperture`, with its first-order
+    /// model and the field of view it gives.
+    fn build_real_lens(
+        &self,
+        params: &RealLensParams,
+        near: f64,
+        aperture: &Aperture,
+    ) -> Result<BuiltLens, CameraError> {
+        if matches!(self.projection, ProjectionParams::Orthographic { .. }) {
+            return Err(RealLensError::Orthographic.into());
+        }
+        if let Some(n) = params.f_number {
+            positive("f-number", n)?;
+        }
+        positive("sensor height (mm)", params.sensor_height_mm)?;
+        let focus_distance = self.check_focus(params.focus_distance, near)?;
+        let params = RealLensParams {
+            focus_distance,
+            ..params.clone()
+        };
+        let aspect = self.width as f32 / self.height as f32;
+        let real = RealLens::new(params, aspect, aperture.clone())?;
+        // The first-order model: a thin lens at the entrance pupil, its radius the
+        // pupil's, focused where the real lens is.
+        let thin = ThinLens {
+            aperture_radius: real.entrance_pupil_radius() as f32,
+            focus_distance: focus_distance as f32,
+            aperture: Aperture::ROUND,
+        };
+        let vfov = real.pinhole_vfov();
+        Ok(BuiltLens {
+            thin,
+            vfov: Some(vfov),
+            real: Some(real),
+        })
+    }
+
+    /// The projection, its field of view `lens_vfov` (radians) where the lens sets one; in f32,
+    /// the tangent of a perspective's half angle must be positive and finite (see `build`).
+    fn build_projection(&self, lens_vfov: Option<f64>) -> Result<Projection, CameraError> {
+        Ok(match self.projection {
             ProjectionParams::Perspective { vfov_degrees } => {
-                let vfov = match physical_vfov {
+                let vfov = match lens_vfov {
                     Some(vfov) => vfov,
                     None => {
                         if !vfov_degrees.is_finite() || vfov_degrees <= 0.0 || vfov_degrees >= 180.0
@@ -252,10 +329,9 @@ impl CameraParams {
                     }
                 };
                 let projection = Projection::Perspective { vfov: vfov as f32 };
-                // In f32, tan of the half angle must be positive and finite (see above).
                 let half = projection.screen_half_height();
                 if !(half.is_normal() && half > 0.0) {
-                    return Err(CameraError::FieldOfView(match physical_vfov {
+                    return Err(CameraError::FieldOfView(match lens_vfov {
                         Some(vfov) => vfov.to_degrees(),
                         None => vfov_degrees,
                     }));
@@ -265,23 +341,7 @@ impl CameraParams {
             ProjectionParams::Orthographic { height } => Projection::Orthographic {
                 height: positive("orthographic view height", height)? as f32,
             },
-        };
-
-        let camera = Camera::new(
-            projection,
-            frame,
-            lens,
-            near as f32,
-            far as f32,
-            self.width,
-            self.height,
-        );
-        let camera = match real_lens {
-            Some(real) => camera.with_real_lens(real),
-            None => camera,
-        };
-        // The real lens already has its shaped stop: this sets the thin lens's aperture.
-        Ok(camera.with_aperture(aperture)?)
+        })
     }
 
     /// The focal plane must lie in front of the lens plane (the eye for perspective, the near

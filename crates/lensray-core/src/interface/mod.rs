@@ -8,6 +8,7 @@
 
 #[macro_use]
 pub mod glsl;
+mod header;
 mod shared;
 
 pub use shared::*;

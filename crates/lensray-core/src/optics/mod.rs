@@ -1,4 +1,4 @@
-//! Real lenses (issue 21): where the course stops ("in practice, the ray will refract twice
+//! Real lenses: where the course stops ("in practice, the ray will refract twice
 //! when passing through the lens"), rays cross each spherical surface of a lens prescription.
 //!
 //! - [`prescription`]: the table of surfaces (pbrt's lens-file layout), checked.

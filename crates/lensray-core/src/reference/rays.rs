@@ -11,13 +11,13 @@ use super::accel::PACKET_SIZE;
 use crate::camera::{Camera, Projection};
 use crate::sampler::{pixel_camera_samples, PixelSampler};
 
-type Lanes = [f32; PACKET_SIZE];
+type PacketLanes = [f32; PACKET_SIZE];
 
-/// Lanes of three coordinates.
+/// PacketLanes of three coordinates.
 struct Lanes3 {
-    x: Lanes,
-    y: Lanes,
-    z: Lanes,
+    x: PacketLanes,
+    y: PacketLanes,
+    z: PacketLanes,
 }
 
 impl Lanes3 {

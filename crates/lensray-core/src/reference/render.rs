@@ -12,7 +12,7 @@ use super::accel::{Accel, Hit, PACKET_SIZE};
 use super::rays::{primary_rays, real_lens_rays};
 use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
-use crate::film::{Image, OnDevice, Sums};
+use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler};
 use crate::scene::{Material, Scene};
 use crate::settings::{RenderSettings, Shading};
@@ -95,7 +95,7 @@ impl Renderer {
         &self,
         camera: &Camera,
         settings: &RenderSettings,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> (Image, RenderStats) {
         let whole: Result<_, OnDevice> = crate::film::whole_image(
             &mut &*self,
@@ -122,7 +122,7 @@ impl Renderer {
         settings: &RenderSettings,
         samples: Range<u32>,
         sums: &mut Sums,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> RenderStats {
         debug_assert_eq!((sums.width, sums.height), (camera.width, camera.height));
         self.for_each_row(camera, &mut sums.pixels, progress, |y, row| {
@@ -140,7 +140,7 @@ impl Renderer {
         &self,
         camera: &Camera,
         settings: &RenderSettings,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> (Image, RenderStats) {
         let mut image = Image::new(camera.width, camera.height);
         let stats = self.for_each_row(camera, &mut image.pixels, progress, |y, row| {
@@ -161,7 +161,7 @@ impl Renderer {
         &self,
         camera: &Camera,
         pixels: &mut [T],
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
         row_fn: impl Fn(u32, &mut [T]) -> u64 + Sync,
     ) -> RenderStats {
         let start = Instant::now();

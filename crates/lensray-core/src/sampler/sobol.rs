@@ -2,7 +2,7 @@
 //! binary digits of i. Generator matrices of the first four dimensions come from S. Joe and
 //! F. Y. Kuo's direction numbers ("Constructing Sobol sequences with better two-dimensional
 //! projections", 2008; file new-joe-kuo-6.21201): dimension 1 is van der Corput's (the identity),
-//! dimensions 2-4 have (s, a, m) = (1, 0, [1]), (2, 1, [1, 3]), (3, 1, [1, 3, 1]).
+//! dimensions 2-4 have `(s, a, m)` = `(1, 0, [1])`, `(2, 1, [1, 3])`, `(3, 1, [1, 3, 1])`.
 //!
 //! The sampler uses the first two dimensions, a (0, 2)-sequence (every aligned block of 2^k points
 //! has one point in each of the 2^k elementary intervals of area 2^-k), twice: at the sample

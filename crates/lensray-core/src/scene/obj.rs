@@ -2,23 +2,30 @@
 //!
 //! Reading is strict: a material library that fails to load, a `usemtl` naming no material, an
 //! index out of range, a non-finite vertex or a malformed colour are errors naming the file and,
-//! where known, the line. Before tobj parses the text, a quick scan checks what tobj would either
-//! not locate or not survive (it panics on some malformed colours and indices).
+//! where known, the line. Before tobj parses the text, a quick scan (`prescan`) checks what
+//! tobj would either not locate or not survive (it panics on some malformed colours and
+//! indices).
 //!
-//! Mapping: n-gons are triangulated as fans; points and polylines are skipped; consecutive OBJ models of the same name (tobj splits
-//! an object at each `usemtl`) become one [`Mesh`]; `Kd` is the diffuse colour (default 0.8 grey
-//! when a material has none), `Ke` the emission (0 when absent); a colour given as one number is
-//! grey. Triangles without a material get [`Material::default`], appended once. Normals are kept
-//! as given; a mesh whose faces do not all have them, or that has a zero normal, gets none.
+//! Mapping: n-gons are triangulated as fans; points and polylines are skipped; consecutive OBJ
+//! models of the same name (tobj splits an object at each `usemtl`) become one [`Mesh`]; `Kd` is
+//! the diffuse colour (default 0.8 grey when a material has none), `Ke` the emission (0 when
+//! absent); a colour given as one number is grey (`mtl`). Triangles without a material get
+//! [`Material::default`], appended once. Normals are kept as given; a mesh whose faces do not
+//! all have them, or that has a zero normal, gets none.
 
+mod mtl;
+mod prescan;
+
+use std::borrow::Cow;
 use std::cell::RefCell;
-use std::fmt::Write as _;
 use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
 use glam::Vec3;
 
+use self::mtl::{convert_material, load_mtl};
+use self::prescan::{is_polyline, prescan, Scan};
 use super::{Material, Mesh, Scene, SceneError};
 
 fn read(path: &Path) -> Result<Vec<u8>, SceneError> {
@@ -48,7 +55,30 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
     let bytes = read(path)?;
     let text = utf8(path, &bytes, "the file")?;
     let scan = prescan(path, text)?;
+    let (models, materials) = parse(path, text, &scan)?;
+    check_usemtl(path, &scan, &materials)?;
 
+    let mut builder = ObjSceneBuilder::new(path, &materials);
+    for model in models {
+        builder.add_model(model)?;
+    }
+    let scene = builder.finish();
+
+    if scene.triangle_count() == 0 {
+        return Err(SceneError::NoTriangles {
+            path: path.to_path_buf(),
+        });
+    }
+    debug_assert_eq!(scene.validate(), Ok(()));
+    Ok(scene)
+}
+
+/// tobj's models and materials of `text`, the material libraries read from beside `path`.
+fn parse(
+    path: &Path,
+    text: &str,
+    scan: &Scan,
+) -> Result<(Vec<tobj::Model>, Vec<tobj::Material>), SceneError> {
     let mtl_error: RefCell<Option<SceneError>> = RefCell::new(None);
     let dir = path.parent().unwrap_or(Path::new(""));
     let options = tobj::LoadOptions {
@@ -58,16 +88,15 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         ignore_lines: true,
     };
     // tobj reads a polyline `l` of three or more points as a face: blank polylines out.
-    let filtered;
     let text = if scan.polylines {
-        filtered = text
-            .lines()
-            .map(|l| if is_polyline(l) { "#" } else { l })
-            .collect::<Vec<_>>()
-            .join("\n");
-        filtered.as_str()
+        Cow::Owned(
+            text.lines()
+                .map(|l| if is_polyline(l) { "#" } else { l })
+                .collect::<Vec<_>>()
+                .join("\n"),
+        )
     } else {
-        text
+        Cow::Borrowed(text)
     };
     let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &options, |mtl: &Path| {
         // tobj's callback must return a tobj error; the real one travels beside it.
@@ -91,7 +120,11 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         path: path.to_path_buf(),
         reason: format!("material library: {e}"),
     })?;
+    Ok((models, materials))
+}
 
+/// Every `usemtl` names a material of a library loaded before it.
+fn check_usemtl(path: &Path, scan: &Scan, materials: &[tobj::Material]) -> Result<(), SceneError> {
     for (line, name) in &scan.usemtl {
         let before_library = scan.first_mtllib.is_none_or(|first| *line < first);
         if before_library || !materials.iter().any(|m| &m.name == name) {
@@ -102,43 +135,74 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
             });
         }
     }
+    Ok(())
+}
 
-    let mut scene = Scene {
-        meshes: Vec::new(),
-        materials: materials.iter().map(convert_material).collect(),
-    };
-    let mut default_material = None;
-    // Whether every model merged into the last mesh had normals.
-    let mut all_normals = true;
-    let mut previous_name: Option<String> = None;
-    for model in models {
+/// Gathers tobj's models into a scene: consecutive models of the same name become one mesh.
+struct ObjSceneBuilder<'a> {
+    path: &'a Path,
+    scene: Scene,
+    /// Where `Material::default()` is in `scene.materials`, once a triangle needs it.
+    default_material: Option<u32>,
+    /// Whether every model merged into the last mesh had normals.
+    all_normals: bool,
+    previous_name: Option<String>,
+}
+
+impl<'a> ObjSceneBuilder<'a> {
+    /// A scene with no meshes yet and the materials of the file's libraries.
+    fn new(path: &'a Path, materials: &[tobj::Material]) -> Self {
+        Self {
+            path,
+            scene: Scene {
+                meshes: Vec::new(),
+                materials: materials.iter().map(convert_material).collect(),
+            },
+            default_material: None,
+            all_normals: true,
+            previous_name: None,
+        }
+    }
+
+    /// Adds a model's triangles to the last mesh, or to a new one when its name differs.
+    fn add_model(&mut self, model: tobj::Model) -> Result<(), SceneError> {
         let m = model.mesh;
         if m.indices.is_empty() {
-            continue;
+            return Ok(());
         }
-        let material = match m.material_id {
-            Some(id) if id < scene.materials.len() => id as u32,
-            Some(id) => {
-                return Err(SceneError::Obj {
-                    path: path.to_path_buf(),
-                    reason: format!("material index {id} out of range"),
-                })
-            }
-            None => *default_material.get_or_insert_with(|| {
-                scene.materials.push(Material::default());
-                (scene.materials.len() - 1) as u32
-            }),
-        };
-        if previous_name.as_deref() != Some(model.name.as_str()) {
-            finish_mesh(scene.meshes.last_mut(), all_normals);
-            scene.meshes.push(Mesh {
+        let material = self.material(m.material_id)?;
+        if self.previous_name.as_deref() != Some(model.name.as_str()) {
+            finish_mesh(self.scene.meshes.last_mut(), self.all_normals);
+            self.scene.meshes.push(Mesh {
                 name: model.name.clone(),
                 ..Mesh::default()
             });
-            all_normals = true;
-            previous_name = Some(model.name);
+            self.all_normals = true;
+            self.previous_name = Some(model.name);
         }
-        let mesh = scene.meshes.last_mut().expect("pushed above");
+        self.append(&m, material)
+    }
+
+    /// The scene material of a model's material id (none: the default material).
+    fn material(&mut self, id: Option<usize>) -> Result<u32, SceneError> {
+        Ok(match id {
+            Some(id) if id < self.scene.materials.len() => id as u32,
+            Some(id) => {
+                return Err(SceneError::Obj {
+                    path: self.path.to_path_buf(),
+                    reason: format!("material index {id} out of range"),
+                })
+            }
+            None => *self.default_material.get_or_insert_with(|| {
+                self.scene.materials.push(Material::default());
+                (self.scene.materials.len() - 1) as u32
+            }),
+        })
+    }
+
+    /// Appends a model's vertices, normals and triangles (all of `material`) to the last mesh.
+    fn append(&mut self, m: &tobj::Mesh, material: u32) -> Result<(), SceneError> {
+        let mesh = self.scene.meshes.last_mut().expect("pushed by add_model");
         let offset = mesh.positions.len() as u32;
         let vertex_count = m.positions.len() / 3;
         for p in m.positions.chunks_exact(3) {
@@ -146,25 +210,25 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
             if !p.is_finite() {
                 // Only reachable through `v x y z w` with a tiny w.
                 return Err(SceneError::Obj {
-                    path: path.to_path_buf(),
+                    path: self.path.to_path_buf(),
                     reason: format!("vertex position {p} is not finite"),
                 });
             }
             mesh.positions.push(p);
         }
-        if m.normals.len() == m.positions.len() && all_normals {
+        if m.normals.len() == m.positions.len() && self.all_normals {
             mesh.normals.extend(
                 m.normals
                     .chunks_exact(3)
                     .map(|n| Vec3::new(n[0], n[1], n[2])),
             );
         } else {
-            all_normals = false;
+            self.all_normals = false;
         }
         for t in m.indices.chunks_exact(3) {
             if let Some(&bad) = t.iter().find(|&&i| i as usize >= vertex_count) {
                 return Err(SceneError::Obj {
-                    path: path.to_path_buf(),
+                    path: self.path.to_path_buf(),
                     reason: format!("vertex index {bad} out of range ({vertex_count} vertices)"),
                 });
             }
@@ -172,16 +236,14 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
                 .push([t[0] + offset, t[1] + offset, t[2] + offset]);
             mesh.material_ids.push(material);
         }
+        Ok(())
     }
-    finish_mesh(scene.meshes.last_mut(), all_normals);
 
-    if scene.triangle_count() == 0 {
-        return Err(SceneError::NoTriangles {
-            path: path.to_path_buf(),
-        });
+    /// The scene, its last mesh finished.
+    fn finish(mut self) -> Scene {
+        finish_mesh(self.scene.meshes.last_mut(), self.all_normals);
+        self.scene
     }
-    debug_assert_eq!(scene.validate(), Ok(()));
-    Ok(scene)
 }
 
 /// Drops a mesh's normals unless every part of it had them and none is zero.
@@ -194,217 +256,6 @@ fn finish_mesh(mesh: Option<&mut Mesh>, all_normals: bool) {
             mesh.normals.clear();
         }
     }
-}
-
-fn convert_material(m: &tobj::Material) -> Material {
-    let default = Material::default();
-    let emission = m
-        .emissive
-        .or_else(|| m.unknown_param.get("Ke").and_then(|s| parse_colour(s).ok()));
-    Material {
-        name: m.name.clone(),
-        diffuse: m.diffuse.map(Vec3::from).unwrap_or(default.diffuse),
-        emission: emission.map(Vec3::from).unwrap_or(Vec3::ZERO),
-    }
-}
-
-/// Parses "r g b" or "v" (grey): finite, non-negative.
-fn parse_colour(s: &str) -> Result<[f32; 3], ()> {
-    let values: Vec<f32> = s
-        .split_whitespace()
-        .map(|w| w.parse::<f32>().map_err(|_| ()))
-        .collect::<Result<_, _>>()?;
-    let rgb = match values[..] {
-        [v] => [v; 3],
-        [r, g, b] => [r, g, b],
-        _ => return Err(()),
-    };
-    if rgb.iter().all(|c| c.is_finite() && *c >= 0.0) {
-        Ok(rgb)
-    } else {
-        Err(())
-    }
-}
-
-/// Reads one material library for tobj, after checking its colours (tobj panics on a colour of
-/// fewer than three numbers) and spelling a one-number colour out as three.
-fn load_mtl(mtl: &Path, obj: &Path) -> Result<tobj::MTLLoadResult, SceneError> {
-    let bytes = fs::read(mtl).map_err(|err| SceneError::MtlRead {
-        mtl: mtl.to_path_buf(),
-        obj: obj.to_path_buf(),
-        err,
-    })?;
-    let text = std::str::from_utf8(&bytes).map_err(|_| SceneError::Mtl {
-        path: mtl.to_path_buf(),
-        reason: "not UTF-8 text".into(),
-    })?;
-    let mut normalized = String::with_capacity(text.len());
-    for (index, line) in text.lines().enumerate() {
-        let trimmed = line.trim();
-        let key = trimmed.split_whitespace().next().unwrap_or("");
-        if matches!(key, "Kd" | "Ke" | "Ka" | "Ks") {
-            let value = trimmed[key.len()..].trim();
-            let rgb = parse_colour(value).map_err(|()| SceneError::Color {
-                path: mtl.to_path_buf(),
-                line: index + 1,
-                key: key.into(),
-                value: value.into(),
-            })?;
-            let _ = writeln!(normalized, "{key} {} {} {}", rgb[0], rgb[1], rgb[2]);
-        } else {
-            normalized.push_str(line);
-            normalized.push('\n');
-        }
-    }
-    tobj::load_mtl_buf(&mut normalized.as_bytes())
-        .map_err(|e| SceneError::Mtl {
-            path: mtl.to_path_buf(),
-            reason: e.to_string(),
-        })
-        .map(Ok)
-}
-
-fn is_polyline(line: &str) -> bool {
-    line.split_whitespace().next() == Some("l")
-}
-
-/// What the pre-scan learned.
-struct Scan {
-    /// Whether the file has `l` statements.
-    polylines: bool,
-    /// `usemtl` statements: line and material name.
-    usemtl: Vec<(usize, String)>,
-    first_mtllib: Option<usize>,
-}
-
-/// Checks vertex and normal values and face indices line by line, so that errors name the line.
-fn prescan(path: &Path, text: &str) -> Result<Scan, SceneError> {
-    let mut counts = [0usize; 3]; // v, vt, vn
-    const KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
-    // Largest positive index of each kind and its line: checked against the final counts, since
-    // tobj resolves positive indices when an object ends.
-    let mut max_positive = [(0i64, 0usize); 3];
-    let mut scan = Scan {
-        polylines: false,
-        usemtl: Vec::new(),
-        first_mtllib: None,
-    };
-    let bad = |line: usize, reason: String| SceneError::ObjLine {
-        path: path.to_path_buf(),
-        line,
-        reason,
-    };
-    for (index, raw) in text.lines().enumerate() {
-        let line = index + 1;
-        let mut words = raw.split_whitespace();
-        let Some(key) = words.next() else { continue };
-        match key {
-            "v" | "vn" => {
-                let what = if key == "v" {
-                    "vertex position"
-                } else {
-                    "vertex normal"
-                };
-                let mut xyz = [0.0f32; 3];
-                for c in &mut xyz {
-                    *c = words.next().and_then(|w| w.parse().ok()).ok_or_else(|| {
-                        bad(
-                            line,
-                            format!("{what} needs three numbers: `{}`", raw.trim()),
-                        )
-                    })?;
-                }
-                if !xyz.iter().all(|c| c.is_finite()) {
-                    return Err(SceneError::NonFinite {
-                        path: path.to_path_buf(),
-                        line,
-                        what,
-                        text: raw.trim().into(),
-                    });
-                }
-                counts[if key == "v" { 0 } else { 2 }] += 1;
-            }
-            "vt" => counts[1] += 1,
-            "f" | "l" => {
-                let mut corners = 0;
-                for word in words {
-                    corners += 1;
-                    for (kind, part) in word.split('/').enumerate() {
-                        if part.is_empty() {
-                            if kind == 0 {
-                                return Err(bad(
-                                    line,
-                                    format!("face corner `{word}` has no vertex index"),
-                                ));
-                            }
-                            continue;
-                        }
-                        if kind > 2 {
-                            return Err(bad(
-                                line,
-                                format!("face corner `{word}` has too many indices"),
-                            ));
-                        }
-                        let i: i64 = part.parse().map_err(|_| {
-                            bad(line, format!("face index `{part}` is not an integer"))
-                        })?;
-                        let count = counts[kind];
-                        let out_of_range = if i > 0 {
-                            if i > max_positive[kind].0 {
-                                max_positive[kind] = (i, line);
-                            }
-                            false
-                        } else {
-                            i == 0 || i.unsigned_abs() as usize > count
-                        };
-                        if out_of_range {
-                            return Err(SceneError::IndexOutOfRange {
-                                path: path.to_path_buf(),
-                                line,
-                                kind: KINDS[kind],
-                                index: i,
-                                count,
-                            });
-                        }
-                    }
-                }
-                scan.polylines |= key == "l";
-                if key == "f" && corners < 3 {
-                    return Err(bad(
-                        line,
-                        format!("face with {corners} corners (needs at least 3)"),
-                    ));
-                }
-            }
-            "usemtl" => {
-                // The name as tobj reads it: everything after the line's first space.
-                let name = raw.split_once(' ').unwrap_or_default().1.trim();
-                if name.is_empty() {
-                    return Err(bad(
-                        line,
-                        "usemtl needs a material name after a space".into(),
-                    ));
-                }
-                scan.usemtl.push((line, name.to_string()));
-            }
-            "mtllib" => {
-                scan.first_mtllib.get_or_insert(line);
-            }
-            _ => {}
-        }
-    }
-    for (kind, &(i, line)) in max_positive.iter().enumerate() {
-        if i as u64 > counts[kind] as u64 {
-            return Err(SceneError::IndexOutOfRange {
-                path: path.to_path_buf(),
-                line,
-                kind: KINDS[kind],
-                index: i,
-                count: counts[kind],
-            });
-        }
-    }
-    Ok(scan)
 }
 
 /// Names made unique (and non-empty, without line breaks) by appending `_2`, `_3`, ...

@@ -13,8 +13,8 @@ use crate::camera::{
 };
 use crate::optics::paraxial::FirstOrder;
 use crate::optics::Prescription;
-use crate::scene::Scene;
-use crate::settings::{ApertureSettings, ProjectionKind, Settings};
+use crate::scene::{Bounds, Scene};
+use crate::settings::{ApertureSettings, CameraSettings, ProjectionKind, Settings};
 use crate::settings::{PointLight, RenderSettings, Shading};
 
 pub const DEFAULT_WIDTH: u32 = 640;
@@ -77,7 +77,6 @@ fn point(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
     }
 }
 
-/// Fills in defaults and validates everything.
 /// The aperture of `a` (round where it names no blades), each value checked.
 fn aperture(a: &ApertureSettings) -> Result<Aperture, SettingsError> {
     if a.blades.is_some() && a.image.is_some() {
@@ -101,9 +100,7 @@ fn aperture(a: &ApertureSettings) -> Result<Aperture, SettingsError> {
 }
 
 /// The real lens the settings name, if any (a built-in name or a prescription file).
-fn prescription(
-    c: &crate::settings::CameraSettings,
-) -> Result<Option<Prescription>, SettingsError> {
+fn prescription(c: &CameraSettings) -> Result<Option<Prescription>, SettingsError> {
     let Some(name) = &c.lens.prescription else {
         return Ok(None);
     };
@@ -122,22 +119,64 @@ fn prescription(
         .map_err(SettingsError::Lens)
 }
 
+/// The shot of `settings` and `scene`: fills in defaults and validates everything.
 pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
     let c = &settings.camera;
     let radius = (0.5 * bounds.diagonal().length()).max(1e-3) as f64;
     let real_lens = prescription(c)?;
-    let vfov_degrees = match &real_lens {
-        // Framing uses the lens focused at infinity (the field narrows a little nearer).
+    let vfov_degrees = framing_vfov_degrees(c, real_lens.as_ref());
+    let view = view(c, &bounds, radius, vfov_degrees)?;
+    let projection = projection(c, &view, vfov_degrees);
+    let (near, far) = clip_planes(c, &bounds, &view);
+    let axis_distance = (view.target - view.eye).length() as f64;
+    let lens = lens(c, real_lens, axis_distance)?;
+
+    let camera = CameraParams {
+        eye: view.eye,
+        target: view.target,
+        up: view.up,
+        projection,
+        lens,
+        near,
+        far,
+        width: settings.image.width.unwrap_or(DEFAULT_WIDTH),
+        height: settings.image.height.unwrap_or(DEFAULT_HEIGHT),
+    }
+    .build_with_aperture(aperture(&c.aperture)?)?;
+
+    let render = render_settings(settings, &camera, &view, radius)?;
+    Ok(Shot { camera, render })
+}
+
+/// Where the camera stands and looks, before the checks of `CameraParams::build`.
+struct View {
+    eye: Vec3,
+    target: Vec3,
+    up: Vec3,
+}
+
+/// The vertical field of view the default framing assumes: the real lens's, focused at
+/// infinity (the field narrows a little nearer), or the settings' own.
+fn framing_vfov_degrees(c: &CameraSettings, real_lens: Option<&Prescription>) -> f64 {
+    match real_lens {
         Some(lens) => {
             let efl = FirstOrder::of(lens).efl;
             let height = c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM);
             (2.0 * (0.5 * height / efl).atan()).to_degrees()
         }
         None => c.vfov_degrees.unwrap_or(DEFAULT_VFOV_DEGREES),
-    };
-    let projection_kind = c.projection.unwrap_or(ProjectionKind::Perspective);
+    }
+}
 
+/// Target (default: the scene's centre), up (default: +y) and eye (default: in front of the
+/// target along +z, far enough back to frame the scene's bounding sphere of `radius`).
+fn view(
+    c: &CameraSettings,
+    bounds: &Bounds,
+    radius: f64,
+    vfov_degrees: f64,
+) -> Result<View, SettingsError> {
     let target = c
         .target
         .map(|t| point("target", t))
@@ -152,29 +191,43 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
             target + Vec3::Z * (1.1 * radius / half_angle.sin()) as f32
         }
     };
+    Ok(View { eye, target, up })
+}
 
-    let projection = match projection_kind {
+/// The projection the settings name (default: perspective).
+fn projection(c: &CameraSettings, view: &View, vfov_degrees: f64) -> ProjectionParams {
+    match c.projection.unwrap_or(ProjectionKind::Perspective) {
         ProjectionKind::Perspective => ProjectionParams::Perspective { vfov_degrees },
         // By default the orthographic view frames what the perspective one shows at the target.
         ProjectionKind::Orthographic => ProjectionParams::Orthographic {
             height: c.ortho_height.unwrap_or(
                 2.0 * (vfov_degrees.clamp(1.0, 179.0) * 0.5).to_radians().tan()
-                    * (target - eye).length() as f64,
+                    * (view.target - view.eye).length() as f64,
             ),
         },
-    };
+    }
+}
 
-    // Depth of the scene along the view axis decides near and far.
-    let forward = (target - eye).normalize_or_zero();
+/// Near and far: by default, from the depth of the scene along the view axis.
+fn clip_planes(c: &CameraSettings, bounds: &Bounds, view: &View) -> (f64, f64) {
+    let forward = (view.target - view.eye).normalize_or_zero();
     let deepest = bounds
         .corners()
         .iter()
-        .map(|&p| (p - eye).dot(forward))
+        .map(|&p| (p - view.eye).dot(forward))
         .fold(f32::MIN, f32::max) as f64;
     let far = c.far.unwrap_or((deepest * 1.05).max(1e-2));
     let near = c.near.unwrap_or(far * 1e-4);
-    let axis_distance = (target - eye).length() as f64;
+    (near, far)
+}
 
+/// The lens the settings describe: a real lens, a thin lens in world units or in photographic
+/// ones, or a pinhole; by default focused at `axis_distance`, the target's.
+fn lens(
+    c: &CameraSettings,
+    real_lens: Option<Prescription>,
+    axis_distance: f64,
+) -> Result<LensParams, SettingsError> {
     if c.focal_length_mm.is_none()
         && real_lens.is_none()
         && (c.f_number.is_some() || c.sensor_height_mm.is_some())
@@ -183,7 +236,7 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
             "f-number and sensor height need a focal length (--focal-length-mm) or a lens (--lens)",
         ));
     }
-    let lens = match (c.aperture_radius, c.focal_length_mm) {
+    Ok(match (c.aperture_radius, c.focal_length_mm) {
         _ if real_lens.is_some() => LensParams::Real(RealLensParams {
             prescription: Arc::new(real_lens.expect("checked")),
             f_number: c.f_number,
@@ -214,21 +267,17 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
             },
             None => LensParams::Pinhole,
         },
-    };
+    })
+}
 
-    let camera = CameraParams {
-        eye,
-        target,
-        up,
-        projection,
-        lens,
-        near,
-        far,
-        width: settings.image.width.unwrap_or(DEFAULT_WIDTH),
-        height: settings.image.height.unwrap_or(DEFAULT_HEIGHT),
-    }
-    .build_with_aperture(aperture(&c.aperture)?)?;
-
+/// Samples, seed, sampler, shading, background and the light (by default above the eye, as
+/// bright as lights the target), each checked.
+fn render_settings(
+    settings: &Settings,
+    camera: &Camera,
+    view: &View,
+    radius: f64,
+) -> Result<RenderSettings, SettingsError> {
     let spp = settings.image.spp.unwrap_or(DEFAULT_SPP);
     if spp == 0 {
         return Err(SettingsError::ZeroSpp);
@@ -236,14 +285,14 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let light_position = match settings.light.position {
         Some(p) => point("light position", p)?,
         // A light above the eye: everything the camera sees is lit, shadows fall behind objects.
-        None => eye + camera.frame.true_up * (0.5 * radius) as f32,
+        None => view.eye + camera.frame.true_up * (0.5 * radius) as f32,
     };
     let light_intensity = match settings.light.intensity {
         Some(i) => colour("light intensity", i)?,
         // pi d^2 makes the irradiance at the target about 1, so a lit surface shows about Kd.
-        None => Vec3::splat(std::f32::consts::PI * (light_position - target).length_squared()),
+        None => Vec3::splat(std::f32::consts::PI * (light_position - view.target).length_squared()),
     };
-    let render = RenderSettings {
+    Ok(RenderSettings {
         spp,
         seed: settings.image.seed.unwrap_or(0),
         sampler: settings.image.sampler.unwrap_or_default(),
@@ -257,6 +306,5 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
             intensity: light_intensity,
         },
         shared_samples: false,
-    };
-    Ok(Shot { camera, render })
+    })
 }

@@ -1,6 +1,6 @@
 //! Settings a user may give in a scene file or on the command line. Every field is optional:
-//! the command line overrides the file, and what neither gives gets a default (see `resolve`).
-//! Field names are the scene file's TOML keys.
+//! the command line overrides the file, and what neither gives gets a default (see
+//! `shot::shot`). Field names are the scene file's TOML keys.
 
 use std::path::PathBuf;
 

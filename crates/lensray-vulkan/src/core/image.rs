@@ -10,7 +10,7 @@ use crate::core::buffer::{barrier_to_host, Buffer};
 use crate::core::device::Context;
 use crate::core::error::{alloc_err, vk_err, GpuError};
 
-pub(crate) struct Image {
+pub(crate) struct DeviceImage {
     ctx: Arc<Context>,
     pub image: vk::Image,
     pub view: vk::ImageView,
@@ -26,7 +26,7 @@ pub(crate) struct Image {
     pub aspect: vk::ImageAspectFlags,
 }
 
-impl Image {
+impl DeviceImage {
     pub fn new(
         ctx: &Arc<Context>,
         name: &str,
@@ -104,7 +104,7 @@ pub(crate) fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubres
         .layer_count(1)
 }
 
-impl Drop for Image {
+impl Drop for DeviceImage {
     fn drop(&mut self) {
         // SAFETY: users wait for their submissions before dropping; view before image, image
         // before its memory.
@@ -201,7 +201,7 @@ pub(crate) fn record_copy_to_buffer(
 pub(crate) fn record_readbacks(
     ctx: &Context,
     cmd: vk::CommandBuffer,
-    copies: &[(&Image, &Buffer)],
+    copies: &[(&DeviceImage, &Buffer)],
     width: u32,
     height: u32,
 ) {

@@ -1,7 +1,10 @@
 //! Vulkan itself: instance and validation, device selection and submissions, buffers, images,
-//! queries, pipelines, embedded SPIR-V and errors. It knows nothing of cameras or scenes.
+//! queries, pipelines, embedded SPIR-V, the window surface and errors. It knows nothing of
+//! cameras or scenes.
 
+pub mod adapter;
 pub mod buffer;
+pub mod counters;
 pub mod device;
 pub mod error;
 pub mod image;
@@ -10,3 +13,4 @@ pub mod pipeline;
 pub mod pipeline_cache;
 pub mod query;
 pub mod shader;
+pub mod surface;

@@ -9,22 +9,22 @@ use std::path::PathBuf;
 
 use ash::vk;
 
-use crate::core::device::DeviceReport;
+use crate::core::adapter::DeviceReport;
 
 /// `VkPipelineCacheHeaderVersionOne`: header length, version, vendor ID, device ID, UUID.
 const HEADER_BYTES: usize = 16 + 16;
 
 /// What to create the device's pipeline cache from, and where to save it.
-pub(crate) struct CacheFile {
+pub(crate) struct PipelineCacheFile {
     pub path: Option<PathBuf>,
     /// The data a previous run saved, checked against the device (empty: none usable).
     pub data: Vec<u8>,
 }
 
 /// The cache file of `device`, and its data when it belongs to this device and driver.
-pub(crate) fn load(device: &DeviceReport) -> CacheFile {
+pub(crate) fn load(device: &DeviceReport) -> PipelineCacheFile {
     let Some(dir) = lensray_core::cache::dir() else {
-        return CacheFile {
+        return PipelineCacheFile {
             path: None,
             data: Vec::new(),
         };
@@ -51,7 +51,7 @@ pub(crate) fn load(device: &DeviceReport) -> CacheFile {
         },
         Err(_) => Vec::new(),
     };
-    CacheFile {
+    PipelineCacheFile {
         path: Some(path),
         data,
     }
@@ -83,7 +83,7 @@ fn check_header(data: &[u8], device: &DeviceReport) -> Result<(), String> {
 /// (Some drivers keep their compiled code elsewhere and return the header alone: lavapipe has
 /// Mesa's own shader cache. The header is saved all the same, so the next run checks it.)
 /// A cache that cannot be written is a notice: the next run compiles again.
-pub(crate) fn save(file: &CacheFile, data: &[u8]) {
+pub(crate) fn save(file: &PipelineCacheFile, data: &[u8]) {
     let Some(path) = &file.path else { return };
     if data.len() < HEADER_BYTES || data == file.data.as_slice() {
         return;

@@ -13,7 +13,7 @@ use gpu_allocator::MemoryLocation;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{record_readbacks, transition, Image, Transition};
+use crate::core::image::{record_readbacks, transition, DeviceImage, Transition};
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
 use crate::core::query::QueryPool;
 use crate::core::shader;
@@ -65,12 +65,12 @@ pub(crate) struct GBufferTargets {
     pub layout: Cell<vk::ImageLayout>,
     /// First: dropped before the images whose views it uses.
     framebuffer: SceneFramebuffer,
-    pub normal: Image,
-    pub albedo: Image,
-    pub view_depth: Image,
+    pub normal: DeviceImage,
+    pub albedo: DeviceImage,
+    pub view_depth: DeviceImage,
     /// The depth buffer (D32), kept for later passes.
     #[allow(dead_code)]
-    pub depth: Image,
+    pub depth: DeviceImage,
     pub width: u32,
     pub height: u32,
 }
@@ -109,7 +109,7 @@ impl GBufferTargets {
             | vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::STORAGE;
         let color = |name, format| {
-            Image::new(
+            DeviceImage::new(
                 ctx,
                 name,
                 width,
@@ -122,7 +122,7 @@ impl GBufferTargets {
         let normal = color("G-buffer normal", NORMAL_FORMAT)?;
         let albedo = color("G-buffer albedo", ALBEDO_FORMAT)?;
         let view_depth = color("G-buffer view depth", VIEW_DEPTH_FORMAT)?;
-        let depth = Image::new(
+        let depth = DeviceImage::new(
             ctx,
             "G-buffer depth",
             width,

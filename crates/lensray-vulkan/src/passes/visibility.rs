@@ -12,7 +12,7 @@ use gpu_allocator::MemoryLocation;
 use crate::core::buffer::{barrier, Buffer};
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{record_copy_to_buffer, Image};
+use crate::core::image::{record_copy_to_buffer, DeviceImage};
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
 use crate::core::shader;
 use crate::passes::draw::{
@@ -21,7 +21,7 @@ use crate::passes::draw::{
 use crate::scene::SceneBuffers;
 use crate::{check_samples, GpuRenderer};
 use lensray_core::camera::Camera;
-use lensray_core::film::Accumulation;
+use lensray_core::film::{Accumulation, Progress};
 use lensray_core::interface::VisibilityPush;
 use lensray_core::sampler::{pixel_camera_sample, shared_pixel_sampler};
 use lensray_core::settings::RenderSettings;
@@ -32,9 +32,9 @@ const TRIANGLE_FORMAT: vk::Format = vk::Format::R32_UINT;
 pub(crate) struct VisibilityTargets {
     /// First: dropped before the images whose views it uses.
     framebuffer: SceneFramebuffer,
-    triangle: Image,
+    triangle: DeviceImage,
     #[allow(dead_code)] // owned here: the framebuffer uses its view
-    depth: Image,
+    depth: DeviceImage,
     /// One uint per pixel, row-major: TRACE_BINDING_VISIBILITY.
     pub buffer: Buffer,
     pub width: u32,
@@ -48,7 +48,7 @@ impl VisibilityTargets {
         width: u32,
         height: u32,
     ) -> Result<Self, GpuError> {
-        let triangle = Image::new(
+        let triangle = DeviceImage::new(
             ctx,
             "raster visibility",
             width,
@@ -57,7 +57,7 @@ impl VisibilityTargets {
             vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
             vk::ImageAspectFlags::COLOR,
         )?;
-        let depth = Image::new(
+        let depth = DeviceImage::new(
             ctx,
             "raster visibility depth",
             width,
@@ -267,7 +267,7 @@ impl GpuRenderer {
         settings: &RenderSettings,
         samples: std::ops::Range<u32>,
         accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<(), GpuError> {
         check_samples(camera, settings)?;
         self.prepare_raster(camera.width, camera.height)?;

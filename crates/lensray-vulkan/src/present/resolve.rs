@@ -8,7 +8,7 @@ use ash::vk;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{transition, Image, Transition};
+use crate::core::image::{transition, DeviceImage, Transition};
 use crate::core::pipeline::Pipeline;
 use crate::core::shader;
 use crate::passes::gbuffer::GBufferTargets;
@@ -24,7 +24,7 @@ pub(crate) struct ResolvePass {
     ctx: Arc<Context>,
     pipeline: Pipeline,
     /// The display image of the current size.
-    pub display: Option<Image>,
+    pub display: Option<DeviceImage>,
 }
 
 impl ResolvePass {
@@ -65,7 +65,7 @@ impl ResolvePass {
         height: u32,
     ) -> Result<(), GpuError> {
         self.display = None;
-        let display = Image::new(
+        let display = DeviceImage::new(
             &self.ctx,
             "preview display",
             width,

@@ -9,7 +9,7 @@ use ash::{khr, vk};
 use crate::core::device::Context;
 use crate::core::error::{vk_err, GpuError};
 use crate::core::image::subresource_range;
-use crate::present::surface::Surface;
+use crate::core::surface::WindowSurface;
 
 /// 8-bit UNORM formats: the viewer writes sRGB-encoded values itself (the resolve pass), so the
 /// presentation engine must not encode again.
@@ -40,7 +40,7 @@ impl Swapchain {
     /// the application); `None` while the window has no area (minimised).
     pub fn new(
         ctx: &Arc<Context>,
-        surface: &Surface,
+        surface: &WindowSurface,
         window_size: [u32; 2],
         present_mode: vk::PresentModeKHR,
         old: Option<&Swapchain>,

@@ -12,7 +12,7 @@ use glam::Vec3;
 
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::Image;
+use crate::core::image::DeviceImage;
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
 use crate::core::shader;
 use crate::passes::draw::{
@@ -28,7 +28,7 @@ struct ViewTargets {
     /// First: dropped before the depth image their views use.
     framebuffers: Vec<SceneFramebuffer>,
     #[allow(dead_code)] // alive while the framebuffers use it
-    depth: Image,
+    depth: DeviceImage,
     width: u32,
     height: u32,
 }
@@ -88,7 +88,7 @@ impl ViewPass {
         height: u32,
     ) -> Result<(), GpuError> {
         self.targets = None;
-        let depth = Image::new(
+        let depth = DeviceImage::new(
             &self.ctx,
             "view pass depth",
             width,

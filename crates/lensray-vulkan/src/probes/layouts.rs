@@ -15,7 +15,9 @@ use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
 use crate::core::shader;
-use lensray_core::interface::glsl::{layout_probe_reads, ProbeBlock, LAYOUT_PROBE_BINDING_OUT};
+use lensray_core::interface::glsl::{
+    layout_probe_reads, ProbeBlock, ProbeRead, SharedStruct, LAYOUT_PROBE_BINDING_OUT,
+};
 use lensray_core::interface::shared_structs;
 
 /// What the probe found: the blocks it read, how many scalars it compared, and a line per one
@@ -48,16 +50,39 @@ fn pattern_word(tag: u32, k: usize) -> u32 {
 /// Fills the probe's output with this before the dispatch: a word the shader did not store.
 const UNWRITTEN: u32 = 0xffff_ffff;
 
+/// Runs the layout probe on `ctx`'s device: writes every shared struct's patterns, lets the
+/// shader read them back and compares each scalar.
 pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
     let structs = shared_structs();
     let reads = layout_probe_reads(&structs);
+    let values = probe_values(&structs, &reads)?;
+    let inputs = probe_inputs(ctx, &structs, &reads, &values.contents)?;
+    check_limits(ctx, &inputs.bindings, inputs.push.len())?;
+    let got = dispatch(ctx, &inputs, values.want.len())?;
+    let mismatches = mismatches(&values.want, &got);
+    Ok(LayoutReport {
+        blocks: values.blocks,
+        scalars_checked: values.want.len(),
+        mismatches,
+    })
+}
 
-    // Per block: its values' bytes and, in the shader's order, each scalar's name and word.
+/// What Rust writes for the probe: per block its values' bytes, and in the shader's order
+/// each scalar's name and word.
+struct ProbeValues {
+    want: Vec<(String, u32)>,
+    blocks: Vec<ProbedBlock>,
+    contents: Vec<Vec<u8>>,
+}
+
+/// The values of every read, each `copies` values of its struct with its own tag; an error
+/// when there are more values than the patterns tell apart.
+fn probe_values(structs: &[SharedStruct], reads: &[ProbeRead]) -> Result<ProbeValues, GpuError> {
     let mut want: Vec<(String, u32)> = Vec::new();
     let mut blocks = Vec::new();
     let mut contents: Vec<Vec<u8>> = Vec::new();
     let mut tag = 0;
-    for read in &reads {
+    for read in reads {
         let s = &structs[read.structure];
         let mut bytes = Vec::with_capacity(s.size * read.copies);
         for copy in 0..read.copies {
@@ -89,13 +114,35 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
             "layout probe: {tag} values, more than its patterns tell apart (127)"
         )));
     }
+    Ok(ProbeValues {
+        want,
+        blocks,
+        contents,
+    })
+}
 
+/// The probe pipeline's bindings (the output first), a buffer per descriptor block with its
+/// binding and type, and the push constants' bytes.
+struct ProbeInputs<'a> {
+    bindings: Vec<(u32, vk::DescriptorType, vk::ShaderStageFlags)>,
+    buffers: Vec<(u32, vk::DescriptorType, Buffer)>,
+    push: &'a [u8],
+}
+
+/// Uploads each descriptor block's `contents` to a buffer of its kind; the push-constant
+/// block's bytes are pushed instead.
+fn probe_inputs<'a>(
+    ctx: &Arc<Context>,
+    structs: &[SharedStruct],
+    reads: &[ProbeRead],
+    contents: &'a [Vec<u8>],
+) -> Result<ProbeInputs<'a>, GpuError> {
     let compute = vk::ShaderStageFlags::COMPUTE;
     let storage = vk::DescriptorType::STORAGE_BUFFER;
     let mut bindings = vec![(LAYOUT_PROBE_BINDING_OUT, storage, compute)];
     let mut inputs = Vec::new();
     let mut push: &[u8] = &[];
-    for (read, bytes) in reads.iter().zip(&contents) {
+    for (read, bytes) in reads.iter().zip(contents) {
         let (ty, usage) = match read.block {
             ProbeBlock::PushConstant => {
                 push = bytes;
@@ -114,20 +161,39 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
         bindings.push((binding, ty, compute));
         inputs.push((binding, ty, Buffer::with_data(ctx, &name, bytes, usage)?));
     }
-    check_limits(ctx, &bindings, push.len())?;
+    Ok(ProbeInputs {
+        bindings,
+        buffers: inputs,
+        push,
+    })
+}
 
-    let pipeline = Pipeline::compute(ctx, shader::LAYOUTS_COMP, &bindings, push.len() as u32)?;
+/// Runs the probe shader once over `inputs` and reads back what it stored: `scalars` words,
+/// then the count it stored (`UNWRITTEN` where it stored nothing).
+fn dispatch(
+    ctx: &Arc<Context>,
+    inputs: &ProbeInputs<'_>,
+    scalars: usize,
+) -> Result<Vec<u32>, GpuError> {
+    let storage = vk::DescriptorType::STORAGE_BUFFER;
+    let push = inputs.push;
+    let pipeline = Pipeline::compute(
+        ctx,
+        shader::LAYOUTS_COMP,
+        &inputs.bindings,
+        push.len() as u32,
+    )?;
     // The scalars, then the count the shader stored.
     let mut output = Buffer::new(
         ctx,
         "layout probe output",
-        ((want.len() + 1) * 4) as u64,
+        ((scalars + 1) * 4) as u64,
         vk::BufferUsageFlags::STORAGE_BUFFER,
         MemoryLocation::GpuToCpu,
     )?;
-    output.write(bytemuck::cast_slice(&vec![UNWRITTEN; want.len() + 1]))?;
+    output.write(bytemuck::cast_slice(&vec![UNWRITTEN; scalars + 1]))?;
     pipeline.bind_buffer(LAYOUT_PROBE_BINDING_OUT, storage, &output);
-    for (binding, ty, buffer) in &inputs {
+    for (binding, ty, buffer) in &inputs.buffers {
         pipeline.bind_buffer(*binding, *ty, buffer);
     }
     ctx.submit_and_wait(|cmd| {
@@ -143,6 +209,12 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
         Ok(())
     })?;
     let got: &[u32] = bytemuck::cast_slice(output.read()?);
+    Ok(got.to_vec())
+}
+
+/// A line per scalar the shader read with another word than Rust wrote, and one when the
+/// count it stored is not the number of scalars.
+fn mismatches(want: &[(String, u32)], got: &[u32]) -> Vec<String> {
     let mut mismatches: Vec<String> = want
         .iter()
         .zip(got)
@@ -165,11 +237,7 @@ pub(crate) fn run(ctx: &Arc<Context>) -> Result<LayoutReport, GpuError> {
             want.len()
         ));
     }
-    Ok(LayoutReport {
-        blocks,
-        scalars_checked: want.len(),
-        mismatches,
-    })
+    mismatches
 }
 
 /// The probe's one set holds a block per shared struct: fail clearly on a device with fewer

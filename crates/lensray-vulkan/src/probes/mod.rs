@@ -74,7 +74,8 @@ impl GpuRenderer {
         sampler_cost::run(&self.ctx, camera.width, camera.height, settings)
     }
     /// Caps the pixel-samples per dispatch of the compute pass (tests use it to force several
-    /// submissions). By default dispatches are sized from the measured speed to last ~0.15 s.
+    /// submissions). By default dispatches are sized from the measured speed to last
+    /// `TARGET_DISPATCH_MS`.
     pub fn set_samples_per_dispatch(&mut self, samples: u64) {
         self.trace.samples_per_dispatch = samples.max(1);
     }

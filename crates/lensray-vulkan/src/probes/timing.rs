@@ -11,7 +11,7 @@ use lensray_core::settings::RenderSettings;
 use lensray_core::stats::{median, range};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct BenchOptions {
+pub struct PassBenchOptions {
     pub gpu: GpuOptions,
     /// Timed renders after the warm-up (>= 1).
     pub repeats: u32,
@@ -27,7 +27,7 @@ pub enum BenchedPass {
 }
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct BenchReport {
+pub struct PassBenchReport {
     pub device: String,
     pub triangles: usize,
     pub width: u32,
@@ -50,7 +50,7 @@ pub struct BenchReport {
     pub longest_dispatch_ms: f64,
 }
 
-impl BenchReport {
+impl PassBenchReport {
     pub fn median_gpu_ms(&self) -> f64 {
         median(&self.run_gpu_ms)
     }
@@ -66,7 +66,7 @@ impl BenchReport {
     }
 }
 
-impl std::fmt::Display for BenchReport {
+impl std::fmt::Display for PassBenchReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let (lo, hi) = range(&self.run_gpu_ms);
         writeln!(f, "device:            {}", self.device)?;
@@ -126,8 +126,8 @@ pub fn bench(
     scene: &Scene,
     camera: &Camera,
     settings: &RenderSettings,
-    options: &BenchOptions,
-) -> Result<BenchReport, GpuError> {
+    options: &PassBenchOptions,
+) -> Result<PassBenchReport, GpuError> {
     let mut renderer = GpuRenderer::new(&options.gpu)?;
     renderer.load_scene(scene)?;
     bench_renderer(&mut renderer, scene, camera, settings, options.repeats)
@@ -141,7 +141,7 @@ pub fn bench_renderer(
     camera: &Camera,
     settings: &RenderSettings,
     repeats: u32,
-) -> Result<BenchReport, GpuError> {
+) -> Result<PassBenchReport, GpuError> {
     let tiny = Camera::new(
         camera.projection,
         camera.frame,
@@ -178,7 +178,7 @@ pub fn bench_renderer(
         dispatches_per_run = after.dispatches - before.dispatches;
     }
     let timings = renderer.timings();
-    Ok(BenchReport {
+    Ok(PassBenchReport {
         device: renderer.device_name(),
         triangles: scene.triangle_count(),
         width: camera.width,

@@ -11,7 +11,7 @@ use gpu_allocator::MemoryLocation;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{record_readbacks, Image};
+use crate::core::image::{record_readbacks, DeviceImage};
 use crate::passes::gbuffer::GBufferPass;
 use crate::present::resolve::{ResolvePass, DISPLAY_FORMAT};
 use crate::present::view_pass::ViewPass;
@@ -49,7 +49,7 @@ pub(crate) fn run(
     let mut resolve = ResolvePass::new(ctx)?;
     resolve.bind(&accumulation, targets, width, height)?;
     // Declared before the pass, so dropped after the framebuffer over it.
-    let target = Image::new(
+    let target = DeviceImage::new(
         ctx,
         "view probe target",
         width,

@@ -6,14 +6,14 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use ash::vk;
+use ash::{khr, vk};
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::{barrier, Buffer};
 use crate::core::device::Context;
 use crate::core::error::{vk_err, GpuError};
 use crate::core::query::QueryPool;
-use crate::upload::FlatScene;
+use crate::upload::{FlatScene, MeshRange};
 
 /// An acceleration structure and its storage buffer.
 pub(crate) struct AccelStruct {
@@ -104,6 +104,8 @@ fn instance_bytes(custom_index: u32, blas_address: u64) -> [u8; 64] {
     out
 }
 
+/// Builds the scene's acceleration structures: a BLAS per mesh with triangles (built, then
+/// compacted), and the TLAS over them.
 pub(crate) fn build(
     ctx: &Arc<Context>,
     flat: &FlatScene,
@@ -119,9 +121,72 @@ pub(crate) fn build(
         .copied()
         .collect();
     let vertex_count = flat.positions.len() as u32;
+    let geometries = blas_geometries(&meshes, vertex_count, positions, indices);
+    let mut infos = blas_infos(&geometries);
+    let BlasStorage {
+        blases,
+        scratch,
+        bytes: blas_bytes,
+    } = create_blases(ctx, fns, &mut infos, &meshes)?;
+    let ranges: Vec<[vk::AccelerationStructureBuildRangeInfoKHR; 1]> = meshes
+        .iter()
+        .map(|m| {
+            [vk::AccelerationStructureBuildRangeInfoKHR::default()
+                .primitive_count(m.triangle_count)]
+        })
+        .collect();
 
-    // Bottom level: one geometry per mesh, reading the global vertex and index buffers.
-    let geometries: Vec<[vk::AccelerationStructureGeometryKHR; 1]> = meshes
+    let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 4)?;
+    let compact_sizes = if blases.is_empty() {
+        None
+    } else {
+        Some(QueryPool::new(
+            ctx,
+            vk::QueryType::ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR,
+            blases.len() as u32,
+        )?)
+    };
+    let queries = BuildQueries {
+        timestamps: &timestamps,
+        compact_sizes: compact_sizes.as_ref(),
+    };
+    build_blases(ctx, fns, &infos, &ranges, &blases, &queries)?;
+    drop(scratch);
+
+    let (compacted, blas_compacted_bytes) = create_compacted(ctx, compact_sizes.as_ref())?;
+    let (instances, instance_bytes_len) = tlas_instances(ctx, &meshes, &compacted)?;
+    let (tlas, tlas_size) = build_tlas(
+        ctx,
+        fns,
+        &instances,
+        meshes.len() as u32,
+        (&blases, &compacted),
+        &timestamps,
+    )?;
+    drop(blases);
+    let ticks = timestamps.results()?;
+    let build_gpu_ns = ctx.elapsed_ns(ticks[0], ticks[1]) + ctx.elapsed_ns(ticks[2], ticks[3]);
+    Ok(SceneAccel {
+        tlas,
+        _blases: compacted,
+        _instances: instances,
+        build_gpu_ns,
+        build_wall_ns: start.elapsed().as_nanos() as f64,
+        blas_bytes,
+        blas_compacted_bytes,
+        device_bytes: blas_compacted_bytes + tlas_size + instance_bytes_len,
+    })
+}
+
+/// The bottom-level geometry of each mesh: its triangles in the global vertex and index
+/// buffers.
+fn blas_geometries(
+    meshes: &[MeshRange],
+    vertex_count: u32,
+    positions: &Buffer,
+    indices: &Buffer,
+) -> Vec<[vk::AccelerationStructureGeometryKHR<'static>; 1]> {
+    meshes
         .iter()
         .map(|m| {
             let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
@@ -140,10 +205,17 @@ pub(crate) fn build(
                 .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })
                 .flags(vk::GeometryFlagsKHR::OPAQUE)]
         })
-        .collect();
+        .collect()
+}
+
+/// One BLAS build per geometry, traced fast and compactable; destinations and scratch come
+/// later (`create_blases`).
+fn blas_infos<'a>(
+    geometries: &'a [[vk::AccelerationStructureGeometryKHR<'static>; 1]],
+) -> Vec<vk::AccelerationStructureBuildGeometryInfoKHR<'a>> {
     let blas_flags = vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE
         | vk::BuildAccelerationStructureFlagsKHR::ALLOW_COMPACTION;
-    let mut infos: Vec<vk::AccelerationStructureBuildGeometryInfoKHR> = geometries
+    geometries
         .iter()
         .map(|g| {
             vk::AccelerationStructureBuildGeometryInfoKHR::default()
@@ -152,13 +224,30 @@ pub(crate) fn build(
                 .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
                 .geometries(g)
         })
-        .collect();
+        .collect()
+}
+
+/// The BLASes at their build sizes, the scratch buffer their builds share, and their bytes.
+struct BlasStorage {
+    blases: Vec<AccelStruct>,
+    scratch: Buffer,
+    bytes: u64,
+}
+
+/// Creates a BLAS of its build size for each of `infos` and one scratch buffer with an
+/// aligned, disjoint range per build, and points each info at its destination and scratch.
+fn create_blases(
+    ctx: &Arc<Context>,
+    fns: &khr::acceleration_structure::Device,
+    infos: &mut [vk::AccelerationStructureBuildGeometryInfoKHR<'_>],
+    meshes: &[MeshRange],
+) -> Result<BlasStorage, GpuError> {
     let align = ctx.scratch_alignment;
     let mut blases = Vec::with_capacity(meshes.len());
     let mut scratch_offsets = Vec::with_capacity(meshes.len());
     let mut scratch_total = 0u64;
     let mut blas_bytes = 0u64;
-    for (info, m) in infos.iter().zip(&meshes) {
+    for (info, m) in infos.iter().zip(meshes) {
         let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
         // SAFETY: `info` describes valid geometry; one primitive count per geometry.
         unsafe {
@@ -194,40 +283,46 @@ pub(crate) fn build(
                     device_address: scratch_base + offset,
                 });
     }
-    let ranges: Vec<[vk::AccelerationStructureBuildRangeInfoKHR; 1]> = meshes
-        .iter()
-        .map(|m| {
-            [vk::AccelerationStructureBuildRangeInfoKHR::default()
-                .primitive_count(m.triangle_count)]
-        })
-        .collect();
+    Ok(BlasStorage {
+        blases,
+        scratch,
+        bytes: blas_bytes,
+    })
+}
+
+/// The queries of a build: timestamps around the BLAS builds (0, 1) and around compaction and
+/// the TLAS build (2, 3), and the BLASes' compacted sizes (none without BLASes).
+struct BuildQueries<'a> {
+    timestamps: &'a QueryPool,
+    compact_sizes: Option<&'a QueryPool>,
+}
+
+/// Builds every BLAS in one submission and queries their compacted sizes; waits for it.
+fn build_blases(
+    ctx: &Context,
+    fns: &khr::acceleration_structure::Device,
+    infos: &[vk::AccelerationStructureBuildGeometryInfoKHR<'_>],
+    ranges: &[[vk::AccelerationStructureBuildRangeInfoKHR; 1]],
+    blases: &[AccelStruct],
+    queries: &BuildQueries<'_>,
+) -> Result<(), GpuError> {
     let range_refs: Vec<&[vk::AccelerationStructureBuildRangeInfoKHR]> =
         ranges.iter().map(|r| &r[..]).collect();
-
-    let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 4)?;
-    let compact_sizes = if blases.is_empty() {
-        None
-    } else {
-        Some(QueryPool::new(
-            ctx,
-            vk::QueryType::ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR,
-            blases.len() as u32,
-        )?)
-    };
+    let timestamps = queries.timestamps;
     let handles: Vec<_> = blases.iter().map(|b| b.handle).collect();
     ctx.submit_and_wait(|cmd| {
         timestamps.reset(cmd);
-        if let Some(q) = &compact_sizes {
+        if let Some(q) = queries.compact_sizes {
             q.reset(cmd);
         }
         timestamps.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
         if !infos.is_empty() {
             // SAFETY: every info has a destination, scratch inside `scratch` (aligned, disjoint
             // per build) and inputs in live buffers with the build-input usage.
-            unsafe { fns.cmd_build_acceleration_structures(cmd, &infos, &range_refs) };
+            unsafe { fns.cmd_build_acceleration_structures(cmd, infos, &range_refs) };
         }
         build_to_build_barrier(ctx, cmd);
-        if let Some(q) = &compact_sizes {
+        if let Some(q) = queries.compact_sizes {
             // SAFETY: the structures were built with ALLOW_COMPACTION; the barrier above
             // orders the builds before the query.
             unsafe {
@@ -242,15 +337,19 @@ pub(crate) fn build(
         }
         timestamps.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
         Ok(())
-    })?;
-    drop(scratch);
+    })
+}
 
-    // Compaction: copy each BLAS into a structure of its compacted size.
-    let sizes = match &compact_sizes {
+/// A structure of its compacted size for each BLAS (the queried sizes), and their bytes.
+fn create_compacted(
+    ctx: &Arc<Context>,
+    compact_sizes: Option<&QueryPool>,
+) -> Result<(Vec<AccelStruct>, u64), GpuError> {
+    let sizes = match compact_sizes {
         Some(q) => q.results()?,
         None => Vec::new(),
     };
-    let mut compacted = Vec::with_capacity(blases.len());
+    let mut compacted = Vec::with_capacity(sizes.len());
     let mut blas_compacted_bytes = 0;
     for &size in &sizes {
         blas_compacted_bytes += size;
@@ -261,10 +360,18 @@ pub(crate) fn build(
             size,
         )?);
     }
+    Ok((compacted, blas_compacted_bytes))
+}
 
-    // Top level: one instance per mesh with triangles.
+/// The TLAS's instance buffer, one instance per mesh with triangles (at least one
+/// instance's bytes), and its length in bytes.
+fn tlas_instances(
+    ctx: &Arc<Context>,
+    meshes: &[MeshRange],
+    compacted: &[AccelStruct],
+) -> Result<(Buffer, u64), GpuError> {
     let mut instance_data = Vec::with_capacity(64 * meshes.len().max(1));
-    for (m, blas) in meshes.iter().zip(&compacted) {
+    for (m, blas) in meshes.iter().zip(compacted) {
         instance_data.extend_from_slice(&instance_bytes(m.first_triangle, blas.address));
     }
     instance_data.resize(instance_data.len().max(64), 0);
@@ -275,6 +382,21 @@ pub(crate) fn build(
         vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
             | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
     )?;
+    Ok((instances, instance_data.len() as u64))
+}
+
+/// Creates the TLAS over `instance_count` instances and, in one submission, copies each of
+/// `blases` into its compacted structure and builds the TLAS; waits for it. Returns the TLAS
+/// and its size.
+fn build_tlas(
+    ctx: &Arc<Context>,
+    fns: &khr::acceleration_structure::Device,
+    instances: &Buffer,
+    instance_count: u32,
+    (blases, compacted): (&[AccelStruct], &[AccelStruct]),
+    timestamps: &QueryPool,
+) -> Result<(AccelStruct, u64), GpuError> {
+    let align = ctx.scratch_alignment;
     let instance_geometry = [vk::AccelerationStructureGeometryKHR::default()
         .geometry_type(vk::GeometryTypeKHR::INSTANCES)
         .geometry(vk::AccelerationStructureGeometryDataKHR {
@@ -285,7 +407,6 @@ pub(crate) fn build(
                 }),
         })
         .flags(vk::GeometryFlagsKHR::OPAQUE)];
-    let instance_count = meshes.len() as u32;
     let mut tlas_info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
         .ty(vk::AccelerationStructureTypeKHR::TOP_LEVEL)
         .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
@@ -323,14 +444,7 @@ pub(crate) fn build(
         [vk::AccelerationStructureBuildRangeInfoKHR::default().primitive_count(instance_count)];
     ctx.submit_and_wait(|cmd| {
         timestamps.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
-        for (src, dst) in blases.iter().zip(&compacted) {
-            let copy = vk::CopyAccelerationStructureInfoKHR::default()
-                .src(src.handle)
-                .dst(dst.handle)
-                .mode(vk::CopyAccelerationStructureModeKHR::COMPACT);
-            // SAFETY: `src` was built with ALLOW_COMPACTION, `dst` has the queried size.
-            unsafe { fns.cmd_copy_acceleration_structure(cmd, &copy) };
-        }
+        record_compaction(fns, cmd, blases, compacted);
         build_to_build_barrier(ctx, cmd);
         // SAFETY: the instances reference the compacted BLASes, whose copies the barrier
         // above orders before this build; scratch is aligned and large enough.
@@ -347,21 +461,24 @@ pub(crate) fn build(
         Ok(())
     })?;
     drop(tlas_scratch);
-    drop(blases);
-    let ticks = timestamps.results()?;
-    let build_gpu_ns = ctx.elapsed_ns(ticks[0], ticks[1]) + ctx.elapsed_ns(ticks[2], ticks[3]);
-    Ok(SceneAccel {
-        tlas,
-        _blases: compacted,
-        _instances: instances,
-        build_gpu_ns,
-        build_wall_ns: start.elapsed().as_nanos() as f64,
-        blas_bytes,
-        blas_compacted_bytes,
-        device_bytes: blas_compacted_bytes
-            + tlas_sizes.acceleration_structure_size
-            + instance_data.len() as u64,
-    })
+    Ok((tlas, tlas_sizes.acceleration_structure_size))
+}
+
+/// Records a compacting copy of each of `blases` into its structure in `compacted`.
+fn record_compaction(
+    fns: &khr::acceleration_structure::Device,
+    cmd: vk::CommandBuffer,
+    blases: &[AccelStruct],
+    compacted: &[AccelStruct],
+) {
+    for (src, dst) in blases.iter().zip(compacted) {
+        let copy = vk::CopyAccelerationStructureInfoKHR::default()
+            .src(src.handle)
+            .dst(dst.handle)
+            .mode(vk::CopyAccelerationStructureModeKHR::COMPACT);
+        // SAFETY: `src` was built with ALLOW_COMPACTION, `dst` has the queried size.
+        unsafe { fns.cmd_copy_acceleration_structure(cmd, &copy) };
+    }
 }
 
 /// Orders acceleration-structure writes (builds, compaction copies) before later builds and

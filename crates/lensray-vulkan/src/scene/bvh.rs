@@ -31,22 +31,9 @@ pub struct BvhParams {
 
 impl Default for BvhParams {
     /// Leaves of up to 4 triangles, collapse cost 1.5 (obvhs's default is 3.0), medium build:
-    /// the fastest of the measured choices, or tied with the fastest, on both scenes, at a third
-    /// less memory than one triangle per leaf. Median Mrays/s of the software traversal,
-    /// 640x480 lit, lavapipe on 2 cores, runs interleaved (`cargo bench --bench traversal --
-    /// --bench --repeat 7 --bvh-sweep`, and `--bvh-sweep --dense --spp 2 --repeat 5`):
-    ///
-    /// | leaf <=, collapse cost, build | default scene (8.4k tris) | dense (1.02M tris) | dense MiB |
-    /// |---|---|---|---|
-    /// | 1, 1.0, medium | 3.70 | 1.30 | 109 |
-    /// | 2, 1.0, medium | 3.90 | 1.22 | 82 |
-    /// | **4, 1.5, medium** | **3.87** | **1.30** | **73** |
-    /// | 4, 3.0, medium | 3.80 | 1.21 | 66 |
-    /// | 8, 3.0, medium | 3.87 | 1.23 | 61 |
-    /// | 4, 1.5, fast | 3.83 | 1.19 | 73 |
-    ///
-    /// Differences under ~5% are within the noise of this shared machine; the fast build costs
-    /// ~9% on the dense scene, one triangle per leaf ~5% on the default one.
+    /// the fastest of the measured choices, or tied with the fastest, on a small and a 1M-triangle
+    /// scene, at a third less memory than one triangle per leaf (the measurements and their
+    /// command: docs/software-traversal.md, "BVH build choices").
     fn default() -> Self {
         Self {
             max_leaf_triangles: 4,

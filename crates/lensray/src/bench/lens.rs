@@ -19,10 +19,12 @@ use serde::Serialize;
 use super::runs::Measurement;
 use super::sweep::BenchLens;
 use crate::paths::PathKind;
-use lensray_core::camera::Camera;
+use lensray_core::camera::{Camera, RealLens};
 use lensray_core::optics::trace::narrow::LensRay;
 use lensray_core::reference::PACKET_SIZE;
-use lensray_core::sampler::{pixel_camera_sample, pixel_sampler, shared_pixel_sampler};
+use lensray_core::sampler::{
+    pixel_camera_sample, pixel_sampler, shared_pixel_sampler, PixelSampler,
+};
 use lensray_core::settings::RenderSettings;
 use lensray_core::stats::median;
 
@@ -135,22 +137,16 @@ impl LensPoint {
 }
 
 impl CpuPieces {
+    /// Times the pieces over the samples of every `PIECES_ROW_STRIDE`th row of the shot.
     fn measure(camera: &Camera, settings: &RenderSettings) -> Self {
         let rows = (0..camera.height).step_by(PIECES_ROW_STRIDE as usize);
         let pixels: Vec<UVec2> = rows
             .flat_map(|y| (0..camera.width).map(move |x| UVec2::new(x, y)))
             .collect();
-        let sampler_of = |pixel: UVec2| {
-            if settings.shared_samples {
-                shared_pixel_sampler(settings.sampler, settings.seed, pixel)
-            } else {
-                pixel_sampler(settings.sampler, settings.seed, pixel, camera.width)
-            }
-        };
         let samples: Vec<(Vec2, Vec2)> = pixels
             .iter()
             .flat_map(|&p| {
-                let sampler = sampler_of(p);
+                let sampler = sampler_of(camera, settings, p);
                 (0..settings.spp).map(move |i| {
                     let s = pixel_camera_sample(&sampler, i);
                     (s.film, s.lens)
@@ -158,21 +154,10 @@ impl CpuPieces {
             })
             .collect();
         let n = samples.len().max(1) as f64;
-        // Nanoseconds per sample of `work` over every sample: the median of 3 passes.
-        let per_sample = |work: &dyn Fn() -> f32| {
-            let times: Vec<f64> = (0..CAMERA_RAY_PASSES)
-                .map(|_| {
-                    let start = Instant::now();
-                    black_box(work());
-                    start.elapsed().as_secs_f64() * 1e9 / n
-                })
-                .collect();
-            median(&times)
-        };
-        let sampler_ns = per_sample(&|| {
+        let sampler_ns = ns_per_sample(n, &|| {
             let mut sum = 0.0;
             for &p in &pixels {
-                let sampler = sampler_of(p);
+                let sampler = sampler_of(camera, settings, p);
                 for i in 0..settings.spp {
                     let s = pixel_camera_sample(&sampler, black_box(i));
                     sum += s.film.x + s.lens.y;
@@ -180,7 +165,7 @@ impl CpuPieces {
             }
             sum
         });
-        let camera_ray_ns = per_sample(&|| {
+        let camera_ray_ns = ns_per_sample(n, &|| {
             let mut sum = 0.0;
             for &(film, lens) in &samples {
                 if let Some((ray, weight)) = camera.generate_ray_through_lens(film, lens) {
@@ -189,52 +174,10 @@ impl CpuPieces {
             }
             sum
         });
-        let (mut pupil_ns, mut lens_trace_ns, mut packet_ns) = (0.0, 0.0, camera_ray_ns);
-        if let Some(real) = &camera.real_lens {
-            let (width, height) = (camera.width, camera.height);
-            let pupil = || {
-                let mut sum = 0.0;
-                for &(film, lens) in &samples {
-                    let film = real.film_point(film, width, height);
-                    let (rear, area) = real.pupil().sample(film, lens);
-                    sum += rear.x + area;
-                }
-                sum
-            };
-            let traced = || {
-                let mut sum = 0.0;
-                for &(film, lens) in &samples {
-                    let film = real.film_point(film, width, height);
-                    let (rear, _) = real.pupil().sample(film, lens);
-                    let ray = LensRay {
-                        origin: film,
-                        direction: (rear - film).normalize(),
-                    };
-                    if let Some((out, t)) = real.trace_to_scene(ray) {
-                        sum += out.direction.x + t;
-                    }
-                }
-                sum
-            };
-            let packets = || {
-                let mut sum = 0.0;
-                for chunk in samples.chunks(PACKET_SIZE) {
-                    let mut lanes = [(Vec3::ZERO, Vec2::ZERO); PACKET_SIZE];
-                    for (lane, &(film, lens)) in lanes.iter_mut().zip(chunk) {
-                        *lane = (real.film_point(film, width, height), lens);
-                    }
-                    let mut out = [None; PACKET_SIZE];
-                    real.camera_rays(&lanes[..chunk.len()], &mut out);
-                    for (ray, weight) in out.into_iter().flatten() {
-                        sum += ray.direction.x + weight;
-                    }
-                }
-                sum
-            };
-            pupil_ns = per_sample(&pupil);
-            lens_trace_ns = (per_sample(&traced) - pupil_ns).max(0.0);
-            packet_ns = per_sample(&packets);
-        }
+        let (pupil_ns, lens_trace_ns, packet_ns) = match &camera.real_lens {
+            Some(real) => real_lens_pieces(real, camera, &samples, n),
+            None => (0.0, 0.0, camera_ray_ns),
+        };
         CpuPieces {
             samples: samples.len() as u64,
             sampler_ns,
@@ -246,6 +189,83 @@ impl CpuPieces {
     }
 }
 
+/// The sampler of `pixel` as the paths draw it (shared across pixels or per pixel).
+fn sampler_of(camera: &Camera, settings: &RenderSettings, pixel: UVec2) -> PixelSampler {
+    if settings.shared_samples {
+        shared_pixel_sampler(settings.sampler, settings.seed, pixel)
+    } else {
+        pixel_sampler(settings.sampler, settings.seed, pixel, camera.width)
+    }
+}
+
+/// Nanoseconds per sample of `work` over all `n` samples: the median of `CAMERA_RAY_PASSES`
+/// passes.
+fn ns_per_sample(n: f64, work: &dyn Fn() -> f32) -> f64 {
+    let times: Vec<f64> = (0..CAMERA_RAY_PASSES)
+        .map(|_| {
+            let start = Instant::now();
+            black_box(work());
+            start.elapsed().as_secs_f64() * 1e9 / n
+        })
+        .collect();
+    median(&times)
+}
+
+/// The real lens's pieces per sample over `samples` (`n` of them, at least 1): the film point
+/// and pupil sample, the trace through the surfaces (the pupil's time taken off), and
+/// `RealLens::camera_rays` on packets.
+fn real_lens_pieces(
+    real: &RealLens,
+    camera: &Camera,
+    samples: &[(Vec2, Vec2)],
+    n: f64,
+) -> (f64, f64, f64) {
+    let (width, height) = (camera.width, camera.height);
+    let pupil = || {
+        let mut sum = 0.0;
+        for &(film, lens) in samples {
+            let film = real.film_point(film, width, height);
+            let (rear, area) = real.pupil().sample(film, lens);
+            sum += rear.x + area;
+        }
+        sum
+    };
+    let traced = || {
+        let mut sum = 0.0;
+        for &(film, lens) in samples {
+            let film = real.film_point(film, width, height);
+            let (rear, _) = real.pupil().sample(film, lens);
+            let ray = LensRay {
+                origin: film,
+                direction: (rear - film).normalize(),
+            };
+            if let Some((out, t)) = real.trace_to_scene(ray) {
+                sum += out.direction.x + t;
+            }
+        }
+        sum
+    };
+    let packets = || {
+        let mut sum = 0.0;
+        for chunk in samples.chunks(PACKET_SIZE) {
+            let mut lanes = [(Vec3::ZERO, Vec2::ZERO); PACKET_SIZE];
+            for (lane, &(film, lens)) in lanes.iter_mut().zip(chunk) {
+                *lane = (real.film_point(film, width, height), lens);
+            }
+            let mut out = [None; PACKET_SIZE];
+            real.camera_rays(&lanes[..chunk.len()], &mut out);
+            for (ray, weight) in out.into_iter().flatten() {
+                sum += ray.direction.x + weight;
+            }
+        }
+        sum
+    };
+    let pupil_ns = ns_per_sample(n, &pupil);
+    let lens_trace_ns = (ns_per_sample(n, &traced) - pupil_ns).max(0.0);
+    let packet_ns = ns_per_sample(n, &packets);
+    (pupil_ns, lens_trace_ns, packet_ns)
+}
+
 /// The camera samples of a render of `settings` whose rays the lens lets through: every
 /// pixel's samples `0..spp`, drawn as the paths draw them.
 pub fn shot_camera_rays(camera: &Camera, settings: &RenderSettings) -> u64 {
@@ -255,11 +275,7 @@ pub fn shot_camera_rays(camera: &Camera, settings: &RenderSettings) -> u64 {
             let mut passed = 0u64;
             for x in 0..camera.width {
                 let pixel = UVec2::new(x, y);
-                let sampler = if settings.shared_samples {
-                    shared_pixel_sampler(settings.sampler, settings.seed, pixel)
-                } else {
-                    pixel_sampler(settings.sampler, settings.seed, pixel, camera.width)
-                };
+                let sampler = sampler_of(camera, settings, pixel);
                 for i in 0..settings.spp {
                     let sample = pixel_camera_sample(&sampler, i);
                     let ray = camera.generate_ray_through_lens(sample.film, sample.lens);
@@ -299,7 +315,7 @@ pub fn centre_camera_rays(camera: &Camera) -> (u64, u64) {
 
 /// Per path, the figures against the thin model of the same lens: camera rays per second, the
 /// time over the thin model's, and the cost per camera ray that reaches the scene over the
-/// thin model's (the target: at most 2x).
+/// thin model's (the target: at most 2x).
 pub fn set_costs_vs_thin(
     values: &[BenchLens],
     lenses: &[LensPoint],

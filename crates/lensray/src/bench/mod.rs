@@ -204,131 +204,33 @@ fn measure_group(
         .iter()
         .map(|v| bench_shot(scene, options, *v))
         .collect::<Result<_>>()?;
-    // Points that differ only in spp share one reference.
-    let mut references: Vec<Rc<Reference>> = Vec::new();
-    for (i, s) in shots.iter().enumerate() {
-        let same = (0..i).find(|&j| shots[j].camera == s.camera);
-        let reference = match same {
-            Some(j) => Rc::clone(&references[j]),
-            None => Rc::new(reference::obtain(
-                options.cache_dir.as_deref(),
-                scene,
-                &s.camera,
-                &s.render,
-                options.reference_spp,
-                log,
-            )?),
-        };
-        references.push(reference);
-    }
-
-    // Every path open at once, so that each point's repeats can take turns between them.
-    let mut opened: Vec<Box<dyn RenderPath>> = Vec::with_capacity(kinds.len());
-    for &kind in kinds {
-        let first = (&shots[0].camera, &shots[0].render);
-        let OpenedPath { path, .. } = paths::open(
-            &choose::path_options(kind, options),
-            &scene.description.scene,
-            first,
-        )
-        .with_context(|| format!("--paths {kind}"))?;
-        if !paths_seen.iter().any(|p| p.path == kind) {
-            paths_seen.push(PathInfo {
-                path: kind,
-                device: path.device_name(),
-            });
-        }
-        opened.push(path);
-    }
-    let mut results: Vec<Vec<Measurement>> = Vec::with_capacity(values.len());
+    let references = group_references(options, scene, &shots, log)?;
+    let mut opened = open_paths(options, kinds, scene, &shots[0], paths_seen)?;
+    let group = Group {
+        options,
+        kinds,
+        scene,
+        values,
+        shots: &shots,
+        references: &references,
+    };
     let in_turns = matches!(
         options.sweep,
         Some(SweepKind::Aperture) | Some(SweepKind::Lens)
     );
-    if in_turns {
-        log(&format!(
-            "measuring {}: {} ({} triangles), {}x{}, {} spp, {} {} in turns",
-            kinds_list(kinds),
-            scene.name,
-            scene.triangles,
-            options.width,
-            options.height,
-            options.spp,
-            if options.sweep == Some(SweepKind::Lens) {
-                "lenses"
-            } else {
-                "apertures"
-            },
-            values
-                .iter()
-                .map(|v| match v {
-                    SweepValue::Aperture(a) => a.name().to_string(),
-                    SweepValue::Lens(l) => l.label(),
-                    _ => "?".into(),
-                })
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
-        let points: Vec<_> = shots
-            .iter()
-            .zip(&references)
-            .map(|(s, r)| (&s.camera, &s.render, &r.image))
-            .collect();
-        results = runs::measure_points_interleaved(&mut opened, &points, options.repeat)?;
-        if options.sweep == Some(SweepKind::Aperture) {
-            set_costs_vs_round(&mut results);
-        }
-    }
-    for (s, reference) in shots.iter().zip(&references) {
-        if in_turns {
-            break;
-        }
-        log(&format!(
-            "measuring {}: {} ({} triangles), {}x{}, {} spp",
-            kinds_list(kinds),
-            scene.name,
-            scene.triangles,
-            s.camera.width,
-            s.camera.height,
-            s.render.spp
-        ));
-        results.push(runs::measure_interleaved(
-            &mut opened,
-            &s.camera,
-            &s.render,
-            options.repeat,
-            &reference.image,
-        )?);
-    }
+    let mut results = if in_turns {
+        measure_in_turns(&group, &mut opened, log)?
+    } else {
+        measure_point_by_point(&group, &mut opened, log)?
+    };
     for (path, kind) in opened.into_iter().zip(kinds) {
         path.close().with_context(|| format!("--paths {kind}"))?;
     }
-
-    // The lens sweep: each point's pass shares, then each real lens against its thin model.
-    let mut lenses: Vec<Option<LensPoint>> = vec![None; values.len()];
-    if options.sweep == Some(SweepKind::Lens) {
-        log("counting the camera rays each lens lets through (CPU)");
-        let lens_values: Vec<BenchLens> = values
-            .iter()
-            .map(|v| match v {
-                SweepValue::Lens(l) => *l,
-                _ => unreachable!("the lens sweep's points are lenses"),
-            })
-            .collect();
-        let measured: Vec<LensPoint> = lens_values
-            .iter()
-            .zip(&shots)
-            .map(|(&l, s)| {
-                let real = lens_values
-                    .iter()
-                    .position(|&m| m == BenchLens { real: true, ..l })
-                    .map_or(&s.camera, |i| &shots[i].camera);
-                LensPoint::measure(l, &s.camera, real, &s.render)
-            })
-            .collect();
-        lens::set_costs_vs_thin(&lens_values, &measured, &mut results);
-        lenses = measured.into_iter().map(Some).collect();
-    }
+    let lenses = if options.sweep == Some(SweepKind::Lens) {
+        lens_points(values, &shots, &mut results, log)
+    } else {
+        vec![None; values.len()]
+    };
 
     let cpu = CpuRenderer::new(&scene.description.scene);
     Ok(shots
@@ -348,6 +250,188 @@ fn measure_group(
             point
         })
         .collect())
+}
+
+/// One scene's points as they are measured: what with, and against which references.
+struct Group<'a> {
+    options: &'a BenchOptions,
+    kinds: &'a [PathKind],
+    scene: &'a BenchScene,
+    values: &'a [SweepValue],
+    shots: &'a [Shot],
+    references: &'a [Rc<Reference>],
+}
+
+/// Each shot's converged reference; points that differ only in spp share one.
+fn group_references(
+    options: &BenchOptions,
+    scene: &BenchScene,
+    shots: &[Shot],
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<Rc<Reference>>> {
+    let mut references: Vec<Rc<Reference>> = Vec::new();
+    for (i, s) in shots.iter().enumerate() {
+        let same = (0..i).find(|&j| shots[j].camera == s.camera);
+        let reference = match same {
+            Some(j) => Rc::clone(&references[j]),
+            None => Rc::new(reference::obtain(
+                options.cache_dir.as_deref(),
+                scene,
+                &s.camera,
+                &s.render,
+                options.reference_spp,
+                log,
+            )?),
+        };
+        references.push(reference);
+    }
+    Ok(references)
+}
+
+/// Every path open at once, so that each point's repeats can take turns between them; each
+/// path's device is recorded the first time it is seen.
+fn open_paths(
+    options: &BenchOptions,
+    kinds: &[PathKind],
+    scene: &BenchScene,
+    first: &Shot,
+    paths_seen: &mut Vec<PathInfo>,
+) -> Result<Vec<Box<dyn RenderPath>>> {
+    let mut opened: Vec<Box<dyn RenderPath>> = Vec::with_capacity(kinds.len());
+    for &kind in kinds {
+        let first = (&first.camera, &first.render);
+        let OpenedPath { path, .. } = paths::open(
+            &choose::path_options(kind, options),
+            &scene.description.scene,
+            first,
+        )
+        .with_context(|| format!("--paths {kind}"))?;
+        if !paths_seen.iter().any(|p| p.path == kind) {
+            paths_seen.push(PathInfo {
+                path: kind,
+                device: path.device_name(),
+            });
+        }
+        opened.push(path);
+    }
+    Ok(opened)
+}
+
+/// The aperture and lens sweeps: every point measured in turns (the paths' repeats go round
+/// the points), then, for apertures, each one's cost against the round one.
+fn measure_in_turns(
+    group: &Group,
+    opened: &mut [Box<dyn RenderPath>],
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<Vec<Measurement>>> {
+    let Group {
+        options,
+        kinds,
+        scene,
+        values,
+        shots,
+        references,
+    } = *group;
+    log(&format!(
+        "measuring {}: {} ({} triangles), {}x{}, {} spp, {} {} in turns",
+        kinds_list(kinds),
+        scene.name,
+        scene.triangles,
+        options.width,
+        options.height,
+        options.spp,
+        if options.sweep == Some(SweepKind::Lens) {
+            "lenses"
+        } else {
+            "apertures"
+        },
+        values
+            .iter()
+            .map(|v| match v {
+                SweepValue::Aperture(a) => a.name().to_string(),
+                SweepValue::Lens(l) => l.label(),
+                _ => "?".into(),
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+    let points: Vec<_> = shots
+        .iter()
+        .zip(references)
+        .map(|(s, r)| (&s.camera, &s.render, &r.image))
+        .collect();
+    let mut results = runs::measure_points_interleaved(opened, &points, options.repeat)?;
+    if options.sweep == Some(SweepKind::Aperture) {
+        set_costs_vs_round(&mut results);
+    }
+    Ok(results)
+}
+
+/// The other sweeps: point by point, the paths' repeats interleaved at each.
+fn measure_point_by_point(
+    group: &Group,
+    opened: &mut [Box<dyn RenderPath>],
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<Vec<Measurement>>> {
+    let Group {
+        options,
+        kinds,
+        scene,
+        shots,
+        references,
+        ..
+    } = *group;
+    let mut results: Vec<Vec<Measurement>> = Vec::with_capacity(shots.len());
+    for (s, reference) in shots.iter().zip(references) {
+        log(&format!(
+            "measuring {}: {} ({} triangles), {}x{}, {} spp",
+            kinds_list(kinds),
+            scene.name,
+            scene.triangles,
+            s.camera.width,
+            s.camera.height,
+            s.render.spp
+        ));
+        results.push(runs::measure_interleaved(
+            opened,
+            &s.camera,
+            &s.render,
+            options.repeat,
+            &reference.image,
+        )?);
+    }
+    Ok(results)
+}
+
+/// The lens sweep: each point's pass shares, then each real lens against its thin model (the
+/// paths' `results` get their costs against it).
+fn lens_points(
+    values: &[SweepValue],
+    shots: &[Shot],
+    results: &mut [Vec<Measurement>],
+    log: &mut dyn FnMut(&str),
+) -> Vec<Option<LensPoint>> {
+    log("counting the camera rays each lens lets through (CPU)");
+    let lens_values: Vec<BenchLens> = values
+        .iter()
+        .map(|v| match v {
+            SweepValue::Lens(l) => *l,
+            _ => unreachable!("the lens sweep's points are lenses"),
+        })
+        .collect();
+    let measured: Vec<LensPoint> = lens_values
+        .iter()
+        .zip(shots)
+        .map(|(&l, s)| {
+            let real = lens_values
+                .iter()
+                .position(|&m| m == BenchLens { real: true, ..l })
+                .map_or(&s.camera, |i| &shots[i].camera);
+            LensPoint::measure(l, &s.camera, real, &s.render)
+        })
+        .collect();
+    lens::set_costs_vs_thin(&lens_values, &measured, results);
+    measured.into_iter().map(Some).collect()
 }
 
 /// The lens sweep's paths: those that trace real lenses (cpu, rayquery, software). The hybrid

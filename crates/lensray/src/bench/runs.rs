@@ -95,7 +95,7 @@ pub struct Measurement {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cost_vs_thin: Option<f64>,
     /// The lens sweep: time per camera ray that reaches the scene over the same with the
-    /// thin lens, same path (issue 21's target: at most 2).
+    /// thin lens, same path (the target: at most 2).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cost_per_camera_ray_vs_thin: Option<f64>,
 }

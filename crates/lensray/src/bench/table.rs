@@ -4,11 +4,28 @@
 use std::fmt::Write;
 
 use super::options::SweepKind;
-use super::report::BenchReport;
+use super::report::{BenchReport, PointReport};
+use super::runs::Measurement;
 use crate::paths::Clock;
 
+/// The report as text: the header, the references and focus, the results table, then the
+/// sweep's own section.
 pub fn render(report: &BenchReport) -> String {
     let mut out = String::new();
+    header(&mut out, report);
+    references(&mut out, report);
+    results(&mut out, report);
+    if report.sweep == Some(SweepKind::Aperture) {
+        aperture_section(&mut out, report);
+    }
+    if report.sweep == Some(SweepKind::Lens) {
+        lens_section(&mut out, report);
+    }
+    out
+}
+
+/// What was measured: the shot and the runs, the machine, each path's device.
+fn header(out: &mut String, report: &BenchReport) {
     let s = &report.settings;
     let _ = writeln!(
         out,
@@ -37,6 +54,11 @@ pub fn render(report: &BenchReport) -> String {
     for p in &report.paths {
         let _ = writeln!(out, "path {}: {}", p.path, p.device);
     }
+}
+
+/// Per point with a reference not shown yet: how the reference was obtained and its noise, and
+/// how much of the shot is in focus.
+fn references(out: &mut String, report: &BenchReport) {
     let mut seen_files = Vec::new();
     for point in &report.points {
         let r = &point.reference;
@@ -74,7 +96,10 @@ pub fn render(report: &BenchReport) -> String {
             f.largest_coc_pixels
         );
     }
+}
 
+/// The results table, one row per point and path, and its legend.
+fn results(out: &mut String, report: &BenchReport) {
     let swept = match report.sweep {
         None | Some(SweepKind::Spp) => "spp",
         Some(SweepKind::Resolution) => "size",
@@ -99,82 +124,68 @@ pub fn render(report: &BenchReport) -> String {
     .map(String::from)];
     for point in &report.points {
         for m in &point.results {
-            let t = m.trace_seconds;
-            let unit = Unit::for_seconds(t.median);
-            let clock = match m.clock {
-                Clock::GpuTimestamps => " gpu",
-                Clock::WallClock => "",
-            };
-            rows.push([
-                point.swept_label(report.sweep),
-                m.path.to_string(),
-                format!(
-                    "{}{clock} ({}-{})",
-                    unit.show(t.median, true),
-                    unit.show(t.min, false),
-                    unit.show(t.max, false)
-                ),
-                Unit::for_seconds(m.wall_seconds.median).show(m.wall_seconds.median, true),
-                match m.aov_passes_per_second {
-                    Some(passes) => format!("{passes:.1} passes/s"),
-                    None => format!("{:.2}", m.rays_per_second / 1e6),
-                },
-                m.rays.to_string(),
-                mib(m.peak_device_bytes),
-                mib(m.accel_bytes),
-                Unit::for_seconds(m.build_seconds).show(m.build_seconds, true),
-                format!("{:.3e}", m.rmse),
-                format!("{:.2}", m.psnr_db),
-                m.speedup_vs_cpu
-                    .map_or_else(|| "-".into(), |x| format!("{x:.2}x")),
-            ]);
+            rows.push(result_row(report, point, m));
         }
     }
-    let widths: Vec<usize> = (0..rows[0].len())
-        .map(|c| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0))
-        .collect();
-    for row in &rows {
-        let line: Vec<String> = row
-            .iter()
-            .zip(&widths)
-            .enumerate()
-            .map(|(c, (cell, w))| {
-                if c < 2 {
-                    format!("{cell:<w$}")
-                } else {
-                    format!("{cell:>w$}")
-                }
-            })
-            .collect();
-        let _ = writeln!(out, "{}", line.join("  ").trim_end());
-    }
+    write_rows(out, &rows, 2, "");
     let _ = writeln!(
         out,
         "time: tracing only, by GPU timestamps (gpu) or the CPU's clock; wall: the whole render call. vs cpu: the CPU path's time over the path's (higher is faster). PSNR: peak 1."
     );
-    if report.sweep == Some(SweepKind::Aperture) {
-        let _ = writeln!(
-            out,
-            "aperture cost (median time over the round aperture's, same path, measured in turns):"
-        );
-        for p in &report.paths {
-            let costs: Vec<String> = report
-                .points
-                .iter()
-                .skip(1)
-                .filter_map(|point| {
-                    let m = point.results.iter().find(|m| m.path == p.path)?;
-                    let cost = m.cost_vs_round?;
-                    Some(format!("{} {cost:.3}x", point.swept_label(report.sweep)))
-                })
-                .collect();
-            let _ = writeln!(out, "  {}: {}", p.path, costs.join(", "));
-        }
+}
+
+/// The results table's row of one path at one point.
+fn result_row(report: &BenchReport, point: &PointReport, m: &Measurement) -> [String; 12] {
+    let t = m.trace_seconds;
+    let unit = Unit::for_seconds(t.median);
+    let clock = match m.clock {
+        Clock::GpuTimestamps => " gpu",
+        Clock::WallClock => "",
+    };
+    [
+        point.swept_label(report.sweep),
+        m.path.to_string(),
+        format!(
+            "{}{clock} ({}-{})",
+            unit.show(t.median, true),
+            unit.show(t.min, false),
+            unit.show(t.max, false)
+        ),
+        Unit::for_seconds(m.wall_seconds.median).show(m.wall_seconds.median, true),
+        match m.aov_passes_per_second {
+            Some(passes) => format!("{passes:.1} passes/s"),
+            None => format!("{:.2}", m.rays_per_second / 1e6),
+        },
+        m.rays.to_string(),
+        mib(m.peak_device_bytes),
+        mib(m.accel_bytes),
+        Unit::for_seconds(m.build_seconds).show(m.build_seconds, true),
+        format!("{:.3e}", m.rmse),
+        format!("{:.2}", m.psnr_db),
+        m.speedup_vs_cpu
+            .map_or_else(|| "-".into(), |x| format!("{x:.2}x")),
+    ]
+}
+
+/// The aperture sweep: per path, each aperture's time over the round aperture's.
+fn aperture_section(out: &mut String, report: &BenchReport) {
+    let _ = writeln!(
+        out,
+        "aperture cost (median time over the round aperture's, same path, measured in turns):"
+    );
+    for p in &report.paths {
+        let costs: Vec<String> = report
+            .points
+            .iter()
+            .skip(1)
+            .filter_map(|point| {
+                let m = point.results.iter().find(|m| m.path == p.path)?;
+                let cost = m.cost_vs_round?;
+                Some(format!("{} {cost:.3}x", point.swept_label(report.sweep)))
+            })
+            .collect();
+        let _ = writeln!(out, "  {}: {}", p.path, costs.join(", "));
     }
-    if report.sweep == Some(SweepKind::Lens) {
-        lens_section(&mut out, report);
-    }
-    out
 }
 
 /// The lens sweep: each lens's pass shares, then per path its camera rays per second and its
@@ -218,7 +229,7 @@ fn lens_section(out: &mut String, report: &BenchReport) {
             format!("{:.1}", l.cpu_pieces.packet_ns),
         ]);
     }
-    write_rows(out, &rows, 1);
+    write_rows(out, &rows, 1, "  ");
     let _ = writeln!(
         out,
         "cost against the thin lens (same path, measured in turns; per camera ray that reaches the scene, target <= 2x):"
@@ -250,11 +261,12 @@ fn lens_section(out: &mut String, report: &BenchReport) {
             ]);
         }
     }
-    write_rows(out, &rows, 2);
+    write_rows(out, &rows, 2, "  ");
 }
 
-/// Rows aligned in columns: the first `left` to the left, the others to the right.
-fn write_rows<const N: usize>(out: &mut String, rows: &[[String; N]], left: usize) {
+/// Rows aligned in columns, each line after `indent`: the first `left` columns to the left, the
+/// others to the right.
+fn write_rows<const N: usize>(out: &mut String, rows: &[[String; N]], left: usize, indent: &str) {
     let widths: Vec<usize> = (0..N)
         .map(|c| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0))
         .collect();
@@ -271,7 +283,7 @@ fn write_rows<const N: usize>(out: &mut String, rows: &[[String; N]], left: usiz
                 }
             })
             .collect();
-        let _ = writeln!(out, "  {}", line.join("  ").trim_end());
+        let _ = writeln!(out, "{indent}{}", line.join("  ").trim_end());
     }
 }
 

@@ -1,4 +1,4 @@
-//! Progress of long renders (CPU and GPU report through the same callback): a bar on a terminal,
+//! ProgressReporter of long renders (CPU and GPU report through the same callback): a bar on a terminal,
 //! or plain lines for logs and scripts.
 
 use std::time::{Duration, Instant};
@@ -19,7 +19,7 @@ pub enum ProgressMode {
 }
 
 /// Reports progress the way `mode` says.
-pub struct Progress {
+pub struct ProgressReporter {
     mode: ProgressMode,
     bar: ProgressBar,
     start: Instant,
@@ -28,7 +28,7 @@ pub struct Progress {
     last_percent: Option<u64>,
 }
 
-impl Progress {
+impl ProgressReporter {
     pub fn new(label: &str, mode: ProgressMode) -> Self {
         let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());
         bar.set_style(

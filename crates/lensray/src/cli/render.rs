@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 
 use super::args::{parse_pixel, PathArgs, ViewArgs};
-use super::progress::{Progress, ProgressMode};
+use super::progress::{ProgressMode, ProgressReporter};
 use crate::output::PendingOutput;
 use crate::paths::RenderPath;
 use crate::paths::{self, OpenedPath};
@@ -95,7 +95,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
 
-    let mut progress = Progress::new("rendering", args.progress);
+    let mut progress = ProgressReporter::new("rendering", args.progress);
     let before = path.report();
     let image = path.render(&camera, &render, &mut |d, t| progress.update(d, t))?;
     progress.finish();

@@ -7,7 +7,7 @@ use glam::{UVec2, Vec2};
 
 use crate::paths::{Clock, PathKind, PathReport, RenderPath};
 use lensray_core::camera::Camera;
-use lensray_core::film::{Accumulation, Image};
+use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::reference::Renderer;
 use lensray_core::scene::Scene;
 use lensray_core::settings::RenderSettings;
@@ -73,7 +73,7 @@ impl RenderPath for CpuPath {
         settings: &RenderSettings,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<()> {
         super::check_accumulation(camera, settings, accumulation)?;
         let sums = accumulation.host_mut()?;

@@ -9,7 +9,7 @@ use glam::Vec3;
 
 use crate::paths::{Clock, PathKind, PathReport, RenderPath};
 use lensray_core::camera::Camera;
-use lensray_core::film::{Accumulation, Image};
+use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::Scene;
 use lensray_core::settings::RenderSettings;
 use lensray_vulkan::{focus_distance_at, GpuRenderer, Traversal};
@@ -28,7 +28,7 @@ pub trait GpuEstimator {
         settings: &RenderSettings,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<()>;
 
     /// Host time spent tracing besides the renderer's GPU timestamps (the hybrid's plan).
@@ -95,7 +95,7 @@ impl<E: GpuEstimator> RenderPath for GpuPath<E> {
         settings: &RenderSettings,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<()> {
         super::check_accumulation(camera, settings, accumulation)?;
         let added = self.estimator.add_samples(

@@ -9,7 +9,7 @@ use anyhow::Result;
 use serde::Serialize;
 
 use lensray_core::camera::Camera;
-use lensray_core::film::{Accumulation, Image};
+use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::Scene;
 use lensray_core::settings::RenderSettings;
 use lensray_vulkan::{Estimator, Traversal};
@@ -316,7 +316,7 @@ pub trait RenderPath {
         settings: &RenderSettings,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<()>;
 
     /// An AOV (`Depth`, `Normal`, `Albedo`): the surface seen by the aperture-centre ray at each
@@ -350,7 +350,7 @@ pub trait RenderPath {
         &mut self,
         camera: &Camera,
         settings: &RenderSettings,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<Image> {
         let (image, ()) = lensray_core::film::whole_image(
             self,

@@ -13,7 +13,7 @@ use anyhow::Result;
 use super::gpu::{GpuEstimator, GpuPath};
 use crate::paths::PathKind;
 use lensray_core::camera::Camera;
-use lensray_core::film::Accumulation;
+use lensray_core::film::{Accumulation, Progress};
 use lensray_core::settings::RenderSettings;
 use lensray_vulkan::GpuRenderer;
 
@@ -34,7 +34,7 @@ impl GpuEstimator for Raster {
         settings: &RenderSettings,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<()> {
         Ok(renderer.accumulate_rasterized(camera, settings, samples, accumulation, progress)?)
     }

@@ -9,7 +9,7 @@ use anyhow::Result;
 use super::gpu::{GpuEstimator, GpuPath};
 use crate::paths::PathKind;
 use lensray_core::camera::Camera;
-use lensray_core::film::Accumulation;
+use lensray_core::film::{Accumulation, Progress};
 use lensray_core::settings::RenderSettings;
 use lensray_vulkan::GpuRenderer;
 
@@ -31,7 +31,7 @@ impl GpuEstimator for Traced {
         settings: &RenderSettings,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<()> {
         Ok(renderer.accumulate(camera, settings, samples, accumulation, progress)?)
     }

@@ -1,16 +1,19 @@
 //! The CPU path feeding the preview: a worker thread adds samples of the current shot, one
-//! sample of every pixel at a time, with the CPU reference, and publishes the sums after each;
+//! sample of every pixel at a time, through the `cpu` render path (`paths::CpuPath`, the very
+//! code `lensray render --path cpu` runs), and publishes the sums after each;
 //! the window uploads the latest to its accumulation. The window itself (G-buffer, display,
 //! panel) stays on the GPU, so it keeps answering at once while the CPU traces.
 
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 
+use anyhow::Result;
 use lensray_core::camera::Camera;
-use lensray_core::film::Sums;
-use lensray_core::reference::Renderer;
+use lensray_core::film::{Accumulation, Sums};
 use lensray_core::scene::Scene;
 use lensray_core::settings::RenderSettings;
+
+use crate::paths::{CpuPath, RenderPath};
 
 /// What the worker should trace.
 #[derive(Clone)]
@@ -32,6 +35,8 @@ pub struct Snapshot {
 struct Shared {
     job: Option<Job>,
     latest: Option<Snapshot>,
+    /// Why the worker stopped tracing the current job (a shot the CPU path refuses).
+    error: Option<String>,
     quit: bool,
 }
 
@@ -43,21 +48,22 @@ pub struct CpuFeed {
 }
 
 impl CpuFeed {
-    /// Builds the CPU reference's BVH of `scene` and starts the worker.
-    pub fn new(scene: &Scene) -> Self {
-        let renderer = Renderer::new(scene);
+    /// Opens the CPU path on `scene` (its BVH built here) and starts the worker.
+    pub fn new(scene: &Scene) -> Result<Self> {
+        let mut path = CpuPath::new();
+        path.load_scene(scene)?;
         let shared = Arc::new((Mutex::new(Shared::default()), Condvar::new()));
         let worker_shared = shared.clone();
         let worker = std::thread::Builder::new()
             .name("lensray cpu path".into())
-            .spawn(move || work(&renderer, &worker_shared))
+            .spawn(move || work(&mut path, &worker_shared))
             .expect("a thread can be started");
-        Self {
+        Ok(Self {
             shared,
             worker: Some(worker),
             generation: 0,
             current: None,
-        }
+        })
     }
 
     /// Asks for `target_spp` samples of this shot; a new shot restarts from 0 samples, a new
@@ -86,14 +92,18 @@ impl CpuFeed {
         wake.notify_all();
     }
 
-    /// The newest sums of the current shot, if any arrived since the last call.
-    pub fn take_latest(&mut self) -> Option<Snapshot> {
+    /// The newest sums of the current shot, if any arrived since the last call; an error when
+    /// the CPU path refused the shot.
+    pub fn take_latest(&mut self) -> Result<Option<Snapshot>> {
         let (lock, _) = &*self.shared;
         let mut shared = lock.lock().expect("the worker does not panic");
-        shared
+        if let Some(error) = shared.error.take() {
+            anyhow::bail!("the CPU path: {error}");
+        }
+        Ok(shared
             .latest
             .take()
-            .filter(|s| s.generation == self.generation)
+            .filter(|s| s.generation == self.generation))
     }
 }
 
@@ -114,53 +124,68 @@ impl Drop for CpuFeed {
 
 /// The worker: traces one sample of every pixel at a time for the newest job, publishing the
 /// sums after each; sleeps when the target is reached.
-fn work(renderer: &Renderer, shared: &(Mutex<Shared>, Condvar)) {
-    let (lock, wake) = shared;
-    let mut accumulation: Option<(u64, Sums)> = None;
+fn work(path: &mut CpuPath, shared: &(Mutex<Shared>, Condvar)) {
+    let (lock, _) = shared;
+    let mut accumulation: Option<(u64, Accumulation)> = None;
     loop {
-        let job = {
-            let mut state = lock.lock().expect("the window does not panic while locked");
-            loop {
-                if state.quit {
-                    return;
-                }
-                if let Some(job) = state.job.clone() {
-                    let done = accumulation
-                        .as_ref()
-                        .filter(|(generation, _)| *generation == job.generation)
-                        .map_or(0, |(_, a)| a.samples());
-                    if done < job.target_spp {
-                        break job;
-                    }
-                }
-                state = wake
-                    .wait(state)
-                    .expect("the window does not panic while locked");
-            }
+        let Some(job) = next_job(shared, accumulation.as_ref()) else {
+            return;
         };
         if accumulation
             .as_ref()
             .is_none_or(|(generation, _)| *generation != job.generation)
         {
             let (width, height) = (job.camera.width, job.camera.height);
-            accumulation = Some((job.generation, Sums::new(width, height)));
+            accumulation = Some((job.generation, Accumulation::new(width, height)));
         }
         let (_, sums) = accumulation.as_mut().expect("made above");
-        let next = sums.samples();
-        renderer.accumulate(
+        let next = sums.host().map_or(0, Sums::samples);
+        let added = path.add_samples(
             &job.camera,
             &job.settings,
             next..next + 1,
             sums,
             &mut |_, _| {},
         );
-        let snapshot = Snapshot {
-            generation: job.generation,
-            sums: sums.pixels.clone(),
-            spp: next + 1,
-        };
-        lock.lock()
-            .expect("the window does not panic while locked")
-            .latest = Some(snapshot);
+        let mut state = lock.lock().expect("the window does not panic while locked");
+        match added.and_then(|()| Ok(sums.host()?.pixels.clone())) {
+            Ok(pixels) => {
+                state.latest = Some(Snapshot {
+                    generation: job.generation,
+                    sums: pixels,
+                    spp: next + 1,
+                });
+            }
+            Err(e) => {
+                // The job stays refused until the window asks for another shot.
+                state.error = Some(format!("{e:#}"));
+                state.job = None;
+            }
+        }
+    }
+}
+
+/// Waits for a job with samples left to trace (`None`: the window closed).
+fn next_job(
+    shared: &(Mutex<Shared>, Condvar),
+    accumulation: Option<&(u64, Accumulation)>,
+) -> Option<Job> {
+    let (lock, wake) = shared;
+    let mut state = lock.lock().expect("the window does not panic while locked");
+    loop {
+        if state.quit {
+            return None;
+        }
+        if let Some(job) = state.job.clone() {
+            let done = accumulation
+                .filter(|(generation, _)| *generation == job.generation)
+                .map_or(0, |(_, a)| a.host().map_or(0, Sums::samples));
+            if done < job.target_spp {
+                return Some(job);
+            }
+        }
+        state = wake
+            .wait(state)
+            .expect("the window does not panic while locked");
     }
 }

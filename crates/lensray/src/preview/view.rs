@@ -107,10 +107,10 @@ mod tests {
         );
         assert_eq!(ViewMode::from_str("depth", false), Ok(ViewMode::Depth));
         #[derive(Deserialize)]
-        struct Holder {
+        struct ViewHolder {
             view: ViewMode,
         }
-        let parsed: Holder = toml::from_str("view = \"circle-of-confusion\"").unwrap();
+        let parsed: ViewHolder = toml::from_str("view = \"circle-of-confusion\"").unwrap();
         assert_eq!(parsed.view, ViewMode::CircleOfConfusion);
         assert_eq!(ViewMode::Normal.to_string(), "normal");
     }

@@ -175,7 +175,7 @@ pub fn setups() -> Vec<Setup> {
     ]
 }
 
-/// Independent f64 implementation of the conventions stated in `camera/mod.rs` and the issue.
+/// Independent f64 implementation of the conventions stated in `camera/mod.rs`.
 #[derive(Clone, Copy, Debug)]
 pub struct RefCam {
     pub eye: DVec3,
@@ -274,7 +274,7 @@ impl RefCam {
         }
     }
 
-    /// World point -> (column, row, depth), the issue's explicit formula.
+    /// World point -> (column, row, depth), by the explicit formula.
     pub fn raster(&self, p: DVec3) -> DVec3 {
         let c = self.camera_coords(p);
         let k = self.divisor(c.z);

@@ -5,7 +5,7 @@ use lensray_core::camera::projection::{
     orthographic, orthographic_inverse, perspective, perspective_inverse,
 };
 use lensray_core::camera::raster::{self, ScreenWindow};
-use lensray_core::camera::Projection;
+use lensray_core::camera::{Camera, Projection};
 
 use crate::common::*;
 
@@ -193,6 +193,175 @@ fn projections_map_points_and_depth_by_course_formulas() {
     }
 }
 
+/// The camera's screen window (half width `hw`, half height `hh`), its bounds, and the
+/// NDC <-> raster matrices it uses.
+fn check_screen_window(name: &str, cam: &Camera, hw: f64, hh: f64) {
+    assert_rel(
+        &format!("{name}: screen window half height"),
+        cam.screen_window.half_height as f64,
+        hh,
+        1e-6,
+    );
+    assert_rel(
+        &format!("{name}: screen window half width"),
+        cam.screen_window.half_width as f64,
+        hw,
+        1e-6,
+    );
+    assert_rel(
+        &format!("{name}: Projection::screen_half_height"),
+        cam.projection.screen_half_height() as f64,
+        hh,
+        1e-6,
+    );
+    let window = ScreenWindow::new(cam.projection.screen_half_height(), cam.width, cam.height);
+    assert_eq!(window, cam.screen_window, "{name}: ScreenWindow::new");
+    assert_eq!(
+        (
+            window.x_start(),
+            window.x_stop(),
+            window.y_start(),
+            window.y_stop()
+        ),
+        (
+            -window.half_width,
+            window.half_width,
+            -window.half_height,
+            window.half_height
+        ),
+        "{name}: xStart, xStop, yStart, yStop"
+    );
+    assert_eq!(
+        cam.raster_from_ndc,
+        raster::raster_from_ndc(cam.width, cam.height),
+        "{name}: camera uses raster::raster_from_ndc"
+    );
+    assert_eq!(
+        cam.ndc_from_raster,
+        raster::ndc_from_raster(cam.width, cam.height),
+        "{name}: camera uses raster::ndc_from_raster"
+    );
+}
+
+/// A screen point's images under the forward film maps.
+struct FilmImages {
+    /// ndc_from_screen of the point.
+    ndc: DVec3,
+    /// The expected NDC point, in f32: what raster_from_ndc is given.
+    nf: Vec3,
+    /// raster_from_ndc of `nf`.
+    raster: DVec3,
+    /// raster_from_screen of the point.
+    composed: DVec3,
+}
+
+/// Screen point `p` (number `i`: 0 is the window's top-left corner, 1 its bottom-right one)
+/// through ndc_from_screen, raster_from_ndc and raster_from_screen against the window's
+/// formulas, the window's half sizes being `hw` and `hh`.
+fn check_forward_maps(
+    name: &str,
+    cam: &Camera,
+    r: &RefCam,
+    (hw, hh): (f64, f64),
+    i: u32,
+    p: Vec3,
+) -> FilmImages {
+    let (x, y, d) = (p.x as f64, p.y as f64, p.z as f64);
+
+    let ndc = cam.ndc_from_screen.transform_point3(p).as_dvec3();
+    let expected_ndc = DVec3::new((x + hw) / (2.0 * hw), (hh - y) / (2.0 * hh), d);
+    assert_vec_close(
+        &format!("{name}: ndc_from_screen of {p:?}"),
+        ndc,
+        expected_ndc,
+        2e-6,
+    );
+    let nf = expected_ndc.as_vec3();
+    let raster = cam.raster_from_ndc.transform_point3(nf).as_dvec3();
+    let expected_raster = DVec3::new(r.width * nf.x as f64, r.height * nf.y as f64, d);
+    assert_vec_close(
+        &format!("{name}: raster_from_ndc of {nf:?}"),
+        raster,
+        expected_raster,
+        1e-6 * r.width.max(r.height),
+    );
+    let composed = cam.raster_from_screen.transform_point3(p).as_dvec3();
+    let expected = DVec3::new(
+        (1.0 + x / hw) * r.width / 2.0,
+        (1.0 - y / hh) * r.height / 2.0,
+        d,
+    );
+    assert_vec_close(
+        &format!("{name}: raster_from_screen of {p:?}"),
+        composed,
+        expected,
+        2e-6 * r.width.max(r.height),
+    );
+    if i == 0 {
+        assert_vec_close(
+            &format!("{name}: top-left of the window is raster (0, 0)"),
+            composed,
+            DVec3::new(0.0, 0.0, d),
+            1e-4,
+        );
+    }
+    if i == 1 {
+        assert_vec_close(
+            &format!("{name}: bottom-right of the window is raster (W, H)"),
+            composed,
+            DVec3::new(r.width, r.height, d),
+            1e-4,
+        );
+    }
+    FilmImages {
+        ndc,
+        nf,
+        raster,
+        composed,
+    }
+}
+
+/// The reverse film maps take screen point `p`'s images back (window half sizes `hw`, `hh`).
+fn check_reverse_maps(name: &str, cam: &Camera, (hw, hh): (f64, f64), p: Vec3, at: &FilmImages) {
+    let (x, y, d) = (p.x as f64, p.y as f64, p.z as f64);
+    let FilmImages {
+        ndc,
+        nf,
+        raster,
+        composed,
+    } = *at;
+    let back = cam
+        .screen_from_raster
+        .transform_point3(composed.as_vec3())
+        .as_dvec3();
+    assert_vec_close(
+        &format!("{name}: screen_from_raster(raster_from_screen({p:?}))"),
+        back,
+        DVec3::new(x, y, d),
+        4e-6 * hw.max(hh).max(1.0),
+    );
+    let back_ndc = cam
+        .screen_from_ndc
+        .transform_point3(ndc.as_vec3())
+        .as_dvec3();
+    assert_vec_close(
+        &format!("{name}: screen_from_ndc(ndc_from_screen({p:?}))"),
+        back_ndc,
+        DVec3::new(x, y, d),
+        4e-6 * hw.max(hh).max(1.0),
+    );
+    let back_raster = cam
+        .ndc_from_raster
+        .transform_point3(raster.as_vec3())
+        .as_dvec3();
+    assert_vec_close(
+        &format!("{name}: ndc_from_raster(raster_from_ndc({nf:?}))"),
+        back_raster,
+        nf.as_dvec3(),
+        2e-6,
+    );
+}
+
 /// Screen -> NDC -> raster for each sample camera (non-square images included): the screen
 /// window is [-s a, s a] x [-s, s], NDC = ((x + s a) / (2 s a), (s - y) / (2 s)), raster =
 /// (W u, H v); depth passes through unchanged; the reverse maps are the inverses.
@@ -204,51 +373,7 @@ fn film_matrices_match_screen_window_formulas() {
         let r = setup.reference();
         let name = setup.name;
         let (hw, hh) = (r.s * r.aspect(), r.s);
-        assert_rel(
-            &format!("{name}: screen window half height"),
-            cam.screen_window.half_height as f64,
-            hh,
-            1e-6,
-        );
-        assert_rel(
-            &format!("{name}: screen window half width"),
-            cam.screen_window.half_width as f64,
-            hw,
-            1e-6,
-        );
-        assert_rel(
-            &format!("{name}: Projection::screen_half_height"),
-            cam.projection.screen_half_height() as f64,
-            hh,
-            1e-6,
-        );
-        let window = ScreenWindow::new(cam.projection.screen_half_height(), cam.width, cam.height);
-        assert_eq!(window, cam.screen_window, "{name}: ScreenWindow::new");
-        assert_eq!(
-            (
-                window.x_start(),
-                window.x_stop(),
-                window.y_start(),
-                window.y_stop()
-            ),
-            (
-                -window.half_width,
-                window.half_width,
-                -window.half_height,
-                window.half_height
-            ),
-            "{name}: xStart, xStop, yStart, yStop"
-        );
-        assert_eq!(
-            cam.raster_from_ndc,
-            raster::raster_from_ndc(cam.width, cam.height),
-            "{name}: camera uses raster::raster_from_ndc"
-        );
-        assert_eq!(
-            cam.ndc_from_raster,
-            raster::ndc_from_raster(cam.width, cam.height),
-            "{name}: camera uses raster::ndc_from_raster"
-        );
+        check_screen_window(name, &cam, hw, hh);
 
         for i in 0..300 {
             // The window's corners first, then random points (some outside the window).
@@ -260,84 +385,8 @@ fn film_matrices_match_screen_window_formulas() {
             };
             let d = rng.f64();
             let p = Vec3::new(x as f32, y as f32, d as f32);
-            let (x, y, d) = (p.x as f64, p.y as f64, p.z as f64);
-
-            let ndc = cam.ndc_from_screen.transform_point3(p).as_dvec3();
-            let expected_ndc = DVec3::new((x + hw) / (2.0 * hw), (hh - y) / (2.0 * hh), d);
-            assert_vec_close(
-                &format!("{name}: ndc_from_screen of {p:?}"),
-                ndc,
-                expected_ndc,
-                2e-6,
-            );
-            let nf = expected_ndc.as_vec3();
-            let raster = cam.raster_from_ndc.transform_point3(nf).as_dvec3();
-            let expected_raster = DVec3::new(r.width * nf.x as f64, r.height * nf.y as f64, d);
-            assert_vec_close(
-                &format!("{name}: raster_from_ndc of {nf:?}"),
-                raster,
-                expected_raster,
-                1e-6 * r.width.max(r.height),
-            );
-            let composed = cam.raster_from_screen.transform_point3(p).as_dvec3();
-            let expected = DVec3::new(
-                (1.0 + x / hw) * r.width / 2.0,
-                (1.0 - y / hh) * r.height / 2.0,
-                d,
-            );
-            assert_vec_close(
-                &format!("{name}: raster_from_screen of {p:?}"),
-                composed,
-                expected,
-                2e-6 * r.width.max(r.height),
-            );
-            if i == 0 {
-                assert_vec_close(
-                    &format!("{name}: top-left of the window is raster (0, 0)"),
-                    composed,
-                    DVec3::new(0.0, 0.0, d),
-                    1e-4,
-                );
-            }
-            if i == 1 {
-                assert_vec_close(
-                    &format!("{name}: bottom-right of the window is raster (W, H)"),
-                    composed,
-                    DVec3::new(r.width, r.height, d),
-                    1e-4,
-                );
-            }
-            // Reverse maps.
-            let back = cam
-                .screen_from_raster
-                .transform_point3(composed.as_vec3())
-                .as_dvec3();
-            assert_vec_close(
-                &format!("{name}: screen_from_raster(raster_from_screen({p:?}))"),
-                back,
-                DVec3::new(x, y, d),
-                4e-6 * hw.max(hh).max(1.0),
-            );
-            let back_ndc = cam
-                .screen_from_ndc
-                .transform_point3(ndc.as_vec3())
-                .as_dvec3();
-            assert_vec_close(
-                &format!("{name}: screen_from_ndc(ndc_from_screen({p:?}))"),
-                back_ndc,
-                DVec3::new(x, y, d),
-                4e-6 * hw.max(hh).max(1.0),
-            );
-            let back_raster = cam
-                .ndc_from_raster
-                .transform_point3(raster.as_vec3())
-                .as_dvec3();
-            assert_vec_close(
-                &format!("{name}: ndc_from_raster(raster_from_ndc({nf:?}))"),
-                back_raster,
-                nf.as_dvec3(),
-                2e-6,
-            );
+            let images = check_forward_maps(name, &cam, &r, (hw, hh), i, p);
+            check_reverse_maps(name, &cam, (hw, hh), p, &images);
         }
         assert_identity(
             &format!("{name}: raster_from_screen * screen_from_raster"),
@@ -348,7 +397,7 @@ fn film_matrices_match_screen_window_formulas() {
     }
 }
 
-/// The composed world -> raster matrix (and `Camera::project`) against the explicit
+/// The composed world -> raster matrix (and `Camera::project`) against the explicit
 /// formula, for many random world points, both models, non-square images.
 #[test]
 fn raster_from_world_matches_explicit_projection_formula() {

@@ -349,12 +349,9 @@ fn build_rejects_bad_image_size() {
     assert_eq!(MAX_IMAGE_SIDE, 16384, "the documented limit");
 }
 
-/// The camera is built in f32 from f64 parameters: values that pass the f64 checks but are
-/// degenerate once converted (a vfov whose f32 half angle passes pi/2, values that underflow to
-/// 0 or overflow to infinity, near and far that become equal) must be rejected too, not turned
-/// into a mirrored image or infinite matrices.
-#[test]
-fn build_rejects_values_degenerate_in_f32() {
+/// A vfov whose f32 half angle reaches pi/2 (or underflows) is rejected; the largest one still
+/// fine in f32 builds a positive, finite window.
+fn check_vfov_degenerate_in_f32() {
     for vfov_degrees in [179.999_999, 179.999_999_9, 1e-50] {
         let params = CameraParams {
             projection: ProjectionParams::Perspective { vfov_degrees },
@@ -392,7 +389,11 @@ fn build_rejects_values_degenerate_in_f32() {
         hh.is_finite() && hh > 0.5 * expected && hh < 2.0 * expected,
         "vfov 179.9999: half height {hh}, expected about {expected}"
     );
+}
 
+/// Near, far and the orthographic height that underflow, overflow or become equal in f32 are
+/// rejected.
+fn check_distances_degenerate_in_f32() {
     for near in [1e-50, 1e-46] {
         rejects(
             &format!("near {near} (0 in f32)"),
@@ -443,6 +444,11 @@ fn build_rejects_values_degenerate_in_f32() {
         |e| matches!(e, CameraError::NotFinite("orthographic view height", _)),
         "NotFinite(\"orthographic view height\", ..)",
     );
+}
+
+/// A lens whose aperture radius or focus distance overflows in f32, or whose focus distance is
+/// no longer in front of the camera once in f32 (0, or the near distance), is rejected.
+fn check_lens_degenerate_in_f32() {
     rejects(
         "aperture radius 1e39 (infinite in f32)",
         CameraParams {
@@ -481,4 +487,15 @@ fn build_rejects_values_degenerate_in_f32() {
         |e| *e == CameraError::FocusNotInFront { focus, min: 1.0 },
         "FocusNotInFront { min: near = 1 }",
     );
+}
+
+/// The camera is built in f32 from f64 parameters: values that pass the f64 checks but are
+/// degenerate once converted (a vfov whose f32 half angle passes pi/2, values that underflow to
+/// 0 or overflow to infinity, near and far that become equal) must be rejected too, not turned
+/// into a mirrored image or infinite matrices.
+#[test]
+fn build_rejects_values_degenerate_in_f32() {
+    check_vfov_degenerate_in_f32();
+    check_distances_degenerate_in_f32();
+    check_lens_degenerate_in_f32();
 }

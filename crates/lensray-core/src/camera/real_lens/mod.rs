@@ -1,4 +1,4 @@
-//! A real lens in the camera (issue 21; where the course says "in practice, the ray will
+//! A real lens in the camera (where the course says "in practice, the ray will
 //! refract twice when passing through the lens"): each camera ray leaves a film point, aims at
 //! a point of the exit pupil's bounds and is refracted exactly through every surface of a lens
 //! prescription (`optics::trace::narrow`), the stop's opening shaped as `aperture` says.

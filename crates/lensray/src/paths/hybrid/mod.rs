@@ -1,8 +1,11 @@
-//! The hybrid path (issue 10, docs/hybrid.md): the raster G-buffer decides where rays are
-//! needed. Per call of `add_samples`: the G-buffer of the shot, then a plan per pixel on the
-//! host (`Plan::new`: circle of confusion from the G-buffer depth, maximum over 8x8 tiles,
-//! dilated by each tile's maximum over the tiles it reaches), then the trace pass in its hybrid
-//! mode (shaders/passes/trace.comp) with the device's fastest traversal:
+//! The hybrid path (docs/hybrid.md): the raster G-buffer decides where rays are needed. Per
+//! call of `add_samples`, one submission on the device (`GpuRenderer::plan_on_device`): the
+//! G-buffer of the shot, the lit pre-pass under lit shading, then the plan pass (lensray-vulkan's
+//! `passes::hybrid_plan`, shaders/passes/hybrid_plan.comp: circle of confusion from the
+//! G-buffer depth, maximum over 8x8 tiles, dilated by each tile's maximum over the tiles it
+//! reaches; edge marks in a summed-area table; one entry per pixel) written straight into the
+//! trace pass's plan buffer, with no readback; then the trace pass in its hybrid mode
+//! (shaders/passes/trace.comp) with the device's fastest traversal. Per pixel:
 //! - no G-buffer edge within the pixel's dilated CoC (at least one pixel; so in particular a
 //!   dilated CoC under half a pixel with a uniform neighbourhood; lit, a shadow boundary found
 //!   by the lit pre-pass counts as an edge): the *shortcut*. Unlit its value is the G-buffer's
@@ -17,6 +20,11 @@
 //!   measured worse at equal error, docs/hybrid.md, so the plan does not);
 //! - the 8 pixels of a tile row share one decision (they run in lockstep).
 //!
+//! `plan` holds the same rules on the host: `Plan::new` is the reference the device plan is
+//! checked against (`host_plan` reads the G-buffer back and plans on the host, `device_plan`
+//! reads the device's entries back; tests/hybrid.rs compares them). A render reads none of the
+//! plan back (`HybridPath::last_plan` does, when asked).
+//!
 //! Whether a pixel traces sample `i` depends on the plan (camera, settings, scene) only, never on
 //! the range asked for, so any split of a range gives the same sums, as for every path.
 
@@ -30,7 +38,7 @@ use anyhow::Result;
 use super::gpu::{GpuEstimator, GpuPath};
 use crate::paths::PathKind;
 use lensray_core::camera::Camera;
-use lensray_core::film::Accumulation;
+use lensray_core::film::{Accumulation, Progress};
 use lensray_core::settings::RenderSettings;
 use lensray_vulkan::GpuRenderer;
 
@@ -80,7 +88,7 @@ impl GpuEstimator for Hybrid {
         settings: &RenderSettings,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
-        progress: &mut dyn FnMut(u64, u64),
+        progress: &mut Progress,
     ) -> Result<()> {
         let start = Instant::now();
         renderer.plan_on_device(camera, &camera.for_rasterizing_rays(), settings)?;

@@ -28,7 +28,7 @@ const MAX_REACH_TILES: i64 = HYBRID_MAX_REACH_TILES as i64;
 /// crossing there lies between two pixel centres, one of them within `floor(0.5 + coc)` and the
 /// other one further, and marks the first of the pair (left or upper): so `1 + floor(0.5 +
 /// coc)`. Below half a pixel (`SHORTCUT_COC`) that is 1: the pixel and its neighbours, the
-/// issue's in-focus rule. hybrid_plan.comp computes it alike.
+/// in-focus rule. hybrid_plan.comp computes it alike.
 pub fn window_radius(coc: f32) -> u32 {
     // Beyond any image the radius crosses the frame: clamped before converting.
     1 + (coc.min(1e7) + SHORTCUT_COC).floor() as u32
@@ -56,139 +56,16 @@ impl Plan {
     /// per pixel the shortcut value and 1 where its shadow ray was blocked, else 0).
     pub fn new(camera: &Camera, gbuffer: &GBuffer, lit: Option<&[[f32; 4]]>, spp: u32) -> Plan {
         let (w, h) = (gbuffer.width, gbuffer.height);
-        let (tw, th) = (w.div_ceil(TILE), h.div_ceil(TILE));
-        let index = |x: u32, y: u32| (y * w + x) as usize;
-
-        // Circle of confusion per pixel (0 where nothing is covered: the background is at
-        // infinity, but a background pixel is only blurred by what covers it, which dilation
-        // brings in), maximum per tile.
-        let mut tile_max = vec![0f32; (tw * th) as usize];
-        for y in 0..h {
-            for x in 0..w {
-                let i = index(x, y);
-                if gbuffer.coverage[i] {
-                    let coc = camera.coc_radius_pixels(gbuffer.view_depth[i]);
-                    let t = ((y / TILE) * tw + x / TILE) as usize;
-                    tile_max[t] = tile_max[t].max(coc);
-                }
-            }
-        }
-        // Each tile spreads its maximum to the tiles within its reach: those whose nearest
-        // pixel lies within that many pixels (Chebyshev distance).
-        let mut dilated = tile_max.clone();
-        for ty in 0..i64::from(th) {
-            for tx in 0..i64::from(tw) {
-                let m = tile_max[(ty * i64::from(tw) + tx) as usize];
-                if m <= 0.0 {
-                    continue;
-                }
-                let reach = ((m / TILE as f32) as i64 + 1).min(MAX_REACH_TILES);
-                for dy in -reach..=reach {
-                    for dx in -reach..=reach {
-                        let (x, y) = (tx + dx, ty + dy);
-                        if x < 0 || y < 0 || x >= i64::from(tw) || y >= i64::from(th) {
-                            continue;
-                        }
-                        let gap = (dx.abs().max(dy.abs()) - 1).max(0) * i64::from(TILE);
-                        if gap as f32 <= m {
-                            let t = (y * i64::from(tw) + x) as usize;
-                            dilated[t] = dilated[t].max(m);
-                        }
-                    }
-                }
-            }
-        }
-
-        // Edges of the G-buffer: a pixel differs from its right or lower neighbour in what the
-        // shading depends on (unlit: coverage and albedo; lit: also the normal, the depth and
-        // whether the light is blocked: a shadow boundary, which no G-buffer shows).
-        let differs = |a: usize, b: usize| {
-            if gbuffer.coverage[a] != gbuffer.coverage[b] || gbuffer.albedo[a] != gbuffer.albedo[b]
-            {
-                return true;
-            }
-            let Some(prepass) = lit.filter(|_| gbuffer.coverage[a]) else {
-                return false;
-            };
-            let (da, db) = (gbuffer.view_depth[a], gbuffer.view_depth[b]);
-            gbuffer.normal[a].dot(gbuffer.normal[b]) < 0.995
-                || (da - db).abs() > 0.02 * da.abs().max(db.abs())
-                || prepass[a][3] != prepass[b][3]
+        let tiles = Tiles {
+            x: w.div_ceil(TILE),
+            y: h.div_ceil(TILE),
         };
-        // Summed-area table of the edge marks: "no edge within r pixels" in O(1).
-        let stride = (w + 1) as usize;
-        let mut table = vec![0u32; stride * (h + 1) as usize];
-        for y in 0..h {
-            let mut row = 0u32;
-            for x in 0..w {
-                let i = index(x, y);
-                let edge =
-                    (x + 1 < w && differs(i, i + 1)) || (y + 1 < h && differs(i, i + w as usize));
-                row += u32::from(edge);
-                let at = (y as usize + 1) * stride + x as usize + 1;
-                table[at] = table[at - stride] + row;
-            }
-        }
-        let no_edge_within = |x: u32, y: u32, r: u32| {
-            // Beyond the frame the G-buffer knows nothing, and a blurred pixel's lens rays
-            // reach there: a window that crosses the border is not uniform (r = 1, the pixel
-            // and its neighbours, stays inside: film samples do not leave the pixel).
-            if r > 1 && (x < r || y < r || x + r >= w || y + r >= h) {
-                return false;
-            }
-            let (x0, y0) = (x.saturating_sub(r) as usize, y.saturating_sub(r) as usize);
-            let (x1, y1) = ((x + r + 1).min(w) as usize, (y + r + 1).min(h) as usize);
-            table[y1 * stride + x1] + table[y0 * stride + x0]
-                == table[y0 * stride + x1] + table[y1 * stride + x0]
-        };
-
+        let dilated = tiles.dilate(&tiles.max_coc(camera, gbuffer));
+        let edges = EdgeTable::new(gbuffer, lit);
         let spp = spp.max(1);
-        // Per pixel: None for the shortcut, else the samples to trace: all of them. (Fewer
-        // where the circle of confusion is small, ceil(spp * coc / 2 px) below 2 px, lost more
-        // in error than it saved in time at every aperture measured: docs/hybrid.md.)
-        let mut samples: Vec<Option<u32>> = Vec::with_capacity((w * h) as usize);
-        for y in 0..h {
-            for x in 0..w {
-                let coc = dilated[((y / TILE) * tw + x / TILE) as usize];
-                // The G-buffer is uniform over the pixel and its circle of confusion: every lens
-                // ray is expected to see what the G-buffer sees (checked, unbiased).
-                let radius = window_radius(coc);
-                samples.push((!no_edge_within(x, y, radius)).then_some(spp));
-            }
-        }
-        // SIMD coherence: a device runs neighbouring invocations in lockstep (lavapipe: the 8
-        // of one tile row), so a segment of a row traces as long as its busiest pixel. Where
-        // one pixel of a segment traces, all of it traces that many samples (for free).
-        for row in samples.chunks_mut(w as usize) {
-            for segment in row.chunks_mut(SEGMENT as usize) {
-                if segment.iter().any(Option::is_some) {
-                    let n = segment.iter().flatten().copied().max();
-                    segment.fill(n);
-                }
-            }
-        }
-        let mut entries = Vec::with_capacity((w * h) as usize);
-        let mut shortcut_pixels = 0u64;
-        let mut planned = 0u64;
-        for (i, n) in samples.into_iter().enumerate() {
-            // Lit, every pixel keeps the pre-pass's value: the shortcut samples of its
-            // neighbours reproject onto it (trace.comp).
-            let value = match lit {
-                Some(prepass) => Vec3::from_slice(&prepass[i][..3]),
-                None if n.is_none() => gbuffer.albedo[i],
-                None => Vec3::ZERO,
-            };
-            entries.push(match n {
-                None => {
-                    shortcut_pixels += 1;
-                    [value.x, value.y, value.z, HYBRID_SHORTCUT]
-                }
-                Some(n) => {
-                    planned += u64::from(n);
-                    [value.x, value.y, value.z, n as f32]
-                }
-            });
-        }
+        let mut samples = pixel_samples(&tiles, &dilated, &edges, spp);
+        share_within_segments(&mut samples, w);
+        let (entries, shortcut_pixels, planned) = plan_entries(samples, gbuffer, lit);
         Plan {
             width: w,
             height: h,
@@ -224,6 +101,194 @@ impl Plan {
     pub fn shortcut_fraction(&self) -> f64 {
         self.shortcut_pixels as f64 / (self.entries.len().max(1)) as f64
     }
+}
+
+/// The image's tiles of `TILE` x `TILE` pixels, over which the circle of confusion is maximised.
+struct Tiles {
+    /// Tiles across.
+    x: u32,
+    /// Tiles down.
+    y: u32,
+}
+
+impl Tiles {
+    /// Circle of confusion per pixel (0 where nothing is covered: the background is at
+    /// infinity, but a background pixel is only blurred by what covers it, which dilation
+    /// brings in), maximum per tile.
+    fn max_coc(&self, camera: &Camera, gbuffer: &GBuffer) -> Vec<f32> {
+        let (w, h, tw) = (gbuffer.width, gbuffer.height, self.x);
+        let mut tile_max = vec![0f32; (self.x * self.y) as usize];
+        for y in 0..h {
+            for x in 0..w {
+                let i = (y * w + x) as usize;
+                if gbuffer.coverage[i] {
+                    let coc = camera.coc_radius_pixels(gbuffer.view_depth[i]);
+                    let t = ((y / TILE) * tw + x / TILE) as usize;
+                    tile_max[t] = tile_max[t].max(coc);
+                }
+            }
+        }
+        tile_max
+    }
+
+    /// Each tile spreads its maximum to the tiles within its reach: those whose nearest pixel
+    /// lies within that many pixels (Chebyshev distance).
+    fn dilate(&self, tile_max: &[f32]) -> Vec<f32> {
+        let (tw, th) = (self.x, self.y);
+        let mut dilated = tile_max.to_vec();
+        for ty in 0..i64::from(th) {
+            for tx in 0..i64::from(tw) {
+                let m = tile_max[(ty * i64::from(tw) + tx) as usize];
+                if m <= 0.0 {
+                    continue;
+                }
+                let reach = ((m / TILE as f32) as i64 + 1).min(MAX_REACH_TILES);
+                for dy in -reach..=reach {
+                    for dx in -reach..=reach {
+                        let (x, y) = (tx + dx, ty + dy);
+                        if x < 0 || y < 0 || x >= i64::from(tw) || y >= i64::from(th) {
+                            continue;
+                        }
+                        let gap = (dx.abs().max(dy.abs()) - 1).max(0) * i64::from(TILE);
+                        if gap as f32 <= m {
+                            let t = (y * i64::from(tw) + x) as usize;
+                            dilated[t] = dilated[t].max(m);
+                        }
+                    }
+                }
+            }
+        }
+        dilated
+    }
+}
+
+/// Summed-area table of the G-buffer's edge marks: "no edge within r pixels" in O(1).
+struct EdgeTable {
+    table: Vec<u32>,
+    /// Entries per row of `table`: the image's width + 1.
+    stride: usize,
+    width: u32,
+    height: u32,
+}
+
+impl EdgeTable {
+    /// Marks the edges of the G-buffer: a pixel differs from its right or lower neighbour in
+    /// what the shading depends on (unlit: coverage and albedo; lit: also the normal, the depth
+    /// and whether the light is blocked: a shadow boundary, which no G-buffer shows).
+    fn new(gbuffer: &GBuffer, lit: Option<&[[f32; 4]]>) -> Self {
+        let (w, h) = (gbuffer.width, gbuffer.height);
+        let differs = |a: usize, b: usize| {
+            if gbuffer.coverage[a] != gbuffer.coverage[b] || gbuffer.albedo[a] != gbuffer.albedo[b]
+            {
+                return true;
+            }
+            let Some(prepass) = lit.filter(|_| gbuffer.coverage[a]) else {
+                return false;
+            };
+            let (da, db) = (gbuffer.view_depth[a], gbuffer.view_depth[b]);
+            gbuffer.normal[a].dot(gbuffer.normal[b]) < 0.995
+                || (da - db).abs() > 0.02 * da.abs().max(db.abs())
+                || prepass[a][3] != prepass[b][3]
+        };
+        let stride = (w + 1) as usize;
+        let mut table = vec![0u32; stride * (h + 1) as usize];
+        for y in 0..h {
+            let mut row = 0u32;
+            for x in 0..w {
+                let i = (y * w + x) as usize;
+                let edge =
+                    (x + 1 < w && differs(i, i + 1)) || (y + 1 < h && differs(i, i + w as usize));
+                row += u32::from(edge);
+                let at = (y as usize + 1) * stride + x as usize + 1;
+                table[at] = table[at - stride] + row;
+            }
+        }
+        EdgeTable {
+            table,
+            stride,
+            width: w,
+            height: h,
+        }
+    }
+
+    /// No edge mark within `r` pixels (Chebyshev) of pixel (x, y).
+    fn no_edge_within(&self, x: u32, y: u32, r: u32) -> bool {
+        let (w, h, stride, table) = (self.width, self.height, self.stride, &self.table);
+        // Beyond the frame the G-buffer knows nothing, and a blurred pixel's lens rays
+        // reach there: a window that crosses the border is not uniform (r = 1, the pixel
+        // and its neighbours, stays inside: film samples do not leave the pixel).
+        if r > 1 && (x < r || y < r || x + r >= w || y + r >= h) {
+            return false;
+        }
+        let (x0, y0) = (x.saturating_sub(r) as usize, y.saturating_sub(r) as usize);
+        let (x1, y1) = ((x + r + 1).min(w) as usize, (y + r + 1).min(h) as usize);
+        table[y1 * stride + x1] + table[y0 * stride + x0]
+            == table[y0 * stride + x1] + table[y1 * stride + x0]
+    }
+}
+
+/// Per pixel: None for the shortcut, else the samples to trace: all `spp` of them. (Fewer
+/// where the circle of confusion is small, ceil(spp * coc / 2 px) below 2 px, lost more in
+/// error than it saved in time at every aperture measured: docs/hybrid.md.)
+fn pixel_samples(tiles: &Tiles, dilated: &[f32], edges: &EdgeTable, spp: u32) -> Vec<Option<u32>> {
+    let (w, h, tw) = (edges.width, edges.height, tiles.x);
+    let mut samples: Vec<Option<u32>> = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let coc = dilated[((y / TILE) * tw + x / TILE) as usize];
+            // The G-buffer is uniform over the pixel and its circle of confusion: every lens
+            // ray is expected to see what the G-buffer sees (checked, unbiased).
+            let radius = window_radius(coc);
+            samples.push((!edges.no_edge_within(x, y, radius)).then_some(spp));
+        }
+    }
+    samples
+}
+
+/// SIMD coherence: a device runs neighbouring invocations in lockstep (lavapipe: the 8 of one
+/// tile row), so a segment of a row traces as long as its busiest pixel. Where one pixel of a
+/// segment traces, all of it traces that many samples (for free).
+fn share_within_segments(samples: &mut [Option<u32>], width: u32) {
+    for row in samples.chunks_mut(width as usize) {
+        for segment in row.chunks_mut(SEGMENT as usize) {
+            if segment.iter().any(Option::is_some) {
+                let n = segment.iter().flatten().copied().max();
+                segment.fill(n);
+            }
+        }
+    }
+}
+
+/// The plan's entries from the pixels' samples, with the count of shortcut pixels and of
+/// planned samples.
+fn plan_entries(
+    samples: Vec<Option<u32>>,
+    gbuffer: &GBuffer,
+    lit: Option<&[[f32; 4]]>,
+) -> (Vec<[f32; 4]>, u64, u64) {
+    let mut entries = Vec::with_capacity(samples.len());
+    let mut shortcut_pixels = 0u64;
+    let mut planned = 0u64;
+    for (i, n) in samples.into_iter().enumerate() {
+        // Lit, every pixel keeps the pre-pass's value: the shortcut samples of its
+        // neighbours reproject onto it (trace.comp).
+        let value = match lit {
+            Some(prepass) => Vec3::from_slice(&prepass[i][..3]),
+            None if n.is_none() => gbuffer.albedo[i],
+            None => Vec3::ZERO,
+        };
+        entries.push(match n {
+            None => {
+                shortcut_pixels += 1;
+                [value.x, value.y, value.z, HYBRID_SHORTCUT]
+            }
+            Some(n) => {
+                planned += u64::from(n);
+                [value.x, value.y, value.z, n as f32]
+            }
+        });
+    }
+    (entries, shortcut_pixels, planned)
 }
 
 /// The plan of `settings` seen by `camera`, made on the device (shaders/passes/hybrid_plan.comp: the

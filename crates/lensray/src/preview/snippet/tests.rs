@@ -234,7 +234,7 @@ fn shell_words() {
     assert_eq!(shell_word(""), "''");
 }
 
-/// A real lens (issue 21): opened with one, stopped down, focused and moved; picked in the
+/// A real lens: opened with one, stopped down, focused and moved; picked in the
 /// panel; read from a prescription file. The printout names it (`[camera.lens]`, `--lens`)
 /// with its f-number, focus and sensor, and reads back to the same camera.
 #[test]

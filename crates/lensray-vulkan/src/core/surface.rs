@@ -9,7 +9,7 @@ use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 use crate::core::error::{vk_err, GpuError};
 use crate::core::instance::Instance;
 
-pub(crate) struct Surface {
+pub(crate) struct WindowSurface {
     /// The surface must go before the instance: keep it alive.
     instance: Arc<Instance>,
     pub loader: khr::surface::Instance,
@@ -23,7 +23,7 @@ pub(crate) struct SurfaceSupport {
     pub present_modes: Vec<vk::PresentModeKHR>,
 }
 
-impl Surface {
+impl WindowSurface {
     pub fn new(
         instance: &Arc<Instance>,
         display: RawDisplayHandle,
@@ -78,7 +78,7 @@ impl Surface {
     }
 }
 
-impl Drop for Surface {
+impl Drop for WindowSurface {
     fn drop(&mut self) {
         // SAFETY: the swapchains made from it were destroyed first (the viewer owns them and
         // drops them before the surface); the instance is still alive (held above).

@@ -1,0 +1,80 @@
+//! Material libraries: reading an MTL file for tobj, and mapping tobj's materials to
+//! [`Material`]s.
+
+use std::fmt::Write as _;
+use std::fs;
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::scene::{Material, SceneError};
+
+/// The scene material of an MTL material: `Kd` the diffuse colour (the default's when absent),
+/// `Ke` the emission (0 when absent).
+pub(super) fn convert_material(m: &tobj::Material) -> Material {
+    let default = Material::default();
+    let emission = m
+        .emissive
+        .or_else(|| m.unknown_param.get("Ke").and_then(|s| parse_colour(s).ok()));
+    Material {
+        name: m.name.clone(),
+        diffuse: m.diffuse.map(Vec3::from).unwrap_or(default.diffuse),
+        emission: emission.map(Vec3::from).unwrap_or(Vec3::ZERO),
+    }
+}
+
+/// Parses "r g b" or "v" (grey): finite, non-negative.
+fn parse_colour(s: &str) -> Result<[f32; 3], ()> {
+    let values: Vec<f32> = s
+        .split_whitespace()
+        .map(|w| w.parse::<f32>().map_err(|_| ()))
+        .collect::<Result<_, _>>()?;
+    let rgb = match values[..] {
+        [v] => [v; 3],
+        [r, g, b] => [r, g, b],
+        _ => return Err(()),
+    };
+    if rgb.iter().all(|c| c.is_finite() && *c >= 0.0) {
+        Ok(rgb)
+    } else {
+        Err(())
+    }
+}
+
+/// Reads one material library for tobj, after checking its colours (tobj panics on a colour of
+/// fewer than three numbers) and spelling a one-number colour out as three.
+pub(super) fn load_mtl(mtl: &Path, obj: &Path) -> Result<tobj::MTLLoadResult, SceneError> {
+    let bytes = fs::read(mtl).map_err(|err| SceneError::MtlRead {
+        mtl: mtl.to_path_buf(),
+        obj: obj.to_path_buf(),
+        err,
+    })?;
+    let text = std::str::from_utf8(&bytes).map_err(|_| SceneError::Mtl {
+        path: mtl.to_path_buf(),
+        reason: "not UTF-8 text".into(),
+    })?;
+    let mut normalized = String::with_capacity(text.len());
+    for (index, line) in text.lines().enumerate() {
+        let trimmed = line.trim();
+        let key = trimmed.split_whitespace().next().unwrap_or("");
+        if matches!(key, "Kd" | "Ke" | "Ka" | "Ks") {
+            let value = trimmed[key.len()..].trim();
+            let rgb = parse_colour(value).map_err(|()| SceneError::Color {
+                path: mtl.to_path_buf(),
+                line: index + 1,
+                key: key.into(),
+                value: value.into(),
+            })?;
+            let _ = writeln!(normalized, "{key} {} {} {}", rgb[0], rgb[1], rgb[2]);
+        } else {
+            normalized.push_str(line);
+            normalized.push('\n');
+        }
+    }
+    tobj::load_mtl_buf(&mut normalized.as_bytes())
+        .map_err(|e| SceneError::Mtl {
+            path: mtl.to_path_buf(),
+            reason: e.to_string(),
+        })
+        .map(Ok)
+}

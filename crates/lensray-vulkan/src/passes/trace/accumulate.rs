@@ -1,0 +1,219 @@
+//! The renderer's entry of the traced path: `accumulate` plans a call's steps, records and
+//! submits them in batches without waiting, reports progress from the device's timeline, and
+//! keeps the band of sums the shader adds to.
+
+use std::ops::Range;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::steps::Step;
+use super::{Timings, TracePass};
+use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::error::GpuError;
+use crate::passes::films::Start;
+use lensray_core::camera::Camera;
+use lensray_core::film::{Accumulation, Progress};
+use lensray_core::interface::{TraceParams, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER};
+use lensray_core::settings::RenderSettings;
+
+/// Steps (dispatches) recorded per command buffer: each submission signals the timeline, whose
+/// value the progress reads; none is waited for until the last.
+const STEPS_PER_SUBMIT: usize = 8;
+/// How often the progress reads the timeline while a render runs.
+const PROGRESS_POLL: std::time::Duration = std::time::Duration::from_millis(2);
+
+impl TracePass {
+    /// Adds samples `samples` of every pixel to `accumulation` (of the camera's size), with the
+    /// scene last bound by `bind_scene`. The sums stay on the device (`films`); the shader adds
+    /// sample after sample to them, so any split of a range gives the same sums.
+    pub fn accumulate(
+        &mut self,
+        (camera, settings): (&Camera, &RenderSettings),
+        samples: Range<u32>,
+        accumulation: &mut Accumulation,
+        timings: &mut Timings,
+        raster: Option<&RecordSample<'_>>,
+        progress: &mut Progress,
+    ) -> Result<(), GpuError> {
+        let (width, height) = (camera.width, camera.height);
+        let pixels = u64::from(width) * u64::from(height);
+        if (accumulation.width, accumulation.height) != (width, height) {
+            return Err(GpuError::Invalid(format!(
+                "accumulation {}x{} does not match the {width}x{height} image",
+                accumulation.width, accumulation.height
+            )));
+        }
+        if samples.is_empty() {
+            return Ok(());
+        }
+        let mode = self.trace_mode(pixels, raster.is_some())?;
+        let band_rows = self.ensure_accumulation(width, height)?;
+        self.ensure_camera_tables(camera)?;
+        let (film, start) = self.films.take(accumulation)?;
+        self.films.prepare_finish(film)?;
+        // The parameters go up in the first submission (a pending one may still read them).
+        let params = crate::upload::trace_params(camera, settings);
+
+        let steps = self.plan_steps(width, height, band_rows, &samples, mode, raster.is_some());
+        let total: u64 = steps.iter().map(|s| s.work).sum();
+        progress(0, total);
+        self.ensure_timestamps(2 * steps.len() as u32)?;
+
+        let first_dispatch = !self.pipelines[self.current].first_dispatch_done;
+        let batches = self.submit_steps(
+            &steps,
+            &params,
+            (film, start),
+            width,
+            first_dispatch,
+            raster,
+        )?;
+        self.wait_reporting(&batches, total, progress)?;
+        self.films.finished(film);
+        self.record_timings(&steps, first_dispatch, timings)
+    }
+
+    /// The shader's mode for an image of `pixels` pixels: the raster path's, the hybrid's (its
+    /// plan must cover the image; the raster path follows none), else every sample traced.
+    fn trace_mode(&self, pixels: u64, raster: bool) -> Result<u32, GpuError> {
+        Ok(match self.plan_pixels {
+            None if raster => TRACE_MODE_RASTER,
+            None => TRACE_MODE_ALL,
+            Some(_) if raster => {
+                return Err(GpuError::Invalid(
+                    "the raster path does not follow a hybrid plan".into(),
+                ))
+            }
+            Some(n) if n == pixels => TRACE_MODE_HYBRID,
+            Some(n) => {
+                return Err(GpuError::Invalid(format!(
+                    "the hybrid plan has {n} pixels, the image {pixels}"
+                )))
+            }
+        })
+    }
+
+    /// Records and submits every step before any wait: batches of steps per command buffer,
+    /// each signalling the device's timeline, which the progress reads. Returns each batch's
+    /// timeline value and pixel-samples.
+    fn submit_steps(
+        &self,
+        steps: &[Step],
+        params: &TraceParams,
+        (film, start): (usize, Start),
+        width: u32,
+        first_dispatch: bool,
+        raster: Option<&RecordSample<'_>>,
+    ) -> Result<Vec<(u64, u64)>, GpuError> {
+        let mut batches = Vec::new();
+        for (batch, chunk) in steps.chunks(STEPS_PER_SUBMIT).enumerate() {
+            let first = batch * STEPS_PER_SUBMIT;
+            let value = self.ctx.submit(|cmd| {
+                if first == 0 {
+                    self.timestamps.reset(cmd);
+                    self.record_params(cmd, params);
+                    self.record_clear_ray_counter(cmd);
+                    self.films.record_start(cmd, film, start);
+                }
+                for (i, step) in chunk.iter().enumerate() {
+                    let index = (first + i) as u32;
+                    let record = raster
+                        .zip(step.raster_sample)
+                        .map(|(record, sample)| move |cmd| record(cmd, sample));
+                    let before = record.as_ref().map(|r| r as _);
+                    self.record_step(cmd, step, (film, width), index, before);
+                    if index == 0 && first_dispatch {
+                        // The pipeline's first dispatch is reported apart: its rays too.
+                        self.record_copy_first_rays(cmd);
+                    }
+                }
+                if first + chunk.len() == steps.len() {
+                    self.films.record_finish(cmd, film);
+                    barrier_to_host(
+                        &self.ctx,
+                        cmd,
+                        vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
+                        vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE,
+                    );
+                }
+                Ok(())
+            })?;
+            let work: u64 = chunk.iter().map(|s| s.work).sum();
+            batches.push((value, work));
+        }
+        Ok(batches)
+    }
+
+    /// Reports the progress of `batches` (timeline value, pixel-samples) as the device
+    /// completes them, then waits for the last one.
+    fn wait_reporting(
+        &self,
+        batches: &[(u64, u64)],
+        total: u64,
+        progress: &mut Progress,
+    ) -> Result<(), GpuError> {
+        let last = batches.last().map_or(0, |b| b.0);
+        let mut reported = 0;
+        loop {
+            let completed = self.ctx.completed()?;
+            let done: u64 = batches
+                .iter()
+                .filter(|(value, _)| *value <= completed)
+                .map(|(_, work)| work)
+                .sum();
+            if done > reported {
+                reported = done;
+                progress(done, total);
+            }
+            // One batch has no progress to show before its end.
+            if completed >= last || batches.len() <= 1 {
+                break;
+            }
+            std::thread::sleep(PROGRESS_POLL);
+        }
+        self.ctx.wait_until(last)?;
+        if reported < total {
+            progress(total, total);
+        }
+        Ok(())
+    }
+
+    /// The band buffer for a `width` x `height` image (made anew, and bound, when the size
+    /// changes), and the rows of a band. The shader adds to a storage buffer covering a band of
+    /// rows, bounded by the device's storage-buffer range (128 MiB on lavapipe); each band is
+    /// copied in from the film and back.
+    pub fn ensure_accumulation(&mut self, width: u32, height: u32) -> Result<u32, GpuError> {
+        let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
+            .min(self.max_band_pixels)
+            .max(u64::from(width));
+        let band_rows = (max_band_pixels / u64::from(width)).clamp(1, u64::from(height)) as u32;
+        let bytes = u64::from(band_rows) * u64::from(width) * 16;
+        if self.accum.as_ref().is_none_or(|a| a.bytes != bytes) {
+            // A pending submission (the hybrid's plan) binds the old buffer: it finishes first.
+            self.ctx.wait_all()?;
+            self.accum = None;
+            let buffer = Buffer::new(
+                &self.ctx,
+                "trace band sums",
+                bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?;
+            self.bind_accum_buffer(&buffer);
+            self.accum = Some(BandSums { buffer, bytes });
+        }
+        Ok(band_rows)
+    }
+}
+
+/// Records the raster pass of one sample (the raster path), before that sample's shading.
+pub(crate) type RecordSample<'a> = dyn Fn(vk::CommandBuffer, u32) + 'a;
+
+/// The sums of one band of rows.
+pub(super) struct BandSums {
+    pub(super) buffer: Buffer,
+    pub(super) bytes: u64,
+}

@@ -1,0 +1,125 @@
+//! What a trace call measured: GPU times from its timestamps, rays from the ray counter, and
+//! the size of later dispatches from the measured speed.
+
+use ash::vk;
+
+use super::steps::Step;
+use super::{TracePass, MAX_SAMPLES_PER_DISPATCH};
+use crate::core::error::GpuError;
+use crate::core::query::QueryPool;
+use crate::traversal::Traversal;
+
+/// Dispatch duration aimed at when sizing the next dispatches from the last one's timestamps
+/// (well under the ~0.5 s that a single dispatch should not exceed).
+const TARGET_DISPATCH_MS: f64 = 100.0;
+
+/// Timing of the GPU passes, from timestamp queries (milliseconds).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// GPU time of the acceleration-structure builds (BLAS + TLAS) of the loaded scene. lavapipe
+    /// builds on the CPU inside the submission, so see also `accel_build_wall_ms`.
+    pub accel_build_gpu_ms: f64,
+    /// Wall-clock time of the whole build (uploads, builds, compaction).
+    pub accel_build_wall_ms: f64,
+    /// GPU time of the very first dispatch of each trace pipeline (drivers may compile lazily;
+    /// each traversal's pipeline has its own), summed, excluded from `trace_gpu_ms`.
+    pub first_dispatch_ms: Option<f64>,
+    /// Rays traced by those first dispatches.
+    pub first_dispatch_rays: u64,
+    /// GPU time of every later dispatch of the trace pass, summed.
+    pub trace_gpu_ms: f64,
+    /// Rays (camera + shadow) traced by those dispatches.
+    pub rays_traced: u64,
+    /// Number of dispatches counted in `trace_gpu_ms`.
+    pub dispatches: u64,
+    /// The longest of those dispatches.
+    pub longest_dispatch_ms: f64,
+    /// G-buffer passes drawn, and their GPU time (draw only, no readback), summed.
+    pub gbuffer_passes: u64,
+    pub gbuffer_gpu_ms: f64,
+    /// Bytes of the loaded scene's BLASes before and after compaction.
+    pub blas_bytes: u64,
+    pub blas_compacted_bytes: u64,
+    /// Device bytes of the ray-query structures of the loaded scene (compacted BLASes, TLAS,
+    /// instances); 0 without ray queries.
+    pub accel_bytes: u64,
+    /// Device bytes of the software traversal's BVH (nodes and leaf-ordered triangles); 0 when
+    /// the device was opened without the software traversal.
+    pub bvh_bytes: u64,
+    /// Host time of the BVH build and flattening (upload excluded).
+    pub bvh_build_ms: f64,
+}
+
+impl Timings {
+    /// Rays per second of the trace pass, first dispatch excluded.
+    pub fn rays_per_second(&self) -> Option<f64> {
+        (self.trace_gpu_ms > 0.0).then(|| self.rays_traced as f64 / (self.trace_gpu_ms * 1e-3))
+    }
+
+    /// Device bytes of `traversal`'s structures for the loaded scene (the scene arrays, shared
+    /// by both, not counted).
+    pub fn traversal_bytes(&self, traversal: Traversal) -> u64 {
+        match traversal {
+            Traversal::RayQuery => self.accel_bytes,
+            Traversal::Software => self.bvh_bytes,
+        }
+    }
+}
+
+impl TracePass {
+    /// A timestamp pool with at least `queries` queries (made anew when it is smaller; no
+    /// submission uses the old one: every `accumulate` waits for its own).
+    pub(super) fn ensure_timestamps(&mut self, queries: u32) -> Result<(), GpuError> {
+        if self.timestamps.count() < queries {
+            self.timestamps = QueryPool::new(&self.ctx, vk::QueryType::TIMESTAMP, queries)?;
+        }
+        Ok(())
+    }
+
+    /// After a call's wait: each step's GPU time (the pipeline's first dispatch apart), the
+    /// rays counted, and the size of the next calls' dispatches from the measured speed.
+    pub(super) fn record_timings(
+        &mut self,
+        steps: &[Step],
+        first_dispatch: bool,
+        timings: &mut Timings,
+    ) -> Result<(), GpuError> {
+        let ticks = self.timestamps.results_of(2 * steps.len() as u32)?;
+        let words = bytemuck::cast_slice::<u8, u32>(self.counters.read()?);
+        let (all_rays, first_rays) = (u64::from(words[0]), u64::from(words[1]));
+        if std::mem::take(&mut self.prepass_rays_pending) {
+            timings.rays_traced += u64::from(words[2]);
+        }
+        let (mut work, mut ms) = (0u64, 0.0f64);
+        for (i, step) in steps.iter().enumerate() {
+            let gpu_ms = self.ctx.elapsed_ns(ticks[2 * i], ticks[2 * i + 1]) * 1e-6;
+            if i == 0 && first_dispatch {
+                timings.first_dispatch_ms = Some(timings.first_dispatch_ms.unwrap_or(0.0) + gpu_ms);
+                continue;
+            }
+            timings.trace_gpu_ms += gpu_ms;
+            timings.longest_dispatch_ms = timings.longest_dispatch_ms.max(gpu_ms);
+            timings.dispatches += 1;
+            if step.raster_sample.is_none() {
+                work += step.work;
+                ms += gpu_ms;
+            }
+        }
+        if first_dispatch {
+            // Summed over the pipelines (one per traversal), so that reports can subtract.
+            timings.first_dispatch_rays += first_rays;
+            timings.rays_traced += all_rays - first_rays;
+            self.pipelines[self.current].first_dispatch_done = true;
+        } else {
+            timings.rays_traced += all_rays;
+        }
+        if work > 0 && ms > 0.0 {
+            // Grows at most 4x per call; shrinks at once.
+            let rate = work as f64 / ms;
+            self.adaptive_samples = ((rate * TARGET_DISPATCH_MS) as u64)
+                .min(4 * self.adaptive_samples)
+                .clamp(1024, MAX_SAMPLES_PER_DISPATCH);
+        }
+        Ok(())
+    }
+}

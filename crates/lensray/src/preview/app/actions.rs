@@ -1,0 +1,104 @@
+//! Discrete actions (keys, the panel's buttons, the script), mouse gestures and the wheel,
+//! applied to the camera rig and the panel; the screenshot and the camera printout.
+
+use std::time::Instant;
+
+use anyhow::{Context as _, Result};
+use winit::event_loop::ActiveEventLoop;
+
+use super::App;
+use crate::output::PendingOutput;
+use crate::preview::bindings::{wheel_action, Action, WheelAction, WheelModifier};
+use crate::preview::input::Gesture;
+
+impl App {
+    /// Applies a discrete action (a key, the panel's buttons or the script).
+    pub(super) fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) -> Result<()> {
+        self.log.input(Instant::now());
+        let rig = &mut self.config.rig;
+        match action {
+            Action::FocusUnderCursor => self.pending_pick = Some(self.input.cursor),
+            Action::FocusNearer => rig.step_focus(-1.0),
+            Action::FocusFarther => rig.step_focus(1.0),
+            Action::ApertureWider => rig.step_aperture(1),
+            Action::ApertureNarrower => rig.step_aperture(-1),
+            Action::ToggleProjection => rig.toggle_projection(),
+            Action::SetView(view) => self.panel.view = view,
+            Action::NextView => self.panel.view = self.panel.view.next(),
+            Action::Screenshot => {
+                let path = self.panel.screenshot_path();
+                self.save_screenshot(&path)?;
+            }
+            Action::PrintCamera => self.print_camera()?,
+            Action::ResetCamera => rig.reset(),
+            Action::ToggleHelp => self.panel.show_help = !self.panel.show_help,
+            Action::Quit => self.exit(event_loop),
+            // Held keys move the camera every frame while down.
+            Action::Fly(direction) => self.input.hold(direction, true),
+        }
+        Ok(())
+    }
+
+    /// Applies a mouse gesture: orbit, pan or a click that focuses there.
+    pub(super) fn gesture(&mut self, gesture: Gesture) {
+        self.log.input(Instant::now());
+        match gesture {
+            Gesture::Orbit(d) => self.config.rig.orbit(f64::from(d.x), f64::from(d.y)),
+            Gesture::Pan(d) => self.config.rig.pan(f64::from(d.x), f64::from(d.y)),
+            Gesture::Click(at) => self.pending_pick = Some(at),
+        }
+    }
+
+    /// Applies wheel steps: dolly, or with a modifier, focus or aperture.
+    pub(super) fn scroll(&mut self, steps: f64, modifier: Option<WheelModifier>) {
+        self.log.input(Instant::now());
+        let rig = &mut self.config.rig;
+        match wheel_action(modifier) {
+            WheelAction::Dolly => rig.dolly(steps),
+            WheelAction::Focus => rig.step_focus(steps),
+            WheelAction::Aperture => rig.step_aperture(steps.round() as i32),
+        }
+    }
+
+    /// Saves the accumulation as an image file at `path`.
+    pub(super) fn save_screenshot(&mut self, path: &std::path::Path) -> Result<()> {
+        let output = PendingOutput::create(path)?;
+        let viewer = self.viewer.as_mut().context("no window yet")?;
+        let image = viewer
+            .read_accumulation()?
+            .context("nothing rendered yet to save")?;
+        let shading = match &self.last {
+            Some((_, settings)) => settings.shading,
+            None => {
+                self.config
+                    .rig
+                    .shot(&self.config.description.scene)?
+                    .render
+                    .shading
+            }
+        };
+        output.finish(&image, shading)?;
+        eprintln!(
+            "screenshot: {} ({} samples per pixel)",
+            path.display(),
+            self.spp
+        );
+        Ok(())
+    }
+
+    /// Prints the current camera as scene-file tables and a `lensray render` command (the `C` key).
+    fn print_camera(&self) -> Result<()> {
+        let resolved = self
+            .config
+            .rig
+            .shot(&self.config.description.scene)
+            .context("camera")?;
+        let snippet = crate::preview::snippet::camera_snippet(
+            self.config.rig.settings(),
+            &resolved,
+            self.config.scene_path.as_deref(),
+        );
+        println!("{snippet}");
+        Ok(())
+    }
+}

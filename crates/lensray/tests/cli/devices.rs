@@ -1,0 +1,187 @@
+//! Choosing the device: `--device gpu`, `auto` without a Vulkan device or validation layer,
+//! `--gpu`, and the benches' device handling.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use crate::gpu_support::skip_or_fail;
+use crate::{lensray, render_args, stderr};
+
+/// Runs lensray with the Vulkan loader pointed at no driver at all: the machine "has no GPU".
+fn lensray_without_vulkan(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(args)
+        .current_dir(dir)
+        .env("VK_ICD_FILENAMES", "/nonexistent/lensray-no-driver.json")
+        .env("VK_DRIVER_FILES", "/nonexistent/lensray-no-driver.json")
+        .output()
+        .expect("run lensray")
+}
+
+#[test]
+fn device_gpu_without_a_vulkan_device_is_one_clear_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--out", "g.png"]);
+    args[2] = "gpu";
+    let out = lensray_without_vulkan(&args, dir.path());
+    let err = stderr(&out);
+    assert!(!out.status.success(), "accepted without a device: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--device gpu") && err.contains("Vulkan"),
+        "{err}"
+    );
+    assert!(!dir.path().join("g.png").exists());
+}
+
+#[test]
+fn device_auto_falls_back_to_the_cpu_with_a_notice() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--out", "a.png"]);
+    args[2] = "auto";
+    let out = lensray_without_vulkan(&args, dir.path());
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert_eq!(err.lines().count(), 1, "one notice line: {err}");
+    assert!(err.starts_with("notice: rendering on the CPU"), "{err}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("path cpu (auto: no usable Vulkan device) on CPU"),
+        "{text}"
+    );
+    assert!(dir.path().join("a.png").exists());
+}
+
+#[test]
+fn device_gpu_renders_and_autofocuses_with_validation() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--validate", "--focus-at", "40,14", "--out", "g.exr"]);
+    args[2] = "gpu";
+    let out = lensray(&args, dir.path());
+    let err = stderr(&out);
+    if !out.status.success() {
+        skip_or_fail("device_gpu_renders_and_autofocuses_with_validation", &err);
+        return;
+    }
+    assert!(err.contains("autofocus: pixel 40,14"), "{err}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        ["rayquery", "software", "hybrid", "raster"]
+            .iter()
+            .any(|path| text.contains(&format!("path {path} (auto: "))),
+        "{text}"
+    );
+    let img = image::open(dir.path().join("g.exr")).expect("EXR written");
+    assert_eq!((img.width(), img.height()), (48, 32));
+}
+
+/// A bad `--gpu` fails under `auto` too (instead of rendering on the CPU).
+#[test]
+fn bad_gpu_index_under_auto_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--gpu", "99", "--out", "a.png"]);
+    args[2] = "auto";
+    let out = lensray(&args, dir.path());
+    let err = stderr(&out);
+    assert!(!out.status.success(), "accepted --gpu 99: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("--gpu 99"), "{err}");
+    assert!(!dir.path().join("a.png").exists());
+}
+
+/// With `--validate` and no validation layer, `auto` does not fall back to an unvalidated CPU
+/// render: one line naming the package to install.
+#[test]
+fn validate_without_the_layer_names_the_package() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--validate", "--out", "a.png"]);
+    args[2] = "auto";
+    let out = Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(&args)
+        .current_dir(dir.path())
+        // The loader then searches only this (empty) folder for explicit layers.
+        .env("VK_LAYER_PATH", dir.path().join("no-layers"))
+        .output()
+        .expect("run lensray");
+    let err = stderr(&out);
+    assert!(!out.status.success(), "rendered without validation: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--validate") && err.contains("vulkan-validationlayers"),
+        "{err}"
+    );
+    assert!(!dir.path().join("a.png").exists());
+}
+
+/// `bench --device auto` without a Vulkan device benches the CPU path alone, with a notice.
+#[test]
+fn bench_auto_falls_back_to_the_cpu() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "bench",
+        "--device",
+        "auto",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--spp",
+        "1",
+        "--runs",
+        "1",
+        "--reference-spp",
+        "8",
+    ];
+    let out = lensray_without_vulkan(&args, dir.path());
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.starts_with("notice: benchmarking the CPU path only"),
+        "{err}"
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("path cpu: CPU"), "{text}");
+    assert!(!text.contains("rayquery"), "{text}");
+}
+
+/// An AOV bench times what it measures, one pass per image (GPU paths: the raster G-buffer, by
+/// timestamps), and reports passes per second, not 0 Mrays/s.
+#[test]
+fn aov_bench_reports_passes_per_second() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "bench",
+        "--shading",
+        "depth",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--repeat",
+        "3",
+        "--no-cache",
+    ];
+    let out = lensray(&args, dir.path());
+    let err = stderr(&out);
+    if !out.status.success() {
+        skip_or_fail("aov_bench_reports_passes_per_second", &err);
+        return;
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    let rows: Vec<&str> = text.lines().filter(|l| l.contains(" passes/s")).collect();
+    assert!(rows.len() >= 2, "a GPU path and the CPU path: {text}");
+    for row in rows {
+        let rate: f64 = row
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .windows(2)
+            .find(|w| w[1] == "passes/s")
+            .map(|w| w[0].parse().unwrap())
+            .unwrap();
+        assert!(rate > 0.0 && rate.is_finite(), "{row}");
+    }
+    assert!(
+        text.contains("rayquery") || text.contains("software"),
+        "{text}"
+    );
+}

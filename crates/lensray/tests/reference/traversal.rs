@@ -1,0 +1,251 @@
+//! Ray traversal: the BVH against brute force, ray packets against single rays, and the
+//! packets' primary rays against `Camera::generate_ray`.
+
+use glam::{Vec3, Vec3A};
+use lensray_core::camera::{CameraParams, LensParams, ProjectionParams};
+use lensray_core::reference::{Accel, WatertightRay};
+use lensray_core::sampler::SamplerKind;
+
+use crate::rand01;
+
+#[test]
+fn bvh_closest_hit_equals_brute_force() {
+    let mut s = 17u32;
+    let mut tris = Vec::new();
+    for _ in 0..2000 {
+        let c = Vec3A::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) * 10.0;
+        let v = |s: &mut u32| c + Vec3A::new(rand01(s), rand01(s), rand01(s)) - 0.5;
+        tris.push([v(&mut s), v(&mut s), v(&mut s)]);
+    }
+    let accel = Accel::build(&tris);
+    let mut mismatches = Vec::new();
+    for i in 0..2000 {
+        let origin = Vec3::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) * 14.0 - 2.0;
+        let target = Vec3::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) * 10.0;
+        let dir = (target - origin).normalize();
+        let wt = WatertightRay::new(origin, dir);
+        let brute = tris
+            .iter()
+            .filter_map(|t| wt.intersect(t, 0.0, f32::INFINITY).map(|h| h.0))
+            .fold(f32::INFINITY, f32::min);
+        let bvh = accel
+            .closest_hit(origin, dir, 0.0, f32::INFINITY)
+            .map_or(f32::INFINITY, |h| h.t);
+        if brute != bvh {
+            mismatches.push((i, brute, bvh));
+        }
+    }
+    assert!(
+        mismatches.is_empty(),
+        "BVH vs brute force (ray, brute t, bvh t): {mismatches:?}"
+    );
+}
+
+/// Random triangles plus a tessellated grid (shared edges and vertices) for the packet tests.
+fn packet_test_triangles() -> Vec<[Vec3A; 3]> {
+    let mut s = 91u32;
+    let mut tris = Vec::new();
+    for _ in 0..3000 {
+        let c = Vec3A::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) * 10.0;
+        let v = |s: &mut u32| c + (Vec3A::new(rand01(s), rand01(s), rand01(s)) - 0.5) * 0.8;
+        tris.push([v(&mut s), v(&mut s), v(&mut s)]);
+    }
+    // A 20 x 20 grid in the plane z = 12 - x / 4 (tilted, so t varies across it).
+    let p = |i: u32, j: u32| {
+        let (x, y) = (i as f32 * 0.5, j as f32 * 0.5);
+        Vec3A::new(x, y, 12.0 - x * 0.25)
+    };
+    for i in 0..20 {
+        for j in 0..20 {
+            tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
+            tris.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+        }
+    }
+    tris
+}
+
+#[test]
+fn packet_hits_equal_single_ray_hits() {
+    let tris = packet_test_triangles();
+    let accel = Accel::build(&tris);
+    let mut s = 5u32;
+    let mut checked = 0;
+    let mut hits_seen = 0;
+    for packet in 0..3000 {
+        let n = 1 + packet % lensray_core::reference::PACKET_SIZE;
+        let mut origins = Vec::new();
+        let mut directions = Vec::new();
+        // Thirds: coherent (a lens disk through one focal point, as the renderer's samples),
+        // incoherent (random origins and directions), and coherent around a 45-degree diagonal
+        // (lanes with different axis permutations in one packet).
+        let kind = packet % 3;
+        let eye = Vec3::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) * 14.0 - 2.0;
+        let focus = Vec3::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) * 10.0;
+        for _ in 0..n {
+            let (origin, direction) = match kind {
+                0 => {
+                    let o = eye
+                        + (Vec3::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) - 0.5) * 0.2;
+                    (o, (focus - o).normalize())
+                }
+                1 => {
+                    let o = Vec3::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) * 14.0 - 2.0;
+                    let d = Vec3::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) * 2.0 - 1.0;
+                    (o, d.normalize_or(Vec3::X))
+                }
+                _ => {
+                    let o = Vec3::new(-1.0, -1.0, 5.0)
+                        + (Vec3::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) - 0.5) * 0.5;
+                    let d = Vec3::new(1.0, 1.0, 0.0)
+                        + (Vec3::new(rand01(&mut s), rand01(&mut s), rand01(&mut s)) - 0.5) * 0.02;
+                    (o, d.normalize())
+                }
+            };
+            origins.push(origin);
+            directions.push(direction);
+        }
+        let mut hits = vec![None; n];
+        let t_max = if packet % 7 == 0 { 6.0 } else { f32::INFINITY };
+        accel.closest_hits(&origins, &directions, 0.0, t_max, &mut hits);
+        for l in 0..n {
+            let single = accel.closest_hit(origins[l], directions[l], 0.0, t_max);
+            assert_eq!(
+                hits[l], single,
+                "packet {packet} lane {l}: origin {:?} direction {:?}",
+                origins[l], directions[l]
+            );
+            checked += 1;
+            hits_seen += single.is_some() as usize;
+        }
+    }
+    assert!(
+        hits_seen > checked / 4,
+        "too few hits to mean anything: {hits_seen} of {checked}"
+    );
+}
+
+#[test]
+fn packet_hits_on_shared_edges_have_the_single_ray_distance() {
+    // Rays through the grid's vertices and along its edges: the edge functions are exactly zero
+    // (the double-precision path). Two triangles then hit at the same t, and which of them is
+    // reported depends on visiting order, so compare the distance.
+    let tris = packet_test_triangles();
+    let accel = Accel::build(&tris);
+    let mut origins = Vec::new();
+    let mut directions = Vec::new();
+    for i in 1..20 {
+        for j in 1..20 {
+            let x = i as f32 * 0.5 + if (i + j) % 2 == 0 { 0.0 } else { 0.25 };
+            origins.push(Vec3::new(x, j as f32 * 0.5, 30.0));
+            directions.push(-Vec3::Z);
+        }
+    }
+    for (o, d) in origins.chunks(13).zip(directions.chunks(13)) {
+        let mut hits = vec![None; o.len()];
+        accel.closest_hits(o, d, 0.0, f32::INFINITY, &mut hits);
+        for l in 0..o.len() {
+            let single = accel.closest_hit(o[l], d[l], 0.0, f32::INFINITY);
+            assert!(
+                single.is_some() && hits[l].is_some(),
+                "ray {:?} missed the grid",
+                o[l]
+            );
+            assert_eq!(
+                hits[l].map(|h| h.t),
+                single.map(|h| h.t),
+                "ray from {:?}",
+                o[l]
+            );
+        }
+    }
+}
+
+#[test]
+fn rays_with_negative_zero_components_hit() {
+    // -Vec3::Z is (-0, -0, -1): the BVH's slab order must not take -0 for a negative direction.
+    let scene_tris = vec![[
+        Vec3A::new(-1.0, -1.0, 0.0),
+        Vec3A::new(1.0, -1.0, 0.0),
+        Vec3A::new(0.0, 1.0, 0.0),
+    ]];
+    let accel = Accel::build(&scene_tris);
+    let hit = accel.closest_hit(Vec3::new(0.1, 0.2, 5.0), -Vec3::Z, 0.0, f32::INFINITY);
+    assert_eq!(hit.map(|h| h.t), Some(5.0));
+    let mut hits = [None];
+    accel.closest_hits(
+        &[Vec3::new(0.1, 0.2, 5.0)],
+        &[-Vec3::Z],
+        0.0,
+        f32::INFINITY,
+        &mut hits,
+    );
+    assert_eq!(hits[0], hit);
+    assert!(accel.occluded(Vec3::new(0.1, 0.2, 5.0), -Vec3::Z, 0.0, 6.0));
+}
+
+#[test]
+fn packet_primary_rays_equal_generate_ray_bit_for_bit() {
+    let lenses = [
+        LensParams::Pinhole,
+        LensParams::ThinLens {
+            aperture_radius: 0.05,
+            focus_distance: 3.0,
+        },
+    ];
+    for projection in [
+        ProjectionParams::Perspective { vfov_degrees: 50.0 },
+        ProjectionParams::Orthographic { height: 4.0 },
+    ] {
+        for lens in lenses.clone() {
+            let cam = CameraParams {
+                eye: Vec3::new(0.3, 1.0, 2.0),
+                target: Vec3::new(-0.5, 0.2, -3.0),
+                up: Vec3::Y,
+                projection,
+                lens: lens.clone(),
+                near: 0.01,
+                far: 100.0,
+                width: 37,
+                height: 23,
+            }
+            .build()
+            .expect("valid camera");
+            let packet = lensray_core::reference::PACKET_SIZE as u32;
+            for (px, py) in [(0, 0), (36, 22), (18, 11), (5, 17)] {
+                for (seed, kind) in [(1, SamplerKind::Sobol), (99, SamplerKind::Independent)] {
+                    for first in [0, packet, 3 * packet] {
+                        let pixel = glam::UVec2::new(px, py);
+                        let sampler =
+                            lensray_core::sampler::pixel_sampler(kind, seed, pixel, cam.width);
+                        let mut origins = [Vec3::ZERO; lensray_core::reference::PACKET_SIZE];
+                        let mut directions = origins;
+                        lensray_core::reference::primary_rays(
+                            &cam,
+                            &sampler,
+                            first,
+                            &mut origins,
+                            &mut directions,
+                        );
+                        for l in 0..packet {
+                            let sample = lensray_core::sampler::camera_sample(
+                                kind,
+                                seed,
+                                pixel,
+                                cam.width,
+                                first + l,
+                            );
+                            let ray = cam.generate_ray(sample.film, sample.lens);
+                            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                            assert_eq!(
+                                (bits(origins[l as usize]), bits(directions[l as usize])),
+                                (bits(ray.origin), bits(ray.direction)),
+                                "{projection:?} {lens:?} pixel {pixel} sample {}",
+                                first + l
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

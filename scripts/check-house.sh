@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# The house rules that neither rustc nor clippy keeps, checked in CI (.ci/run). Each failing rule
+# prints its offenders; the exit status is non-zero when any rule fails.
+#   - no Rust source file over 600 lines (src, tests and benches alike);
+#   - no two types of the workspace with the same name (public or not);
+#   - comments carry no history: no "issue N" references (those go to commit messages and docs/);
+#   - each crate depends only on the crates below it (core <- vulkan <- app);
+#   - `cargo doc --no-deps` with broken intra-doc links denied ([workspace.lints.rustdoc]).
+# Clippy keeps the others: too_many_lines at 100 ([workspace.lints.clippy], clippy.toml).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+failed=0
+fail() { echo "house: $*"; failed=1; }
+
+max_lines=600
+long=$(git ls-files 'crates/*.rs' | xargs wc -l | grep -v ' total$' | awk -v m=$max_lines '$1 > m' | sort -rn)
+if [ -n "$long" ]; then
+  fail "Rust files over $max_lines lines (split each by concept):"
+  printf '%s\n' "$long" | sed 's/^/    /'
+fi
+
+# Every struct, enum, trait and type alias in the crates' sources (test modules' files aside),
+# whatever its visibility: a private type that shares a public one's name is a second concept
+# under one name all the same.
+dups=$(git ls-files 'crates/*/src/*.rs' 'crates/*/src/**/*.rs' | grep -v '/tests\.rs$\|/tests/' |
+  xargs grep -HoE '^\s*(pub(\([a-z]+\))? )?(struct|enum|trait|type) [A-Z][A-Za-z0-9_]*' |
+  sed -E 's/:\s*(pub(\([a-z]+\))? )?(struct|enum|trait|type) /\t/' | sort -t$'\t' -k2,2 |
+  awk -F'\t' '{ n[$2]++; where[$2] = where[$2] "    " $1 "\n" } END { for (t in n) if (n[t] > 1) printf "  %s:\n%s", t, where[t] }')
+if [ -n "$dups" ]; then
+  fail "types with the same name (one name per concept):"
+  printf '%s\n' "$dups"
+fi
+
+history=$(git ls-files 'crates/*.rs' 'crates/*.glsl' 'crates/*.comp' 'crates/*.vert' 'crates/*.frag' |
+  xargs grep -nE '//.*\b[Ii]ssues? [0-9]+' || true)
+if [ -n "$history" ]; then
+  fail "comments that narrate history (issue numbers belong in commit messages):"
+  printf '%s\n' "$history" | sed 's/^/    /'
+fi
+
+# The layers: a crate's manifest names only the crates below it.
+deps_of() { sed -n '/^\[dependencies\]/,/^\[/p' "crates/$1/Cargo.toml" | grep -oE '^lensray[a-z-]*' | sort -u | tr '\n' ' '; }
+[ -z "$(deps_of lensray-core)" ] || fail "lensray-core depends on $(deps_of lensray-core)(it depends on no other lensray crate)"
+[ "$(deps_of lensray-vulkan)" = "lensray-core " ] || fail "lensray-vulkan depends on $(deps_of lensray-vulkan)(only lensray-core)"
+if grep -rqE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-core/src crates/lensray/src; then
+  fail "unsafe code outside lensray-vulkan:"
+  grep -rnE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-core/src crates/lensray/src | sed 's/^/    /'
+fi
+
+if ! doc_log=$(cargo doc --workspace --no-deps --quiet 2>&1); then
+  fail "cargo doc --no-deps failed (broken intra-doc links are denied):"
+  printf '%s\n' "$doc_log" | grep -E '^(error|warning)|-->' | sed 's/^/    /'
+fi
+
+[ $failed -eq 0 ] && echo "house: ok (files <= $max_lines lines, unique type names, no history in comments, layers, docs)"
+exit $failed
