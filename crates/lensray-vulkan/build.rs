@@ -1,14 +1,14 @@
 //! Compiles the GLSL shaders in `shaders/` to SPIR-V (Vulkan 1.2, SPIR-V 1.4) with shaderc.
-//! `shaders/` has the layers of `src/gpu/`: `include/` (what the shaders share: camera, sampler,
+//! `shaders/` has the layers of `lensray-vulkan/src/`: `include/` (what the shaders share: camera, sampler,
 //! scene, shading), `passes/` (the renderer's passes), `present/` (the preview window's) and
 //! `probes/` (tests' and benchmarks', compiled only with the `probes` feature, as their Rust
 //! side). Each `shaders/LAYER/NAME.{vert,frag,comp}` becomes `$OUT_DIR/NAME.STAGE.spv`, embedded
-//! by `src/gpu/core/shader.rs` with `include_bytes!`. `#include "x.glsl"` resolves in
+//! by `lensray-vulkan/src/core/shader.rs` with `include_bytes!`. `#include "x.glsl"` resolves in
 //! `shaders/include/`. A shader listed in `VARIANTS` is compiled once per variant instead, with
 //! that variant's macro defined, into `$OUT_DIR/VARIANT.STAGE.spv`.
 //! A compile error fails the build with the file and line of every message.
 //!
-//! First it writes `$OUT_DIR/interface.glsl` from `src/interface/shared.rs`, the one definition
+//! First it writes `$OUT_DIR/interface.glsl` from `lensray-core/src/interface/shared.rs`, the one definition
 //! of what the host and the shaders share, and fails if Rust lays out a shared struct
 //! differently from GLSL.
 
@@ -35,7 +35,7 @@ mod interface {
 const INTERFACE_HEADER: &str = "interface.glsl";
 
 /// Shaders compiled more than once: file name, then (output name, macro defined) per variant.
-/// trace.comp: one closest-hit implementation each (src/gpu/passes/trace.rs picks the pipeline).
+/// trace.comp: one closest-hit implementation each (lensray-vulkan/src/passes/trace.rs picks the pipeline).
 const VARIANTS: &[(&str, &[(&str, &str)])] = &[(
     "trace.comp",
     &[

@@ -5,7 +5,7 @@
 //!
 //! The camera is the Rust [`Camera`]: the raster pass projects with `clip_from_world()`, the
 //! compute pass generates rays with `shaders/include/camera.glsl`, a function-by-function
-//! mirror of `src/camera`, fed with the camera's own matrices. This module is the only place in
+//! mirror of `lensray-core/src/camera`, fed with the camera's own matrices. This module is the only place in
 //! the crate with `unsafe` code; every Vulkan object is owned by a Rust value and destroyed on
 //! drop.
 //!
@@ -39,6 +39,7 @@
 #![deny(clippy::undocumented_unsafe_blocks)]
 
 mod core;
+mod estimators;
 mod passes;
 mod present;
 #[cfg(feature = "probes")]
@@ -60,6 +61,7 @@ pub use core::adapter::DeviceReport;
 pub use core::counters::Counters;
 pub use core::error::GpuError;
 pub use core::instance::ValidationLog;
+pub use estimators::SamplesAdded;
 pub use passes::gbuffer::{focus_distance_at, GBuffer};
 pub use passes::trace::Timings;
 pub use present::overlay::OverlayFrame;
@@ -336,32 +338,6 @@ impl GpuRenderer {
             height: g.height,
             pixels,
         })
-    }
-
-    /// Traces samples `samples` (thin lens, `Unlit` or `Lit`) of every pixel and adds them to
-    /// `accumulation`, which has the camera's size. The sums stay on the device until
-    /// [`read_sums`](Self::read_sums): continuing a render uploads and reads back nothing.
-    /// `progress(done, total)` counts pixel-samples.
-    pub fn accumulate(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-        samples: std::ops::Range<u32>,
-        accumulation: &mut Accumulation,
-        progress: &mut Progress,
-    ) -> Result<(), GpuError> {
-        check_samples(camera, settings)?;
-        if self.scene.is_none() {
-            return Err(GpuError::NoScene);
-        }
-        self.trace.accumulate(
-            (camera, settings),
-            samples,
-            accumulation,
-            &mut self.timings,
-            None,
-            progress,
-        )
     }
 
     /// Brings `accumulation`'s sums to the host when this renderer holds them on its device

@@ -8,7 +8,7 @@ use std::str::FromStr;
 pub enum Traversal {
     /// VK_KHR_ray_query against the driver's acceleration structures (BLAS per mesh + TLAS).
     RayQuery,
-    /// A stack-based traversal in the shader of the project's own BVH (src/gpu/scene/bvh.rs): needs
+    /// A stack-based traversal in the shader of the project's own BVH (lensray-vulkan/src/scene/bvh.rs): needs
     /// no ray-tracing support.
     Software,
 }

@@ -1,5 +1,5 @@
-//! Real lenses on the GPU (shaders/include/real_lens.glsl, the mirror of src/camera/real_lens
-//! and src/optics/trace.rs): the probe traces the same film and lens samples as the CPU for
+//! Real lenses on the GPU (shaders/include/real_lens.glsl, the mirror of lensray-core/src/camera/real_lens
+//! and lensray-core/src/optics/trace.rs): the probe traces the same film and lens samples as the CPU for
 //! every built-in lens, wide open and stopped down, with round, bladed and image stops; and
 //! the traced paths render what the CPU renders. Validation on; see tests/gpu.rs for skips.
 
@@ -39,7 +39,7 @@ fn lens_camera(name: &str, f_number: Option<f64>, width: u32, height: u32) -> Ca
     .expect("a valid real-lens camera")
 }
 
-/// The probe's rays through the lens against `Camera::generate_ray_through_lens`: the same
+/// The probe's rays through the lens against `Camera::generate_ray`: the same
 /// rays pass, with the same weights, origins and directions. The GPU's sqrt, division and
 /// normalize may differ from Rust's in the last bit, so values are compared to 1e-5; a ray
 /// grazing an opening may then pass on one side only, which is counted and bounded.
@@ -83,7 +83,7 @@ fn real_lens_rays_match_the_cpu() {
                         q.sample_index,
                     );
                     checked += 1;
-                    let cpu = cam.generate_ray_through_lens(cs.film, cs.lens);
+                    let cpu = cam.generate_ray(cs.film, cs.lens);
                     let gpu_weight = r.through_lens_origin[3];
                     match cpu {
                         None if gpu_weight < 0.0 => {}

@@ -8,14 +8,14 @@ use gpu_support::{
     camera, may_skip, record_skip, render_path as render, settings, test_scene, traced_path,
 };
 use lensray::paths::RenderPath;
-use lensray::paths::{hybrid, HybridPath, PathChoice, PathKind};
+use lensray::paths::{hybrid, GpuPath, PathChoice, PathKind};
 use lensray_core::camera::{Camera, LensParams};
 use lensray_core::film::compare::{mean_error, rmse};
 use lensray_core::settings::{RenderSettings, Shading};
 use lensray_vulkan::{GpuOptions, GpuRenderer};
 
 /// The hybrid path on a validated device with the test scene loaded.
-fn hybrid(test: &str) -> Option<HybridPath> {
+fn hybrid(test: &str) -> Option<GpuPath> {
     let renderer = match GpuRenderer::new(&GpuOptions {
         validate: true,
         ..GpuOptions::default()
@@ -27,7 +27,7 @@ fn hybrid(test: &str) -> Option<HybridPath> {
         }
         Err(e) => panic!("{test}: {e}"),
     };
-    let mut path = HybridPath::new(renderer).expect("hybrid path");
+    let mut path = GpuPath::new(renderer, PathKind::Hybrid).expect("hybrid path");
     path.load_scene(&test_scene()).expect("load scene");
     Some(path)
 }
@@ -304,7 +304,7 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
     let Some(renderer) = open() else {
         return;
     };
-    let mut path = HybridPath::new(renderer).expect("hybrid path");
+    let mut path = GpuPath::new(renderer, PathKind::Hybrid).expect("hybrid path");
     let image = path.render(cam, s, &mut |_, _| {}).expect("hybrid render");
     let shortcut = path
         .last_plan()

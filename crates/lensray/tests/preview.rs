@@ -259,7 +259,7 @@ fn traced_depth(pixel: UVec2) -> f32 {
     };
     let settings = lensray::cli::render::merged_settings(&description.settings, &args);
     let camera = shot(&settings, &description.scene).unwrap().camera;
-    let ray = camera.generate_ray(pixel.as_vec2() + Vec2::splat(0.5), Vec2::splat(0.5));
+    let ray = camera.first_order_ray(pixel.as_vec2() + Vec2::splat(0.5), Vec2::splat(0.5));
     let hit = Renderer::new(&description.scene)
         .intersect(&ray)
         .expect("a surface under the test pixel");

@@ -142,7 +142,7 @@ impl Camera {
 
     /// The raster path's matrix for one camera sample shared by every pixel (film offset
     /// `film_u` in [0, 1)^2 within the pixel, lens sample `lens_u`): rasterizing with it, the
-    /// pixel centre (column + 0.5, row + 0.5) sees what `generate_ray((column, row) + film_u,
+    /// pixel centre (column + 0.5, row + 0.5) sees what `first_order_ray((column, row) + film_u,
     /// lens_u)` hits. The lens shear ([`ThinLens::pinhole_from_camera`]) moves the centre of
     /// projection to the lens point with the focal plane fixed, and a raster translation by
     /// `0.5 - film_u` brings the film sample to the pixel centre, where the rasterizer samples.
@@ -223,9 +223,12 @@ impl Camera {
         }
     }
 
-    /// A ray in world space through raster point `p_raster` and lens sample `lens_u` in
-    /// [0, 1)^2: pinhole ray, thin lens, then "transform the ray to world space".
-    pub fn generate_ray(&self, p_raster: Vec2, lens_u: Vec2) -> Ray {
+    /// The thin lens's ray in world space through raster point `p_raster` and lens sample
+    /// `lens_u` in [0, 1)^2: pinhole ray, thin lens, then "transform the ray to world space".
+    /// With a real lens this is its first-order model (the thin lens at its entrance pupil, what
+    /// rasterizing passes draw and AOVs and focus picking see); a camera ray of the camera as it
+    /// is, real lens included, is [`generate_ray`](Self::generate_ray).
+    pub fn first_order_ray(&self, p_raster: Vec2, lens_u: Vec2) -> Ray {
         let camera_ray = self
             .lens
             .lens_ray(&self.pinhole_ray_camera(p_raster), lens_u);
@@ -238,11 +241,13 @@ impl Camera {
     }
 
     /// The camera ray through raster point `p_raster` and lens sample `lens_u`, in world
-    /// space, with its weight (the image averages weight x radiance): the real lens's traced
-    /// ray (`None` when the lens blocks it), or `generate_ray` with weight 1.
-    pub fn generate_ray_through_lens(&self, p_raster: Vec2, lens_u: Vec2) -> Option<(Ray, f32)> {
+    /// space, with its weight (the image averages weight x radiance): the one way to make a
+    /// camera ray, whatever the lens. A real lens's traced ray (`None` when the lens blocks
+    /// it), else the thin lens's (`first_order_ray`, a pinhole when the aperture is closed)
+    /// with weight 1.
+    pub fn generate_ray(&self, p_raster: Vec2, lens_u: Vec2) -> Option<(Ray, f32)> {
         let Some(real) = &self.real_lens else {
-            return Some((self.generate_ray(p_raster, lens_u), 1.0));
+            return Some((self.first_order_ray(p_raster, lens_u), 1.0));
         };
         let film = real.film_point(p_raster, self.width, self.height);
         let (camera_ray, weight) = real.camera_ray(film, lens_u)?;

@@ -71,12 +71,12 @@ shader_interface! {
         /// triangles in leaf order.
         TRACE_BINDING_BVH_NODES: u32 = 9;
         TRACE_BINDING_BVH_TRIANGLES: u32 = 10;
-        /// trace.comp, hybrid path (src/paths/hybrid/, docs/hybrid.md): one vec4 per pixel of
+        /// trace.comp, hybrid path (lensray/src/paths/hybrid/, docs/hybrid.md): one vec4 per pixel of
         /// the whole image: xyz the shortcut value, w the samples to trace (w >= 1: samples
         /// i < w are traced, later ones skipped) or HYBRID_SHORTCUT (the pixel takes the
         /// shortcut value, checked by tracing with probability 1 / HYBRID_CHECK_INVERSE).
         TRACE_BINDING_PLAN: u32 = 11;
-        /// trace.comp, raster path (src/paths/gpu.rs, docs/raster.md): one uint per pixel of
+        /// trace.comp, raster path (docs/raster.md): one uint per pixel of
         /// the whole image, what the raster pass of the current sample sees there: the global
         /// triangle index + 1, or 0 (nothing).
         TRACE_BINDING_VISIBILITY: u32 = 12;
@@ -114,7 +114,7 @@ shader_interface! {
         HYBRID_CHECK_INVERSE: u32 = 32;
         /// Salt of that choice's hash (apart from the sampler's own uses of the sample key).
         HYBRID_CHECK_SALT: u32 = 0x68796272;
-        /// The hybrid's plan (src/paths/hybrid/ `Plan::new` on the host, the same rules in
+        /// The hybrid's plan (lensray/src/paths/hybrid/ `Plan::new` on the host, the same rules in
         /// shaders/passes/hybrid_plan.comp on the device): side of the square tiles over which the
         /// circle of confusion is maximised, pixels (also the workgroup tile of hybrid_plan.comp).
         HYBRID_TILE: u32 = 8;
@@ -152,7 +152,7 @@ shader_interface! {
         /// The trace pass's TRACE_BINDING_SURFACE_DEPTH, written by the entries step.
         HYBRID_PLAN_BINDING_SURFACE_DEPTH: u32 = 6;
         /// Entries of the software traversal's stack of nodes still to visit; the BVH build
-        /// refuses deeper trees (src/gpu/scene/bvh.rs).
+        /// refuses deeper trees (lensray-vulkan/src/scene/bvh.rs).
         BVH_STACK_SIZE: u32 = 64;
         /// probe.comp.
         PROBE_BINDING_QUERIES: u32 = 0;
@@ -172,7 +172,7 @@ shader_interface! {
         /// sampler_cost.comp (the benchmark of sample generation alone).
         SAMPLER_COST_BINDING_SUMS: u32 = 0;
     }
-    // Every struct here is read back by the layout probe (src/gpu/probes/layouts.rs) through
+    // Every struct here is read back by the layout probe (lensray-vulkan/src/probes/layouts.rs) through
     // the kind of block its layout is for; the one marked `#[layout_probe(push_constant)]`
     // through push constants too.
     structs {
@@ -340,13 +340,13 @@ shader_interface! {
             dimension_bits: u32,
             /// film.xy, lens.xy of camera_sample(sampler_kind, seed, pixel, width, sample_index)
             camera_sample: [f32; 4],
-            /// generate_ray(camera, film, lens): origin (w = 1)
+            /// first_order_ray(camera, film, lens): origin (w = 1)
             origin: [f32; 4],
             /// ... and direction (w = 0)
             direction: [f32; 4],
             /// lens_point(camera, lens).xy, then 0, 0
             lens_point: [f32; 4],
-            /// generate_ray_through_lens(camera, film, lens): origin, w the weight (-1: the
+            /// generate_ray(camera, film, lens): origin, w the weight (-1: the
             /// real lens blocks the ray)
             through_lens_origin: [f32; 4],
             /// ... and direction (w = 0)
@@ -391,7 +391,7 @@ shader_interface! {
             /// Ke
             emission: [f32; 4],
         }
-        /// An inner node of the software traversal's BVH (src/gpu/scene/bvh.rs): the boxes of both
+        /// An inner node of the software traversal's BVH (lensray-vulkan/src/scene/bvh.rs): the boxes of both
         /// children, so one node fetch tests two boxes (Aila and Laine's layout). A child is
         /// another node (count 0: `link` indexes the node array) or a leaf (count > 0: `count`
         /// triangles from `link` in the leaf-ordered triangle array).

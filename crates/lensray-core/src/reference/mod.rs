@@ -1,7 +1,7 @@
 //! The CPU reference renderer: the ground truth every GPU path is compared with.
 //!
 //! Shading definitions (the GPU compute pass implements the same, see `shaders/passes/trace.comp`):
-//! - Primary rays: `Camera::generate_ray` from the shared sampler's `camera_sample`, t in (0, inf).
+//! - Primary rays: `Camera::first_order_ray` from the shared sampler's `camera_sample`, t in (0, inf).
 //! - `unlit`: Kd of the first hit, background on a miss.
 //! - `lit`: Ke plus Kd / pi * I * cos / d^2 from the point light when a shadow ray from
 //!   `surface::shadow_origin` to the light, t in (0, d), is unoccluded; background on a miss.

@@ -1,8 +1,8 @@
-//! The primary rays of a packet of samples at once: `pixel_camera_samples` then `Camera::generate_ray`
+//! The primary rays of a packet of samples at once: `pixel_camera_samples` then `Camera::first_order_ray`
 //! for every lane, laid out by lane so the divisions and square roots vectorize. Operation for
 //! operation the same arithmetic as the camera module (glam's `transform_point3`,
 //! `transform_vector3`, `normalize`; `ThinLens::lens_ray` and `lens_point`), so the rays
-//! are bit-identical to `Camera::generate_ray` (tests/reference.rs checks it); the camera module
+//! are bit-identical to `Camera::first_order_ray` (tests/reference.rs checks it); the camera module
 //! stays the definition the GLSL mirrors.
 
 use glam::{Mat4, Vec3};
@@ -63,7 +63,7 @@ fn normalize(v: &mut Lanes3) {
 }
 
 /// World-space primary rays of samples `first..first + PACKET_SIZE` of the sampler's pixel (the
-/// caller uses the first `spp - first` of them), as `Camera::generate_ray(sample.film,
+/// caller uses the first `spp - first` of them), as `Camera::first_order_ray(sample.film,
 /// sample.lens)` makes them.
 pub fn primary_rays(
     camera: &Camera,
@@ -124,7 +124,7 @@ pub fn primary_rays(
         normalize(&mut to_focus);
         direction = to_focus;
     }
-    // Camera::generate_ray: to world space.
+    // Camera::first_order_ray: to world space.
     let world_origin = transform(&camera.world_from_camera, &origin, true);
     let world_direction = transform(&camera.world_from_camera, &direction, false);
     for l in 0..PACKET_SIZE {
@@ -139,7 +139,7 @@ pub fn primary_rays(
 
 /// The rays of samples `first..first + n` of the sampler's pixel through the camera's real
 /// lens, packed: the first `m` slots (m returned) hold the rays the lens lets through, in
-/// world space, with their weights (`Camera::generate_ray_through_lens`).
+/// world space, with their weights (`Camera::generate_ray`).
 pub fn real_lens_rays(
     camera: &Camera,
     sampler: &PixelSampler,
@@ -153,7 +153,7 @@ pub fn real_lens_rays(
         return 0;
     };
     // RealLens::camera_rays traces the packet's rays together (what
-    // Camera::generate_ray_through_lens gives one by one, bit for bit).
+    // Camera::generate_ray gives one by one, bit for bit).
     let mut samples = [(Vec3::ZERO, glam::Vec2::ZERO); PACKET_SIZE];
     for l in 0..n {
         let film = glam::Vec2::new(film_x[l], film_y[l]);

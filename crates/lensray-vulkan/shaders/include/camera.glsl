@@ -1,4 +1,4 @@
-// Mirror of src/camera (projective.rs, thin_lens.rs), function by function. The matrices come
+// Mirror of lensray-core/src/camera (projective.rs, thin_lens.rs), function by function. The matrices come
 // from the Rust `Camera` (struct Camera in the generated interface.glsl): there is no second
 // camera here.
 #ifndef LENSRAY_CAMERA_GLSL
@@ -180,8 +180,8 @@ Ray pinhole_ray_camera(Camera cam, vec2 p_raster) {
     return r;
 }
 
-// projective.rs: Camera::generate_ray
-Ray generate_ray(Camera cam, vec2 p_raster, vec2 lens_u) {
+// projective.rs: Camera::first_order_ray
+Ray first_order_ray(Camera cam, vec2 p_raster, vec2 lens_u) {
     Ray camera_ray = lens_ray(cam, pinhole_ray_camera(cam, p_raster), lens_u);
     Ray r;
     r.origin = (cam.world_from_camera * vec4(camera_ray.origin, 1.0)).xyz;

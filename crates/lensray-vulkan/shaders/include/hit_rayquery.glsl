@@ -1,5 +1,5 @@
 // The hit interface (see shading.glsl) answered by ray queries against the scene's TLAS
-// (src/gpu/scene/accel.rs: one BLAS per mesh, instance custom index = the mesh's first triangle).
+// (lensray-vulkan/src/scene/accel.rs: one BLAS per mesh, instance custom index = the mesh's first triangle).
 // The including shader enables GL_EXT_ray_query and declares the trace set's bindings.
 #ifndef LENSRAY_HIT_RAYQUERY_GLSL
 #define LENSRAY_HIT_RAYQUERY_GLSL

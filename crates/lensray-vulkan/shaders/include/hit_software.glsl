@@ -1,11 +1,11 @@
 // The hit interface (see shading.glsl) answered by a stack-based traversal of the project's own
-// BVH (src/gpu/scene/bvh.rs): nodes hold both children's boxes (one fetch, two slab tests), leaves are
+// BVH (lensray-vulkan/src/scene/bvh.rs): nodes hold both children's boxes (one fetch, two slab tests), leaves are
 // named by their parent (first triangle, count), triangles are stored in leaf order. Ordered
 // traversal: leaves are tested as soon as their box is hit (shortening the ray), then the nearer
 // inner child is visited first and the other pushed with its entry distance, so that a popped
 // node beyond the closest hit so far costs no fetch (+4% rays/s on the default scene). A stack
 // in shared memory instead of this local array measured ~3% slower on lavapipe. The triangle test is Woop, Benthin and
-// Wald's watertight one, as in the CPU reference (src/reference/triangle.rs). Needs no
+// Wald's watertight one, as in the CPU reference (lensray-core/src/reference/triangle.rs). Needs no
 // extension: runs on any Vulkan 1.2 device.
 #ifndef LENSRAY_HIT_SOFTWARE_GLSL
 #define LENSRAY_HIT_SOFTWARE_GLSL
@@ -176,7 +176,7 @@ bool traverse(vec3 origin, vec3 direction, float t_max, bool any_hit, out uint h
 bool closest_hit(vec3 origin, vec3 direction, float t_max, out Hit hit) {
     uint slot;
     bool found = traverse(origin, direction, t_max, false, slot, hit.t, hit.barycentrics);
-    // Exact: the index is below 2^24 (src/gpu/scene/bvh.rs).
+    // Exact: the index is below 2^24 (lensray-vulkan/src/scene/bvh.rs).
     hit.triangle = found ? uint(bvh_triangles[slot].v0.w) : 0u;
     return found;
 }

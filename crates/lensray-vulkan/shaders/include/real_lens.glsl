@@ -1,7 +1,7 @@
-// Mirror of src/camera/real_lens (mod.rs, pupil.rs) and the f32 tracer src/optics/trace.rs
+// Mirror of lensray-core/src/camera/real_lens (mod.rs, pupil.rs) and the f32 tracer lensray-core/src/optics/trace.rs
 // (`narrow`), function by function: a camera ray from a film point toward the exit pupil's
 // region, refracted through every surface of the lens in the storage buffer `lens` (struct
-// Lens in the generated interface.glsl, written by src/gpu/core/conv.rs from the Rust lens).
+// Lens in the generated interface.glsl, written by lensray-vulkan/src/core/conv.rs from the Rust lens).
 // Included by camera.glsl where the shader defines LENS_BINDING (and APERTURE_TABLE_BINDING,
 // whose image the stop reads). `precise`: no fused multiply-adds, Rust's roundings.
 #ifndef LENSRAY_REAL_LENS_GLSL
@@ -197,12 +197,12 @@ vec3 lens_pupil_sample(vec3 film, vec2 u, out float area) {
     return vec3(turned, lens.rear_z);
 }
 
-// projective.rs: Camera::generate_ray_through_lens (real_lens/mod.rs: RealLens::camera_ray,
-// camera_from_lens). False when the lens blocks the ray; the thin lens: generate_ray, weight 1.
-bool generate_ray_through_lens(Camera cam, vec2 p_raster, vec2 lens_u, out Ray r,
+// projective.rs: Camera::generate_ray (real_lens/mod.rs: RealLens::camera_ray,
+// camera_from_lens). False when the lens blocks the ray; the thin lens: first_order_ray, weight 1.
+bool generate_ray(Camera cam, vec2 p_raster, vec2 lens_u, out Ray r,
                                out float weight) {
     if (lens.surface_count == 0u) {
-        r = generate_ray(cam, p_raster, lens_u);
+        r = first_order_ray(cam, p_raster, lens_u);
         weight = 1.0;
         return true;
     }

@@ -1,4 +1,4 @@
-// Mirror of src/sampler/ (mod.rs, hash.rs, independent.rs, owen.rs, sobol.rs,
+// Mirror of lensray-core/src/sampler/ (mod.rs, hash.rs, independent.rs, owen.rs, sobol.rs,
 // scrambled_sobol.rs), function by function. 32-bit integer arithmetic only, so every value
 // equals the CPU's bit for bit. The generator matrices of sobol.rs are not needed here: the
 // sampler uses the closed forms of the first two Sobol' dimensions (and quality.rs is analysis).

@@ -1,4 +1,4 @@
-// The scene as the shaders see it (src/gpu/core/conv.rs builds these arrays): every mesh
+// The scene as the shaders see it (lensray-vulkan/src/core/conv.rs builds these arrays): every mesh
 // concatenated, global vertex indices, one info word per triangle, materials.
 // Declare SCENE_SET before including; bindings SCENE_BINDING_* of that set.
 #ifndef LENSRAY_SCENE_GLSL

@@ -1,4 +1,4 @@
-// Shading of the thin-lens compute pass, as specified for every renderer (src/settings/render.rs,
+// Shading of the thin-lens compute pass, as specified for every renderer (lensray-core/src/settings/render.rs,
 // the CPU reference): unlit (the diffuse colour of the closest hit) or lit (emission + one point
 // light with a shadow ray). Include after a hit implementation (hit_rayquery.glsl or
 // hit_software.glsl), which defines

@@ -1,4 +1,4 @@
-// What the preview shows of a surface, one function per view: the encodings of src/output.rs
+// What the preview shows of a surface, one function per view: the encodings of lensray-core/src/film/colour.rs
 // (PNG): sRGB colours, 0.5 n + 0.5 normals, depth scaled by the far plane, and the circle of
 // confusion from the thin-lens formula. resolve.comp applies them to the G-buffer's images,
 // view.frag to a fragment's values, so both routes show the same bytes.

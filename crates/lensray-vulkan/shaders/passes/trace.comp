@@ -1,16 +1,16 @@
 #version 460
 // Thin-lens compute pass: spp camera samples per pixel, each traced and shaded as specified for
-// every renderer (shading.glsl; src/settings/render.rs, the CPU reference). build.rs compiles it
+// every renderer (shading.glsl; lensray-core/src/settings/render.rs, the CPU reference). build.rs compiles it
 // once per closest-hit implementation: TRAVERSAL_RAY_QUERY (ray queries against the TLAS,
 // hit_rayquery.glsl) and TRAVERSAL_SOFTWARE (the project's own BVH, hit_software.glsl, no
 // ray-tracing extension). One dispatch covers some rows (strided) and a range of samples; sums
 // accumulate in `accum` (xyz: the sum, w: how many samples), which holds a band of rows of the
 // image (bounded by the device's storage-buffer range).
-// The hybrid path (src/paths/hybrid/, docs/hybrid.md) runs it in TRACE_MODE_HYBRID: a plan
+// The hybrid path (lensray/src/paths/hybrid/, docs/hybrid.md) runs it in TRACE_MODE_HYBRID: a plan
 // per pixel says how many samples to trace, or that the pixel takes a shortcut value, checked
 // by tracing a sample with probability 1 / HYBRID_CHECK_INVERSE (unbiased); TRACE_MODE_SHORTCUT
 // (lit) first shades the aperture-centre ray of each pixel into the plan, before its steps.
-// The raster path (src/paths/gpu.rs, docs/raster.md) runs it in TRACE_MODE_RASTER after each
+// The raster path (lensray/src/paths/gpu.rs, docs/raster.md) runs it in TRACE_MODE_RASTER after each
 // of its raster passes: one camera sample shared by all pixels, whose first hit the pass drew.
 #if defined(TRAVERSAL_RAY_QUERY)
 #extension GL_EXT_ray_query : require
@@ -55,7 +55,7 @@ struct Hit {
 #include "shading.glsl"
 
 // The camera samples of pixel (x, y): its own, or with shared samples those of pixel (0, 0)
-// offset to it (sampler.glsl, src/sampler). Made once per pixel, outside the sample loops.
+// offset to it (sampler.glsl, lensray-core/src/sampler). Made once per pixel, outside the sample loops.
 PixelSampler samples_of(uint x, uint y) {
     return params.shared_samples != 0u
         ? shared_pixel_sampler(params.sampler_kind, params.seed, uvec2(x, y))
@@ -138,7 +138,7 @@ uint trace_pixel() {
         // path does: no traversal for it), shaded with one shadow ray (the shortcut value),
         // and whether that ray was blocked (the plan's edge test compares it between
         // neighbours: a shadow boundary is an edge).
-        Ray ray = generate_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
+        Ray ray = first_order_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
         bool shadowed;
         vec3 value = shade_rasterized(ray, pixel_index, rays, shadowed);
         plan[pixel_index] = vec4(value, shadowed ? 1.0 : 0.0);
@@ -170,7 +170,7 @@ uint trace_pixel() {
                 }
                 vec3 value = lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut;
                 if (check) {
-                    Ray ray = generate_ray(params.camera, cs.film, cs.lens);
+                    Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
                     value += (shade(ray, rays) - value) * float(HYBRID_CHECK_INVERSE);
                 }
                 sum += value;
@@ -181,7 +181,7 @@ uint trace_pixel() {
             uint end = min(pc.sample_end, uint(entry.w));
             for (uint s = pc.sample_begin; s < end; ++s) {
                 CameraSample cs = pixel_camera_sample(sampler_state, s);
-                Ray ray = generate_ray(params.camera, cs.film, cs.lens);
+                Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
                 sum += shade(ray, rays);
             }
             added = end > pc.sample_begin ? end - pc.sample_begin : 0u;
@@ -190,7 +190,7 @@ uint trace_pixel() {
         // One sample, shared by every pixel: the raster pass drew what its lens ray sees first.
         uint s = pc.sample_begin;
         CameraSample cs = pixel_camera_sample(sampler_state, s);
-        Ray ray = generate_ray(params.camera, cs.film, cs.lens);
+        Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
         bool shadowed;
         sum += shade_rasterized(ray, pixel_index, rays, shadowed);
         added = 1u;
@@ -201,7 +201,7 @@ uint trace_pixel() {
             CameraSample cs = pixel_camera_sample(sampler_state, s);
             Ray ray;
             float weight;
-            if (generate_ray_through_lens(params.camera, cs.film, cs.lens, ray, weight)) {
+            if (generate_ray(params.camera, cs.film, cs.lens, ray, weight)) {
                 sum += weight * shade(ray, rays);
             }
         }

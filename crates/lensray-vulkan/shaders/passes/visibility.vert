@@ -1,5 +1,5 @@
 #version 460
-// Raster path, visibility pass (src/gpu/passes/visibility.rs): pulls triangle corners from the scene
+// Raster path, visibility pass (lensray-vulkan/src/passes/visibility.rs): pulls triangle corners from the scene
 // arrays (non-indexed draw of 3 vertices per triangle) and projects them through one lens point
 // with Camera::clip_from_world_through_lens. The triangle index goes to the fragment stage as a
 // flat varying (gl_PrimitiveID there would need the geometry-shader feature).

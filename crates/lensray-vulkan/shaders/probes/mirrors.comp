@@ -1,6 +1,6 @@
 #version 460
 // Mirror check: evaluates shaders/include/sampler.glsl and shaders/include/camera.glsl for a list of queries so
-// tests can compare them with src/sampler.rs and src/camera bit for bit.
+// tests can compare them with lensray-core/src/sampler.rs and lensray-core/src/camera bit for bit.
 #include "interface.glsl"
 #define APERTURE_TABLE_BINDING PROBE_BINDING_APERTURE
 #define LENS_BINDING PROBE_BINDING_LENS
@@ -36,13 +36,13 @@ void main() {
     CameraSample cs = camera_sample(q.sampler_kind, q.seed, uvec2(q.pixel_x, q.pixel_y), q.width,
                                     q.sample_index);
     r.camera_sample = vec4(cs.film, cs.lens);
-    Ray ray = generate_ray(cam, cs.film, cs.lens);
+    Ray ray = first_order_ray(cam, cs.film, cs.lens);
     r.origin = vec4(ray.origin, 1.0);
     r.direction = vec4(ray.direction, 0.0);
     r.lens_point = vec4(lens_point(cam, cs.lens), 0.0, 0.0);
     Ray through;
     float weight;
-    bool passed = generate_ray_through_lens(cam, cs.film, cs.lens, through, weight);
+    bool passed = generate_ray(cam, cs.film, cs.lens, through, weight);
     r.through_lens_origin = vec4(through.origin, passed ? weight : -1.0);
     r.through_lens_direction = vec4(through.direction, 0.0);
     results[i] = r;

@@ -8,7 +8,6 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::barrier_to_host;
 use crate::core::buffer::{barrier, Buffer};
 use crate::core::device::Context;
 use crate::core::error::GpuError;
@@ -19,7 +18,6 @@ use crate::passes::gbuffer::GBufferTargets;
 use crate::passes::trace::TracePass;
 use crate::passes::visibility::VisibilityPass;
 use crate::scene::SceneBuffers;
-use crate::{check_size, GpuRenderer};
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
     HybridPlanPush, HYBRID_PLAN_BINDING_ALBEDO, HYBRID_PLAN_BINDING_EDGES,
@@ -223,124 +221,10 @@ impl HybridPlanPass {
     }
 }
 
-/// The hybrid path's entry points (src/paths/hybrid/).
-impl GpuRenderer {
-    /// The hybrid plan's pass, made on first use (only the hybrid path compiles its pipeline).
-    pub(crate) fn ensure_hybrid_plan(&mut self) -> Result<(), GpuError> {
-        if self.hybrid_plan.is_none() {
-            self.hybrid_plan = Some(HybridPlanPass::new(&self.ctx)?);
-        }
-        Ok(())
-    }
-
-    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel, row-major;
-    /// see `interface::TRACE_BINDING_PLAN`), or `None` to trace every sample again.
-    pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
-        self.trace.set_plan(plan)
-    }
-    /// The hybrid path's plan made on the device (shaders/passes/hybrid_plan.comp) for later
-    /// `accumulate` calls: one submission draws the G-buffer of `planning` (the camera whose
-    /// raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
-    /// pixel's shortcut value and shadow state), and plans `settings.spp` samples seen by
-    /// `camera` from them. Nothing is read back; `read_plan` can.
-    pub fn plan_on_device(
-        &mut self,
-        camera: &Camera,
-        planning: &Camera,
-        settings: &RenderSettings,
-    ) -> Result<(), GpuError> {
-        check_size(camera)?;
-        if (planning.width, planning.height) != (camera.width, camera.height) {
-            return Err(GpuError::Invalid(
-                "the planning camera's size differs from the camera's".into(),
-            ));
-        }
-        let lit = settings.shading == Shading::Lit;
-        if lit {
-            self.prepare_raster(camera.width, camera.height)?;
-        }
-        self.ensure_hybrid_plan()?;
-        self.gbuffer_pass()?
-            .ensure_targets(camera.width, camera.height)?;
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let pixels = u64::from(camera.width) * u64::from(camera.height);
-        self.trace.ensure_plan_capacity(pixels)?;
-        // The render's buffers now, while nothing is pending: the plan is not waited for.
-        self.trace
-            .ensure_accumulation(camera.width, camera.height)?;
-        self.trace.ensure_camera_tables(camera)?;
-        let gbuffer = self.gbuffer.as_ref().expect("made above");
-        let targets = gbuffer.targets.as_ref().expect("ensured above");
-        let hybrid_plan = self.hybrid_plan.as_mut().expect("made above");
-        hybrid_plan.bind(
-            targets,
-            self.trace.plan_buffer_ref(),
-            self.trace.surface_depth_ref(),
-        )?;
-        let ctx = &self.ctx;
-        let plan = self.hybrid_plan.as_ref().expect("made above");
-        let trace = &mut self.trace;
-        let visibility = self.visibility.as_ref();
-        // Not waited for: the render's submissions follow on the queue, and the pre-pass's
-        // rays reach the render's report through the counter (`record_keep_prepass_rays`).
-        ctx.submit(|cmd| {
-            gbuffer.record(cmd, scene, planning, settings.background, None);
-            if let Some(visibility) = visibility.filter(|_| lit) {
-                record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
-                trace.record_keep_prepass_rays(cmd);
-            }
-            plan.record(cmd, targets, camera, settings.shading, settings.spp);
-            barrier_to_host(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            );
-            Ok(())
-        })?;
-        self.timings.gbuffer_passes += 1;
-        self.trace.use_device_plan(pixels);
-        Ok(())
-    }
-    /// The hybrid's lit pre-pass alone (the host plan's input, `paths::hybrid::host_plan`): per
-    /// pixel the shortcut value (xyz) and whether its shadow ray was blocked (w, 1 or 0).
-    pub fn lit_prepass(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-    ) -> Result<Vec<[f32; 4]>, GpuError> {
-        check_size(camera)?;
-        self.prepare_raster(camera.width, camera.height)?;
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let visibility = self.visibility.as_ref().expect("prepared above");
-        let pixels = u64::from(camera.width) * u64::from(camera.height);
-        self.trace.ensure_plan_capacity(pixels)?;
-        self.trace.ensure_camera_tables(camera)?;
-        let (ctx, trace) = (&self.ctx, &self.trace);
-        ctx.submit_and_wait(|cmd| {
-            record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
-            barrier_to_host(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            );
-            Ok(())
-        })?;
-        self.trace.read_plan(pixels)
-    }
-    /// The entries of the plan last made by `plan_on_device` (`pixels` of them), once it is
-    /// made.
-    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
-        self.ctx.wait_all()?;
-        self.trace.read_plan(pixels)
-    }
-}
-
 /// The hybrid's lit pre-pass with the parameters of `camera` and `settings`, its rays counted
 /// from zero (the render path's plan and the host plan's input record it alike): the
 /// visibility pass through the lens centre, then the shading of what it saw.
-fn record_lit_prepass(
+pub(crate) fn record_lit_prepass(
     (trace, visibility, scene): (&TracePass, &VisibilityPass, &SceneBuffers),
     cmd: vk::CommandBuffer,
     camera: &Camera,

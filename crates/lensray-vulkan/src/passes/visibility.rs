@@ -19,9 +19,7 @@ use crate::passes::draw::{
     record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
 };
 use crate::scene::SceneBuffers;
-use crate::{check_samples, GpuRenderer};
 use lensray_core::camera::Camera;
-use lensray_core::film::{Accumulation, Progress};
 use lensray_core::interface::VisibilityPush;
 use lensray_core::sampler::{pixel_camera_sample, shared_pixel_sampler};
 use lensray_core::settings::RenderSettings;
@@ -172,7 +170,7 @@ impl VisibilityPass {
         camera: &Camera,
     ) {
         // Film offset 0.5 is the pixel centre; lens_u (0.5, 0.5) the lens centre
-        // (concentric_sample_disk), as generate_ray is given them in the pre-pass.
+        // (concentric_sample_disk), as first_order_ray is given them in the pre-pass.
         let centre = Vec2::splat(0.5);
         self.record(cmd, scene, &camera.for_rasterizing_rays(), centre, centre);
     }
@@ -250,60 +248,5 @@ impl VisibilityPass {
             vk::PipelineStageFlags::COMPUTE_SHADER,
             vk::AccessFlags::SHADER_READ,
         );
-    }
-}
-
-/// The raster path's entry points (src/paths/raster.rs).
-impl GpuRenderer {
-    /// The raster path (accumulation-buffer depth of field, docs/raster.md): adds samples
-    /// `samples` of every pixel as `accumulate` does, but each sample is one camera sample
-    /// shared by every pixel (`settings.shared_samples` is implied): the scene is rasterized
-    /// through that sample's lens point (`Camera::clip_from_world_through_lens`), and the
-    /// shading pass shades what each pixel sees along its lens ray (lit: with a shadow ray of
-    /// the traversal in use).
-    pub fn accumulate_rasterized(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-        samples: std::ops::Range<u32>,
-        accumulation: &mut Accumulation,
-        progress: &mut Progress,
-    ) -> Result<(), GpuError> {
-        check_samples(camera, settings)?;
-        self.prepare_raster(camera.width, camera.height)?;
-        let settings = RenderSettings {
-            shared_samples: true,
-            ..*settings
-        };
-        let raster_camera = camera.for_rasterizing_rays();
-        let visibility = self.visibility.as_ref().expect("prepared");
-        let scene = self.scene.as_ref().expect("prepared");
-        let record = |cmd, sample| {
-            visibility.record_sample(cmd, scene, &raster_camera, &settings, sample);
-        };
-        self.trace.accumulate(
-            (camera, &settings),
-            samples,
-            accumulation,
-            &mut self.timings,
-            Some(&record),
-            progress,
-        )
-    }
-    /// Makes the raster path's visibility pass (on first use) and its targets for a `width` x
-    /// `height` image, bound to the trace pass (the hybrid's lit pre-pass uses it too).
-    pub(crate) fn prepare_raster(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        if self.visibility.is_none() {
-            let pass = VisibilityPass::new(&self.ctx)?;
-            pass.bind_scene(scene);
-            self.visibility = Some(pass);
-        }
-        let visibility = self.visibility.as_mut().expect("made above");
-        if visibility.ensure_targets(width, height)? {
-            let targets = visibility.targets.as_ref().expect("just made");
-            self.trace.bind_visibility(&targets.buffer);
-        }
-        Ok(())
     }
 }

@@ -1,5 +1,5 @@
 //! A check of the GLSL mirrors (shaders/include/sampler.glsl, shaders/include/camera.glsl): evaluates them for
-//! a list of queries with probe.comp so tests can compare against src/sampler/ and src/camera.
+//! a list of queries with probe.comp so tests can compare against lensray-core/src/sampler/ and lensray-core/src/camera.
 
 use std::sync::Arc;
 

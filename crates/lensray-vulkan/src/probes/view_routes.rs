@@ -1,6 +1,6 @@
 //! Tests' check of the view pass: a non-final preview view drawn by both of the preview's
-//! routes, the G-buffer pass followed by the resolve (src/gpu/present/resolve.rs), and the view pass
-//! (src/gpu/present/view_pass.rs) into an image of the resolve's display format, both read back.
+//! routes, the G-buffer pass followed by the resolve (lensray-vulkan/src/present/resolve.rs), and the view pass
+//! (lensray-vulkan/src/present/view_pass.rs) into an image of the resolve's display format, both read back.
 
 use std::sync::Arc;
 

@@ -32,7 +32,7 @@ const SCENE_BINDINGS: [u32; 5] = [
     SCENE_BINDING_MATERIALS,
 ];
 
-/// The software traversal's BVH on the device (src/gpu/scene/bvh.rs).
+/// The software traversal's BVH on the device (lensray-vulkan/src/scene/bvh.rs).
 pub(crate) struct BvhBuffers {
     nodes: Buffer,
     triangles: Buffer,

@@ -85,7 +85,7 @@ fn unlit_estimate(
                 for s in 0..spp {
                     let u = candidate(key, s);
                     let film = Vec2::new(x as f32 + u[0], y as f32 + u[1]);
-                    let ray = camera.generate_ray(film, Vec2::new(u[2], u[3]));
+                    let ray = camera.first_order_ray(film, Vec2::new(u[2], u[3]));
                     sum += match renderer.intersect(&ray) {
                         Some(hit) => {
                             let m = renderer.surface_point(&ray, &hit).material;

@@ -3,7 +3,7 @@
 //! how long the CPU takes to make the shot's camera rays, and each path's cost per camera ray
 //! that reaches the scene against the thin lens's.
 //!
-//! Camera rays are counted here, on the CPU, with `Camera::generate_ray_through_lens` and the
+//! Camera rays are counted here, on the CPU, with `Camera::generate_ray` and the
 //! samples the paths draw (same sampler, seed and pixels), so the count does not depend on the
 //! shading: the paths' own counters add shadow rays under lit shading. Under unlit shading
 //! (the bench's default) each camera ray that reaches the scene is exactly one ray of the
@@ -56,7 +56,7 @@ pub struct LensPoint {
     /// with a `CENTRE_GRID` x `CENTRE_GRID` grid of lens samples.
     pub centre_pass_share: f64,
     pub centre_samples: u64,
-    /// The CPU's time to make every camera ray of the shot (`generate_ray_through_lens`, all
+    /// The CPU's time to make every camera ray of the shot (`generate_ray`, all
     /// threads, no scene traced; median of 3): the lens's part of the CPU path's time.
     pub camera_ray_seconds: f64,
     /// Where the CPU's time per camera sample goes, one thread.
@@ -75,7 +75,7 @@ pub struct CpuPieces {
     pub pupil_ns: f64,
     /// The trace through the lens's surfaces, blocked rays included (0 for the thin lens).
     pub lens_trace_ns: f64,
-    /// `generate_ray_through_lens` as a whole (pupil, trace, weight, to world space).
+    /// `generate_ray` as a whole (pupil, trace, weight, to world space).
     pub camera_ray_ns: f64,
     /// What the CPU path runs instead: `RealLens::camera_rays` on packets of `PACKET_SIZE`
     /// samples traced together by lane (film point, pupil, trace and weight, in camera
@@ -168,7 +168,7 @@ impl CpuPieces {
         let camera_ray_ns = ns_per_sample(n, &|| {
             let mut sum = 0.0;
             for &(film, lens) in &samples {
-                if let Some((ray, weight)) = camera.generate_ray_through_lens(film, lens) {
+                if let Some((ray, weight)) = camera.generate_ray(film, lens) {
                     sum += ray.direction.x + weight;
                 }
             }
@@ -278,7 +278,7 @@ pub fn shot_camera_rays(camera: &Camera, settings: &RenderSettings) -> u64 {
                 let sampler = sampler_of(camera, settings, pixel);
                 for i in 0..settings.spp {
                     let sample = pixel_camera_sample(&sampler, i);
-                    let ray = camera.generate_ray_through_lens(sample.film, sample.lens);
+                    let ray = camera.generate_ray(sample.film, sample.lens);
                     passed += u64::from(ray.is_some());
                 }
             }
@@ -304,7 +304,7 @@ pub fn centre_camera_rays(camera: &Camera) -> (u64, u64) {
             for j in 0..CENTRE_GRID {
                 for i in 0..CENTRE_GRID {
                     let lens = (Vec2::new(i as f32, j as f32) + 0.5) / CENTRE_GRID as f32;
-                    passed += u64::from(camera.generate_ray_through_lens(film, lens).is_some());
+                    passed += u64::from(camera.generate_ray(film, lens).is_some());
                     drawn += 1;
                 }
             }

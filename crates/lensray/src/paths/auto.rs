@@ -7,12 +7,12 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 
-use super::{calibration, estimator};
+use super::calibration;
 use crate::paths::PathKind;
 use lensray_core::camera::Camera;
 use lensray_core::film::Accumulation;
 use lensray_core::settings::{RenderSettings, Shading};
-use lensray_vulkan::GpuRenderer;
+use lensray_vulkan::{Estimator, GpuRenderer};
 
 /// `auto` on an open Vulkan device with a scene loaded: the only traversal it runs, the fastest
 /// of the device's cached calibration (`calibration`), or else the fastest on a small render of
@@ -77,7 +77,13 @@ fn fastest(
         for round in 0..3 {
             let before = renderer.timings();
             let mut accumulation = Accumulation::new(small.width, small.height);
-            renderer.accumulate(&small, &lit, 0..lit.spp, &mut accumulation, &mut |_, _| {})?;
+            renderer.add_samples(
+                (&small, &lit),
+                Estimator::Traced,
+                0..lit.spp,
+                &mut accumulation,
+                &mut |_, _| {},
+            )?;
             let after = renderer.timings();
             // Round 0 compiles the pipeline (its first dispatch is timed apart).
             if round > 0 {
@@ -164,10 +170,9 @@ pub fn pick_path(
         for round in 0..3 {
             let mut accumulation = Accumulation::new(small.width, small.height);
             let start = Instant::now();
-            estimator(kind).expect("a GPU path").add_samples(
-                renderer,
-                &small,
-                &lit,
+            renderer.add_samples(
+                (&small, &lit),
+                kind.estimator(),
                 0..lit.spp,
                 &mut accumulation,
                 &mut |_, _| {},

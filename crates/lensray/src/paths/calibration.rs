@@ -19,7 +19,7 @@ use super::{CpuPath, PathKind, RenderPath};
 use lensray_core::camera::Camera;
 use lensray_core::film::Accumulation;
 use lensray_core::settings::{RenderSettings, Shading};
-use lensray_vulkan::{DeviceReport, GpuOptions, GpuRenderer, Traversal};
+use lensray_vulkan::{DeviceReport, Estimator, GpuOptions, GpuRenderer, Traversal};
 
 /// Bumped when the calibration shot or the measurement changes: older entries are measured again.
 const FORMAT: u32 = 1;
@@ -221,7 +221,8 @@ pub fn measure(gpu: &GpuOptions) -> Result<Calibration> {
     for traversal in renderer.traversals() {
         renderer.set_traversal(traversal)?;
         let traversal_cost = cost(|spp, acc| {
-            renderer.accumulate(&camera, &settings, 0..spp, acc, &mut |_, _| {})?;
+            let shot = (&camera, &settings);
+            renderer.add_samples(shot, Estimator::Traced, 0..spp, acc, &mut |_, _| {})?;
             Ok(renderer.read_sums(acc)?)
         })?;
         costs.insert(PathKind::of_traversal(traversal), traversal_cost);

@@ -1,6 +1,6 @@
-//! What the GPU paths share: the Vulkan renderer with a scene loaded, its AOVs (the raster
-//! G-buffer), focus picking, report and close. A path differs only in how it adds samples, its
-//! [`GpuEstimator`]: `traced` (rayquery, software), `raster`, `hybrid`.
+//! The GPU paths: the Vulkan renderer with a scene loaded, its AOVs (the raster G-buffer),
+//! focus picking, report and close. A path differs only in how it adds samples, its
+//! [`Estimator`] (`PathKind::estimator`): traced (rayquery, software), raster, hybrid.
 
 use std::ops::Range;
 
@@ -12,61 +12,49 @@ use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::Scene;
 use lensray_core::settings::RenderSettings;
-use lensray_vulkan::{focus_distance_at, GpuRenderer, Traversal};
+use lensray_vulkan::{focus_distance_at, Estimator, GpuRenderer, Traversal};
 
-/// How a GPU path adds samples to an accumulation.
-pub trait GpuEstimator {
-    /// The path it makes of `renderer` (the traced path is the traversal in use).
-    fn kind(&self, renderer: &GpuRenderer) -> PathKind;
-
-    /// Adds samples `samples` of every pixel to `accumulation` (checked by the caller: the
-    /// camera's size, a traced shading), as `RenderPath::add_samples`.
-    fn add_samples(
-        &mut self,
-        renderer: &mut GpuRenderer,
-        camera: &Camera,
-        settings: &RenderSettings,
-        samples: Range<u32>,
-        accumulation: &mut Accumulation,
-        progress: &mut Progress,
-    ) -> Result<()>;
-
-    /// Host time spent tracing besides the renderer's GPU timestamps (the hybrid's plan).
-    fn host_seconds(&self) -> f64 {
-        0.0
-    }
-}
-
-/// The estimator of a GPU path `kind`; `None` for the CPU.
-pub fn estimator(kind: PathKind) -> Option<Box<dyn GpuEstimator>> {
-    Some(match kind {
-        PathKind::RayQuery | PathKind::Software => Box::new(super::traced::Traced),
-        PathKind::Raster => Box::new(super::raster::Raster),
-        PathKind::Hybrid => Box::new(super::hybrid::Hybrid::default()),
-        PathKind::Cpu => return None,
-    })
-}
+use super::hybrid::Plan;
 
 /// A GPU path: the renderer and the estimator that adds its samples.
-pub struct GpuPath<E> {
+pub struct GpuPath {
     renderer: GpuRenderer,
-    pub(super) estimator: E,
+    estimator: Estimator,
     peak_device_bytes: u64,
+    /// Wall-clock seconds of the hybrid's plans (G-buffer draw and plan on the device),
+    /// counted in the report's trace time: they are part of what the path costs.
+    plan_seconds: f64,
+    /// The size and spp of the hybrid's last plan, which stays on the device (read back only
+    /// when asked: `last_plan`).
+    last_plan: Option<(u32, u32, u32)>,
 }
 
-impl<E: GpuEstimator> GpuPath<E> {
-    /// `renderer` must trace with the traversal the path needs (set by `paths::open`).
-    pub fn with(renderer: GpuRenderer, estimator: E) -> Self {
-        Self {
+impl GpuPath {
+    /// The path of `kind` on `renderer`, which must trace with the traversal the path needs
+    /// (set by `paths::open`).
+    pub fn new(renderer: GpuRenderer, kind: PathKind) -> Result<Self> {
+        if !kind.is_gpu() {
+            anyhow::bail!("the {kind} path has no Vulkan renderer");
+        }
+        Ok(Self {
             peak_device_bytes: renderer.allocated_bytes(),
             renderer,
-            estimator,
-        }
+            estimator: kind.estimator(),
+            plan_seconds: 0.0,
+            last_plan: None,
+        })
     }
 
-    /// The renderer (the hybrid path reads its plan back on request).
-    pub(super) fn renderer(&self) -> &GpuRenderer {
-        &self.renderer
+    /// The hybrid's plan of the last `add_samples` call, read back from the device (tests and
+    /// measurements: a render reads back nothing of it); `None` before the first or for the
+    /// other estimators.
+    pub fn last_plan(&self) -> Result<Option<Plan>> {
+        let Some((width, height, spp)) = self.last_plan else {
+            return Ok(None);
+        };
+        let pixels = u64::from(width) * u64::from(height);
+        let entries = self.renderer.read_plan(pixels)?;
+        Ok(Some(Plan::from_entries(width, height, entries, spp)))
     }
 
     fn note_memory(&mut self) {
@@ -74,9 +62,13 @@ impl<E: GpuEstimator> GpuPath<E> {
     }
 }
 
-impl<E: GpuEstimator> RenderPath for GpuPath<E> {
+impl RenderPath for GpuPath {
     fn kind(&self) -> PathKind {
-        self.estimator.kind(&self.renderer)
+        match self.estimator {
+            Estimator::Traced => PathKind::of_traversal(self.renderer.traversal()),
+            Estimator::Raster => PathKind::Raster,
+            Estimator::Hybrid => PathKind::Hybrid,
+        }
     }
 
     fn device_name(&self) -> String {
@@ -98,16 +90,19 @@ impl<E: GpuEstimator> RenderPath for GpuPath<E> {
         progress: &mut Progress,
     ) -> Result<()> {
         super::check_accumulation(camera, settings, accumulation)?;
-        let added = self.estimator.add_samples(
-            &mut self.renderer,
-            camera,
-            settings,
+        let added = self.renderer.add_samples(
+            (camera, settings),
+            self.estimator,
             samples,
             accumulation,
             progress,
         );
         self.note_memory();
-        added
+        if self.estimator == Estimator::Hybrid {
+            self.last_plan = Some((camera.width, camera.height, settings.spp));
+        }
+        self.plan_seconds += added?.plan_seconds;
+        Ok(())
     }
 
     fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<()> {
@@ -135,7 +130,7 @@ impl<E: GpuEstimator> RenderPath for GpuPath<E> {
         PathReport {
             rays: t.rays_traced + t.first_dispatch_rays,
             trace_seconds: (t.trace_gpu_ms + t.first_dispatch_ms.unwrap_or(0.0)) * 1e-3
-                + self.estimator.host_seconds(),
+                + self.plan_seconds,
             clock: Clock::GpuTimestamps,
             build_seconds: match traversal {
                 Traversal::RayQuery => t.accel_build_wall_ms * 1e-3,

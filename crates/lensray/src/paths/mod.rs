@@ -1,8 +1,8 @@
-//! The render paths behind [`RenderPath`], one file (or folder) each: `cpu`, `traced`
-//! (`rayquery`, `software`), `raster`, `hybrid`, with what the GPU paths share in `gpu`; and the
-//! choice of one. `--device` says which device, `--path` which algorithm ([`PathKind`] describes
-//! them, [`request`] checks what the two ask for together); `auto` measures the paths the device
-//! supports and takes the fastest (`auto`).
+//! The render paths behind [`RenderPath`]: `cpu` (the CPU reference) and `gpu` (the Vulkan
+//! renderer with one of its estimators: traced for `rayquery` and `software`, raster, hybrid,
+//! whose host-side plan `hybrid` holds); and the choice of one. `--device` says which device,
+//! `--path` which algorithm ([`PathKind`] describes them, [`request`] checks what the two ask
+//! for together); `auto` measures the paths the device supports and takes the fastest (`auto`).
 
 mod auto;
 pub mod calibration;
@@ -10,23 +10,18 @@ mod cpu;
 mod gpu;
 pub mod hybrid;
 mod path;
-mod raster;
 pub mod request;
-mod traced;
 
 use anyhow::{bail, Context, Result};
 
 pub use auto::{pick_path, pick_traversal};
 pub use cpu::CpuPath;
-pub use gpu::{estimator, GpuEstimator, GpuPath};
-pub use hybrid::HybridPath;
+pub use gpu::GpuPath;
 pub use path::{
     Choice, Clock, DeviceChoice, DeviceKind, PathChoice, PathKind, PathReport, RealLensSupport,
     RenderPath,
 };
-pub use raster::RasterPath;
 pub use request::PathOptions;
-pub use traced::TracedPath;
 
 use lensray_core::camera::Camera;
 use lensray_core::film::Accumulation;
@@ -121,20 +116,8 @@ pub fn open(
         None => pick_path(&mut renderer, shot)?,
     };
     Ok(OpenedPath {
-        path: gpu_path(renderer, kind)?,
+        path: Box::new(GpuPath::new(renderer, kind)?),
         why,
-    })
-}
-
-/// The GPU path `kind` on `renderer` (which traces with the traversal it needs).
-fn gpu_path(renderer: GpuRenderer, kind: PathKind) -> Result<Box<dyn RenderPath>> {
-    Ok(match kind {
-        PathKind::RayQuery | PathKind::Software => {
-            Box::new(TracedPath::with(renderer, traced::Traced))
-        }
-        PathKind::Raster => Box::new(RasterPath::with(renderer, raster::Raster)),
-        PathKind::Hybrid => Box::new(HybridPath::new(renderer)?),
-        PathKind::Cpu => bail!("the CPU path has no Vulkan renderer"),
     })
 }
 

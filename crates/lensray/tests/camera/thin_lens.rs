@@ -86,7 +86,10 @@ fn lens_rays_of_a_film_point_meet_on_the_focal_plane() {
             let scale = (expected - r.eye).length();
             let pinhole_camera = cam.pinhole_ray_camera(film);
 
-            let rays: Vec<Ray> = samples.iter().map(|&u| cam.generate_ray(film, u)).collect();
+            let rays: Vec<Ray> = samples
+                .iter()
+                .map(|&u| cam.first_order_ray(film, u))
+                .collect();
             let meet = convergence_point(&rays);
             assert_close(
                 &format!("{name}: film {film:?}: camera depth of the rays' meeting point {meet:?}"),
@@ -159,7 +162,10 @@ fn lens_ray_spread_matches_circle_of_confusion() {
         let pixels_per_screen_unit = r.height / (2.0 * r.s);
         for film in film_points(&r, &mut rng) {
             let (col, row) = (film.x as f64, film.y as f64);
-            let rays: Vec<Ray> = samples.iter().map(|&u| cam.generate_ray(film, u)).collect();
+            let rays: Vec<Ray> = samples
+                .iter()
+                .map(|&u| cam.first_order_ray(film, u))
+                .collect();
             for k in [0.2, 0.5, 0.8, 1.25, 2.0, 5.0] {
                 // Depths in front of and behind focus, all in front of the lens plane.
                 let z = lens_z + k * (r.focus - lens_z);
@@ -264,7 +270,7 @@ fn sheared_projection_sends_lens_rays_to_their_pixel_centre() {
             );
             let film_u = p - p.floor();
             for lens_u in lens_samples(&mut rng).into_iter().take(40) {
-                let ray = cam.generate_ray(p, lens_u);
+                let ray = cam.first_order_ray(p, lens_u);
                 let clip_from_world = cam.clip_from_world_through_lens(film_u, lens_u);
                 for t in [0.3f32, 1.0, 3.0, 7.0] {
                     let point = ray.at(t * cam.lens.focus_distance);

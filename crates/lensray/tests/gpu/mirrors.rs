@@ -15,7 +15,7 @@ use crate::gpu_support::*;
 /// The sampler kinds the mirror probe alternates between, indexed by their ids.
 const KINDS: [SamplerKind; 2] = [SamplerKind::Sobol, SamplerKind::Independent];
 
-/// Every field of every struct shared with the shaders (src/interface) is read by GLSL where
+/// Every field of every struct shared with the shaders (lensray-core/src/interface) is read by GLSL where
 /// Rust wrote it: std140 ones through a uniform block, std430 ones through a storage buffer,
 /// the marked one through push constants too; no struct of the interface's list is left out.
 #[test]
@@ -219,7 +219,7 @@ fn check_camera_mirrors(cam: &Camera, q: &ProbeQuery, r: &ProbeResult, cs: &Came
     }
     // Rays: same formulas, but GPU transcendentals and fused operations may differ in
     // the last bits.
-    let ray = cam.generate_ray(cs.film, cs.lens);
+    let ray = cam.first_order_ray(cs.film, cs.lens);
     let o = Vec3::new(r.origin[0], r.origin[1], r.origin[2]);
     let d = Vec3::new(r.direction[0], r.direction[1], r.direction[2]);
     let err =
@@ -229,7 +229,7 @@ fn check_camera_mirrors(cam: &Camera, q: &ProbeQuery, r: &ProbeResult, cs: &Came
     assert_eq!(
         r.through_lens_origin,
         [r.origin[0], r.origin[1], r.origin[2], 1.0],
-        "generate_ray_through_lens for {q:?}"
+        "generate_ray for {q:?}"
     );
     assert_eq!(r.through_lens_direction, r.direction);
     err
@@ -248,7 +248,7 @@ fn sampler_and_camera_mirrors_match_rust() {
             let cs = check_sampler_mirrors(q, r);
             worst_ray = worst_ray.max(check_camera_mirrors(cam, q, r, &cs));
         }
-        assert!(worst_ray < 1e-5, "generate_ray differs by {worst_ray}");
+        assert!(worst_ray < 1e-5, "first_order_ray differs by {worst_ray}");
     }
     finish(gpu, log);
 }

@@ -52,7 +52,7 @@ fn lit_matches_lambert_with_inverse_square() {
                 16,
                 0,
             );
-            let ray = cam.generate_ray(sample.film, sample.lens);
+            let ray = cam.first_order_ray(sample.film, sample.lens);
             let t = (-4.0 - ray.origin.z) / ray.direction.z;
             let p = ray.at(t);
             let to_light = s.light.position - p;

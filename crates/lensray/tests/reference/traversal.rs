@@ -1,5 +1,5 @@
 //! Ray traversal: the BVH against brute force, ray packets against single rays, and the
-//! packets' primary rays against `Camera::generate_ray`.
+//! packets' primary rays against `Camera::first_order_ray`.
 
 use glam::{Vec3, Vec3A};
 use lensray_core::camera::{CameraParams, LensParams, ProjectionParams};
@@ -234,7 +234,7 @@ fn packet_primary_rays_equal_generate_ray_bit_for_bit() {
                                 cam.width,
                                 first + l,
                             );
-                            let ray = cam.generate_ray(sample.film, sample.lens);
+                            let ray = cam.first_order_ray(sample.film, sample.lens);
                             let bits = |v: Vec3| v.to_array().map(f32::to_bits);
                             assert_eq!(
                                 (bits(origins[l as usize]), bits(directions[l as usize])),

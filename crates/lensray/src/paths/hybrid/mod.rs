@@ -23,85 +23,11 @@
 //! `plan` holds the same rules on the host: `Plan::new` is the reference the device plan is
 //! checked against (`host_plan` reads the G-buffer back and plans on the host, `device_plan`
 //! reads the device's entries back; tests/hybrid.rs compares them). A render reads none of the
-//! plan back (`HybridPath::last_plan` does, when asked).
+//! plan back (`GpuPath::last_plan` does, when asked).
 //!
 //! Whether a pixel traces sample `i` depends on the plan (camera, settings, scene) only, never on
 //! the range asked for, so any split of a range gives the same sums, as for every path.
 
 mod plan;
 
-use std::ops::Range;
-use std::time::Instant;
-
-use anyhow::Result;
-
-use super::gpu::{GpuEstimator, GpuPath};
-use crate::paths::PathKind;
-use lensray_core::camera::Camera;
-use lensray_core::film::{Accumulation, Progress};
-use lensray_core::settings::RenderSettings;
-use lensray_vulkan::GpuRenderer;
-
 pub use plan::{device_plan, host_plan, window_radius, Plan, SEGMENT, SHORTCUT_COC, TILE};
-
-/// The trace pass following a plan made from the G-buffer, per call of `add_samples`.
-#[derive(Default)]
-pub struct Hybrid {
-    /// Wall-clock seconds of the plans (G-buffer draw and plan on the device, entries read),
-    /// counted in the report's trace time: they are part of what the path costs.
-    plan_seconds: f64,
-    /// The size and spp of the last plan, which stays on the device (read back only when
-    /// asked: `HybridPath::last_plan`).
-    last_plan: Option<(u32, u32, u32)>,
-}
-
-/// The hybrid path: a GPU path (any traversal; `paths::open` picks the device's fastest) whose
-/// trace pass follows a plan made from the G-buffer.
-pub type HybridPath = GpuPath<Hybrid>;
-
-impl HybridPath {
-    pub fn new(renderer: GpuRenderer) -> Result<Self> {
-        Ok(GpuPath::with(renderer, Hybrid::default()))
-    }
-
-    /// The plan of the last `add_samples` call, read back from the device (tests and
-    /// measurements: a render reads back nothing of it).
-    pub fn last_plan(&self) -> Result<Option<Plan>> {
-        let Some((width, height, spp)) = self.estimator.last_plan else {
-            return Ok(None);
-        };
-        let pixels = u64::from(width) * u64::from(height);
-        let entries = self.renderer().read_plan(pixels)?;
-        Ok(Some(Plan::from_entries(width, height, entries, spp)))
-    }
-}
-
-impl GpuEstimator for Hybrid {
-    fn kind(&self, _: &GpuRenderer) -> PathKind {
-        PathKind::Hybrid
-    }
-
-    fn add_samples(
-        &mut self,
-        renderer: &mut GpuRenderer,
-        camera: &Camera,
-        settings: &RenderSettings,
-        samples: Range<u32>,
-        accumulation: &mut Accumulation,
-        progress: &mut Progress,
-    ) -> Result<()> {
-        let start = Instant::now();
-        renderer.plan_on_device(camera, &camera.for_rasterizing_rays(), settings)?;
-        self.plan_seconds += start.elapsed().as_secs_f64();
-        let traced = renderer.accumulate(camera, settings, samples, accumulation, progress);
-        let cleared = renderer.set_plan(None);
-        self.last_plan = Some((camera.width, camera.height, settings.spp));
-        traced?;
-        cleared?;
-        Ok(())
-    }
-
-    fn host_seconds(&self) -> f64 {
-        self.plan_seconds
-    }
-}

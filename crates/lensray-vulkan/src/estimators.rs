@@ -1,0 +1,251 @@
+//! How the renderer adds samples to an accumulation: [`GpuRenderer::add_samples`] with an
+//! [`Estimator`], the one entry the app's render paths and `auto`'s timing call. Each estimator
+//! records its passes here: traced (the trace pass alone), raster (the visibility pass through
+//! each shared lens sample, then the trace pass's shading) and hybrid (the plan made on the
+//! device from the G-buffer, then the trace pass following it).
+
+use std::time::Instant;
+
+use ash::vk;
+
+use lensray_core::camera::Camera;
+use lensray_core::film::{Accumulation, Progress};
+use lensray_core::settings::{RenderSettings, Shading};
+
+use crate::core::buffer::barrier_to_host;
+use crate::core::error::GpuError;
+use crate::passes::hybrid_plan::{record_lit_prepass, HybridPlanPass};
+use crate::passes::visibility::VisibilityPass;
+use crate::{check_samples, check_size, Estimator, GpuRenderer};
+
+/// What adding a batch of samples cost besides the trace pass's GPU timestamps.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SamplesAdded {
+    /// Wall-clock seconds of the hybrid's plan (G-buffer draw and plan pass on the device).
+    pub plan_seconds: f64,
+}
+
+impl GpuRenderer {
+    /// Adds samples `samples` of every pixel (`Unlit` or `Lit`) to `accumulation`, which has
+    /// the camera's size, with `estimator`. The sums stay on the device until
+    /// [`read_sums`](Self::read_sums): continuing a render uploads and reads back nothing.
+    /// `progress(done, total)` counts pixel-samples.
+    pub fn add_samples(
+        &mut self,
+        (camera, settings): (&Camera, &RenderSettings),
+        estimator: Estimator,
+        samples: std::ops::Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut Progress,
+    ) -> Result<SamplesAdded, GpuError> {
+        match estimator {
+            Estimator::Traced => {
+                self.accumulate(camera, settings, samples, accumulation, progress)?;
+                Ok(SamplesAdded::default())
+            }
+            Estimator::Raster => {
+                self.accumulate_rasterized(camera, settings, samples, accumulation, progress)?;
+                Ok(SamplesAdded::default())
+            }
+            Estimator::Hybrid => {
+                let start = Instant::now();
+                self.plan_on_device(camera, &camera.for_rasterizing_rays(), settings)?;
+                let plan_seconds = start.elapsed().as_secs_f64();
+                let traced = self.accumulate(camera, settings, samples, accumulation, progress);
+                let cleared = self.set_plan(None);
+                traced?;
+                cleared?;
+                Ok(SamplesAdded { plan_seconds })
+            }
+        }
+    }
+
+    /// Traces samples `samples` (thin lens, `Unlit` or `Lit`) of every pixel and adds them to
+    /// `accumulation`, which has the camera's size. The sums stay on the device until
+    /// [`read_sums`](Self::read_sums): continuing a render uploads and reads back nothing.
+    /// `progress(done, total)` counts pixel-samples.
+    pub(crate) fn accumulate(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: std::ops::Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut Progress,
+    ) -> Result<(), GpuError> {
+        check_samples(camera, settings)?;
+        if self.scene.is_none() {
+            return Err(GpuError::NoScene);
+        }
+        self.trace.accumulate(
+            (camera, settings),
+            samples,
+            accumulation,
+            &mut self.timings,
+            None,
+            progress,
+        )
+    }
+
+    /// The raster path (accumulation-buffer depth of field, docs/raster.md): adds samples
+    /// `samples` of every pixel as `accumulate` does, but each sample is one camera sample
+    /// shared by every pixel (`settings.shared_samples` is implied): the scene is rasterized
+    /// through that sample's lens point (`Camera::clip_from_world_through_lens`), and the
+    /// shading pass shades what each pixel sees along its lens ray (lit: with a shadow ray of
+    /// the traversal in use).
+    fn accumulate_rasterized(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        samples: std::ops::Range<u32>,
+        accumulation: &mut Accumulation,
+        progress: &mut Progress,
+    ) -> Result<(), GpuError> {
+        check_samples(camera, settings)?;
+        self.prepare_raster(camera.width, camera.height)?;
+        let settings = RenderSettings {
+            shared_samples: true,
+            ..*settings
+        };
+        let raster_camera = camera.for_rasterizing_rays();
+        let visibility = self.visibility.as_ref().expect("prepared");
+        let scene = self.scene.as_ref().expect("prepared");
+        let record = |cmd, sample| {
+            visibility.record_sample(cmd, scene, &raster_camera, &settings, sample);
+        };
+        self.trace.accumulate(
+            (camera, &settings),
+            samples,
+            accumulation,
+            &mut self.timings,
+            Some(&record),
+            progress,
+        )
+    }
+    /// Makes the raster path's visibility pass (on first use) and its targets for a `width` x
+    /// `height` image, bound to the trace pass (the hybrid's lit pre-pass uses it too).
+    pub(crate) fn prepare_raster(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        if self.visibility.is_none() {
+            let pass = VisibilityPass::new(&self.ctx)?;
+            pass.bind_scene(scene);
+            self.visibility = Some(pass);
+        }
+        let visibility = self.visibility.as_mut().expect("made above");
+        if visibility.ensure_targets(width, height)? {
+            let targets = visibility.targets.as_ref().expect("just made");
+            self.trace.bind_visibility(&targets.buffer);
+        }
+        Ok(())
+    }
+
+    /// The hybrid plan's pass, made on first use (only the hybrid path compiles its pipeline).
+    pub(crate) fn ensure_hybrid_plan(&mut self) -> Result<(), GpuError> {
+        if self.hybrid_plan.is_none() {
+            self.hybrid_plan = Some(HybridPlanPass::new(&self.ctx)?);
+        }
+        Ok(())
+    }
+
+    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel, row-major;
+    /// see `interface::TRACE_BINDING_PLAN`), or `None` to trace every sample again.
+    pub(crate) fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
+        self.trace.set_plan(plan)
+    }
+    /// The hybrid path's plan made on the device (shaders/passes/hybrid_plan.comp) for later
+    /// `accumulate` calls: one submission draws the G-buffer of `planning` (the camera whose
+    /// raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
+    /// pixel's shortcut value and shadow state), and plans `settings.spp` samples seen by
+    /// `camera` from them. Nothing is read back; `read_plan` can.
+    pub fn plan_on_device(
+        &mut self,
+        camera: &Camera,
+        planning: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<(), GpuError> {
+        check_size(camera)?;
+        if (planning.width, planning.height) != (camera.width, camera.height) {
+            return Err(GpuError::Invalid(
+                "the planning camera's size differs from the camera's".into(),
+            ));
+        }
+        let lit = settings.shading == Shading::Lit;
+        if lit {
+            self.prepare_raster(camera.width, camera.height)?;
+        }
+        self.ensure_hybrid_plan()?;
+        self.gbuffer_pass()?
+            .ensure_targets(camera.width, camera.height)?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        self.trace.ensure_plan_capacity(pixels)?;
+        // The render's buffers now, while nothing is pending: the plan is not waited for.
+        self.trace
+            .ensure_accumulation(camera.width, camera.height)?;
+        self.trace.ensure_camera_tables(camera)?;
+        let gbuffer = self.gbuffer.as_ref().expect("made above");
+        let targets = gbuffer.targets.as_ref().expect("ensured above");
+        let hybrid_plan = self.hybrid_plan.as_mut().expect("made above");
+        hybrid_plan.bind(
+            targets,
+            self.trace.plan_buffer_ref(),
+            self.trace.surface_depth_ref(),
+        )?;
+        let ctx = &self.ctx;
+        let plan = self.hybrid_plan.as_ref().expect("made above");
+        let trace = &mut self.trace;
+        let visibility = self.visibility.as_ref();
+        // Not waited for: the render's submissions follow on the queue, and the pre-pass's
+        // rays reach the render's report through the counter (`record_keep_prepass_rays`).
+        ctx.submit(|cmd| {
+            gbuffer.record(cmd, scene, planning, settings.background, None);
+            if let Some(visibility) = visibility.filter(|_| lit) {
+                record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
+                trace.record_keep_prepass_rays(cmd);
+            }
+            plan.record(cmd, targets, camera, settings.shading, settings.spp);
+            barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            );
+            Ok(())
+        })?;
+        self.timings.gbuffer_passes += 1;
+        self.trace.use_device_plan(pixels);
+        Ok(())
+    }
+    /// The hybrid's lit pre-pass alone (the host plan's input, `paths::hybrid::host_plan`): per
+    /// pixel the shortcut value (xyz) and whether its shadow ray was blocked (w, 1 or 0).
+    pub fn lit_prepass(
+        &mut self,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        check_size(camera)?;
+        self.prepare_raster(camera.width, camera.height)?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let visibility = self.visibility.as_ref().expect("prepared above");
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        self.trace.ensure_plan_capacity(pixels)?;
+        self.trace.ensure_camera_tables(camera)?;
+        let (ctx, trace) = (&self.ctx, &self.trace);
+        ctx.submit_and_wait(|cmd| {
+            record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
+            barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            );
+            Ok(())
+        })?;
+        self.trace.read_plan(pixels)
+    }
+    /// The entries of the plan last made by `plan_on_device` (`pixels` of them), once it is
+    /// made.
+    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.ctx.wait_all()?;
+        self.trace.read_plan(pixels)
+    }
+}
