@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+// The edge fit that lensray-core's tests use too: one copy.
+#[path = "../../lensray-core/tests/edge_fit/mod.rs"]
 mod edge_fit;
 mod gpu_support;
 

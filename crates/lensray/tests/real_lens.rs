@@ -23,6 +23,8 @@ use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::{Material, Mesh};
 use lensray_core::settings::{PointLight, RenderSettings, Shading};
 
+// The edge fit that lensray-core's tests use too: one copy.
+#[path = "../../lensray-core/tests/edge_fit/mod.rs"]
 mod edge_fit;
 
 #[path = "real_lens/bokeh.rs"]

@@ -59,7 +59,7 @@ const THIN_SINGLET: &str = "# a thin singlet\n\
 /// The singlet's spherical aberration (Seidel LSA -0.13 mm at the rim) is 2 % of the film's
 /// defocus at these depths. Measured at 1024 spp: the fitted radius is 0.9991 and 0.9968 of
 /// the thin CoC (the thin-lens render itself: 1.0008 and 0.9999), the edge within 0.002 px of
-/// its projection, rms residual 0.0008 and 0.0018. Bounds as in tests/reference.rs: 2 % (5 %
+/// its projection, rms residual 0.0008 and 0.0018. Bounds as in lensray-core's tests/reference.rs: 2 % (5 %
 /// off in the entrance pupil, or a focus measured from the lens's rear instead of its
 /// entrance pupil, moves the CoC by more), the edge within 0.1 px, residual below 0.008
 /// (a blur of another shape).
