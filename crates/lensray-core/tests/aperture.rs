@@ -9,7 +9,7 @@ use lensray_core::film::Image;
 use lensray_core::reference::Renderer;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::{Material, Scene};
-use lensray_core::settings::{PointLight, RenderSettings, Shading};
+use lensray_core::settings::{PointLight, RenderSettings, Shading, Shot};
 
 const SIZE: u32 = 96;
 const FOCUS: f32 = 5.0;
@@ -151,11 +151,14 @@ fn an_out_of_focus_point_images_as_the_aperture_turned_in_front_of_the_focus() {
         let pixels_per_unit = SIZE as f32 / (2.0 * 20f32.to_radians().tan());
         let reach = shape.aspect.max(1.0);
         let aperture_radius = 30.0 / ((1.0 / FOCUS - 1.0 / z).abs() * pixels_per_unit * reach);
-        let cam = camera(aperture_radius, shape.clone());
+        let shot = Shot {
+            camera: camera(aperture_radius, shape.clone()),
+            render: settings(1024),
+        };
         let renderer = Renderer::new(&point_scene(z, radius));
-        let (image, _) = renderer.render(&cam, &settings(1024), &mut |_, _| {});
-        let upright = share_inside(&image, &cam, z, false);
-        let turned = share_inside(&image, &cam, z, true);
+        let (image, _) = renderer.render(&shot, &mut |_, _| {});
+        let upright = share_inside(&image, &shot.camera, z, false);
+        let turned = share_inside(&image, &shot.camera, z, true);
         println!("{shape:?} at z = {z}: {upright:.3} inside, {turned:.3} inside when turned");
         assert!(
             upright >= 0.95 && (!tells_turns || turned <= upright - 0.05),
@@ -170,18 +173,24 @@ fn an_out_of_focus_point_images_as_the_aperture_turned_in_front_of_the_focus() {
 fn roundness_one_renders_the_round_aperture() {
     let scene = point_scene(10.0, 0.3);
     let renderer = Renderer::new(&scene);
-    let round = camera(1.0, ApertureShape::ROUND);
-    let curved = camera(
-        1.0,
-        ApertureShape {
-            blades: Some(6),
-            rotation_degrees: 25.0,
-            roundness: 1.0,
-            ..ApertureShape::ROUND
-        },
-    );
-    let (a, _) = renderer.render(&round, &settings(16), &mut |_, _| {});
-    let (b, _) = renderer.render(&curved, &settings(16), &mut |_, _| {});
+    let round = Shot {
+        camera: camera(1.0, ApertureShape::ROUND),
+        render: settings(16),
+    };
+    let curved = Shot {
+        camera: camera(
+            1.0,
+            ApertureShape {
+                blades: Some(6),
+                rotation_degrees: 25.0,
+                roundness: 1.0,
+                ..ApertureShape::ROUND
+            },
+        ),
+        render: settings(16),
+    };
+    let (a, _) = renderer.render(&round, &mut |_, _| {});
+    let (b, _) = renderer.render(&curved, &mut |_, _| {});
     assert!(a.pixels.iter().any(|p| p.x > 0.0));
     assert_eq!(a, b, "roundness 1 must render the round aperture");
 }
@@ -217,11 +226,14 @@ fn an_out_of_focus_point_images_as_the_aperture_image() {
         let pixels_per_unit = SIZE as f32 / (2.0 * 20f32.to_radians().tan());
         // The image's square is 2 aperture radii wide: 42 px here.
         let aperture_radius = 21.0 / ((1.0 / FOCUS - 1.0 / z).abs() * pixels_per_unit);
-        let cam = camera(aperture_radius, shape.clone());
+        let shot = Shot {
+            camera: camera(aperture_radius, shape.clone()),
+            render: settings(1024),
+        };
         let renderer = Renderer::new(&point_scene(z, radius));
-        let (image, _) = renderer.render(&cam, &settings(1024), &mut |_, _| {});
-        let upright = share_inside(&image, &cam, z, false);
-        let turned = share_inside(&image, &cam, z, true);
+        let (image, _) = renderer.render(&shot, &mut |_, _| {});
+        let upright = share_inside(&image, &shot.camera, z, false);
+        let turned = share_inside(&image, &shot.camera, z, true);
         println!("letter F at z = {z}: {upright:.3} inside, {turned:.3} inside when turned");
         assert!(
             upright >= 0.85 && turned <= 0.5 * upright,

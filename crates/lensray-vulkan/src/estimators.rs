@@ -10,7 +10,7 @@ use ash::vk;
 
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Progress};
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 use crate::core::buffer::barrier_to_host;
 use crate::core::error::GpuError;
@@ -26,13 +26,13 @@ pub struct SamplesAdded {
 }
 
 impl GpuRenderer {
-    /// Adds samples `samples` of every pixel (`Unlit` or `Lit`) to `accumulation`, which has
-    /// the camera's size, with `estimator`. The sums stay on the device until
+    /// Adds samples `samples` of every pixel of `shot` (`Unlit` or `Lit`) to `accumulation`,
+    /// which has the camera's size, with `estimator`. The sums stay on the device until
     /// [`read_sums`](Self::read_sums): continuing a render uploads and reads back nothing.
     /// `progress(done, total)` counts pixel-samples.
     pub fn add_samples(
         &mut self,
-        (camera, settings): (&Camera, &RenderSettings),
+        shot: &Shot,
         estimator: Estimator,
         samples: std::ops::Range<u32>,
         accumulation: &mut Accumulation,
@@ -40,18 +40,18 @@ impl GpuRenderer {
     ) -> Result<SamplesAdded, GpuError> {
         match estimator {
             Estimator::Traced => {
-                self.accumulate(camera, settings, samples, accumulation, progress)?;
+                self.accumulate(shot, samples, accumulation, progress)?;
                 Ok(SamplesAdded::default())
             }
             Estimator::Raster => {
-                self.accumulate_rasterized(camera, settings, samples, accumulation, progress)?;
+                self.accumulate_rasterized(shot, samples, accumulation, progress)?;
                 Ok(SamplesAdded::default())
             }
             Estimator::Hybrid => {
                 let start = Instant::now();
-                self.plan_on_device(camera, &camera.for_rasterizing_rays(), settings)?;
+                self.plan_on_device(shot, &shot.camera.for_rasterizing_rays())?;
                 let plan_seconds = start.elapsed().as_secs_f64();
-                let traced = self.accumulate(camera, settings, samples, accumulation, progress);
+                let traced = self.accumulate(shot, samples, accumulation, progress);
                 let cleared = self.set_plan(None);
                 traced?;
                 cleared?;
@@ -60,24 +60,23 @@ impl GpuRenderer {
         }
     }
 
-    /// Traces samples `samples` (thin lens, `Unlit` or `Lit`) of every pixel and adds them to
-    /// `accumulation`, which has the camera's size. The sums stay on the device until
+    /// Traces samples `samples` of `shot` (thin lens, `Unlit` or `Lit`) of every pixel and adds
+    /// them to `accumulation`, which has the camera's size. The sums stay on the device until
     /// [`read_sums`](Self::read_sums): continuing a render uploads and reads back nothing.
     /// `progress(done, total)` counts pixel-samples.
     pub(crate) fn accumulate(
         &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
+        shot: &Shot,
         samples: std::ops::Range<u32>,
         accumulation: &mut Accumulation,
         progress: &mut Progress,
     ) -> Result<(), GpuError> {
-        check_samples(camera, settings)?;
+        check_samples(shot)?;
         if self.scene.is_none() {
             return Err(GpuError::NoScene);
         }
         self.trace.accumulate(
-            (camera, settings),
+            shot,
             samples,
             accumulation,
             &mut self.timings,
@@ -87,33 +86,36 @@ impl GpuRenderer {
     }
 
     /// The raster path (accumulation-buffer depth of field, docs/raster.md): adds samples
-    /// `samples` of every pixel as `accumulate` does, but each sample is one camera sample
-    /// shared by every pixel (`settings.shared_samples` is implied): the scene is rasterized
+    /// `samples` of every pixel of `shot` as `accumulate` does, but each sample is one camera
+    /// sample shared by every pixel (`shared_samples` is implied): the scene is rasterized
     /// through that sample's lens point (`Camera::clip_from_world_through_lens`), and the
     /// shading pass shades what each pixel sees along its lens ray (lit: with a shadow ray of
     /// the traversal in use).
     fn accumulate_rasterized(
         &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
+        shot: &Shot,
         samples: std::ops::Range<u32>,
         accumulation: &mut Accumulation,
         progress: &mut Progress,
     ) -> Result<(), GpuError> {
-        check_samples(camera, settings)?;
+        check_samples(shot)?;
+        let camera = &shot.camera;
         self.prepare_raster(camera.width, camera.height)?;
-        let settings = RenderSettings {
-            shared_samples: true,
-            ..*settings
+        let shared = Shot {
+            camera: camera.clone(),
+            render: RenderSettings {
+                shared_samples: true,
+                ..shot.render
+            },
         };
         let raster_camera = camera.for_rasterizing_rays();
         let visibility = self.visibility.as_ref().expect("prepared");
         let scene = self.scene.as_ref().expect("prepared");
         let record = |cmd, sample| {
-            visibility.record_sample(cmd, scene, &raster_camera, &settings, sample);
+            visibility.record_sample(cmd, scene, &raster_camera, &shared.render, sample);
         };
         self.trace.accumulate(
-            (camera, &settings),
+            &shared,
             samples,
             accumulation,
             &mut self.timings,
@@ -151,17 +153,13 @@ impl GpuRenderer {
     pub(crate) fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
         self.trace.set_plan(plan)
     }
-    /// The hybrid path's plan made on the device (shaders/passes/hybrid_plan.comp) for later
-    /// `accumulate` calls: one submission draws the G-buffer of `planning` (the camera whose
-    /// raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
-    /// pixel's shortcut value and shadow state), and plans `settings.spp` samples seen by
-    /// `camera` from them. Nothing is read back; `read_plan` can.
-    pub fn plan_on_device(
-        &mut self,
-        camera: &Camera,
-        planning: &Camera,
-        settings: &RenderSettings,
-    ) -> Result<(), GpuError> {
+    /// The hybrid path's plan of `shot` made on the device (shaders/passes/hybrid_plan.comp) for
+    /// later `accumulate` calls: one submission draws the G-buffer of `planning` (the camera
+    /// whose raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
+    /// pixel's shortcut value and shadow state), and plans the shot's spp samples seen by its
+    /// camera from them. Nothing is read back; `read_plan` can.
+    pub fn plan_on_device(&mut self, shot: &Shot, planning: &Camera) -> Result<(), GpuError> {
+        let (camera, settings) = (&shot.camera, &shot.render);
         check_size(camera)?;
         if (planning.width, planning.height) != (camera.width, camera.height) {
             return Err(GpuError::Invalid(
@@ -199,7 +197,7 @@ impl GpuRenderer {
         ctx.submit(|cmd| {
             gbuffer.record(cmd, scene, planning, settings.background, None);
             if let Some(visibility) = visibility.filter(|_| lit) {
-                record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
+                record_lit_prepass((trace, visibility, scene), cmd, shot);
                 trace.record_keep_prepass_rays(cmd);
             }
             plan.record(cmd, targets, camera, settings.shading, settings.spp);
@@ -215,13 +213,11 @@ impl GpuRenderer {
         self.trace.use_device_plan(pixels);
         Ok(())
     }
-    /// The hybrid's lit pre-pass alone (the host plan's input, `paths::hybrid::host_plan`): per
-    /// pixel the shortcut value (xyz) and whether its shadow ray was blocked (w, 1 or 0).
-    pub fn lit_prepass(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-    ) -> Result<Vec<[f32; 4]>, GpuError> {
+    /// The hybrid's lit pre-pass of `shot` alone (the host plan's input,
+    /// `paths::hybrid::host_plan`): per pixel the shortcut value (xyz) and whether its shadow
+    /// ray was blocked (w, 1 or 0).
+    pub fn lit_prepass(&mut self, shot: &Shot) -> Result<Vec<[f32; 4]>, GpuError> {
+        let camera = &shot.camera;
         check_size(camera)?;
         self.prepare_raster(camera.width, camera.height)?;
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
@@ -231,7 +227,7 @@ impl GpuRenderer {
         self.trace.ensure_camera_tables(camera)?;
         let (ctx, trace) = (&self.ctx, &self.trace);
         ctx.submit_and_wait(|cmd| {
-            record_lit_prepass((trace, visibility, scene), cmd, camera, settings);
+            record_lit_prepass((trace, visibility, scene), cmd, shot);
             barrier_to_host(
                 ctx,
                 cmd,

@@ -24,13 +24,14 @@
 //!
 //! ```no_run
 //! use lensray_vulkan::{GpuOptions, GpuRenderer};
-//! # fn demo(scene: &lensray_core::scene::Scene, camera: &lensray_core::camera::Camera,
-//! #         settings: &lensray_core::settings::RenderSettings) -> Result<(), lensray_vulkan::GpuError> {
+//! # fn demo(scene: &lensray_core::scene::Scene,
+//! #         shot: &lensray_core::settings::Shot) -> Result<(), lensray_vulkan::GpuError> {
 //! let mut gpu = GpuRenderer::new(&GpuOptions::default())?;
 //! gpu.load_scene(scene)?; // BLAS per mesh (compacted) + TLAS and/or BVH, scene arrays uploaded
 //! println!("tracing with {} of {:?}", gpu.traversal(), gpu.traversals());
-//! let image = gpu.render(camera, settings, &mut |done, total| eprint!("\r{done}/{total}"))?;
-//! let gbuffer = gpu.render_gbuffer(camera, settings.background)?;
+//! let image = gpu.render(shot, &mut |done, total| eprint!("\r{done}/{total}"))?;
+//! let camera = &shot.camera;
+//! let gbuffer = gpu.render_gbuffer(camera, shot.render.background)?;
 //! let focus = lensray_vulkan::focus_distance_at(&gbuffer, camera.width / 2, camera.height / 2);
 //! println!("{} rays/s", gpu.timings().rays_per_second().unwrap_or(0.0));
 //! # let _ = (image, focus); Ok(()) }
@@ -55,7 +56,7 @@ use glam::Vec3;
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::Scene;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{Shading, Shot};
 
 pub use core::adapter::DeviceReport;
 pub use core::counters::Counters;
@@ -279,17 +280,13 @@ impl GpuRenderer {
         Ok(self.gbuffer.as_mut().expect("made above"))
     }
 
-    /// Renders `settings.shading`: `Unlit` and `Lit` through the thin lens with the compute
+    /// Renders `shot` in its shading: `Unlit` and `Lit` through the thin lens with the compute
     /// pass; `Depth`, `Normal` and `Albedo` from the G-buffer. `progress(done, total)` counts
     /// pixel-samples.
-    pub fn render(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-        progress: &mut Progress,
-    ) -> Result<Image, GpuError> {
+    pub fn render(&mut self, shot: &Shot, progress: &mut Progress) -> Result<Image, GpuError> {
+        let camera = &shot.camera;
         check_size(camera)?;
-        if settings.spp == 0 {
+        if shot.render.spp == 0 {
             return Err(GpuError::Invalid("spp must be at least 1".into()));
         }
         if self.scene.is_none() {
@@ -306,26 +303,25 @@ impl GpuRenderer {
         let (image, ()) = lensray_core::film::whole_image(
             self,
             progress,
-            (camera.width, camera.height),
-            settings,
-            |this, progress| lensray_core::film::one_pass(progress, || this.aov(camera, settings)),
+            shot,
+            |this, progress| lensray_core::film::one_pass(progress, || this.aov(shot)),
             |this, samples, accumulation, progress| {
-                this.accumulate(camera, settings, samples, accumulation, progress)
+                this.accumulate(shot, samples, accumulation, progress)
             },
             |this, accumulation| this.read_sums(accumulation),
         )?;
         Ok(image)
     }
 
-    /// An AOV of `settings.shading` (`Depth`, `Normal`, `Albedo`) read from the G-buffer.
-    pub fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image, GpuError> {
-        let aov = settings.shading;
+    /// The AOV of `shot` (its shading: `Depth`, `Normal`, `Albedo`) read from the G-buffer.
+    pub fn aov(&mut self, shot: &Shot) -> Result<Image, GpuError> {
+        let aov = shot.render.shading;
         if !aov.is_aov() {
             return Err(GpuError::Invalid(format!(
                 "{aov:?} is traced: it is not an AOV of the G-buffer"
             )));
         }
-        let g = self.render_gbuffer(camera, settings.background)?;
+        let g = self.render_gbuffer(&shot.camera, shot.render.background)?;
         let pixels = (0..g.coverage.len())
             .map(|i| match aov {
                 Shading::Depth => Vec3::splat(g.view_depth[i]),
@@ -407,13 +403,13 @@ fn check_validation_log(log: &ValidationLog) -> Result<(), GpuError> {
     Ok(())
 }
 
-/// What accumulating samples needs: an image the device can hold, a traced shading.
-fn check_samples(camera: &Camera, settings: &RenderSettings) -> Result<(), GpuError> {
-    check_size(camera)?;
-    if settings.shading.is_aov() {
+/// What accumulating samples of `shot` needs: an image the device can hold, a traced shading.
+fn check_samples(shot: &Shot) -> Result<(), GpuError> {
+    check_size(&shot.camera)?;
+    if shot.render.shading.is_aov() {
         return Err(GpuError::Invalid(format!(
             "{:?} is read from the G-buffer: it has no samples to accumulate",
-            settings.shading
+            shot.render.shading
         )));
     }
     Ok(())

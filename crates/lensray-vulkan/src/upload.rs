@@ -12,7 +12,7 @@ use lensray_core::interface::{
     PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
 };
 use lensray_core::scene::Scene;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{Shading, Shot};
 
 use crate::core::error::GpuError;
 
@@ -215,7 +215,9 @@ pub fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
 // The bins the Rust lens makes are the ones the GPU block holds.
 const _: () = assert!(lensray_core::camera::real_lens::PUPIL_BINS == LENS_PUPIL_BINS as usize);
 
-pub fn trace_params(camera: &Camera, settings: &RenderSettings) -> TraceParams {
+/// The trace pass's parameters of `shot`.
+pub fn trace_params(shot: &Shot) -> TraceParams {
+    let (camera, settings) = (&shot.camera, &shot.render);
     TraceParams {
         camera: gpu_camera(camera),
         background: settings.background.extend(0.0).to_array(),

@@ -12,7 +12,7 @@ use glam::Vec3;
 use lensray_core::camera::{CameraParams, LensParams, ProjectionParams};
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::{Material, Mesh, Scene};
-use lensray_core::settings::{PointLight, RenderSettings, Shading};
+use lensray_core::settings::{PointLight, RenderSettings, Shading, Shot};
 use lensray_vulkan::{bench, GpuOptions, PassBenchOptions};
 
 /// A UV sphere with vertex normals (the scene generators' own).
@@ -87,19 +87,22 @@ fn main() {
         repeats,
     };
     for shading in [Shading::Unlit, Shading::Lit] {
-        let settings = RenderSettings {
-            spp,
-            seed: 1,
-            sampler: SamplerKind::default(),
-            shading,
-            background: Vec3::new(0.1, 0.2, 0.3),
-            light: PointLight {
-                position: Vec3::new(3.0, 8.0, 4.0),
-                intensity: Vec3::splat(100.0),
+        let shot = Shot {
+            camera: camera.clone(),
+            render: RenderSettings {
+                spp,
+                seed: 1,
+                sampler: SamplerKind::default(),
+                shading,
+                background: Vec3::new(0.1, 0.2, 0.3),
+                light: PointLight {
+                    position: Vec3::new(3.0, 8.0, 4.0),
+                    intensity: Vec3::splat(100.0),
+                },
+                shared_samples: false,
             },
-            shared_samples: false,
         };
-        match bench(&scene, &camera, &settings, &options) {
+        match bench(&scene, &shot, &options) {
             Ok(report) => println!("--- gpu bench, {shading:?}\n{report}\n"),
             Err(e) if gpu_support::may_skip(&e) => {
                 gpu_support::record_skip("benches/gpu", &e.to_string());

@@ -33,7 +33,6 @@ mod rmse;
 
 use std::time::Instant;
 
-use lensray_core::camera::Camera;
 use lensray_core::film::compare::rmse;
 use lensray_core::film::Image;
 use lensray_core::reference::Renderer;
@@ -41,7 +40,7 @@ use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::file::SceneDescription;
 use lensray_core::settings::shot;
 use lensray_core::settings::Settings;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 use cost::cost;
 use designs::{decision, edges_table, t_value_table};
@@ -114,22 +113,17 @@ fn scenes() -> Vec<(&'static str, SceneDescription)> {
     ]
 }
 
-fn resolved(
-    desc: &SceneDescription,
-    width: u32,
-    height: u32,
-    shading: Option<Shading>,
-) -> (Camera, RenderSettings) {
+fn resolved(desc: &SceneDescription, width: u32, height: u32, shading: Option<Shading>) -> Shot {
     let mut over = Settings::default();
     over.image.width = Some(width);
     over.image.height = Some(height);
     over.render.shading = shading;
-    let r = shot(&desc.settings.clone().overridden_by(&over), &desc.scene).expect("resolve");
-    (r.camera, r.render)
+    shot(&desc.settings.clone().overridden_by(&over), &desc.scene).expect("resolve")
 }
 
-fn render(renderer: &Renderer, camera: &Camera, settings: &RenderSettings) -> Image {
-    renderer.render(camera, settings, &mut |_, _| {}).0
+/// The CPU reference's image of `shot`.
+fn render(renderer: &Renderer, shot: &Shot) -> Image {
+    renderer.render(shot, &mut |_, _| {}).0
 }
 
 /// The average of `images`.
@@ -146,24 +140,22 @@ fn average(images: &[Image]) -> Image {
     out
 }
 
-/// The converged image (the Sobol' sampler at `spp`, as two halves with other seeds) and an
-/// estimate of its own RMSE: half the RMSE between the halves.
-fn reference(
-    renderer: &Renderer,
-    camera: &Camera,
-    settings: &RenderSettings,
-    spp: u32,
-) -> (Image, f64) {
+/// The converged image of `shot` (the Sobol' sampler at `spp`, as two halves with other seeds)
+/// and an estimate of its own RMSE: half the RMSE between the halves.
+fn reference(renderer: &Renderer, shot: &Shot, spp: u32) -> (Image, f64) {
     let halves: Vec<Image> = REFERENCE_SEEDS
         .iter()
         .map(|&seed| {
-            let s = RenderSettings {
-                spp: spp / 2,
-                seed,
-                sampler: SamplerKind::Sobol,
-                ..*settings
+            let half = Shot {
+                camera: shot.camera.clone(),
+                render: RenderSettings {
+                    spp: spp / 2,
+                    seed,
+                    sampler: SamplerKind::Sobol,
+                    ..shot.render
+                },
             };
-            render(renderer, camera, &s)
+            render(renderer, &half)
         })
         .collect();
     let own_error = rmse(&halves[0], &halves[1]) / 2.0;

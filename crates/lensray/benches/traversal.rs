@@ -13,9 +13,8 @@
 #[path = "../tests/gpu_support/mod.rs"]
 mod gpu_support;
 
-use lensray_core::camera::Camera;
 use lensray_core::scene::{Scene, SceneDescription};
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{Shading, Shot};
 use lensray_core::stats::{median, range};
 use lensray_vulkan::{bench_renderer, BvhParams, GpuError, GpuOptions, GpuRenderer, Traversal};
 
@@ -57,7 +56,7 @@ fn args() -> Args {
 }
 
 /// The scene's own camera and settings at the bench's size, lit unless `--unlit`.
-fn shot(desc: &SceneDescription, a: &Args) -> (Camera, RenderSettings) {
+fn shot(desc: &SceneDescription, a: &Args) -> Shot {
     use lensray_core::settings::{ImageSettings, RenderStyle, Settings};
     let over = Settings {
         image: ImageSettings {
@@ -77,9 +76,8 @@ fn shot(desc: &SceneDescription, a: &Args) -> (Camera, RenderSettings) {
         },
         ..Default::default()
     };
-    let r = lensray_core::settings::shot(&desc.settings.clone().overridden_by(&over), &desc.scene)
-        .expect("resolve settings");
-    (r.camera, r.render)
+    lensray_core::settings::shot(&desc.settings.clone().overridden_by(&over), &desc.scene)
+        .expect("resolve settings")
 }
 
 /// One configuration to time: a renderer with its scene loaded and its traversal set.
@@ -110,24 +108,23 @@ impl Contender {
 }
 
 /// Warms each contender up (its pipeline's first dispatch is timed apart), then times `repeat`
-/// rounds, one run of each contender per round, so that other load on the machine falls on all
-/// of them alike; prints the medians.
+/// rounds of `shot`, one run of each contender per round, so that other load on the machine
+/// falls on all of them alike; prints the medians.
 fn time_interleaved(
     contenders: &mut [Contender],
     scene: &Scene,
-    camera: &Camera,
-    settings: &RenderSettings,
+    shot: &Shot,
     repeat: u32,
 ) -> Result<(), GpuError> {
     for c in contenders.iter_mut() {
         c.gpu.set_traversal(c.traversal)?;
-        bench_renderer(&mut c.gpu, scene, camera, settings, 1)?;
+        bench_renderer(&mut c.gpu, scene, shot, 1)?;
     }
     for _ in 0..repeat.max(1) {
         for c in contenders.iter_mut() {
             c.gpu.set_traversal(c.traversal)?;
             let before = c.gpu.timings();
-            c.gpu.render(camera, settings, &mut |_, _| {})?;
+            c.gpu.render(shot, &mut |_, _| {})?;
             let after = c.gpu.timings();
             c.runs_ms.push(after.trace_gpu_ms - before.trace_gpu_ms);
             c.rays = after.rays_traced - before.rays_traced;
@@ -147,7 +144,7 @@ fn time_interleaved(
 }
 
 fn compare_traversals(name: &str, desc: &SceneDescription, a: &Args) -> Result<(), GpuError> {
-    let (camera, settings) = shot(desc, a);
+    let shot = shot(desc, a);
     let mut gpu = GpuRenderer::new(&GpuOptions::default())?;
     gpu.load_scene(&desc.scene)?;
     let t = gpu.timings();
@@ -158,7 +155,7 @@ fn compare_traversals(name: &str, desc: &SceneDescription, a: &Args) -> Result<(
         a.width,
         a.height,
         a.spp,
-        settings.shading,
+        shot.render.shading,
         gpu.device_name(),
         t.bvh_bytes as f64 / (1 << 20) as f64,
         t.bvh_build_ms,
@@ -182,7 +179,7 @@ fn compare_traversals(name: &str, desc: &SceneDescription, a: &Args) -> Result<(
         };
         contenders.push(Contender::new(traversal.to_string(), renderer, traversal)?);
     }
-    time_interleaved(&mut contenders, &desc.scene, &camera, &settings, a.repeat)?;
+    time_interleaved(&mut contenders, &desc.scene, &shot, a.repeat)?;
     if let [rq, sw] = &contenders[..] {
         println!(
             "  software / rayquery: {:.2}x",
@@ -196,14 +193,14 @@ fn compare_traversals(name: &str, desc: &SceneDescription, a: &Args) -> Result<(
 }
 
 fn bvh_sweep(desc: &SceneDescription, a: &Args) -> Result<(), GpuError> {
-    let (camera, settings) = shot(desc, a);
+    let shot = shot(desc, a);
     println!(
         "BVH builds ({} triangles), software traversal, {}x{} at {} spp {:?}:",
         desc.scene.triangle_count(),
         a.width,
         a.height,
         a.spp,
-        settings.shading
+        shot.render.shading
     );
     let choices = [
         (1, 10, true),
@@ -233,7 +230,7 @@ fn bvh_sweep(desc: &SceneDescription, a: &Args) -> Result<(), GpuError> {
         );
         contenders.push(Contender::new(label, gpu, Traversal::Software)?);
     }
-    time_interleaved(&mut contenders, &desc.scene, &camera, &settings, a.repeat)?;
+    time_interleaved(&mut contenders, &desc.scene, &shot, a.repeat)?;
     for c in contenders {
         c.gpu.close()?;
     }

@@ -15,7 +15,7 @@ use lensray_core::camera::{ApertureShape, Camera, CameraParams, LensParams, Proj
 use lensray_core::optics::builtin;
 use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::sampler::{camera_sample, hash_u32, SamplerKind};
-use lensray_core::settings::Shading;
+use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::ProbeQuery;
 
 fn lens_camera(name: &str, f_number: Option<f64>, width: u32, height: u32) -> Camera {
@@ -132,12 +132,14 @@ fn real_lens_rays_match_the_cpu() {
 /// The traced paths render a real lens as the CPU does: the same rays, weights and shading.
 #[test]
 fn traced_paths_render_a_real_lens_as_the_cpu_does() {
-    let cam = lens_camera("double-gauss-50", None, 48, 32);
-    let s = settings(Shading::Lit, 8);
-    let (cpu, _) = CpuRenderer::new(&test_scene()).render(&cam, &s, &mut |_, _| {});
+    let shot = Shot {
+        camera: lens_camera("double-gauss-50", None, 48, 32),
+        render: settings(Shading::Lit, 8),
+    };
+    let (cpu, _) = CpuRenderer::new(&test_scene()).render(&shot, &mut |_, _| {});
     for kind in [PathKind::RayQuery, PathKind::Software] {
         let test = format!("traced_paths_render_a_real_lens_as_the_cpu_does ({kind})");
-        let Some(image) = render_path(&test, PathChoice::Only(kind), &cam, &s) else {
+        let Some(image) = render_path(&test, PathChoice::Only(kind), &shot) else {
             continue;
         };
         let diff = compare(&image, &cpu, 1e-3);

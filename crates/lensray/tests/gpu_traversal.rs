@@ -8,11 +8,11 @@
 mod gpu_support;
 
 use gpu_support::*;
-use lensray_core::camera::{Camera, LensParams};
+use lensray_core::camera::LensParams;
 use lensray_core::film::Image;
 use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::scene::Scene;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::{GpuError, GpuOptions, Traversal};
 
 /// The project's scenes (built-in default, Cornell box) as the CLI resolves them, small.
@@ -21,7 +21,7 @@ fn project_scenes(
     height: u32,
     spp: u32,
     shading: Shading,
-) -> Vec<(&'static str, Scene, Camera, RenderSettings)> {
+) -> Vec<(&'static str, Scene, Shot)> {
     use lensray_core::settings::{ImageSettings, RenderStyle, Settings};
     let cornell =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/cornell/cornell.toml");
@@ -54,7 +54,7 @@ fn project_scenes(
                 &desc.scene,
             )
             .expect("resolve settings");
-            (name, desc.scene, resolved.camera, resolved.render)
+            (name, desc.scene, resolved)
         })
         .collect()
 }
@@ -85,17 +85,13 @@ fn software_equals_rayquery_unlit() {
     }
     assert_eq!(traversals, vec![Traversal::RayQuery, Traversal::Software]);
     assert_eq!(gpu.traversal(), Traversal::RayQuery, "ray queries first");
-    for (name, scene, camera, settings) in project_scenes(160, 120, 2, Shading::Unlit) {
+    for (name, scene, shot) in project_scenes(160, 120, 2, Shading::Unlit) {
         gpu.load_scene(&scene).expect("load scene");
         gpu.set_traversal(Traversal::RayQuery).unwrap();
-        let rayquery = gpu
-            .render(&camera, &settings, &mut |_, _| {})
-            .expect("ray-query render");
+        let rayquery = gpu.render(&shot, &mut |_, _| {}).expect("ray-query render");
         gpu.set_traversal(Traversal::Software).unwrap();
         assert_eq!(gpu.traversal(), Traversal::Software);
-        let software = gpu
-            .render(&camera, &settings, &mut |_, _| {})
-            .expect("software render");
+        let software = gpu.render(&shot, &mut |_, _| {}).expect("software render");
         let differing = differing_pixels(&software, &rayquery);
         let pixels = software.pixels.len();
         println!("{name}: {differing} of {pixels} pixels differ (shared-edge ties)");
@@ -125,16 +121,16 @@ fn software_matches_cpu_lit() {
     let mut cases = vec![(
         "test-scene",
         test_scene(),
-        camera(false, lens, 96, 72),
-        settings(Shading::Lit, 8),
+        Shot {
+            camera: camera(false, lens, 96, 72),
+            render: settings(Shading::Lit, 8),
+        },
     )];
     cases.extend(project_scenes(96, 72, 4, Shading::Lit));
-    for (name, scene, camera, settings) in cases {
+    for (name, scene, shot) in cases {
         gpu.load_scene(&scene).expect("load scene");
-        let image = gpu
-            .render(&camera, &settings, &mut |_, _| {})
-            .expect("software render");
-        let (reference, _) = CpuRenderer::new(&scene).render(&camera, &settings, &mut |_, _| {});
+        let image = gpu.render(&shot, &mut |_, _| {}).expect("software render");
+        let (reference, _) = CpuRenderer::new(&scene).render(&shot, &mut |_, _| {});
         let diff = compare(&image, &reference, 1.0 / 255.0);
         let label = format!("software-vs-cpu-{name}");
         println!("{label}: {diff:?}");
@@ -179,10 +175,12 @@ fn hidden_ray_queries_leave_the_software_traversal() {
     let t = gpu.timings();
     assert_eq!(t.accel_bytes, 0, "no acceleration structures: {t:?}");
     assert!(t.bvh_bytes > 0, "{t:?}");
-    let cam = camera(false, LensParams::Pinhole, 48, 36);
-    let s = settings(Shading::Unlit, 1);
-    let image = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
-    let (reference, _) = CpuRenderer::new(&scene).render(&cam, &s, &mut |_, _| {});
+    let shot = Shot {
+        camera: camera(false, LensParams::Pinhole, 48, 36),
+        render: settings(Shading::Unlit, 1),
+    };
+    let image = gpu.render(&shot, &mut |_, _| {}).expect("render");
+    let (reference, _) = CpuRenderer::new(&scene).render(&shot, &mut |_, _| {});
     let diff = compare(&image, &reference, 1.0 / 255.0);
     assert!(diff.within >= 0.995, "{diff:?}");
     finish(gpu, log);

@@ -11,7 +11,7 @@ use lensray::paths::RenderPath;
 use lensray::paths::{hybrid, GpuPath, PathChoice, PathKind};
 use lensray_core::camera::{Camera, LensParams};
 use lensray_core::film::compare::{mean_error, rmse};
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{GpuOptions, GpuRenderer};
 
 /// The hybrid path on a validated device with the test scene loaded.
@@ -55,26 +55,25 @@ fn converges(test: &str, shading: Shading) {
 
 /// [`converges`] with the camera `cam`.
 fn converges_with(test: &str, shading: Shading, cam: Camera) {
-    let s = settings(shading, 64);
-    let reference_settings = RenderSettings {
-        spp: 1024,
-        seed: s.seed ^ 0x5bd1_e995,
-        ..s
+    let shot = Shot {
+        camera: cam,
+        render: settings(shading, 64),
     };
-    let Some(reference) = render(
-        test,
-        PathChoice::Only(PathKind::Cpu),
-        &cam,
-        &reference_settings,
-    ) else {
+    let reference_shot = Shot {
+        camera: shot.camera.clone(),
+        render: RenderSettings {
+            spp: 1024,
+            seed: shot.render.seed ^ 0x5bd1_e995,
+            ..shot.render
+        },
+    };
+    let Some(reference) = render(test, PathChoice::Only(PathKind::Cpu), &reference_shot) else {
         return;
     };
     let Some(mut path) = hybrid(test) else {
         return;
     };
-    let image = path
-        .render(&cam, &s, &mut |_, _| {})
-        .expect("hybrid render");
+    let image = path.render(&shot, &mut |_, _| {}).expect("hybrid render");
     let plan = path.last_plan().expect("read the plan").expect("a plan");
     let hybrid_rays = path.report().rays;
     Box::new(path)
@@ -85,7 +84,7 @@ fn converges_with(test: &str, shading: Shading, cam: Camera) {
         return;
     };
     let full_choice = PathChoice::Only(traced);
-    let Some(full) = render(test, full_choice, &cam, &s) else {
+    let Some(full) = render(test, full_choice, &shot) else {
         return;
     };
 
@@ -157,12 +156,15 @@ fn hybrid_converges_to_the_full_image_lit() {
 #[test]
 fn an_in_focus_shot_takes_the_shortcut() {
     let test = "an_in_focus_shot_takes_the_shortcut";
-    let cam = camera(false, LensParams::Pinhole, 96, 72);
-    let s = settings(Shading::Unlit, 32);
+    let shot = Shot {
+        camera: camera(false, LensParams::Pinhole, 96, 72),
+        render: settings(Shading::Unlit, 32),
+    };
+    let (cam, s) = (&shot.camera, &shot.render);
     let Some(mut path) = hybrid(test) else {
         return;
     };
-    let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
+    let image = path.render(&shot, &mut |_, _| {}).expect("render");
     let plan = path.last_plan().expect("read the plan").expect("a plan");
     let rays = path.report().rays;
     Box::new(path).close().expect("close");
@@ -179,7 +181,7 @@ fn an_in_focus_shot_takes_the_shortcut() {
     );
     // The warm-up of `paths::open` is not here: every ray counted is this render's.
     assert!(rays * 4 < all, "{rays} rays of {all}");
-    let Some(full) = render(test, PathChoice::Only(PathKind::Software), &cam, &s) else {
+    let Some(full) = render(test, PathChoice::Only(PathKind::Software), &shot) else {
         return;
     };
     let error = rmse(&image, &full);
@@ -219,9 +221,12 @@ fn the_device_plan_equals_the_host_plan() {
     ];
     for (cam, spp) in &shots {
         for shading in [Shading::Unlit, Shading::Lit] {
-            let s = settings(shading, *spp);
-            let host = hybrid::host_plan(&mut renderer, cam, &s).expect("host plan");
-            let device = hybrid::device_plan(&mut renderer, cam, &s).expect("device plan");
+            let shot = Shot {
+                camera: cam.clone(),
+                render: settings(shading, *spp),
+            };
+            let host = hybrid::host_plan(&mut renderer, &shot).expect("host plan");
+            let device = hybrid::device_plan(&mut renderer, &shot).expect("device plan");
             let differing: Vec<usize> = (0..host.entries.len())
                 .filter(|&i| host.entries[i] != device.entries[i])
                 .collect();
@@ -249,8 +254,8 @@ fn the_device_plan_equals_the_host_plan() {
 
 /// Lit, the shortcut follows the shading: on the built-in default scene (curved spheres, shadows
 /// over the floor, strong blur) the hybrid's error against a converged reference is that of a
-/// path tracing every sample (measured 1.000x here). Before the plan saw shadow boundaries and
-/// the shortcut samples were reprojected onto the pre-pass's image it was 1.33x here, 2.2x at
+/// path tracing every sample (measured 1.000x here). A plan blind to shadow boundaries, its
+/// shortcut samples not reprojected onto the pre-pass's image, gives 1.33x here, 2.2x at
 /// 640x480 (docs/hybrid.md).
 #[test]
 fn lit_shortcuts_follow_shadows_and_curvature() {
@@ -277,7 +282,6 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
         &description.scene,
     )
     .expect("resolve settings");
-    let (cam, s) = (&resolved.camera, &resolved.render);
     let open = || match GpuRenderer::new(&GpuOptions {
         validate: true,
         ..GpuOptions::default()
@@ -296,7 +300,7 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
         return;
     };
     let full = full_renderer
-        .render(cam, s, &mut |_, _| {})
+        .render(&resolved, &mut |_, _| {})
         .expect("full render");
     full_renderer
         .close()
@@ -305,7 +309,9 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
         return;
     };
     let mut path = GpuPath::new(renderer, PathKind::Hybrid).expect("hybrid path");
-    let image = path.render(cam, s, &mut |_, _| {}).expect("hybrid render");
+    let image = path
+        .render(&resolved, &mut |_, _| {})
+        .expect("hybrid render");
     let shortcut = path
         .last_plan()
         .expect("read the plan")
@@ -314,13 +320,16 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
     Box::new(path)
         .close()
         .expect("close: validation messages or leaks");
-    let reference_settings = RenderSettings {
-        spp: 256,
-        seed: 0x5bd1_e995,
-        ..*s
+    let reference_shot = Shot {
+        camera: resolved.camera.clone(),
+        render: RenderSettings {
+            spp: 256,
+            seed: 0x5bd1_e995,
+            ..resolved.render
+        },
     };
     let (reference, _) =
-        CpuRenderer::new(&description.scene).render(cam, &reference_settings, &mut |_, _| {});
+        CpuRenderer::new(&description.scene).render(&reference_shot, &mut |_, _| {});
 
     let (hybrid_rmse, full_rmse) = (rmse(&image, &reference), rmse(&full, &reference));
     let hybrid_mean = mean_error(&image, &reference);

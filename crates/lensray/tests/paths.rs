@@ -11,25 +11,24 @@ use lensray::paths::PathKind;
 use lensray::paths::{self, DeviceChoice, DeviceKind, OpenedPath, PathChoice, PathOptions};
 use lensray_core::camera::LensParams;
 use lensray_core::film::Accumulation;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{GpuError, GpuOptions};
 
-fn shot() -> (
-    lensray_core::camera::Camera,
-    lensray_core::settings::RenderSettings,
-) {
+fn shot() -> Shot {
     let lens = LensParams::ThinLens {
         aperture_radius: 0.12,
         focus_distance: 5.0,
     };
-    (camera(false, lens, 64, 48), settings(Shading::Lit, 8))
+    Shot {
+        camera: camera(false, lens, 64, 48),
+        render: settings(Shading::Lit, 8),
+    }
 }
 
 /// Opens `path` on the shot (validation on for GPU paths); `None` after recording a skip where
 /// the machine has no usable device and LENSRAY_SKIP_GPU_TESTS=1.
 fn open(test: &str, path: PathChoice) -> Option<OpenedPath> {
-    let (cam, s) = shot();
-    open_path(test, path, (&cam, &s))
+    open_path(test, path, &shot())
 }
 
 /// The paths this machine runs: the CPU, and every GPU path. A GPU path that does not open
@@ -57,17 +56,18 @@ fn every_path_continues_a_render_exactly() {
             continue;
         };
         let gpu = path.kind().is_gpu();
-        let (cam, s) = shot();
+        let shot = shot();
+        let cam = &shot.camera;
         let image_bytes = u64::from(cam.width * cam.height) * 16;
         let mut whole = Accumulation::new(cam.width, cam.height);
-        path.add_samples(&cam, &s, 0..8, &mut whole, &mut |_, _| {})
+        path.add_samples(&shot, 0..8, &mut whole, &mut |_, _| {})
             .expect("0..8");
         let mut parts = Accumulation::new(cam.width, cam.height);
         let before = path.report();
-        path.add_samples(&cam, &s, 0..3, &mut parts, &mut |_, _| {})
+        path.add_samples(&shot, 0..3, &mut parts, &mut |_, _| {})
             .expect("0..3");
         assert_eq!(parts.on_host(), !gpu, "{choice}: where the sums are");
-        path.add_samples(&cam, &s, 3..8, &mut parts, &mut |_, _| {})
+        path.add_samples(&shot, 3..8, &mut parts, &mut |_, _| {})
             .expect("3..8");
         let added = path.report().since(&before);
         if gpu {
@@ -110,7 +110,7 @@ fn every_path_continues_a_render_exactly() {
             differing, 0,
             "{choice}: {differing} pixels of 0..3 + 3..8 differ from 0..8"
         );
-        let rendered = path.render(&cam, &s, &mut |_, _| {}).expect("render");
+        let rendered = path.render(&shot, &mut |_, _| {}).expect("render");
         assert_eq!(
             rendered,
             whole.image(),
@@ -130,12 +130,13 @@ fn every_path_continues_a_render_exactly() {
 #[test]
 fn an_accumulation_moves_between_paths() {
     let test = "an_accumulation_moves_between_paths";
-    let (cam, s) = shot();
+    let shot = shot();
+    let cam = &shot.camera;
     let Some(OpenedPath { path: mut cpu, .. }) = open(test, PathChoice::Only(PathKind::Cpu)) else {
         return;
     };
     let mut reference = Accumulation::new(cam.width, cam.height);
-    cpu.add_samples(&cam, &s, 0..8, &mut reference, &mut |_, _| {})
+    cpu.add_samples(&shot, 0..8, &mut reference, &mut |_, _| {})
         .expect("cpu 0..8");
     let reference = reference.image().expect("on the host");
     for choice in available(test)
@@ -146,12 +147,12 @@ fn an_accumulation_moves_between_paths() {
             continue;
         };
         let mut moving = Accumulation::new(cam.width, cam.height);
-        cpu.add_samples(&cam, &s, 0..3, &mut moving, &mut |_, _| {})
+        cpu.add_samples(&shot, 0..3, &mut moving, &mut |_, _| {})
             .expect("cpu 0..3");
-        path.add_samples(&cam, &s, 3..5, &mut moving, &mut |_, _| {})
+        path.add_samples(&shot, 3..5, &mut moving, &mut |_, _| {})
             .expect("gpu 3..5");
         let refused = cpu
-            .add_samples(&cam, &s, 5..8, &mut moving, &mut |_, _| {})
+            .add_samples(&shot, 5..8, &mut moving, &mut |_, _| {})
             .expect_err("the CPU cannot add to sums a GPU holds");
         let line = format!("{refused:#}");
         assert!(
@@ -159,7 +160,7 @@ fn an_accumulation_moves_between_paths() {
             "{choice}: {line}"
         );
         path.read_sums(&mut moving).expect("read");
-        cpu.add_samples(&cam, &s, 5..8, &mut moving, &mut |_, _| {})
+        cpu.add_samples(&shot, 5..8, &mut moving, &mut |_, _| {})
             .expect("cpu 5..8");
         let image = moving.image().expect("on the host");
         let diff = compare(&image, &reference, 1.0 / 255.0);
@@ -177,7 +178,10 @@ fn an_accumulation_moves_between_paths() {
 #[test]
 fn gpu_paths_agree_with_the_cpu_on_a_shaped_aperture() {
     let test = "gpu_paths_agree_with_the_cpu_on_a_shaped_aperture";
-    let (cam, s) = shot();
+    let Shot {
+        camera: cam,
+        render: s,
+    } = shot();
     let pentagon = lensray_core::camera::ApertureShape {
         blades: Some(5),
         rotation_degrees: 15.0,
@@ -227,15 +231,16 @@ fn gpu_paths_agree_with_the_cpu_on_a_shaped_aperture() {
             let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
                 continue;
             };
-            let settings = if choice == PathChoice::Only(PathKind::Raster) {
-                shared
-            } else {
-                s
+            let shot = Shot {
+                camera: cam.clone(),
+                render: if choice == PathChoice::Only(PathKind::Raster) {
+                    shared
+                } else {
+                    s
+                },
             };
-            let reference = cpu.render(&cam, &settings, &mut |_, _| {}).expect("cpu");
-            let image = path
-                .render(&cam, &settings, &mut |_, _| {})
-                .expect("render");
+            let reference = cpu.render(&shot, &mut |_, _| {}).expect("cpu");
+            let image = path.render(&shot, &mut |_, _| {}).expect("render");
             let diff = compare(&image, &reference, 1.0 / 255.0);
             println!("{name}, {choice}: {diff:?}");
             if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
@@ -256,23 +261,27 @@ fn gpu_paths_agree_with_the_cpu_on_a_shaped_aperture() {
 #[test]
 fn gpu_paths_agree_with_the_cpu_reference() {
     let test = "gpu_paths_agree_with_the_cpu_reference";
-    let (cam, s) = shot();
+    let shot = shot();
+    let cam = &shot.camera;
     let Some(OpenedPath { path: mut cpu, .. }) = open(test, PathChoice::Only(PathKind::Cpu)) else {
         return;
     };
-    let reference = cpu.render(&cam, &s, &mut |_, _| {}).expect("cpu render");
+    let reference = cpu.render(&shot, &mut |_, _| {}).expect("cpu render");
     // The raster path's estimator: every pixel draws the same camera samples.
-    let shared = RenderSettings {
-        shared_samples: true,
-        ..s
+    let shared = Shot {
+        camera: cam.clone(),
+        render: RenderSettings {
+            shared_samples: true,
+            ..shot.render
+        },
     };
     let shared_reference = cpu
-        .render(&cam, &shared, &mut |_, _| {})
+        .render(&shared, &mut |_, _| {})
         .expect("cpu render, shared samples");
     let focus_pixels = [[32, 24], [10, 40], [60, 5]];
     let reference_depths: Vec<Option<f32>> = focus_pixels
         .iter()
-        .map(|&p| cpu.focus_depth_at(&cam, p).expect("cpu focus"))
+        .map(|&p| cpu.focus_depth_at(cam, p).expect("cpu focus"))
         .collect();
     // The hybrid is another estimator: tests/hybrid.rs checks it converges to the same image.
     for choice in available(test).into_iter().filter(|c| {
@@ -281,7 +290,7 @@ fn gpu_paths_agree_with_the_cpu_reference() {
         let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
             continue;
         };
-        let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
+        let image = path.render(&shot, &mut |_, _| {}).expect("render");
         let reference = if choice == PathChoice::Only(PathKind::Raster) {
             &shared_reference
         } else {
@@ -294,7 +303,7 @@ fn gpu_paths_agree_with_the_cpu_reference() {
             panic!("{choice}: differs from the CPU reference: {diff:?}; wrote {files}");
         }
         for (&pixel, expected) in focus_pixels.iter().zip(&reference_depths) {
-            let depth = path.focus_depth_at(&cam, pixel).expect("focus");
+            let depth = path.focus_depth_at(cam, pixel).expect("focus");
             match (depth, expected) {
                 (Some(d), Some(e)) => assert!(
                     (d - e).abs() <= 1e-4 * e.abs(),
@@ -330,17 +339,20 @@ fn auto_says_what_it_chose_and_why() {
 #[test]
 fn auto_considers_the_hybrid_and_raster_paths() {
     let test = "auto_considers_the_hybrid_and_raster_paths";
-    let (_, s) = shot();
-    let blurred = camera(
-        false,
-        LensParams::ThinLens {
-            aperture_radius: 0.5,
-            focus_distance: 5.0,
-        },
-        64,
-        48,
-    );
-    let Some(OpenedPath { path, why }) = open_path(test, PathChoice::Auto, (&blurred, &s)) else {
+    let s = shot().render;
+    let blurred = Shot {
+        camera: camera(
+            false,
+            LensParams::ThinLens {
+                aperture_radius: 0.5,
+                focus_distance: 5.0,
+            },
+            64,
+            48,
+        ),
+        render: s,
+    };
+    let Some(OpenedPath { path, why }) = open_path(test, PathChoice::Auto, &blurred) else {
         return;
     };
     println!("blurred, {} spp: {} ({why})", s.spp, path.kind());
@@ -382,15 +394,23 @@ fn auto_considers_the_hybrid_and_raster_paths() {
         64,
         48,
     );
-    let many = settings(Shading::Unlit, 64);
-    let Some(OpenedPath { mut path, why }) = open_path(test, PathChoice::Auto, (&sharp, &many))
-    else {
+    let many = Shot {
+        camera: sharp,
+        render: settings(Shading::Unlit, 64),
+    };
+    let Some(OpenedPath { mut path, why }) = open_path(test, PathChoice::Auto, &many) else {
         return;
     };
     println!("nearly pinhole, 64 spp: {} ({why})", path.kind());
     assert!(!why.contains("left out"), "{why}");
-    let small = RenderSettings { spp: 2, ..many };
-    let image = path.render(&sharp, &small, &mut |_, _| {}).expect("render");
+    let small = Shot {
+        camera: many.camera,
+        render: RenderSettings {
+            spp: 2,
+            ..many.render
+        },
+    };
+    let image = path.render(&small, &mut |_, _| {}).expect("render");
     assert_eq!(image.pixels.len(), 64 * 48);
     path.close().expect("close: validation messages or leaks");
 }
@@ -398,7 +418,7 @@ fn auto_considers_the_hybrid_and_raster_paths() {
 /// Choices that contradict each other are one-line errors, before any device opens.
 #[test]
 fn contradictory_choices_are_errors() {
-    let (cam, s) = shot();
+    let shot = shot();
     let scene = test_scene();
     let cases = [
         (
@@ -425,7 +445,7 @@ fn contradictory_choices_are_errors() {
     ];
     for (path, device, gpu, expected) in cases {
         let options = PathOptions { path, device, gpu };
-        let error = match paths::open(&options, &scene, (&cam, &s)) {
+        let error = match paths::open(&options, &scene, &shot) {
             Ok(_) => panic!("{options:?} must be refused"),
             Err(e) => format!("{e:#}"),
         };
@@ -439,7 +459,7 @@ fn contradictory_choices_are_errors() {
 #[test]
 fn without_ray_queries_the_software_path_runs() {
     let test = "without_ray_queries_the_software_path_runs";
-    let (cam, s) = shot();
+    let shot = shot();
     let hidden = |path| PathOptions {
         path,
         device: DeviceChoice::Only(DeviceKind::Gpu),
@@ -450,7 +470,7 @@ fn without_ray_queries_the_software_path_runs() {
         },
     };
     let OpenedPath { mut path, why } =
-        match paths::open(&hidden(PathChoice::Auto), &test_scene(), (&cam, &s)) {
+        match paths::open(&hidden(PathChoice::Auto), &test_scene(), &shot) {
             Ok(opened) => opened,
             Err(e) => match e.downcast_ref::<GpuError>() {
                 Some(gpu) if may_skip(gpu) => return record_skip(test, &format!("{e:#}")),
@@ -462,14 +482,14 @@ fn without_ray_queries_the_software_path_runs() {
         why.contains("software (the only path this device supports)"),
         "{why}"
     );
-    let image = path.render(&cam, &s, &mut |_, _| {}).expect("render");
+    let image = path.render(&shot, &mut |_, _| {}).expect("render");
     assert!(image.pixels.iter().any(|p| p.max_element() > 0.0));
     path.close().expect("close: validation messages or leaks");
 
     let error = match paths::open(
         &hidden(PathChoice::Only(PathKind::RayQuery)),
         &test_scene(),
-        (&cam, &s),
+        &shot,
     ) {
         Ok(_) => panic!("--path rayquery must fail without ray queries"),
         Err(e) => format!("{e:#}"),
@@ -490,15 +510,17 @@ fn gpu_renders_read_back_once_and_never_wait_between_dispatches() {
         aperture_radius: 0.05,
         focus_distance: 5.0,
     };
-    let cam = camera(false, lens, 640, 480);
-    let s = settings(Shading::Unlit, 16);
+    let shot = Shot {
+        camera: camera(false, lens, 640, 480),
+        render: settings(Shading::Unlit, 16),
+    };
     let image_bytes = 640 * 480 * 16;
     for kind in PathKind::ALL.into_iter().filter(|k| k.is_gpu()) {
-        let Some(OpenedPath { mut path, .. }) = open_path(test, kind.into(), (&cam, &s)) else {
+        let Some(OpenedPath { mut path, .. }) = open_path(test, kind.into(), &shot) else {
             continue;
         };
         let before = path.report();
-        path.render(&cam, &s, &mut |_, _| {}).expect("render");
+        path.render(&shot, &mut |_, _| {}).expect("render");
         let r = path.report().since(&before);
         path.close().expect("close: validation messages or leaks");
         println!(

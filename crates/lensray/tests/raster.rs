@@ -9,7 +9,7 @@ use gpu_support::{camera, compare, render_path, settings, traced_path, write_com
 use lensray::paths::{PathChoice, PathKind};
 use lensray_core::camera::{Camera, LensParams};
 use lensray_core::film::Image;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 fn blurred_shot(orthographic: bool) -> Camera {
     camera(
@@ -23,25 +23,27 @@ fn blurred_shot(orthographic: bool) -> Camera {
     )
 }
 
-/// The traced path the raster path traces its shadow rays with, and its image.
-fn traced(test: &str, cam: &Camera, s: &RenderSettings) -> Option<(PathChoice, Image)> {
+/// The traced path the raster path traces its shadow rays with, and its image of `shot`.
+fn traced(test: &str, shot: &Shot) -> Option<(PathChoice, Image)> {
     let choice = PathChoice::Only(traced_path(test)?);
-    Some((choice, render_path(test, choice, cam, s)?))
+    Some((choice, render_path(test, choice, shot)?))
 }
 
 /// `raster` against the traced path with `shared_samples`: at most `max_differing` of the
 /// pixels differ by more than `tolerance`, and the mean |difference| stays under `max_mean`.
 fn matches_traced(test: &str, orthographic: bool, shading: Shading, bounds: (f32, f64, f64)) {
     let (tolerance, max_differing, max_mean) = bounds;
-    let cam = blurred_shot(orthographic);
-    let s = RenderSettings {
-        shared_samples: true,
-        ..settings(shading, 8)
+    let shot = Shot {
+        camera: blurred_shot(orthographic),
+        render: RenderSettings {
+            shared_samples: true,
+            ..settings(shading, 8)
+        },
     };
-    let Some(raster) = render_path(test, PathChoice::Only(PathKind::Raster), &cam, &s) else {
+    let Some(raster) = render_path(test, PathChoice::Only(PathKind::Raster), &shot) else {
         return;
     };
-    let Some((choice, traced)) = traced(test, &cam, &s) else {
+    let Some((choice, traced)) = traced(test, &shot) else {
         return;
     };
     let diff = compare(&raster, &traced, tolerance);
@@ -58,11 +60,14 @@ fn matches_traced(test: &str, orthographic: bool, shading: Shading, bounds: (f32
         );
     }
     // Without shared samples the raster path is the same: it always shares them.
-    let own = RenderSettings {
-        shared_samples: false,
-        ..s
+    let own = Shot {
+        camera: shot.camera,
+        render: RenderSettings {
+            shared_samples: false,
+            ..shot.render
+        },
     };
-    let Some(again) = render_path(test, PathChoice::Only(PathKind::Raster), &cam, &own) else {
+    let Some(again) = render_path(test, PathChoice::Only(PathKind::Raster), &own) else {
         return;
     };
     assert_eq!(

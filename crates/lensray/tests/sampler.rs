@@ -17,7 +17,7 @@ use lensray_core::film::Image;
 use lensray_core::reference::Renderer;
 use lensray_core::sampler::{pixel_key, sobol_pixel, sobol_sample, SamplerKind};
 use lensray_core::scene::{Material, Mesh, Scene};
-use lensray_core::settings::{PointLight, RenderSettings, Shading};
+use lensray_core::settings::{PointLight, RenderSettings, Shading, Shot};
 
 const WIDTH: u32 = 48;
 const HEIGHT: u32 = 36;
@@ -127,8 +127,11 @@ fn fixture() -> &'static Fixture {
         let camera = camera();
         let renderer = Renderer::new(&scene);
         let half = |seed| {
-            let s = settings(Shading::Lit, SamplerKind::Sobol, REFERENCE_SPP / 2, seed);
-            renderer.render(&camera, &s, &mut |_, _| {}).0
+            let shot = Shot {
+                camera: camera.clone(),
+                render: settings(Shading::Lit, SamplerKind::Sobol, REFERENCE_SPP / 2, seed),
+            };
+            renderer.render(&shot, &mut |_, _| {}).0
         };
         let (a, b) = (half(1001), half(1002));
         let reference_error = rmse(&a, &b) / 2.0;
@@ -142,13 +145,16 @@ fn fixture() -> &'static Fixture {
                 .map(|(p, q)| (*p + *q) * 0.5)
                 .collect(),
         };
-        let s = settings(
-            Shading::Lit,
-            SamplerKind::Independent,
-            REFERENCE_SPP / 2,
-            2001,
-        );
-        let independent_reference = renderer.render(&camera, &s, &mut |_, _| {}).0;
+        let independent = Shot {
+            camera: camera.clone(),
+            render: settings(
+                Shading::Lit,
+                SamplerKind::Independent,
+                REFERENCE_SPP / 2,
+                2001,
+            ),
+        };
+        let independent_reference = renderer.render(&independent, &mut |_, _| {}).0;
         Fixture {
             scene,
             camera,
@@ -161,8 +167,11 @@ fn fixture() -> &'static Fixture {
 }
 
 fn render(f: &Fixture, shading: Shading, sampler: SamplerKind, spp: u32, seed: u32) -> Image {
-    let s = settings(shading, sampler, spp, seed);
-    f.renderer.render(&f.camera, &s, &mut |_, _| {}).0
+    let shot = Shot {
+        camera: f.camera.clone(),
+        render: settings(shading, sampler, spp, seed),
+    };
+    f.renderer.render(&shot, &mut |_, _| {}).0
 }
 
 /// RMSE against the reference at `spp`, root-mean-square over `seeds` renders.
@@ -222,11 +231,14 @@ fn a_hexagonal_aperture_keeps_the_sampler_s_advantage() {
     .expect("the default shot");
     let renderer = Renderer::new(&description.scene);
     let default = shot.render;
-    let settings = |sampler, spp, seed| RenderSettings {
-        sampler,
-        spp,
-        seed,
-        ..default
+    let shot_with = |camera: &Camera, sampler, spp, seed| Shot {
+        camera: camera.clone(),
+        render: RenderSettings {
+            sampler,
+            spp,
+            seed,
+            ..default
+        },
     };
     let round = shot.camera;
     let hexagon = round
@@ -241,13 +253,13 @@ fn a_hexagonal_aperture_keeps_the_sampler_s_advantage() {
         )
         .expect("a thin lens takes any aperture");
     let ratio = |camera: &Camera| {
-        let s = settings(SamplerKind::Sobol, REFERENCE_SPP, 1001);
-        let reference = renderer.render(camera, &s, &mut |_, _| {}).0;
+        let s = shot_with(camera, SamplerKind::Sobol, REFERENCE_SPP, 1001);
+        let reference = renderer.render(&s, &mut |_, _| {}).0;
         let e = |sampler| {
             let sum: f64 = (0..8)
                 .map(|seed| {
-                    let s = settings(sampler, 16, seed);
-                    let image = renderer.render(camera, &s, &mut |_, _| {}).0;
+                    let s = shot_with(camera, sampler, 16, seed);
+                    let image = renderer.render(&s, &mut |_, _| {}).0;
                     rmse(&image, &reference).powi(2)
                 })
                 .sum();

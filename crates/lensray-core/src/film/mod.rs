@@ -13,30 +13,29 @@ pub use image::Image;
 
 use std::ops::Range;
 
-use crate::settings::RenderSettings;
+use crate::settings::Shot;
 
 /// What renderers report progress through: `(done, total)`.
 pub type Progress<'a> = dyn FnMut(u64, u64) + 'a;
 
-/// The whole image of `settings`, the one rule every renderer (the CPU reference, the Vulkan
+/// The whole image of `shot`, the one rule every renderer (the CPU reference, the Vulkan
 /// renderer, each path) follows: an AOV is one pass (`aov`); a traced shading is samples
-/// `0..spp` added to a new accumulation of `width` x `height` (`accumulate`), its sums brought
+/// `0..spp` added to a new accumulation of the camera's size (`accumulate`), its sums brought
 /// to the host once (`read`: a device keeps them while it adds), then averaged. Whichever runs
 /// gets `renderer` and `progress`; `T` is what it reports besides the image.
 pub fn whole_image<R: ?Sized, T, E: From<OnDevice>>(
     renderer: &mut R,
     progress: &mut Progress<'_>,
-    (width, height): (u32, u32),
-    settings: &RenderSettings,
+    shot: &Shot,
     aov: impl FnOnce(&mut R, &mut Progress<'_>) -> Result<(Image, T), E>,
     accumulate: impl FnOnce(&mut R, Range<u32>, &mut Accumulation, &mut Progress<'_>) -> Result<T, E>,
     read: impl FnOnce(&mut R, &mut Accumulation) -> Result<(), E>,
 ) -> Result<(Image, T), E> {
-    if settings.shading.is_aov() {
+    if shot.render.shading.is_aov() {
         return aov(renderer, progress);
     }
-    let mut accumulation = Accumulation::new(width, height);
-    let report = accumulate(renderer, 0..settings.spp, &mut accumulation, progress)?;
+    let mut accumulation = Accumulation::new(shot.camera.width, shot.camera.height);
+    let report = accumulate(renderer, 0..shot.render.spp, &mut accumulation, progress)?;
     read(renderer, &mut accumulation)?;
     Ok((accumulation.image()?, report))
 }

@@ -15,7 +15,7 @@ use crate::camera::{Camera, Ray};
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler};
 use crate::scene::{Material, Scene};
-use crate::settings::{RenderSettings, Shading};
+use crate::settings::{RenderSettings, Shading, Shot};
 
 /// Rows rendered between two progress reports.
 const ROWS_PER_BAND: u32 = 16;
@@ -90,65 +90,57 @@ impl Renderer {
         self.surfaces.surface_point(ray, hit, v)
     }
 
-    /// Renders the image; `progress(done_rows, total_rows)` is called between bands of rows.
-    pub fn render(
-        &self,
-        camera: &Camera,
-        settings: &RenderSettings,
-        progress: &mut Progress,
-    ) -> (Image, RenderStats) {
+    /// Renders the image of `shot`; `progress(done_rows, total_rows)` is called between bands
+    /// of rows.
+    pub fn render(&self, shot: &Shot, progress: &mut Progress) -> (Image, RenderStats) {
         let whole: Result<_, OnDevice> = crate::film::whole_image(
             &mut &*self,
             progress,
-            (camera.width, camera.height),
-            settings,
-            |this: &mut &Self, progress| Ok(this.render_aov(camera, settings, progress)),
+            shot,
+            |this: &mut &Self, progress| Ok(this.render_aov(shot, progress)),
             |this, samples, accumulation, progress| {
                 let sums = accumulation.host_mut()?;
-                Ok(this.accumulate(camera, settings, samples, sums, progress))
+                Ok(this.accumulate(shot, samples, sums, progress))
             },
             |_, _| Ok(()),
         );
         whole.expect("the CPU keeps its accumulation on the host")
     }
 
-    /// Adds samples `samples` of every pixel (thin lens, `Unlit` or `Lit`) to `accumulation`,
+    /// Adds samples `samples` of every pixel of `shot` (thin lens, `Unlit` or `Lit`) to `sums`,
     /// which has the camera's size; `progress(done_rows, total_rows)` is called between bands
     /// of rows. Each pixel's samples are added one after the other to its sum, so any split of
     /// a range gives the same sums.
     pub fn accumulate(
         &self,
-        camera: &Camera,
-        settings: &RenderSettings,
+        shot: &Shot,
         samples: Range<u32>,
         sums: &mut Sums,
         progress: &mut Progress,
     ) -> RenderStats {
+        let camera = &shot.camera;
         debug_assert_eq!((sums.width, sums.height), (camera.width, camera.height));
         self.for_each_row(camera, &mut sums.pixels, progress, |y, row| {
             let mut rays = 0;
             for (x, sum) in row.iter_mut().enumerate() {
                 let pixel = UVec2::new(x as u32, y);
-                rays += self.add_pixel_samples(camera, settings, pixel, samples.clone(), sum);
+                rays += self.add_pixel_samples(shot, pixel, samples.clone(), sum);
             }
             rays
         })
     }
 
-    /// The AOVs: the surface seen by the aperture-centre ray through each pixel centre.
-    fn render_aov(
-        &self,
-        camera: &Camera,
-        settings: &RenderSettings,
-        progress: &mut Progress,
-    ) -> (Image, RenderStats) {
+    /// The AOVs of `shot`: the surface seen by the aperture-centre ray through each pixel
+    /// centre.
+    fn render_aov(&self, shot: &Shot, progress: &mut Progress) -> (Image, RenderStats) {
+        let camera = &shot.camera;
         let mut image = Image::new(camera.width, camera.height);
         let stats = self.for_each_row(camera, &mut image.pixels, progress, |y, row| {
             for (x, value) in row.iter_mut().enumerate() {
                 // The G-buffer's definition: the aperture-centre ray through the pixel centre.
                 let centre = UVec2::new(x as u32, y).as_vec2() + Vec2::splat(0.5);
                 let ray = camera.first_order_ray(centre, Vec2::splat(0.5));
-                *value = self.aov(camera, &ray, settings);
+                *value = self.aov(shot, &ray);
             }
             row.len() as u64
         });
@@ -186,15 +178,16 @@ impl Renderer {
         }
     }
 
-    /// Adds the pixel's samples `samples` to its `[sum, count]`; returns the rays traced.
+    /// Adds the pixel's samples `samples` of `shot` to its `[sum, count]`; returns the rays
+    /// traced.
     fn add_pixel_samples(
         &self,
-        camera: &Camera,
-        settings: &RenderSettings,
+        shot: &Shot,
         pixel: UVec2,
         samples: Range<u32>,
         sum_and_count: &mut [f32; 4],
     ) -> u64 {
+        let (camera, settings) = (&shot.camera, &shot.render);
         let [r, g, b, count] = *sum_and_count;
         let mut sum = Vec3::new(r, g, b);
         let mut rays = 0;
@@ -287,7 +280,9 @@ impl Renderer {
         (radiance, 2)
     }
 
-    fn aov(&self, camera: &Camera, ray: &Ray, settings: &RenderSettings) -> Vec3 {
+    /// The AOV of `shot.render.shading` of the surface `ray` sees.
+    fn aov(&self, shot: &Shot, ray: &Ray) -> Vec3 {
+        let (camera, settings) = (&shot.camera, &shot.render);
         let hit = self.intersect(ray);
         match (settings.shading, hit) {
             (Shading::Albedo, None) => settings.background,

@@ -52,6 +52,8 @@ impl From<crate::camera::RealLensError> for SettingsError {
     }
 }
 
+/// What a user's settings resolve to: the camera and the render settings of one image.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Shot {
     pub camera: Camera,
     pub render: RenderSettings,

@@ -5,7 +5,7 @@ use glam::Vec3;
 use lensray_core::camera::LensParams;
 use lensray_core::reference::Renderer;
 use lensray_core::scene::Scene;
-use lensray_core::settings::Shading;
+use lensray_core::settings::{Shading, Shot};
 
 use crate::{camera, edge_fit, material, quad, settings};
 
@@ -19,7 +19,11 @@ fn edge_model_is_the_integral_of_the_disk_step() {
 /// predicts, and the raster x where the edge's pinhole projection falls.
 fn fit_edge(z: f32, lens: LensParams) -> (edge_fit::EdgeFit, f32, f32) {
     let (width, height) = (128u32, 32u32);
-    let cam = camera(width, height, lens);
+    let shot = Shot {
+        camera: camera(width, height, lens),
+        render: settings(Shading::Unlit, 1024),
+    };
+    let cam = &shot.camera;
     // Put the edge 0.37 px right of a pixel boundary, so the fit also sees the box filter.
     let pixels_per_screen_unit = height as f32 / (2.0 * (20.0f32).to_radians().tan());
     let edge_x = 0.37 * z / pixels_per_screen_unit;
@@ -33,8 +37,7 @@ fn fit_edge(z: f32, lens: LensParams) -> (edge_fit::EdgeFit, f32, f32) {
             material("white", Vec3::ONE, Vec3::ZERO),
         ],
     };
-    let (image, _) =
-        Renderer::new(&scene).render(&cam, &settings(Shading::Unlit, 1024), &mut |_, _| {});
+    let (image, _) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
     let profile: Vec<f64> = (0..width)
         .map(|c| (0..height).map(|r| image.get(c, r).x as f64).sum::<f64>() / height as f64)
         .collect();

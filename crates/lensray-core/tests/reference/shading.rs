@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3};
 use lensray_core::camera::LensParams;
 use lensray_core::reference::Renderer;
 use lensray_core::scene::{Material, Scene};
-use lensray_core::settings::Shading;
+use lensray_core::settings::{Shading, Shot};
 
 use crate::{camera, material, quad, settings};
 
@@ -17,9 +17,12 @@ fn unlit_shows_diffuse_colour_and_background() {
         meshes: vec![quad(-10.0, 0.0, -10.0, 10.0, -5.0, 0)],
         materials: vec![material("red", red, Vec3::ZERO)],
     };
-    let cam = camera(32, 24, LensParams::Pinhole);
-    let s = settings(Shading::Unlit, 4);
-    let (image, stats) = Renderer::new(&scene).render(&cam, &s, &mut |_, _| {});
+    let shot = Shot {
+        camera: camera(32, 24, LensParams::Pinhole),
+        render: settings(Shading::Unlit, 4),
+    };
+    let s = &shot.render;
+    let (image, stats) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
     assert_eq!(stats.rays, 32 * 24 * 4);
     for row in 0..24 {
         assert_eq!(image.get(5, row), red, "left pixel ({row})");
@@ -36,11 +39,15 @@ fn lit_matches_lambert_with_inverse_square() {
         meshes: vec![quad(-50.0, 50.0, -50.0, 50.0, -4.0, 0)],
         materials: vec![material("wall", kd, ke)],
     };
-    let cam = camera(16, 16, LensParams::Pinhole);
     let mut s = settings(Shading::Lit, 1);
     s.light.position = Vec3::new(1.0, 0.5, -1.0);
+    let shot = Shot {
+        camera: camera(16, 16, LensParams::Pinhole),
+        render: s,
+    };
+    let cam = &shot.camera;
     let renderer = Renderer::new(&scene);
-    let (image, _) = renderer.render(&cam, &s, &mut |_, _| {});
+    let (image, _) = renderer.render(&shot, &mut |_, _| {});
     let mut worst = 0.0f32;
     for row in 0..16 {
         for col in 0..16 {
@@ -75,9 +82,11 @@ fn depth_aov_is_distance_along_view_axis() {
         meshes: vec![quad(-50.0, 50.0, -50.0, 50.0, -7.5, 0)],
         materials: vec![Material::default()],
     };
-    let cam = camera(20, 10, LensParams::Pinhole);
-    let (image, _) =
-        Renderer::new(&scene).render(&cam, &settings(Shading::Depth, 2), &mut |_, _| {});
+    let shot = Shot {
+        camera: camera(20, 10, LensParams::Pinhole),
+        render: settings(Shading::Depth, 2),
+    };
+    let (image, _) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
     let worst = image
         .pixels
         .iter()
@@ -92,18 +101,20 @@ fn renders_are_deterministic() {
         meshes: vec![quad(-1.0, 1.0, -1.0, 1.0, -3.0, 0)],
         materials: vec![Material::default()],
     };
-    let cam = camera(
-        24,
-        16,
-        LensParams::ThinLens {
-            aperture_radius: 0.1,
-            focus_distance: 2.0,
-        },
-    );
+    let shot = Shot {
+        camera: camera(
+            24,
+            16,
+            LensParams::ThinLens {
+                aperture_radius: 0.1,
+                focus_distance: 2.0,
+            },
+        ),
+        render: settings(Shading::Lit, 8),
+    };
     let r = Renderer::new(&scene);
-    let s = settings(Shading::Lit, 8);
-    let (a, _) = r.render(&cam, &s, &mut |_, _| {});
-    let (b, _) = r.render(&cam, &s, &mut |_, _| {});
+    let (a, _) = r.render(&shot, &mut |_, _| {});
+    let (b, _) = r.render(&shot, &mut |_, _| {});
     assert_eq!(a, b);
     let _ = Vec2::ZERO;
 }

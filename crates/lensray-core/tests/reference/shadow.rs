@@ -13,7 +13,7 @@ use lensray_core::film::colour::linear_to_srgb;
 use lensray_core::film::Image;
 use lensray_core::reference::Renderer;
 use lensray_core::scene::Scene;
-use lensray_core::settings::Shading;
+use lensray_core::settings::{Shading, Shot};
 
 use crate::{camera, material, quad, settings};
 
@@ -67,10 +67,13 @@ fn render_shadow_scene(width: u32, height: u32) -> Image {
             material("occluder", Vec3::ZERO, OCCLUDER_EMISSION),
         ],
     };
-    let cam = camera(width, height, LensParams::Pinhole);
     let mut s = settings(Shading::Lit, 1);
     s.light.position = LIGHT;
-    let (image, _) = Renderer::new(&scene).render(&cam, &s, &mut |_, _| {});
+    let shot = Shot {
+        camera: camera(width, height, LensParams::Pinhole),
+        render: s,
+    };
+    let (image, _) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
     image
 }
 

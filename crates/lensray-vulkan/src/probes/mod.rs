@@ -15,7 +15,7 @@ use crate::scene::bvh::BvhParams;
 use crate::{check_size, GpuError, GpuRenderer};
 use layouts::LayoutReport;
 use lensray_core::camera::Camera;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 use mirrors::{ProbeQuery, ProbeResult};
 use view_routes::ViewRoutes;
 
@@ -62,16 +62,13 @@ impl GpuRenderer {
     pub fn probe_layouts(&mut self) -> Result<LayoutReport, GpuError> {
         layouts::run(&self.ctx)
     }
-    /// GPU milliseconds that generating the camera samples of a render with `camera`'s size and
-    /// `settings` takes on its own (the compute pass's sample loop without tracing), to compare
-    /// with [`Timings::trace_gpu_ms`].
-    pub fn sample_generation_ms(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-    ) -> Result<f64, GpuError> {
+    /// GPU milliseconds that generating the camera samples of a render of `shot` (its camera's
+    /// size and its settings) takes on its own (the compute pass's sample loop without
+    /// tracing), to compare with [`Timings::trace_gpu_ms`].
+    pub fn sample_generation_ms(&mut self, shot: &Shot) -> Result<f64, GpuError> {
+        let camera = &shot.camera;
         check_size(camera)?;
-        sampler_cost::run(&self.ctx, camera.width, camera.height, settings)
+        sampler_cost::run(&self.ctx, camera.width, camera.height, &shot.render)
     }
     /// Caps the pixel-samples per dispatch of the compute pass (tests use it to force several
     /// submissions). By default dispatches are sized from the measured speed to last

@@ -7,7 +7,7 @@ use std::time::Instant;
 use crate::{GpuError, GpuOptions, GpuRenderer};
 use lensray_core::camera::Camera;
 use lensray_core::scene::Scene;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::{RenderSettings, Shot};
 use lensray_core::stats::{median, range};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -124,38 +124,39 @@ impl std::fmt::Display for PassBenchReport {
 /// Opens the device, loads `scene` and runs [`bench_renderer`].
 pub fn bench(
     scene: &Scene,
-    camera: &Camera,
-    settings: &RenderSettings,
+    shot: &Shot,
     options: &PassBenchOptions,
 ) -> Result<PassBenchReport, GpuError> {
     let mut renderer = GpuRenderer::new(&options.gpu)?;
     renderer.load_scene(scene)?;
-    bench_renderer(&mut renderer, scene, camera, settings, options.repeats)
+    bench_renderer(&mut renderer, scene, shot, options.repeats)
 }
 
-/// Warms the pass up with a tiny render, then renders `camera` with `settings` `repeats` times
-/// on a renderer that has `scene` loaded, timing each run.
+/// Warms the pass up with a tiny render, then renders `shot` `repeats` times on a renderer
+/// that has `scene` loaded, timing each run.
 pub fn bench_renderer(
     renderer: &mut GpuRenderer,
     scene: &Scene,
-    camera: &Camera,
-    settings: &RenderSettings,
+    shot: &Shot,
     repeats: u32,
 ) -> Result<PassBenchReport, GpuError> {
-    let tiny = Camera::new(
-        camera.projection,
-        camera.frame,
-        camera.lens.clone(),
-        camera.near,
-        camera.far,
-        8,
-        8,
-    );
-    let warm_up = RenderSettings {
-        spp: 1,
-        ..*settings
+    let (camera, settings) = (&shot.camera, &shot.render);
+    let warm_up = Shot {
+        camera: Camera::new(
+            camera.projection,
+            camera.frame,
+            camera.lens.clone(),
+            camera.near,
+            camera.far,
+            8,
+            8,
+        ),
+        render: RenderSettings {
+            spp: 1,
+            ..*settings
+        },
     };
-    renderer.render(&tiny, &warm_up, &mut |_, _| {})?;
+    renderer.render(&warm_up, &mut |_, _| {})?;
     let pass = if settings.shading.is_aov() {
         BenchedPass::GBuffer
     } else {
@@ -167,7 +168,7 @@ pub fn bench_renderer(
     for _ in 0..repeats.max(1) {
         let before = renderer.timings();
         let start = Instant::now();
-        renderer.render(camera, settings, &mut |_, _| {})?;
+        renderer.render(shot, &mut |_, _| {})?;
         run_wall_ms.push(start.elapsed().as_secs_f64() * 1e3);
         let after = renderer.timings();
         run_gpu_ms.push(match pass {

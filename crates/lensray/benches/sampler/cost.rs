@@ -6,10 +6,9 @@ use std::time::Instant;
 use glam::UVec2;
 use rayon::prelude::*;
 
-use lensray_core::camera::Camera;
 use lensray_core::reference::Renderer;
 use lensray_core::sampler::{pixel_camera_samples, pixel_sampler};
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::{RenderSettings, Shot};
 use lensray_vulkan::{GpuOptions, GpuRenderer};
 
 use crate::{render, resolved, scenes, Options, KINDS};
@@ -19,9 +18,10 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Seconds to generate every camera sample of a render, as the renderer does (rows in parallel;
-/// per pixel the set-up, then packets of 16 samples).
-fn generation_seconds(camera: &Camera, settings: &RenderSettings) -> f64 {
+/// Seconds to generate every camera sample of a render of `shot`, as the renderer does (rows in
+/// parallel; per pixel the set-up, then packets of 16 samples).
+fn generation_seconds(shot: &Shot) -> f64 {
+    let (camera, settings) = (&shot.camera, &shot.render);
     let start = Instant::now();
     let total: f32 = (0..camera.height)
         .into_par_iter()
@@ -58,26 +58,24 @@ pub fn cost(o: &Options) {
         o.cost_width, o.cost_height
     );
     let renderer = Renderer::new(&desc.scene);
-    let (camera, settings) = resolved(&desc, o.cost_width, o.cost_height, None);
+    let shot = resolved(&desc, o.cost_width, o.cost_height, None);
+    let camera = &shot.camera;
     for kind in KINDS {
-        let s = RenderSettings {
-            spp: 16,
-            sampler: kind,
-            ..settings
+        let s = Shot {
+            camera: camera.clone(),
+            render: RenderSettings {
+                spp: 16,
+                sampler: kind,
+                ..shot.render
+            },
         };
-        let _ = render(&renderer, &camera, &s);
+        let _ = render(&renderer, &s);
         let render_s = median(
             (0..runs)
-                .map(|_| {
-                    renderer
-                        .render(&camera, &s, &mut |_, _| {})
-                        .1
-                        .elapsed
-                        .as_secs_f64()
-                })
+                .map(|_| renderer.render(&s, &mut |_, _| {}).1.elapsed.as_secs_f64())
                 .collect(),
         );
-        let generate_s = median((0..runs).map(|_| generation_seconds(&camera, &s)).collect());
+        let generate_s = median((0..runs).map(|_| generation_seconds(&s)).collect());
         println!(
             "CPU {kind}: render {:.1} ms, samples alone {:.2} ms = {:.2} % ({:.2} ns per sample)",
             render_s * 1e3,
@@ -95,22 +93,22 @@ pub fn cost(o: &Options) {
     };
     gpu.load_scene(&desc.scene).expect("load scene");
     for kind in KINDS {
-        let s = RenderSettings {
-            spp: 16,
-            sampler: kind,
-            ..settings
+        let s = Shot {
+            camera: camera.clone(),
+            render: RenderSettings {
+                spp: 16,
+                sampler: kind,
+                ..shot.render
+            },
         };
-        let _ = gpu.render(&camera, &s, &mut |_, _| {}).expect("GPU render");
+        let _ = gpu.render(&s, &mut |_, _| {}).expect("GPU render");
         let mut trace = Vec::new();
         let mut generate = Vec::new();
         for _ in 0..runs.min(3) {
             let before = gpu.timings().trace_gpu_ms;
-            let _ = gpu.render(&camera, &s, &mut |_, _| {}).expect("GPU render");
+            let _ = gpu.render(&s, &mut |_, _| {}).expect("GPU render");
             trace.push(gpu.timings().trace_gpu_ms - before);
-            generate.push(
-                gpu.sample_generation_ms(&camera, &s)
-                    .expect("GPU sample cost"),
-            );
+            generate.push(gpu.sample_generation_ms(&s).expect("GPU sample cost"));
         }
         let (trace, generate) = (median(trace), median(generate));
         println!(

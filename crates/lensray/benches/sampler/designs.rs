@@ -5,7 +5,6 @@ use glam::Vec2;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use lensray_core::camera::Camera;
 use lensray_core::film::Image;
 use lensray_core::reference::Renderer;
 use lensray_core::sampler::owen::{owen_scramble_reversed, shuffle_index};
@@ -14,7 +13,7 @@ use lensray_core::sampler::scrambled_sobol::{scramble_seed, shuffle_seed};
 use lensray_core::sampler::sobol::{sobol, sobol_reversed, LENS_INDEX_COLUMNS, SOBOL_MATRICES};
 use lensray_core::sampler::{pixel_key, sobol_pixel, sobol_sample, unit_float};
 use lensray_core::scene::file::SceneDescription;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 use crate::{edges, mean_rmse, reference, render, resolved, scenes, slope, Options};
 
@@ -63,16 +62,17 @@ fn candidate_independent(key: u32, index: u32) -> [f32; 4] {
     lensray_core::sampler::independent_sample(key, index)
 }
 
-/// An unlit render (the diffuse colour seen, or the background) with the candidate's samples.
+/// An unlit render of `shot` (the diffuse colour seen, or the background) with the candidate's
+/// samples.
 fn unlit_estimate(
     renderer: &Renderer,
     desc: &SceneDescription,
-    camera: &Camera,
-    settings: &RenderSettings,
+    shot: &Shot,
     candidate: Candidate,
     spp: u32,
     seed: u32,
 ) -> Image {
+    let (camera, settings) = (&shot.camera, &shot.render);
     let mut image = Image::new(camera.width, camera.height);
     image
         .pixels
@@ -179,26 +179,20 @@ pub fn decision(o: &Options) {
     ];
     for (name, desc) in scenes() {
         let renderer = Renderer::new(&desc.scene);
-        let (camera, settings) = resolved(&desc, o.width, o.height, Some(Shading::Unlit));
-        let (reference, own) = reference(&renderer, &camera, &settings, o.reference_spp);
+        let shot = resolved(&desc, o.width, o.height, Some(Shading::Unlit));
+        let (reference, own) = reference(&renderer, &shot, o.reference_spp);
         // The default candidate is the renderer's own sampler: same image, bit for bit.
-        let check = RenderSettings {
-            spp: 4,
-            seed: 9,
-            ..settings
+        let check = Shot {
+            camera: shot.camera.clone(),
+            render: RenderSettings {
+                spp: 4,
+                seed: 9,
+                ..shot.render
+            },
         };
         assert_eq!(
-            render(&renderer, &camera, &check).pixels,
-            unlit_estimate(
-                &renderer,
-                &desc,
-                &camera,
-                &settings,
-                candidate_default,
-                4,
-                9
-            )
-            .pixels,
+            render(&renderer, &check).pixels,
+            unlit_estimate(&renderer, &desc, &shot, candidate_default, 4, 9).pixels,
             "the benchmark's estimator differs from the renderer"
         );
         println!("{name}: reference's own RMSE ~ {own:.5}");
@@ -208,9 +202,8 @@ pub fn decision(o: &Options) {
         }
         println!(" slope 16-256 |");
         for (label, candidate) in candidates {
-            let estimate = |spp, seed| {
-                unlit_estimate(&renderer, &desc, &camera, &settings, candidate, spp, seed)
-            };
+            let estimate =
+                |spp, seed| unlit_estimate(&renderer, &desc, &shot, candidate, spp, seed);
             let errors: Vec<f64> = o
                 .powers
                 .iter()

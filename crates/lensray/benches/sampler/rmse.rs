@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use lensray_core::film::compare::rmse;
 use lensray_core::reference::Renderer;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::{RenderSettings, Shot};
 
 use crate::{mean_rmse, reference, render, resolved, scenes, slope, Options, KINDS, SEEDS};
 
@@ -19,9 +19,9 @@ pub fn rmse_table(o: &Options) {
     );
     for (name, desc) in scenes() {
         let renderer = Renderer::new(&desc.scene);
-        let (camera, settings) = resolved(&desc, o.width, o.height, None);
+        let shot = resolved(&desc, o.width, o.height, None);
         let start = Instant::now();
-        let (reference, own) = reference(&renderer, &camera, &settings, o.reference_spp);
+        let (reference, own) = reference(&renderer, &shot, o.reference_spp);
         println!(
             "{name}: reference in {:.1} s, its own RMSE ~ {own:.5}",
             start.elapsed().as_secs_f64()
@@ -29,13 +29,16 @@ pub fn rmse_table(o: &Options) {
         let mut rows = Vec::new();
         for kind in KINDS {
             let estimate = |spp, seed| {
-                let s = RenderSettings {
-                    spp,
-                    seed,
-                    sampler: kind,
-                    ..settings
+                let s = Shot {
+                    camera: shot.camera.clone(),
+                    render: RenderSettings {
+                        spp,
+                        seed,
+                        sampler: kind,
+                        ..shot.render
+                    },
                 };
-                render(&renderer, &camera, &s)
+                render(&renderer, &s)
             };
             let errors: Vec<f64> = o
                 .powers
@@ -78,8 +81,8 @@ pub fn between_powers(o: &Options) {
         SEEDS.len()
     );
     let renderer = Renderer::new(&desc.scene);
-    let (camera, settings) = resolved(&desc, o.width, o.height, None);
-    let (reference, _) = reference(&renderer, &camera, &settings, o.reference_spp);
+    let shot = resolved(&desc, o.width, o.height, None);
+    let (reference, _) = reference(&renderer, &shot, o.reference_spp);
     println!("| spp | sobol RMSE | sobol RMSE x spp^0.75 | independent RMSE | independent RMSE x spp^0.5 |");
     for &spp in &o.between {
         let e: Vec<f64> = KINDS
@@ -88,13 +91,16 @@ pub fn between_powers(o: &Options) {
                 let sum: f64 = SEEDS
                     .iter()
                     .map(|&seed| {
-                        let s = RenderSettings {
-                            spp,
-                            seed,
-                            sampler: kind,
-                            ..settings
+                        let s = Shot {
+                            camera: shot.camera.clone(),
+                            render: RenderSettings {
+                                spp,
+                                seed,
+                                sampler: kind,
+                                ..shot.render
+                            },
                         };
-                        rmse(&render(&renderer, &camera, &s), &reference).powi(2)
+                        rmse(&render(&renderer, &s), &reference).powi(2)
                     })
                     .sum();
                 (sum / SEEDS.len() as f64).sqrt()

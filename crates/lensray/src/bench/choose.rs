@@ -8,8 +8,7 @@ use super::options::BenchOptions;
 use super::scenes::BenchScene;
 use crate::paths::PathKind;
 use crate::paths::{self, Choice, DeviceKind, PathOptions};
-use lensray_core::camera::Camera;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 use lensray_vulkan::{GpuOptions, GpuRenderer};
 
 /// How to open `kind` for the bench: GPU paths on the Vulkan device the options name; the CPU
@@ -31,7 +30,7 @@ pub fn path_options(kind: PathKind, options: &BenchOptions) -> PathOptions {
 pub fn paths_to_run(
     options: &BenchOptions,
     scene: &BenchScene,
-    shot: (&Camera, &RenderSettings),
+    shot: &Shot,
     log: &mut dyn FnMut(&str),
 ) -> Result<Vec<PathKind>> {
     let device = options.device;
@@ -150,7 +149,7 @@ fn gpu_paths(
 fn auto_path(
     options: &BenchOptions,
     scene: &BenchScene,
-    shot: (&Camera, &RenderSettings),
+    shot: &Shot,
     log: &mut dyn FnMut(&str),
 ) -> Result<PathKind> {
     let path_options = PathOptions {

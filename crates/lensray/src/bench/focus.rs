@@ -4,9 +4,8 @@
 
 use serde::Serialize;
 
-use lensray_core::camera::Camera;
 use lensray_core::reference::Renderer as CpuRenderer;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 /// Circles of confusion under this radius (pixels) are in focus: the hybrid's shortcut rule.
 const IN_FOCUS_COC: f32 = crate::paths::hybrid::SHORTCUT_COC;
@@ -24,13 +23,18 @@ pub struct FocusInfo {
 }
 
 impl FocusInfo {
-    pub fn of(cpu: &CpuRenderer, camera: &Camera, settings: &RenderSettings) -> Self {
-        let depth_settings = RenderSettings {
-            shading: Shading::Depth,
-            spp: 1,
-            ..*settings
+    /// How much of `shot` is in focus, from its depth AOV rendered by `cpu`.
+    pub fn of(cpu: &CpuRenderer, shot: &Shot) -> Self {
+        let camera = &shot.camera;
+        let depth_shot = Shot {
+            camera: camera.clone(),
+            render: RenderSettings {
+                shading: Shading::Depth,
+                spp: 1,
+                ..shot.render
+            },
         };
-        let (depth, _) = cpu.render(camera, &depth_settings, &mut |_, _| {});
+        let (depth, _) = cpu.render(&depth_shot, &mut |_, _| {});
         let pixels = depth.pixels.len().max(1) as f64;
         let (mut in_focus, mut background, mut largest, mut sum) = (0usize, 0usize, 0f32, 0f64);
         for z in depth.pixels.iter().map(|p| p.x) {

@@ -25,7 +25,7 @@ use lensray_core::reference::PACKET_SIZE;
 use lensray_core::sampler::{
     pixel_camera_sample, pixel_sampler, shared_pixel_sampler, PixelSampler,
 };
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 use lensray_core::stats::median;
 
 /// Lens samples a side of the grid drawn at each central pixel.
@@ -95,26 +95,22 @@ pub enum LensModel {
 }
 
 impl LensPoint {
-    /// The figures of `point` seen by `camera` (the real lens's camera is `real`: the thin
+    /// The figures of `point` rendering `shot` (the real lens's camera is `real`: the thin
     /// model's point takes its f-number from it).
-    pub fn measure(
-        point: BenchLens,
-        camera: &Camera,
-        real: &Camera,
-        settings: &RenderSettings,
-    ) -> Self {
+    pub fn measure(point: BenchLens, shot: &Shot, real: &Camera) -> Self {
+        let (camera, settings) = (&shot.camera, &shot.render);
         let f_number = real.real_lens.as_ref().map_or(0.0, |l| l.f_number);
         let mut seconds = Vec::with_capacity(CAMERA_RAY_PASSES);
         let mut camera_rays = 0;
         for _ in 0..CAMERA_RAY_PASSES {
             let start = Instant::now();
-            camera_rays = shot_camera_rays(camera, settings);
+            camera_rays = shot_camera_rays(shot);
             seconds.push(start.elapsed().as_secs_f64());
         }
         let camera_samples =
             u64::from(camera.width) * u64::from(camera.height) * u64::from(settings.spp);
         let (centre_passed, centre_samples) = centre_camera_rays(camera);
-        let cpu_pieces = CpuPieces::measure(camera, settings);
+        let cpu_pieces = CpuPieces::measure(shot);
         LensPoint {
             lens: point.name(),
             model: if point.real {
@@ -137,8 +133,9 @@ impl LensPoint {
 }
 
 impl CpuPieces {
-    /// Times the pieces over the samples of every `PIECES_ROW_STRIDE`th row of the shot.
-    fn measure(camera: &Camera, settings: &RenderSettings) -> Self {
+    /// Times the pieces over the samples of every `PIECES_ROW_STRIDE`th row of `shot`.
+    fn measure(shot: &Shot) -> Self {
+        let (camera, settings) = (&shot.camera, &shot.render);
         let rows = (0..camera.height).step_by(PIECES_ROW_STRIDE as usize);
         let pixels: Vec<UVec2> = rows
             .flat_map(|y| (0..camera.width).map(move |x| UVec2::new(x, y)))
@@ -146,7 +143,7 @@ impl CpuPieces {
         let samples: Vec<(Vec2, Vec2)> = pixels
             .iter()
             .flat_map(|&p| {
-                let sampler = sampler_of(camera, settings, p);
+                let sampler = sampler_of(shot, p);
                 (0..settings.spp).map(move |i| {
                     let s = pixel_camera_sample(&sampler, i);
                     (s.film, s.lens)
@@ -157,7 +154,7 @@ impl CpuPieces {
         let sampler_ns = ns_per_sample(n, &|| {
             let mut sum = 0.0;
             for &p in &pixels {
-                let sampler = sampler_of(camera, settings, p);
+                let sampler = sampler_of(shot, p);
                 for i in 0..settings.spp {
                     let s = pixel_camera_sample(&sampler, black_box(i));
                     sum += s.film.x + s.lens.y;
@@ -189,12 +186,13 @@ impl CpuPieces {
     }
 }
 
-/// The sampler of `pixel` as the paths draw it (shared across pixels or per pixel).
-fn sampler_of(camera: &Camera, settings: &RenderSettings, pixel: UVec2) -> PixelSampler {
+/// The sampler of `pixel` of `shot` as the paths draw it (shared across pixels or per pixel).
+fn sampler_of(shot: &Shot, pixel: UVec2) -> PixelSampler {
+    let settings = &shot.render;
     if settings.shared_samples {
         shared_pixel_sampler(settings.sampler, settings.seed, pixel)
     } else {
-        pixel_sampler(settings.sampler, settings.seed, pixel, camera.width)
+        pixel_sampler(settings.sampler, settings.seed, pixel, shot.camera.width)
     }
 }
 
@@ -266,16 +264,17 @@ fn real_lens_pieces(
     (pupil_ns, lens_trace_ns, packet_ns)
 }
 
-/// The camera samples of a render of `settings` whose rays the lens lets through: every
-/// pixel's samples `0..spp`, drawn as the paths draw them.
-pub fn shot_camera_rays(camera: &Camera, settings: &RenderSettings) -> u64 {
+/// The camera samples of a render of `shot` whose rays the lens lets through: every pixel's
+/// samples `0..spp`, drawn as the paths draw them.
+pub fn shot_camera_rays(shot: &Shot) -> u64 {
+    let (camera, settings) = (&shot.camera, &shot.render);
     (0..camera.height)
         .into_par_iter()
         .map(|y| {
             let mut passed = 0u64;
             for x in 0..camera.width {
                 let pixel = UVec2::new(x, y);
-                let sampler = sampler_of(camera, settings, pixel);
+                let sampler = sampler_of(shot, pixel);
                 for i in 0..settings.spp {
                     let sample = pixel_camera_sample(&sampler, i);
                     let ray = camera.generate_ray(sample.film, sample.lens);

@@ -29,9 +29,7 @@ use crate::paths::{self, OpenedPath};
 use crate::paths::{PathKind, RenderPath};
 use focus::FocusInfo;
 use lens::LensPoint;
-use lensray_core::camera::Camera;
 use lensray_core::reference::Renderer as CpuRenderer;
-use lensray_core::settings::RenderSettings;
 use lensray_core::settings::Shot;
 use options::{BenchOptions, SceneChoice, SweepKind};
 use reference::Reference;
@@ -80,8 +78,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
         _ => SweepValue::Spp(options.spp),
     };
     let base_shot = bench_shot(&base, options, base_value)?;
-    let mut kinds =
-        choose::paths_to_run(options, &base, (&base_shot.camera, &base_shot.render), log)?;
+    let mut kinds = choose::paths_to_run(options, &base, &base_shot, log)?;
     if options.sweep == Some(SweepKind::Lens) {
         kinds = lens_paths(options, kinds, log)?;
     }
@@ -241,8 +238,8 @@ fn measure_group(
         .zip(lenses)
         .map(|((((s, reference), mut results), value), lens)| {
             set_speedups(&mut results);
-            let focus = FocusInfo::of(&cpu, &s.camera, &s.render);
-            let mut point = point_report(scene, (&s.camera, &s.render), &reference, focus, results);
+            let focus = FocusInfo::of(&cpu, s);
+            let mut point = point_report(scene, s, &reference, focus, results);
             if let SweepValue::Aperture(a) = value {
                 point.aperture = Some(*a);
             }
@@ -277,8 +274,7 @@ fn group_references(
             None => Rc::new(reference::obtain(
                 options.cache_dir.as_deref(),
                 scene,
-                &s.camera,
-                &s.render,
+                s,
                 options.reference_spp,
                 log,
             )?),
@@ -299,7 +295,6 @@ fn open_paths(
 ) -> Result<Vec<Box<dyn RenderPath>>> {
     let mut opened: Vec<Box<dyn RenderPath>> = Vec::with_capacity(kinds.len());
     for &kind in kinds {
-        let first = (&first.camera, &first.render);
         let OpenedPath { path, .. } = paths::open(
             &choose::path_options(kind, options),
             &scene.description.scene,
@@ -358,7 +353,7 @@ fn measure_in_turns(
     let points: Vec<_> = shots
         .iter()
         .zip(references)
-        .map(|(s, r)| (&s.camera, &s.render, &r.image))
+        .map(|(s, r)| (s, &r.image))
         .collect();
     let mut results = runs::measure_points_interleaved(opened, &points, options.repeat)?;
     if options.sweep == Some(SweepKind::Aperture) {
@@ -394,8 +389,7 @@ fn measure_point_by_point(
         ));
         results.push(runs::measure_interleaved(
             opened,
-            &s.camera,
-            &s.render,
+            s,
             options.repeat,
             &reference.image,
         )?);
@@ -427,7 +421,7 @@ fn lens_points(
                 .iter()
                 .position(|&m| m == BenchLens { real: true, ..l })
                 .map_or(&s.camera, |i| &shots[i].camera);
-            LensPoint::measure(l, &s.camera, real, &s.render)
+            LensPoint::measure(l, s, real)
         })
         .collect();
     lens::set_costs_vs_thin(&lens_values, &measured, results);
@@ -498,17 +492,18 @@ fn set_speedups(results: &mut [Measurement]) {
     }
 }
 
+/// The report of the point of `scene` rendering `shot`.
 fn point_report(
     scene: &BenchScene,
-    (camera, render): (&Camera, &RenderSettings),
+    shot: &Shot,
     reference: &Reference,
     focus: FocusInfo,
     results: Vec<Measurement>,
 ) -> PointReport {
     PointReport {
-        width: camera.width,
-        height: camera.height,
-        spp: render.spp,
+        width: shot.camera.width,
+        height: shot.camera.height,
+        spp: shot.render.spp,
         triangles: scene.triangles,
         aperture: None,
         lens: None,

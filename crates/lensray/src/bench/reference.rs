@@ -17,7 +17,7 @@ use crate::paths::RenderPath;
 use lensray_core::camera::Camera;
 use lensray_core::film::compare::rmse;
 use lensray_core::film::{Accumulation, Image};
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::{RenderSettings, Shot};
 
 /// Bumped when the file layout or the meaning of the key changes.
 const FORMAT: &[u8; 8] = b"LRREF001";
@@ -49,24 +49,27 @@ pub struct ReferenceInfo {
     pub render_seconds: Option<f64>,
 }
 
-/// The reference of `scene` seen by `camera` with `settings` (its `spp` and `seed` replaced),
-/// from `cache_dir` when there, else rendered and stored there. A cache that cannot be
-/// written costs a notice, not the run.
+/// The reference of `scene` rendering `shot` (its `spp` and `seed` replaced), from `cache_dir`
+/// when there, else rendered and stored there. A cache that cannot be written costs a notice,
+/// not the run.
 pub fn obtain(
     cache_dir: Option<&Path>,
     scene: &BenchScene,
-    camera: &Camera,
-    settings: &RenderSettings,
+    shot: &Shot,
     spp: u32,
     log: &mut dyn FnMut(&str),
 ) -> Result<Reference> {
     ensure!(spp >= 2, "--reference-spp must be at least 2");
-    let settings = RenderSettings {
-        spp,
-        seed: reference_seed(settings.seed),
-        ..*settings
+    let shot = Shot {
+        camera: shot.camera.clone(),
+        render: RenderSettings {
+            spp,
+            seed: reference_seed(shot.render.seed),
+            ..shot.render
+        },
     };
-    let file = cache_dir.map(|dir| dir.join(format!("{:016x}.ref", key(scene, camera, &settings))));
+    let (camera, settings) = (&shot.camera, &shot.render);
+    let file = cache_dir.map(|dir| dir.join(format!("{:016x}.ref", key(scene, &shot))));
     if let Some(file) = &file {
         if let Some((image, noise_rmse)) = read(file, camera) {
             return Ok(Reference {
@@ -87,11 +90,11 @@ pub fn obtain(
         camera.width, camera.height
     ));
     let start = Instant::now();
-    let (image, noise_rmse) = render(scene, camera, &settings)?;
+    let (image, noise_rmse) = render(scene, &shot)?;
     let render_seconds = start.elapsed().as_secs_f64();
     let mut stored = None;
     if let Some(file) = file {
-        match write(&file, &image, &settings, noise_rmse) {
+        match write(&file, &image, settings, noise_rmse) {
             Ok(()) => stored = Some(file),
             Err(error) => log(&format!(
                 "notice: the reference is not cached: cannot write {}: {error}",
@@ -112,9 +115,11 @@ pub fn obtain(
     })
 }
 
-/// The cache key. The camera and settings enter through their `Debug` text, which names every
-/// field and prints floats exactly (shortest round trip), so no field can be forgotten.
-fn key(scene: &BenchScene, camera: &Camera, settings: &RenderSettings) -> u64 {
+/// The cache key of `shot`. Its camera and settings enter through their `Debug` text, each
+/// apart, which names every field and prints floats exactly (shortest round trip), so no field
+/// can be forgotten.
+fn key(scene: &BenchScene, shot: &Shot) -> u64 {
+    let (camera, settings) = (&shot.camera, &shot.render);
     let mut h = Fingerprint::default();
     h.bytes(FORMAT);
     h.bytes(env!("CARGO_PKG_VERSION").as_bytes());
@@ -124,14 +129,15 @@ fn key(scene: &BenchScene, camera: &Camera, settings: &RenderSettings) -> u64 {
     h.finish()
 }
 
-/// Renders the two halves of the samples apart (any split gives the same sums), so that the
-/// reference's own noise comes for free.
-fn render(scene: &BenchScene, camera: &Camera, settings: &RenderSettings) -> Result<(Image, f64)> {
+/// Renders the two halves of the samples of `shot` apart (any split gives the same sums), so
+/// that the reference's own noise comes for free.
+fn render(scene: &BenchScene, shot: &Shot) -> Result<(Image, f64)> {
+    let (camera, settings) = (&shot.camera, &shot.render);
     let mut path = CpuPath::new();
     path.load_scene(&scene.description.scene)?;
     if settings.shading.is_aov() {
         // One deterministic ray per pixel centre: the reference is exact, without noise.
-        return Ok((path.aov(camera, settings)?, 0.0));
+        return Ok((path.aov(shot)?, 0.0));
     }
     let half = settings.spp / 2;
     let mut halves = [
@@ -139,7 +145,7 @@ fn render(scene: &BenchScene, camera: &Camera, settings: &RenderSettings) -> Res
         Accumulation::new(camera.width, camera.height),
     ];
     for (accumulation, samples) in halves.iter_mut().zip([0..half, half..settings.spp]) {
-        path.add_samples(camera, settings, samples, accumulation, &mut |_, _| {})?;
+        path.add_samples(shot, samples, accumulation, &mut |_, _| {})?;
     }
     let [first, second] = halves.each_ref().map(|h| h.host());
     let (mut whole, second) = (first?.clone(), second?);
@@ -214,10 +220,8 @@ mod tests {
         settings.image.height = Some(8);
         let resolved = lensray_core::settings::shot(&settings, &scene.description.scene).unwrap();
         let dir = tempfile::tempdir().unwrap();
-        let reference = |spp| {
-            let (camera, render) = (&resolved.camera, &resolved.render);
-            obtain(Some(dir.path()), &scene, camera, render, spp, &mut |_| {}).unwrap()
-        };
+        let reference =
+            |spp| obtain(Some(dir.path()), &scene, &resolved, spp, &mut |_| {}).unwrap();
         let first = reference(4);
         assert!(!first.info.cached && first.info.file.is_some());
         assert!(first.info.noise_rmse > 0.0 && first.info.noise_rmse.is_finite());

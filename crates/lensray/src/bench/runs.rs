@@ -8,10 +8,9 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 
 use crate::paths::{Clock, PathKind, RenderPath};
-use lensray_core::camera::Camera;
 use lensray_core::film::compare::rmse;
 use lensray_core::film::Image;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::{RenderSettings, Shot};
 use lensray_core::stats::{median, range};
 
 /// One timed render.
@@ -104,44 +103,42 @@ pub fn psnr_db(rmse: f64) -> f64 {
     -20.0 * rmse.log10()
 }
 
-/// Each path's warm-up render, then `repeat` rounds in which every path renders `settings`
-/// once, timed (samples 0..spp into a fresh accumulation each time). Interleaved rather than
+/// Each path's warm-up render, then `repeat` rounds in which every path renders `shot` once,
+/// timed (samples 0..spp into a fresh accumulation each time). Interleaved rather than
 /// path after path: a slow phase of a shared machine (minutes long here) then slows every path
 /// alike instead of one, and the ratios hold. The error is that of each path's last image
 /// (every run gives the same).
 pub fn measure_interleaved(
     paths: &mut [Box<dyn RenderPath>],
-    camera: &Camera,
-    settings: &RenderSettings,
+    shot: &Shot,
     repeat: usize,
     reference: &Image,
 ) -> Result<Vec<Measurement>> {
-    let mut points = measure_points_interleaved(paths, &[(camera, settings, reference)], repeat)?;
+    let mut points = measure_points_interleaved(paths, &[(shot, reference)], repeat)?;
     Ok(points.remove(0))
 }
 
-/// `measure_interleaved` over several points whose ratios matter (the aperture sweep: each
-/// shape against the round one): every round renders every point with every path, so a slow
-/// phase of the machine slows them alike. Per point, each path's measurement.
+/// `measure_interleaved` over several points (each a shot and its reference) whose ratios
+/// matter (the aperture sweep: each shape against the round one): every round renders every
+/// point with every path, so a slow phase of the machine slows them alike. Per point, each
+/// path's measurement.
 pub fn measure_points_interleaved(
     paths: &mut [Box<dyn RenderPath>],
-    points: &[(&Camera, &RenderSettings, &Image)],
+    points: &[(&Shot, &Image)],
     repeat: usize,
 ) -> Result<Vec<Vec<Measurement>>> {
-    for &(camera, settings, _) in points {
+    for &(shot, _) in points {
         for path in paths.iter_mut() {
-            path.render(camera, settings, &mut |_, _| {})
+            path.render(shot, &mut |_, _| {})
                 .with_context(|| format!("--paths {}", path.kind()))?;
         }
     }
     let mut runs = vec![vec![Vec::with_capacity(repeat); paths.len()]; points.len()];
     let mut images = vec![vec![None; paths.len()]; points.len()];
     for _ in 0..repeat {
-        for (&(camera, settings, _), (runs, images)) in
-            points.iter().zip(runs.iter_mut().zip(&mut images))
-        {
+        for (&(shot, _), (runs, images)) in points.iter().zip(runs.iter_mut().zip(&mut images)) {
             for ((path, runs), image) in paths.iter_mut().zip(runs).zip(images) {
-                let (run, rendered) = timed_render(path.as_mut(), camera, settings)
+                let (run, rendered) = timed_render(path.as_mut(), shot)
                     .with_context(|| format!("--paths {}", path.kind()))?;
                 runs.push(run);
                 *image = Some(rendered);
@@ -151,7 +148,7 @@ pub fn measure_points_interleaved(
     points
         .iter()
         .zip(runs.into_iter().zip(images))
-        .map(|(&(_, settings, reference), (runs, images))| {
+        .map(|(&(shot, reference), (runs, images))| {
             paths
                 .iter()
                 .zip(runs)
@@ -160,7 +157,7 @@ pub fn measure_points_interleaved(
                     let image = image.expect("at least one run");
                     Ok(measurement(
                         path.as_ref(),
-                        settings,
+                        &shot.render,
                         runs,
                         &image,
                         reference,
@@ -171,18 +168,15 @@ pub fn measure_points_interleaved(
         .collect()
 }
 
-fn timed_render(
-    path: &mut dyn RenderPath,
-    camera: &Camera,
-    settings: &RenderSettings,
-) -> Result<(Run, Image)> {
+/// `path`'s render of `shot`, timed.
+fn timed_render(path: &mut dyn RenderPath, shot: &Shot) -> Result<(Run, Image)> {
     let before = path.report();
     let start = Instant::now();
-    let image = path.render(camera, settings, &mut |_, _| {})?;
+    let image = path.render(shot, &mut |_, _| {})?;
     let wall_seconds = start.elapsed().as_secs_f64();
     let done = path.report().since(&before);
     // An AOV is one pass (GPU: the raster G-buffer), timed as such; no rays on the GPU.
-    let trace_seconds = if settings.shading.is_aov() {
+    let trace_seconds = if shot.render.shading.is_aov() {
         done.aov_seconds
     } else {
         done.trace_seconds

@@ -78,17 +78,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let description = load_scene(&args.view)?;
     let mut settings = merged_settings(&description.settings, &args.view);
     let context = || format!("scene {}", description.source);
-    let Shot {
-        mut camera,
-        mut render,
-    } = shot(&settings, &description.scene).with_context(context)?;
+    let mut resolved = shot(&settings, &description.scene).with_context(context)?;
 
     let OpenedPath { mut path, why } =
-        paths::open(&args.path.options(), &description.scene, (&camera, &render))?;
+        paths::open(&args.path.options(), &description.scene, &resolved)?;
     if let Some(pixel) = args.focus_at {
-        let focus = focus_depth_at(path.as_mut(), &camera, pixel)?;
+        let focus = focus_depth_at(path.as_mut(), &resolved.camera, pixel)?;
         settings.camera.focus_distance = Some(focus as f64);
-        Shot { camera, render } = shot(&settings, &description.scene).with_context(context)?;
+        resolved = shot(&settings, &description.scene).with_context(context)?;
         eprintln!(
             "autofocus: pixel {},{} is {focus:.4} away along the view axis",
             pixel[0], pixel[1]
@@ -97,11 +94,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let mut progress = ProgressReporter::new("rendering", args.progress);
     let before = path.report();
-    let image = path.render(&camera, &render, &mut |d, t| progress.update(d, t))?;
+    let image = path.render(&resolved, &mut |d, t| progress.update(d, t))?;
     progress.finish();
     let report = path.report().since(&before);
     let (kind, device) = (path.kind(), path.device_name());
     path.close()?;
+    let Shot { camera, render } = &resolved;
     output.finish(&image, render.shading)?;
     println!(
         "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, path {kind} ({why}) on {}: {:.2} s total, {:.2} Mrays/s",

@@ -11,16 +11,13 @@ use super::calibration;
 use crate::paths::PathKind;
 use lensray_core::camera::Camera;
 use lensray_core::film::Accumulation;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{Estimator, GpuRenderer};
 
 /// `auto` on an open Vulkan device with a scene loaded: the only traversal it runs, the fastest
 /// of the device's cached calibration (`calibration`), or else the fastest on a small render of
 /// `shot`. Sets it, and says which and why.
-pub fn pick_traversal(
-    renderer: &mut GpuRenderer,
-    shot: (&Camera, &RenderSettings),
-) -> Result<(PathKind, String)> {
+pub fn pick_traversal(renderer: &mut GpuRenderer, shot: &Shot) -> Result<(PathKind, String)> {
     let kinds: Vec<PathKind> = renderer
         .traversals()
         .into_iter()
@@ -48,13 +45,13 @@ pub fn pick_traversal(
 }
 
 /// The pixel-samples of `shot` (an AOV: one per pixel).
-pub(super) fn pixel_samples((camera, settings): (&Camera, &RenderSettings)) -> u64 {
-    let spp = if settings.shading.is_aov() {
+pub(super) fn pixel_samples(shot: &Shot) -> u64 {
+    let spp = if shot.render.shading.is_aov() {
         1
     } else {
-        settings.spp
+        shot.render.spp
     };
-    u64::from(camera.width) * u64::from(camera.height) * u64::from(spp)
+    u64::from(shot.camera.width) * u64::from(shot.camera.height) * u64::from(spp)
 }
 
 /// Width of the calibration render of `auto` (its height keeps the shot's aspect).
@@ -67,9 +64,10 @@ const CALIBRATION_SPP: u32 = 2;
 fn fastest(
     renderer: &mut GpuRenderer,
     kinds: &[PathKind],
-    (camera, settings): (&Camera, &RenderSettings),
+    shot: &Shot,
 ) -> Result<(PathKind, String)> {
-    let (small, lit) = calibration_shot((camera, settings));
+    let calibration = calibration_shot(shot);
+    let small = &calibration.camera;
     let mut times = Vec::new();
     for &kind in kinds {
         renderer.set_traversal(kind.traversal().expect("a GPU path"))?;
@@ -78,9 +76,9 @@ fn fastest(
             let before = renderer.timings();
             let mut accumulation = Accumulation::new(small.width, small.height);
             renderer.add_samples(
-                (&small, &lit),
+                &calibration,
                 Estimator::Traced,
-                0..lit.spp,
+                0..calibration.render.spp,
                 &mut accumulation,
                 &mut |_, _| {},
             )?;
@@ -104,9 +102,10 @@ fn fastest(
     Ok((best, why))
 }
 
-/// The calibration shot of `auto`: `CALIBRATION_WIDTH` pixels wide (the shot's aspect), lit,
-/// `CALIBRATION_SPP` samples.
-fn calibration_shot((camera, settings): (&Camera, &RenderSettings)) -> (Camera, RenderSettings) {
+/// The calibration shot of `auto` for `shot`: `CALIBRATION_WIDTH` pixels wide (the shot's
+/// aspect), lit, `CALIBRATION_SPP` samples.
+fn calibration_shot(shot: &Shot) -> Shot {
+    let (camera, settings) = (&shot.camera, &shot.render);
     let height = ((u64::from(CALIBRATION_WIDTH) * u64::from(camera.height))
         / u64::from(camera.width.max(1)))
     .max(1) as u32;
@@ -120,7 +119,10 @@ fn calibration_shot((camera, settings): (&Camera, &RenderSettings)) -> (Camera, 
         spp: CALIBRATION_SPP,
         ..*settings
     };
-    (small, lit)
+    Shot {
+        camera: small,
+        render: lit,
+    }
 }
 
 /// The largest circle of confusion (radius, pixels of the shot) of the surfaces the shot sees,
@@ -142,17 +144,15 @@ fn largest_coc_pixels(renderer: &mut GpuRenderer, camera: &Camera, small: &Camer
 /// circles of confusion reach `sqrt(spp) / 2` pixels: there its samples, shared by every
 /// pixel, show as ghost copies instead of noise (docs/raster.md). Leaves the renderer on the
 /// traversal the hybrid and raster paths trace with; says which path and why.
-pub fn pick_path(
-    renderer: &mut GpuRenderer,
-    shot: (&Camera, &RenderSettings),
-) -> Result<(PathKind, String)> {
+pub fn pick_path(renderer: &mut GpuRenderer, shot: &Shot) -> Result<(PathKind, String)> {
     let (traced, traced_why) = pick_traversal(renderer, shot)?;
-    let (small, lit) = calibration_shot(shot);
+    let calibration = calibration_shot(shot);
+    let small = &calibration.camera;
     // The hybrid's error at equal spp is the traced paths' (unlit and lit, docs/hybrid.md), so
     // its time at equal spp is the measure.
     let mut candidates = vec![traced, PathKind::Hybrid];
-    let coc = largest_coc_pixels(renderer, shot.0, &small)?;
-    let ghost_free = (shot.1.spp as f32).sqrt() / 2.0;
+    let coc = largest_coc_pixels(renderer, &shot.camera, small)?;
+    let ghost_free = (shot.render.spp as f32).sqrt() / 2.0;
     let raster_note = if coc <= ghost_free {
         candidates.push(PathKind::Raster);
         String::new()
@@ -160,7 +160,7 @@ pub fn pick_path(
         format!(
             "; raster left out: circles of confusion up to {coc:.1} px would show as ghost \
              copies at {} spp",
-            shot.1.spp
+            shot.render.spp
         )
     };
     let mut times = Vec::new();
@@ -171,9 +171,9 @@ pub fn pick_path(
             let mut accumulation = Accumulation::new(small.width, small.height);
             let start = Instant::now();
             renderer.add_samples(
-                (&small, &lit),
+                &calibration,
                 kind.estimator(),
-                0..lit.spp,
+                0..calibration.render.spp,
                 &mut accumulation,
                 &mut |_, _| {},
             )?;

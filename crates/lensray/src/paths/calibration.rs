@@ -16,9 +16,8 @@ use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 
 use super::{CpuPath, PathKind, RenderPath};
-use lensray_core::camera::Camera;
 use lensray_core::film::Accumulation;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{DeviceReport, Estimator, GpuOptions, GpuRenderer, Traversal};
 
 /// Bumped when the calibration shot or the measurement changes: older entries are measured again.
@@ -161,7 +160,7 @@ fn store_in(dir: &Path, calibration: &Calibration) -> Result<PathBuf> {
 }
 
 /// The calibration shot: the built-in scene's camera at `WIDTH` x `HEIGHT`, lit.
-fn shot() -> Result<(lensray_core::scene::Scene, Camera, RenderSettings)> {
+fn shot() -> Result<(lensray_core::scene::Scene, Shot)> {
     let description = lensray_core::scene::builtin::default_scene();
     let shot = lensray_core::settings::shot(&description.settings, &description.scene)?;
     let settings = RenderSettings {
@@ -170,8 +169,10 @@ fn shot() -> Result<(lensray_core::scene::Scene, Camera, RenderSettings)> {
     };
     Ok((
         description.scene,
-        shot.camera.with_resolution(WIDTH, HEIGHT),
-        settings,
+        Shot {
+            camera: shot.camera.with_resolution(WIDTH, HEIGHT),
+            render: settings,
+        },
     ))
 }
 
@@ -203,12 +204,12 @@ fn cost(mut add: impl FnMut(u32, &mut Accumulation) -> Result<()>) -> Result<Cos
 /// Measures the cost of the CPU reference and of every traversal of the Vulkan device `gpu`
 /// opens, on the calibration shots.
 pub fn measure(gpu: &GpuOptions) -> Result<Calibration> {
-    let (scene, camera, settings) = shot()?;
+    let (scene, shot) = shot()?;
     let mut costs = BTreeMap::new();
     let mut cpu = CpuPath::new();
     cpu.load_scene(&scene)?;
     let cpu_cost = cost(|spp, acc| {
-        cpu.add_samples(&camera, &settings, 0..spp, acc, &mut |_, _| {})?;
+        cpu.add_samples(&shot, 0..spp, acc, &mut |_, _| {})?;
         cpu.read_sums(acc)
     })?;
     costs.insert(PathKind::Cpu, cpu_cost);
@@ -221,8 +222,7 @@ pub fn measure(gpu: &GpuOptions) -> Result<Calibration> {
     for traversal in renderer.traversals() {
         renderer.set_traversal(traversal)?;
         let traversal_cost = cost(|spp, acc| {
-            let shot = (&camera, &settings);
-            renderer.add_samples(shot, Estimator::Traced, 0..spp, acc, &mut |_, _| {})?;
+            renderer.add_samples(&shot, Estimator::Traced, 0..spp, acc, &mut |_, _| {})?;
             Ok(renderer.read_sums(acc)?)
         })?;
         costs.insert(PathKind::of_traversal(traversal), traversal_cost);

@@ -10,7 +10,7 @@ use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::reference::Renderer;
 use lensray_core::scene::Scene;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 
 pub struct CpuPath {
     renderer: Option<Renderer>,
@@ -69,17 +69,14 @@ impl RenderPath for CpuPath {
 
     fn add_samples(
         &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
+        shot: &Shot,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
         progress: &mut Progress,
     ) -> Result<()> {
-        super::check_accumulation(camera, settings, accumulation)?;
+        super::check_accumulation(shot, accumulation)?;
         let sums = accumulation.host_mut()?;
-        let stats = self
-            .renderer()?
-            .accumulate(camera, settings, samples, sums, progress);
+        let stats = self.renderer()?.accumulate(shot, samples, sums, progress);
         self.report.rays += stats.rays;
         self.report.trace_seconds += stats.elapsed.as_secs_f64();
         Ok(())
@@ -91,8 +88,8 @@ impl RenderPath for CpuPath {
         Ok(())
     }
 
-    fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image> {
-        let (image, stats) = self.renderer()?.render(camera, settings, &mut |_, _| {});
+    fn aov(&mut self, shot: &Shot) -> Result<Image> {
+        let (image, stats) = self.renderer()?.render(shot, &mut |_, _| {});
         self.report.aov_passes += 1;
         self.report.aov_seconds += stats.elapsed.as_secs_f64();
         Ok(image)

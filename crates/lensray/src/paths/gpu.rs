@@ -11,7 +11,7 @@ use crate::paths::{Clock, PathKind, PathReport, RenderPath};
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::Scene;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 use lensray_vulkan::{focus_distance_at, Estimator, GpuRenderer, Traversal};
 
 use super::hybrid::Plan;
@@ -83,23 +83,19 @@ impl RenderPath for GpuPath {
 
     fn add_samples(
         &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
+        shot: &Shot,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
         progress: &mut Progress,
     ) -> Result<()> {
-        super::check_accumulation(camera, settings, accumulation)?;
-        let added = self.renderer.add_samples(
-            (camera, settings),
-            self.estimator,
-            samples,
-            accumulation,
-            progress,
-        );
+        super::check_accumulation(shot, accumulation)?;
+        let added =
+            self.renderer
+                .add_samples(shot, self.estimator, samples, accumulation, progress);
         self.note_memory();
         if self.estimator == Estimator::Hybrid {
-            self.last_plan = Some((camera.width, camera.height, settings.spp));
+            let camera = &shot.camera;
+            self.last_plan = Some((camera.width, camera.height, shot.render.spp));
         }
         self.plan_seconds += added?.plan_seconds;
         Ok(())
@@ -109,8 +105,8 @@ impl RenderPath for GpuPath {
         Ok(self.renderer.read_sums(accumulation)?)
     }
 
-    fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image> {
-        let image = self.renderer.aov(camera, settings)?;
+    fn aov(&mut self, shot: &Shot) -> Result<Image> {
+        let image = self.renderer.aov(shot)?;
         self.note_memory();
         Ok(image)
     }

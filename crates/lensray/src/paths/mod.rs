@@ -23,10 +23,9 @@ pub use path::{
 };
 pub use request::PathOptions;
 
-use lensray_core::camera::Camera;
 use lensray_core::film::Accumulation;
 use lensray_core::scene::Scene;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 use lensray_vulkan::{Estimator, GpuOptions, GpuRenderer};
 
 /// An open path with its scene loaded, and why it was chosen (for the summary line).
@@ -39,13 +38,9 @@ pub struct OpenedPath {
 /// `shot` with each path the device supports and keeps the fastest. Under `--device auto`, a
 /// missing or unusable Vulkan device falls back to the CPU with a notice, unless a Vulkan
 /// option (`--validate`, `--gpu`) or a GPU path was asked for.
-pub fn open(
-    options: &PathOptions,
-    scene: &Scene,
-    shot: (&Camera, &RenderSettings),
-) -> Result<OpenedPath> {
+pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedPath> {
     let device = options.device_to_use("--path")?;
-    let real_lens = shot.0.real_lens.as_deref();
+    let real_lens = shot.camera.real_lens.as_deref();
     if let (Some(real), Some(kind)) = (real_lens, options.path.only()) {
         match kind.real_lens_support() {
             RealLensSupport::Refused => bail!(
@@ -163,12 +158,9 @@ fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
     })
 }
 
-/// The accumulation must match the camera, and only traced shadings add samples.
-fn check_accumulation(
-    camera: &Camera,
-    settings: &RenderSettings,
-    accumulation: &Accumulation,
-) -> Result<()> {
+/// The accumulation must match the camera of `shot`, and only traced shadings add samples.
+fn check_accumulation(shot: &Shot, accumulation: &Accumulation) -> Result<()> {
+    let (camera, settings) = (&shot.camera, &shot.render);
     if (accumulation.width, accumulation.height) != (camera.width, camera.height) {
         bail!(
             "accumulation {}x{} does not match the {}x{} image",

@@ -11,7 +11,7 @@ use serde::Serialize;
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::Scene;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 use lensray_vulkan::{Estimator, Traversal};
 
 /// The algorithms lensray can render with: the one description of a path. What a path needs
@@ -306,22 +306,21 @@ pub trait RenderPath {
     /// Loads `scene` (and builds what the path traverses), replacing any earlier scene.
     fn load_scene(&mut self, scene: &Scene) -> Result<()>;
 
-    /// Adds samples `samples` of every pixel (thin lens: `Unlit` or `Lit`) to `accumulation`,
-    /// which has the camera's size. Any split of a range into calls gives the same sums. A GPU
-    /// path keeps the sums on its device from call to call: read them with `read_sums`.
-    /// `progress(done, total)` reports the work done in the call.
+    /// Adds samples `samples` of every pixel of `shot` (thin lens: `Unlit` or `Lit`) to
+    /// `accumulation`, which has the camera's size. Any split of a range into calls gives the
+    /// same sums. A GPU path keeps the sums on its device from call to call: read them with
+    /// `read_sums`. `progress(done, total)` reports the work done in the call.
     fn add_samples(
         &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
+        shot: &Shot,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
         progress: &mut Progress,
     ) -> Result<()>;
 
-    /// An AOV (`Depth`, `Normal`, `Albedo`): the surface seen by the aperture-centre ray at each
-    /// pixel centre (GPU paths: the raster G-buffer).
-    fn aov(&mut self, camera: &Camera, settings: &RenderSettings) -> Result<Image>;
+    /// The AOV of `shot` (its shading: `Depth`, `Normal`, `Albedo`): the surface seen by the
+    /// aperture-centre ray at each pixel centre (GPU paths: the raster G-buffer).
+    fn aov(&mut self, shot: &Shot) -> Result<Image>;
 
     /// The view depth of the surface seen through the centre of `pixel` by the aperture-centre
     /// ray, `None` where no surface is (autofocus, click to focus).
@@ -345,21 +344,15 @@ pub trait RenderPath {
     /// report of the device's destruction included.
     fn close(self: Box<Self>) -> Result<()>;
 
-    /// The whole image of `settings`: traced samples 0..spp, or the AOV.
-    fn render(
-        &mut self,
-        camera: &Camera,
-        settings: &RenderSettings,
-        progress: &mut Progress,
-    ) -> Result<Image> {
+    /// The whole image of `shot`: traced samples 0..spp, or the AOV.
+    fn render(&mut self, shot: &Shot, progress: &mut Progress) -> Result<Image> {
         let (image, ()) = lensray_core::film::whole_image(
             self,
             progress,
-            (camera.width, camera.height),
-            settings,
-            |this, progress| lensray_core::film::one_pass(progress, || this.aov(camera, settings)),
+            shot,
+            |this, progress| lensray_core::film::one_pass(progress, || this.aov(shot)),
             |this, samples, accumulation, progress| {
-                this.add_samples(camera, settings, samples, accumulation, progress)
+                this.add_samples(shot, samples, accumulation, progress)
             },
             |this, accumulation| this.read_sums(accumulation),
         )?;

@@ -27,9 +27,8 @@ use super::panel::Panel;
 use super::player::ScriptPlayer;
 use super::rig::CameraRig;
 use super::view::ViewMode;
-use lensray_core::camera::Camera;
 use lensray_core::scene::file::SceneDescription;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 use lensray_vulkan::{Viewer, ViewerOptions};
 use open::GpuPaths;
 
@@ -149,7 +148,7 @@ struct App {
     input: InputState,
     log: FrameLog,
     /// What the last frame rendered: a change restarts the accumulation.
-    last: Option<(Camera, RenderSettings)>,
+    last: Option<Shot>,
     pending_pick: Option<Vec2>,
     /// A scripted resize not yet seen in a drawn frame (size, when asked): `wait converged`
     /// waits for it, or for 2 s if the window manager refuses it.

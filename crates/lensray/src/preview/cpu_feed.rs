@@ -8,10 +8,9 @@ use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 
 use anyhow::Result;
-use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Sums};
 use lensray_core::scene::Scene;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 
 use crate::paths::{CpuPath, RenderPath};
 
@@ -19,8 +18,7 @@ use crate::paths::{CpuPath, RenderPath};
 #[derive(Clone)]
 struct Job {
     generation: u64,
-    camera: Camera,
-    settings: RenderSettings,
+    shot: Shot,
     target_spp: u32,
 }
 
@@ -44,7 +42,7 @@ pub struct CpuFeed {
     shared: Arc<(Mutex<Shared>, Condvar)>,
     worker: Option<JoinHandle<()>>,
     generation: u64,
-    current: Option<(Camera, RenderSettings, u32)>,
+    current: Option<(Shot, u32)>,
 }
 
 impl CpuFeed {
@@ -66,27 +64,26 @@ impl CpuFeed {
         })
     }
 
-    /// Asks for `target_spp` samples of this shot; a new shot restarts from 0 samples, a new
+    /// Asks for `target_spp` samples of `shot`; a new shot restarts from 0 samples, a new
     /// target continues.
-    pub fn request(&mut self, camera: &Camera, settings: &RenderSettings, target_spp: u32) {
-        let shot = (camera.clone(), *settings, target_spp);
-        if self.current.as_ref() == Some(&shot) {
-            return;
-        }
-        let new_shot = self
+    pub fn request(&mut self, shot: &Shot, target_spp: u32) {
+        if self
             .current
             .as_ref()
-            .is_none_or(|(c, s, _)| c != camera || s != settings);
+            .is_some_and(|(s, t)| s == shot && *t == target_spp)
+        {
+            return;
+        }
+        let new_shot = self.current.as_ref().is_none_or(|(s, _)| s != shot);
         if new_shot {
             self.generation += 1;
         }
-        self.current = Some(shot);
+        self.current = Some((shot.clone(), target_spp));
         let (lock, wake) = &*self.shared;
         let mut shared = lock.lock().expect("the worker does not panic");
         shared.job = Some(Job {
             generation: self.generation,
-            camera: camera.clone(),
-            settings: *settings,
+            shot: shot.clone(),
             target_spp,
         });
         wake.notify_all();
@@ -135,18 +132,12 @@ fn work(path: &mut CpuPath, shared: &(Mutex<Shared>, Condvar)) {
             .as_ref()
             .is_none_or(|(generation, _)| *generation != job.generation)
         {
-            let (width, height) = (job.camera.width, job.camera.height);
+            let (width, height) = (job.shot.camera.width, job.shot.camera.height);
             accumulation = Some((job.generation, Accumulation::new(width, height)));
         }
         let (_, sums) = accumulation.as_mut().expect("made above");
         let next = sums.host().map_or(0, Sums::samples);
-        let added = path.add_samples(
-            &job.camera,
-            &job.settings,
-            next..next + 1,
-            sums,
-            &mut |_, _| {},
-        );
+        let added = path.add_samples(&job.shot, next..next + 1, sums, &mut |_, _| {});
         let mut state = lock.lock().expect("the window does not panic while locked");
         match added.and_then(|()| Ok(sums.host()?.pixels.clone())) {
             Ok(pixels) => {

@@ -1,8 +1,8 @@
 //! The `C` key: the current camera as text, so the shot can be rendered headless. Two forms: the
 //! scene-file tables (`[camera]`, `[image]`, `[render]`, `[light]`) and the equivalent
-//! `lensray render` command. Every value is explicit, including what `resolve` derived (near, far,
-//! the light), so later changes to defaults cannot change the shot; numbers are printed in
-//! Rust's shortest round-trip form, so they read back to the same bits.
+//! `lensray render` command. Every value is explicit, including what `settings::shot` derived
+//! (near, far, the light), so later changes to defaults cannot change the shot; numbers are
+//! printed in Rust's shortest round-trip form, so they read back to the same bits.
 
 use std::fmt::Write;
 use std::path::Path;
@@ -51,8 +51,8 @@ fn array(v: Vec3) -> [f64; 3] {
     v.as_dvec3().to_array()
 }
 
-/// `settings` with every value `resolve` filled in written out. Values the user gave stay as
-/// given (f64); derived ones come from the resolved f32 values, which convert back exactly. Only
+/// `settings` with every value `settings::shot` filled in written out. Values the user gave stay
+/// as given (f64); derived ones come from the resolved f32 values, which convert back exactly. Only
 /// the projection's own size is written (`--vfov` and `--ortho-height` exclude each other).
 pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
     let (camera, render) = (&resolved.camera, &resolved.render);

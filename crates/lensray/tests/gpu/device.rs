@@ -2,7 +2,7 @@
 //! accepts or refuses, and the devices it lists.
 
 use lensray_core::camera::LensParams;
-use lensray_core::settings::Shading;
+use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::{GpuError, GpuOptions, GpuRenderer};
 
 use crate::gpu_support::*;
@@ -81,9 +81,12 @@ fn render_before_load_scene_is_an_error() {
     let Some((mut gpu, log)) = renderer("render_before_load_scene_is_an_error") else {
         return;
     };
-    let cam = camera(false, LensParams::Pinhole, 16, 12);
+    let shot = Shot {
+        camera: camera(false, LensParams::Pinhole, 16, 12),
+        render: settings(Shading::Unlit, 1),
+    };
     let err = gpu
-        .render(&cam, &settings(Shading::Unlit, 1), &mut |_, _| {})
+        .render(&shot, &mut |_, _| {})
         .expect_err("no scene loaded");
     assert!(matches!(err, GpuError::NoScene), "{err}");
     finish(gpu, log);
@@ -97,16 +100,18 @@ fn empty_scene_shows_the_background() {
     let mut scene = test_scene();
     scene.meshes.clear();
     gpu.load_scene(&scene).expect("load an empty scene");
-    let cam = camera(false, LensParams::Pinhole, 32, 24);
-    let image = gpu
-        .render(&cam, &settings(Shading::Lit, 2), &mut |_, _| {})
-        .expect("render");
+    let shot = Shot {
+        camera: camera(false, LensParams::Pinhole, 32, 24),
+        render: settings(Shading::Lit, 2),
+    };
+    let cam = &shot.camera;
+    let image = gpu.render(&shot, &mut |_, _| {}).expect("render");
     assert!(image.pixels.iter().all(|&p| p == BACKGROUND));
-    let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+    let g = gpu.render_gbuffer(cam, BACKGROUND).expect("G-buffer");
     assert!(g.coverage.iter().all(|&c| !c));
     // A second scene replaces the first.
     gpu.load_scene(&test_scene()).expect("reload");
-    let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+    let g = gpu.render_gbuffer(cam, BACKGROUND).expect("G-buffer");
     assert!(g.coverage.iter().any(|&c| c));
     finish(gpu, log);
 }

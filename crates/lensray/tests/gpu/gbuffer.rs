@@ -6,7 +6,7 @@ use lensray_core::camera::LensParams;
 use lensray_core::film::Image;
 use lensray_core::interface::{VIEW_ALBEDO, VIEW_COC, VIEW_DEPTH, VIEW_NORMAL};
 use lensray_core::reference::Renderer as CpuRenderer;
-use lensray_core::settings::Shading;
+use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::focus_distance_at;
 
 use crate::gpu_support::*;
@@ -122,11 +122,13 @@ fn pinhole_compute_equals_gbuffer_albedo() {
     };
     gpu.load_scene(&test_scene()).expect("load scene");
     for orthographic in [false, true] {
-        let cam = camera(orthographic, LensParams::Pinhole, 128, 96);
-        let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
-        let image = gpu
-            .render(&cam, &settings(Shading::Unlit, 4), &mut |_, _| {})
-            .expect("render");
+        let shot = Shot {
+            camera: camera(orthographic, LensParams::Pinhole, 128, 96),
+            render: settings(Shading::Unlit, 4),
+        };
+        let cam = &shot.camera;
+        let g = gpu.render_gbuffer(cam, BACKGROUND).expect("G-buffer");
+        let image = gpu.render(&shot, &mut |_, _| {}).expect("render");
         let ids: Vec<i64> = g
             .albedo
             .iter()
@@ -162,14 +164,18 @@ fn aovs_come_from_the_gbuffer() {
     gpu.load_scene(&test_scene()).expect("load scene");
     let cam = camera(false, LensParams::Pinhole, 80, 60);
     let g = gpu.render_gbuffer(&cam, BACKGROUND).expect("G-buffer");
+    let aov = |shading| Shot {
+        camera: cam.clone(),
+        render: settings(shading, 1),
+    };
     let depth = gpu
-        .render(&cam, &settings(Shading::Depth, 1), &mut |_, _| {})
+        .render(&aov(Shading::Depth), &mut |_, _| {})
         .expect("depth");
     let normal = gpu
-        .render(&cam, &settings(Shading::Normal, 1), &mut |_, _| {})
+        .render(&aov(Shading::Normal), &mut |_, _| {})
         .expect("normal");
     let albedo = gpu
-        .render(&cam, &settings(Shading::Albedo, 1), &mut |_, _| {})
+        .render(&aov(Shading::Albedo), &mut |_, _| {})
         .expect("albedo");
     for i in 0..g.coverage.len() {
         assert_eq!(depth.pixels[i], Vec3::splat(g.view_depth[i]));
@@ -208,9 +214,12 @@ fn gpu_aovs_match_cpu_aovs() {
     for orthographic in [false, true] {
         let cam = camera(orthographic, lens.clone(), 80, 60);
         for shading in [Shading::Depth, Shading::Normal, Shading::Albedo] {
-            let s = settings(shading, 4);
-            let g = gpu.render(&cam, &s, &mut |_, _| {}).expect("GPU AOV");
-            let (c, _) = cpu.render(&cam, &s, &mut |_, _| {});
+            let shot = Shot {
+                camera: cam.clone(),
+                render: settings(shading, 4),
+            };
+            let g = gpu.render(&shot, &mut |_, _| {}).expect("GPU AOV");
+            let (c, _) = cpu.render(&shot, &mut |_, _| {});
             // Depth to 1e-4 of the far distance; colours and normals absolutely.
             let tolerance = if shading == Shading::Depth {
                 1e-4 * cam.far

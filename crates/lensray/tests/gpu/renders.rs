@@ -2,10 +2,10 @@
 //! the pipelines a render makes, and the rays it counts.
 
 use glam::Vec3;
-use lensray_core::camera::{Camera, LensParams};
+use lensray_core::camera::LensParams;
 use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::sampler::SamplerKind;
-use lensray_core::settings::Shading;
+use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::GpuOptions;
 
 use crate::gpu_support::*;
@@ -27,14 +27,16 @@ fn gpu_matches_cpu(orthographic: bool, shading: Shading) {
         aperture_radius: if orthographic { 0.08 } else { 0.12 },
         focus_distance: 5.0,
     };
-    let cam: Camera = camera(orthographic, lens.clone(), 96, 72);
-    let s = settings(shading, 8);
+    let shot = Shot {
+        camera: camera(orthographic, lens.clone(), 96, 72),
+        render: settings(shading, 8),
+    };
     let mut last = (0, 0);
     let image = gpu
-        .render(&cam, &s, &mut |done, total| last = (done, total))
+        .render(&shot, &mut |done, total| last = (done, total))
         .expect("GPU render");
     assert_eq!(last.0, last.1, "progress must end at the total");
-    let (reference, _) = CpuRenderer::new(&scene).render(&cam, &s, &mut |_, _| {});
+    let (reference, _) = CpuRenderer::new(&scene).render(&shot, &mut |_, _| {});
     let diff = compare(&image, &reference, 1.0 / 255.0);
     println!("{name}: {diff:?}");
     if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
@@ -70,17 +72,19 @@ fn split_dispatches_accumulate_identically() {
         return;
     };
     gpu.load_scene(&test_scene()).expect("load scene");
-    let cam = camera(
-        false,
-        LensParams::ThinLens {
-            aperture_radius: 0.1,
-            focus_distance: 4.0,
-        },
-        64,
-        48,
-    );
-    let s = settings(Shading::Lit, 6);
-    let whole = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
+    let shot = Shot {
+        camera: camera(
+            false,
+            LensParams::ThinLens {
+                aperture_radius: 0.1,
+                focus_distance: 4.0,
+            },
+            64,
+            48,
+        ),
+        render: settings(Shading::Lit, 6),
+    };
+    let whole = gpu.render(&shot, &mut |_, _| {}).expect("render");
     // Bands of rows and one sample at a time: 64 * 48 * 6 / 1000 -> dozens of dispatches,
     // and sums held for 20 rows at a time (3 bands, the last one shorter). They are recorded
     // 8 to a submission and nothing waits between them: one wait, at the end.
@@ -89,7 +93,7 @@ fn split_dispatches_accumulate_identically() {
     let mut calls = Vec::new();
     let (before, dispatches_before) = (gpu.counters(), gpu.timings().dispatches);
     let split = gpu
-        .render(&cam, &s, &mut |done, total| calls.push((done, total)))
+        .render(&shot, &mut |done, total| calls.push((done, total)))
         .expect("render");
     let counted = gpu.counters().since(&before);
     let dispatches = gpu.timings().dispatches - dispatches_before;
@@ -143,12 +147,18 @@ fn a_traced_render_makes_only_its_trace_pipeline() {
         aperture_radius: 0.1,
         focus_distance: 4.0,
     };
-    let cam = camera(false, lens, 32, 24);
-    gpu.render(&cam, &settings(Shading::Lit, 2), &mut |_, _| {})
-        .expect("lit render");
+    let lit = Shot {
+        camera: camera(false, lens, 32, 24),
+        render: settings(Shading::Lit, 2),
+    };
+    gpu.render(&lit, &mut |_, _| {}).expect("lit render");
     assert_eq!(gpu.counters().pipelines, 1, "{traversal}: a traced render");
-    gpu.render(&cam, &settings(Shading::Depth, 1), &mut |_, _| {})
-        .expect("depth AOV");
+    let depth = Shot {
+        camera: lit.camera,
+        render: settings(Shading::Depth, 1),
+    };
+    gpu.render(&depth, &mut |_, _| {}).expect("depth AOV");
+    let cam = depth.camera;
     gpu.render_gbuffer(&cam, Vec3::ZERO).expect("G-buffer");
     assert_eq!(
         gpu.counters().pipelines,
@@ -170,13 +180,15 @@ fn sample_ranges_add_up_to_the_whole() {
         aperture_radius: 0.15,
         focus_distance: 4.5,
     };
-    let cam = camera(false, lens, 32, 24);
-    let s = settings(Shading::Unlit, 16);
-    assert_eq!(s.sampler, SamplerKind::Sobol);
-    let whole = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
+    let shot = Shot {
+        camera: camera(false, lens, 32, 24),
+        render: settings(Shading::Unlit, 16),
+    };
+    assert_eq!(shot.render.sampler, SamplerKind::Sobol);
+    let whole = gpu.render(&shot, &mut |_, _| {}).expect("render");
     gpu.set_samples_per_dispatch(32 * 24 * 8);
     let dispatches_before = gpu.timings().dispatches;
-    let halves = gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
+    let halves = gpu.render(&shot, &mut |_, _| {}).expect("render");
     assert_eq!(
         gpu.timings().dispatches - dispatches_before,
         2,
@@ -229,10 +241,8 @@ fn gpu_matches_cpu_on_project_scenes() {
                 &desc.scene,
             )
             .expect("resolve settings");
-            let image = gpu
-                .render(&resolved.camera, &resolved.render, &mut |_, _| {})
-                .expect("GPU render");
-            let (reference, _) = cpu.render(&resolved.camera, &resolved.render, &mut |_, _| {});
+            let image = gpu.render(&resolved, &mut |_, _| {}).expect("GPU render");
+            let (reference, _) = cpu.render(&resolved, &mut |_, _| {});
             let diff = compare(&image, &reference, 1.0 / 255.0);
             let label = format!("scene-{name}-{shading:?}").to_lowercase();
             println!("{label}: {diff:?}");
@@ -255,20 +265,22 @@ fn rays_are_counted_exactly_per_workgroup() {
         return;
     };
     gpu.load_scene(&test_scene()).expect("load scene");
-    let cam = camera(
-        false,
-        LensParams::ThinLens {
-            aperture_radius: 0.1,
-            focus_distance: 5.0,
-        },
-        37,
-        23,
-    );
-    let s = settings(Shading::Unlit, 3);
+    let shot = Shot {
+        camera: camera(
+            false,
+            LensParams::ThinLens {
+                aperture_radius: 0.1,
+                focus_distance: 5.0,
+            },
+            37,
+            23,
+        ),
+        render: settings(Shading::Unlit, 3),
+    };
     for traversal in gpu.traversals() {
         gpu.set_traversal(traversal).expect("traversal");
         let before = gpu.timings();
-        gpu.render(&cam, &s, &mut |_, _| {}).expect("render");
+        gpu.render(&shot, &mut |_, _| {}).expect("render");
         let after = gpu.timings();
         let rays = (after.rays_traced + after.first_dispatch_rays)
             - (before.rays_traced + before.first_dispatch_rays);

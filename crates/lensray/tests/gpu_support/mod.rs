@@ -10,7 +10,7 @@ use lensray_core::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray_core::film::Image;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::{Material, Mesh, Scene};
-use lensray_core::settings::{PointLight, RenderSettings, Shading};
+use lensray_core::settings::{PointLight, RenderSettings, Shading, Shot};
 use lensray_vulkan::{GpuError, GpuOptions, GpuRenderer, ValidationLog};
 
 /// Opens the renderer with validation on. If that fails, the test fails, with one exception:
@@ -260,13 +260,9 @@ pub fn settings(shading: Shading, spp: u32) -> RenderSettings {
     }
 }
 
-/// `choice` opened on the test scene as `render --path` opens it (validation on for GPU
-/// paths); `None` (skip recorded) where the machine cannot run it and skipping is allowed.
-pub fn open_path(
-    test: &str,
-    choice: PathChoice,
-    shot: (&Camera, &RenderSettings),
-) -> Option<OpenedPath> {
+/// `choice` opened on the test scene for `shot` as `render --path` opens it (validation on for
+/// GPU paths); `None` (skip recorded) where the machine cannot run it and skipping is allowed.
+pub fn open_path(test: &str, choice: PathChoice, shot: &Shot) -> Option<OpenedPath> {
     let options = PathOptions {
         path: choice,
         device: DeviceChoice::Auto,
@@ -299,15 +295,11 @@ pub fn traced_path(test: &str) -> Option<PathKind> {
     Some(kind)
 }
 
-/// `choice`'s render of the test scene (see `open_path`), closed with the validation check.
-pub fn render_path(
-    test: &str,
-    choice: PathChoice,
-    cam: &Camera,
-    s: &RenderSettings,
-) -> Option<Image> {
-    let OpenedPath { mut path, .. } = open_path(test, choice, (cam, s))?;
-    let image = path.render(cam, s, &mut |_, _| {}).expect("render");
+/// `choice`'s render of `shot` of the test scene (see `open_path`), closed with the validation
+/// check.
+pub fn render_path(test: &str, choice: PathChoice, shot: &Shot) -> Option<Image> {
+    let OpenedPath { mut path, .. } = open_path(test, choice, shot)?;
+    let image = path.render(shot, &mut |_, _| {}).expect("render");
     path.close().expect("close: validation messages or leaks");
     Some(image)
 }

@@ -8,6 +8,7 @@ use lensray_core::film::Image;
 use lensray_core::optics::Prescription;
 use lensray_core::reference::Renderer;
 use lensray_core::scene::Scene;
+use lensray_core::settings::Shot;
 
 use crate::spot::{axis_angle, compare, forward_spot, render_window, window_around, Spot, Window};
 use crate::{above, below, builtin_lens, camera, material, quad, real, settings, write_png};
@@ -39,8 +40,11 @@ fn render_emitters(open: &Camera, emitters: &[(&str, Vec3); 2], half: f32, z: f3
         materials: vec![material("white", Vec3::ONE)],
     };
     println!("CoC {:.2} px", open.coc_radius_pixels(z));
-    let (image, _) =
-        Renderer::new(&scene).render(open, &settings(OPEN_SPP, 1, Vec3::ZERO), &mut |_, _| {});
+    let shot = Shot {
+        camera: open.clone(),
+        render: settings(OPEN_SPP, 1, Vec3::ZERO),
+    };
+    let (image, _) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
     image
 }
 

@@ -9,6 +9,7 @@ use lensray_core::film::Image;
 use lensray_core::optics::{builtin, Prescription};
 use lensray_core::reference::Renderer;
 use lensray_core::scene::Scene;
+use lensray_core::settings::Shot;
 
 use crate::{
     above, builtin_lens, camera, edge_fit, material, quad, real, real_lens, settings, write_png,
@@ -26,8 +27,11 @@ fn render_edge(camera: &Camera, z: f32, spp: u32) -> (Vec<f64>, Image, f32) {
         ],
         materials: vec![material("black", Vec3::ZERO), material("white", Vec3::ONE)],
     };
-    let (image, _) =
-        Renderer::new(&scene).render(camera, &settings(spp, 1, Vec3::ZERO), &mut |_, _| {});
+    let shot = Shot {
+        camera: camera.clone(),
+        render: settings(spp, 1, Vec3::ZERO),
+    };
+    let (image, _) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
     let profile = (0..camera.width)
         .map(|c| {
             let column: f64 = (0..camera.height)

@@ -5,6 +5,7 @@ use lensray_core::camera::RealLens;
 use lensray_core::optics::trace::narrow;
 use lensray_core::reference::Renderer;
 use lensray_core::scene::Scene;
+use lensray_core::settings::Shot;
 use rayon::prelude::*;
 
 use crate::{below, builtin_lens, camera, material, quad, real, real_lens, settings, write_png};
@@ -152,19 +153,21 @@ fn fall_off_matches_the_irradiance_over_the_rear_plane() {
 #[test]
 fn a_uniform_background_renders_the_relative_illumination() {
     let (width, height) = (96u32, 64u32);
-    let cam = camera(
-        width,
-        height,
-        real(&builtin_lens("double-gauss-50"), None, 3.0, 24.0),
-    );
-    let lens = real_lens(&cam);
+    let shot = Shot {
+        camera: camera(
+            width,
+            height,
+            real(&builtin_lens("double-gauss-50"), None, 3.0, 24.0),
+        ),
+        render: settings(1024, 1, Vec3::ONE),
+    };
+    let lens = real_lens(&shot.camera);
     // Something for the BVH to hold, behind the camera: every ray sees the background.
     let scene = Scene {
         meshes: vec![quad(-1.0, 1.0, -1.0, 1.0, 10.0, 0)],
         materials: vec![material("unseen", Vec3::ZERO)],
     };
-    let (image, _) =
-        Renderer::new(&scene).render(&cam, &settings(1024, 1, Vec3::ONE), &mut |_, _| {});
+    let (image, _) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
     let e0 = irradiance(lens, Vec3::new(0.0, 0.0, lens.film_z()));
     // Each block's top-left pixel is (x - 1, y - 1).
     let blocks = [

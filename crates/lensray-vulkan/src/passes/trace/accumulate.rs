@@ -12,10 +12,9 @@ use super::{Timings, TracePass};
 use crate::core::buffer::{barrier_to_host, Buffer};
 use crate::core::error::GpuError;
 use crate::passes::films::Start;
-use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Progress};
 use lensray_core::interface::{TraceParams, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER};
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 
 /// Steps (dispatches) recorded per command buffer: each submission signals the timeline, whose
 /// value the progress reads; none is waited for until the last.
@@ -24,18 +23,19 @@ const STEPS_PER_SUBMIT: usize = 8;
 const PROGRESS_POLL: std::time::Duration = std::time::Duration::from_millis(2);
 
 impl TracePass {
-    /// Adds samples `samples` of every pixel to `accumulation` (of the camera's size), with the
-    /// scene last bound by `bind_scene`. The sums stay on the device (`films`); the shader adds
-    /// sample after sample to them, so any split of a range gives the same sums.
+    /// Adds samples `samples` of every pixel of `shot` to `accumulation` (of the camera's size),
+    /// with the scene last bound by `bind_scene`. The sums stay on the device (`films`); the
+    /// shader adds sample after sample to them, so any split of a range gives the same sums.
     pub fn accumulate(
         &mut self,
-        (camera, settings): (&Camera, &RenderSettings),
+        shot: &Shot,
         samples: Range<u32>,
         accumulation: &mut Accumulation,
         timings: &mut Timings,
         raster: Option<&RecordSample<'_>>,
         progress: &mut Progress,
     ) -> Result<(), GpuError> {
+        let camera = &shot.camera;
         let (width, height) = (camera.width, camera.height);
         let pixels = u64::from(width) * u64::from(height);
         if (accumulation.width, accumulation.height) != (width, height) {
@@ -53,7 +53,7 @@ impl TracePass {
         let (film, start) = self.films.take(accumulation)?;
         self.films.prepare_finish(film)?;
         // The parameters go up in the first submission (a pending one may still read them).
-        let params = crate::upload::trace_params(camera, settings);
+        let params = crate::upload::trace_params(shot);
 
         let steps = self.plan_steps(width, height, band_rows, &samples, mode, raster.is_some());
         let total: u64 = steps.iter().map(|s| s.work).sum();

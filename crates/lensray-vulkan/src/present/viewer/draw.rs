@@ -65,7 +65,7 @@ impl Viewer {
         let Some(mut frame) = self.frame() else {
             return Ok(result);
         };
-        frame.check_size(request.camera)?;
+        frame.check_size(&request.shot.camera)?;
         frame.read_last_times(&mut result)?;
         let Some(image_index) = frame.acquire()? else {
             return Ok(result);
@@ -101,10 +101,10 @@ impl Viewer {
                 frame.textures.clear();
             }
         }
-        if self.gpu.trace.camera_tables_differ(request.camera) {
+        if self.gpu.trace.camera_tables_differ(&request.shot.camera) {
             // Frames in flight bind the old tables (a new aperture image: rare).
             self.wait_idle()?;
-            self.gpu.trace.ensure_camera_tables(request.camera)?;
+            self.gpu.trace.ensure_camera_tables(&request.shot.camera)?;
         }
         Ok(())
     }

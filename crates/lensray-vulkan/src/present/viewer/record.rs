@@ -16,9 +16,8 @@ use crate::passes::gbuffer::{GBufferPass, GBufferTargets};
 use crate::present::frames::FrameSlot;
 use crate::scene::SceneBuffers;
 use crate::Estimator;
-use lensray_core::camera::Camera;
 use lensray_core::interface::{TracePush, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER};
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 impl Frame<'_> {
     /// Records the frame's command buffer, phase after phase, ending it.
@@ -43,11 +42,15 @@ impl Frame<'_> {
             .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
         // The raster path's estimator: every pixel draws the same camera samples.
         let traced_settings = RenderSettings {
-            shared_samples: self.estimator == Estimator::Raster || request.settings.shared_samples,
-            ..*request.settings
+            shared_samples: self.estimator == Estimator::Raster
+                || request.shot.render.shared_samples,
+            ..request.shot.render
         };
         if plan.restart {
-            self.record_restart(request.camera, &traced_settings);
+            self.record_restart(&Shot {
+                camera: request.shot.camera.clone(),
+                render: traced_settings,
+            });
         }
         if let Some(sums) = request.host.as_ref().and_then(|h| h.sums) {
             self.record_host_sums(sums)?;
@@ -114,7 +117,7 @@ impl Frame<'_> {
         scene: &SceneBuffers,
         gbuffer: &GBufferPass,
     ) {
-        let camera = request.camera;
+        let camera = &request.shot.camera;
         let cmd = self.slot.cmd;
         // The hybrid plans from the G-buffer of its planning camera (same rays and pixels, the
         // raster's clipping planes moved out), which the views show as well.
@@ -137,7 +140,7 @@ impl Frame<'_> {
                     cmd,
                     scene,
                     raster_camera,
-                    request.settings.background,
+                    request.shot.render.background,
                     crate::upload::view_params(camera, request.view),
                     plan.image_index as usize,
                 );
@@ -148,15 +151,15 @@ impl Frame<'_> {
                 cmd,
                 scene,
                 raster_camera,
-                request.settings.background,
+                request.shot.render.background,
                 Some((&slot.timestamps, 0)),
             ),
         }
     }
 
-    /// Records the restart of the accumulation: cleared, then the trace parameters of `camera`
-    /// and `traced_settings`.
-    fn record_restart(&self, camera: &Camera, traced_settings: &RenderSettings) {
+    /// Records the restart of the accumulation: cleared, then the trace parameters of the
+    /// traced shot `traced`.
+    fn record_restart(&self, traced: &Shot) {
         let cmd = self.slot.cmd;
         // SAFETY: recording state; the buffer has TRANSFER_DST usage.
         unsafe {
@@ -166,7 +169,7 @@ impl Frame<'_> {
         };
         self.gpu
             .trace
-            .record_params(cmd, &crate::upload::trace_params(camera, traced_settings));
+            .record_params(cmd, &crate::upload::trace_params(traced));
     }
 
     /// Records the copy of samples traced on the host into the accumulation, through the
@@ -226,12 +229,12 @@ impl Frame<'_> {
         scene: &SceneBuffers,
         targets: &GBufferTargets,
     ) {
-        let camera = request.camera;
+        let camera = &request.shot.camera;
         let cmd = self.slot.cmd;
         // Lit, the plan comes after the pre-pass that leaves each pixel's shortcut value and
         // shadow state in the plan buffer (with the parameters recorded at the restart; the
         // plan's steps order themselves after it).
-        if request.settings.shading == Shading::Lit {
+        if request.shot.render.shading == Shading::Lit {
             let visibility = self.gpu.visibility.as_ref().expect("prepared in resize");
             visibility.record_aperture_centre(cmd, scene, camera);
             self.gpu
@@ -243,7 +246,7 @@ impl Frame<'_> {
             cmd,
             targets,
             camera,
-            request.settings.shading,
+            request.shot.render.shading,
             request.target_spp,
         );
         *self.plan_spp = Some(request.target_spp);
@@ -258,7 +261,7 @@ impl Frame<'_> {
         scene: &SceneBuffers,
         traced_settings: &RenderSettings,
     ) {
-        let camera = request.camera;
+        let camera = &request.shot.camera;
         let cmd = self.slot.cmd;
         let mode = if self.estimator == Estimator::Hybrid {
             TRACE_MODE_HYBRID
@@ -337,7 +340,7 @@ impl Frame<'_> {
             self.resolve.record(
                 cmd,
                 targets,
-                &crate::upload::resolve_push(request.camera, request.view),
+                &crate::upload::resolve_push(&request.shot.camera, request.view),
             );
         }
         self.slot

@@ -3,8 +3,7 @@
 
 use crate::present::overlay::OverlayFrame;
 use crate::{Estimator, GpuOptions};
-use lensray_core::camera::Camera;
-use lensray_core::settings::RenderSettings;
+use lensray_core::settings::Shot;
 
 /// How the window waits for the display (VkPresentModeKHR).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -20,8 +19,8 @@ pub enum PresentMode {
 
 /// What the next frame shows.
 pub struct FrameRequest<'a> {
-    pub camera: &'a Camera,
-    pub settings: &'a RenderSettings,
+    /// The camera and the render settings the frame shows.
+    pub shot: &'a Shot,
     /// `lensray_core::interface::VIEW_*`. Samples are added only in the final view.
     pub view: u32,
     /// The camera, lens or shading changed: the accumulation starts again.

@@ -10,7 +10,7 @@ use lensray_core::interface::{
     HYBRID_CHECK_INVERSE, HYBRID_MAX_REACH_TILES, HYBRID_SEGMENT, HYBRID_SHORTCUT,
     HYBRID_SHORTCUT_COC, HYBRID_TILE,
 };
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::{GBuffer, GpuRenderer};
 
 /// Side of the tiles over which the circle of confusion is maximised, pixels.
@@ -291,15 +291,12 @@ fn plan_entries(
     (entries, shortcut_pixels, planned)
 }
 
-/// The plan of `settings` seen by `camera`, made on the device (shaders/passes/hybrid_plan.comp: the
-/// G-buffer and the plan in one submission, no G-buffer readback) and left in the renderer for
-/// its later `accumulate` calls. Its entries are read back (a mapped buffer) for the counts.
-pub fn device_plan(
-    renderer: &mut GpuRenderer,
-    camera: &Camera,
-    settings: &RenderSettings,
-) -> Result<Plan> {
-    renderer.plan_on_device(camera, &camera.for_rasterizing_rays(), settings)?;
+/// The plan of `shot`, made on the device (shaders/passes/hybrid_plan.comp: the G-buffer and the
+/// plan in one submission, no G-buffer readback) and left in the renderer for its later
+/// `accumulate` calls. Its entries are read back (a mapped buffer) for the counts.
+pub fn device_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan> {
+    let (camera, settings) = (&shot.camera, &shot.render);
+    renderer.plan_on_device(shot, &camera.for_rasterizing_rays())?;
     let entries = renderer.read_plan(u64::from(camera.width) * u64::from(camera.height))?;
     Ok(Plan::from_entries(
         camera.width,
@@ -309,16 +306,13 @@ pub fn device_plan(
     ))
 }
 
-/// The reference plan of `settings` seen by `camera`: the G-buffer (and, lit, the lit
-/// pre-pass) read back, `Plan::new` on the host.
-pub fn host_plan(
-    renderer: &mut GpuRenderer,
-    camera: &Camera,
-    settings: &RenderSettings,
-) -> Result<Plan> {
+/// The reference plan of `shot`: the G-buffer (and, lit, the lit pre-pass) read back,
+/// `Plan::new` on the host.
+pub fn host_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan> {
+    let (camera, settings) = (&shot.camera, &shot.render);
     let gbuffer = renderer.render_gbuffer(&camera.for_rasterizing_rays(), settings.background)?;
     let prepass = match settings.shading {
-        Shading::Lit => Some(renderer.lit_prepass(camera, settings)?),
+        Shading::Lit => Some(renderer.lit_prepass(shot)?),
         _ => None,
     };
     Ok(Plan::new(

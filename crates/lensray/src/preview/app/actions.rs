@@ -68,7 +68,7 @@ impl App {
             .read_accumulation()?
             .context("nothing rendered yet to save")?;
         let shading = match &self.last {
-            Some((_, settings)) => settings.shading,
+            Some(shot) => shot.render.shading,
             None => {
                 self.config
                     .rig

@@ -10,8 +10,7 @@ use winit::window::Window;
 use super::App;
 use crate::preview::cpu_feed::Snapshot;
 use crate::preview::panel::PanelStats;
-use lensray_core::camera::Camera;
-use lensray_core::settings::{RenderSettings, Shot};
+use lensray_core::settings::Shot;
 use lensray_vulkan::{FrameRequest, FrameResult, HostSamples, OverlayFrame};
 
 impl App {
@@ -47,8 +46,7 @@ impl App {
         if let Some(real) = &resolved.camera.real_lens {
             self.follow_real_lens(real.name());
         }
-        let current = (resolved.camera.clone(), resolved.render);
-        let restart = self.last.as_ref() != Some(&current);
+        let restart = self.last.as_ref() != Some(&resolved);
         let changed = restart || Some(self.panel.view) != self.shown_view;
         let pick = self.take_pick(width, height);
         let snapshot = self.cpu_samples(&resolved, restart)?;
@@ -59,8 +57,7 @@ impl App {
         });
         let viewer = self.viewer.as_mut().context("no viewer")?;
         let result = viewer.draw(FrameRequest {
-            camera: &resolved.camera,
-            settings: &resolved.render,
+            shot: &resolved,
             view: self.panel.view.code(),
             restart,
             target_spp: self.panel.target_spp,
@@ -69,7 +66,7 @@ impl App {
             host,
         })?;
         if result.drawn {
-            self.record_drawn(&result, changed, current, now, [width, height]);
+            self.record_drawn(&result, changed, resolved, now, [width, height]);
         }
         if let Some(depth) = result.picked_depth {
             self.focus_on_pick(depth);
@@ -109,7 +106,7 @@ impl App {
             lens_summary: self
                 .last
                 .as_ref()
-                .and_then(|(camera, _)| camera.real_lens.as_ref())
+                .and_then(|shot| shot.camera.real_lens.as_ref())
                 .map(|real| real.summary()),
         };
         let rig = &mut self.config.rig;
@@ -140,7 +137,7 @@ impl App {
     fn cpu_samples(&mut self, shot: &Shot, restart: bool) -> Result<Option<Snapshot>> {
         let snapshot = match self.cpu_feed.as_mut() {
             Some(feed) => {
-                feed.request(&shot.camera, &shot.render, self.panel.target_spp);
+                feed.request(shot, self.panel.target_spp);
                 feed.take_latest()?
             }
             None => None,
@@ -160,7 +157,7 @@ impl App {
         &mut self,
         result: &FrameResult,
         changed: bool,
-        current: (Camera, RenderSettings),
+        current: Shot,
         now: Instant,
         [width, height]: [u32; 2],
     ) {

@@ -132,17 +132,16 @@ impl App {
             );
         }
         let renderer = viewer.renderer_mut();
-        let shot = (&shot.camera, &shot.render);
         let (kind, why) = if self.config.viewer.gpu.traversal.is_some() {
             let traversal = renderer.traversal();
             (traversal.to_string(), "asked for".to_string())
         } else if asked != Estimator::Traced || real_lens.is_some() {
             // auto with a real lens: only the traversal paths trace its rays (as `render`).
-            let (kind, why) = paths::pick_traversal(renderer, shot)?;
+            let (kind, why) = paths::pick_traversal(renderer, &shot)?;
             (kind.to_string(), why)
         } else {
             // auto: any GPU path, the hybrid and raster paths included.
-            let (kind, why) = paths::pick_path(renderer, shot)?;
+            let (kind, why) = paths::pick_path(renderer, &shot)?;
             viewer.use_estimator(kind.estimator());
             self.config.viewer.estimator = kind.estimator();
             (kind.to_string(), why)

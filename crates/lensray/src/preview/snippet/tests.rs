@@ -9,11 +9,10 @@ use super::*;
 use crate::cli::render::{merged_settings, RenderArgs};
 use crate::preview::test_scene::unit_cube;
 use crate::preview::CameraRig;
-use lensray_core::camera::Camera;
 use lensray_core::scene::file::read_scene_file;
 use lensray_core::scene::Scene;
 use lensray_core::settings::shot;
-use lensray_core::settings::{RenderSettings, Shading};
+use lensray_core::settings::Shading;
 
 #[derive(Parser)]
 #[command(name = "lensray")]
@@ -70,23 +69,22 @@ fn args_from_command(command: &str, file: &Settings) -> (Settings, Option<PathBu
     (merged_settings(file, &args.view), args.view.scene)
 }
 
-fn resolved_parts(settings: &Settings, scene: &Scene) -> (Camera, RenderSettings) {
-    let r = shot(settings, scene).unwrap_or_else(|e| panic!("{e}: {settings:?}"));
-    (r.camera, r.render)
+/// The shot `settings` resolve to on `scene` (a panic naming them where they do not).
+fn resolved_shot(settings: &Settings, scene: &Scene) -> Shot {
+    shot(settings, scene).unwrap_or_else(|e| panic!("{e}: {settings:?}"))
 }
 
 /// Prints the rig's camera both ways and checks each reads back to the same camera.
 fn assert_round_trip(rig: &CameraRig, file: &Settings) {
     let scene = unit_cube();
-    let resolved = rig.shot(&scene).unwrap();
-    let original = (resolved.camera.clone(), resolved.render);
-    let snippet = camera_snippet(rig.settings(), &resolved, None);
-    let explicit = explicit_settings(rig.settings(), &resolved);
+    let original = rig.shot(&scene).unwrap();
+    let snippet = camera_snippet(rig.settings(), &original, None);
+    let explicit = explicit_settings(rig.settings(), &original);
 
     let from_toml = settings_from_toml(&snippet.toml);
     assert_eq!(from_toml, explicit, "TOML reads back every value exactly");
     assert_eq!(
-        resolved_parts(&from_toml, &scene),
+        resolved_shot(&from_toml, &scene),
         original,
         "{}",
         snippet.toml
@@ -95,7 +93,7 @@ fn assert_round_trip(rig: &CameraRig, file: &Settings) {
     let (from_command, scene_path) = args_from_command(&snippet.command, file);
     assert_eq!(scene_path, None);
     assert_eq!(
-        resolved_parts(&from_command, &scene),
+        resolved_shot(&from_command, &scene),
         original,
         "{}",
         snippet.command
