@@ -7,6 +7,8 @@
 //! renderer that every other path is checked against, and the [`interface`] whose layouts the
 //! GLSL shaders of `lensray-vulkan` share. [`stats`] and [`cache`] serve the layers above.
 
+// `pub` means exported: what no other crate can reach is `pub(crate)`.
+#![deny(unreachable_pub)]
 #![forbid(unsafe_code)]
 
 pub mod cache;

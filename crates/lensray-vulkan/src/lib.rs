@@ -37,6 +37,8 @@
 //! # let _ = (image, focus); Ok(()) }
 //! ```
 
+// `pub` means exported: what no other crate can reach is `pub(crate)`.
+#![deny(unreachable_pub)]
 #![deny(clippy::undocumented_unsafe_blocks)]
 
 mod core;

@@ -39,7 +39,7 @@ pub(crate) struct FlatScene {
 const MAX_TRIANGLES: usize = 1 << 24;
 
 impl FlatScene {
-    pub fn new(scene: &Scene) -> Result<Self, GpuError> {
+    pub(crate) fn new(scene: &Scene) -> Result<Self, GpuError> {
         let total = scene.triangle_count();
         if total > MAX_TRIANGLES {
             return Err(GpuError::Invalid(format!(
@@ -115,7 +115,7 @@ impl FlatScene {
         Ok(flat)
     }
 
-    pub fn triangle_count(&self) -> u32 {
+    pub(crate) fn triangle_count(&self) -> u32 {
         self.tri_info.len() as u32
     }
 }
@@ -129,7 +129,7 @@ pub(crate) fn projection_code(camera: &Camera) -> u32 {
 }
 
 /// The camera as the shaders read it (matrices, projection, thin lens and aperture).
-pub fn gpu_camera(camera: &Camera) -> GpuCamera {
+pub(crate) fn gpu_camera(camera: &Camera) -> GpuCamera {
     let image = camera.lens.aperture.image();
     let turn = camera.lens.aperture.turn();
     GpuCamera {
@@ -160,13 +160,13 @@ fn aperture_fan(fan: &[glam::Vec2]) -> [[f32; 4]; APERTURE_MAX_FAN as usize / 2]
 }
 
 /// No real lens: the shaders trace the thin lens.
-pub fn thin_lens() -> GpuLens {
+pub(crate) fn thin_lens() -> GpuLens {
     GpuLens::zeroed()
 }
 
 /// The real lens of `camera` as the shaders read it (`surface_count` 0: none); an error if
 /// it has more surfaces than the GPU's block holds.
-pub fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
+pub(crate) fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
     let mut out = GpuLens::zeroed();
     let Some(real) = camera.real_lens.as_deref() else {
         return Ok(out);
@@ -216,7 +216,7 @@ pub fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
 const _: () = assert!(lensray_core::camera::real_lens::PUPIL_BINS == LENS_PUPIL_BINS as usize);
 
 /// The trace pass's parameters of `shot`.
-pub fn trace_params(shot: &Shot) -> TraceParams {
+pub(crate) fn trace_params(shot: &Shot) -> TraceParams {
     let (camera, settings) = (&shot.camera, &shot.render);
     TraceParams {
         camera: gpu_camera(camera),
@@ -241,7 +241,7 @@ pub fn trace_params(shot: &Shot) -> TraceParams {
 pub(crate) const COC_DISPLAY_MAX: f32 = 16.0;
 
 /// View `view` (VIEW_*) of `camera`.
-pub fn view_params(camera: &Camera, view: u32) -> ViewParams {
+pub(crate) fn view_params(camera: &Camera, view: u32) -> ViewParams {
     ViewParams {
         view,
         projection: projection_code(camera),
@@ -255,7 +255,7 @@ pub fn view_params(camera: &Camera, view: u32) -> ViewParams {
 }
 
 /// View `view` (VIEW_*) of `camera`, over the camera's image.
-pub fn resolve_push(camera: &Camera, view: u32) -> ResolvePush {
+pub(crate) fn resolve_push(camera: &Camera, view: u32) -> ResolvePush {
     ResolvePush {
         width: camera.width,
         height: camera.height,
@@ -265,7 +265,7 @@ pub fn resolve_push(camera: &Camera, view: u32) -> ResolvePush {
     }
 }
 
-pub fn raster_push(camera: &Camera) -> RasterPush {
+pub(crate) fn raster_push(camera: &Camera) -> RasterPush {
     let clip: Mat4 = camera.clip_from_world();
     let ortho = if camera.is_orthographic() { 1.0 } else { 0.0 };
     RasterPush {

@@ -6,6 +6,8 @@
 //! CPU reference; no Vulkan) and `lensray-vulkan` (the device, the passes and presentation; the
 //! only `unsafe` code). Imports point down only.
 
+// `pub` means exported: what no other crate can reach is `pub(crate)`.
+#![deny(unreachable_pub)]
 #![forbid(unsafe_code)]
 
 pub mod bench;

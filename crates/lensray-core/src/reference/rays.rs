@@ -140,7 +140,7 @@ pub fn primary_rays(
 /// The rays of samples `first..first + n` of the sampler's pixel through the camera's real
 /// lens, packed: the first `m` slots (m returned) hold the rays the lens lets through, in
 /// world space, with their weights (`Camera::generate_ray`).
-pub fn real_lens_rays(
+pub(super) fn real_lens_rays(
     camera: &Camera,
     sampler: &PixelSampler,
     (first, n): (u32, usize),

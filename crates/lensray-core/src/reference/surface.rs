@@ -19,14 +19,14 @@ pub struct SurfacePoint {
 }
 
 /// Per-slot shading data, in the acceleration structure's leaf order.
-pub struct SurfaceData {
+pub(super) struct SurfaceData {
     /// Vertex normals per slot; all zero when the mesh has none.
     pub normals: Vec<[Vec3; 3]>,
     pub materials: Vec<u32>,
 }
 
 impl SurfaceData {
-    pub fn surface_point(&self, ray: &Ray, hit: &Hit, vertices: [Vec3; 3]) -> SurfacePoint {
+    pub(super) fn surface_point(&self, ray: &Ray, hit: &Hit, vertices: [Vec3; 3]) -> SurfacePoint {
         let position = ray.at(hit.t);
         let mut geometric_normal = (vertices[1] - vertices[0])
             .cross(vertices[2] - vertices[0])

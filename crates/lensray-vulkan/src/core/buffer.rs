@@ -20,7 +20,7 @@ pub(crate) struct Buffer {
 }
 
 impl Buffer {
-    pub fn new(
+    pub(crate) fn new(
         ctx: &Arc<Context>,
         name: &str,
         size: u64,
@@ -71,7 +71,7 @@ impl Buffer {
     }
 
     /// A device-local buffer filled with `data` through a staging buffer.
-    pub fn with_data(
+    pub(crate) fn with_data(
         ctx: &Arc<Context>,
         name: &str,
         data: &[u8],
@@ -116,7 +116,7 @@ impl Buffer {
     }
 
     /// Copies `data` into a host-visible buffer.
-    pub fn write(&mut self, data: &[u8]) -> Result<(), GpuError> {
+    pub(crate) fn write(&mut self, data: &[u8]) -> Result<(), GpuError> {
         let slice = self
             .allocation
             .as_mut()
@@ -129,7 +129,7 @@ impl Buffer {
     }
 
     /// The contents of a host-visible buffer.
-    pub fn read(&self) -> Result<&[u8], GpuError> {
+    pub(crate) fn read(&self) -> Result<&[u8], GpuError> {
         self.ctx.counters.read_back(self.size);
         self.allocation
             .as_ref()

@@ -6,7 +6,7 @@
 /// results, and pipelines made. Counted where those calls are made (`Context`, `Buffer::read`,
 /// `QueryPool::results`, the preview's frames, `Pipeline`).
 #[derive(Debug, Default)]
-pub struct DeviceCounters {
+pub(crate) struct DeviceCounters {
     pub submits: std::sync::atomic::AtomicU64,
     pub cpu_waits: std::sync::atomic::AtomicU64,
     pub readback_bytes: std::sync::atomic::AtomicU64,
@@ -36,27 +36,27 @@ impl Counters {
 }
 
 impl DeviceCounters {
-    pub fn submitted(&self) {
+    pub(crate) fn submitted(&self) {
         self.submits
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     }
 
-    pub fn waited(&self) {
+    pub(crate) fn waited(&self) {
         self.cpu_waits
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     }
 
-    pub fn read_back(&self, bytes: u64) {
+    pub(crate) fn read_back(&self, bytes: u64) {
         self.readback_bytes
             .fetch_add(bytes, std::sync::atomic::Ordering::Relaxed);
     }
 
-    pub fn made_pipeline(&self) {
+    pub(crate) fn made_pipeline(&self) {
         self.pipelines
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     }
 
-    pub fn snapshot(&self) -> Counters {
+    pub(crate) fn snapshot(&self) -> Counters {
         use std::sync::atomic::Ordering::Relaxed;
         Counters {
             submits: self.submits.load(Relaxed),

@@ -61,7 +61,7 @@ impl Context {
     /// `surface`: a window the device must present to (adds VK_KHR_swapchain).
     /// With `options.traversal` Software, or a device without (or hiding) ray queries, the
     /// ray-tracing extensions and features are not enabled.
-    pub fn new(
+    pub(crate) fn new(
         instance: Arc<Instance>,
         options: &GpuOptions,
         surface: Option<&WindowSurface>,
@@ -112,7 +112,7 @@ impl Context {
     }
 
     /// The acceleration-structure functions; an error when ray queries are not enabled.
-    pub fn accel(&self) -> Result<&khr::acceleration_structure::Device, GpuError> {
+    pub(crate) fn accel(&self) -> Result<&khr::acceleration_structure::Device, GpuError> {
         self.accel
             .as_ref()
             .ok_or_else(|| GpuError::Invalid("ray queries are not enabled on this device".into()))
@@ -120,7 +120,7 @@ impl Context {
 
     /// Creates a sampler and forgets it: a deliberate leak for the tests of the leak report.
     #[cfg(feature = "probes")]
-    pub fn leak_sampler(&self) -> Result<(), GpuError> {
+    pub(crate) fn leak_sampler(&self) -> Result<(), GpuError> {
         let info = vk::SamplerCreateInfo::default();
         // SAFETY: valid create-info on a live device; the handle is dropped on purpose.
         unsafe { self.device.create_sampler(&info, None) }
@@ -129,19 +129,19 @@ impl Context {
     }
 
     /// Nanoseconds between two timestamps of this queue (0 without timestamp support).
-    pub fn elapsed_ns(&self, start: u64, end: u64) -> f64 {
+    pub(crate) fn elapsed_ns(&self, start: u64, end: u64) -> f64 {
         if !self.timestamps {
             return 0.0;
         }
         (end.wrapping_sub(start) & self.timestamp_mask) as f64 * self.timestamp_period_ns
     }
 
-    pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
+    pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
         self.allocator.lock().unwrap_or_else(|p| p.into_inner())
     }
 
     /// Records `record` into a fresh command buffer, submits it, waits for it to finish.
-    pub fn submit_and_wait(
+    pub(crate) fn submit_and_wait(
         &self,
         record: impl FnOnce(vk::CommandBuffer) -> Result<(), GpuError>,
     ) -> Result<(), GpuError> {
@@ -153,7 +153,7 @@ impl Context {
     /// signals the returned value of the device's timeline when it finishes (`completed`,
     /// `wait_until`). Submissions run in order on the one queue; a later one orders itself
     /// after earlier ones with barriers as usual.
-    pub fn submit(
+    pub(crate) fn submit(
         &self,
         record: impl FnOnce(vk::CommandBuffer) -> Result<(), GpuError>,
     ) -> Result<u64, GpuError> {
@@ -228,7 +228,7 @@ impl Context {
     }
 
     /// Waits until every submission so far finished (none pending: no wait).
-    pub fn wait_all(&self) -> Result<(), GpuError> {
+    pub(crate) fn wait_all(&self) -> Result<(), GpuError> {
         let last = self.submitted.lock().unwrap_or_else(|p| p.into_inner()).0;
         if last > self.completed()? {
             self.wait_until(last)?;
@@ -237,12 +237,12 @@ impl Context {
     }
 
     /// The timeline value of the last submission (0 before any).
-    pub fn last_submitted(&self) -> u64 {
+    pub(crate) fn last_submitted(&self) -> u64 {
         self.submitted.lock().unwrap_or_else(|p| p.into_inner()).0
     }
 
     /// The last timeline value the device finished, without waiting (progress).
-    pub fn completed(&self) -> Result<u64, GpuError> {
+    pub(crate) fn completed(&self) -> Result<u64, GpuError> {
         // SAFETY: our own timeline semaphore.
         unsafe { self.device.get_semaphore_counter_value(self.timeline) }
             .map_err(vk_err("vkGetSemaphoreCounterValue"))
@@ -250,7 +250,7 @@ impl Context {
 
     /// Waits until the submission that signals `value` and every earlier one finished (their
     /// fences), then frees their command buffers and fences.
-    pub fn wait_until(&self, value: u64) -> Result<(), GpuError> {
+    pub(crate) fn wait_until(&self, value: u64) -> Result<(), GpuError> {
         let mut submitted = self.submitted.lock().unwrap_or_else(|p| p.into_inner());
         let (done, pending): (Vec<Pending>, Vec<Pending>) =
             submitted.1.drain(..).partition(|p| p.value <= value);

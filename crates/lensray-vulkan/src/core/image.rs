@@ -27,7 +27,7 @@ pub(crate) struct DeviceImage {
 }
 
 impl DeviceImage {
-    pub fn new(
+    pub(crate) fn new(
         ctx: &Arc<Context>,
         name: &str,
         width: u32,

@@ -96,7 +96,10 @@ fn messenger_info(log: &ValidationLog) -> vk::DebugUtilsMessengerCreateInfoEXT<'
 
 impl Instance {
     /// `window_extensions`: what a window surface needs (`ash_window`), empty when headless.
-    pub fn new(validation: bool, window_extensions: &[*const c_char]) -> Result<Self, GpuError> {
+    pub(crate) fn new(
+        validation: bool,
+        window_extensions: &[*const c_char],
+    ) -> Result<Self, GpuError> {
         // SAFETY: loading the system Vulkan loader runs its initialisation code; nothing else
         // in this process replaces or unloads it while `entry` lives.
         let entry = unsafe { ash::Entry::load() }.map_err(loader_err)?;

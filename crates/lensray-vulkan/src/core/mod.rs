@@ -2,15 +2,15 @@
 //! queries, pipelines, embedded SPIR-V, the window surface and errors. It knows nothing of
 //! cameras or scenes.
 
-pub mod adapter;
-pub mod buffer;
-pub mod counters;
-pub mod device;
-pub mod error;
-pub mod image;
-pub mod instance;
-pub mod pipeline;
-pub mod pipeline_cache;
-pub mod query;
-pub mod shader;
-pub mod surface;
+pub(crate) mod adapter;
+pub(crate) mod buffer;
+pub(crate) mod counters;
+pub(crate) mod device;
+pub(crate) mod error;
+pub(crate) mod image;
+pub(crate) mod instance;
+pub(crate) mod pipeline;
+pub(crate) mod pipeline_cache;
+pub(crate) mod query;
+pub(crate) mod shader;
+pub(crate) mod surface;

@@ -106,7 +106,7 @@ impl Pipeline {
         Ok(this)
     }
 
-    pub fn compute(
+    pub(crate) fn compute(
         ctx: &Arc<Context>,
         spirv: &[u8],
         bindings: &[Binding],
@@ -137,7 +137,7 @@ impl Pipeline {
         Ok(this)
     }
 
-    pub fn graphics(
+    pub(crate) fn graphics(
         ctx: &Arc<Context>,
         desc: &GraphicsDesc<'_>,
         bindings: &[Binding],
@@ -215,7 +215,7 @@ impl Pipeline {
     }
 
     /// Points binding `binding` at `buffer` (storage or uniform, whole buffer).
-    pub fn bind_buffer(&self, binding: u32, ty: vk::DescriptorType, buffer: &Buffer) {
+    pub(crate) fn bind_buffer(&self, binding: u32, ty: vk::DescriptorType, buffer: &Buffer) {
         let info = [vk::DescriptorBufferInfo::default()
             .buffer(buffer.buffer)
             .offset(0)
@@ -230,7 +230,7 @@ impl Pipeline {
     }
 
     /// Points binding `binding` at a storage image `view` (in GENERAL layout when used).
-    pub fn bind_storage_image(&self, binding: u32, view: vk::ImageView) {
+    pub(crate) fn bind_storage_image(&self, binding: u32, view: vk::ImageView) {
         let info = [vk::DescriptorImageInfo::default()
             .image_view(view)
             .image_layout(vk::ImageLayout::GENERAL)];
@@ -244,7 +244,7 @@ impl Pipeline {
         unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
     }
 
-    pub fn bind_accel(&self, binding: u32, accel: vk::AccelerationStructureKHR) {
+    pub(crate) fn bind_accel(&self, binding: u32, accel: vk::AccelerationStructureKHR) {
         let handles = [accel];
         let mut accel_info = vk::WriteDescriptorSetAccelerationStructureKHR::default()
             .acceleration_structures(&handles);
@@ -259,7 +259,7 @@ impl Pipeline {
     }
 
     /// Binds the pipeline and its set, and pushes `push` (if non-empty).
-    pub fn bind(&self, cmd: vk::CommandBuffer, push: &[u8]) {
+    pub(crate) fn bind(&self, cmd: vk::CommandBuffer, push: &[u8]) {
         // SAFETY: command buffer in the recording state; everything bound is live.
         unsafe {
             self.ctx

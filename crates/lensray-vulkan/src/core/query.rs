@@ -14,7 +14,7 @@ pub(crate) struct QueryPool {
 }
 
 impl QueryPool {
-    pub fn new(ctx: &Arc<Context>, ty: vk::QueryType, count: u32) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>, ty: vk::QueryType, count: u32) -> Result<Self, GpuError> {
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(ty)
             .query_count(count);
@@ -30,7 +30,7 @@ impl QueryPool {
     }
 
     /// Records a reset of every query (needed before the first write).
-    pub fn reset(&self, cmd: vk::CommandBuffer) {
+    pub(crate) fn reset(&self, cmd: vk::CommandBuffer) {
         // SAFETY: command buffer in the recording state, range inside the pool.
         unsafe {
             self.ctx
@@ -39,12 +39,12 @@ impl QueryPool {
         };
     }
 
-    pub fn count(&self) -> u32 {
+    pub(crate) fn count(&self) -> u32 {
         self.count
     }
 
     /// Records a timestamp after the work of `stage` of earlier commands.
-    pub fn write(&self, cmd: vk::CommandBuffer, stage: vk::PipelineStageFlags, index: u32) {
+    pub(crate) fn write(&self, cmd: vk::CommandBuffer, stage: vk::PipelineStageFlags, index: u32) {
         // SAFETY: timestamp pool, index inside it, reset earlier in submission order.
         unsafe {
             self.ctx
@@ -54,13 +54,13 @@ impl QueryPool {
     }
 
     /// Every query's 64-bit result; call after the submission that wrote them finished.
-    pub fn results(&self) -> Result<Vec<u64>, GpuError> {
+    pub(crate) fn results(&self) -> Result<Vec<u64>, GpuError> {
         self.results_of(self.count)
     }
 
     /// The first `count` queries' 64-bit results; call after the submission that wrote them
     /// finished.
-    pub fn results_of(&self, count: u32) -> Result<Vec<u64>, GpuError> {
+    pub(crate) fn results_of(&self, count: u32) -> Result<Vec<u64>, GpuError> {
         let count = count.min(self.count);
         let mut out = vec![0u64; count as usize];
         self.ctx.counters.read_back(8 * u64::from(count));

@@ -36,7 +36,7 @@ pub(crate) struct ShaderModule<'a> {
 }
 
 impl<'a> ShaderModule<'a> {
-    pub fn new(ctx: &'a Context, spirv: &[u8]) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &'a Context, spirv: &[u8]) -> Result<Self, GpuError> {
         // `read_spv` copies into u32 words: include_bytes! gives no alignment guarantee.
         let words = ash::util::read_spv(&mut Cursor::new(spirv))
             .map_err(|e| GpuError::Invalid(format!("embedded SPIR-V is malformed: {e}")))?;

@@ -24,7 +24,7 @@ pub(crate) struct SurfaceSupport {
 }
 
 impl WindowSurface {
-    pub fn new(
+    pub(crate) fn new(
         instance: &Arc<Instance>,
         display: RawDisplayHandle,
         window: RawWindowHandle,
@@ -44,7 +44,7 @@ impl WindowSurface {
     }
 
     /// Whether `queue_family` of `device` can present to this surface.
-    pub fn supported_by(
+    pub(crate) fn supported_by(
         &self,
         device: vk::PhysicalDevice,
         queue_family: u32,
@@ -57,7 +57,7 @@ impl WindowSurface {
         .map_err(vk_err("vkGetPhysicalDeviceSurfaceSupportKHR"))
     }
 
-    pub fn support(&self, device: vk::PhysicalDevice) -> Result<SurfaceSupport, GpuError> {
+    pub(crate) fn support(&self, device: vk::PhysicalDevice) -> Result<SurfaceSupport, GpuError> {
         // SAFETY: queries on a live physical device and surface.
         unsafe {
             Ok(SurfaceSupport {

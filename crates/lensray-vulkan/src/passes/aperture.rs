@@ -14,7 +14,7 @@ use crate::core::error::GpuError;
 use lensray_core::camera::aperture::ApertureImage;
 use lensray_core::camera::Camera;
 
-pub struct ApertureTable {
+pub(crate) struct ApertureTable {
     ctx: Arc<Context>,
     pub buffer: Buffer,
     /// The image whose tables `buffer` holds (`None`: the placeholder).
@@ -22,7 +22,7 @@ pub struct ApertureTable {
 }
 
 impl ApertureTable {
-    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         Ok(ApertureTable {
             ctx: ctx.clone(),
             buffer: Self::upload(ctx, &[0.0; 4])?,
@@ -32,7 +32,7 @@ impl ApertureTable {
 
     /// The tables of `camera`'s aperture image, for a one-off dispatch (the probe).
     #[cfg(feature = "probes")]
-    pub fn of(ctx: &Arc<Context>, camera: &Camera) -> Result<Buffer, GpuError> {
+    pub(crate) fn of(ctx: &Arc<Context>, camera: &Camera) -> Result<Buffer, GpuError> {
         match camera.lens.aperture.image() {
             Some(image) => Self::upload_image(ctx, image),
             None => Self::upload(ctx, &[0.0; 4]),
@@ -60,7 +60,7 @@ impl ApertureTable {
     }
 
     /// Whether `camera`'s aperture image is not the one the buffer holds.
-    pub fn differs(&self, camera: &Camera) -> bool {
+    pub(crate) fn differs(&self, camera: &Camera) -> bool {
         match (&self.image, &camera.lens.aperture.shape.image) {
             (None, None) => false,
             (Some(a), Some(b)) => !(Arc::ptr_eq(a, b) || a == b),
@@ -71,7 +71,7 @@ impl ApertureTable {
     /// Makes the buffer hold `camera`'s image tables. Returns whether it is a new buffer (to
     /// bind again); a change waits for the device first, since pending work binds the old one
     /// (an aperture image changes rarely: once per render or per file edit).
-    pub fn ensure(&mut self, camera: &Camera) -> Result<bool, GpuError> {
+    pub(crate) fn ensure(&mut self, camera: &Camera) -> Result<bool, GpuError> {
         if !self.differs(camera) {
             return Ok(false);
         }

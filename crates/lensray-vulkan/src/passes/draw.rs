@@ -24,12 +24,12 @@ pub(crate) struct SceneRenderPass {
 
 impl SceneRenderPass {
     /// Colour attachments of `color_formats` (locations 0, 1, ...), then the depth buffer.
-    pub fn new(ctx: &Arc<Context>, color_formats: &[vk::Format]) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>, color_formats: &[vk::Format]) -> Result<Self, GpuError> {
         Self::with_final_layout(ctx, color_formats, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
     }
 
     /// [`Self::new`] with the colour targets left in `final_layout`.
-    pub fn with_final_layout(
+    pub(crate) fn with_final_layout(
         ctx: &Arc<Context>,
         color_formats: &[vk::Format],
         final_layout: vk::ImageLayout,
@@ -138,7 +138,7 @@ pub(crate) struct SceneFramebuffer {
 }
 
 impl SceneFramebuffer {
-    pub fn new(
+    pub(crate) fn new(
         ctx: &Arc<Context>,
         render_pass: vk::RenderPass,
         views: &[vk::ImageView],

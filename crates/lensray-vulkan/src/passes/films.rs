@@ -54,7 +54,7 @@ pub(crate) struct DeviceFilms {
 }
 
 impl DeviceFilms {
-    pub fn new(ctx: &Arc<Context>) -> Self {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Self {
         Self {
             ctx: ctx.clone(),
             holder: Holder::new(),
@@ -68,7 +68,10 @@ impl DeviceFilms {
     /// The film that holds `accumulation` on this device from now on (its index) and what it
     /// needs first. An accumulation with no film here gets one, cleared when it has no samples,
     /// else with the host's sums uploaded; an error when another device holds its sums.
-    pub fn take(&mut self, accumulation: &mut Accumulation) -> Result<(usize, Start), GpuError> {
+    pub(crate) fn take(
+        &mut self,
+        accumulation: &mut Accumulation,
+    ) -> Result<(usize, Start), GpuError> {
         let bytes = u64::from(accumulation.width) * u64::from(accumulation.height) * PIXEL_BYTES;
         self.retire_dead(bytes)?;
         // The film changes, or the transfer buffer carries an upload.
@@ -111,13 +114,13 @@ impl DeviceFilms {
     }
 
     /// The buffer of film `index`.
-    pub fn sums(&self, index: usize) -> &Buffer {
+    pub(crate) fn sums(&self, index: usize) -> &Buffer {
         &self.films[index].sums
     }
 
     /// Records what film `index` needs before samples are added (`take`'s `Start`), ordered
     /// after every earlier use of the buffer and before the copies of the trace pass.
-    pub fn record_start(&self, cmd: vk::CommandBuffer, index: usize, start: Start) {
+    pub(crate) fn record_start(&self, cmd: vk::CommandBuffer, index: usize, start: Start) {
         let film = &self.films[index].sums;
         if start == Start::Ready {
             return;
@@ -160,21 +163,21 @@ impl DeviceFilms {
     }
 
     /// Makes the transfer buffer fit film `index`, before a call records `record_finish`.
-    pub fn prepare_finish(&mut self, index: usize) -> Result<(), GpuError> {
+    pub(crate) fn prepare_finish(&mut self, index: usize) -> Result<(), GpuError> {
         let bytes = self.films[index].sums.size;
         self.transfer(bytes).map(|_| ())
     }
 
     /// Records the copy of film `index` to the transfer buffer, ordered after every earlier
     /// write (the call's last band) and before the host's read (the caller's last barrier).
-    pub fn record_finish(&self, cmd: vk::CommandBuffer, index: usize) {
+    pub(crate) fn record_finish(&self, cmd: vk::CommandBuffer, index: usize) {
         let transfer = self.transfer.as_ref().expect("prepare_finish made it");
         self.record_copy_out(cmd, &self.films[index].sums, transfer);
     }
 
     /// The copy that `record_finish` recorded for film `index` was waited for: the transfer
     /// buffer holds its sums.
-    pub fn finished(&mut self, index: usize) {
+    pub(crate) fn finished(&mut self, index: usize) {
         self.in_transfer = Some(self.films[index].key.clone());
     }
 
@@ -182,7 +185,7 @@ impl DeviceFilms {
     /// read back, with no submission when the call that last added to them copied them out
     /// (`record_finish`), else one submission and one wait. Nothing to do when the host's are
     /// current; an error when another device holds them.
-    pub fn read(&mut self, accumulation: &mut Accumulation) -> Result<(), GpuError> {
+    pub(crate) fn read(&mut self, accumulation: &mut Accumulation) -> Result<(), GpuError> {
         if accumulation.on_host() {
             return Ok(());
         }

@@ -79,7 +79,12 @@ impl GBufferTargets {
     /// Records the colour images' transition from `old` (TRANSFER_SRC_OPTIMAL after their pass)
     /// to GENERAL for compute-shader reads (the preview's resolve, the hybrid's plan), their
     /// pass's writes ordered before those reads. The caller keeps `layout` up to date.
-    pub fn record_to_general(&self, ctx: &Context, cmd: vk::CommandBuffer, old: vk::ImageLayout) {
+    pub(crate) fn record_to_general(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        old: vk::ImageLayout,
+    ) {
         for image in [&self.normal, &self.albedo, &self.view_depth] {
             transition(
                 ctx,
@@ -162,7 +167,7 @@ pub(crate) struct GBufferPass {
 }
 
 impl GBufferPass {
-    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         let render_pass =
             SceneRenderPass::new(ctx, &[NORMAL_FORMAT, ALBEDO_FORMAT, VIEW_DEPTH_FORMAT])?;
         let pipeline = Pipeline::graphics(
@@ -188,12 +193,12 @@ impl GBufferPass {
     }
 
     /// Points the pipeline's set at a newly loaded scene.
-    pub fn bind_scene(&self, scene: &SceneBuffers) {
+    pub(crate) fn bind_scene(&self, scene: &SceneBuffers) {
         scene.bind(&self.pipeline);
     }
 
     /// Makes the targets `width` x `height` (recreating them on a size change).
-    pub fn ensure_targets(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
+    pub(crate) fn ensure_targets(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
         if self
             .targets
             .as_ref()
@@ -213,7 +218,7 @@ impl GBufferPass {
     /// Records the pass into `cmd` (targets of the camera's size must exist): afterwards the
     /// images are in TRANSFER_SRC_OPTIMAL, their writes ordered before transfers and compute
     /// reads. `timestamps`: a pool and the first of two queries written around the draw.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         cmd: vk::CommandBuffer,
         scene: &SceneBuffers,
@@ -268,7 +273,7 @@ impl GBufferPass {
     }
 
     /// Draws the G-buffer of `camera` and reads it back to the host.
-    pub fn render(
+    pub(crate) fn render(
         &mut self,
         scene: &SceneBuffers,
         camera: &Camera,

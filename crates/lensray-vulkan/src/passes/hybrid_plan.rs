@@ -51,7 +51,7 @@ pub(crate) struct HybridPlanPass {
 }
 
 impl HybridPlanPass {
-    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         let compute = vk::ShaderStageFlags::COMPUTE;
         let image = vk::DescriptorType::STORAGE_IMAGE;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
@@ -80,7 +80,7 @@ impl HybridPlanPass {
     /// Binds the G-buffer `targets` and the trace pass's `plan` and `surface_depth` buffers (at
     /// least one entry per pixel), with scratch buffers of the targets' size. No submission
     /// using the pass may be pending (descriptor updates).
-    pub fn bind(
+    pub(crate) fn bind(
         &mut self,
         targets: &GBufferTargets,
         plan: &Buffer,
@@ -138,7 +138,7 @@ impl HybridPlanPass {
     /// computed with; the G-buffer was drawn with its planning camera, same rays and pixels)
     /// after the G-buffer pass: the images go from TRANSFER_SRC_OPTIMAL to GENERAL and back, the
     /// plan's writes are ordered before later compute reads.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         cmd: vk::CommandBuffer,
         targets: &GBufferTargets,

@@ -13,7 +13,7 @@ use crate::core::error::GpuError;
 use lensray_core::camera::{Camera, RealLens};
 use lensray_core::interface::GpuLens;
 
-pub struct LensBuffer {
+pub(crate) struct LensBuffer {
     ctx: Arc<Context>,
     pub buffer: Buffer,
     /// What `buffer` holds: the lens (`None`: none) and the image size it was written for.
@@ -21,7 +21,7 @@ pub struct LensBuffer {
 }
 
 impl LensBuffer {
-    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         Ok(LensBuffer {
             ctx: ctx.clone(),
             buffer: Self::upload(ctx, &crate::upload::thin_lens())?,
@@ -31,7 +31,7 @@ impl LensBuffer {
 
     /// The lens of `camera`, for a one-off dispatch (the probe).
     #[cfg(feature = "probes")]
-    pub fn of(ctx: &Arc<Context>, camera: &Camera) -> Result<Buffer, GpuError> {
+    pub(crate) fn of(ctx: &Arc<Context>, camera: &Camera) -> Result<Buffer, GpuError> {
         Self::upload(ctx, &crate::upload::gpu_lens(camera)?)
     }
 
@@ -45,7 +45,7 @@ impl LensBuffer {
     }
 
     /// Whether `camera`'s lens (or image size, for a real lens) is not what the buffer holds.
-    pub fn differs(&self, camera: &Camera) -> bool {
+    pub(crate) fn differs(&self, camera: &Camera) -> bool {
         match (&self.holds.0, &camera.real_lens) {
             (None, None) => false,
             (Some(a), Some(b)) => {
@@ -58,7 +58,7 @@ impl LensBuffer {
 
     /// Makes the buffer hold `camera`'s lens. Returns whether it is a new buffer (to bind
     /// again); a change waits for the device first, since pending work binds the old one.
-    pub fn ensure(&mut self, camera: &Camera) -> Result<bool, GpuError> {
+    pub(crate) fn ensure(&mut self, camera: &Camera) -> Result<bool, GpuError> {
         if !self.differs(camera) {
             return Ok(false);
         }

@@ -2,11 +2,11 @@
 //! with `draw`), the thin-lens compute pass (`trace`) and the accumulations it keeps on the device (`films`), the raster path's visibility pass
 //! (`visibility`) and the hybrid path's plan on the device (`hybrid_plan`).
 
-pub mod aperture;
-pub mod draw;
-pub mod films;
-pub mod gbuffer;
-pub mod hybrid_plan;
-pub mod lens;
-pub mod trace;
-pub mod visibility;
+pub(crate) mod aperture;
+pub(crate) mod draw;
+pub(crate) mod films;
+pub(crate) mod gbuffer;
+pub(crate) mod hybrid_plan;
+pub(crate) mod lens;
+pub(crate) mod trace;
+pub(crate) mod visibility;

@@ -98,7 +98,7 @@ pub(crate) struct TracePass {
 
 impl TracePass {
     /// Creates a pipeline for each traversal of `ctx.traversals`; the first is in use.
-    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         let pipelines = ctx
             .traversals
             .iter()
@@ -204,7 +204,7 @@ impl TracePass {
 
     /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel of the
     /// image, row-major: see TRACE_BINDING_PLAN), or `None` to trace every sample again.
-    pub fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
+    pub(crate) fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
         let Some(plan) = plan else {
             self.plan_pixels = None;
             return Ok(());
@@ -218,7 +218,7 @@ impl TracePass {
     /// Makes the plan buffer hold at least `pixels` entries, and the surface depths as many (new
     /// buffers, bound to every pipeline, when they are smaller). No submission using them may
     /// be pending.
-    pub fn ensure_plan_capacity(&mut self, pixels: u64) -> Result<(), GpuError> {
+    pub(crate) fn ensure_plan_capacity(&mut self, pixels: u64) -> Result<(), GpuError> {
         let bytes = (pixels * 16).max(16);
         if self.plan.size < bytes {
             self.plan = Self::plan_buffer(&self.ctx, bytes)?;
@@ -252,7 +252,7 @@ impl TracePass {
 
     /// Points the raster path's visibility binding at `buffer` (one uint per pixel, owned by
     /// the visibility pass, which outlives the pass's use of it).
-    pub fn bind_visibility(&self, buffer: &Buffer) {
+    pub(crate) fn bind_visibility(&self, buffer: &Buffer) {
         for p in &self.pipelines {
             p.pipeline.bind_buffer(
                 TRACE_BINDING_VISIBILITY,
@@ -263,24 +263,24 @@ impl TracePass {
     }
 
     /// The plan buffer (for the device plan pass to write).
-    pub fn plan_buffer_ref(&self) -> &Buffer {
+    pub(crate) fn plan_buffer_ref(&self) -> &Buffer {
         &self.plan
     }
 
     /// The surface depths (for the device plan pass to write).
-    pub fn surface_depth_ref(&self) -> &Buffer {
+    pub(crate) fn surface_depth_ref(&self) -> &Buffer {
         &self.surface_depth
     }
 
     /// Later `accumulate` calls follow the plan of `pixels` entries that the device plan pass
     /// wrote into the plan buffer.
-    pub fn use_device_plan(&mut self, pixels: u64) {
+    pub(crate) fn use_device_plan(&mut self, pixels: u64) {
         self.plan_pixels = Some(pixels);
     }
 
     /// The plan's entries as the device left them (host-visible buffer; the caller waited for
     /// the submissions that wrote it).
-    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+    pub(crate) fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
         let entries: &[[f32; 4]] = bytemuck::cast_slice(self.plan.read()?);
         entries
             .get(..pixels as usize)
@@ -358,17 +358,17 @@ impl TracePass {
     }
 
     /// The traversals this pass can trace with.
-    pub fn traversals(&self) -> Vec<Traversal> {
+    pub(crate) fn traversals(&self) -> Vec<Traversal> {
         self.pipelines.iter().map(|p| p.traversal).collect()
     }
 
     /// The traversal in use.
-    pub fn traversal(&self) -> Traversal {
+    pub(crate) fn traversal(&self) -> Traversal {
         self.pipelines[self.current].traversal
     }
 
     /// Uses `traversal` from now on; an error when the device was not opened for it.
-    pub fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
+    pub(crate) fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
         let index = self
             .pipelines
             .iter()
@@ -391,7 +391,7 @@ impl TracePass {
         &self.pipelines[self.current].pipeline
     }
 
-    pub fn bind_scene(&self, scene: &SceneBuffers) {
+    pub(crate) fn bind_scene(&self, scene: &SceneBuffers) {
         for p in &self.pipelines {
             scene.bind(&p.pipeline);
             match p.traversal {
@@ -412,7 +412,7 @@ impl TracePass {
     /// Makes the aperture tables and the real lens those of `camera` (see
     /// `ApertureTable::ensure`, `LensBuffer::ensure`), binding them anew when they change.
     /// Called before recording work with `camera`'s parameters.
-    pub fn ensure_camera_tables(&mut self, camera: &Camera) -> Result<(), GpuError> {
+    pub(crate) fn ensure_camera_tables(&mut self, camera: &Camera) -> Result<(), GpuError> {
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         if self.aperture.ensure(camera)? {
             for p in &self.pipelines {
@@ -432,7 +432,7 @@ impl TracePass {
 
     /// Whether `ensure_camera_tables(camera)` would upload new tables (and wait for the
     /// device).
-    pub fn camera_tables_differ(&self, camera: &Camera) -> bool {
+    pub(crate) fn camera_tables_differ(&self, camera: &Camera) -> bool {
         self.aperture.differs(camera) || self.lens.differs(camera)
     }
 
@@ -449,7 +449,7 @@ impl TracePass {
 
     /// Points the pass at an accumulation buffer of the caller's (the preview's, one vec4 per
     /// pixel of the whole image); a later `render` makes and binds its own again.
-    pub fn bind_accumulation(&mut self, buffer: &Buffer) {
+    pub(crate) fn bind_accumulation(&mut self, buffer: &Buffer) {
         self.accum = None;
         self.bind_accum_buffer(buffer);
     }

@@ -97,7 +97,7 @@ pub(crate) struct VisibilityPass {
 }
 
 impl VisibilityPass {
-    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         let render_pass = SceneRenderPass::new(ctx, &[TRIANGLE_FORMAT])?;
         let pipeline = Pipeline::graphics(
             ctx,
@@ -120,13 +120,13 @@ impl VisibilityPass {
     }
 
     /// Points the pipeline's set at a newly loaded scene.
-    pub fn bind_scene(&self, scene: &SceneBuffers) {
+    pub(crate) fn bind_scene(&self, scene: &SceneBuffers) {
         scene.bind(&self.pipeline);
     }
 
     /// Makes the targets `width` x `height` (recreating them on a size change); true when they
     /// were recreated (the buffer must be bound again).
-    pub fn ensure_targets(&mut self, width: u32, height: u32) -> Result<bool, GpuError> {
+    pub(crate) fn ensure_targets(&mut self, width: u32, height: u32) -> Result<bool, GpuError> {
         if self
             .targets
             .as_ref()
@@ -147,7 +147,7 @@ impl VisibilityPass {
     /// Records the pass of camera sample `sample`, shared by every pixel: pixel (0, 0)'s
     /// sample (`sampler::shared_pixel_sampler`), whose film position is the offset within the
     /// pixel. See `record`.
-    pub fn record_sample(
+    pub(crate) fn record_sample(
         &self,
         cmd: vk::CommandBuffer,
         scene: &SceneBuffers,
@@ -163,7 +163,7 @@ impl VisibilityPass {
     /// Records the pass along each pixel's aperture-centre ray through its centre (the hybrid's
     /// lit pre-pass shades what it sees: trace.comp, TRACE_MODE_SHORTCUT). `camera` is the
     /// traced camera; its raster counterpart is taken here.
-    pub fn record_aperture_centre(
+    pub(crate) fn record_aperture_centre(
         &self,
         cmd: vk::CommandBuffer,
         scene: &SceneBuffers,
@@ -179,7 +179,7 @@ impl VisibilityPass {
     /// camera as `Camera::for_rasterizing_rays` gives it) and the copy into the buffer, whose
     /// writes are then ordered before compute-shader reads. Earlier compute reads of the
     /// buffer are ordered before the copy.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         cmd: vk::CommandBuffer,
         scene: &SceneBuffers,

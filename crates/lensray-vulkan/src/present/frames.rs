@@ -86,7 +86,7 @@ impl FrameSlot {
     }
 
     /// Waits until the slot's last frame finished.
-    pub fn wait(&self) -> Result<(), GpuError> {
+    pub(crate) fn wait(&self) -> Result<(), GpuError> {
         self.ctx.counters.waited();
         // SAFETY: our own fence.
         unsafe {
@@ -122,7 +122,7 @@ pub(crate) struct Frames {
 }
 
 impl Frames {
-    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         Ok(Self {
             slots: (0..FRAMES_IN_FLIGHT)
                 .map(|_| FrameSlot::new(ctx))
@@ -131,7 +131,7 @@ impl Frames {
         })
     }
 
-    pub fn advance(&mut self) {
+    pub(crate) fn advance(&mut self) {
         self.current = (self.current + 1) % self.slots.len();
     }
 }

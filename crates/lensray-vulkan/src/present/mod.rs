@@ -2,9 +2,9 @@
 //! in flight, the resolve of the accumulation into a display image, the view pass, the egui
 //! overlay, and the `viewer` that drives a frame.
 
-pub mod frames;
-pub mod overlay;
-pub mod resolve;
-pub mod swapchain;
-pub mod view_pass;
-pub mod viewer;
+pub(crate) mod frames;
+pub(crate) mod overlay;
+pub(crate) mod resolve;
+pub(crate) mod swapchain;
+pub(crate) mod view_pass;
+pub(crate) mod viewer;

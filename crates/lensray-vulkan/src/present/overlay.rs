@@ -34,7 +34,11 @@ fn egui_err(e: egui_ash_renderer::RendererError) -> GpuError {
 }
 
 impl Overlay {
-    pub fn new(ctx: &Arc<Context>, format: vk::Format, frames: usize) -> Result<Self, GpuError> {
+    pub(crate) fn new(
+        ctx: &Arc<Context>,
+        format: vk::Format,
+        frames: usize,
+    ) -> Result<Self, GpuError> {
         let attachment = [vk::AttachmentDescription::default()
             .format(format)
             .samples(vk::SampleCountFlags::TYPE_1)
@@ -105,12 +109,12 @@ impl Overlay {
         Ok(this)
     }
 
-    pub fn format(&self) -> vk::Format {
+    pub(crate) fn format(&self) -> vk::Format {
         self.format
     }
 
     /// Framebuffers for the images of a new swapchain. No frame may be in flight.
-    pub fn attach(&mut self, swapchain: &Swapchain) -> Result<(), GpuError> {
+    pub(crate) fn attach(&mut self, swapchain: &Swapchain) -> Result<(), GpuError> {
         self.destroy_framebuffers();
         for &view in &swapchain.views {
             let views = [view];
@@ -130,7 +134,7 @@ impl Overlay {
     }
 
     /// Uploads egui's new and changed textures (before recording the frame that uses them).
-    pub fn set_textures(&mut self, textures: &egui::TexturesDelta) -> Result<(), GpuError> {
+    pub(crate) fn set_textures(&mut self, textures: &egui::TexturesDelta) -> Result<(), GpuError> {
         let renderer = self.renderer.as_mut().expect("renderer");
         for (id, deltas) in &textures.set {
             for delta in deltas {
@@ -143,7 +147,7 @@ impl Overlay {
     }
 
     /// Frees textures egui no longer uses (after the frames that drew with them finished).
-    pub fn free_textures(&mut self, ids: &[egui::TextureId]) -> Result<(), GpuError> {
+    pub(crate) fn free_textures(&mut self, ids: &[egui::TextureId]) -> Result<(), GpuError> {
         let renderer = self.renderer.as_mut().expect("renderer");
         for &id in ids {
             renderer.free_texture(id).map_err(egui_err)?;
@@ -153,7 +157,7 @@ impl Overlay {
 
     /// Records the render pass over window image `image_index` (in TRANSFER_DST_OPTIMAL after
     /// the copy), leaving it in PRESENT_SRC_KHR.
-    pub fn record(
+    pub(crate) fn record(
         &mut self,
         cmd: vk::CommandBuffer,
         image_index: u32,

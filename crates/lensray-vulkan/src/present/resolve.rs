@@ -28,7 +28,7 @@ pub(crate) struct ResolvePass {
 }
 
 impl ResolvePass {
-    pub fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         let compute = vk::ShaderStageFlags::COMPUTE;
         let image = vk::DescriptorType::STORAGE_IMAGE;
         let bindings = [
@@ -57,7 +57,7 @@ impl ResolvePass {
 
     /// For a new image size: a display image of that size, and the inputs bound. No frame may
     /// be in flight (descriptor updates).
-    pub fn bind(
+    pub(crate) fn bind(
         &mut self,
         accum: &Buffer,
         targets: &GBufferTargets,
@@ -91,7 +91,12 @@ impl ResolvePass {
     /// Records the resolve: the G-buffer images go to GENERAL (from TRANSFER_SRC_OPTIMAL after
     /// their pass in this frame, or already there from an earlier resolve), the display is
     /// written and left in TRANSFER_SRC_OPTIMAL for the copy.
-    pub fn record(&self, cmd: vk::CommandBuffer, targets: &GBufferTargets, push: &ResolvePush) {
+    pub(crate) fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        targets: &GBufferTargets,
+        push: &ResolvePush,
+    ) {
         let ctx = &self.ctx;
         let display = self.display.as_ref().expect("bind first");
         let old = targets.layout.get();

@@ -38,7 +38,7 @@ pub(crate) enum Acquired {
 impl Swapchain {
     /// A swapchain of the window's current size (`window_size` where the surface leaves it to
     /// the application); `None` while the window has no area (minimised).
-    pub fn new(
+    pub(crate) fn new(
         ctx: &Arc<Context>,
         surface: &WindowSurface,
         window_size: [u32; 2],
@@ -151,7 +151,7 @@ impl Swapchain {
     }
 
     /// The next image to render to; `signal` is signalled when it may be written.
-    pub fn acquire(&self, signal: vk::Semaphore) -> Result<Acquired, GpuError> {
+    pub(crate) fn acquire(&self, signal: vk::Semaphore) -> Result<Acquired, GpuError> {
         // SAFETY: live swapchain; the semaphore is unsignalled with no pending wait (each frame
         // slot's semaphore is waited on by that slot's previous submission, finished by now).
         match unsafe {
@@ -167,7 +167,7 @@ impl Swapchain {
 
     /// Presents image `index` once its `rendered` semaphore is signalled; false when the
     /// swapchain should be recreated (out of date or suboptimal).
-    pub fn present(&self, index: u32) -> Result<bool, GpuError> {
+    pub(crate) fn present(&self, index: u32) -> Result<bool, GpuError> {
         let wait = [self.rendered[index as usize]];
         let swapchains = [self.handle];
         let indices = [index];

@@ -43,7 +43,7 @@ pub(crate) struct ViewPass {
 
 impl ViewPass {
     /// Draws into images of `format`, left in `final_layout`.
-    pub fn new(
+    pub(crate) fn new(
         ctx: &Arc<Context>,
         format: vk::Format,
         final_layout: vk::ImageLayout,
@@ -70,18 +70,18 @@ impl ViewPass {
         })
     }
 
-    pub fn format(&self) -> vk::Format {
+    pub(crate) fn format(&self) -> vk::Format {
         self.format
     }
 
     /// Points the pipeline's set at the scene's arrays.
-    pub fn bind_scene(&self, scene: &SceneBuffers) {
+    pub(crate) fn bind_scene(&self, scene: &SceneBuffers) {
         scene.bind(&self.pipeline);
     }
 
     /// Framebuffers over `views` (target images of `width` x `height`, alive until the next
     /// `attach` or the pass's drop). No frame may be in flight.
-    pub fn attach(
+    pub(crate) fn attach(
         &mut self,
         views: &[vk::ImageView],
         width: u32,
@@ -121,7 +121,7 @@ impl ViewPass {
     /// Records view `shown.view` (not VIEW_FINAL) of `camera` into target `index`: uncovered
     /// pixels show the background in the albedo view (as the G-buffer's cleared albedo does),
     /// black in the others.
-    pub fn record(
+    pub(crate) fn record(
         &self,
         cmd: vk::CommandBuffer,
         scene: &SceneBuffers,

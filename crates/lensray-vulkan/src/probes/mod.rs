@@ -3,11 +3,11 @@
 //! shaders read them (`layouts`), the preview's two view routes (`view_routes`), the sample
 //! generation's cost (`sampler_cost`) and pass timings (`timing`).
 
-pub mod layouts;
-pub mod mirrors;
-pub mod sampler_cost;
-pub mod timing;
-pub mod view_routes;
+pub(crate) mod layouts;
+pub(crate) mod mirrors;
+pub(crate) mod sampler_cost;
+pub(crate) mod timing;
+pub(crate) mod view_routes;
 
 use glam::Vec3;
 

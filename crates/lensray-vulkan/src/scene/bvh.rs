@@ -63,7 +63,7 @@ struct Child {
 impl FlatBvh {
     /// Builds over the triangles `indices` (3 per triangle) of `positions`; the stored index of
     /// a triangle is its position in `indices / 3`.
-    pub fn build(
+    pub(crate) fn build(
         positions: &[[f32; 4]],
         indices: &[u32],
         params: &BvhParams,
@@ -166,7 +166,7 @@ impl FlatBvh {
     }
 
     /// Bytes of both arrays on the device.
-    pub fn bytes(&self) -> u64 {
+    pub(crate) fn bytes(&self) -> u64 {
         (std::mem::size_of_val(self.nodes.as_slice())
             + std::mem::size_of_val(self.triangles.as_slice())) as u64
     }

@@ -2,8 +2,8 @@
 //! traversals the device was opened for: acceleration structures (ray queries) and the
 //! software traversal's BVH.
 
-pub mod accel;
-pub mod bvh;
+pub(crate) mod accel;
+pub(crate) mod bvh;
 
 use std::sync::Arc;
 
@@ -68,12 +68,12 @@ impl BvhBuffers {
     }
 
     /// The descriptors of shaders/include/hit_software.glsl.
-    pub fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 2] {
+    pub(crate) fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 2] {
         [TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES]
             .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
     }
 
-    pub fn bind(&self, pipeline: &Pipeline) {
+    pub(crate) fn bind(&self, pipeline: &Pipeline) {
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         pipeline.bind_buffer(TRACE_BINDING_BVH_NODES, storage, &self.nodes);
         pipeline.bind_buffer(TRACE_BINDING_BVH_TRIANGLES, storage, &self.triangles);
@@ -96,7 +96,7 @@ pub(crate) struct SceneBuffers {
 impl SceneBuffers {
     /// Builds what the device's traversals need (`ctx.traversals`): acceleration structures,
     /// the BVH of `bvh_params`, or both.
-    pub fn new(
+    pub(crate) fn new(
         ctx: &Arc<Context>,
         scene: &Scene,
         bvh_params: &BvhParams,
@@ -175,12 +175,12 @@ impl SceneBuffers {
     }
 
     /// The descriptors of shaders/include/scene.glsl, read by `stages`.
-    pub fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 5] {
+    pub(crate) fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 5] {
         SCENE_BINDINGS.map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
     }
 
     /// Points the scene's descriptors of `pipeline`'s set at these arrays.
-    pub fn bind(&self, pipeline: &Pipeline) {
+    pub(crate) fn bind(&self, pipeline: &Pipeline) {
         let buffers = [
             &self.positions,
             &self.normals,

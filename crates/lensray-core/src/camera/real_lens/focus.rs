@@ -17,7 +17,7 @@ const RINGS: u32 = 32;
 
 /// Lens-space z (mm) of the film that focuses `lens` on a subject `focus_distance` world
 /// units in front of its entrance pupil.
-pub fn film_z(
+pub(super) fn film_z(
     lens: &Prescription,
     first_order: &FirstOrder,
     focus_distance: f64,

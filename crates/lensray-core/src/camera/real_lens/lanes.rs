@@ -18,7 +18,7 @@ use super::{RealLens, PUPIL_BINS};
 use crate::optics::trace::narrow::{Interface, LensRay};
 
 /// N rays by coordinate, and which of them are still in the lens.
-pub struct Lanes<const N: usize> {
+pub(super) struct Lanes<const N: usize> {
     pub ox: [f32; N],
     pub oy: [f32; N],
     pub oz: [f32; N],
@@ -49,7 +49,7 @@ impl<const N: usize> Lanes<N> {
     /// areas they were drawn from: `RealLens::start` (`ExitPupil::sample`, then the direction
     /// normalized as glam does) for every lane. The bins' regions are gathered lane by lane;
     /// the rest runs across the lanes.
-    pub fn start(lens: &RealLens, samples: &[(Vec3, Vec2)]) -> (Self, [f32; N]) {
+    pub(super) fn start(lens: &RealLens, samples: &[(Vec3, Vec2)]) -> (Self, [f32; N]) {
         let n = samples.len().min(N);
         let pupil = lens.pupil();
         let mut lanes = Lanes::dead();
@@ -120,7 +120,7 @@ impl<const N: usize> Lanes<N> {
         (lanes, area)
     }
 
-    pub fn ray(&self, l: usize) -> LensRay {
+    pub(super) fn ray(&self, l: usize) -> LensRay {
         LensRay {
             origin: Vec3::new(self.ox[l], self.oy[l], self.oz[l]),
             direction: Vec3::new(self.dx[l], self.dy[l], self.dz[l]),
@@ -129,7 +129,7 @@ impl<const N: usize> Lanes<N> {
 
     /// Every lane from the film through every surface to the scene, as
     /// `RealLens::trace_to_scene` takes one ray.
-    pub fn trace_to_scene(&mut self, lens: &RealLens) {
+    pub(super) fn trace_to_scene(&mut self, lens: &RealLens) {
         let (stop, stop_radius, aperture) = lens.stop();
         let interfaces = &lens.elements().interfaces;
         for i in (0..interfaces.len()).rev() {

@@ -364,7 +364,11 @@ mod recent {
 
     static LENSES: Mutex<Vec<RealLens>> = Mutex::new(Vec::new());
 
-    pub fn find(params: &RealLensParams, aspect: f32, aperture: &Aperture) -> Option<RealLens> {
+    pub(super) fn find(
+        params: &RealLensParams,
+        aspect: f32,
+        aperture: &Aperture,
+    ) -> Option<RealLens> {
         let lenses = LENSES.lock().unwrap_or_else(|e| e.into_inner());
         lenses
             .iter()
@@ -376,7 +380,7 @@ mod recent {
             .cloned()
     }
 
-    pub fn keep(real: &RealLens) {
+    pub(super) fn keep(real: &RealLens) {
         let mut lenses = LENSES.lock().unwrap_or_else(|e| e.into_inner());
         if lenses.len() == KEPT {
             lenses.remove(0);

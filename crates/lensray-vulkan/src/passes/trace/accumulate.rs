@@ -26,7 +26,7 @@ impl TracePass {
     /// Adds samples `samples` of every pixel of `shot` to `accumulation` (of the camera's size),
     /// with the scene last bound by `bind_scene`. The sums stay on the device (`films`); the
     /// shader adds sample after sample to them, so any split of a range gives the same sums.
-    pub fn accumulate(
+    pub(crate) fn accumulate(
         &mut self,
         shot: &Shot,
         samples: Range<u32>,
@@ -183,7 +183,7 @@ impl TracePass {
     /// changes), and the rows of a band. The shader adds to a storage buffer covering a band of
     /// rows, bounded by the device's storage-buffer range (128 MiB on lavapipe); each band is
     /// copied in from the film and back.
-    pub fn ensure_accumulation(&mut self, width: u32, height: u32) -> Result<u32, GpuError> {
+    pub(crate) fn ensure_accumulation(&mut self, width: u32, height: u32) -> Result<u32, GpuError> {
         let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
             .min(self.max_band_pixels)
             .max(u64::from(width));

@@ -14,7 +14,7 @@ use lensray_core::interface::{
 impl TracePass {
     /// Records an update of the uniform parameters, ordered before later dispatches and after
     /// earlier ones (frames in flight share the buffer; the queue orders the updates).
-    pub fn record_params(&self, cmd: vk::CommandBuffer, params: &TraceParams) {
+    pub(crate) fn record_params(&self, cmd: vk::CommandBuffer, params: &TraceParams) {
         let ctx = &self.ctx;
         barrier(
             ctx,
@@ -44,7 +44,7 @@ impl TracePass {
     /// each pixel's shortcut value and shadow state into the plan buffer, which must hold the
     /// image), after the parameters of the camera and settings; the plan's steps follow it.
     /// Ordered after earlier transfers and dispatches (parameter updates, clears).
-    pub fn record_lit_prepass(&self, cmd: vk::CommandBuffer, width: u32, height: u32) {
+    pub(crate) fn record_lit_prepass(&self, cmd: vk::CommandBuffer, width: u32, height: u32) {
         barrier(
             &self.ctx,
             cmd,
@@ -68,7 +68,7 @@ impl TracePass {
 
     /// Records a clear of the ray counter (words 0 and 1: all rays, the first dispatch's);
     /// word 2 keeps the hybrid's lit pre-pass until the next render reads it.
-    pub fn record_clear_ray_counter(&self, cmd: vk::CommandBuffer) {
+    pub(crate) fn record_clear_ray_counter(&self, cmd: vk::CommandBuffer) {
         // SAFETY: recording state; the counters buffer has TRANSFER_DST usage.
         unsafe {
             self.ctx
@@ -79,14 +79,14 @@ impl TracePass {
 
     /// Records a copy of the rays counted so far (the hybrid's lit pre-pass) into word 2, which
     /// the next `accumulate` adds to its report: the plan is not waited for.
-    pub fn record_keep_prepass_rays(&mut self, cmd: vk::CommandBuffer) {
+    pub(crate) fn record_keep_prepass_rays(&mut self, cmd: vk::CommandBuffer) {
         self.record_copy_counter(cmd, 8);
         self.prepass_rays_pending = true;
     }
 
     /// Records one dispatch of the blocks and samples `push` names, over an image `width`
     /// pixels wide (parameters and accumulation bound and ordered by the caller).
-    pub fn record_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush, width: u32) {
+    pub(crate) fn record_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush, width: u32) {
         self.pipeline_in_use().bind(cmd, bytemuck::bytes_of(&push));
         // SAFETY: compute pipeline and its complete descriptor set are bound.
         unsafe {

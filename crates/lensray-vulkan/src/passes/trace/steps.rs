@@ -14,7 +14,7 @@ pub(crate) struct Split {
 }
 
 impl Split {
-    pub fn new(width: u32, height: u32, spp: u32, budget: u64) -> Self {
+    pub(super) fn new(width: u32, height: u32, spp: u32, budget: u64) -> Self {
         let pixels = u64::from(width) * u64::from(height);
         let samples_per = (budget / pixels.max(1)).clamp(1, u64::from(spp.max(1))) as u32;
         let rows_per = if u64::from(samples_per) * pixels <= budget {
