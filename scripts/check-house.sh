@@ -13,7 +13,7 @@ failed=0
 fail() { echo "house: $*"; failed=1; }
 
 max_lines=600
-long=$(git ls-files 'crates/*.rs' | xargs wc -l | grep -v ' total$' | awk -v m=$max_lines '$1 > m' | sort -rn)
+long=$(git ls-files --cached --others --exclude-standard 'crates/*.rs' | xargs wc -l | grep -v ' total$' | awk -v m=$max_lines '$1 > m' | sort -rn)
 if [ -n "$long" ]; then
   fail "Rust files over $max_lines lines (split each by concept):"
   printf '%s\n' "$long" | sed 's/^/    /'
@@ -22,7 +22,7 @@ fi
 # Every struct, enum, trait and type alias in the crates' sources (test modules' files aside),
 # whatever its visibility: a private type that shares a public one's name is a second concept
 # under one name all the same.
-dups=$(git ls-files 'crates/*/src/*.rs' 'crates/*/src/**/*.rs' | grep -v '/tests\.rs$\|/tests/' |
+dups=$(git ls-files --cached --others --exclude-standard 'crates/*/src/*.rs' 'crates/*/src/**/*.rs' | grep -v '/tests\.rs$\|/tests/' |
   xargs grep -HoE '^\s*(pub(\([a-z]+\))? )?(struct|enum|trait|type) [A-Z][A-Za-z0-9_]*' |
   sed -E 's/:\s*(pub(\([a-z]+\))? )?(struct|enum|trait|type) /\t/' | sort -t$'\t' -k2,2 |
   awk -F'\t' '{ n[$2]++; where[$2] = where[$2] "    " $1 "\n" } END { for (t in n) if (n[t] > 1) printf "  %s:\n%s", t, where[t] }')
@@ -31,7 +31,7 @@ if [ -n "$dups" ]; then
   printf '%s\n' "$dups"
 fi
 
-history=$(git ls-files 'crates/*.rs' 'crates/*.glsl' 'crates/*.comp' 'crates/*.vert' 'crates/*.frag' |
+history=$(git ls-files --cached --others --exclude-standard 'crates/*.rs' 'crates/*.glsl' 'crates/*.comp' 'crates/*.vert' 'crates/*.frag' |
   xargs grep -nE '//.*\b[Ii]ssues? [0-9]+' || true)
 if [ -n "$history" ]; then
   fail "comments that narrate history (issue numbers belong in commit messages):"

@@ -72,7 +72,7 @@ fn point_scene(z: f32, radius: f32) -> Scene {
 
 /// Whether the unit-shape point `q` (aspect applied) lies in `camera`'s aperture.
 fn in_shape(camera: &Camera, q: Vec2) -> bool {
-    let aperture = &camera.lens.aperture;
+    let aperture = &camera.lens.first_order().aperture;
     let q = Vec2::new(q.x, q.y / aperture.shape.aspect);
     if let Some(image) = aperture.image() {
         // Turned back into the image's square.
@@ -106,7 +106,8 @@ fn share_inside(image: &Image, camera: &Camera, z: f32, turned: bool) -> f64 {
             let screen = camera
                 .screen_from_raster
                 .transform_point3(centre.extend(0.0));
-            let mut lens = Vec2::new(screen.x, screen.y) / (scale * camera.lens.aperture_radius);
+            let mut lens =
+                Vec2::new(screen.x, screen.y) / (scale * camera.lens.first_order().aperture_radius);
             if turned {
                 lens = -lens;
             }

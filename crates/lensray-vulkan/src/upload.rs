@@ -130,22 +130,23 @@ pub(crate) fn projection_code(camera: &Camera) -> u32 {
 
 /// The camera as the shaders read it (matrices, projection, thin lens and aperture).
 pub(crate) fn gpu_camera(camera: &Camera) -> GpuCamera {
-    let image = camera.lens.aperture.image();
-    let turn = camera.lens.aperture.turn();
+    let lens = camera.lens.first_order();
+    let image = lens.aperture.image();
+    let turn = lens.aperture.turn();
     GpuCamera {
         // glam and GLSL are both column-major.
         world_from_camera: camera.world_from_camera.to_cols_array(),
         screen_from_raster: camera.screen_from_raster.to_cols_array(),
         projection: projection_code(camera),
         near_z: camera.near,
-        aperture_radius: camera.lens.aperture_radius,
-        focus_distance: camera.lens.focus_distance,
-        aperture_fan_len: camera.lens.aperture.fan().len() as u32,
-        aperture_aspect: camera.lens.aperture.shape.aspect,
+        aperture_radius: lens.aperture_radius,
+        focus_distance: lens.focus_distance,
+        aperture_fan_len: lens.aperture.fan().len() as u32,
+        aperture_aspect: lens.aperture.shape.aspect,
         aperture_image_columns: image.map_or(0, |i| i.columns()),
         aperture_image_rows: image.map_or(0, |i| i.rows()),
         aperture_turn: [turn.x, turn.y, 0.0, 0.0],
-        aperture_fan: aperture_fan(camera.lens.aperture.fan()),
+        aperture_fan: aperture_fan(lens.aperture.fan()),
     }
 }
 
@@ -168,7 +169,7 @@ pub(crate) fn thin_lens() -> GpuLens {
 /// it has more surfaces than the GPU's block holds.
 pub(crate) fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
     let mut out = GpuLens::zeroed();
-    let Some(real) = camera.real_lens.as_deref() else {
+    let Some(real) = camera.lens.real() else {
         return Ok(out);
     };
     let interfaces = &real.elements().interfaces;
@@ -195,6 +196,7 @@ pub(crate) fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
     out.inverse_centre_integral = pupil.inverse_centre_integral;
     out.aperture_transmission_start = camera
         .lens
+        .first_order()
         .aperture
         .image()
         .map_or(0, |image| image.table().len() as u32);
@@ -245,8 +247,8 @@ pub(crate) fn view_params(camera: &Camera, view: u32) -> ViewParams {
     ViewParams {
         view,
         projection: projection_code(camera),
-        lens_reach: camera.lens.reach(),
-        focus_distance: camera.lens.focus_distance,
+        lens_reach: camera.lens.first_order().reach(),
+        focus_distance: camera.lens.first_order().focus_distance,
         near_z: camera.near,
         far_z: camera.far,
         pixels_per_screen_unit: camera.pixels_per_screen_unit(),

@@ -90,7 +90,7 @@ fn real(lens: &Arc<Prescription>, f_number: Option<f64>, focus: f64, sensor: f64
 }
 
 fn real_lens(camera: &Camera) -> &RealLens {
-    camera.real_lens.as_deref().expect("a real-lens camera")
+    camera.lens.real().expect("a real-lens camera")
 }
 
 fn builtin_lens(name: &str) -> Arc<Prescription> {

@@ -36,11 +36,14 @@
 //! - [`aperture`]: the shape of the lens opening (round, bladed, curved, squeezed) and the
 //!   uniform map of the sampler's lens dimensions onto it.
 //! - [`physical`]: the thin-lens equation 1/s_o + 1/s_i = 1/f ("Paraxial Approximation").
+//! - [`lens`]: what the camera's lens is ([`Lens`]): a thin lens (a pinhole when closed), or a
+//!   real lens traced surface by surface with its first-order thin lens.
 //! - [`real_lens`]: past the course's thin lens, rays refracted through a real lens's
 //!   surfaces (`optics`), focused by moving the lens, sampled toward the exit pupil.
 //! - [`params`]: what a user gives, validated.
 
 pub mod aperture;
+pub mod lens;
 pub mod look_at;
 pub mod params;
 pub mod physical;
@@ -52,6 +55,7 @@ pub mod real_lens;
 pub mod thin_lens;
 
 pub use aperture::{Aperture, ApertureShape};
+pub use lens::Lens;
 pub use params::{CameraError, CameraParams, LensParams, ProjectionParams};
 pub use projection::Projection;
 pub use projective::Camera;

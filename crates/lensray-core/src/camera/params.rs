@@ -1,5 +1,7 @@
 //! What a user gives to describe a camera, checked before anything is built.
 
+use std::sync::Arc;
+
 use glam::Vec3;
 use thiserror::Error;
 
@@ -7,7 +9,7 @@ use super::aperture::{ApertureShape, MAX_BLADES};
 use super::look_at::CameraFrame;
 use super::physical::PhysicalLens;
 use super::real_lens::{RealLens, RealLensError, RealLensParams};
-use super::{Aperture, Camera, Projection, ThinLens};
+use super::{Aperture, Camera, Lens, Projection, ThinLens};
 
 /// Largest image side accepted.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
@@ -165,19 +167,22 @@ impl CameraParams {
         let lens = self.build_lens(near, &aperture)?;
         let projection = self.build_projection(lens.vfov)?;
 
+        let lens = match lens.real {
+            Some(real) => Lens::Real {
+                real: Arc::new(real),
+                first_order: lens.thin,
+            },
+            None => Lens::Thin(lens.thin),
+        };
         let camera = Camera::new(
             projection,
             frame,
-            lens.thin,
+            lens,
             near as f32,
             far as f32,
             self.width,
             self.height,
         );
-        let camera = match lens.real {
-            Some(real) => camera.with_real_lens(real),
-            None => camera,
-        };
         // The real lens already has its shaped stop: this sets the thin lens's aperture.
         Ok(camera.with_aperture(aperture)?)
     }

@@ -7,19 +7,16 @@ use std::sync::Arc;
 
 use super::look_at::CameraFrame;
 use super::raster::{self, ScreenWindow};
-use super::real_lens::{RealLens, RealLensError};
-use super::{Aperture, Projection, Ray, ThinLens};
+use super::real_lens::RealLensError;
+use super::{Aperture, Lens, Projection, Ray};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
     pub projection: Projection,
     pub frame: CameraFrame,
-    /// The thin lens, or a real lens's first-order model: the pinhole at its entrance pupil
-    /// with the pupil's radius, focused where it is (what rasterizing passes draw).
-    pub lens: ThinLens,
-    /// A real lens whose surfaces the traced paths' camera rays cross (`real_lens`); its
-    /// entrance pupil is camera space's origin.
-    pub real_lens: Option<Arc<RealLens>>,
+    /// The lens: a thin lens (a pinhole when closed), or a real lens whose surfaces the traced
+    /// paths' camera rays cross, with its first-order model (what rasterizing passes draw).
+    pub lens: Lens,
     pub near: f32,
     pub far: f32,
     pub width: u32,
@@ -44,7 +41,7 @@ impl Camera {
     pub fn new(
         projection: Projection,
         frame: CameraFrame,
-        lens: ThinLens,
+        lens: Lens,
         near: f32,
         far: f32,
         width: u32,
@@ -59,7 +56,6 @@ impl Camera {
             projection,
             frame,
             lens,
-            real_lens: None,
             near,
             far,
             width,
@@ -83,19 +79,12 @@ impl Camera {
     /// A real lens's stop takes the shape (its pupil is bounded again): an error if no light
     /// then reaches the film's centre.
     pub fn with_aperture(mut self, aperture: Aperture) -> Result<Self, RealLensError> {
-        if let Some(real) = &self.real_lens {
+        if let Lens::Real { real, .. } = &mut self.lens {
             let aspect = self.width as f32 / self.height as f32;
-            self.real_lens = Some(Arc::new(real.with_aperture(aperture.clone(), aspect)?));
+            *real = Arc::new(real.with_aperture(aperture.clone(), aspect)?);
         }
-        self.lens.aperture = aperture;
+        self.lens.first_order_mut().aperture = aperture;
         Ok(self)
-    }
-
-    /// The same camera with a real lens (`real`: built for this image's aspect and the
-    /// aperture `self.lens` has).
-    pub fn with_real_lens(mut self, real: RealLens) -> Self {
-        self.real_lens = Some(Arc::new(real));
-        self
     }
 
     /// The same camera with another film resolution (same field of view and lens).
@@ -109,15 +98,14 @@ impl Camera {
             width,
             height,
         );
-        camera.real_lens = self.real_lens.clone();
-        if let Some(real) = &self.real_lens {
+        if let Lens::Real { real, first_order } = &mut camera.lens {
             let aspect = width as f32 / height as f32;
             if aspect != real.aspect() {
                 // The film's width follows the aspect: its corners need their own bounds.
                 let rebuilt = real
-                    .with_aperture(self.lens.aperture.clone(), aspect)
+                    .with_aperture(first_order.aperture.clone(), aspect)
                     .unwrap_or_else(|e| unreachable!("the lens passed light already: {e}"));
-                camera.real_lens = Some(Arc::new(rebuilt));
+                *real = Arc::new(rebuilt);
             }
         }
         camera
@@ -143,9 +131,11 @@ impl Camera {
     /// The raster path's matrix for one camera sample shared by every pixel (film offset
     /// `film_u` in [0, 1)^2 within the pixel, lens sample `lens_u`): rasterizing with it, the
     /// pixel centre (column + 0.5, row + 0.5) sees what `first_order_ray((column, row) + film_u,
-    /// lens_u)` hits. The lens shear ([`ThinLens::pinhole_from_camera`]) moves the centre of
-    /// projection to the lens point with the focal plane fixed, and a raster translation by
-    /// `0.5 - film_u` brings the film sample to the pixel centre, where the rasterizer samples.
+    /// lens_u)` hits. The first-order lens's shear
+    /// ([`ThinLens::pinhole_from_camera`](super::ThinLens::pinhole_from_camera)) moves the
+    /// centre of projection to the lens point with the focal plane fixed, and a raster
+    /// translation by `0.5 - film_u` brings the film sample to the pixel centre, where the
+    /// rasterizer samples.
     /// Depth is reversed (1 at the near plane, 0 at the far plane: compare with GREATER) so
     /// that float depth keeps its relative precision when the near plane is moved close to the
     /// lens (see [`Self::for_rasterizing_rays`]).
@@ -157,9 +147,9 @@ impl Camera {
             Vec4::new(0.0, 0.0, -1.0, 0.0),
             Vec4::new(0.0, 0.0, 1.0, 1.0),
         );
-        let pinhole_from_camera = self
-            .lens
-            .pinhole_from_camera(self.lens.lens_point(lens_u), self.lens_plane_z());
+        let lens = self.lens.first_order();
+        let pinhole_from_camera =
+            lens.pinhole_from_camera(lens.lens_point(lens_u), self.lens_plane_z());
         reversed_depth
             * raster::clip_from_ndc()
             * self.ndc_from_raster
@@ -174,7 +164,8 @@ impl Camera {
     /// planes move out (near / 100, far x 100). Perspective rays start at the eye and are not
     /// clipped by them (only orthographic rays start on the near plane), so a surface nearer
     /// than `near` (the floor under the lens) is hit by rays and must be drawn too. Same
-    /// screen window, same pixels.
+    /// screen window, same pixels; the lens is the first-order thin lens alone (unless
+    /// orthographic, where the camera is returned as it is).
     pub fn for_rasterizing_rays(&self) -> Camera {
         if self.is_orthographic() {
             return self.clone();
@@ -182,7 +173,7 @@ impl Camera {
         Self::new(
             self.projection,
             self.frame,
-            self.lens.clone(),
+            self.lens.first_order_only(),
             self.near * 0.01,
             self.far * 100.0,
             self.width,
@@ -225,12 +216,14 @@ impl Camera {
 
     /// The thin lens's ray in world space through raster point `p_raster` and lens sample
     /// `lens_u` in [0, 1)^2: pinhole ray, thin lens, then "transform the ray to world space".
-    /// With a real lens this is its first-order model (the thin lens at its entrance pupil, what
-    /// rasterizing passes draw and AOVs and focus picking see); a camera ray of the camera as it
-    /// is, real lens included, is [`generate_ray`](Self::generate_ray).
+    /// The thin lens is [`Lens::first_order`]: a [`Lens::Thin`] itself, or a [`Lens::Real`]'s
+    /// first-order model (the thin lens at its entrance pupil, what rasterizing passes draw and
+    /// AOVs and focus picking see); a camera ray of the camera as it is, real lens included, is
+    /// [`generate_ray`](Self::generate_ray).
     pub fn first_order_ray(&self, p_raster: Vec2, lens_u: Vec2) -> Ray {
         let camera_ray = self
             .lens
+            .first_order()
             .lens_ray(&self.pinhole_ray_camera(p_raster), lens_u);
         Ray {
             origin: self.world_from_camera.transform_point3(camera_ray.origin),
@@ -242,11 +235,11 @@ impl Camera {
 
     /// The camera ray through raster point `p_raster` and lens sample `lens_u`, in world
     /// space, with its weight (the image averages weight x radiance): the one way to make a
-    /// camera ray, whatever the lens. A real lens's traced ray (`None` when the lens blocks
-    /// it), else the thin lens's (`first_order_ray`, a pinhole when the aperture is closed)
-    /// with weight 1.
+    /// camera ray, whatever the lens. A [`Lens::Real`]'s traced ray (`None` when the lens
+    /// blocks it), else the [`Lens::Thin`]'s (`first_order_ray`, a pinhole when the aperture is
+    /// closed) with weight 1.
     pub fn generate_ray(&self, p_raster: Vec2, lens_u: Vec2) -> Option<(Ray, f32)> {
-        let Some(real) = &self.real_lens else {
+        let Lens::Real { real, .. } = &self.lens else {
             return Some((self.first_order_ray(p_raster, lens_u), 1.0));
         };
         let film = real.film_point(p_raster, self.width, self.height);
@@ -283,11 +276,12 @@ impl Camera {
     /// A is the lens's reach: for a shaped aperture, the circle that holds the shape.
     pub fn coc_radius_pixels(&self, z: f32) -> f32 {
         let pixels_per_screen_unit = self.pixels_per_screen_unit();
+        let lens = self.lens.first_order();
         let screen_radius = match self.projection {
             Projection::Perspective { .. } => {
-                self.lens.reach() * (1.0 / self.lens.focus_distance - 1.0 / z).abs()
+                lens.reach() * (1.0 / lens.focus_distance - 1.0 / z).abs()
             }
-            Projection::Orthographic { .. } => self.lens.ray_spread_radius(z, self.near),
+            Projection::Orthographic { .. } => lens.ray_spread_radius(z, self.near),
         };
         screen_radius * pixels_per_screen_unit
     }

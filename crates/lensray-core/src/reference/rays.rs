@@ -101,7 +101,7 @@ pub fn primary_rays(
         }
     };
     // ThinLens::lens_ray.
-    let lens = &camera.lens;
+    let lens = camera.lens.first_order();
     if lens.aperture_radius > 0.0 {
         let mut to_focus = Lanes3::splat(Vec3::ZERO);
         for l in 0..PACKET_SIZE {
@@ -149,7 +149,7 @@ pub(super) fn real_lens_rays(
     weights: &mut [f32; PACKET_SIZE],
 ) -> usize {
     let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
-    let Some(real) = camera.real_lens.as_deref() else {
+    let Some(real) = camera.lens.real() else {
         return 0;
     };
     // RealLens::camera_rays traces the packet's rays together (what

@@ -200,7 +200,7 @@ impl Renderer {
         } else {
             pixel_sampler(settings.sampler, settings.seed, pixel, camera.width)
         };
-        if camera.real_lens.is_some() {
+        if camera.lens.real().is_some() {
             let mut weights = [0.0; PACKET_SIZE];
             for first in samples.clone().step_by(PACKET_SIZE) {
                 let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;

@@ -121,13 +121,13 @@ fn build_with_physical_lens() {
     let cam = physical_params(LENS_50_F2, 2.0).build().unwrap();
     assert_rel(
         "camera aperture radius",
-        cam.lens.aperture_radius as f64,
+        cam.lens.first_order().aperture_radius as f64,
         0.0125,
         1e-7,
     );
     assert_rel(
         "camera focus distance",
-        cam.lens.focus_distance as f64,
+        cam.lens.first_order().focus_distance as f64,
         2.0,
         1e-7,
     );
@@ -175,7 +175,7 @@ fn build_with_physical_lens() {
     assert_eq!(cam.projection, Projection::Orthographic { height: 3.0 });
     assert_rel(
         "ortho aperture radius",
-        cam.lens.aperture_radius as f64,
+        cam.lens.first_order().aperture_radius as f64,
         0.0125,
         1e-7,
     );

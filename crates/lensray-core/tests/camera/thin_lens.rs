@@ -137,7 +137,11 @@ fn lens_rays_of_a_film_point_meet_on_the_focal_plane() {
                 );
             }
             // The camera-space focal point too.
-            let f = cam.lens.focal_point(&pinhole_camera).as_dvec3();
+            let f = cam
+                .lens
+                .first_order()
+                .focal_point(&pinhole_camera)
+                .as_dvec3();
             let f_expected = r.pinhole_point_camera(col, row, r.focus);
             assert_vec_close(
                 &format!("{name}: ThinLens::focal_point of the pinhole ray through {film:?}"),
@@ -179,7 +183,10 @@ fn lens_ray_spread_matches_circle_of_confusion() {
                     spread_px = spread_px.max((px - centre_px).truncate().length());
                 }
                 let label = format!("{name}: film {film:?}, depth {z} (focus {})", r.focus);
-                let formula = cam.lens.ray_spread_radius(z as f32, lens_z as f32) as f64;
+                let formula =
+                    cam.lens
+                        .first_order()
+                        .ray_spread_radius(z as f32, lens_z as f32) as f64;
                 assert_rel(
                     &format!("{label}: measured spread vs ThinLens::ray_spread_radius"),
                     spread,
@@ -238,7 +245,7 @@ fn zero_aperture_lens_is_the_pinhole() {
             let pinhole = cam.pinhole_ray_camera(film);
             let u = rng.vec2();
             assert_eq!(
-                cam.lens.lens_ray(&pinhole, u),
+                cam.lens.first_order().lens_ray(&pinhole, u),
                 pinhole,
                 "{}: aperture 0, lens sample {u:?}",
                 setup.name
@@ -273,7 +280,7 @@ fn sheared_projection_sends_lens_rays_to_their_pixel_centre() {
                 let ray = cam.first_order_ray(p, lens_u);
                 let clip_from_world = cam.clip_from_world_through_lens(film_u, lens_u);
                 for t in [0.3f32, 1.0, 3.0, 7.0] {
-                    let point = ray.at(t * cam.lens.focus_distance);
+                    let point = ray.at(t * cam.lens.first_order().focus_distance);
                     let z = cam.view_depth(point);
                     if z <= cam.near || z >= cam.far {
                         continue;

@@ -33,7 +33,7 @@ impl ApertureTable {
     /// The tables of `camera`'s aperture image, for a one-off dispatch (the probe).
     #[cfg(feature = "probes")]
     pub(crate) fn of(ctx: &Arc<Context>, camera: &Camera) -> Result<Buffer, GpuError> {
-        match camera.lens.aperture.image() {
+        match camera.lens.first_order().aperture.image() {
             Some(image) => Self::upload_image(ctx, image),
             None => Self::upload(ctx, &[0.0; 4]),
         }
@@ -61,7 +61,7 @@ impl ApertureTable {
 
     /// Whether `camera`'s aperture image is not the one the buffer holds.
     pub(crate) fn differs(&self, camera: &Camera) -> bool {
-        match (&self.image, &camera.lens.aperture.shape.image) {
+        match (&self.image, &camera.lens.first_order().aperture.shape.image) {
             (None, None) => false,
             (Some(a), Some(b)) => !(Arc::ptr_eq(a, b) || a == b),
             _ => true,
@@ -75,7 +75,7 @@ impl ApertureTable {
         if !self.differs(camera) {
             return Ok(false);
         }
-        let wanted = camera.lens.aperture.shape.image.as_ref();
+        let wanted = camera.lens.first_order().aperture.shape.image.as_ref();
         self.ctx.wait_all()?;
         self.buffer = match wanted {
             Some(image) => Self::upload_image(&self.ctx, image)?,

@@ -163,8 +163,8 @@ impl HybridPlanPass {
             },
             spp,
             projection: crate::upload::projection_code(camera),
-            lens_reach: camera.lens.reach(),
-            focus_distance: camera.lens.focus_distance,
+            lens_reach: camera.lens.first_order().reach(),
+            focus_distance: camera.lens.first_order().focus_distance,
             near_z: camera.near,
             pixels_per_screen_unit: camera.pixels_per_screen_unit(),
         };

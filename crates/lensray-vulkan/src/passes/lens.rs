@@ -46,7 +46,7 @@ impl LensBuffer {
 
     /// Whether `camera`'s lens (or image size, for a real lens) is not what the buffer holds.
     pub(crate) fn differs(&self, camera: &Camera) -> bool {
-        match (&self.holds.0, &camera.real_lens) {
+        match (self.holds.0.as_ref(), camera.lens.real()) {
             (None, None) => false,
             (Some(a), Some(b)) => {
                 !(Arc::ptr_eq(a, b) || a == b)
@@ -65,7 +65,7 @@ impl LensBuffer {
         let lens = crate::upload::gpu_lens(camera)?;
         self.ctx.wait_all()?;
         self.buffer = Self::upload(&self.ctx, &lens)?;
-        self.holds = (camera.real_lens.clone(), camera.width, camera.height);
+        self.holds = (camera.lens.real().cloned(), camera.width, camera.height);
         Ok(true)
     }
 }

@@ -145,7 +145,7 @@ pub fn bench_renderer(
         camera: Camera::new(
             camera.projection,
             camera.frame,
-            camera.lens.clone(),
+            camera.lens.first_order_only(),
             camera.near,
             camera.far,
             8,

@@ -99,7 +99,7 @@ impl LensPoint {
     /// model's point takes its f-number from it).
     pub fn measure(point: BenchLens, shot: &Shot, real: &Camera) -> Self {
         let (camera, settings) = (&shot.camera, &shot.render);
-        let f_number = real.real_lens.as_ref().map_or(0.0, |l| l.f_number);
+        let f_number = real.lens.real().map_or(0.0, |l| l.f_number);
         let mut seconds = Vec::with_capacity(CAMERA_RAY_PASSES);
         let mut camera_rays = 0;
         for _ in 0..CAMERA_RAY_PASSES {
@@ -119,8 +119,8 @@ impl LensPoint {
                 LensModel::Thin
             },
             f_number,
-            entrance_pupil_radius: camera.lens.aperture_radius,
-            focus_distance: camera.lens.focus_distance,
+            entrance_pupil_radius: camera.lens.first_order().aperture_radius,
+            focus_distance: camera.lens.first_order().focus_distance,
             camera_samples,
             camera_rays,
             pass_share: camera_rays as f64 / camera_samples.max(1) as f64,
@@ -171,7 +171,7 @@ impl CpuPieces {
             }
             sum
         });
-        let (pupil_ns, lens_trace_ns, packet_ns) = match &camera.real_lens {
+        let (pupil_ns, lens_trace_ns, packet_ns) = match camera.lens.real() {
             Some(real) => real_lens_pieces(real, camera, &samples, n),
             None => (0.0, 0.0, camera_ray_ns),
         };

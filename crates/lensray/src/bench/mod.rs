@@ -97,8 +97,8 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
             shading: base_shot.render.shading,
             sampler: base_shot.render.sampler,
             seed: base_shot.render.seed,
-            aperture_radius: base_shot.camera.lens.aperture_radius,
-            focus_distance: base_shot.camera.lens.focus_distance,
+            aperture_radius: base_shot.camera.lens.first_order().aperture_radius,
+            focus_distance: base_shot.camera.lens.first_order().focus_distance,
             repeat: options.repeat,
             reference_spp: options.reference_spp,
         },
@@ -175,7 +175,7 @@ fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> 
     }
     if let SweepValue::Lens(BenchLens { real: false, .. }) = value {
         // The first-order model the camera holds (same framing, pupil and focus), untraced.
-        shot.camera.real_lens = None;
+        shot.camera.lens = shot.camera.lens.first_order_only();
     }
     Ok(shot)
 }

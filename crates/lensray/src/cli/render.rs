@@ -114,7 +114,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         start.elapsed().as_secs_f64(),
         report.rays_per_second() / 1e6
     );
-    if let Some(real) = &camera.real_lens {
+    if let Some(real) = camera.lens.real() {
         println!("  {}", real.summary());
     }
     Ok(())

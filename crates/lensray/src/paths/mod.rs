@@ -40,7 +40,7 @@ pub struct OpenedPath {
 /// option (`--validate`, `--gpu`) or a GPU path was asked for.
 pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedPath> {
     let device = options.device_to_use("--path")?;
-    let real_lens = shot.camera.real_lens.as_deref();
+    let real_lens = shot.camera.lens.real();
     if let (Some(real), Some(kind)) = (real_lens, options.path.only()) {
         match kind.real_lens_support() {
             RealLensSupport::Refused => bail!(

@@ -64,7 +64,7 @@ pub use lens::LensChoice;
 pub use readout::{LensReadout, RealLensReadout};
 
 use camera::RigCamera;
-use lens::{Lens, RealRigLens};
+use lens::{RealRigLens, RigLens};
 
 /// The preview's camera: [`Settings`] whose camera part the user moves.
 #[derive(Clone, Debug)]
@@ -77,7 +77,7 @@ pub struct CameraRig {
     /// Bounding-sphere radius: the scale of flying speed and of the smallest aperture.
     scene_radius: f64,
     /// The thin lens last used (picking "thin lens" again restores it).
-    thin: Lens,
+    thin: RigLens,
     /// Real lenses the picker offers beyond the built-in ones: the file the preview started
     /// with.
     files: Vec<(String, Arc<Prescription>)>,
@@ -106,26 +106,26 @@ impl CameraRig {
                 if lensray_core::optics::builtin::lens(name).is_none() {
                     files.push((name.clone(), Arc::new(lens.clone())));
                 }
-                Lens::Real(RealRigLens::new(
+                RigLens::Real(RealRigLens::new(
                     name.clone(),
                     lens,
                     c.f_number,
                     c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM),
                 ))
             }
-            (None, Some(focal_length_mm)) => Lens::Physical(PhysicalLens {
+            (None, Some(focal_length_mm)) => RigLens::Physical(PhysicalLens {
                 focal_length_mm,
                 f_number: c.f_number.unwrap_or(DEFAULT_F_NUMBER),
                 sensor_height_mm: c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM),
             }),
-            (None, None) => Lens::Aperture {
+            (None, None) => RigLens::Aperture {
                 radius: c.aperture_radius.unwrap_or(0.0),
             },
         };
         // The thin lens "thin lens" picks: the one given, or for a real lens the thin lens of
         // its focal length, f-number and sensor.
         let thin = match &lens {
-            Lens::Real(real) => Lens::Physical(PhysicalLens {
+            RigLens::Real(real) => RigLens::Physical(PhysicalLens {
                 focal_length_mm: real.first_order.efl,
                 f_number: real.f_number,
                 sensor_height_mm: real.sensor_height_mm,
@@ -197,7 +197,7 @@ impl CameraRig {
 
     /// Back to the camera the preview started with (the image keeps the window's size).
     pub fn reset(&mut self) {
-        if !matches!(self.camera.lens, Lens::Real(_)) {
+        if !matches!(self.camera.lens, RigLens::Real(_)) {
             self.thin = self.camera.lens.clone();
         }
         self.camera = self.start.clone();

@@ -58,7 +58,7 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
     let (camera, render) = (&resolved.camera, &resolved.render);
     let c = &settings.camera;
     let physical = c.focal_length_mm.is_some();
-    let real = camera.real_lens.as_deref();
+    let real = camera.lens.real();
     // A pinhole without a focus resolves to `LensParams::Pinhole`: writing a focus would change
     // its (unused) focus distance, so it is written only when the lens has one.
     let has_lens =
@@ -95,7 +95,7 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
                 .then(|| c.aperture_radius.unwrap_or(0.0)),
             focus_distance: has_lens.then(|| {
                 c.focus_distance
-                    .unwrap_or(camera.lens.focus_distance as f64)
+                    .unwrap_or(camera.lens.first_order().focus_distance as f64)
             }),
             focal_length_mm: c.focal_length_mm,
             f_number: match real {

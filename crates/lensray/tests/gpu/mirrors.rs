@@ -203,18 +203,19 @@ fn check_camera_mirrors(cam: &Camera, q: &ProbeQuery, r: &ProbeResult, cs: &Came
     // Lens points of a bladed aperture or an image: additions, multiplications,
     // divisions and table searches on both sides (`precise` in GLSL), bit for bit. The
     // disk's sine and cosine are the GPU's own, within a few units in the last place.
-    let lens = cam.lens.lens_point(cs.lens);
+    let lens = cam.lens.first_order().lens_point(cs.lens);
     let gpu_lens = Vec2::new(r.lens_point[0], r.lens_point[1]);
-    let disk = cam.lens.aperture.fan().is_empty() && cam.lens.aperture.image().is_none();
+    let disk = cam.lens.first_order().aperture.fan().is_empty()
+        && cam.lens.first_order().aperture.image().is_none();
     if disk {
-        let err = (gpu_lens - lens).length() / cam.lens.reach();
+        let err = (gpu_lens - lens).length() / cam.lens.first_order().reach();
         assert!(err < 1e-6, "lens_point {lens} vs {gpu_lens} for {q:?}");
     } else {
         assert_eq!(
             lens.to_array().map(f32::to_bits),
             gpu_lens.to_array().map(f32::to_bits),
             "lens_point of {:?} for {q:?}",
-            cam.lens.aperture.shape
+            cam.lens.first_order().aperture.shape
         );
     }
     // Rays: same formulas, but GPU transcendentals and fused operations may differ in

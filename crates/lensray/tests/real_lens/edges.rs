@@ -149,7 +149,7 @@ fn an_edge_at_the_focus_distance_is_sharp() {
         let (profile, image, projected) = render_edge(&cam, focus, 256);
         let fit = edge_fit::fit(&profile);
         // 1 / z = 1 / F - 1.5 px / (A * pixels per screen unit): the first-order CoC is 1.5 px.
-        let reach = cam.lens.aperture_radius * cam.pixels_per_screen_unit();
+        let reach = cam.lens.first_order().aperture_radius * cam.pixels_per_screen_unit();
         let behind = 1.0 / (1.0 / focus - 1.5 / reach);
         let (defocused, _, _) = render_edge(&cam, behind, 256);
         let defocused_fit = edge_fit::fit(&defocused);

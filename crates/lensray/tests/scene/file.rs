@@ -253,7 +253,7 @@ fn scene_file_aperture_image_is_relative_to_the_file() {
     );
     let shot =
         lensray_core::settings::shot(&d.settings, &d.scene).unwrap_or_else(|e| panic!("{e}"));
-    let aperture = &shot.camera.lens.aperture;
+    let aperture = &shot.camera.lens.first_order().aperture;
     let image = aperture.image().expect("an image aperture");
     assert_eq!((image.columns(), image.rows()), (4, 2));
     assert_eq!(

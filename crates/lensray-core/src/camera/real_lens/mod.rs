@@ -9,7 +9,7 @@
 //! - **Camera space** (world units, metres) has its origin at the **entrance pupil**'s centre
 //!   and +z toward the scene: `camera = ((x, y, entrance_pupil_z - z) / 1000)`. The pinhole at
 //!   the entrance pupil that the raster G-buffer, the hybrid and the raster path use (the
-//!   lens's first-order model, `Camera::lens`) sits at the same origin, so depths agree.
+//!   lens's first-order model, `Lens::first_order`) sits at the same origin, so depths agree.
 //! - The image on the film is inverted: raster (column, row) maps to the film point
 //!   `-(u, v)`, with (u, v) the raster point's offset from the image centre in film mm (+u to
 //!   the image's right, +v up).

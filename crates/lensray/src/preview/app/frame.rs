@@ -43,7 +43,7 @@ impl App {
             .rig
             .shot(&self.config.description.scene)
             .context("camera")?;
-        if let Some(real) = &resolved.camera.real_lens {
+        if let Some(real) = resolved.camera.lens.real() {
             self.follow_real_lens(real.name());
         }
         let restart = self.last.as_ref() != Some(&resolved);
@@ -106,7 +106,7 @@ impl App {
             lens_summary: self
                 .last
                 .as_ref()
-                .and_then(|shot| shot.camera.real_lens.as_ref())
+                .and_then(|shot| shot.camera.lens.real())
                 .map(|real| real.summary()),
         };
         let rig = &mut self.config.rig;

@@ -123,7 +123,7 @@ impl App {
             .rig
             .shot(&self.config.description.scene)
             .context("camera")?;
-        let real_lens = shot.camera.real_lens.clone();
+        let real_lens = shot.camera.lens.real().cloned();
         let asked = self.config.viewer.estimator;
         if let (Some(real), Estimator::Hybrid) = (&real_lens, asked) {
             anyhow::bail!(

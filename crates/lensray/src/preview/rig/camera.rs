@@ -4,7 +4,7 @@ use glam::DVec3;
 
 use lensray_core::settings::{ProjectionKind, Settings};
 
-use super::lens::Lens;
+use super::lens::RigLens;
 
 /// Everything that describes the camera, explicit.
 #[derive(Clone, Debug, PartialEq)]
@@ -19,7 +19,7 @@ pub(super) struct RigCamera {
     /// Meaningful while orthographic.
     pub(super) ortho_height: f64,
     pub(super) focus_distance: f64,
-    pub(super) lens: Lens,
+    pub(super) lens: RigLens,
 }
 
 /// The camera frame in f64, built as `CameraFrame::look_at` builds it.
@@ -48,11 +48,11 @@ impl RigCamera {
     /// lens's to first order).
     pub(super) fn vfov_radians(&self) -> f64 {
         match &self.lens {
-            Lens::Physical(lens) => lens
+            RigLens::Physical(lens) => lens
                 .vfov(self.focus_distance)
                 .unwrap_or(self.vfov_degrees.to_radians()),
-            Lens::Real(real) => real.vfov(self.focus_distance),
-            Lens::Aperture { .. } => self.vfov_degrees.to_radians(),
+            RigLens::Real(real) => real.vfov(self.focus_distance),
+            RigLens::Aperture { .. } => self.vfov_degrees.to_radians(),
         }
     }
 
@@ -68,9 +68,9 @@ impl RigCamera {
 
     pub(super) fn aperture_radius(&self) -> f64 {
         match &self.lens {
-            Lens::Aperture { radius } => *radius,
-            Lens::Physical(lens) => lens.aperture_radius(),
-            Lens::Real(real) => real.entrance_pupil_radius(),
+            RigLens::Aperture { radius } => *radius,
+            RigLens::Physical(lens) => lens.aperture_radius(),
+            RigLens::Real(real) => real.entrance_pupil_radius(),
         }
     }
 
@@ -87,19 +87,19 @@ impl RigCamera {
         c.focus_distance = Some(self.focus_distance);
         c.lens.prescription = None;
         match &self.lens {
-            Lens::Aperture { radius } => {
+            RigLens::Aperture { radius } => {
                 c.aperture_radius = Some(*radius);
                 c.focal_length_mm = None;
                 c.f_number = None;
                 c.sensor_height_mm = None;
             }
-            Lens::Physical(lens) => {
+            RigLens::Physical(lens) => {
                 c.aperture_radius = None;
                 c.focal_length_mm = Some(lens.focal_length_mm);
                 c.f_number = Some(lens.f_number);
                 c.sensor_height_mm = Some(lens.sensor_height_mm);
             }
-            Lens::Real(real) => {
+            RigLens::Real(real) => {
                 c.aperture_radius = None;
                 c.focal_length_mm = None;
                 c.f_number = Some(real.f_number);

@@ -11,7 +11,7 @@ use super::{REAL_F_NUMBER_MAX, REAL_MAX_MAGNIFICATION};
 
 /// The lens, in the units the user chose.
 #[derive(Clone, Debug, PartialEq)]
-pub(super) enum Lens {
+pub(super) enum RigLens {
     /// World units; 0 is a pinhole.
     Aperture { radius: f64 },
     /// Photographic units; the field of view follows the lens (see `camera::physical`).

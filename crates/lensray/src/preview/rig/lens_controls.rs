@@ -7,7 +7,7 @@ use lensray_core::settings::{
     ApertureSettings, ProjectionKind, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM,
 };
 
-use super::lens::{clamp_toward, Lens, LensChoice, RealRigLens};
+use super::lens::{clamp_toward, LensChoice, RealRigLens, RigLens};
 use super::{
     CameraRig, APERTURE_STEPS_PER_OCTAVE, FOCUS_STEPS_PER_OCTAVE, F_NUMBER_RANGE, F_STOPS_PER_STEP,
     MIN_DISTANCE_PER_RADIUS, SENSOR_HEIGHT_RANGE_MM, SMALLEST_APERTURE_PER_RADIUS,
@@ -19,9 +19,9 @@ impl CameraRig {
     pub(super) fn min_focus_distance(&self) -> f64 {
         let floor = MIN_DISTANCE_PER_RADIUS * self.scene_radius;
         match &self.camera.lens {
-            Lens::Physical(lens) => floor.max(1.001 * lens.focal_length_mm / MM_PER_WORLD_UNIT),
-            Lens::Real(real) => floor.max(real.nearest_focus()),
-            Lens::Aperture { .. } => floor,
+            RigLens::Physical(lens) => floor.max(1.001 * lens.focal_length_mm / MM_PER_WORLD_UNIT),
+            RigLens::Real(real) => floor.max(real.nearest_focus()),
+            RigLens::Aperture { .. } => floor,
         }
     }
 
@@ -54,15 +54,15 @@ impl CameraRig {
         // N grows by sqrt 2 per stop (the aperture area halves).
         let f_factor = 2f64.powf(-(steps as f64) * F_STOPS_PER_STEP * 0.5);
         match &mut self.camera.lens {
-            Lens::Physical(lens) => {
+            RigLens::Physical(lens) => {
                 lens.f_number =
                     (lens.f_number * f_factor).clamp(F_NUMBER_RANGE.0, F_NUMBER_RANGE.1);
             }
-            Lens::Real(real) => {
+            RigLens::Real(real) => {
                 let range = real.f_number_range();
                 real.f_number = clamp_toward(real.f_number * f_factor, range, real.f_number);
             }
-            Lens::Aperture { radius } => {
+            RigLens::Aperture { radius } => {
                 let factor = 2f64.powf(1.0 / APERTURE_STEPS_PER_OCTAVE);
                 for _ in 0..steps.unsigned_abs() {
                     *radius = if steps > 0 {
@@ -91,17 +91,17 @@ impl CameraRig {
         if !(focal_length_mm.is_finite() && focal_length_mm > 0.0) {
             return;
         }
-        self.camera.lens = Lens::Physical(match &self.camera.lens {
-            Lens::Physical(lens) => PhysicalLens {
+        self.camera.lens = RigLens::Physical(match &self.camera.lens {
+            RigLens::Physical(lens) => PhysicalLens {
                 focal_length_mm,
                 ..*lens
             },
-            Lens::Real(real) => PhysicalLens {
+            RigLens::Real(real) => PhysicalLens {
                 focal_length_mm,
                 f_number: real.f_number,
                 sensor_height_mm: real.sensor_height_mm,
             },
-            Lens::Aperture { .. } => PhysicalLens {
+            RigLens::Aperture { .. } => PhysicalLens {
                 focal_length_mm,
                 f_number: DEFAULT_F_NUMBER,
                 sensor_height_mm: DEFAULT_SENSOR_HEIGHT_MM,
@@ -119,13 +119,13 @@ impl CameraRig {
             return;
         }
         match &mut self.camera.lens {
-            Lens::Physical(lens) => {
+            RigLens::Physical(lens) => {
                 lens.f_number = f_number.clamp(F_NUMBER_RANGE.0, F_NUMBER_RANGE.1);
             }
-            Lens::Real(real) => {
+            RigLens::Real(real) => {
                 real.f_number = clamp_toward(f_number, real.f_number_range(), real.f_number);
             }
-            Lens::Aperture { .. } => return,
+            RigLens::Aperture { .. } => return,
         }
         self.commit();
     }
@@ -138,9 +138,9 @@ impl CameraRig {
         }
         let (lo, hi) = SENSOR_HEIGHT_RANGE_MM;
         match &mut self.camera.lens {
-            Lens::Physical(lens) => lens.sensor_height_mm = height_mm.clamp(lo, hi),
-            Lens::Real(real) => real.sensor_height_mm = height_mm.clamp(lo, hi),
-            Lens::Aperture { .. } => return,
+            RigLens::Physical(lens) => lens.sensor_height_mm = height_mm.clamp(lo, hi),
+            RigLens::Real(real) => real.sensor_height_mm = height_mm.clamp(lo, hi),
+            RigLens::Aperture { .. } => return,
         }
         self.commit();
     }
@@ -161,7 +161,7 @@ impl CameraRig {
     /// The lens in use, as the picker names it.
     pub fn lens_choice(&self) -> LensChoice {
         match &self.camera.lens {
-            Lens::Real(real) => LensChoice::Real(real.prescription.clone()),
+            RigLens::Real(real) => LensChoice::Real(real.prescription.clone()),
             _ => LensChoice::Thin,
         }
     }
@@ -187,9 +187,9 @@ impl CameraRig {
                     },
                 };
                 let (f_number, sensor) = match &self.camera.lens {
-                    Lens::Physical(l) => (Some(l.f_number), l.sensor_height_mm),
-                    Lens::Real(r) => (Some(r.f_number), r.sensor_height_mm),
-                    Lens::Aperture { .. } => (None, DEFAULT_SENSOR_HEIGHT_MM),
+                    RigLens::Physical(l) => (Some(l.f_number), l.sensor_height_mm),
+                    RigLens::Real(r) => (Some(r.f_number), r.sensor_height_mm),
+                    RigLens::Aperture { .. } => (None, DEFAULT_SENSOR_HEIGHT_MM),
                 };
                 let mut real = RealRigLens::new(name.clone(), prescription, None, sensor);
                 if let Some(n) = f_number {
@@ -197,10 +197,10 @@ impl CameraRig {
                     real.f_number = n.clamp(lo, hi);
                 }
                 self.set_projection(ProjectionKind::Perspective);
-                Lens::Real(real)
+                RigLens::Real(real)
             }
         };
-        if !matches!(self.camera.lens, Lens::Real(_)) {
+        if !matches!(self.camera.lens, RigLens::Real(_)) {
             self.thin = self.camera.lens.clone();
         }
         self.camera.lens = lens;
@@ -233,7 +233,7 @@ impl CameraRig {
             return;
         }
         self.camera.vfov_degrees = self.camera.vfov_radians().to_degrees();
-        self.camera.lens = Lens::Aperture { radius };
+        self.camera.lens = RigLens::Aperture { radius };
         self.commit();
     }
 
@@ -243,7 +243,7 @@ impl CameraRig {
     /// view (the field of view is the lens's, so it stays). A real lens stays perspective.
     pub fn set_projection(&mut self, projection: ProjectionKind) {
         let cam = &mut self.camera;
-        if cam.projection == projection || matches!(cam.lens, Lens::Real(_)) {
+        if cam.projection == projection || matches!(cam.lens, RigLens::Real(_)) {
             return;
         }
         match projection {

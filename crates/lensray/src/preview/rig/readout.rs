@@ -2,7 +2,7 @@
 
 use lensray_core::settings::ProjectionKind;
 
-use super::lens::Lens;
+use super::lens::RigLens;
 use super::CameraRig;
 
 /// What a lens panel shows of a real lens.
@@ -48,11 +48,11 @@ impl CameraRig {
     pub fn readout(&self) -> LensReadout {
         let cam = &self.camera;
         let physical = match cam.lens {
-            Lens::Physical(lens) => Some(lens),
+            RigLens::Physical(lens) => Some(lens),
             _ => None,
         };
         let real = match &cam.lens {
-            Lens::Real(real) => Some(real),
+            RigLens::Real(real) => Some(real),
             _ => None,
         };
         let perspective = cam.projection == ProjectionKind::Perspective;

@@ -27,7 +27,7 @@ fn focus_steps_are_eighths_of_a_doubling() {
         assert_eq!(rig.readout().focus_distance, before);
     }
     let lens = camera(&rig).lens;
-    assert_close(lens.focus_distance as f64, before, 1e-6);
+    assert_close(lens.first_order().focus_distance as f64, before, 1e-6);
 }
 
 #[test]
@@ -66,7 +66,11 @@ fn aperture_steps_in_world_units() {
         0.1 / 2f64.powf(1.0 / 3.0),
         1e-12,
     );
-    assert_close(camera(&rig).lens.aperture_radius as f64, 0.079370, 1e-6);
+    assert_close(
+        camera(&rig).lens.first_order().aperture_radius as f64,
+        0.079370,
+        1e-6,
+    );
 }
 
 #[test]
@@ -79,7 +83,11 @@ fn f_number_steps_are_third_stops() {
     assert_close(rig.readout().f_number.unwrap(), 5.6, EPS);
     // Aperture radius f / 2N in metres.
     assert_close(rig.readout().aperture_radius, 0.05 / 11.2, EPS);
-    assert_close(camera(&rig).lens.aperture_radius as f64, 0.05 / 11.2, 1e-7);
+    assert_close(
+        camera(&rig).lens.first_order().aperture_radius as f64,
+        0.05 / 11.2,
+        1e-7,
+    );
     rig.step_aperture(100);
     assert_eq!(rig.readout().f_number, Some(0.5));
     rig.step_aperture(-100);

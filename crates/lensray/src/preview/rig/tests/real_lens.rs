@@ -28,10 +28,10 @@ fn a_real_lens_is_pinned_to_the_camera_render_resolves() {
     explicit.camera.f_number = Some(double_gauss().f_number);
     let expected = shot(&explicit, &scene).unwrap().camera;
     assert!(pinned == expected, "the pinned camera differs");
-    let (a, b) = (pinned.real_lens.as_ref().unwrap(), given.real_lens.unwrap());
+    let (a, b) = (pinned.lens.real().unwrap(), given.lens.real().unwrap());
     assert_eq!((a.f_number, a.film_z()), (b.f_number, b.film_z()));
     assert!(a.pupil() == b.pupil());
-    assert!(pinned.real_lens.is_some());
+    assert!(pinned.lens.real().is_some());
     let c = &rig.settings().camera;
     assert_eq!(c.lens.prescription.as_deref(), Some("double-gauss-50"));
     assert_eq!((c.aperture_radius, c.focal_length_mm), (None, None));
@@ -46,12 +46,7 @@ fn a_real_lens_is_pinned_to_the_camera_render_resolves() {
     assert_eq!(real.f_number_range, (double_gauss().f_number, 22.0));
     assert_eq!(r.f_number, Some(double_gauss().f_number));
     // The first-order field of view is the traced one's within a few percent.
-    let traced = pinned
-        .real_lens
-        .as_ref()
-        .unwrap()
-        .pinhole_vfov()
-        .to_degrees();
+    let traced = pinned.lens.real().unwrap().pinhole_vfov().to_degrees();
     assert_close(r.vfov_degrees.unwrap(), traced, 0.02 * traced);
 }
 
@@ -75,7 +70,7 @@ fn a_real_lens_stops_down_from_its_widest_to_f_22() {
     assert_eq!(rig.readout().f_number, Some(22.0));
     rig.set_f_number(8.0);
     assert_eq!(rig.settings().camera.f_number, Some(8.0));
-    let real = camera(&rig).real_lens.unwrap();
+    let real = camera(&rig).lens.real().unwrap().clone();
     assert_eq!(real.f_number, 8.0);
     // A marked f-number a little wider than the widest, as given, stays until changed.
     let mut given = real_settings();
@@ -110,8 +105,8 @@ fn a_real_lens_focuses_no_nearer_than_it_reaches() {
     assert_eq!(rig.readout().focus_distance, nearest);
     // The camera there resolves (the lens focuses).
     let c = camera(&rig);
-    assert_eq!(c.lens.focus_distance, nearest as f32);
-    assert!(c.real_lens.is_some());
+    assert_eq!(c.lens.first_order().focus_distance, nearest as f32);
+    assert!(c.lens.real().is_some());
 }
 
 #[test]
@@ -185,7 +180,7 @@ fn a_physical_lens_hands_its_f_number_to_a_real_one_and_back() {
     let r = rig.readout();
     assert_eq!(r.focal_length_mm, Some(double_gauss().efl));
     assert_eq!(r.f_number, Some(double_gauss().f_number));
-    assert!(camera(&rig).real_lens.is_none());
+    assert!(camera(&rig).lens.real().is_none());
     rig.reset();
     assert_eq!(
         rig.lens_choice(),
