@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use super::{RealLens, ThinLens};
 
+/// A camera's lens: the one thing camera rays go through (`Camera::generate_ray`).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Lens {
     /// A thin lens; a pinhole when its aperture radius is 0.
