@@ -3,6 +3,35 @@
 //! records its passes here: traced (the trace pass alone), raster (the visibility pass through
 //! each shared lens sample, then the trace pass's shading) and hybrid (the plan made on the
 //! device from the G-buffer, then the trace pass following it).
+//!
+//! The hybrid (docs/hybrid.md): the raster G-buffer decides where rays are needed. Per call of
+//! `add_samples`, one submission on the device (`GpuRenderer::plan_on_device`): the G-buffer of
+//! the shot, the lit pre-pass under lit shading, then the plan pass (`passes::hybrid_plan`,
+//! shaders/passes/hybrid_plan.comp: circle of confusion from the G-buffer depth, maximum over
+//! 8x8 tiles, dilated by each tile's maximum over the tiles it reaches; edge marks in a
+//! summed-area table; one entry per pixel) written straight into the trace pass's plan buffer,
+//! with no readback; then the trace pass in its hybrid mode (shaders/passes/trace.comp) with the
+//! device's fastest traversal. Per pixel:
+//! - no G-buffer edge within the pixel's dilated CoC (at least one pixel; so in particular a
+//!   dilated CoC under half a pixel with a uniform neighbourhood; lit, a shadow boundary found
+//!   by the lit pre-pass counts as an edge): the *shortcut*. Unlit its value is the G-buffer's
+//!   albedo; lit, per sample, the pre-pass's image (each pixel's surface shaded along its
+//!   aperture-centre ray, with one shadow ray) interpolated where the sample's lens ray meets
+//!   the pixel's surface depth. Each sample is traced too with probability
+//!   1 / HYBRID_CHECK_INVERSE (a hash of the 8x8 tile and the sample) and adds
+//!   (traced - shortcut) * HYBRID_CHECK_INVERSE: unbiased;
+//! - otherwise every sample is traced. So the samples a pixel costs grow with its dilated CoC
+//!   through the window it must see uniform: from the shortcut's checks (spp / 32) to spp. (A
+//!   plan entry may stop a pixel's count at `n` < spp; fewer samples where the CoC is small
+//!   measured worse at equal error, docs/hybrid.md, so the plan does not);
+//! - the 8 pixels of a tile row share one decision (they run in lockstep).
+//!
+//! The probe `probes::hybrid_plan` holds the same rules on the host: its `Plan::new` is the
+//! reference the device plan is checked against (tests/hybrid.rs). A render reads none of the
+//! plan back.
+//!
+//! Whether a pixel traces sample `i` depends on the plan (camera, settings, scene) only, never on
+//! the range asked for, so any split of a range gives the same sums, as for every path.
 
 use std::time::Instant;
 
@@ -157,8 +186,12 @@ impl GpuRenderer {
     /// later `accumulate` calls: one submission draws the G-buffer of `planning` (the camera
     /// whose raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
     /// pixel's shortcut value and shadow state), and plans the shot's spp samples seen by its
-    /// camera from them. Nothing is read back; `read_plan` can.
-    pub fn plan_on_device(&mut self, shot: &Shot, planning: &Camera) -> Result<(), GpuError> {
+    /// camera from them. Nothing is read back (the plan's probes can).
+    pub(crate) fn plan_on_device(
+        &mut self,
+        shot: &Shot,
+        planning: &Camera,
+    ) -> Result<(), GpuError> {
         let (camera, settings) = (&shot.camera, &shot.render);
         check_size(camera)?;
         if (planning.width, planning.height) != (camera.width, camera.height) {
@@ -212,36 +245,5 @@ impl GpuRenderer {
         self.timings.gbuffer_passes += 1;
         self.trace.use_device_plan(pixels);
         Ok(())
-    }
-    /// The hybrid's lit pre-pass of `shot` alone (the host plan's input,
-    /// `paths::hybrid::host_plan`): per pixel the shortcut value (xyz) and whether its shadow
-    /// ray was blocked (w, 1 or 0).
-    pub fn lit_prepass(&mut self, shot: &Shot) -> Result<Vec<[f32; 4]>, GpuError> {
-        let camera = &shot.camera;
-        check_size(camera)?;
-        self.prepare_raster(camera.width, camera.height)?;
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let visibility = self.visibility.as_ref().expect("prepared above");
-        let pixels = u64::from(camera.width) * u64::from(camera.height);
-        self.trace.ensure_plan_capacity(pixels)?;
-        self.trace.ensure_camera_tables(camera)?;
-        let (ctx, trace) = (&self.ctx, &self.trace);
-        ctx.submit_and_wait(|cmd| {
-            record_lit_prepass((trace, visibility, scene), cmd, shot);
-            barrier_to_host(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            );
-            Ok(())
-        })?;
-        self.trace.read_plan(pixels)
-    }
-    /// The entries of the plan last made by `plan_on_device` (`pixels` of them), once it is
-    /// made.
-    pub fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
-        self.ctx.wait_all()?;
-        self.trace.read_plan(pixels)
     }
 }

@@ -18,7 +18,8 @@
 //! - `present`: the preview window: surface, swapchain, frames in flight, resolve, view pass,
 //!   egui overlay, and the viewer that drives a frame;
 //! - `probes` (feature `probes`, on for the crate's tests and benches): GLSL mirror checks,
-//!   shared-struct layouts, the preview's view routes, sample generation cost, pass timings.
+//!   the hybrid plan's host reference, shared-struct layouts, the preview's view routes, sample
+//!   generation cost, pass timings.
 //!
 //! This file holds [`GpuRenderer`], which owns the device and the passes, and its options.
 //!
@@ -71,6 +72,8 @@ pub use present::overlay::OverlayFrame;
 pub use present::viewer::{
     FrameRequest, FrameResult, FrameTimes, HostSamples, PresentMode, Viewer, ViewerOptions,
 };
+#[cfg(feature = "probes")]
+pub use probes::hybrid_plan::{device_plan, host_plan, read_plan, Plan};
 #[cfg(feature = "probes")]
 pub use probes::layouts::LayoutReport;
 #[cfg(feature = "probes")]

@@ -8,11 +8,11 @@ use gpu_support::{
     camera, may_skip, record_skip, render_path as render, settings, test_scene, traced_path,
 };
 use lensray::paths::RenderPath;
-use lensray::paths::{hybrid, GpuPath, PathChoice, PathKind};
+use lensray::paths::{GpuPath, PathChoice, PathKind};
 use lensray_core::camera::{Camera, LensParams};
 use lensray_core::film::compare::{mean_error, rmse};
 use lensray_core::settings::{RenderSettings, Shading, Shot};
-use lensray_vulkan::{GpuOptions, GpuRenderer};
+use lensray_vulkan::{device_plan, host_plan, read_plan, GpuOptions, GpuRenderer};
 
 /// The hybrid path on a validated device with the test scene loaded.
 fn hybrid(test: &str) -> Option<GpuPath> {
@@ -74,7 +74,7 @@ fn converges_with(test: &str, shading: Shading, cam: Camera) {
         return;
     };
     let image = path.render(&shot, &mut |_, _| {}).expect("hybrid render");
-    let plan = path.last_plan().expect("read the plan").expect("a plan");
+    let plan = read_plan(path.renderer(), &shot).expect("read the plan");
     let hybrid_rays = path.report().rays;
     Box::new(path)
         .close()
@@ -165,7 +165,7 @@ fn an_in_focus_shot_takes_the_shortcut() {
         return;
     };
     let image = path.render(&shot, &mut |_, _| {}).expect("render");
-    let plan = path.last_plan().expect("read the plan").expect("a plan");
+    let plan = read_plan(path.renderer(), &shot).expect("read the plan");
     let rays = path.report().rays;
     Box::new(path).close().expect("close");
     let all = u64::from(cam.width) * u64::from(cam.height) * u64::from(s.spp);
@@ -225,8 +225,8 @@ fn the_device_plan_equals_the_host_plan() {
                 camera: cam.clone(),
                 render: settings(shading, *spp),
             };
-            let host = hybrid::host_plan(&mut renderer, &shot).expect("host plan");
-            let device = hybrid::device_plan(&mut renderer, &shot).expect("device plan");
+            let host = host_plan(&mut renderer, &shot).expect("host plan");
+            let device = device_plan(&mut renderer, &shot).expect("device plan");
             let differing: Vec<usize> = (0..host.entries.len())
                 .filter(|&i| host.entries[i] != device.entries[i])
                 .collect();
@@ -312,10 +312,8 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
     let image = path
         .render(&resolved, &mut |_, _| {})
         .expect("hybrid render");
-    let shortcut = path
-        .last_plan()
+    let shortcut = read_plan(path.renderer(), &resolved)
         .expect("read the plan")
-        .expect("a plan")
         .shortcut_fraction();
     Box::new(path)
         .close()

@@ -71,9 +71,9 @@ shader_interface! {
         /// triangles in leaf order.
         TRACE_BINDING_BVH_NODES: u32 = 9;
         TRACE_BINDING_BVH_TRIANGLES: u32 = 10;
-        /// trace.comp, hybrid path (lensray/src/paths/hybrid/, docs/hybrid.md): one vec4 per pixel of
-        /// the whole image: xyz the shortcut value, w the samples to trace (w >= 1: samples
-        /// i < w are traced, later ones skipped) or HYBRID_SHORTCUT (the pixel takes the
+        /// trace.comp, hybrid path (lensray-vulkan/src/estimators.rs, docs/hybrid.md): one vec4
+        /// per pixel of the whole image: xyz the shortcut value, w the samples to trace (w >= 1:
+        /// samples i < w are traced, later ones skipped) or HYBRID_SHORTCUT (the pixel takes the
         /// shortcut value, checked by tracing with probability 1 / HYBRID_CHECK_INVERSE).
         TRACE_BINDING_PLAN: u32 = 11;
         /// trace.comp, raster path (docs/raster.md): one uint per pixel of
@@ -114,16 +114,17 @@ shader_interface! {
         HYBRID_CHECK_INVERSE: u32 = 32;
         /// Salt of that choice's hash (apart from the sampler's own uses of the sample key).
         HYBRID_CHECK_SALT: u32 = 0x68796272;
-        /// The hybrid's plan (lensray/src/paths/hybrid/ `Plan::new` on the host, the same rules in
-        /// shaders/passes/hybrid_plan.comp on the device): side of the square tiles over which the
-        /// circle of confusion is maximised, pixels (also the workgroup tile of hybrid_plan.comp).
+        /// The hybrid's plan (lensray-vulkan/src/probes/hybrid_plan.rs `Plan::new` on the host,
+        /// the same rules in shaders/passes/hybrid_plan.comp on the device): side of the square
+        /// tiles over which the circle of confusion is maximised, pixels (also the workgroup tile
+        /// of hybrid_plan.comp).
         HYBRID_TILE: u32 = 8;
         /// Pixels of a row that a device runs in lockstep and that share one decision (lavapipe:
         /// one row of an 8x8 workgroup). hybrid_plan.comp takes it to be HYBRID_TILE.
         HYBRID_SEGMENT: u32 = 8;
         /// Dilated CoC radius (pixels) under which a pixel may take the shortcut with a window
         /// of its neighbours only; also half a pixel, the film samples' reach from its centre
-        /// (`paths::hybrid::window_radius`).
+        /// (`probes::hybrid_plan::window_radius`).
         HYBRID_SHORTCUT_COC: f32 = 0.5;
         /// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
         HYBRID_MAX_REACH_TILES: u32 = 16;

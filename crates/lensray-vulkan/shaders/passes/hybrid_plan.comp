@@ -1,6 +1,6 @@
 #version 460
 // The hybrid path's plan on the device, from the G-buffer images: the same rules as the host's
-// reference `Plan::new` (lensray/src/paths/hybrid/, docs/hybrid.md), in four dispatches recorded in
+// reference `Plan::new` (src/probes/hybrid_plan.rs, docs/hybrid.md), in four dispatches recorded in
 // one command buffer (HybridPlanPush.step), one invocation per tile, row, column or segment (no
 // barriers or shared memory: CPU drivers pay much for them):
 //   (lit: trace.comp's pre-pass first: each pixel's shortcut value and shadow state)
@@ -182,7 +182,7 @@ void step_entries() {
     uint y = g / pc.tiles_x;
     uint tx = g % pc.tiles_x;
     float coc = tile_max[pc.tiles_x * pc.tiles_y + (y / HYBRID_TILE) * pc.tiles_x + tx];
-    // lensray/src/paths/hybrid/: window_radius (why 1 + floor(coc + 1/2)). Beyond the width and
+    // src/probes/hybrid_plan.rs: window_radius (why 1 + floor(coc + 1/2)). Beyond the width and
     // height any radius crosses the frame: clamped before converting.
     uint radius = 1u + uint(floor(min(coc, 1e7) + HYBRID_SHORTCUT_COC));
     // A traced pixel traces every sample (as the host's plan).

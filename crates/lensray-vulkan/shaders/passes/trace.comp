@@ -6,7 +6,7 @@
 // ray-tracing extension). One dispatch covers some rows (strided) and a range of samples; sums
 // accumulate in `accum` (xyz: the sum, w: how many samples), which holds a band of rows of the
 // image (bounded by the device's storage-buffer range).
-// The hybrid path (lensray/src/paths/hybrid/, docs/hybrid.md) runs it in TRACE_MODE_HYBRID: a plan
+// The hybrid path (src/estimators.rs, docs/hybrid.md) runs it in TRACE_MODE_HYBRID: a plan
 // per pixel says how many samples to trace, or that the pixel takes a shortcut value, checked
 // by tracing a sample with probability 1 / HYBRID_CHECK_INVERSE (unbiased); TRACE_MODE_SHORTCUT
 // (lit) first shades the aperture-centre ray of each pixel into the plan, before its steps.

@@ -280,6 +280,7 @@ impl TracePass {
 
     /// The plan's entries as the device left them (host-visible buffer; the caller waited for
     /// the submissions that wrote it).
+    #[cfg(feature = "probes")]
     pub(crate) fn read_plan(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
         let entries: &[[f32; 4]] = bytemuck::cast_slice(self.plan.read()?);
         entries

@@ -8,7 +8,7 @@ use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 /// Circles of confusion under this radius (pixels) are in focus: the hybrid's shortcut rule.
-const IN_FOCUS_COC: f32 = crate::paths::hybrid::SHORTCUT_COC;
+const IN_FOCUS_COC: f32 = lensray_core::interface::HYBRID_SHORTCUT_COC;
 
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct FocusInfo {

@@ -14,8 +14,6 @@ use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
 use lensray_vulkan::{focus_distance_at, Estimator, GpuRenderer, Traversal};
 
-use super::hybrid::Plan;
-
 /// A GPU path: the renderer and the estimator that adds its samples.
 pub struct GpuPath {
     renderer: GpuRenderer,
@@ -24,9 +22,6 @@ pub struct GpuPath {
     /// Wall-clock seconds of the hybrid's plans (G-buffer draw and plan on the device),
     /// counted in the report's trace time: they are part of what the path costs.
     plan_seconds: f64,
-    /// The size and spp of the hybrid's last plan, which stays on the device (read back only
-    /// when asked: `last_plan`).
-    last_plan: Option<(u32, u32, u32)>,
 }
 
 impl GpuPath {
@@ -41,20 +36,12 @@ impl GpuPath {
             renderer,
             estimator: kind.estimator(),
             plan_seconds: 0.0,
-            last_plan: None,
         })
     }
 
-    /// The hybrid's plan of the last `add_samples` call, read back from the device (tests and
-    /// measurements: a render reads back nothing of it); `None` before the first or for the
-    /// other estimators.
-    pub fn last_plan(&self) -> Result<Option<Plan>> {
-        let Some((width, height, spp)) = self.last_plan else {
-            return Ok(None);
-        };
-        let pixels = u64::from(width) * u64::from(height);
-        let entries = self.renderer.read_plan(pixels)?;
-        Ok(Some(Plan::from_entries(width, height, entries, spp)))
+    /// The renderer the path adds samples with.
+    pub fn renderer(&self) -> &GpuRenderer {
+        &self.renderer
     }
 
     fn note_memory(&mut self) {
@@ -93,10 +80,6 @@ impl RenderPath for GpuPath {
             self.renderer
                 .add_samples(shot, self.estimator, samples, accumulation, progress);
         self.note_memory();
-        if self.estimator == Estimator::Hybrid {
-            let camera = &shot.camera;
-            self.last_plan = Some((camera.width, camera.height, shot.render.spp));
-        }
         self.plan_seconds += added?.plan_seconds;
         Ok(())
     }

@@ -1,6 +1,6 @@
 //! The render paths behind [`RenderPath`]: `cpu` (the CPU reference) and `gpu` (the Vulkan
-//! renderer with one of its estimators: traced for `rayquery` and `software`, raster, hybrid,
-//! whose host-side plan `hybrid` holds); and the choice of one. `--device` says which device,
+//! renderer with one of its estimators: traced for `rayquery` and `software`, raster, hybrid);
+//! and the choice of one. `--device` says which device,
 //! `--path` which algorithm ([`PathKind`] describes them, [`request`] checks what the two ask
 //! for together); `auto` measures the paths the device supports and takes the fastest (`auto`).
 
@@ -8,7 +8,6 @@ mod auto;
 pub mod calibration;
 mod cpu;
 mod gpu;
-pub mod hybrid;
 mod path;
 pub mod request;
 

@@ -1,25 +1,31 @@
-//! The hybrid path's plan: per pixel, take the G-buffer's shortcut or trace, and how many
-//! samples (see the module above). `Plan::new` is the host's reference; `device_plan` makes the
-//! same plan on the device (shaders/passes/hybrid_plan.comp).
+//! The hybrid plan's host reference (a probe: tests/hybrid.rs): per pixel, take the G-buffer's
+//! shortcut or trace, and how many samples (the rules: `estimators`' module documentation).
+//! `Plan::new` makes the plan on the host from a G-buffer read back; shaders/passes/hybrid_plan.comp
+//! makes the same plan on the device, and tests compare the two: [`host_plan`] reads the G-buffer
+//! (and, lit, the lit pre-pass) back and plans on the host, [`device_plan`] plans on the device
+//! and reads its entries back, [`read_plan`] reads back the plan the device holds now (that of
+//! the last hybrid `add_samples`). A render reads none of the plan back.
 
-use anyhow::Result;
+use ash::vk;
 use glam::Vec3;
 
+use crate::core::buffer::barrier_to_host;
+use crate::passes::hybrid_plan::record_lit_prepass;
+use crate::{check_size, GBuffer, GpuError, GpuRenderer};
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
     HYBRID_CHECK_INVERSE, HYBRID_MAX_REACH_TILES, HYBRID_SEGMENT, HYBRID_SHORTCUT,
     HYBRID_SHORTCUT_COC, HYBRID_TILE,
 };
 use lensray_core::settings::{Shading, Shot};
-use lensray_vulkan::{GBuffer, GpuRenderer};
 
 /// Side of the tiles over which the circle of confusion is maximised, pixels.
-pub const TILE: u32 = HYBRID_TILE;
+const TILE: u32 = HYBRID_TILE;
 /// Dilated CoC radius (pixels) under which a pixel may take the shortcut.
-pub const SHORTCUT_COC: f32 = HYBRID_SHORTCUT_COC;
+const SHORTCUT_COC: f32 = HYBRID_SHORTCUT_COC;
 /// Pixels of a row that a device runs in lockstep (lavapipe: 8 invocations, one row of an 8x8
 /// workgroup): they share one decision (shortcut, or the most samples of any of them).
-pub const SEGMENT: u32 = HYBRID_SEGMENT;
+const SEGMENT: u32 = HYBRID_SEGMENT;
 /// How far (in tiles) a tile's CoC is spread at most: a bound on the dilation's cost.
 const MAX_REACH_TILES: i64 = HYBRID_MAX_REACH_TILES as i64;
 /// The half-width (pixels, Chebyshev) of the window of G-buffer pixels that must hold no edge
@@ -29,7 +35,7 @@ const MAX_REACH_TILES: i64 = HYBRID_MAX_REACH_TILES as i64;
 /// other one further, and marks the first of the pair (left or upper): so `1 + floor(0.5 +
 /// coc)`. Below half a pixel (`SHORTCUT_COC`) that is 1: the pixel and its neighbours, the
 /// in-focus rule. hybrid_plan.comp computes it alike.
-pub fn window_radius(coc: f32) -> u32 {
+fn window_radius(coc: f32) -> u32 {
     // Beyond any image the radius crosses the frame: clamped before converting.
     1 + (coc.min(1e7) + SHORTCUT_COC).floor() as u32
 }
@@ -78,7 +84,7 @@ impl Plan {
     }
 
     /// A plan from its entries (as the device plan pass writes them), with its counts.
-    pub fn from_entries(width: u32, height: u32, entries: Vec<[f32; 4]>, spp: u32) -> Plan {
+    fn from_entries(width: u32, height: u32, entries: Vec<[f32; 4]>, spp: u32) -> Plan {
         let spp = spp.max(1);
         let shortcut_pixels = entries.iter().filter(|e| e[3] == HYBRID_SHORTCUT).count() as u64;
         let planned: u64 = entries
@@ -294,10 +300,16 @@ fn plan_entries(
 /// The plan of `shot`, made on the device (shaders/passes/hybrid_plan.comp: the G-buffer and the
 /// plan in one submission, no G-buffer readback) and left in the renderer for its later
 /// `accumulate` calls. Its entries are read back (a mapped buffer) for the counts.
-pub fn device_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan> {
+pub fn device_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan, GpuError> {
+    renderer.plan_on_device(shot, &shot.camera.for_rasterizing_rays())?;
+    read_plan(renderer, shot)
+}
+
+/// The plan the device holds now for `shot` (its size and spp): that of the last
+/// `plan_on_device`, the hybrid `add_samples` included, read back once it is made.
+pub fn read_plan(renderer: &GpuRenderer, shot: &Shot) -> Result<Plan, GpuError> {
     let (camera, settings) = (&shot.camera, &shot.render);
-    renderer.plan_on_device(shot, &camera.for_rasterizing_rays())?;
-    let entries = renderer.read_plan(u64::from(camera.width) * u64::from(camera.height))?;
+    let entries = renderer.read_plan_entries(u64::from(camera.width) * u64::from(camera.height))?;
     Ok(Plan::from_entries(
         camera.width,
         camera.height,
@@ -308,7 +320,7 @@ pub fn device_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan> {
 
 /// The reference plan of `shot`: the G-buffer (and, lit, the lit pre-pass) read back,
 /// `Plan::new` on the host.
-pub fn host_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan> {
+pub fn host_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan, GpuError> {
     let (camera, settings) = (&shot.camera, &shot.render);
     let gbuffer = renderer.render_gbuffer(&camera.for_rasterizing_rays(), settings.background)?;
     let prepass = match settings.shading {
@@ -321,6 +333,41 @@ pub fn host_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan> {
         prepass.as_deref(),
         settings.spp,
     ))
+}
+
+/// What the plan's probes read back from the renderer.
+impl GpuRenderer {
+    /// The hybrid's lit pre-pass of `shot` alone (the input of `host_plan`): per pixel the
+    /// shortcut value (xyz) and whether its shadow ray was blocked (w, 1 or 0).
+    fn lit_prepass(&mut self, shot: &Shot) -> Result<Vec<[f32; 4]>, GpuError> {
+        let camera = &shot.camera;
+        check_size(camera)?;
+        self.prepare_raster(camera.width, camera.height)?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let visibility = self.visibility.as_ref().expect("prepared above");
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        self.trace.ensure_plan_capacity(pixels)?;
+        self.trace.ensure_camera_tables(camera)?;
+        let (ctx, trace) = (&self.ctx, &self.trace);
+        ctx.submit_and_wait(|cmd| {
+            record_lit_prepass((trace, visibility, scene), cmd, shot);
+            barrier_to_host(
+                ctx,
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::AccessFlags::SHADER_WRITE,
+            );
+            Ok(())
+        })?;
+        self.trace.read_plan(pixels)
+    }
+
+    /// The entries of the plan last made by `plan_on_device` (`pixels` of them), once it is
+    /// made.
+    fn read_plan_entries(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.ctx.wait_all()?;
+        self.trace.read_plan(pixels)
+    }
 }
 
 #[cfg(test)]
