@@ -71,7 +71,7 @@ shader_interface! {
         /// triangles in leaf order.
         TRACE_BINDING_BVH_NODES: u32 = 9;
         TRACE_BINDING_BVH_TRIANGLES: u32 = 10;
-        /// trace.comp, hybrid path (lensray-vulkan/src/estimators.rs, docs/hybrid.md): one vec4
+        /// trace.comp, hybrid path (lensray-vulkan/src/renderer/batch.rs, docs/hybrid.md): one vec4
         /// per pixel of the whole image: xyz the shortcut value, w the samples to trace (w >= 1:
         /// samples i < w are traced, later ones skipped) or HYBRID_SHORTCUT (the pixel takes the
         /// shortcut value, checked by tracing with probability 1 / HYBRID_CHECK_INVERSE).

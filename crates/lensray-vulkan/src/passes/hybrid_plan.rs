@@ -15,9 +15,6 @@ use crate::core::image::{transition, Transition};
 use crate::core::pipeline::Pipeline;
 use crate::core::shader;
 use crate::passes::gbuffer::GBufferTargets;
-use crate::passes::trace::TracePass;
-use crate::passes::visibility::VisibilityPass;
-use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
     HybridPlanPush, HYBRID_PLAN_BINDING_ALBEDO, HYBRID_PLAN_BINDING_EDGES,
@@ -27,7 +24,7 @@ use lensray_core::interface::{
     HYBRID_PLAN_STEP_ROWS, HYBRID_PLAN_STEP_TILES, HYBRID_SEGMENT, HYBRID_TILE, SHADING_LIT,
     SHADING_UNLIT,
 };
-use lensray_core::settings::{Shading, Shot};
+use lensray_core::settings::Shading;
 
 // hybrid_plan.comp's ENTRIES step takes a segment to be one tile row, and a tile to be one
 // workgroup.
@@ -219,19 +216,4 @@ impl HybridPlanPass {
             );
         }
     }
-}
-
-/// The hybrid's lit pre-pass with the parameters of `shot`, its rays counted from zero (the
-/// render path's plan and the host plan's input record it alike): the visibility pass through
-/// the lens centre, then the shading of what it saw.
-pub(crate) fn record_lit_prepass(
-    (trace, visibility, scene): (&TracePass, &VisibilityPass, &SceneBuffers),
-    cmd: vk::CommandBuffer,
-    shot: &Shot,
-) {
-    let camera = &shot.camera;
-    trace.record_params(cmd, &crate::upload::trace_params(shot));
-    trace.record_clear_ray_counter(cmd);
-    visibility.record_aperture_centre(cmd, scene, camera);
-    trace.record_lit_prepass(cmd, camera.width, camera.height);
 }

@@ -16,6 +16,8 @@ mod steps;
 mod tests;
 mod timings;
 
+pub(crate) use accumulate::RecordSamples;
+
 use std::sync::Arc;
 
 use ash::vk;

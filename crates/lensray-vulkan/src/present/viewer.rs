@@ -34,7 +34,8 @@ use crate::present::overlay::Overlay;
 use crate::present::resolve::ResolvePass;
 use crate::present::swapchain::Swapchain;
 use crate::present::view_pass::ViewPass;
-use crate::{check_validation_log, Estimator, GpuRenderer, ValidationLog};
+use crate::renderer::check_validation_log;
+use crate::{Estimator, GpuRenderer, ValidationLog};
 use lensray_core::film::progressive::ProgressiveSchedule;
 use lensray_core::film::Image;
 use lensray_core::interface::TRACE_GROUP_SIZE;
@@ -85,7 +86,7 @@ impl Viewer {
         let (mut gpu, surface) = GpuRenderer::open(&options.gpu, Some((display, window)))?;
         let surface = surface.expect("opened with a window");
         gpu.load_scene(scene)?;
-        let ctx = gpu.ctx.clone();
+        let ctx = gpu.ctx().clone();
         Ok(Self {
             frames: Frames::new(&ctx)?,
             overlay: None,
@@ -149,7 +150,7 @@ impl Viewer {
 
     fn recreate_swapchain(&mut self, window_size: [u32; 2]) -> Result<(), GpuError> {
         self.wait_idle()?;
-        let ctx = self.gpu.ctx.clone();
+        let ctx = self.gpu.ctx().clone();
         let old = self.swapchain.take();
         let new = Swapchain::new(
             &ctx,
@@ -187,7 +188,7 @@ impl Viewer {
                 swapchain.format,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
             )?;
-            pass.bind_scene(self.gpu.scene.as_ref().ok_or(GpuError::NoScene)?);
+            pass.bind_scene(self.gpu.scene_buffers()?);
             self.view_pass = Some(pass);
         }
         self.view_pass.as_mut().expect("created above").attach(
@@ -202,7 +203,7 @@ impl Viewer {
 
     /// The G-buffer, accumulation and display images of a new size. No frame is in flight.
     fn resize_images(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
-        let ctx = self.gpu.ctx.clone();
+        let ctx = self.gpu.ctx().clone();
         let bytes = u64::from(width) * u64::from(height) * 16;
         if bytes > u64::from(ctx.report.max_storage_buffer_range) {
             return Err(GpuError::Invalid(format!(
@@ -211,7 +212,6 @@ impl Viewer {
                 ctx.report.max_storage_buffer_range
             )));
         }
-        self.gpu.gbuffer_pass()?.ensure_targets(width, height)?;
         let target = self.accum.as_ref().map_or(0, |a| a.schedule.target());
         self.accum = None;
         let buffer = Buffer::new(
@@ -223,34 +223,11 @@ impl Viewer {
                 | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;
-        self.gpu.trace.bind_accumulation(&buffer);
-        // The hybrid's lit pre-pass rasterizes through the lens centre (the shading can turn
-        // lit at any frame).
-        if self.estimator != Estimator::Traced {
-            self.gpu.prepare_raster(width, height)?;
-        }
-        if self.estimator == Estimator::Hybrid {
-            self.gpu.ensure_hybrid_plan()?;
-        }
-        let gbuffer = self.gpu.gbuffer.as_ref().expect("made above");
-        let targets = gbuffer.targets.as_ref().expect("ensured above");
-        if let Some(hybrid_plan) = self
-            .gpu
-            .hybrid_plan
-            .as_mut()
-            .filter(|_| self.estimator == Estimator::Hybrid)
-        {
-            self.gpu
-                .trace
-                .ensure_plan_capacity(u64::from(width) * u64::from(height))?;
-            hybrid_plan.bind(
-                targets,
-                self.gpu.trace.plan_buffer_ref(),
-                self.gpu.trace.surface_depth_ref(),
-            )?;
-            // A new size restarts the accumulation: the plan is made again.
-            self.plan_spp = None;
-        }
+        self.gpu
+            .prepare_frames((width, height), self.estimator, &buffer)?;
+        // A new size restarts the accumulation: the hybrid's plan is made again.
+        self.plan_spp = None;
+        let targets = self.gpu.gbuffer_targets().expect("prepared above");
         self.resolve.bind(&buffer, targets, width, height)?;
         self.accum = Some(WindowAccumulation {
             buffer,
@@ -265,12 +242,12 @@ impl Viewer {
         let Some(accum) = self.accum.as_ref() else {
             return Ok(None);
         };
-        let Some(targets) = self.gpu.gbuffer.as_ref().and_then(|g| g.targets.as_ref()) else {
+        let Some(targets) = self.gpu.gbuffer_targets() else {
             return Ok(None);
         };
         let (width, height) = (targets.width, targets.height);
         self.wait_idle()?;
-        let ctx = self.gpu.ctx.clone();
+        let ctx = self.gpu.ctx().clone();
         let readback = Buffer::new(
             &ctx,
             "preview screenshot readback",
@@ -313,7 +290,7 @@ impl Viewer {
 
     fn wait_idle(&self) -> Result<(), GpuError> {
         // SAFETY: a live device; used on rare events only (resize, screenshot, exit).
-        unsafe { self.gpu.ctx.device.device_wait_idle() }.map_err(vk_err("vkDeviceWaitIdle"))
+        unsafe { self.gpu.ctx().device.device_wait_idle() }.map_err(vk_err("vkDeviceWaitIdle"))
     }
 
     /// Destroys every Vulkan object; with validation on, fails on any message, the leak report

@@ -6,12 +6,9 @@
 //! and reads its entries back, [`read_plan`] reads back the plan the device holds now (that of
 //! the last hybrid `add_samples`). A render reads none of the plan back.
 
-use ash::vk;
 use glam::Vec3;
 
-use crate::core::buffer::barrier_to_host;
-use crate::passes::hybrid_plan::record_lit_prepass;
-use crate::{check_size, GBuffer, GpuError, GpuRenderer};
+use crate::{GBuffer, GpuError, GpuRenderer};
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
     HYBRID_CHECK_INVERSE, HYBRID_MAX_REACH_TILES, HYBRID_SEGMENT, HYBRID_SHORTCUT,
@@ -301,7 +298,7 @@ fn plan_entries(
 /// plan in one submission, no G-buffer readback) and left in the renderer for its later
 /// `accumulate` calls. Its entries are read back (a mapped buffer) for the counts.
 pub fn device_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan, GpuError> {
-    renderer.plan_on_device(shot, &shot.camera.for_rasterizing_rays())?;
+    renderer.plan_on_device(shot)?;
     read_plan(renderer, shot)
 }
 
@@ -333,41 +330,6 @@ pub fn host_plan(renderer: &mut GpuRenderer, shot: &Shot) -> Result<Plan, GpuErr
         prepass.as_deref(),
         settings.spp,
     ))
-}
-
-/// What the plan's probes read back from the renderer.
-impl GpuRenderer {
-    /// The hybrid's lit pre-pass of `shot` alone (the input of `host_plan`): per pixel the
-    /// shortcut value (xyz) and whether its shadow ray was blocked (w, 1 or 0).
-    fn lit_prepass(&mut self, shot: &Shot) -> Result<Vec<[f32; 4]>, GpuError> {
-        let camera = &shot.camera;
-        check_size(camera)?;
-        self.prepare_raster(camera.width, camera.height)?;
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let visibility = self.visibility.as_ref().expect("prepared above");
-        let pixels = u64::from(camera.width) * u64::from(camera.height);
-        self.trace.ensure_plan_capacity(pixels)?;
-        self.trace.ensure_camera_tables(camera)?;
-        let (ctx, trace) = (&self.ctx, &self.trace);
-        ctx.submit_and_wait(|cmd| {
-            record_lit_prepass((trace, visibility, scene), cmd, shot);
-            barrier_to_host(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            );
-            Ok(())
-        })?;
-        self.trace.read_plan(pixels)
-    }
-
-    /// The entries of the plan last made by `plan_on_device` (`pixels` of them), once it is
-    /// made.
-    fn read_plan_entries(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
-        self.ctx.wait_all()?;
-        self.trace.read_plan(pixels)
-    }
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use crate::core::buffer::{barrier_to_host, Buffer};
 use crate::core::error::GpuError;
 use crate::passes::films::Start;
 use lensray_core::film::{Accumulation, Progress};
-use lensray_core::interface::{TraceParams, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER};
+use lensray_core::interface::{TraceParams, TracePush, TRACE_MODE_HYBRID, TRACE_MODE_RASTER};
 use lensray_core::settings::Shot;
 
 /// Steps (dispatches) recorded per command buffer: each submission signals the timeline, whose
@@ -32,7 +32,7 @@ impl TracePass {
         samples: Range<u32>,
         accumulation: &mut Accumulation,
         timings: &mut Timings,
-        raster: Option<&RecordSample<'_>>,
+        batch: &dyn RecordSamples,
         progress: &mut Progress,
     ) -> Result<(), GpuError> {
         let camera = &shot.camera;
@@ -47,7 +47,8 @@ impl TracePass {
         if samples.is_empty() {
             return Ok(());
         }
-        let mode = self.trace_mode(pixels, raster.is_some())?;
+        let mode = batch.mode();
+        self.check_plan(pixels, mode)?;
         let band_rows = self.ensure_accumulation(width, height)?;
         self.ensure_camera_tables(camera)?;
         let (film, start) = self.films.take(accumulation)?;
@@ -55,43 +56,31 @@ impl TracePass {
         // The parameters go up in the first submission (a pending one may still read them).
         let params = crate::upload::trace_params(shot);
 
-        let steps = self.plan_steps(width, height, band_rows, &samples, mode, raster.is_some());
+        let raster = mode == TRACE_MODE_RASTER;
+        let steps = self.plan_steps(width, height, band_rows, &samples, mode, raster);
         let total: u64 = steps.iter().map(|s| s.work).sum();
         progress(0, total);
         self.ensure_timestamps(2 * steps.len() as u32)?;
 
         let first_dispatch = !self.pipelines[self.current].first_dispatch_done;
-        let batches = self.submit_steps(
-            &steps,
-            &params,
-            (film, start),
-            width,
-            first_dispatch,
-            raster,
-        )?;
+        let batches =
+            self.submit_steps(&steps, &params, (film, start), width, first_dispatch, batch)?;
         self.wait_reporting(&batches, total, progress)?;
         self.films.finished(film);
         self.record_timings(&steps, first_dispatch, timings)
     }
 
-    /// The shader's mode for an image of `pixels` pixels: the raster path's, the hybrid's (its
-    /// plan must cover the image; the raster path follows none), else every sample traced.
-    fn trace_mode(&self, pixels: u64, raster: bool) -> Result<u32, GpuError> {
-        Ok(match self.plan_pixels {
-            None if raster => TRACE_MODE_RASTER,
-            None => TRACE_MODE_ALL,
-            Some(_) if raster => {
-                return Err(GpuError::Invalid(
-                    "the raster path does not follow a hybrid plan".into(),
-                ))
-            }
-            Some(n) if n == pixels => TRACE_MODE_HYBRID,
-            Some(n) => {
-                return Err(GpuError::Invalid(format!(
-                    "the hybrid plan has {n} pixels, the image {pixels}"
-                )))
-            }
-        })
+    /// An error when the shader's `mode` cannot run on an image of `pixels` pixels: the
+    /// hybrid's needs a plan covering the image.
+    fn check_plan(&self, pixels: u64, mode: u32) -> Result<(), GpuError> {
+        match self.plan_pixels {
+            _ if mode != TRACE_MODE_HYBRID => Ok(()),
+            Some(n) if n == pixels => Ok(()),
+            Some(n) => Err(GpuError::Invalid(format!(
+                "the hybrid plan has {n} pixels, the image {pixels}"
+            ))),
+            None => Err(GpuError::Invalid("the hybrid's plan is not made".into())),
+        }
     }
 
     /// Records and submits every step before any wait: batches of steps per command buffer,
@@ -104,11 +93,11 @@ impl TracePass {
         (film, start): (usize, Start),
         width: u32,
         first_dispatch: bool,
-        raster: Option<&RecordSample<'_>>,
+        batch: &dyn RecordSamples,
     ) -> Result<Vec<(u64, u64)>, GpuError> {
         let mut batches = Vec::new();
-        for (batch, chunk) in steps.chunks(STEPS_PER_SUBMIT).enumerate() {
-            let first = batch * STEPS_PER_SUBMIT;
+        for (submission, chunk) in steps.chunks(STEPS_PER_SUBMIT).enumerate() {
+            let first = submission * STEPS_PER_SUBMIT;
             let value = self.ctx.submit(|cmd| {
                 if first == 0 {
                     self.timestamps.reset(cmd);
@@ -118,11 +107,7 @@ impl TracePass {
                 }
                 for (i, step) in chunk.iter().enumerate() {
                     let index = (first + i) as u32;
-                    let record = raster
-                        .zip(step.raster_sample)
-                        .map(|(record, sample)| move |cmd| record(cmd, sample));
-                    let before = record.as_ref().map(|r| r as _);
-                    self.record_step(cmd, step, (film, width), index, before);
+                    self.record_step(cmd, step, (film, width), index, batch);
                     if index == 0 && first_dispatch {
                         // The pipeline's first dispatch is reported apart: its rays too.
                         self.record_copy_first_rays(cmd);
@@ -209,8 +194,16 @@ impl TracePass {
     }
 }
 
-/// Records the raster pass of one sample (the raster path), before that sample's shading.
-pub(crate) type RecordSample<'a> = dyn Fn(vk::CommandBuffer, u32) + 'a;
+/// What records an estimator's dispatches into the steps of `accumulate`: the renderer's
+/// `SampleBatch`, the one recording of a batch of samples, which the preview's frames use too.
+pub(crate) trait RecordSamples {
+    /// The shader's mode (`TRACE_MODE_*`) of the dispatches.
+    fn mode(&self) -> u32;
+    /// Records the blocks and samples `push` names (its mode replaced by [`Self::mode`]) over
+    /// an image `width` pixels wide with `trace`, each dispatch after what the estimator
+    /// records before it (the raster path: its sample's raster pass).
+    fn record(&self, trace: &TracePass, cmd: vk::CommandBuffer, push: TracePush, width: u32);
+}
 
 /// The sums of one band of rows.
 pub(super) struct BandSums {

@@ -4,6 +4,7 @@
 
 use ash::vk;
 
+use super::accumulate::RecordSamples;
 use super::steps::Step;
 use super::TracePass;
 use crate::core::buffer::barrier;
@@ -45,14 +46,6 @@ impl TracePass {
     /// image), after the parameters of the camera and settings; the plan's steps follow it.
     /// Ordered after earlier transfers and dispatches (parameter updates, clears).
     pub(crate) fn record_lit_prepass(&self, cmd: vk::CommandBuffer, width: u32, height: u32) {
-        barrier(
-            &self.ctx,
-            cmd,
-            vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-        );
         let push = TracePush {
             band_origin: 0,
             band_height: height,
@@ -63,6 +56,25 @@ impl TracePass {
             sample_end: 0,
             mode: TRACE_MODE_SHORTCUT,
         };
+        self.record_ordered_dispatch(cmd, push, width);
+    }
+
+    /// Records one dispatch as `record_dispatch` does, ordered after earlier transfers and
+    /// dispatches (parameter updates, clears, copies, the previous dispatch, a raster pass).
+    pub(crate) fn record_ordered_dispatch(
+        &self,
+        cmd: vk::CommandBuffer,
+        push: TracePush,
+        width: u32,
+    ) {
+        barrier(
+            &self.ctx,
+            cmd,
+            vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+        );
         self.record_dispatch(cmd, push, width);
     }
 
@@ -86,7 +98,7 @@ impl TracePass {
 
     /// Records one dispatch of the blocks and samples `push` names, over an image `width`
     /// pixels wide (parameters and accumulation bound and ordered by the caller).
-    pub(crate) fn record_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush, width: u32) {
+    fn record_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush, width: u32) {
         self.pipeline_in_use().bind(cmd, bytemuck::bytes_of(&push));
         // SAFETY: compute pipeline and its complete descriptor set are bound.
         unsafe {
@@ -133,9 +145,10 @@ impl TracePass {
         );
     }
 
-    /// Records one step: the band's sums in from film `film` first (`load`), then one
-    /// dispatch between timestamps `2 index` and `2 index + 1` (after what `before` records:
-    /// the raster path's pass), then the band's sums back to the film (`copy_out`).
+    /// Records one step: the band's sums in from film `film` first (`load`), then the
+    /// estimator's dispatch (`batch`, with the raster path's pass before it) between
+    /// timestamps `2 index` and `2 index + 1`, then the band's sums back to the film
+    /// (`copy_out`).
     /// The dispatch covers the blocks of GROUP rows `block_first + i * block_stride`,
     /// i < block_count, of the band.
     pub(super) fn record_step(
@@ -144,7 +157,7 @@ impl TracePass {
         step: &Step,
         (film, width): (usize, u32),
         index: u32,
-        before: Option<&dyn Fn(vk::CommandBuffer)>,
+        batch: &dyn RecordSamples,
     ) {
         let ctx = &self.ctx;
         let band_sums = &self.accum.as_ref().expect("band buffer").buffer;
@@ -185,10 +198,7 @@ impl TracePass {
         }
         self.timestamps
             .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2 * index);
-        if let Some(record) = before {
-            record(cmd);
-        }
-        self.record_dispatch(cmd, push, width);
+        batch.record(self, cmd, push, width);
         self.timestamps
             .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 2 * index + 1);
         if let Some(bytes) = step.copy_out {

@@ -36,8 +36,6 @@ pub(super) struct Step {
     pub(super) load: bool,
     /// The last step of a band: its sums (bytes) go back to the film after.
     pub(super) copy_out: Option<u64>,
-    /// The raster path's sample, whose raster pass is recorded before the dispatch.
-    pub(super) raster_sample: Option<u32>,
     /// Pixel-samples (progress, speed).
     pub(super) work: u64,
 }
@@ -78,7 +76,6 @@ impl TracePass {
                         },
                         load: false,
                         copy_out: None,
-                        raster_sample: Some(sample),
                         work: u64::from(band_height) * u64::from(width),
                     });
                 }
@@ -113,7 +110,6 @@ impl TracePass {
                             },
                             load: false,
                             copy_out: None,
-                            raster_sample: None,
                             work: u64::from(rows)
                                 * u64::from(width)
                                 * u64::from(sample_end - sample_begin),

@@ -8,6 +8,7 @@ use super::{TracePass, MAX_SAMPLES_PER_DISPATCH};
 use crate::core::error::GpuError;
 use crate::core::query::QueryPool;
 use crate::traversal::Traversal;
+use lensray_core::interface::TRACE_MODE_RASTER;
 
 /// Dispatch duration aimed at when sizing the next dispatches from the last one's timestamps
 /// (well under the ~0.5 s that a single dispatch should not exceed).
@@ -100,7 +101,8 @@ impl TracePass {
             timings.trace_gpu_ms += gpu_ms;
             timings.longest_dispatch_ms = timings.longest_dispatch_ms.max(gpu_ms);
             timings.dispatches += 1;
-            if step.raster_sample.is_none() {
+            // The raster path's steps include its raster passes: they do not size dispatches.
+            if step.push.mode != TRACE_MODE_RASTER {
                 work += step.work;
                 ms += gpu_ms;
             }

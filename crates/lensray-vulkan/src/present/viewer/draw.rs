@@ -101,10 +101,10 @@ impl Viewer {
                 frame.textures.clear();
             }
         }
-        if self.gpu.trace.camera_tables_differ(&request.shot.camera) {
+        if self.gpu.camera_tables_differ(&request.shot.camera) {
             // Frames in flight bind the old tables (a new aperture image: rare).
             self.wait_idle()?;
-            self.gpu.trace.ensure_camera_tables(&request.shot.camera)?;
+            self.gpu.ensure_camera_tables(&request.shot.camera)?;
         }
         Ok(())
     }
@@ -116,7 +116,7 @@ impl Viewer {
             return None;
         };
         Some(Frame {
-            ctx: self.gpu.ctx.clone(),
+            ctx: self.gpu.ctx().clone(),
             slot: &mut self.frames.slots[self.frames.current],
             swapchain,
             accum,
@@ -278,7 +278,7 @@ impl Frame<'_> {
 /// The GPU times of `slot`'s finished frame, from its timestamps.
 fn read_times(gpu: &GpuRenderer, slot: &FrameSlot) -> Result<FrameTimes, GpuError> {
     let t = slot.timestamps.results()?;
-    let ms = |a: usize, b: usize| gpu.ctx.elapsed_ns(t[a], t[b]) * 1e-6;
+    let ms = |a: usize, b: usize| gpu.ctx().elapsed_ns(t[a], t[b]) * 1e-6;
     Ok(FrameTimes {
         gbuffer_ms: ms(0, 1),
         gbuffer_drawn: slot.drew_gbuffer,

@@ -12,12 +12,10 @@ use crate::core::buffer::{barrier, barrier_to_host, Buffer};
 use crate::core::device::Context;
 use crate::core::error::{vk_err, GpuError};
 use crate::core::image::{record_copy_to_buffer, transition, Transition};
-use crate::passes::gbuffer::{GBufferPass, GBufferTargets};
+use crate::passes::gbuffer::GBufferTargets;
 use crate::present::frames::FrameSlot;
-use crate::scene::SceneBuffers;
-use crate::Estimator;
-use lensray_core::interface::{TracePush, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER};
-use lensray_core::settings::{RenderSettings, Shading, Shot};
+use crate::renderer::SampleBatch;
+use lensray_core::interface::{TracePush, TRACE_MODE_ALL};
 
 impl Frame<'_> {
     /// Records the frame's command buffer, phase after phase, ending it.
@@ -29,10 +27,9 @@ impl Frame<'_> {
         let cmd = self.slot.cmd;
         self.begin_commands()?;
         let gpu = self.gpu;
-        let scene = gpu.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let gbuffer = gpu.gbuffer.as_ref().expect("made in resize_images");
-        self.record_raster(request, plan, scene, gbuffer);
-        let targets = gbuffer.targets.as_ref().expect("sized in prepare");
+        let batch = gpu.sample_batch(request.shot, self.estimator)?;
+        self.record_raster(request, plan, &batch)?;
+        let targets = gpu.gbuffer_targets().expect("made in resize_images");
         if let Some([x, y]) = request.pick {
             record_pick(&self.ctx, cmd, targets.view_depth.image, &*self.slot, x, y);
         }
@@ -40,17 +37,8 @@ impl Frame<'_> {
         self.slot
             .timestamps
             .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
-        // The raster path's estimator: every pixel draws the same camera samples.
-        let traced_settings = RenderSettings {
-            shared_samples: self.estimator == Estimator::Raster
-                || request.shot.render.shared_samples,
-            ..request.shot.render
-        };
         if plan.restart {
-            self.record_restart(&Shot {
-                camera: request.shot.camera.clone(),
-                render: traced_settings,
-            });
+            self.record_restart(&batch);
         }
         if let Some(sums) = request.host.as_ref().and_then(|h| h.sums) {
             self.record_host_sums(sums)?;
@@ -59,13 +47,14 @@ impl Frame<'_> {
             .timestamps
             .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 6);
         if plan.make_plan {
-            self.record_plan(request, scene, targets);
+            gpu.record_plan(cmd, &batch, request.target_spp)?;
+            *self.plan_spp = Some(request.target_spp);
         }
         self.slot.made_plan = plan.make_plan;
         self.slot
             .timestamps
             .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 7);
-        self.record_dispatches(request, plan, scene, &traced_settings);
+        self.record_dispatches(plan, &batch);
         self.slot
             .timestamps
             .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 3);
@@ -109,20 +98,16 @@ impl Frame<'_> {
     }
 
     /// Records the G-buffer pass, or the view pass into the window image, between timestamps
-    /// 0 and 1 (only the timestamps when the final view skips the G-buffer).
+    /// 0 and 1 (only the timestamps when the final view skips the G-buffer). Both draw with the
+    /// batch's G-buffer camera: the hybrid plans from the G-buffer of its planning camera,
+    /// which the views show as well.
     fn record_raster(
         &mut self,
         request: &FrameRequest<'_>,
         plan: &FramePlan,
-        scene: &SceneBuffers,
-        gbuffer: &GBufferPass,
-    ) {
-        let camera = &request.shot.camera;
+        batch: &SampleBatch<'_>,
+    ) -> Result<(), GpuError> {
         let cmd = self.slot.cmd;
-        // The hybrid plans from the G-buffer of its planning camera (same rays and pixels, the
-        // raster's clipping planes moved out), which the views show as well.
-        let planning = (self.estimator == Estimator::Hybrid).then(|| camera.for_rasterizing_rays());
-        let raster_camera = planning.as_ref().unwrap_or(camera);
         let view_pass = self.view_pass.filter(|_| plan.direct);
         self.slot.drew_gbuffer = !plan.skip_gbuffer;
         let slot = &*self.slot;
@@ -138,28 +123,23 @@ impl Frame<'_> {
                     .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
                 pass.record(
                     cmd,
-                    scene,
-                    raster_camera,
+                    self.gpu.scene_buffers()?,
+                    batch.gbuffer_camera(),
                     request.shot.render.background,
-                    crate::upload::view_params(camera, request.view),
+                    crate::upload::view_params(&request.shot.camera, request.view),
                     plan.image_index as usize,
                 );
                 slot.timestamps
                     .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
             }
-            None => gbuffer.record(
-                cmd,
-                scene,
-                raster_camera,
-                request.shot.render.background,
-                Some((&slot.timestamps, 0)),
-            ),
+            None => self.gpu.record_gbuffer(cmd, batch, (&slot.timestamps, 0))?,
         }
+        Ok(())
     }
 
     /// Records the restart of the accumulation: cleared, then the trace parameters of the
-    /// traced shot `traced`.
-    fn record_restart(&self, traced: &Shot) {
+    /// batch's shot.
+    fn record_restart(&self, batch: &SampleBatch<'_>) {
         let cmd = self.slot.cmd;
         // SAFETY: recording state; the buffer has TRANSFER_DST usage.
         unsafe {
@@ -167,9 +147,7 @@ impl Frame<'_> {
                 .device
                 .cmd_fill_buffer(cmd, self.accum.buffer.buffer, 0, vk::WHOLE_SIZE, 0)
         };
-        self.gpu
-            .trace
-            .record_params(cmd, &crate::upload::trace_params(traced));
+        self.gpu.record_trace_params(cmd, batch);
     }
 
     /// Records the copy of samples traced on the host into the accumulation, through the
@@ -221,101 +199,23 @@ impl Frame<'_> {
         Ok(())
     }
 
-    /// Records the hybrid's plan of the current camera and settings, from the G-buffer drawn
-    /// above, into the trace pass's plan buffer, and keeps the target spp it is made for.
-    fn record_plan(
-        &mut self,
-        request: &FrameRequest<'_>,
-        scene: &SceneBuffers,
-        targets: &GBufferTargets,
-    ) {
-        let camera = &request.shot.camera;
-        let cmd = self.slot.cmd;
-        // Lit, the plan comes after the pre-pass that leaves each pixel's shortcut value and
-        // shadow state in the plan buffer (with the parameters recorded at the restart; the
-        // plan's steps order themselves after it).
-        if request.shot.render.shading == Shading::Lit {
-            let visibility = self.gpu.visibility.as_ref().expect("prepared in resize");
-            visibility.record_aperture_centre(cmd, scene, camera);
-            self.gpu
-                .trace
-                .record_lit_prepass(cmd, camera.width, camera.height);
-        }
-        let hybrid_plan = self.gpu.hybrid_plan.as_ref().expect("made in resize");
-        hybrid_plan.record(
-            cmd,
-            targets,
-            camera,
-            request.shot.render.shading,
-            request.target_spp,
-        );
-        *self.plan_spp = Some(request.target_spp);
-    }
-
-    /// Records the frame's trace dispatches: the hybrid's mode or every sample traced, or, on
-    /// the raster path, one dispatch per sample after that sample's raster pass.
-    fn record_dispatches(
-        &self,
-        request: &FrameRequest<'_>,
-        plan: &FramePlan,
-        scene: &SceneBuffers,
-        traced_settings: &RenderSettings,
-    ) {
-        let camera = &request.shot.camera;
-        let cmd = self.slot.cmd;
-        let mode = if self.estimator == Estimator::Hybrid {
-            TRACE_MODE_HYBRID
-        } else {
-            TRACE_MODE_ALL
-        };
-        let raster_camera =
-            (self.estimator == Estimator::Raster).then(|| camera.for_rasterizing_rays());
+    /// Records the frame's samples, each work item over the whole image through the batch
+    /// (the estimator's passes with them).
+    fn record_dispatches(&self, plan: &FramePlan, batch: &SampleBatch<'_>) {
+        let height = batch.shot().camera.height;
         for item in &plan.work {
-            // The raster path shades one sample per dispatch, after that sample's raster pass
-            // through its lens point. A sample split into groups of rows over several frames is
-            // rasterized with its first group (group 0); the later groups read that visibility
-            // (the queue keeps the frames in order, and nothing else writes it until the next
-            // sample).
-            let (dispatches, mode) = match raster_camera {
-                Some(_) => (
-                    (item.sample_begin..item.sample_end)
-                        .map(|s| (s, s + 1))
-                        .collect::<Vec<_>>(),
-                    TRACE_MODE_RASTER,
-                ),
-                None => (vec![(item.sample_begin, item.sample_end)], mode),
+            let push = TracePush {
+                band_origin: 0,
+                band_height: height,
+                block_first: item.block_first,
+                block_stride: item.block_stride,
+                block_count: item.block_count,
+                sample_begin: item.sample_begin,
+                sample_end: item.sample_end,
+                // The batch sets its estimator's mode.
+                mode: TRACE_MODE_ALL,
             };
-            for (sample_begin, sample_end) in dispatches {
-                if let (Some(raster_camera), 0) = (&raster_camera, item.block_first) {
-                    let visibility = self.gpu.visibility.as_ref().expect("prepared in resize");
-                    visibility.record_sample(
-                        cmd,
-                        scene,
-                        raster_camera,
-                        traced_settings,
-                        sample_begin,
-                    );
-                }
-                barrier(
-                    &self.ctx,
-                    cmd,
-                    vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-                );
-                let push = TracePush {
-                    band_origin: 0,
-                    band_height: camera.height,
-                    block_first: item.block_first,
-                    block_stride: item.block_stride,
-                    block_count: item.block_count,
-                    sample_begin,
-                    sample_end,
-                    mode,
-                };
-                self.gpu.trace.record_dispatch(cmd, push, camera.width);
-            }
+            self.gpu.record_samples(self.slot.cmd, batch, push);
         }
     }
 

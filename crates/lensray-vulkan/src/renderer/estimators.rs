@@ -1,8 +1,8 @@
 //! How the renderer adds samples to an accumulation: [`GpuRenderer::add_samples`] with an
-//! [`Estimator`], the one entry the app's render paths and `auto`'s timing call. Each estimator
-//! records its passes here: traced (the trace pass alone), raster (the visibility pass through
-//! each shared lens sample, then the trace pass's shading) and hybrid (the plan made on the
-//! device from the G-buffer, then the trace pass following it).
+//! [`Estimator`], the one entry the app's render paths and `auto`'s timing call. What each
+//! estimator records is `SampleBatch`'s (`batch`): traced (the trace pass alone), raster (the
+//! visibility pass through each shared lens sample, then the trace pass's shading) and hybrid
+//! (the plan made on the device from the G-buffer, then the trace pass following it).
 //!
 //! The hybrid (docs/hybrid.md): the raster G-buffer decides where rays are needed. Per call of
 //! `add_samples`, one submission on the device (`GpuRenderer::plan_on_device`): the G-buffer of
@@ -37,15 +37,16 @@ use std::time::Instant;
 
 use ash::vk;
 
-use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Progress};
-use lensray_core::settings::{RenderSettings, Shading, Shot};
+use lensray_core::settings::{Shading, Shot};
 
+use super::batch::SampleBatch;
+use super::{check_samples, check_size, GpuRenderer};
 use crate::core::buffer::barrier_to_host;
 use crate::core::error::GpuError;
-use crate::passes::hybrid_plan::{record_lit_prepass, HybridPlanPass};
+use crate::passes::hybrid_plan::HybridPlanPass;
 use crate::passes::visibility::VisibilityPass;
-use crate::{check_samples, check_size, Estimator, GpuRenderer};
+use crate::Estimator;
 
 /// What adding a batch of samples cost besides the trace pass's GPU timestamps.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -67,91 +68,42 @@ impl GpuRenderer {
         accumulation: &mut Accumulation,
         progress: &mut Progress,
     ) -> Result<SamplesAdded, GpuError> {
-        match estimator {
-            Estimator::Traced => {
-                self.accumulate(shot, samples, accumulation, progress)?;
-                Ok(SamplesAdded::default())
-            }
-            Estimator::Raster => {
-                self.accumulate_rasterized(shot, samples, accumulation, progress)?;
-                Ok(SamplesAdded::default())
-            }
-            Estimator::Hybrid => {
-                let start = Instant::now();
-                self.plan_on_device(shot, &shot.camera.for_rasterizing_rays())?;
-                let plan_seconds = start.elapsed().as_secs_f64();
-                let traced = self.accumulate(shot, samples, accumulation, progress);
-                let cleared = self.set_plan(None);
-                traced?;
-                cleared?;
-                Ok(SamplesAdded { plan_seconds })
-            }
-        }
-    }
-
-    /// Traces samples `samples` of `shot` (thin lens, `Unlit` or `Lit`) of every pixel and adds
-    /// them to `accumulation`, which has the camera's size. The sums stay on the device until
-    /// [`read_sums`](Self::read_sums): continuing a render uploads and reads back nothing.
-    /// `progress(done, total)` counts pixel-samples.
-    pub(crate) fn accumulate(
-        &mut self,
-        shot: &Shot,
-        samples: std::ops::Range<u32>,
-        accumulation: &mut Accumulation,
-        progress: &mut Progress,
-    ) -> Result<(), GpuError> {
         check_samples(shot)?;
         if self.scene.is_none() {
             return Err(GpuError::NoScene);
         }
-        self.trace.accumulate(
-            shot,
+        let mut added = SamplesAdded::default();
+        match estimator {
+            Estimator::Traced => {}
+            // Accumulation-buffer depth of field (docs/raster.md): each sample is one camera
+            // sample shared by every pixel, rasterized through its lens point
+            // (`Camera::clip_from_world_through_lens`); the shading pass shades what each pixel
+            // sees along its lens ray (lit: with a shadow ray of the traversal in use).
+            Estimator::Raster => {
+                self.prepare_raster(shot.camera.width, shot.camera.height)?;
+            }
+            Estimator::Hybrid => {
+                let start = Instant::now();
+                self.plan_on_device(shot)?;
+                added.plan_seconds = start.elapsed().as_secs_f64();
+            }
+        }
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let batch = SampleBatch::new(estimator, shot, self.visibility.as_ref(), scene)?;
+        let traced = self.trace.accumulate(
+            batch.shot(),
             samples,
             accumulation,
             &mut self.timings,
-            None,
+            &batch,
             progress,
-        )
+        );
+        if estimator == Estimator::Hybrid {
+            self.trace.set_plan(None)?;
+        }
+        traced.map(|()| added)
     }
 
-    /// The raster path (accumulation-buffer depth of field, docs/raster.md): adds samples
-    /// `samples` of every pixel of `shot` as `accumulate` does, but each sample is one camera
-    /// sample shared by every pixel (`shared_samples` is implied): the scene is rasterized
-    /// through that sample's lens point (`Camera::clip_from_world_through_lens`), and the
-    /// shading pass shades what each pixel sees along its lens ray (lit: with a shadow ray of
-    /// the traversal in use).
-    fn accumulate_rasterized(
-        &mut self,
-        shot: &Shot,
-        samples: std::ops::Range<u32>,
-        accumulation: &mut Accumulation,
-        progress: &mut Progress,
-    ) -> Result<(), GpuError> {
-        check_samples(shot)?;
-        let camera = &shot.camera;
-        self.prepare_raster(camera.width, camera.height)?;
-        let shared = Shot {
-            camera: camera.clone(),
-            render: RenderSettings {
-                shared_samples: true,
-                ..shot.render
-            },
-        };
-        let raster_camera = camera.for_rasterizing_rays();
-        let visibility = self.visibility.as_ref().expect("prepared");
-        let scene = self.scene.as_ref().expect("prepared");
-        let record = |cmd, sample| {
-            visibility.record_sample(cmd, scene, &raster_camera, &shared.render, sample);
-        };
-        self.trace.accumulate(
-            &shared,
-            samples,
-            accumulation,
-            &mut self.timings,
-            Some(&record),
-            progress,
-        )
-    }
     /// Makes the raster path's visibility pass (on first use) and its targets for a `width` x
     /// `height` image, bound to the trace pass (the hybrid's lit pre-pass uses it too).
     pub(crate) fn prepare_raster(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
@@ -177,28 +129,14 @@ impl GpuRenderer {
         Ok(())
     }
 
-    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel, row-major;
-    /// see `interface::TRACE_BINDING_PLAN`), or `None` to trace every sample again.
-    pub(crate) fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
-        self.trace.set_plan(plan)
-    }
     /// The hybrid path's plan of `shot` made on the device (shaders/passes/hybrid_plan.comp) for
-    /// later `accumulate` calls: one submission draws the G-buffer of `planning` (the camera
-    /// whose raster the plan reads, `Camera::for_rasterizing_rays`), lit runs the pre-pass (each
-    /// pixel's shortcut value and shadow state), and plans the shot's spp samples seen by its
-    /// camera from them. Nothing is read back (the plan's probes can).
-    pub(crate) fn plan_on_device(
-        &mut self,
-        shot: &Shot,
-        planning: &Camera,
-    ) -> Result<(), GpuError> {
+    /// later `accumulate` calls: one submission draws the G-buffer of the planning camera
+    /// (`SampleBatch::gbuffer_camera`), lit runs the pre-pass (each pixel's shortcut value and
+    /// shadow state), and plans the shot's spp samples seen by its camera from them. Nothing is
+    /// read back (the plan's probes can).
+    pub(crate) fn plan_on_device(&mut self, shot: &Shot) -> Result<(), GpuError> {
         let (camera, settings) = (&shot.camera, &shot.render);
         check_size(camera)?;
-        if (planning.width, planning.height) != (camera.width, camera.height) {
-            return Err(GpuError::Invalid(
-                "the planning camera's size differs from the camera's".into(),
-            ));
-        }
         let lit = settings.shading == Shading::Lit;
         if lit {
             self.prepare_raster(camera.width, camera.height)?;
@@ -206,7 +144,6 @@ impl GpuRenderer {
         self.ensure_hybrid_plan()?;
         self.gbuffer_pass()?
             .ensure_targets(camera.width, camera.height)?;
-        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         let pixels = u64::from(camera.width) * u64::from(camera.height);
         self.trace.ensure_plan_capacity(pixels)?;
         // The render's buffers now, while nothing is pending: the plan is not waited for.
@@ -221,19 +158,24 @@ impl GpuRenderer {
             self.trace.plan_buffer_ref(),
             self.trace.surface_depth_ref(),
         )?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let batch = SampleBatch::new(Estimator::Hybrid, shot, self.visibility.as_ref(), scene)?;
         let ctx = &self.ctx;
         let plan = self.hybrid_plan.as_ref().expect("made above");
         let trace = &mut self.trace;
-        let visibility = self.visibility.as_ref();
         // Not waited for: the render's submissions follow on the queue, and the pre-pass's
         // rays reach the render's report through the counter (`record_keep_prepass_rays`).
         ctx.submit(|cmd| {
+            let planning = batch.gbuffer_camera();
             gbuffer.record(cmd, scene, planning, settings.background, None);
-            if let Some(visibility) = visibility.filter(|_| lit) {
-                record_lit_prepass((trace, visibility, scene), cmd, shot);
+            if lit {
+                trace.record_params(cmd, &crate::upload::trace_params(batch.shot()));
+                trace.record_clear_ray_counter(cmd);
+            }
+            batch.record_plan((trace, plan), cmd, targets, settings.spp)?;
+            if lit {
                 trace.record_keep_prepass_rays(cmd);
             }
-            plan.record(cmd, targets, camera, settings.shading, settings.spp);
             barrier_to_host(
                 ctx,
                 cmd,
