@@ -13,6 +13,8 @@ use lensray_core::scene::{load, load_obj, Scene, SceneDescription, SceneError};
 mod file;
 #[path = "scene/generators.rs"]
 mod generators;
+#[path = "scene/gltf.rs"]
+mod gltf;
 #[path = "scene/obj.rs"]
 mod obj;
 #[path = "scene/writing.rs"]
@@ -28,7 +30,9 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
 }
 
 fn load_ok(path: &Path) -> Scene {
-    load_obj(path).unwrap_or_else(|e| panic!("{} should load, got: {e}", path.display()))
+    load_obj(path)
+        .unwrap_or_else(|e| panic!("{} should load, got: {e}", path.display()))
+        .scene
 }
 
 /// Loads `path`, expects an error, checks that its message is one line naming `names_file`.

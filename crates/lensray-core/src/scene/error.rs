@@ -45,14 +45,6 @@ pub enum SceneError {
         count: usize,
     },
 
-    /// `usemtl` names a material that no loaded material library defines.
-    #[error("{}:{line}: usemtl `{name}`: no material of that name in the file's material libraries", path.display())]
-    UnknownMaterial {
-        path: PathBuf,
-        line: usize,
-        name: String,
-    },
-
     /// A `mtllib` that could not be read.
     #[error("cannot read material library {} (mtllib of {}): {err}", mtl.display(), obj.display())]
     MtlRead {
@@ -105,9 +97,17 @@ pub enum SceneError {
         err: Box<SceneError>,
     },
 
-    /// `load` was given a file that is neither a scene file nor an OBJ.
+    /// A camera of the mesh file that cannot be used, or does not exist.
+    #[error("{}: {reason}", path.display())]
+    CameraChoice { path: PathBuf, reason: String },
+
+    /// A glTF file that cannot be read as one (its JSON, a buffer, an accessor, an extension).
+    #[error("{}: glTF: {reason}", path.display())]
+    Gltf { path: PathBuf, reason: String },
+
+    /// `load` was given a file that is neither a scene file nor a mesh.
     #[error(
-        "{}: unsupported scene file extension `{ext}`: expected .toml (scene file) or .obj (bare mesh)",
+        "{}: unsupported scene file extension `{ext}`: expected .toml (scene file), .gltf, .glb or .obj (a mesh)",
         path.display()
     )]
     Extension { path: PathBuf, ext: String },

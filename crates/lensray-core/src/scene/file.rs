@@ -1,5 +1,6 @@
-//! Scene files: TOML beside an OBJ. The top-level key `mesh` names the OBJ (relative to the scene
-//! file's folder, or absolute); the sections `[camera]`, `[image]`, `[render]` and `[light]` are
+//! Scene files: TOML beside a mesh. The top-level key `mesh` names an OBJ or a glTF (`.gltf`,
+//! `.glb`; relative to the scene file's folder, or absolute), `camera_name` one of the glTF's
+//! cameras (by name or index; default: its first, if it has any); the sections `[camera]`, `[image]`, `[render]` and `[light]` are
 //! those of [`Settings`], all optional. Unknown keys are errors.
 //!
 //! ```toml
@@ -34,23 +35,81 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::file_camera::{pick_camera, FileCamera};
+use super::gltf_file::{load_gltf, MeshFile};
 use super::obj::load_obj;
 use super::{Scene, SceneError};
 use crate::settings::{CameraSettings, ImageSettings, LightSettings, RenderStyle, Settings};
 
 /// A scene with the settings that came with it.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct SceneDescription {
     pub scene: Scene,
     pub settings: Settings,
     /// Where it came from: the path given, or "built-in default" (or "generated ...").
     pub source: String,
+    /// The mesh file's cameras; `settings` holds the one in use (see `camera`).
+    pub cameras: Vec<FileCamera>,
+    /// The index in `cameras` of the camera `settings` holds, if any.
+    pub camera: Option<usize>,
+    /// What the loader ignored or repaired, one line each (printed as warnings).
+    pub notices: Vec<String>,
+}
+
+impl SceneDescription {
+    /// Uses the file's camera `choice` (a name or an index) in `settings`.
+    pub fn use_camera(&mut self, choice: &str) -> Result<(), String> {
+        let camera = pick_camera(&self.cameras, choice)?;
+        camera.apply(&mut self.settings, &self.scene);
+        self.camera = self.cameras.iter().position(|c| c == camera);
+        Ok(())
+    }
+
+    /// The camera in use, as "NAME (camera I of N in the file)", if it came from the file.
+    pub fn camera_summary(&self) -> Option<String> {
+        let i = self.camera?;
+        Some(format!(
+            "{} (camera {i} of {} in the file)",
+            self.cameras[i].name,
+            self.cameras.len()
+        ))
+    }
+
+    /// The description of a mesh file read from `source` under `settings`, with its first
+    /// camera (or the one `camera` names) in use.
+    fn of_mesh(
+        file: MeshFile,
+        mut settings: Settings,
+        source: String,
+        camera: Option<&str>,
+    ) -> Result<Self, String> {
+        let mut description = SceneDescription {
+            scene: file.scene,
+            settings: Settings::default(),
+            source,
+            cameras: file.cameras,
+            camera: None,
+            notices: file.notices,
+        };
+        match camera {
+            Some(choice) => description.use_camera(choice)?,
+            None if !description.cameras.is_empty() => description.use_camera("0")?,
+            None => {}
+        }
+        // The scene file's own settings apply over the mesh file's camera.
+        settings = std::mem::take(&mut description.settings).overridden_by(&settings);
+        description.settings = settings;
+        Ok(description)
+    }
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneFile {
     mesh: String,
+    /// One of the glTF's cameras, by name or index.
+    #[serde(default)]
+    camera_name: Option<String>,
     #[serde(default)]
     camera: CameraSettings,
     #[serde(default)]
@@ -77,8 +136,9 @@ fn parse_scene_file(path: &Path, text: &str) -> Result<SceneFile, SceneError> {
     })
 }
 
-/// Parses a scene file's settings and resolves its mesh path, without loading the mesh.
-pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings), SceneError> {
+/// Parses a scene file's settings and resolves its mesh path, without loading the mesh; the
+/// camera it picks from the mesh file, if any.
+pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, Option<String>), SceneError> {
     let text = fs::read_to_string(path).map_err(|err| SceneError::Read {
         path: path.to_path_buf(),
         err,
@@ -90,14 +150,14 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings), SceneError> {
         reason: reason.into(),
     };
     if file.mesh.trim().is_empty() {
-        return Err(mesh_error("is empty: name an .obj file"));
+        return Err(mesh_error("is empty: name an .obj, .gltf or .glb file"));
     }
     let mesh = path
         .parent()
         .unwrap_or(Path::new(""))
         .join(file.mesh.trim());
-    if !has_extension(&mesh, "obj") {
-        return Err(mesh_error("must be an .obj file"));
+    if !is_mesh_file(&mesh) {
+        return Err(mesh_error("must be an .obj, .gltf or .glb file"));
     }
     let mut camera = file.camera;
     let folder = path.parent().unwrap_or(Path::new(""));
@@ -116,20 +176,22 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings), SceneError> {
         render: file.render,
         light: file.light,
     };
-    Ok((mesh, settings))
+    Ok((mesh, settings, file.camera_name))
 }
 
-/// Loads a scene file and the OBJ it names.
+/// Loads a scene file and the mesh it names.
 pub fn load_scene_file(path: &Path) -> Result<SceneDescription, SceneError> {
-    let (mesh, settings) = read_scene_file(path)?;
-    let scene = load_obj(&mesh).map_err(|err| SceneError::Mesh {
+    let (mesh, settings, camera) = read_scene_file(path)?;
+    let file = load_mesh(&mesh).map_err(|err| SceneError::Mesh {
         scene: path.to_path_buf(),
         err: Box::new(err),
     })?;
-    Ok(SceneDescription {
-        scene,
-        settings,
-        source: path.display().to_string(),
+    let source = path.display().to_string();
+    SceneDescription::of_mesh(file, settings, source, camera.as_deref()).map_err(|reason| {
+        SceneError::CameraChoice {
+            path: path.to_path_buf(),
+            reason,
+        }
     })
 }
 
@@ -138,15 +200,35 @@ fn has_extension(path: &Path, ext: &str) -> bool {
         .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case(ext))
 }
 
-/// Loads a scene by extension: `.toml` is a scene file, `.obj` a bare mesh with default settings.
+/// Whether `path` names a mesh file lensray reads (by its extension).
+fn is_mesh_file(path: &Path) -> bool {
+    ["obj", "gltf", "glb"]
+        .iter()
+        .any(|e| has_extension(path, e))
+}
+
+/// Reads a mesh file by its extension: OBJ, or glTF (`.gltf`, `.glb`).
+fn load_mesh(path: &Path) -> Result<MeshFile, SceneError> {
+    if has_extension(path, "obj") {
+        load_obj(path)
+    } else {
+        load_gltf(path)
+    }
+}
+
+/// Loads a scene by extension: `.toml` is a scene file; `.obj`, `.gltf` and `.glb` a mesh file
+/// with default settings (a glTF's first camera, if it has one).
 pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
     if has_extension(path, "toml") {
         load_scene_file(path)
-    } else if has_extension(path, "obj") {
-        Ok(SceneDescription {
-            scene: load_obj(path)?,
-            settings: Settings::default(),
-            source: path.display().to_string(),
+    } else if is_mesh_file(path) {
+        let file = load_mesh(path)?;
+        let source = path.display().to_string();
+        SceneDescription::of_mesh(file, Settings::default(), source, None).map_err(|reason| {
+            SceneError::CameraChoice {
+                path: path.to_path_buf(),
+                reason,
+            }
         })
     } else {
         Err(SceneError::Extension {

@@ -299,6 +299,7 @@ pub(crate) fn describe(
             },
         },
         source: source.into(),
+        ..SceneDescription::default()
     }
 }
 

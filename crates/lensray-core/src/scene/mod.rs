@@ -1,20 +1,25 @@
 //! Scenes: triangle meshes with per-triangle materials, in world space.
 //!
-//! OBJ files carry no transforms, so `world_from_object` is the identity for them and a mesh's
-//! positions are world positions. Each OBJ model becomes one [`Mesh`] (one bottom-level
-//! acceleration structure on the GPU).
+//! Meshes come from OBJ files (`obj`), which carry no transforms, so a mesh's positions are the
+//! file's, or from glTF files (`gltf_file`), whose node transforms are applied on loading. Each
+//! OBJ model or glTF primitive becomes one [`Mesh`] (one bottom-level acceleration structure on
+//! the GPU). A glTF file's cameras come with it (`file_camera`).
 
 use glam::Vec3;
 
 pub mod builtin;
 mod error;
 pub mod file;
+pub mod file_camera;
 pub mod generate;
+pub mod gltf_file;
 pub mod obj;
 
 pub use builtin::default_scene;
 pub use error::SceneError;
 pub use file::{load, load_scene_file, SceneDescription};
+pub use file_camera::{pick_camera, FileCamera, FileProjection};
+pub use gltf_file::{load_gltf, MeshFile};
 pub use obj::{load_obj, write_obj};
 
 /// Diffuse colour `Kd` and emission `Ke` of an MTL material, linear RGB.

@@ -1,10 +1,12 @@
 //! Wavefront OBJ + MTL, read through `tobj` and written back for the generators.
 //!
-//! Reading is strict: a material library that fails to load, a `usemtl` naming no material, an
-//! index out of range, a non-finite vertex or a malformed colour are errors naming the file and,
-//! where known, the line. Before tobj parses the text, a quick scan (`prescan`) checks what
-//! tobj would either not locate or not survive (it panics on some malformed colours and
-//! indices).
+//! Reading is forgiving where real files are messy and strict where the geometry is wrong. A
+//! material library that cannot be read and a `usemtl` naming no material are notices (the
+//! triangles get the default material); a UTF-8 byte-order mark and bytes that are not UTF-8
+//! inside comments are accepted. An index out of range, a non-finite vertex, a malformed colour
+//! and any other text that is not UTF-8 are errors naming the file and, where known, the line.
+//! Before tobj parses the text, a quick scan (`prescan`) checks what tobj would either not
+//! locate or not survive (it panics on some malformed colours and indices).
 //!
 //! Mapping: n-gons are triangulated as fans; points and polylines are skipped; consecutive OBJ
 //! models of the same name (tobj splits an object at each `usemtl`) become one [`Mesh`]; `Kd` is
@@ -26,6 +28,7 @@ use glam::Vec3;
 
 use self::mtl::{convert_material, load_mtl};
 use self::prescan::{is_polyline, prescan, Scan};
+use super::gltf_file::MeshFile;
 use super::{Material, Mesh, Scene, SceneError};
 
 fn read(path: &Path) -> Result<Vec<u8>, SceneError> {
@@ -36,27 +39,57 @@ fn read(path: &Path) -> Result<Vec<u8>, SceneError> {
     Ok(bytes)
 }
 
-fn utf8<'a>(path: &Path, bytes: &'a [u8], what: &str) -> Result<&'a str, SceneError> {
-    std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
-        SceneError::ObjLine {
-            path: path.to_path_buf(),
-            line,
-            reason: format!("{what} is not UTF-8 text"),
+/// The text of `bytes` (an OBJ or MTL file at `path`): without a UTF-8 byte-order mark, and
+/// with comments that are not UTF-8 (a Latin-1 `©`) cut at their `#`, which a notice says.
+/// Other bytes that are not UTF-8 are an error naming the line.
+pub(super) fn decode_text<'a>(
+    path: &Path,
+    bytes: &'a [u8],
+    what: &str,
+    notices: &mut Vec<String>,
+) -> Result<Cow<'a, str>, SceneError> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    if let Ok(text) = std::str::from_utf8(bytes) {
+        return Ok(Cow::Borrowed(text));
+    }
+    let mut text = String::with_capacity(bytes.len());
+    let mut repaired = 0;
+    for (index, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        if index > 0 {
+            text.push('\n');
         }
-    })
+        match std::str::from_utf8(line) {
+            Ok(line) => text.push_str(line),
+            Err(e) => {
+                // Only a comment may hold such bytes: they must come after a `#`.
+                let valid = &line[..e.valid_up_to()];
+                let Some(hash) = valid.iter().position(|&b| b == b'#') else {
+                    return Err(SceneError::ObjLine {
+                        path: path.to_path_buf(),
+                        line: index + 1,
+                        reason: format!("{what} is not UTF-8 text outside a comment"),
+                    });
+                };
+                text.push_str(std::str::from_utf8(&valid[..=hash]).expect("valid prefix"));
+                repaired += 1;
+            }
+        }
+    }
+    notices.push(format!(
+        "{}: {repaired} comment lines are not UTF-8 text: read without them",
+        path.display()
+    ));
+    Ok(Cow::Owned(text))
 }
 
 /// Loads an OBJ file and the material libraries it names. Positions are world positions.
-pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
+pub fn load_obj(path: &Path) -> Result<MeshFile, SceneError> {
     let bytes = read(path)?;
-    let text = utf8(path, &bytes, "the file")?;
-    let scan = prescan(path, text)?;
-    let (models, materials) = parse(path, text, &scan)?;
-    check_usemtl(path, &scan, &materials)?;
+    let mut notices = Vec::new();
+    let text = decode_text(path, &bytes, "the file", &mut notices)?;
+    let scan = prescan(path, &text)?;
+    let (models, materials) = parse(path, &text, &scan, &mut notices)?;
+    check_usemtl(path, &scan, &materials, &mut notices);
 
     let mut builder = ObjSceneBuilder::new(path, &materials);
     for model in models {
@@ -70,7 +103,11 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         });
     }
     debug_assert_eq!(scene.validate(), Ok(()));
-    Ok(scene)
+    Ok(MeshFile {
+        scene,
+        cameras: Vec::new(),
+        notices,
+    })
 }
 
 /// tobj's models and materials of `text`, the material libraries read from beside `path`.
@@ -78,8 +115,10 @@ fn parse(
     path: &Path,
     text: &str,
     scan: &Scan,
+    notices: &mut Vec<String>,
 ) -> Result<(Vec<tobj::Model>, Vec<tobj::Material>), SceneError> {
     let mtl_error: RefCell<Option<SceneError>> = RefCell::new(None);
+    let mtl_notices: RefCell<Vec<String>> = RefCell::new(Vec::new());
     let dir = path.parent().unwrap_or(Path::new(""));
     let options = tobj::LoadOptions {
         triangulate: true,
@@ -100,14 +139,23 @@ fn parse(
     };
     let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &options, |mtl: &Path| {
         // tobj's callback must return a tobj error; the real one travels beside it.
-        match load_mtl(&dir.join(mtl), path) {
+        let loaded = load_mtl(&dir.join(mtl), path, &mut mtl_notices.borrow_mut());
+        match loaded {
             Ok(result) => result,
+            // A library that cannot be read leaves its materials undefined (the default).
+            Err(e @ SceneError::MtlRead { .. }) => {
+                mtl_notices
+                    .borrow_mut()
+                    .push(format!("{e}: its materials are the default"));
+                tobj::load_mtl_buf(&mut &b""[..])
+            }
             Err(e) => {
                 mtl_error.borrow_mut().get_or_insert(e);
                 Err(tobj::LoadError::OpenFileFailed)
             }
         }
     });
+    notices.append(&mut mtl_notices.into_inner());
     if let Some(e) = mtl_error.into_inner() {
         return Err(e);
     }
@@ -123,19 +171,28 @@ fn parse(
     Ok((models, materials))
 }
 
-/// Every `usemtl` names a material of a library loaded before it.
-fn check_usemtl(path: &Path, scan: &Scan, materials: &[tobj::Material]) -> Result<(), SceneError> {
-    for (line, name) in &scan.usemtl {
-        let before_library = scan.first_mtllib.is_none_or(|first| *line < first);
-        if before_library || !materials.iter().any(|m| &m.name == name) {
-            return Err(SceneError::UnknownMaterial {
-                path: path.to_path_buf(),
-                line: *line,
-                name: name.clone(),
-            });
-        }
+/// A notice for each `usemtl` that names no material of a library loaded before it (its
+/// triangles get the default material), one line for all of them.
+fn check_usemtl(path: &Path, scan: &Scan, materials: &[tobj::Material], notices: &mut Vec<String>) {
+    let unknown: Vec<String> = scan
+        .usemtl
+        .iter()
+        .filter(|(line, name)| {
+            let before_library = scan.first_mtllib.is_none_or(|first| *line < first);
+            before_library || !materials.iter().any(|m| &m.name == name)
+        })
+        .map(|(line, name)| format!("`{name}` (line {line})"))
+        .collect();
+    if let Some(first) = unknown.first() {
+        let more = match unknown.len() {
+            1 => String::new(),
+            n => format!(" and {} more", n - 1),
+        };
+        notices.push(format!(
+            "{}: usemtl {first}{more} names no material of the file's libraries: the default material",
+            path.display()
+        ));
     }
-    Ok(())
 }
 
 /// Gathers tobj's models into a scene: consecutive models of the same name become one mesh.

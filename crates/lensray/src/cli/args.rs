@@ -101,9 +101,13 @@ impl PathArgs {
 /// Camera, image and shading options; each overrides the scene file.
 #[derive(Args, Clone, Debug, Default)]
 pub struct ViewArgs {
-    /// Scene file (.toml) or a bare mesh (.obj); the built-in default scene when absent.
+    /// Scene file (.toml) or a mesh file (.gltf, .glb, .obj); the built-in default scene when
+    /// absent.
     #[arg(long, value_name = "FILE")]
     pub scene: Option<PathBuf>,
+    /// The scene's camera to use, by name or index (glTF cameras; default: the first).
+    #[arg(long, value_name = "NAME|INDEX")]
+    pub camera: Option<String>,
     #[arg(long, value_enum)]
     pub projection: Option<ProjectionKind>,
     /// Camera position, world units.

@@ -35,12 +35,26 @@ pub struct RenderArgs {
     pub progress: ProgressMode,
 }
 
-/// The scene the options name, or the built-in default scene.
+/// The scene the options name (with the camera `--camera` picks), or the built-in default
+/// scene. What the loader ignored or repaired is printed, a warning a line, and so is the
+/// file's camera in use.
 pub fn load_scene(view: &ViewArgs) -> Result<SceneDescription> {
-    match &view.scene {
-        Some(path) => Ok(lensray_core::scene::file::load(path)?),
-        None => Ok(lensray_core::scene::builtin::default_scene()),
+    let mut description = match &view.scene {
+        Some(path) => lensray_core::scene::file::load(path)?,
+        None => lensray_core::scene::builtin::default_scene(),
+    };
+    for notice in &description.notices {
+        eprintln!("warning: {notice}");
     }
+    if let Some(choice) = &view.camera {
+        description
+            .use_camera(choice)
+            .map_err(|e| anyhow::anyhow!("scene {}: {e}", description.source))?;
+    }
+    if let Some(camera) = description.camera_summary() {
+        eprintln!("camera: {camera}");
+    }
+    Ok(description)
 }
 
 /// The scene file's settings with the command line's on top. Lens options replace the file's

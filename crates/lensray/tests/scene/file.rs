@@ -75,7 +75,7 @@ fn scene_file_with_all_sections_and_relative_mesh() {
         assert_eq!(s.light.position, Some([0.0, 1.9, 0.0]));
         assert_eq!(s.light.intensity, Some([5.0, 5.0, 5.0]));
     }
-    let (mesh, _) = read_scene_file(&path).unwrap();
+    let (mesh, _, _) = read_scene_file(&path).unwrap();
     assert_eq!(mesh, dir.path().join("meshes/tri.obj"));
 
     // An absolute mesh path, and only a mesh: every setting unset.

@@ -1,7 +1,7 @@
 //! OBJ and MTL loading: triangulation, materials, normals, and errors that name the file.
 
 use glam::Vec3;
-use lensray_core::scene::{Material, SceneError};
+use lensray_core::scene::{load_obj, Material, SceneError};
 
 use crate::{load_err, load_ok, write};
 
@@ -272,19 +272,66 @@ fn obj_errors_name_the_file_and_line() {
         assert!(matches!(e, SceneError::NoTriangles { .. }), "{name}: {e:?}");
         assert!(e.to_string().ends_with("contains no triangles"), "{e}");
     }
+}
 
-    let e = load_err(
-        &write(
-            d,
-            "unknown_mtl.obj",
-            &format!("{tri}usemtl nowhere\nf 1 2 3\n"),
-        ),
+/// The scene and notices of an OBJ that must load.
+fn load_with_notices(path: &std::path::Path) -> (lensray_core::scene::Scene, Vec<String>) {
+    let file = load_obj(path).unwrap_or_else(|e| panic!("{} should load: {e}", path.display()));
+    (file.scene, file.notices)
+}
+
+#[test]
+fn messy_real_files_load_with_one_notice_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    let default = Material::default();
+
+    // A usemtl with no library, and one naming no material: the default material.
+    let (scene, notices) = load_with_notices(&write(
+        d,
         "unknown_mtl.obj",
-    );
+        &format!("{tri}usemtl nowhere\nf 1 2 3\nusemtl elsewhere\nf 1 2 3\n"),
+    ));
+    assert_eq!(scene.materials, vec![default.clone()]);
+    assert_eq!(notices.len(), 1, "{notices:?}");
     assert!(
-        matches!(e, SceneError::UnknownMaterial { line: 4, .. }),
-        "{e:?}"
+        notices[0].contains("`nowhere` (line 4) and 1 more names no material"),
+        "{notices:?}"
     );
+
+    // A missing library: a notice naming it, the default material.
+    let (scene, notices) = load_with_notices(&write(
+        d,
+        "no_mtl.obj",
+        &format!("mtllib missing.mtl\n{tri}usemtl a\nf 1 2 3\n"),
+    ));
+    assert_eq!(scene.materials, vec![default]);
+    assert!(
+        notices
+            .iter()
+            .any(|n| n.contains("missing.mtl") && n.contains("no_mtl.obj")),
+        "{notices:?}"
+    );
+
+    // A byte-order mark keeps the first vertex; a Latin-1 byte in a comment is dropped.
+    let mut bytes =
+        b"\xEF\xBB\xBFv 0 0 0\n# \xA9 2024 someone\nv 1 0 0\nv 0 1 0\nf 1 2 3\n".to_vec();
+    std::fs::write(d.join("bom.obj"), &bytes).unwrap();
+    let (scene, notices) = load_with_notices(&d.join("bom.obj"));
+    assert_eq!(scene.meshes[0].positions.len(), 3);
+    assert_eq!(scene.meshes[0].positions[0], Vec3::ZERO);
+    assert_eq!(notices.len(), 1, "{notices:?}");
+    assert!(
+        notices[0].contains("1 comment lines are not UTF-8"),
+        "{notices:?}"
+    );
+
+    // Outside a comment, such a byte is still an error naming the line.
+    bytes = b"v 0 0 0\nv 1 0 0\nv 0 \xA9 0\nf 1 2 3\n".to_vec();
+    std::fs::write(d.join("latin1.obj"), &bytes).unwrap();
+    let e = load_err(&d.join("latin1.obj"), "latin1.obj:3");
+    assert!(matches!(e, SceneError::ObjLine { line: 3, .. }), "{e:?}");
 }
 
 #[test]
@@ -298,10 +345,6 @@ fn mtl_errors_name_the_material_library() {
             &format!("mtllib {mtl}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n"),
         )
     };
-
-    let e = load_err(&obj("no_mtl.obj", "missing.mtl"), "missing.mtl");
-    assert!(matches!(e, SceneError::MtlRead { .. }), "{e:?}");
-    assert!(e.to_string().contains("no_mtl.obj"), "{e}");
 
     for (i, (kd, line)) in [
         ("Kd 0.5 abc 0.5", 2),
@@ -330,13 +373,13 @@ fn mtl_errors_name_the_material_library() {
     let e = load_err(&obj("bad_ns.obj", "bad_ns.mtl"), "bad_ns.mtl");
     assert!(matches!(e, SceneError::Mtl { .. }), "{e:?}");
 
-    // A second library that fails must not be hidden by a first that loads.
+    // A second library that is malformed must not be hidden by a first that loads.
     write(d, "good.mtl", "newmtl a\nKd 1 1 1\n");
     let path = write(
         d,
         "two_libs.obj",
-        "mtllib good.mtl\nmtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n",
+        "mtllib good.mtl\nmtllib bad_ns.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n",
     );
-    let e = load_err(&path, "gone.mtl");
-    assert!(matches!(e, SceneError::MtlRead { .. }), "{e:?}");
+    let e = load_err(&path, "bad_ns.mtl");
+    assert!(matches!(e, SceneError::Mtl { .. }), "{e:?}");
 }

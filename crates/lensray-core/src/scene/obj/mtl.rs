@@ -43,16 +43,17 @@ fn parse_colour(s: &str) -> Result<[f32; 3], ()> {
 
 /// Reads one material library for tobj, after checking its colours (tobj panics on a colour of
 /// fewer than three numbers) and spelling a one-number colour out as three.
-pub(super) fn load_mtl(mtl: &Path, obj: &Path) -> Result<tobj::MTLLoadResult, SceneError> {
+pub(super) fn load_mtl(
+    mtl: &Path,
+    obj: &Path,
+    notices: &mut Vec<String>,
+) -> Result<tobj::MTLLoadResult, SceneError> {
     let bytes = fs::read(mtl).map_err(|err| SceneError::MtlRead {
         mtl: mtl.to_path_buf(),
         obj: obj.to_path_buf(),
         err,
     })?;
-    let text = std::str::from_utf8(&bytes).map_err(|_| SceneError::Mtl {
-        path: mtl.to_path_buf(),
-        reason: "not UTF-8 text".into(),
-    })?;
+    let text = super::decode_text(mtl, &bytes, "the material library", notices)?;
     let mut normalized = String::with_capacity(text.len());
     for (index, line) in text.lines().enumerate() {
         let trimmed = line.trim();

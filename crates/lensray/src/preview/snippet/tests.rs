@@ -56,7 +56,7 @@ fn settings_from_toml(tables: &str) -> Settings {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("shot.toml");
     std::fs::write(&path, format!("mesh = \"cube.obj\"\n{tables}")).unwrap();
-    let (mesh, settings) = read_scene_file(&path).unwrap_or_else(|e| panic!("{e}\n{tables}"));
+    let (mesh, settings, _) = read_scene_file(&path).unwrap_or_else(|e| panic!("{e}\n{tables}"));
     assert_eq!(mesh, dir.path().join("cube.obj"));
     settings
 }

@@ -1,0 +1,225 @@
+//! glTF loading: node transforms, primitives, materials, cameras (against the glTF
+//! specification's projection) and the errors of broken files.
+
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+use glam::{DVec3, Vec3};
+use lensray_core::scene::{load, load_gltf, SceneError};
+use lensray_core::settings::shot;
+
+use crate::load_err;
+
+/// Little-endian bytes of `values`.
+fn f32_bytes(values: &[f32]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// A glTF of one triangle (positions in `triangle.bin`, indices after them) under `nodes`
+/// (JSON of the node array, node 0 the root), with `extra` top-level JSON members.
+fn write_gltf(dir: &Path, name: &str, nodes: &str, positions: [f32; 9], extra: &str) -> PathBuf {
+    let mut bin = f32_bytes(&positions);
+    bin.extend([0u16, 1, 2, 0].iter().flat_map(|i| i.to_le_bytes()));
+    std::fs::write(dir.join("triangle.bin"), &bin).unwrap();
+    let json = format!(
+        r#"{{
+  "asset": {{"version": "2.0"}},
+  "scene": 0,
+  "scenes": [{{"nodes": [0]}}],
+  "nodes": {nodes},
+  "meshes": [{{"name": "tri", "primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1, "material": 0}}]}}],
+  "materials": [{{"name": "paint", "doubleSided": true, "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.4, 0.6, 1.0]}},
+                 "emissiveFactor": [1.0, 0.5, 0.0],
+                 "extensions": {{"KHR_materials_emissive_strength": {{"emissiveStrength": 4.0}}}}}}],
+  "buffers": [{{"uri": "triangle.bin", "byteLength": 44}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}},
+                  {{"buffer": 0, "byteOffset": 36, "byteLength": 8}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                  "min": [-10, -10, -10], "max": [10, 10, 10]}},
+                {{"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}}],
+  "extensionsUsed": ["KHR_materials_emissive_strength"]{extra}
+}}"#
+    );
+    let path = dir.join(name);
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+const TRIANGLE: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
+#[test]
+fn node_transforms_compose_parent_first() {
+    let dir = tempfile::tempdir().unwrap();
+    // Root: translate (10, 0, 0); child: rotate 90 degrees about +z, scale 2, translate +y.
+    let s = (PI / 4.0).sin();
+    let nodes = format!(
+        r#"[{{"translation": [10, 0, 0], "children": [1]}},
+            {{"mesh": 0, "rotation": [0, 0, {s}, {s}], "scale": [2, 2, 2], "translation": [0, 1, 0]}}]"#
+    );
+    let path = write_gltf(dir.path(), "nodes.gltf", &nodes, TRIANGLE, "");
+    let file = load_gltf(&path).unwrap();
+    let mesh = &file.scene.meshes[0];
+    let expected = [
+        Vec3::new(10.0, 1.0, 0.0),
+        Vec3::new(10.0, 3.0, 0.0),
+        Vec3::new(8.0, 1.0, 0.0),
+    ];
+    for (p, e) in mesh.positions.iter().zip(expected) {
+        assert!(
+            (*p - e).length() < 1e-5,
+            "{:?} != {expected:?}",
+            mesh.positions
+        );
+    }
+    assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+    let m = &file.scene.materials[0];
+    assert_eq!(m.diffuse, Vec3::new(0.2, 0.4, 0.6));
+    assert_eq!(m.emission, Vec3::new(4.0, 2.0, 0.0));
+    assert!(file.notices.is_empty(), "{:?}", file.notices);
+
+    // A matrix that mirrors keeps the triangle counter-clockwise in the world.
+    let nodes = r#"[{"mesh": 0, "matrix": [-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}]"#;
+    let path = write_gltf(dir.path(), "mirror.gltf", nodes, TRIANGLE, "");
+    let mesh = &load_gltf(&path).unwrap().scene.meshes[0];
+    assert_eq!(mesh.triangles, vec![[0, 2, 1]]);
+}
+
+#[test]
+fn the_file_camera_projects_as_the_gltf_specification_says() {
+    let dir = tempfile::tempdir().unwrap();
+    // The camera at (1, 2, 5) turned 20 degrees about +y (so it looks down -z turned toward -x).
+    let half = 10f64.to_radians();
+    let (yfov, aspect) = (0.7f64, 1.5f64);
+    let nodes = format!(
+        r#"[{{"mesh": 0, "children": [1]}},
+            {{"camera": 0, "translation": [1, 2, 5], "rotation": [0, {}, 0, {}]}}]"#,
+        half.sin(),
+        half.cos()
+    );
+    let cameras = format!(
+        r#", "cameras": [{{"name": "hero", "type": "perspective",
+             "perspective": {{"yfov": {yfov}, "aspectRatio": {aspect}, "znear": 0.1, "zfar": 100}}}}]"#
+    );
+    let big = [-2.0, -1.0, -3.0, 3.0, 0.5, -4.0, 0.0, 4.0, -6.0];
+    let path = write_gltf(dir.path(), "camera.gltf", &nodes, big, &cameras);
+    let description = load(&path).unwrap();
+    assert_eq!(
+        description.camera_summary().unwrap(),
+        "hero (camera 0 of 1 in the file)"
+    );
+    let resolved = shot(&description.settings, &description.scene).unwrap();
+    let camera = &resolved.camera;
+    assert_eq!((camera.width, camera.height), (720, 480));
+
+    // The specification: view space by the node's inverse, then the projection matrix.
+    let rotation = glam::DQuat::from_rotation_y(2.0 * half);
+    let view_from_world = (glam::DMat4::from_translation(DVec3::new(1.0, 2.0, 5.0))
+        * glam::DMat4::from_quat(rotation))
+    .inverse();
+    let t = (0.5 * yfov).tan();
+    for p in big.chunks_exact(3) {
+        let world = DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
+        let v = view_from_world.transform_point3(world);
+        let ndc = [v.x / (aspect * t * -v.z), v.y / (t * -v.z)];
+        let pixel = [(ndc[0] + 1.0) * 0.5 * 720.0, (1.0 - ndc[1]) * 0.5 * 480.0];
+        let got = camera.project(world.as_vec3());
+        let error = (f64::from(got.x) - pixel[0]).hypot(f64::from(got.y) - pixel[1]);
+        assert!(
+            error < 1e-3,
+            "vertex {world}: lensray puts it at ({}, {}), the specification at {pixel:?}",
+            got.x,
+            got.y
+        );
+    }
+
+    // --camera with a name that is not there names those that are.
+    let mut description = description;
+    let e = description.use_camera("villain").unwrap_err();
+    assert!(e.contains("0: hero"), "{e}");
+}
+
+#[test]
+fn the_bundled_gltf_loads_alike_from_files_and_data_uris() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/BoxTextured");
+    let split = load_gltf(&root.join("BoxTextured.gltf")).unwrap();
+    let embedded = load_gltf(&root.join("BoxTextured_embedded.gltf")).unwrap();
+    assert_eq!(split.scene, embedded.scene);
+    assert_eq!(split.scene.triangle_count(), 12);
+    assert!(split
+        .scene
+        .meshes
+        .iter()
+        .all(|m| m.normals.len() == m.positions.len()));
+}
+
+#[test]
+fn broken_gltf_files_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let nodes = r#"[{"mesh": 0}]"#;
+    let cases: Vec<(PathBuf, &str)> = vec![
+        (
+            write_gltf(
+                d,
+                "required.gltf",
+                nodes,
+                TRIANGLE,
+                r#", "extensionsRequired": ["KHR_draco_mesh_compression"]"#,
+            ),
+            "requires the extension KHR_draco_mesh_compression",
+        ),
+        (
+            write_gltf(
+                d,
+                "nan.gltf",
+                nodes,
+                [f32::NAN, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+                "",
+            ),
+            "is not finite",
+        ),
+    ];
+    for (path, says) in &cases {
+        let e = load_err(path, path.file_name().unwrap().to_str().unwrap());
+        assert!(matches!(e, SceneError::Gltf { .. }), "{e:?}");
+        assert!(e.to_string().contains(says), "{e}");
+        assert!(!e.to_string().contains('\n'), "{e}");
+    }
+
+    // A buffer shorter than it says, and a missing one.
+    let path = write_gltf(d, "short.gltf", nodes, TRIANGLE, "");
+    std::fs::write(d.join("triangle.bin"), [0u8; 20]).unwrap();
+    let e = load_err(&path, "short.gltf");
+    assert!(
+        e.to_string().contains("fewer than its byteLength 44"),
+        "{e}"
+    );
+    std::fs::remove_file(d.join("triangle.bin")).unwrap();
+    let e = load_err(&path, "short.gltf");
+    assert!(e.to_string().contains("buffer 0 (triangle.bin)"), "{e}");
+
+    // An accessor reaching past its view.
+    let text = std::fs::read_to_string(write_gltf(d, "range.gltf", nodes, TRIANGLE, ""))
+        .unwrap()
+        .replace(
+            r#""count": 3, "type": "VEC3""#,
+            r#""count": 4, "type": "VEC3""#,
+        );
+    std::fs::write(d.join("range.gltf"), text).unwrap();
+    let e = load_err(&d.join("range.gltf"), "range.gltf");
+    assert!(
+        e.to_string()
+            .contains("accessor 0 (4 elements) ends at byte 48"),
+        "{e}"
+    );
+
+    // A GLB whose chunk is cut short.
+    let mut glb = b"glTF".to_vec();
+    glb.extend(2u32.to_le_bytes());
+    glb.extend(100u32.to_le_bytes());
+    glb.extend(80u32.to_le_bytes());
+    glb.extend(b"JSON{}");
+    std::fs::write(d.join("cut.glb"), glb).unwrap();
+    let e = load_err(&d.join("cut.glb"), "cut.glb");
+    assert!(matches!(e, SceneError::Gltf { .. }), "{e:?}");
+}
