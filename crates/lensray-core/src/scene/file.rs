@@ -110,6 +110,9 @@ struct SceneFile {
     /// One of the glTF's cameras, by name or index.
     #[serde(default)]
     camera_name: Option<String>,
+    /// Smooth normals, creased at this angle in degrees, for the meshes that have none.
+    #[serde(default)]
+    smooth_normals: Option<f64>,
     #[serde(default)]
     camera: CameraSettings,
     #[serde(default)]
@@ -136,9 +139,17 @@ fn parse_scene_file(path: &Path, text: &str) -> Result<SceneFile, SceneError> {
     })
 }
 
-/// Parses a scene file's settings and resolves its mesh path, without loading the mesh; the
-/// camera it picks from the mesh file, if any.
-pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, Option<String>), SceneError> {
+/// What a scene file asks of its mesh besides the settings.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshOptions {
+    /// The mesh file's camera to use, by name or index.
+    pub camera: Option<String>,
+    /// The crease angle (degrees) of smooth normals for meshes without normals.
+    pub smooth_normals: Option<f64>,
+}
+
+/// Parses a scene file's settings and resolves its mesh path, without loading the mesh.
+pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, MeshOptions), SceneError> {
     let text = fs::read_to_string(path).map_err(|err| SceneError::Read {
         path: path.to_path_buf(),
         err,
@@ -176,18 +187,26 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, Option<String>
         render: file.render,
         light: file.light,
     };
-    Ok((mesh, settings, file.camera_name))
+    let options = MeshOptions {
+        camera: file.camera_name,
+        smooth_normals: file.smooth_normals,
+    };
+    Ok((mesh, settings, options))
 }
 
 /// Loads a scene file and the mesh it names.
 pub fn load_scene_file(path: &Path) -> Result<SceneDescription, SceneError> {
-    let (mesh, settings, camera) = read_scene_file(path)?;
-    let file = load_mesh(&mesh).map_err(|err| SceneError::Mesh {
+    let (mesh, settings, options) = read_scene_file(path)?;
+    let mut file = load_mesh(&mesh).map_err(|err| SceneError::Mesh {
         scene: path.to_path_buf(),
         err: Box::new(err),
     })?;
+    if let Some(crease) = options.smooth_normals {
+        file.scene.smooth_normals(crease);
+    }
     let source = path.display().to_string();
-    SceneDescription::of_mesh(file, settings, source, camera.as_deref()).map_err(|reason| {
+    let camera = options.camera.as_deref();
+    SceneDescription::of_mesh(file, settings, source, camera).map_err(|reason| {
         SceneError::CameraChoice {
             path: path.to_path_buf(),
             reason,

@@ -13,6 +13,7 @@ pub mod file;
 pub mod file_camera;
 pub mod generate;
 pub mod gltf_file;
+pub mod normals;
 pub mod obj;
 
 pub use builtin::default_scene;

@@ -4,6 +4,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+/// The crease angle of `--smooth-normals` given without one, degrees.
+const DEFAULT_CREASE: &str = "60";
+
 use crate::paths::{DeviceChoice, PathChoice, PathOptions};
 use lensray_vulkan::GpuOptions;
 
@@ -108,6 +111,10 @@ pub struct ViewArgs {
     /// The scene's camera to use, by name or index (glTF cameras; default: the first).
     #[arg(long, value_name = "NAME|INDEX")]
     pub camera: Option<String>,
+    /// Smooth normals for meshes that have none, creased at ANGLE degrees (default 60).
+    #[arg(long, value_name = "ANGLE", num_args = 0..=1,
+          default_missing_value = DEFAULT_CREASE, value_parser = parse_crease)]
+    pub smooth_normals: Option<f64>,
     #[arg(long, value_enum)]
     pub projection: Option<ProjectionKind>,
     /// Camera position, world units.
@@ -253,5 +260,13 @@ impl ViewArgs {
                 intensity: self.light_intensity,
             },
         }
+    }
+}
+
+/// A crease angle in degrees, 0 to 180.
+fn parse_crease(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(a) if (0.0..=180.0).contains(&a) => Ok(a),
+        _ => Err(format!("`{text}` is not an angle from 0 to 180 degrees")),
     }
 }

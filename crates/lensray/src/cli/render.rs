@@ -46,6 +46,10 @@ pub fn load_scene(view: &ViewArgs) -> Result<SceneDescription> {
     for notice in &description.notices {
         eprintln!("warning: {notice}");
     }
+    if let Some(crease) = view.smooth_normals {
+        let meshes = description.scene.smooth_normals(crease);
+        eprintln!("smooth normals: {meshes} meshes without normals, creased at {crease} degrees");
+    }
     if let Some(choice) = &view.camera {
         description
             .use_camera(choice)
