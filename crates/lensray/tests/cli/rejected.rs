@@ -144,3 +144,34 @@ fn gpu_options_with_device_cpu_are_errors() {
     assert_rejected(&["--gpu", "0"], "--gpu 0");
     assert_rejected(&["--gpu", "0"], "--device cpu");
 }
+
+#[test]
+fn bad_mesh_options_are_rejected_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin: Vec<u8> = [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    std::fs::write(dir.path().join("tri.bin"), bin).unwrap();
+    let gltf = dir.path().join("tri.gltf");
+    std::fs::write(
+        &gltf,
+        r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+            "materials": [{"doubleSided": true}],
+            "buffers": [{"uri": "tri.bin", "byteLength": 36}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                           "min": [0, 0, 0], "max": [1, 1, 0]}]}"#,
+    )
+    .unwrap();
+    let scene = gltf.to_str().unwrap();
+    assert_rejected(&["--scene", scene, "--camera", "hero"], "has no cameras");
+    assert_rejected(&["--scene", scene, "--smooth-normals", "200"], "0 to 180");
+    // The same file renders.
+    let out = lensray(
+        &render_args(&["--scene", scene, "--out", "tri.png"]),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+}
