@@ -1,5 +1,6 @@
 //! Bad input: numbers, aperture shapes, scene files, outputs and GPU options with the CPU
-//! renderer, each refused with one line before anything is written.
+//! renderer, each refused with one line before anything is written; messy but clear input
+//! warned about in one line.
 
 use crate::{assert_rejected, lensray, render_args, stderr};
 
@@ -91,13 +92,29 @@ fn bad_files_are_rejected_with_one_line() {
         "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
     )
     .unwrap();
+    // A missing material library is a real download's mess, not bad input: one warning.
+    let out = lensray(
+        &render_args(&[
+            "--scene",
+            p.join("nomtl.obj").to_str().unwrap(),
+            "--out",
+            "o.png",
+        ]),
+        p,
+    );
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("warning: ") && err.contains("missing.mtl"),
+        "{err}"
+    );
     std::fs::write(p.join("bad.toml"), "mesh = \"bad.obj\"\n[camera\n").unwrap();
     std::fs::write(p.join("unknown.toml"), "mesh = \"empty.obj\"\nzoom = 3\n").unwrap();
     for (scene, needle) in [
         ("missing.obj", "missing.obj"),
         ("bad.obj", "bad.obj"),
         ("empty.obj", "no triangles"),
-        ("nomtl.obj", "missing.mtl"),
         ("bad.toml", "bad.toml"),
         ("unknown.toml", "zoom"),
         ("scene.txt", "scene.txt"),
