@@ -74,7 +74,7 @@ pub(crate) struct TracePass {
     /// Per pixel of the plan: the camera-space depth of the surface the G-buffer sees (0:
     /// none), from the device plan (TRACE_BINDING_SURFACE_DEPTH).
     surface_depth: Buffer,
-    /// Pixels of the plan set by `set_plan`; `None`: every sample of every pixel is traced.
+    /// Pixels of the plan the device plan pass wrote (`use_device_plan`); `None`: no plan.
     plan_pixels: Option<u64>,
     /// The hybrid's lit pre-pass counted rays into the counter's word 2, not yet reported.
     prepass_rays_pending: bool,
@@ -193,7 +193,7 @@ impl TracePass {
     }
 
     fn plan_buffer(ctx: &Arc<Context>, bytes: u64) -> Result<Buffer, GpuError> {
-        // Written by the host (`set_plan`) or the device plan pass, read (and, lit, completed by
+        // Written by the device plan pass, read (and, lit, completed by
         // the shortcut pre-pass) by the shader; host-visible so that the device plan reads back.
         Buffer::new(
             ctx,
@@ -204,17 +204,9 @@ impl TracePass {
         )
     }
 
-    /// Sets the hybrid path's plan for later `accumulate` calls (one entry per pixel of the
-    /// image, row-major: see TRACE_BINDING_PLAN), or `None` to trace every sample again.
-    pub(crate) fn set_plan(&mut self, plan: Option<&[[f32; 4]]>) -> Result<(), GpuError> {
-        let Some(plan) = plan else {
-            self.plan_pixels = None;
-            return Ok(());
-        };
-        self.ensure_plan_capacity(plan.len() as u64)?;
-        self.plan.write(bytemuck::cast_slice(plan))?;
-        self.plan_pixels = Some(plan.len() as u64);
-        Ok(())
+    /// Later `accumulate` calls follow no plan (the hybrid's mode is refused until a new one).
+    pub(crate) fn clear_plan(&mut self) {
+        self.plan_pixels = None;
     }
 
     /// Makes the plan buffer hold at least `pixels` entries, and the surface depths as many (new

@@ -99,7 +99,7 @@ impl GpuRenderer {
             progress,
         );
         if estimator == Estimator::Hybrid {
-            self.trace.set_plan(None)?;
+            self.trace.clear_plan();
         }
         traced.map(|()| added)
     }
