@@ -11,6 +11,7 @@ use lensray_core::interface::{
     APERTURE_MAX_FAN, LENS_MAX_SURFACES, LENS_PUPIL_BINS, PROJECTION_ORTHOGRAPHIC,
     PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
 };
+use lensray_core::scene::order::morton_order;
 use lensray_core::scene::Scene;
 use lensray_core::settings::{Shading, Shot};
 
@@ -23,7 +24,7 @@ pub(crate) struct MeshRange {
     pub triangle_count: u32,
 }
 
-/// Every mesh concatenated: one vertex array (vec4 positions and normals, std430 friendly),
+/// Every mesh concatenated, its triangles in Morton order (`scene::order`): one vertex array (vec4 positions and normals, std430 friendly),
 /// global vertex indices, per-triangle info, materials.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FlatScene {
@@ -46,6 +47,8 @@ impl FlatScene {
                 "{total} triangles: the GPU path handles at most {MAX_TRIANGLES}"
             )));
         }
+        // Indices, material ids and normals in range, positions finite.
+        scene.validate().map_err(GpuError::Invalid)?;
         let mut flat = FlatScene {
             materials: scene
                 .materials
@@ -61,24 +64,8 @@ impl FlatScene {
             // Shaders index a non-empty array; no triangle may refer to it (checked below).
             flat.materials.push(GpuMaterial::zeroed());
         }
-        for (m, mesh) in scene.meshes.iter().enumerate() {
+        for mesh in &scene.meshes {
             let has_normals = !mesh.normals.is_empty();
-            if has_normals && mesh.normals.len() != mesh.positions.len() {
-                return Err(GpuError::Invalid(format!(
-                    "mesh {m} ({}) has {} normals for {} positions",
-                    mesh.name,
-                    mesh.normals.len(),
-                    mesh.positions.len()
-                )));
-            }
-            if mesh.material_ids.len() != mesh.triangles.len() {
-                return Err(GpuError::Invalid(format!(
-                    "mesh {m} ({}) has {} material ids for {} triangles",
-                    mesh.name,
-                    mesh.material_ids.len(),
-                    mesh.triangles.len()
-                )));
-            }
             let base = flat.positions.len() as u32;
             flat.meshes.push(MeshRange {
                 first_triangle: flat.tri_info.len() as u32,
@@ -93,20 +80,10 @@ impl FlatScene {
                 flat.normals
                     .extend(std::iter::repeat_n([0.0; 4], mesh.positions.len()));
             }
-            for (t, (tri, &material)) in mesh.triangles.iter().zip(&mesh.material_ids).enumerate() {
-                if tri.iter().any(|&i| i as usize >= mesh.positions.len()) {
-                    return Err(GpuError::Invalid(format!(
-                        "mesh {m} ({}) triangle {t} has a vertex index out of range",
-                        mesh.name
-                    )));
-                }
-                if material as usize >= scene.materials.len() {
-                    return Err(GpuError::Invalid(format!(
-                        "mesh {m} ({}) triangle {t} uses material {material} of {}",
-                        mesh.name,
-                        scene.materials.len()
-                    )));
-                }
+            // Every acceleration-structure builder gets the triangles in a spatial order.
+            for t in morton_order(&mesh.positions, &mesh.triangles) {
+                let t = t as usize;
+                let (tri, material) = (&mesh.triangles[t], mesh.material_ids[t]);
                 flat.indices.extend(tri.iter().map(|&i| base + i));
                 flat.tri_info
                     .push(material | if has_normals { TRI_HAS_NORMALS } else { 0 });

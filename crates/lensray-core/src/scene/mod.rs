@@ -15,6 +15,7 @@ pub mod generate;
 pub mod gltf_file;
 pub mod normals;
 pub mod obj;
+pub mod order;
 
 pub use builtin::default_scene;
 pub use error::SceneError;
