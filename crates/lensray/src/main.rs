@@ -26,7 +26,7 @@ enum Command {
     /// live (controls below, and H in the window).
     Preview(Box<cli::preview::PreviewArgs>),
     /// Compare the render paths: time, rays/s, memory and error against a converged reference.
-    Bench(cli::bench::BenchArgs),
+    Bench(Box<cli::bench::BenchArgs>),
     /// Measure this machine's paths once and cache the figures `--path auto` decides from.
     Calibrate(cli::calibrate::CalibrateArgs),
     /// Write a generated scene (OBJ + MTL + scene file).

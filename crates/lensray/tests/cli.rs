@@ -15,6 +15,8 @@ mod devices;
 mod rejected;
 #[path = "cli/render.rs"]
 mod render;
+#[path = "cli/units.rs"]
+mod units;
 
 fn lensray(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_lensray"))

@@ -257,7 +257,8 @@ fn traced_depth(pixel: UVec2) -> f32 {
         focus_distance: Some(8.0),
         ..Default::default()
     };
-    let settings = lensray::cli::render::merged_settings(&description.settings, &args);
+    let settings =
+        lensray::cli::render::merged_settings(&description.settings, description.units, &args);
     let camera = shot(&settings, &description.scene).unwrap().camera;
     let ray = camera.first_order_ray(pixel.as_vec2() + Vec2::splat(0.5), Vec2::splat(0.5));
     let hit = Renderer::new(&description.scene)

@@ -1,10 +1,13 @@
 //! Scene files: TOML beside a mesh. The top-level key `mesh` names an OBJ or a glTF (`.gltf`,
 //! `.glb`; relative to the scene file's folder, or absolute), `camera_name` one of the glTF's
-//! cameras (by name or index; default: its first, if it has any); the sections `[camera]`, `[image]`, `[render]` and `[light]` are
-//! those of [`Settings`], all optional. Unknown keys are errors.
+//! cameras (by name or index; default: its first, if it has any), `units` the unit of length of
+//! the mesh and of the file's own positions and distances ([`SceneUnits`]; default metres); the
+//! sections `[camera]`, `[image]`, `[render]` and `[light]` are those of [`Settings`], all
+//! optional. Unknown keys are errors.
 //!
 //! ```toml
 //! mesh = "cornell.obj"
+//! # units = "mm"
 //! [camera]
 //! projection = "perspective"
 //! eye = [0.0, 1.0, 3.6]
@@ -38,6 +41,7 @@ use serde::{Deserialize, Serialize};
 use super::file_camera::{pick_camera, FileCamera};
 use super::gltf_file::{load_gltf, MeshFile};
 use super::obj::load_obj;
+use super::units::SceneUnits;
 use super::{Scene, SceneError};
 use crate::settings::{CameraSettings, ImageSettings, LightSettings, RenderStyle, Settings};
 
@@ -54,6 +58,9 @@ pub struct SceneDescription {
     pub camera: Option<usize>,
     /// What the loader ignored or repaired, one line each (printed as warnings).
     pub notices: Vec<String>,
+    /// The unit of length of the scene's files and of the world lengths given for it; `scene`,
+    /// `settings` and `cameras` hold them converted to metres.
+    pub units: SceneUnits,
 }
 
 impl SceneDescription {
@@ -63,6 +70,21 @@ impl SceneDescription {
         camera.apply(&mut self.settings, &self.scene);
         self.camera = self.cameras.iter().position(|c| c == camera);
         Ok(())
+    }
+
+    /// Takes the lengths of this description to be in `units` instead of `self.units`: scales
+    /// the scene, the file's cameras and the settings by the ratio, so the framing stays while
+    /// the lens's physical blur follows the new size.
+    pub fn set_units(&mut self, units: SceneUnits) {
+        let factor = units.metres() / self.units.metres();
+        if factor != 1.0 {
+            self.scene.scale(factor);
+            for camera in &mut self.cameras {
+                *camera = camera.scaled(factor);
+            }
+            self.settings = std::mem::take(&mut self.settings).scaled(factor);
+        }
+        self.units = units;
     }
 
     /// The camera in use, as "NAME (camera I of N in the file)", if it came from the file.
@@ -90,6 +112,7 @@ impl SceneDescription {
             cameras: file.cameras,
             camera: None,
             notices: file.notices,
+            units: SceneUnits::M,
         };
         match camera {
             Some(choice) => description.use_camera(choice)?,
@@ -113,6 +136,9 @@ struct SceneFile {
     /// Smooth normals, creased at this angle in degrees, for the meshes that have none.
     #[serde(default)]
     smooth_normals: Option<f64>,
+    /// The unit of length of the mesh and of this file's positions and distances.
+    #[serde(default)]
+    units: Option<SceneUnits>,
     #[serde(default)]
     camera: CameraSettings,
     #[serde(default)]
@@ -146,9 +172,12 @@ pub struct MeshOptions {
     pub camera: Option<String>,
     /// The crease angle (degrees) of smooth normals for meshes without normals.
     pub smooth_normals: Option<f64>,
+    /// The unit of length of the mesh and of the file's positions and distances.
+    pub units: Option<SceneUnits>,
 }
 
-/// Parses a scene file's settings and resolves its mesh path, without loading the mesh.
+/// Parses a scene file's settings (its lengths as written, in its `units`) and resolves its
+/// mesh path, without loading the mesh.
 pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, MeshOptions), SceneError> {
     let text = fs::read_to_string(path).map_err(|err| SceneError::Read {
         path: path.to_path_buf(),
@@ -190,12 +219,22 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, MeshOptions), 
     let options = MeshOptions {
         camera: file.camera_name,
         smooth_normals: file.smooth_normals,
+        units: file.units,
     };
     Ok((mesh, settings, options))
 }
 
-/// Loads a scene file and the mesh it names.
+/// Loads a scene file and the mesh it names, in the file's units.
 pub fn load_scene_file(path: &Path) -> Result<SceneDescription, SceneError> {
+    load_scene_file_in(path, None)
+}
+
+/// Loads a scene file and the mesh it names, its lengths in `units` (default: the file's
+/// `units`, else metres) converted to metres.
+fn load_scene_file_in(
+    path: &Path,
+    units: Option<SceneUnits>,
+) -> Result<SceneDescription, SceneError> {
     let (mesh, settings, options) = read_scene_file(path)?;
     let mut file = load_mesh(&mesh).map_err(|err| SceneError::Mesh {
         scene: path.to_path_buf(),
@@ -206,12 +245,15 @@ pub fn load_scene_file(path: &Path) -> Result<SceneDescription, SceneError> {
     }
     let source = path.display().to_string();
     let camera = options.camera.as_deref();
-    SceneDescription::of_mesh(file, settings, source, camera).map_err(|reason| {
-        SceneError::CameraChoice {
-            path: path.to_path_buf(),
-            reason,
-        }
-    })
+    let mut description =
+        SceneDescription::of_mesh(file, settings, source, camera).map_err(|reason| {
+            SceneError::CameraChoice {
+                path: path.to_path_buf(),
+                reason,
+            }
+        })?;
+    description.set_units(units.or(options.units).unwrap_or_default());
+    Ok(description)
 }
 
 fn has_extension(path: &Path, ext: &str) -> bool {
@@ -238,17 +280,24 @@ fn load_mesh(path: &Path) -> Result<MeshFile, SceneError> {
 /// Loads a scene by extension: `.toml` is a scene file; `.obj`, `.gltf` and `.glb` a mesh file
 /// with default settings (a glTF's first camera, if it has one).
 pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
+    load_in(path, None)
+}
+
+/// [`load`], the scene's lengths in `units` (which wins over a scene file's `units`; default
+/// metres) converted to metres.
+pub fn load_in(path: &Path, units: Option<SceneUnits>) -> Result<SceneDescription, SceneError> {
     if has_extension(path, "toml") {
-        load_scene_file(path)
+        load_scene_file_in(path, units)
     } else if is_mesh_file(path) {
         let file = load_mesh(path)?;
         let source = path.display().to_string();
-        SceneDescription::of_mesh(file, Settings::default(), source, None).map_err(|reason| {
-            SceneError::CameraChoice {
+        let mut description = SceneDescription::of_mesh(file, Settings::default(), source, None)
+            .map_err(|reason| SceneError::CameraChoice {
                 path: path.to_path_buf(),
                 reason,
-            }
-        })
+            })?;
+        description.set_units(units.unwrap_or_default());
+        Ok(description)
     } else {
         Err(SceneError::Extension {
             path: path.to_path_buf(),

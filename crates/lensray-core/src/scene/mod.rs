@@ -16,6 +16,7 @@ pub mod gltf_file;
 pub mod normals;
 pub mod obj;
 pub mod order;
+pub mod units;
 
 pub use builtin::default_scene;
 pub use error::SceneError;

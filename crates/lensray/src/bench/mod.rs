@@ -66,7 +66,14 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
         ));
     }
 
-    let base = scenes::load(&options.scene, options.dense_triangles)?;
+    let base = scenes::load(&options.scene, options.dense_triangles, options.scene_units)?;
+    let units = base.description.units;
+    if units != lensray_core::scene::units::SceneUnits::M {
+        log(&format!(
+            "scene units: {units}: the scene and its lengths scaled by {} to metres",
+            units.metres()
+        ));
+    }
     // The lens sweep's paths are chosen for a real lens (`auto` picks among those that trace
     // one).
     let base_value = match options.sweep {
@@ -119,7 +126,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
         let scene = match (group[0], base.take()) {
             (SweepValue::Triangles(n), _) => {
                 log(&format!("generating a scene of at least {n} triangles"));
-                scenes::dense(n)
+                scenes::dense(n, options.scene_units)
             }
             (_, Some(base)) => base,
             (_, None) => unreachable!("one group unless the sweep is of triangles"),
@@ -149,14 +156,19 @@ fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> 
     settings.image.sampler = options.sampler.or(settings.image.sampler);
     settings.image.seed = options.seed.or(settings.image.seed);
     settings.render.shading = Some(options.shading);
-    if let Some(radius) = options.aperture_radius {
+    // The options' lengths are in the scene's units, its settings already in metres.
+    let metres_per_unit = scene.description.units.metres();
+    if let Some(radius) = options.aperture_radius.map(|r| r * metres_per_unit) {
         // As `render --aperture-radius`: the radius replaces a physical lens's.
         settings.camera.aperture_radius = Some(radius);
         settings.camera.focal_length_mm = None;
         settings.camera.f_number = None;
         settings.camera.sensor_height_mm = None;
     }
-    settings.camera.focus_distance = options.focus_distance.or(settings.camera.focus_distance);
+    settings.camera.focus_distance = options
+        .focus_distance
+        .map(|d| d * metres_per_unit)
+        .or(settings.camera.focus_distance);
     settings.camera.f_number = options.f_number.or(settings.camera.f_number);
     if let SweepValue::Lens(lens) = value {
         // As `render --lens NAME`: the real lens replaces the scene's lens; the field of view

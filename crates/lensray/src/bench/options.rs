@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use crate::paths::{DeviceChoice, PathChoice};
 use lensray_core::sampler::SamplerKind;
+use lensray_core::scene::units::SceneUnits;
 use lensray_vulkan::GpuOptions;
 
 /// The named scenes a bench can use.
@@ -77,6 +78,9 @@ pub struct BenchOptions {
     pub scene: SceneChoice,
     /// Triangles of the dense scene.
     pub dense_triangles: usize,
+    /// The unit of length of the scene and of `aperture_radius` and `focus_distance` (the
+    /// scene file's when `None`, else metres).
+    pub scene_units: Option<SceneUnits>,
     /// Paths to compare, in this order; empty: every path the machine can run.
     pub paths: Vec<PathChoice>,
     pub device: DeviceChoice,
@@ -117,6 +121,7 @@ impl Default for BenchOptions {
         Self {
             scene: SceneChoice::Named(NamedScene::Default),
             dense_triangles: crate::cli::generate::DEFAULT_DENSE_TRIANGLES,
+            scene_units: None,
             paths: Vec::new(),
             device: DeviceChoice::Auto,
             gpu: GpuOptions::default(),

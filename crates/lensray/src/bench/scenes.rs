@@ -4,6 +4,7 @@ use anyhow::Result;
 
 use super::options::{NamedScene, SceneChoice};
 use lensray_core::scene::file::SceneDescription;
+use lensray_core::scene::units::SceneUnits;
 use lensray_core::scene::Scene;
 
 /// A scene ready to bench: its description, a short name and its fingerprint.
@@ -26,14 +27,23 @@ impl BenchScene {
     }
 }
 
-/// The scene `choice` names. Generated scenes are built in memory (no files written).
-pub fn load(choice: &SceneChoice, dense_triangles: usize) -> Result<BenchScene> {
+/// The scene `choice` names, its lengths in `units` (default: a scene file's own, else metres)
+/// scaled to metres. Generated scenes are built in memory (no files written).
+pub fn load(
+    choice: &SceneChoice,
+    dense_triangles: usize,
+    units: Option<SceneUnits>,
+) -> Result<BenchScene> {
     let (description, name) = match choice {
         SceneChoice::File(path) => (
-            lensray_core::scene::file::load(path)?,
+            lensray_core::scene::file::load_in(path, units)?,
             path.display().to_string(),
         ),
-        SceneChoice::Named(named) => (named_scene(*named, dense_triangles), named.name().into()),
+        SceneChoice::Named(named) => {
+            let mut description = named_scene(*named, dense_triangles);
+            description.set_units(units.unwrap_or_default());
+            (description, named.name().into())
+        }
     };
     Ok(BenchScene::new(description, name))
 }
@@ -46,12 +56,12 @@ fn named_scene(named: NamedScene, dense_triangles: usize) -> SceneDescription {
     }
 }
 
-/// The generated dense scene of at least `triangles` triangles (the triangle sweep's scenes).
-pub fn dense(triangles: usize) -> BenchScene {
-    BenchScene::new(
-        lensray_core::scene::generate::dense(triangles),
-        "generated dense".into(),
-    )
+/// The generated dense scene of at least `triangles` triangles (the triangle sweep's scenes),
+/// taken to be in `units`.
+pub fn dense(triangles: usize, units: Option<SceneUnits>) -> BenchScene {
+    let mut description = lensray_core::scene::generate::dense(triangles);
+    description.set_units(units.unwrap_or_default());
+    BenchScene::new(description, "generated dense".into())
 }
 
 /// A 64-bit FNV-1a-style hash over 32-bit words: stable across runs, platforms and Rust

@@ -11,6 +11,7 @@ use crate::paths::{DeviceChoice, PathChoice, PathOptions};
 use lensray_vulkan::GpuOptions;
 
 use lensray_core::sampler::SamplerKind;
+use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Shading;
 use lensray_core::settings::{
     ApertureSettings, CameraSettings, ImageSettings, LensSettings, LightSettings, ProjectionKind,
@@ -115,9 +116,13 @@ pub struct ViewArgs {
     #[arg(long, value_name = "ANGLE", num_args = 0..=1,
           default_missing_value = DEFAULT_CREASE, value_parser = parse_crease)]
     pub smooth_normals: Option<f64>,
+    /// The unit of length of the scene's files and of the world lengths below (eye, target,
+    /// focus distance, ...): m, cm, mm or in [default: the scene file's `units`, else m].
+    #[arg(long, value_name = "UNITS", value_parser = SceneUnits::parse)]
+    pub scene_units: Option<SceneUnits>,
     #[arg(long, value_enum)]
     pub projection: Option<ProjectionKind>,
-    /// Camera position, world units.
+    /// Camera position, in the scene's units (as every world length below; lens data is in mm).
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub eye: Option<[f64; 3]>,
     /// Point the camera looks at.
@@ -134,10 +139,10 @@ pub struct ViewArgs {
         conflicts_with = "ortho_height"
     )]
     pub vfov: Option<f64>,
-    /// View height in world units (orthographic).
+    /// View height (orthographic).
     #[arg(long, value_name = "H", allow_hyphen_values = true)]
     pub ortho_height: Option<f64>,
-    /// Lens aperture radius, world units (0 = pinhole).
+    /// Lens aperture radius (0 = pinhole).
     #[arg(
         long,
         value_name = "R",
@@ -145,7 +150,7 @@ pub struct ViewArgs {
         conflicts_with = "focal_length_mm"
     )]
     pub aperture_radius: Option<f64>,
-    /// Distance of the focal plane along the view axis, world units.
+    /// Distance of the focal plane along the view axis.
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub focus_distance: Option<f64>,
     /// Blades of the iris, 3 to 32 (absent: a round aperture); its vertices lie on the
@@ -165,7 +170,7 @@ pub struct ViewArgs {
     /// square around the aperture circle, its top row at the top; instead of blades.
     #[arg(long, value_name = "FILE")]
     pub aperture_image: Option<std::path::PathBuf>,
-    /// Focal length in mm (physical units; world units are metres).
+    /// Focal length in mm (physical units: the scene's are converted to metres).
     #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub focal_length_mm: Option<f64>,
     /// A real lens traced surface by surface: a built-in name (see `lensray lens --help`)

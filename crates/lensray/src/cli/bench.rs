@@ -13,6 +13,7 @@ use crate::bench::options::{
 use crate::output::PendingFile;
 use crate::paths::PathChoice;
 use lensray_core::sampler::SamplerKind;
+use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Shading;
 
 #[derive(Args, Debug)]
@@ -37,6 +38,10 @@ pub struct BenchArgs {
     /// ...or a scene file / mesh.
     #[arg(long, value_name = "FILE")]
     pub scene_file: Option<PathBuf>,
+    /// The unit of length of the scene and of --aperture-radius and --focus-distance: m, cm,
+    /// mm or in [default: the scene file's `units`, else m].
+    #[arg(long, value_name = "UNITS", value_parser = SceneUnits::parse)]
+    pub scene_units: Option<SceneUnits>,
     /// Triangles of `--scene dense`.
     #[arg(long, value_name = "N", default_value_t = crate::cli::generate::DEFAULT_DENSE_TRIANGLES)]
     pub dense_triangles: usize,
@@ -49,10 +54,10 @@ pub struct BenchArgs {
     pub spp: u32,
     #[arg(long, value_enum, default_value_t = Shading::Unlit)]
     pub shading: Shading,
-    /// Lens aperture radius, world units (0 = pinhole) [default: the scene's].
+    /// Lens aperture radius, in the scene's units (0 = pinhole) [default: the scene's].
     #[arg(long, value_name = "R")]
     pub aperture_radius: Option<f64>,
-    /// Distance to the plane in focus, world units [default: the scene's].
+    /// Distance to the plane in focus, in the scene's units [default: the scene's].
     #[arg(long, value_name = "D")]
     pub focus_distance: Option<f64>,
     /// f-number: of `--sweep lens`'s real lenses (stop closed until the entrance pupil gives
@@ -97,8 +102,8 @@ pub struct BenchArgs {
     pub plot: Option<Box<Path>>,
 }
 
-/// A path held in a box: the output files' (keeps `Command::Bench` within clippy's size
-/// bound on an enum's variants).
+/// A path held in a box: the output files' (keeps `BenchArgs` small, as `Command` holds
+/// the arguments of each subcommand).
 fn boxed_path() -> impl clap::builder::TypedValueParser<Value = Box<Path>> {
     use clap::builder::TypedValueParser;
     clap::builder::PathBufValueParser::new().map(PathBuf::into_boxed_path)
@@ -119,6 +124,7 @@ impl BenchArgs {
                 (None, scene) => SceneChoice::Named(scene.unwrap_or(NamedScene::Default)),
             },
             dense_triangles: self.dense_triangles,
+            scene_units: self.scene_units,
             paths: self.paths.clone(),
             device: self.device.device,
             gpu: self.device.gpu_options(),

@@ -50,7 +50,7 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
     };
     let choice = crate::paths::preview_options(&args.path.options())?;
     let description = load_scene(&args.view)?;
-    let settings = merged_settings(&description.settings, &args.view);
+    let settings = merged_settings(&description.settings, description.units, &args.view);
     let rig = CameraRig::new(settings, &description.scene)
         .with_context(|| format!("scene {}", description.source))?;
     let config = PreviewConfig {

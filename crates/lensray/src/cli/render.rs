@@ -13,6 +13,7 @@ use crate::paths::RenderPath;
 use crate::paths::{self, OpenedPath};
 use lensray_core::camera::Camera;
 use lensray_core::scene::file::SceneDescription;
+use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Settings;
 use lensray_core::settings::{shot, Shot};
 
@@ -36,15 +37,26 @@ pub struct RenderArgs {
 }
 
 /// The scene the options name (with the camera `--camera` picks), or the built-in default
-/// scene. What the loader ignored or repaired is printed, a warning a line, and so is the
-/// file's camera in use.
+/// scene, in metres. What the loader ignored or repaired is printed, a warning a line, and so
+/// are the scale from the scene's units and the file's camera in use.
 pub fn load_scene(view: &ViewArgs) -> Result<SceneDescription> {
     let mut description = match &view.scene {
-        Some(path) => lensray_core::scene::file::load(path)?,
-        None => lensray_core::scene::builtin::default_scene(),
+        Some(path) => lensray_core::scene::file::load_in(path, view.scene_units)?,
+        None => {
+            let mut description = lensray_core::scene::builtin::default_scene();
+            description.set_units(view.scene_units.unwrap_or_default());
+            description
+        }
     };
     for notice in &description.notices {
         eprintln!("warning: {notice}");
+    }
+    let units = description.units;
+    if units != SceneUnits::M {
+        eprintln!(
+            "scene units: {units}: the scene and its lengths scaled by {} to metres",
+            units.metres()
+        );
     }
     if let Some(crease) = view.smooth_normals {
         let meshes = description.scene.smooth_normals(crease);
@@ -61,10 +73,11 @@ pub fn load_scene(view: &ViewArgs) -> Result<SceneDescription> {
     Ok(description)
 }
 
-/// The scene file's settings with the command line's on top. Lens options replace the file's
-/// lens as a group, so a file's aperture radius does not clash with a command-line focal length.
-pub fn merged_settings(file: &Settings, view: &ViewArgs) -> Settings {
-    let over = view.to_settings();
+/// The scene file's settings (in metres) with the command line's on top, its world lengths
+/// given in the scene's `units`. Lens options replace the file's lens as a group, so a file's
+/// aperture radius does not clash with a command-line focal length.
+pub fn merged_settings(file: &Settings, units: SceneUnits, view: &ViewArgs) -> Settings {
+    let over = view.to_settings().scaled(units.metres());
     let mut base = file.clone();
     if over.camera.focal_length_mm.is_some() {
         base.camera.aperture_radius = None;
@@ -94,7 +107,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // Fail on a bad output path before spending time on the render.
     let output = PendingOutput::create(&args.out)?;
     let description = load_scene(&args.view)?;
-    let mut settings = merged_settings(&description.settings, &args.view);
+    let mut settings = merged_settings(&description.settings, description.units, &args.view);
     let context = || format!("scene {}", description.source);
     let mut resolved = shot(&settings, &description.scene).with_context(context)?;
 
@@ -104,8 +117,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let focus = focus_depth_at(path.as_mut(), &resolved.camera, pixel)?;
         settings.camera.focus_distance = Some(focus as f64);
         resolved = shot(&settings, &description.scene).with_context(context)?;
+        // lensray's lengths are metres: a scene in other units says so.
+        let unit = match description.units {
+            SceneUnits::M => "",
+            _ => " m",
+        };
         eprintln!(
-            "autofocus: pixel {},{} is {focus:.4} away along the view axis",
+            "autofocus: pixel {},{} is {focus:.4}{unit} away along the view axis",
             pixel[0], pixel[1]
         );
     }

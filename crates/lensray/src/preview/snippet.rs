@@ -2,7 +2,9 @@
 //! scene-file tables (`[camera]`, `[image]`, `[render]`, `[light]`) and the equivalent
 //! `lensray render` command. Every value is explicit, including what `settings::shot` derived
 //! (near, far, the light), so later changes to defaults cannot change the shot; numbers are
-//! printed in Rust's shortest round-trip form, so they read back to the same bits.
+//! printed in Rust's shortest round-trip form, so they read back to the same bits. A scene in
+//! units other than metres gets its lengths in those units, as its files and command line give
+//! them (reading back to the same camera to within rounding).
 
 use std::fmt::Write;
 use std::path::Path;
@@ -11,6 +13,7 @@ use clap::ValueEnum;
 use glam::Vec3;
 
 use lensray_core::camera::Projection;
+use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::{
     CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
 };
@@ -37,13 +40,26 @@ impl std::fmt::Display for CameraSnippet {
     }
 }
 
-/// The snippet of the camera `settings` resolved to (`resolved` is what `shot(settings)`
-/// returned). The command names `--scene` only when `scene` is given.
-pub fn camera_snippet(settings: &Settings, resolved: &Shot, scene: Option<&Path>) -> CameraSnippet {
-    let explicit = explicit_settings(settings, resolved);
+/// The snippet of the camera `settings` (in metres) resolved to (`resolved` is what
+/// `shot(settings)` returned), its lengths in the scene's `units`. The command names `--scene`
+/// only when `scene` is given, and `--scene-units` when the units are not metres.
+pub fn camera_snippet(
+    settings: &Settings,
+    resolved: &Shot,
+    scene: Option<&Path>,
+    units: SceneUnits,
+) -> CameraSnippet {
+    let mut explicit = explicit_settings(settings, resolved);
+    let mut toml = String::new();
+    if units != SceneUnits::M {
+        explicit = explicit.scaled(1.0 / units.metres());
+        // The tables belong in a file that gives its units (a top-level key, above them).
+        toml = format!("# lengths in {units}: for a scene file with units = \"{units}\"\n");
+    }
+    toml += &toml::to_string(&explicit).expect("settings serialize to TOML");
     CameraSnippet {
-        toml: toml::to_string(&explicit).expect("settings serialize to TOML"),
-        command: render_command(&explicit, scene),
+        toml,
+        command: render_command(&explicit, scene, units),
     }
 }
 
@@ -165,8 +181,9 @@ pub fn shell_word(text: &str) -> String {
     }
 }
 
-/// The `lensray render` options (`cli::args::ViewArgs`) for every value `settings` sets.
-pub fn render_command(settings: &Settings, scene: Option<&Path>) -> String {
+/// The `lensray render` options (`cli::args::ViewArgs`) for every value `settings` sets, with
+/// `--scene-units` for units other than metres.
+pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUnits) -> String {
     let mut line = String::from("lensray render");
     let mut option = |name: &str, value: Option<String>| {
         if let Some(value) = value {
@@ -174,6 +191,10 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>) -> String {
         }
     };
     option("scene", scene.map(|p| shell_word(&p.display().to_string())));
+    option(
+        "scene-units",
+        (units != SceneUnits::M).then(|| units.to_string()),
+    );
     let (c, i, r, l) = (
         &settings.camera,
         &settings.image,

@@ -97,6 +97,7 @@ impl App {
             self.config.rig.settings(),
             &resolved,
             self.config.scene_path.as_deref(),
+            self.config.description.units,
         );
         println!("{snippet}");
         Ok(())

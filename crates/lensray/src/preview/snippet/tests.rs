@@ -66,7 +66,8 @@ fn args_from_command(command: &str, file: &Settings) -> (Settings, Option<PathBu
     let Command::Render(args) = Cli::try_parse_from(words)
         .unwrap_or_else(|e| panic!("{e}\n{command}"))
         .command;
-    (merged_settings(file, &args.view), args.view.scene)
+    let units = args.view.scene_units.unwrap_or_default();
+    (merged_settings(file, units, &args.view), args.view.scene)
 }
 
 /// The shot `settings` resolve to on `scene` (a panic naming them where they do not).
@@ -78,7 +79,7 @@ fn resolved_shot(settings: &Settings, scene: &Scene) -> Shot {
 fn assert_round_trip(rig: &CameraRig, file: &Settings) {
     let scene = unit_cube();
     let original = rig.shot(&scene).unwrap();
-    let snippet = camera_snippet(rig.settings(), &original, None);
+    let snippet = camera_snippet(rig.settings(), &original, None, SceneUnits::M);
     let explicit = explicit_settings(rig.settings(), &original);
 
     let from_toml = settings_from_toml(&snippet.toml);
@@ -158,6 +159,7 @@ fn every_value_is_written() {
         rig.settings(),
         &resolved,
         Some(Path::new("scenes/cube.toml")),
+        SceneUnits::M,
     );
     for key in [
         "[camera]",
@@ -224,6 +226,54 @@ fn derived_light_is_the_resolved_one() {
     assert_eq!(explicit.image.width, Some(160));
 }
 
+/// In a scene of millimetres the printout's lengths are millimetres, the file's units and
+/// `--scene-units mm` say so, and both read back to the same camera to within rounding.
+#[test]
+fn millimetre_scene_prints_millimetres() {
+    let file = file_settings();
+    let mut rig = CameraRig::new(file.clone(), &unit_cube()).unwrap();
+    rig.set_focal_length_mm(50.0);
+    rig.orbit(12.0, 4.0);
+    let original = rig.shot(&unit_cube()).unwrap();
+    let snippet = camera_snippet(rig.settings(), &original, None, SceneUnits::Mm);
+    assert!(
+        snippet.toml.starts_with("# lengths in mm"),
+        "{}",
+        snippet.toml
+    );
+    assert!(
+        snippet.toml.contains("focal_length_mm = 50.0"),
+        "{}",
+        snippet.toml
+    );
+    assert!(
+        snippet
+            .command
+            .starts_with("lensray render --scene-units mm "),
+        "{}",
+        snippet.command
+    );
+    let from_toml = settings_from_toml(&snippet.toml);
+    let focus = from_toml.camera.focus_distance.unwrap();
+    let metres = f64::from(original.camera.lens.first_order().focus_distance);
+    assert!((focus - 1000.0 * metres).abs() < 1e-6 * focus, "{focus} mm");
+    let (from_command, _) = args_from_command(&snippet.command, &file);
+    for settings in [from_toml.scaled(0.001), from_command] {
+        let got = resolved_shot(&settings, &unit_cube()).camera;
+        let want = &original.camera;
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * b.abs().max(1.0);
+        assert!(
+            (got.frame.eye - want.frame.eye).length() < 1e-5,
+            "{settings:?}"
+        );
+        assert!((got.frame.forward - want.frame.forward).length() < 1e-5);
+        assert!(close(got.near, want.near) && close(got.far, want.far));
+        let (g, w) = (got.lens.first_order(), want.lens.first_order());
+        assert!(close(g.focus_distance, w.focus_distance));
+        assert!(close(g.aperture_radius, w.aperture_radius));
+    }
+}
+
 #[test]
 fn shell_words() {
     assert_eq!(shell_word("scenes/a-b_c.toml"), "scenes/a-b_c.toml");
@@ -248,7 +298,7 @@ fn real_lens_camera_reads_back_exactly() {
     rig.set_sensor_height_mm(15.6);
     assert_round_trip(&rig, &file);
     let resolved = rig.shot(&unit_cube()).unwrap();
-    let snippet = camera_snippet(rig.settings(), &resolved, None);
+    let snippet = camera_snippet(rig.settings(), &resolved, None, SceneUnits::M);
     let f_number = rig.readout().f_number.unwrap();
     for key in [
         "[camera.lens]\nprescription = \"double-gauss-50\"".to_owned(),
