@@ -66,7 +66,9 @@ fn point_scene(z: f32, radius: f32) -> Scene {
             name: "white".into(),
             diffuse: Vec3::ONE,
             emission: Vec3::ZERO,
+            ..Default::default()
         }],
+        ..Default::default()
     }
 }
 

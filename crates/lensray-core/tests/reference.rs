@@ -37,6 +37,7 @@ fn quad(x0: f32, x1: f32, y0: f32, y1: f32, z: f32, material: u32) -> Mesh {
         normals: vec![],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
         material_ids: vec![material; 2],
+        ..Default::default()
     }
 }
 
@@ -45,6 +46,7 @@ fn material(name: &str, diffuse: Vec3, emission: Vec3) -> Material {
         name: name.into(),
         diffuse,
         emission,
+        ..Default::default()
     }
 }
 

@@ -5,14 +5,19 @@
 use bytemuck::Zeroable;
 use glam::Mat4;
 
+use lensray_core::camera::Footprint;
 use lensray_core::camera::{Camera, Projection};
 use lensray_core::interface::{
-    GpuCamera, GpuLens, GpuMaterial, RasterPush, ResolvePush, TraceParams, ViewParams,
-    APERTURE_MAX_FAN, LENS_MAX_SURFACES, LENS_PUPIL_BINS, PROJECTION_ORTHOGRAPHIC,
-    PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TRI_HAS_NORMALS,
+    GpuCamera, GpuFootprint, GpuLens, GpuMaterial, GpuTexture, GpuTextureRef, RasterPush,
+    ResolvePush, TraceParams, ViewParams, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, APERTURE_MAX_FAN,
+    LENS_MAX_SURFACES, LENS_PUPIL_BINS, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE,
+    SHADING_LIT, SHADING_UNLIT, TEXTURE_NONE, TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE,
+    WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
 use lensray_core::scene::order::morton_order;
+use lensray_core::scene::texture::{Encoding, Wrap, MAX_LEVELS};
 use lensray_core::scene::Scene;
+use lensray_core::scene::{AlphaMode, Material, Texture, TextureRef};
 use lensray_core::settings::{Shading, Shot};
 
 use crate::core::error::GpuError;
@@ -22,6 +27,8 @@ use crate::core::error::GpuError;
 pub(crate) struct MeshRange {
     pub first_triangle: u32,
     pub triangle_count: u32,
+    /// No triangle's material is alpha-tested: ray queries may skip the test.
+    pub opaque: bool,
 }
 
 /// Every mesh concatenated, its triangles in Morton order (`scene::order`): one vertex array (vec4 positions and normals, std430 friendly),
@@ -30,9 +37,14 @@ pub(crate) struct MeshRange {
 pub(crate) struct FlatScene {
     pub positions: Vec<[f32; 4]>,
     pub normals: Vec<[f32; 4]>,
+    /// Per vertex; (0, 0) for meshes without texture coordinates.
+    pub texcoords: Vec<[f32; 2]>,
     pub indices: Vec<u32>,
     pub tri_info: Vec<u32>,
     pub materials: Vec<GpuMaterial>,
+    pub textures: Vec<GpuTexture>,
+    /// Every texture's texels, every level.
+    pub texels: Vec<u32>,
     pub meshes: Vec<MeshRange>,
 }
 
@@ -50,19 +62,21 @@ impl FlatScene {
         // Indices, material ids and normals in range, positions finite.
         scene.validate().map_err(GpuError::Invalid)?;
         let mut flat = FlatScene {
-            materials: scene
-                .materials
-                .iter()
-                .map(|m| GpuMaterial {
-                    diffuse: m.diffuse.extend(0.0).to_array(),
-                    emission: m.emission.extend(0.0).to_array(),
-                })
-                .collect(),
+            materials: scene.materials.iter().map(gpu_material).collect(),
             ..Default::default()
         };
         if flat.materials.is_empty() {
-            // Shaders index a non-empty array; no triangle may refer to it (checked below).
+            // Shaders index a non-empty array; no triangle may refer to it (checked above).
             flat.materials.push(GpuMaterial::zeroed());
+        }
+        for texture in &scene.textures {
+            flat.textures.push(gpu_texture(texture, flat.texels.len())?);
+            flat.texels.extend_from_slice(&texture.texels);
+        }
+        if flat.textures.is_empty() {
+            // Shaders index non-empty arrays; no material refers to these.
+            flat.textures.push(GpuTexture::zeroed());
+            flat.texels.push(0);
         }
         for mesh in &scene.meshes {
             let has_normals = !mesh.normals.is_empty();
@@ -70,9 +84,20 @@ impl FlatScene {
             flat.meshes.push(MeshRange {
                 first_triangle: flat.tri_info.len() as u32,
                 triangle_count: mesh.triangles.len() as u32,
+                opaque: mesh
+                    .material_ids
+                    .iter()
+                    .all(|&m| !scene.materials[m as usize].is_alpha_tested()),
             });
             flat.positions
                 .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
+            if mesh.texcoords.is_empty() {
+                flat.texcoords
+                    .extend(std::iter::repeat_n([0.0; 2], mesh.positions.len()));
+            } else {
+                flat.texcoords
+                    .extend(mesh.texcoords.iter().map(|t| t.to_array()));
+            }
             if has_normals {
                 flat.normals
                     .extend(mesh.normals.iter().map(|n| n.extend(0.0).to_array()));
@@ -95,6 +120,72 @@ impl FlatScene {
     pub(crate) fn triangle_count(&self) -> u32 {
         self.tri_info.len() as u32
     }
+}
+
+/// A material as the shaders read it.
+fn gpu_material(m: &Material) -> GpuMaterial {
+    let (alpha_mode, cutoff) = match m.alpha_mode {
+        AlphaMode::Opaque => (ALPHA_OPAQUE, 0.0),
+        AlphaMode::Mask { cutoff } => (ALPHA_MASK, cutoff),
+        AlphaMode::Blend => (ALPHA_BLEND, 0.0),
+    };
+    GpuMaterial {
+        diffuse: m.diffuse.extend(m.alpha).to_array(),
+        emission: m.emission.extend(cutoff).to_array(),
+        diffuse_texture: gpu_texture_ref(m.diffuse_texture.as_ref()),
+        emission_texture: gpu_texture_ref(m.emission_texture.as_ref()),
+        alpha_texture: gpu_texture_ref(m.alpha_texture.as_ref()),
+        alpha_mode,
+        pad0: 0,
+        pad1: 0,
+        pad2: 0,
+    }
+}
+
+fn gpu_texture_ref(texture_ref: Option<&TextureRef>) -> GpuTextureRef {
+    let Some(r) = texture_ref else {
+        return GpuTextureRef {
+            texture: TEXTURE_NONE,
+            ..GpuTextureRef::zeroed()
+        };
+    };
+    let wrap = |w: Wrap| match w {
+        Wrap::Repeat => WRAP_REPEAT,
+        Wrap::ClampToEdge => WRAP_CLAMP_TO_EDGE,
+        Wrap::MirroredRepeat => WRAP_MIRRORED_REPEAT,
+    };
+    let (m, t) = (r.uv_from_texcoord.matrix2, r.uv_from_texcoord.translation);
+    GpuTextureRef {
+        transform_u: [m.x_axis.x, m.y_axis.x, t.x, 0.0],
+        transform_v: [m.x_axis.y, m.y_axis.y, t.y, 0.0],
+        texture: r.texture,
+        wrap_u: wrap(r.wrap[0]),
+        wrap_v: wrap(r.wrap[1]),
+        pad: 0,
+    }
+}
+
+/// A texture's table entry, its texels starting at `first_texel` of the texel buffer.
+fn gpu_texture(texture: &Texture, first_texel: usize) -> Result<GpuTexture, GpuError> {
+    let levels = texture.levels.len();
+    let end = first_texel + texture.texels.len();
+    if levels > MAX_LEVELS || u32::try_from(end).is_err() {
+        return Err(GpuError::Invalid(format!(
+            "texture {} does not fit the GPU's texture table ({levels} levels, texels up to {end})",
+            texture.name
+        )));
+    }
+    let mut level_first = [[0; 4]; 4];
+    for (i, level) in texture.levels.iter().enumerate() {
+        level_first[i / 4][i % 4] = first_texel as u32 + level.first;
+    }
+    Ok(GpuTexture {
+        level_first,
+        width: texture.levels[0].width,
+        height: texture.levels[0].height,
+        levels: levels as u32,
+        srgb: u32::from(texture.encoding == Encoding::Srgb),
+    })
 }
 
 /// `Camera.projection` / `ViewParams.projection` of the shaders.
@@ -213,6 +304,19 @@ pub(crate) fn trace_params(shot: &Shot) -> TraceParams {
         shared_samples: u32::from(settings.shared_samples),
         pad1: 0,
         pad2: 0,
+        footprint: gpu_footprint(&camera.footprint()),
+    }
+}
+
+fn gpu_footprint(f: &Footprint) -> GpuFootprint {
+    GpuFootprint {
+        eye: f
+            .eye
+            .extend(if f.orthographic { 1.0 } else { 0.0 })
+            .to_array(),
+        forward: f.forward.extend(0.0).to_array(),
+        pixel_dx: f.pixel_dx.extend(0.0).to_array(),
+        pixel_dy: f.pixel_dy.extend(0.0).to_array(),
     }
 }
 

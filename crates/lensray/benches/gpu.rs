@@ -33,6 +33,7 @@ fn scene(n: u32, rings: u32) -> Scene {
         normals: vec![],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
         material_ids: vec![0; 2],
+        ..Default::default()
     }];
     for i in 0..n * n {
         let (x, z) = ((i % n) as f32, (i / n) as f32);
@@ -47,6 +48,7 @@ fn scene(n: u32, rings: u32) -> Scene {
         name: name.into(),
         diffuse,
         emission: Vec3::ZERO,
+        ..Default::default()
     };
     Scene {
         meshes,
@@ -56,6 +58,7 @@ fn scene(n: u32, rings: u32) -> Scene {
             material("green", Vec3::new(0.2, 0.8, 0.1)),
             material("blue", Vec3::new(0.1, 0.2, 0.8)),
         ],
+        ..Default::default()
     }
 }
 

@@ -38,6 +38,7 @@ fn rectangle(x: f32, y: f32, z: f32, w: f32, h: f32, degrees: f32, material: u32
         normals: vec![],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
         material_ids: vec![material; 2],
+        ..Default::default()
     }
 }
 
@@ -46,6 +47,7 @@ fn material(diffuse: Vec3) -> Material {
         name: "m".into(),
         diffuse,
         emission: Vec3::ZERO,
+        ..Default::default()
     }
 }
 
@@ -70,6 +72,7 @@ fn scene() -> Scene {
             material(Vec3::new(0.1, 0.5, 0.9)),
             material(Vec3::new(0.2, 0.8, 0.3)),
         ],
+        ..Default::default()
     }
 }
 

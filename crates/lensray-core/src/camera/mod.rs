@@ -43,6 +43,7 @@
 //! - [`params`]: what a user gives, validated.
 
 pub mod aperture;
+pub mod footprint;
 pub mod lens;
 pub mod look_at;
 pub mod params;
@@ -55,6 +56,7 @@ pub mod real_lens;
 pub mod thin_lens;
 
 pub use aperture::{Aperture, ApertureShape};
+pub use footprint::Footprint;
 pub use lens::Lens;
 pub use params::{CameraError, CameraParams, LensParams, ProjectionParams};
 pub use projection::Projection;

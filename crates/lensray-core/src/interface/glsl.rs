@@ -93,10 +93,10 @@ macro_rules! glsl_vec4 {
 glsl_vec4!([f32; 4], "vec4", Float);
 glsl_vec4!([u32; 4], "uvec4", Uint);
 
-/// An array of vec4 (GLSL's `vec4[N] name;`): 16-byte stride under both layouts.
+/// An array of vec4 or uvec4 (GLSL's `vec4[N] name;`): 16-byte stride under both layouts.
 macro_rules! glsl_vec4_array {
-    ($n:literal, $glsl:literal) => {
-        impl GlslType for [[f32; 4]; $n] {
+    ($element:ty, $n:literal, $glsl:literal) => {
+        impl GlslType for [$element; $n] {
             const GLSL: &'static str = $glsl;
             fn align(_: Layout) -> usize {
                 16
@@ -106,15 +106,16 @@ macro_rules! glsl_vec4_array {
             }
             fn scalars(path: &str, offset: usize, out: &mut Vec<Scalar>) {
                 for i in 0..$n {
-                    <[f32; 4]>::scalars(&format!("{path}[{i}]"), offset + 16 * i, out);
+                    <$element>::scalars(&format!("{path}[{i}]"), offset + 16 * i, out);
                 }
             }
         }
     };
 }
 
-glsl_vec4_array!(32, "vec4[32]");
-glsl_vec4_array!(64, "vec4[64]");
+glsl_vec4_array!([f32; 4], 32, "vec4[32]");
+glsl_vec4_array!([f32; 4], 64, "vec4[64]");
+glsl_vec4_array!([u32; 4], 4, "uvec4[4]");
 
 /// mat4, column-major on both sides (glam's `to_cols_array`): four vec4 columns.
 impl GlslType for [f32; 16] {

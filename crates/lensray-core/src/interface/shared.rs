@@ -62,6 +62,29 @@ shader_interface! {
         SCENE_BINDING_INDICES: u32 = 2;
         SCENE_BINDING_TRI_INFO: u32 = 3;
         SCENE_BINDING_MATERIALS: u32 = 4;
+        /// Scene textures (shaders/include/texture.glsl), in the scene's set: per vertex its
+        /// texture coordinates (vec2), the textures (`Texture`), every texture's texels (RGBA8
+        /// in a uint, every mip level).
+        SCENE_BINDING_TEXCOORDS: u32 = 16;
+        SCENE_BINDING_TEXTURES: u32 = 17;
+        SCENE_BINDING_TEXELS: u32 = 18;
+        /// `TextureRef.wrap_u` / `wrap_v` (`scene::texture::Wrap`).
+        WRAP_REPEAT: u32 = 0;
+        WRAP_CLAMP_TO_EDGE: u32 = 1;
+        WRAP_MIRRORED_REPEAT: u32 = 2;
+        /// `TextureRef.texture` of a material slot without a texture.
+        TEXTURE_NONE: u32 = 0xffff_ffff;
+        /// `Material.alpha_mode` (`scene::AlphaMode`).
+        ALPHA_OPAQUE: u32 = 0;
+        ALPHA_MASK: u32 = 1;
+        ALPHA_BLEND: u32 = 2;
+        /// Salts of the keys of a sample's camera ray and shadow ray, whose hash with a triangle
+        /// draws whether the ray stops at a BLEND surface (`scene::blend_threshold`).
+        BLEND_CAMERA_SALT: u32 = 0x626c_6e64;
+        BLEND_SHADOW_SALT: u32 = 0x7368_6477;
+        /// The aperture-centre ray of the AOVs and G-buffer draws nothing: a BLEND surface
+        /// stops it where its alpha exceeds this.
+        AOV_BLEND_THRESHOLD: f32 = 0.5;
         /// trace.comp: after the scene arrays.
         TRACE_BINDING_TLAS: u32 = 5;
         TRACE_BINDING_ACCUM: u32 = 6;
@@ -200,6 +223,17 @@ shader_interface! {
             /// The fan's vertices (unit circumscribed radius), two per vec4: (x0, y0, x1, y1).
             aperture_fan: [[f32; 4]; 32],
         }
+        /// Where the pinhole ray through a pixel and its neighbours run (camera/footprint.rs).
+        Std140 struct GpuFootprint as Footprint {
+            /// The eye; w: 1 orthographic, 0 perspective.
+            eye: [f32; 4],
+            /// The view axis.
+            forward: [f32; 4],
+            /// One pixel step along raster x and y: on the plane at unit depth (perspective) or
+            /// across the parallel rays (orthographic), world space.
+            pixel_dx: [f32; 4],
+            pixel_dy: [f32; 4],
+        }
         /// The uniform block of trace.comp.
         Std140 struct TraceParams as TraceParams {
             camera: GpuCamera,
@@ -219,6 +253,8 @@ shader_interface! {
             shared_samples: u32,
             pad1: u32,
             pad2: u32,
+            /// The pinhole's pixel footprint (`Camera::footprint`), for texture filtering.
+            footprint: GpuFootprint,
         }
         /// Push constants of one trace.comp dispatch: the blocks of TRACE_GROUP_SIZE rows
         /// block_first + i * block_stride (i < block_count) of the band of band_height rows from
@@ -240,6 +276,14 @@ shader_interface! {
         Std430 struct VisibilityPush as VisibilityPush {
             /// `Camera::clip_from_world_through_lens` of the pass's camera sample.
             clip_from_world: [f32; 16],
+            /// What the keys of the sample's camera rays are made of (`scene::ray_key`), for
+            /// BLEND surfaces: the seed, the image width and the sample.
+            seed: u32,
+            width: u32,
+            sample_index: u32,
+            /// 1: the pass draws the aperture-centre rays, which cut BLEND surfaces at
+            /// AOV_BLEND_THRESHOLD instead.
+            aperture_centre: u32,
         }
         /// Push constants of the G-buffer pass.
         Std430 struct RasterPush as RasterPush {
@@ -385,12 +429,42 @@ shader_interface! {
             pupil_inner: [[f32; 4]; 64],
             pupil_outer: [[f32; 4]; 64],
         }
-        /// A material of the scene's storage buffer.
+        /// A texture of the scene (scene::texture): its levels, size and encoding.
+        Std430 struct GpuTexture as Texture {
+            /// Each level's first texel in the texel buffer, four per uvec4.
+            level_first: [[u32; 4]; 4],
+            width: u32,
+            height: u32,
+            levels: u32,
+            /// 1: RGB is sRGB-encoded; 0: linear.
+            srgb: u32,
+        }
+        /// A material's texture slot (`scene::TextureRef`).
+        Std430 struct GpuTextureRef as TextureRef {
+            /// uv = (dot(transform_u.xy, texcoord) + transform_u.z, the same with transform_v).
+            transform_u: [f32; 4],
+            transform_v: [f32; 4],
+            /// TEXTURE_NONE: no texture.
+            texture: u32,
+            /// WRAP_*
+            wrap_u: u32,
+            wrap_v: u32,
+            pad: u32,
+        }
+        /// A material of the scene's storage buffer (`scene::Material`).
         Std430 struct GpuMaterial as Material {
-            /// Kd
+            /// Kd; w: alpha
             diffuse: [f32; 4],
-            /// Ke
+            /// Ke; w: the alpha cutoff of ALPHA_MASK
             emission: [f32; 4],
+            diffuse_texture: GpuTextureRef,
+            emission_texture: GpuTextureRef,
+            alpha_texture: GpuTextureRef,
+            /// ALPHA_*
+            alpha_mode: u32,
+            pad0: u32,
+            pad1: u32,
+            pad2: u32,
         }
         /// An inner node of the software traversal's BVH (lensray-vulkan/src/scene/bvh.rs): the boxes of both
         /// children, so one node fetch tests two boxes (Aila and Laine's layout). A child is

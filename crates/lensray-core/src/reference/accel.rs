@@ -116,11 +116,24 @@ impl Accel {
         t_min: f32,
         t_max: f32,
     ) -> Option<Hit> {
+        self.closest_hit_where(origin, direction, t_min, t_max, &|_, _| true)
+    }
+
+    /// Closest hit with t in (t_min, t_max) among those `stops(slot, barycentric)` accepts (the
+    /// alpha test: rays pass through where a mask has no surface).
+    pub fn closest_hit_where(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+        stops: &impl Fn(u32, Vec2) -> bool,
+    ) -> Option<Hit> {
         let watertight = WatertightRay::new(origin, direction);
         let ray = bvh_ray(origin, direction, t_min, t_max);
         // One traversal per axis permutation, so the leaf test has no run-time indexing.
         let (slot, t, barycentric) = crate::with_axes!(watertight.axes(), |KX, KY, KZ| self
-            .closest_hit_axes::<KX, KY, KZ>(&watertight, ray))?;
+            .closest_hit_axes::<KX, KY, KZ>(&watertight, ray, stops))?;
         Some(Hit {
             t,
             slot,
@@ -136,6 +149,7 @@ impl Accel {
         &self,
         watertight: &WatertightRay,
         mut ray: BvhRay,
+        stops: &impl Fn(u32, Vec2) -> bool,
     ) -> Option<(u32, f32, Vec2)> {
         let mut state = self.bvh.new_traversal(ray.direction);
         let mut node;
@@ -152,8 +166,10 @@ impl Accel {
                     ray.tmin,
                     ray.tmax,
                 ) {
-                    ray.tmax = t;
-                    best = Some((slot, t, b));
+                    if stops(slot, b) {
+                        ray.tmax = t;
+                        best = Some((slot, t, b));
+                    }
                 }
             }
         );
@@ -162,10 +178,23 @@ impl Accel {
 
     /// Whether anything lies on the ray with t in (t_min, t_max): the shadow test.
     pub fn occluded(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> bool {
+        self.occluded_where(origin, direction, t_min, t_max, &|_, _| true)
+    }
+
+    /// Whether a hit that `stops(slot, barycentric)` accepts lies on the ray with t in
+    /// (t_min, t_max).
+    pub fn occluded_where(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+        stops: &impl Fn(u32, Vec2) -> bool,
+    ) -> bool {
         let watertight = WatertightRay::new(origin, direction);
         let ray = bvh_ray(origin, direction, t_min, t_max);
         crate::with_axes!(watertight.axes(), |KX, KY, KZ| self
-            .occluded_axes::<KX, KY, KZ>(&watertight, ray))
+            .occluded_axes::<KX, KY, KZ>(&watertight, ray, stops))
     }
 
     #[inline(always)]
@@ -173,6 +202,7 @@ impl Accel {
         &self,
         watertight: &WatertightRay,
         ray: BvhRay,
+        stops: &impl Fn(u32, Vec2) -> bool,
     ) -> bool {
         let mut state = self.bvh.new_traversal(ray.direction);
         let mut node;
@@ -184,13 +214,16 @@ impl Accel {
                 state,
                 node.intersect_ray(&ray, state.oct_inv4),
                 {
-                    let slot = state.primitive_id as usize;
-                    if watertight
-                        .intersect_axes::<KX, KY, KZ>(&self.vertices[slot], ray.tmin, ray.tmax)
-                        .is_some()
-                    {
-                        occluded = true;
-                        break 'search;
+                    let slot = state.primitive_id;
+                    if let Some((_, b)) = watertight.intersect_axes::<KX, KY, KZ>(
+                        &self.vertices[slot as usize],
+                        ray.tmin,
+                        ray.tmax,
+                    ) {
+                        if stops(slot, b) {
+                            occluded = true;
+                            break 'search;
+                        }
                     }
                 }
             );

@@ -139,7 +139,7 @@ pub fn primary_rays(
 
 /// The rays of samples `first..first + n` of the sampler's pixel through the camera's real
 /// lens, packed: the first `m` slots (m returned) hold the rays the lens lets through, in
-/// world space, with their weights (`Camera::generate_ray`).
+/// world space, with their weights (`Camera::generate_ray`) and sample indices.
 pub(super) fn real_lens_rays(
     camera: &Camera,
     sampler: &PixelSampler,
@@ -147,6 +147,7 @@ pub(super) fn real_lens_rays(
     origins: &mut [Vec3; PACKET_SIZE],
     directions: &mut [Vec3; PACKET_SIZE],
     weights: &mut [f32; PACKET_SIZE],
+    sample_indices: &mut [u32; PACKET_SIZE],
 ) -> usize {
     let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
     let Some(real) = camera.lens.real() else {
@@ -165,10 +166,14 @@ pub(super) fn real_lens_rays(
     let mut traced = [None; PACKET_SIZE];
     real.camera_rays(&samples[..n], &mut traced);
     let mut passed = 0;
-    for (ray, weight) in traced.into_iter().flatten() {
+    for (l, traced) in traced.into_iter().enumerate() {
+        let Some((ray, weight)) = traced else {
+            continue;
+        };
         origins[passed] = camera.world_from_camera.transform_point3(ray.origin);
         directions[passed] = camera.world_from_camera.transform_vector3(ray.direction);
         weights[passed] = weight;
+        sample_indices[passed] = first + l as u32;
         passed += 1;
     }
     passed

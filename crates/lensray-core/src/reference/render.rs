@@ -10,11 +10,13 @@ use rayon::prelude::*;
 
 use super::accel::{Accel, Hit, PACKET_SIZE};
 use super::rays::{primary_rays, real_lens_rays};
-use super::surface::{shadow_origin, SurfaceData, SurfacePoint};
-use crate::camera::{Camera, Ray};
+use super::surface::{shadow_origin, Materials, SurfaceData, SurfacePoint};
+use crate::camera::{Camera, Footprint, Ray};
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler};
-use crate::scene::{Material, Scene};
+use crate::scene::order::morton_order;
+use crate::scene::{blend_threshold, ray_key, Material, Scene};
+use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 use crate::settings::{RenderSettings, Shading, Shot};
 
 /// Rows rendered between two progress reports.
@@ -23,7 +25,7 @@ const ROWS_PER_BAND: u32 = 16;
 pub struct Renderer {
     accel: Accel,
     surfaces: SurfaceData,
-    materials: Vec<Material>,
+    materials: Materials,
 }
 
 /// What a render did, for the summary line and benchmarks.
@@ -41,32 +43,46 @@ impl RenderStats {
 }
 
 impl Renderer {
-    /// Flattens the scene's meshes and builds the BVH.
+    /// Flattens the scene's meshes and builds the BVH. The triangles are numbered as the GPU
+    /// upload numbers them (each mesh's in Morton order), which a blend draw hashes.
     pub fn new(scene: &Scene) -> Self {
-        let mut triangles = Vec::with_capacity(scene.triangle_count());
-        let mut normals = Vec::with_capacity(scene.triangle_count());
-        let mut materials = Vec::with_capacity(scene.triangle_count());
+        let count = scene.triangle_count();
+        let mut triangles = Vec::with_capacity(count);
+        let mut normals = Vec::with_capacity(count);
+        let mut texcoords = Vec::with_capacity(count);
+        let mut materials = Vec::with_capacity(count);
         for mesh in &scene.meshes {
-            for (t, tri) in mesh.triangles.iter().enumerate() {
+            for t in morton_order(&mesh.positions, &mesh.triangles) {
+                let tri = mesh.triangles[t as usize];
                 triangles.push(tri.map(|i| Vec3A::from(mesh.positions[i as usize])));
                 normals.push(if mesh.normals.is_empty() {
                     [Vec3::ZERO; 3]
                 } else {
                     tri.map(|i| mesh.normals[i as usize])
                 });
-                materials.push(mesh.material_ids[t]);
+                texcoords.push(if mesh.texcoords.is_empty() {
+                    [Vec2::ZERO; 3]
+                } else {
+                    tri.map(|i| mesh.texcoords[i as usize])
+                });
+                materials.push(mesh.material_ids[t as usize]);
             }
         }
         let accel = Accel::build(&triangles);
         let order = accel.slot_to_triangle();
         let surfaces = SurfaceData {
             normals: order.iter().map(|&i| normals[i as usize]).collect(),
+            texcoords: order.iter().map(|&i| texcoords[i as usize]).collect(),
             materials: order.iter().map(|&i| materials[i as usize]).collect(),
         };
         Self {
             accel,
             surfaces,
-            materials: scene.materials.clone(),
+            materials: Materials {
+                materials: scene.materials.clone(),
+                textures: scene.textures.clone(),
+                alpha_tested: scene.materials.iter().any(Material::is_alpha_tested),
+            },
         }
     }
 
@@ -79,10 +95,48 @@ impl Renderer {
         self.accel.bytes()
     }
 
-    /// Closest hit along a world-space ray, t in (0, inf).
+    /// Closest hit along a world-space ray, t in (0, inf), as the AOVs' aperture-centre ray
+    /// sees it (a blended surface where its alpha exceeds `AOV_BLEND_THRESHOLD`).
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let (o, d) = (ray.origin, ray.direction);
+        if !self.materials.alpha_tested {
+            return self.accel.closest_hit(o, d, 0.0, f32::INFINITY);
+        }
+        let stops = |slot, b| self.stops(slot, b, None);
         self.accel
-            .closest_hit(ray.origin, ray.direction, 0.0, f32::INFINITY)
+            .closest_hit_where(o, d, 0.0, f32::INFINITY, &stops)
+    }
+
+    /// Whether a ray stops at the hit (`slot`, `b`): the material's alpha test, with the blend
+    /// draw of the ray of `key` (`None`: the AOVs' fixed threshold).
+    fn stops(&self, slot: u32, b: Vec2, key: Option<u32>) -> bool {
+        let material = self.materials.get(self.surfaces.materials[slot as usize]);
+        if !material.is_alpha_tested() {
+            return true;
+        }
+        let threshold = match key {
+            Some(key) => blend_threshold(key, self.accel.slot_to_triangle()[slot as usize]),
+            None => AOV_BLEND_THRESHOLD,
+        };
+        let texcoord = self.surfaces.texcoord(slot, b);
+        material.stops_ray(&self.materials.textures, texcoord, threshold)
+    }
+
+    /// The closest hits of a packet of camera rays whose keys are `keys`.
+    fn closest_hits(
+        &self,
+        origins: &[Vec3],
+        directions: &[Vec3],
+        keys: &[u32],
+        hits: &mut [Option<Hit>],
+    ) {
+        let (o, d) = (origins, directions);
+        if !self.materials.alpha_tested {
+            return self.accel.closest_hits(o, d, 0.0, f32::INFINITY, hits);
+        }
+        let stops = |lane: usize, slot, b| self.stops(slot, b, Some(keys[lane]));
+        self.accel
+            .closest_hits_where(o, d, 0.0, f32::INFINITY, hits, &stops);
     }
 
     pub fn surface_point(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
@@ -194,57 +248,41 @@ impl Renderer {
         // The samples of a pixel are coherent: their primary rays are traced as packets.
         let mut origins = [Vec3::ZERO; PACKET_SIZE];
         let mut directions = [Vec3::ZERO; PACKET_SIZE];
+        let mut weights = [1.0; PACKET_SIZE];
+        let mut indices = [0; PACKET_SIZE];
+        let mut keys = [0; PACKET_SIZE];
         let mut hits = [None; PACKET_SIZE];
         let sampler = if settings.shared_samples {
             shared_pixel_sampler(settings.sampler, settings.seed, pixel)
         } else {
             pixel_sampler(settings.sampler, settings.seed, pixel, camera.width)
         };
-        if camera.lens.real().is_some() {
-            let mut weights = [0.0; PACKET_SIZE];
-            for first in samples.clone().step_by(PACKET_SIZE) {
-                let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
-                let passed = real_lens_rays(
-                    camera,
-                    &sampler,
-                    (first, n),
-                    &mut origins,
-                    &mut directions,
-                    &mut weights,
-                );
-                let hits = &mut hits[..passed];
-                let (o, d) = (&origins[..passed], &directions[..passed]);
-                self.accel.closest_hits(o, d, 0.0, f32::INFINITY, hits);
-                for i in 0..passed {
-                    let ray = Ray {
-                        origin: origins[i],
-                        direction: directions[i],
-                    };
-                    let (value, count) = self.shade(&ray, hits[i], settings);
-                    sum += weights[i] * value;
-                    rays += count;
-                }
-            }
-            *sum_and_count = [sum.x, sum.y, sum.z, count + samples.len() as f32];
-            return rays;
-        }
+        let pixel_index = pixel.y * camera.width + pixel.x;
+        let footprint = camera.footprint();
         for first in samples.clone().step_by(PACKET_SIZE) {
             let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
-            primary_rays(camera, &sampler, first, &mut origins, &mut directions);
-            self.accel.closest_hits(
-                &origins[..n],
-                &directions[..n],
-                0.0,
-                f32::INFINITY,
-                &mut hits[..n],
-            );
-            for i in 0..n {
+            let traced = if camera.lens.real().is_some() {
+                let packet = (first, n);
+                let (o, d, w) = (&mut origins, &mut directions, &mut weights);
+                real_lens_rays(camera, &sampler, packet, o, d, w, &mut indices)
+            } else {
+                primary_rays(camera, &sampler, first, &mut origins, &mut directions);
+                indices = std::array::from_fn(|l| first + l as u32);
+                n
+            };
+            for l in 0..traced {
+                keys[l] = ray_key(settings.seed, pixel_index, indices[l], BLEND_CAMERA_SALT);
+            }
+            let (o, d) = (&origins[..traced], &directions[..traced]);
+            self.closest_hits(o, d, &keys[..traced], &mut hits[..traced]);
+            for l in 0..traced {
                 let ray = Ray {
-                    origin: origins[i],
-                    direction: directions[i],
+                    origin: origins[l],
+                    direction: directions[l],
                 };
-                let (value, count) = self.shade(&ray, hits[i], settings);
-                sum += value;
+                let shadow_key = keys[l] ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT;
+                let (value, count) = self.shade(&ray, hits[l], settings, &footprint, shadow_key);
+                sum += weights[l] * value;
                 rays += count;
             }
         }
@@ -252,19 +290,50 @@ impl Renderer {
         rays
     }
 
-    /// `unlit` and `lit`, with the number of rays traced.
-    fn shade(&self, ray: &Ray, hit: Option<Hit>, settings: &RenderSettings) -> (Vec3, u64) {
+    /// The diffuse colour and emission of `surface` (hit `hit`), textures filtered over the
+    /// pinhole's pixel footprint.
+    fn colours(&self, hit: &Hit, surface: &SurfacePoint, footprint: &Footprint) -> (Vec3, Vec3) {
+        let material = self.materials.get(surface.material);
+        let textures = &self.materials.textures;
+        if material.diffuse_texture.is_none() && material.emission_texture.is_none() {
+            return (material.diffuse, material.emission);
+        }
+        let vertices = self.accel.vertices(hit.slot).map(Vec3::from);
+        let duv = self
+            .surfaces
+            .texcoord_footprint(hit.slot, vertices, surface, footprint);
+        (
+            material.diffuse_at(textures, surface.texcoord, &duv),
+            material.emission_at(textures, surface.texcoord, &duv),
+        )
+    }
+
+    /// `unlit` and `lit`, with the number of rays traced; the shadow ray draws its blend cuts
+    /// with `shadow_key`.
+    fn shade(
+        &self,
+        ray: &Ray,
+        hit: Option<Hit>,
+        settings: &RenderSettings,
+        footprint: &Footprint,
+        shadow_key: u32,
+    ) -> (Vec3, u64) {
         let Some(hit) = hit else {
             return (settings.background, 1);
         };
-        if settings.shading == Shading::Unlit {
+        let material = self
+            .materials
+            .get(self.surfaces.materials[hit.slot as usize]);
+        if settings.shading == Shading::Unlit && material.diffuse_texture.is_none() {
             // Visibility only: the material is all that is needed.
-            let material = self.surfaces.materials[hit.slot as usize];
-            return (self.materials[material as usize].diffuse, 1);
+            return (material.diffuse, 1);
         }
         let surface = self.surface_point(ray, &hit);
-        let material = &self.materials[surface.material as usize];
-        let mut radiance = material.emission;
+        let (diffuse, emission) = self.colours(&hit, &surface, footprint);
+        if settings.shading == Shading::Unlit {
+            return (diffuse, 1);
+        }
+        let mut radiance = emission;
         let origin = shadow_origin(&surface);
         let to_light = settings.light.position - origin;
         let distance = to_light.length();
@@ -273,11 +342,21 @@ impl Renderer {
         if cosine <= 0.0 {
             return (radiance, 1);
         }
-        if !self.accel.occluded(origin, direction, 0.0, distance) {
-            radiance += material.diffuse * FRAC_1_PI * settings.light.intensity * cosine
-                / (distance * distance);
+        if !self.occluded(origin, direction, distance, shadow_key) {
+            radiance +=
+                diffuse * FRAC_1_PI * settings.light.intensity * cosine / (distance * distance);
         }
         (radiance, 2)
+    }
+
+    /// Whether a surface that stops the shadow ray of `key` lies on the ray, t in (0, t_max).
+    fn occluded(&self, origin: Vec3, direction: Vec3, t_max: f32, key: u32) -> bool {
+        if !self.materials.alpha_tested {
+            return self.accel.occluded(origin, direction, 0.0, t_max);
+        }
+        let stops = |slot, b| self.stops(slot, b, Some(key));
+        self.accel
+            .occluded_where(origin, direction, 0.0, t_max, &stops)
     }
 
     /// The AOV of `shot.render.shading` of the surface `ray` sees.
@@ -292,7 +371,7 @@ impl Renderer {
                 match shading {
                     Shading::Depth => Vec3::splat(camera.view_depth(surface.position)),
                     Shading::Normal => surface.shading_normal,
-                    _ => self.materials[surface.material as usize].diffuse,
+                    _ => self.colours(&hit, &surface, &camera.footprint()).0,
                 }
             }
         }

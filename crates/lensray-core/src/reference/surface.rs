@@ -3,8 +3,10 @@
 use glam::{Vec2, Vec3};
 
 use super::accel::Hit;
-use crate::camera::Ray;
+use crate::camera::{Footprint, Ray};
 use crate::interface::SHADOW_ORIGIN_OFFSET;
+use crate::scene::texture::TexcoordFootprint;
+use crate::scene::{Material, Texture};
 
 /// A hit point with the normals the shading definition uses.
 #[derive(Clone, Copy, Debug)]
@@ -16,12 +18,16 @@ pub struct SurfacePoint {
     /// the incoming ray independently of the geometric normal.
     pub shading_normal: Vec3,
     pub material: u32,
+    /// Interpolated texture coordinates ((0, 0) when the mesh has none).
+    pub texcoord: Vec2,
 }
 
 /// Per-slot shading data, in the acceleration structure's leaf order.
 pub(super) struct SurfaceData {
     /// Vertex normals per slot; all zero when the mesh has none.
     pub normals: Vec<[Vec3; 3]>,
+    /// Texture coordinates per slot; all zero when the mesh has none.
+    pub texcoords: Vec<[Vec2; 3]>,
     pub materials: Vec<u32>,
 }
 
@@ -48,7 +54,39 @@ impl SurfaceData {
             geometric_normal,
             shading_normal,
             material: self.materials[hit.slot as usize],
+            texcoord: self.texcoord(hit.slot, hit.barycentric),
         }
+    }
+
+    pub(super) fn texcoord(&self, slot: u32, barycentric: Vec2) -> Vec2 {
+        let t = self.texcoords[slot as usize];
+        (1.0 - barycentric.x - barycentric.y) * t[0] + barycentric.x * t[1] + barycentric.y * t[2]
+    }
+
+    /// The pinhole's pixel footprint at `surface` in texture coordinates.
+    pub(super) fn texcoord_footprint(
+        &self,
+        slot: u32,
+        vertices: [Vec3; 3],
+        surface: &SurfacePoint,
+        footprint: &Footprint,
+    ) -> TexcoordFootprint {
+        let dp = footprint.dp(surface.position, surface.geometric_normal);
+        TexcoordFootprint::on_triangle(vertices, self.texcoords[slot as usize], dp)
+    }
+}
+
+/// The scene's materials and their textures.
+pub(super) struct Materials {
+    pub materials: Vec<Material>,
+    pub textures: Vec<Texture>,
+    /// Whether any material is alpha-tested (else traversal skips the test).
+    pub alpha_tested: bool,
+}
+
+impl Materials {
+    pub(super) fn get(&self, material: u32) -> &Material {
+        &self.materials[material as usize]
     }
 }
 

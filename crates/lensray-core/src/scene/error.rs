@@ -70,6 +70,13 @@ pub enum SceneError {
     },
 
     /// A mesh file without a single triangle.
+    /// A texture file that exists but cannot be decoded.
+    #[error("texture {} (of {}): {reason}", path.display(), of.display())]
+    Texture {
+        path: PathBuf,
+        of: PathBuf,
+        reason: String,
+    },
     #[error("{} contains no triangles", path.display())]
     NoTriangles { path: PathBuf },
 

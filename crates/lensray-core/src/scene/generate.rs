@@ -32,6 +32,7 @@ impl SceneBuilder {
             name: name.into(),
             diffuse,
             emission,
+            ..Default::default()
         });
         (self.scene.materials.len() - 1) as u32
     }
@@ -102,6 +103,7 @@ pub fn uv_sphere(
         material_ids: vec![material; triangles.len()],
         normals,
         triangles,
+        ..Default::default()
     }
 }
 
@@ -146,6 +148,7 @@ pub fn grid(
         positions,
         triangles,
         material_ids,
+        ..Default::default()
     }
 }
 

@@ -5,7 +5,7 @@
 //! OBJ model or glTF primitive becomes one [`Mesh`] (one bottom-level acceleration structure on
 //! the GPU). A glTF file's cameras come with it (`file_camera`).
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 pub mod builtin;
 mod error;
@@ -13,9 +13,11 @@ pub mod file;
 pub mod file_camera;
 pub mod generate;
 pub mod gltf_file;
+mod material;
 pub mod normals;
 pub mod obj;
 pub mod order;
+pub mod texture;
 pub mod units;
 
 pub use builtin::default_scene;
@@ -23,25 +25,10 @@ pub use error::SceneError;
 pub use file::{load, load_scene_file, SceneDescription};
 pub use file_camera::{pick_camera, FileCamera, FileProjection};
 pub use gltf_file::{load_gltf, MeshFile};
+pub use material::{blend_threshold, ray_key, AlphaMode, Material};
+pub use material::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 pub use obj::{load_obj, write_obj};
-
-/// Diffuse colour `Kd` and emission `Ke` of an MTL material, linear RGB.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Material {
-    pub name: String,
-    pub diffuse: Vec3,
-    pub emission: Vec3,
-}
-
-impl Default for Material {
-    fn default() -> Self {
-        Self {
-            name: "default".into(),
-            diffuse: Vec3::splat(0.8),
-            emission: Vec3::ZERO,
-        }
-    }
-}
+pub use texture::{Texture, TextureRef};
 
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
@@ -49,6 +36,9 @@ pub struct Mesh {
     pub positions: Vec<Vec3>,
     /// Per-vertex normals, same length as `positions`, or empty when the OBJ has none.
     pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates (glTF's TEXCOORD_0, OBJ's `vt`), same length as
+    /// `positions`, or empty when the file has none (textures then read coordinate (0, 0)).
+    pub texcoords: Vec<Vec2>,
     pub triangles: Vec<[u32; 3]>,
     /// Index into `Scene::materials`, one per triangle.
     pub material_ids: Vec<u32>,
@@ -58,6 +48,8 @@ pub struct Mesh {
 pub struct Scene {
     pub meshes: Vec<Mesh>,
     pub materials: Vec<Material>,
+    /// What materials' [`TextureRef`]s index.
+    pub textures: Vec<Texture>,
 }
 
 /// Axis-aligned bounds.
@@ -125,6 +117,12 @@ impl Scene {
                     mesh.normals.len()
                 ));
             }
+            if !mesh.texcoords.is_empty() && mesh.texcoords.len() != n {
+                return Err(format!(
+                    "mesh {name}: {} texture coordinates for {n} positions",
+                    mesh.texcoords.len()
+                ));
+            }
             if let Some((t, tri)) = mesh
                 .triangles
                 .iter()
@@ -148,6 +146,26 @@ impl Scene {
             }
             if let Some(p) = mesh.positions.iter().find(|p| !p.is_finite()) {
                 return Err(format!("mesh {name}: position {p} is not finite"));
+            }
+        }
+        self.validate_textures()
+    }
+
+    /// Every material's textures exist.
+    fn validate_textures(&self) -> Result<(), String> {
+        for m in &self.materials {
+            let refs = [&m.diffuse_texture, &m.emission_texture, &m.alpha_texture];
+            if let Some(t) = refs.into_iter().flatten().find(|t| {
+                self.textures
+                    .get(t.texture as usize)
+                    .is_none_or(|texture| texture.levels.is_empty())
+            }) {
+                return Err(format!(
+                    "material {}: texture {} of {}",
+                    m.name,
+                    t.texture,
+                    self.textures.len()
+                ));
             }
         }
         Ok(())

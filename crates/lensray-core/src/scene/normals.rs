@@ -51,6 +51,7 @@ fn smooth_mesh(mesh: &mut Mesh, cos_crease: f32) {
     }
     let mut positions = Vec::new();
     let mut normals = Vec::new();
+    let mut texcoords = Vec::new();
     let mut index: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
     let mut triangles = Vec::with_capacity(mesh.triangles.len());
     for (f, t) in mesh.triangles.iter().enumerate() {
@@ -75,6 +76,9 @@ fn smooth_mesh(mesh: &mut Mesh, cos_crease: f32) {
                 .or_insert_with(|| {
                     positions.push(mesh.positions[v as usize]);
                     normals.push(normal);
+                    if let Some(&uv) = mesh.texcoords.get(v as usize) {
+                        texcoords.push(uv);
+                    }
                     (positions.len() - 1) as u32
                 })
         });
@@ -82,6 +86,7 @@ fn smooth_mesh(mesh: &mut Mesh, cos_crease: f32) {
     }
     mesh.positions = positions;
     mesh.normals = normals;
+    mesh.texcoords = texcoords;
     mesh.triangles = triangles;
 }
 
@@ -112,6 +117,7 @@ mod tests {
             normals: Vec::new(),
             material_ids: vec![0; triangles.len()],
             triangles,
+            ..Default::default()
         }
     }
 
@@ -120,6 +126,7 @@ mod tests {
         let mut scene = Scene {
             meshes: vec![cube()],
             materials: vec![Default::default()],
+            ..Default::default()
         };
         assert_eq!(scene.smooth_normals(60.0), 1);
         let mesh = &scene.meshes[0];
@@ -139,6 +146,7 @@ mod tests {
         let mut scene = Scene {
             meshes: vec![cube()],
             materials: vec![Default::default()],
+            ..Default::default()
         };
         scene.smooth_normals(100.0);
         let mesh = &scene.meshes[0];

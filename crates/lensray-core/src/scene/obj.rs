@@ -17,17 +17,19 @@
 
 mod mtl;
 mod prescan;
+mod textures;
 
 use std::borrow::Cow;
 use std::cell::RefCell;
 use std::fs;
 use std::io::{self, BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use self::mtl::{convert_material, load_mtl};
 use self::prescan::{is_polyline, prescan, Scan};
+use self::textures::TextureFiles;
 use super::gltf_file::MeshFile;
 use super::{Material, Mesh, Scene, SceneError};
 
@@ -88,10 +90,10 @@ pub fn load_obj(path: &Path) -> Result<MeshFile, SceneError> {
     let mut notices = Vec::new();
     let text = decode_text(path, &bytes, "the file", &mut notices)?;
     let scan = prescan(path, &text)?;
-    let (models, materials) = parse(path, &text, &scan, &mut notices)?;
+    let (models, materials, dirs) = parse(path, &text, &scan, &mut notices)?;
     check_usemtl(path, &scan, &materials, &mut notices);
 
-    let mut builder = ObjSceneBuilder::new(path, &materials);
+    let mut builder = ObjSceneBuilder::new(path, &materials, &dirs, &mut notices)?;
     for model in models {
         builder.add_model(model)?;
     }
@@ -110,15 +112,20 @@ pub fn load_obj(path: &Path) -> Result<MeshFile, SceneError> {
     })
 }
 
-/// tobj's models and materials of `text`, the material libraries read from beside `path`.
+/// tobj's models and materials, and the folder of each material's library.
+type Parsed = (Vec<tobj::Model>, Vec<tobj::Material>, Vec<PathBuf>);
+
+/// tobj's models and materials of `text`, the material libraries read from beside `path`, and
+/// the folder of each material's library (where its textures are).
 fn parse(
     path: &Path,
     text: &str,
     scan: &Scan,
     notices: &mut Vec<String>,
-) -> Result<(Vec<tobj::Model>, Vec<tobj::Material>), SceneError> {
+) -> Result<Parsed, SceneError> {
     let mtl_error: RefCell<Option<SceneError>> = RefCell::new(None);
     let mtl_notices: RefCell<Vec<String>> = RefCell::new(Vec::new());
+    let material_dirs: RefCell<Vec<PathBuf>> = RefCell::new(Vec::new());
     let dir = path.parent().unwrap_or(Path::new(""));
     let options = tobj::LoadOptions {
         triangulate: true,
@@ -139,9 +146,18 @@ fn parse(
     };
     let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &options, |mtl: &Path| {
         // tobj's callback must return a tobj error; the real one travels beside it.
-        let loaded = load_mtl(&dir.join(mtl), path, &mut mtl_notices.borrow_mut());
+        let library = dir.join(mtl);
+        let loaded = load_mtl(&library, path, &mut mtl_notices.borrow_mut());
         match loaded {
-            Ok(result) => result,
+            Ok(result) => {
+                if let Ok((materials, _)) = &result {
+                    let folder = library.parent().unwrap_or(Path::new("")).to_path_buf();
+                    material_dirs
+                        .borrow_mut()
+                        .extend(std::iter::repeat_n(folder, materials.len()));
+                }
+                result
+            }
             // A library that cannot be read leaves its materials undefined (the default).
             Err(e @ SceneError::MtlRead { .. }) => {
                 mtl_notices
@@ -168,7 +184,7 @@ fn parse(
         path: path.to_path_buf(),
         reason: format!("material library: {e}"),
     })?;
-    Ok((models, materials))
+    Ok((models, materials, material_dirs.into_inner()))
 }
 
 /// A notice for each `usemtl` that names no material of a library loaded before it (its
@@ -203,22 +219,43 @@ struct ObjSceneBuilder<'a> {
     default_material: Option<u32>,
     /// Whether every model merged into the last mesh had normals.
     all_normals: bool,
+    /// Whether any model merged into the last mesh had texture coordinates.
+    any_texcoords: bool,
     previous_name: Option<String>,
 }
 
 impl<'a> ObjSceneBuilder<'a> {
-    /// A scene with no meshes yet and the materials of the file's libraries.
-    fn new(path: &'a Path, materials: &[tobj::Material]) -> Self {
-        Self {
+    /// A scene with no meshes yet and the materials of the file's libraries (read from
+    /// `dirs`, one per material) with their textures.
+    fn new(
+        path: &'a Path,
+        materials: &[tobj::Material],
+        dirs: &[PathBuf],
+        notices: &mut Vec<String>,
+    ) -> Result<Self, SceneError> {
+        let mut files = TextureFiles::new(path);
+        let obj_dir = path.parent().unwrap_or(Path::new(""));
+        let converted = materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let dir = dirs.get(i).map_or(obj_dir, PathBuf::as_path);
+                convert_material(m, dir, &mut files)
+            })
+            .collect::<Result<_, _>>()?;
+        notices.append(&mut files.notices);
+        Ok(Self {
             path,
             scene: Scene {
                 meshes: Vec::new(),
-                materials: materials.iter().map(convert_material).collect(),
+                materials: converted,
+                textures: files.textures,
             },
             default_material: None,
             all_normals: true,
+            any_texcoords: false,
             previous_name: None,
-        }
+        })
     }
 
     /// Adds a model's triangles to the last mesh, or to a new one when its name differs.
@@ -229,12 +266,13 @@ impl<'a> ObjSceneBuilder<'a> {
         }
         let material = self.material(m.material_id)?;
         if self.previous_name.as_deref() != Some(model.name.as_str()) {
-            finish_mesh(self.scene.meshes.last_mut(), self.all_normals);
+            self.finish_mesh();
             self.scene.meshes.push(Mesh {
                 name: model.name.clone(),
                 ..Mesh::default()
             });
             self.all_normals = true;
+            self.any_texcoords = false;
             self.previous_name = Some(model.name);
         }
         self.append(&m, material)
@@ -282,6 +320,18 @@ impl<'a> ObjSceneBuilder<'a> {
         } else {
             self.all_normals = false;
         }
+        // OBJ's v runs up the image, the textures' (glTF's) down from its first row.
+        if m.texcoords.len() / 2 == vertex_count {
+            self.any_texcoords = true;
+            let flipped = m
+                .texcoords
+                .chunks_exact(2)
+                .map(|t| Vec2::new(t[0], 1.0 - t[1]));
+            mesh.texcoords.extend(flipped);
+        } else {
+            mesh.texcoords
+                .extend(std::iter::repeat_n(Vec2::ZERO, vertex_count));
+        }
         for t in m.indices.chunks_exact(3) {
             if let Some(&bad) = t.iter().find(|&&i| i as usize >= vertex_count) {
                 return Err(SceneError::Obj {
@@ -298,8 +348,18 @@ impl<'a> ObjSceneBuilder<'a> {
 
     /// The scene, its last mesh finished.
     fn finish(mut self) -> Scene {
-        finish_mesh(self.scene.meshes.last_mut(), self.all_normals);
+        self.finish_mesh();
         self.scene
+    }
+
+    /// The last mesh's normals and texture coordinates dropped unless it has them.
+    fn finish_mesh(&mut self) {
+        finish_mesh(self.scene.meshes.last_mut(), self.all_normals);
+        if let Some(mesh) = self.scene.meshes.last_mut() {
+            if !self.any_texcoords {
+                mesh.texcoords.clear();
+            }
+        }
     }
 }
 

@@ -36,6 +36,7 @@ fn fit_edge(z: f32, lens: LensParams) -> (edge_fit::EdgeFit, f32, f32) {
             material("black", Vec3::ZERO, Vec3::ZERO),
             material("white", Vec3::ONE, Vec3::ZERO),
         ],
+        ..Default::default()
     };
     let (image, _) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
     let profile: Vec<f64> = (0..width)

@@ -16,6 +16,7 @@ fn unlit_shows_diffuse_colour_and_background() {
     let scene = Scene {
         meshes: vec![quad(-10.0, 0.0, -10.0, 10.0, -5.0, 0)],
         materials: vec![material("red", red, Vec3::ZERO)],
+        ..Default::default()
     };
     let shot = Shot {
         camera: camera(32, 24, LensParams::Pinhole),
@@ -38,6 +39,7 @@ fn lit_matches_lambert_with_inverse_square() {
     let scene = Scene {
         meshes: vec![quad(-50.0, 50.0, -50.0, 50.0, -4.0, 0)],
         materials: vec![material("wall", kd, ke)],
+        ..Default::default()
     };
     let mut s = settings(Shading::Lit, 1);
     s.light.position = Vec3::new(1.0, 0.5, -1.0);
@@ -81,6 +83,7 @@ fn depth_aov_is_distance_along_view_axis() {
     let scene = Scene {
         meshes: vec![quad(-50.0, 50.0, -50.0, 50.0, -7.5, 0)],
         materials: vec![Material::default()],
+        ..Default::default()
     };
     let shot = Shot {
         camera: camera(20, 10, LensParams::Pinhole),
@@ -100,6 +103,7 @@ fn renders_are_deterministic() {
     let scene = Scene {
         meshes: vec![quad(-1.0, 1.0, -1.0, 1.0, -3.0, 0)],
         materials: vec![Material::default()],
+        ..Default::default()
     };
     let shot = Shot {
         camera: camera(

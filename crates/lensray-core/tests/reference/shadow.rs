@@ -66,6 +66,7 @@ fn render_shadow_scene(width: u32, height: u32) -> Image {
             material("wall", Vec3::splat(0.8), WALL_EMISSION),
             material("occluder", Vec3::ZERO, OCCLUDER_EMISSION),
         ],
+        ..Default::default()
     };
     let mut s = settings(Shading::Lit, 1);
     s.light.position = LIGHT;

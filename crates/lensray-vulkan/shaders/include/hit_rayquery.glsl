@@ -6,11 +6,25 @@
 
 layout(set = 0, binding = TRACE_BINDING_TLAS) uniform accelerationStructureEXT tlas;
 
-// The closest hit with t in (0, t_max): the global triangle index, t and the weights of v1, v2.
-bool closest_hit(vec3 origin, vec3 direction, float t_max, out Hit hit) {
+// Confirms the query's candidate triangle where its alpha test lets it stop the ray: only
+// alpha-tested meshes (geometry not marked opaque, scene/accel.rs) give candidates.
+void test_candidate(rayQueryEXT rq, BlendCut cut) {
+    if (rayQueryGetIntersectionTypeEXT(rq, false) == gl_RayQueryCandidateIntersectionTriangleEXT) {
+        uint tri = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(rq, false))
+                 + uint(rayQueryGetIntersectionPrimitiveIndexEXT(rq, false));
+        if (triangle_stops_ray(tri, rayQueryGetIntersectionBarycentricsEXT(rq, false), cut)) {
+            rayQueryConfirmIntersectionEXT(rq);
+        }
+    }
+}
+
+// The closest hit with t in (0, t_max) that stops a ray cutting BLEND surfaces with `cut`: the
+// global triangle index, t and the weights of v1, v2.
+bool closest_hit(vec3 origin, vec3 direction, float t_max, BlendCut cut, out Hit hit) {
     rayQueryEXT rq;
-    rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT, 0xFFu, origin, 0.0, direction, t_max);
+    rayQueryInitializeEXT(rq, tlas, gl_RayFlagsNoneEXT, 0xFFu, origin, 0.0, direction, t_max);
     while (rayQueryProceedEXT(rq)) {
+        test_candidate(rq, cut);
     }
     if (rayQueryGetIntersectionTypeEXT(rq, true) == gl_RayQueryCommittedIntersectionNoneEXT) {
         return false;
@@ -22,12 +36,14 @@ bool closest_hit(vec3 origin, vec3 direction, float t_max, out Hit hit) {
     return true;
 }
 
-// Whether anything lies along the ray with t in (0, t_max); the first hit ends the query.
-bool occluded(vec3 origin, vec3 direction, float t_max) {
+// Whether a surface that stops the ray lies along it with t in (0, t_max); the first ends the
+// query.
+bool occluded(vec3 origin, vec3 direction, float t_max, BlendCut cut) {
     rayQueryEXT rq;
-    rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT | gl_RayFlagsTerminateOnFirstHitEXT,
+    rayQueryInitializeEXT(rq, tlas, gl_RayFlagsTerminateOnFirstHitEXT,
                           0xFFu, origin, 0.0, direction, t_max);
     while (rayQueryProceedEXT(rq)) {
+        test_candidate(rq, cut);
     }
     return rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionNoneEXT;
 }

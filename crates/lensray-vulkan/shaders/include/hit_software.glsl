@@ -109,8 +109,8 @@ float slab_entry(TraversalRay r, vec3 lo, vec3 hi, float t_max) {
 }
 
 // The closest hit with t in (0, t_max), or with `any_hit` the first one found.
-bool traverse(vec3 origin, vec3 direction, float t_max, bool any_hit, out uint hit_slot,
-              out float hit_t, out vec2 hit_barycentrics) {
+bool traverse(vec3 origin, vec3 direction, float t_max, bool any_hit, BlendCut cut,
+              out uint hit_slot, out float hit_t, out vec2 hit_barycentrics) {
     TraversalRay r = traversal_ray(origin, direction);
     uint stack[BVH_STACK_SIZE];
     // Entry distance of each pushed node: popped nodes beyond the closest hit are skipped.
@@ -137,7 +137,8 @@ bool traverse(vec3 origin, vec3 direction, float t_max, bool any_hit, out uint h
             for (uint slot = first; slot < first + count; ++slot) {
                 float t;
                 vec2 bary;
-                if (intersect_triangle(r, slot, hit_t, t, bary)) {
+                if (intersect_triangle(r, slot, hit_t, t, bary)
+                    && triangle_stops_ray(uint(bvh_triangles[slot].v0.w), bary, cut)) {
                     found = true;
                     hit_t = t;
                     hit_slot = slot;
@@ -172,21 +173,23 @@ bool traverse(vec3 origin, vec3 direction, float t_max, bool any_hit, out uint h
     return found;
 }
 
-// The closest hit with t in (0, t_max): the global triangle index, t and the weights of v1, v2.
-bool closest_hit(vec3 origin, vec3 direction, float t_max, out Hit hit) {
+// The closest hit with t in (0, t_max) that stops a ray cutting BLEND surfaces with `cut`: the
+// global triangle index, t and the weights of v1, v2.
+bool closest_hit(vec3 origin, vec3 direction, float t_max, BlendCut cut, out Hit hit) {
     uint slot;
-    bool found = traverse(origin, direction, t_max, false, slot, hit.t, hit.barycentrics);
+    bool found = traverse(origin, direction, t_max, false, cut, slot, hit.t, hit.barycentrics);
     // Exact: the index is below 2^24 (lensray-vulkan/src/scene/bvh.rs).
     hit.triangle = found ? uint(bvh_triangles[slot].v0.w) : 0u;
     return found;
 }
 
-// Whether anything lies along the ray with t in (0, t_max); the first hit ends the traversal.
-bool occluded(vec3 origin, vec3 direction, float t_max) {
+// Whether a surface that stops the ray lies along it with t in (0, t_max); the first ends the
+// traversal.
+bool occluded(vec3 origin, vec3 direction, float t_max, BlendCut cut) {
     uint slot;
     float t;
     vec2 barycentrics;
-    return traverse(origin, direction, t_max, true, slot, t, barycentrics);
+    return traverse(origin, direction, t_max, true, cut, slot, t, barycentrics);
 }
 
 #endif

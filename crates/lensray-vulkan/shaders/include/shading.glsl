@@ -1,9 +1,10 @@
 // Shading of the thin-lens compute pass, as specified for every renderer (lensray-core/src/settings/render.rs,
-// the CPU reference): unlit (the diffuse colour of the closest hit) or lit (emission + one point
-// light with a shadow ray). Include after a hit implementation (hit_rayquery.glsl or
-// hit_software.glsl), which defines
-//   bool closest_hit(vec3 origin, vec3 direction, float t_max, out Hit hit);
-//   bool occluded(vec3 origin, vec3 direction, float t_max);
+// the CPU reference, lensray-core/src/reference/render.rs): unlit (the diffuse colour of the
+// closest hit) or lit (emission + one point light with a shadow ray), colours textured and
+// filtered over the pinhole's pixel footprint. Include after a hit implementation
+// (hit_rayquery.glsl or hit_software.glsl), which defines
+//   bool closest_hit(vec3 origin, vec3 direction, float t_max, BlendCut cut, out Hit hit);
+//   bool occluded(vec3 origin, vec3 direction, float t_max, BlendCut cut);
 // over t in (0, t_max), and the trace parameters `params`. shade_hit shades a hit found either way
 // (the raster path's rasterized one included).
 #ifndef LENSRAY_SHADING_GLSL
@@ -12,11 +13,12 @@
 // The radiance leaving `hit` (the closest hit of `ray`) towards the ray's origin; `rays` counts
 // the shadow ray, `shadowed` says whether it was blocked (the hybrid's plan looks for shadow
 // boundaries).
-vec3 shade_hit_shadowed(Ray ray, Hit hit, inout uint rays, out bool shadowed) {
+vec3 shade_hit_shadowed(Ray ray, Hit hit, BlendCut cut, inout uint rays, out bool shadowed) {
     shadowed = false;
     uint tri = hit.triangle;
     Material mat = materials[triangle_material(tri)];
-    if (params.shading == SHADING_UNLIT) {
+    bool textured = has_texture(mat.diffuse_texture) || has_texture(mat.emission_texture);
+    if (params.shading == SHADING_UNLIT && !textured) {
         return mat.diffuse.xyz;
     }
 
@@ -36,8 +38,25 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, inout uint rays, out bool shadowed) {
     if (dot(ns, ray.direction) > 0.0) {
         ns = -ns;
     }
+    vec3 diffuse = mat.diffuse.xyz;
+    vec3 emission = mat.emission.xyz;
+    if (textured) {
+        // reference/render.rs: colours
+        vec2 texcoord = triangle_texcoord(tri, b);
+        Footprint f = params.footprint;
+        vec3 dpdx = footprint_dp_along(f, p, ng, f.pixel_dx.xyz);
+        vec3 dpdy = footprint_dp_along(f, p, ng, f.pixel_dy.xyz);
+        vec2 dx;
+        vec2 dy;
+        triangle_texcoord_footprint(tri, dpdx, dpdy, dx, dy);
+        diffuse = material_diffuse(mat, texcoord, dx, dy);
+        emission = material_emission(mat, texcoord, dx, dy);
+    }
+    if (params.shading == SHADING_UNLIT) {
+        return diffuse;
+    }
 
-    vec3 radiance = mat.emission.xyz;
+    vec3 radiance = emission;
     // reference/surface.rs: shadow_origin
     vec3 o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
     vec3 to_light = params.light_position.xyz - o;
@@ -45,30 +64,30 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, inout uint rays, out bool shadowed) {
     vec3 l = to_light / dist;
     float c = dot(ns, l);
     if (c > 0.0) {
-        bool blocked = occluded(o, l, dist);
+        bool blocked = occluded(o, l, dist, shadow_cut(cut));
         rays += 1u;
         shadowed = blocked;
         if (!blocked) {
-            radiance += mat.diffuse.xyz * (1.0 / PI) * params.light_intensity.xyz * c / (dist * dist);
+            radiance += diffuse * (1.0 / PI) * params.light_intensity.xyz * c / (dist * dist);
         }
     }
     return radiance;
 }
 
-vec3 shade_hit(Ray ray, Hit hit, inout uint rays) {
+vec3 shade_hit(Ray ray, Hit hit, BlendCut cut, inout uint rays) {
     bool shadowed;
-    return shade_hit_shadowed(ray, hit, rays, shadowed);
+    return shade_hit_shadowed(ray, hit, cut, rays, shadowed);
 }
 
-// The radiance along `ray`; `rays` counts the rays traced.
-vec3 shade(Ray ray, inout uint rays) {
+// The radiance along `ray`, which cuts BLEND surfaces with `cut`; `rays` counts the rays traced.
+vec3 shade(Ray ray, BlendCut cut, inout uint rays) {
     Hit hit;
-    bool found = closest_hit(ray.origin, ray.direction, T_MAX, hit);
+    bool found = closest_hit(ray.origin, ray.direction, T_MAX, cut, hit);
     rays += 1u;
     if (!found) {
         return params.background.xyz;
     }
-    return shade_hit(ray, hit, rays);
+    return shade_hit(ray, hit, cut, rays);
 }
 
 // The hit of `ray` with the plane of triangle `tri` (the raster path: the rasterizer found the

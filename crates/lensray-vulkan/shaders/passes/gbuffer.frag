@@ -1,6 +1,7 @@
 #version 460
-// G-buffer pass, fragment stage: shading normal facing the viewer, albedo, linear view depth.
-
+// G-buffer pass, fragment stage: shading normal facing the viewer, albedo (textured), linear view
+// depth; fragments an alpha test removes from the aperture-centre ray are discarded.
+#define SCENE_SET 0
 #include "raster_surface.glsl"
 
 layout(push_constant) uniform PushBlock { RasterPush pc; };
@@ -8,14 +9,20 @@ layout(push_constant) uniform PushBlock { RasterPush pc; };
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in float in_view_depth;
 layout(location = 2) in vec3 in_world;
-layout(location = 3) flat in vec3 in_albedo;
+layout(location = 3) flat in uint in_triangle;
+layout(location = 4) in vec2 in_texcoord;
 
 layout(location = 0) out vec4 out_normal;  // w = 1: covered
 layout(location = 1) out vec4 out_albedo;
 layout(location = 2) out float out_depth;
 
 void main() {
+    vec2 dx = dFdxFine(in_texcoord);
+    vec2 dy = dFdyFine(in_texcoord);
+    if (!fragment_stops_ray(in_triangle, in_texcoord, aperture_centre_cut())) {
+        discard;
+    }
     out_normal = vec4(viewer_facing_normal(pc, in_normal, in_world), 1.0);
-    out_albedo = vec4(in_albedo, 1.0);
+    out_albedo = vec4(fragment_albedo(in_triangle, in_texcoord, dx, dy), 1.0);
     out_depth = in_view_depth;
 }

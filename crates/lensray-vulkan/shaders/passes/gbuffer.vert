@@ -3,13 +3,15 @@
 // 3 vertices per triangle) and projects them with the Rust camera's clip_from_world().
 #define SCENE_SET 0
 #include "scene.glsl"
+#include "texture.glsl"
 
 layout(push_constant) uniform PushBlock { RasterPush pc; };
 
 layout(location = 0) out vec3 out_normal;       // vertex normal (or ng), interpolated
 layout(location = 1) out float out_view_depth;  // camera-space z, perspective-correct
 layout(location = 2) out vec3 out_world;
-layout(location = 3) flat out vec3 out_albedo;
+layout(location = 3) flat out uint out_triangle;
+layout(location = 4) out vec2 out_texcoord;
 
 void main() {
     uint tri = uint(gl_VertexIndex) / 3u;
@@ -18,7 +20,8 @@ void main() {
     vec3 p = positions[index].xyz;
     vec3 ng = triangle_geometric_normal(tri);
     out_normal = triangle_has_normals(tri) ? normals[index].xyz : ng;
-    out_albedo = materials[triangle_material(tri)].diffuse.xyz;
+    out_triangle = tri;
+    out_texcoord = texcoords[index];
     out_view_depth = dot(p - pc.eye.xyz, pc.forward.xyz);
     out_world = p;
     gl_Position = pc.clip_from_world * vec4(p, 1.0);

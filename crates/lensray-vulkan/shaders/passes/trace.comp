@@ -24,6 +24,7 @@
 #include "sampler.glsl"
 #define SCENE_SET 0
 #include "scene.glsl"
+#include "texture.glsl"
 
 layout(local_size_x = TRACE_GROUP_SIZE, local_size_y = TRACE_GROUP_SIZE) in;
 
@@ -108,14 +109,20 @@ vec3 reprojected_shortcut(Reprojection r, uint pixel_index, CameraSample cs) {
 
 // The radiance along `ray`, whose first hit the visibility pass drew at `pixel_index` (the
 // raster path's sample, the hybrid's lit pre-pass); `shadowed` as shade_hit_shadowed says.
-vec3 shade_rasterized(Ray ray, uint pixel_index, inout uint rays, out bool shadowed) {
+vec3 shade_rasterized(Ray ray, uint pixel_index, BlendCut cut, inout uint rays,
+                      out bool shadowed) {
     uint seen = visibility[pixel_index];
     rays += 1u;  // the camera ray, resolved by the rasterizer instead of a traversal
     shadowed = false;
     if (seen == 0u) {
         return params.background.xyz;
     }
-    return shade_hit_shadowed(ray, triangle_plane_hit(ray, seen - 1u), rays, shadowed);
+    return shade_hit_shadowed(ray, triangle_plane_hit(ray, seen - 1u), cut, rays, shadowed);
+}
+
+// The BLEND cut of the camera ray of sample `s` of pixel `pixel_index` (scene::ray_key).
+BlendCut sample_cut(uint pixel_index, uint s) {
+    return ray_cut(sample_key(params.seed, pixel_index, s) ^ BLEND_CAMERA_SALT);
 }
 
 // The pixel's work for this dispatch; returns the rays it traced (0 outside the band).
@@ -140,7 +147,7 @@ uint trace_pixel() {
         // neighbours: a shadow boundary is an edge).
         Ray ray = first_order_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
         bool shadowed;
-        vec3 value = shade_rasterized(ray, pixel_index, rays, shadowed);
+        vec3 value = shade_rasterized(ray, pixel_index, aperture_centre_cut(), rays, shadowed);
         plan[pixel_index] = vec4(value, shadowed ? 1.0 : 0.0);
         return rays;
     }
@@ -171,7 +178,8 @@ uint trace_pixel() {
                 vec3 value = lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut;
                 if (check) {
                     Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
-                    value += (shade(ray, rays) - value) * float(HYBRID_CHECK_INVERSE);
+                    vec3 traced = shade(ray, sample_cut(pixel_index, s), rays);
+                    value += (traced - value) * float(HYBRID_CHECK_INVERSE);
                 }
                 sum += value;
             }
@@ -182,7 +190,7 @@ uint trace_pixel() {
             for (uint s = pc.sample_begin; s < end; ++s) {
                 CameraSample cs = pixel_camera_sample(sampler_state, s);
                 Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
-                sum += shade(ray, rays);
+                sum += shade(ray, sample_cut(pixel_index, s), rays);
             }
             added = end > pc.sample_begin ? end - pc.sample_begin : 0u;
         }
@@ -192,7 +200,7 @@ uint trace_pixel() {
         CameraSample cs = pixel_camera_sample(sampler_state, s);
         Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
         bool shadowed;
-        sum += shade_rasterized(ray, pixel_index, rays, shadowed);
+        sum += shade_rasterized(ray, pixel_index, sample_cut(pixel_index, s), rays, shadowed);
         added = 1u;
     } else {
         // Through the real lens when there is one (blocked rays add nothing but count as
@@ -202,7 +210,7 @@ uint trace_pixel() {
             Ray ray;
             float weight;
             if (generate_ray(params.camera, cs.film, cs.lens, ray, weight)) {
-                sum += weight * shade(ray, rays);
+                sum += weight * shade(ray, sample_cut(pixel_index, s), rays);
             }
         }
         added = pc.sample_end - pc.sample_begin;

@@ -1,10 +1,24 @@
 #version 460
 // Raster path, visibility pass: the triangle seen at the pixel centre, + 1 (0: nothing). The
-// shading pass (trace.comp, TRACE_MODE_RASTER) shades it along the sample's lens ray.
+// shading pass (trace.comp, TRACE_MODE_RASTER) shades it along the sample's lens ray. Fragments
+// the alpha test removes from the sample's camera ray (the key its traced twin has) are
+// discarded, so the depth test keeps the nearest surface that stops the ray.
+#define SCENE_SET 0
+#include "raster_surface.glsl"
+
+layout(push_constant) uniform PushBlock { VisibilityPush pc; };
 
 layout(location = 0) flat in uint in_triangle;
+layout(location = 1) in vec2 in_texcoord;
 layout(location = 0) out uint out_triangle;
 
 void main() {
+    uint pixel_index = uint(gl_FragCoord.y) * pc.width + uint(gl_FragCoord.x);
+    BlendCut cut = pc.aperture_centre != 0u
+        ? aperture_centre_cut()
+        : ray_cut(sample_key(pc.seed, pixel_index, pc.sample_index) ^ BLEND_CAMERA_SALT);
+    if (!fragment_stops_ray(in_triangle, in_texcoord, cut)) {
+        discard;
+    }
     out_triangle = in_triangle + 1u;
 }

@@ -5,15 +5,19 @@
 // flat varying (gl_PrimitiveID there would need the geometry-shader feature).
 #define SCENE_SET 0
 #include "scene.glsl"
+#include "texture.glsl"
 
 layout(push_constant) uniform PushBlock { VisibilityPush pc; };
 
 layout(location = 0) flat out uint out_triangle;
+layout(location = 1) out vec2 out_texcoord;
 
 void main() {
     uint tri = uint(gl_VertexIndex) / 3u;
     uint corner = uint(gl_VertexIndex) % 3u;
-    vec3 p = positions[indices[3u * tri + corner]].xyz;
+    uint index = indices[3u * tri + corner];
+    vec3 p = positions[index].xyz;
     out_triangle = tri;
+    out_texcoord = texcoords[index];
     gl_Position = pc.clip_from_world * vec4(p, 1.0);
 }

@@ -5,6 +5,7 @@
 // so each fragment has the values the G-buffer would store and shows what resolve.comp would
 // show for them (views.glsl).
 
+#define SCENE_SET 0
 #include "raster_surface.glsl"
 #include "views.glsl"
 
@@ -13,14 +14,20 @@ layout(push_constant) uniform PushBlock { ViewPush pc; };
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in float in_view_depth;
 layout(location = 2) in vec3 in_world;
-layout(location = 3) flat in vec3 in_albedo;
+layout(location = 3) flat in uint in_triangle;
+layout(location = 4) in vec2 in_texcoord;
 
 layout(location = 0) out vec4 out_shown;
 
 void main() {
+    vec2 dx = dFdxFine(in_texcoord);
+    vec2 dy = dFdyFine(in_texcoord);
+    if (!fragment_stops_ray(in_triangle, in_texcoord, aperture_centre_cut())) {
+        discard;
+    }
     vec3 shown;
     if (pc.shown.view == VIEW_ALBEDO) {
-        shown = encode_srgb(in_albedo);
+        shown = encode_srgb(fragment_albedo(in_triangle, in_texcoord, dx, dy));
     } else if (pc.shown.view == VIEW_NORMAL) {
         shown = normal_shown(vec4(viewer_facing_normal(pc.raster, in_normal, in_world), 1.0));
     } else if (pc.shown.view == VIEW_DEPTH) {

@@ -179,7 +179,7 @@ impl GBufferPass {
                 color_attachments: 3,
                 depth_compare: vk::CompareOp::LESS,
             },
-            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX),
+            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
             std::mem::size_of::<RasterPush>() as u32,
         )?;
         Ok(Self {

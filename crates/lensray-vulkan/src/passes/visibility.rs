@@ -108,7 +108,7 @@ impl VisibilityPass {
                 color_attachments: 1,
                 depth_compare: vk::CompareOp::GREATER,
             },
-            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX),
+            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
             std::mem::size_of::<VisibilityPush>() as u32,
         )?;
         Ok(Self {
@@ -157,7 +157,8 @@ impl VisibilityPass {
     ) {
         let shared = shared_pixel_sampler(settings.sampler, settings.seed, UVec2::ZERO);
         let cs = pixel_camera_sample(&shared, sample);
-        self.record(cmd, scene, camera, cs.film, cs.lens);
+        let blend = Some((settings.seed, sample));
+        self.record(cmd, scene, camera, (cs.film, cs.lens), blend);
     }
 
     /// Records the pass along each pixel's aperture-centre ray through its centre (the hybrid's
@@ -172,11 +173,14 @@ impl VisibilityPass {
         // Film offset 0.5 is the pixel centre; lens_u (0.5, 0.5) the lens centre
         // (concentric_sample_disk), as first_order_ray is given them in the pre-pass.
         let centre = Vec2::splat(0.5);
-        self.record(cmd, scene, &camera.for_rasterizing_rays(), centre, centre);
+        let camera = camera.for_rasterizing_rays();
+        self.record(cmd, scene, &camera, (centre, centre), None);
     }
 
     /// Records the pass for one camera sample shared by every pixel (`film_u`, `lens_u`; the
-    /// camera as `Camera::for_rasterizing_rays` gives it) and the copy into the buffer, whose
+    /// camera as `Camera::for_rasterizing_rays` gives it), whose BLEND cuts are drawn with the
+    /// seed and sample index `blend` (`None`: the aperture-centre rays' fixed threshold), and
+    /// the copy into the buffer, whose
     /// writes are then ordered before compute-shader reads. Earlier compute reads of the
     /// buffer are ordered before the copy.
     pub(crate) fn record(
@@ -184,16 +188,21 @@ impl VisibilityPass {
         cmd: vk::CommandBuffer,
         scene: &SceneBuffers,
         camera: &Camera,
-        film_u: Vec2,
-        lens_u: Vec2,
+        (film_u, lens_u): (Vec2, Vec2),
+        blend: Option<(u32, u32)>,
     ) {
         let ctx = &self.ctx;
         let targets = self.targets.as_ref().expect("ensure_targets first");
         let (width, height) = (targets.width, targets.height);
+        let (seed, sample_index) = blend.unwrap_or((0, 0));
         let push = VisibilityPush {
             clip_from_world: camera
                 .clip_from_world_through_lens(film_u, lens_u)
                 .to_cols_array(),
+            seed,
+            width,
+            sample_index,
+            aperture_centre: u32::from(blend.is_none()),
         };
         let clear = [
             vk::ClearValue {

@@ -58,7 +58,7 @@ impl ViewPass {
                 color_attachments: 1,
                 depth_compare: vk::CompareOp::LESS,
             },
-            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX),
+            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
             std::mem::size_of::<ViewPush>() as u32,
         )?;
         Ok(Self {

@@ -203,7 +203,12 @@ fn blas_geometries(
             [vk::AccelerationStructureGeometryKHR::default()
                 .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
                 .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })
-                .flags(vk::GeometryFlagsKHR::OPAQUE)]
+                // Alpha-tested triangles reach the shaders' candidate loop.
+                .flags(if m.opaque {
+                    vk::GeometryFlagsKHR::OPAQUE
+                } else {
+                    vk::GeometryFlagsKHR::empty()
+                })]
         })
         .collect()
 }

@@ -19,17 +19,21 @@ use accel::SceneAccel;
 use bvh::{BvhParams, FlatBvh};
 use lensray_core::interface::{
     SCENE_BINDING_INDICES, SCENE_BINDING_MATERIALS, SCENE_BINDING_NORMALS, SCENE_BINDING_POSITIONS,
-    SCENE_BINDING_TRI_INFO, TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES,
+    SCENE_BINDING_TEXCOORDS, SCENE_BINDING_TEXELS, SCENE_BINDING_TEXTURES, SCENE_BINDING_TRI_INFO,
+    TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES,
 };
 use lensray_core::scene::Scene;
 
 /// The arrays' binding numbers, in the order of the fields below.
-const SCENE_BINDINGS: [u32; 5] = [
+const SCENE_BINDINGS: [u32; 8] = [
     SCENE_BINDING_POSITIONS,
     SCENE_BINDING_NORMALS,
     SCENE_BINDING_INDICES,
     SCENE_BINDING_TRI_INFO,
     SCENE_BINDING_MATERIALS,
+    SCENE_BINDING_TEXCOORDS,
+    SCENE_BINDING_TEXTURES,
+    SCENE_BINDING_TEXELS,
 ];
 
 /// The software traversal's BVH on the device (lensray-vulkan/src/scene/bvh.rs).
@@ -90,6 +94,9 @@ pub(crate) struct SceneBuffers {
     indices: Buffer,
     tri_info: Buffer,
     materials: Buffer,
+    texcoords: Buffer,
+    textures: Buffer,
+    texels: Buffer,
     pub triangle_count: u32,
 }
 
@@ -107,6 +114,7 @@ impl SceneBuffers {
             ("vertex", std::mem::size_of_val(flat.positions.as_slice())),
             ("index", std::mem::size_of_val(flat.indices.as_slice())),
             ("material", std::mem::size_of_val(flat.materials.as_slice())),
+            ("texel", std::mem::size_of_val(flat.texels.as_slice())),
         ] {
             if bytes as u64 > limit {
                 return Err(GpuError::Invalid(format!(
@@ -154,6 +162,15 @@ impl SceneBuffers {
             bytemuck::cast_slice(&flat.materials),
             storage,
         )?;
+        let [texcoords, textures, texels] = [
+            (
+                "scene texture coordinates",
+                bytemuck::cast_slice(&flat.texcoords),
+            ),
+            ("scene textures", bytemuck::cast_slice(&flat.textures)),
+            ("scene texels", bytemuck::cast_slice(&flat.texels)),
+        ]
+        .map(|(name, data)| Buffer::with_data(ctx, name, data, storage));
         let accel = ray_query
             .then(|| accel::build(ctx, &flat, &positions, &indices))
             .transpose()?;
@@ -170,12 +187,15 @@ impl SceneBuffers {
             indices,
             tri_info,
             materials,
+            texcoords: texcoords?,
+            textures: textures?,
+            texels: texels?,
             triangle_count: flat.triangle_count(),
         })
     }
 
     /// The descriptors of shaders/include/scene.glsl, read by `stages`.
-    pub(crate) fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 5] {
+    pub(crate) fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 8] {
         SCENE_BINDINGS.map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
     }
 
@@ -187,6 +207,9 @@ impl SceneBuffers {
             &self.indices,
             &self.tri_info,
             &self.materials,
+            &self.texcoords,
+            &self.textures,
+            &self.texels,
         ];
         for (binding, buffer) in SCENE_BINDINGS.into_iter().zip(buffers) {
             pipeline.bind_buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer);

@@ -124,6 +124,7 @@ pub fn material(name: &str, diffuse: Vec3, emission: Vec3) -> Material {
         name: name.into(),
         diffuse,
         emission,
+        ..Default::default()
     }
 }
 
@@ -156,6 +157,7 @@ pub fn cuboid(min: Vec3, max: Vec3, material: u32) -> Mesh {
         normals: vec![],
         material_ids: vec![material; triangles.len()],
         triangles,
+        ..Default::default()
     }
 }
 
@@ -172,6 +174,7 @@ pub fn floor(half: f32, y: f32, material: u32) -> Mesh {
         normals: vec![],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
         material_ids: vec![material; 2],
+        ..Default::default()
     }
 }
 
@@ -195,6 +198,7 @@ pub fn test_scene() -> Scene {
             material("blue", Vec3::new(0.1, 0.3, 0.85), Vec3::ZERO),
             material("lamp", Vec3::new(0.9, 0.8, 0.2), Vec3::new(0.5, 0.4, 0.1)),
         ],
+        ..Default::default()
     }
 }
 

@@ -38,6 +38,7 @@ fn render_emitters(open: &Camera, emitters: &[(&str, Vec3); 2], half: f32, z: f3
             .map(|(_, p)| quad(p.x - half, p.x + half, p.y - half, p.y + half, -z, 0))
             .collect(),
         materials: vec![material("white", Vec3::ONE)],
+        ..Default::default()
     };
     println!("CoC {:.2} px", open.coc_radius_pixels(z));
     let shot = Shot {

@@ -26,6 +26,7 @@ fn render_edge(camera: &Camera, z: f32, spp: u32) -> (Vec<f64>, Image, f32) {
             quad(edge_x, 100.0, -100.0, 100.0, -z, 1),
         ],
         materials: vec![material("black", Vec3::ZERO), material("white", Vec3::ONE)],
+        ..Default::default()
     };
     let shot = Shot {
         camera: camera.clone(),

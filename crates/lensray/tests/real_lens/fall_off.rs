@@ -166,6 +166,7 @@ fn a_uniform_background_renders_the_relative_illumination() {
     let scene = Scene {
         meshes: vec![quad(-1.0, 1.0, -1.0, 1.0, 10.0, 0)],
         materials: vec![material("unseen", Vec3::ZERO)],
+        ..Default::default()
     };
     let (image, _) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
     let e0 = irradiance(lens, Vec3::new(0.0, 0.0, lens.film_z()));

@@ -80,16 +80,19 @@ fn kd_and_ke_are_read_exactly() {
             name: "red".into(),
             diffuse: Vec3::new(0.1, 0.2, 0.3),
             emission: Vec3::new(4.0, 5.0, 6.0),
+            ..Default::default()
         },
         Material {
             name: "grey".into(),
             diffuse: Vec3::splat(0.5),
             emission: Vec3::ZERO,
+            ..Default::default()
         },
         Material {
             name: "plain".into(),
             diffuse: Material::default().diffuse,
             emission: Vec3::ZERO,
+            ..Default::default()
         },
     ];
     assert_eq!(scene.materials, expected);

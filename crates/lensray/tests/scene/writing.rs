@@ -62,13 +62,16 @@ fn write_obj_round_trips() {
                 name: "m".into(),
                 diffuse: Vec3::X,
                 emission: Vec3::ZERO,
+                ..Default::default()
             },
             Material {
                 name: "m".into(),
                 diffuse: Vec3::Y,
                 emission: Vec3::splat(2.0),
+                ..Default::default()
             },
         ],
+        ..Default::default()
     };
     for _ in 0..2 {
         let mut mesh = uv_sphere("s", Vec3::ZERO, 1.0, 4, 3, 0);

@@ -94,6 +94,19 @@ impl Accel {
         t_max: f32,
         hits: &mut [Option<Hit>],
     ) {
+        self.closest_hits_where(origins, directions, t_min, t_max, hits, &|_, _, _| true);
+    }
+
+    /// [`Accel::closest_hits`] among the hits `stops(lane, slot, barycentric)` accepts.
+    pub fn closest_hits_where(
+        &self,
+        origins: &[Vec3],
+        directions: &[Vec3],
+        t_min: f32,
+        t_max: f32,
+        hits: &mut [Option<Hit>],
+        stops: &impl Fn(usize, u32, Vec2) -> bool,
+    ) {
         let n = origins.len();
         assert!(n <= PACKET_SIZE && directions.len() == n && hits.len() == n);
         let mut packet = Packet {
@@ -131,7 +144,8 @@ impl Accel {
                 &watertight,
                 group,
                 t_min,
-                &mut best
+                &mut best,
+                stops
             ));
         }
         for (hit, best) in hits.iter_mut().zip(best) {
@@ -155,6 +169,7 @@ impl Accel {
         active: u32,
         t_min: f32,
         best: &mut [Option<(u32, f32, Vec2)>; PACKET_SIZE],
+        stops: &impl Fn(usize, u32, Vec2) -> bool,
     ) {
         if self.bvh.nodes.is_empty() {
             return;
@@ -208,8 +223,10 @@ impl Accel {
                                 t_min,
                                 packet.t_max[l],
                             ) {
-                                packet.t_max[l] = t;
-                                best[l] = Some((slot, t, b));
+                                if stops(l, slot, b) {
+                                    packet.t_max[l] = t;
+                                    best[l] = Some((slot, t, b));
+                                }
                             }
                         }
                     }
@@ -222,16 +239,20 @@ impl Accel {
                         let inv_det = 1.0 / scratch.det[l];
                         let t = scratch.t_scaled[l] * inv_det;
                         let b = Vec2::new(scratch.v[l] * inv_det, scratch.w[l] * inv_det);
-                        packet.t_max[l] = t;
-                        best[l] = Some((slot, t, b));
+                        if stops(l, slot, b) {
+                            packet.t_max[l] = t;
+                            best[l] = Some((slot, t, b));
+                        }
                     }
                     // Lanes on an edge in single precision: the scalar test's double-precision path.
                     for l in lanes(edge & m) {
                         if let Some((t, b)) =
                             watertight[l].intersect_axes::<KX, KY, KZ>(v, t_min, packet.t_max[l])
                         {
-                            packet.t_max[l] = t;
-                            best[l] = Some((slot, t, b));
+                            if stops(l, slot, b) {
+                                packet.t_max[l] = t;
+                                best[l] = Some((slot, t, b));
+                            }
                         }
                     }
                 }

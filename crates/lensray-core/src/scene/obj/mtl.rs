@@ -7,20 +7,52 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use crate::scene::{Material, SceneError};
+use super::textures::{Kind, TextureFiles};
+use crate::scene::{AlphaMode, Material, SceneError};
 
-/// The scene material of an MTL material: `Kd` the diffuse colour (the default's when absent),
-/// `Ke` the emission (0 when absent).
-pub(super) fn convert_material(m: &tobj::Material) -> Material {
+/// The scene material of an MTL material read from `dir`: `Kd` the diffuse colour (the
+/// default's when absent; white under a `map_Kd` without `Kd`), `Ke` the emission (0 when
+/// absent; white under a `map_Ke` without `Ke`), `d` times `map_d` the coverage, cut
+/// stochastically where it is below 1 (`AlphaMode::Blend`: the average over samples is the
+/// partly covered surface).
+pub(super) fn convert_material(
+    m: &tobj::Material,
+    dir: &Path,
+    files: &mut TextureFiles,
+) -> Result<Material, SceneError> {
     let default = Material::default();
     let emission = m
         .emissive
         .or_else(|| m.unknown_param.get("Ke").and_then(|s| parse_colour(s).ok()));
-    Material {
-        name: m.name.clone(),
-        diffuse: m.diffuse.map(Vec3::from).unwrap_or(default.diffuse),
-        emission: emission.map(Vec3::from).unwrap_or(Vec3::ZERO),
-    }
+    let name = &m.name;
+    let mut texture = |value: Option<&String>, kind| match value {
+        Some(value) => files.get(dir, value, kind, name),
+        None => Ok(None),
+    };
+    let diffuse_texture = texture(m.diffuse_texture.as_ref(), Kind::Colour)?;
+    let emission_texture = texture(m.unknown_param.get("map_Ke"), Kind::Colour)?;
+    let alpha_texture = texture(m.dissolve_texture.as_ref(), Kind::Coverage)?;
+    let alpha = m.dissolve.unwrap_or(1.0).clamp(0.0, 1.0);
+    let textured_white = |texture: bool, fallback: Vec3| if texture { Vec3::ONE } else { fallback };
+    Ok(Material {
+        name: name.clone(),
+        diffuse: m
+            .diffuse
+            .map(Vec3::from)
+            .unwrap_or(textured_white(diffuse_texture.is_some(), default.diffuse)),
+        emission: emission
+            .map(Vec3::from)
+            .unwrap_or(textured_white(emission_texture.is_some(), Vec3::ZERO)),
+        diffuse_texture,
+        emission_texture,
+        alpha_mode: if alpha < 1.0 || alpha_texture.is_some() {
+            AlphaMode::Blend
+        } else {
+            AlphaMode::Opaque
+        },
+        alpha,
+        alpha_texture,
+    })
 }
 
 /// Parses "r g b" or "v" (grey): finite, non-negative.

@@ -1,0 +1,126 @@
+//! glTF 2.0 (`.gltf` with its buffers, data URIs included, and `.glb`), read with the `gltf`
+//! crate into a [`Scene`] and the file's cameras. glTF is in metres, and so is the scene.
+//!
+//! Mapping: the default scene (else the first) is walked from its roots, each node's transform
+//! (matrix or TRS) applied after its parent's. Every triangle primitive (`TRIANGLES`, strips and
+//! fans; indexed or not) of a node's mesh becomes one [`Mesh`](super::Mesh) in world space: positions through
+//! `world_from_node`, normals through its inverse transpose, the winding kept counter-clockwise
+//! where the transform mirrors; TEXCOORD_0 comes along. Points and lines are skipped with one
+//! notice. Materials and their textures: `materials.rs`; a primitive without one gets glTF's
+//! default material (white). What the Lambert shading does not use is named in one notice.
+//!
+//! Strict where the file is broken: a buffer that is missing or shorter than it says, an
+//! accessor reaching past its buffer view, an index past the vertices, a position that is not
+//! finite and a required extension lensray does not know are errors naming what and where.
+
+use std::path::Path;
+
+use glam::DMat4;
+
+use super::file_camera::FileCamera;
+use super::{Scene, SceneError};
+
+mod materials;
+mod nodes;
+
+/// Extensions this loader applies; a file requiring any other is refused.
+const KNOWN_EXTENSIONS: [&str; 2] = ["KHR_materials_emissive_strength", "KHR_texture_transform"];
+
+/// A mesh file read: the scene, the cameras it holds (in the file's order) and what the loader
+/// has to say about it (one line each: what it ignored or repaired).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshFile {
+    pub scene: Scene,
+    pub cameras: Vec<FileCamera>,
+    pub notices: Vec<String>,
+}
+
+/// Reads a `.gltf` or `.glb` file with its buffers.
+pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
+    let bytes = std::fs::read(path).map_err(|err| SceneError::Read {
+        path: path.to_path_buf(),
+        err,
+    })?;
+    let bad = |reason: String| SceneError::Gltf {
+        path: path.to_path_buf(),
+        reason,
+    };
+    // Extensions first, so that an unknown required one is named as such.
+    let unchecked =
+        gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| bad(e.to_string()))?;
+    let mut notices = Vec::new();
+    check_extensions(&unchecked.document, &mut notices).map_err(bad)?;
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&bytes)
+        .map_err(|e| bad(e.to_string().trim_end_matches(';').to_string()))?;
+    let base = path.parent().unwrap_or(Path::new(""));
+    let buffers = read_buffers(&document, base, blob).map_err(bad)?;
+    let mut reader = nodes::Walk::new(&buffers, base, &document);
+    let scene = document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+        .ok_or_else(|| bad("the file has no scene".into()))?;
+    for node in scene.nodes() {
+        reader.node(&node, DMat4::IDENTITY).map_err(bad)?;
+    }
+    let mut out = reader.finish(&document);
+    notices.append(&mut out.notices);
+    out.notices = notices
+        .into_iter()
+        .map(|n| format!("{}: {n}", path.display()))
+        .collect();
+    if out.scene.triangle_count() == 0 {
+        return Err(SceneError::NoTriangles {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(out)
+}
+
+/// An error for a required extension lensray does not apply; a notice for used ones.
+fn check_extensions(document: &gltf::Document, notices: &mut Vec<String>) -> Result<(), String> {
+    let unknown = |name: &&str| !KNOWN_EXTENSIONS.contains(name);
+    if let Some(name) = document.extensions_required().find(unknown) {
+        return Err(format!(
+            "requires the extension {name}, which lensray does not support"
+        ));
+    }
+    let ignored: Vec<&str> = document.extensions_used().filter(unknown).collect();
+    if !ignored.is_empty() {
+        notices.push(format!("ignores the extensions {}", ignored.join(", ")));
+    }
+    Ok(())
+}
+
+/// Every buffer's bytes: a file beside the glTF, a data URI, or the GLB's binary chunk; an
+/// error names a buffer that cannot be read or is shorter than its `byteLength`.
+fn read_buffers(
+    document: &gltf::Document,
+    base: &Path,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>, String> {
+    document
+        .buffers()
+        .map(|buffer| {
+            let name = match buffer.source() {
+                gltf::buffer::Source::Bin => {
+                    format!("buffer {} (the GLB's BIN chunk)", buffer.index())
+                }
+                gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+                    format!("buffer {} (a data URI)", buffer.index())
+                }
+                gltf::buffer::Source::Uri(uri) => format!("buffer {} ({uri})", buffer.index()),
+            };
+            let data =
+                gltf::buffer::Data::from_source_and_blob(buffer.source(), Some(base), &mut blob)
+                    .map_err(|e| format!("{name}: {e}"))?;
+            if data.len() < buffer.length() {
+                return Err(format!(
+                    "{name} has {} bytes, fewer than its byteLength {}",
+                    data.len(),
+                    buffer.length()
+                ));
+            }
+            Ok(data.0)
+        })
+        .collect()
+}

@@ -1,0 +1,132 @@
+//! Materials: a Lambert diffuse colour and an emission, each a factor times an optional texture,
+//! and how much of a surface is there (alpha).
+
+use glam::{Vec2, Vec3};
+
+use super::texture::{sample, sample_finest, TexcoordFootprint, Texture, TextureRef};
+
+/// How a material's alpha (its factor times its coverage texture's alpha) decides whether a ray
+/// that meets the surface stops there (glTF's `alphaMode`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored: the surface is everywhere.
+    #[default]
+    Opaque,
+    /// The surface is where alpha >= the cutoff.
+    Mask { cutoff: f32 },
+    /// A ray stops with probability alpha (a stochastic cut, drawn per ray and surface): the
+    /// average of the samples is the surface blended over what lies behind it, without sorting.
+    Blend,
+}
+
+/// Linear RGB diffuse colour and emission of a surface, with their textures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// `Kd` / `baseColorFactor`.
+    pub diffuse: Vec3,
+    /// `Ke` / `emissiveFactor` x strength.
+    pub emission: Vec3,
+    /// Multiplies `diffuse` (`map_Kd`, `baseColorTexture`).
+    pub diffuse_texture: Option<TextureRef>,
+    /// Multiplies `emission` (`map_Ke`, `emissiveTexture`).
+    pub emission_texture: Option<TextureRef>,
+    pub alpha_mode: AlphaMode,
+    /// `d` / the base colour factor's alpha.
+    pub alpha: f32,
+    /// Its alpha channel multiplies `alpha` (`map_d`; glTF: the base colour texture).
+    pub alpha_texture: Option<TextureRef>,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self::new("default", Vec3::splat(0.8), Vec3::ZERO)
+    }
+}
+
+impl Material {
+    /// An opaque, untextured material.
+    pub fn new(name: &str, diffuse: Vec3, emission: Vec3) -> Self {
+        Self {
+            name: name.into(),
+            diffuse,
+            emission,
+            diffuse_texture: None,
+            emission_texture: None,
+            alpha_mode: AlphaMode::Opaque,
+            alpha: 1.0,
+            alpha_texture: None,
+        }
+    }
+
+    /// The diffuse colour at texture coordinates `texcoord`, filtered over `footprint`.
+    pub fn diffuse_at(
+        &self,
+        textures: &[Texture],
+        texcoord: Vec2,
+        footprint: &TexcoordFootprint,
+    ) -> Vec3 {
+        match &self.diffuse_texture {
+            Some(t) => self.diffuse * sample(textures, t, texcoord, footprint).truncate(),
+            None => self.diffuse,
+        }
+    }
+
+    /// The emission at texture coordinates `texcoord`, filtered over `footprint`.
+    pub fn emission_at(
+        &self,
+        textures: &[Texture],
+        texcoord: Vec2,
+        footprint: &TexcoordFootprint,
+    ) -> Vec3 {
+        match &self.emission_texture {
+            Some(t) if self.emission != Vec3::ZERO => {
+                self.emission * sample(textures, t, texcoord, footprint).truncate()
+            }
+            _ => self.emission,
+        }
+    }
+
+    /// Whether rays may pass through the surface somewhere: what acceleration structures mark
+    /// as not opaque.
+    pub fn is_alpha_tested(&self) -> bool {
+        self.alpha_mode != AlphaMode::Opaque
+    }
+
+    /// Alpha at texture coordinates `texcoord`, read at the finest level.
+    pub fn alpha_at(&self, textures: &[Texture], texcoord: Vec2) -> f32 {
+        match &self.alpha_texture {
+            Some(t) => self.alpha * sample_finest(textures, t, texcoord).w,
+            None => self.alpha,
+        }
+    }
+
+    /// Whether a ray stops at the surface at `texcoord`; `threshold` in [0, 1) is the ray's
+    /// draw for `Blend` (`blend_threshold`).
+    pub fn stops_ray(&self, textures: &[Texture], texcoord: Vec2, threshold: f32) -> bool {
+        match self.alpha_mode {
+            AlphaMode::Opaque => true,
+            AlphaMode::Mask { cutoff } => self.alpha_at(textures, texcoord) >= cutoff,
+            AlphaMode::Blend => self.alpha_at(textures, texcoord) > threshold,
+        }
+    }
+}
+
+/// Salts of the blend draws of camera and shadow rays (apart from each other and from the
+/// sampler's uses of the sample key).
+pub use crate::interface::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
+
+/// The draw in [0, 1) that decides whether the ray of `ray_key` stops at `Blend` triangle
+/// `triangle` (the global triangle index of the GPU's flattened scene): independent between
+/// surfaces along one ray, the same on every path.
+pub fn blend_threshold(ray_key: u32, triangle: u32) -> f32 {
+    use crate::sampler::{hash_u32, unit_float};
+    unit_float(hash_u32(ray_key ^ hash_u32(triangle)))
+}
+
+/// The key of the camera ray (`BLEND_CAMERA_SALT`) or shadow ray (`BLEND_SHADOW_SALT`) of
+/// sample `sample_index` of pixel `pixel_index`. The AOVs' aperture-centre ray draws nothing:
+/// a `Blend` surface stops it where alpha > `AOV_BLEND_THRESHOLD`.
+pub fn ray_key(seed: u32, pixel_index: u32, sample_index: u32, salt: u32) -> u32 {
+    crate::sampler::sample_key(seed, pixel_index, sample_index) ^ salt
+}

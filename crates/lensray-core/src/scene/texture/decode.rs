@@ -1,0 +1,59 @@
+//! Image files (PNG and JPEG, the formats glTF allows; whatever else the `image` crate reads
+//! for OBJ) into textures.
+
+use super::{Encoding, Texture, MAX_SIZE};
+
+/// Decodes `bytes` (an image file's contents) into a texture of `encoding`; the error says why
+/// in a few words.
+pub fn decode_texture(name: &str, bytes: &[u8], encoding: Encoding) -> Result<Texture, String> {
+    let image = decode(bytes)?.to_rgba8();
+    Ok(Texture::from_rgba8(
+        name,
+        image.width(),
+        image.height(),
+        image.as_raw(),
+        encoding,
+    ))
+}
+
+/// A coverage texture (OBJ's `map_d`) from an image file's contents: alpha carries the image's
+/// alpha channel where it has one, else its luminance, both linear; colour is white.
+pub fn coverage_from_image(name: &str, bytes: &[u8]) -> Result<Texture, String> {
+    let image = decode(bytes)?;
+    let has_alpha = image.color().has_alpha();
+    let rgba = image.to_rgba8();
+    let texels: Vec<u8> = rgba
+        .pixels()
+        .flat_map(|p| {
+            let [r, g, b, a] = p.0;
+            let coverage = if has_alpha {
+                a
+            } else {
+                let y = 0.2126 * f32::from(r) + 0.7152 * f32::from(g) + 0.0722 * f32::from(b);
+                y.round().min(255.0) as u8
+            };
+            [255, 255, 255, coverage]
+        })
+        .collect();
+    Ok(Texture::from_rgba8(
+        name,
+        rgba.width(),
+        rgba.height(),
+        &texels,
+        Encoding::Linear,
+    ))
+}
+
+fn decode(bytes: &[u8]) -> Result<image::DynamicImage, String> {
+    let image = image::load_from_memory(bytes).map_err(|e| e.to_string())?;
+    let (w, h) = (image.width(), image.height());
+    if w == 0 || h == 0 {
+        return Err("the image is empty".into());
+    }
+    if w > MAX_SIZE || h > MAX_SIZE {
+        return Err(format!(
+            "the image is {w} x {h} pixels; lensray reads textures up to {MAX_SIZE} on a side"
+        ));
+    }
+    Ok(image)
+}

@@ -1,0 +1,251 @@
+// Mirror of lensray-core/src/scene/texture/mod.rs (lookups), scene/material.rs (colours and
+// alpha) and camera/footprint.rs (the pinhole's pixel footprint), function by function: the
+// texels are a storage buffer read with the CPU's arithmetic, so every path filters as the CPU
+// reference does. `precise` keeps the compiler from fusing what Rust rounds twice. Include after
+// scene.glsl (SCENE_SET).
+#ifndef LENSRAY_TEXTURE_GLSL
+#define LENSRAY_TEXTURE_GLSL
+
+#include "sampler.glsl"
+
+layout(std430, set = SCENE_SET, binding = SCENE_BINDING_TEXCOORDS) readonly buffer Texcoords {
+    vec2 texcoords[];
+};
+layout(std430, set = SCENE_SET, binding = SCENE_BINDING_TEXTURES) readonly buffer Textures {
+    Texture textures[];
+};
+layout(std430, set = SCENE_SET, binding = SCENE_BINDING_TEXELS) readonly buffer Texels {
+    uint texels[];
+};
+
+// texture/mod.rs: srgb_to_linear
+float srgb_to_linear(float c) {
+    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+// texture/mod.rs: decode_texel
+vec4 decode_texel(uint texel, bool srgb) {
+    vec4 v = vec4(float(texel & 0xffu), float((texel >> 8u) & 0xffu),
+                  float((texel >> 16u) & 0xffu), float(texel >> 24u)) / 255.0;
+    if (srgb) {
+        v.xyz = vec3(srgb_to_linear(v.x), srgb_to_linear(v.y), srgb_to_linear(v.z));
+    }
+    return v;
+}
+
+// texture/mod.rs: wrap_texel, for the coordinates reduce_coordinate leaves: -1 ..= 2 size.
+int wrap_texel(int i, int size, uint wrap) {
+    if (wrap == WRAP_CLAMP_TO_EDGE) {
+        return clamp(i, 0, size - 1);
+    }
+    int period = wrap == WRAP_REPEAT ? size : 2 * size;
+    int m = i < 0 ? i + period : (i >= period ? i - period : i);
+    return (wrap == WRAP_REPEAT || m < size) ? m : 2 * size - 1 - m;
+}
+
+// texture/mod.rs: reduce
+float reduce_coordinate(float c, uint wrap) {
+    if (isnan(c)) {
+        return 0.0;
+    }
+    if (wrap == WRAP_REPEAT) {
+        return c - floor(c);
+    }
+    if (wrap == WRAP_MIRRORED_REPEAT) {
+        precise float twice = 2.0 * floor(0.5 * c);
+        return c - twice;
+    }
+    return clamp(c, -1.0, 2.0);
+}
+
+// glam's lerp: a (1 - f) + b f.
+vec4 lerp4(vec4 a, vec4 b, float f) {
+    precise vec4 v = a * (1.0 - f) + b * f;
+    return v;
+}
+
+vec4 level_texel(Texture t, uint level, int width, int x, int y) {
+    uint first = t.level_first[level / 4u][level % 4u];
+    return decode_texel(texels[first + uint(y) * uint(width) + uint(x)], t.srgb != 0u);
+}
+
+// texture/mod.rs: Texture::bilinear
+vec4 texture_bilinear(Texture t, uint level, vec2 uv, uint wrap_u, uint wrap_v) {
+    int w = int(max(t.width >> level, 1u));
+    int h = int(max(t.height >> level, 1u));
+    precise float x = reduce_coordinate(uv.x, wrap_u) * float(w) - 0.5;
+    precise float y = reduce_coordinate(uv.y, wrap_v) * float(h) - 0.5;
+    float x0 = floor(x);
+    float y0 = floor(y);
+    precise float fx = x - x0;
+    precise float fy = y - y0;
+    int xa = wrap_texel(int(x0), w, wrap_u);
+    int xb = wrap_texel(int(x0) + 1, w, wrap_u);
+    int ya = wrap_texel(int(y0), h, wrap_v);
+    int yb = wrap_texel(int(y0) + 1, h, wrap_v);
+    vec4 top = lerp4(level_texel(t, level, w, xa, ya), level_texel(t, level, w, xb, ya), fx);
+    vec4 bottom = lerp4(level_texel(t, level, w, xa, yb), level_texel(t, level, w, xb, yb), fx);
+    return lerp4(top, bottom, fy);
+}
+
+// texture/mod.rs: Texture::level_of_detail
+float texture_level_of_detail(Texture t, vec2 duv_dx, vec2 duv_dy) {
+    vec2 size = vec2(float(t.width), float(t.height));
+    precise vec2 x = duv_dx * size;
+    precise vec2 y = duv_dy * size;
+    precise float longest = max(x.x * x.x + x.y * x.y, y.x * y.x + y.y * y.y);
+    return 0.5 * log2(longest);
+}
+
+// texture/mod.rs: Texture::trilinear
+vec4 texture_trilinear(Texture t, vec2 uv, float lod, uint wrap_u, uint wrap_v) {
+    float last = float(t.levels - 1u);
+    lod = isnan(lod) ? 0.0 : clamp(lod, 0.0, last);
+    float l0 = floor(lod);
+    precise float f = lod - l0;
+    vec4 below = texture_bilinear(t, uint(l0), uv, wrap_u, wrap_v);
+    if (f == 0.0) {
+        return below;
+    }
+    return lerp4(below, texture_bilinear(t, uint(l0) + 1u, uv, wrap_u, wrap_v), f);
+}
+
+// Affine2::transform_point2 and its matrix alone.
+vec2 texture_uv(TextureRef r, vec2 texcoord) {
+    precise vec2 uv = vec2(r.transform_u.x * texcoord.x + r.transform_u.y * texcoord.y + r.transform_u.z,
+                           r.transform_v.x * texcoord.x + r.transform_v.y * texcoord.y + r.transform_v.z);
+    return uv;
+}
+vec2 texture_duv(TextureRef r, vec2 d) {
+    precise vec2 duv = vec2(r.transform_u.x * d.x + r.transform_u.y * d.y,
+                            r.transform_v.x * d.x + r.transform_v.y * d.y);
+    return duv;
+}
+
+// texture/mod.rs: sample
+vec4 texture_sample(TextureRef r, vec2 texcoord, vec2 dx, vec2 dy) {
+    Texture t = textures[r.texture];
+    float lod = texture_level_of_detail(t, texture_duv(r, dx), texture_duv(r, dy));
+    return texture_trilinear(t, texture_uv(r, texcoord), lod, r.wrap_u, r.wrap_v);
+}
+
+// texture/mod.rs: sample_finest
+vec4 texture_sample_finest(TextureRef r, vec2 texcoord) {
+    return texture_bilinear(textures[r.texture], 0u, texture_uv(r, texcoord), r.wrap_u, r.wrap_v);
+}
+
+// footprint.rs: Footprint::dp_along
+const float FOOTPRINT_EDGE_ON = 1e30;
+vec3 footprint_dp_along(Footprint f, vec3 p, vec3 n, vec3 step) {
+    vec3 forward = f.forward.xyz;
+    if (f.eye.w > 0.5) {
+        precise float t = -dot(n, step) / dot(n, forward);
+        precise vec3 dp = step + t * forward;
+        return (any(isnan(dp)) || any(isinf(dp))) ? vec3(FOOTPRINT_EDGE_ON) : dp;
+    }
+    precise vec3 to_p = p - f.eye.xyz;
+    precise vec3 d = to_p / dot(to_p, forward) + step;
+    precise float t = dot(n, to_p) / dot(n, d);
+    return (t > 0.0 && !isinf(t)) ? t * d - to_p : vec3(FOOTPRINT_EDGE_ON);
+}
+
+// texture/mod.rs: TexcoordFootprint::on_triangle; out: the footprint along x and along y.
+void triangle_texcoord_footprint(uint tri, vec3 dpdx, vec3 dpdy, out vec2 dx, out vec2 dy) {
+    uint i0 = indices[3u * tri];
+    uint i1 = indices[3u * tri + 1u];
+    uint i2 = indices[3u * tri + 2u];
+    vec3 e1 = positions[i1].xyz - positions[i0].xyz;
+    vec3 e2 = positions[i2].xyz - positions[i0].xyz;
+    vec2 t1 = texcoords[i1] - texcoords[i0];
+    vec2 t2 = texcoords[i2] - texcoords[i0];
+    float g11 = dot(e1, e1);
+    float g12 = dot(e1, e2);
+    float g22 = dot(e2, e2);
+    precise float det = g11 * g22 - g12 * g12;
+    if (det == 0.0 || isinf(det) || isnan(det)) {
+        dx = vec2(0.0);
+        dy = vec2(0.0);
+        return;
+    }
+    float r1 = dot(e1, dpdx);
+    float r2 = dot(e2, dpdx);
+    dx = (g22 * r1 - g12 * r2) / det * t1 + (g11 * r2 - g12 * r1) / det * t2;
+    r1 = dot(e1, dpdy);
+    r2 = dot(e2, dpdy);
+    dy = (g22 * r1 - g12 * r2) / det * t1 + (g11 * r2 - g12 * r1) / det * t2;
+}
+
+// surface.rs: SurfaceData::texcoord
+vec2 triangle_texcoord(uint tri, vec2 b) {
+    vec2 t0 = texcoords[indices[3u * tri]];
+    vec2 t1 = texcoords[indices[3u * tri + 1u]];
+    vec2 t2 = texcoords[indices[3u * tri + 2u]];
+    precise vec2 t = (1.0 - b.x - b.y) * t0 + b.x * t1 + b.y * t2;
+    return t;
+}
+
+bool has_texture(TextureRef r) { return r.texture != TEXTURE_NONE; }
+
+// material.rs: Material::diffuse_at
+vec3 material_diffuse(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+    if (!has_texture(m.diffuse_texture)) {
+        return m.diffuse.xyz;
+    }
+    return m.diffuse.xyz * texture_sample(m.diffuse_texture, texcoord, dx, dy).xyz;
+}
+
+// material.rs: Material::emission_at
+vec3 material_emission(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+    if (!has_texture(m.emission_texture) || m.emission.xyz == vec3(0.0)) {
+        return m.emission.xyz;
+    }
+    return m.emission.xyz * texture_sample(m.emission_texture, texcoord, dx, dy).xyz;
+}
+
+// material.rs: Material::alpha_at
+float material_alpha(Material m, vec2 texcoord) {
+    if (!has_texture(m.alpha_texture)) {
+        return m.diffuse.w;
+    }
+    return m.diffuse.w * texture_sample_finest(m.alpha_texture, texcoord).w;
+}
+
+// How a ray cuts BLEND surfaces: a draw per surface from its key (`scene::ray_key`), or, for
+// the aperture-centre ray of the AOVs, the fixed AOV_BLEND_THRESHOLD.
+struct BlendCut {
+    uint key;
+    bool fixed_threshold;
+};
+
+BlendCut ray_cut(uint key) { return BlendCut(key, false); }
+BlendCut aperture_centre_cut() { return BlendCut(0u, true); }
+// The shadow ray's cut of a camera ray's (reference/render.rs: the shadow key).
+BlendCut shadow_cut(BlendCut camera) {
+    return BlendCut(camera.key ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT, camera.fixed_threshold);
+}
+
+// material.rs: blend_threshold
+float blend_threshold(uint key, uint tri) { return unit_float(hash_u32(key ^ hash_u32(tri))); }
+
+// material.rs: Material::stops_ray, for a surface of alpha-tested `material` (the global
+// triangle `tri`) at `texcoord`.
+bool material_stops_ray(uint material, uint tri, vec2 texcoord, BlendCut cut) {
+    Material m = materials[material];
+    float alpha = material_alpha(m, texcoord);
+    if (m.alpha_mode == ALPHA_MASK) {
+        return alpha >= m.emission.w;
+    }
+    float threshold = cut.fixed_threshold ? AOV_BLEND_THRESHOLD : blend_threshold(cut.key, tri);
+    return alpha > threshold;
+}
+
+// Whether global triangle `tri` stops the ray at barycentrics `b` (reference/render.rs: stops).
+bool triangle_stops_ray(uint tri, vec2 b, BlendCut cut) {
+    uint material = triangle_material(tri);
+    if (materials[material].alpha_mode == ALPHA_OPAQUE) {
+        return true;
+    }
+    return material_stops_ray(material, tri, triangle_texcoord(tri, b), cut);
+}
+
+#endif
