@@ -108,7 +108,8 @@ pub fn uv_sphere(
 }
 
 /// A grid of `nu` x `nv` cells spanning the parallelogram `corner + s u + t v`, `s, t` in [0, 1],
-/// facing `cross(u, v)`; `material(i, j)` gives cell (i along u, j along v) its material.
+/// facing `cross(u, v)`, texture coordinates (s, t); `material(i, j)` gives cell (i along u, j
+/// along v) its material.
 pub fn grid(
     name: &str,
     corner: Vec3,
@@ -120,9 +121,12 @@ pub fn grid(
     assert!(nu >= 1 && nv >= 1, "empty grid");
     let normal = u.cross(v).normalize();
     let mut positions = Vec::with_capacity(((nu + 1) * (nv + 1)) as usize);
+    let mut texcoords = Vec::with_capacity(positions.capacity());
     for j in 0..=nv {
         for i in 0..=nu {
-            positions.push(corner + u * (i as f32 / nu as f32) + v * (j as f32 / nv as f32));
+            let (s, t) = (i as f32 / nu as f32, j as f32 / nv as f32);
+            positions.push(corner + u * s + v * t);
+            texcoords.push(glam::Vec2::new(s, t));
         }
     }
     let index = |i: u32, j: u32| j * (nu + 1) + i;
@@ -146,9 +150,9 @@ pub fn grid(
         name: name.into(),
         normals: vec![normal; positions.len()],
         positions,
+        texcoords,
         triangles,
         material_ids,
-        ..Default::default()
     }
 }
 

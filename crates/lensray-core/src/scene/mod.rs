@@ -17,6 +17,7 @@ mod material;
 pub mod normals;
 pub mod obj;
 pub mod order;
+pub mod test_card;
 pub mod texture;
 pub mod units;
 

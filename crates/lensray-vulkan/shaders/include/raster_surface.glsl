@@ -24,9 +24,34 @@ bool fragment_stops_ray(uint tri, vec2 texcoord, BlendCut cut) {
         || material_stops_ray(material, tri, texcoord, cut);
 }
 
-// The diffuse colour of triangle `tri` at `texcoord`, filtered over the fragment's footprint:
-// the G-buffer is the pinhole's image, so its derivatives are the pinhole's pixel footprint
-// (the traced paths compute the same footprint from the camera, texture.glsl).
+// The point where the ray through clip-space point (x, y) (any depth) meets the plane through
+// `p` with normal `n`.
+vec3 plane_point_at(mat4 world_from_clip, vec2 xy, vec3 p, vec3 n) {
+    vec4 a = world_from_clip * vec4(xy, 0.0, 1.0);
+    vec4 b = world_from_clip * vec4(xy, 0.5, 1.0);
+    vec3 origin = a.xyz / a.w;
+    vec3 direction = b.xyz / b.w - origin;
+    return origin + direction * (dot(n, p - origin) / dot(n, direction));
+}
+
+// The pinhole's pixel footprint at the fragment of triangle `tri` at world point `p`, in
+// texture coordinates: the camera footprint (camera/footprint.rs) found from the pass's matrix,
+// as where the rays through the neighbouring pixels meet the triangle's plane. The pixel step in
+// clip space is the derivative of the fragment's own clip position, which is linear in the pixel
+// (hardware derivatives of the texture coordinates would not be: they differ from pixel to pixel
+// of a quad where the footprint grows fast).
+void fragment_footprint(mat4 clip_from_world, vec3 p, uint tri, out vec2 dx, out vec2 dy) {
+    vec4 c = clip_from_world * vec4(p, 1.0);
+    vec2 xy = c.xy / c.w;
+    vec2 step = vec2(dFdx(xy.x), dFdy(xy.y));
+    mat4 world_from_clip = inverse(clip_from_world);
+    vec3 n = triangle_geometric_normal(tri);
+    vec3 dpdx = plane_point_at(world_from_clip, xy + vec2(step.x, 0.0), p, n) - p;
+    vec3 dpdy = plane_point_at(world_from_clip, xy + vec2(0.0, step.y), p, n) - p;
+    triangle_texcoord_footprint(tri, dpdx, dpdy, dx, dy);
+}
+
+// The diffuse colour of triangle `tri` at `texcoord`, filtered over the footprint (dx, dy).
 vec3 fragment_albedo(uint tri, vec2 texcoord, vec2 dx, vec2 dy) {
     return material_diffuse(materials[triangle_material(tri)], texcoord, dx, dy);
 }

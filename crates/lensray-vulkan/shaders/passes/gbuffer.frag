@@ -17,8 +17,9 @@ layout(location = 1) out vec4 out_albedo;
 layout(location = 2) out float out_depth;
 
 void main() {
-    vec2 dx = dFdxFine(in_texcoord);
-    vec2 dy = dFdyFine(in_texcoord);
+    vec2 dx;
+    vec2 dy;
+    fragment_footprint(pc.clip_from_world, in_world, in_triangle, dx, dy);
     if (!fragment_stops_ray(in_triangle, in_texcoord, aperture_centre_cut())) {
         discard;
     }

@@ -20,8 +20,9 @@ layout(location = 4) in vec2 in_texcoord;
 layout(location = 0) out vec4 out_shown;
 
 void main() {
-    vec2 dx = dFdxFine(in_texcoord);
-    vec2 dy = dFdyFine(in_texcoord);
+    vec2 dx;
+    vec2 dy;
+    fragment_footprint(pc.raster.clip_from_world, in_world, in_triangle, dx, dy);
     if (!fragment_stops_ray(in_triangle, in_texcoord, aperture_centre_cut())) {
         discard;
     }

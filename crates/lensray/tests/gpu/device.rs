@@ -128,7 +128,10 @@ fn invalid_scenes_are_rejected() {
     let mut scene = test_scene();
     scene.meshes[0].triangles[0][2] = 1000;
     let err = gpu.load_scene(&scene).expect_err("index out of range");
-    assert!(err.to_string().contains("indexes past 4 positions"), "{err}");
+    assert!(
+        err.to_string().contains("indexes past 4 positions"),
+        "{err}"
+    );
     finish(gpu, log);
 }
 

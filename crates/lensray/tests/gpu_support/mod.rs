@@ -267,6 +267,16 @@ pub fn settings(shading: Shading, spp: u32) -> RenderSettings {
 /// `choice` opened on the test scene for `shot` as `render --path` opens it (validation on for
 /// GPU paths); `None` (skip recorded) where the machine cannot run it and skipping is allowed.
 pub fn open_path(test: &str, choice: PathChoice, shot: &Shot) -> Option<OpenedPath> {
+    open_path_with(test, choice, &test_scene(), shot)
+}
+
+/// [`open_path`] on `scene`.
+pub fn open_path_with(
+    test: &str,
+    choice: PathChoice,
+    scene: &Scene,
+    shot: &Shot,
+) -> Option<OpenedPath> {
     let options = PathOptions {
         path: choice,
         device: DeviceChoice::Auto,
@@ -275,7 +285,7 @@ pub fn open_path(test: &str, choice: PathChoice, shot: &Shot) -> Option<OpenedPa
             ..GpuOptions::default()
         },
     };
-    match paths::open(&options, &test_scene(), shot) {
+    match paths::open(&options, scene, shot) {
         Ok(opened) => Some(opened),
         Err(e) => match e.downcast_ref::<GpuError>() {
             Some(gpu) if may_skip(gpu) => {
