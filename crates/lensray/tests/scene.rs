@@ -17,6 +17,8 @@ mod generators;
 mod gltf;
 #[path = "scene/obj.rs"]
 mod obj;
+#[path = "scene/textures.rs"]
+mod textures;
 #[path = "scene/units.rs"]
 mod units;
 #[path = "scene/writing.rs"]

@@ -5,6 +5,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec3};
+use lensray_core::scene::texture::Wrap;
 use lensray_core::scene::{load, load_gltf, SceneError};
 use lensray_core::settings::shot;
 
@@ -150,6 +151,22 @@ fn the_bundled_gltf_loads_alike_from_files_and_data_uris() {
         .meshes
         .iter()
         .all(|m| m.normals.len() == m.positions.len()));
+    // The Cesium logo, sRGB, mip-mapped down to 1 x 1, read with REPEAT by coordinates
+    // reaching 6.
+    let textures = &split.scene.textures;
+    assert_eq!(textures.len(), 1);
+    let logo = &textures[0];
+    assert_eq!((logo.levels[0].width, logo.levels[0].height), (256, 256));
+    assert_eq!(logo.levels.len(), 9);
+    let material = &split.scene.materials[0];
+    let base = material.diffuse_texture.expect("a base colour texture");
+    assert_eq!(base.wrap, [Wrap::Repeat; 2]);
+    assert_eq!(material.alpha_texture, Some(base));
+    let reach = split.scene.meshes[0]
+        .texcoords
+        .iter()
+        .fold(0.0f32, |m, t| m.max(t.max_element()));
+    assert!(reach > 5.0, "texture coordinates reach {reach}");
 }
 
 #[test]
