@@ -23,8 +23,14 @@ fn the_bundled_tree_reads_its_bark_and_leaves() {
     assert_eq!(leaves.alpha_mode, AlphaMode::Blend);
     let coverage = &scene.textures[leaves.alpha_texture.expect("map_d").texture as usize];
     let alphas: Vec<u32> = coverage.texels.iter().map(|t| t >> 24).collect();
-    assert!(alphas.contains(&0) && alphas.contains(&255), "a cut-out mask");
-    assert!(scene.meshes.iter().all(|m| m.texcoords.len() == m.positions.len()));
+    assert!(
+        alphas.contains(&0) && alphas.contains(&255),
+        "a cut-out mask"
+    );
+    assert!(scene
+        .meshes
+        .iter()
+        .all(|m| m.texcoords.len() == m.positions.len()));
 }
 
 #[test]
