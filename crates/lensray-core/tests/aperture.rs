@@ -9,7 +9,7 @@ use lensray_core::film::Image;
 use lensray_core::reference::Renderer;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::{Material, Scene};
-use lensray_core::settings::{PointLight, RenderSettings, Shading, Shot};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 const SIZE: u32 = 96;
 const FOCUS: f32 = 5.0;
@@ -43,10 +43,7 @@ fn settings(spp: u32) -> RenderSettings {
         sampler: SamplerKind::default(),
         shading: Shading::Unlit,
         background: Vec3::ZERO,
-        light: PointLight {
-            position: Vec3::ZERO,
-            intensity: Vec3::ZERO,
-        },
+        environment: Vec3::ZERO,
         shared_samples: false,
     }
 }

@@ -6,7 +6,7 @@ use glam::Vec3;
 use lensray_core::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray_core::sampler::{hash_u32, SamplerKind};
 use lensray_core::scene::{Material, Mesh};
-use lensray_core::settings::{PointLight, RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading};
 
 mod edge_fit;
 
@@ -74,10 +74,7 @@ fn settings(shading: Shading, spp: u32) -> RenderSettings {
         sampler: SamplerKind::default(),
         shading,
         background: Vec3::new(0.2, 0.3, 0.4),
-        light: PointLight {
-            position: Vec3::new(0.0, 0.0, 0.0),
-            intensity: Vec3::splat(10.0),
-        },
+        environment: Vec3::ZERO,
         shared_samples: false,
     }
 }

@@ -8,16 +8,16 @@ use glam::Mat4;
 use lensray_core::camera::Footprint;
 use lensray_core::camera::{Camera, Projection};
 use lensray_core::interface::{
-    GpuCamera, GpuFootprint, GpuLens, GpuMaterial, GpuTexture, GpuTextureRef, RasterPush,
+    GpuCamera, GpuFootprint, GpuLens, GpuLight, GpuMaterial, GpuTexture, GpuTextureRef, RasterPush,
     ResolvePush, TraceParams, ViewParams, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, APERTURE_MAX_FAN,
-    LENS_MAX_SURFACES, LENS_PUPIL_BINS, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE,
-    SHADING_LIT, SHADING_UNLIT, TEXTURE_NONE, TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE,
-    WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
+    LENS_MAX_SURFACES, LENS_PUPIL_BINS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT,
+    PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TEXTURE_NONE,
+    TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
 use lensray_core::scene::order::morton_order;
 use lensray_core::scene::texture::{Encoding, Wrap, MAX_LEVELS};
-use lensray_core::scene::Scene;
 use lensray_core::scene::{AlphaMode, Material, Texture, TextureRef};
+use lensray_core::scene::{Light, LightKind, Scene};
 use lensray_core::settings::{Shading, Shot};
 
 use crate::core::error::GpuError;
@@ -45,6 +45,8 @@ pub(crate) struct FlatScene {
     pub textures: Vec<GpuTexture>,
     /// Every texture's texels, every level.
     pub texels: Vec<u32>,
+    /// At least one: a scene without lights holds one LIGHT_NONE.
+    pub lights: Vec<GpuLight>,
     pub meshes: Vec<MeshRange>,
 }
 
@@ -77,6 +79,10 @@ impl FlatScene {
             // Shaders index non-empty arrays; no material refers to these.
             flat.textures.push(GpuTexture::zeroed());
             flat.texels.push(0);
+        }
+        flat.lights = scene.lights.iter().map(gpu_light).collect();
+        if flat.lights.is_empty() {
+            flat.lights.push(GpuLight::zeroed());
         }
         for mesh in &scene.meshes {
             let has_normals = !mesh.normals.is_empty();
@@ -291,8 +297,7 @@ pub(crate) fn trace_params(shot: &Shot) -> TraceParams {
     TraceParams {
         camera: gpu_camera(camera),
         background: settings.background.extend(0.0).to_array(),
-        light_position: settings.light.position.extend(1.0).to_array(),
-        light_intensity: settings.light.intensity.extend(0.0).to_array(),
+        environment: settings.environment.extend(0.0).to_array(),
         width: camera.width,
         height: camera.height,
         seed: settings.seed,
@@ -305,6 +310,26 @@ pub(crate) fn trace_params(shot: &Shot) -> TraceParams {
         pad1: 0,
         pad2: 0,
         footprint: gpu_footprint(&camera.footprint()),
+    }
+}
+
+fn gpu_light(light: &Light) -> GpuLight {
+    let (kind, cos_inner, cos_outer) = match light.kind {
+        LightKind::Point => (LIGHT_POINT, 1.0, 1.0),
+        LightKind::Spot {
+            cos_inner,
+            cos_outer,
+        } => (LIGHT_SPOT, cos_inner, cos_outer),
+        LightKind::Directional => (LIGHT_DIRECTIONAL, 1.0, 1.0),
+    };
+    GpuLight {
+        position: light.position.extend(1.0).to_array(),
+        direction: light.direction.extend(0.0).to_array(),
+        intensity: light.intensity.extend(0.0).to_array(),
+        kind,
+        range: light.range,
+        cos_inner,
+        cos_outer,
     }
 }
 

@@ -11,8 +11,8 @@ mod gpu_support;
 use glam::Vec3;
 use lensray_core::camera::{CameraParams, LensParams, ProjectionParams};
 use lensray_core::sampler::SamplerKind;
-use lensray_core::scene::{Material, Mesh, Scene};
-use lensray_core::settings::{PointLight, RenderSettings, Shading, Shot};
+use lensray_core::scene::{Light, Material, Mesh, Scene};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{bench, GpuOptions, PassBenchOptions};
 
 /// A UV sphere with vertex normals (the scene generators' own).
@@ -58,6 +58,7 @@ fn scene(n: u32, rings: u32) -> Scene {
             material("green", Vec3::new(0.2, 0.8, 0.1)),
             material("blue", Vec3::new(0.1, 0.2, 0.8)),
         ],
+        lights: vec![Light::point(Vec3::new(3.0, 8.0, 4.0), Vec3::splat(100.0))],
         ..Default::default()
     }
 }
@@ -98,10 +99,7 @@ fn main() {
                 sampler: SamplerKind::default(),
                 shading,
                 background: Vec3::new(0.1, 0.2, 0.3),
-                light: PointLight {
-                    position: Vec3::new(3.0, 8.0, 4.0),
-                    intensity: Vec3::splat(100.0),
-                },
+                environment: Vec3::ZERO,
                 shared_samples: false,
             },
         };

@@ -73,6 +73,7 @@ fn shot(desc: &SceneDescription, a: &Args) -> Shot {
                 Shading::Lit
             }),
             background: None,
+            environment: None,
         },
         ..Default::default()
     };
@@ -237,16 +238,23 @@ fn bvh_sweep(desc: &SceneDescription, a: &Args) -> Result<(), GpuError> {
     Ok(())
 }
 
+/// `d` lit as its settings say, as `lensray render` lights it.
+fn lit(mut d: SceneDescription) -> SceneDescription {
+    let settings = d.settings.clone();
+    lensray_core::settings::light_scene(&settings, &mut d.scene).expect("the scene's lights");
+    d
+}
+
 fn main() {
     let a = args();
-    let default = lensray_core::scene::builtin::default_scene();
+    let default = lit(lensray_core::scene::builtin::default_scene());
     let result = if a.bvh_sweep && a.dense_sweep {
-        bvh_sweep(&lensray_core::scene::generate::dense(a.triangles), &a)
+        bvh_sweep(&lit(lensray_core::scene::generate::dense(a.triangles)), &a)
     } else if a.bvh_sweep {
         bvh_sweep(&default, &a)
     } else {
         compare_traversals("default", &default, &a).and_then(|()| {
-            let dense = lensray_core::scene::generate::dense(a.triangles);
+            let dense = lit(lensray_core::scene::generate::dense(a.triangles));
             compare_traversals("dense", &dense, &a)
         })
     };

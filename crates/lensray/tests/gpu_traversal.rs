@@ -34,7 +34,9 @@ fn project_scenes(
     ];
     scenes
         .into_iter()
-        .map(|(name, desc)| {
+        .map(|(name, mut desc)| {
+            let settings = desc.settings.clone();
+            lensray_core::settings::light_scene(&settings, &mut desc.scene).expect("its lights");
             let over = Settings {
                 image: ImageSettings {
                     width: Some(width),
@@ -46,6 +48,7 @@ fn project_scenes(
                 render: RenderStyle {
                     shading: Some(shading),
                     background: None,
+                    environment: None,
                 },
                 ..Default::default()
             };

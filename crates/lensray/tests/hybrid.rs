@@ -262,7 +262,9 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
     use lensray_core::reference::Renderer as CpuRenderer;
     use lensray_core::settings::{ImageSettings, RenderStyle, Settings};
     let test = "lit_shortcuts_follow_shadows_and_curvature";
-    let description = lensray_core::scene::builtin::default_scene();
+    let mut description = lensray_core::scene::builtin::default_scene();
+    let settings = description.settings.clone();
+    lensray_core::settings::light_scene(&settings, &mut description.scene).expect("its light");
     let over = Settings {
         image: ImageSettings {
             width: Some(256),
@@ -274,6 +276,7 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
         render: RenderStyle {
             shading: Some(Shading::Lit),
             background: None,
+            environment: None,
         },
         ..Default::default()
     };

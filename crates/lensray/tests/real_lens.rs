@@ -21,7 +21,7 @@ use lensray_core::film::Image;
 use lensray_core::optics::{builtin, Prescription};
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::{Material, Mesh};
-use lensray_core::settings::{PointLight, RenderSettings, Shading};
+use lensray_core::settings::{RenderSettings, Shading};
 
 // The edge fit that lensray-core's tests use too: one copy.
 #[path = "../../lensray-core/tests/edge_fit/mod.rs"]
@@ -106,10 +106,7 @@ fn settings(spp: u32, seed: u32, background: Vec3) -> RenderSettings {
         sampler: SamplerKind::Sobol,
         shading: Shading::Unlit,
         background,
-        light: PointLight {
-            position: Vec3::ZERO,
-            intensity: Vec3::ZERO,
-        },
+        environment: Vec3::ZERO,
         shared_samples: false,
     }
 }

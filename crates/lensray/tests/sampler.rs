@@ -16,8 +16,8 @@ use lensray_core::film::compare::{
 use lensray_core::film::Image;
 use lensray_core::reference::Renderer;
 use lensray_core::sampler::{pixel_key, sobol_pixel, sobol_sample, SamplerKind};
-use lensray_core::scene::{Material, Mesh, Scene};
-use lensray_core::settings::{PointLight, RenderSettings, Shading, Shot};
+use lensray_core::scene::{Light, Material, Mesh, Scene};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 const WIDTH: u32 = 48;
 const HEIGHT: u32 = 36;
@@ -72,6 +72,7 @@ fn scene() -> Scene {
             material(Vec3::new(0.1, 0.5, 0.9)),
             material(Vec3::new(0.2, 0.8, 0.3)),
         ],
+        lights: vec![Light::point(Vec3::new(2.0, 3.0, 1.0), Vec3::splat(60.0))],
         ..Default::default()
     }
 }
@@ -102,10 +103,7 @@ fn settings(shading: Shading, sampler: SamplerKind, spp: u32, seed: u32) -> Rend
         sampler,
         shading,
         background: BACKGROUND,
-        light: PointLight {
-            position: Vec3::new(2.0, 3.0, 1.0),
-            intensity: Vec3::splat(60.0),
-        },
+        environment: Vec3::ZERO,
         shared_samples: false,
     }
 }
@@ -218,7 +216,9 @@ fn save(images: &[(&Image, &str)]) -> String {
 #[test]
 fn a_hexagonal_aperture_keeps_the_sampler_s_advantage() {
     use lensray_core::settings::{ImageSettings, Settings};
-    let description = lensray_core::scene::builtin::default_scene();
+    let mut description = lensray_core::scene::builtin::default_scene();
+    lensray_core::settings::light_scene(&description.settings, &mut description.scene)
+        .expect("the default scene's light");
     let over = Settings {
         image: ImageSettings {
             width: Some(80),

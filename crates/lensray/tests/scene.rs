@@ -15,6 +15,8 @@ mod file;
 mod generators;
 #[path = "scene/gltf.rs"]
 mod gltf;
+#[path = "scene/lights.rs"]
+mod lights;
 #[path = "scene/obj.rs"]
 mod obj;
 #[path = "scene/textures.rs"]

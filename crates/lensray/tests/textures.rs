@@ -10,7 +10,7 @@ use lensray::paths::{OpenedPath, PathChoice, PathKind};
 use lensray_core::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray_core::film::Image;
 use lensray_core::scene::test_card::test_card;
-use lensray_core::scene::Scene;
+use lensray_core::scene::{Light, Scene};
 use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 fn card_camera(lens: LensParams, width: u32, height: u32) -> Camera {
@@ -40,19 +40,21 @@ fn shot(shading: Shading, spp: u32) -> Shot {
     };
     Shot {
         camera: card_camera(lens, 80, 60),
-        render: RenderSettings {
-            light: lensray_core::settings::PointLight {
-                position: Vec3::new(1.5, 3.0, 3.0),
-                intensity: Vec3::splat(25.0),
-            },
-            ..settings(shading, spp)
-        },
+        render: settings(shading, spp),
     }
 }
 
 /// Renders `shot` of the test card on `choice`; `None` where GPU tests may be skipped.
 fn render(test: &str, choice: PathChoice, shot: &Shot) -> Option<Image> {
-    render_scene(test, choice, &test_card(), shot)
+    render_scene(test, choice, &lit_card(), shot)
+}
+
+/// The test card under one point light.
+fn lit_card() -> Scene {
+    Scene {
+        lights: vec![Light::point(Vec3::new(1.5, 3.0, 3.0), Vec3::splat(25.0))],
+        ..test_card()
+    }
 }
 
 fn render_scene(test: &str, choice: PathChoice, scene: &Scene, shot: &Shot) -> Option<Image> {

@@ -41,7 +41,10 @@ shader_interface! {
         DIM_FILM_Y: u32 = 1;
         DIM_LENS_X: u32 = 2;
         DIM_LENS_Y: u32 = 3;
-        DIM_FIRST_FREE: u32 = 4;
+        /// The environment's cosine-distributed direction (scene::light::cosine_direction).
+        DIM_ENVIRONMENT_X: u32 = 4;
+        DIM_ENVIRONMENT_Y: u32 = 5;
+        DIM_FIRST_FREE: u32 = 6;
         /// `TraceParams.sampler_kind` (`sampler::SamplerKind`).
         SAMPLER_SOBOL: u32 = 0;
         SAMPLER_INDEPENDENT: u32 = 1;
@@ -68,6 +71,14 @@ shader_interface! {
         SCENE_BINDING_TEXCOORDS: u32 = 16;
         SCENE_BINDING_TEXTURES: u32 = 17;
         SCENE_BINDING_TEXELS: u32 = 18;
+        /// The scene's lights (`Light`, shaders/include/lights.glsl), in the scene's set; a
+        /// scene without lights holds one LIGHT_NONE.
+        SCENE_BINDING_LIGHTS: u32 = 19;
+        /// `Light.kind` (`scene::LightKind`).
+        LIGHT_NONE: u32 = 0;
+        LIGHT_POINT: u32 = 1;
+        LIGHT_SPOT: u32 = 2;
+        LIGHT_DIRECTIONAL: u32 = 3;
         /// `TextureRef.wrap_u` / `wrap_v` (`scene::texture::Wrap`).
         WRAP_REPEAT: u32 = 0;
         WRAP_CLAMP_TO_EDGE: u32 = 1;
@@ -238,9 +249,8 @@ shader_interface! {
         Std140 struct TraceParams as TraceParams {
             camera: GpuCamera,
             background: [f32; 4],
-            light_position: [f32; 4],
-            /// W/sr per channel.
-            light_intensity: [f32; 4],
+            /// The uniform sky's radiance (`RenderSettings::environment`); w unused.
+            environment: [f32; 4],
             width: u32,
             height: u32,
             seed: u32,
@@ -428,6 +438,21 @@ shader_interface! {
             /// sides zw), and at its outer.
             pupil_inner: [[f32; 4]; 64],
             pupil_outer: [[f32; 4]; 64],
+        }
+        /// A light of the scene's storage buffer (`scene::Light`).
+        Std430 struct GpuLight as Light {
+            position: [f32; 4],
+            /// The direction the light travels (spot, directional).
+            direction: [f32; 4],
+            /// W/sr (point, spot) or W/m^2 (directional) per channel.
+            intensity: [f32; 4],
+            /// LIGHT_*
+            kind: u32,
+            /// 0: unlimited.
+            range: f32,
+            /// Spot: cosines of the inner and outer half-angles.
+            cos_inner: f32,
+            cos_outer: f32,
         }
         /// A texture of the scene (scene::texture): its levels, size and encoding.
         Std430 struct GpuTexture as Texture {

@@ -3,13 +3,16 @@
 //! Shading definitions (the GPU compute pass implements the same, see `shaders/passes/trace.comp`):
 //! - Primary rays: `Camera::first_order_ray` from the shared sampler's `camera_sample`, t in (0, inf).
 //! - `unlit`: Kd of the first hit, background on a miss.
-//! - `lit`: Ke plus Kd / pi * I * cos / d^2 from the point light when a shadow ray from
-//!   `surface::shadow_origin` to the light, t in (0, d), is unoccluded; background on a miss.
+//! - `lit`: Ke plus, for each of the scene's lights, Kd / pi * E * cos when a shadow ray from
+//!   `surface::shadow_origin` towards the light, t in (0, d), is unoccluded (`lighting`), plus
+//!   Kd * environment when a cosine-distributed ray from there leaves the scene; background on a
+//!   miss.
 //! - `unlit` and `lit` average their `spp` samples per pixel.
 //! - AOVs (`depth`, `normal`, `albedo`) are what the raster G-buffer holds: the surface seen by
 //!   the aperture-centre ray through each pixel centre (one ray per pixel, no lens blur).
 
 mod accel;
+mod lighting;
 mod rays;
 mod render;
 mod surface;

@@ -1,6 +1,5 @@
 //! The reference render loop: every pixel, every sample, in parallel over rows.
 
-use std::f32::consts::FRAC_1_PI;
 use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -9,13 +8,15 @@ use glam::{UVec2, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::accel::{Accel, Hit, PACKET_SIZE};
+use super::lighting::LightDraw;
 use super::rays::{primary_rays, real_lens_rays};
-use super::surface::{shadow_origin, Materials, SurfaceData, SurfacePoint};
+use super::surface::{Materials, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Footprint, Ray};
 use crate::film::{Image, OnDevice, Progress, Sums};
-use crate::sampler::{pixel_sampler, shared_pixel_sampler};
+use crate::sampler::{pixel_dimension, pixel_sampler, shared_pixel_sampler};
+use crate::sampler::{DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y};
 use crate::scene::order::morton_order;
-use crate::scene::{blend_threshold, ray_key, Material, Scene};
+use crate::scene::{blend_threshold, ray_key, Light, Material, Scene};
 use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 use crate::settings::{RenderSettings, Shading, Shot};
 
@@ -26,6 +27,7 @@ pub struct Renderer {
     accel: Accel,
     surfaces: SurfaceData,
     materials: Materials,
+    lights: Vec<Light>,
 }
 
 /// What a render did, for the summary line and benchmarks.
@@ -83,6 +85,7 @@ impl Renderer {
                 textures: scene.textures.clone(),
                 alpha_tested: scene.materials.iter().any(Material::is_alpha_tested),
             },
+            lights: scene.lights.clone(),
         }
     }
 
@@ -280,8 +283,18 @@ impl Renderer {
                     origin: origins[l],
                     direction: directions[l],
                 };
-                let shadow_key = keys[l] ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT;
-                let (value, count) = self.shade(&ray, hits[l], settings, &footprint, shadow_key);
+                let draw = LightDraw {
+                    shadow_key: keys[l] ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT,
+                    environment: if settings.environment == Vec3::ZERO {
+                        Vec2::ZERO
+                    } else {
+                        Vec2::new(
+                            pixel_dimension(&sampler, indices[l], DIM_ENVIRONMENT_X),
+                            pixel_dimension(&sampler, indices[l], DIM_ENVIRONMENT_Y),
+                        )
+                    },
+                };
+                let (value, count) = self.shade(&ray, hits[l], settings, &footprint, draw);
                 sum += weights[l] * value;
                 rays += count;
             }
@@ -308,15 +321,15 @@ impl Renderer {
         )
     }
 
-    /// `unlit` and `lit`, with the number of rays traced; the shadow ray draws its blend cuts
-    /// with `shadow_key`.
+    /// `unlit` and `lit`, with the number of rays traced; the shadow and environment rays draw
+    /// what `draw` says.
     fn shade(
         &self,
         ray: &Ray,
         hit: Option<Hit>,
         settings: &RenderSettings,
         footprint: &Footprint,
-        shadow_key: u32,
+        draw: LightDraw,
     ) -> (Vec3, u64) {
         let Some(hit) = hit else {
             return (settings.background, 1);
@@ -333,24 +346,14 @@ impl Renderer {
         if settings.shading == Shading::Unlit {
             return (diffuse, 1);
         }
-        let mut radiance = emission;
-        let origin = shadow_origin(&surface);
-        let to_light = settings.light.position - origin;
-        let distance = to_light.length();
-        let direction = to_light / distance;
-        let cosine = surface.shading_normal.dot(direction);
-        if cosine <= 0.0 {
-            return (radiance, 1);
-        }
-        if !self.occluded(origin, direction, distance, shadow_key) {
-            radiance +=
-                diffuse * FRAC_1_PI * settings.light.intensity * cosine / (distance * distance);
-        }
-        (radiance, 2)
+        let environment = settings.environment;
+        let (reflected, rays) =
+            self.direct_light(&surface, diffuse, &self.lights, environment, draw);
+        (emission + reflected, 1 + rays)
     }
 
     /// Whether a surface that stops the shadow ray of `key` lies on the ray, t in (0, t_max).
-    fn occluded(&self, origin: Vec3, direction: Vec3, t_max: f32, key: u32) -> bool {
+    pub(super) fn occluded(&self, origin: Vec3, direction: Vec3, t_max: f32, key: u32) -> bool {
         if !self.materials.alpha_tested {
             return self.accel.occluded(origin, direction, 0.0, t_max);
         }

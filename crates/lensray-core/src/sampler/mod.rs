@@ -24,7 +24,10 @@ pub use scrambled_sobol::{sobol_1d, sobol_pixel, sobol_sample, SobolPixel};
 
 /// Sample dimensions used by the camera (defined with what the shaders share). Later consumers
 /// take dimensions from `DIM_FIRST_FREE` on.
-pub use crate::interface::{DIM_FILM_X, DIM_FILM_Y, DIM_FIRST_FREE, DIM_LENS_X, DIM_LENS_Y};
+pub use crate::interface::{
+    DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_FIRST_FREE, DIM_LENS_X,
+    DIM_LENS_Y,
+};
 
 /// How samples are drawn. The discriminants are the shaders' `SAMPLER_*` constants.
 #[derive(
@@ -133,6 +136,16 @@ pub fn shared_pixel_sampler(kind: SamplerKind, seed: u32, pixel: UVec2) -> Pixel
     }
 }
 
+/// Dimension `dim` of sample `sample_index` of the sampler's pixel, as [`sample_dimension`]
+/// gives it for that pixel (with shared samples: pixel (0, 0)'s).
+#[inline]
+pub fn pixel_dimension(state: &PixelSampler, sample_index: u32, dim: u32) -> f32 {
+    match state.kind {
+        SamplerKind::Sobol => sobol_1d(state.key, sample_index, dim),
+        SamplerKind::Independent => sample_1d(hash_u32(state.key ^ sample_index), dim),
+    }
+}
+
 /// Sample `sample_index` of the sampler's pixel.
 #[inline]
 pub fn pixel_camera_sample(state: &PixelSampler, sample_index: u32) -> CameraSample {
@@ -201,6 +214,19 @@ mod tests {
                 let c = camera_sample(kind, 1, UVec2::new(5, 9), 16, s);
                 assert!(c.film.x >= 5.0 && c.film.x < 6.0 && c.film.y >= 9.0 && c.film.y < 10.0);
                 assert!(c.lens.cmpge(Vec2::ZERO).all() && c.lens.cmplt(Vec2::ONE).all());
+            }
+        }
+    }
+
+    #[test]
+    fn pixel_dimensions_are_the_dimensions_on_their_own() {
+        for kind in KINDS {
+            let state = pixel_sampler(kind, 11, UVec2::new(5, 3), 640);
+            for s in 0..64 {
+                for dim in 0..8 {
+                    let alone = sample_dimension(kind, 11, 3 * 640 + 5, s, dim);
+                    assert_eq!(pixel_dimension(&state, s, dim).to_bits(), alone.to_bits());
+                }
             }
         }
     }

@@ -2,8 +2,8 @@
 //! `.glb`; relative to the scene file's folder, or absolute), `camera_name` one of the glTF's
 //! cameras (by name or index; default: its first, if it has any), `units` the unit of length of
 //! the mesh and of the file's own positions and distances ([`SceneUnits`]; default metres); the
-//! sections `[camera]`, `[image]`, `[render]` and `[light]` are those of [`Settings`], all
-//! optional. Unknown keys are errors.
+//! sections `[camera]`, `[image]`, `[render]` and `[[light]]` (any number; one `[light]` table
+//! reads as one) are those of [`Settings`], all optional. Unknown keys are errors.
 //!
 //! ```toml
 //! mesh = "cornell.obj"
@@ -27,9 +27,17 @@
 //! [render]
 //! shading = "lit"
 //! background = [0.0, 0.0, 0.0]
-//! [light]
+//! # environment = [0.2, 0.2, 0.2]   # a uniform sky lighting every surface
+//! [[light]]
 //! position = [0.0, 1.9, 0.0]
 //! intensity = [5.0, 5.0, 5.0]
+//! [[light]]
+//! type = "spot"                     # point (default), spot or directional
+//! position = [1.0, 1.9, 1.0]
+//! direction = [0.0, -1.0, 0.0]      # where the light travels (spot, directional)
+//! intensity = [3.0, 3.0, 3.0]       # W/sr; W/m^2 for a directional light
+//! inner_cone_degrees = 10.0
+//! outer_cone_degrees = 25.0
 //! ```
 
 use std::fs;
@@ -43,7 +51,7 @@ use super::gltf_file::{load_gltf, MeshFile};
 use super::obj::load_obj;
 use super::units::SceneUnits;
 use super::{Scene, SceneError};
-use crate::settings::{CameraSettings, ImageSettings, LightSettings, RenderStyle, Settings};
+use crate::settings::{CameraSettings, ImageSettings, Lights, RenderStyle, Settings};
 
 /// A scene with the settings that came with it.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -146,7 +154,7 @@ struct SceneFile {
     #[serde(default)]
     render: RenderStyle,
     #[serde(default)]
-    light: LightSettings,
+    light: Lights,
 }
 
 /// 1-based line and column of byte `offset` in `text`.
@@ -319,8 +327,8 @@ struct SceneFileOut<'a> {
     image: &'a ImageSettings,
     #[serde(skip_serializing_if = "RenderStyle::is_unset")]
     render: &'a RenderStyle,
-    #[serde(skip_serializing_if = "LightSettings::is_unset")]
-    light: &'a LightSettings,
+    #[serde(skip_serializing_if = "Lights::is_empty")]
+    light: &'a Lights,
 }
 
 /// The text of a scene file naming `mesh` with `settings` (only the fields that are set), after

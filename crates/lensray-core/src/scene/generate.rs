@@ -12,7 +12,7 @@ use super::file::SceneDescription;
 use super::{Bounds, Material, Mesh, Scene};
 use crate::settings::Shading;
 use crate::settings::{
-    CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
+    CameraSettings, ImageSettings, LightSettings, Lights, ProjectionKind, RenderStyle, Settings,
 };
 
 /// Collects meshes and materials into a [`Scene`].
@@ -299,11 +299,13 @@ pub(crate) fn describe(
             render: RenderStyle {
                 shading: Some(Shading::Lit),
                 background: Some(background),
+                environment: None,
             },
-            light: LightSettings {
+            light: Lights(vec![LightSettings {
                 position: Some(round3(light.0)),
                 intensity: Some(light.1),
-            },
+                ..LightSettings::default()
+            }]),
         },
         source: source.into(),
         ..SceneDescription::default()

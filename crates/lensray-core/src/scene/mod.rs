@@ -13,6 +13,7 @@ pub mod file;
 pub mod file_camera;
 pub mod generate;
 pub mod gltf_file;
+pub mod light;
 mod material;
 pub mod normals;
 pub mod obj;
@@ -26,6 +27,7 @@ pub use error::SceneError;
 pub use file::{load, load_scene_file, SceneDescription};
 pub use file_camera::{pick_camera, FileCamera, FileProjection};
 pub use gltf_file::{load_gltf, MeshFile};
+pub use light::{Light, LightKind};
 pub use material::{blend_threshold, ray_key, AlphaMode, Material};
 pub use material::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 pub use obj::{load_obj, write_obj};
@@ -51,6 +53,9 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// What materials' [`TextureRef`]s index.
     pub textures: Vec<Texture>,
+    /// The lights the `lit` shading sums: the file's (glTF `KHR_lights_punctual`) and, once a
+    /// shot is lit (`settings::light_scene`), the settings' or the default one.
+    pub lights: Vec<Light>,
 }
 
 /// Axis-aligned bounds.
@@ -102,6 +107,9 @@ impl Scene {
     /// triangle and each in range, normals absent or one per position, positions finite.
     /// The error says which mesh and what.
     pub fn validate(&self) -> Result<(), String> {
+        for (i, light) in self.lights.iter().enumerate() {
+            light.check().map_err(|e| format!("light {i}: {e}"))?;
+        }
         for mesh in &self.meshes {
             let name = &mesh.name;
             let n = mesh.positions.len();

@@ -250,6 +250,7 @@ impl<'a> ObjSceneBuilder<'a> {
                 meshes: Vec::new(),
                 materials: converted,
                 textures: files.textures,
+                lights: Vec::new(),
             },
             default_material: None,
             all_normals: true,

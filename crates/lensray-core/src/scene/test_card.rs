@@ -128,5 +128,6 @@ pub fn test_card() -> Scene {
         meshes,
         materials,
         textures: textures(),
+        lights: Vec::new(),
     }
 }

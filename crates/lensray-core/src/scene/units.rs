@@ -83,6 +83,10 @@ impl Scene {
                 *p *= factor;
             }
         }
+        for light in &mut self.lights {
+            light.position *= factor;
+            light.range *= factor;
+        }
     }
 }
 
@@ -132,7 +136,10 @@ impl Settings {
         let length = |x: &mut Option<f64>| *x = x.map(|x| x * factor);
         point(&mut c.eye);
         point(&mut c.target);
-        point(&mut self.light.position);
+        for light in &mut self.light.0 {
+            point(&mut light.position);
+            length(&mut light.range);
+        }
         for x in [
             &mut c.ortho_height,
             &mut c.aperture_radius,
@@ -152,7 +159,7 @@ mod tests {
 
     use super::*;
     use crate::scene::Mesh;
-    use crate::settings::{CameraSettings, LightSettings};
+    use crate::settings::{CameraSettings, LightSettings, Lights};
 
     #[test]
     fn units_parse_by_name_and_refuse_others_naming_the_accepted_ones() {
@@ -209,10 +216,12 @@ mod tests {
                 sensor_height_mm: Some(24.0),
                 ..CameraSettings::default()
             },
-            light: LightSettings {
+            light: Lights(vec![LightSettings {
                 position: Some([0.0, 1000.0, 0.0]),
                 intensity: Some([5.0; 3]),
-            },
+                range: Some(2000.0),
+                ..LightSettings::default()
+            }]),
             ..Settings::default()
         }
         .scaled(0.001);
@@ -222,7 +231,8 @@ mod tests {
             |a: Option<[f64; 3]>, b: [f64; 3]| (0..3).all(|i| close(a.map(|a| a[i]), b[i]));
         assert!(close3(c.eye, [0.0, 0.1, 0.8]), "{:?}", c.eye);
         assert!(close3(c.target, [0.0, 0.1, 0.0]), "{:?}", c.target);
-        assert!(close3(settings.light.position, [0.0, 1.0, 0.0]));
+        let light = &settings.light.0[0];
+        assert!(close3(light.position, [0.0, 1.0, 0.0]) && close(light.range, 2.0));
         assert!(close(c.focus_distance, 0.8) && close(c.aperture_radius, 0.01));
         assert!(close(c.near, 0.001) && close(c.far, 5.0));
         // Not lengths of the world: as given.
@@ -232,7 +242,7 @@ mod tests {
             (c.focal_length_mm, c.f_number, c.sensor_height_mm),
             (Some(50.0), Some(1.4), Some(24.0))
         );
-        assert_eq!(settings.light.intensity, Some([5.0; 3]));
+        assert_eq!(light.intensity, Some([5.0; 3]));
     }
 
     #[test]

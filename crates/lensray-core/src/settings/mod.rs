@@ -4,19 +4,22 @@
 //! - [`shot`](mod@shot): those settings and the scene made into a [`Shot`], a validated camera and the
 //!   render settings, with a default for what neither gives;
 //! - [`render`]: the render settings every path (CPU and GPU) computes from: samples, seed,
-//!   sampler, shading, background and light.
+//!   sampler, shading, background and environment;
+//! - [`lights`]: the settings' lights, added to the scene's own.
 
 pub mod aperture_image;
+pub mod lights;
 pub mod render;
 pub mod shot;
 pub mod user;
 
-pub use render::{PointLight, RenderSettings, Shading};
+pub use lights::{light_scene, pinned_lights, settings_lights, LightSettings, LightType, Lights};
+pub use render::{RenderSettings, Shading};
 pub use shot::{
     shot, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_HEIGHT, DEFAULT_SENSOR_HEIGHT_MM,
     DEFAULT_SPP, DEFAULT_VFOV_DEGREES, DEFAULT_WIDTH,
 };
 pub use user::{
-    ApertureSettings, CameraSettings, ImageSettings, LensSettings, LightSettings, ProjectionKind,
-    RenderStyle, Settings,
+    ApertureSettings, CameraSettings, ImageSettings, LensSettings, ProjectionKind, RenderStyle,
+    Settings,
 };

@@ -13,7 +13,9 @@ pub enum Shading {
     /// Diffuse colour Kd of the first surface hit, or the background on a miss: pure visibility,
     /// the mode that validates depth of field.
     Unlit,
-    /// Ke + Kd / pi * I cos(theta) / d^2 from one point light with a hard shadow; no indirect light.
+    /// Ke + Kd / pi * E cos(theta) summed over the scene's lights (point, spot, directional;
+    /// `scene::light`), each with a hard shadow, plus Kd * environment where a cosine-distributed
+    /// ray leaves the scene; no indirect light.
     Lit,
     /// Distance of the first hit along the view axis (camera z); 0 on a miss.
     Depth,
@@ -30,13 +32,6 @@ impl Shading {
     }
 }
 
-/// A point light: radiant intensity in W/sr per RGB channel.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PointLight {
-    pub position: Vec3,
-    pub intensity: Vec3,
-}
-
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
     /// Samples per pixel, >= 1.
@@ -47,7 +42,8 @@ pub struct RenderSettings {
     pub shading: Shading,
     /// Linear RGB seen on a miss.
     pub background: Vec3,
-    pub light: PointLight,
+    /// Radiance of a uniform sky lighting every surface (`lit`), linear RGB; zero: none.
+    pub environment: Vec3,
     /// Every pixel draws the same camera samples (those of pixel (0, 0), offset to its own
     /// position: `sampler::shared_pixel_sampler`) instead of its own. The `raster` path's
     /// estimator, which projects the whole image through one lens point per pass; the other

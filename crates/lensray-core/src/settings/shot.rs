@@ -15,7 +15,7 @@ use crate::optics::paraxial::FirstOrder;
 use crate::optics::Prescription;
 use crate::scene::{Bounds, Scene};
 use crate::settings::{ApertureSettings, CameraSettings, ProjectionKind, Settings};
-use crate::settings::{PointLight, RenderSettings, Shading};
+use crate::settings::{RenderSettings, Shading};
 
 pub const DEFAULT_WIDTH: u32 = 640;
 pub const DEFAULT_HEIGHT: u32 = 480;
@@ -44,6 +44,8 @@ pub enum SettingsError {
     ApertureImage(#[from] super::aperture_image::ApertureImageFileError),
     #[error("{0}")]
     Lens(String),
+    #[error("{0}")]
+    Light(String),
 }
 
 impl From<crate::camera::RealLensError> for SettingsError {
@@ -63,7 +65,7 @@ fn vec3(v: [f64; 3]) -> Vec3 {
     DVec3::from_array(v).as_vec3()
 }
 
-fn colour(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
+pub(super) fn colour(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
     if v.iter().all(|c| c.is_finite() && *c >= 0.0) {
         Ok(vec3(v))
     } else {
@@ -71,7 +73,7 @@ fn colour(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
     }
 }
 
-fn point(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
+pub(super) fn point(name: &'static str, v: [f64; 3]) -> Result<Vec3, SettingsError> {
     if v.iter().all(|c| c.is_finite()) {
         Ok(vec3(v))
     } else {
@@ -147,8 +149,33 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     }
     .build_with_aperture(aperture(&c.aperture)?)?;
 
-    let render = render_settings(settings, &camera, &view, radius)?;
+    let render = render_settings(settings)?;
     Ok(Shot { camera, render })
+}
+
+/// Where the default lights go (`lights::settings_lights`): the eye, the camera's up, the
+/// target and the radius of the scene's bounding sphere.
+pub(super) struct Framing {
+    pub eye: Vec3,
+    pub true_up: Vec3,
+    pub target: Vec3,
+    pub radius: f64,
+}
+
+/// The framing of the shot `settings` give `scene`.
+pub(super) fn framing(settings: &Settings, scene: &Scene) -> Result<Framing, SettingsError> {
+    let camera = shot(settings, scene)?.camera;
+    let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
+    let c = &settings.camera;
+    let radius = (0.5 * bounds.diagonal().length()).max(1e-3) as f64;
+    let vfov_degrees = framing_vfov_degrees(c, prescription(c)?.as_ref());
+    let view = view(c, &bounds, radius, vfov_degrees)?;
+    Ok(Framing {
+        eye: view.eye,
+        true_up: camera.frame.true_up,
+        target: view.target,
+        radius,
+    })
 }
 
 /// Where the camera stands and looks, before the checks of `CameraParams::build`.
@@ -272,41 +299,29 @@ fn lens(
     })
 }
 
-/// Samples, seed, sampler, shading, background and the light (by default above the eye, as
-/// bright as lights the target), each checked.
-fn render_settings(
-    settings: &Settings,
-    camera: &Camera,
-    view: &View,
-    radius: f64,
-) -> Result<RenderSettings, SettingsError> {
+/// Samples, seed, sampler, shading, background and environment, each checked.
+fn render_settings(settings: &Settings) -> Result<RenderSettings, SettingsError> {
     let spp = settings.image.spp.unwrap_or(DEFAULT_SPP);
     if spp == 0 {
         return Err(SettingsError::ZeroSpp);
     }
-    let light_position = match settings.light.position {
-        Some(p) => point("light position", p)?,
-        // A light above the eye: everything the camera sees is lit, shadows fall behind objects.
-        None => view.eye + camera.frame.true_up * (0.5 * radius) as f32,
-    };
-    let light_intensity = match settings.light.intensity {
-        Some(i) => colour("light intensity", i)?,
-        // pi d^2 makes the irradiance at the target about 1, so a lit surface shows about Kd.
-        None => Vec3::splat(std::f32::consts::PI * (light_position - view.target).length_squared()),
-    };
+    let environment = settings
+        .render
+        .environment
+        .map(|e| colour("environment", e))
+        .transpose()?;
     Ok(RenderSettings {
         spp,
         seed: settings.image.seed.unwrap_or(0),
         sampler: settings.image.sampler.unwrap_or_default(),
         shading: settings.render.shading.unwrap_or(Shading::Lit),
-        background: colour(
-            "background",
-            settings.render.background.unwrap_or(DEFAULT_BACKGROUND),
-        )?,
-        light: PointLight {
-            position: light_position,
-            intensity: light_intensity,
+        // The sky the environment lights with is what a ray that leaves the scene sees.
+        background: match (settings.render.background, environment) {
+            (Some(b), _) => colour("background", b)?,
+            (None, Some(e)) => e,
+            (None, None) => colour("background", DEFAULT_BACKGROUND)?,
         },
+        environment: environment.unwrap_or(Vec3::ZERO),
         shared_samples: false,
     })
 }

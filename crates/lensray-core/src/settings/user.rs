@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use crate::sampler::SamplerKind;
-use crate::settings::Shading;
+use crate::settings::{Lights, Shading};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
@@ -82,14 +82,9 @@ pub struct ImageSettings {
 pub struct RenderStyle {
     pub shading: Option<Shading>,
     pub background: Option<[f64; 3]>,
-}
-
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct LightSettings {
-    pub position: Option<[f64; 3]>,
-    /// W/sr per channel.
-    pub intensity: Option<[f64; 3]>,
+    /// Radiance of a uniform sky that lights every surface, linear RGB; also the background
+    /// unless one is given.
+    pub environment: Option<[f64; 3]>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
@@ -101,8 +96,9 @@ pub struct Settings {
     pub image: ImageSettings,
     #[serde(default)]
     pub render: RenderStyle,
-    #[serde(default)]
-    pub light: LightSettings,
+    /// One `[light]` table or several `[[light]]`.
+    #[serde(default, skip_serializing_if = "Lights::is_empty")]
+    pub light: Lights,
 }
 
 /// `a.or(b)` field by field: what `over` sets wins.
@@ -148,8 +144,8 @@ impl Settings {
         let (lens, base) = (&c.lens, &mut self.camera.lens);
         overlay!(lens, base, prescription);
         overlay!(i, self.image, width, height, spp, seed, sampler);
-        overlay!(r, self.render, shading, background);
-        overlay!(l, self.light, position, intensity);
+        overlay!(r, self.render, shading, background, environment);
+        self.light = std::mem::take(&mut self.light).overridden_by(l);
         self
     }
 }
@@ -169,6 +165,5 @@ is_unset!(
     ApertureSettings,
     LensSettings,
     ImageSettings,
-    RenderStyle,
-    LightSettings
+    RenderStyle
 );

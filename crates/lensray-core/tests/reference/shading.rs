@@ -4,7 +4,7 @@
 use glam::{Vec2, Vec3};
 use lensray_core::camera::LensParams;
 use lensray_core::reference::Renderer;
-use lensray_core::scene::{Material, Scene};
+use lensray_core::scene::{Light, Material, Scene};
 use lensray_core::settings::{Shading, Shot};
 
 use crate::{camera, material, quad, settings};
@@ -36,13 +36,14 @@ fn lit_matches_lambert_with_inverse_square() {
     // A white wall at z = -4, facing the camera; light at (1, 0.5, -1), intensity 10 W/sr.
     let kd = Vec3::new(0.5, 0.6, 0.7);
     let ke = Vec3::new(0.01, 0.02, 0.03);
+    let light = Light::point(Vec3::new(1.0, 0.5, -1.0), Vec3::splat(10.0));
     let scene = Scene {
         meshes: vec![quad(-50.0, 50.0, -50.0, 50.0, -4.0, 0)],
         materials: vec![material("wall", kd, ke)],
+        lights: vec![light],
         ..Default::default()
     };
-    let mut s = settings(Shading::Lit, 1);
-    s.light.position = Vec3::new(1.0, 0.5, -1.0);
+    let s = settings(Shading::Lit, 1);
     let shot = Shot {
         camera: camera(16, 16, LensParams::Pinhole),
         render: s,
@@ -64,10 +65,10 @@ fn lit_matches_lambert_with_inverse_square() {
             let ray = cam.first_order_ray(sample.film, sample.lens);
             let t = (-4.0 - ray.origin.z) / ray.direction.z;
             let p = ray.at(t);
-            let to_light = s.light.position - p;
+            let to_light = light.position - p;
             let d2 = to_light.length_squared();
             let cos = to_light.normalize().z.max(0.0); // wall normal facing the camera is +z
-            let expected = ke + kd / std::f32::consts::PI * s.light.intensity * cos / d2;
+            let expected = ke + kd / std::f32::consts::PI * light.intensity * cos / d2;
             let got = image.get(col, row);
             worst = worst.max(((got - expected) / expected).abs().max_element());
         }

@@ -12,7 +12,7 @@ use lensray_core::camera::LensParams;
 use lensray_core::film::colour::linear_to_srgb;
 use lensray_core::film::Image;
 use lensray_core::reference::Renderer;
-use lensray_core::scene::Scene;
+use lensray_core::scene::{Light, Scene};
 use lensray_core::settings::{Shading, Shot};
 
 use crate::{camera, material, quad, settings};
@@ -66,10 +66,10 @@ fn render_shadow_scene(width: u32, height: u32) -> Image {
             material("wall", Vec3::splat(0.8), WALL_EMISSION),
             material("occluder", Vec3::ZERO, OCCLUDER_EMISSION),
         ],
+        lights: vec![Light::point(LIGHT, Vec3::splat(10.0))],
         ..Default::default()
     };
-    let mut s = settings(Shading::Lit, 1);
-    s.light.position = LIGHT;
+    let s = settings(Shading::Lit, 1);
     let shot = Shot {
         camera: camera(width, height, LensParams::Pinhole),
         render: s,

@@ -166,6 +166,14 @@ PixelSampler shared_pixel_sampler(uint kind, uint seed, uvec2 pixel) {
     return s;
 }
 
+// mod.rs: pixel_dimension
+float pixel_dimension(PixelSampler state, uint sample_index, uint dim) {
+    if (state.kind == SAMPLER_INDEPENDENT) {
+        return sample_1d(hash_u32(state.key ^ sample_index), dim);
+    }
+    return sobol_1d(state.key, sample_index, dim);
+}
+
 CameraSample pixel_camera_sample(PixelSampler state, uint sample_index) {
     vec4 u = state.kind == SAMPLER_INDEPENDENT ? independent_sample(state.key, sample_index)
                                                : sobol_sample(state.sobol, sample_index);

@@ -10,11 +10,69 @@
 #ifndef LENSRAY_SHADING_GLSL
 #define LENSRAY_SHADING_GLSL
 
+#include "lights.glsl"
+
+// reference/lighting.rs: LightDraw (the cut is the camera ray's; shadow_cut derives the
+// shadow rays' from it).
+struct LightDraw {
+    BlendCut cut;
+    vec2 environment;
+};
+
+// reference/lighting.rs: direct_light. `shadowed` gets bit i set where light i (i < 24) is
+// blocked: the hybrid's plan compares it between neighbours. Step i < lights.length() is light
+// i, the last step the environment: one shadow-ray call site, so the traversal is inlined once.
+vec3 direct_light(vec3 o, vec3 ns, vec3 ng, vec3 diffuse, LightDraw draw, inout uint rays,
+                  out uint shadowed) {
+    shadowed = 0u;
+    vec3 radiance = vec3(0.0);
+    BlendCut cut = shadow_cut(draw.cut);
+    uint count = lights.length();
+    bool sky = params.environment.xyz != vec3(0.0);
+    for (uint i = 0u; i <= count; ++i) {
+        vec3 direction;
+        float t_max;
+        vec3 reflected;
+        if (i < count) {
+            Incident incident;
+            if (!light_incident(lights[i], o, incident)) {
+                continue;
+            }
+            float c = dot(ns, incident.direction);
+            if (c <= 0.0) {
+                continue;
+            }
+            direction = incident.direction;
+            t_max = incident.distance;
+            reflected = diffuse * (1.0 / PI) * incident.irradiance * c;
+        } else {
+            if (!sky) {
+                break;
+            }
+            // Density cos / pi: the estimate of Kd / pi * L * cos is Kd * L where the ray leaves;
+            // a direction under the surface's own plane is blocked by the surface.
+            direction = cosine_direction(ns, draw.environment);
+            if (dot(direction, ng) <= 0.0) {
+                break;
+            }
+            t_max = T_MAX;
+            reflected = diffuse * params.environment.xyz;
+        }
+        rays += 1u;
+        if (!occluded(o, direction, t_max, cut)) {
+            radiance += reflected;
+        } else if (i < min(count, 24u)) {
+            shadowed |= 1u << i;
+        }
+    }
+    return radiance;
+}
+
 // The radiance leaving `hit` (the closest hit of `ray`) towards the ray's origin; `rays` counts
-// the shadow ray, `shadowed` says whether it was blocked (the hybrid's plan looks for shadow
-// boundaries).
-vec3 shade_hit_shadowed(Ray ray, Hit hit, BlendCut cut, inout uint rays, out bool shadowed) {
-    shadowed = false;
+// the shadow and environment rays, `shadowed` says which lights were blocked (the hybrid's plan
+// looks for shadow boundaries).
+vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out uint shadowed) {
+    shadowed = 0u;
     uint tri = hit.triangle;
     Material mat = materials[triangle_material(tri)];
     bool textured = has_texture(mat.diffuse_texture) || has_texture(mat.emission_texture);
@@ -56,38 +114,26 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, BlendCut cut, inout uint rays, out boo
         return diffuse;
     }
 
-    vec3 radiance = emission;
     // reference/surface.rs: shadow_origin
     vec3 o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
-    vec3 to_light = params.light_position.xyz - o;
-    float dist = length(to_light);
-    vec3 l = to_light / dist;
-    float c = dot(ns, l);
-    if (c > 0.0) {
-        bool blocked = occluded(o, l, dist, shadow_cut(cut));
-        rays += 1u;
-        shadowed = blocked;
-        if (!blocked) {
-            radiance += diffuse * (1.0 / PI) * params.light_intensity.xyz * c / (dist * dist);
-        }
-    }
-    return radiance;
+    return emission + direct_light(o, ns, ng, diffuse, draw, rays, shadowed);
 }
 
-vec3 shade_hit(Ray ray, Hit hit, BlendCut cut, inout uint rays) {
-    bool shadowed;
-    return shade_hit_shadowed(ray, hit, cut, rays, shadowed);
+vec3 shade_hit(Ray ray, Hit hit, LightDraw draw, inout uint rays) {
+    uint shadowed;
+    return shade_hit_shadowed(ray, hit, draw, rays, shadowed);
 }
 
-// The radiance along `ray`, which cuts BLEND surfaces with `cut`; `rays` counts the rays traced.
-vec3 shade(Ray ray, BlendCut cut, inout uint rays) {
+// The radiance along `ray`, which cuts BLEND surfaces with `draw.cut`; `rays` counts the rays
+// traced.
+vec3 shade(Ray ray, LightDraw draw, inout uint rays) {
     Hit hit;
-    bool found = closest_hit(ray.origin, ray.direction, T_MAX, cut, hit);
+    bool found = closest_hit(ray.origin, ray.direction, T_MAX, draw.cut, hit);
     rays += 1u;
     if (!found) {
         return params.background.xyz;
     }
-    return shade_hit(ray, hit, cut, rays);
+    return shade_hit(ray, hit, draw, rays);
 }
 
 // The hit of `ray` with the plane of triangle `tri` (the raster path: the rasterizer found the

@@ -109,20 +109,27 @@ vec3 reprojected_shortcut(Reprojection r, uint pixel_index, CameraSample cs) {
 
 // The radiance along `ray`, whose first hit the visibility pass drew at `pixel_index` (the
 // raster path's sample, the hybrid's lit pre-pass); `shadowed` as shade_hit_shadowed says.
-vec3 shade_rasterized(Ray ray, uint pixel_index, BlendCut cut, inout uint rays,
-                      out bool shadowed) {
+vec3 shade_rasterized(Ray ray, uint pixel_index, LightDraw draw, inout uint rays,
+                      out uint shadowed) {
     uint seen = visibility[pixel_index];
     rays += 1u;  // the camera ray, resolved by the rasterizer instead of a traversal
-    shadowed = false;
+    shadowed = 0u;
     if (seen == 0u) {
         return params.background.xyz;
     }
-    return shade_hit_shadowed(ray, triangle_plane_hit(ray, seen - 1u), cut, rays, shadowed);
+    return shade_hit_shadowed(ray, triangle_plane_hit(ray, seen - 1u), draw, rays, shadowed);
 }
 
-// The BLEND cut of the camera ray of sample `s` of pixel `pixel_index` (scene::ray_key).
-BlendCut sample_cut(uint pixel_index, uint s) {
-    return ray_cut(sample_key(params.seed, pixel_index, s) ^ BLEND_CAMERA_SALT);
+// What sample `s` of pixel `pixel_index` draws besides its camera ray (reference/render.rs,
+// add_pixel_samples): its ray's BLEND cut (scene::ray_key) and its environment direction.
+LightDraw sample_draw(PixelSampler state, uint pixel_index, uint s) {
+    LightDraw draw;
+    draw.cut = ray_cut(sample_key(params.seed, pixel_index, s) ^ BLEND_CAMERA_SALT);
+    draw.environment = params.environment.xyz == vec3(0.0)
+        ? vec2(0.0)
+        : vec2(pixel_dimension(state, s, DIM_ENVIRONMENT_X),
+               pixel_dimension(state, s, DIM_ENVIRONMENT_Y));
+    return draw;
 }
 
 // The pixel's work for this dispatch; returns the rays it traced (0 outside the band).
@@ -143,12 +150,16 @@ uint trace_pixel() {
         // ray at the pixel centre (concentric_sample_disk(0.5, 0.5) is the lens centre), which
         // the visibility pass rasterized through the lens centre just before (as the raster
         // path does: no traversal for it), shaded with one shadow ray (the shortcut value),
-        // and whether that ray was blocked (the plan's edge test compares it between
-        // neighbours: a shadow boundary is an edge).
+        // and which lights were blocked (the plan's edge test compares it between neighbours:
+        // a shadow boundary is an edge). Its environment ray runs along the normal (the disk's
+        // centre): the shortcut only steers the checks, which keep the estimate unbiased.
         Ray ray = first_order_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
-        bool shadowed;
-        vec3 value = shade_rasterized(ray, pixel_index, aperture_centre_cut(), rays, shadowed);
-        plan[pixel_index] = vec4(value, shadowed ? 1.0 : 0.0);
+        LightDraw draw;
+        draw.cut = aperture_centre_cut();
+        draw.environment = vec2(0.5);
+        uint shadowed;
+        vec3 value = shade_rasterized(ray, pixel_index, draw, rays, shadowed);
+        plan[pixel_index] = vec4(value, float(shadowed));
         return rays;
     }
     PixelSampler sampler_state = samples_of(x, y);
@@ -178,7 +189,7 @@ uint trace_pixel() {
                 vec3 value = lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut;
                 if (check) {
                     Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
-                    vec3 traced = shade(ray, sample_cut(pixel_index, s), rays);
+                    vec3 traced = shade(ray, sample_draw(sampler_state, pixel_index, s), rays);
                     value += (traced - value) * float(HYBRID_CHECK_INVERSE);
                 }
                 sum += value;
@@ -190,7 +201,7 @@ uint trace_pixel() {
             for (uint s = pc.sample_begin; s < end; ++s) {
                 CameraSample cs = pixel_camera_sample(sampler_state, s);
                 Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
-                sum += shade(ray, sample_cut(pixel_index, s), rays);
+                sum += shade(ray, sample_draw(sampler_state, pixel_index, s), rays);
             }
             added = end > pc.sample_begin ? end - pc.sample_begin : 0u;
         }
@@ -199,8 +210,9 @@ uint trace_pixel() {
         uint s = pc.sample_begin;
         CameraSample cs = pixel_camera_sample(sampler_state, s);
         Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
-        bool shadowed;
-        sum += shade_rasterized(ray, pixel_index, sample_cut(pixel_index, s), rays, shadowed);
+        uint shadowed;
+        LightDraw draw = sample_draw(sampler_state, pixel_index, s);
+        sum += shade_rasterized(ray, pixel_index, draw, rays, shadowed);
         added = 1u;
     } else {
         // Through the real lens when there is one (blocked rays add nothing but count as
@@ -210,7 +222,7 @@ uint trace_pixel() {
             Ray ray;
             float weight;
             if (generate_ray(params.camera, cs.film, cs.lens, ray, weight)) {
-                sum += weight * shade(ray, sample_cut(pixel_index, s), rays);
+                sum += weight * shade(ray, sample_draw(sampler_state, pixel_index, s), rays);
             }
         }
         added = pc.sample_end - pc.sample_begin;

@@ -18,14 +18,14 @@ use crate::upload::FlatScene;
 use accel::SceneAccel;
 use bvh::{BvhParams, FlatBvh};
 use lensray_core::interface::{
-    SCENE_BINDING_INDICES, SCENE_BINDING_MATERIALS, SCENE_BINDING_NORMALS, SCENE_BINDING_POSITIONS,
-    SCENE_BINDING_TEXCOORDS, SCENE_BINDING_TEXELS, SCENE_BINDING_TEXTURES, SCENE_BINDING_TRI_INFO,
-    TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES,
+    SCENE_BINDING_INDICES, SCENE_BINDING_LIGHTS, SCENE_BINDING_MATERIALS, SCENE_BINDING_NORMALS,
+    SCENE_BINDING_POSITIONS, SCENE_BINDING_TEXCOORDS, SCENE_BINDING_TEXELS, SCENE_BINDING_TEXTURES,
+    SCENE_BINDING_TRI_INFO, TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES,
 };
 use lensray_core::scene::Scene;
 
 /// The arrays' binding numbers, in the order of the fields below.
-const SCENE_BINDINGS: [u32; 8] = [
+const SCENE_BINDINGS: [u32; 9] = [
     SCENE_BINDING_POSITIONS,
     SCENE_BINDING_NORMALS,
     SCENE_BINDING_INDICES,
@@ -34,6 +34,7 @@ const SCENE_BINDINGS: [u32; 8] = [
     SCENE_BINDING_TEXCOORDS,
     SCENE_BINDING_TEXTURES,
     SCENE_BINDING_TEXELS,
+    SCENE_BINDING_LIGHTS,
 ];
 
 /// The software traversal's BVH on the device (lensray-vulkan/src/scene/bvh.rs).
@@ -97,6 +98,7 @@ pub(crate) struct SceneBuffers {
     texcoords: Buffer,
     textures: Buffer,
     texels: Buffer,
+    lights: Buffer,
     pub triangle_count: u32,
 }
 
@@ -162,13 +164,14 @@ impl SceneBuffers {
             bytemuck::cast_slice(&flat.materials),
             storage,
         )?;
-        let [texcoords, textures, texels] = [
+        let [texcoords, textures, texels, lights] = [
             (
                 "scene texture coordinates",
                 bytemuck::cast_slice(&flat.texcoords),
             ),
             ("scene textures", bytemuck::cast_slice(&flat.textures)),
             ("scene texels", bytemuck::cast_slice(&flat.texels)),
+            ("scene lights", bytemuck::cast_slice(&flat.lights)),
         ]
         .map(|(name, data)| Buffer::with_data(ctx, name, data, storage));
         let accel = ray_query
@@ -190,12 +193,13 @@ impl SceneBuffers {
             texcoords: texcoords?,
             textures: textures?,
             texels: texels?,
+            lights: lights?,
             triangle_count: flat.triangle_count(),
         })
     }
 
     /// The descriptors of shaders/include/scene.glsl, read by `stages`.
-    pub(crate) fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 8] {
+    pub(crate) fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 9] {
         SCENE_BINDINGS.map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
     }
 
@@ -210,6 +214,7 @@ impl SceneBuffers {
             &self.texcoords,
             &self.textures,
             &self.texels,
+            &self.lights,
         ];
         for (binding, buffer) in SCENE_BINDINGS.into_iter().zip(buffers) {
             pipeline.bind_buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer);

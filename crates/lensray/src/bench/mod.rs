@@ -126,7 +126,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
         let scene = match (group[0], base.take()) {
             (SweepValue::Triangles(n), _) => {
                 log(&format!("generating a scene of at least {n} triangles"));
-                scenes::dense(n, options.scene_units)
+                scenes::dense(n, options.scene_units)?
             }
             (_, Some(base)) => base,
             (_, None) => unreachable!("one group unless the sweep is of triangles"),

@@ -214,7 +214,7 @@ mod tests {
     #[test]
     fn a_reference_is_rendered_once_then_read_back_exactly() {
         let description = lensray_core::scene::builtin::default_scene();
-        let scene = BenchScene::new(description, "default".into());
+        let scene = BenchScene::new(description, "default".into()).unwrap();
         let mut settings = scene.description.settings.clone();
         settings.image.width = Some(12);
         settings.image.height = Some(8);

@@ -17,13 +17,15 @@ pub struct BenchScene {
 }
 
 impl BenchScene {
-    pub fn new(description: SceneDescription, name: String) -> Self {
-        Self {
+    /// The scene lit as its settings say (`settings::light_scene`), as `render` lights it.
+    pub fn new(mut description: SceneDescription, name: String) -> Result<Self> {
+        lensray_core::settings::light_scene(&description.settings, &mut description.scene)?;
+        Ok(Self {
             triangles: description.scene.triangle_count(),
             fingerprint: fingerprint(&description.scene),
             description,
             name,
-        }
+        })
     }
 }
 
@@ -45,7 +47,7 @@ pub fn load(
             (description, named.name().into())
         }
     };
-    Ok(BenchScene::new(description, name))
+    BenchScene::new(description, name)
 }
 
 fn named_scene(named: NamedScene, dense_triangles: usize) -> SceneDescription {
@@ -58,7 +60,7 @@ fn named_scene(named: NamedScene, dense_triangles: usize) -> SceneDescription {
 
 /// The generated dense scene of at least `triangles` triangles (the triangle sweep's scenes),
 /// taken to be in `units`.
-pub fn dense(triangles: usize, units: Option<SceneUnits>) -> BenchScene {
+pub fn dense(triangles: usize, units: Option<SceneUnits>) -> Result<BenchScene> {
     let mut description = lensray_core::scene::generate::dense(triangles);
     description.set_units(units.unwrap_or_default());
     BenchScene::new(description, "generated dense".into())

@@ -14,8 +14,8 @@ use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Shading;
 use lensray_core::settings::{
-    ApertureSettings, CameraSettings, ImageSettings, LensSettings, LightSettings, ProjectionKind,
-    RenderStyle, Settings,
+    ApertureSettings, CameraSettings, ImageSettings, LensSettings, LightSettings, Lights,
+    ProjectionKind, RenderStyle, Settings,
 };
 
 /// Parses "x,y,z" into three finite-or-not numbers (validation names the option later).
@@ -213,10 +213,16 @@ pub struct ViewArgs {
     /// Background colour, linear RGB.
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
     pub background: Option<[f64; 3]>,
-    /// Point light position.
+    /// Radiance of a uniform sky that lights every surface (a cosine-distributed ray per
+    /// sample sees whether it is open), linear RGB; also the background unless one is given.
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
+    pub environment: Option<[f64; 3]>,
+    /// A point light's position: it replaces the scene file's lights, or moves its one light.
+    /// Lights in the scene's glTF stay. Without any light or environment, a point light above
+    /// the eye lights the scene.
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub light_position: Option<[f64; 3]>,
-    /// Point light intensity, W/sr per channel.
+    /// That point light's intensity, W/sr per channel.
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
     pub light_intensity: Option<[f64; 3]>,
 }
@@ -259,10 +265,16 @@ impl ViewArgs {
             render: RenderStyle {
                 shading: self.shading,
                 background: self.background,
+                environment: self.environment,
             },
-            light: LightSettings {
-                position: self.light_position,
-                intensity: self.light_intensity,
+            light: if self.light_position.is_some() || self.light_intensity.is_some() {
+                Lights(vec![LightSettings {
+                    position: self.light_position,
+                    intensity: self.light_intensity,
+                    ..LightSettings::default()
+                }])
+            } else {
+                Lights::default()
             },
         }
     }

@@ -49,9 +49,12 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
         None => Vec::new(),
     };
     let choice = crate::paths::preview_options(&args.path.options())?;
-    let description = load_scene(&args.view)?;
+    let mut description = load_scene(&args.view)?;
     let settings = merged_settings(&description.settings, description.units, &args.view);
     let rig = CameraRig::new(settings, &description.scene)
+        .with_context(|| format!("scene {}", description.source))?;
+    // The rig's lights are pinned: they light the scene wherever the camera goes.
+    lensray_core::settings::light_scene(rig.settings(), &mut description.scene)
         .with_context(|| format!("scene {}", description.source))?;
     let config = PreviewConfig {
         scene_path: args.view.scene.clone(),

@@ -15,7 +15,7 @@ use lensray_core::camera::Camera;
 use lensray_core::scene::file::SceneDescription;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Settings;
-use lensray_core::settings::{shot, Shot};
+use lensray_core::settings::{light_scene, shot, Shot};
 
 pub const DEFAULT_OUTPUT: &str = "lensray.png";
 
@@ -106,10 +106,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     // Fail on a bad output path before spending time on the render.
     let output = PendingOutput::create(&args.out)?;
-    let description = load_scene(&args.view)?;
+    let mut description = load_scene(&args.view)?;
     let mut settings = merged_settings(&description.settings, description.units, &args.view);
     let context = || format!("scene {}", description.source);
     let mut resolved = shot(&settings, &description.scene).with_context(context)?;
+    light_scene(&settings, &mut description.scene).with_context(context)?;
 
     let OpenedPath { mut path, why } =
         paths::open(&args.path.options(), &description.scene, &resolved)?;

@@ -161,8 +161,9 @@ fn store_in(dir: &Path, calibration: &Calibration) -> Result<PathBuf> {
 
 /// The calibration shot: the built-in scene's camera at `WIDTH` x `HEIGHT`, lit.
 fn shot() -> Result<(lensray_core::scene::Scene, Shot)> {
-    let description = lensray_core::scene::builtin::default_scene();
+    let mut description = lensray_core::scene::builtin::default_scene();
     let shot = lensray_core::settings::shot(&description.settings, &description.scene)?;
+    lensray_core::settings::light_scene(&description.settings, &mut description.scene)?;
     let settings = RenderSettings {
         shading: Shading::Lit,
         ..shot.render

@@ -21,10 +21,10 @@ use lensray_core::camera::physical::PhysicalLens;
 use lensray_core::camera::Projection;
 use lensray_core::optics::Prescription;
 use lensray_core::scene::Scene;
+use lensray_core::settings::{pinned_lights, ProjectionKind, Settings};
 use lensray_core::settings::{
     shot, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES,
 };
-use lensray_core::settings::{ProjectionKind, Settings};
 
 /// Orbit rate of a left drag.
 pub const ORBIT_DEGREES_PER_PIXEL: f64 = 0.3;
@@ -157,6 +157,8 @@ impl CameraRig {
         };
         rig.settings.image.width = Some(camera.width);
         rig.settings.image.height = Some(camera.height);
+        // The lights stay where the first view put them while the camera moves.
+        rig.settings.light = pinned_lights(&rig.settings, scene)?;
         rig.commit();
         // The pinned camera must resolve too: a pinhole's new focus distance must lie beyond an
         // orthographic near plane the user gave.

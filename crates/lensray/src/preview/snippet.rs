@@ -15,7 +15,7 @@ use glam::Vec3;
 use lensray_core::camera::Projection;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::{
-    CameraSettings, ImageSettings, LightSettings, ProjectionKind, RenderStyle, Settings,
+    CameraSettings, ImageSettings, LightType, ProjectionKind, RenderStyle, Settings,
 };
 use lensray_core::settings::{
     Shot, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES,
@@ -141,21 +141,10 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
                     .background
                     .unwrap_or(array(render.background)),
             ),
+            environment: settings.render.environment,
         },
-        light: LightSettings {
-            position: Some(
-                settings
-                    .light
-                    .position
-                    .unwrap_or(array(render.light.position)),
-            ),
-            intensity: Some(
-                settings
-                    .light
-                    .intensity
-                    .unwrap_or(array(render.light.intensity)),
-            ),
-        },
+        // The rig pins its lights (`pinned_lights`): every default is written out.
+        light: settings.light.clone(),
     }
 }
 
@@ -234,8 +223,14 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
     option("sampler", i.sampler.map(|s| s.name().to_string()));
     option("shading", r.shading.map(value_name));
     option("background", r.background.map(triple));
-    option("light-position", l.position.map(triple));
-    option("light-intensity", l.intensity.map(triple));
+    option("environment", r.environment.map(triple));
+    // The command line gives one point light; other lights need the scene file's tables.
+    if let [light] = l.0.as_slice() {
+        if light.kind.unwrap_or_default() == LightType::Point && light.range.is_none() {
+            option("light-position", light.position.map(triple));
+            option("light-intensity", light.intensity.map(triple));
+        }
+    }
     line
 }
 

@@ -63,8 +63,9 @@ fn auto_renders_on_the_cpu_on_a_cpu_vulkan_device_every_time() {
 }
 
 /// `lensray calibrate` measures the CPU reference and the device's traversals and caches their
-/// costs; `auto` then decides from them (saying so), every run alike; a corrupt cache file is
-/// one notice, and the render goes on.
+/// costs; `auto` then decides the device from them (saying so), every run alike (on the GPU,
+/// `auto` still times its paths on the shot, which a loaded machine may order differently); a
+/// corrupt cache file is one notice, and the render goes on.
 #[test]
 fn calibrate_caches_the_costs_auto_decides_from() {
     let test = "calibrate_caches_the_costs_auto_decides_from";
@@ -97,7 +98,11 @@ fn calibrate_caches_the_costs_auto_decides_from() {
         assert!(why.contains("calibration (cached)"), "{path}: {why}");
         chosen.push(path);
     }
-    assert!(chosen.iter().all(|p| *p == chosen[0]), "{chosen:?}");
+    let on_cpu = |path: &String| path == "cpu";
+    assert!(
+        chosen.iter().all(|p| on_cpu(p) == on_cpu(&chosen[0])),
+        "{chosen:?}"
+    );
 
     std::fs::write(&file, "{ this is not a calibration").unwrap();
     let out = lensray_cached(&args, dir.path(), cache.path());

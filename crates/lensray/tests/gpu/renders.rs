@@ -218,7 +218,9 @@ fn gpu_matches_cpu_on_project_scenes() {
             lensray_core::scene::file::load(&cornell).expect("load the Cornell box"),
         ),
     ];
-    for (name, desc) in scenes {
+    for (name, mut desc) in scenes {
+        let settings = desc.settings.clone();
+        lensray_core::settings::light_scene(&settings, &mut desc.scene).expect("its lights");
         gpu.load_scene(&desc.scene).expect("load scene");
         let cpu = CpuRenderer::new(&desc.scene);
         for shading in [Shading::Unlit, Shading::Lit] {
@@ -233,6 +235,7 @@ fn gpu_matches_cpu_on_project_scenes() {
                 render: RenderStyle {
                     shading: Some(shading),
                     background: None,
+                    environment: None,
                 },
                 ..Default::default()
             };

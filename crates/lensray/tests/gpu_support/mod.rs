@@ -9,8 +9,8 @@ use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathKind, PathO
 use lensray_core::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray_core::film::Image;
 use lensray_core::sampler::SamplerKind;
-use lensray_core::scene::{Material, Mesh, Scene};
-use lensray_core::settings::{PointLight, RenderSettings, Shading, Shot};
+use lensray_core::scene::{Light, Material, Mesh, Scene};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{GpuError, GpuOptions, GpuRenderer, ValidationLog};
 
 /// Opens the renderer with validation on. If that fails, the test fails, with one exception:
@@ -198,9 +198,13 @@ pub fn test_scene() -> Scene {
             material("blue", Vec3::new(0.1, 0.3, 0.85), Vec3::ZERO),
             material("lamp", Vec3::new(0.9, 0.8, 0.2), Vec3::new(0.5, 0.4, 0.1)),
         ],
+        lights: vec![TEST_LIGHT],
         ..Default::default()
     }
 }
+
+/// The test scene's light.
+pub const TEST_LIGHT: Light = Light::point(Vec3::new(2.0, 4.0, 3.0), Vec3::new(30.0, 28.0, 25.0));
 
 pub const BACKGROUND: Vec3 = Vec3::new(0.05, 0.1, 0.2);
 
@@ -256,10 +260,7 @@ pub fn settings(shading: Shading, spp: u32) -> RenderSettings {
         sampler: SamplerKind::default(),
         shading,
         background: BACKGROUND,
-        light: PointLight {
-            position: Vec3::new(2.0, 4.0, 3.0),
-            intensity: Vec3::new(30.0, 28.0, 25.0),
-        },
+        environment: Vec3::ZERO,
         shared_samples: false,
     }
 }

@@ -72,8 +72,8 @@ fn scene_file_with_all_sections_and_relative_mesh() {
         );
         assert_eq!(s.render.shading, Some(Shading::Lit));
         assert_eq!(s.render.background, Some([0.1, 0.2, 0.3]));
-        assert_eq!(s.light.position, Some([0.0, 1.9, 0.0]));
-        assert_eq!(s.light.intensity, Some([5.0, 5.0, 5.0]));
+        assert_eq!(s.light.0[0].position, Some([0.0, 1.9, 0.0]));
+        assert_eq!(s.light.0[0].intensity, Some([5.0, 5.0, 5.0]));
     }
     let (mesh, _, _) = read_scene_file(&path).unwrap();
     assert_eq!(mesh, dir.path().join("meshes/tri.obj"));

@@ -94,7 +94,7 @@ fn built_in_default_scene() {
     let s = &d.settings;
     assert_eq!((s.image.width, s.image.height), (Some(640), Some(480)));
     assert_eq!(s.render.shading, Some(Shading::Lit));
-    assert!(s.light.position.is_some() && s.light.intensity.is_some());
+    assert!(s.light.0[0].position.is_some() && s.light.0[0].intensity.is_some());
     assert!(s.render.background.is_some());
 }
 
@@ -140,7 +140,7 @@ fn generators() {
             .any(|m| m.emission.max_element() > 0.0),
         "no emissive material"
     );
-    let light = cornell.settings.light.position.unwrap();
+    let light = cornell.settings.light.0[0].position.unwrap();
     assert!(
         light[1] > 1.5 && light[1] < 2.0,
         "light {light:?} below the ceiling"

@@ -18,7 +18,13 @@ fn f32_bytes(values: &[f32]) -> Vec<u8> {
 
 /// A glTF of one triangle (positions in `triangle.bin`, indices after them) under `nodes`
 /// (JSON of the node array, node 0 the root), with `extra` top-level JSON members.
-fn write_gltf(dir: &Path, name: &str, nodes: &str, positions: [f32; 9], extra: &str) -> PathBuf {
+pub(crate) fn write_gltf(
+    dir: &Path,
+    name: &str,
+    nodes: &str,
+    positions: [f32; 9],
+    extra: &str,
+) -> PathBuf {
     let mut bin = f32_bytes(&positions);
     bin.extend([0u16, 1, 2, 0].iter().flat_map(|i| i.to_le_bytes()));
     std::fs::write(dir.join("triangle.bin"), &bin).unwrap();
@@ -46,7 +52,7 @@ fn write_gltf(dir: &Path, name: &str, nodes: &str, positions: [f32; 9], extra: &
     path
 }
 
-const TRIANGLE: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+pub(crate) const TRIANGLE: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
 
 #[test]
 fn node_transforms_compose_parent_first() {

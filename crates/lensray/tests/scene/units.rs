@@ -48,12 +48,12 @@ fn a_scene_file_in_millimetres_is_loaded_in_metres() {
     let [x, y, z] = c.eye.unwrap();
     assert!(close(x, 0.0) && close(y, 0.1) && close(z, 0.8), "{c:?}");
     assert!(close(c.focus_distance.unwrap(), 0.75) && close(c.near.unwrap(), 0.01));
-    let light = d.settings.light.position.unwrap();
+    let light = d.settings.light.0[0].position.unwrap();
     assert!(close(light[1], 0.5) && close(light[2], 0.5));
     // Lens data in millimetres and the light's W/sr are no world lengths.
     assert_eq!(c.focal_length_mm, Some(50.0));
     assert_eq!(c.sensor_height_mm, Some(24.0));
-    assert_eq!(d.settings.light.intensity, Some([2.0; 3]));
+    assert_eq!(d.settings.light.0[0].intensity, Some([2.0; 3]));
     // The physical lens sees a bust-sized scene: the shot resolves, focused at 0.75 m.
     let resolved = shot(&d.settings, &d.scene).unwrap();
     let focus = resolved.camera.lens.first_order().focus_distance;

@@ -24,7 +24,11 @@ mod materials;
 mod nodes;
 
 /// Extensions this loader applies; a file requiring any other is refused.
-const KNOWN_EXTENSIONS: [&str; 2] = ["KHR_materials_emissive_strength", "KHR_texture_transform"];
+const KNOWN_EXTENSIONS: [&str; 3] = [
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_texture_transform",
+];
 
 /// A mesh file read: the scene, the cameras it holds (in the file's order) and what the loader
 /// has to say about it (one line each: what it ignored or repaired).

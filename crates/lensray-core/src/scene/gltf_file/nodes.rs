@@ -1,5 +1,5 @@
-//! The walk over the default scene's nodes: meshes in world space, cameras, and the checks of
-//! the accessors they read.
+//! The walk over the default scene's nodes: meshes in world space, cameras, lights, and the
+//! checks of the accessors they read.
 
 use std::path::Path;
 
@@ -9,7 +9,7 @@ use gltf::mesh::Mode;
 use super::materials::ignored_features;
 use super::MeshFile;
 use crate::scene::file_camera::{FileCamera, FileProjection};
-use crate::scene::Mesh;
+use crate::scene::{Light, LightKind, Mesh};
 
 /// The node walk's state: the buffers and what is gathered.
 pub(super) struct Walk<'a> {
@@ -67,6 +67,13 @@ impl<'a> Walk<'a> {
             self.out
                 .cameras
                 .push(file_camera(node, &camera, &world_from_node, index));
+        }
+        if let Some(light) = node.light() {
+            let light = punctual_light(&light, &world_from_node);
+            light
+                .check()
+                .map_err(|e| format!("node {}: {e}", node.index()))?;
+            self.out.scene.lights.push(light);
         }
         for child in node.children() {
             self.node(&child, world_from_node)?;
@@ -197,12 +204,6 @@ impl<'a> Walk<'a> {
                 ignored.join(", ")
             ));
         }
-        let lights = document.lights().map_or(0, |l| l.len());
-        if lights > 0 {
-            self.out.notices.push(format!(
-                "its {lights} KHR_lights_punctual lights are not used yet: the shot's own light is"
-            ));
-        }
         self.out
     }
 }
@@ -312,5 +313,33 @@ fn file_camera(
             .transform_vector3(DVec3::Y)
             .normalize_or_zero(),
         projection,
+    }
+}
+
+/// The `KHR_lights_punctual` light at `node`: at the node's origin, shining down its -Z axis;
+/// colour times intensity, in the extension's units (candela for point and spot lights, lux for
+/// directional ones) taken as lensray's W/sr and W/m^2.
+fn punctual_light(light: &gltf::khr_lights_punctual::Light, world_from_node: &DMat4) -> Light {
+    use gltf::khr_lights_punctual::Kind;
+    let kind = match light.kind() {
+        Kind::Point => LightKind::Point,
+        Kind::Directional => LightKind::Directional,
+        Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => LightKind::Spot {
+            cos_inner: inner_cone_angle.cos(),
+            cos_outer: outer_cone_angle.cos(),
+        },
+    };
+    Light {
+        kind,
+        position: world_from_node.transform_point3(DVec3::ZERO).as_vec3(),
+        direction: world_from_node
+            .transform_vector3(DVec3::NEG_Z)
+            .normalize_or_zero()
+            .as_vec3(),
+        intensity: Vec3::from(light.color()) * light.intensity(),
+        range: light.range().unwrap_or(0.0),
     }
 }

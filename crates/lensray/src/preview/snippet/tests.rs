@@ -9,10 +9,11 @@ use super::*;
 use crate::cli::render::{merged_settings, RenderArgs};
 use crate::preview::test_scene::unit_cube;
 use crate::preview::CameraRig;
+use glam::DVec3;
 use lensray_core::scene::file::read_scene_file;
 use lensray_core::scene::Scene;
-use lensray_core::settings::shot;
 use lensray_core::settings::Shading;
+use lensray_core::settings::{settings_lights, shot, LightSettings, Lights};
 
 #[derive(Parser)]
 #[command(name = "lensray")]
@@ -46,9 +47,10 @@ fn file_settings() -> Settings {
         render: RenderStyle {
             shading: Some(Shading::Unlit),
             background: Some([0.1, 0.2, 0.3]),
+            environment: None,
         },
         // The light is left to resolve: the printout must carry the derived one.
-        light: LightSettings::default(),
+        light: Lights::default(),
     }
 }
 
@@ -93,6 +95,19 @@ fn assert_round_trip(rig: &CameraRig, file: &Settings) {
 
     let (from_command, scene_path) = args_from_command(&snippet.command, file);
     assert_eq!(scene_path, None);
+    let lights = |settings: &Settings| settings_lights(settings, &scene).unwrap();
+    assert_eq!(
+        lights(&from_toml),
+        lights(rig.settings()),
+        "{}",
+        snippet.toml
+    );
+    assert_eq!(
+        lights(&from_command),
+        lights(rig.settings()),
+        "{}",
+        snippet.command
+    );
     assert_eq!(
         resolved_shot(&from_command, &scene),
         original,
@@ -127,8 +142,11 @@ fn physical_camera_reads_back_exactly() {
     physical_file.camera.aperture_radius = None;
     physical_file.camera.focal_length_mm = Some(50.0);
     physical_file.camera.f_number = Some(4.0);
-    physical_file.light.position = Some([1.0, 2.5, -0.3]);
-    physical_file.light.intensity = Some([3.0, 2.0, 1.0]);
+    physical_file.light = Lights(vec![LightSettings {
+        position: Some([1.0, 2.5, -0.3]),
+        intensity: Some([3.0, 2.0, 1.0]),
+        ..LightSettings::default()
+    }]);
     let mut rig = CameraRig::new(physical_file.clone(), &unit_cube()).unwrap();
     rig.set_aperture_radius(0.03);
     assert_round_trip(&rig, &physical_file);
@@ -180,7 +198,8 @@ fn every_value_is_written() {
         "[render]",
         "shading = \"unlit\"",
         "background = [0.1, 0.2, 0.3]",
-        "[light]",
+        "[[light]]",
+        "type = \"point\"",
         "position = [",
         "intensity = [",
     ] {
@@ -192,7 +211,7 @@ fn every_value_is_written() {
     }
     assert!(!snippet.toml.contains("ortho_height"));
     let near = resolved.camera.near as f64;
-    let light = resolved.render.light.position.as_dvec3();
+    let light = DVec3::from_array(rig.settings().light.0[0].position.unwrap());
     let expected = format!(
         "lensray render --scene scenes/cube.toml --projection perspective --eye 0.3,0.7,5 \
          --target 0,0.1,0 --up 0,1,0 --vfov 40 --aperture-radius 0.1 --focus-distance 4.5 \
@@ -218,7 +237,7 @@ fn derived_light_is_the_resolved_one() {
     let rig = CameraRig::new(file, &unit_cube()).unwrap();
     let resolved = rig.shot(&unit_cube()).unwrap();
     let explicit = explicit_settings(rig.settings(), &resolved);
-    let position = explicit.light.position.unwrap();
+    let position = explicit.light.0[0].position.unwrap();
     let expected = resolved.camera.frame.eye + resolved.camera.frame.true_up * (0.5 * 3f32.sqrt());
     for (p, e) in position.iter().zip(expected.to_array()) {
         assert!((p - e as f64).abs() < 1e-6, "{position:?} vs {expected}");
