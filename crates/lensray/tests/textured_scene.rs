@@ -8,7 +8,7 @@ mod gpu_support;
 use glam::{Vec2, Vec3};
 use gpu_support::{compare, open_path_with, write_comparison, write_png};
 use lensray::cli::generate::{generate, Which};
-use lensray::paths::{OpenedPath, PathChoice, PathKind};
+use lensray::paths::{OpenedPath, PathKind};
 use lensray_core::camera::Camera;
 use lensray_core::film::Image;
 use lensray_core::reference::Renderer;
@@ -165,7 +165,9 @@ fn the_gltf_and_the_obj_render_the_same_image_on_the_cpu() {
         }
 
         // As written, the OBJ's leaf blends: only where its filtered alpha lies between 0 and 1,
-        // along its edge, may a pixel differ.
+        // along its edge (lit, also its shadow's), may a pixel differ, and not along all of it:
+        // each outline is about 40 pixels long (measured: 10 pixels differ unlit, 12 lit, by
+        // 0.066 and 0.086 at most).
         let blended = cpu_render(&obj.scene, &shot);
         let (count, worst) = differences(&from_gltf, &blended);
         let diff = compare(&blended, &from_gltf, 1.0 / 255.0);
@@ -215,36 +217,28 @@ fn bounds(camera: &Camera, points: impl Iterator<Item = Vec3>) -> (Vec2, Vec2) {
     })
 }
 
-/// `choice`'s render of `shot` of `scene`; `None` where GPU tests may be skipped.
-fn render(test: &str, choice: PathChoice, scene: &Scene, shot: &Shot) -> Option<Image> {
-    let OpenedPath { mut path, .. } = open_path_with(test, choice, scene, shot)?;
-    let image = path.render(shot, &mut |_, _| {}).expect("render");
-    path.close().expect("close: validation messages or leaks");
-    Some(image)
-}
-
-/// The ray-query, software and raster paths render the glTF as the CPU reference does (raster
-/// with the samples shared by every pixel, as it draws them), within the textured test card's
-/// tolerances.
+/// The ray-query, software and raster paths render the glTF as the CPU reference does, unlit
+/// and lit (raster with the samples shared by every pixel, as it draws them), within the
+/// textured test card's tolerances. Each path is opened once for both shadings.
 #[test]
 fn gpu_paths_render_the_textured_gltf_as_the_cpu_does() {
     let test = "gpu_paths_render_the_textured_gltf_as_the_cpu_does";
     let (_dir, gltf, _) = generated();
     let scene = &gltf.scene;
-    for shading in [Shading::Unlit, Shading::Lit] {
-        let own = small_shot(&gltf, shading, 8);
-        let mut shared = own.clone();
-        shared.render.shared_samples = true;
-        for kind in [PathKind::RayQuery, PathKind::Software, PathKind::Raster] {
-            let shot = if kind == PathKind::Raster {
-                &shared
-            } else {
-                &own
-            };
+    for kind in [PathKind::RayQuery, PathKind::Software, PathKind::Raster] {
+        let shots = [Shading::Unlit, Shading::Lit].map(|shading| {
+            let mut shot = small_shot(&gltf, shading, 8);
+            shot.render.shared_samples = kind == PathKind::Raster;
+            shot
+        });
+        let Some(OpenedPath { mut path, .. }) = open_path_with(test, kind.into(), scene, &shots[1])
+        else {
+            return;
+        };
+        for shot in &shots {
+            let shading = shot.render.shading;
+            let image = path.render(shot, &mut |_, _| {}).expect("render");
             let reference = cpu_render(scene, shot);
-            let Some(image) = render(test, kind.into(), scene, shot) else {
-                return;
-            };
             let diff = compare(&image, &reference, 1.0 / 255.0);
             println!("{shading:?} {kind}: {diff:?}");
             if diff.within < 0.999 || diff.mean_abs >= 1e-3 {
@@ -253,5 +247,6 @@ fn gpu_paths_render_the_textured_gltf_as_the_cpu_does() {
                 panic!("{shading:?} {kind}: differs from the CPU: {diff:?}; wrote {files}");
             }
         }
+        path.close().expect("close: validation messages or leaks");
     }
 }
