@@ -9,6 +9,8 @@ use lensray_core::scene::builtin::default_scene;
 use lensray_core::scene::generate::{cornell_box, dense, sphere_row};
 use lensray_core::scene::{load, load_obj, Scene, SceneDescription, SceneError};
 
+#[path = "scene/assets.rs"]
+mod assets;
 #[path = "scene/file.rs"]
 mod file;
 #[path = "scene/generators.rs"]

@@ -20,6 +20,7 @@ pub mod obj;
 pub mod order;
 pub mod test_card;
 pub mod texture;
+pub mod textured;
 pub mod units;
 
 pub use builtin::default_scene;

@@ -1,5 +1,6 @@
-//! `lensray generate cornell|spheres|dense [--out DIR] [--triangles N]`: writes a generated scene
-//! as `<out>/<name>.obj`, `<name>.mtl` and a scene file `<name>.toml` naming the OBJ.
+//! `lensray generate cornell|spheres|dense|bokeh|textured [--out DIR] [--triangles N]`: writes a
+//! generated scene as `<out>/<name>.obj`, `<name>.mtl` and a scene file `<name>.toml` naming the
+//! OBJ; `textured` also as `textured.gltf` with `textured.bin`, both reading its PNGs.
 
 use std::fs;
 use std::io::{BufRead, BufReader};
@@ -9,6 +10,7 @@ use anyhow::{bail, Context};
 
 use lensray_core::scene::file::write_scene_file;
 use lensray_core::scene::generate::{bokeh, cornell_box, dense, sphere_row};
+use lensray_core::scene::textured::{self, write_textured};
 use lensray_core::scene::{write_obj, SceneDescription};
 
 /// Triangles of the dense benchmark scene unless `--triangles` says otherwise.
@@ -24,6 +26,8 @@ pub enum Which {
     Dense,
     /// Small bright lights in front of and behind an in-focus subject: the aperture's shape.
     Bokeh,
+    /// Textured cards and a leaf cut out by its alpha, as glTF and as OBJ with a scene file.
+    Textured,
 }
 
 impl Which {
@@ -34,6 +38,7 @@ impl Which {
             Which::Spheres => "Five coloured spheres in a row receding in depth on a grey ground, the middle one in focus.",
             Which::Dense => "A benchmark scene: a 10 x 10 grid of finely tessellated spheres on a checkerboard, focused on the middle.",
             Which::Bokeh => "Small bright lights at several depths in front of and behind an in-focus sphere on a dark background: out-of-focus highlights take the aperture's shape.",
+            Which::Textured => textured::DESCRIPTION,
         }
     }
 
@@ -44,6 +49,7 @@ impl Which {
             Which::Spheres => "spheres",
             Which::Dense => "dense",
             Which::Bokeh => "bokeh",
+            Which::Textured => textured::NAME,
         }
     }
 }
@@ -53,7 +59,8 @@ pub struct GenerateArgs {
     /// Which scene to generate.
     #[arg(value_enum)]
     pub which: Which,
-    /// Folder to write `<name>.obj`, `<name>.mtl` and `<name>.toml` into (created if missing).
+    /// Folder to write `<name>.obj`, `<name>.mtl` and `<name>.toml` into (created if missing);
+    /// `textured` adds `textured.gltf`, `textured.bin` and its PNGs.
     #[arg(long, value_name = "DIR", default_value = "assets/generated")]
     pub out: PathBuf,
     /// Minimum number of triangles (dense only) [default: 1000000].
@@ -74,7 +81,13 @@ pub fn run(args: &GenerateArgs) -> anyhow::Result<()> {
         &args.out,
         args.triangles.unwrap_or(DEFAULT_DENSE_TRIANGLES),
     )?;
-    println!("wrote {} ({triangles} triangles)", path.display());
+    if args.which == Which::Textured {
+        let gltf = path.with_extension("gltf");
+        let (path, gltf) = (path.display(), gltf.display());
+        println!("wrote {path} (the OBJ's) and {gltf} ({triangles} triangles)");
+    } else {
+        println!("wrote {} ({triangles} triangles)", path.display());
+    }
     Ok(())
 }
 
@@ -86,9 +99,10 @@ fn header(which: Which, dense_triangles: usize) -> String {
     }
 }
 
-/// Writes the scene's three files into `out` and returns the scene file's path and the triangle
-/// count. Files are written into a temporary folder first and then renamed into place, the scene
-/// file last, so that a complete scene file means complete OBJ and MTL files.
+/// Writes the scene's files (three; `textured` also its glTF, buffer and PNGs) into `out` and
+/// returns the scene file's path and the triangle count. Files are written into a temporary
+/// folder first and then renamed into place, the scene file last, so that a complete scene file
+/// means complete mesh files.
 pub fn generate(
     which: Which,
     out: &Path,
@@ -99,13 +113,10 @@ pub fn generate(
         Which::Spheres => sphere_row(),
         Which::Dense => dense(dense_triangles),
         Which::Bokeh => bokeh(),
+        Which::Textured => return generate_textured(out),
     };
     let name = which.name();
-    fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let staging = tempfile::Builder::new()
-        .prefix(".lensray-generate-")
-        .tempdir_in(out)
-        .with_context(|| format!("cannot write into {}", out.display()))?;
+    let staging = staging(out)?;
     let obj = format!("{name}.obj");
     write_obj(&description.scene, &staging.path().join(&obj))
         .with_context(|| format!("cannot write {obj} into {}", out.display()))?;
@@ -122,15 +133,40 @@ pub fn generate(
         &comment,
     )
     .with_context(|| format!("cannot write {name}.toml into {}", out.display()))?;
-    for ext in ["mtl", "obj", "toml"] {
-        let file = format!("{name}.{ext}");
-        fs::rename(staging.path().join(&file), out.join(&file))
-            .with_context(|| format!("cannot move {file} into {}", out.display()))?;
-    }
+    let files = ["mtl", "obj", "toml"].map(|ext| format!("{name}.{ext}"));
+    move_into(&staging, &files, out)?;
     Ok((
         out.join(format!("{name}.toml")),
         description.scene.triangle_count(),
     ))
+}
+
+/// A temporary folder inside `out` (created if missing) to write a scene's files into.
+fn staging(out: &Path) -> anyhow::Result<tempfile::TempDir> {
+    fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    tempfile::Builder::new()
+        .prefix(".lensray-generate-")
+        .tempdir_in(out)
+        .with_context(|| format!("cannot write into {}", out.display()))
+}
+
+/// Renames `files` from `staging` into `out`, in order.
+fn move_into(staging: &tempfile::TempDir, files: &[String], out: &Path) -> anyhow::Result<()> {
+    for file in files {
+        fs::rename(staging.path().join(file), out.join(file))
+            .with_context(|| format!("cannot move {file} into {}", out.display()))?;
+    }
+    Ok(())
+}
+
+/// [`generate`] for the textured scene: its PNGs, glTF and OBJ, the scene file last.
+fn generate_textured(out: &Path) -> anyhow::Result<(PathBuf, usize)> {
+    let staging = staging(out)?;
+    let files = write_textured(staging.path())
+        .with_context(|| format!("cannot write the textured scene into {}", out.display()))?;
+    move_into(&staging, &files, out)?;
+    let triangles = textured::textured_scene().scene.triangle_count();
+    Ok((out.join(format!("{}.toml", textured::NAME)), triangles))
 }
 
 /// The dense scene's scene file in `dir`, generated only when it is missing or was made with
