@@ -20,8 +20,13 @@ fn generated() -> (tempfile::TempDir, SceneDescription, SceneDescription) {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let (toml, triangles) = generate(Which::Textured, dir.path(), 0).expect("generate textured");
     assert_eq!(triangles, 10);
+    // Lit as `lensray render` lights them: the glTF by its own lights, the OBJ by its scene
+    // file's.
     let load = |path: &std::path::Path| {
-        load(path).unwrap_or_else(|e| panic!("{} should load: {e}", path.display()))
+        let mut d = load(path).unwrap_or_else(|e| panic!("{} should load: {e}", path.display()));
+        let settings = d.settings.clone();
+        lensray_core::settings::light_scene(&settings, &mut d.scene).expect("its lights");
+        d
     };
     let gltf = load(&dir.path().join("textured.gltf"));
     let obj = load(&toml);
@@ -51,10 +56,17 @@ fn texels(scene: &Scene, texture: u32, alpha_only: bool) -> Vec<u32> {
 #[test]
 fn the_gltf_and_the_obj_load_to_the_same_scene() {
     let (_dir, gltf, obj) = generated();
+    let view = |s: &lensray_core::settings::Settings| (s.camera.clone(), s.image.clone());
     assert_eq!(
-        gltf.settings, obj.settings,
+        view(&gltf.settings),
+        view(&obj.settings),
         "the scene file's camera is the glTF's"
     );
+    assert_eq!(
+        gltf.scene.lights, obj.scene.lights,
+        "the scene file's lights are the glTF's"
+    );
+    assert_eq!(gltf.scene.lights.len(), 1);
     assert_eq!(gltf.settings.image.width, Some(640));
     // What the glTF's material says and lensray does not draw; the OBJ says nothing more.
     assert_eq!(gltf.notices.len(), 1, "{:?}", gltf.notices);
@@ -191,7 +203,7 @@ fn the_gltf_and_the_obj_render_the_same_image_on_the_cpu() {
 fn leaf_edge_pixels(scene: &Scene, shot: &Shot) -> Vec<bool> {
     let leaf = scene.meshes.iter().find(|m| m.name == "leaf").unwrap();
     let camera = &shot.camera;
-    let light = shot.render.light.position;
+    let light = scene.lights[0].position;
     let on_ground = |c: Vec3| light + (c - light) * (light.y / (light.y - c.y));
     let mut boxes = vec![bounds(camera, leaf.positions.iter().copied())];
     if shot.render.shading == Shading::Lit {

@@ -22,11 +22,12 @@ mod tests {
     fn layouts_follow_the_glsl_rules() {
         check_layouts().unwrap();
         // Hand-computed std140: two mat4 (128) + 8 scalars (32) + vec4 (16) + vec4[32] (512)
-        // = 688; then three vec4 and eight scalars.
+        // = 688; then two vec4 (background, environment), eight scalars and the footprint's four
+        // vec4.
         assert_eq!(GpuCamera::size(Layout::Std140), 688);
-        assert_eq!(TraceParams::size(Layout::Std140), 688 + 48 + 32 + 64);
+        assert_eq!(TraceParams::size(Layout::Std140), 688 + 32 + 32 + 64);
         assert_eq!(RasterPush::size(Layout::Std430), 96);
-        assert_eq!(std::mem::offset_of!(TraceParams, width), 736);
+        assert_eq!(std::mem::offset_of!(TraceParams, width), 720);
     }
 
     #[test]
@@ -46,7 +47,7 @@ mod tests {
         assert!(header.contains("struct TraceParams {\n    Camera camera;"));
         assert!(header.contains("uint layout_probe_Camera(Camera v, uint i)"));
         let scalars = scalars_of::<TraceParams>();
-        assert_eq!(scalars.len(), 688 / 4 + 12 + 8 + 16);
+        assert_eq!(scalars.len(), 688 / 4 + 8 + 8 + 16);
         assert_eq!(scalars[17].path, "v.camera.screen_from_raster[0][1]");
         assert_eq!(scalars[17].offset, 64 + 4);
     }

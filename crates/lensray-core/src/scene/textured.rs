@@ -29,8 +29,8 @@ pub use images::ProceduralImage;
 use super::file::write_scene_file;
 use super::generate::quad;
 use super::texture::{Encoding, TextureRef};
-use super::{AlphaMode, Material, Mesh, Scene, Texture};
-use crate::settings::Settings;
+use super::{AlphaMode, Light, Material, Mesh, Scene, Texture};
+use crate::settings::{LightSettings, Lights, Settings};
 
 /// The file stem of the scene's files.
 pub const NAME: &str = "textured";
@@ -158,9 +158,9 @@ pub fn textured_scene() -> TexturedScene {
             meshes,
             materials,
             textures,
+            lights: vec![LIGHT],
         },
         images,
-        // lights: added with KHR_lights_punctual
         camera: TexturedCamera {
             eye: Vec3::new(0.0, 1.5, 5.0),
             pitch_degrees: 8.0,
@@ -170,6 +170,10 @@ pub fn textured_scene() -> TexturedScene {
         },
     }
 }
+
+/// The scene's light: a point light above and to the left of the camera, whose shadows fall
+/// behind the cards and to the right (W/sr; the glTF's candela).
+pub const LIGHT: Light = Light::point(Vec3::new(-2.0, 4.0, 4.0), Vec3::splat(40.0));
 
 /// One line on what the scene shows.
 pub const DESCRIPTION: &str = "Textured cards at four depths (a checker, a word, a colour gradient and a leaf cut out by its alpha) over a checkered ground; textured.gltf holds the same scene.";
@@ -201,7 +205,19 @@ pub fn write_textured(dir: &Path) -> anyhow::Result<Vec<String>> {
         .context("the written glTF has no camera")?;
     let mut settings = Settings::default();
     camera.apply(&mut settings, &loaded.scene);
-    // lights: added with KHR_lights_punctual
+    // The glTF's lights, as the scene file's.
+    settings.light = Lights(
+        loaded
+            .scene
+            .lights
+            .iter()
+            .map(|l| LightSettings {
+                position: Some(l.position.as_dvec3().to_array()),
+                intensity: Some(l.intensity.as_dvec3().to_array()),
+                ..LightSettings::default()
+            })
+            .collect(),
+    );
     let toml = format!("{NAME}.toml");
     let comment = format!(
         "lensray generate {NAME}\n{DESCRIPTION}\n{} triangles. Units are metres; `mesh` is relative to this file.\n\

@@ -236,7 +236,7 @@ pub(super) fn write_gltf(
         }));
     }
     nodes.push(camera_node(&mut b.root, textured));
-    // lights: added with KHR_lights_punctual
+    nodes.extend(light_nodes(&mut b.root, &scene.lights)?);
     let scene_index = b.root.push(json::Scene {
         extensions: None,
         extras: Default::default(),
@@ -289,4 +289,51 @@ fn camera_node(root: &mut json::Root, textured: &TexturedScene) -> json::Index<j
         rotation: Some(json::scene::UnitQuaternion(c.rotation().to_array())),
         ..Default::default()
     })
+}
+
+/// A node per light (point lights only: at their positions), and the lights in the root's
+/// `KHR_lights_punctual`.
+fn light_nodes(
+    root: &mut json::Root,
+    lights: &[crate::scene::Light],
+) -> anyhow::Result<Vec<json::Index<json::Node>>> {
+    use json::extensions::scene::khr_lights_punctual as punctual;
+    let mut out = Vec::new();
+    let mut list = Vec::new();
+    for (i, light) in lights.iter().enumerate() {
+        if light.kind != crate::scene::LightKind::Point || light.range != 0.0 {
+            bail!("light {i}: the textured scene writes point lights without a range only");
+        }
+        // glTF's colour times intensity: the brightest channel is the intensity.
+        let intensity = light.intensity.max_element();
+        list.push(punctual::Light {
+            color: (light.intensity / intensity.max(f32::MIN_POSITIVE)).to_array(),
+            extensions: None,
+            extras: Default::default(),
+            intensity,
+            name: Some(format!("light {i}")),
+            range: None,
+            spot: None,
+            type_: Valid(punctual::Type::Point),
+        });
+        out.push(root.push(json::Node {
+            name: Some(format!("light {i}")),
+            translation: Some(light.position.to_array()),
+            extensions: Some(json::extensions::scene::Node {
+                khr_lights_punctual: Some(punctual::KhrLightsPunctual {
+                    light: json::Index::new(i as u32),
+                }),
+                ..Default::default()
+            }),
+            ..Default::default()
+        }));
+    }
+    if !list.is_empty() {
+        root.extensions_used.push("KHR_lights_punctual".into());
+        root.extensions = Some(json::extensions::Root {
+            khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual { lights: list }),
+            ..Default::default()
+        });
+    }
+    Ok(out)
 }
