@@ -141,3 +141,21 @@ fn the_scanned_apple_loads_its_4k_texture_and_renders_red() {
         "the apple's mean colour {mean} is not red"
     );
 }
+
+/// The README's apples: five nodes of the scanned apple on a table, the file's camera and key
+/// light; the apples' one texture decoded once for all five, the two ignored maps never.
+#[test]
+fn the_readme_apples_load_with_their_camera_and_light() {
+    let description = load(&asset("food_apple_01/apples.gltf")).unwrap_or_else(|e| panic!("{e}"));
+    let scene = &description.scene;
+    assert_eq!(scene.triangle_count(), 5 * 7012 + 2);
+    assert_eq!(scene.textures.len(), 1);
+    let level = scene.textures[0].levels[0];
+    assert_eq!((level.width, level.height), (4096, 4096));
+    assert_eq!(scene.lights.len(), 1);
+    assert!((scene.lights[0].position - Vec3::new(-0.5, 0.9, 0.7)).length() < 1e-6);
+    assert_eq!(description.cameras.len(), 1);
+    assert_eq!(description.cameras[0].name, "view");
+    let resolved = shot(&description.settings, scene).unwrap_or_else(|e| panic!("{e}"));
+    assert!((resolved.camera.frame.eye - Vec3::new(0.02, 0.16, 0.62)).length() < 1e-6);
+}
