@@ -1,12 +1,13 @@
 // Shading of the thin-lens compute pass, as specified for every renderer (lensray-core/src/settings/render.rs,
 // the CPU reference, lensray-core/src/reference/render.rs): unlit (the diffuse colour of the
-// closest hit) or lit (emission + one point light with a shadow ray), colours textured and
-// filtered over the pinhole's pixel footprint. Include after a hit implementation
+// closest hit) or lit (emission + the scene's lights, each through a shadow ray, + the
+// environment through a cosine-distributed ray), colours textured and filtered over the
+// pinhole's pixel footprint. Include after a hit implementation
 // (hit_rayquery.glsl or hit_software.glsl), which defines
 //   bool closest_hit(vec3 origin, vec3 direction, float t_max, BlendCut cut, out Hit hit);
 //   bool occluded(vec3 origin, vec3 direction, float t_max, BlendCut cut);
-// over t in (0, t_max), and the trace parameters `params`. shade_hit shades a hit found either way
-// (the raster path's rasterized one included).
+// over t in (0, t_max), and the trace parameters `params`. shade_hit_shadowed shades a hit found
+// either way (the raster path's rasterized one included).
 #ifndef LENSRAY_SHADING_GLSL
 #define LENSRAY_SHADING_GLSL
 
@@ -117,23 +118,6 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out u
     // reference/surface.rs: shadow_origin
     vec3 o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
     return emission + direct_light(o, ns, ng, diffuse, draw, rays, shadowed);
-}
-
-vec3 shade_hit(Ray ray, Hit hit, LightDraw draw, inout uint rays) {
-    uint shadowed;
-    return shade_hit_shadowed(ray, hit, draw, rays, shadowed);
-}
-
-// The radiance along `ray`, which cuts BLEND surfaces with `draw.cut`; `rays` counts the rays
-// traced.
-vec3 shade(Ray ray, LightDraw draw, inout uint rays) {
-    Hit hit;
-    bool found = closest_hit(ray.origin, ray.direction, T_MAX, draw.cut, hit);
-    rays += 1u;
-    if (!found) {
-        return params.background.xyz;
-    }
-    return shade_hit(ray, hit, draw, rays);
 }
 
 // The hit of `ray` with the plane of triangle `tri` (the raster path: the rasterizer found the

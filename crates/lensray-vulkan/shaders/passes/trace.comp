@@ -107,17 +107,30 @@ vec3 reprojected_shortcut(Reprojection r, uint pixel_index, CameraSample cs) {
     return mix(mix(v00, v10, f.x), mix(v01, v11, f.x), f.y);
 }
 
-// The radiance along `ray`, whose first hit the visibility pass drew at `pixel_index` (the
-// raster path's sample, the hybrid's lit pre-pass); `shadowed` as shade_hit_shadowed says.
-vec3 shade_rasterized(Ray ray, uint pixel_index, LightDraw draw, inout uint rays,
-                      out uint shadowed) {
-    uint seen = visibility[pixel_index];
-    rays += 1u;  // the camera ray, resolved by the rasterizer instead of a traversal
+// The radiance along `ray`, which cuts BLEND surfaces with `draw.cut`; where `rasterized`, the
+// visibility pass drew its first hit at `pixel_index` (the raster path's sample, the hybrid's lit
+// pre-pass) and no traversal finds it. `rays` counts the rays, `shadowed` as shade_hit_shadowed
+// says. Every mode shades through this one call: each inlined copy of the traversal and the
+// shading multiplies lavapipe's pipeline compile time.
+vec3 shade_sample(Ray ray, LightDraw draw, bool rasterized, uint pixel_index, inout uint rays,
+                  out uint shadowed) {
     shadowed = 0u;
-    if (seen == 0u) {
+    rays += 1u;
+    Hit hit;
+    bool found;
+    if (rasterized) {
+        uint seen = visibility[pixel_index];
+        found = seen != 0u;
+        if (found) {
+            hit = triangle_plane_hit(ray, seen - 1u);
+        }
+    } else {
+        found = closest_hit(ray.origin, ray.direction, T_MAX, draw.cut, hit);
+    }
+    if (!found) {
         return params.background.xyz;
     }
-    return shade_hit_shadowed(ray, triangle_plane_hit(ray, seen - 1u), draw, rays, shadowed);
+    return shade_hit_shadowed(ray, hit, draw, rays, shadowed);
 }
 
 // What sample `s` of pixel `pixel_index` draws besides its camera ray (reference/render.rs,
@@ -132,7 +145,24 @@ LightDraw sample_draw(PixelSampler state, uint pixel_index, uint s) {
     return draw;
 }
 
-// The pixel's work for this dispatch; returns the rays it traced (0 outside the band).
+// The pixel's work for this dispatch; returns the rays it traced (0 outside the band). Every mode
+// runs the same loop over its samples and shades through one shade_sample call:
+// - TRACE_MODE_ALL traces samples sample_begin..sample_end (through the real lens when there is
+//   one: a blocked ray adds nothing but counts as a sample; real_lens.glsl).
+// - TRACE_MODE_RASTER shades the one sample, shared by every pixel, whose first hit the raster
+//   pass drew.
+// - TRACE_MODE_SHORTCUT (the hybrid's lit pre-pass) shades the aperture-centre ray at the pixel
+//   centre (concentric_sample_disk(0.5, 0.5) is the lens centre), which the visibility pass
+//   rasterized through the lens centre just before, into the plan: the shortcut value and which
+//   lights were blocked (the plan's edge test compares it between neighbours: a shadow boundary
+//   is an edge). Its environment ray runs along the normal (the disk's centre): the shortcut only
+//   steers the checks, which keep the estimate unbiased.
+// - TRACE_MODE_HYBRID: the plan's entry says how many samples to trace (w >= 1), or that the
+//   pixel takes the shortcut value (w = HYBRID_SHORTCUT), checked by tracing with probability
+//   1 / HYBRID_CHECK_INVERSE: the value plus (traced - value) * HYBRID_CHECK_INVERSE, unbiased.
+//   The choice hashes the 8x8 tile and the sample, so that the pixels of a workgroup (run in
+//   lockstep) check alike. Lit, the value is reprojected per sample (above); unlit the albedo is
+//   the value of every lens ray of a uniform neighbourhood.
 uint trace_pixel() {
     uint x = gl_GlobalInvocationID.x;
     uint block = gl_WorkGroupID.y;
@@ -145,89 +175,63 @@ uint trace_pixel() {
     uint slot = band_row * params.width + x;
     uint pixel_index = y * params.width + x;
     uint rays = 0u;
-    if (pc.mode == TRACE_MODE_SHORTCUT) {
-        // The lit pre-pass of the hybrid's plan: the surface seen along the aperture-centre
-        // ray at the pixel centre (concentric_sample_disk(0.5, 0.5) is the lens centre), which
-        // the visibility pass rasterized through the lens centre just before (as the raster
-        // path does: no traversal for it), shaded with one shadow ray (the shortcut value),
-        // and which lights were blocked (the plan's edge test compares it between neighbours:
-        // a shadow boundary is an edge). Its environment ray runs along the normal (the disk's
-        // centre): the shortcut only steers the checks, which keep the estimate unbiased.
-        Ray ray = first_order_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
-        LightDraw draw;
-        draw.cut = aperture_centre_cut();
-        draw.environment = vec2(0.5);
-        uint shadowed;
-        vec3 value = shade_rasterized(ray, pixel_index, draw, rays, shadowed);
-        plan[pixel_index] = vec4(value, float(shadowed));
-        return rays;
-    }
+    bool pre_pass = pc.mode == TRACE_MODE_SHORTCUT;
+    bool rasterized = pre_pass || pc.mode == TRACE_MODE_RASTER;
+    bool lit = params.shading == SHADING_LIT;
     PixelSampler sampler_state = samples_of(x, y);
-    vec4 before = accum[slot];
-    vec3 sum = before.xyz;
-    uint added = 0u;
+    uint begin = pc.sample_begin;
+    uint end = rasterized ? begin + 1u : pc.sample_end;
+    bool shortcut = false;
+    vec3 shortcut_value = vec3(0.0);
+    Reprojection r;
     if (pc.mode == TRACE_MODE_HYBRID) {
         vec4 entry = plan[pixel_index];
-        if (entry.w == HYBRID_SHORTCUT) {
-            // Sample s: the shortcut value, plus (traced - shortcut) * HYBRID_CHECK_INVERSE with
-            // probability 1 / HYBRID_CHECK_INVERSE: unbiased. The choice hashes the 8x8 tile
-            // and the sample, so that the pixels of a workgroup (run in lockstep) check alike.
-            vec3 shortcut = entry.xyz;
-            uint tile = (y / TRACE_GROUP_SIZE) * ((params.width + TRACE_GROUP_SIZE - 1u) / TRACE_GROUP_SIZE)
-                      + x / TRACE_GROUP_SIZE;
-            // Lit, per sample: reprojected (above); unlit the albedo is the value of every
-            // lens ray of a uniform neighbourhood.
-            bool lit = params.shading == SHADING_LIT;
-            Reprojection r = reprojection(pixel_index);
-            for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
-                uint key = sample_key(params.seed ^ HYBRID_CHECK_SALT, tile, s);
-                bool check = hash_u32(key) % HYBRID_CHECK_INVERSE == 0u;
-                CameraSample cs;
-                if (lit || check) {
-                    cs = pixel_camera_sample(sampler_state, s);
-                }
-                vec3 value = lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut;
-                if (check) {
-                    Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
-                    vec3 traced = shade(ray, sample_draw(sampler_state, pixel_index, s), rays);
-                    value += (traced - value) * float(HYBRID_CHECK_INVERSE);
-                }
-                sum += value;
-            }
-            added = pc.sample_end - pc.sample_begin;
-        } else {
-            // Samples i < entry.w are traced; the pixel's count stops there.
-            uint end = min(pc.sample_end, uint(entry.w));
-            for (uint s = pc.sample_begin; s < end; ++s) {
-                CameraSample cs = pixel_camera_sample(sampler_state, s);
-                Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
-                sum += shade(ray, sample_draw(sampler_state, pixel_index, s), rays);
-            }
-            added = end > pc.sample_begin ? end - pc.sample_begin : 0u;
+        shortcut = entry.w == HYBRID_SHORTCUT;
+        shortcut_value = entry.xyz;
+        // Samples i < entry.w are traced; the pixel's count stops there.
+        end = shortcut ? end : min(end, uint(entry.w));
+        r = reprojection(pixel_index);
+    }
+    uint tile = (y / TRACE_GROUP_SIZE) * ((params.width + TRACE_GROUP_SIZE - 1u) / TRACE_GROUP_SIZE)
+              + x / TRACE_GROUP_SIZE;
+    vec4 before = pre_pass ? vec4(0.0) : accum[slot];
+    vec3 sum = before.xyz;
+    for (uint s = begin; s < end; ++s) {
+        bool trace = !shortcut
+            || hash_u32(sample_key(params.seed ^ HYBRID_CHECK_SALT, tile, s)) % HYBRID_CHECK_INVERSE == 0u;
+        CameraSample cs;
+        if (trace || lit) {
+            cs = pixel_camera_sample(sampler_state, s);
         }
-    } else if (pc.mode == TRACE_MODE_RASTER) {
-        // One sample, shared by every pixel: the raster pass drew what its lens ray sees first.
-        uint s = pc.sample_begin;
-        CameraSample cs = pixel_camera_sample(sampler_state, s);
-        Ray ray = first_order_ray(params.camera, cs.film, cs.lens);
-        uint shadowed;
-        LightDraw draw = sample_draw(sampler_state, pixel_index, s);
-        sum += shade_rasterized(ray, pixel_index, draw, rays, shadowed);
-        added = 1u;
-    } else {
-        // Through the real lens when there is one (blocked rays add nothing but count as
-        // samples; real_lens.glsl), else the thin lens with weight 1.
-        for (uint s = pc.sample_begin; s < pc.sample_end; ++s) {
-            CameraSample cs = pixel_camera_sample(sampler_state, s);
-            Ray ray;
-            float weight;
-            if (generate_ray(params.camera, cs.film, cs.lens, ray, weight)) {
-                sum += weight * shade(ray, sample_draw(sampler_state, pixel_index, s), rays);
-            }
+        // What the sample adds untraced: a shortcut's value.
+        vec3 value = !shortcut ? vec3(0.0) : lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut_value;
+        Ray ray;
+        float weight = 1.0;
+        if (pre_pass) {
+            ray = first_order_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
+        } else if (pc.mode == TRACE_MODE_ALL) {
+            trace = generate_ray(params.camera, cs.film, cs.lens, ray, weight);
+        } else if (trace) {
+            ray = first_order_ray(params.camera, cs.film, cs.lens);
         }
-        added = pc.sample_end - pc.sample_begin;
+        if (trace) {
+            LightDraw draw = sample_draw(sampler_state, pixel_index, s);
+            if (pre_pass) {
+                draw.cut = aperture_centre_cut();
+                draw.environment = vec2(0.5);
+            }
+            uint shadowed;
+            vec3 traced = weight * shade_sample(ray, draw, rasterized, pixel_index, rays, shadowed);
+            if (pre_pass) {
+                plan[pixel_index] = vec4(traced, float(shadowed));
+                return rays;
+            }
+            value = shortcut ? value + (traced - value) * float(HYBRID_CHECK_INVERSE) : traced;
+        }
+        sum += value;
     }
     // w counts the samples added (exact in float up to 2^24): the preview divides by it.
+    uint added = end > begin ? end - begin : 0u;
     accum[slot] = vec4(sum, before.w + float(added));
     return rays;
 }
