@@ -6,12 +6,8 @@
 mod gpu_support;
 
 use glam::Vec3;
-use gpu_support::{
-    camera, compare, floor, open_path_with, settings, test_scene, write_comparison, write_png,
-};
-use lensray::paths::{OpenedPath, PathChoice, PathKind};
+use gpu_support::{assert_gpu_paths_match_cpu, camera, floor, settings, test_scene};
 use lensray_core::camera::{Camera, CameraParams, LensParams, ProjectionParams};
-use lensray_core::film::Image;
 use lensray_core::interface::SHADOW_ORIGIN_OFFSET;
 use lensray_core::reference::Renderer;
 use lensray_core::scene::test_card::test_card;
@@ -72,54 +68,16 @@ fn shot(environment: Vec3, spp: u32) -> Shot {
     }
 }
 
-fn render(test: &str, choice: PathChoice, scene: &Scene, shot: &Shot) -> Option<Image> {
-    let OpenedPath { mut path, .. } = open_path_with(test, choice, scene, shot)?;
-    let image = path.render(shot, &mut |_, _| {}).expect("render");
-    path.close().expect("close: validation messages or leaks");
-    Some(image)
-}
-
-/// Renders `scene` on the CPU and on each GPU path, and checks they agree within 1/255 on
-/// 99.9 % of pixels (the raster path with the shared samples it draws).
-fn assert_gpu_matches_cpu(test: &str, scene: &Scene, lit: &Shot) {
-    let shared = Shot {
-        render: RenderSettings {
-            shared_samples: true,
-            ..lit.render
-        },
-        ..lit.clone()
-    };
-    let cpu = PathChoice::Only(PathKind::Cpu);
-    let (Some(reference), Some(shared_reference)) = (
-        render(test, cpu, scene, lit),
-        render(test, cpu, scene, &shared),
-    ) else {
-        return;
-    };
-    write_png(&reference, &format!("{test}-cpu.png"));
-    for kind in [PathKind::RayQuery, PathKind::Software, PathKind::Raster] {
-        let (shot, reference) = if kind == PathKind::Raster {
-            (&shared, &shared_reference)
-        } else {
-            (lit, &reference)
-        };
-        let Some(image) = render(test, kind.into(), scene, shot) else {
-            return;
-        };
-        let diff = compare(&image, reference, 1.0 / 255.0);
-        println!("{test} {kind}: {diff:?}");
-        if diff.within < 0.999 || diff.mean_abs >= 1e-3 {
-            let files = write_comparison(&image, reference, &format!("{test}-{kind}-vs-cpu"));
-            panic!("{kind}: differs from the CPU: {diff:?}; wrote {files}");
-        }
-    }
-}
-
 /// Point (with a range), spot and directional lights, each with its shadow, and the environment.
 #[test]
 fn gpu_paths_light_as_the_cpu_does() {
     let test = "gpu_paths_light_as_the_cpu_does";
-    assert_gpu_matches_cpu(test, &lit_scene(), &shot(Vec3::new(0.3, 0.35, 0.45), 8));
+    assert_gpu_paths_match_cpu(
+        test,
+        test,
+        &lit_scene(),
+        &shot(Vec3::new(0.3, 0.35, 0.45), 8),
+    );
 }
 
 /// The textured card's masked leaf casts its shadow through the mask under a spot and the sky.
@@ -162,7 +120,7 @@ fn gpu_paths_cast_masked_shadows_from_every_light() {
             ..settings(Shading::Lit, 8)
         },
     };
-    assert_gpu_matches_cpu(test, &scene, &shot);
+    assert_gpu_paths_match_cpu(test, test, &scene, &shot);
 }
 
 /// A square of `half` metres at height 0 facing up (+y), of colour `kd`.

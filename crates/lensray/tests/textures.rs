@@ -5,13 +5,12 @@
 mod gpu_support;
 
 use glam::{Vec2, Vec3};
-use gpu_support::{compare, open_path_with, settings, write_comparison, write_png};
-use lensray::paths::{OpenedPath, PathChoice, PathKind};
+use gpu_support::{assert_gpu_paths_match_cpu, render_scene, settings, write_png};
+use lensray::paths::{PathChoice, PathKind};
 use lensray_core::camera::{Camera, CameraParams, LensParams, ProjectionParams};
-use lensray_core::film::Image;
 use lensray_core::scene::test_card::test_card;
 use lensray_core::scene::{Light, Scene};
-use lensray_core::settings::{RenderSettings, Shading, Shot};
+use lensray_core::settings::{Shading, Shot};
 
 fn card_camera(lens: LensParams, width: u32, height: u32) -> Camera {
     camera_towards(Vec3::new(0.0, 0.8, 0.0), lens, width, height)
@@ -44,11 +43,6 @@ fn shot(shading: Shading, spp: u32) -> Shot {
     }
 }
 
-/// Renders `shot` of the test card on `choice`; `None` where GPU tests may be skipped.
-fn render(test: &str, choice: PathChoice, shot: &Shot) -> Option<Image> {
-    render_scene(test, choice, &lit_card(), shot)
-}
-
 /// The test card under one point light.
 fn lit_card() -> Scene {
     Scene {
@@ -57,52 +51,14 @@ fn lit_card() -> Scene {
     }
 }
 
-fn render_scene(test: &str, choice: PathChoice, scene: &Scene, shot: &Shot) -> Option<Image> {
-    let OpenedPath { mut path, .. } = open_path_with(test, choice, scene, shot)?;
-    let image = path.render(shot, &mut |_, _| {}).expect("render");
-    path.close().expect("close: validation messages or leaks");
-    Some(image)
-}
-
 /// Every traced GPU path and the raster path render the lit, textured, alpha-tested card as the
 /// CPU reference does, as do the G-buffer's albedo AOV and the CPU's.
 #[test]
 fn gpu_paths_render_textures_and_alpha_as_the_cpu_does() {
     let test = "gpu_paths_render_textures_and_alpha_as_the_cpu_does";
     for shading in [Shading::Lit, Shading::Albedo] {
-        let lit = shot(shading, 8);
-        let shared = Shot {
-            render: RenderSettings {
-                shared_samples: true,
-                ..lit.render
-            },
-            ..lit.clone()
-        };
-        let cpu = PathChoice::Only(PathKind::Cpu);
-        let Some(reference) = render(test, cpu, &lit) else {
-            return;
-        };
-        let Some(shared_reference) = render(test, cpu, &shared) else {
-            return;
-        };
-        write_png(&reference, &format!("textures-{shading:?}-cpu.png"));
-        for kind in [PathKind::RayQuery, PathKind::Software, PathKind::Raster] {
-            let (shot, reference) = if kind == PathKind::Raster {
-                (&shared, &shared_reference)
-            } else {
-                (&lit, &reference)
-            };
-            let Some(image) = render(test, kind.into(), shot) else {
-                return;
-            };
-            let diff = compare(&image, reference, 1.0 / 255.0);
-            println!("{shading:?} {kind}: {diff:?}");
-            if diff.within < 0.999 || diff.mean_abs >= 1e-3 {
-                let name = format!("textures-{shading:?}-{kind}-vs-cpu");
-                let files = write_comparison(&image, reference, &name);
-                panic!("{shading:?} {kind}: differs from the CPU: {diff:?}; wrote {files}");
-            }
-        }
+        let name = format!("textures-{shading:?}");
+        assert_gpu_paths_match_cpu(test, &name, &lit_card(), &shot(shading, 8));
     }
 }
 

@@ -389,3 +389,50 @@ pub fn write_comparison(a: &Image, b: &Image, name: &str) -> String {
         .collect::<Vec<_>>()
         .join(", ")
 }
+
+/// `choice`'s render of `shot` of `scene`, closed with the validation checks; `None` where GPU
+/// tests may be skipped.
+pub fn render_scene(test: &str, choice: PathChoice, scene: &Scene, shot: &Shot) -> Option<Image> {
+    let OpenedPath { mut path, .. } = open_path_with(test, choice, scene, shot)?;
+    let image = path.render(shot, &mut |_, _| {}).expect("render");
+    path.close().expect("close: validation messages or leaks");
+    Some(image)
+}
+
+/// Renders `shot` of `scene` on the CPU and on every GPU path (`rayquery`, `software`, and
+/// `raster` with the shared samples it draws), and panics, with the images written under `name`,
+/// unless each agrees with the CPU within 1/255 on 99.9 % of pixels with a mean difference under
+/// 1e-3.
+pub fn assert_gpu_paths_match_cpu(test: &str, name: &str, scene: &Scene, shot: &Shot) {
+    let shared = Shot {
+        render: RenderSettings {
+            shared_samples: true,
+            ..shot.render
+        },
+        ..shot.clone()
+    };
+    let cpu = PathChoice::Only(PathKind::Cpu);
+    let (Some(reference), Some(shared_reference)) = (
+        render_scene(test, cpu, scene, shot),
+        render_scene(test, cpu, scene, &shared),
+    ) else {
+        return;
+    };
+    write_png(&reference, &format!("{name}-cpu.png"));
+    for kind in [PathKind::RayQuery, PathKind::Software, PathKind::Raster] {
+        let (shot, reference) = if kind == PathKind::Raster {
+            (&shared, &shared_reference)
+        } else {
+            (shot, &reference)
+        };
+        let Some(image) = render_scene(test, kind.into(), scene, shot) else {
+            return;
+        };
+        let diff = compare(&image, reference, 1.0 / 255.0);
+        println!("{name} {kind}: {diff:?}");
+        if diff.within < 0.999 || diff.mean_abs >= 1e-3 {
+            let files = write_comparison(&image, reference, &format!("{name}-{kind}-vs-cpu"));
+            panic!("{name} {kind}: differs from the CPU: {diff:?}; wrote {files}");
+        }
+    }
+}
