@@ -70,7 +70,32 @@ pub fn load_scene(view: &ViewArgs) -> Result<SceneDescription> {
     if let Some(camera) = description.camera_summary() {
         eprintln!("camera: {camera}");
     }
+    if let Some(lights) = lights_summary(&description.scene.lights) {
+        eprintln!("lights: {lights} from the file");
+    }
     Ok(description)
+}
+
+/// "2 point, 1 spot" for the file's lights; `None` for none.
+fn lights_summary(lights: &[lensray_core::scene::Light]) -> Option<String> {
+    use lensray_core::scene::LightKind;
+    let name = |kind: &LightKind| match kind {
+        LightKind::Point => "point",
+        LightKind::Spot { .. } => "spot",
+        LightKind::Directional => "directional",
+    };
+    let parts: Vec<String> = ["point", "spot", "directional"]
+        .into_iter()
+        .map(|kind| {
+            (
+                kind,
+                lights.iter().filter(|l| name(&l.kind) == kind).count(),
+            )
+        })
+        .filter(|&(_, n)| n > 0)
+        .map(|(kind, n)| format!("{n} {kind}"))
+        .collect();
+    (!parts.is_empty()).then(|| parts.join(", "))
 }
 
 /// The scene file's settings (in metres) with the command line's on top, its world lengths
