@@ -8,6 +8,8 @@
 //! on every variant alike and no variant always runs first. Times are those `lensray bench`
 //! reports (`bench::runs`): GPU timestamps around the trace dispatches on the GPU paths, the
 //! host clock around the traversal on the CPU.
+// Each bench includes this module and uses part of it.
+#![allow(dead_code)]
 
 use std::fmt::Write as _;
 
@@ -22,6 +24,7 @@ use lensray_core::film::compare::rmse;
 use lensray_core::film::Image;
 use lensray_core::scene::{Scene, SceneDescription};
 use lensray_core::settings::{ImageSettings, RenderStyle, Settings, Shading, Shot};
+use lensray_core::stats::median;
 use lensray_vulkan::GpuOptions;
 
 /// The command line: `--bench` (measure, else the smoke version), `--repeat N`, `--width W`,
@@ -78,6 +81,10 @@ impl Args {
     pub fn value(&self, name: &str) -> Option<&str> {
         let i = self.argv.iter().position(|a| a == name)?;
         self.argv.get(i + 1).map(String::as_str)
+    }
+
+    pub fn flag(&self, name: &str) -> bool {
+        self.argv.iter().any(|a| a == name)
     }
 
     /// The shot of `description` (its own camera and lights, lit as `lensray render` lights it)
@@ -294,22 +301,26 @@ pub fn table(
         }
     }
     if let Some((a, b)) = ratio {
-        let median = |timed: &[Timed], name: &str| {
-            timed
-                .iter()
-                .find(|t| t.variant == name)
-                .map_or(f64::NAN, |t| t.trace_seconds.median)
-        };
         let ratios: Vec<String> = results
             .paths
             .iter()
             .filter_map(|timed| {
-                let path = timed.first()?.path;
-                let r = median(timed, a) / median(timed, b);
-                Some(format!("{} {r:.2}x", path.name()))
+                let find = |name: &str| timed.iter().find(|t| t.variant == name);
+                let (a, b) = (find(a)?, find(b)?);
+                let of_medians = a.trace_seconds.median / b.trace_seconds.median;
+                let per_round: Vec<f64> = a.runs.iter().zip(&b.runs).map(|(x, y)| x / y).collect();
+                Some(format!(
+                    "{} {of_medians:.2}x ({:.2}x)",
+                    a.path.name(),
+                    median(&per_round)
+                ))
             })
             .collect();
-        let _ = writeln!(out, "  {a} / {b}: {}", ratios.join(", "));
+        let _ = writeln!(
+            out,
+            "  {a} / {b}, ratio of the medians (median of each round's ratio): {}",
+            ratios.join(", ")
+        );
     }
     out
 }
