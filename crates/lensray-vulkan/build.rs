@@ -155,7 +155,11 @@ fn resolve_include(
     requester: &str,
 ) -> Result<shaderc::ResolvedInclude, String> {
     let path = dir.join(requested);
-    println!("cargo:rerun-if-changed={}", path.display());
+    // The generated header is written by this script, after cargo noted its start: watching it
+    // would make every build run the script again. Its source, the interface module, is watched.
+    if requested != INTERFACE_HEADER {
+        println!("cargo:rerun-if-changed={}", path.display());
+    }
     let content = std::fs::read_to_string(&path)
         .map_err(|e| format!("{requester}: cannot include {}: {e}", path.display()))?;
     Ok(shaderc::ResolvedInclude {

@@ -50,7 +50,7 @@ use super::file_camera::{pick_camera, FileCamera};
 use super::gltf_file::{load_gltf, MeshFile};
 use super::obj::load_obj;
 use super::units::SceneUnits;
-use super::{Scene, SceneError};
+use super::{LoadTimes, Scene, SceneError};
 use crate::settings::{CameraSettings, ImageSettings, Lights, RenderStyle, Settings};
 
 /// A scene with the settings that came with it.
@@ -69,6 +69,8 @@ pub struct SceneDescription {
     /// The unit of length of the scene's files and of the world lengths given for it; `scene`,
     /// `settings` and `cameras` hold them converted to metres.
     pub units: SceneUnits,
+    /// How long the mesh file's load took (zero for scenes made in memory).
+    pub load_times: LoadTimes,
 }
 
 impl SceneDescription {
@@ -121,6 +123,7 @@ impl SceneDescription {
             camera: None,
             notices: file.notices,
             units: SceneUnits::M,
+            load_times: file.times,
         };
         match camera {
             Some(choice) => description.use_camera(choice)?,

@@ -24,6 +24,7 @@ use std::cell::RefCell;
 use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use glam::{Vec2, Vec3};
 
@@ -31,7 +32,7 @@ use self::mtl::{convert_material, load_mtl};
 use self::prescan::{is_polyline, prescan, Scan};
 use self::textures::TextureFiles;
 use super::gltf_file::MeshFile;
-use super::{Material, Mesh, Scene, SceneError};
+use super::{LoadTimes, Material, Mesh, Scene, SceneError};
 
 fn read(path: &Path) -> Result<Vec<u8>, SceneError> {
     let bytes = fs::read(path).map_err(|err| SceneError::Read {
@@ -86,6 +87,7 @@ pub(super) fn decode_text<'a>(
 
 /// Loads an OBJ file and the material libraries it names. Positions are world positions.
 pub fn load_obj(path: &Path) -> Result<MeshFile, SceneError> {
+    let start = Instant::now();
     let bytes = read(path)?;
     let mut notices = Vec::new();
     let text = decode_text(path, &bytes, "the file", &mut notices)?;
@@ -93,7 +95,8 @@ pub fn load_obj(path: &Path) -> Result<MeshFile, SceneError> {
     let (models, materials, dirs) = parse(path, &text, &scan, &mut notices)?;
     check_usemtl(path, &scan, &materials, &mut notices);
 
-    let mut builder = ObjSceneBuilder::new(path, &materials, &dirs, &mut notices)?;
+    let mut times = LoadTimes::default();
+    let mut builder = ObjSceneBuilder::new(path, &materials, &dirs, &mut notices, &mut times)?;
     for model in models {
         builder.add_model(model)?;
     }
@@ -105,10 +108,12 @@ pub fn load_obj(path: &Path) -> Result<MeshFile, SceneError> {
         });
     }
     debug_assert_eq!(scene.validate(), Ok(()));
+    times.total = start.elapsed();
     Ok(MeshFile {
         scene,
         cameras: Vec::new(),
         notices,
+        times,
     })
 }
 
@@ -226,12 +231,13 @@ struct ObjSceneBuilder<'a> {
 
 impl<'a> ObjSceneBuilder<'a> {
     /// A scene with no meshes yet and the materials of the file's libraries (read from
-    /// `dirs`, one per material) with their textures.
+    /// `dirs`, one per material) with their textures (timed into `times`).
     fn new(
         path: &'a Path,
         materials: &[tobj::Material],
         dirs: &[PathBuf],
         notices: &mut Vec<String>,
+        times: &mut LoadTimes,
     ) -> Result<Self, SceneError> {
         let mut files = TextureFiles::new(path);
         let obj_dir = path.parent().unwrap_or(Path::new(""));
@@ -244,6 +250,7 @@ impl<'a> ObjSceneBuilder<'a> {
             })
             .collect::<Result<_, _>>()?;
         notices.append(&mut files.notices);
+        *times = files.times;
         Ok(Self {
             path,
             scene: Scene {

@@ -96,6 +96,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
         scene: SceneInfo {
             name: base.name.clone(),
             triangles: base.triangles,
+            load: report::SceneLoad::of(&base.description),
         },
         settings: SettingsInfo {
             width: options.width,
@@ -138,6 +139,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
         report.scene = SceneInfo {
             name: "generated dense".into(),
             triangles: report.points.first().map_or(0, |p| p.triangles),
+            load: None,
         };
     }
     Ok(report)

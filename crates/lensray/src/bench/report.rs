@@ -12,6 +12,7 @@ use super::runs::Measurement;
 use super::sweep::BenchAperture;
 use crate::paths::PathKind;
 use lensray_core::sampler::SamplerKind;
+use lensray_core::scene::SceneDescription;
 use lensray_core::settings::Shading;
 
 pub const SCHEMA: &str = "lensray-bench/1";
@@ -36,6 +37,43 @@ pub struct SceneInfo {
     pub name: String,
     /// Triangles of the scene (of the first point's scene in a triangle sweep).
     pub triangles: usize,
+    /// How long its file took to load, step by step (a scene file's; absent for the built-in
+    /// and generated scenes). Each path's acceleration-structure build is its `build_seconds`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load: Option<SceneLoad>,
+}
+
+/// A scene file's load (`LoadTimes`) and the memory its textures take.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneLoad {
+    /// The mesh file's whole load: `parse_seconds` + `texture_decode_seconds` +
+    /// `texture_mips_seconds`.
+    pub seconds: f64,
+    /// Reading and parsing the file, its buffers and its geometry (texture files' reads
+    /// included).
+    pub parse_seconds: f64,
+    /// Decoding the texture images to RGBA8.
+    pub texture_decode_seconds: f64,
+    /// Building their mip levels.
+    pub texture_mips_seconds: f64,
+    pub textures: usize,
+    /// Every texture's texels, every level (4 bytes each).
+    pub texture_bytes: u64,
+}
+
+impl SceneLoad {
+    /// The load of `description`, `None` when it was not read from a file.
+    pub fn of(description: &SceneDescription) -> Option<Self> {
+        let t = &description.load_times;
+        (!t.total.is_zero()).then(|| Self {
+            seconds: t.total.as_secs_f64(),
+            parse_seconds: t.parse().as_secs_f64(),
+            texture_decode_seconds: t.texture_decode.as_secs_f64(),
+            texture_mips_seconds: t.texture_mips.as_secs_f64(),
+            textures: t.textures,
+            texture_bytes: description.scene.textures.iter().map(|t| t.bytes()).sum(),
+        })
+    }
 }
 
 /// The shot as asked for; each point says what it varied.

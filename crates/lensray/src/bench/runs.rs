@@ -169,7 +169,7 @@ pub fn measure_points_interleaved(
 }
 
 /// `path`'s render of `shot`, timed.
-fn timed_render(path: &mut dyn RenderPath, shot: &Shot) -> Result<(Run, Image)> {
+pub fn timed_render(path: &mut dyn RenderPath, shot: &Shot) -> Result<(Run, Image)> {
     let before = path.report();
     let start = Instant::now();
     let image = path.render(shot, &mut |_, _| {})?;

@@ -54,6 +54,24 @@ fn header(out: &mut String, report: &BenchReport) {
     for p in &report.paths {
         let _ = writeln!(out, "path {}: {}", p.path, p.device);
     }
+    if let Some(load) = &report.scene.load {
+        let time = |s: f64| Unit::for_seconds(s).show(s, true);
+        let textures = match load.textures {
+            0 => "no textures".to_string(),
+            n => format!(
+                "{n} texture(s), {} MiB in all levels",
+                mib(load.texture_bytes)
+            ),
+        };
+        let _ = writeln!(
+            out,
+            "load: {} (parse {}, texture decode {}, mips {}), {textures}; acceleration structures: the build column",
+            time(load.seconds),
+            time(load.parse_seconds),
+            time(load.texture_decode_seconds),
+            time(load.texture_mips_seconds),
+        );
+    }
 }
 
 /// Per point with a reference not shown yet: how the reference was obtained and its noise, and

@@ -121,7 +121,7 @@ impl Walk<'_> {
             }
             Err(Missing::Broken(e)) => return Err(e),
         };
-        let texture = decode_texture(&name, &bytes, Encoding::Srgb)
+        let texture = decode_texture(&name, &bytes, Encoding::Srgb, &mut self.out.times)
             .map_err(|e| format!("{name} cannot be decoded: {e}"))?;
         let textures = &mut self.out.scene.textures;
         textures.push(texture);

@@ -14,11 +14,12 @@
 //! finite and a required extension lensray does not know are errors naming what and where.
 
 use std::path::Path;
+use std::time::Instant;
 
 use glam::DMat4;
 
 use super::file_camera::FileCamera;
-use super::{Scene, SceneError};
+use super::{LoadTimes, Scene, SceneError};
 
 mod materials;
 mod nodes;
@@ -30,17 +31,19 @@ const KNOWN_EXTENSIONS: [&str; 3] = [
     "KHR_texture_transform",
 ];
 
-/// A mesh file read: the scene, the cameras it holds (in the file's order) and what the loader
-/// has to say about it (one line each: what it ignored or repaired).
+/// A mesh file read: the scene, the cameras it holds (in the file's order), what the loader
+/// has to say about it (one line each: what it ignored or repaired) and how long it took.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshFile {
     pub scene: Scene,
     pub cameras: Vec<FileCamera>,
     pub notices: Vec<String>,
+    pub times: LoadTimes,
 }
 
 /// Reads a `.gltf` or `.glb` file with its buffers.
 pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
+    let start = Instant::now();
     let bytes = std::fs::read(path).map_err(|err| SceneError::Read {
         path: path.to_path_buf(),
         err,
@@ -77,6 +80,7 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
             path: path.to_path_buf(),
         });
     }
+    out.times.total = start.elapsed();
     Ok(out)
 }
 

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::scene::texture::{coverage_from_image, decode_texture, Encoding, TextureRef};
-use crate::scene::{SceneError, Texture};
+use crate::scene::{LoadTimes, SceneError, Texture};
 
 /// What a texture file is read as.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -23,6 +23,8 @@ pub(super) struct TextureFiles<'a> {
     pub textures: Vec<Texture>,
     read: HashMap<(PathBuf, Kind), Option<u32>>,
     pub notices: Vec<String>,
+    /// The textures' decode and mip levels.
+    pub times: LoadTimes,
 }
 
 impl<'a> TextureFiles<'a> {
@@ -32,6 +34,7 @@ impl<'a> TextureFiles<'a> {
             textures: Vec::new(),
             read: HashMap::new(),
             notices: Vec::new(),
+            times: LoadTimes::default(),
         }
     }
 
@@ -59,8 +62,8 @@ impl<'a> TextureFiles<'a> {
             Ok(bytes) => {
                 let name = path.display().to_string();
                 let texture = match kind {
-                    Kind::Colour => decode_texture(&name, &bytes, Encoding::Srgb),
-                    Kind::Coverage => coverage_from_image(&name, &bytes),
+                    Kind::Colour => decode_texture(&name, &bytes, Encoding::Srgb, &mut self.times),
+                    Kind::Coverage => coverage_from_image(&name, &bytes, &mut self.times),
                 }
                 .map_err(|reason| SceneError::Texture {
                     path: path.clone(),

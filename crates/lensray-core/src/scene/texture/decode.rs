@@ -1,24 +1,42 @@
 //! Image files (PNG and JPEG, the formats glTF allows; whatever else the `image` crate reads
 //! for OBJ) into textures.
 
-use super::{Encoding, Texture, MAX_SIZE};
+use std::time::Instant;
 
-/// Decodes `bytes` (an image file's contents) into a texture of `encoding`; the error says why
-/// in a few words.
-pub fn decode_texture(name: &str, bytes: &[u8], encoding: Encoding) -> Result<Texture, String> {
+use super::{Encoding, Texture, MAX_SIZE};
+use crate::scene::load_times::LoadTimes;
+
+/// Decodes `bytes` (an image file's contents) into a texture of `encoding`, the decode and the
+/// mip levels timed into `times`; the error says why in a few words.
+pub fn decode_texture(
+    name: &str,
+    bytes: &[u8],
+    encoding: Encoding,
+    times: &mut LoadTimes,
+) -> Result<Texture, String> {
+    let start = Instant::now();
     let image = decode(bytes)?.to_rgba8();
-    Ok(Texture::from_rgba8(
+    let decoded = Instant::now();
+    let texture = Texture::from_rgba8(
         name,
         image.width(),
         image.height(),
         image.as_raw(),
         encoding,
-    ))
+    );
+    times.add_texture(start, decoded);
+    Ok(texture)
 }
 
 /// A coverage texture (OBJ's `map_d`) from an image file's contents: alpha carries the image's
-/// alpha channel where it has one, else its luminance, both linear; colour is white.
-pub fn coverage_from_image(name: &str, bytes: &[u8]) -> Result<Texture, String> {
+/// alpha channel where it has one, else its luminance, both linear; colour is white. The decode
+/// and the mip levels are timed into `times`.
+pub fn coverage_from_image(
+    name: &str,
+    bytes: &[u8],
+    times: &mut LoadTimes,
+) -> Result<Texture, String> {
+    let start = Instant::now();
     let image = decode(bytes)?;
     let has_alpha = image.color().has_alpha();
     let rgba = image.to_rgba8();
@@ -35,13 +53,10 @@ pub fn coverage_from_image(name: &str, bytes: &[u8]) -> Result<Texture, String> 
             [255, 255, 255, coverage]
         })
         .collect();
-    Ok(Texture::from_rgba8(
-        name,
-        rgba.width(),
-        rgba.height(),
-        &texels,
-        Encoding::Linear,
-    ))
+    let decoded = Instant::now();
+    let texture = Texture::from_rgba8(name, rgba.width(), rgba.height(), &texels, Encoding::Linear);
+    times.add_texture(start, decoded);
+    Ok(texture)
 }
 
 fn decode(bytes: &[u8]) -> Result<image::DynamicImage, String> {
