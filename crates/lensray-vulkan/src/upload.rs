@@ -14,7 +14,7 @@ use lensray_core::interface::{
     PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TEXTURE_NONE,
     TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
-use lensray_core::scene::order::morton_order;
+use lensray_core::scene::order::spatial_order;
 use lensray_core::scene::texture::{Encoding, Wrap, MAX_LEVELS};
 use lensray_core::scene::{AlphaMode, Material, Texture, TextureRef};
 use lensray_core::scene::{Light, LightKind, Scene};
@@ -31,7 +31,7 @@ pub(crate) struct MeshRange {
     pub opaque: bool,
 }
 
-/// Every mesh concatenated, its triangles in Morton order (`scene::order`): one vertex array (vec4 positions and normals, std430 friendly),
+/// Every mesh concatenated, its triangles in a spatial order (`scene::order`): one vertex array (vec4 positions and normals, std430 friendly),
 /// global vertex indices, per-triangle info, materials.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FlatScene {
@@ -112,7 +112,7 @@ impl FlatScene {
                     .extend(std::iter::repeat_n([0.0; 4], mesh.positions.len()));
             }
             // Every acceleration-structure builder gets the triangles in a spatial order.
-            for t in morton_order(&mesh.positions, &mesh.triangles) {
+            for t in spatial_order(&mesh.positions, &mesh.triangles) {
                 let t = t as usize;
                 let (tri, material) = (&mesh.triangles[t], mesh.material_ids[t]);
                 flat.indices.extend(tri.iter().map(|&i| base + i));

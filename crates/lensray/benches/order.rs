@@ -3,10 +3,10 @@
 //!
 //! - as generated (spatially coherent: ring by ring, sphere by sphere),
 //! - randomly shuffled (a fixed seed),
-//! - sorted (in the Morton order of their centroids, `scene::order`, before loading),
+//! - sorted (in the spatial order every path puts them in, `scene::order`, before loading),
 //!
 //! on each path (default `cpu`, `software`, `rayquery`), timed in turns (`variants`). Every path
-//! puts each mesh's triangles in Morton order when it loads a scene, so the three should run
+//! puts each mesh's triangles in that order when it loads a scene, so the three should run
 //! alike: the table gives each variant's median against the generated one's, and whether the
 //! images are identical. Two meshes: `sphere` (one UV sphere of 101,760 triangles on a ground
 //! quad) and `grid` (the dense generator's 10x10 spheres and ground, 111,360 triangles merged
@@ -22,7 +22,7 @@ mod variants;
 
 use glam::Vec3;
 use lensray_core::scene::generate::{self, append, camera_settings, quad, uv_sphere};
-use lensray_core::scene::order::morton_order;
+use lensray_core::scene::order::spatial_order;
 use lensray_core::scene::{Material, Mesh, Scene, SceneDescription};
 use lensray_core::settings::Settings;
 use variants::{Args, SceneResults, Variant};
@@ -76,7 +76,7 @@ fn sorted(scene: &Scene) -> Scene {
     let meshes = scene
         .meshes
         .iter()
-        .map(|mesh| reordered(mesh, &morton_order(&mesh.positions, &mesh.triangles)))
+        .map(|mesh| reordered(mesh, &spatial_order(&mesh.positions, &mesh.triangles)))
         .collect();
     Scene {
         meshes,

@@ -15,7 +15,7 @@ use crate::camera::{Camera, Footprint, Ray};
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_dimension, pixel_sampler, shared_pixel_sampler};
 use crate::sampler::{DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y};
-use crate::scene::order::morton_order;
+use crate::scene::order::spatial_order;
 use crate::scene::{blend_threshold, ray_key, Light, Material, Scene};
 use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 use crate::settings::{RenderSettings, Shading, Shot};
@@ -46,7 +46,8 @@ impl RenderStats {
 
 impl Renderer {
     /// Flattens the scene's meshes and builds the BVH. The triangles are numbered as the GPU
-    /// upload numbers them (each mesh's in Morton order), which a blend draw hashes.
+    /// upload numbers them (each mesh's in its spatial order, `scene::order`), which a blend
+    /// draw hashes.
     pub fn new(scene: &Scene) -> Self {
         let count = scene.triangle_count();
         let mut triangles = Vec::with_capacity(count);
@@ -54,7 +55,7 @@ impl Renderer {
         let mut texcoords = Vec::with_capacity(count);
         let mut materials = Vec::with_capacity(count);
         for mesh in &scene.meshes {
-            for t in morton_order(&mesh.positions, &mesh.triangles) {
+            for t in spatial_order(&mesh.positions, &mesh.triangles) {
                 let tri = mesh.triangles[t as usize];
                 triangles.push(tri.map(|i| Vec3A::from(mesh.positions[i as usize])));
                 normals.push(if mesh.normals.is_empty() {
