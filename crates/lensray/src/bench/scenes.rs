@@ -102,25 +102,41 @@ impl Fingerprint {
     }
 }
 
-/// Everything of a scene that changes its image: geometry, normals, materials.
+/// Everything of a scene that changes its image: geometry, normals, texture coordinates,
+/// materials, textures and lights. Materials and lights enter through their `Debug` text, which
+/// names every field and prints floats exactly, so that no field can be forgotten.
 pub fn fingerprint(scene: &Scene) -> u64 {
     let mut h = Fingerprint::default();
-    let floats = |h: &mut Fingerprint, v: &[glam::Vec3]| {
+    let floats = |h: &mut Fingerprint, v: Vec<f32>| {
         h.word(v.len() as u32);
-        h.words(v.iter().flat_map(|p| p.to_array()).map(f32::to_bits));
+        h.words(v.into_iter().map(f32::to_bits));
     };
     h.word(scene.meshes.len() as u32);
     for mesh in &scene.meshes {
-        floats(&mut h, &mesh.positions);
-        floats(&mut h, &mesh.normals);
+        floats(
+            &mut h,
+            mesh.positions.iter().flat_map(|p| p.to_array()).collect(),
+        );
+        floats(
+            &mut h,
+            mesh.normals.iter().flat_map(|n| n.to_array()).collect(),
+        );
+        floats(
+            &mut h,
+            mesh.texcoords.iter().flat_map(|t| t.to_array()).collect(),
+        );
         h.word(mesh.triangles.len() as u32);
         h.words(mesh.triangles.iter().flatten().copied());
         h.words(mesh.material_ids.iter().copied());
     }
-    h.word(scene.materials.len() as u32);
-    for material in &scene.materials {
-        floats(&mut h, &[material.diffuse, material.emission]);
+    h.bytes(format!("{:?}", scene.materials).as_bytes());
+    h.word(scene.textures.len() as u32);
+    for texture in &scene.textures {
+        h.bytes(format!("{:?} {:?}", texture.encoding, texture.levels).as_bytes());
+        h.word(texture.texels.len() as u32);
+        h.words(texture.texels.iter().copied());
     }
+    h.bytes(format!("{:?}", scene.lights).as_bytes());
     h.finish()
 }
 
@@ -129,15 +145,34 @@ mod tests {
     use super::*;
 
     #[test]
-    fn fingerprint_sees_a_moved_vertex_and_a_new_colour() {
-        let scene = lensray_core::scene::builtin::default_scene().scene;
+    fn fingerprint_sees_every_change_to_the_image() {
+        let scene = lensray_core::scene::test_card::test_card();
         let base = fingerprint(&scene);
         assert_eq!(base, fingerprint(&scene.clone()));
-        let mut moved = scene.clone();
-        moved.meshes[0].positions[0].x += 1e-6;
-        assert_ne!(base, fingerprint(&moved));
-        let mut recoloured = scene;
-        recoloured.materials[0].diffuse.y += 1e-6;
-        assert_ne!(base, fingerprint(&recoloured));
+        let changes: [(&str, fn(&mut Scene)); 6] = [
+            ("a moved vertex", |s| s.meshes[0].positions[0].x += 1e-6),
+            ("a new colour", |s| s.materials[0].diffuse.y += 1e-6),
+            ("a texture coordinate", |s| {
+                let mesh = s
+                    .meshes
+                    .iter_mut()
+                    .find(|m| !m.texcoords.is_empty())
+                    .unwrap();
+                mesh.texcoords[0].x += 1e-6;
+            }),
+            ("a texel", |s| s.textures[0].texels[0] ^= 1),
+            ("an alpha cut-off", |s| s.materials[0].alpha += 1e-6),
+            ("a light", |s| {
+                s.lights.push(lensray_core::scene::light::Light::point(
+                    glam::Vec3::ONE,
+                    glam::Vec3::ONE,
+                ));
+            }),
+        ];
+        for (what, change) in changes {
+            let mut changed = scene.clone();
+            change(&mut changed);
+            assert_ne!(base, fingerprint(&changed), "the fingerprint misses {what}");
+        }
     }
 }
