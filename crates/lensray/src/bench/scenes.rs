@@ -149,7 +149,8 @@ mod tests {
         let scene = lensray_core::scene::test_card::test_card();
         let base = fingerprint(&scene);
         assert_eq!(base, fingerprint(&scene.clone()));
-        let changes: [(&str, fn(&mut Scene)); 6] = [
+        type Change = (&'static str, fn(&mut Scene));
+        let changes: [Change; 6] = [
             ("a moved vertex", |s| s.meshes[0].positions[0].x += 1e-6),
             ("a new colour", |s| s.materials[0].diffuse.y += 1e-6),
             ("a texture coordinate", |s| {
