@@ -22,8 +22,9 @@ if ! command -v apt-get >/dev/null 2>&1 || [ ! -r /etc/os-release ]; then
 fi
 
 . /etc/os-release
+# libembree-dev: Embree 3.13, the CPU path's ray queries (the `embree3` crate links libembree3).
 PACKAGES=(libvulkan1 libvulkan-dev vulkan-tools vulkan-validationlayers mesa-vulkan-drivers
-          libshaderc-dev glslang-dev spirv-tools xvfb pkg-config cmake python3 g++)
+          libshaderc-dev glslang-dev spirv-tools libembree-dev xvfb pkg-config cmake python3 g++)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -60,6 +61,13 @@ if [ $need_backports -eq 1 ]; then
   apt_update
   say "installing mesa-vulkan-drivers from bookworm-backports (lavapipe with VK_KHR_ray_query)"
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq -t bookworm-backports mesa-vulkan-drivers >/dev/null
+fi
+
+# The CPU path links Embree 3 (libembree3); a distribution whose libembree-dev is Embree 4 lacks it.
+if [ -z "${EMBREE_DIR:-}" ] && ! compgen -G "/usr/lib/*/libembree3.so" >/dev/null \
+   && [ ! -e /usr/lib/libembree3.so ]; then
+  say "libembree3.so not found: install Embree 3.13 (https://github.com/embree/embree/releases/tag/v3.13.5)"
+  say "and point EMBREE_DIR at it; the CPU path's ray queries link it."; exit 1
 fi
 
 if ! mesa_ok; then

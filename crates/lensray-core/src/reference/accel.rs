@@ -1,233 +1,262 @@
-//! The acceleration structure of the CPU reference: obvhs's compressed 8-wide BVH (PLOC build
-//! with reinsertion, SAH collapse, SIMD traversal), with the watertight triangle test at the leaves.
-//! Triangle data is stored in BVH leaf order so a leaf visit reads memory sequentially.
+//! The acceleration structure of the CPU reference: Embree 3 (Intel's ray-tracing kernels, through
+//! the `embree3` crate's safe binding), built in its robust (watertight) mode. Opaque triangles
+//! and alpha-tested ones are two Embree geometries, so that only candidate hits on the latter go
+//! through the alpha test (an Embree filter function); opaque scenes pay nothing for it.
+//! docs/performance.md says why Embree and what it measured against lensray's own traversal.
 
+use std::sync::atomic::{AtomicI64, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use glam::{UVec2, Vec2, Vec3, Vec3A};
-use obvhs::{
-    cwbvh::{builder::build_cwbvh_from_tris, CwBvh},
-    ray::Ray as BvhRay,
-    triangle::Triangle,
-    BvhBuildParams,
+use embree3::{
+    BufferUsage, BuildQuality, Device, Format, GeometryKind, HitN, IntersectContext, Ray, Ray16,
+    RayHit, RayHit16, RayN, Scene, SceneFlags, SoAHit, SoARay, ValidMask, ValidMaskN, ValidityN,
+    INVALID_ID,
 };
+use glam::{Vec2, Vec3, Vec3A};
 
-use super::triangle::WatertightRay;
+/// Rays traced together by [`Accel::closest_hits`]: the samples of one pixel, in one of
+/// Embree's packets.
+pub const PACKET_SIZE: usize = 16;
 
-mod packet;
-pub use packet::PACKET_SIZE;
+/// Embree's geometry ids of the two groups of triangles.
+const OPAQUE: usize = 0;
+const ALPHA_TESTED: usize = 1;
 
-/// Above this many triangles the build trades a little traversal speed for build time.
-const LARGE_SCENE_TRIANGLES: usize = 250_000;
+/// A ray's `time`, which static geometry leaves unused, tells the alpha test which draw the ray
+/// makes: its key (in the ray's `id`), or the fixed threshold of the AOVs.
+const TIME_KEYED: f32 = 0.0;
+const TIME_FIXED: f32 = 1.0;
 
-/// Collapse traversal cost for those large scenes (fast_build's; other costs were no faster).
-const LARGE_SCENE_COLLAPSE_TRAVERSAL_COST: f32 = 3.0;
+/// Whether a ray stops at a candidate hit `(triangle, barycentric)` of an alpha-tested
+/// triangle, for the ray's draw: `Some(key)` the ray's own, `None` the AOVs' fixed threshold.
+pub type AlphaTest = Arc<dyn Fn(u32, Vec2, Option<u32>) -> bool + Send + Sync>;
 
-/// obvhs's ray with its inverse direction from one vector division (`Ray::new` does three scalar
-/// ones); zero components become huge finite values, as obvhs's `safe_inverse` makes them, with
-/// the sign obvhs's node test assumes (it orders slabs by `direction < 0`, so -0 must give a
-/// positive inverse, or every box is missed).
-#[inline(always)]
-fn bvh_ray(origin: Vec3, direction: Vec3, tmin: f32, tmax: f32) -> BvhRay {
-    let direction = Vec3A::from(direction);
-    let tiny = Vec3A::splat(f32::EPSILON);
-    let signed_tiny = Vec3A::select(direction.cmplt(Vec3A::ZERO), -tiny, tiny);
-    let safe = Vec3A::select(direction.abs().cmple(tiny), signed_tiny, direction);
-    BvhRay {
-        origin: origin.into(),
-        direction,
-        inv_direction: safe.recip(),
-        tmin,
-        tmax,
-    }
-}
-
-/// A closest hit: `slot` indexes the leaf-ordered triangle arrays, `triangle` the caller's order.
+/// A closest hit, in the caller's triangle order.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
     pub t: f32,
-    pub slot: u32,
     pub triangle: u32,
-    /// Weights of v1 and v2 (v0's is 1 - x - y), as Vulkan ray queries report them.
+    /// Weights of v1 and v2 (v0's is 1 - x - y), as Vulkan ray queries and Embree report them.
     pub barycentric: Vec2,
 }
 
 pub struct Accel {
-    bvh: CwBvh,
-    /// Vertices per slot (leaf order).
+    scene: Scene<'static>,
+    /// Each geometry's primitive -> the caller's triangle.
+    triangles_of: [Arc<Vec<u32>>; 2],
+    /// Vertices per triangle, the caller's order.
     vertices: Vec<[Vec3A; 3]>,
+    /// Bytes Embree allocated for the scene (its BVH and its copy of the triangles).
+    embree_bytes: u64,
     pub build_time: Duration,
 }
 
 impl Accel {
-    /// Builds over triangles given in the caller's order; `slot_to_triangle` maps back.
+    /// Builds over opaque triangles in the caller's order.
     pub fn build(triangles: &[[Vec3A; 3]]) -> Self {
+        Self::build_with_alpha(triangles, &[], None)
+    }
+
+    /// Builds over triangles in the caller's order; those marked in `alpha_tested` (all
+    /// opaque when it is empty) stop a ray only where `alpha` says so.
+    pub fn build_with_alpha(
+        triangles: &[[Vec3A; 3]],
+        alpha_tested: &[bool],
+        alpha: Option<AlphaTest>,
+    ) -> Self {
         let start = Instant::now();
-        let tris: Vec<Triangle> = triangles
-            .iter()
-            .map(|t| Triangle {
-                v0: t[0],
-                v1: t[1],
-                v2: t[2],
-            })
-            .collect();
-        let params = if triangles.len() > LARGE_SCENE_TRIANGLES {
-            BvhBuildParams {
-                collapse_traversal_cost: LARGE_SCENE_COLLAPSE_TRAVERSAL_COST,
-                ..BvhBuildParams::fast_build()
-            }
+        let device = Device::new().expect("Embree cannot start on this CPU");
+        let allocated = Arc::new(AtomicI64::new(0));
+        let counter = Arc::clone(&allocated);
+        device.set_memory_monitor_function(move |bytes, _post| {
+            counter.fetch_add(bytes as i64, Ordering::Relaxed);
+            true
+        });
+        let mut groups = [Vec::new(), Vec::new()];
+        for (i, _) in triangles.iter().enumerate() {
+            let tested = alpha.is_some() && alpha_tested.get(i).copied().unwrap_or(false);
+            groups[usize::from(tested)].push(i as u32);
+        }
+        let triangles_of = groups.map(Arc::new);
+        let mut scene = device.create_scene().expect("an Embree scene");
+        scene.set_flags(SceneFlags::ROBUST);
+        scene.set_build_quality(if triangles.len() > 250_000 {
+            BuildQuality::MEDIUM
         } else {
-            BvhBuildParams::medium_build()
-        };
-        let bvh = build_cwbvh_from_tris(&tris, params, &mut Duration::default());
-        let vertices = bvh
-            .primitive_indices
-            .iter()
-            .map(|&i| triangles[i as usize])
-            .collect();
+            BuildQuality::HIGH
+        });
+        for group in [OPAQUE, ALPHA_TESTED] {
+            let members = &triangles_of[group];
+            if members.is_empty() {
+                continue;
+            }
+            let mut geometry = device
+                .create_geometry(GeometryKind::TRIANGLE)
+                .expect("an Embree geometry");
+            let vertices: Vec<[f32; 3]> = members
+                .iter()
+                .flat_map(|&t| triangles[t as usize].map(|v| v.to_array()))
+                .collect();
+            let indices: Vec<[u32; 3]> = (0..members.len() as u32)
+                .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+                .collect();
+            geometry
+                .set_new_buffer::<[f32; 3]>(
+                    BufferUsage::VERTEX,
+                    0,
+                    Format::FLOAT3,
+                    12,
+                    vertices.len(),
+                )
+                .expect("Embree vertex buffer")
+                .copy_from_slice(&vertices);
+            geometry
+                .set_new_buffer::<[u32; 3]>(BufferUsage::INDEX, 0, Format::UINT3, 12, indices.len())
+                .expect("Embree index buffer")
+                .copy_from_slice(&indices);
+            if let (ALPHA_TESTED, Some(alpha)) = (group, &alpha) {
+                let (map, test) = (Arc::clone(members), Arc::clone(alpha));
+                geometry.set_intersect_filter_function(
+                    move |rays, hits, valid, _, _: Option<&()>| {
+                        alpha_filter(&map, &test, &rays, &hits, valid);
+                    },
+                );
+                let (map, test) = (Arc::clone(members), Arc::clone(alpha));
+                geometry.set_occluded_filter_function(
+                    move |rays, hits, valid, _, _: Option<&()>| {
+                        alpha_filter(&map, &test, &rays, &hits, valid);
+                    },
+                );
+            }
+            scene.attach_geometry_by_id(&geometry.commit(), group as u32);
+        }
+        scene.commit();
         Self {
-            bvh,
-            vertices,
+            scene,
+            triangles_of,
+            vertices: triangles.to_vec(),
+            embree_bytes: allocated.load(Ordering::Relaxed).max(0) as u64,
             build_time: start.elapsed(),
         }
     }
 
-    /// Bytes of the BVH and of its leaf-ordered triangles.
+    /// Bytes of Embree's scene and of the vertices kept for shading.
     pub fn bytes(&self) -> u64 {
-        (std::mem::size_of_val(self.bvh.nodes.as_slice())
-            + std::mem::size_of_val(self.bvh.primitive_indices.as_slice())
-            + std::mem::size_of_val(self.vertices.as_slice())) as u64
+        self.embree_bytes + std::mem::size_of_val(self.vertices.as_slice()) as u64
     }
 
-    /// The caller's triangle index of each slot.
-    pub fn slot_to_triangle(&self) -> &[u32] {
-        &self.bvh.primitive_indices
+    pub fn vertices(&self, triangle: u32) -> &[Vec3A; 3] {
+        &self.vertices[triangle as usize]
     }
 
-    pub fn vertices(&self, slot: u32) -> &[Vec3A; 3] {
-        &self.vertices[slot as usize]
+    fn hit(&self, t: f32, geometry: u32, primitive: u32, u: f32, v: f32) -> Option<Hit> {
+        (geometry != INVALID_ID).then(|| Hit {
+            t,
+            triangle: self.triangles_of[geometry as usize][primitive as usize],
+            barycentric: Vec2::new(u, v),
+        })
     }
 
-    /// Closest hit with t in (t_min, t_max).
+    /// Closest hit with t in [t_min, t_max] that stops a ray of draw `key` (see [`AlphaTest`]).
     pub fn closest_hit(
         &self,
         origin: Vec3,
         direction: Vec3,
         t_min: f32,
         t_max: f32,
+        key: Option<u32>,
     ) -> Option<Hit> {
-        self.closest_hit_where(origin, direction, t_min, t_max, &|_, _| true)
+        let mut ray_hit = RayHit::from(ray(origin, direction, t_min, t_max, key));
+        self.scene
+            .intersect(&mut IntersectContext::coherent(), &mut ray_hit);
+        let (r, h) = (&ray_hit.ray, &ray_hit.hit);
+        self.hit(r.tfar, h.geomID, h.primID, h.u, h.v)
     }
 
-    /// Closest hit with t in (t_min, t_max) among those `stops(slot, barycentric)` accepts (the
-    /// alpha test: rays pass through where a mask has no surface).
-    pub fn closest_hit_where(
+    /// Whether a surface that stops a ray of draw `key` lies on the ray, t in [t_min, t_max]:
+    /// the shadow test.
+    pub fn occluded(
         &self,
         origin: Vec3,
         direction: Vec3,
         t_min: f32,
         t_max: f32,
-        stops: &impl Fn(u32, Vec2) -> bool,
-    ) -> Option<Hit> {
-        let watertight = WatertightRay::new(origin, direction);
-        let ray = bvh_ray(origin, direction, t_min, t_max);
-        // One traversal per axis permutation, so the leaf test has no run-time indexing.
-        let (slot, t, barycentric) = crate::with_axes!(watertight.axes(), |KX, KY, KZ| self
-            .closest_hit_axes::<KX, KY, KZ>(&watertight, ray, stops))?;
-        Some(Hit {
-            t,
-            slot,
-            triangle: self.bvh.primitive_indices[slot as usize],
-            barycentric,
-        })
+        key: Option<u32>,
+    ) -> bool {
+        let mut ray = ray(origin, direction, t_min, t_max, key);
+        self.scene
+            .occluded(&mut IntersectContext::incoherent(), &mut ray)
     }
 
-    /// obvhs's traversal macro with the triangle test inlined at the leaves (the closure-based
-    /// `ray_traverse` does not inline it).
-    #[inline(always)]
-    fn closest_hit_axes<const KX: usize, const KY: usize, const KZ: usize>(
+    /// The closest hits of up to [`PACKET_SIZE`] rays (lane l drawing `keys[l]`), t in
+    /// [t_min, t_max], traced as one Embree packet: the same hits as [`Accel::closest_hit`] ray
+    /// by ray, found faster when the rays are coherent (the samples of a pixel).
+    pub fn closest_hits(
         &self,
-        watertight: &WatertightRay,
-        mut ray: BvhRay,
-        stops: &impl Fn(u32, Vec2) -> bool,
-    ) -> Option<(u32, f32, Vec2)> {
-        let mut state = self.bvh.new_traversal(ray.direction);
-        let mut node;
-        let mut best = None;
-        obvhs::traverse!(
-            self.bvh,
-            node,
-            state,
-            node.intersect_ray(&ray, state.oct_inv4),
-            {
-                let slot = state.primitive_id;
-                if let Some((t, b)) = watertight.intersect_axes::<KX, KY, KZ>(
-                    &self.vertices[slot as usize],
-                    ray.tmin,
-                    ray.tmax,
-                ) {
-                    if stops(slot, b) {
-                        ray.tmax = t;
-                        best = Some((slot, t, b));
-                    }
-                }
-            }
+        origins: &[Vec3],
+        directions: &[Vec3],
+        keys: &[u32],
+        t_min: f32,
+        t_max: f32,
+        hits: &mut [Option<Hit>],
+    ) {
+        let n = origins.len();
+        assert!(n <= PACKET_SIZE && directions.len() == n && keys.len() == n && hits.len() == n);
+        let mut packet = Ray16::segment(
+            std::array::from_fn(|l| origins.get(l).map_or([0.0; 3], |o| o.to_array())),
+            std::array::from_fn(|l| directions.get(l).map_or([0.0, 0.0, 1.0], |d| d.to_array())),
+            [t_min; PACKET_SIZE],
+            [t_max; PACKET_SIZE],
         );
-        best
-    }
-
-    /// Whether anything lies on the ray with t in (t_min, t_max): the shadow test.
-    pub fn occluded(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> bool {
-        self.occluded_where(origin, direction, t_min, t_max, &|_, _| true)
-    }
-
-    /// Whether a hit that `stops(slot, barycentric)` accepts lies on the ray with t in
-    /// (t_min, t_max).
-    pub fn occluded_where(
-        &self,
-        origin: Vec3,
-        direction: Vec3,
-        t_min: f32,
-        t_max: f32,
-        stops: &impl Fn(u32, Vec2) -> bool,
-    ) -> bool {
-        let watertight = WatertightRay::new(origin, direction);
-        let ray = bvh_ray(origin, direction, t_min, t_max);
-        crate::with_axes!(watertight.axes(), |KX, KY, KZ| self
-            .occluded_axes::<KX, KY, KZ>(&watertight, ray, stops))
-    }
-
-    #[inline(always)]
-    fn occluded_axes<const KX: usize, const KY: usize, const KZ: usize>(
-        &self,
-        watertight: &WatertightRay,
-        ray: BvhRay,
-        stops: &impl Fn(u32, Vec2) -> bool,
-    ) -> bool {
-        let mut state = self.bvh.new_traversal(ray.direction);
-        let mut node;
-        let mut occluded = false;
-        'search: {
-            obvhs::traverse!(
-                self.bvh,
-                node,
-                state,
-                node.intersect_ray(&ray, state.oct_inv4),
-                {
-                    let slot = state.primitive_id;
-                    if let Some((_, b)) = watertight.intersect_axes::<KX, KY, KZ>(
-                        &self.vertices[slot as usize],
-                        ray.tmin,
-                        ray.tmax,
-                    ) {
-                        if stops(slot, b) {
-                            occluded = true;
-                            break 'search;
-                        }
-                    }
-                }
-            );
+        packet.id[..n].copy_from_slice(keys);
+        let mut valid = ValidMaskN::<PACKET_SIZE>::all_active();
+        for lane in &mut valid.lanes_mut()[n..] {
+            *lane = ValidMask::Invalid;
         }
-        occluded
+        let mut ray_hits = RayHit16 {
+            ray: packet,
+            hit: embree3::Hit16::new(),
+        };
+        self.scene
+            .intersect16(&mut IntersectContext::coherent(), &mut ray_hits, &valid);
+        let (r, h) = (&ray_hits.ray, &ray_hits.hit);
+        for (l, hit) in hits.iter_mut().enumerate() {
+            *hit = self.hit(r.tfar[l], h.geomID[l], h.primID[l], h.u[l], h.v[l]);
+        }
+    }
+}
+
+/// One Embree ray; its `id` and `time` carry the draw `key` to the alpha test.
+fn ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32, key: Option<u32>) -> Ray {
+    let mut ray = Ray::segment(origin.to_array(), direction.to_array(), t_min, t_max);
+    ray.id = key.unwrap_or(0);
+    ray.time = if key.is_some() {
+        TIME_KEYED
+    } else {
+        TIME_FIXED
+    };
+    ray
+}
+
+/// Embree's filter for the alpha-tested geometry: rejects the candidate hits the alpha test
+/// lets through.
+fn alpha_filter(
+    triangles_of: &[u32],
+    alpha: &AlphaTest,
+    rays: &RayN<'_>,
+    hits: &HitN<'_>,
+    mut valid: ValidityN<'_>,
+) {
+    for lane in 0..valid.len() {
+        if valid[lane] == 0 {
+            continue;
+        }
+        let triangle = triangles_of[hits.prim_id(lane) as usize];
+        let key = (rays.time(lane) == TIME_KEYED).then(|| rays.id(lane));
+        let barycentric = Vec2::new(hits.u(lane), hits.v(lane));
+        if !alpha(triangle, barycentric, key) {
+            valid[lane] = 0;
+        }
     }
 }

@@ -18,7 +18,7 @@ mod render;
 mod surface;
 mod triangle;
 
-pub use accel::{Accel, Hit, PACKET_SIZE};
+pub use accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
 pub use rays::primary_rays;
 pub use render::{RenderStats, Renderer};
 pub use surface::{shadow_origin, SurfacePoint};

@@ -2,12 +2,13 @@
 
 use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use glam::{UVec2, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::accel::{Accel, Hit, PACKET_SIZE};
+use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
 use super::lighting::LightDraw;
 use super::rays::{primary_rays, real_lens_rays};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
@@ -16,7 +17,7 @@ use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_dimension, pixel_sampler, shared_pixel_sampler};
 use crate::sampler::{DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y};
 use crate::scene::order::spatial_order;
-use crate::scene::{blend_threshold, ray_key, Light, Material, Scene};
+use crate::scene::{blend_threshold, ray_key, Light, Scene};
 use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 use crate::settings::{RenderSettings, Shading, Shot};
 
@@ -25,8 +26,8 @@ const ROWS_PER_BAND: u32 = 16;
 
 pub struct Renderer {
     accel: Accel,
-    surfaces: SurfaceData,
-    materials: Materials,
+    surfaces: Arc<SurfaceData>,
+    materials: Arc<Materials>,
     lights: Vec<Light>,
 }
 
@@ -45,47 +46,53 @@ impl RenderStats {
 }
 
 impl Renderer {
-    /// Flattens the scene's meshes and builds the BVH. The triangles are numbered as the GPU
-    /// upload numbers them (each mesh's in its spatial order, `scene::order`), which a blend
-    /// draw hashes.
+    /// Flattens the scene's meshes and builds the acceleration structure. The triangles are
+    /// numbered as the GPU upload numbers them (each mesh's in its spatial order,
+    /// `scene::order`), which a blend draw hashes.
     pub fn new(scene: &Scene) -> Self {
         let count = scene.triangle_count();
         let mut triangles = Vec::with_capacity(count);
-        let mut normals = Vec::with_capacity(count);
-        let mut texcoords = Vec::with_capacity(count);
-        let mut materials = Vec::with_capacity(count);
+        let mut surfaces = SurfaceData {
+            normals: Vec::with_capacity(count),
+            texcoords: Vec::with_capacity(count),
+            materials: Vec::with_capacity(count),
+        };
         for mesh in &scene.meshes {
             for t in spatial_order(&mesh.positions, &mesh.triangles) {
                 let tri = mesh.triangles[t as usize];
                 triangles.push(tri.map(|i| Vec3A::from(mesh.positions[i as usize])));
-                normals.push(if mesh.normals.is_empty() {
+                surfaces.normals.push(if mesh.normals.is_empty() {
                     [Vec3::ZERO; 3]
                 } else {
                     tri.map(|i| mesh.normals[i as usize])
                 });
-                texcoords.push(if mesh.texcoords.is_empty() {
+                surfaces.texcoords.push(if mesh.texcoords.is_empty() {
                     [Vec2::ZERO; 3]
                 } else {
                     tri.map(|i| mesh.texcoords[i as usize])
                 });
-                materials.push(mesh.material_ids[t as usize]);
+                surfaces.materials.push(mesh.material_ids[t as usize]);
             }
         }
-        let accel = Accel::build(&triangles);
-        let order = accel.slot_to_triangle();
-        let surfaces = SurfaceData {
-            normals: order.iter().map(|&i| normals[i as usize]).collect(),
-            texcoords: order.iter().map(|&i| texcoords[i as usize]).collect(),
-            materials: order.iter().map(|&i| materials[i as usize]).collect(),
-        };
+        let surfaces = Arc::new(surfaces);
+        let materials = Arc::new(Materials {
+            materials: scene.materials.clone(),
+            textures: scene.textures.clone(),
+        });
+        let alpha_tested: Vec<bool> = surfaces
+            .materials
+            .iter()
+            .map(|&m| materials.get(m).is_alpha_tested())
+            .collect();
+        let alpha: Option<AlphaTest> = alpha_tested.contains(&true).then(|| {
+            let (surfaces, materials) = (Arc::clone(&surfaces), Arc::clone(&materials));
+            Arc::new(move |triangle, b, key| stops(&surfaces, &materials, triangle, b, key))
+                as AlphaTest
+        });
         Self {
-            accel,
+            accel: Accel::build_with_alpha(&triangles, &alpha_tested, alpha),
             surfaces,
-            materials: Materials {
-                materials: scene.materials.clone(),
-                textures: scene.textures.clone(),
-                alpha_tested: scene.materials.iter().any(Material::is_alpha_tested),
-            },
+            materials,
             lights: scene.lights.clone(),
         }
     }
@@ -102,28 +109,8 @@ impl Renderer {
     /// Closest hit along a world-space ray, t in (0, inf), as the AOVs' aperture-centre ray
     /// sees it (a blended surface where its alpha exceeds `AOV_BLEND_THRESHOLD`).
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let (o, d) = (ray.origin, ray.direction);
-        if !self.materials.alpha_tested {
-            return self.accel.closest_hit(o, d, 0.0, f32::INFINITY);
-        }
-        let stops = |slot, b| self.stops(slot, b, None);
         self.accel
-            .closest_hit_where(o, d, 0.0, f32::INFINITY, &stops)
-    }
-
-    /// Whether a ray stops at the hit (`slot`, `b`): the material's alpha test, with the blend
-    /// draw of the ray of `key` (`None`: the AOVs' fixed threshold).
-    fn stops(&self, slot: u32, b: Vec2, key: Option<u32>) -> bool {
-        let material = self.materials.get(self.surfaces.materials[slot as usize]);
-        if !material.is_alpha_tested() {
-            return true;
-        }
-        let threshold = match key {
-            Some(key) => blend_threshold(key, self.accel.slot_to_triangle()[slot as usize]),
-            None => AOV_BLEND_THRESHOLD,
-        };
-        let texcoord = self.surfaces.texcoord(slot, b);
-        material.stops_ray(&self.materials.textures, texcoord, threshold)
+            .closest_hit(ray.origin, ray.direction, 0.0, f32::INFINITY, None)
     }
 
     /// The closest hits of a packet of camera rays whose keys are `keys`.
@@ -134,17 +121,12 @@ impl Renderer {
         keys: &[u32],
         hits: &mut [Option<Hit>],
     ) {
-        let (o, d) = (origins, directions);
-        if !self.materials.alpha_tested {
-            return self.accel.closest_hits(o, d, 0.0, f32::INFINITY, hits);
-        }
-        let stops = |lane: usize, slot, b| self.stops(slot, b, Some(keys[lane]));
         self.accel
-            .closest_hits_where(o, d, 0.0, f32::INFINITY, hits, &stops);
+            .closest_hits(origins, directions, keys, 0.0, f32::INFINITY, hits);
     }
 
     pub fn surface_point(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
-        let v = self.accel.vertices(hit.slot).map(Vec3::from);
+        let v = self.accel.vertices(hit.triangle).map(Vec3::from);
         self.surfaces.surface_point(ray, hit, v)
     }
 
@@ -312,10 +294,10 @@ impl Renderer {
         if material.diffuse_texture.is_none() && material.emission_texture.is_none() {
             return (material.diffuse, material.emission);
         }
-        let vertices = self.accel.vertices(hit.slot).map(Vec3::from);
+        let vertices = self.accel.vertices(hit.triangle).map(Vec3::from);
         let duv = self
             .surfaces
-            .texcoord_footprint(hit.slot, vertices, surface, footprint);
+            .texcoord_footprint(hit.triangle, vertices, surface, footprint);
         (
             material.diffuse_at(textures, surface.texcoord, &duv),
             material.emission_at(textures, surface.texcoord, &duv),
@@ -337,7 +319,7 @@ impl Renderer {
         };
         let material = self
             .materials
-            .get(self.surfaces.materials[hit.slot as usize]);
+            .get(self.surfaces.materials[hit.triangle as usize]);
         if settings.shading == Shading::Unlit && material.diffuse_texture.is_none() {
             // Visibility only: the material is all that is needed.
             return (material.diffuse, 1);
@@ -355,12 +337,8 @@ impl Renderer {
 
     /// Whether a surface that stops the shadow ray of `key` lies on the ray, t in (0, t_max).
     pub(super) fn occluded(&self, origin: Vec3, direction: Vec3, t_max: f32, key: u32) -> bool {
-        if !self.materials.alpha_tested {
-            return self.accel.occluded(origin, direction, 0.0, t_max);
-        }
-        let stops = |slot, b| self.stops(slot, b, Some(key));
         self.accel
-            .occluded_where(origin, direction, 0.0, t_max, &stops)
+            .occluded(origin, direction, 0.0, t_max, Some(key))
     }
 
     /// The AOV of `shot.render.shading` of the surface `ray` sees.
@@ -380,4 +358,25 @@ impl Renderer {
             }
         }
     }
+}
+
+/// Whether a ray of draw `key` stops at the hit (`triangle`, `b`): the material's alpha test,
+/// with the ray's blend draw (`None`: the AOVs' fixed threshold).
+fn stops(
+    surfaces: &SurfaceData,
+    materials: &Materials,
+    triangle: u32,
+    b: Vec2,
+    key: Option<u32>,
+) -> bool {
+    let material = materials.get(surfaces.materials[triangle as usize]);
+    if !material.is_alpha_tested() {
+        return true;
+    }
+    let threshold = match key {
+        Some(key) => blend_threshold(key, triangle),
+        None => AOV_BLEND_THRESHOLD,
+    };
+    let texcoord = surfaces.texcoord(triangle, b);
+    material.stops_ray(&materials.textures, texcoord, threshold)
 }

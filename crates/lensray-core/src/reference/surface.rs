@@ -22,11 +22,11 @@ pub struct SurfacePoint {
     pub texcoord: Vec2,
 }
 
-/// Per-slot shading data, in the acceleration structure's leaf order.
+/// Per-triangle shading data, in the renderer's triangle order.
 pub(super) struct SurfaceData {
-    /// Vertex normals per slot; all zero when the mesh has none.
+    /// Vertex normals per triangle; all zero when the mesh has none.
     pub normals: Vec<[Vec3; 3]>,
-    /// Texture coordinates per slot; all zero when the mesh has none.
+    /// Texture coordinates per triangle; all zero when the mesh has none.
     pub texcoords: Vec<[Vec2; 3]>,
     pub materials: Vec<u32>,
 }
@@ -37,7 +37,7 @@ impl SurfaceData {
         let mut geometric_normal = (vertices[1] - vertices[0])
             .cross(vertices[2] - vertices[0])
             .normalize();
-        let n = self.normals[hit.slot as usize];
+        let n = self.normals[hit.triangle as usize];
         let mut shading_normal = if n[0] == Vec3::ZERO {
             geometric_normal
         } else {
@@ -53,26 +53,26 @@ impl SurfaceData {
             position,
             geometric_normal,
             shading_normal,
-            material: self.materials[hit.slot as usize],
-            texcoord: self.texcoord(hit.slot, hit.barycentric),
+            material: self.materials[hit.triangle as usize],
+            texcoord: self.texcoord(hit.triangle, hit.barycentric),
         }
     }
 
-    pub(super) fn texcoord(&self, slot: u32, barycentric: Vec2) -> Vec2 {
-        let t = self.texcoords[slot as usize];
+    pub(super) fn texcoord(&self, triangle: u32, barycentric: Vec2) -> Vec2 {
+        let t = self.texcoords[triangle as usize];
         (1.0 - barycentric.x - barycentric.y) * t[0] + barycentric.x * t[1] + barycentric.y * t[2]
     }
 
     /// The pinhole's pixel footprint at `surface` in texture coordinates.
     pub(super) fn texcoord_footprint(
         &self,
-        slot: u32,
+        triangle: u32,
         vertices: [Vec3; 3],
         surface: &SurfacePoint,
         footprint: &Footprint,
     ) -> TexcoordFootprint {
         let dp = footprint.dp(surface.position, surface.geometric_normal);
-        TexcoordFootprint::on_triangle(vertices, self.texcoords[slot as usize], dp)
+        TexcoordFootprint::on_triangle(vertices, self.texcoords[triangle as usize], dp)
     }
 }
 
@@ -80,8 +80,6 @@ impl SurfaceData {
 pub(super) struct Materials {
     pub materials: Vec<Material>,
     pub textures: Vec<Texture>,
-    /// Whether any material is alpha-tested (else traversal skips the test).
-    pub alpha_tested: bool,
 }
 
 impl Materials {

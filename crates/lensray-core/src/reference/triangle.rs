@@ -49,11 +49,6 @@ impl WatertightRay {
         (self.kx, self.ky, self.kz)
     }
 
-    /// The shear (x, y) and scale (z) of the test, for packet code that lays rays out by lane.
-    pub(crate) fn shear(&self) -> Vec3 {
-        self.shear
-    }
-
     /// Distance and barycentrics (weights of v1 and v2) of a hit with t in (t_min, t_max);
     /// both faces count. Dispatches on the permutation; hot loops call [`Self::intersect_axes`]
     /// with the permutation fixed at compile time instead (see `with_axes!`).
