@@ -72,6 +72,13 @@ impl ThinLens {
         self.aperture_radius * self.aperture.unit_point(lens_u)
     }
 
+    /// [`Self::lens_point`] of every sample of a packet, bit for bit.
+    pub fn lens_points<const N: usize>(&self, lens_u: &[Vec2; N]) -> [Vec2; N] {
+        self.aperture
+            .unit_points(lens_u)
+            .map(|p| self.aperture_radius * p)
+    }
+
     /// The accumulation-buffer view of steps 1-4 (the raster path): for one lens point `lens`
     /// (from [`Self::lens_point`]) of a lens in the plane z = `lens_z`, the camera-space shear
     /// that turns every lens ray through that point into the aperture-centre ray of the same
@@ -104,21 +111,35 @@ impl ThinLens {
 }
 
 /// Uniform [0, 1)^2 -> uniform unit disk, preserving strata (Shirley and Chiu's concentric map).
+/// The angle is pi/4 t or pi/2 - pi/4 t with |t| <= 1, so one sine and one cosine on
+/// [-pi/4, pi/4] give both cases; without branches or library calls, a packet of lens samples
+/// maps in vector code (reference/rays.rs), and the shaders evaluate the same polynomials.
+#[inline]
 pub fn concentric_sample_disk(u: Vec2) -> Vec2 {
     let offset = 2.0 * u - Vec2::ONE;
-    if offset.x == 0.0 && offset.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    let (radius, theta) = if offset.x.abs() > offset.y.abs() {
-        (
-            offset.x,
-            std::f32::consts::FRAC_PI_4 * (offset.y / offset.x),
-        )
+    let x_major = offset.x.abs() > offset.y.abs();
+    let (radius, t) = if x_major {
+        (offset.x, offset.y / offset.x)
     } else {
-        (
-            offset.y,
-            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (offset.x / offset.y),
-        )
+        (offset.y, offset.x / offset.y)
     };
-    radius * Vec2::new(theta.cos(), theta.sin())
+    let (sin, cos) = sin_cos_quarter(std::f32::consts::FRAC_PI_4 * t);
+    // theta = pi/4 t: (cos, sin); theta = pi/2 - pi/4 t: (sin, cos).
+    let (x, y) = if x_major { (cos, sin) } else { (sin, cos) };
+    if offset.x == 0.0 && offset.y == 0.0 {
+        Vec2::ZERO
+    } else {
+        Vec2::new(radius * x, radius * y)
+    }
+}
+
+/// Sine and cosine of `x` for |x| <= pi/4 (within 2 ulps there): the minimax polynomials of
+/// Cephes' single-precision `sinf`/`cosf` kernels, in Horner form; shaders/include/camera.glsl
+/// evaluates them operation for operation (`precise`, no fused multiply-adds).
+#[inline]
+pub fn sin_cos_quarter(x: f32) -> (f32, f32) {
+    let z = x * x;
+    let sin = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * x + x;
+    let cos = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
+    (sin, cos)
 }

@@ -103,8 +103,12 @@ pub fn primary_rays(
     // ThinLens::lens_ray.
     let lens = camera.lens.first_order();
     if lens.aperture_radius > 0.0 {
+        // ThinLens::lens_point: the aperture's map of each lane's lens sample.
+        let lens_points = lens.lens_points::<PACKET_SIZE>(&std::array::from_fn(|l| {
+            glam::Vec2::new(lens_x[l], lens_y[l])
+        }));
         let mut to_focus = Lanes3::splat(Vec3::ZERO);
-        for l in 0..PACKET_SIZE {
+        for (l, lens_point) in lens_points.iter().enumerate() {
             // focal_point: pinhole.at((focus_distance - origin.z) / direction.z).
             let t = (lens.focus_distance - origin.z[l]) / direction.z[l];
             let focus = [
@@ -112,8 +116,6 @@ pub fn primary_rays(
                 origin.y[l] + direction.y[l] * t,
                 origin.z[l] + direction.z[l] * t,
             ];
-            // ThinLens::lens_point: the aperture's map of the lane's lens sample.
-            let lens_point = lens.lens_point(glam::Vec2::new(lens_x[l], lens_y[l]));
             origin.x[l] += lens_point.x;
             origin.y[l] += lens_point.y;
             origin.z[l] += 0.0;

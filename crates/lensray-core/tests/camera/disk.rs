@@ -154,3 +154,57 @@ fn concentric_map_sends_square_boundary_to_circle() {
         "the boundary's image leaves an angular gap of {largest_gap} rad on the circle"
     );
 }
+
+#[test]
+fn quarter_sine_and_cosine_are_within_two_ulps() {
+    use lensray_core::camera::thin_lens::sin_cos_quarter;
+    let quarter = std::f64::consts::FRAC_PI_4;
+    let mut worst = (0.0f64, 0.0f64);
+    for i in -100_000..=100_000 {
+        let x = (quarter * f64::from(i) / 100_000.0) as f32;
+        let (sin, cos) = sin_cos_quarter(x);
+        let (want_sin, want_cos) = f64::from(x).sin_cos();
+        // An ulp of the true value (f32 spacing at its magnitude).
+        let ulp = |v: f64| f64::from(f32::EPSILON) * v.abs().max(f64::from(f32::MIN_POSITIVE));
+        let ulps_sin = (f64::from(sin) - want_sin).abs() / ulp(want_sin).max(1e-45);
+        let ulps_cos = (f64::from(cos) - want_cos).abs() / ulp(want_cos);
+        worst = (worst.0.max(ulps_sin), worst.1.max(ulps_cos));
+    }
+    assert!(
+        worst.0 <= 2.0 && worst.1 <= 2.0,
+        "sin {:.2} ulps, cos {:.2} ulps at worst",
+        worst.0,
+        worst.1
+    );
+}
+
+#[test]
+fn concentric_map_matches_the_trigonometric_definition() {
+    // Shirley and Chiu's map with f64 trigonometry.
+    let reference = |u: Vec2| {
+        let (x, y) = (2.0 * f64::from(u.x) - 1.0, 2.0 * f64::from(u.y) - 1.0);
+        if x == 0.0 && y == 0.0 {
+            return (0.0, 0.0);
+        }
+        let quarter = std::f64::consts::FRAC_PI_4;
+        let (r, theta) = if x.abs() > y.abs() {
+            (x, quarter * (y / x))
+        } else {
+            (y, 2.0 * quarter - quarter * (x / y))
+        };
+        (r * theta.cos(), r * theta.sin())
+    };
+    let mut worst = 0.0f64;
+    for i in 0..=256 {
+        for j in 0..=256 {
+            let u = Vec2::new(i as f32 / 256.0, j as f32 / 256.0);
+            let p = concentric_sample_disk(u);
+            let (x, y) = reference(u);
+            worst = worst.max((f64::from(p.x) - x).abs().max((f64::from(p.y) - y).abs()));
+        }
+    }
+    assert!(
+        worst < 5e-7,
+        "largest difference from the f64 map: {worst:e}"
+    );
+}

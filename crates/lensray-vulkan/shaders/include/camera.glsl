@@ -13,24 +13,26 @@ struct Ray {
 
 vec3 ray_at(Ray r, float t) { return r.origin + r.direction * t; }
 
+// thin_lens.rs: sin_cos_quarter, for |x| <= pi/4.
+vec2 sin_cos_quarter(float x) {
+    precise float z = x * x;
+    precise float s = ((-1.9515296e-4 * z + 8.332161e-3) * z - 1.6666655e-1) * z * x + x;
+    precise float c = ((2.4433157e-5 * z - 1.3887316e-3) * z + 4.1666646e-2) * z * z - 0.5 * z + 1.0;
+    return vec2(s, c);
+}
+
 // thin_lens.rs: concentric_sample_disk
 vec2 concentric_sample_disk(vec2 u) {
     vec2 offset = 2.0 * u - vec2(1.0);
     if (offset.x == 0.0 && offset.y == 0.0) {
         return vec2(0.0);
     }
-    float radius;
-    float theta;
     const float FRAC_PI_4 = 0.78539816339744830962;
-    const float FRAC_PI_2 = 1.57079632679489661923;
-    if (abs(offset.x) > abs(offset.y)) {
-        radius = offset.x;
-        theta = FRAC_PI_4 * (offset.y / offset.x);
-    } else {
-        radius = offset.y;
-        theta = FRAC_PI_2 - FRAC_PI_4 * (offset.x / offset.y);
-    }
-    return radius * vec2(cos(theta), sin(theta));
+    bool x_major = abs(offset.x) > abs(offset.y);
+    float radius = x_major ? offset.x : offset.y;
+    float t = x_major ? offset.y / offset.x : offset.x / offset.y;
+    vec2 sc = sin_cos_quarter(FRAC_PI_4 * t);
+    return radius * (x_major ? sc.yx : sc.xy);
 }
 
 // aperture/fan.rs: sample_fan. `precise`: no fused multiply-adds, the same roundings as Rust.
