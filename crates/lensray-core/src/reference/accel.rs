@@ -227,6 +227,40 @@ impl Accel {
     }
 }
 
+impl Accel {
+    /// Which of up to [`PACKET_SIZE`] shadow rays `(origin, direction, t_max)` (lane l drawing
+    /// `keys[l]`, `None` lanes inactive) a surface that stops them lies on, t in [0, t_max]: bit
+    /// l of the mask. One Embree packet: the shadow rays of a pixel's samples are coherent.
+    pub fn occluded_packet(
+        &self,
+        rays: &[Option<(Vec3, Vec3, f32)>; PACKET_SIZE],
+        keys: &[u32; PACKET_SIZE],
+    ) -> u32 {
+        if rays.iter().all(Option::is_none) {
+            return 0;
+        }
+        let ray = |l: usize| rays[l].unwrap_or((Vec3::ZERO, Vec3::Z, 0.0));
+        let mut packet = Ray16::segment(
+            std::array::from_fn(|l| ray(l).0.to_array()),
+            std::array::from_fn(|l| ray(l).1.to_array()),
+            [0.0; PACKET_SIZE],
+            std::array::from_fn(|l| ray(l).2),
+        );
+        packet.id = *keys;
+        let mut valid = ValidMaskN::<PACKET_SIZE>::all_active();
+        for (lane, ray) in valid.lanes_mut().iter_mut().zip(rays) {
+            if ray.is_none() {
+                *lane = ValidMask::Invalid;
+            }
+        }
+        self.scene
+            .occluded16(&mut IntersectContext::coherent(), &mut packet, &valid);
+        (0..PACKET_SIZE)
+            .filter(|&l| rays[l].is_some() && packet.tfar[l] == f32::NEG_INFINITY)
+            .fold(0, |mask, l| mask | 1 << l)
+    }
+}
+
 /// One Embree ray; its `id` and `time` carry the draw `key` to the alpha test.
 fn ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32, key: Option<u32>) -> Ray {
     let mut ray = Ray::segment(origin.to_array(), direction.to_array(), t_min, t_max);

@@ -6,6 +6,7 @@ use std::f32::consts::FRAC_1_PI;
 
 use glam::{Vec2, Vec3};
 
+use super::accel::PACKET_SIZE;
 use super::render::Renderer;
 use super::surface::{shadow_origin, SurfacePoint};
 use crate::scene::light::cosine_direction;
@@ -19,50 +20,90 @@ pub(super) struct LightDraw {
     pub environment: Vec2,
 }
 
+/// A packet lane's surface waiting for its direct light: the point, its diffuse colour, and what
+/// its shadow and environment rays draw.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LitLane {
+    pub surface: SurfacePoint,
+    pub diffuse: Vec3,
+    pub draw: LightDraw,
+}
+
+/// One shadow ray of a packet lane and the light it brings if nothing stops it.
+#[derive(Clone, Copy, Debug)]
+struct ShadowRay {
+    origin: Vec3,
+    direction: Vec3,
+    t_max: f32,
+    light: Vec3,
+}
+
 impl Renderer {
-    /// The light that `surface`, of diffuse colour `diffuse`, reflects towards the viewer from
-    /// `lights` and the environment of radiance `environment`, with the rays traced.
+    /// The light that each lane's surface reflects towards the viewer from `lights` and the
+    /// environment of radiance `environment` (`reflected[lane]`, added in the order lights then
+    /// environment), with the rays traced. Each light's shadow rays, and then the environment's,
+    /// go to Embree as one packet: the samples of a pixel see nearby points and send their
+    /// shadow rays the same way.
     pub(super) fn direct_light(
         &self,
-        surface: &SurfacePoint,
-        diffuse: Vec3,
+        lanes: &[Option<LitLane>; PACKET_SIZE],
         lights: &[Light],
         environment: Vec3,
-        draw: LightDraw,
-    ) -> (Vec3, u64) {
-        let origin = shadow_origin(surface);
-        let n = surface.shading_normal;
-        let mut radiance = Vec3::ZERO;
+        reflected: &mut [Vec3; PACKET_SIZE],
+    ) -> u64 {
+        let origins = lanes.map(|lane| lane.map(|l| shadow_origin(&l.surface)));
+        let keys = lanes.map(|lane| lane.map_or(0, |l| l.draw.shadow_key));
         let mut rays = 0;
         for light in lights {
-            let Some(incident) = light.incident(origin) else {
-                continue;
-            };
-            let cosine = n.dot(incident.direction);
-            if cosine <= 0.0 {
-                continue;
-            }
-            rays += 1;
-            if !self.occluded(
-                origin,
-                incident.direction,
-                incident.distance,
-                draw.shadow_key,
-            ) {
-                radiance += diffuse * FRAC_1_PI * incident.irradiance * cosine;
-            }
+            let shadow = std::array::from_fn(|l| {
+                let (lane, origin) = (lanes[l]?, origins[l]?);
+                let incident = light.incident(origin)?;
+                let cosine = lane.surface.shading_normal.dot(incident.direction);
+                (cosine > 0.0).then(|| ShadowRay {
+                    origin,
+                    direction: incident.direction,
+                    t_max: incident.distance,
+                    light: lane.diffuse * FRAC_1_PI * incident.irradiance * cosine,
+                })
+            });
+            rays += self.add_unoccluded(&shadow, &keys, reflected);
         }
         if environment != Vec3::ZERO {
             // Density cos / pi: the estimate of Kd / pi * L * cos is Kd * L where the ray leaves.
-            let direction = cosine_direction(n, draw.environment);
-            // A direction under the surface's own plane is blocked by the surface.
-            if direction.dot(surface.geometric_normal) > 0.0 {
-                rays += 1;
-                if !self.occluded(origin, direction, f32::INFINITY, draw.shadow_key) {
-                    radiance += diffuse * environment;
+            let shadow = std::array::from_fn(|l| {
+                let (lane, origin) = (lanes[l]?, origins[l]?);
+                let direction =
+                    cosine_direction(lane.surface.shading_normal, lane.draw.environment);
+                // A direction under the surface's own plane is blocked by the surface.
+                (direction.dot(lane.surface.geometric_normal) > 0.0).then(|| ShadowRay {
+                    origin,
+                    direction,
+                    t_max: f32::INFINITY,
+                    light: lane.diffuse * environment,
+                })
+            });
+            rays += self.add_unoccluded(&shadow, &keys, reflected);
+        }
+        rays
+    }
+
+    /// Traces the packet's shadow rays and adds the light of those nothing stops; returns the
+    /// rays traced.
+    fn add_unoccluded(
+        &self,
+        shadow: &[Option<ShadowRay>; PACKET_SIZE],
+        keys: &[u32; PACKET_SIZE],
+        reflected: &mut [Vec3; PACKET_SIZE],
+    ) -> u64 {
+        let rays = shadow.map(|s| s.map(|s| (s.origin, s.direction, s.t_max)));
+        let occluded = self.accel.occluded_packet(&rays, keys);
+        for (l, s) in shadow.iter().enumerate() {
+            if let Some(s) = s {
+                if occluded & (1 << l) == 0 {
+                    reflected[l] += s.light;
                 }
             }
         }
-        (radiance, rays)
+        rays.iter().flatten().count() as u64
     }
 }

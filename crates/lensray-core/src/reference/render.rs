@@ -9,12 +9,12 @@ use glam::{UVec2, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
-use super::lighting::LightDraw;
+use super::lighting::{LightDraw, LitLane};
 use super::rays::{primary_rays, real_lens_rays};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Footprint, Ray};
 use crate::film::{Image, OnDevice, Progress, Sums};
-use crate::sampler::{pixel_dimension, pixel_sampler, shared_pixel_sampler};
+use crate::sampler::{pixel_dimension, pixel_sampler, shared_pixel_sampler, PixelSampler};
 use crate::sampler::{DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y};
 use crate::scene::order::spatial_order;
 use crate::scene::{blend_threshold, ray_key, Light, Scene};
@@ -25,10 +25,20 @@ use crate::settings::{RenderSettings, Shading, Shot};
 const ROWS_PER_BAND: u32 = 16;
 
 pub struct Renderer {
-    accel: Accel,
+    pub(super) accel: Accel,
     surfaces: Arc<SurfaceData>,
     materials: Arc<Materials>,
     lights: Vec<Light>,
+}
+
+/// A packet of camera rays after their closest hits: per lane its ray, hit, blend key and
+/// sample index.
+struct PacketLanes<'a> {
+    origins: &'a [Vec3],
+    directions: &'a [Vec3],
+    hits: &'a [Option<Hit>],
+    keys: &'a [u32],
+    indices: &'a [u32],
 }
 
 /// What a render did, for the summary line and benchmarks.
@@ -261,26 +271,18 @@ impl Renderer {
             }
             let (o, d) = (&origins[..traced], &directions[..traced]);
             self.closest_hits(o, d, &keys[..traced], &mut hits[..traced]);
+            let lanes = PacketLanes {
+                origins: &origins[..traced],
+                directions: &directions[..traced],
+                hits: &hits[..traced],
+                keys: &keys[..traced],
+                indices: &indices[..traced],
+            };
+            let (values, count) = self.shade_packet(&lanes, &sampler, settings, &footprint);
             for l in 0..traced {
-                let ray = Ray {
-                    origin: origins[l],
-                    direction: directions[l],
-                };
-                let draw = LightDraw {
-                    shadow_key: keys[l] ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT,
-                    environment: if settings.environment == Vec3::ZERO {
-                        Vec2::ZERO
-                    } else {
-                        Vec2::new(
-                            pixel_dimension(&sampler, indices[l], DIM_ENVIRONMENT_X),
-                            pixel_dimension(&sampler, indices[l], DIM_ENVIRONMENT_Y),
-                        )
-                    },
-                };
-                let (value, count) = self.shade(&ray, hits[l], settings, &footprint, draw);
-                sum += weights[l] * value;
-                rays += count;
+                sum += weights[l] * values[l];
             }
+            rays += count;
         }
         *sum_and_count = [sum.x, sum.y, sum.z, count + samples.len() as f32];
         rays
@@ -304,41 +306,80 @@ impl Renderer {
         )
     }
 
-    /// `unlit` and `lit`, with the number of rays traced; the shadow and environment rays draw
-    /// what `draw` says.
-    fn shade(
+    /// The values of a packet's samples (`unlit` or `lit`), with the rays traced: each lane's
+    /// surface, then the packet's shadow and environment rays together.
+    fn shade_packet(
+        &self,
+        lanes: &PacketLanes,
+        sampler: &PixelSampler,
+        settings: &RenderSettings,
+        footprint: &Footprint,
+    ) -> ([Vec3; PACKET_SIZE], u64) {
+        let mut values = [Vec3::ZERO; PACKET_SIZE];
+        let mut lit = [None; PACKET_SIZE];
+        for l in 0..lanes.hits.len() {
+            let ray = Ray {
+                origin: lanes.origins[l],
+                direction: lanes.directions[l],
+            };
+            let draw = LightDraw {
+                shadow_key: lanes.keys[l] ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT,
+                environment: if settings.environment == Vec3::ZERO {
+                    Vec2::ZERO
+                } else {
+                    Vec2::new(
+                        pixel_dimension(sampler, lanes.indices[l], DIM_ENVIRONMENT_X),
+                        pixel_dimension(sampler, lanes.indices[l], DIM_ENVIRONMENT_Y),
+                    )
+                },
+            };
+            (values[l], lit[l]) =
+                self.shade_surface(&ray, lanes.hits[l], settings, footprint, draw);
+        }
+        let mut rays = lanes.hits.len() as u64;
+        if lit.iter().any(Option::is_some) {
+            let mut reflected = [Vec3::ZERO; PACKET_SIZE];
+            rays += self.direct_light(&lit, &self.lights, settings.environment, &mut reflected);
+            for (value, (lane, reflected)) in values.iter_mut().zip(lit.iter().zip(reflected)) {
+                if lane.is_some() {
+                    *value += reflected;
+                }
+            }
+        }
+        (values, rays)
+    }
+
+    /// A sample's value without its direct light: the background, the `unlit` colour, or the
+    /// emission of a `lit` surface with what its direct light needs.
+    fn shade_surface(
         &self,
         ray: &Ray,
         hit: Option<Hit>,
         settings: &RenderSettings,
         footprint: &Footprint,
         draw: LightDraw,
-    ) -> (Vec3, u64) {
+    ) -> (Vec3, Option<LitLane>) {
         let Some(hit) = hit else {
-            return (settings.background, 1);
+            return (settings.background, None);
         };
         let material = self
             .materials
             .get(self.surfaces.materials[hit.triangle as usize]);
         if settings.shading == Shading::Unlit && material.diffuse_texture.is_none() {
             // Visibility only: the material is all that is needed.
-            return (material.diffuse, 1);
+            return (material.diffuse, None);
         }
         let surface = self.surface_point(ray, &hit);
         let (diffuse, emission) = self.colours(&hit, &surface, footprint);
         if settings.shading == Shading::Unlit {
-            return (diffuse, 1);
+            return (diffuse, None);
         }
-        let environment = settings.environment;
-        let (reflected, rays) =
-            self.direct_light(&surface, diffuse, &self.lights, environment, draw);
-        (emission + reflected, 1 + rays)
-    }
-
-    /// Whether a surface that stops the shadow ray of `key` lies on the ray, t in (0, t_max).
-    pub(super) fn occluded(&self, origin: Vec3, direction: Vec3, t_max: f32, key: u32) -> bool {
-        self.accel
-            .occluded(origin, direction, 0.0, t_max, Some(key))
+        let lane = LitLane {
+            surface,
+            diffuse,
+            draw,
+        };
+        (emission, Some(lane))
     }
 
     /// The AOV of `shot.render.shading` of the surface `ray` sees.
