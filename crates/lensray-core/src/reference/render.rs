@@ -33,7 +33,7 @@ pub struct Renderer {
 
 /// A packet of camera rays after their closest hits: per lane its ray, hit, blend key and
 /// sample index.
-struct PacketLanes<'a> {
+struct TracedPacket<'a> {
     origins: &'a [Vec3],
     directions: &'a [Vec3],
     hits: &'a [Option<Hit>],
@@ -271,7 +271,7 @@ impl Renderer {
             }
             let (o, d) = (&origins[..traced], &directions[..traced]);
             self.closest_hits(o, d, &keys[..traced], &mut hits[..traced]);
-            let lanes = PacketLanes {
+            let lanes = TracedPacket {
                 origins: &origins[..traced],
                 directions: &directions[..traced],
                 hits: &hits[..traced],
@@ -310,7 +310,7 @@ impl Renderer {
     /// surface, then the packet's shadow and environment rays together.
     fn shade_packet(
         &self,
-        lanes: &PacketLanes,
+        lanes: &TracedPacket,
         sampler: &PixelSampler,
         settings: &RenderSettings,
         footprint: &Footprint,
