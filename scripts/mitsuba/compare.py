@@ -26,7 +26,7 @@ RENDER_PY = os.path.join(HERE, "render.py")
 
 
 class Setup:
-    """Where things are: the lensray binary, the work folder, the Python with Mitsuba."""
+    """Where things are: the lensray binary and the work folders under the target folder."""
 
     def __init__(self, args):
         target = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
@@ -37,11 +37,11 @@ class Setup:
         os.makedirs(self.out, exist_ok=True)
 
 
-def run(cmd, env=None, capture=True):
-    """Runs `cmd`; its stdout (stderr passed through), or exits with its output on failure."""
+def run(cmd, env=None):
+    """Runs `cmd` with `env` added to the environment: its stdout, or an exit with its stdout
+    and stderr when it fails."""
     full_env = dict(os.environ, **(env or {}))
-    p = subprocess.run(cmd, env=full_env, text=True, stdout=subprocess.PIPE if capture else None,
-                       stderr=subprocess.PIPE)
+    p = subprocess.run(cmd, env=full_env, text=True, capture_output=True)
     if p.returncode != 0:
         sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout or ''}{p.stderr}")
     return p.stdout
@@ -51,7 +51,9 @@ def scene_files(setup, name):
     """The scene's OBJ (regenerated when older than the lensray binary) and its PLY folder."""
     obj = os.path.join(setup.scenes, f"{name}.obj")
     toml = os.path.join(setup.scenes, f"{name}.toml")
-    if not os.path.exists(toml) or os.path.getmtime(obj) < os.path.getmtime(setup.lensray):
+    stale = not (os.path.exists(toml) and os.path.exists(obj)) or \
+        os.path.getmtime(obj) < os.path.getmtime(setup.lensray)
+    if stale:
         print(run([setup.lensray, "generate", name, "--out", setup.scenes]).strip())
     ply = os.path.join(setup.work, "ply", name)
     print(run([sys.executable, RENDER_PY, "export", obj, ply]).strip())
@@ -186,10 +188,10 @@ def fmt(x, digits=2):
 
 
 def print_tables(results, args):
-    print(f"\nImages ({results['checks'][0]['width']}x{results['checks'][0]['height']}, "
-          f"{args.check_spp} spp each; mean absolute difference, linear RGB):"
-          if results["checks"] else "")
     if results["checks"]:
+        first = results["checks"][0]
+        print(f"\nImages ({first['width']}x{first['height']}, {args.check_spp} spp each; mean "
+              "absolute difference, linear RGB):")
         print("| scene | shading | lensray vs Mitsuba | noise floor | Mitsuba 1 px off | "
               "mirrored | radius x0.9 | radius x1.1 |")
         print("|---|---|---|---|---|---|---|---|")

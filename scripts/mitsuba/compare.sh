@@ -3,13 +3,14 @@
 # scenes and thin-lens camera: image check, camera rays per second at 1 and 2 threads, start-up.
 # Method and caveats: docs/mitsuba.md. Sets up what it needs first, saying what it installs, and
 # is safe to run again:
-#   - lensray's release build (cargo build --release);
+#   - what lensray needs (scripts/setup.sh) and its release build (cargo build --release);
 #   - libllvm19 (apt-get; Dr.Jit's LLVM back end aborts with Debian 12's default LLVM 15);
 #   - a Python venv with mitsuba==3.9.1 and numpy, in $target/mitsuba-venv.
 # Arguments go to scripts/mitsuba/compare.py (--help: scenes, shadings, threads, spp, runs).
 # Work files and results: $target/mitsuba/ (results.json, the image check's PNG and EXR files).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+source scripts/setup.sh
 target="${CARGO_TARGET_DIR:-$PWD/target}"
 venv="$target/mitsuba-venv"
 
