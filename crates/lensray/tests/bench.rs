@@ -85,6 +85,47 @@ fn check_measurement(m: &Value) {
     }
 }
 
+/// The default scene's camera as the JSON gives it, at the top and at every point.
+fn check_camera(json: &Value) {
+    let camera = &json["camera"];
+    let numbers = |key: &str| -> Vec<f64> {
+        let values = camera[key]
+            .as_array()
+            .unwrap_or_else(|| panic!("{key}: {camera}"));
+        values.iter().map(|v| v.as_f64().unwrap()).collect()
+    };
+    // f32 values, written in the shortest form that reads back as the same f32.
+    let eye: Vec<f32> = numbers("eye").iter().map(|&x| x as f32).collect();
+    assert_eq!(eye, [0.0, 1.6, 8.0]);
+    // A unit step along the view axis towards the subject at (0, 0.5, 0); up made orthogonal.
+    let (eye, target, up) = (numbers("eye"), numbers("target"), numbers("up"));
+    let forward: Vec<f64> = target.iter().zip(&eye).map(|(t, e)| t - e).collect();
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    assert!((dot(&forward, &forward) - 1.0).abs() < 1e-5, "{camera}");
+    assert!(dot(&forward, &up).abs() < 1e-5 && (dot(&up, &up) - 1.0).abs() < 1e-5);
+    assert!(
+        (forward[1] / forward[2] - 1.1 / 8.0).abs() < 1e-5,
+        "{camera}"
+    );
+    assert_eq!(camera["projection"], "perspective");
+    assert!((camera["vfov_degrees"].as_f64().unwrap() - 40.0).abs() < 1e-5);
+    assert!(camera["ortho_height"].is_null());
+    assert_eq!(
+        (&camera["lens"], &camera["aperture"]),
+        (&"thin".into(), &"round".into())
+    );
+    assert_eq!(camera["aperture_radius"].as_f64().unwrap() as f32, 0.12);
+    assert_eq!(camera["focus_distance"].as_f64().unwrap() as f32, 8.0753);
+    assert_eq!(
+        (&camera["width"], &camera["height"]),
+        (&32.into(), &24.into())
+    );
+    assert!(camera["near"].as_f64().unwrap() < camera["far"].as_f64().unwrap());
+    for point in json["points"].as_array().unwrap() {
+        assert_eq!(&point["camera"], camera);
+    }
+}
+
 fn check_png(path: &Path) {
     let plot = image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     assert!(plot.width() > 0 && plot.height() > 0);
@@ -118,6 +159,7 @@ fn bench_writes_json_and_plot_and_reuses_the_cached_reference() {
     assert!(json["machine"]["cpu"].is_string());
     assert!(json["scene"]["triangles"].as_u64().unwrap() > 1000);
     assert_eq!(json["paths"][0]["path"], "cpu");
+    check_camera(&json);
     let spps: Vec<u64> = json["points"]
         .as_array()
         .unwrap()

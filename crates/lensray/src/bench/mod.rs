@@ -6,8 +6,10 @@
 //! Files: `options` (what to measure), `choose` (which paths), `scenes`, `sweep` (the points),
 //! `reference` (the cached converged image), `focus` (how much of the shot is in focus), `lens`
 //! (the lens sweep's pass shares and costs per camera ray), `runs` (timing the paths at one
-//! point), `report` (the results, also the JSON file), `table`, `plot`, `machine`.
+//! point), `report` (the results, also the JSON file), `camera` (the shot's camera in it),
+//! `table`, `plot`, `machine`.
 
+pub mod camera;
 pub mod choose;
 pub mod focus;
 pub mod lens;
@@ -110,6 +112,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
             repeat: options.repeat,
             reference_spp: options.reference_spp,
         },
+        camera: camera::CameraInfo::of(&base_shot.camera),
         sweep: options.sweep,
         paths: Vec::new(),
         points: Vec::new(),
@@ -134,6 +137,9 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
         };
         let points = measure_group(options, &kinds, &scene, &group, &mut report.paths, log)?;
         report.points.extend(points);
+    }
+    if let Some(first) = report.points.first() {
+        report.camera = first.camera.clone();
     }
     if options.sweep == Some(SweepKind::Triangles) {
         report.scene = SceneInfo {
@@ -519,6 +525,7 @@ fn point_report(
         height: shot.camera.height,
         spp: shot.render.spp,
         triangles: scene.triangles,
+        camera: camera::CameraInfo::of(&shot.camera),
         aperture: None,
         lens: None,
         reference: reference.info.clone(),

@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use super::camera::CameraInfo;
 use super::focus::FocusInfo;
 use super::lens::LensPoint;
 use super::machine::Machine;
@@ -24,6 +25,8 @@ pub struct BenchReport {
     pub machine: Machine,
     pub scene: SceneInfo,
     pub settings: SettingsInfo,
+    /// The first point's camera (each point gives its own).
+    pub camera: CameraInfo,
     /// What the points vary; `null` for a single point.
     pub sweep: Option<SweepKind>,
     /// The paths measured, each with the device it ran on.
@@ -106,6 +109,8 @@ pub struct PointReport {
     pub height: u32,
     pub spp: u32,
     pub triangles: usize,
+    /// The camera of this point's shot.
+    pub camera: CameraInfo,
     /// The aperture sweep's shape at this point.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub aperture: Option<BenchAperture>,

@@ -1,6 +1,7 @@
-//! `lensray generate cornell|spheres|dense|bokeh|textured [--out DIR] [--triangles N]`: writes a
-//! generated scene as `<out>/<name>.obj`, `<name>.mtl` and a scene file `<name>.toml` naming the
-//! OBJ; `textured` also as `textured.gltf` with `textured.bin`, both reading its PNGs.
+//! `lensray generate default|cornell|spheres|dense|bokeh|textured [--out DIR] [--triangles N]`:
+//! writes a generated scene (or the built-in default one) as `<out>/<name>.obj`, `<name>.mtl`
+//! and a scene file `<name>.toml` naming the OBJ; `textured` also as `textured.gltf` with
+//! `textured.bin`, both reading its PNGs.
 
 use std::fs;
 use std::io::{BufRead, BufReader};
@@ -8,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
 
+use lensray_core::scene::builtin::default_scene;
 use lensray_core::scene::file::write_scene_file;
 use lensray_core::scene::generate::{bokeh, cornell_box, dense, sphere_row};
 use lensray_core::scene::textured::{self, write_textured};
@@ -18,6 +20,9 @@ pub const DEFAULT_DENSE_TRIANGLES: usize = 1_000_000;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Which {
+    /// The built-in default scene (what `lensray render` draws without `--scene`), for other
+    /// tools: the same triangles, materials and camera.
+    Default,
     /// Cornell-box-style room with a box, a sphere and a ceiling light.
     Cornell,
     /// A row of coloured spheres receding in depth.
@@ -34,6 +39,7 @@ impl Which {
     /// One line on what the scene shows.
     pub fn description(self) -> &'static str {
         match self {
+            Which::Default => "The built-in default scene: seven coloured spheres receding in depth on a checkerboard, the middle one in focus.",
             Which::Cornell => "A Cornell-box-style room (red left wall, green right wall) with a tall box, a sphere in focus and a ceiling light.",
             Which::Spheres => "Five coloured spheres in a row receding in depth on a grey ground, the middle one in focus.",
             Which::Dense => "A benchmark scene: a 10 x 10 grid of finely tessellated spheres on a checkerboard, focused on the middle.",
@@ -45,6 +51,7 @@ impl Which {
     /// The file stem of the scene's files.
     pub fn name(self) -> &'static str {
         match self {
+            Which::Default => "default",
             Which::Cornell => "cornell",
             Which::Spheres => "spheres",
             Which::Dense => "dense",
@@ -109,6 +116,7 @@ pub fn generate(
     dense_triangles: usize,
 ) -> anyhow::Result<(PathBuf, usize)> {
     let description: SceneDescription = match which {
+        Which::Default => default_scene(),
         Which::Cornell => cornell_box(),
         Which::Spheres => sphere_row(),
         Which::Dense => dense(dense_triangles),

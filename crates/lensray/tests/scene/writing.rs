@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Parser;
 use glam::Vec3;
 use lensray::cli::generate::{ensure_dense_scene, generate, run, GenerateArgs, Which};
+use lensray_core::scene::builtin::default_scene;
 use lensray_core::scene::generate::{cornell_box, sphere_row, uv_sphere};
 use lensray_core::scene::{load, write_obj, Material, Scene};
 
@@ -175,6 +176,19 @@ fn generate_command() {
     let (path, n) = generate(Which::Dense, &out, 20_000).unwrap();
     assert!(n >= 20_000);
     assert_eq!(load(&path).unwrap().scene.triangle_count(), n);
+}
+
+/// `generate default` writes the built-in default scene: the same triangles, materials and
+/// settings (so other renderers can load what `lensray render` draws without `--scene`).
+#[test]
+fn generate_default_writes_the_builtin_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, n) = generate(Which::Default, dir.path(), 0).unwrap();
+    let builtin = default_scene();
+    assert_eq!(n, builtin.scene.triangle_count());
+    let d = load(&path).unwrap();
+    assert_same_geometry("default", &builtin.scene, &d.scene, 0.0);
+    assert_eq!(d.settings, builtin.settings);
 }
 
 #[test]
