@@ -2,7 +2,7 @@
 # The CPU path's figures (docs/performance.md, "CPU reference"): camera rays per second at one
 # and two threads, unlit and lit, and the start-up of a whole `lensray render` at 1 spp (parse,
 # acceleration structure, one sample, the file written), on the default scene, the generated
-# 1M-triangle scene and the README's real model.
+# 1M-triangle scene (as OBJ, and for start-up also as glTF) and the README's real model.
 #   scripts/bench-cpu.sh [RUNS]        (LENSRAY=path/to/lensray to time another build)
 # Heavy: run it on an otherwise idle machine (a few minutes), not in the test suite.
 set -euo pipefail
@@ -15,7 +15,10 @@ trap 'rm -rf "$OUT"' EXIT
 
 echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; lensray: $LENSRAY"
 "$LENSRAY" generate dense --out "$OUT" >/dev/null
+"$LENSRAY" generate dense --gltf --out "$OUT/gltf" >/dev/null
 SCENES=("default:" "dense-1M:--scene $OUT/dense.toml" "apples:--scene assets/food_apple_01/apples.gltf")
+# Start-up also with the 1M scene's meshes as glTF: binary vertex data, no text to parse.
+STARTUP_SCENES=("${SCENES[@]}" "dense-gltf:--scene $OUT/gltf/dense.toml")
 
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 
@@ -42,7 +45,7 @@ EOF
 done
 
 # Start-up: the whole process at 1 spp, the image written.
-for entry in "${SCENES[@]}"; do
+for entry in "${STARTUP_SCENES[@]}"; do
   name=${entry%%:*}; scene=${entry#*:}
   for _ in $(seq "$RUNS"); do
     start=$(date +%s.%N)

@@ -13,6 +13,7 @@ pub mod file;
 pub mod file_camera;
 pub mod generate;
 pub mod gltf_file;
+pub mod gltf_out;
 pub mod light;
 pub mod load_times;
 mod material;

@@ -1,7 +1,8 @@
-//! `lensray generate default|cornell|spheres|dense|bokeh|textured [--out DIR] [--triangles N]`:
-//! writes a generated scene (or the built-in default one) as `<out>/<name>.obj`, `<name>.mtl`
-//! and a scene file `<name>.toml` naming the OBJ; `textured` also as `textured.gltf` with
-//! `textured.bin`, both reading its PNGs.
+//! `lensray generate default|cornell|spheres|dense|bokeh|textured [--out DIR] [--triangles N]
+//! [--gltf]`: writes a generated scene (or the built-in default one) as `<out>/<name>.obj`,
+//! `<name>.mtl` and a scene file `<name>.toml` naming the OBJ, or with `--gltf` as
+//! `<name>.gltf` and `<name>.bin` (binary data: loaded without parsing text) with the scene file
+//! naming those; `textured` writes both, reading its PNGs.
 
 use std::fs;
 use std::io::{BufRead, BufReader};
@@ -12,6 +13,7 @@ use anyhow::{bail, Context};
 use lensray_core::scene::builtin::default_scene;
 use lensray_core::scene::file::write_scene_file;
 use lensray_core::scene::generate::{bokeh, cornell_box, dense, sphere_row};
+use lensray_core::scene::gltf_out::write_scene_gltf;
 use lensray_core::scene::textured::{self, write_textured};
 use lensray_core::scene::{write_obj, SceneDescription};
 
@@ -73,6 +75,17 @@ pub struct GenerateArgs {
     /// Minimum number of triangles (dense only) [default: 1000000].
     #[arg(long, value_name = "N")]
     pub triangles: Option<usize>,
+    /// Write the meshes as glTF (`<name>.gltf` + `<name>.bin`) instead of OBJ + MTL: binary
+    /// vertex data, which loads without parsing text (the 1M-triangle scene's start-up).
+    #[arg(long)]
+    pub gltf: bool,
+}
+
+/// The file format of a generated scene's meshes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshFormat {
+    Obj,
+    Gltf,
 }
 
 /// Generates the scene and prints where it went.
@@ -83,11 +96,16 @@ pub fn run(args: &GenerateArgs) -> anyhow::Result<()> {
             args.which.name()
         );
     }
-    let (path, triangles) = generate(
-        args.which,
-        &args.out,
-        args.triangles.unwrap_or(DEFAULT_DENSE_TRIANGLES),
-    )?;
+    if args.gltf && args.which == Which::Textured {
+        bail!("`textured` always writes glTF beside its OBJ: leave out --gltf");
+    }
+    let format = if args.gltf {
+        MeshFormat::Gltf
+    } else {
+        MeshFormat::Obj
+    };
+    let triangles = args.triangles.unwrap_or(DEFAULT_DENSE_TRIANGLES);
+    let (path, triangles) = generate_as(args.which, &args.out, triangles, format)?;
     if args.which == Which::Textured {
         let gltf = path.with_extension("gltf");
         let (path, gltf) = (path.display(), gltf.display());
@@ -115,6 +133,16 @@ pub fn generate(
     out: &Path,
     dense_triangles: usize,
 ) -> anyhow::Result<(PathBuf, usize)> {
+    generate_as(which, out, dense_triangles, MeshFormat::Obj)
+}
+
+/// [`generate`] with the meshes in `format`.
+pub fn generate_as(
+    which: Which,
+    out: &Path,
+    dense_triangles: usize,
+    format: MeshFormat,
+) -> anyhow::Result<(PathBuf, usize)> {
     let description: SceneDescription = match which {
         Which::Default => default_scene(),
         Which::Cornell => cornell_box(),
@@ -125,9 +153,19 @@ pub fn generate(
     };
     let name = which.name();
     let staging = staging(out)?;
-    let obj = format!("{name}.obj");
-    write_obj(&description.scene, &staging.path().join(&obj))
-        .with_context(|| format!("cannot write {obj} into {}", out.display()))?;
+    let (mesh, mut files) = match format {
+        MeshFormat::Obj => {
+            let obj = format!("{name}.obj");
+            write_obj(&description.scene, &staging.path().join(&obj))
+                .with_context(|| format!("cannot write {obj} into {}", out.display()))?;
+            (obj, vec![format!("{name}.mtl"), format!("{name}.obj")])
+        }
+        MeshFormat::Gltf => {
+            let files = write_scene_gltf(&description.scene, staging.path(), name)
+                .with_context(|| format!("cannot write {name}.gltf into {}", out.display()))?;
+            (format!("{name}.gltf"), files)
+        }
+    };
     let comment = format!(
         "{}\n{}\n{} triangles. Units are metres; `mesh` is relative to this file.",
         header(which, dense_triangles),
@@ -136,12 +174,12 @@ pub fn generate(
     );
     write_scene_file(
         &staging.path().join(format!("{name}.toml")),
-        &obj,
+        &mesh,
         &description.settings,
         &comment,
     )
     .with_context(|| format!("cannot write {name}.toml into {}", out.display()))?;
-    let files = ["mtl", "obj", "toml"].map(|ext| format!("{name}.{ext}"));
+    files.push(format!("{name}.toml"));
     move_into(&staging, &files, out)?;
     Ok((
         out.join(format!("{name}.toml")),

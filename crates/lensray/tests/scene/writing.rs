@@ -216,3 +216,39 @@ fn ensure_dense_scene_generates_only_when_needed() {
     ensure_dense_scene(dir.path(), 40_000).unwrap();
     assert!(obj.is_file());
 }
+
+/// `generate --gltf` writes the scene's meshes as glTF (binary vertex data) with the same scene
+/// file: it loads to the same triangles and materials and renders the OBJ's image.
+#[test]
+fn generate_gltf_renders_as_the_obj_does() {
+    use lensray::cli::generate::{generate_as, MeshFormat};
+    use lensray_core::reference::Renderer;
+    use lensray_core::settings::{light_scene, shot};
+    let dir = tempfile::tempdir().unwrap();
+    let render = |format: MeshFormat, sub: &str| {
+        let (path, n) = generate_as(Which::Default, &dir.path().join(sub), 0, format).unwrap();
+        let mut d = load(&path).unwrap();
+        assert_eq!(d.scene.triangle_count(), n, "{sub}");
+        let mut names: Vec<_> = d.scene.materials.iter().map(|m| m.name.clone()).collect();
+        names.sort();
+        (d.settings.image.width, d.settings.image.height) = (Some(80), Some(60));
+        d.settings.image.spp = Some(4);
+        light_scene(&d.settings, &mut d.scene).unwrap();
+        let shot = shot(&d.settings, &d.scene).unwrap();
+        let (image, _) = Renderer::new(&d.scene).render(&shot, &mut |_, _| {});
+        (image, names)
+    };
+    let (obj, obj_materials) = render(MeshFormat::Obj, "obj");
+    let (gltf, gltf_materials) = render(MeshFormat::Gltf, "gltf");
+    assert_eq!(obj_materials, gltf_materials);
+    let pixels = obj.pixels.len();
+    let close = (obj.pixels.iter().zip(&gltf.pixels))
+        .filter(|(a, b)| (**a - **b).abs().max_element() <= 1.0 / 255.0)
+        .count();
+    assert!(
+        close as f64 >= 0.999 * pixels as f64,
+        "glTF against OBJ: {close} of {pixels} pixels within 1/255"
+    );
+    let files = std::fs::read_dir(dir.path().join("gltf")).unwrap().count();
+    assert_eq!(files, 3, "default.gltf, default.bin and default.toml");
+}
