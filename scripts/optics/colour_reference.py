@@ -400,9 +400,12 @@ def flatten(value, prefix=""):
         for k, v in value.items():
             out.update(flatten(v, prefix + "." + k if prefix else k))
     elif isinstance(value, list):
-        for item in value:
-            key = "%s[%s]" % (prefix, list(item.values())[0])
-            out.update(flatten({k: v for k, v in list(item.items())[1:]}, key))
+        for n, item in enumerate(value):
+            if isinstance(item, dict):
+                key = "%s[%s]" % (prefix, list(item.values())[0])
+                out.update(flatten({k: v for k, v in list(item.items())[1:]}, key))
+            else:
+                out.update(flatten(item, "%s[%d]" % (prefix, n)))
     elif isinstance(value, (int, float)) and not isinstance(value, bool):
         out[prefix] = float(value)
     return out
