@@ -37,9 +37,9 @@ GLASSES = {
         ("Schott", "N-BAF10"),
         ("Schott", "N-BAF10"),
         ("Schott", "N-SF15"),
-        ("Schott", "N-SK14"),
+        ("Schott", "F5"),
         ("Schott", "N-SSK5"),
-        ("Schott", "N-SF1"),
+        ("Hoya", "LAF3"),
     ],
     "wide-22": [
         ("Schott", "N-BAK2"),
