@@ -1,12 +1,13 @@
 //! The film every render path fills: the image (linear RGB), the per-pixel sums it is
-//! accumulated in, comparisons of images, and the progressive schedule that decides which
-//! samples to add next.
+//! accumulated in, comparisons of images, the progressive schedule that decides which
+//! samples to add next, and the weighting of a sample of one wavelength (`spectral`).
 
 pub mod accumulation;
 pub mod colour;
 pub mod compare;
 pub mod image;
 pub mod progressive;
+pub mod spectral;
 
 pub use accumulation::{Accumulation, Holder, OnDevice, Sums};
 pub use image::Image;

@@ -228,8 +228,7 @@ impl GlslConst for u32 {
 
 impl GlslConst for f32 {
     fn declaration(&self, name: &str) -> String {
-        // Debug prints the shortest text that reads back as the same f32 ("1e30", "0.0001").
-        format!("const float {name} = {self:?};")
+        format!("const float {name} = {};", glsl_float(*self))
     }
 }
 
@@ -238,6 +237,33 @@ impl<const N: usize> GlslConst for [u32; N] {
         let items: Vec<String> = self.iter().map(|v| format!("{v}u")).collect();
         format!("const uint {name}[{N}] = uint[{N}]({});", items.join(", "))
     }
+}
+
+impl<const N: usize> GlslConst for [f32; N] {
+    fn declaration(&self, name: &str) -> String {
+        let items: Vec<String> = self.iter().map(|&v| glsl_float(v)).collect();
+        format!(
+            "const float {name}[{N}] = float[{N}]({});",
+            items.join(", ")
+        )
+    }
+}
+
+/// A GLSL literal of `v` that glslang reads back as `v` itself. Debug prints the shortest text
+/// that reads back as the same f32 when read as an f32; glslang reads a literal as an f64 and
+/// rounds that to f32, which can round twice, so the text is checked that way too and more
+/// digits are written where the shortest text fails.
+pub fn glsl_float(v: f32) -> String {
+    assert!(v.is_finite(), "a GLSL float literal of {v}");
+    let reads_back = |text: &str| text.parse::<f64>().map(|x| x as f32) == Ok(v);
+    let shortest = format!("{v:?}");
+    if reads_back(&shortest) {
+        return shortest;
+    }
+    // Seventeen significant digits are the f64 nearest `v`, exactly `v`.
+    let long = format!("{v:.16e}");
+    assert!(reads_back(&long), "no GLSL literal reads back as {v:?}");
+    long
 }
 
 /// One struct of `shader_interface!`'s list, as the GLSL header and the layout probe take it.

@@ -22,11 +22,11 @@ pub use hash::{hash_u32, unit_float};
 pub use independent::{independent_sample, sample_1d, sample_key};
 pub use scrambled_sobol::{sobol_1d, sobol_pixel, sobol_sample, SobolPixel};
 
-/// Sample dimensions used by the camera (defined with what the shaders share). Later consumers
-/// take dimensions from `DIM_FIRST_FREE` on.
+/// Sample dimensions used by the camera, the environment and the wavelength (defined with what
+/// the shaders share). Later consumers take dimensions from `DIM_FIRST_FREE` on.
 pub use crate::interface::{
     DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_FIRST_FREE, DIM_LENS_X,
-    DIM_LENS_Y,
+    DIM_LENS_Y, DIM_WAVELENGTH,
 };
 
 /// How samples are drawn. The discriminants are the shaders' `SAMPLER_*` constants.
