@@ -274,9 +274,19 @@ pub(crate) fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
         .aperture
         .image()
         .map_or(0, |image| image.table().len() as u32);
+    out.dispersive = u32::from(real.dispersive());
     for (i, s) in interfaces.iter().enumerate() {
-        out.surface_shape[i] = [s.z, s.radius, s.aperture_radius, 0.0];
-        out.surface_media[i] = [s.index_before, s.index_after, 0.0, 0.0];
+        out.surface_shape[i] = [s.z, s.radius, s.aperture_radius, s.conic];
+        out.surface_media[i] = [
+            s.index_before,
+            s.index_after,
+            s.dispersion_before,
+            s.dispersion_after,
+        ];
+        let a = s.coefficients;
+        out.surface_asphere_low[i] = [a[0], a[1], a[2], a[3]];
+        out.surface_asphere_high[i] = [a[4], a[5], a[6], a[7]];
+        out.asphere_mask |= u32::from(s.asphere) << i;
     }
     for (i, bin) in pupil.bins.iter().enumerate() {
         let region = |r: &lensray_core::camera::real_lens::Region| {

@@ -13,6 +13,7 @@ use lensray::paths::{PathChoice, PathKind};
 use lensray_core::camera::RealLensParams;
 use lensray_core::camera::{ApertureShape, Camera, CameraParams, LensParams, ProjectionParams};
 use lensray_core::optics::builtin;
+use lensray_core::optics::glass::dispersion_offset_f32;
 use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::sampler::{camera_sample, hash_u32, SamplerKind};
 use lensray_core::settings::{Shading, Shot};
@@ -29,6 +30,7 @@ fn lens_camera(name: &str, f_number: Option<f64>, width: u32, height: u32) -> Ca
             f_number,
             focus_distance: 5.5,
             sensor_height_mm: 24.0,
+            dispersion: true,
         }),
         near: 0.05,
         far: 50.0,
@@ -39,8 +41,13 @@ fn lens_camera(name: &str, f_number: Option<f64>, width: u32, height: u32) -> Ca
     .expect("a valid real-lens camera")
 }
 
-/// The probe's rays through the lens against `Camera::generate_ray`: the same
-/// rays pass, with the same weights, origins and directions. The GPU's sqrt, division and
+/// The wavelengths the probe's rays are traced at: 0 the d line (as without dispersion), and
+/// across the visible range.
+const WAVELENGTHS_NM: [f32; 5] = [0.0, 400.0, 486.13, 587.56, 700.0];
+
+/// The probe's rays through the lens against `Camera::generate_ray_at`, at several
+/// wavelengths (through aspheres too): the same rays pass, with the same weights, origins and
+/// directions. The GPU's sqrt, division and
 /// normalize may differ from Rust's in the last bit, so values are compared to 1e-5; a ray
 /// grazing an opening may then pass on one side only, which is counted and bounded.
 #[test]
@@ -71,6 +78,7 @@ fn real_lens_rays_match_the_cpu() {
                         dim: 0,
                         hash_input: i,
                         sampler_kind: SamplerKind::Sobol.id(),
+                        wavelength_nm: WAVELENGTHS_NM[i as usize % WAVELENGTHS_NM.len()],
                     })
                     .collect();
                 let results = gpu.probe_mirrors(&cam, &queries).expect("probe");
@@ -83,7 +91,11 @@ fn real_lens_rays_match_the_cpu() {
                         q.sample_index,
                     );
                     checked += 1;
-                    let cpu = cam.generate_ray(cs.film, cs.lens);
+                    let k = match q.wavelength_nm {
+                        0.0 => 0.0,
+                        lambda => dispersion_offset_f32(lambda),
+                    };
+                    let cpu = cam.generate_ray_at(cs.film, cs.lens, k);
                     let gpu_weight = r.through_lens_origin[3];
                     match cpu {
                         None if gpu_weight < 0.0 => {}

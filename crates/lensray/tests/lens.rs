@@ -175,10 +175,15 @@ fn lens_data_agrees_with_an_independent_optics_package() {
             std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let want: serde_json::Value = serde_json::from_str(&text).unwrap();
         let got = serde_json::to_value(LensData::of(&builtin::lens(name).unwrap())).unwrap();
+        // The asphere's figures within 1e-4 (issue 31), the others within 0.1 %.
+        let tolerance = if name == "aspheric-31" { 1e-4 } else { 1e-3 };
         let close = |key: &str, a: f64, b: f64, scale: f64| {
             let error = (a - b).abs() / scale.abs();
             println!("{name} {key}: {a:.6} vs {b:.6} ({error:.1e})");
-            assert!(error <= 1e-3, "{name} {key}: lensray {a}, rayoptics {b}");
+            assert!(
+                error <= tolerance,
+                "{name} {key}: lensray {a}, rayoptics {b}"
+            );
         };
         let number = |v: &serde_json::Value, key: &str| v[key].as_f64().expect(key);
         for key in [
@@ -224,6 +229,61 @@ fn lens_data_agrees_with_an_independent_optics_package() {
         assert_eq!(ours.len(), theirs.len(), "{name}: lsa heights");
         for (k, (a, b)) in ours.iter().zip(&theirs).enumerate() {
             close(&format!("lsa {k}"), *a, *b, focus);
+        }
+    }
+}
+
+/// Every built-in lens's colour (`lensray lens --json`: efl and bfl at F, d, C; axial colour;
+/// lateral colour at 5-20 degrees) against ray-optics with the same Cauchy glasses
+/// (tests/lens_reference/<lens>.colour.json), within 0.1 % (plus 1e-7 mm for the achromat's
+/// near-zero lateral colour, below the digits the reference is checked to).
+#[test]
+fn lens_colour_agrees_with_an_independent_optics_package() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/lens_reference");
+    for name in builtin::names() {
+        let path = dir.join(format!("{name}.colour.json"));
+        let text =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let want: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let got = serde_json::to_value(LensData::of(&builtin::lens(name).unwrap())).unwrap();
+        let number = |v: &serde_json::Value| v.as_f64().expect("a number");
+        let close = |key: &str, a: f64, b: f64| {
+            let error = (a - b).abs();
+            println!("{name} {key}: {a:.8} vs {b:.8} ({error:.1e} mm)");
+            assert!(
+                error <= 1e-3 * b.abs() + 1e-7,
+                "{name} {key}: lensray {a}, rayoptics {b}"
+            );
+        };
+        for line in ["F", "d", "C"] {
+            let efl = (
+                number(&got["efl_lines_mm"][line]),
+                number(&want["efl_mm"][line]),
+            );
+            close(&format!("efl {line}"), efl.0, efl.1);
+            let bfl = (
+                number(&got["bfl_lines_mm"][line]),
+                number(&want["bfl_mm"][line]),
+            );
+            close(&format!("bfl {line}"), bfl.0, bfl.1);
+        }
+        let axial = (
+            number(&got["axial_color_mm"]),
+            number(&want["axial_color_mm"]),
+        );
+        close("axial colour", axial.0, axial.1);
+        let lateral = |v: &serde_json::Value| -> Vec<(f64, f64)> {
+            v["lateral_color"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| (number(&c["field_deg"]), number(&c["lateral_color_mm"])))
+                .collect()
+        };
+        let (ours, theirs) = (lateral(&got), lateral(&want));
+        assert_eq!(ours.len(), theirs.len(), "{name}: lateral-colour fields");
+        for ((field, a), (_, b)) in ours.iter().zip(&theirs) {
+            close(&format!("lateral colour {field} deg"), *a, *b);
         }
     }
 }

@@ -88,6 +88,9 @@ fn real(lens: &Arc<Prescription>, f_number: Option<f64>, focus: f64, sensor: f64
         f_number,
         focus_distance: focus,
         sensor_height_mm: sensor,
+        // These tests check the geometry and radiometry at the d line; tests/real_lens/colour.rs
+        // renders dispersion.
+        dispersion: false,
     })
 }
 

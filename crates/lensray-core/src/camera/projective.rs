@@ -239,11 +239,17 @@ impl Camera {
     /// blocks it), else the [`Lens::Thin`]'s (`first_order_ray`, a pinhole when the aperture is
     /// closed) with weight 1.
     pub fn generate_ray(&self, p_raster: Vec2, lens_u: Vec2) -> Option<(Ray, f32)> {
+        self.generate_ray_at(p_raster, lens_u, 0.0)
+    }
+
+    /// [`Self::generate_ray`] at dispersion offset `k` (`optics::glass::dispersion_offset_f32`
+    /// of the sample's wavelength; 0: the d line); a thin lens has no dispersion.
+    pub fn generate_ray_at(&self, p_raster: Vec2, lens_u: Vec2, k: f32) -> Option<(Ray, f32)> {
         let Lens::Real { real, .. } = &self.lens else {
             return Some((self.first_order_ray(p_raster, lens_u), 1.0));
         };
         let film = real.film_point(p_raster, self.width, self.height);
-        let (camera_ray, weight) = real.camera_ray(film, lens_u)?;
+        let (camera_ray, weight) = real.camera_ray_at(film, lens_u, k)?;
         Some((
             Ray {
                 origin: self.world_from_camera.transform_point3(camera_ray.origin),

@@ -157,6 +157,13 @@ shader_interface! {
         /// (camera::real_lens::PUPIL_BINS).
         LENS_MAX_SURFACES: u32 = 32;
         LENS_PUPIL_BINS: u32 = 64;
+        /// Newton's iteration on an asphere's sag (optics::trace): at most this many steps,
+        /// ending at a step of at most LENS_NEWTON_TOLERANCE (1 + t) mm in f32.
+        LENS_NEWTON_ITERATIONS: u32 = 32;
+        LENS_NEWTON_TOLERANCE: f32 = 1e-6;
+        /// The d line in µm (optics::glass): a ray's dispersion offset is
+        /// 1 / lambda^2 - 1 / GLASS_LAMBDA_D_UM^2.
+        GLASS_LAMBDA_D_UM: f32 = 0.58756;
         /// `TracePush.mode`: trace every sample (rayquery, software); the hybrid's traced mode
         /// (reads the plan); the hybrid's lit pre-pass, before the plan's steps: per pixel the
         /// aperture-centre ray at the pixel centre (its hit rasterized by the visibility pass
@@ -408,6 +415,8 @@ shader_interface! {
             hash_input: u32,
             /// SAMPLER_*
             sampler_kind: u32,
+            /// The wavelength generate_ray traces the real lens at, nm (0: the d line).
+            wavelength_nm: f32,
         }
         /// What probe.comp computed for a query.
         Std430 struct ProbeResult as ProbeResult {
@@ -463,11 +472,23 @@ shader_interface! {
             /// Where the aperture image's cell transmissions start in the aperture table
             /// (after its cumulative tables); the stop reads them.
             aperture_transmission_start: u32,
+            /// 1: each camera sample draws a wavelength (RealLens::dispersive), 0: the d line.
+            dispersive: u32,
+            /// Bit i: surface i is an asphere (its terms in surface_shape.w and
+            /// surface_asphere_low/high).
+            asphere_mask: u32,
+            pad0: u32,
+            pad1: u32,
             /// Per surface (LENS_MAX_SURFACES): vertex z, radius (0: the stop), clear-aperture
-            /// radius, 0.
+            /// radius, an asphere's conic constant.
             surface_shape: [[f32; 4]; 32],
-            /// Per surface: the index before it and after it, 0, 0.
+            /// Per surface: the d-line index before it and after it, and Cauchy's B of the
+            /// media before and after (optics::glass: the index at offset k is n + B k).
             surface_media: [[f32; 4]; 32],
+            /// Per surface: an asphere's a2, a4, a6, a8 ...
+            surface_asphere_low: [[f32; 4]; 32],
+            /// ... and a10, a12, a14, a16.
+            surface_asphere_high: [[f32; 4]; 32],
             /// Per bin (LENS_PUPIL_BINS): the region at its inner film radius (centre xy, half
             /// sides zw), and at its outer.
             pupil_inner: [[f32; 4]; 64],

@@ -1,12 +1,16 @@
 //! What `lensray lens` prints: a lens's first-order data (object at infinity, d-line indices as
 //! given, mm) and real-ray data: chief rays at 5-20 degrees of field and the longitudinal
-//! spherical aberration at four heights of the entrance pupil. Signs: + toward the film.
+//! spherical aberration at four heights of the entrance pupil; then its colour: each element's
+//! glass, the efl and bfl at the F, d and C lines, the axial colour (paraxial rear focus at F
+//! minus at C) and the lateral colour (the F chief ray's height minus the C one's, both on the
+//! d-line paraxial focal plane, each found at its own wavelength). Signs: + toward the film.
 
 use std::fmt::Write;
 
 use glam::DVec3;
 use serde::Serialize;
 
+use super::glass::{LAMBDA_C_NM, LAMBDA_D_NM, LAMBDA_F_NM};
 use super::paraxial::{FirstOrder, Pupil};
 use super::prescription::Prescription;
 use super::trace::wide::{Elements, LensRay};
@@ -31,6 +35,32 @@ pub struct Aberration {
     pub lsa_mm: f64,
 }
 
+/// A glass element: the medium between two surfaces.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ElementGlass {
+    /// Its front and rear surfaces (1-based rows).
+    pub surfaces: [usize; 2],
+    pub n_d: f64,
+    /// `None`: no Abbe number given (non-dispersive).
+    pub v_d: Option<f64>,
+}
+
+/// A figure at the F, d and C lines.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct ByLine {
+    pub F: f64,
+    pub d: f64,
+    pub C: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LateralColour {
+    pub field_deg: f64,
+    /// The F-line chief ray's height minus the C-line one's on the d-line paraxial focal plane.
+    pub lateral_color_mm: f64,
+}
+
 /// The data `lensray lens --json` writes.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LensData {
@@ -47,6 +77,13 @@ pub struct LensData {
     pub chief_ray: Vec<ChiefRay>,
     /// Traced without clipping (the aberration of the surfaces' shapes).
     pub lsa: Vec<Aberration>,
+    pub glasses: Vec<ElementGlass>,
+    pub efl_lines_mm: ByLine,
+    pub bfl_lines_mm: ByLine,
+    /// The paraxial rear focal point at F minus that at C (object at infinity).
+    pub axial_color_mm: f64,
+    /// Fields whose chief ray passes at both lines.
+    pub lateral_color: Vec<LateralColour>,
 }
 
 impl LensData {
@@ -57,12 +94,9 @@ impl LensData {
         let chief_ray = CHIEF_RAY_FIELDS
             .iter()
             .filter_map(|&field| {
-                let ray = chief_ray(lens, &elements, &first, field)?;
-                let out = elements.trace(ray, Toward::Film)?;
-                let t = (focus - out.origin.z) / out.direction.z;
                 Some(ChiefRay {
                     field_deg: field,
-                    image_height_mm: out.origin.y + t * out.direction.y,
+                    image_height_mm: chief_ray_height(lens, field, focus)?,
                 })
             })
             .collect();
@@ -95,7 +129,34 @@ impl LensData {
             f_number: first.f_number,
             chief_ray,
             lsa,
+            glasses: glasses(lens),
+            efl_lines_mm: by_line(|l| FirstOrder::of(&lens.at_wavelength(l)).efl),
+            bfl_lines_mm: by_line(|l| FirstOrder::of(&lens.at_wavelength(l)).bfl),
+            axial_color_mm: 0.0,
+            lateral_color: Vec::new(),
         }
+        .with_colour(lens, focus)
+    }
+
+    /// The axial and lateral colour (see the module's documentation).
+    fn with_colour(mut self, lens: &Prescription, focus: f64) -> Self {
+        self.axial_color_mm = self.bfl_lines_mm.F - self.bfl_lines_mm.C;
+        let (f_lens, c_lens) = (
+            lens.at_wavelength(LAMBDA_F_NM),
+            lens.at_wavelength(LAMBDA_C_NM),
+        );
+        self.lateral_color = CHIEF_RAY_FIELDS
+            .iter()
+            .filter_map(|&field| {
+                let f = chief_ray_height(&f_lens, field, focus)?;
+                let c = chief_ray_height(&c_lens, field, focus)?;
+                Some(LateralColour {
+                    field_deg: field,
+                    lateral_color_mm: f - c,
+                })
+            })
+            .collect();
+        self
     }
 
     /// The same data as a table.
@@ -138,8 +199,63 @@ impl LensData {
         for a in &self.lsa {
             let _ = writeln!(out, "  {:>14.2}  {:>6.4}", a.pupil_fraction, a.lsa_mm);
         }
+        self.colour_text(&mut out);
         out
     }
+
+    fn colour_text(&self, out: &mut String) {
+        let _ = writeln!(out, "glasses (element: surfaces, n_d, V_d)");
+        for g in &self.glasses {
+            let v = g.v_d.map_or("-".into(), |v| format!("{v:.2}"));
+            let [front, rear] = g.surfaces;
+            let _ = writeln!(out, "  {front:>3}-{rear:<3} {:.5}  {v}", g.n_d);
+        }
+        let lines = |b: &ByLine| format!("F {:.4}, d {:.4}, C {:.4}", b.F, b.d, b.C);
+        let _ = writeln!(out, "{:<28} {}", "efl_lines_mm", lines(&self.efl_lines_mm));
+        let _ = writeln!(out, "{:<28} {}", "bfl_lines_mm", lines(&self.bfl_lines_mm));
+        let _ = writeln!(out, "{:<28} {:.5}", "axial_color_mm", self.axial_color_mm);
+        let _ = writeln!(
+            out,
+            "lateral_color (F chief ray minus C, on the d-line focal plane)"
+        );
+        let _ = writeln!(out, "  field_deg  lateral_color_mm");
+        for c in &self.lateral_color {
+            let _ = writeln!(out, "  {:>9.1}  {:>16.5}", c.field_deg, c.lateral_color_mm);
+        }
+    }
+}
+
+/// `figure` at the F, d and C lines.
+fn by_line(figure: impl Fn(f64) -> f64) -> ByLine {
+    ByLine {
+        F: figure(LAMBDA_F_NM),
+        d: figure(LAMBDA_D_NM),
+        C: figure(LAMBDA_C_NM),
+    }
+}
+
+/// Each glass element of `lens`, front to rear.
+fn glasses(lens: &Prescription) -> Vec<ElementGlass> {
+    let s = lens.surfaces();
+    (0..s.len())
+        .filter(|&i| s[i].index != 1.0)
+        .map(|i| ElementGlass {
+            surfaces: [i + 1, i + 2],
+            n_d: s[i].index,
+            v_d: s[i].abbe,
+        })
+        .collect()
+}
+
+/// The height at which the chief ray of `field` degrees (traced through `lens` as its indices
+/// are) meets the plane z = `focus`; `None` if a clear aperture blocks it.
+fn chief_ray_height(lens: &Prescription, field: f64, focus: f64) -> Option<f64> {
+    let first = FirstOrder::of(lens);
+    let elements = Elements::new(lens);
+    let ray = chief_ray(lens, &elements, &first, field)?;
+    let out = elements.trace(ray, Toward::Film)?;
+    let t = (focus - out.origin.z) / out.direction.z;
+    Some(out.origin.y + t * out.direction.y)
 }
 
 /// Where object-space rays start: in front of every surface's cap.

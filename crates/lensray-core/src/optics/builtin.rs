@@ -4,7 +4,7 @@
 use super::prescription::Prescription;
 
 /// (name, prescription text).
-pub const LENSES: [(&str, &str); 4] = [
+pub const LENSES: [(&str, &str); 6] = [
     (
         "biconvex-50",
         include_str!("../../../../assets/lenses/biconvex-50.dat"),
@@ -20,6 +20,14 @@ pub const LENSES: [(&str, &str); 4] = [
     (
         "cooke-triplet-50",
         include_str!("../../../../assets/lenses/cooke-triplet-50.dat"),
+    ),
+    (
+        "achromat-50",
+        include_str!("../../../../assets/lenses/achromat-50.dat"),
+    ),
+    (
+        "aspheric-31",
+        include_str!("../../../../assets/lenses/aspheric-31.dat"),
     ),
 ];
 

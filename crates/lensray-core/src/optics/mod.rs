@@ -1,16 +1,22 @@
 //! Real lenses: where the course stops ("in practice, the ray will refract twice
-//! when passing through the lens"), rays cross each spherical surface of a lens prescription.
+//! when passing through the lens"), rays cross each surface of a lens prescription.
 //!
 //! - [`prescription`]: the table of surfaces (pbrt's lens-file layout), checked.
+//! - [`glass`]: each medium's index at any wavelength (the Cauchy fit through n_d and V_d).
+//! - [`asphere`]: even aspheric surfaces (conic and polynomial sag).
 //! - [`builtin`]: the lenses shipped in `assets/lenses/`.
 //! - [`paraxial`]: ray-transfer (ABCD) matrices, cardinal points, pupils.
-//! - [`trace`]: exact tracing (spheres, Snell's law), in f64 and f32 from one source.
+//! - [`trace`]: exact tracing (spheres, aspheres, Snell's law at a wavelength), in f64 and f32
+//!   from one source.
 //! - [`analysis`]: what `lensray lens` prints: first-order and real-ray data.
 
 pub mod analysis;
+pub mod asphere;
 pub mod builtin;
+pub mod glass;
 pub mod paraxial;
 pub mod prescription;
 pub mod trace;
 
+pub use glass::Glass;
 pub use prescription::{Prescription, PrescriptionError, Surface};

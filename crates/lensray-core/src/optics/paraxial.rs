@@ -3,7 +3,7 @@
 //! cardinal points and the pupils. Lengths in mm, + toward the film; object and image space
 //! are air.
 
-use super::prescription::Prescription;
+use super::prescription::{Prescription, Surface};
 
 /// A 2x2 ray-transfer matrix [[a, b], [c, d]] on (y, n u).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,13 +30,14 @@ impl Abcd {
         }
     }
 
-    /// Refraction at a sphere of radius `radius` (0: flat) from index `from` to `to`: power
-    /// (to - from) / radius.
-    pub fn refraction(radius: f64, from: f64, to: f64) -> Self {
-        let power = if radius == 0.0 {
+    /// Refraction at `surface` from index `from` to `to`: power (to - from) / radius (0 for
+    /// the flat stop), plus an asphere's r^2 term's 2 (to - from) a2 (`Surface::paraxial_curvature`).
+    pub fn refraction(surface: &Surface, from: f64, to: f64) -> Self {
+        let power = if surface.radius == 0.0 {
             0.0
         } else {
-            (to - from) / radius
+            (to - from) / surface.radius
+                + 2.0 * (to - from) * surface.asphere.map_or(0.0, |a| a.coefficients[0])
         };
         Abcd {
             c: -power,
@@ -69,7 +70,7 @@ pub fn surfaces_matrix(lens: &Prescription, from: usize, to: usize) -> Abcd {
         if i > from {
             m = Abcd::transfer(s[i - 1].thickness, s[i - 1].index).after(m);
         }
-        m = Abcd::refraction(s[i].radius, lens.index_before(i), s[i].index).after(m);
+        m = Abcd::refraction(&s[i], lens.index_before(i), s[i].index).after(m);
     }
     m
 }
@@ -156,11 +157,7 @@ pub fn seidel_lsa(lens: &Prescription, height: f64) -> f64 {
     let mut sum = 0.0;
     for (i, surface) in s.iter().enumerate() {
         let (n, n2) = (lens.index_before(i), surface.index);
-        let c = if surface.radius == 0.0 {
-            0.0
-        } else {
-            1.0 / surface.radius
-        };
+        let c = surface.paraxial_curvature();
         let a = n * (h * c + u);
         let u2 = (n * u - h * (n2 - n) * c) / n2;
         sum += -a * a * h * (u2 / n2 - u / n);

@@ -7,11 +7,15 @@
 //! | 2 | thickness to the next surface along the axis, mm (the last row's is ignored: the film distance comes from focusing) |
 //! | 3 | refractive index (d line) of the medium after the surface, toward the film; 0 or 1: air |
 //! | 4 | clear-aperture diameter, mm (the stop's: its full opening) |
-//! | 5 | optional: the Abbe number of that medium, kept for dispersion |
+//! | 5 | optional: the Abbe number V_d of that medium (`glass.rs`: its index at other wavelengths) |
+//! | then | optional keyword fields `k=`, `a2=` ... `a16=`: an even asphere (`asphere.rs`) |
 //!
 //! `#` starts a comment; blank lines are skipped. A row's problem is reported with its line.
 
 use std::path::Path;
+
+use super::asphere::Asphere;
+use super::glass::Glass;
 
 /// One surface of a prescription.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,11 +30,30 @@ pub struct Surface {
     pub diameter: f64,
     /// Abbe number of the medium after the surface, when given.
     pub abbe: Option<f64>,
+    /// The surface's aspheric terms; `None`: a sphere (or the flat stop).
+    pub asphere: Option<Asphere>,
 }
 
 impl Surface {
     pub fn is_stop(&self) -> bool {
         self.radius == 0.0
+    }
+
+    /// The medium after the surface.
+    pub fn glass(&self) -> Glass {
+        Glass {
+            n_d: self.index,
+            abbe: self.abbe,
+        }
+    }
+
+    /// The curvature the paraxial (first-order) data use: the vertex's, plus twice an
+    /// asphere's r^2 term (the sag's second-order part is (c / 2 + a2) r^2).
+    pub fn paraxial_curvature(&self) -> f64 {
+        if self.radius == 0.0 {
+            return 0.0;
+        }
+        1.0 / self.radius + 2.0 * self.asphere.map_or(0.0, |a| a.coefficients[0])
     }
 }
 
@@ -72,10 +95,55 @@ pub enum PrescriptionError {
         radius: f64,
         half: f64,
     },
+    #[error("surface {surface}: the Abbe number must be positive, got {abbe}")]
+    Abbe { surface: usize, abbe: f64 },
+    #[error("surface {0}: an asphere needs a base curvature (a non-zero radius; radius 0 marks the stop)")]
+    AsphereWithoutCurvature(usize),
+    #[error("surface {surface}: the asphere's sag is undefined beyond {limit} mm from the axis, inside its clear-aperture radius {half} mm (1 - (1 + k) c^2 r^2 < 0)")]
+    SagUndefined {
+        surface: usize,
+        limit: f64,
+        half: f64,
+    },
+    #[error("surface {surface}: Newton's iteration on the asphere's sag does not converge for the axial ray at height {height:.4} mm")]
+    NewtonFails { surface: usize, height: f64 },
     #[error("the stop (surface {0}) must be in air (index 1 on both sides)")]
     StopInGlass(usize),
     #[error("the last surface must leave the lens into air (index 1), got {0}")]
     EndsInGlass(f64),
+}
+
+/// A surface's own checks: a positive Abbe number; a sphere larger than its clear aperture;
+/// an asphere with a base curvature and a sag defined across its clear aperture.
+fn check_shape(surface: usize, s: &Surface) -> Result<(), PrescriptionError> {
+    if let Some(abbe) = s.abbe {
+        if abbe.is_nan() || abbe <= 0.0 {
+            return Err(PrescriptionError::Abbe { surface, abbe });
+        }
+    }
+    let half = 0.5 * s.diameter;
+    match s.asphere {
+        Some(_) if s.is_stop() => Err(PrescriptionError::AsphereWithoutCurvature(surface)),
+        Some(asphere) => {
+            let limit = asphere.defined_radius(1.0 / s.radius);
+            if limit < half {
+                return Err(PrescriptionError::SagUndefined {
+                    surface,
+                    limit,
+                    half,
+                });
+            }
+            Ok(())
+        }
+        None if !s.is_stop() && s.radius.abs() < half => {
+            Err(PrescriptionError::RadiusBelowAperture {
+                surface,
+                radius: s.radius,
+                half,
+            })
+        }
+        None => Ok(()),
+    }
 }
 
 impl Prescription {
@@ -92,11 +160,25 @@ impl Prescription {
             if description.is_none() && surfaces.is_empty() && content.trim().is_empty() {
                 description = comment.filter(|c| !c.is_empty()).map(str::to_owned);
             }
-            let fields: Vec<&str> = content.split_whitespace().collect();
-            if fields.is_empty() {
+            let all: Vec<&str> = content.split_whitespace().collect();
+            if all.is_empty() {
                 continue;
             }
             let row = |problem: String| PrescriptionError::Row { line, problem };
+            let numbers_end = all
+                .iter()
+                .position(|f| f.contains('='))
+                .unwrap_or(all.len());
+            let (fields, keywords) = all.split_at(numbers_end);
+            let asphere = if keywords.is_empty() {
+                None
+            } else {
+                let mut asphere = Asphere::default();
+                for field in keywords {
+                    asphere.read_field(field).map_err(row)?;
+                }
+                Some(asphere)
+            };
             if !(4..=5).contains(&fields.len()) {
                 return Err(row(format!(
                     "expected 4 numbers (radius, thickness, index, diameter) and an optional Abbe number, got {}",
@@ -123,6 +205,7 @@ impl Prescription {
                 index,
                 diameter: numbers[3],
                 abbe: (fields.len() == 5).then_some(numbers[4]),
+                asphere,
             });
         }
         Self::new(name, description, surfaces)
@@ -178,13 +261,7 @@ impl Prescription {
                     index: s.index,
                 });
             }
-            if !s.is_stop() && s.radius.abs() < 0.5 * s.diameter {
-                return Err(PrescriptionError::RadiusBelowAperture {
-                    surface,
-                    radius: s.radius,
-                    half: 0.5 * s.diameter,
-                });
-            }
+            check_shape(surface, s)?;
         }
         let before = if stop == 0 {
             1.0
@@ -197,12 +274,46 @@ impl Prescription {
         if surfaces[last].index != 1.0 {
             return Err(PrescriptionError::EndsInGlass(surfaces[last].index));
         }
-        Ok(Prescription {
+        let lens = Prescription {
             name: name.into(),
             description,
             surfaces,
             stop,
-        })
+        };
+        lens.check_newton_on_axis()?;
+        Ok(lens)
+    }
+
+    /// Every asphere's Newton iteration converges for the rays parallel to the axis that
+    /// reach it (heights across the first surface's clear aperture).
+    fn check_newton_on_axis(&self) -> Result<(), PrescriptionError> {
+        use super::trace::{wide, Toward};
+        if self.surfaces.iter().all(|s| s.asphere.is_none()) {
+            return Ok(());
+        }
+        let elements = wide::Elements::new(self);
+        const HEIGHTS: u32 = 64;
+        let half = 0.5 * self.surfaces[0].diameter;
+        for j in 0..=HEIGHTS {
+            let height = half * f64::from(j) / f64::from(HEIGHTS);
+            let mut ray = wide::LensRay {
+                origin: glam::DVec3::new(0.0, height, -1.0 - half),
+                direction: glam::DVec3::Z,
+            };
+            for (i, interface) in elements.interfaces.iter().enumerate() {
+                if self.surfaces[i].asphere.is_some() && interface.newton(ray).is_none() {
+                    return Err(PrescriptionError::NewtonFails {
+                        surface: i + 1,
+                        height,
+                    });
+                }
+                match interface.pass(ray, Toward::Film) {
+                    Some(next) => ray = next,
+                    None => break,
+                }
+            }
+        }
+        Ok(())
     }
 
     pub fn surfaces(&self) -> &[Surface] {
@@ -247,6 +358,54 @@ impl Prescription {
         let mut lens = self.clone();
         lens.surfaces[lens.stop].diameter = diameter;
         lens
+    }
+
+    /// The same lens with every medium's index at `lambda_nm` (`glass.rs`), for first-order
+    /// data at that wavelength.
+    pub fn at_wavelength(&self, lambda_nm: f64) -> Self {
+        let mut lens = self.clone();
+        for s in &mut lens.surfaces {
+            s.index = s.glass().index(lambda_nm);
+        }
+        lens
+    }
+
+    /// The glass of element surface `i`'s medium before it (air before the first).
+    pub fn glass_before(&self, i: usize) -> Glass {
+        if i == 0 {
+            Glass::AIR
+        } else {
+            self.surfaces[i - 1].glass()
+        }
+    }
+
+    /// Whether any glass's index changes with the wavelength.
+    pub fn is_dispersive(&self) -> bool {
+        self.surfaces.iter().any(|s| s.glass().is_dispersive())
+    }
+
+    /// One line naming the glass rows without an Abbe number (they are non-dispersive), if
+    /// there are any.
+    pub fn dispersion_notice(&self) -> Option<String> {
+        let rows = self.rows_without_abbe();
+        if rows.is_empty() {
+            return None;
+        }
+        let list: Vec<String> = rows.iter().map(usize::to_string).collect();
+        Some(format!(
+            "lens {}: the glass after surface{} {} has no Abbe number (5th column): its index is n_d at every wavelength",
+            self.name,
+            if rows.len() == 1 { "" } else { "s" },
+            list.join(", ")
+        ))
+    }
+
+    /// The rows (1-based) of glass without an Abbe number: non-dispersive.
+    pub fn rows_without_abbe(&self) -> Vec<usize> {
+        (0..self.surfaces.len())
+            .filter(|&i| self.surfaces[i].index != 1.0 && self.surfaces[i].abbe.is_none())
+            .map(|i| i + 1)
+            .collect()
     }
 }
 

@@ -1,7 +1,17 @@
-//! Exact ray tracing through a prescription's spherical surfaces: at each surface, the
-//! intersection with its sphere (the root on the cap around the vertex), the clear aperture
-//! (or the stop's opening), then Snell's law in vector form. A ray that misses a surface,
-//! leaves a clear aperture or is totally internally reflected is blocked (`None`), never NaN.
+//! Exact ray tracing through a prescription's surfaces: at each surface, the intersection
+//! with its sphere (the root on the cap around the vertex) or its asphere (Newton's iteration
+//! on the sag, started from the vertex sphere), the clear aperture (or the stop's opening),
+//! then Snell's law in vector form with each medium's index at the ray's wavelength. A ray
+//! that misses a surface, leaves a clear aperture, is totally internally reflected or whose
+//! Newton iteration does not converge is blocked (`None`), never NaN.
+//!
+//! The wavelength enters as the dispersion offset k = lambda^-2 - lambda_d^-2
+//! (`glass::dispersion_offset`): a medium's index is n_d + B k, so k = 0 traces the d line
+//! exactly as a lens without dispersion.
+//!
+//! Newton's iteration on an asphere stops when a step is at most `NEWTON_TOLERANCE` (1e-12 in
+//! f64, 1e-6 in f32) times (1 + t) mm, t the distance along the ray, after at most
+//! `NEWTON_ITERATIONS` steps (else the ray is blocked).
 //!
 //! Lens space: z along the axis from the first vertex, + toward the film; x, y across it. The
 //! same code is built twice by one macro: in f64 (`wide`, the analysis of `lensray lens`) and
@@ -18,10 +28,16 @@ pub enum Toward {
     Scene,
 }
 
+/// Most Newton steps on an asphere's sag (shared with the GLSL mirror).
+pub const NEWTON_ITERATIONS: u32 = crate::interface::LENS_NEWTON_ITERATIONS;
+
 macro_rules! tracer {
-    ($real:ty, $vec:ty) => {
-        use super::Toward;
+    ($real:ty, $vec:ty, $tolerance:expr) => {
+        use super::{Toward, NEWTON_ITERATIONS};
         use crate::optics::prescription::Prescription;
+
+        /// Newton's iteration on an asphere's sag stops at a step this small, times (1 + t).
+        pub const NEWTON_TOLERANCE: $real = $tolerance;
 
         /// A ray in lens space (mm); `direction` is a unit vector.
         #[derive(Clone, Copy, Debug, PartialEq)]
@@ -39,9 +55,17 @@ macro_rules! tracer {
             pub radius: $real,
             /// Half the clear aperture (the stop's opening).
             pub aperture_radius: $real,
-            /// Indices before (scene side) and after (film side).
+            /// Indices before (scene side) and after (film side), at the d line.
             pub index_before: $real,
             pub index_after: $real,
+            /// Cauchy's B of the media before and after (µm^2): the index at dispersion
+            /// offset k is n + B k (`glass.rs`).
+            pub dispersion_before: $real,
+            pub dispersion_after: $real,
+            /// Whether the surface is an asphere, its conic constant and a2..a16.
+            pub asphere: bool,
+            pub conic: $real,
+            pub coefficients: [$real; 8],
         }
 
         /// The surfaces of a prescription, ready to trace.
@@ -57,38 +81,57 @@ macro_rules! tracer {
                     .surfaces()
                     .iter()
                     .enumerate()
-                    .map(|(i, s)| Interface {
-                        z: vertices[i] as $real,
-                        radius: s.radius as $real,
-                        aperture_radius: (0.5 * s.diameter) as $real,
-                        index_before: lens.index_before(i) as $real,
-                        index_after: s.index as $real,
+                    .map(|(i, s)| {
+                        let asphere = s.asphere.unwrap_or_default();
+                        Interface {
+                            z: vertices[i] as $real,
+                            radius: s.radius as $real,
+                            aperture_radius: (0.5 * s.diameter) as $real,
+                            index_before: lens.index_before(i) as $real,
+                            index_after: s.index as $real,
+                            dispersion_before: lens.glass_before(i).cauchy_b() as $real,
+                            dispersion_after: s.glass().cauchy_b() as $real,
+                            asphere: s.asphere.is_some(),
+                            conic: asphere.conic as $real,
+                            coefficients: asphere.coefficients.map(|a| a as $real),
+                        }
                     })
                     .collect();
                 Elements { interfaces }
             }
 
-            /// `ray` through every surface in the order `toward` meets them; `None` when it is
-            /// blocked.
+            /// `ray` through every surface in the order `toward` meets them, at the d line;
+            /// `None` when it is blocked.
             pub fn trace(&self, ray: LensRay, toward: Toward) -> Option<LensRay> {
+                self.trace_at(ray, toward, 0.0)
+            }
+
+            /// [`Self::trace`] at dispersion offset `k` (`glass::dispersion_offset`).
+            pub fn trace_at(&self, ray: LensRay, toward: Toward, k: $real) -> Option<LensRay> {
                 let mut ray = ray;
                 let n = self.interfaces.len();
-                for k in 0..n {
+                for j in 0..n {
                     let i = match toward {
-                        Toward::Film => k,
-                        Toward::Scene => n - 1 - k,
+                        Toward::Film => j,
+                        Toward::Scene => n - 1 - j,
                     };
-                    ray = self.interfaces[i].pass(ray, toward)?;
+                    ray = self.interfaces[i].pass_at(ray, toward, k)?;
                 }
                 Some(ray)
             }
         }
 
         impl Interface {
-            /// The ray after this surface, or `None` if it misses it, leaves the opening or
-            /// is totally internally reflected.
+            /// The ray after this surface at the d line, or `None` if it misses it, leaves the
+            /// opening or is totally internally reflected.
             #[inline]
             pub fn pass(&self, ray: LensRay, toward: Toward) -> Option<LensRay> {
+                self.pass_at(ray, toward, 0.0)
+            }
+
+            /// [`Self::pass`] at dispersion offset `k`.
+            #[inline]
+            pub fn pass_at(&self, ray: LensRay, toward: Toward, k: $real) -> Option<LensRay> {
                 let (t, normal) = self.intersect(ray)?;
                 let p = ray.origin + t * ray.direction;
                 if p.x * p.x + p.y * p.y > self.aperture_radius * self.aperture_radius {
@@ -100,9 +143,11 @@ macro_rules! tracer {
                     // intersection on that surface).
                     return Some(ray);
                 }
+                let before = self.index_before + self.dispersion_before * k;
+                let after = self.index_after + self.dispersion_after * k;
                 let (from, to) = match toward {
-                    Toward::Film => (self.index_before, self.index_after),
-                    Toward::Scene => (self.index_after, self.index_before),
+                    Toward::Film => (before, after),
+                    Toward::Scene => (after, before),
                 };
                 let direction = refract(ray.direction, normal, from / to)?;
                 Some(LensRay {
@@ -112,8 +157,7 @@ macro_rules! tracer {
             }
 
             /// The distance along `ray` to this surface and the unit normal there (pointing
-            /// against the ray). For a sphere, the root on the cap around the vertex: the one
-            /// whose point lies on the vertex's side of the centre.
+            /// against the ray).
             #[inline]
             pub fn intersect(&self, ray: LensRay) -> Option<($real, $vec)> {
                 if self.radius == 0.0 {
@@ -124,6 +168,16 @@ macro_rules! tracer {
                     let normal = <$vec>::new(0.0, 0.0, -ray.direction.z.signum());
                     return Some((t, normal));
                 }
+                if self.asphere {
+                    return self.newton(ray);
+                }
+                self.intersect_sphere(ray)
+            }
+
+            /// The vertex sphere's root on the cap around the vertex: the one whose point
+            /// lies on the vertex's side of the centre.
+            #[inline]
+            pub fn intersect_sphere(&self, ray: LensRay) -> Option<($real, $vec)> {
                 let centre = <$vec>::new(0.0, 0.0, self.z + self.radius);
                 let o = ray.origin - centre;
                 let b = o.dot(ray.direction);
@@ -152,6 +206,64 @@ macro_rules! tracer {
                 }
                 Some((t, normal))
             }
+
+            /// An asphere's sag (mm, + toward the film) and its derivative with respect to
+            /// r^2, at squared distance `r2` from the axis; `None` where it is undefined.
+            #[inline]
+            pub fn sag(&self, r2: $real) -> Option<($real, $real)> {
+                let c = 1.0 / self.radius;
+                let q2 = 1.0 - (1.0 + self.conic) * c * c * r2;
+                if !(q2 >= 0.0) {
+                    return None;
+                }
+                let q = q2.sqrt();
+                // Horner in r^2: poly = a2 + a4 r^2 + ..., and its derivative.
+                let (mut poly, mut slope) = (0.0, 0.0);
+                for (j, a) in self.coefficients.iter().enumerate().rev() {
+                    slope = slope * r2 + (j + 1) as $real * a;
+                    poly = poly * r2 + a;
+                }
+                let sag = c * r2 / (1.0 + q) + poly * r2;
+                Some((sag, c / (2.0 * q) + slope))
+            }
+
+            /// Where `ray` meets the asphere: Newton's iteration on f(t) = z(t) - z_vertex -
+            /// sag(r(t)^2), from the vertex sphere's root (or the vertex plane where the
+            /// sphere is missed); the normal from the sag's gradient. `None` if the sag is
+            /// undefined on the way, or the iteration does not converge in front of the ray.
+            #[inline]
+            pub fn newton(&self, ray: LensRay) -> Option<($real, $vec)> {
+                let (o, d) = (ray.origin, ray.direction);
+                let mut t = match self.intersect_sphere(ray) {
+                    Some((t, _)) => t,
+                    None => (self.z - o.z) / d.z,
+                };
+                for _ in 0..NEWTON_ITERATIONS {
+                    let (x, y, z) = (o.x + t * d.x, o.y + t * d.y, o.z + t * d.z);
+                    let (sag, slope) = self.sag(x * x + y * y)?;
+                    let f = (z - self.z) - sag;
+                    let df = d.z - 2.0 * slope * (x * d.x + y * d.y);
+                    let step = f / df;
+                    if !step.is_finite() {
+                        return None;
+                    }
+                    t = t - step;
+                    if step.abs() <= NEWTON_TOLERANCE * (1.0 + t.abs()) {
+                        if !(t > 0.0) {
+                            return None;
+                        }
+                        let (x, y) = (o.x + t * d.x, o.y + t * d.y);
+                        let (_, slope) = self.sag(x * x + y * y)?;
+                        let gradient = <$vec>::new(-2.0 * slope * x, -2.0 * slope * y, 1.0);
+                        let mut normal = gradient.normalize();
+                        if normal.dot(d) > 0.0 {
+                            normal = -normal;
+                        }
+                        return Some((t, normal));
+                    }
+                }
+                None
+            }
         }
 
         /// Snell's law in vector form: unit `d` into a surface of unit normal `n` (against
@@ -171,12 +283,12 @@ macro_rules! tracer {
 
 /// f64: the analysis (`lensray lens`, the tests against the optics).
 pub mod wide {
-    tracer!(f64, glam::DVec3);
+    tracer!(f64, glam::DVec3, 1e-12);
 }
 
 /// f32: what renders trace (and the GLSL mirrors).
 pub mod narrow {
-    tracer!(f32, glam::Vec3);
+    tracer!(f32, glam::Vec3, crate::interface::LENS_NEWTON_TOLERANCE);
 }
 
 /// The f64 elements of `lens`.
@@ -243,6 +355,11 @@ mod tests {
             aperture_radius: 100.0,
             index_before: 1.6,
             index_after: 1.0,
+            dispersion_before: 0.0,
+            dispersion_after: 0.0,
+            asphere: false,
+            conic: 0.0,
+            coefficients: [0.0; 8],
         };
         let d = DVec3::new(0.0, 60f64.to_radians().sin(), 60f64.to_radians().cos());
         assert!(refract(d, DVec3::new(0.0, 0.0, -1.0), 1.6).is_none());

@@ -9,7 +9,9 @@ use glam::{Mat4, Vec3};
 
 use super::accel::PACKET_SIZE;
 use crate::camera::{Camera, Projection};
-use crate::sampler::{pixel_camera_samples, PixelSampler};
+use crate::film::spectral::sample_wavelength;
+use crate::optics::glass::dispersion_offset_f32;
+use crate::sampler::{pixel_camera_samples, pixel_dimension, PixelSampler, DIM_WAVELENGTH};
 
 type PacketLanes = [f32; PACKET_SIZE];
 
@@ -139,30 +141,60 @@ pub fn primary_rays(
     }
 }
 
+/// A packet of real-lens camera rays, packed: the first slots hold the rays the lens lets
+/// through, in world space, with their weights, sample indices and wavelengths.
+pub(super) struct LensPacket {
+    pub(super) origins: [Vec3; PACKET_SIZE],
+    pub(super) directions: [Vec3; PACKET_SIZE],
+    pub(super) weights: [f32; PACKET_SIZE],
+    pub(super) indices: [u32; PACKET_SIZE],
+    /// nm; 0 when the lens carries no wavelength (`RealLens::dispersive`).
+    pub(super) wavelengths: [f32; PACKET_SIZE],
+}
+
+impl LensPacket {
+    pub(super) fn new() -> Self {
+        Self {
+            origins: [Vec3::ZERO; PACKET_SIZE],
+            directions: [Vec3::ZERO; PACKET_SIZE],
+            weights: [0.0; PACKET_SIZE],
+            indices: [0; PACKET_SIZE],
+            wavelengths: [0.0; PACKET_SIZE],
+        }
+    }
+}
+
 /// The rays of samples `first..first + n` of the sampler's pixel through the camera's real
-/// lens, packed: the first `m` slots (m returned) hold the rays the lens lets through, in
-/// world space, with their weights (`Camera::generate_ray`) and sample indices.
+/// lens (`Camera::generate_ray_at`, each at the wavelength `sample_wavelength` draws from
+/// `DIM_WAVELENGTH` when the lens is dispersive); returns how many passed.
 pub(super) fn real_lens_rays(
     camera: &Camera,
     sampler: &PixelSampler,
     (first, n): (u32, usize),
-    origins: &mut [Vec3; PACKET_SIZE],
-    directions: &mut [Vec3; PACKET_SIZE],
-    weights: &mut [f32; PACKET_SIZE],
-    sample_indices: &mut [u32; PACKET_SIZE],
+    out: &mut LensPacket,
 ) -> usize {
     let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
     let Some(real) = camera.lens.real() else {
         return 0;
     };
+    let mut wavelengths = [0.0f32; PACKET_SIZE];
+    let mut offsets = [0.0f32; PACKET_SIZE];
+    if real.dispersive() {
+        for l in 0..n {
+            let u = pixel_dimension(sampler, first + l as u32, DIM_WAVELENGTH);
+            wavelengths[l] = sample_wavelength(u);
+            offsets[l] = dispersion_offset_f32(wavelengths[l]);
+        }
+    }
     // RealLens::camera_rays traces the packet's rays together (what
-    // Camera::generate_ray gives one by one, bit for bit).
-    let mut samples = [(Vec3::ZERO, glam::Vec2::ZERO); PACKET_SIZE];
+    // Camera::generate_ray_at gives one by one, bit for bit).
+    let mut samples = [(Vec3::ZERO, glam::Vec2::ZERO, 0.0); PACKET_SIZE];
     for l in 0..n {
         let film = glam::Vec2::new(film_x[l], film_y[l]);
         samples[l] = (
             real.film_point(film, camera.width, camera.height),
             glam::Vec2::new(lens_x[l], lens_y[l]),
+            offsets[l],
         );
     }
     let mut traced = [None; PACKET_SIZE];
@@ -172,10 +204,11 @@ pub(super) fn real_lens_rays(
         let Some((ray, weight)) = traced else {
             continue;
         };
-        origins[passed] = camera.world_from_camera.transform_point3(ray.origin);
-        directions[passed] = camera.world_from_camera.transform_vector3(ray.direction);
-        weights[passed] = weight;
-        sample_indices[passed] = first + l as u32;
+        out.origins[passed] = camera.world_from_camera.transform_point3(ray.origin);
+        out.directions[passed] = camera.world_from_camera.transform_vector3(ray.direction);
+        out.weights[passed] = weight;
+        out.indices[passed] = first + l as u32;
+        out.wavelengths[passed] = wavelengths[l];
         passed += 1;
     }
     passed

@@ -10,9 +10,10 @@ use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
 use super::lighting::{LightDraw, LitLane};
-use super::rays::{primary_rays, real_lens_rays};
+use super::rays::{primary_rays, real_lens_rays, LensPacket};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Footprint, Ray};
+use crate::film::spectral::rgb_weights;
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_dimension, pixel_sampler, shared_pixel_sampler, PixelSampler};
 use crate::sampler::{DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y};
@@ -242,10 +243,7 @@ impl Renderer {
         let mut sum = Vec3::new(r, g, b);
         let mut rays = 0;
         // The samples of a pixel are coherent: their primary rays are traced as packets.
-        let mut origins = [Vec3::ZERO; PACKET_SIZE];
-        let mut directions = [Vec3::ZERO; PACKET_SIZE];
-        let mut weights = [1.0; PACKET_SIZE];
-        let mut indices = [0; PACKET_SIZE];
+        let mut packet = LensPacket::new();
         let mut keys = [0; PACKET_SIZE];
         let mut hits = [None; PACKET_SIZE];
         let sampler = if settings.shared_samples {
@@ -258,14 +256,21 @@ impl Renderer {
         for first in samples.clone().step_by(PACKET_SIZE) {
             let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
             let traced = if camera.lens.real().is_some() {
-                let packet = (first, n);
-                let (o, d, w) = (&mut origins, &mut directions, &mut weights);
-                real_lens_rays(camera, &sampler, packet, o, d, w, &mut indices)
+                real_lens_rays(camera, &sampler, (first, n), &mut packet)
             } else {
-                primary_rays(camera, &sampler, first, &mut origins, &mut directions);
-                indices = std::array::from_fn(|l| first + l as u32);
+                let (o, d) = (&mut packet.origins, &mut packet.directions);
+                primary_rays(camera, &sampler, first, o, d);
+                packet.indices = std::array::from_fn(|l| first + l as u32);
+                packet.weights = [1.0; PACKET_SIZE];
                 n
             };
+            let LensPacket {
+                origins,
+                directions,
+                weights,
+                indices,
+                wavelengths,
+            } = &packet;
             for l in 0..traced {
                 keys[l] = ray_key(settings.seed, pixel_index, indices[l], BLEND_CAMERA_SALT);
             }
@@ -280,7 +285,14 @@ impl Renderer {
             };
             let (values, count) = self.shade_packet(&lanes, &sampler, settings, &footprint);
             for l in 0..traced {
-                sum += weights[l] * values[l];
+                // A wavelength's sample: its radiance at that wavelength, as linear sRGB
+                // (film::spectral).
+                let value = if wavelengths[l] > 0.0 {
+                    rgb_weights(wavelengths[l]) * values[l]
+                } else {
+                    values[l]
+                };
+                sum += weights[l] * value;
             }
             rays += count;
         }

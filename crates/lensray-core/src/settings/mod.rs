@@ -21,5 +21,5 @@ pub use shot::{
 };
 pub use user::{
     ApertureSettings, CameraSettings, ImageSettings, LensSettings, ProjectionKind, RenderStyle,
-    Settings,
+    Settings, Switch,
 };

@@ -14,7 +14,7 @@ use crate::camera::{
 use crate::optics::paraxial::FirstOrder;
 use crate::optics::Prescription;
 use crate::scene::{Bounds, Scene};
-use crate::settings::{ApertureSettings, CameraSettings, ProjectionKind, Settings};
+use crate::settings::{ApertureSettings, CameraSettings, ProjectionKind, Settings, Switch};
 use crate::settings::{RenderSettings, Shading};
 
 pub const DEFAULT_WIDTH: u32 = 640;
@@ -271,6 +271,7 @@ fn lens(
             f_number: c.f_number,
             focus_distance: c.focus_distance.unwrap_or(axis_distance),
             sensor_height_mm: c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM),
+            dispersion: c.lens.dispersion != Some(Switch::Off),
         }),
         (Some(_), Some(_)) => {
             return Err(SettingsError::Conflict(

@@ -48,6 +48,17 @@ pub struct LensSettings {
     /// A built-in lens's name (`lensray lens --help` lists them) or a prescription file (a
     /// scene file's relative path starts at its folder).
     pub prescription: Option<String>,
+    /// Whether camera rays carry a wavelength through the lens's dispersive glass (default
+    /// on; a lens without Abbe numbers has no dispersion either way).
+    pub dispersion: Option<Switch>,
+}
+
+/// On or off (`--dispersion off`, `dispersion = "off"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Switch {
+    On,
+    Off,
 }
 
 /// The aperture's shape (`camera::aperture` states the conventions).
@@ -142,7 +153,7 @@ impl Settings {
         let (a, base) = (&c.aperture, &mut self.camera.aperture);
         overlay!(a, base, blades, rotation, roundness, aspect, image);
         let (lens, base) = (&c.lens, &mut self.camera.lens);
-        overlay!(lens, base, prescription);
+        overlay!(lens, base, prescription, dispersion);
         overlay!(i, self.image, width, height, spp, seed, sampler);
         overlay!(r, self.render, shading, background, environment);
         self.light = std::mem::take(&mut self.light).overridden_by(l);

@@ -15,6 +15,14 @@ struct LensRay {
     vec3 direction;
 };
 
+// optics/glass.rs: dispersion_offset_f32. The offset k of wavelength lambda_nm: a medium's
+// index there is n_d + B k.
+float dispersion_offset(float lambda_nm) {
+    precise float l = lambda_nm * 1e-3;
+    precise float k = 1.0 / (l * l) - 1.0 / (GLASS_LAMBDA_D_UM * GLASS_LAMBDA_D_UM);
+    return k;
+}
+
 // trace.rs: refract. Snell's law in vector form; false at total internal reflection.
 bool lens_refract(vec3 d, vec3 n, float eta, out vec3 refracted) {
     precise float cos_i = -dot(n, d);
@@ -29,22 +37,14 @@ bool lens_refract(vec3 d, vec3 n, float eta, out vec3 refracted) {
     return true;
 }
 
-// trace.rs: Interface::intersect. The root on the cap around the vertex; false if none.
-bool lens_intersect(uint i, LensRay ray, out float t_hit, out vec3 normal) {
+// trace.rs: Interface::intersect_sphere. The vertex sphere's root on the cap around the
+// vertex; false if none.
+bool lens_intersect_sphere(uint i, LensRay ray, out float t_hit, out vec3 normal) {
     vec4 shape = lens.surface_shape[i];
     float z = shape.x;
     float radius = shape.y;
     t_hit = 0.0;
     normal = vec3(0.0);
-    if (radius == 0.0) {
-        precise float t = (z - ray.origin.z) / ray.direction.z;
-        if (!(t > 0.0 && !isinf(t))) {
-            return false;
-        }
-        t_hit = t;
-        normal = vec3(0.0, 0.0, -sign(ray.direction.z));
-        return true;
-    }
     precise vec3 o = ray.origin - vec3(0.0, 0.0, z + radius);
     precise float b = dot(o, ray.direction);
     precise float c = dot(o, o) - radius * radius;
@@ -72,9 +72,111 @@ bool lens_intersect(uint i, LensRay ray, out float t_hit, out vec3 normal) {
     return true;
 }
 
-// trace.rs: Interface::pass, toward the scene. False if the ray misses the surface, leaves
-// its clear aperture or is totally internally reflected.
-bool lens_pass_toward_scene(uint i, inout LensRay ray) {
+// trace.rs: Interface::sag. An asphere's sag and its derivative with respect to r^2; false
+// where it is undefined.
+bool lens_sag(uint i, float r2, out float sag, out float slope) {
+    vec4 shape = lens.surface_shape[i];
+    vec4 low = lens.surface_asphere_low[i];
+    vec4 high = lens.surface_asphere_high[i];
+    float a[8] = float[8](low.x, low.y, low.z, low.w, high.x, high.y, high.z, high.w);
+    sag = 0.0;
+    slope = 0.0;
+    precise float c = 1.0 / shape.y;
+    precise float q2 = 1.0 - (1.0 + shape.w) * c * c * r2;
+    if (!(q2 >= 0.0)) {
+        return false;
+    }
+    precise float q = sqrt(q2);
+    precise float poly = 0.0;
+    precise float d = 0.0;
+    for (int j = 7; j >= 0; --j) {
+        d = d * r2 + float(j + 1) * a[j];
+        poly = poly * r2 + a[j];
+    }
+    precise float s = c * r2 / (1.0 + q) + poly * r2;
+    precise float ds = c / (2.0 * q) + d;
+    sag = s;
+    slope = ds;
+    return true;
+}
+
+// trace.rs: Interface::newton. Newton's iteration on the asphere's sag from the vertex
+// sphere's root (or the vertex plane); the normal from the sag's gradient. False if the sag
+// is undefined on the way or the iteration does not converge in front of the ray.
+bool lens_newton(uint i, LensRay ray, out float t_hit, out vec3 normal) {
+    float z_vertex = lens.surface_shape[i].x;
+    vec3 o = ray.origin;
+    vec3 d = ray.direction;
+    float t_sphere;
+    vec3 unused;
+    precise float t = (z_vertex - o.z) / d.z;
+    if (lens_intersect_sphere(i, ray, t_sphere, unused)) {
+        t = t_sphere;
+    }
+    t_hit = 0.0;
+    normal = vec3(0.0);
+    for (uint n = 0u; n < LENS_NEWTON_ITERATIONS; ++n) {
+        precise float x = o.x + t * d.x;
+        precise float y = o.y + t * d.y;
+        precise float z = o.z + t * d.z;
+        float sag;
+        float slope;
+        if (!lens_sag(i, x * x + y * y, sag, slope)) {
+            return false;
+        }
+        precise float f = (z - z_vertex) - sag;
+        precise float df = d.z - 2.0 * slope * (x * d.x + y * d.y);
+        precise float step = f / df;
+        if (isnan(step) || isinf(step)) {
+            return false;
+        }
+        t = t - step;
+        if (abs(step) <= LENS_NEWTON_TOLERANCE * (1.0 + abs(t))) {
+            if (!(t > 0.0)) {
+                return false;
+            }
+            precise float hx = o.x + t * d.x;
+            precise float hy = o.y + t * d.y;
+            if (!lens_sag(i, hx * hx + hy * hy, sag, slope)) {
+                return false;
+            }
+            precise vec3 g = vec3(-2.0 * slope * hx, -2.0 * slope * hy, 1.0);
+            precise vec3 n_hat = g * (1.0 / sqrt(g.x * g.x + g.y * g.y + g.z * g.z));
+            if (dot(n_hat, d) > 0.0) {
+                n_hat = -n_hat;
+            }
+            t_hit = t;
+            normal = n_hat;
+            return true;
+        }
+    }
+    return false;
+}
+
+// trace.rs: Interface::intersect. The flat stop's plane, an asphere's Newton root or the
+// sphere's root on the cap; false if none.
+bool lens_intersect(uint i, LensRay ray, out float t_hit, out vec3 normal) {
+    vec4 shape = lens.surface_shape[i];
+    t_hit = 0.0;
+    normal = vec3(0.0);
+    if (shape.y == 0.0) {
+        precise float t = (shape.x - ray.origin.z) / ray.direction.z;
+        if (!(t > 0.0 && !isinf(t))) {
+            return false;
+        }
+        t_hit = t;
+        normal = vec3(0.0, 0.0, -sign(ray.direction.z));
+        return true;
+    }
+    if ((lens.asphere_mask & (1u << i)) != 0u) {
+        return lens_newton(i, ray, t_hit, normal);
+    }
+    return lens_intersect_sphere(i, ray, t_hit, normal);
+}
+
+// trace.rs: Interface::pass_at, toward the scene at dispersion offset k. False if the ray
+// misses the surface, leaves its clear aperture or is totally internally reflected.
+bool lens_pass_toward_scene(uint i, inout LensRay ray, float k) {
     float t;
     vec3 normal;
     if (!lens_intersect(i, ray, t, normal)) {
@@ -90,8 +192,10 @@ bool lens_pass_toward_scene(uint i, inout LensRay ray) {
         return true;
     }
     vec4 media = lens.surface_media[i];
+    precise float before = media.x + media.z * k;
+    precise float after = media.y + media.w * k;
     vec3 direction;
-    if (!lens_refract(ray.direction, normal, media.y / media.x, direction)) {
+    if (!lens_refract(ray.direction, normal, after / before, direction)) {
         return false;
     }
     ray.origin = p;
@@ -140,9 +244,9 @@ float aperture_transmission(Camera cam, vec2 p) {
     return 1.0;
 }
 
-// real_lens/mod.rs: RealLens::trace_to_scene. The ray from the film through every surface;
-// false if blocked, else the stop's transmission where it crossed.
-bool lens_trace_to_scene(Camera cam, inout LensRay ray, out float transmission) {
+// real_lens/mod.rs: RealLens::trace_to_scene_at. The ray from the film through every surface
+// at dispersion offset k; false if blocked, else the stop's transmission where it crossed.
+bool lens_trace_to_scene(Camera cam, inout LensRay ray, float k, out float transmission) {
     transmission = 1.0;
     for (uint k = 0u; k < lens.surface_count; ++k) {
         uint i = lens.surface_count - 1u - k;
@@ -159,7 +263,7 @@ bool lens_trace_to_scene(Camera cam, inout LensRay ray, out float transmission) 
             }
             continue;
         }
-        if (!lens_pass_toward_scene(i, ray)) {
+        if (!lens_pass_toward_scene(i, ray, k)) {
             return false;
         }
     }
@@ -197,9 +301,10 @@ vec3 lens_pupil_sample(vec3 film, vec2 u, out float area) {
     return vec3(turned, lens.rear_z);
 }
 
-// projective.rs: Camera::generate_ray (real_lens/mod.rs: RealLens::camera_ray,
-// camera_from_lens). False when the lens blocks the ray; the thin lens: first_order_ray, weight 1.
-bool generate_ray(Camera cam, vec2 p_raster, vec2 lens_u, out Ray r,
+// projective.rs: Camera::generate_ray_at (real_lens/mod.rs: RealLens::camera_ray_at,
+// camera_from_lens) at dispersion offset k. False when the lens blocks the ray; the thin lens:
+// first_order_ray, weight 1.
+bool generate_ray(Camera cam, vec2 p_raster, vec2 lens_u, float k, out Ray r,
                                out float weight) {
     if (lens.surface_count == 0u) {
         r = first_order_ray(cam, p_raster, lens_u);
@@ -215,7 +320,7 @@ bool generate_ray(Camera cam, vec2 p_raster, vec2 lens_u, out Ray r,
     vec3 direction = normalize(rear - film);
     LensRay ray = LensRay(film, direction);
     float transmission;
-    if (!lens_trace_to_scene(cam, ray, transmission)) {
+    if (!lens_trace_to_scene(cam, ray, k, transmission)) {
         return false;
     }
     precise float cos2 = direction.z * direction.z;

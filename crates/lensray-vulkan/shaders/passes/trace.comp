@@ -22,6 +22,7 @@
 #define LENS_BINDING TRACE_BINDING_LENS
 #include "camera.glsl"
 #include "sampler.glsl"
+#include "spectral.glsl"
 #define SCENE_SET 0
 #include "scene.glsl"
 #include "texture.glsl"
@@ -207,10 +208,17 @@ uint trace_pixel() {
         vec3 value = !shortcut ? vec3(0.0) : lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut_value;
         Ray ray;
         float weight = 1.0;
+        // nm; 0: the sample carries no wavelength (reference/rays.rs: real_lens_rays).
+        float lambda = 0.0;
         if (pre_pass) {
             ray = first_order_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
         } else if (pc.mode == TRACE_MODE_ALL) {
-            trace = generate_ray(params.camera, cs.film, cs.lens, ray, weight);
+            float k = 0.0;
+            if (lens.dispersive != 0u) {
+                lambda = sample_wavelength(pixel_dimension(sampler_state, s, DIM_WAVELENGTH));
+                k = dispersion_offset(lambda);
+            }
+            trace = generate_ray(params.camera, cs.film, cs.lens, k, ray, weight);
         } else if (trace) {
             ray = first_order_ray(params.camera, cs.film, cs.lens);
         }
@@ -221,7 +229,13 @@ uint trace_pixel() {
                 draw.environment = vec2(0.5);
             }
             uint shadowed;
-            vec3 traced = weight * shade_sample(ray, draw, rasterized, pixel_index, rays, shadowed);
+            vec3 shaded = shade_sample(ray, draw, rasterized, pixel_index, rays, shadowed);
+            // A wavelength's sample: its radiance at that wavelength, as linear sRGB
+            // (spectral.glsl).
+            if (lambda > 0.0) {
+                shaded = rgb_weights(lambda) * shaded;
+            }
+            vec3 traced = weight * shaded;
             if (pre_pass) {
                 plan[pixel_index] = vec4(traced, float(shadowed));
                 return rays;

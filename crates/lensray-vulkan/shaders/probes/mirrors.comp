@@ -42,7 +42,8 @@ void main() {
     r.lens_point = vec4(lens_point(cam, cs.lens), 0.0, 0.0);
     Ray through;
     float weight;
-    bool passed = generate_ray(cam, cs.film, cs.lens, through, weight);
+    float k = q.wavelength_nm > 0.0 ? dispersion_offset(q.wavelength_nm) : 0.0;
+    bool passed = generate_ray(cam, cs.film, cs.lens, k, through, weight);
     r.through_lens_origin = vec4(through.origin, passed ? weight : -1.0);
     r.through_lens_direction = vec4(through.direction, 0.0);
     results[i] = r;

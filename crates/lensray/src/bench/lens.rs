@@ -246,9 +246,9 @@ fn real_lens_pieces(
     let packets = || {
         let mut sum = 0.0;
         for chunk in samples.chunks(PACKET_SIZE) {
-            let mut lanes = [(Vec3::ZERO, Vec2::ZERO); PACKET_SIZE];
+            let mut lanes = [(Vec3::ZERO, Vec2::ZERO, 0.0); PACKET_SIZE];
             for (lane, &(film, lens)) in lanes.iter_mut().zip(chunk) {
-                *lane = (real.film_point(film, width, height), lens);
+                *lane = (real.film_point(film, width, height), lens, 0.0);
             }
             let mut out = [None; PACKET_SIZE];
             real.camera_rays(&lanes[..chunk.len()], &mut out);

@@ -15,7 +15,7 @@ use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Shading;
 use lensray_core::settings::{
     ApertureSettings, CameraSettings, ImageSettings, LensSettings, LightSettings, Lights,
-    ProjectionKind, RenderStyle, Settings,
+    ProjectionKind, RenderStyle, Settings, Switch,
 };
 
 /// Parses "x,y,z" into three finite-or-not numbers (validation names the option later).
@@ -182,6 +182,10 @@ pub struct ViewArgs {
         conflicts_with_all = ["focal_length_mm", "aperture_radius", "vfov", "ortho_height"]
     )]
     pub lens: Option<String>,
+    /// With --lens: whether each camera ray carries a wavelength through the lens's glass
+    /// (colour fringes from dispersion; default on when the lens gives Abbe numbers).
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub dispersion: Option<Switch>,
     /// f-number N: aperture radius = f / (2N); with --lens, the stop is closed until the
     /// entrance pupil gives N (default: wide open).
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
@@ -253,6 +257,7 @@ impl ViewArgs {
                 },
                 lens: LensSettings {
                     prescription: self.lens.clone(),
+                    dispersion: self.dispersion,
                 },
             },
             image: ImageSettings {

@@ -1,4 +1,4 @@
-//! `lensray lens NAME|FILE [--json]`: a lens's first-order and real-ray data
+//! `lensray lens NAME|FILE [--json]`: a lens's first-order, real-ray and colour data
 //! (`optics::analysis`).
 
 use anyhow::{anyhow, Result};
@@ -18,6 +18,9 @@ pub struct LensArgs {
 
 pub fn run(args: &LensArgs) -> Result<()> {
     let lens = builtin::resolve(&args.lens).map_err(|e| anyhow!(e))?;
+    if let Some(notice) = lens.dispersion_notice() {
+        eprintln!("warning: {notice}");
+    }
     let data = LensData::of(&lens);
     if args.json {
         println!(

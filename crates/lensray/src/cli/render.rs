@@ -178,6 +178,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     );
     if let Some(real) = camera.lens.real() {
         println!("  {}", real.summary());
+        if let Some(notice) = real.params.prescription.dispersion_notice() {
+            eprintln!("warning: {notice}");
+        }
     }
     Ok(())
 }

@@ -248,6 +248,18 @@ impl Panel {
                 ui.label(format!("{vfov:.1} deg (first order)"));
                 ui.end_row();
             }
+            ui.label("Dispersion");
+            let mut on = real.dispersion;
+            let toggle = ui.add_enabled(real.dispersive_glass, egui::Checkbox::new(&mut on, ""));
+            let hover = if real.dispersive_glass {
+                "each camera ray carries a wavelength through the glass (colour fringes)"
+            } else {
+                "the lens gives no Abbe numbers: its glass has no dispersion"
+            };
+            if toggle.on_hover_text(hover).changed() {
+                rig.set_dispersion(on);
+            }
+            ui.end_row();
             self.aperture_shape(ui, rig);
         });
         if let Some(summary) = &stats.lens_summary {

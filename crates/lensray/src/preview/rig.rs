@@ -21,7 +21,7 @@ use lensray_core::camera::physical::PhysicalLens;
 use lensray_core::camera::Projection;
 use lensray_core::optics::Prescription;
 use lensray_core::scene::Scene;
-use lensray_core::settings::{pinned_lights, ProjectionKind, Settings};
+use lensray_core::settings::{pinned_lights, ProjectionKind, Settings, Switch};
 use lensray_core::settings::{
     shot, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES,
 };
@@ -106,12 +106,14 @@ impl CameraRig {
                 if lensray_core::optics::builtin::lens(name).is_none() {
                     files.push((name.clone(), Arc::new(lens.clone())));
                 }
-                RigLens::Real(RealRigLens::new(
+                let mut real = RealRigLens::new(
                     name.clone(),
                     lens,
                     c.f_number,
                     c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM),
-                ))
+                );
+                real.dispersion = c.lens.dispersion != Some(Switch::Off);
+                RigLens::Real(real)
             }
             (None, Some(focal_length_mm)) => RigLens::Physical(PhysicalLens {
                 focal_length_mm,

@@ -198,6 +198,7 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
     option("vfov", number(c.vfov_degrees));
     option("ortho-height", number(c.ortho_height));
     option("lens", c.lens.prescription.as_deref().map(shell_word));
+    option("dispersion", c.lens.dispersion.map(value_name));
     option("aperture-radius", number(c.aperture_radius));
     option("focal-length-mm", number(c.focal_length_mm));
     option("f-number", number(c.f_number));

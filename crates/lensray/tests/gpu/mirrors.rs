@@ -144,9 +144,11 @@ fn mirror_queries(cam: &Camera) -> Vec<ProbeQuery> {
             width: cam.width,
             // Small indices and large ones (the shuffled lens index uses all 32 bits).
             sample_index: if i % 5 == 0 { hash_u32(i) } else { i % 33 },
-            dim: i % 6,
+            // Every dimension a render draws, the wavelength's (DIM_WAVELENGTH) included.
+            dim: i % 8,
             hash_input: i.wrapping_mul(0x9e37_79b9) ^ (i << 7),
             sampler_kind: KINDS[(i / 2) as usize % 2].id(),
+            wavelength_nm: 0.0,
         })
         .collect()
 }

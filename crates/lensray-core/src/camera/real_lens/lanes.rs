@@ -16,6 +16,7 @@ use glam::{Vec2, Vec3};
 
 use super::{RealLens, PUPIL_BINS};
 use crate::optics::trace::narrow::{Interface, LensRay};
+use crate::optics::trace::Toward;
 
 /// N rays by coordinate, and which of them are still in the lens.
 pub(super) struct Lanes<const N: usize> {
@@ -28,6 +29,8 @@ pub(super) struct Lanes<const N: usize> {
     pub alive: [bool; N],
     /// The stop's transmission where each ray crossed it.
     pub transmission: [f32; N],
+    /// Each ray's dispersion offset (its wavelength; 0: the d line).
+    pub offset: [f32; N],
 }
 
 impl<const N: usize> Lanes<N> {
@@ -42,6 +45,7 @@ impl<const N: usize> Lanes<N> {
             dz: [1.0; N],
             alive: [false; N],
             transmission: [1.0; N],
+            offset: [0.0; N],
         }
     }
 
@@ -49,12 +53,13 @@ impl<const N: usize> Lanes<N> {
     /// areas they were drawn from: `RealLens::start` (`ExitPupil::sample`, then the direction
     /// normalized as glam does) for every lane. The bins' regions are gathered lane by lane;
     /// the rest runs across the lanes.
-    pub(super) fn start(lens: &RealLens, samples: &[(Vec3, Vec2)]) -> (Self, [f32; N]) {
+    pub(super) fn start(lens: &RealLens, samples: &[(Vec3, Vec2, f32)]) -> (Self, [f32; N]) {
         let n = samples.len().min(N);
         let pupil = lens.pupil();
         let mut lanes = Lanes::dead();
         let (mut ux, mut uy) = ([0.0f32; N], [0.0f32; N]);
-        for (l, &(film, u)) in samples.iter().enumerate().take(n) {
+        for (l, &(film, u, k)) in samples.iter().enumerate().take(n) {
+            lanes.offset[l] = k;
             lanes.ox[l] = film.x;
             lanes.oy[l] = film.y;
             lanes.oz[l] = film.z;
@@ -146,6 +151,8 @@ impl<const N: usize> Lanes<N> {
                         self.alive[l] = self.transmission[l] > 0.0;
                     }
                 }
+            } else if interfaces[i].asphere {
+                self.pass_one_by_one(&interfaces[i]);
             } else {
                 self.refract_at(&interfaces[i]);
             }
@@ -167,7 +174,41 @@ impl<const N: usize> Lanes<N> {
         t
     }
 
-    /// `Interface::pass` toward the scene through a spherical surface, every lane.
+    /// `Interface::pass_at` toward the scene through an asphere, lane by lane (Newton's
+    /// iteration branches per ray; few lenses have aspheres, and those few surfaces).
+    fn pass_one_by_one(&mut self, surface: &Interface) {
+        for l in 0..N {
+            if !self.alive[l] {
+                continue;
+            }
+            match surface.pass_at(self.ray(l), Toward::Scene, self.offset[l]) {
+                Some(ray) => {
+                    (self.ox[l], self.oy[l], self.oz[l]) = ray.origin.into();
+                    (self.dx[l], self.dy[l], self.dz[l]) = ray.direction.into();
+                }
+                None => self.alive[l] = false,
+            }
+        }
+    }
+
+    /// Each lane's ratio of indices (after / before: toward the scene) at its wavelength, as
+    /// `Interface::pass_at` forms it.
+    #[inline(always)]
+    fn etas(&self, surface: &Interface) -> [f32; N] {
+        if surface.dispersion_before == 0.0 && surface.dispersion_after == 0.0 {
+            return [surface.index_after / surface.index_before; N];
+        }
+        let mut eta = [0.0; N];
+        for l in 0..N {
+            let k = self.offset[l];
+            let before = surface.index_before + surface.dispersion_before * k;
+            let after = surface.index_after + surface.dispersion_after * k;
+            eta[l] = after / before;
+        }
+        eta
+    }
+
+    /// `Interface::pass_at` toward the scene through a spherical surface, every lane.
     #[inline(always)]
     fn refract_at(&mut self, surface: &Interface) {
         let radius = surface.radius;
@@ -175,9 +216,10 @@ impl<const N: usize> Lanes<N> {
         let radius2 = surface.radius * surface.radius;
         let abs_radius = surface.radius.abs();
         let aperture2 = surface.aperture_radius * surface.aperture_radius;
-        let eta = surface.index_after / surface.index_before;
-        let eta2 = eta * eta;
+        let etas = self.etas(surface);
         for l in 0..N {
+            let eta = etas[l];
+            let eta2 = eta * eta;
             let (dx, dy, dz) = (self.dx[l], self.dy[l], self.dz[l]);
             // intersect: o = origin - centre (the centre is on the axis).
             let (ox, oy, oz) = (self.ox[l] - 0.0, self.oy[l] - 0.0, self.oz[l] - centre_z);

@@ -59,6 +59,9 @@ pub struct RealLensParams {
     /// World units from the entrance pupil along the axis.
     pub focus_distance: f64,
     pub sensor_height_mm: f64,
+    /// Whether camera rays carry a wavelength through a dispersive lens (`--dispersion`);
+    /// a lens without Abbe numbers has none either way.
+    pub dispersion: bool,
 }
 
 #[derive(Debug, Error, PartialEq)]
@@ -253,20 +256,26 @@ impl RealLens {
     }
 
     /// The camera ray (camera space) of film point `film` (from [`Self::film_point`]) and
-    /// lens sample `lens_u` in [0, 1)^2, with its weight (see the module's radiometry); `None`
-    /// when the lens blocks it.
+    /// lens sample `lens_u` in [0, 1)^2 at the d line, with its weight (see the module's
+    /// radiometry); `None` when the lens blocks it.
     pub fn camera_ray(&self, film: Vec3, lens_u: Vec2) -> Option<(Ray, f32)> {
+        self.camera_ray_at(film, lens_u, 0.0)
+    }
+
+    /// [`Self::camera_ray`] at dispersion offset `k` (`optics::glass::dispersion_offset_f32`
+    /// of the sample's wavelength; 0: the d line).
+    pub fn camera_ray_at(&self, film: Vec3, lens_u: Vec2, k: f32) -> Option<(Ray, f32)> {
         let (start, area) = self.start(film, lens_u);
-        let (out, transmission) = self.trace_to_scene(start)?;
+        let (out, transmission) = self.trace_to_scene_at(start, k)?;
         Some(self.finish(start.direction.z, area, out, transmission))
     }
 
-    /// `camera_ray` for many samples at once, bit for bit: the rays cross the lens surface by
-    /// surface together, laid out by lane so each surface's arithmetic runs as vector
-    /// instructions across them (`lanes.rs`).
+    /// `camera_ray_at` for many samples (film point, lens sample, dispersion offset) at once,
+    /// bit for bit: the rays cross the lens surface by surface together, laid out by lane so
+    /// each surface's arithmetic runs as vector instructions across them (`lanes.rs`).
     pub fn camera_rays<const N: usize>(
         &self,
-        samples: &[(Vec3, Vec2)],
+        samples: &[(Vec3, Vec2, f32)],
         out: &mut [Option<(Ray, f32)>; N],
     ) {
         let n = samples.len().min(N);
@@ -298,21 +307,48 @@ impl RealLens {
         (self.camera_from_lens(out), weight)
     }
 
-    /// `ray` from the film through every surface to the scene, and the stop's transmission
-    /// where it crosses (`None`: blocked).
+    /// `ray` from the film through every surface to the scene at the d line, and the stop's
+    /// transmission where it crosses (`None`: blocked).
     pub fn trace_to_scene(&self, ray: LensRay) -> Option<(LensRay, f32)> {
+        self.trace_to_scene_at(ray, 0.0)
+    }
+
+    /// [`Self::trace_to_scene`] at dispersion offset `k`.
+    pub fn trace_to_scene_at(&self, ray: LensRay, k: f32) -> Option<(LensRay, f32)> {
         let mut ray = ray;
         let mut transmission = 1.0;
         for i in (0..self.elements.interfaces.len()).rev() {
-            ray = self.cross(i, ray, &mut transmission)?;
+            ray = self.cross(i, ray, k, &mut transmission)?;
         }
         Some((ray, transmission))
     }
 
-    /// `ray` after surface `i` toward the scene (`None`: blocked); at the stop, its
-    /// transmission goes to `transmission`.
+    /// Whether camera rays carry a wavelength: the lens has dispersive glass and the user
+    /// left dispersion on.
+    pub fn dispersive(&self) -> bool {
+        self.params.dispersion && self.stopped.is_dispersive()
+    }
+
+    /// The dispersion offsets the exit pupil is bounded at: the d line, and for a dispersive
+    /// lens both ends of the sampled spectrum (the pupil shifts and scales smoothly with the
+    /// index in between).
+    pub fn bounding_offsets(&self) -> Vec<f32> {
+        use crate::film::spectral::{WAVELENGTH_MAX_NM, WAVELENGTH_MIN_NM};
+        use crate::optics::glass::dispersion_offset_f32;
+        if !self.dispersive() {
+            return vec![0.0];
+        }
+        vec![
+            0.0,
+            dispersion_offset_f32(WAVELENGTH_MIN_NM),
+            dispersion_offset_f32(WAVELENGTH_MAX_NM),
+        ]
+    }
+
+    /// `ray` after surface `i` toward the scene at dispersion offset `k` (`None`: blocked); at
+    /// the stop, its transmission goes to `transmission`.
     #[inline(always)]
-    fn cross(&self, i: usize, ray: LensRay, transmission: &mut f32) -> Option<LensRay> {
+    fn cross(&self, i: usize, ray: LensRay, k: f32, transmission: &mut f32) -> Option<LensRay> {
         let interface: &Interface = &self.elements.interfaces[i];
         if i == self.stop {
             // The opening (flat, in air): the ray goes on unrefracted.
@@ -326,7 +362,7 @@ impl RealLens {
             }
             return Some(ray);
         }
-        interface.pass(ray, Toward::Scene)
+        interface.pass_at(ray, Toward::Scene, k)
     }
 
     /// A lens-space ray in camera space (world units; +z toward the scene).
@@ -344,8 +380,16 @@ impl RealLens {
 
     /// One line for the render's summary.
     pub fn summary(&self) -> String {
+        use crate::film::spectral::{WAVELENGTH_MAX_NM, WAVELENGTH_MIN_NM};
+        let colour = if self.dispersive() {
+            format!("dispersion {WAVELENGTH_MIN_NM}-{WAVELENGTH_MAX_NM} nm")
+        } else if self.stopped.is_dispersive() {
+            "dispersion off".to_owned()
+        } else {
+            "no dispersion (no Abbe numbers)".to_owned()
+        };
         format!(
-            "lens {} at f/{:.2}, film {:.3} mm behind the last vertex",
+            "lens {} at f/{:.2}, film {:.3} mm behind the last vertex, {colour}",
             self.name(),
             self.f_number,
             self.film_distance_mm
@@ -407,6 +451,8 @@ mod tests {
         for (name, f_number, aperture) in [
             ("double-gauss-50", None, Aperture::ROUND),
             ("wide-22", Some(4.0), six_blades),
+            ("cooke-triplet-50", Some(8.0), Aperture::ROUND),
+            ("aspheric-31", Some(2.8), Aperture::ROUND),
         ] {
             let lens = crate::optics::builtin::lens(name).expect("built in");
             let params = RealLensParams {
@@ -414,6 +460,7 @@ mod tests {
                 f_number,
                 focus_distance: 3.0,
                 sensor_height_mm: 24.0,
+                dispersion: true,
             };
             let real = RealLens::new(params, 1.5, aperture).expect("a lens");
             packets_match_one_by_one(&real);
@@ -421,14 +468,21 @@ mod tests {
     }
 
     fn packets_match_one_by_one(real: &RealLens) {
-        let samples: Vec<(Vec3, Vec2)> = (0..4100u32)
+        let samples: Vec<(Vec3, Vec2, f32)> = (0..4100u32)
             .map(|i| {
                 let raster = Vec2::new((i * 37 % 300) as f32 + 0.3, (i * 11 % 200) as f32 + 0.7);
                 let u = Vec2::new(
                     (i.wrapping_mul(2654435761) % 1000) as f32 / 1000.0,
                     (i.wrapping_mul(40503) % 997) as f32 / 997.0,
                 );
-                (real.film_point(raster, 300, 200), u)
+                // Wavelengths across 380-780 nm; every third at the d line.
+                let lambda = 380.0 + (i.wrapping_mul(7919) % 401) as f32;
+                let k = if i % 3 == 0 {
+                    0.0
+                } else {
+                    crate::optics::glass::dispersion_offset_f32(lambda)
+                };
+                (real.film_point(raster, 300, 200), u, k)
             })
             .collect();
         let (mut scalar, mut packets) = (std::time::Duration::MAX, std::time::Duration::MAX);
@@ -437,7 +491,7 @@ mod tests {
             let start = std::time::Instant::now();
             one_by_one = samples
                 .iter()
-                .map(|&(f, u)| real.camera_ray(f, u))
+                .map(|&(f, u, k)| real.camera_ray_at(f, u, k))
                 .collect();
             scalar = scalar.min(start.elapsed());
             let start = std::time::Instant::now();

@@ -272,10 +272,13 @@ impl Search<'_> {
         Edge { passing, rectangle }
     }
 
-    /// The points of a `GRID` x `GRID` grid over `region` that rays from `film` pass.
+    /// The points of a `GRID` x `GRID` grid over `region` that rays from `film` pass, at any
+    /// of the lens's bounding wavelengths (`RealLens::bounding_offsets`).
     fn grid(&self, film: Vec3, region: Region) -> Passing {
         let (lo, hi) = (region.lo(), region.hi());
         let step = (hi - lo) / (GRID - 1) as f32;
+        let offsets = self.lens.bounding_offsets();
+        let elements = self.lens.elements();
         let mut points = Vec::new();
         for j in 0..GRID {
             for i in 0..GRID {
@@ -284,7 +287,8 @@ impl Search<'_> {
                     origin: film,
                     direction: (q.extend(self.rear_z) - film).normalize(),
                 };
-                if self.lens.elements().trace(ray, Toward::Scene).is_some() {
+                let passes = |&k: &f32| elements.trace_at(ray, Toward::Scene, k).is_some();
+                if offsets.iter().any(passes) {
                     points.push(q);
                 }
             }

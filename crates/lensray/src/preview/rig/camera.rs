@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use lensray_core::settings::{ProjectionKind, Settings};
+use lensray_core::settings::{ProjectionKind, Settings, Switch};
 
 use super::lens::RigLens;
 
@@ -105,6 +105,7 @@ impl RigCamera {
                 c.f_number = Some(real.f_number);
                 c.sensor_height_mm = Some(real.sensor_height_mm);
                 c.lens.prescription = Some(real.prescription.clone());
+                c.lens.dispersion = (!real.dispersion).then_some(Switch::Off);
             }
         }
     }

@@ -30,6 +30,8 @@ pub(super) struct RealRigLens {
     pub(super) first_order: FirstOrder,
     pub(super) f_number: f64,
     pub(super) sensor_height_mm: f64,
+    /// Camera rays carry wavelengths through the glass (`--dispersion`).
+    pub(super) dispersion: bool,
 }
 
 impl RealRigLens {
@@ -46,6 +48,7 @@ impl RealRigLens {
             f_number: f_number.unwrap_or(first_order.f_number),
             first_order,
             sensor_height_mm: sensor,
+            dispersion: true,
         }
     }
 

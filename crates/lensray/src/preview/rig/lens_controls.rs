@@ -145,6 +145,15 @@ impl CameraRig {
         self.commit();
     }
 
+    /// Turns a real lens's dispersion on or off (the others have none).
+    pub fn set_dispersion(&mut self, on: bool) {
+        match &mut self.camera.lens {
+            RigLens::Real(real) if real.dispersion != on => real.dispersion = on,
+            _ => return,
+        }
+        self.commit();
+    }
+
     /// What the lens picker offers: the thin lens, each built-in lens, and the file the
     /// preview started with.
     pub fn lens_choices(&self) -> Vec<LensChoice> {
@@ -186,12 +195,13 @@ impl CameraRig {
                         None => return,
                     },
                 };
-                let (f_number, sensor) = match &self.camera.lens {
-                    RigLens::Physical(l) => (Some(l.f_number), l.sensor_height_mm),
-                    RigLens::Real(r) => (Some(r.f_number), r.sensor_height_mm),
-                    RigLens::Aperture { .. } => (None, DEFAULT_SENSOR_HEIGHT_MM),
+                let (f_number, sensor, dispersion) = match &self.camera.lens {
+                    RigLens::Physical(l) => (Some(l.f_number), l.sensor_height_mm, true),
+                    RigLens::Real(r) => (Some(r.f_number), r.sensor_height_mm, r.dispersion),
+                    RigLens::Aperture { .. } => (None, DEFAULT_SENSOR_HEIGHT_MM, true),
                 };
                 let mut real = RealRigLens::new(name.clone(), prescription, None, sensor);
+                real.dispersion = dispersion;
                 if let Some(n) = f_number {
                     let (lo, hi) = real.f_number_range();
                     real.f_number = n.clamp(lo, hi);

@@ -17,6 +17,9 @@ pub struct RealLensReadout {
     /// World units from the entrance pupil.
     pub nearest_focus: f64,
     pub focal_length_mm: f64,
+    /// Whether its glasses carry Abbe numbers, and whether dispersion is on.
+    pub dispersive_glass: bool,
+    pub dispersion: bool,
 }
 
 /// What a lens panel shows.
@@ -74,6 +77,8 @@ impl CameraRig {
                 f_number_range: r.f_number_range(),
                 nearest_focus: self.min_focus_distance(),
                 focal_length_mm: r.first_order.efl,
+                dispersive_glass: r.lens.is_dispersive(),
+                dispersion: r.dispersion,
             }),
         }
     }
