@@ -2,7 +2,8 @@
 //! code under test: a thin singlet blurs as the thin lens does, every built-in lens images an
 //! edge at its focus distance sharply, off-axis bokeh is cut to a cat-eye wide open (and
 //! checked against rays traced forward from the emitter), the images' fall-off is the
-//! irradiance integrated over the rear element's plane, and bad `--lens` options get one line.
+//! irradiance integrated over the rear element's plane, dispersion puts colour where the
+//! optics traced at each wavelength put it, and bad `--lens` options get one line.
 //!
 //! Camera set-up everywhere: the eye (the lens's entrance pupil) at the origin looking along
 //! world -z, so camera +x is world +x and camera +y world +y; a view depth z is world -z.
@@ -29,6 +30,8 @@ mod edge_fit;
 
 #[path = "real_lens/bokeh.rs"]
 mod bokeh;
+#[path = "real_lens/colour.rs"]
+mod colour;
 #[path = "real_lens/edges.rs"]
 mod edges;
 #[path = "real_lens/fall_off.rs"]
