@@ -50,6 +50,8 @@ fn main() {
     let shader_dir = manifest.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
     println!("cargo:rerun-if-changed=../lensray-core/src/interface");
+    // shared.rs includes the generated spectral tables.
+    println!("cargo:rerun-if-changed=../lensray-core/src/film/spectral_table.rs");
 
     if let Err(errors) = interface::shared::check_layouts() {
         panic!("shared structs differ from their GLSL layout:\n{errors}");

@@ -74,6 +74,8 @@ pub use probes::layouts::LayoutReport;
 #[cfg(feature = "probes")]
 pub use probes::mirrors::{ProbeQuery, ProbeResult};
 #[cfg(feature = "probes")]
+pub use probes::spectral::{probe_spectral, SpectralProbe};
+#[cfg(feature = "probes")]
 pub use probes::timing::{bench, bench_renderer, BenchedPass, PassBenchOptions, PassBenchReport};
 #[cfg(feature = "probes")]
 pub use probes::view_routes::ViewRoutes;

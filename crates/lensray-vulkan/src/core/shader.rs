@@ -28,6 +28,8 @@ pub(crate) const MIRRORS_COMP: &[u8] = spirv!("mirrors.comp");
 pub(crate) const LAYOUTS_COMP: &[u8] = spirv!("layouts.comp");
 #[cfg(feature = "probes")]
 pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
+#[cfg(feature = "probes")]
+pub(crate) const SPECTRAL_COMP: &[u8] = spirv!("spectral.comp");
 
 /// A shader module, destroyed on drop (once its pipelines are created).
 pub(crate) struct ShaderModule<'a> {

@@ -1,0 +1,54 @@
+// Mirror of lensray-core/src/film/spectral.rs, function by function: one wavelength per sample
+// and the 3x3 weight that turns a ray's linear sRGB radiance into what that sample adds to the
+// film (the module documentation has the definition). The tables (SPECTRAL_*) come from the
+// generated interface.glsl, the same numbers as Rust's. `precise` wherever Rust does
+// arithmetic: no fused multiply-adds, the same roundings, so the results agree bit for bit.
+#ifndef LENSRAY_SPECTRAL_GLSL
+#define LENSRAY_SPECTRAL_GLSL
+
+#include "interface.glsl"
+
+// spectral.rs: SEARCH_FIRST_STEP
+const uint SPECTRAL_SEARCH_FIRST_STEP = 64u;
+
+// spectral.rs: wavelength_interval
+uint wavelength_interval(float u) {
+    uint k = 0u;
+    for (uint step = SPECTRAL_SEARCH_FIRST_STEP; step > 0u; step >>= 1u) {
+        uint next = k + step;
+        if (next < SPECTRAL_INTERVALS && SPECTRAL_CDF[next] <= u) {
+            k = next;
+        }
+    }
+    return k;
+}
+
+// spectral.rs: sample_wavelength
+float sample_wavelength(float u) {
+    uint k = wavelength_interval(u);
+    precise float fraction = (u - SPECTRAL_CDF[k]) * SPECTRAL_INV_PROBABILITY[k];
+    fraction = clamp(fraction, 0.0, 1.0);
+    precise float node = float(k) * SPECTRAL_STEP_NM + SPECTRAL_MIN_NM;
+    precise float lambda = node + SPECTRAL_STEP_NM * fraction;
+    return lambda;
+}
+
+// spectral.rs: rgb_weights
+mat3 rgb_weights(float lambda_nm) {
+    uint last = SPECTRAL_INTERVALS - 1u;
+    precise float x = (lambda_nm - SPECTRAL_MIN_NM) * SPECTRAL_INV_STEP_NM;
+    x = clamp(x, 0.0, float(SPECTRAL_INTERVALS));
+    uint k = min(uint(x), last);
+    precise float t = x - float(k);
+    precise float s = 1.0 - t;
+    float inv_density = SPECTRAL_INV_DENSITY[k];
+    uint a = 9u * k;
+    uint b = a + 9u;
+    precise float w[9];
+    for (uint j = 0u; j < 9u; ++j) {
+        w[j] = (SPECTRAL_WEIGHTS[a + j] * s + SPECTRAL_WEIGHTS[b + j] * t) * inv_density;
+    }
+    return mat3(w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]);
+}
+
+#endif

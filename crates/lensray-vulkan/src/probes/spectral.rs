@@ -1,0 +1,86 @@
+//! A check of the GLSL mirror of the spectral weighting (shaders/include/spectral.glsl): evaluates
+//! it with spectral.comp for a list of queries so that tests can compare it with
+//! lensray-core/src/film/spectral.rs.
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::pipeline::Pipeline;
+use crate::core::shader;
+use crate::{GpuError, GpuRenderer};
+use lensray_core::interface::{
+    PROBE_GROUP_SIZE, SPECTRAL_PROBE_BINDING_QUERIES, SPECTRAL_PROBE_BINDING_RESULTS,
+    SPECTRAL_PROBE_RESULT_FLOATS,
+};
+
+/// What the device computes for one query `[u, lambda_nm]` (spectral.glsl).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpectralProbe {
+    /// `sample_wavelength(u)`.
+    pub wavelength: f32,
+    /// `wavelength_interval(u)`.
+    pub interval: u32,
+    /// `rgb_weights(wavelength)`, column by column.
+    pub sampled_weights: [f32; 9],
+    /// `rgb_weights(lambda_nm)`, column by column.
+    pub given_weights: [f32; 9],
+}
+
+/// Evaluates the GLSL spectral functions on `renderer`'s device for each query `[u, lambda_nm]`.
+pub fn probe_spectral(
+    renderer: &GpuRenderer,
+    queries: &[[f32; 2]],
+) -> Result<Vec<SpectralProbe>, GpuError> {
+    let ctx = renderer.ctx();
+    let storage = vk::DescriptorType::STORAGE_BUFFER;
+    let compute = vk::ShaderStageFlags::COMPUTE;
+    let bindings = [
+        (SPECTRAL_PROBE_BINDING_QUERIES, storage, compute),
+        (SPECTRAL_PROBE_BINDING_RESULTS, storage, compute),
+    ];
+    let pipeline = Pipeline::compute(ctx, shader::SPECTRAL_COMP, &bindings, 4)?;
+    let input = Buffer::with_data(
+        ctx,
+        "spectral probe queries",
+        bytemuck::cast_slice(queries),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?;
+    let stride = SPECTRAL_PROBE_RESULT_FLOATS as usize;
+    let output = Buffer::new(
+        ctx,
+        "spectral probe results",
+        (queries.len() * stride * 4) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuToCpu,
+    )?;
+    pipeline.bind_buffer(SPECTRAL_PROBE_BINDING_QUERIES, storage, &input);
+    pipeline.bind_buffer(SPECTRAL_PROBE_BINDING_RESULTS, storage, &output);
+    let count = queries.len() as u32;
+    ctx.submit_and_wait(|cmd| {
+        pipeline.bind(cmd, bytemuck::bytes_of(&count));
+        // SAFETY: compute pipeline and complete set bound.
+        unsafe {
+            ctx.device
+                .cmd_dispatch(cmd, count.div_ceil(PROBE_GROUP_SIZE), 1, 1)
+        };
+        barrier_to_host(
+            ctx,
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::AccessFlags::SHADER_WRITE,
+        );
+        Ok(())
+    })?;
+    let floats: &[f32] = bytemuck::cast_slice(output.read()?);
+    Ok(floats
+        .chunks_exact(stride)
+        .take(queries.len())
+        .map(|r| SpectralProbe {
+            wavelength: r[0],
+            interval: r[1] as u32,
+            sampled_weights: r[2..11].try_into().expect("9 floats"),
+            given_weights: r[11..20].try_into().expect("9 floats"),
+        })
+        .collect())
+}
