@@ -175,7 +175,7 @@ fn lens_data_agrees_with_an_independent_optics_package() {
             std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let want: serde_json::Value = serde_json::from_str(&text).unwrap();
         let got = serde_json::to_value(LensData::of(&builtin::lens(name).unwrap())).unwrap();
-        // The asphere's figures within 1e-4 (issue 31), the others within 0.1 %.
+        // The asphere is checked within 1e-4, the others within 0.1 %.
         let tolerance = if name == "aspheric-31" { 1e-4 } else { 1e-3 };
         let close = |key: &str, a: f64, b: f64, scale: f64| {
             let error = (a - b).abs() / scale.abs();

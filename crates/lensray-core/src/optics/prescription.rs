@@ -435,7 +435,28 @@ mod tests {
 
     #[test]
     fn bad_prescriptions_are_refused() {
-        let cases: [(&str, &str); 10] = [
+        let cases: [(&str, &str); 16] = [
+            (
+                "0 1 1 10\n50 5 1.5 20 0\n-50 0 1 20\n",
+                "Abbe number must be positive",
+            ),
+            (
+                "0 1 1 10\n50 5 1.5 20 -3\n-50 0 1 20\n",
+                "Abbe number must be positive",
+            ),
+            (
+                "0 1 1 10 k=-1\n50 5 1.5 20\n-50 0 1 20\n",
+                "needs a base curvature",
+            ),
+            (
+                "0 1 1 10\n10 5 1.5 20 k=2\n-50 0 1 20\n",
+                "sag is undefined",
+            ),
+            (
+                "0 1 1 10\n12 8 1.9 10\n-30 0 1 10 a4=0.5 a6=-0.3\n",
+                "does not converge",
+            ),
+            ("0 1 1 10\n50 5 1.5 20 k=x\n-50 0 1 20\n", "not a number"),
             ("50 5 1.5 20\n-50 0 1 20\n", "no aperture stop"),
             (
                 "0 1 1 10\n0 1 1 10\n50 5 1.5 20\n-50 0 1 20\n",

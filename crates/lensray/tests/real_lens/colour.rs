@@ -102,7 +102,10 @@ fn measured(image: &Image, (cx, cy): (f64, f64), radius: f64) -> [Moments; 3] {
         .iter()
         .enumerate()
         .map(|(i, v)| {
-            let (x, y) = ((i as u32 % image.width) as f64, (i as u32 / image.width) as f64);
+            let (x, y) = (
+                (i as u32 % image.width) as f64,
+                (i as u32 / image.width) as f64,
+            );
             (x + 0.5, y + 0.5, *v)
         })
         .filter(|(x, y, _)| (x - cx).abs() <= radius && (y - cy).abs() <= radius)
@@ -164,7 +167,12 @@ fn predicted(camera: &Camera, p: Vec3, radius: f64) -> [Moments; 3] {
         let white = rgb_weights(lambda) * Vec3::ONE;
         for (x, y) in forward(camera, p, dispersion_offset(f64::from(lambda))) {
             // The square's image [x - side / 2, x + side / 2]^2 over the pixels it overlaps.
-            let (x0, x1, y0, y1) = (x - 0.5 * side, x + 0.5 * side, y - 0.5 * side, y + 0.5 * side);
+            let (x0, x1, y0, y1) = (
+                x - 0.5 * side,
+                x + 0.5 * side,
+                y - 0.5 * side,
+                y + 0.5 * side,
+            );
             for py in y0.floor() as i64..=y1.floor() as i64 {
                 for px in x0.floor() as i64..=x1.floor() as i64 {
                     let (px_f, py_f) = (px as f64, py as f64);
@@ -184,7 +192,10 @@ fn predicted(camera: &Camera, p: Vec3, radius: f64) -> [Moments; 3] {
         pixels: image,
     };
     let green = moments(image.pixels.iter().enumerate().map(|(i, v)| {
-        let (x, y) = ((i as u32 % WIDTH) as f64 + 0.5, (i as u32 / WIDTH) as f64 + 0.5);
+        let (x, y) = (
+            (i as u32 % WIDTH) as f64 + 0.5,
+            (i as u32 / WIDTH) as f64 + 0.5,
+        );
         (x, y, f64::from(v.y))
     }));
     measured(&image, (green.x, green.y), radius)
@@ -239,7 +250,10 @@ fn axial_spots(lens: &Arc<Prescription>, f_number: f64) -> ([f64; 3], [f64; 3]) 
     };
     let (near, far) = (predicted(&camera, p, 3.0), predicted(&camera, p, 12.0));
     let centre = (far[1].x, far[1].y);
-    let got = windowed(measured(&image, centre, 3.0), measured(&image, centre, 12.0));
+    let got = windowed(
+        measured(&image, centre, 3.0),
+        measured(&image, centre, 12.0),
+    );
     (got, windowed(near, far))
 }
 
@@ -298,7 +312,8 @@ fn an_achromat_shows_far_less_colour_than_a_singlet() {
 /// so single pixels converge more slowly).
 #[test]
 fn negligible_dispersion_converges_to_the_rgb_render() {
-    let text = "# BK7 singlet with negligible dispersion\n0 2 1 20\n51.5 5 1.5168 25 1e7\n-51.5 0 1 25\n";
+    let text =
+        "# BK7 singlet with negligible dispersion\n0 2 1 20\n51.5 5 1.5168 25 1e7\n-51.5 0 1 25\n";
     let lens = Arc::new(Prescription::parse("flat", text).unwrap());
     let colours = [
         Vec3::new(0.8, 0.1, 0.1),
