@@ -248,8 +248,8 @@ float aperture_transmission(Camera cam, vec2 p) {
 // at dispersion offset k; false if blocked, else the stop's transmission where it crossed.
 bool lens_trace_to_scene(Camera cam, inout LensRay ray, float k, out float transmission) {
     transmission = 1.0;
-    for (uint k = 0u; k < lens.surface_count; ++k) {
-        uint i = lens.surface_count - 1u - k;
+    for (uint j = 0u; j < lens.surface_count; ++j) {
+        uint i = lens.surface_count - 1u - j;
         if (i == lens.stop) {
             float t;
             vec3 normal;
