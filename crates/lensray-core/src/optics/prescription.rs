@@ -431,6 +431,16 @@ mod tests {
         assert_eq!(lens.vertices(), [0.0, 4.0, 5.0, 7.0, 10.0]);
         assert_eq!(lens.length(), 10.0);
         assert!(Prescription::parse("s", SINGLET).is_ok());
+        // Glass rows without an Abbe number are named in one notice; air rows are not.
+        let notice = lens.dispersion_notice().expect("row 4 has no Abbe number");
+        assert!(notice.contains("surface 4 has no Abbe number"), "{notice}");
+        assert!(lens.is_dispersive());
+        let singlet = Prescription::parse("s", SINGLET).unwrap();
+        assert!(!singlet.is_dispersive());
+        assert!(singlet
+            .dispersion_notice()
+            .unwrap()
+            .contains("surface 2 has"));
     }
 
     #[test]

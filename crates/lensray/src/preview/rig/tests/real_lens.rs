@@ -143,6 +143,20 @@ fn the_lens_picker_switches_between_thin_and_real_lenses() {
         rig.settings().camera.lens.prescription.as_deref(),
         Some("cooke-triplet-50")
     );
+    // Dispersion: on by default, off from the panel, kept across lenses, and in the settings
+    // (so in the printed command) only when off.
+    let real = rig.readout().real.expect("a real lens");
+    assert!(real.dispersive_glass && real.dispersion);
+    assert_eq!(rig.settings().camera.lens.dispersion, None);
+    rig.set_dispersion(false);
+    assert_eq!(
+        rig.settings().camera.lens.dispersion,
+        Some(lensray_core::settings::Switch::Off)
+    );
+    rig.set_lens(&LensChoice::Real("double-gauss-50".into()));
+    assert!(!rig.readout().real.expect("a real lens").dispersion);
+    rig.set_dispersion(true);
+    assert_eq!(rig.settings().camera.lens.dispersion, None);
     // Back to the thin lens the preview had.
     rig.set_lens(&LensChoice::Thin);
     assert_eq!(rig.readout(), thin);
