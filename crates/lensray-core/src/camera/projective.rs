@@ -242,6 +242,20 @@ impl Camera {
         self.generate_ray_at(p_raster, lens_u, 0.0)
     }
 
+    /// The wavelength (nm) that sample `sample_index` of `sampler`'s pixel traces the lens at:
+    /// drawn from `DIM_WAVELENGTH` when the lens is dispersive (`RealLens::dispersive`), else
+    /// `None` (the d line).
+    pub fn sample_wavelength(
+        &self,
+        sampler: &crate::sampler::PixelSampler,
+        sample_index: u32,
+    ) -> Option<f32> {
+        use crate::sampler::{pixel_dimension, DIM_WAVELENGTH};
+        self.lens.real().filter(|real| real.dispersive())?;
+        let u = pixel_dimension(sampler, sample_index, DIM_WAVELENGTH);
+        Some(crate::film::spectral::sample_wavelength(u))
+    }
+
     /// [`Self::generate_ray`] at dispersion offset `k` (`optics::glass::dispersion_offset_f32`
     /// of the sample's wavelength; 0: the d line); a thin lens has no dispersion.
     pub fn generate_ray_at(&self, p_raster: Vec2, lens_u: Vec2, k: f32) -> Option<(Ray, f32)> {

@@ -9,9 +9,8 @@ use glam::{Mat4, Vec3};
 
 use super::accel::PACKET_SIZE;
 use crate::camera::{Camera, Projection};
-use crate::film::spectral::sample_wavelength;
 use crate::optics::glass::dispersion_offset_f32;
-use crate::sampler::{pixel_camera_samples, pixel_dimension, PixelSampler, DIM_WAVELENGTH};
+use crate::sampler::{pixel_camera_samples, PixelSampler};
 
 type PacketLanes = [f32; PACKET_SIZE];
 
@@ -181,9 +180,9 @@ pub(super) fn real_lens_rays(
     let mut offsets = [0.0f32; PACKET_SIZE];
     if real.dispersive() {
         for l in 0..n {
-            let u = pixel_dimension(sampler, first + l as u32, DIM_WAVELENGTH);
-            wavelengths[l] = sample_wavelength(u);
-            offsets[l] = dispersion_offset_f32(wavelengths[l]);
+            let lambda = camera.sample_wavelength(sampler, first + l as u32);
+            wavelengths[l] = lambda.unwrap_or(0.0);
+            offsets[l] = lambda.map_or(0.0, dispersion_offset_f32);
         }
     }
     // RealLens::camera_rays traces the packet's rays together (what

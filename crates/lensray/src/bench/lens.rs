@@ -20,6 +20,7 @@ use super::runs::Measurement;
 use super::sweep::BenchLens;
 use crate::paths::PathKind;
 use lensray_core::camera::{Camera, RealLens};
+use lensray_core::optics::glass::dispersion_offset_f32;
 use lensray_core::optics::trace::narrow::LensRay;
 use lensray_core::reference::PACKET_SIZE;
 use lensray_core::sampler::{
@@ -277,7 +278,11 @@ pub fn shot_camera_rays(shot: &Shot) -> u64 {
                 let sampler = sampler_of(shot, pixel);
                 for i in 0..settings.spp {
                     let sample = pixel_camera_sample(&sampler, i);
-                    let ray = camera.generate_ray(sample.film, sample.lens);
+                    // At the sample's wavelength, as the render traces it.
+                    let k = camera
+                        .sample_wavelength(&sampler, i)
+                        .map_or(0.0, dispersion_offset_f32);
+                    let ray = camera.generate_ray_at(sample.film, sample.lens, k);
                     passed += u64::from(ray.is_some());
                 }
             }
