@@ -275,6 +275,7 @@ pub(crate) fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
         .image()
         .map_or(0, |image| image.table().len() as u32);
     out.dispersive = u32::from(real.dispersive());
+    spectral_table(&mut out.spectral_table);
     for (i, s) in interfaces.iter().enumerate() {
         out.surface_shape[i] = [s.z, s.radius, s.aperture_radius, s.conic];
         out.surface_media[i] = [
@@ -297,6 +298,28 @@ pub(crate) fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
     }
     Ok(out)
 }
+
+/// The SPECTRAL_* tables at their SPECTRAL_AT_* places, four floats a vec4.
+fn spectral_table(out: &mut [[f32; 4]; 256]) {
+    use lensray_core::interface::{
+        SPECTRAL_AT_CDF, SPECTRAL_AT_INV_DENSITY, SPECTRAL_AT_INV_PROBABILITY, SPECTRAL_AT_WEIGHTS,
+        SPECTRAL_CDF, SPECTRAL_INV_DENSITY, SPECTRAL_INV_PROBABILITY, SPECTRAL_WEIGHTS,
+    };
+    let tables: [(u32, &[f32]); 4] = [
+        (SPECTRAL_AT_WEIGHTS, &SPECTRAL_WEIGHTS),
+        (SPECTRAL_AT_CDF, &SPECTRAL_CDF),
+        (SPECTRAL_AT_INV_PROBABILITY, &SPECTRAL_INV_PROBABILITY),
+        (SPECTRAL_AT_INV_DENSITY, &SPECTRAL_INV_DENSITY),
+    ];
+    for (start, table) in tables {
+        for (i, &value) in table.iter().enumerate() {
+            let at = start as usize + i;
+            out[at / 4][at % 4] = value;
+        }
+    }
+}
+
+const _: () = assert!(lensray_core::interface::SPECTRAL_AT_END as usize <= 4 * 256);
 
 // The bins the Rust lens makes are the ones the GPU block holds.
 const _: () = assert!(lensray_core::camera::real_lens::PUPIL_BINS == LENS_PUPIL_BINS as usize);

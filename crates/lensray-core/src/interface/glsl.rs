@@ -115,6 +115,7 @@ macro_rules! glsl_vec4_array {
 
 glsl_vec4_array!([f32; 4], 32, "vec4[32]");
 glsl_vec4_array!([f32; 4], 64, "vec4[64]");
+glsl_vec4_array!([f32; 4], 256, "vec4[256]");
 glsl_vec4_array!([u32; 4], 4, "uvec4[4]");
 
 /// mat4, column-major on both sides (glam's `to_cols_array`): four vec4 columns.

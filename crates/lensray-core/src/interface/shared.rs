@@ -83,6 +83,14 @@ shader_interface! {
         /// Per interval: 1 / its probability, and 1 / the density (in 1/nm) over it.
         SPECTRAL_INV_PROBABILITY: [f32; 80] = spectral_table::INV_PROBABILITY;
         SPECTRAL_INV_DENSITY: [f32; 80] = spectral_table::INV_DENSITY;
+        /// Where the trace pass reads those four tables in `Lens.spectral_table` (floats, in
+        /// this order): a constant array indexed by a variable costs lavapipe a copy per
+        /// invocation, which made the whole trace pass 1.4x-1.5x slower, dispersion or not.
+        SPECTRAL_AT_WEIGHTS: u32 = 0;
+        SPECTRAL_AT_CDF: u32 = 9 * spectral_table::NODES;
+        SPECTRAL_AT_INV_PROBABILITY: u32 = 10 * spectral_table::NODES;
+        SPECTRAL_AT_INV_DENSITY: u32 = 11 * spectral_table::NODES - 1;
+        SPECTRAL_AT_END: u32 = 12 * spectral_table::NODES - 2;
 
         /// Workgroups: trace.comp is TRACE_GROUP_SIZE x TRACE_GROUP_SIZE (a coherent tile).
         TRACE_GROUP_SIZE: u32 = 8;
@@ -489,6 +497,9 @@ shader_interface! {
             surface_asphere_low: [[f32; 4]; 32],
             /// ... and a10, a12, a14, a16.
             surface_asphere_high: [[f32; 4]; 32],
+            /// The spectral tables, four floats a vec4, at SPECTRAL_AT_* (the trace pass's
+            /// spectral.glsl reads them here; upload.rs copies the SPECTRAL_* constants).
+            spectral_table: [[f32; 4]; 256],
             /// Per bin (LENS_PUPIL_BINS): the region at its inner film radius (centre xy, half
             /// sides zw), and at its outer.
             pupil_inner: [[f32; 4]; 64],

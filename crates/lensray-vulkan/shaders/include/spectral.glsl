@@ -11,12 +11,29 @@
 // spectral.rs: SEARCH_FIRST_STEP
 const uint SPECTRAL_SEARCH_FIRST_STEP = 64u;
 
+// Where the tables are read: a shader with the lens buffer (LENS_BINDING: the trace pass) reads
+// them from Lens.spectral_table, since a constant array indexed by a variable costs lavapipe a
+// copy per invocation (interface::SPECTRAL_AT_*); others (the probe) from the constants. The
+// values are the same floats.
+#ifdef LENS_BINDING
+#define SPECTRAL_TABLE_AT(i) lens.spectral_table[(i) >> 2u][(i) & 3u]
+#define SPECTRAL_CDF_AT(k) SPECTRAL_TABLE_AT(SPECTRAL_AT_CDF + (k))
+#define SPECTRAL_INV_PROBABILITY_AT(k) SPECTRAL_TABLE_AT(SPECTRAL_AT_INV_PROBABILITY + (k))
+#define SPECTRAL_INV_DENSITY_AT(k) SPECTRAL_TABLE_AT(SPECTRAL_AT_INV_DENSITY + (k))
+#define SPECTRAL_WEIGHTS_AT(i) SPECTRAL_TABLE_AT(SPECTRAL_AT_WEIGHTS + (i))
+#else
+#define SPECTRAL_CDF_AT(k) SPECTRAL_CDF[k]
+#define SPECTRAL_INV_PROBABILITY_AT(k) SPECTRAL_INV_PROBABILITY[k]
+#define SPECTRAL_INV_DENSITY_AT(k) SPECTRAL_INV_DENSITY[k]
+#define SPECTRAL_WEIGHTS_AT(i) SPECTRAL_WEIGHTS[i]
+#endif
+
 // spectral.rs: wavelength_interval
 uint wavelength_interval(float u) {
     uint k = 0u;
     for (uint step = SPECTRAL_SEARCH_FIRST_STEP; step > 0u; step >>= 1u) {
         uint next = k + step;
-        if (next < SPECTRAL_INTERVALS && SPECTRAL_CDF[next] <= u) {
+        if (next < SPECTRAL_INTERVALS && SPECTRAL_CDF_AT(next) <= u) {
             k = next;
         }
     }
@@ -26,7 +43,7 @@ uint wavelength_interval(float u) {
 // spectral.rs: sample_wavelength
 float sample_wavelength(float u) {
     uint k = wavelength_interval(u);
-    precise float fraction = (u - SPECTRAL_CDF[k]) * SPECTRAL_INV_PROBABILITY[k];
+    precise float fraction = (u - SPECTRAL_CDF_AT(k)) * SPECTRAL_INV_PROBABILITY_AT(k);
     fraction = clamp(fraction, 0.0, 1.0);
     precise float node = float(k) * SPECTRAL_STEP_NM + SPECTRAL_MIN_NM;
     precise float lambda = node + SPECTRAL_STEP_NM * fraction;
@@ -41,12 +58,12 @@ mat3 rgb_weights(float lambda_nm) {
     uint k = min(uint(x), last);
     precise float t = x - float(k);
     precise float s = 1.0 - t;
-    float inv_density = SPECTRAL_INV_DENSITY[k];
+    float inv_density = SPECTRAL_INV_DENSITY_AT(k);
     uint a = 9u * k;
     uint b = a + 9u;
     precise float w[9];
     for (uint j = 0u; j < 9u; ++j) {
-        w[j] = (SPECTRAL_WEIGHTS[a + j] * s + SPECTRAL_WEIGHTS[b + j] * t) * inv_density;
+        w[j] = (SPECTRAL_WEIGHTS_AT(a + j) * s + SPECTRAL_WEIGHTS_AT(b + j) * t) * inv_density;
     }
     return mat3(w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]);
 }
