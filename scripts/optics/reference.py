@@ -45,14 +45,16 @@ import colour_reference as stdlib  # noqa: E402  (the cross-check only)
 
 warnings.filterwarnings("ignore")
 
-LINES_NM = {"F": 486.13, "d": 587.56, "C": 656.27}
-FIELDS_DEG = [5.0, 10.0, 15.0, 20.0]
-LSA_FRACTIONS = [0.25, 0.5, 0.75, 1.0]
-ASPHERE_KEYS = ["k"] + ["a%d" % n for n in range(2, 17, 2)]
-
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-LENS_DIR = os.path.join(ROOT, "assets", "lenses")
-OUT_DIR = os.path.join(ROOT, "crates", "lensray", "tests", "lens_reference")
+# The lines, fields, heights, keys and folders are the stdlib tracer's: one definition.
+from colour_reference import (  # noqa: E402
+    ASPHERE_KEYS,
+    FIELDS_DEG,
+    LENS_DIR,
+    LINES_NM,
+    LSA_FRACTIONS,
+    OUT_DIR,
+    ROOT,
+)
 
 
 def tool_rayoptics():
