@@ -53,7 +53,6 @@ from colour_reference import (  # noqa: E402
     LINES_NM,
     LSA_FRACTIONS,
     OUT_DIR,
-    ROOT,
 )
 
 
