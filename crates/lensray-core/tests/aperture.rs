@@ -29,6 +29,7 @@ fn camera(aperture_radius: f32, shape: ApertureShape) -> Camera {
         far: 100.0,
         width: SIZE,
         height: SIZE,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("valid camera")

@@ -62,6 +62,7 @@ fn camera(width: u32, height: u32, lens: LensParams) -> Camera {
         far: 100.0,
         width,
         height,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("valid camera")

@@ -6,13 +6,13 @@ use bytemuck::Zeroable;
 use glam::Mat4;
 
 use lensray_core::camera::Footprint;
-use lensray_core::camera::{Camera, Projection};
+use lensray_core::camera::{Camera, CocLens, Projection};
 use lensray_core::interface::{
-    GpuCamera, GpuFootprint, GpuLens, GpuLight, GpuMaterial, GpuTexture, GpuTextureRef, RasterPush,
-    ResolvePush, TraceParams, ViewParams, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, APERTURE_MAX_FAN,
-    LENS_MAX_SURFACES, LENS_PUPIL_BINS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT,
-    PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, TEXTURE_NONE,
-    TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
+    GpuCamera, GpuCocLens, GpuFootprint, GpuLens, GpuLight, GpuMaterial, GpuTexture, GpuTextureRef,
+    RasterPush, ResolvePush, TraceParams, ViewParams, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE,
+    APERTURE_MAX_FAN, LENS_MAX_SURFACES, LENS_PUPIL_BINS, LIGHT_DIRECTIONAL, LIGHT_POINT,
+    LIGHT_SPOT, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT,
+    TEXTURE_NONE, TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
 use lensray_core::scene::order::spatial_order;
 use lensray_core::scene::texture::{Encoding, Wrap, MAX_LEVELS};
@@ -220,6 +220,7 @@ pub(crate) fn gpu_camera(camera: &Camera) -> GpuCamera {
         aperture_image_columns: image.map_or(0, |i| i.columns()),
         aperture_image_rows: image.map_or(0, |i| i.rows()),
         aperture_turn: [turn.x, turn.y, 0.0, 0.0],
+        focus_tilt: [lens.focus_tilt.x, lens.focus_tilt.y, 0.0, 0.0],
         aperture_fan: aperture_fan(lens.aperture.fan()),
     }
 }
@@ -263,8 +264,9 @@ pub(crate) fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
     out.entrance_pupil_z = real.entrance_pupil_z();
     // RealLens::film_point's arithmetic, done here once.
     out.film_mm_per_pixel = 2.0 * real.film_half_height() / camera.height as f32;
-    out.raster_centre_x = 0.5 * camera.width as f32;
-    out.raster_centre_y = 0.5 * camera.height as f32;
+    let centre = real.raster_centre(camera.width, camera.height);
+    out.raster_centre_x = centre.x;
+    out.raster_centre_y = centre.y;
     out.rear_z = pupil.rear_z;
     out.film_radius = pupil.film_radius;
     out.inverse_centre_integral = pupil.inverse_centre_integral;
@@ -378,20 +380,25 @@ fn gpu_footprint(f: &Footprint) -> GpuFootprint {
     }
 }
 
-/// The circle of confusion shown as white in the preview's CoC view, pixels.
-pub(crate) const COC_DISPLAY_MAX: f32 = 16.0;
+/// The circle of confusion's lens data of `camera` (`CocLens`) as the shaders read it.
+pub(crate) fn gpu_coc_lens(camera: &Camera) -> GpuCocLens {
+    let coc = CocLens::of(camera);
+    GpuCocLens {
+        projection: projection_code(camera),
+        focus_distance: coc.focus_distance,
+        scale: coc.scale,
+        tilt_origin: coc.tilt_origin,
+        tilt_dx: coc.tilt_dx,
+        tilt_dy: coc.tilt_dy,
+    }
+}
 
 /// View `view` (VIEW_*) of `camera`.
 pub(crate) fn view_params(camera: &Camera, view: u32) -> ViewParams {
     ViewParams {
         view,
-        projection: projection_code(camera),
-        lens_reach: camera.lens.first_order().reach(),
-        focus_distance: camera.lens.first_order().focus_distance,
-        near_z: camera.near,
         far_z: camera.far,
-        pixels_per_screen_unit: camera.pixels_per_screen_unit(),
-        coc_display_max: COC_DISPLAY_MAX,
+        coc: gpu_coc_lens(camera),
     }
 }
 
@@ -441,6 +448,7 @@ mod tests {
                 far: 20.0,
                 width: 160,
                 height: 90,
+                movements: lensray_core::camera::Movements::NONE,
             }
             .build()
             .unwrap();

@@ -83,6 +83,7 @@ fn main() {
         far: 100.0,
         width,
         height,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("valid camera");

@@ -31,11 +31,13 @@ fn lens_camera(name: &str, f_number: Option<f64>, width: u32, height: u32) -> Ca
             focus_distance: 5.5,
             sensor_height_mm: 24.0,
             dispersion: true,
+            shift_mm: [0.0, 0.0],
         }),
         near: 0.05,
         far: 50.0,
         width,
         height,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("a valid real-lens camera")

@@ -110,6 +110,7 @@ fn gpu_paths_cast_masked_shadows_from_every_light() {
         far: 100.0,
         width: 80,
         height: 60,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("valid camera");
@@ -144,6 +145,7 @@ fn top_down(height: f32, size: u32) -> Camera {
         far: 100.0,
         width: size,
         height: size,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("valid camera")

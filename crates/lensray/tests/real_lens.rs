@@ -80,6 +80,7 @@ fn camera(width: u32, height: u32, lens: LensParams) -> Camera {
         far: 1000.0,
         width,
         height,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("valid camera")
@@ -94,6 +95,7 @@ fn real(lens: &Arc<Prescription>, f_number: Option<f64>, focus: f64, sensor: f64
         // These tests check the geometry and radiometry at the d line; tests/real_lens/colour.rs
         // renders dispersion.
         dispersion: false,
+        shift_mm: [0.0, 0.0],
     })
 }
 

@@ -91,6 +91,7 @@ fn camera() -> Camera {
         far: 50.0,
         width: WIDTH,
         height: HEIGHT,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("valid camera")

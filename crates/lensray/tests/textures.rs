@@ -27,6 +27,7 @@ fn camera_towards(target: Vec3, lens: LensParams, width: u32, height: u32) -> Ca
         far: 100.0,
         width,
         height,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("valid camera")

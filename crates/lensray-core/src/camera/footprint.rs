@@ -98,6 +98,7 @@ mod tests {
                 far: 100.0,
                 width: 64,
                 height: 48,
+                movements: crate::camera::Movements::NONE,
             }
             .build()
             .unwrap();

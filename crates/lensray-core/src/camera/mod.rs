@@ -33,6 +33,9 @@
 //! - [`raster`]: screen -> NDC -> raster.
 //! - [`projective`]: the chain built once, and ray generation through pixel (i, j).
 //! - [`thin_lens`]: depth of field ("Non-Linear Models": aperture-centre ray, focal plane, lens rays).
+//! - [`movements`]: shift and tilt (a view camera's movements): the screen window moved off the
+//!   axis, the plane of focus turned (Scheimpflug), and the plane through three points.
+//! - [`coc`]: the circle of confusion of a point, facing or tilted plane of focus.
 //! - [`aperture`]: the shape of the lens opening (round, bladed, curved, squeezed) and the
 //!   uniform map of the sampler's lens dimensions onto it.
 //! - [`physical`]: the thin-lens equation 1/s_o + 1/s_i = 1/f ("Paraxial Approximation").
@@ -43,9 +46,11 @@
 //! - [`params`]: what a user gives, validated.
 
 pub mod aperture;
+pub mod coc;
 pub mod footprint;
 pub mod lens;
 pub mod look_at;
+pub mod movements;
 pub mod params;
 pub mod physical;
 pub mod projection;
@@ -56,8 +61,10 @@ pub mod real_lens;
 pub mod thin_lens;
 
 pub use aperture::{Aperture, ApertureShape};
+pub use coc::CocLens;
 pub use footprint::Footprint;
 pub use lens::Lens;
+pub use movements::{FocusPlane, Movements};
 pub use params::{CameraError, CameraParams, LensParams, ProjectionParams};
 pub use projection::Projection;
 pub use projective::Camera;

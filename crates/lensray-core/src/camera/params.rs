@@ -7,7 +7,8 @@ use thiserror::Error;
 
 use super::aperture::{ApertureShape, MAX_BLADES};
 use super::look_at::CameraFrame;
-use super::physical::PhysicalLens;
+use super::movements::{MovementError, Movements, TiltModel};
+use super::physical::{PhysicalLens, MM_PER_WORLD_UNIT};
 use super::real_lens::{RealLens, RealLensError, RealLensParams};
 use super::{Aperture, Camera, Lens, Projection, ThinLens};
 
@@ -50,6 +51,8 @@ pub struct CameraParams {
     pub far: f64,
     pub width: u32,
     pub height: u32,
+    /// Shift and tilt (`movements`); `Movements::NONE` for a camera without.
+    pub movements: Movements,
 }
 
 #[derive(Debug, Error, PartialEq)]
@@ -82,6 +85,8 @@ pub enum CameraError {
     ApertureRoundness(f32),
     #[error(transparent)]
     RealLens(#[from] RealLensError),
+    #[error(transparent)]
+    Movement(#[from] MovementError),
 }
 
 impl ApertureShape {
@@ -141,6 +146,9 @@ struct BuiltLens {
     thin: ThinLens,
     vfov: Option<f64>,
     real: Option<RealLens>,
+    /// Screen units per mm of `Movements::shift` for a lens with a focal length (`None`:
+    /// the shift is in image heights).
+    shift_scale: Option<f64>,
 }
 
 impl CameraParams {
@@ -164,8 +172,13 @@ impl CameraParams {
         let frame = self.check_frame()?;
         self.check_image_size()?;
         let (near, far) = self.check_clip_planes()?;
+        self.movements.check()?;
         let lens = self.build_lens(near, &aperture)?;
         let projection = self.build_projection(lens.vfov)?;
+        let shift_scale = lens
+            .shift_scale
+            .unwrap_or(2.0 * f64::from(projection.screen_half_height()));
+        let screen_shift = (self.movements.shift() * shift_scale).as_vec2();
 
         let lens = match lens.real {
             Some(real) => Lens::Real {
@@ -182,9 +195,12 @@ impl CameraParams {
             far as f32,
             self.width,
             self.height,
+            screen_shift,
         );
         // The real lens already has its shaped stop: this sets the thin lens's aperture.
-        Ok(camera.with_aperture(aperture)?)
+        let camera = camera.with_aperture(aperture)?;
+        check_plane_of_focus(&camera)?;
+        Ok(camera)
     }
 
     /// The camera's frame from eye, target and up, each finite and not degenerate.
@@ -231,10 +247,14 @@ impl CameraParams {
             } => {
                 let aperture_radius = non_negative("aperture radius", aperture_radius)?;
                 let focus_distance = self.check_focus(focus_distance, near)?;
+                let focus_tilt = self
+                    .movements
+                    .focus_tilt(focus_distance, TiltModel::PlaneAngle);
                 (
                     ThinLens {
                         aperture_radius: aperture_radius as f32,
                         focus_distance: focus_distance as f32,
+                        focus_tilt,
                         aperture: Aperture::ROUND,
                     },
                     None,
@@ -243,42 +263,53 @@ impl CameraParams {
             &LensParams::Physical {
                 lens,
                 focus_distance,
-            } => self.build_physical_lens(&lens, focus_distance, near)?,
+            } => return self.build_physical_lens(&lens, focus_distance, near),
             LensParams::Real(params) => return self.build_real_lens(params, near, aperture),
         };
         Ok(BuiltLens {
             thin,
             vfov,
             real: None,
+            shift_scale: None,
         })
     }
 
-    /// A lens in photographic units: its thin-lens model and the field of view it gives.
+    /// A lens in photographic units: its thin-lens model (the plane of focus tilted by the
+    /// hinge rule), the field of view it gives and the film's screen units per mm.
     fn build_physical_lens(
         &self,
         lens: &PhysicalLens,
         focus_distance: f64,
         near: f64,
-    ) -> Result<(ThinLens, Option<f64>), CameraError> {
+    ) -> Result<BuiltLens, CameraError> {
         positive("focal length (mm)", lens.focal_length_mm)?;
         positive("f-number", lens.f_number)?;
         positive("sensor height (mm)", lens.sensor_height_mm)?;
         non_negative("aperture radius", lens.aperture_radius())?;
         let focus_distance = self.check_focus(focus_distance, near)?;
-        let vfov = lens
-            .vfov(focus_distance)
-            .ok_or(CameraError::FocusWithinFocalLength {
+        let tilt = self.movements.tilt_degrees.to_radians();
+        let film_distance_mm = lens.tilted_film_distance_mm(focus_distance, tilt).ok_or(
+            CameraError::FocusWithinFocalLength {
                 focus: focus_distance,
                 focal_length_mm: lens.focal_length_mm,
-            })?;
-        Ok((
-            ThinLens {
+            },
+        )?;
+        let vfov = 2.0 * (lens.sensor_height_mm / (2.0 * film_distance_mm)).atan();
+        let focal_length = lens.focal_length_mm / MM_PER_WORLD_UNIT;
+        let focus_tilt = self
+            .movements
+            .focus_tilt(focus_distance, TiltModel::FocalLength(focal_length));
+        Ok(BuiltLens {
+            thin: ThinLens {
                 aperture_radius: lens.aperture_radius() as f32,
                 focus_distance: focus_distance as f32,
+                focus_tilt,
                 aperture: Aperture::ROUND,
             },
-            Some(vfov),
-        ))
+            vfov: Some(vfov),
+            real: None,
+            shift_scale: Some(1.0 / film_distance_mm),
+        })
     }
 
     /// A lens prescription traced exactly, its stop shaped as `aperture`, with its first-order
@@ -297,8 +328,12 @@ impl CameraParams {
         }
         positive("sensor height (mm)", params.sensor_height_mm)?;
         let focus_distance = self.check_focus(params.focus_distance, near)?;
+        if self.movements.tilt_degrees != 0.0 {
+            return Err(RealLensError::Tilted.into());
+        }
         let params = RealLensParams {
             focus_distance,
+            shift_mm: self.movements.shift,
             ..params.clone()
         };
         let aspect = self.width as f32 / self.height as f32;
@@ -308,12 +343,14 @@ impl CameraParams {
         let thin = ThinLens {
             aperture_radius: real.entrance_pupil_radius() as f32,
             focus_distance: focus_distance as f32,
+            focus_tilt: glam::Vec2::ZERO,
             aperture: Aperture::ROUND,
         };
         let vfov = real.pinhole_vfov();
         Ok(BuiltLens {
             thin,
             vfov: Some(vfov),
+            shift_scale: Some(real.pinhole_shift_scale()),
             real: Some(real),
         })
     }
@@ -364,4 +401,39 @@ impl CameraParams {
         }
         Ok(focus)
     }
+}
+
+/// A tilted plane of focus must stay clear of the lens: its hinge outside the opening's reach
+/// (else lens rays would cross the plane at the lens), and for orthographic rays, which start
+/// on the near plane, beyond that plane over the whole image.
+fn check_plane_of_focus(camera: &Camera) -> Result<(), MovementError> {
+    let lens = camera.lens.first_order();
+    let s = lens.focus_tilt;
+    if s == glam::Vec2::ZERO {
+        return Ok(());
+    }
+    let depth = lens.focus_distance - camera.lens_plane_z();
+    let reach = lens.reach();
+    if depth - s.length() * reach <= 0.0 {
+        return Err(MovementError::HingeInAperture {
+            hinge: f64::from(depth / s.length()),
+            reach: f64::from(reach),
+        });
+    }
+    if camera.is_orthographic() {
+        let w = &camera.screen_window;
+        for (x, y) in [
+            (w.x_start(), w.y_start()),
+            (w.x_start(), w.y_stop()),
+            (w.x_stop(), w.y_start()),
+            (w.x_stop(), w.y_stop()),
+        ] {
+            if lens.focus_depth_at(glam::Vec2::new(x, y)) <= camera.near {
+                return Err(MovementError::PlaneBeforeNear {
+                    near: f64::from(camera.near),
+                });
+            }
+        }
+    }
+    Ok(())
 }

@@ -26,9 +26,17 @@ impl PhysicalLens {
     /// s_i from 1/s_o + 1/s_i = 1/f, in mm; `None` when the subject is at or inside the focal
     /// length (no real image forms).
     pub fn film_distance_mm(&self, focus_distance: f64) -> Option<f64> {
+        self.tilted_film_distance_mm(focus_distance, 0.0)
+    }
+
+    /// The film distance (mm) of the lens tilted by `tilt` radians whose plane of focus crosses
+    /// the view axis at `focus_distance`: 1 / s_i = cos(tilt) / f - 1 / s_o (`movements`);
+    /// `None` where no real image forms.
+    pub fn tilted_film_distance_mm(&self, focus_distance: f64, tilt: f64) -> Option<f64> {
         let s_o = focus_distance * MM_PER_WORLD_UNIT;
         let f = self.focal_length_mm;
-        (s_o > f).then(|| 1.0 / (1.0 / f - 1.0 / s_o))
+        let inverse = tilt.cos() / f - 1.0 / s_o;
+        (s_o > 0.0 && inverse > 0.0).then(|| 1.0 / inverse)
     }
 
     /// Vertical field of view (radians) of a sensor at the film distance: 2 atan(h / (2 s_i)).

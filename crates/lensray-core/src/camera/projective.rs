@@ -5,6 +5,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use std::sync::Arc;
 
+use super::coc::CocLens;
 use super::look_at::CameraFrame;
 use super::raster::{self, ScreenWindow};
 use super::real_lens::RealLensError;
@@ -37,7 +38,9 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// Inputs are assumed valid (see `CameraParams::build`, which checks them).
+    /// Inputs are assumed valid (see `CameraParams::build`, which checks them). `screen_shift`
+    /// moves the screen window's centre off the view axis (screen units; zero: centred).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         projection: Projection,
         frame: CameraFrame,
@@ -46,8 +49,10 @@ impl Camera {
         far: f32,
         width: u32,
         height: u32,
+        screen_shift: Vec2,
     ) -> Self {
-        let screen_window = ScreenWindow::new(projection.screen_half_height(), width, height);
+        let screen_window =
+            ScreenWindow::new(projection.screen_half_height(), width, height, screen_shift);
         let ndc_from_screen = screen_window.ndc_from_screen();
         let screen_from_ndc = screen_window.screen_from_ndc();
         let raster_from_ndc = raster::raster_from_ndc(width, height);
@@ -97,6 +102,7 @@ impl Camera {
             self.far,
             width,
             height,
+            self.screen_window.centre,
         );
         if let Lens::Real { real, first_order } = &mut camera.lens {
             let aspect = width as f32 / height as f32;
@@ -178,6 +184,7 @@ impl Camera {
             self.far * 100.0,
             self.width,
             self.height,
+            self.screen_window.centre,
         )
     }
 
@@ -290,19 +297,19 @@ impl Camera {
         self.height as f32 / (2.0 * self.screen_window.half_height)
     }
 
-    /// Radius, in pixels, of the circle of confusion of a point at view depth z: the image of
-    /// that point spreads over the film points whose lens-ray bundles reach it. Perspective:
+    /// Radius, in pixels, of the circle of confusion of the surface at view depth `z` seen
+    /// through raster point `p_raster` (see `coc`): the image of that point spreads over the
+    /// film points whose lens-ray bundles reach it. Perspective, facing plane:
     /// A |1/F - 1/z| on the screen plane z = 1; orthographic: the object-space spread itself.
     /// A is the lens's reach: for a shaped aperture, the circle that holds the shape.
-    pub fn coc_radius_pixels(&self, z: f32) -> f32 {
-        let pixels_per_screen_unit = self.pixels_per_screen_unit();
-        let lens = self.lens.first_order();
-        let screen_radius = match self.projection {
-            Projection::Perspective { .. } => {
-                lens.reach() * (1.0 / lens.focus_distance - 1.0 / z).abs()
-            }
-            Projection::Orthographic { .. } => lens.ray_spread_radius(z, self.near),
-        };
-        screen_radius * pixels_per_screen_unit
+    pub fn coc_radius_pixels(&self, p_raster: Vec2, z: f32) -> f32 {
+        CocLens::of(self).radius_pixels(p_raster, z)
+    }
+
+    /// The camera-space point at view depth `z` on the aperture-centre ray through raster
+    /// point `p_raster`.
+    pub fn camera_point(&self, p_raster: Vec2, z: f32) -> Vec3 {
+        let ray = self.pinhole_ray_camera(p_raster);
+        ray.at((z - ray.origin.z) / ray.direction.z)
     }
 }

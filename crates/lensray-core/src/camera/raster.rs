@@ -1,36 +1,43 @@
 //! Screen -> NDC -> raster (pbrt's chain): the screen window is mapped to [0, 1]^2 with the
 //! origin at the top-left, then scaled to pixels. Depth passes through unchanged.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
-/// The visible rectangle of the screen plane: x in [-half_width, half_width], y likewise.
+/// The visible rectangle of the screen plane: x in [centre.x - half_width, centre.x +
+/// half_width], y likewise. A centred window looks along the view axis; a shifted one
+/// (`centre` not zero: a shift lens's film moved off the axis, see `movements`) keeps the
+/// image plane facing the same way, so lines parallel to it stay parallel in the image.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ScreenWindow {
     pub half_width: f32,
     pub half_height: f32,
+    /// The window's centre on the screen plane (screen units; +x right, +y up).
+    pub centre: Vec2,
 }
 
 impl ScreenWindow {
-    pub fn new(half_height: f32, width: u32, height: u32) -> Self {
+    /// The window of half height `half_height` and the image's aspect, centred at `centre`.
+    pub fn new(half_height: f32, width: u32, height: u32, centre: Vec2) -> Self {
         let aspect = width as f32 / height as f32;
         Self {
             half_width: half_height * aspect,
             half_height,
+            centre,
         }
     }
 
     /// The course's xStart/xStop, yStart/yStop: x grows to the right, y grows up.
     pub fn x_start(&self) -> f32 {
-        -self.half_width
+        self.centre.x - self.half_width
     }
     pub fn x_stop(&self) -> f32 {
-        self.half_width
+        self.centre.x + self.half_width
     }
     pub fn y_start(&self) -> f32 {
-        -self.half_height
+        self.centre.y - self.half_height
     }
     pub fn y_stop(&self) -> f32 {
-        self.half_height
+        self.centre.y + self.half_height
     }
 
     /// x_ndc = (x - xStart) / (xStop - xStart), y_ndc = (yStop - y) / (yStop - yStart).

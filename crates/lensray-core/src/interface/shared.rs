@@ -40,6 +40,8 @@ shader_interface! {
         VIEW_NORMAL: u32 = 2;
         VIEW_DEPTH: u32 = 3;
         VIEW_COC: u32 = 4;
+        /// The circle of confusion shown as white in the CoC view, pixels.
+        COC_DISPLAY_MAX: f32 = 16.0;
 
         /// Sample dimensions the camera takes (sampler::camera_sample); later consumers take
         /// dimensions from DIM_FIRST_FREE on.
@@ -280,6 +282,8 @@ shader_interface! {
             aperture_image_rows: u32,
             /// (cos, sin) of the aperture's rotation, which turns an image; zw unused.
             aperture_turn: [f32; 4],
+            /// The plane of focus's slope (ThinLens::focus_tilt); zw unused.
+            focus_tilt: [f32; 4],
             /// The fan's vertices (unit circumscribed radius), two per vec4: (x0, y0, x1, y1).
             aperture_fan: [[f32; 4]; 32],
         }
@@ -351,22 +355,27 @@ shader_interface! {
             /// xyz: the view axis; w: 1 orthographic (viewer direction is the axis), 0 perspective.
             forward: [f32; 4],
         }
-        /// What a preview view shows (shaders/include/views.glsl) and the lens data of its circle of
-        /// confusion (camera.glsl's coc_radius_pixels mirrors Camera::coc_radius_pixels).
+        /// A circle of confusion's lens data (camera/coc.rs, `CocLens`; camera.glsl's
+        /// coc_radius_pixels mirrors `CocLens::radius_pixels`).
+        Std430 struct GpuCocLens as CocLens {
+            /// PROJECTION_*
+            projection: u32,
+            focus_distance: f32,
+            /// Pixels of circle per unit of the distance to the plane of focus.
+            scale: f32,
+            /// The plane's slope dotted with the screen point at raster (0, 0), and its steps
+            /// per raster x and y.
+            tilt_origin: f32,
+            tilt_dx: f32,
+            tilt_dy: f32,
+        }
+        /// What a preview view shows (shaders/include/views.glsl) and the lens data of its
+        /// circle of confusion.
         Std430 struct ViewParams as ViewParams {
             /// VIEW_*
             view: u32,
-            /// PROJECTION_*
-            projection: u32,
-            /// ThinLens::reach: the radius of the circle that holds the aperture's shape.
-            lens_reach: f32,
-            focus_distance: f32,
-            near_z: f32,
             far_z: f32,
-            /// Pixels per screen-space unit (height / screen window height).
-            pixels_per_screen_unit: f32,
-            /// The circle-of-confusion radius, in pixels, shown as white.
-            coc_display_max: f32,
+            coc: GpuCocLens,
         }
         /// Push constants of resolve.comp: the image size and the view.
         Std430 struct ResolvePush as ResolvePush {
@@ -394,14 +403,7 @@ shader_interface! {
             /// SHADING_*
             shading: u32,
             spp: u32,
-            /// PROJECTION_*
-            projection: u32,
-            /// ThinLens::reach: the radius of the circle that holds the aperture's shape.
-            lens_reach: f32,
-            focus_distance: f32,
-            near_z: f32,
-            /// Pixels per screen-space unit (Camera::pixels_per_screen_unit).
-            pixels_per_screen_unit: f32,
+            coc: GpuCocLens,
         }
         /// Push constants of sampler_cost.comp.
         Std430 struct SamplerCostPush as SamplerCostPush {

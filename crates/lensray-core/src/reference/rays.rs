@@ -109,20 +109,22 @@ pub fn primary_rays(
             glam::Vec2::new(lens_x[l], lens_y[l])
         }));
         let mut to_focus = Lanes3::splat(Vec3::ZERO);
+        let s = lens.focus_tilt;
         for (l, lens_point) in lens_points.iter().enumerate() {
-            // focal_point: pinhole.at((focus_distance - origin.z) / direction.z).
-            let t = (lens.focus_distance - origin.z[l]) / direction.z[l];
-            let focus = [
-                origin.x[l] + direction.x[l] * t,
-                origin.y[l] + direction.y[l] * t,
-                origin.z[l] + direction.z[l] * t,
-            ];
-            origin.x[l] += lens_point.x;
-            origin.y[l] += lens_point.y;
+            // a = focus_distance - n . o, b = n . d, the lens point scaled by
+            // a / (focus_distance - o.z) (ThinLens::across).
+            let across_origin = s.x * origin.x[l] + s.y * origin.y[l] + origin.z[l];
+            let across_direction = s.x * direction.x[l] + s.y * direction.y[l] + direction.z[l];
+            let a = lens.focus_distance - across_origin;
+            let b = across_direction;
+            let scale = a / (lens.focus_distance - origin.z[l]);
+            let point = *lens_point * scale;
+            to_focus.x[l] = direction.x[l] * a - point.x * b;
+            to_focus.y[l] = direction.y[l] * a - point.y * b;
+            to_focus.z[l] = direction.z[l] * a - 0.0 * b;
+            origin.x[l] += point.x;
+            origin.y[l] += point.y;
             origin.z[l] += 0.0;
-            to_focus.x[l] = focus[0] - origin.x[l];
-            to_focus.y[l] = focus[1] - origin.y[l];
-            to_focus.z[l] = focus[2] - origin.z[l];
         }
         normalize(&mut to_focus);
         direction = to_focus;

@@ -6,10 +6,11 @@ use thiserror::Error;
 
 use std::sync::Arc;
 
-use crate::camera::physical::PhysicalLens;
+use crate::camera::movements::TiltModel;
+use crate::camera::physical::{PhysicalLens, MM_PER_WORLD_UNIT};
 use crate::camera::{
-    Aperture, ApertureShape, Camera, CameraError, CameraParams, LensParams, ProjectionParams,
-    RealLensParams,
+    Aperture, ApertureShape, Camera, CameraError, CameraParams, LensParams, Movements,
+    ProjectionParams, RealLensParams,
 };
 use crate::optics::paraxial::FirstOrder;
 use crate::optics::Prescription;
@@ -146,6 +147,7 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
         far,
         width: settings.image.width.unwrap_or(DEFAULT_WIDTH),
         height: settings.image.height.unwrap_or(DEFAULT_HEIGHT),
+        movements: movements(c)?,
     }
     .build_with_aperture(aperture(&c.aperture)?)?;
 
@@ -272,6 +274,7 @@ fn lens(
             focus_distance: c.focus_distance.unwrap_or(axis_distance),
             sensor_height_mm: c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM),
             dispersion: c.lens.dispersion != Some(Switch::Off),
+            shift_mm: [0.0, 0.0],
         }),
         (Some(_), Some(_)) => {
             return Err(SettingsError::Conflict(
@@ -298,6 +301,34 @@ fn lens(
             None => LensParams::Pinhole,
         },
     })
+}
+
+/// Shift and tilt. A plane of focus through three pixels (`focus_plane`) is the app's to
+/// solve before the shot (it needs the surfaces under them): here it must be gone, or given
+/// alone.
+fn movements(c: &CameraSettings) -> Result<Movements, SettingsError> {
+    if c.focus_plane.is_some() && (c.tilt.is_some() || c.tilt_direction.is_some()) {
+        return Err(SettingsError::Conflict(
+            "give either a focus plane (three points) or a tilt and tilt direction, not both",
+        ));
+    }
+    Ok(Movements {
+        shift: c.shift.unwrap_or([0.0, 0.0]),
+        tilt_degrees: c.tilt.unwrap_or(0.0),
+        tilt_direction_degrees: c.tilt_direction.unwrap_or(0.0),
+    })
+}
+
+/// How the settings' lens tilts (`camera::movements`): by the hinge rule for a perspective
+/// lens with a focal length, by the plane's own angle otherwise.
+pub fn tilt_model(c: &CameraSettings) -> TiltModel {
+    let perspective = c.projection != Some(ProjectionKind::Orthographic);
+    match c.focal_length_mm {
+        Some(f) if perspective && c.aperture_radius.is_none() => {
+            TiltModel::FocalLength(f / MM_PER_WORLD_UNIT)
+        }
+        _ => TiltModel::PlaneAngle,
+    }
 }
 
 /// Samples, seed, sampler, shading, background and environment, each checked.

@@ -32,6 +32,19 @@ pub struct CameraSettings {
     pub sensor_height_mm: Option<f64>,
     pub near: Option<f64>,
     pub far: Option<f64>,
+    /// The film window's shift off the axis `[x, y]` (`camera::movements`): mm on the film
+    /// for a lens with a focal length, a fraction of the image height otherwise; +x right,
+    /// +y up.
+    pub shift: Option<[f64; 2]>,
+    /// The lens's tilt against the film, degrees in [0, 90).
+    pub tilt: Option<f64>,
+    /// Where in the image the plane of focus comes nearer, degrees counter-clockwise from
+    /// the image's bottom (0: like the ground).
+    pub tilt_direction: Option<f64>,
+    /// Three pixels `[[column, row], ...]` whose surfaces the plane of focus passes through;
+    /// it sets focus distance, tilt and tilt direction (the app finds the surfaces and
+    /// solves, `camera::FocusPlane`).
+    pub focus_plane: Option<[[u32; 2]; 3]>,
     /// `[camera.aperture]`: the opening's shape (round when absent).
     #[serde(default, skip_serializing_if = "ApertureSettings::is_unset")]
     pub aperture: ApertureSettings,
@@ -133,6 +146,16 @@ impl Settings {
             self.camera.aperture_radius = None;
             self.camera.focal_length_mm = None;
         }
+        // The plane of focus is given either by three points or by focus and tilt: the one
+        // given over replaces the other.
+        if c.focus_plane.is_some() {
+            self.camera.focus_distance = None;
+            self.camera.tilt = None;
+            self.camera.tilt_direction = None;
+        }
+        if c.focus_distance.is_some() || c.tilt.is_some() || c.tilt_direction.is_some() {
+            self.camera.focus_plane = None;
+        }
         overlay!(
             c,
             self.camera,
@@ -148,7 +171,11 @@ impl Settings {
             f_number,
             sensor_height_mm,
             near,
-            far
+            far,
+            shift,
+            tilt,
+            tilt_direction,
+            focus_plane
         );
         let (a, base) = (&c.aperture, &mut self.camera.aperture);
         overlay!(a, base, blades, rotation, roundness, aspect, image);

@@ -100,6 +100,7 @@ pub fn setups() -> Vec<Setup> {
                 far: 100.0,
                 width: 640,
                 height: 360,
+                movements: lensray_core::camera::Movements::NONE,
             },
         },
         Setup {
@@ -117,6 +118,7 @@ pub fn setups() -> Vec<Setup> {
                 far: 50.0,
                 width: 123,
                 height: 457,
+                movements: lensray_core::camera::Movements::NONE,
             },
         },
         Setup {
@@ -136,6 +138,7 @@ pub fn setups() -> Vec<Setup> {
                 far: 2.0,
                 width: 31,
                 height: 17,
+                movements: lensray_core::camera::Movements::NONE,
             },
         },
         Setup {
@@ -153,6 +156,7 @@ pub fn setups() -> Vec<Setup> {
                 far: 20.0,
                 width: 640,
                 height: 480,
+                movements: lensray_core::camera::Movements::NONE,
             },
         },
         Setup {
@@ -170,6 +174,7 @@ pub fn setups() -> Vec<Setup> {
                 far: 9.0,
                 width: 97,
                 height: 211,
+                movements: lensray_core::camera::Movements::NONE,
             },
         },
     ]

@@ -214,7 +214,12 @@ fn check_screen_window(name: &str, cam: &Camera, hw: f64, hh: f64) {
         hh,
         1e-6,
     );
-    let window = ScreenWindow::new(cam.projection.screen_half_height(), cam.width, cam.height);
+    let window = ScreenWindow::new(
+        cam.projection.screen_half_height(),
+        cam.width,
+        cam.height,
+        cam.screen_window.centre,
+    );
     assert_eq!(window, cam.screen_window, "{name}: ScreenWindow::new");
     assert_eq!(
         (

@@ -27,6 +27,7 @@ fn physical_params(lens: PhysicalLens, focus_distance: f64) -> CameraParams {
         far: 100.0,
         width: 1500,
         height: 1000,
+        movements: lensray_core::camera::Movements::NONE,
     }
 }
 
@@ -162,7 +163,7 @@ fn build_with_physical_lens() {
         let expected_px = diameter_mm / 2.0 / 24.0 * 1000.0;
         assert_rel(
             &format!("coc_radius_pixels at {z} m for 50 mm f/2 focused at 2 m"),
-            cam.coc_radius_pixels(z as f32) as f64,
+            cam.coc_radius_pixels(glam::Vec2::ZERO, z as f32) as f64,
             expected_px,
             1e-5,
         );

@@ -162,6 +162,7 @@ fn oblique(projection: ProjectionParams) -> CameraParams {
         far: 100.0,
         width: 200,
         height: 100,
+        movements: lensray_core::camera::Movements::NONE,
     }
 }
 

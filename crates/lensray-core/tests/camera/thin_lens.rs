@@ -141,6 +141,7 @@ fn lens_rays_of_a_film_point_meet_on_the_focal_plane() {
                 .lens
                 .first_order()
                 .focal_point(&pinhole_camera)
+                .expect("the facing plane is met in front of the lens")
                 .as_dvec3();
             let f_expected = r.pinhole_point_camera(col, row, r.focus);
             assert_vec_close(
@@ -209,7 +210,7 @@ fn lens_ray_spread_matches_circle_of_confusion() {
                         1e-3,
                     );
                 }
-                let coc = cam.coc_radius_pixels(z as f32) as f64;
+                let coc = cam.coc_radius_pixels(glam::Vec2::ZERO, z as f32) as f64;
                 assert_rel(
                     &format!("{label}: measured spread in pixels vs coc_radius_pixels"),
                     spread_px,
@@ -251,7 +252,7 @@ fn zero_aperture_lens_is_the_pinhole() {
                 setup.name
             );
             assert_eq!(
-                cam.coc_radius_pixels(3.7),
+                cam.coc_radius_pixels(glam::Vec2::ZERO, 3.7),
                 0.0,
                 "{}: CoC of a pinhole",
                 setup.name

@@ -18,6 +18,7 @@ fn perspective() -> CameraParams {
         far: 100.0,
         width: 64,
         height: 48,
+        movements: lensray_core::camera::Movements::NONE,
     }
 }
 

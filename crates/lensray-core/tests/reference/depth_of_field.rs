@@ -43,7 +43,11 @@ fn fit_edge(z: f32, lens: LensParams) -> (edge_fit::EdgeFit, f32, f32) {
         .map(|c| (0..height).map(|r| image.get(c, r).x as f64).sum::<f64>() / height as f64)
         .collect();
     let projected = cam.project(Vec3::new(edge_x, 0.0, -z)).x;
-    (edge_fit::fit(&profile), cam.coc_radius_pixels(z), projected)
+    (
+        edge_fit::fit(&profile),
+        cam.coc_radius_pixels(glam::Vec2::ZERO, z),
+        projected,
+    )
 }
 
 #[test]

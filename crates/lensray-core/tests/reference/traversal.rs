@@ -223,6 +223,7 @@ fn packet_primary_rays_equal_generate_ray_bit_for_bit() {
                 far: 100.0,
                 width: 37,
                 height: 23,
+                movements: lensray_core::camera::Movements::NONE,
             }
             .build()
             .expect("valid camera");

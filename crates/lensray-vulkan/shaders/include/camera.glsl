@@ -131,41 +131,40 @@ vec2 lens_point(Camera cam, vec2 lens_u) {
     return p;
 }
 
-// thin_lens.rs: ThinLens::focal_point
-vec3 focal_point(Camera cam, Ray pinhole) {
-    float t = (cam.focus_distance - pinhole.origin.z) / pinhole.direction.z;
-    return ray_at(pinhole, t);
+// thin_lens.rs: ThinLens::across. n . v for the plane of focus's normal n = (focus_tilt, 1).
+float focus_across(Camera cam, vec3 v) {
+    precise float d = cam.focus_tilt.x * v.x + cam.focus_tilt.y * v.y + v.z;
+    return d;
 }
 
-// thin_lens.rs: ThinLens::lens_ray
+// thin_lens.rs: ThinLens::lens_ray (the focal point in homogeneous form: see there).
 Ray lens_ray(Camera cam, Ray pinhole, vec2 lens_u) {
     if (cam.aperture_radius <= 0.0) {
         return pinhole;
     }
-    vec3 focus = focal_point(cam, pinhole);
-    vec2 lens = lens_point(cam, lens_u);
+    precise float a = cam.focus_distance - focus_across(cam, pinhole.origin);
+    precise float b = focus_across(cam, pinhole.direction);
+    precise float scale = a / (cam.focus_distance - pinhole.origin.z);
+    precise vec2 lens = lens_point(cam, lens_u) * scale;
     Ray r;
     r.origin = pinhole.origin + vec3(lens, 0.0);
-    r.direction = normalize(focus - r.origin);
+    precise vec3 direction = pinhole.direction * a - vec3(lens, 0.0) * b;
+    r.direction = normalize(direction);
     return r;
 }
 
-// thin_lens.rs: ThinLens::ray_spread_radius (`reach`: ThinLens::reach, the circle that holds
-// the aperture's shape).
-float ray_spread_radius(float reach, float focus_distance, float z, float lens_z) {
-    return reach * abs(focus_distance - z) / (focus_distance - lens_z);
-}
-
-// projective.rs: Camera::coc_radius_pixels (the camera's lens and screen scale passed in).
-float coc_radius_pixels(uint projection, float reach, float focus_distance,
-                        float near_z, float pixels_per_screen_unit, float z) {
-    float screen_radius;
-    if (projection == PROJECTION_PERSPECTIVE) {
-        screen_radius = reach * abs(1.0 / focus_distance - 1.0 / z);
+// coc.rs: CocLens::radius_pixels. Radius, in pixels, of the circle of confusion of the surface
+// at view depth z seen through raster point p_raster.
+float coc_radius_pixels(CocLens c, vec2 p_raster, float z) {
+    precise float tilt = c.tilt_origin + c.tilt_dx * p_raster.x + c.tilt_dy * p_raster.y;
+    precise float off_plane;
+    if (c.projection == PROJECTION_PERSPECTIVE) {
+        off_plane = (z * (1.0 + tilt) - c.focus_distance) / z;
     } else {
-        screen_radius = ray_spread_radius(reach, focus_distance, z, near_z);
+        off_plane = z + tilt - c.focus_distance;
     }
-    return screen_radius * pixels_per_screen_unit;
+    precise float r = c.scale * abs(off_plane);
+    return r;
 }
 
 // projective.rs: Camera::pinhole_ray_camera

@@ -30,15 +30,14 @@ vec3 depth_shown(ViewParams v, float depth) {
     return vec3(depth / v.far_z);
 }
 
-// Grey from 0 (sharp) to white at coc_display_max pixels, pixels sharper than half a pixel in
-// green (what the focus plane cuts). Depth 0: no surface.
-vec3 coc_shown(ViewParams v, float depth) {
+// Grey from 0 (sharp) to white at COC_DISPLAY_MAX pixels, pixels sharper than half a pixel in
+// green (what the plane of focus cuts). Depth 0: no surface. `p_raster`: the pixel's centre.
+vec3 coc_shown(ViewParams v, vec2 p_raster, float depth) {
     if (depth <= 0.0) {
         return vec3(0.0);
     }
-    float coc = coc_radius_pixels(v.projection, v.lens_reach, v.focus_distance, v.near_z,
-                                  v.pixels_per_screen_unit, depth);
-    return coc < 0.5 ? vec3(0.1, 0.8, 0.2) : vec3(clamp(coc / v.coc_display_max, 0.0, 1.0));
+    float coc = coc_radius_pixels(v.coc, p_raster, depth);
+    return coc < 0.5 ? vec3(0.1, 0.8, 0.2) : vec3(clamp(coc / COC_DISPLAY_MAX, 0.0, 1.0));
 }
 
 // What an 8-bit target stores.

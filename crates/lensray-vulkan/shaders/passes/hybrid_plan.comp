@@ -78,9 +78,7 @@ void step_tiles() {
             }
             ivec2 q = ivec2(p);
             if (imageLoad(g_normal, q).w > 0.5) {
-                tile = max(tile, coc_radius_pixels(pc.projection, pc.lens_reach,
-                                                   pc.focus_distance, pc.near_z,
-                                                   pc.pixels_per_screen_unit,
+                tile = max(tile, coc_radius_pixels(pc.coc, vec2(p) + 0.5,
                                                    imageLoad(g_depth, q).x));
             }
             bool edge = (p.x + 1u < pc.width && differs(q, q + ivec2(1, 0)))

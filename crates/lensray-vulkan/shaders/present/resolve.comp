@@ -34,7 +34,7 @@ void main() {
     } else if (pc.shown.view == VIEW_DEPTH) {
         shown = depth_shown(pc.shown, imageLoad(g_depth, q).x);
     } else {
-        shown = coc_shown(pc.shown, imageLoad(g_depth, q).x);
+        shown = coc_shown(pc.shown, vec2(p) + 0.5, imageLoad(g_depth, q).x);
     }
     imageStore(display, q, display_value(shown));
 }

@@ -34,7 +34,7 @@ void main() {
     } else if (pc.shown.view == VIEW_DEPTH) {
         shown = depth_shown(pc.shown, in_view_depth);
     } else {
-        shown = coc_shown(pc.shown, in_view_depth);
+        shown = coc_shown(pc.shown, gl_FragCoord.xy, in_view_depth);
     }
     out_shown = display_value(shown);
 }

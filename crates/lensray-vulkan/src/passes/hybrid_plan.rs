@@ -159,11 +159,7 @@ impl HybridPlanPass {
                 SHADING_UNLIT
             },
             spp,
-            projection: crate::upload::projection_code(camera),
-            lens_reach: camera.lens.first_order().reach(),
-            focus_distance: camera.lens.first_order().focus_distance,
-            near_z: camera.near,
-            pixels_per_screen_unit: camera.pixels_per_screen_unit(),
+            coc: crate::upload::gpu_coc_lens(camera),
         };
         // One invocation per tile, row, column, tile, segment.
         let steps = [

@@ -121,11 +121,13 @@ impl Tiles {
     fn max_coc(&self, camera: &Camera, gbuffer: &GBuffer) -> Vec<f32> {
         let (w, h, tw) = (gbuffer.width, gbuffer.height, self.x);
         let mut tile_max = vec![0f32; (self.x * self.y) as usize];
+        let coc_lens = lensray_core::camera::CocLens::of(camera);
         for y in 0..h {
             for x in 0..w {
                 let i = (y * w + x) as usize;
                 if gbuffer.coverage[i] {
-                    let coc = camera.coc_radius_pixels(gbuffer.view_depth[i]);
+                    let centre = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                    let coc = coc_lens.radius_pixels(centre, gbuffer.view_depth[i]);
                     let t = ((y / TILE) * tw + x / TILE) as usize;
                     tile_max[t] = tile_max[t].max(coc);
                 }
@@ -387,6 +389,7 @@ mod tests {
             far: 100.0,
             width: 64,
             height: 32,
+            movements: lensray_core::camera::Movements::NONE,
         }
         .build()
         .expect("camera");
@@ -406,7 +409,7 @@ mod tests {
                 gbuffer.albedo[(y * w + x) as usize] = Vec3::splat(0.9);
             }
         }
-        let near_coc = camera.coc_radius_pixels(1.0);
+        let near_coc = camera.coc_radius_pixels(glam::Vec2::splat(0.5), 1.0);
         assert!(near_coc > 9.0 && near_coc < 16.0, "{near_coc}");
         let plan = Plan::new(&camera, &gbuffer, None, 16);
         let traced = |x: u32, y: u32| plan.entries[(y * w + x) as usize][3] != HYBRID_SHORTCUT;

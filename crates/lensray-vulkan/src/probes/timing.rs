@@ -150,6 +150,7 @@ pub fn bench_renderer(
             camera.far,
             8,
             8,
+            camera.screen_window.centre,
         ),
         render: RenderSettings {
             spp: 1,

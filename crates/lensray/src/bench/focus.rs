@@ -37,13 +37,15 @@ impl FocusInfo {
         let (depth, _) = cpu.render(&depth_shot, &mut |_, _| {});
         let pixels = depth.pixels.len().max(1) as f64;
         let (mut in_focus, mut background, mut largest, mut sum) = (0usize, 0usize, 0f32, 0f64);
-        for z in depth.pixels.iter().map(|p| p.x) {
+        let coc_lens = lensray_core::camera::CocLens::of(camera);
+        for (i, z) in depth.pixels.iter().map(|p| p.x).enumerate() {
             // The AOV is 0 where nothing is seen.
             if z <= 0.0 {
                 background += 1;
                 continue;
             }
-            let coc = camera.coc_radius_pixels(z);
+            let (x, y) = (i as u32 % camera.width, i as u32 / camera.width);
+            let coc = coc_lens.radius_pixels(glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5), z);
             largest = largest.max(coc);
             sum += f64::from(coc);
             in_focus += usize::from(coc < IN_FOCUS_COC);

@@ -50,6 +50,21 @@ pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
     }
 }
 
+/// Parses "x,y" into two numbers (validation names the option later).
+pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [x, y] = parts.as_slice() else {
+        return Err(format!(
+            "expected two comma-separated numbers like 0,2.5, got '{s}'"
+        ));
+    };
+    let number = |p: &str| {
+        p.parse::<f64>()
+            .map_err(|_| format!("'{p}' is not a number (in '{s}')"))
+    };
+    Ok([number(x)?, number(y)?])
+}
+
 /// Which device: shared by `render`, `preview` (through [`PathArgs`]) and `bench`.
 #[derive(Args, Clone, Copy, Debug, Default)]
 pub struct DeviceArgs {
@@ -150,9 +165,27 @@ pub struct ViewArgs {
         conflicts_with = "focal_length_mm"
     )]
     pub aperture_radius: Option<f64>,
-    /// Distance of the focal plane along the view axis.
+    /// Distance of the focal plane along the view axis (a tilted plane: where it crosses
+    /// the axis).
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub focus_distance: Option<f64>,
+    /// Shift the film window off the axis (a shift lens): mm on the film with a focal length
+    /// or a real lens, else fractions of the image height; +X right, +Y up.
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
+    pub shift: Option<[f64; 2]>,
+    /// Tilt the lens against the film, degrees in [0, 90): the plane of focus turns
+    /// (Scheimpflug; with a focal length its hinge lies f / sin(tilt) from the lens).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub tilt: Option<f64>,
+    /// Where in the image the tilted plane of focus comes nearer, degrees counter-clockwise
+    /// from the image's bottom: 0 lays it like the ground, 90 like a wall on the right.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub tilt_direction: Option<f64>,
+    /// Lay the plane of focus through the surfaces under three pixels (column,row each):
+    /// sets focus distance, tilt and tilt direction, and prints them.
+    #[arg(long, num_args = 3, value_parser = parse_pixel, value_name = "X,Y",
+          conflicts_with_all = ["tilt", "tilt_direction", "focus_distance"])]
+    pub focus_plane: Option<Vec<[u32; 2]>>,
     /// Blades of the iris, 3 to 32 (absent: a round aperture); its vertices lie on the
     /// aperture's circle.
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
@@ -248,6 +281,10 @@ impl ViewArgs {
                 sensor_height_mm: self.sensor_height_mm,
                 near: self.near,
                 far: self.far,
+                shift: self.shift,
+                tilt: self.tilt,
+                tilt_direction: self.tilt_direction,
+                focus_plane: self.focus_plane.as_deref().map(|p| [p[0], p[1], p[2]]),
                 aperture: ApertureSettings {
                     blades: self.aperture_blades,
                     rotation: self.aperture_rotation,

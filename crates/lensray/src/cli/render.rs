@@ -7,11 +7,10 @@ use anyhow::{Context, Result};
 use clap::Args;
 
 use super::args::{parse_pixel, PathArgs, ViewArgs};
+use super::focus::{focus_depth_at, lay_focus_plane};
 use super::progress::{ProgressMode, ProgressReporter};
 use crate::output::PendingOutput;
-use crate::paths::RenderPath;
 use crate::paths::{self, OpenedPath};
-use lensray_core::camera::Camera;
 use lensray_core::scene::file::SceneDescription;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Settings;
@@ -139,8 +138,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let OpenedPath { mut path, why } =
         paths::open(&args.path.options(), &description.scene, &resolved)?;
+    if settings.camera.focus_plane.is_some() {
+        if args.focus_at.is_some() {
+            anyhow::bail!("give either --focus-at or --focus-plane, not both");
+        }
+        resolved = lay_focus_plane(path.as_mut(), &mut settings, &resolved, &|settings| {
+            shot(settings, &description.scene).with_context(context)
+        })?;
+    }
     if let Some(pixel) = args.focus_at {
-        let focus = focus_depth_at(path.as_mut(), &resolved.camera, pixel)?;
+        let focus = focus_depth_at(path.as_mut(), &resolved.camera, pixel, "--focus-at")?;
         settings.camera.focus_distance = Some(focus as f64);
         resolved = shot(&settings, &description.scene).with_context(context)?;
         // lensray's lengths are metres: a scene in other units says so.
@@ -183,18 +190,4 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// Autofocus: the view depth at `pixel`, or an error naming the pixel when it shows no surface.
-fn focus_depth_at(path: &mut dyn RenderPath, camera: &Camera, pixel: [u32; 2]) -> Result<f32> {
-    let [x, y] = pixel;
-    if x >= camera.width || y >= camera.height {
-        anyhow::bail!(
-            "--focus-at {x},{y} lies outside the {}x{} image",
-            camera.width,
-            camera.height
-        );
-    }
-    path.focus_depth_at(camera, pixel)?
-        .with_context(|| format!("--focus-at {x},{y}: no surface at that pixel to focus on"))
 }

@@ -129,13 +129,18 @@ fn calibration_shot(shot: &Shot) -> Shot {
 /// from the G-buffer of the calibration camera.
 fn largest_coc_pixels(renderer: &mut GpuRenderer, camera: &Camera, small: &Camera) -> Result<f32> {
     let gbuffer = renderer.render_gbuffer(&small.for_rasterizing_rays(), glam::Vec3::ZERO)?;
-    Ok(gbuffer
-        .view_depth
-        .iter()
-        .zip(&gbuffer.coverage)
-        .filter(|(_, covered)| **covered)
-        .map(|(&z, _)| camera.coc_radius_pixels(z))
-        .fold(0.0, f32::max))
+    // A pixel of the small camera covers `scale` of the shot's, the same screen window.
+    let scale = camera.width as f32 / small.width as f32;
+    let coc = lensray_core::camera::CocLens::of(camera);
+    let mut largest = 0f32;
+    for (i, (&z, &covered)) in gbuffer.view_depth.iter().zip(&gbuffer.coverage).enumerate() {
+        if covered {
+            let (x, y) = (i as u32 % small.width, i as u32 / small.width);
+            let centre = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5) * scale;
+            largest = largest.max(coc.radius_pixels(centre, z));
+        }
+    }
+    Ok(largest)
 }
 
 /// `auto` with every GPU path: the device's fastest traversal path (`pick_traversal`), the

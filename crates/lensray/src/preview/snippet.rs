@@ -122,6 +122,10 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
                 .then(|| c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM)),
             near: Some(c.near.unwrap_or(camera.near as f64)),
             far: Some(c.far.unwrap_or(camera.far as f64)),
+            shift: c.shift,
+            tilt: c.tilt,
+            tilt_direction: c.tilt_direction,
+            focus_plane: None,
             // The shape as given: what is left out is the round aperture's default.
             aperture: c.aperture.clone(),
             lens: c.lens.clone(),

@@ -248,6 +248,7 @@ pub fn camera(orthographic: bool, lens: LensParams, width: u32, height: u32) -> 
         far: 50.0,
         width,
         height,
+        movements: lensray_core::camera::Movements::NONE,
     }
     .build()
     .expect("valid test camera")

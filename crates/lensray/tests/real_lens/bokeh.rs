@@ -40,7 +40,7 @@ fn render_emitters(open: &Camera, emitters: &[(&str, Vec3); 2], half: f32, z: f3
         materials: vec![material("white", Vec3::ONE)],
         ..Default::default()
     };
-    println!("CoC {:.2} px", open.coc_radius_pixels(z));
+    println!("CoC {:.2} px", open.coc_radius_pixels(glam::Vec2::ZERO, z));
     let shot = Shot {
         camera: open.clone(),
         render: settings(OPEN_SPP, 1, Vec3::ZERO),
@@ -140,7 +140,7 @@ fn stopped_down_failures(
     let centre = Vec2::new(width as f32, height as f32) * 0.5;
     println!(
         "f/8: CoC {:.2} px at {width} x {height}",
-        stopped.coc_radius_pixels(z)
+        stopped.coc_radius_pixels(glam::Vec2::ZERO, z)
     );
     for &(name, point) in emitters {
         let points = forward_spot(&stopped, point, half);

@@ -92,7 +92,7 @@ fn a_thin_singlet_blurs_as_the_thin_lens_does() {
     );
     let mut failures = Vec::new();
     for z in [0.2f32, 5.0] {
-        let coc = thin_camera.coc_radius_pixels(z);
+        let coc = thin_camera.coc_radius_pixels(glam::Vec2::ZERO, z);
         assert!(coc > 5.0, "test set-up: CoC {coc} px at z = {z}");
         let (profile, image, projected) = render_edge(&real_camera, z, 1024);
         let (thin_profile, thin_image, _) = render_edge(&thin_camera, z, 1024);

@@ -62,6 +62,9 @@ pub struct RealLensParams {
     /// Whether camera rays carry a wavelength through a dispersive lens (`--dispersion`);
     /// a lens without Abbe numbers has none either way.
     pub dispersion: bool,
+    /// The film window's shift off the axis, mm (`Movements::shift`: +x right, +y up in the
+    /// image).
+    pub shift_mm: [f64; 2],
 }
 
 #[derive(Debug, Error, PartialEq)]
@@ -84,6 +87,14 @@ pub enum RealLensError {
     NoLight { lens: String, f_number: f64 },
     #[error("a real lens (--lens) needs the perspective projection")]
     Orthographic,
+    #[error("a real lens (--lens) does not tilt yet: tilt a thin lens (--focal-length) instead")]
+    Tilted,
+    #[error("the shifted film reaches {corner_mm:.2} mm from the axis of lens {lens}, past its image circle: light reaches {circle_mm:.2} mm at most (the film's half diagonal plus the shift must stay within it)")]
+    ShiftPastImageCircle {
+        lens: String,
+        corner_mm: f64,
+        circle_mm: f64,
+    },
 }
 
 /// A real lens focused and stopped down, ready to trace camera rays.
@@ -107,6 +118,8 @@ pub struct RealLens {
     entrance_pupil_z: f32,
     /// Half the film's height, mm; the film's width follows the image's aspect.
     film_half_height: f32,
+    /// The film window's shift, mm (+x right, +y up in the image).
+    film_shift: Vec2,
     /// The image's width over its height.
     aspect: f32,
     pupil: ExitPupil,
@@ -160,6 +173,7 @@ impl RealLens {
         elements.interfaces[stop].aperture_radius = stop_radius * aperture.reach();
         let film_half_height = 0.5 * params.sensor_height_mm as f32;
         let film_half = Vec2::new(film_half_height * aspect, film_half_height);
+        let film_shift = glam::DVec2::from_array(params.shift_mm).as_vec2();
         let mut real = RealLens {
             film_distance_mm: f64::from(film_z) - stopped.length(),
             entrance_pupil_z: first_order.entrance_pupil.position_mm as f32,
@@ -173,10 +187,23 @@ impl RealLens {
             aperture,
             film_z,
             film_half_height,
+            film_shift,
             aspect,
             pupil: ExitPupil::EMPTY,
         };
-        real.pupil = ExitPupil::bound(&real, film_half.length());
+        // A shifted window's farthest corner lies its shift farther from the axis.
+        let film_radius = film_half.length() + film_shift.length();
+        real.pupil = ExitPupil::bound(&real, film_radius);
+        if film_shift != Vec2::ZERO {
+            let circle = real.pupil.image_circle();
+            if circle < film_radius {
+                return Err(RealLensError::ShiftPastImageCircle {
+                    lens: real.name().into(),
+                    corner_mm: f64::from(film_radius),
+                    circle_mm: f64::from(circle),
+                });
+            }
+        }
         if real.pupil.inverse_centre_integral <= 0.0 {
             return Err(RealLensError::NoLight {
                 lens: real.name().into(),
@@ -241,6 +268,28 @@ impl RealLens {
         2.0 * slope.atan()
     }
 
+    /// Screen units (the first-order pinhole's plane z = 1) per mm on the film: the slope of
+    /// [`Self::pinhole_vfov`] per mm of film height.
+    pub fn pinhole_shift_scale(&self) -> f64 {
+        let half = (0.5 * self.pinhole_vfov()).tan();
+        half / f64::from(self.film_half_height)
+    }
+
+    /// The film window's shift, mm (+x right, +y up in the image).
+    pub fn film_shift(&self) -> Vec2 {
+        self.film_shift
+    }
+
+    /// The raster point whose film point lies on the axis (the image's centre moved against
+    /// the shift): `film_point`'s origin, which the GPU receives as it is.
+    pub fn raster_centre(&self, width: u32, height: u32) -> Vec2 {
+        let mm_per_pixel = 2.0 * self.film_half_height / height as f32;
+        Vec2::new(
+            0.5 * width as f32 - self.film_shift.x / mm_per_pixel,
+            0.5 * height as f32 + self.film_shift.y / mm_per_pixel,
+        )
+    }
+
     /// The entrance pupil's radius, world units: the first-order thin lens's aperture.
     pub fn entrance_pupil_radius(&self) -> f64 {
         0.5 * self.first_order.entrance_pupil.diameter_mm / MM_PER_WORLD_UNIT
@@ -250,8 +299,9 @@ impl RealLens {
     /// `width` x `height` pixels: inverted, the film's height spanning the image's.
     pub fn film_point(&self, p_raster: Vec2, width: u32, height: u32) -> Vec3 {
         let mm_per_pixel = 2.0 * self.film_half_height / height as f32;
-        let u = (p_raster.x - 0.5 * width as f32) * mm_per_pixel;
-        let v = (0.5 * height as f32 - p_raster.y) * mm_per_pixel;
+        let centre = self.raster_centre(width, height);
+        let u = (p_raster.x - centre.x) * mm_per_pixel;
+        let v = (centre.y - p_raster.y) * mm_per_pixel;
         Vec3::new(-u, -v, self.film_z)
     }
 
@@ -461,6 +511,7 @@ mod tests {
                 focus_distance: 3.0,
                 sensor_height_mm: 24.0,
                 dispersion: true,
+                shift_mm: [0.0, 0.0],
             };
             let real = RealLens::new(params, 1.5, aperture).expect("a lens");
             packets_match_one_by_one(&real);

@@ -177,6 +177,22 @@ impl ExitPupil {
         pupil
     }
 
+    /// How far from the axis light reaches the film, mm: the outer edge of the last bin whose
+    /// regions pass any ray (the film radius itself if every bin does).
+    pub fn image_circle(&self) -> f32 {
+        let lit = |r: &Region| !r.is_empty();
+        let step = self.film_radius / PUPIL_BINS as f32;
+        match self
+            .bins
+            .iter()
+            .rposition(|b| lit(&b.inner) || lit(&b.outer))
+        {
+            Some(last) if lit(&self.bins[last].outer) => step * (last + 1) as f32,
+            Some(last) => step * last as f32,
+            None => 0.0,
+        }
+    }
+
     /// The bin of film points `r` mm from the centre, and how far across it `r` lies.
     pub fn bin_at(&self, r: f32) -> (&PupilBin, f32) {
         let t = r / self.film_radius * PUPIL_BINS as f32;
