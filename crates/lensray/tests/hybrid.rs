@@ -5,7 +5,8 @@
 mod gpu_support;
 
 use gpu_support::{
-    camera, may_skip, record_skip, render_path as render, settings, test_scene, traced_path,
+    camera, may_skip, moved_camera, record_skip, render_path as render, settings, test_scene,
+    traced_path, MOVED,
 };
 use lensray::paths::RenderPath;
 use lensray::paths::{GpuPath, PathChoice, PathKind};
@@ -119,6 +120,22 @@ fn converges_with(test: &str, shading: Shading, cam: Camera) {
     );
 }
 
+/// Shifted and tilted: the plan's circles of confusion come from the tilted plane of focus
+/// (`CocLens`), so the window it traces holds every lens ray and the hybrid stays unbiased, at
+/// the full path's RMSE.
+#[test]
+fn hybrid_converges_on_a_shifted_tilted_shot() {
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.12,
+        focus_distance: 5.0,
+    };
+    converges_with(
+        "hybrid_converges_on_a_shifted_tilted_shot",
+        Shading::Unlit,
+        moved_camera(false, lens, 96, 72, MOVED),
+    );
+}
+
 /// A squeezed, bladed aperture (reaching 1.8x its radius vertically, which the plan's circle
 /// of confusion uses): the hybrid still converges to the full image, at the full path's RMSE.
 #[test]
@@ -218,6 +235,8 @@ fn the_device_plan_equals_the_host_plan() {
         (camera(false, thin(0.02, 6.0), 80, 60), 7),
         (camera(false, LensParams::Pinhole, 96, 72), 32),
         (camera(true, thin(0.2, 5.5), 90, 70), 64),
+        (moved_camera(false, thin(0.12, 5.0), 96, 72, MOVED), 64),
+        (moved_camera(true, thin(0.2, 5.5), 90, 70, MOVED), 64),
     ];
     for (cam, spp) in &shots {
         for shading in [Shading::Unlit, Shading::Lit] {

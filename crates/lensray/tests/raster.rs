@@ -5,14 +5,16 @@
 
 mod gpu_support;
 
-use gpu_support::{camera, compare, render_path, settings, traced_path, write_comparison};
+use gpu_support::{
+    compare, moved_camera, render_path, settings, traced_path, write_comparison, MOVED,
+};
 use lensray::paths::{PathChoice, PathKind};
-use lensray_core::camera::{Camera, LensParams};
+use lensray_core::camera::{Camera, LensParams, Movements};
 use lensray_core::film::Image;
 use lensray_core::settings::{RenderSettings, Shading, Shot};
 
-fn blurred_shot(orthographic: bool) -> Camera {
-    camera(
+fn blurred_shot(orthographic: bool, movements: Movements) -> Camera {
+    moved_camera(
         orthographic,
         LensParams::ThinLens {
             aperture_radius: 0.12,
@@ -20,6 +22,7 @@ fn blurred_shot(orthographic: bool) -> Camera {
         },
         96,
         72,
+        movements,
     )
 }
 
@@ -32,9 +35,20 @@ fn traced(test: &str, shot: &Shot) -> Option<(PathChoice, Image)> {
 /// `raster` against the traced path with `shared_samples`: at most `max_differing` of the
 /// pixels differ by more than `tolerance`, and the mean |difference| stays under `max_mean`.
 fn matches_traced(test: &str, orthographic: bool, shading: Shading, bounds: (f32, f64, f64)) {
+    matches_traced_with(test, orthographic, shading, bounds, Movements::NONE);
+}
+
+/// [`matches_traced`] with the camera moved by `movements`.
+fn matches_traced_with(
+    test: &str,
+    orthographic: bool,
+    shading: Shading,
+    bounds: (f32, f64, f64),
+    movements: Movements,
+) {
     let (tolerance, max_differing, max_mean) = bounds;
     let shot = Shot {
-        camera: blurred_shot(orthographic),
+        camera: blurred_shot(orthographic, movements),
         render: RenderSettings {
             shared_samples: true,
             ..settings(shading, 8)
@@ -108,4 +122,20 @@ fn raster_matches_rayquery_lit() {
         Shading::Lit,
         (1e-3, 0.01, 5e-4),
     );
+}
+
+/// Shifted and tilted, rays from one lens point through the tilted plane of focus are still a
+/// projective map of the scene: the sheared projection (`ThinLens::pinhole_from_camera`) with
+/// its tilt terms rasterizes what the lens rays see, perspective and orthographic.
+#[test]
+fn raster_equals_rayquery_shifted_and_tilted() {
+    for orthographic in [false, true] {
+        matches_traced_with(
+            &format!("raster_equals_rayquery_shifted_and_tilted_ortho_{orthographic}"),
+            orthographic,
+            Shading::Unlit,
+            (1e-6, 0.005, 2e-4),
+            MOVED,
+        );
+    }
 }

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathKind, PathOptions};
-use lensray_core::camera::{Camera, CameraParams, LensParams, ProjectionParams};
+use lensray_core::camera::{Camera, CameraParams, LensParams, Movements, ProjectionParams};
 use lensray_core::film::Image;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::{Light, Material, Mesh, Scene};
@@ -234,6 +234,26 @@ pub fn odd_aperture_image() -> lensray_core::camera::ApertureShape {
 }
 
 pub fn camera(orthographic: bool, lens: LensParams, width: u32, height: u32) -> Camera {
+    moved_camera(orthographic, lens, width, height, Movements::NONE)
+}
+
+/// The shift and tilt of the moved test shots: the window off the axis up and right, the
+/// plane of focus turned 25 degrees toward the lower left (a thin lens in world units turns
+/// the plane itself).
+pub const MOVED: Movements = Movements {
+    shift: [0.12, 0.08],
+    tilt_degrees: 25.0,
+    tilt_direction_degrees: 30.0,
+};
+
+/// [`camera`] with `movements`.
+pub fn moved_camera(
+    orthographic: bool,
+    lens: LensParams,
+    width: u32,
+    height: u32,
+    movements: Movements,
+) -> Camera {
     CameraParams {
         eye: Vec3::new(2.5, 2.2, 4.5),
         target: Vec3::new(0.0, 0.5, 0.0),
@@ -248,7 +268,7 @@ pub fn camera(orthographic: bool, lens: LensParams, width: u32, height: u32) -> 
         far: 50.0,
         width,
         height,
-        movements: lensray_core::camera::Movements::NONE,
+        movements,
     }
     .build()
     .expect("valid test camera")
