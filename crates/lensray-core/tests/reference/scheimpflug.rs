@@ -73,7 +73,9 @@ fn camera(focus_distance: f64, movements: Movements) -> Camera {
 fn surface_point(renderer: &Renderer, cam: &Camera, pixel: [u32; 2]) -> DVec3 {
     let centre = Vec2::new(pixel[0] as f32 + 0.5, pixel[1] as f32 + 0.5);
     let ray: Ray = cam.first_order_ray(centre, Vec2::splat(0.5));
-    let hit = renderer.intersect(&ray).expect("the floor is under every test pixel");
+    let hit = renderer
+        .intersect(&ray)
+        .expect("the floor is under every test pixel");
     cam.camera_point(centre, cam.view_depth(ray.at(hit.t)))
         .as_dvec3()
 }
@@ -133,7 +135,10 @@ fn a_plane_of_focus_laid_on_the_floor_makes_every_row_sharp() {
         "hinge {hinge} m, f / sin(tilt) {rule} m"
     );
     // The floor is 0.3 m below the lens: the hinge lies on it.
-    assert!((hinge - 0.3 / (9.0f64).to_radians().cos()).abs() < 0.01, "hinge {hinge}");
+    assert!(
+        (hinge - 0.3 / (9.0f64).to_radians().cos()).abs() < 0.01,
+        "hinge {hinge}"
+    );
 
     let flat_blurs = band_blurs(&renderer, &flat);
     let tilted_blurs = band_blurs(&renderer, &tilted);
@@ -146,6 +151,9 @@ fn a_plane_of_focus_laid_on_the_floor_makes_every_row_sharp() {
         "the untilted lens must blur the near ({nearest:.2} px) and far ({farthest:.2} px) rows"
     );
     for (row, blur) in tilted_blurs {
-        assert!(blur < 0.5, "rows {row}..: edge blur {blur:.2} px on the plane of focus");
+        assert!(
+            blur < 0.5,
+            "rows {row}..: edge blur {blur:.2} px on the plane of focus"
+        );
     }
 }

@@ -84,8 +84,21 @@ fn shape(blades: Option<u32>, rotation_degrees: f32, roundness: f32, aspect: f32
 }
 
 /// The cameras the mirrors are probed with: round, then every kind of shaped aperture
-/// (straight blades, odd and even; curved; squeezed; an image), on both projections.
-fn mirror_cameras() -> [Camera; 8] {
+/// (straight blades, odd and even; curved; squeezed; an image), on both projections, then
+/// shifted and tilted (`MOVED`) on both.
+fn mirror_cameras() -> [Camera; 10] {
+    let moved = |orthographic| {
+        moved_camera(
+            orthographic,
+            LensParams::ThinLens {
+                aperture_radius: 0.2,
+                focus_distance: 4.0,
+            },
+            97,
+            61,
+            MOVED,
+        )
+    };
     let image = odd_aperture_image().build().expect("a valid aperture");
     let perspective = camera(
         false,
@@ -130,6 +143,8 @@ fn mirror_cameras() -> [Camera; 8] {
         orthographic
             .with_aperture(image)
             .expect("a thin lens takes any aperture"),
+        moved(false),
+        moved(true),
     ]
 }
 
