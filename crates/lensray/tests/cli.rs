@@ -11,6 +11,8 @@ use std::process::{Command, Output};
 mod caches;
 #[path = "cli/devices.rs"]
 mod devices;
+#[path = "cli/movements.rs"]
+mod movements;
 #[path = "cli/rejected.rs"]
 mod rejected;
 #[path = "cli/render.rs"]

@@ -150,7 +150,8 @@ impl FocusPlane {
         let [p0, p1, p2] = points;
         let normal = (p1 - p0).cross(p2 - p0);
         let span = (p1 - p0).length() * (p2 - p0).length();
-        if normal.length() <= 1e-9 * span || span == 0.0 {
+        // Depths come in f32: points on one line land up to ~1e-7 off it.
+        if normal.length() <= 1e-4 * span || span == 0.0 {
             return Err(MovementError::Collinear);
         }
         let unit = normal.normalize();
@@ -160,7 +161,7 @@ impl FocusPlane {
         }
         let rows = glam::DMat3::from_cols(p0, p1, p2).transpose();
         let m = rows.inverse() * DVec3::ONE;
-        if !(m.z > 0.0) || !m.is_finite() {
+        if !m.is_finite() || m.z <= 0.0 {
             return Err(MovementError::NotInFront);
         }
         let focus_distance = 1.0 / m.z;

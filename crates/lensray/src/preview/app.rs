@@ -150,6 +150,10 @@ struct App {
     /// What the last frame rendered: a change restarts the accumulation.
     last: Option<Shot>,
     pending_pick: Option<Vec2>,
+    /// Whether the pending pick is a point of the plane of focus (Shift+click).
+    plane_pick: bool,
+    /// The world points Shift+clicks picked so far (three lay the plane of focus).
+    plane_points: Vec<glam::DVec3>,
     /// A scripted resize not yet seen in a drawn frame (size, when asked): `wait converged`
     /// waits for it, or for 2 s if the window manager refuses it.
     awaiting_size: Option<([u32; 2], Instant)>,
@@ -181,6 +185,8 @@ impl App {
             log: FrameLog::default(),
             last: None,
             pending_pick: None,
+            plane_pick: false,
+            plane_points: Vec::new(),
             awaiting_size: None,
             shown_view: None,
             minimised: false,

@@ -193,6 +193,10 @@ pub const MOUSE_CONTROLS: &[(&str, &str)] = &[
     ("Ctrl+wheel", "focus distance (away from you: farther)"),
     ("Shift+wheel", "aperture (away from you: wider)"),
     ("click", "focus on the surface under the cursor"),
+    (
+        "Shift+click",
+        "three surfaces: lay the plane of focus through them",
+    ),
 ];
 
 /// The help text: mouse controls, then every key, keys sharing an action on one line.

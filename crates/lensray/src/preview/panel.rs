@@ -4,7 +4,9 @@
 use std::path::PathBuf;
 
 use super::bindings::{controls_help, Action};
-use super::rig::{CameraRig, LensChoice, LensReadout, SENSOR_HEIGHT_RANGE_MM};
+use super::rig::{
+    CameraRig, LensChoice, LensReadout, PANEL_MAX_TILT_DEGREES, SENSOR_HEIGHT_RANGE_MM,
+};
 use super::view::ViewMode;
 use lensray_core::settings::ProjectionKind;
 use lensray_vulkan::FrameTimes;
@@ -61,6 +63,8 @@ impl Panel {
             .show(ctx, |ui| {
                 self.lens(ui, rig, stats);
                 ui.separator();
+                Self::movements(ui, rig);
+                ui.separator();
                 self.view_controls(ui);
                 ui.separator();
                 Self::timings(ui, stats, self.target_spp);
@@ -85,6 +89,54 @@ impl Panel {
                 .open(&mut self.show_help)
                 .show(ctx, |ui| ui.monospace(controls_help()));
         }
+    }
+
+    /// Shift and tilt (`camera::movements`), and how to lay the plane of focus by clicks.
+    fn movements(ui: &mut egui::Ui, rig: &mut CameraRig) {
+        let m = rig.movements();
+        let r = rig.readout();
+        let in_mm = r.focal_length_mm.is_some() || r.real.is_some();
+        let (unit, speed) = if in_mm {
+            ("mm", 0.1)
+        } else {
+            ("image heights", 0.005)
+        };
+        egui::Grid::new("movements").num_columns(2).show(ui, |ui| {
+            ui.label(format!("Shift ({unit})"));
+            let mut shift = m.shift;
+            let changed = ui.horizontal(|ui| {
+                let x = ui.add(egui::DragValue::new(&mut shift[0]).speed(speed).prefix("x "));
+                let y = ui.add(egui::DragValue::new(&mut shift[1]).speed(speed).prefix("y "));
+                x.changed() || y.changed()
+            });
+            if changed.inner {
+                rig.set_shift(shift);
+            }
+            ui.end_row();
+            let (mut tilt, mut direction) = (m.tilt_degrees, m.tilt_direction_degrees);
+            ui.label("Tilt (deg)");
+            let tilt_edit = ui
+                .add_enabled(
+                    rig.tilts(),
+                    egui::DragValue::new(&mut tilt)
+                        .speed(0.1)
+                        .range(0.0..=PANEL_MAX_TILT_DEGREES),
+                )
+                .on_disabled_hover_text("a real lens does not tilt yet");
+            ui.end_row();
+            ui.label("Tilt direction (deg)");
+            let direction_edit = ui
+                .add_enabled(
+                    rig.tilts(),
+                    egui::DragValue::new(&mut direction).speed(1.0),
+                )
+                .on_hover_text("where the plane of focus comes nearer: 0 the image's bottom (a ground plane), 90 its right");
+            ui.end_row();
+            if tilt_edit.changed() || direction_edit.changed() {
+                rig.set_tilt(tilt, direction);
+            }
+        });
+        ui.small("Shift+click three surfaces: the plane of focus through them");
     }
 
     /// The lens picker: the thin lens or a real one (each built-in, and the file the preview

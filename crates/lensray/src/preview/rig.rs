@@ -18,7 +18,7 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use lensray_core::camera::physical::PhysicalLens;
-use lensray_core::camera::Projection;
+use lensray_core::camera::{Movements, Projection};
 use lensray_core::optics::Prescription;
 use lensray_core::scene::Scene;
 use lensray_core::settings::{pinned_lights, ProjectionKind, Settings, Switch};
@@ -57,10 +57,12 @@ const MIN_DISTANCE_PER_RADIUS: f64 = 1e-4;
 mod camera;
 mod lens;
 mod lens_controls;
+mod movements;
 mod navigation;
 mod readout;
 
 pub use lens::LensChoice;
+pub use movements::PANEL_MAX_TILT_DEGREES;
 pub use readout::{LensReadout, RealLensReadout};
 
 use camera::RigCamera;
@@ -74,6 +76,8 @@ pub struct CameraRig {
     camera: RigCamera,
     /// The camera the preview started with, for `reset`.
     start: RigCamera,
+    /// The last camera that resolved (`accept`), which `revert` goes back to.
+    accepted: RigCamera,
     /// Bounding-sphere radius: the scale of flying speed and of the smallest aperture.
     scene_radius: f64,
     /// The thin lens last used (picking "thin lens" again restores it).
@@ -148,10 +152,16 @@ impl CameraRig {
             // controls.
             focus_distance: c.focus_distance.unwrap_or(axis_distance),
             lens,
+            movements: Movements {
+                shift: c.shift.unwrap_or([0.0, 0.0]),
+                tilt_degrees: c.tilt.unwrap_or(0.0),
+                tilt_direction_degrees: c.tilt_direction.unwrap_or(0.0),
+            },
         };
         let mut rig = Self {
             settings,
             camera: pinned.clone(),
+            accepted: pinned.clone(),
             start: pinned,
             scene_radius: (0.5 * bounds.diagonal().length()).max(1e-3) as f64,
             thin,
@@ -197,6 +207,18 @@ impl CameraRig {
 
     fn commit(&mut self) {
         self.camera.store(&mut self.settings);
+    }
+
+    /// The current camera resolved: later changes that do not resolve go back to it.
+    pub fn accept(&mut self) {
+        self.accepted = self.camera.clone();
+    }
+
+    /// Back to the last camera that resolved ([`Self::accept`]): a change the settings refuse
+    /// (a tilt whose plane of focus reaches the lens) is undone.
+    pub fn revert(&mut self) {
+        self.camera = self.accepted.clone();
+        self.commit();
     }
 
     /// Back to the camera the preview started with (the image keeps the window's size).

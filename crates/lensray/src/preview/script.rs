@@ -6,6 +6,7 @@
 //! ```text
 //! 0.5 key O                  # a key press and release (names as in `bindings`)
 //! 0   click 320 240.5        # left click at a window pixel
+//! 0   click 40 200 shift     # Shift+click: a point of the plane of focus (three lay it)
 //! 0.2 drag left 100 100 160 100   # drag with left|right|middle from x0 y0 to x1 y1
 //! 0   scroll -1.5            # wheel steps; `scroll 2 ctrl` or `scroll 1 shift` with a modifier
 //! 0   resize 800x600         # window size; 0 in either side means minimised
@@ -25,10 +26,12 @@ use super::bindings::{action_for_key, canonical_key_name, PointerButton, WheelMo
 pub enum ScriptEvent {
     /// A press and release; the name is canonical (`bindings::canonical_key_name`).
     Key(String),
-    /// Left click at a window pixel (fractional allowed).
+    /// Left click at a window pixel (fractional allowed); with Shift held, a point of the
+    /// plane of focus (`click X Y shift`).
     Click {
         x: f64,
         y: f64,
+        shift: bool,
     },
     Drag {
         button: PointerButton,
@@ -123,10 +126,19 @@ fn parse_line(line: &str) -> Result<TimedEvent, String> {
             ScriptEvent::Key(canonical_key_name(key))
         }
         "click" => {
-            let [x, y] = exactly(name, &words, "X Y")?;
+            let (x, y, shift) = match words.as_slice() {
+                [x, y] => (x, y, false),
+                [x, y, "shift"] => (x, y, true),
+                _ => {
+                    return Err(format!(
+                        "click takes X Y and optionally shift, got '{args}'"
+                    ))
+                }
+            };
             ScriptEvent::Click {
                 x: number("x", x)?,
                 y: number("y", y)?,
+                shift,
             }
         }
         "drag" => {

@@ -208,6 +208,9 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
     option("f-number", number(c.f_number));
     option("sensor-height-mm", number(c.sensor_height_mm));
     option("focus-distance", number(c.focus_distance));
+    option("shift", c.shift.map(|[x, y]| format!("{x},{y}")));
+    option("tilt", number(c.tilt));
+    option("tilt-direction", number(c.tilt_direction));
     let a = &c.aperture;
     option("aperture-blades", a.blades.map(|x| x.to_string()));
     option("aperture-rotation", number(a.rotation));

@@ -45,7 +45,11 @@ impl App {
         match gesture {
             Gesture::Orbit(d) => self.config.rig.orbit(f64::from(d.x), f64::from(d.y)),
             Gesture::Pan(d) => self.config.rig.pan(f64::from(d.x), f64::from(d.y)),
-            Gesture::Click(at) => self.pending_pick = Some(at),
+            Gesture::Click(at) => {
+                // Shift+click: a point of the plane of focus (three lay it).
+                self.plane_pick = self.input.shift;
+                self.pending_pick = Some(at);
+            }
         }
     }
 

@@ -10,6 +10,7 @@ use winit::window::Window;
 use super::App;
 use crate::preview::cpu_feed::Snapshot;
 use crate::preview::panel::PanelStats;
+use lensray_core::camera::Camera;
 use lensray_core::settings::Shot;
 use lensray_vulkan::{FrameRequest, FrameResult, HostSamples, OverlayFrame};
 
@@ -38,17 +39,25 @@ impl App {
         }
 
         self.config.rig.set_image_size(width, height);
-        let resolved = self
-            .config
-            .rig
-            .shot(&self.config.description.scene)
-            .context("camera")?;
+        let rig = &mut self.config.rig;
+        let resolved = match rig.shot(&self.config.description.scene) {
+            Ok(shot) => {
+                rig.accept();
+                shot
+            }
+            Err(e) => {
+                eprintln!("camera: {e} (the change is undone)");
+                rig.revert();
+                rig.shot(&self.config.description.scene).context("camera")?
+            }
+        };
         if let Some(real) = resolved.camera.lens.real() {
             self.follow_real_lens(real.name());
         }
         let restart = self.last.as_ref() != Some(&resolved);
         let changed = restart || Some(self.panel.view) != self.shown_view;
         let pick = self.take_pick(width, height);
+        let picked_camera = pick.map(|p| (p, resolved.camera.clone()));
         let snapshot = self.cpu_samples(&resolved, restart)?;
         let host = self.cpu_feed.as_ref().map(|_| HostSamples {
             sums: snapshot.as_ref().map(|s| s.sums.as_slice()),
@@ -69,7 +78,12 @@ impl App {
             self.record_drawn(&result, changed, resolved, now, [width, height]);
         }
         if let Some(depth) = result.picked_depth {
-            self.focus_on_pick(depth);
+            match picked_camera {
+                Some((pixel, camera)) if self.plane_pick => {
+                    self.plane_point(depth, pixel, &camera);
+                }
+                _ => self.focus_on_pick(depth),
+            }
         }
         if self
             .config
@@ -180,6 +194,36 @@ impl App {
 
     /// Focuses at the picked view depth (`None`: nothing under the cursor), no nearer than
     /// the lens reaches, and says where.
+    /// A Shift+clicked surface at view depth `depth` under `pixel` of `camera`: the third lays
+    /// the plane of focus through the three.
+    fn plane_point(&mut self, depth: Option<f32>, pixel: [u32; 2], camera: &Camera) {
+        self.converged = false;
+        let Some(z) = depth else {
+            eprintln!("focus plane: nothing under the cursor (points so far are kept)");
+            return;
+        };
+        let centre = glam::Vec2::new(pixel[0] as f32 + 0.5, pixel[1] as f32 + 0.5);
+        let point = camera
+            .world_from_camera
+            .transform_point3(camera.camera_point(centre, z));
+        self.plane_points.push(point.as_dvec3());
+        let n = self.plane_points.len();
+        if n < 3 {
+            eprintln!("focus plane: point {n} of 3 at {point:.3}");
+            return;
+        }
+        let points = [
+            self.plane_points[0],
+            self.plane_points[1],
+            self.plane_points[2],
+        ];
+        self.plane_points.clear();
+        match self.config.rig.lay_focus_plane(&points, camera) {
+            Ok(plane) => eprintln!("focus plane: {}", crate::cli::focus::describe(&plane)),
+            Err(e) => eprintln!("focus plane: {e}"),
+        }
+    }
+
     fn focus_on_pick(&mut self, depth: Option<f32>) {
         // The new focus shows from the next frame on.
         self.converged = false;

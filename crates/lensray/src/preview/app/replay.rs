@@ -45,9 +45,10 @@ impl App {
                         action => self.act(event_loop, action)?,
                     }
                 }
-                ScriptEvent::Click { x, y } => {
+                ScriptEvent::Click { x, y, shift } => {
                     let at = Vec2::new(x as f32, y as f32);
                     self.input.cursor = at;
+                    self.plane_pick = shift;
                     self.pending_pick = Some(at);
                 }
                 ScriptEvent::Drag { button, from, to } => {

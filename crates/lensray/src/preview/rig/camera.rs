@@ -2,6 +2,7 @@
 
 use glam::DVec3;
 
+use lensray_core::camera::Movements;
 use lensray_core::settings::{ProjectionKind, Settings, Switch};
 
 use super::lens::RigLens;
@@ -20,6 +21,8 @@ pub(super) struct RigCamera {
     pub(super) ortho_height: f64,
     pub(super) focus_distance: f64,
     pub(super) lens: RigLens,
+    /// Shift and tilt (`camera::movements`).
+    pub(super) movements: Movements,
 }
 
 /// The camera frame in f64, built as `CameraFrame::look_at` builds it.
@@ -49,8 +52,13 @@ impl RigCamera {
     pub(super) fn vfov_radians(&self) -> f64 {
         match &self.lens {
             RigLens::Physical(lens) => lens
-                .vfov(self.focus_distance)
-                .unwrap_or(self.vfov_degrees.to_radians()),
+                .tilted_film_distance_mm(
+                    self.focus_distance,
+                    self.movements.tilt_degrees.to_radians(),
+                )
+                .map_or(self.vfov_degrees.to_radians(), |film| {
+                    2.0 * (lens.sensor_height_mm / (2.0 * film)).atan()
+                }),
             RigLens::Real(real) => real.vfov(self.focus_distance),
             RigLens::Aperture { .. } => self.vfov_degrees.to_radians(),
         }
@@ -85,6 +93,11 @@ impl RigCamera {
         c.vfov_degrees = Some(self.vfov_degrees);
         c.ortho_height = orthographic.then_some(self.ortho_height);
         c.focus_distance = Some(self.focus_distance);
+        let m = &self.movements;
+        c.shift = (m.shift != [0.0, 0.0]).then_some(m.shift);
+        c.tilt = (m.tilt_degrees != 0.0).then_some(m.tilt_degrees);
+        c.tilt_direction = (m.tilt_degrees != 0.0).then_some(m.tilt_direction_degrees);
+        c.focus_plane = None;
         c.lens.prescription = None;
         match &self.lens {
             RigLens::Aperture { radius } => {

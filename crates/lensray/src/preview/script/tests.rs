@@ -29,7 +29,11 @@ fn every_event_kind() {
     assert_eq!(event("0 key ["), ScriptEvent::Key("[".into()));
     assert_eq!(
         event("0 click 320 240.5"),
-        ScriptEvent::Click { x: 320.0, y: 240.5 }
+        ScriptEvent::Click {
+            x: 320.0,
+            y: 240.5,
+            shift: false
+        }
     );
     assert_eq!(
         event("0 drag middle 10 20.25 -5 400"),
@@ -147,7 +151,10 @@ fn malformed_lines_name_the_line_and_the_problem() {
         error("0 key W A"),
         "line 1: key takes a key name, got 'W A'"
     );
-    assert_eq!(error("0 click 1"), "line 1: click takes X Y, got '1'");
+    assert_eq!(
+        error("0 click 1"),
+        "line 1: click takes X Y and optionally shift, got '1'"
+    );
     assert_eq!(
         error("0 click 1 two"),
         "line 1: y 'two' is not a finite number"
