@@ -7,12 +7,12 @@
 mod gpu_support;
 
 use glam::Vec3;
-use gpu_support::{compare, moved_camera, open_path, settings, write_comparison};
-use gpu_support::{render_path, traced_path, MOVED};
-use lensray::paths::{OpenedPath, PathChoice, PathKind};
+use gpu_support::{assert_gpu_paths_match_cpu, moved_camera, settings, test_scene};
+use gpu_support::{render_path, write_comparison, MOVED};
+use lensray::paths::{PathChoice, PathKind};
 use lensray_core::camera::{CameraParams, LensParams, Movements, ProjectionParams};
 use lensray_core::film::Image;
-use lensray_core::settings::{RenderSettings, Shading, Shot};
+use lensray_core::settings::{Shading, Shot};
 
 /// A pinhole looking at the test scene: `scale` of the wide camera's window, `shift` off the
 /// axis (fractions of its own image height).
@@ -100,9 +100,9 @@ fn a_shifted_window_is_a_crop_of_a_wider_one() {
     }
 }
 
-/// Shifted and tilted (`MOVED`), each traced GPU path renders the CPU reference's image (the
-/// statistics of tests/paths.rs), and the raster path the reference's shared-sample image,
-/// perspective and orthographic.
+/// Shifted and tilted (`MOVED`), each traced GPU path renders the CPU reference's image, and
+/// the raster path the reference's shared-sample image, perspective and orthographic
+/// (`assert_gpu_paths_match_cpu`'s bounds).
 #[test]
 fn every_path_agrees_with_the_cpu_on_a_shifted_tilted_shot() {
     let test = "every_path_agrees_with_the_cpu_on_a_shifted_tilted_shot";
@@ -115,46 +115,7 @@ fn every_path_agrees_with_the_cpu_on_a_shifted_tilted_shot() {
             camera: moved_camera(orthographic, lens, 64, 48, MOVED),
             render: settings(Shading::Lit, 8),
         };
-        let shared = Shot {
-            render: RenderSettings {
-                shared_samples: true,
-                ..shot.render
-            },
-            ..shot.clone()
-        };
-        let cpu = PathChoice::Only(PathKind::Cpu);
-        let (Some(reference), Some(shared_reference)) = (
-            render_path(test, cpu, &shot),
-            render_path(test, cpu, &shared),
-        ) else {
-            return;
-        };
-        let Some(traced) = traced_path(test) else {
-            return;
-        };
-        // Ray queries where the device has them; software traversal and raster always.
-        let kinds = [traced, PathKind::Software, PathKind::Raster];
-        for (i, &kind) in kinds.iter().enumerate() {
-            if kinds[..i].contains(&kind) {
-                continue;
-            }
-            let Some(OpenedPath { mut path, .. }) = open_path(test, kind.into(), &shot) else {
-                return;
-            };
-            let (shot, reference) = if kind == PathKind::Raster {
-                (&shared, &shared_reference)
-            } else {
-                (&shot, &reference)
-            };
-            let image = path.render(shot, &mut |_, _| {}).expect("render");
-            let diff = compare(&image, reference, 1.0 / 255.0);
-            println!("orthographic {orthographic}, {kind}: {diff:?}");
-            if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
-                let name = format!("moved-{kind}-ortho-{orthographic}-vs-cpu");
-                let files = write_comparison(&image, reference, &name);
-                panic!("{kind}, orthographic {orthographic}: differs from the CPU: {diff:?}; wrote {files}");
-            }
-            path.close().expect("close: validation messages or leaks");
-        }
+        let name = format!("moved-ortho-{orthographic}");
+        assert_gpu_paths_match_cpu(test, &name, &test_scene(), &shot);
     }
 }
