@@ -269,6 +269,14 @@ pub(crate) fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
     out.raster_centre_y = centre.y;
     out.rear_z = pupil.rear_z;
     out.film_radius = pupil.film_radius;
+    let film = real.film();
+    out.film_origin = film.origin.extend(pupil.axis_depth).to_array();
+    out.film_right = film.right.extend(0.0).to_array();
+    out.film_up = film.up.extend(0.0).to_array();
+    out.film_normal = film.normal.extend(0.0).to_array();
+    let turn = real.camera_from_lens_turn();
+    out.camera_from_lens =
+        [turn.x_axis, turn.y_axis, turn.z_axis].map(|c| c.extend(0.0).to_array());
     out.inverse_centre_integral = pupil.inverse_centre_integral;
     out.aperture_transmission_start = camera
         .lens

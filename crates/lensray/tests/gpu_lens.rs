@@ -11,7 +11,9 @@ use glam::{UVec2, Vec3};
 use gpu_support::*;
 use lensray::paths::{PathChoice, PathKind};
 use lensray_core::camera::RealLensParams;
-use lensray_core::camera::{ApertureShape, Camera, CameraParams, LensParams, ProjectionParams};
+use lensray_core::camera::{
+    ApertureShape, Camera, CameraError, CameraParams, LensParams, Movements, ProjectionParams,
+};
 use lensray_core::optics::builtin;
 use lensray_core::optics::glass::dispersion_offset_f32;
 use lensray_core::reference::Renderer as CpuRenderer;
@@ -19,7 +21,21 @@ use lensray_core::sampler::{camera_sample, hash_u32, SamplerKind};
 use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::ProbeQuery;
 
-fn lens_camera(name: &str, f_number: Option<f64>, width: u32, height: u32) -> Camera {
+/// A real lens shifted (1, 1.5) mm and tilted 5 degrees toward 30 degrees: its film is not
+/// square to the lens's axis (`real_lens::film`).
+const LENS_MOVED: Movements = Movements {
+    shift: [1.0, 1.5],
+    tilt_degrees: 5.0,
+    tilt_direction_degrees: 30.0,
+};
+
+fn moved_lens_camera(
+    name: &str,
+    f_number: Option<f64>,
+    width: u32,
+    height: u32,
+    movements: Movements,
+) -> Result<Camera, CameraError> {
     CameraParams {
         eye: Vec3::new(2.5, 2.2, 4.5),
         target: Vec3::new(0.0, 0.5, 0.0),
@@ -31,25 +47,43 @@ fn lens_camera(name: &str, f_number: Option<f64>, width: u32, height: u32) -> Ca
             focus_distance: 5.5,
             sensor_height_mm: 24.0,
             dispersion: true,
-            shift_mm: [0.0, 0.0],
+            movements: Movements::NONE,
         }),
         near: 0.05,
         far: 50.0,
         width,
         height,
-        movements: lensray_core::camera::Movements::NONE,
+        movements,
     }
     .build()
-    .expect("a valid real-lens camera")
 }
 
 /// The wavelengths the probe's rays are traced at: 0 the d line (as without dispersion), and
 /// across the visible range.
 const WAVELENGTHS_NM: [f32; 5] = [0.0, 400.0, 486.13, 587.56, 700.0];
 
+/// Each lens's f-number, stop and movements in `real_lens_rays_match_the_cpu`: wide open and
+/// at f/8, round, six blades and an image, and round moved.
+fn ray_cases() -> Vec<(Option<f64>, ApertureShape, Movements)> {
+    let hexagon = ApertureShape {
+        blades: Some(6),
+        rotation_degrees: 15.0,
+        ..ApertureShape::ROUND
+    };
+    let mut cases = Vec::new();
+    for f_number in [None, Some(8.0)] {
+        for shape in [ApertureShape::ROUND, hexagon.clone(), odd_aperture_image()] {
+            cases.push((f_number, shape, Movements::NONE));
+        }
+        cases.push((f_number, ApertureShape::ROUND, LENS_MOVED));
+    }
+    cases
+}
+
 /// The probe's rays through the lens against `Camera::generate_ray_at`, at several
-/// wavelengths (through aspheres too): the same rays pass, with the same weights, origins and
-/// directions. The GPU's sqrt, division and
+/// wavelengths (through aspheres too), square to the film and moved (`LENS_MOVED`; where the
+/// moved film leaves a lens's image circle, aspheric-31's, the camera is refused and skipped):
+/// the same rays pass, with the same weights, origins and directions. The GPU's sqrt, division and
 /// normalize may differ from Rust's in the last bit, so values are compared to 1e-5; a ray
 /// grazing an opening may then pass on one side only, which is counted and bounded.
 #[test]
@@ -57,17 +91,22 @@ fn real_lens_rays_match_the_cpu() {
     let Some((mut gpu, log)) = renderer("real_lens_rays_match_the_cpu") else {
         return;
     };
-    let hexagon = ApertureShape {
-        blades: Some(6),
-        rotation_degrees: 15.0,
-        ..ApertureShape::ROUND
-    };
     let (mut checked, mut grazing, mut passed, mut worst) = (0usize, 0usize, 0usize, 0.0f32);
     let mut failures = Vec::new();
+    let cases = ray_cases();
     for name in builtin::names() {
-        for f_number in [None, Some(8.0)] {
-            for shape in [ApertureShape::ROUND, hexagon.clone(), odd_aperture_image()] {
-                let cam = lens_camera(name, f_number, 97, 61)
+        for (f_number, shape, movements) in &cases {
+            let (f_number, shape) = (*f_number, shape.clone());
+            {
+                let cam = match moved_lens_camera(name, f_number, 97, 61, *movements) {
+                    Ok(cam) => cam,
+                    Err(e @ CameraError::RealLens(_)) if *movements != Movements::NONE => {
+                        println!("{name} f/{f_number:?} {movements:?}: skipped: {e}");
+                        continue;
+                    }
+                    Err(e) => panic!("{name} f/{f_number:?} {movements:?}: {e}"),
+                };
+                let cam = cam
                     .with_aperture(shape.build().expect("valid aperture"))
                     .expect("the stop takes the shape");
                 let queries: Vec<ProbeQuery> = (0..2048u32)
@@ -111,7 +150,7 @@ fn real_lens_rays_match_the_cpu() {
                             worst = worst.max(err);
                             if err > 1e-5 {
                                 failures.push(format!(
-                                    "{name} f/{f_number:?} {:?}: {q:?}: CPU {ray:?} w {weight}, GPU {o} {d} w {gpu_weight}",
+                                    "{name} f/{f_number:?} {:?} {movements:?}: {q:?}: CPU {ray:?} w {weight}, GPU {o} {d} w {gpu_weight}",
                                     shape.blades
                                 ));
                             }
@@ -143,11 +182,19 @@ fn real_lens_rays_match_the_cpu() {
     finish(gpu, log);
 }
 
-/// The traced paths render a real lens as the CPU does: the same rays, weights and shading.
+/// The traced paths render a real lens as the CPU does, square to the film and moved
+/// (`LENS_MOVED`): the same rays, weights and shading.
 #[test]
 fn traced_paths_render_a_real_lens_as_the_cpu_does() {
+    for movements in [Movements::NONE, LENS_MOVED] {
+        render_real_lens_on_traced_paths(movements);
+    }
+}
+
+fn render_real_lens_on_traced_paths(movements: Movements) {
     let shot = Shot {
-        camera: lens_camera("double-gauss-50", None, 48, 32),
+        camera: moved_lens_camera("double-gauss-50", None, 48, 32, movements)
+            .expect("a valid real-lens camera"),
         render: settings(Shading::Lit, 8),
     };
     let (cpu, _) = CpuRenderer::new(&test_scene()).render(&shot, &mut |_, _| {});
@@ -157,10 +204,10 @@ fn traced_paths_render_a_real_lens_as_the_cpu_does() {
             continue;
         };
         let diff = compare(&image, &cpu, 1e-3);
-        println!("{kind}: {diff:?}");
+        println!("{kind}, {movements:?}: {diff:?}");
         assert!(
             diff.within > 0.995 && diff.mean_abs < 1e-4,
-            "{kind} vs cpu through double-gauss-50: {diff:?}; images: {}",
+            "{kind} vs cpu through double-gauss-50, {movements:?}: {diff:?}; images: {}",
             write_comparison(&image, &cpu, &format!("real-lens-{kind}"))
         );
     }

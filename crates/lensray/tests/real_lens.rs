@@ -40,6 +40,8 @@ mod fall_off;
 mod options;
 #[path = "real_lens/spot.rs"]
 mod spot;
+#[path = "real_lens/tilt.rs"]
+mod tilt;
 
 /// An axis-aligned quad in the plane z = `z`, covering [x0, x1] x [y0, y1].
 fn quad(x0: f32, x1: f32, y0: f32, y1: f32, z: f32, material: u32) -> Mesh {
@@ -69,6 +71,16 @@ fn material(name: &str, diffuse: Vec3) -> Material {
 }
 
 fn camera(width: u32, height: u32, lens: LensParams) -> Camera {
+    moved_camera(width, height, lens, lensray_core::camera::Movements::NONE)
+}
+
+/// [`camera`] with shift and tilt.
+fn moved_camera(
+    width: u32,
+    height: u32,
+    lens: LensParams,
+    movements: lensray_core::camera::Movements,
+) -> Camera {
     CameraParams {
         eye: Vec3::ZERO,
         target: Vec3::new(0.0, 0.0, -1.0),
@@ -80,7 +92,7 @@ fn camera(width: u32, height: u32, lens: LensParams) -> Camera {
         far: 1000.0,
         width,
         height,
-        movements: lensray_core::camera::Movements::NONE,
+        movements,
     }
     .build()
     .expect("valid camera")
@@ -95,7 +107,7 @@ fn real(lens: &Arc<Prescription>, f_number: Option<f64>, focus: f64, sensor: f64
         // These tests check the geometry and radiometry at the d line; tests/real_lens/colour.rs
         // renders dispersion.
         dispersion: false,
-        shift_mm: [0.0, 0.0],
+        movements: lensray_core::camera::Movements::NONE,
     })
 }
 

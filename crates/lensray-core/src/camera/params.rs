@@ -328,22 +328,24 @@ impl CameraParams {
         }
         positive("sensor height (mm)", params.sensor_height_mm)?;
         let focus_distance = self.check_focus(params.focus_distance, near)?;
-        if self.movements.tilt_degrees != 0.0 {
-            return Err(RealLensError::Tilted.into());
-        }
         let params = RealLensParams {
             focus_distance,
-            shift_mm: self.movements.shift,
+            movements: self.movements,
             ..params.clone()
         };
         let aspect = self.width as f32 / self.height as f32;
         let real = RealLens::new(params, aspect, aperture.clone())?;
         // The first-order model: a thin lens at the entrance pupil, its radius the
-        // pupil's, focused where the real lens is.
+        // pupil's, focused where the real lens is; tilted, its plane of focus is the thin
+        // lens's of the same focal length (the hinge rule; the traced one comes from the
+        // optics, `real_lens::film`).
+        let efl = real.first_order.efl / MM_PER_WORLD_UNIT;
         let thin = ThinLens {
             aperture_radius: real.entrance_pupil_radius() as f32,
             focus_distance: focus_distance as f32,
-            focus_tilt: glam::Vec2::ZERO,
+            focus_tilt: self
+                .movements
+                .focus_tilt(focus_distance, TiltModel::FocalLength(efl)),
             aperture: Aperture::ROUND,
         };
         let vfov = real.pinhole_vfov();

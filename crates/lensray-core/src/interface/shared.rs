@@ -489,6 +489,14 @@ shader_interface! {
             asphere_mask: u32,
             pad0: u32,
             pad1: u32,
+            /// The film in lens space (real_lens::FilmFrame): its point on the view axis (w:
+            /// the exit pupil's axis_depth), the image's +x and +y, its normal.
+            film_origin: [f32; 4],
+            film_right: [f32; 4],
+            film_up: [f32; 4],
+            film_normal: [f32; 4],
+            /// Camera space from lens space unflipped (the tilt's turn), column by column.
+            camera_from_lens: [[f32; 4]; 3],
             /// Per surface (LENS_MAX_SURFACES): vertex z, radius (0: the stop), clear-aperture
             /// radius, an asphere's conic constant.
             surface_shape: [[f32; 4]; 32],

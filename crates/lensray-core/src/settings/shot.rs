@@ -274,7 +274,7 @@ fn lens(
             focus_distance: c.focus_distance.unwrap_or(axis_distance),
             sensor_height_mm: c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM),
             dispersion: c.lens.dispersion != Some(Switch::Off),
-            shift_mm: [0.0, 0.0],
+            movements: crate::camera::Movements::NONE,
         }),
         (Some(_), Some(_)) => {
             return Err(SettingsError::Conflict(
@@ -319,9 +319,13 @@ fn movements(c: &CameraSettings) -> Result<Movements, SettingsError> {
     })
 }
 
-/// How the settings' lens tilts (`camera::movements`): by the hinge rule for a perspective
-/// lens with a focal length, by the plane's own angle otherwise.
-pub fn tilt_model(c: &CameraSettings) -> TiltModel {
+/// How the settings' lens, built as `camera`, tilts (`camera::movements`): by the hinge rule
+/// for a perspective lens with a focal length (a real lens's: its efl), by the plane's own
+/// angle otherwise.
+pub fn tilt_model(c: &CameraSettings, camera: &crate::camera::Camera) -> TiltModel {
+    if let Some(real) = camera.lens.real() {
+        return TiltModel::FocalLength(real.first_order.efl / MM_PER_WORLD_UNIT);
+    }
     let perspective = c.projection != Some(ProjectionKind::Orthographic);
     match c.focal_length_mm {
         Some(f) if perspective && c.aperture_radius.is_none() => {

@@ -270,11 +270,25 @@ bool lens_trace_to_scene(Camera cam, inout LensRay ray, float k, out float trans
     return true;
 }
 
-// real_lens/mod.rs: RealLens::film_point (the image inverted on the film).
+// real_lens/mod.rs: RealLens::film_point, film.rs: FilmFrame::point (the image inverted on
+// the film, which a tilted lens does not face).
 vec3 lens_film_point(vec2 p_raster) {
     precise float u = (p_raster.x - lens.raster_centre_x) * lens.film_mm_per_pixel;
     precise float v = (lens.raster_centre_y - p_raster.y) * lens.film_mm_per_pixel;
-    return vec3(-u, -v, lens.film_z);
+    vec3 o = lens.film_origin.xyz;
+    vec3 r = lens.film_right.xyz;
+    vec3 p = lens.film_up.xyz;
+    precise vec3 film = (o + r * -u) + p * -v;
+    return film;
+}
+
+// real_lens/mod.rs: turn. m v as ((c0 x + c1 y) + c2 z) with m's columns.
+vec3 lens_turn(vec3 v) {
+    vec3 c0 = lens.camera_from_lens[0].xyz;
+    vec3 c1 = lens.camera_from_lens[1].xyz;
+    vec3 c2 = lens.camera_from_lens[2].xyz;
+    precise vec3 out_v = (c0 * v.x + c1 * v.y) + c2 * v.z;
+    return out_v;
 }
 
 // real_lens/pupil.rs: ExitPupil::sample. The rear-plane point of lens sample u for film point
@@ -323,13 +337,21 @@ bool generate_ray(Camera cam, vec2 p_raster, vec2 lens_u, float k, out Ray r,
     if (!lens_trace_to_scene(cam, ray, k, transmission)) {
         return false;
     }
+    // RealLens::finish: cos^4, and a tilted film's factor (exactly 1 untilted).
+    vec3 n = lens.film_normal.xyz;
     precise float cos2 = direction.z * direction.z;
-    precise float w = transmission * (cos2 * cos2) * area * lens.inverse_centre_integral;
+    precise float cos_film = (direction.x * n.x + direction.y * n.y) + direction.z * n.z;
+    precise float ratio = lens.film_origin.w / (film.z - lens.rear_z);
+    precise float tilted = (cos_film / direction.z) * (ratio * ratio);
+    precise float w =
+        transmission * (cos2 * cos2) * area * lens.inverse_centre_integral * tilted;
     weight = w;
+    // RealLens::camera_from_lens: flipped along the axis, turned by the tilt.
     const float scale = 1.0 / 1000.0;  // physical.rs: MM_PER_WORLD_UNIT
-    vec3 origin = vec3(ray.origin.x * scale, ray.origin.y * scale,
-                       (lens.entrance_pupil_z - ray.origin.z) * scale);
-    vec3 dir = vec3(ray.direction.x, ray.direction.y, -ray.direction.z);
+    precise vec3 turned =
+        lens_turn(vec3(ray.origin.x, ray.origin.y, lens.entrance_pupil_z - ray.origin.z));
+    vec3 origin = vec3(turned.x * scale, turned.y * scale, turned.z * scale);
+    vec3 dir = lens_turn(vec3(ray.direction.x, ray.direction.y, -ray.direction.z));
     r.origin = (cam.world_from_camera * vec4(origin, 1.0)).xyz;
     r.direction = (cam.world_from_camera * vec4(dir, 0.0)).xyz;
     return true;

@@ -60,7 +60,7 @@ pub fn lay_focus_plane(
         .take()
         .context("no focus plane to lay")?;
     let points = surface_points(path, &shot.camera, pixels)?;
-    let plane = FocusPlane::through(points, tilt_model(&settings.camera))
+    let plane = FocusPlane::through(points, tilt_model(&settings.camera, &shot.camera))
         .map_err(|e| anyhow::anyhow!("--focus-plane: {e}"))?;
     apply(settings, &plane);
     let resolved = resolve(settings)?;

@@ -115,21 +115,15 @@ impl Panel {
             ui.end_row();
             let (mut tilt, mut direction) = (m.tilt_degrees, m.tilt_direction_degrees);
             ui.label("Tilt (deg)");
-            let tilt_edit = ui
-                .add_enabled(
-                    rig.tilts(),
-                    egui::DragValue::new(&mut tilt)
-                        .speed(0.1)
-                        .range(0.0..=PANEL_MAX_TILT_DEGREES),
-                )
-                .on_disabled_hover_text("a real lens does not tilt yet");
+            let tilt_edit = ui.add(
+                egui::DragValue::new(&mut tilt)
+                    .speed(0.1)
+                    .range(0.0..=PANEL_MAX_TILT_DEGREES),
+            );
             ui.end_row();
             ui.label("Tilt direction (deg)");
             let direction_edit = ui
-                .add_enabled(
-                    rig.tilts(),
-                    egui::DragValue::new(&mut direction).speed(1.0),
-                )
+                .add(egui::DragValue::new(&mut direction).speed(1.0))
                 .on_hover_text("where the plane of focus comes nearer: 0 the image's bottom (a ground plane), 90 its right");
             ui.end_row();
             if tilt_edit.changed() || direction_edit.changed() {

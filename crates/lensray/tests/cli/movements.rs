@@ -28,9 +28,10 @@ fn bad_shift_and_tilt_are_rejected_in_one_line() {
         &["--lens", "double-gauss-50", "--shift", "40,0"],
         "past its image circle",
     );
+    // Tilted, the film's far corner swings out past wide-22's image circle.
     assert_rejected(
-        &["--lens", "double-gauss-50", "--tilt", "2"],
-        "does not tilt",
+        &["--lens", "wide-22", "--tilt", "12"],
+        "past the lens's image circle",
     );
 }
 

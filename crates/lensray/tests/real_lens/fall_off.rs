@@ -13,30 +13,40 @@ use crate::{below, builtin_lens, camera, material, quad, real, real_lens, settin
 /// Grid cells a side of the integration over the rear vertex's plane.
 const IRRADIANCE_GRID: u32 = 400;
 
-/// The irradiance at `film` (lens space) up to a constant: the integral of T cos^4(theta) over
-/// a square of the rear vertex's plane 1.5 times the rear clear aperture's radius on each side
-/// of the axis (every point a passing ray can cross), by the midpoint rule on a
-/// `IRRADIANCE_GRID` square grid, T and passing from `RealLens::trace_to_scene`. Independent
-/// of the lens's exit-pupil regions and of `camera_ray`'s weights.
+/// The irradiance at `film` (lens space) up to a constant: the integral of
+/// T cos(theta_film) cos(theta_rear) / d^2 over a square of the rear vertex's plane 1.5 times
+/// the rear clear aperture's radius on each side of the axis (every point a passing ray can
+/// cross), by the midpoint rule on a `IRRADIANCE_GRID` square grid, T and passing from
+/// `RealLens::trace_to_scene`; theta_film from the film's normal (the axis, but for a tilted
+/// lens), theta_rear from the axis, d the distance. For a film square to the axis this is
+/// T cos^4(theta) / h^2. Independent of the lens's exit-pupil regions and of `camera_ray`'s
+/// weights.
 fn irradiance(lens: &RealLens, film: Vec3) -> f64 {
+    irradiance_on_grid(lens, film, IRRADIANCE_GRID)
+}
+
+/// [`irradiance`] on an `n` x `n` grid.
+pub(crate) fn irradiance_on_grid(lens: &RealLens, film: Vec3, n: u32) -> f64 {
     let rear = lens.elements().interfaces.last().expect("surfaces");
     let half = 1.5 * rear.aperture_radius;
-    let n = IRRADIANCE_GRID;
     let cell = 2.0 * half / n as f32;
+    let normal = lens.film().normal.as_dvec3();
     let sum: f64 = (0..n)
         .into_par_iter()
         .map(|j| {
             let mut row = 0.0;
             for i in 0..n {
                 let q = Vec2::new(i as f32 + 0.5, j as f32 + 0.5) * cell - Vec2::splat(half);
-                let direction = (q.extend(rear.z) - film).normalize();
+                let to_rear = q.extend(rear.z) - film;
+                let direction = to_rear.normalize();
                 let ray = narrow::LensRay {
                     origin: film,
                     direction,
                 };
                 if let Some((_, transmission)) = lens.trace_to_scene(ray) {
-                    let cos2 = f64::from(direction.z * direction.z);
-                    row += f64::from(transmission) * cos2 * cos2;
+                    let d = direction.as_dvec3();
+                    let cosines = d.z.abs() * d.dot(normal).abs();
+                    row += f64::from(transmission) * cosines / to_rear.as_dvec3().length_squared();
                 }
             }
             row
@@ -47,7 +57,7 @@ fn irradiance(lens: &RealLens, film: Vec3) -> f64 {
 
 /// The mean weight of `camera_ray` at `film` over a 256 x 256 midpoint grid of lens samples
 /// (blocked rays count 0): what the image averages there.
-fn mean_weight(lens: &RealLens, film: Vec3) -> f64 {
+pub(crate) fn mean_weight(lens: &RealLens, film: Vec3) -> f64 {
     const M: u32 = 256;
     let sum: f64 = (0..M)
         .into_par_iter()

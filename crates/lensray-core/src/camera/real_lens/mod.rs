@@ -26,21 +26,24 @@
 //! vignetting) times the share of the pupil the clear apertures let through (optical
 //! vignetting, the cat-eye). The estimate is the physical pbrt one up to the constant 1 / E0.
 
+mod film;
 mod focus;
 mod lanes;
 mod pupil;
+mod recent;
 
 use std::sync::Arc;
 
-use glam::{Vec2, Vec3};
+use glam::{Mat3, Vec2, Vec3};
 use thiserror::Error;
 
 use super::physical::MM_PER_WORLD_UNIT;
-use super::{Aperture, Ray};
+use super::{Aperture, Movements, Ray};
 use crate::optics::paraxial::FirstOrder;
 use crate::optics::trace::narrow::{Elements, Interface, LensRay};
 use crate::optics::trace::Toward;
 use crate::optics::Prescription;
+pub use film::{FilmFrame, Tilt};
 use lanes::Lanes;
 pub use pupil::{ExitPupil, PupilBin, Region, PUPIL_BINS};
 
@@ -62,9 +65,9 @@ pub struct RealLensParams {
     /// Whether camera rays carry a wavelength through a dispersive lens (`--dispersion`);
     /// a lens without Abbe numbers has none either way.
     pub dispersion: bool,
-    /// The film window's shift off the axis, mm (`Movements::shift`: +x right, +y up in the
-    /// image).
-    pub shift_mm: [f64; 2],
+    /// The film window's shift off the axis in mm (`Movements::shift`: +x right, +y up in the
+    /// image), and the lens's tilt about its entrance pupil (`film`).
+    pub movements: Movements,
 }
 
 #[derive(Debug, Error, PartialEq)]
@@ -87,14 +90,14 @@ pub enum RealLensError {
     NoLight { lens: String, f_number: f64 },
     #[error("a real lens (--lens) needs the perspective projection")]
     Orthographic,
-    #[error("a real lens (--lens) does not tilt yet: tilt a thin lens (--focal-length) instead")]
-    Tilted,
     #[error("the shifted film reaches {corner_mm:.2} mm from the axis of lens {lens}, past its image circle: light reaches {circle_mm:.2} mm at most (the film's half diagonal plus the shift must stay within it)")]
     ShiftPastImageCircle {
         lens: String,
         corner_mm: f64,
         circle_mm: f64,
     },
+    #[error("the tilted film's corner {corner_mm:.2} mm from the axis of lens {lens} gets no light: the tilt swings it past the lens's image circle (tilt less, or take a lens that covers more)")]
+    TiltPastImageCircle { lens: String, corner_mm: f64 },
 }
 
 /// A real lens focused and stopped down, ready to trace camera rays.
@@ -113,8 +116,11 @@ pub struct RealLens {
     /// The opening's circumscribed radius at the stop, mm (the shape's unit circle).
     stop_radius: f32,
     aperture: Aperture,
-    /// Lens-space z of the film and of the entrance pupil (camera space's origin).
-    film_z: f32,
+    /// The film in lens space (square to the axis unless the lens tilts).
+    film: FilmFrame,
+    /// Camera space from lens space unflipped: the tilt's turn (`film`).
+    camera_from_lens: Mat3,
+    /// Lens-space z of the entrance pupil (camera space's origin).
     entrance_pupil_z: f32,
     /// Half the film's height, mm; the film's width follows the image's aspect.
     film_half_height: f32,
@@ -166,17 +172,29 @@ impl RealLens {
         let stop_diameter = lens.surfaces()[stop].diameter * full.f_number / f_number;
         let stopped = lens.with_stop_diameter(stop_diameter);
         let first_order = FirstOrder::of(&stopped);
-        let film_z = focus::film_z(&stopped, &first_order, params.focus_distance)?;
+        let tilt = Tilt::of(&params.movements);
+        let entrance_pupil_z = first_order.entrance_pupil.position_mm;
+        let film = if tilt.is_square() {
+            FilmFrame::square(focus::film_z(
+                &stopped,
+                &first_order,
+                params.focus_distance,
+            )?)
+        } else {
+            let distance = tilt.film_distance(&stopped, &first_order, params.focus_distance)?;
+            tilt.film(distance, entrance_pupil_z)
+        };
         let stop_radius = 0.5 * stop_diameter as f32;
         // The tracer's own check at the stop bounds every shape; `trace` applies the shape.
         let mut elements = Elements::new(&stopped);
         elements.interfaces[stop].aperture_radius = stop_radius * aperture.reach();
         let film_half_height = 0.5 * params.sensor_height_mm as f32;
         let film_half = Vec2::new(film_half_height * aspect, film_half_height);
-        let film_shift = glam::DVec2::from_array(params.shift_mm).as_vec2();
+        let film_shift = params.movements.shift().as_vec2();
         let mut real = RealLens {
-            film_distance_mm: f64::from(film_z) - stopped.length(),
-            entrance_pupil_z: first_order.entrance_pupil.position_mm as f32,
+            film_distance_mm: f64::from(film.axis_z) - stopped.length(),
+            entrance_pupil_z: entrance_pupil_z as f32,
+            camera_from_lens: tilt.camera_from_lens(),
             params,
             stopped,
             first_order,
@@ -185,16 +203,25 @@ impl RealLens {
             stop,
             stop_radius,
             aperture,
-            film_z,
+            film,
             film_half_height,
             film_shift,
             aspect,
             pupil: ExitPupil::EMPTY,
         };
-        // A shifted window's farthest corner lies its shift farther from the axis.
-        let film_radius = film_half.length() + film_shift.length();
+        // A shifted window's farthest corner lies its shift farther from the axis; a tilted
+        // film's corners are found one by one.
+        let corners = film.corners(film_half, film_shift);
+        let film_radius = if tilt.is_square() {
+            film_half.length() + film_shift.length()
+        } else {
+            FilmFrame::reach(&corners)
+        };
         real.pupil = ExitPupil::bound(&real, film_radius);
-        if film_shift != Vec2::ZERO {
+        // A moved film must stay in the image circle (the lens's own film may darken to 0).
+        // Square to the axis the circle is the pupil's; a tilted film's corners lie at
+        // different depths behind the lens, and each is asked whether light reaches it.
+        if tilt.is_square() && film_shift != Vec2::ZERO {
             let circle = real.pupil.image_circle();
             if circle < film_radius {
                 return Err(RealLensError::ShiftPastImageCircle {
@@ -204,6 +231,15 @@ impl RealLens {
                 });
             }
         }
+        if let Some(dark) = corners
+            .iter()
+            .find(|&&c| !tilt.is_square() && !real.lights(c))
+        {
+            return Err(RealLensError::TiltPastImageCircle {
+                lens: real.name().into(),
+                corner_mm: f64::from(Vec2::new(dark.x, dark.y).length()),
+            });
+        }
         if real.pupil.inverse_centre_integral <= 0.0 {
             return Err(RealLensError::NoLight {
                 lens: real.name().into(),
@@ -211,6 +247,12 @@ impl RealLens {
             });
         }
         Ok(real)
+    }
+
+    /// Whether any ray from film point `film` (lens space) passes the lens: a grid over the
+    /// rear element, as the exit pupil's search starts.
+    fn lights(&self, film: Vec3) -> bool {
+        self.pupil.lights(self, film)
     }
 
     /// The same lens with the stop shaped as `aperture` (or the same lens if it already is).
@@ -243,8 +285,19 @@ impl RealLens {
         (self.stop, self.stop_radius, &self.aperture)
     }
 
+    /// Lens-space z where the film crosses the lens's axis (the film's plane, untilted).
     pub fn film_z(&self) -> f32 {
-        self.film_z
+        self.film.axis_z
+    }
+
+    pub fn film(&self) -> &FilmFrame {
+        &self.film
+    }
+
+    /// Camera space from lens space unflipped ((x, y, entrance_pupil_z - z)): the tilt's
+    /// turn, the identity untilted.
+    pub fn camera_from_lens_turn(&self) -> Mat3 {
+        self.camera_from_lens
     }
 
     pub fn entrance_pupil_z(&self) -> f32 {
@@ -262,7 +315,9 @@ impl RealLens {
     pub fn pinhole_vfov(&self) -> f64 {
         let fo = &self.first_order;
         let exit_pupil_z = self.stopped.length() + fo.exit_pupil.position_mm;
-        let d_xp = f64::from(self.film_z) - exit_pupil_z;
+        // The exit pupil's distance from the film's plane.
+        let (origin, n) = (self.film.origin.as_dvec3(), self.film.normal.as_dvec3());
+        let d_xp = n.x * origin.x + n.y * origin.y + n.z * (origin.z - exit_pupil_z);
         let slope = f64::from(self.film_half_height) / d_xp * fo.exit_pupil.diameter_mm
             / fo.entrance_pupil.diameter_mm;
         2.0 * slope.atan()
@@ -302,7 +357,7 @@ impl RealLens {
         let centre = self.raster_centre(width, height);
         let u = (p_raster.x - centre.x) * mm_per_pixel;
         let v = (centre.y - p_raster.y) * mm_per_pixel;
-        Vec3::new(-u, -v, self.film_z)
+        self.film.point(u, v)
     }
 
     /// The camera ray (camera space) of film point `film` (from [`Self::film_point`]) and
@@ -317,7 +372,7 @@ impl RealLens {
     pub fn camera_ray_at(&self, film: Vec3, lens_u: Vec2, k: f32) -> Option<(Ray, f32)> {
         let (start, area) = self.start(film, lens_u);
         let (out, transmission) = self.trace_to_scene_at(start, k)?;
-        Some(self.finish(start.direction.z, area, out, transmission))
+        Some(self.finish(start, area, out, transmission))
     }
 
     /// `camera_ray_at` for many samples (film point, lens sample, dispersion offset) at once,
@@ -330,11 +385,11 @@ impl RealLens {
     ) {
         let n = samples.len().min(N);
         let (mut lanes, area) = Lanes::<N>::start(self, samples);
-        let start_dz = lanes.dz;
+        let starts: [LensRay; N] = std::array::from_fn(|l| lanes.ray(l));
         lanes.trace_to_scene(self);
         for l in 0..N {
             out[l] = (l < n && lanes.alive[l])
-                .then(|| self.finish(start_dz[l], area[l], lanes.ray(l), lanes.transmission[l]));
+                .then(|| self.finish(starts[l], area[l], lanes.ray(l), lanes.transmission[l]));
         }
     }
 
@@ -349,11 +404,19 @@ impl RealLens {
         (start, area)
     }
 
-    /// The camera ray and weight of a ray that left the film with direction z `start_dz` (the
-    /// cosine to the axis) and the lens as `out`.
-    fn finish(&self, start_dz: f32, area: f32, out: LensRay, transmission: f32) -> (Ray, f32) {
-        let cos2 = start_dz * start_dz;
-        let weight = transmission * (cos2 * cos2) * area * self.pupil.inverse_centre_integral;
+    /// The camera ray and weight of a ray that left the film as `start` and the lens as
+    /// `out`. The weight's cos^4 (the parent module's radiometry) holds for a film square to
+    /// the axis; a tilted film's irradiance, cos(film) cos(rear) / d^2 dA, is that times
+    /// (cos(film) / cos(rear)) (h0 / h)^2, h the film point's distance from the rear plane
+    /// along the axis and h0 the film centre's: exactly 1 untilted.
+    fn finish(&self, start: LensRay, area: f32, out: LensRay, transmission: f32) -> (Ray, f32) {
+        let (d, n) = (start.direction, self.film.normal);
+        let cos2 = d.z * d.z;
+        let cos_film = (d.x * n.x + d.y * n.y) + d.z * n.z;
+        let ratio = self.pupil.axis_depth / (start.origin.z - self.pupil.rear_z);
+        let tilted = (cos_film / d.z) * (ratio * ratio);
+        let weight =
+            transmission * (cos2 * cos2) * area * self.pupil.inverse_centre_integral * tilted;
         (self.camera_from_lens(out), weight)
     }
 
@@ -415,16 +478,20 @@ impl RealLens {
         interface.pass_at(ray, Toward::Scene, k)
     }
 
-    /// A lens-space ray in camera space (world units; +z toward the scene).
+    /// A lens-space ray in camera space (world units; +z toward the scene): flipped along the
+    /// axis, turned by the tilt. The turn is written out (`turn`) so that the GLSL mirror
+    /// rounds as this does, and the identity leaves every coordinate as it is.
     pub fn camera_from_lens(&self, ray: LensRay) -> Ray {
         let scale = 1.0 / MM_PER_WORLD_UNIT as f32;
+        let o = ray.origin;
+        let d = ray.direction;
+        let origin = turn(
+            &self.camera_from_lens,
+            Vec3::new(o.x, o.y, self.entrance_pupil_z - o.z),
+        );
         Ray {
-            origin: Vec3::new(
-                ray.origin.x * scale,
-                ray.origin.y * scale,
-                (self.entrance_pupil_z - ray.origin.z) * scale,
-            ),
-            direction: Vec3::new(ray.direction.x, ray.direction.y, -ray.direction.z),
+            origin: Vec3::new(origin.x * scale, origin.y * scale, origin.z * scale),
+            direction: turn(&self.camera_from_lens, Vec3::new(d.x, d.y, -d.z)),
         }
     }
 
@@ -447,130 +514,16 @@ impl RealLens {
     }
 }
 
-/// The lenses `RealLens::new` built last, by their arguments.
-mod recent {
-    use std::sync::Mutex;
-
-    use super::{Aperture, RealLens, RealLensParams};
-
-    /// How many are kept (the preview goes back and forth between a few lenses and stops).
-    const KEPT: usize = 4;
-
-    static LENSES: Mutex<Vec<RealLens>> = Mutex::new(Vec::new());
-
-    pub(super) fn find(
-        params: &RealLensParams,
-        aspect: f32,
-        aperture: &Aperture,
-    ) -> Option<RealLens> {
-        let lenses = LENSES.lock().unwrap_or_else(|e| e.into_inner());
-        lenses
-            .iter()
-            .find(|l| {
-                l.aspect.to_bits() == aspect.to_bits()
-                    && l.aperture == *aperture
-                    && l.params == *params
-            })
-            .cloned()
-    }
-
-    pub(super) fn keep(real: &RealLens) {
-        let mut lenses = LENSES.lock().unwrap_or_else(|e| e.into_inner());
-        if lenses.len() == KEPT {
-            lenses.remove(0);
-        }
-        lenses.push(real.clone());
-    }
+/// `m v` as ((c0 x + c1 y) + c2 z), coordinate by coordinate.
+#[inline(always)]
+fn turn(m: &Mat3, v: Vec3) -> Vec3 {
+    let (c0, c1, c2) = (m.x_axis, m.y_axis, m.z_axis);
+    Vec3::new(
+        (c0.x * v.x + c1.x * v.y) + c2.x * v.z,
+        (c0.y * v.x + c1.y * v.y) + c2.y * v.z,
+        (c0.z * v.x + c1.z * v.y) + c2.z * v.z,
+    )
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The packet trace gives `camera_ray`'s rays and weights bit for bit, full packets and a
-    /// part-filled one (the CPU renders with it; the GPU mirror is checked against
-    /// `camera_ray`). Also reports both speeds.
-    #[test]
-    fn packets_trace_the_same_rays() {
-        let six_blades = Aperture::new(crate::camera::ApertureShape {
-            blades: Some(6),
-            rotation_degrees: 10.0,
-            ..Default::default()
-        });
-        // Wide open and round; stopped down behind six blades.
-        for (name, f_number, aperture) in [
-            ("double-gauss-50", None, Aperture::ROUND),
-            ("wide-22", Some(4.0), six_blades),
-            ("cooke-triplet-50", Some(8.0), Aperture::ROUND),
-            ("aspheric-31", Some(2.8), Aperture::ROUND),
-        ] {
-            let lens = crate::optics::builtin::lens(name).expect("built in");
-            let params = RealLensParams {
-                prescription: Arc::new(lens),
-                f_number,
-                focus_distance: 3.0,
-                sensor_height_mm: 24.0,
-                dispersion: true,
-                shift_mm: [0.0, 0.0],
-            };
-            let real = RealLens::new(params, 1.5, aperture).expect("a lens");
-            packets_match_one_by_one(&real);
-        }
-    }
-
-    fn packets_match_one_by_one(real: &RealLens) {
-        let samples: Vec<(Vec3, Vec2, f32)> = (0..4100u32)
-            .map(|i| {
-                let raster = Vec2::new((i * 37 % 300) as f32 + 0.3, (i * 11 % 200) as f32 + 0.7);
-                let u = Vec2::new(
-                    (i.wrapping_mul(2654435761) % 1000) as f32 / 1000.0,
-                    (i.wrapping_mul(40503) % 997) as f32 / 997.0,
-                );
-                // Wavelengths across 380-780 nm; every third at the d line.
-                let lambda = 380.0 + (i.wrapping_mul(7919) % 401) as f32;
-                let k = if i % 3 == 0 {
-                    0.0
-                } else {
-                    crate::optics::glass::dispersion_offset_f32(lambda)
-                };
-                (real.film_point(raster, 300, 200), u, k)
-            })
-            .collect();
-        let (mut scalar, mut packets) = (std::time::Duration::MAX, std::time::Duration::MAX);
-        let (mut one_by_one, mut packed) = (Vec::new(), Vec::new());
-        for _ in 0..5 {
-            let start = std::time::Instant::now();
-            one_by_one = samples
-                .iter()
-                .map(|&(f, u, k)| real.camera_ray_at(f, u, k))
-                .collect();
-            scalar = scalar.min(start.elapsed());
-            let start = std::time::Instant::now();
-            packed.clear();
-            for chunk in samples.chunks(crate::reference::PACKET_SIZE) {
-                let mut out = [None; crate::reference::PACKET_SIZE];
-                real.camera_rays(chunk, &mut out);
-                packed.extend_from_slice(&out[..chunk.len()]);
-            }
-            packets = packets.min(start.elapsed());
-        }
-        println!(
-            "{}: one by one {scalar:?}, in packets {packets:?}",
-            real.name()
-        );
-        let bits = |r: &Option<(Ray, f32)>| {
-            r.map(|(ray, w)| {
-                (
-                    ray.origin.to_array().map(f32::to_bits),
-                    ray.direction.to_array().map(f32::to_bits),
-                    w.to_bits(),
-                )
-            })
-        };
-        let passed = one_by_one.iter().filter(|r| r.is_some()).count();
-        assert!(passed > 2000, "{}: {passed} of 4100 pass", real.name());
-        for (k, (a, b)) in one_by_one.iter().zip(&packed).enumerate() {
-            assert_eq!(bits(a), bits(b), "sample {k}: {a:?} vs {b:?}");
-        }
-    }
-}
+mod tests;

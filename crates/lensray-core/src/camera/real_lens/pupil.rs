@@ -13,6 +13,11 @@
 //!   and narrows smoothly). Each bin checks this at its middle radius: if the points passing
 //!   there do not fit the interpolated region, the bin falls back to one rectangle bounding
 //!   the regions of both edges and of the middle.
+//! - A tilted lens's film is not square to its axis: the film points at one distance r from
+//!   the axis lie up to r tan(tilt) nearer or farther along it (`FilmFrame::slope`). Each
+//!   search then takes the points that pass from any of three film points at r, at either end
+//!   of that span and in its middle (the region moves smoothly with the film point's depth,
+//!   as it does with r).
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -33,8 +38,12 @@ const CENTRE_GRID: u32 = 512;
 pub struct ExitPupil {
     /// Lens-space z of the rear vertex's plane, where the regions lie.
     pub rear_z: f32,
-    /// The film's half diagonal, mm: the last bin's outer edge.
+    /// The film's half diagonal, mm: the last bin's outer edge (how far a tilted or shifted
+    /// film reaches from the axis).
     pub film_radius: f32,
+    /// How far the film lies behind the rear plane where it crosses the axis, mm (a film
+    /// point's weight has (axis_depth / its own depth)^2, `RealLens::finish`).
+    pub axis_depth: f32,
     /// Per bin, for film points on +x, the region the rays are drawn from.
     pub bins: Vec<PupilBin>,
     /// 1 / the integral of T cos^4(theta) over the passing region seen from the film's
@@ -133,6 +142,7 @@ impl ExitPupil {
     pub const EMPTY: ExitPupil = ExitPupil {
         rear_z: 0.0,
         film_radius: 0.0,
+        axis_depth: 0.0,
         bins: Vec::new(),
         inverse_centre_integral: 0.0,
     };
@@ -142,8 +152,11 @@ impl ExitPupil {
     pub fn bound(lens: &RealLens, film_radius: f32) -> Self {
         let interfaces = &lens.elements().interfaces;
         let rear = interfaces[interfaces.len() - 1];
+        let film = lens.film();
         let search = Search {
             lens,
+            film_z: film.axis_z,
+            film_slope: film.slope(),
             rear_z: rear.z,
             // The rear element's clear aperture, with room for rays that cross its plane
             // beside it (pbrt's 1.5).
@@ -167,6 +180,7 @@ impl ExitPupil {
         let mut pupil = ExitPupil {
             rear_z: rear.z,
             film_radius,
+            axis_depth: film.axis_z - rear.z,
             bins,
             inverse_centre_integral: 0.0,
         };
@@ -191,6 +205,31 @@ impl ExitPupil {
             Some(last) => step * last as f32,
             None => 0.0,
         }
+    }
+
+    /// Whether any ray from film point `film` (lens space) passes `lens`, on a grid over the
+    /// rear element 4 times as fine as the search's coarse one (a far corner at f/8 passes
+    /// light through a sliver of the rear plane).
+    pub fn lights(&self, lens: &RealLens, film: Vec3) -> bool {
+        let rear = lens
+            .elements()
+            .interfaces
+            .last()
+            .expect("a lens has surfaces");
+        let search = Search {
+            lens,
+            film_z: film.z,
+            film_slope: 0.0,
+            rear_z: self.rear_z,
+            whole: Region {
+                centre: Vec2::ZERO,
+                half: Vec2::splat(1.5 * rear.aperture_radius),
+            },
+        };
+        !search
+            .grid_of(&[film], search.whole, 4 * GRID)
+            .points
+            .is_empty()
     }
 
     /// The bin of film points `r` mm from the centre, and how far across it `r` lies.
@@ -251,6 +290,9 @@ impl ExitPupil {
 /// Finds where rays from film points on +x pass.
 struct Search<'a> {
     lens: &'a RealLens,
+    /// Where the film crosses the axis, and tan(tilt) (`FilmFrame::slope`).
+    film_z: f32,
+    film_slope: f32,
     rear_z: f32,
     /// Where to look first.
     whole: Region,
@@ -274,10 +316,15 @@ impl Search<'_> {
     /// The passing points for film radius `r`: a coarse grid over the whole search, then a
     /// fine one over the coarse bounds.
     fn passing(&self, r: f32) -> Passing {
-        let film = Vec3::new(r, 0.0, self.lens.film_z());
-        let coarse = self.grid(film, self.whole);
+        let at = |k: f32| Vec3::new(r, 0.0, self.film_z + k * r * self.film_slope);
+        let films = if self.film_slope == 0.0 {
+            vec![at(0.0)]
+        } else {
+            vec![at(-1.0), at(0.0), at(1.0)]
+        };
+        let coarse = self.grid(&films, self.whole);
         match coarse.bounds() {
-            Some(bounds) => self.grid(film, bounds),
+            Some(bounds) => self.grid(&films, bounds),
             None => coarse,
         }
     }
@@ -288,23 +335,31 @@ impl Search<'_> {
         Edge { passing, rectangle }
     }
 
-    /// The points of a `GRID` x `GRID` grid over `region` that rays from `film` pass, at any
-    /// of the lens's bounding wavelengths (`RealLens::bounding_offsets`).
-    fn grid(&self, film: Vec3, region: Region) -> Passing {
+    /// The points of a `GRID` x `GRID` grid over `region` that rays from any of `films` pass,
+    /// at any of the lens's bounding wavelengths (`RealLens::bounding_offsets`).
+    fn grid(&self, films: &[Vec3], region: Region) -> Passing {
+        self.grid_of(films, region, GRID)
+    }
+
+    /// [`Self::grid`] with `n` points a side.
+    fn grid_of(&self, films: &[Vec3], region: Region, n: u32) -> Passing {
         let (lo, hi) = (region.lo(), region.hi());
-        let step = (hi - lo) / (GRID - 1) as f32;
+        let step = (hi - lo) / (n - 1) as f32;
         let offsets = self.lens.bounding_offsets();
         let elements = self.lens.elements();
         let mut points = Vec::new();
-        for j in 0..GRID {
-            for i in 0..GRID {
+        for j in 0..n {
+            for i in 0..n {
                 let q = lo + step * Vec2::new(i as f32, j as f32);
-                let ray = LensRay {
-                    origin: film,
-                    direction: (q.extend(self.rear_z) - film).normalize(),
+                let passes = |&film: &Vec3| {
+                    let ray = LensRay {
+                        origin: film,
+                        direction: (q.extend(self.rear_z) - film).normalize(),
+                    };
+                    let at = |&k: &f32| elements.trace_at(ray, Toward::Scene, k).is_some();
+                    offsets.iter().any(at)
                 };
-                let passes = |&k: &f32| elements.trace_at(ray, Toward::Scene, k).is_some();
-                if offsets.iter().any(passes) {
+                if films.iter().any(passes) {
                     points.push(q);
                 }
             }

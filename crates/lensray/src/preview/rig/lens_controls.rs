@@ -214,10 +214,6 @@ impl CameraRig {
             self.thin = self.camera.lens.clone();
         }
         self.camera.lens = lens;
-        if !self.tilts() {
-            // A real lens does not tilt yet: it takes the film untilted.
-            self.camera.movements.tilt_degrees = 0.0;
-        }
         self.camera.focus_distance = self.camera.focus_distance.max(self.min_focus_distance());
         self.commit();
     }

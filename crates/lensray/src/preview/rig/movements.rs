@@ -7,7 +7,6 @@ use lensray_core::camera::movements::MAX_TILT_DEGREES;
 use lensray_core::camera::{Camera, FocusPlane, Movements};
 use lensray_core::settings::tilt_model;
 
-use super::lens::RigLens;
 use super::CameraRig;
 
 /// The largest tilt the panel sets, degrees (the settings take any below 90).
@@ -19,11 +18,6 @@ impl CameraRig {
         self.camera.movements
     }
 
-    /// Whether the lens tilts: a thin lens does, a real lens does not yet.
-    pub fn tilts(&self) -> bool {
-        !matches!(self.camera.lens, RigLens::Real(_))
-    }
-
     /// Shifts the film window (mm with a focal length or a real lens, else image heights).
     pub fn set_shift(&mut self, shift: [f64; 2]) {
         if shift.iter().all(|x| x.is_finite()) {
@@ -33,9 +27,9 @@ impl CameraRig {
     }
 
     /// Tilts the lens by `tilt` degrees (clamped to [0, 89]) toward `direction` (degrees
-    /// counter-clockwise from the image's bottom, kept in [0, 360)); a real lens stays untilted.
+    /// counter-clockwise from the image's bottom, kept in [0, 360)).
     pub fn set_tilt(&mut self, tilt: f64, direction: f64) {
-        if !(tilt.is_finite() && direction.is_finite() && self.tilts()) {
+        if !(tilt.is_finite() && direction.is_finite()) {
             return;
         }
         let m = &mut self.camera.movements;
@@ -51,12 +45,9 @@ impl CameraRig {
         points: &[DVec3; 3],
         camera: &Camera,
     ) -> Result<FocusPlane, String> {
-        if !self.tilts() {
-            return Err("a real lens does not tilt yet: pick the thin lens".into());
-        }
         let camera_from_world = camera.camera_from_world.as_dmat4();
         let in_camera = points.map(|p| camera_from_world.transform_point3(p));
-        let plane = FocusPlane::through(in_camera, tilt_model(&self.settings.camera))
+        let plane = FocusPlane::through(in_camera, tilt_model(&self.settings.camera, camera))
             .map_err(|e| e.to_string())?;
         self.camera.focus_distance = plane.focus_distance;
         self.camera.movements.tilt_degrees = plane.tilt_degrees;
