@@ -14,8 +14,8 @@ with the pages that quote figures.
 
 Sources (docs/bench/):
   default.json, triangles.json, lit-default.json, hybrid-default.json, raster/*.json,
-  hybrid-aperture-default/*.json: `lensray bench --json` runs (commands in docs/bench.md,
-  docs/hybrid.md, docs/raster.md);
+  hybrid-aperture-default/*.json, movements.json, movements/*.json: `lensray bench --json` runs
+  (commands in docs/bench.md, docs/hybrid.md, docs/raster.md, docs/movements-bench.md);
   sampler-*.json, preview.json: tables copied from docs/sampler.md and docs/preview.md, with the
   command that printed them (`cargo bench --bench sampler -- --only ...`,
   `./scripts/bench-preview.sh`), which write no JSON of their own.
@@ -323,6 +323,19 @@ def figures():
         f"{100 * real['lens']['centre_pass_share']:.1f} % of the camera samples at the image centre")
     fig("lens-bench/pair.json machine",
         f"{pair['machine']['cpu']}, {pair['machine']['threads']} threads")
+
+    # Shift and tilt against the plain shot (docs/movements-bench.md): `lensray bench --sweep
+    # movements` runs, every path in movements.json, the raster path alone in movements/.
+    def vs_plain(run, shot):
+        point = next(p for p in run["points"] if p["movements"]["point"] == shot)
+        return {r["path"]: r["time_per_sample_vs_plain"] for r in point["results"]}
+    moved = vs_plain(runs["movements.json"], "moved")
+    traced = [moved[p] for p in ("rayquery", "software", "hybrid", "cpu")]
+    raster_alone = vs_plain(runs["movements/raster.json"], "moved")["raster"]
+    fig("movements.json moved/plain per sample, every path but raster",
+        f"{x_range(min(traced), max(traced), 2)} of the plain shot's time per sample")
+    fig("movements.json moved/plain per sample, raster",
+        f"`raster` {x(moved['raster'], 3)} in the same run and {x(raster_alone, 3)} measured alone")
 
     # The preview window (./scripts/bench-preview.sh; docs/bench/preview.json).
     preview = load("preview.json")

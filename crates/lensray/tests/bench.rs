@@ -377,6 +377,64 @@ fn aperture_sweep_weighs_shapes_against_the_round_aperture() {
     );
 }
 
+/// The movements sweep: the plain shot is measured with the moved one, each path's ratio is its
+/// time per sample over the plain one's (1 for plain), the table prints it, each point records
+/// its movements, and the moved image differs from the plain one (they reach the renderer).
+#[test]
+fn movements_sweep_weighs_the_moved_shot_against_the_plain_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "--paths",
+        "cpu",
+        "--sweep",
+        "movements",
+        "--sweep-points",
+        "moved",
+        "--json",
+        "movements.json",
+    ];
+    let out = bench(&args, dir.path());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table = text(&out.stdout);
+    assert!(
+        table.contains("movements cost") && table.contains("cpu   moved"),
+        "{table}"
+    );
+    let json = read_json(&dir.path().join("movements.json"));
+    assert_eq!(json["sweep"], "movements");
+    let points = json["points"].as_array().unwrap();
+    let shots: Vec<&str> = points
+        .iter()
+        .map(|p| p["movements"]["point"].as_str().unwrap())
+        .collect();
+    assert_eq!(shots, ["plain", "moved"]);
+    let (plain, moved) = (&points[0]["movements"], &points[1]["movements"]);
+    assert_eq!(plain["tilt_degrees"], 0.0);
+    assert_eq!(plain["focus_tilt"], serde_json::json!([0.0, 0.0]));
+    assert_eq!(moved["tilt_degrees"], 82.0);
+    assert_eq!(moved["shift"], serde_json::json!([0.0, -0.1]));
+    let window_y = moved["window_shift_image_heights"][1].as_f64().unwrap();
+    assert!((window_y + 0.1).abs() < 1e-6, "{moved}");
+    let plain_time = points[0]["results"][0]["trace_seconds"]["median"]
+        .as_f64()
+        .unwrap();
+    let mut errors = Vec::new();
+    for (p, m) in measurements(&json) {
+        check_measurement(m);
+        let ratio = m["time_per_sample_vs_plain"].as_f64().expect("a ratio");
+        let expected = m["trace_seconds"]["median"].as_f64().unwrap() / plain_time;
+        assert!((ratio - expected).abs() < 1e-9, "{ratio} vs {expected}");
+        if p["movements"]["point"] == "plain" {
+            assert_eq!(ratio, 1.0);
+        }
+        errors.push(m["rmse"].as_f64().unwrap());
+    }
+    assert_ne!(
+        errors[0], errors[1],
+        "the moved shot rendered the plain image"
+    );
+}
+
 /// The lens sweep (CPU path, default points: every built-in lens with its first-order thin
 /// lens): each lens lets more than 70 % of the camera samples through at the image centre,
 /// its thin model all of them; every measurement has a positive cost per camera
@@ -433,7 +491,7 @@ fn lens_sweep_reports_pass_shares_and_costs_against_the_thin_lens() {
 /// Bad input: one line naming the problem, a non-zero exit, no panic, no file written.
 #[test]
 fn bad_input_is_one_clear_line_and_writes_nothing() {
-    let cases: [(&[&str], &str); 8] = [
+    let cases: [(&[&str], &str); 10] = [
         (&["--paths", "cpu,warp"], "warp"),
         (&["--repeat", "0"], "--repeat"),
         (&["--paths", "rayquery", "--device", "cpu"], "--device cpu"),
@@ -460,6 +518,21 @@ fn bad_input_is_one_clear_line_and_writes_nothing() {
         (
             &["--sweep", "lens", "--aperture-radius", "0.1"],
             "--aperture-radius",
+        ),
+        (
+            &[
+                "--paths",
+                "cpu",
+                "--sweep",
+                "movements",
+                "--sweep-points",
+                "swing",
+            ],
+            "swing",
+        ),
+        (
+            &["--paths", "cpu", "--sweep", "movements", "--tilt", "95"],
+            "tilt",
         ),
     ];
     for (args, needle) in cases {

@@ -5,15 +5,16 @@
 //!
 //! Files: `options` (what to measure), `choose` (which paths), `scenes`, `sweep` (the points),
 //! `reference` (the cached converged image), `focus` (how much of the shot is in focus), `lens`
-//! (the lens sweep's pass shares and costs per camera ray), `runs` (timing the paths at one
-//! point), `report` (the results, also the JSON file), `camera` (the shot's camera in it),
-//! `table`, `plot`, `machine`.
+//! (the lens sweep's pass shares and costs per camera ray), `movements` (the movements sweep's
+//! shots), `runs` (timing the paths at one point), `report` (the results, also the JSON file),
+//! `camera` (the shot's camera in it), `table`, `plot`, `machine`.
 
 pub mod camera;
 pub mod choose;
 pub mod focus;
 pub mod lens;
 pub mod machine;
+pub mod movements;
 pub mod options;
 pub mod plot;
 pub mod reference;
@@ -33,6 +34,7 @@ use focus::FocusInfo;
 use lens::LensPoint;
 use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::settings::Shot;
+use movements::MovementsPoint;
 use options::{BenchOptions, SceneChoice, SweepKind};
 use reference::Reference;
 use report::{BenchReport, PathInfo, PointReport, SceneInfo, SettingsInfo};
@@ -76,17 +78,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
             units.metres()
         ));
     }
-    // The lens sweep's paths are chosen for a real lens (`auto` picks among those that trace
-    // one).
-    let base_value = match options.sweep {
-        Some(SweepKind::Lens) => values
-            .iter()
-            .copied()
-            .find(|v| matches!(v, SweepValue::Lens(l) if l.real))
-            .unwrap_or(values[0]),
-        _ => SweepValue::Spp(options.spp),
-    };
-    let base_shot = bench_shot(&base, options, base_value)?;
+    let base_shot = bench_shot(&base, options, base_value(options, &values))?;
     let mut kinds = choose::paths_to_run(options, &base, &base_shot, log)?;
     if options.sweep == Some(SweepKind::Lens) {
         kinds = lens_paths(options, kinds, log)?;
@@ -151,6 +143,21 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
     Ok(report)
 }
 
+/// The point whose shot the paths are chosen for (and `auto` picks on): the shot as asked for.
+fn base_value(options: &BenchOptions, values: &[SweepValue]) -> SweepValue {
+    match options.sweep {
+        // A real lens (`auto` picks among the paths that trace one).
+        Some(SweepKind::Lens) => values
+            .iter()
+            .copied()
+            .find(|v| matches!(v, SweepValue::Lens(l) if l.real))
+            .unwrap_or(values[0]),
+        // The plain shot (the options' movements are the moved points').
+        Some(SweepKind::Movements) => values[0],
+        _ => SweepValue::Spp(options.spp),
+    }
+}
+
 /// The shot at one point: the scene's settings with the options' and the point's on top.
 fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> Result<Shot> {
     let mut settings = scene.description.settings.clone();
@@ -178,6 +185,7 @@ fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> 
         .map(|d| d * metres_per_unit)
         .or(settings.camera.focus_distance);
     settings.camera.f_number = options.f_number.or(settings.camera.f_number);
+    movements::set(&mut settings.camera, options, value);
     if let SweepValue::Lens(lens) = value {
         // As `render --lens NAME`: the real lens replaces the scene's lens; the field of view
         // follows from it.
@@ -233,7 +241,7 @@ fn measure_group(
     };
     let in_turns = matches!(
         options.sweep,
-        Some(SweepKind::Aperture) | Some(SweepKind::Lens)
+        Some(SweepKind::Aperture) | Some(SweepKind::Lens) | Some(SweepKind::Movements)
     );
     let mut results = if in_turns {
         measure_in_turns(&group, &mut opened, log)?
@@ -260,8 +268,12 @@ fn measure_group(
             set_speedups(&mut results);
             let focus = FocusInfo::of(&cpu, s);
             let mut point = point_report(scene, s, &reference, focus, results);
-            if let SweepValue::Aperture(a) = value {
-                point.aperture = Some(*a);
+            match *value {
+                SweepValue::Aperture(a) => point.aperture = Some(a),
+                SweepValue::Movements(m) => {
+                    point.movements = Some(MovementsPoint::of(m, options, &s.camera));
+                }
+                _ => {}
             }
             point.lens = lens;
             point
@@ -332,8 +344,9 @@ fn open_paths(
     Ok(opened)
 }
 
-/// The aperture and lens sweeps: every point measured in turns (the paths' repeats go round
-/// the points), then, for apertures, each one's cost against the round one.
+/// The aperture, lens and movements sweeps: every point measured in turns (the paths' repeats go
+/// round the points), then each aperture's cost against the round one, each moved shot's
+/// against the plain one.
 fn measure_in_turns(
     group: &Group,
     opened: &mut [Box<dyn RenderPath>],
@@ -355,16 +368,17 @@ fn measure_in_turns(
         options.width,
         options.height,
         options.spp,
-        if options.sweep == Some(SweepKind::Lens) {
-            "lenses"
-        } else {
-            "apertures"
+        match options.sweep {
+            Some(SweepKind::Lens) => "lenses",
+            Some(SweepKind::Movements) => "shots",
+            _ => "apertures",
         },
         values
             .iter()
             .map(|v| match v {
                 SweepValue::Aperture(a) => a.name().to_string(),
                 SweepValue::Lens(l) => l.label(),
+                SweepValue::Movements(m) => m.name().to_string(),
                 _ => "?".into(),
             })
             .collect::<Vec<_>>()
@@ -376,8 +390,14 @@ fn measure_in_turns(
         .map(|(s, r)| (s, &r.image))
         .collect();
     let mut results = runs::measure_points_interleaved(opened, &points, options.repeat)?;
-    if options.sweep == Some(SweepKind::Aperture) {
-        set_costs_vs_round(&mut results);
+    match options.sweep {
+        Some(SweepKind::Aperture) => {
+            runs::set_costs_vs_first(&mut results, |m, c| m.cost_vs_round = Some(c));
+        }
+        Some(SweepKind::Movements) => {
+            runs::set_costs_vs_first(&mut results, |m, c| m.time_per_sample_vs_plain = Some(c));
+        }
+        _ => {}
     }
     Ok(results)
 }
@@ -482,23 +502,6 @@ fn kinds_list(kinds: &[PathKind]) -> String {
         .join(", ")
 }
 
-/// Each path's median time at each point over its median time at the first point (the aperture
-/// sweep's round aperture).
-fn set_costs_vs_round(points: &mut [Vec<Measurement>]) {
-    let round: Vec<(PathKind, f64)> = points.first().map_or(Vec::new(), |ms| {
-        ms.iter()
-            .map(|m| (m.path, m.trace_seconds.median))
-            .collect()
-    });
-    for point in points {
-        for m in point {
-            if let Some(&(_, t)) = round.iter().find(|(p, _)| *p == m.path) {
-                m.cost_vs_round = Some(m.trace_seconds.median / t.max(1e-12));
-            }
-        }
-    }
-}
-
 /// Each path's speed against the CPU path's at the same point (CPU median / path median).
 fn set_speedups(results: &mut [Measurement]) {
     let cpu = results
@@ -528,6 +531,7 @@ fn point_report(
         camera: camera::CameraInfo::of(&shot.camera),
         aperture: None,
         lens: None,
+        movements: None,
         reference: reference.info.clone(),
         focus,
         results,

@@ -59,6 +59,9 @@ pub enum SweepKind {
     /// turns: time, camera rays that reach the scene per second, each one's cost over the thin
     /// lens's, and the share of camera samples the lens lets through (image and centre).
     Lens,
+    /// The shot plain and moved (shifted and tilted; also shifted only or tilted only), measured
+    /// in turns: each moved point's time per sample over the plain point's.
+    Movements,
 }
 
 impl SweepKind {
@@ -69,6 +72,7 @@ impl SweepKind {
             SweepKind::Triangles => "triangles",
             SweepKind::Aperture => "aperture",
             SweepKind::Lens => "lens",
+            SweepKind::Movements => "movements",
         }
     }
 }
@@ -97,6 +101,11 @@ pub struct BenchOptions {
     /// The lens's f-number (a real lens of the lens sweep: `None` opens it fully; else the
     /// scene's physical lens).
     pub f_number: Option<f64>,
+    /// Shift and tilt as on `render` (`--shift`, `--tilt`, `--tilt-direction`): of the shot,
+    /// or under the movements sweep of its moved points (`None`: the sweep's own values).
+    pub shift: Option<[f64; 2]>,
+    pub tilt: Option<f64>,
+    pub tilt_direction: Option<f64>,
     /// The scene's own when `None`.
     pub sampler: Option<SamplerKind>,
     pub seed: Option<u32>,
@@ -132,6 +141,9 @@ impl Default for BenchOptions {
             aperture_radius: None,
             focus_distance: None,
             f_number: None,
+            shift: None,
+            tilt: None,
+            tilt_direction: None,
             sampler: None,
             seed: None,
             repeat: 5,

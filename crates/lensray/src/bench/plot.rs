@@ -173,6 +173,14 @@ fn draw(report: &BenchReport, rgb: &mut [u8]) -> Result<(), Box<dyn std::error::
             "lens: 1 biconvex-50, 2 double-gauss-50, 3 wide-22, 4 cooke-triplet-50 (+0.5: real)",
             "time, seconds (median)",
         ),
+        Some(SweepKind::Movements) => (
+            format!(
+                "Time against shift and tilt: {}x{}, {} spp",
+                s.width, s.height, s.spp
+            ),
+            "shot: 1 plain, 2 shift, 3 tilt, 4 moved (shifted and tilted)",
+            "time, seconds (median)",
+        ),
     };
 
     let root = BitMapBackend::with_buffer(rgb, SIZE).into_drawing_area();

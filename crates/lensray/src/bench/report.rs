@@ -7,6 +7,7 @@ use super::camera::CameraInfo;
 use super::focus::FocusInfo;
 use super::lens::LensPoint;
 use super::machine::Machine;
+use super::movements::{BenchMovement, MovementsPoint};
 use super::options::SweepKind;
 use super::reference::ReferenceInfo;
 use super::runs::Measurement;
@@ -117,6 +118,10 @@ pub struct PointReport {
     /// The lens sweep's lens at this point, and the share of camera samples it lets through.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lens: Option<LensPoint>,
+    /// The movements sweep's shot at this point: its shift and tilt, and what they made of the
+    /// camera.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub movements: Option<MovementsPoint>,
     pub reference: ReferenceInfo,
     /// How much of the shot is in focus (the hybrid's gain depends on it).
     pub focus: FocusInfo,
@@ -152,6 +157,15 @@ impl PointReport {
                 }
                 None => 1.0,
             },
+            Some(SweepKind::Movements) => match &self.movements {
+                Some(m) => {
+                    1.0 + BenchMovement::ALL
+                        .iter()
+                        .position(|&b| b == m.point)
+                        .unwrap_or(0) as f64
+                }
+                None => 1.0,
+            },
         }
     }
 
@@ -167,6 +181,11 @@ impl PointReport {
                 Some(l) => l.lens.to_string(),
                 None => "?".into(),
             },
+            Some(SweepKind::Movements) => self
+                .movements
+                .as_ref()
+                .map_or("plain", |m| m.point.name())
+                .to_string(),
         }
     }
 }

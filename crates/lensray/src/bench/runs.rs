@@ -97,6 +97,11 @@ pub struct Measurement {
     /// thin lens, same path (the target: at most 2).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cost_per_camera_ray_vs_thin: Option<f64>,
+    /// The movements sweep: this path's median time per sample over the same at the plain
+    /// point (the points share size and spp, so their time ratio; 1 for the plain point; the
+    /// target: at most 1.05).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_per_sample_vs_plain: Option<f64>,
 }
 
 pub fn psnr_db(rmse: f64) -> f64 {
@@ -232,5 +237,95 @@ fn measurement(
         camera_rays_per_second: None,
         cost_vs_thin: None,
         cost_per_camera_ray_vs_thin: None,
+        time_per_sample_vs_plain: None,
+    }
+}
+
+/// Gives each measurement, through `set`, its path's median time over the same path's at the
+/// first point (the point the others are weighed against: the round aperture, the plain shot).
+/// A path the first point lacks gets nothing.
+pub fn set_costs_vs_first(points: &mut [Vec<Measurement>], set: fn(&mut Measurement, f64)) {
+    let first: Vec<(PathKind, f64)> = points.first().map_or(Vec::new(), |ms| {
+        ms.iter()
+            .map(|m| (m.path, m.trace_seconds.median))
+            .collect()
+    });
+    for point in points {
+        for m in point {
+            if let Some(&(_, t)) = first.iter().find(|(p, _)| *p == m.path) {
+                set(m, m.trace_seconds.median / t.max(1e-12));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A measurement of `path` whose runs took `seconds`.
+    fn measured(path: PathKind, seconds: &[f64]) -> Measurement {
+        let runs: Vec<Run> = seconds
+            .iter()
+            .map(|&s| Run {
+                trace_seconds: s,
+                wall_seconds: s,
+                rays: 1,
+                submits: 0,
+                cpu_waits: 0,
+                readback_bytes: 0,
+            })
+            .collect();
+        Measurement {
+            path,
+            device: String::new(),
+            clock: Clock::WallClock,
+            trace_seconds: Spread::of(seconds),
+            wall_seconds: Spread::of(seconds),
+            runs,
+            rays: 1,
+            submits: 0,
+            cpu_waits: 0,
+            readback_bytes: 0,
+            rays_per_second: 1.0,
+            aov_passes_per_second: None,
+            peak_device_bytes: 0,
+            accel_bytes: 0,
+            build_seconds: 0.0,
+            rmse: 0.1,
+            psnr_db: 20.0,
+            speedup_vs_cpu: None,
+            cost_vs_round: None,
+            camera_rays_per_second: None,
+            cost_vs_thin: None,
+            cost_per_camera_ray_vs_thin: None,
+            time_per_sample_vs_plain: None,
+        }
+    }
+
+    #[test]
+    fn costs_are_medians_over_the_first_points_same_path() {
+        let plain = vec![
+            measured(PathKind::Cpu, &[2.0, 9.0, 1.0]),
+            measured(PathKind::Raster, &[4.0]),
+        ];
+        // The raster path is listed first here: each is matched by path, not by place.
+        let moved = vec![
+            measured(PathKind::Raster, &[5.0]),
+            measured(PathKind::Cpu, &[2.1, 2.2, 0.5]),
+            measured(PathKind::Hybrid, &[1.0]),
+        ];
+        let mut points = vec![plain, moved];
+        set_costs_vs_first(&mut points, |m, c| m.time_per_sample_vs_plain = Some(c));
+        let costs: Vec<Vec<Option<f64>>> = points
+            .iter()
+            .map(|ms| ms.iter().map(|m| m.time_per_sample_vs_plain).collect())
+            .collect();
+        assert_eq!(costs[0], [Some(1.0), Some(1.0)]);
+        // Medians: cpu 2.1 over 2.0, raster 5 over 4; the hybrid has no plain point.
+        let cpu = costs[1][1].unwrap();
+        assert!((cpu - 1.05).abs() < 1e-12, "{cpu}");
+        assert_eq!(costs[1][0], Some(1.25));
+        assert_eq!(costs[1][2], None);
     }
 }

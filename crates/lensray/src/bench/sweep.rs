@@ -5,6 +5,7 @@ use anyhow::{bail, ensure, Context, Result};
 
 use std::sync::Arc;
 
+use super::movements::BenchMovement;
 use super::options::SweepKind;
 use lensray_core::camera::aperture::ApertureImage;
 use lensray_core::camera::ApertureShape;
@@ -21,6 +22,7 @@ pub enum SweepValue {
     Triangles(usize),
     Aperture(BenchAperture),
     Lens(BenchLens),
+    Movements(BenchMovement),
 }
 
 /// The lens sweep's points: a built-in lens, traced surface by surface (`real`), or its
@@ -145,7 +147,7 @@ pub const TRIANGLES: [usize; 5] = [10_000, 30_000, 100_000, 300_000, 1_000_000];
 pub fn values(kind: Option<SweepKind>, list: Option<&str>, spp: u32) -> Result<Vec<SweepValue>> {
     let mut values = match (kind, list) {
         (None, Some(_)) => {
-            bail!("--sweep-points needs --sweep spp|resolution|triangles|aperture|lens")
+            bail!("--sweep-points needs --sweep spp|resolution|triangles|aperture|lens|movements")
         }
         (None, None) => vec![SweepValue::Spp(spp)],
         (Some(kind), Some(list)) => parse_list(kind, list)?,
@@ -167,6 +169,11 @@ pub fn values(kind: Option<SweepKind>, list: Option<&str>, spp: u32) -> Result<V
         (Some(SweepKind::Lens), None) => (0..lensray_core::optics::builtin::LENSES.len())
             .map(|lens| SweepValue::Lens(BenchLens { lens, real: true }))
             .collect(),
+        (Some(SweepKind::Movements), None) => BenchMovement::DEFAULT
+            .iter()
+            .copied()
+            .map(SweepValue::Movements)
+            .collect(),
     };
     if kind == Some(SweepKind::Lens) {
         // Every real lens is weighed against its own first-order thin lens.
@@ -183,6 +190,10 @@ pub fn values(kind: Option<SweepKind>, list: Option<&str>, spp: u32) -> Result<V
     {
         // Every shape is weighed against the round one.
         values.push(SweepValue::Aperture(BenchAperture::Round));
+    }
+    if kind == Some(SweepKind::Movements) {
+        // Every moved point is weighed against the plain one.
+        values.push(SweepValue::Movements(BenchMovement::Plain));
     }
     values.sort();
     values.dedup();
@@ -263,6 +274,12 @@ fn parse_value(kind: SweepKind, item: &str) -> Result<SweepValue> {
                 })?,
             real: true,
         }),
+        SweepKind::Movements => SweepValue::Movements(
+            BenchMovement::ALL
+                .into_iter()
+                .find(|m| m.name() == item)
+                .with_context(|| format!("'{item}' is not plain, shift, tilt or moved"))?,
+        ),
     })
 }
 
@@ -337,5 +354,22 @@ mod tests {
         assert_eq!(all[1], lens("biconvex-50", true));
         assert!(values(Some(SweepKind::Lens), Some("thin"), 4).is_err());
         assert!(values(Some(SweepKind::Lens), Some("fisheye"), 4).is_err());
+        // The movements sweep: plain and moved by default; plain always, first.
+        let movements = |ms: &[BenchMovement]| -> Vec<SweepValue> {
+            ms.iter().copied().map(SweepValue::Movements).collect()
+        };
+        assert_eq!(
+            values(Some(SweepKind::Movements), None, 4).unwrap(),
+            movements(&[BenchMovement::Plain, BenchMovement::Moved])
+        );
+        assert_eq!(
+            values(Some(SweepKind::Movements), Some("moved, tilt,shift"), 4).unwrap(),
+            movements(&BenchMovement::ALL)
+        );
+        assert_eq!(
+            values(Some(SweepKind::Movements), Some("plain,moved"), 4).unwrap(),
+            movements(&[BenchMovement::Plain, BenchMovement::Moved])
+        );
+        assert!(values(Some(SweepKind::Movements), Some("swing"), 4).is_err());
     }
 }

@@ -21,6 +21,9 @@ pub fn render(report: &BenchReport) -> String {
     if report.sweep == Some(SweepKind::Lens) {
         lens_section(&mut out, report);
     }
+    if report.sweep == Some(SweepKind::Movements) {
+        movements_section(&mut out, report);
+    }
     out
 }
 
@@ -124,6 +127,7 @@ fn results(out: &mut String, report: &BenchReport) {
         Some(SweepKind::Triangles) => "triangles",
         Some(SweepKind::Aperture) => "aperture",
         Some(SweepKind::Lens) => "lens",
+        Some(SweepKind::Movements) => "shot",
     };
     let mut rows = vec![[
         swept,
@@ -276,6 +280,67 @@ fn lens_section(out: &mut String, report: &BenchReport) {
                     .map_or_else(|| "-".into(), |r| format!("{:.2}", r / 1e6)),
                 ratio(m.cost_vs_thin),
                 ratio(m.cost_per_camera_ray_vs_thin),
+            ]);
+        }
+    }
+    write_rows(out, &rows, 2, "  ");
+}
+
+/// The movements sweep: per path and moved shot, its time per sample against the plain shot's,
+/// then the same ratio round by round (each round renders both, a few seconds apart): its
+/// median and range show how much a busy machine moved it.
+fn movements_section(out: &mut String, report: &BenchReport) {
+    let _ = writeln!(
+        out,
+        "movements cost (median time per sample over the plain shot's, same path, measured in turns; target <= 1.05x):"
+    );
+    let Some(plain) = report.points.first() else {
+        return;
+    };
+    let per_sample = |point: &PointReport, seconds: f64| {
+        let samples = f64::from(point.width) * f64::from(point.height) * f64::from(point.spp);
+        format!("{:.1}", seconds / samples.max(1.0) * 1e9)
+    };
+    let mut rows = vec![[
+        "path",
+        "shot",
+        "plain: time",
+        "ns/sample",
+        "shot: time",
+        "ns/sample",
+        "vs plain",
+        "rounds: median (min-max)",
+        "target",
+    ]
+    .map(String::from)];
+    for p in &report.paths {
+        let Some(base) = plain.results.iter().find(|m| m.path == p.path) else {
+            continue;
+        };
+        for point in report.points.iter().skip(1) {
+            let Some(m) = point.results.iter().find(|m| m.path == p.path) else {
+                continue;
+            };
+            let (t0, t) = (base.trace_seconds.median, m.trace_seconds.median);
+            let ratio = m.time_per_sample_vs_plain.unwrap_or(f64::NAN);
+            let rounds: Vec<f64> = m
+                .runs
+                .iter()
+                .zip(&base.runs)
+                .map(|(r, r0)| r.trace_seconds / r0.trace_seconds.max(1e-12))
+                .collect();
+            let (lo, hi) = lensray_core::stats::range(&rounds);
+            let mid = lensray_core::stats::median(&rounds);
+            rows.push([
+                p.path.to_string(),
+                point.swept_label(report.sweep),
+                Unit::for_seconds(t0).show(t0, true),
+                per_sample(plain, t0),
+                Unit::for_seconds(t).show(t, true),
+                per_sample(point, t),
+                format!("{ratio:.3}x"),
+                format!("{mid:.3} ({lo:.3}-{hi:.3})"),
+                if ratio <= 1.05 { "met" } else { "missed" }.into(),
             ]);
         }
     }
