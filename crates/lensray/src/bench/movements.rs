@@ -34,7 +34,7 @@ pub enum BenchMovement {
     Shift,
     /// The tilt alone.
     Tilt,
-    /// Shifted and tilted: the moved shot.
+    /// Shifted and tilted: the moved shot the cost figure compares with the plain one.
     Moved,
 }
 
