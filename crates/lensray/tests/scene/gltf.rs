@@ -35,7 +35,7 @@ pub(crate) fn write_gltf(
   "scenes": [{{"nodes": [0]}}],
   "nodes": {nodes},
   "meshes": [{{"name": "tri", "primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1, "material": 0}}]}}],
-  "materials": [{{"name": "paint", "doubleSided": true, "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.4, 0.6, 1.0]}},
+  "materials": [{{"name": "paint", "doubleSided": true, "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.4, 0.6, 1.0], "metallicFactor": 0.0}},
                  "emissiveFactor": [1.0, 0.5, 0.0],
                  "extensions": {{"KHR_materials_emissive_strength": {{"emissiveStrength": 4.0}}}}}}],
   "buffers": [{{"uri": "triangle.bin", "byteLength": 44}}],

@@ -210,10 +210,12 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
             !m.double_sided(),
             "single-sided culling (every surface is seen from both sides)",
         );
+        // Metallic 0 and roughness 1 is the Lambert surface lensray draws: only a metal, a
+        // smoother surface or their texture is something it leaves out.
         note(
             pbr.metallic_roughness_texture().is_some()
-                || pbr.metallic_factor() != 1.0
-                || pbr.roughness_factor() != 1.0,
+                || pbr.metallic_factor() > 0.0
+                || pbr.roughness_factor() < 1.0,
             "metallic-roughness",
         );
         note(m.normal_texture().is_some(), "normal maps");
