@@ -210,12 +210,11 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
             !m.double_sided(),
             "single-sided culling (every surface is seen from both sides)",
         );
-        // Metallic 0 and roughness 1 is the Lambert surface lensray draws: only a metal, a
-        // smoother surface or their texture is something it leaves out.
+        // What Lambert shading leaves out is the specular lobe, which a roughness under 1 or a
+        // texture asks for. Fully rough, metal or not scatters close to Lambert (and glTF's
+        // defaults, a material that says nothing, are metallic 1 and roughness 1).
         note(
-            pbr.metallic_roughness_texture().is_some()
-                || pbr.metallic_factor() > 0.0
-                || pbr.roughness_factor() < 1.0,
+            pbr.metallic_roughness_texture().is_some() || pbr.roughness_factor() < 1.0,
             "metallic-roughness",
         );
         note(m.normal_texture().is_some(), "normal maps");
