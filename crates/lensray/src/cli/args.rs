@@ -117,6 +117,23 @@ impl PathArgs {
     }
 }
 
+/// Shift and tilt (`camera::movements`): shared by `render`, `preview` and `bench`.
+#[derive(Args, Clone, Copy, Debug, Default)]
+pub struct MovementArgs {
+    /// Shift the film window off the axis (a shift lens): mm on the film with a focal length
+    /// or a real lens, else fractions of the image height; +X right, +Y up.
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
+    pub shift: Option<[f64; 2]>,
+    /// Tilt the lens against the film, degrees in [0, 90): the plane of focus turns
+    /// (Scheimpflug; with a focal length its hinge lies f / sin(tilt) from the lens).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub tilt: Option<f64>,
+    /// Where in the image the tilted plane of focus comes nearer, degrees counter-clockwise
+    /// from the image's bottom: 0 lays it like the ground, 90 like a wall on the right.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub tilt_direction: Option<f64>,
+}
+
 /// Camera, image and shading options; each overrides the scene file.
 #[derive(Args, Clone, Debug, Default)]
 pub struct ViewArgs {
@@ -169,18 +186,8 @@ pub struct ViewArgs {
     /// the axis).
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub focus_distance: Option<f64>,
-    /// Shift the film window off the axis (a shift lens): mm on the film with a focal length
-    /// or a real lens, else fractions of the image height; +X right, +Y up.
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
-    pub shift: Option<[f64; 2]>,
-    /// Tilt the lens against the film, degrees in [0, 90): the plane of focus turns
-    /// (Scheimpflug; with a focal length its hinge lies f / sin(tilt) from the lens).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    pub tilt: Option<f64>,
-    /// Where in the image the tilted plane of focus comes nearer, degrees counter-clockwise
-    /// from the image's bottom: 0 lays it like the ground, 90 like a wall on the right.
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    pub tilt_direction: Option<f64>,
+    #[command(flatten)]
+    pub movements: MovementArgs,
     /// Lay the plane of focus through the surfaces under three pixels (column,row each):
     /// sets focus distance, tilt and tilt direction, and prints them.
     #[arg(long, num_args = 3, value_parser = parse_pixel, value_name = "X,Y",
@@ -281,9 +288,9 @@ impl ViewArgs {
                 sensor_height_mm: self.sensor_height_mm,
                 near: self.near,
                 far: self.far,
-                shift: self.shift,
-                tilt: self.tilt,
-                tilt_direction: self.tilt_direction,
+                shift: self.movements.shift,
+                tilt: self.movements.tilt,
+                tilt_direction: self.movements.tilt_direction,
                 focus_plane: self.focus_plane.as_deref().map(|p| [p[0], p[1], p[2]]),
                 aperture: ApertureSettings {
                     blades: self.aperture_blades,

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Result};
 use clap::Args;
 
-use super::args::{parse_pair, DeviceArgs};
+use super::args::{DeviceArgs, MovementArgs};
 use crate::bench::options::{
     BenchOptions, NamedScene, SceneChoice, SweepKind, DEFAULT_CACHE_DIR, DEFAULT_REFERENCE_SPP,
 };
@@ -64,19 +64,10 @@ pub struct BenchArgs {
     /// N) [default: each wide open], else of the scene's lens given by focal length.
     #[arg(long, value_name = "N")]
     pub f_number: Option<f64>,
-    /// Shift the film window off the axis, as on `render`: mm on the film with a focal length,
-    /// else fractions of the image height; +X right, +Y up. With `--sweep movements`: of its
-    /// shifted points [default: 0,-0.1].
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true, value_name = "X,Y")]
-    pub shift: Option<[f64; 2]>,
-    /// Tilt the lens, degrees in [0, 90), as on `render`. With `--sweep movements`: of its
-    /// tilted points [default: 82, the default scene's plane of focus laid level].
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    pub tilt: Option<f64>,
-    /// Where the tilted plane of focus comes nearer, degrees counter-clockwise from the image's
-    /// bottom, as on `render`. With `--sweep movements`: of its tilted points [default: 0].
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    pub tilt_direction: Option<f64>,
+    /// As on `render`; with `--sweep movements`, the shifted and tilted points' movements
+    /// [default: shift 0,-0.1, tilt 82 toward 0: the default scene's plane of focus laid level].
+    #[command(flatten)]
+    pub movements: MovementArgs,
     /// How samples are drawn [default: the scene's, else sobol].
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerKind>,
@@ -99,8 +90,10 @@ pub struct BenchArgs {
     /// (generated scenes), aperture shapes (each one's cost against the round aperture,
     /// measured in turns), real lenses (each one's cost per camera ray that reaches the
     /// scene against its first-order thin lens, and the share of camera samples it lets
-    /// through; cpu, rayquery and software), or movements (the shot shifted and tilted
-    /// against the plain shot, time per sample, measured in turns). Without it, one point;
+    /// through; cpu, rayquery and software), or movements (the shot shifted and tilted by
+    /// --shift, --tilt and --tilt-direction [default: 0,-0.1, 82 and 0: the default scene's
+    /// plane of focus laid level] against the plain shot, time per sample, measured in
+    /// turns). Without it, one point;
     /// `--plot` then sweeps spp.
     #[arg(long, value_enum)]
     pub sweep: Option<SweepKind>,
@@ -151,9 +144,9 @@ impl BenchArgs {
             aperture_radius: self.aperture_radius,
             focus_distance: self.focus_distance,
             f_number: self.f_number,
-            shift: self.shift,
-            tilt: self.tilt,
-            tilt_direction: self.tilt_direction,
+            shift: self.movements.shift,
+            tilt: self.movements.tilt,
+            tilt_direction: self.movements.tilt_direction,
             sampler: self.sampler,
             seed: self.seed,
             repeat: self.repeat,
