@@ -15,6 +15,23 @@ trap 'rm -rf "$skip_log" "$cache_dir"' EXIT
 status=0
 LENSRAY_SKIP_LOG="$skip_log" LENSRAY_CACHE_DIR="$cache_dir" cargo test --all-targets "$@" || status=$?
 
+# Embree picks its kernels by the CPU (SSE4.2, AVX2, AVX-512), and their floats differ. The run
+# above used the widest this CPU has; the CPU reference's tests run again on each other one
+# (LENSRAY_EMBREE_CONFIG=isa=...), and tests/cli/isa.rs compares the default render across all.
+# Only for the whole suite (no arguments).
+if [ $# -eq 0 ]; then
+  lensray="${CARGO_TARGET_DIR:-target}/debug/lensray"
+  isas=$("$lensray" info 2>/dev/null | sed -n 's/^ *this CPU runs *//p' | tr -d ',' || true)
+  widest=${isas##* }
+  for isa in sse4.2 avx2 avx512; do
+    if [[ " $isas " == *" $isa "* && $isa != "$widest" ]]; then
+      echo "== the CPU reference's tests on Embree's $isa kernels"
+      LENSRAY_EMBREE_CONFIG="isa=$isa" cargo test -q -p lensray-core --lib --test reference \
+        || status=$?
+    fi
+  done
+fi
+
 skipped=$(wc -l <"$skip_log")
 if [ "$skipped" -gt 0 ]; then
   echo

@@ -111,6 +111,9 @@ pub struct GpuOptions {
     /// Treat every device as lacking VK_KHR_ray_query (tests of the software traversal on a
     /// device that has it).
     pub hide_ray_query: bool,
+    /// Say in one line on stderr when the driver compiles the shaders for a device's first use
+    /// (its pipeline cache file is not there yet).
+    pub first_use_notice: bool,
 }
 
 /// Every Vulkan device, with what it lacks for lensray (for `lensray info`).

@@ -59,6 +59,12 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    // Embree's configuration comes from the environment; a bad one stops every command here, in
+    // one line, rather than inside a render.
+    if let Err(error) = lensray_core::reference::EmbreeSettings::from_env() {
+        eprintln!("error: {error}");
+        return ExitCode::from(2);
+    }
     let result = match &cli.command {
         None => {
             // No subcommand at all: render the default scene with every default.

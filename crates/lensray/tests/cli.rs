@@ -11,6 +11,8 @@ use std::process::{Command, Output};
 mod caches;
 #[path = "cli/devices.rs"]
 mod devices;
+#[path = "cli/isa.rs"]
+mod isa;
 #[path = "cli/movements.rs"]
 mod movements;
 #[path = "cli/rejected.rs"]

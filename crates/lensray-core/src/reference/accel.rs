@@ -9,15 +9,49 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use embree3::{
-    BufferUsage, BuildQuality, Device, Format, GeometryKind, HitN, IntersectContext, Ray, Ray16,
-    RayHit, RayHit16, RayN, Scene, SceneFlags, SoAHit, SoARay, ValidMask, ValidMaskN, ValidityN,
+    BufferUsage, BuildQuality, Format, GeometryKind, HitN, IntersectContext, Ray, Ray16, RayHit,
+    RayHit16, RayN, Scene, SceneFlags, SoAHit, SoARay, ValidMask, ValidMaskN, ValidityN,
     INVALID_ID,
 };
+
+use super::embree::EmbreeSettings;
 use glam::{Vec2, Vec3, Vec3A};
 
 /// Rays traced together by [`Accel::closest_hits`]: the samples of one pixel, in one of
 /// Embree's packets.
 pub const PACKET_SIZE: usize = 16;
+
+/// The alignment Embree's `rtcIntersectN`/`rtcOccludedN` require of a packet of `width` lanes and
+/// of its valid mask: one SIMD register of 32-bit lanes (16 bytes for 4, 32 for 8, 64 for 16), as
+/// the kernels load them with aligned SSE, AVX and AVX-512 loads.
+pub const fn packet_alignment(width: usize) -> usize {
+    width * 4
+}
+
+/// The valid mask of a [`PACKET_SIZE`]-wide packet, aligned as Embree's 16-wide kernels read it.
+/// The `embree3` crate's `ValidMaskN` is only 16-byte aligned, and an AVX-512 CPU faults on a
+/// mask that is not 64-byte aligned; this wrapper holds it at offset 0 of a 64-byte aligned type,
+/// so every mask lensray hands to Embree is aligned by its type.
+#[repr(C, align(64))]
+pub struct PacketMask(ValidMaskN<PACKET_SIZE>);
+
+impl PacketMask {
+    /// Lane l is active where `active(l)`.
+    fn new(active: impl Fn(usize) -> bool) -> Self {
+        let mut mask = ValidMaskN::<PACKET_SIZE>::all_active();
+        for (l, lane) in mask.lanes_mut().iter_mut().enumerate() {
+            if !active(l) {
+                *lane = ValidMask::Invalid;
+            }
+        }
+        Self(mask)
+    }
+
+    /// The mask as the `embree3` crate passes it on: at this type's 64-byte aligned address.
+    fn get(&self) -> &ValidMaskN<PACKET_SIZE> {
+        &self.0
+    }
+}
 
 /// Embree's geometry ids of the two groups of triangles.
 const OPAQUE: usize = 0;
@@ -66,7 +100,10 @@ impl Accel {
         alpha: Option<AlphaTest>,
     ) -> Self {
         let start = Instant::now();
-        let device = Device::new().expect("Embree cannot start on this CPU");
+        // The CLI checks LENSRAY_EMBREE_CONFIG before any render, in one line.
+        let device = EmbreeSettings::from_env()
+            .unwrap_or_else(|error| panic!("{error}"))
+            .device();
         let allocated = Arc::new(AtomicI64::new(0));
         let counter = Arc::clone(&allocated);
         device.set_memory_monitor_function(move |bytes, _post| {
@@ -210,16 +247,16 @@ impl Accel {
             [t_max; PACKET_SIZE],
         );
         packet.id[..n].copy_from_slice(keys);
-        let mut valid = ValidMaskN::<PACKET_SIZE>::all_active();
-        for lane in &mut valid.lanes_mut()[n..] {
-            *lane = ValidMask::Invalid;
-        }
+        let valid = PacketMask::new(|l| l < n);
         let mut ray_hits = RayHit16 {
             ray: packet,
             hit: embree3::Hit16::new(),
         };
-        self.scene
-            .intersect16(&mut IntersectContext::coherent(), &mut ray_hits, &valid);
+        self.scene.intersect16(
+            &mut IntersectContext::coherent(),
+            &mut ray_hits,
+            valid.get(),
+        );
         let (r, h) = (&ray_hits.ray, &ray_hits.hit);
         for (l, hit) in hits.iter_mut().enumerate() {
             *hit = self.hit(r.tfar[l], h.geomID[l], h.primID[l], h.u[l], h.v[l]);
@@ -247,14 +284,9 @@ impl Accel {
             std::array::from_fn(|l| ray(l).2),
         );
         packet.id = *keys;
-        let mut valid = ValidMaskN::<PACKET_SIZE>::all_active();
-        for (lane, ray) in valid.lanes_mut().iter_mut().zip(rays) {
-            if ray.is_none() {
-                *lane = ValidMask::Invalid;
-            }
-        }
+        let valid = PacketMask::new(|l| rays[l].is_some());
         self.scene
-            .occluded16(&mut IntersectContext::coherent(), &mut packet, &valid);
+            .occluded16(&mut IntersectContext::coherent(), &mut packet, valid.get());
         (0..PACKET_SIZE)
             .filter(|&l| rays[l].is_some() && packet.tfar[l] == f32::NEG_INFINITY)
             .fold(0, |mask, l| mask | 1 << l)
@@ -291,6 +323,35 @@ fn alpha_filter(
         let barycentric = Vec2::new(hits.u(lane), hits.v(lane));
         if !alpha(triangle, barycentric, key) {
             valid[lane] = 0;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Embree's 16-wide kernels fault on AVX-512 CPUs when the packet or its mask is less
+    /// aligned than `packet_alignment(16)`: every type lensray hands to a packet call is checked.
+    #[test]
+    fn packets_and_masks_are_aligned_as_embree_requires() {
+        let required = packet_alignment(PACKET_SIZE);
+        assert_eq!(required, 64);
+        for (name, align) in [
+            ("PacketMask", std::mem::align_of::<PacketMask>()),
+            ("Ray16", std::mem::align_of::<Ray16>()),
+            ("RayHit16", std::mem::align_of::<RayHit16>()),
+        ] {
+            assert!(
+                align >= required,
+                "{name} is aligned to {align} bytes; Embree's {PACKET_SIZE}-wide kernels need {required}"
+            );
+        }
+        // The mask Embree reads is the wrapper's first field: the wrapper's address.
+        let masks: Vec<PacketMask> = (0..5).map(|n| PacketMask::new(|l| l < n)).collect();
+        for mask in &masks {
+            let address = std::ptr::from_ref(mask.get()) as usize;
+            assert_eq!(address % required, 0, "mask at {address:#x}");
         }
     }
 }

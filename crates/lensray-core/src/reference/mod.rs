@@ -12,13 +12,17 @@
 //!   the aperture-centre ray through each pixel centre (one ray per pixel, no lens blur).
 
 mod accel;
+mod embree;
 mod lighting;
 mod rays;
 mod render;
 mod surface;
 mod triangle;
 
-pub use accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
+pub use accel::{packet_alignment, Accel, AlphaTest, Hit, PacketMask, PACKET_SIZE};
+pub use embree::{
+    cpu_name, EmbreeConfigError, EmbreeReport, EmbreeSettings, Isa, EMBREE_CONFIG_VAR,
+};
 pub use rays::primary_rays;
 pub use render::{RenderStats, Renderer};
 pub use surface::{shadow_origin, SurfacePoint};

@@ -1,5 +1,5 @@
-//! What the host asks of the device, counted: submissions, host waits, bytes read back and
-//! pipelines made.
+//! What the host asks of the device, counted: submissions, host waits, bytes read back,
+//! pipelines made and the time the driver took to compile them.
 
 /// What the host asked of the device since it was opened: queue submissions, waits that block
 /// the host on the device (fences, semaphores), bytes read back from mapped memory and query
@@ -11,6 +11,7 @@ pub(crate) struct DeviceCounters {
     pub cpu_waits: std::sync::atomic::AtomicU64,
     pub readback_bytes: std::sync::atomic::AtomicU64,
     pub pipelines: std::sync::atomic::AtomicU64,
+    pub compile_micros: std::sync::atomic::AtomicU64,
 }
 
 /// A snapshot of `DeviceCounters`.
@@ -21,6 +22,9 @@ pub struct Counters {
     pub readback_bytes: u64,
     /// Pipelines made (compute and graphics), each once per device: what a path compiles.
     pub pipelines: u64,
+    /// Microseconds the host spent making them (the driver compiles the shaders then: seconds
+    /// on a device's first use, little once its caches hold them).
+    pub compile_micros: u64,
 }
 
 impl Counters {
@@ -31,7 +35,13 @@ impl Counters {
             cpu_waits: self.cpu_waits - earlier.cpu_waits,
             readback_bytes: self.readback_bytes - earlier.readback_bytes,
             pipelines: self.pipelines - earlier.pipelines,
+            compile_micros: self.compile_micros - earlier.compile_micros,
         }
+    }
+
+    /// Seconds spent making pipelines.
+    pub fn compile_seconds(&self) -> f64 {
+        self.compile_micros as f64 * 1e-6
     }
 }
 
@@ -51,9 +61,19 @@ impl DeviceCounters {
             .fetch_add(bytes, std::sync::atomic::Ordering::Relaxed);
     }
 
-    pub(crate) fn made_pipeline(&self) {
+    /// A pipeline made in `took`.
+    pub(crate) fn made_pipeline(&self, took: std::time::Duration) {
         self.pipelines
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.compiled(took);
+    }
+
+    /// A pipeline's shaders compiled in `took` (at its making, or in a first dispatch).
+    pub(crate) fn compiled(&self, took: std::time::Duration) {
+        self.compile_micros.fetch_add(
+            took.as_micros() as u64,
+            std::sync::atomic::Ordering::Relaxed,
+        );
     }
 
     pub(crate) fn snapshot(&self) -> Counters {
@@ -63,6 +83,7 @@ impl DeviceCounters {
             cpu_waits: self.cpu_waits.load(Relaxed),
             readback_bytes: self.readback_bytes.load(Relaxed),
             pipelines: self.pipelines.load(Relaxed),
+            compile_micros: self.compile_micros.load(Relaxed),
         }
     }
 }

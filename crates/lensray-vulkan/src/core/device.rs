@@ -42,6 +42,10 @@ pub(crate) struct Context {
     /// (`pipeline_cache`).
     pub pipeline_cache: vk::PipelineCache,
     pipeline_cache_file: pipeline_cache::PipelineCacheFile,
+    /// Whether to say, once, that the driver compiles the shaders: this device and driver have
+    /// no pipeline cache file yet (their first use), and the caller wants notices.
+    announce_compile: std::sync::Once,
+    first_use_notice: bool,
     pub counters: DeviceCounters,
     /// Every `submit` signals the next value of this timeline semaphore.
     timeline: vk::Semaphore,
@@ -85,6 +89,8 @@ impl Context {
             timestamp_bits,
             ..
         } = adapter;
+        let first_use_notice =
+            options.first_use_notice && objects.pipeline_cache_file.is_first_use();
         Ok(Self {
             timestamp_period_ns: f64::from(report.timestamp_period_ns),
             timestamps: report.timestamps,
@@ -102,6 +108,8 @@ impl Context {
             command_pool: objects.command_pool,
             pipeline_cache: objects.pipeline_cache,
             pipeline_cache_file: objects.pipeline_cache_file,
+            announce_compile: std::sync::Once::new(),
+            first_use_notice,
             counters: DeviceCounters::default(),
             timeline: objects.timeline,
             submitted: Mutex::new((0, Vec::new())),
@@ -126,6 +134,19 @@ impl Context {
         unsafe { self.device.create_sampler(&info, None) }
             .map(|_| ())
             .map_err(vk_err("vkCreateSampler"))
+    }
+
+    /// Before the first pipeline of a device's first use: one line saying that the driver
+    /// compiles the shaders now (on lavapipe for half a minute) and caches them for later runs.
+    pub(crate) fn announce_compile(&self) {
+        if self.first_use_notice {
+            self.announce_compile.call_once(|| {
+                eprintln!(
+                    "compiling shaders for {} (first use; cached after)",
+                    self.report.name
+                );
+            });
+        }
     }
 
     /// Nanoseconds between two timestamps of this queue (0 without timestamp support).

@@ -1,6 +1,7 @@
 //! Pipelines with their layout and one descriptor set each (compute and graphics).
 
 use std::sync::Arc;
+use std::time::Instant;
 
 use ash::vk;
 
@@ -119,6 +120,8 @@ impl Pipeline {
             vk::ShaderStageFlags::COMPUTE,
             vk::PipelineBindPoint::COMPUTE,
         )?;
+        ctx.announce_compile();
+        let start = Instant::now();
         let module = ShaderModule::new(ctx, spirv)?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
@@ -133,7 +136,7 @@ impl Pipeline {
                 .create_compute_pipelines(ctx.pipeline_cache, &info, None)
         }
         .map_err(pipeline_err("vkCreateComputePipelines"))?[0];
-        ctx.counters.made_pipeline();
+        ctx.counters.made_pipeline(start.elapsed());
         Ok(this)
     }
 
@@ -150,6 +153,8 @@ impl Pipeline {
             vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
             vk::PipelineBindPoint::GRAPHICS,
         )?;
+        ctx.announce_compile();
+        let start = Instant::now();
         let vert = ShaderModule::new(ctx, desc.vert)?;
         let frag = ShaderModule::new(ctx, desc.frag)?;
         let stages = [
@@ -210,7 +215,7 @@ impl Pipeline {
                 .create_graphics_pipelines(ctx.pipeline_cache, &info, None)
         }
         .map_err(pipeline_err("vkCreateGraphicsPipelines"))?[0];
-        ctx.counters.made_pipeline();
+        ctx.counters.made_pipeline(start.elapsed());
         Ok(this)
     }
 

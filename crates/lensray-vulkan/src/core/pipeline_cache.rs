@@ -1,6 +1,7 @@
 //! The Vulkan pipeline cache, kept on disk so that pipelines are compiled once per device and
-//! driver, not once per run. One file per device and driver (named by its vendor and device
-//! IDs and its pipeline-cache UUID, which drivers change when their compiled code would), in
+//! driver, not once per run. One file per device, driver and set of shaders (named by its
+//! vendor and device IDs, its pipeline-cache UUID, which drivers change when their compiled code
+//! would, and the shaders' hash), in
 //! `lensray_core::cache::dir()`. Before the data reaches the driver its header
 //! (VkPipelineCacheHeaderVersionOne) is checked against the device: a file of another device
 //! or driver, or a damaged one, is ignored with a notice and replaced at the end of the run.
@@ -21,6 +22,14 @@ pub(crate) struct PipelineCacheFile {
     pub data: Vec<u8>,
 }
 
+impl PipelineCacheFile {
+    /// Whether this device and driver are used for the first time: a cache file can be kept, and
+    /// none usable is there yet.
+    pub(crate) fn is_first_use(&self) -> bool {
+        self.path.is_some() && self.data.is_empty()
+    }
+}
+
 /// The cache file of `device`, and its data when it belongs to this device and driver.
 pub(crate) fn load(device: &DeviceReport) -> PipelineCacheFile {
     let Some(dir) = lensray_core::cache::dir() else {
@@ -35,8 +44,10 @@ pub(crate) fn load(device: &DeviceReport) -> PipelineCacheFile {
         .map(|b| format!("{b:02x}"))
         .collect();
     let path = dir.join(format!(
-        "pipelines-{:04x}-{:04x}-{uuid}.bin",
-        device.vendor_id, device.device_id
+        "pipelines-{:04x}-{:04x}-{uuid}-{:016x}.bin",
+        device.vendor_id,
+        device.device_id,
+        crate::core::shader::shaders_hash()
     ));
     let data = match std::fs::read(&path) {
         Ok(data) => match check_header(&data, device) {

@@ -31,6 +31,27 @@ pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
 #[cfg(feature = "probes")]
 pub(crate) const SPECTRAL_COMP: &[u8] = spirv!("spectral.comp");
 
+/// A hash (FNV-1a, 64 bits) of every shader lensray renders with: a driver compiles them again
+/// when they change, so the pipeline cache's file is named by it.
+pub(crate) fn shaders_hash() -> u64 {
+    [
+        GBUFFER_VERT,
+        GBUFFER_FRAG,
+        VIEW_FRAG,
+        TRACE_RAYQUERY_COMP,
+        TRACE_SOFTWARE_COMP,
+        RESOLVE_COMP,
+        VISIBILITY_VERT,
+        VISIBILITY_FRAG,
+        HYBRID_PLAN_COMP,
+    ]
+    .iter()
+    .flat_map(|spirv| spirv.iter())
+    .fold(0xcbf2_9ce4_8422_2325, |hash, &byte| {
+        (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
 /// A shader module, destroyed on drop (once its pipelines are created).
 pub(crate) struct ShaderModule<'a> {
     ctx: &'a Context,

@@ -92,6 +92,7 @@ impl DeviceArgs {
             device_index: self.gpu,
             hide_ray_query: self.hide_ray_query,
             traversal: None,
+            first_use_notice: true,
         }
     }
 }

@@ -26,6 +26,7 @@ pub fn run(args: &CalibrateArgs) -> Result<()> {
         device_index: args.gpu,
         hide_ray_query: args.hide_ray_query,
         traversal: None,
+        first_use_notice: true,
     };
     let measured = calibration::measure(&gpu).context("calibrating")?;
     let file = calibration::store(&measured)?;

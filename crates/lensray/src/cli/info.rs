@@ -1,15 +1,44 @@
-//! `lensray info`: the Vulkan devices and whether each can run the GPU renderer.
+//! `lensray info`: the CPU path's Embree (CPU, instruction set, threads), then the Vulkan devices
+//! and whether each can run the GPU renderer.
 
 use anyhow::{Context, Result};
 
+use lensray_core::reference::{EmbreeReport, EmbreeSettings, EMBREE_CONFIG_VAR};
 use lensray_vulkan::{list_devices, DeviceReport};
 
-/// Prints every Vulkan device with its ray-query support, the render paths it runs and the
-/// limits that matter.
+/// Prints the CPU path's set-up, then every Vulkan device with its ray-query support, the render
+/// paths it runs and the limits that matter.
 pub fn run() -> Result<()> {
+    let settings = EmbreeSettings::from_env()?;
+    print!("{}", format_cpu(&EmbreeReport::new(settings), settings));
     let devices = list_devices().context("listing Vulkan devices")?;
-    print!("{}", format_devices(&devices));
+    print!("\n{}", format_devices(&devices));
     Ok(())
+}
+
+/// The CPU path: the CPU, the instruction set Embree's kernels run, and the threads.
+pub fn format_cpu(report: &EmbreeReport, settings: &EmbreeSettings) -> String {
+    let runs: Vec<&str> = report.cpu_isas.iter().map(|i| i.name()).collect();
+    let config = if settings.text.trim().is_empty() {
+        format!("Embree's default; {EMBREE_CONFIG_VAR} sets it")
+    } else {
+        format!("{EMBREE_CONFIG_VAR}=\"{}\"", settings.text)
+    };
+    let hardware = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let build = match report.build_threads {
+        0 => format!("{hardware} (every hardware thread)"),
+        n => n.to_string(),
+    };
+    let mut out = format!("CPU path: Embree {}\n", report.version);
+    out += &format!("    CPU                {}\n", report.cpu);
+    out += &format!("    instruction set    {} ({config})\n", report.isa);
+    out += &format!("    this CPU runs      {}\n", runs.join(", "));
+    out += &format!(
+        "    render threads     {} (rayon; RAYON_NUM_THREADS sets it)\n",
+        rayon::current_num_threads()
+    );
+    out += &format!("    BVH build threads  {build}\n");
+    out
 }
 
 /// The text `run` prints.

@@ -126,6 +126,16 @@ impl Default for RenderArgs {
     }
 }
 
+/// The driver's shader compilation, apart from the render's time: said where it took a
+/// noticeable part of the run (a device's first use), not for the milliseconds of a cached run.
+fn compile_note(seconds: f64) -> String {
+    if seconds >= 0.5 {
+        format!(" ({seconds:.2} s of it compiling shaders)")
+    } else {
+        String::new()
+    }
+}
+
 pub fn run(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     // Fail on a bad output path before spending time on the render.
@@ -136,8 +146,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut resolved = shot(&settings, &description.scene).with_context(context)?;
     light_scene(&settings, &mut description.scene).with_context(context)?;
 
-    let OpenedPath { mut path, why } =
-        paths::open(&args.path.options(), &description.scene, &resolved)?;
+    let mut options = args.path.options();
+    options.gpu.first_use_notice = args.progress != ProgressMode::None;
+    let OpenedPath { mut path, why } = paths::open(&options, &description.scene, &resolved)?;
     if settings.camera.focus_plane.is_some() {
         if args.focus_at.is_some() {
             anyhow::bail!("give either --focus-at or --focus-plane, not both");
@@ -166,12 +177,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let image = path.render(&resolved, &mut |d, t| progress.update(d, t))?;
     progress.finish();
     let report = path.report().since(&before);
+    // Pipelines may be made while the path opens (auto's choice) or in the render.
+    let compile_seconds = path.report().compile_seconds;
     let (kind, device) = (path.kind(), path.device_name());
     path.close()?;
     let Shot { camera, render } = &resolved;
     output.finish(&image, render.shading)?;
     println!(
-        "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, path {kind} ({why}) on {}: {:.2} s total, {:.2} Mrays/s",
+        "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, path {kind} ({why}) on {}: {:.2} s total{}, {:.2} Mrays/s",
         args.out.display(),
         camera.width,
         camera.height,
@@ -181,6 +194,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         description.scene.triangle_count(),
         device,
         start.elapsed().as_secs_f64(),
+        compile_note(compile_seconds),
         report.rays_per_second() / 1e6
     );
     if let Some(real) = camera.lens.real() {

@@ -8,7 +8,7 @@ use glam::{UVec2, Vec2};
 use crate::paths::{Clock, PathKind, PathReport, RenderPath};
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
-use lensray_core::reference::Renderer;
+use lensray_core::reference::{EmbreeSettings, Renderer};
 use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
 
@@ -33,6 +33,7 @@ impl CpuPath {
                 submits: 0,
                 cpu_waits: 0,
                 readback_bytes: 0,
+                compile_seconds: 0.0,
             },
         }
     }
@@ -56,10 +57,16 @@ impl RenderPath for CpuPath {
     }
 
     fn device_name(&self) -> String {
-        format!("CPU, {} threads", rayon::current_num_threads())
+        // The instruction set Embree runs differs between CPUs, and so do its floats.
+        let isa = EmbreeSettings::from_env().map_or_else(|_| "?".into(), |s| s.isa().to_string());
+        format!(
+            "CPU, {} threads, Embree {isa}",
+            rayon::current_num_threads()
+        )
     }
 
     fn load_scene(&mut self, scene: &Scene) -> Result<()> {
+        EmbreeSettings::from_env()?;
         let renderer = Renderer::new(scene);
         self.report.build_seconds += renderer.bvh_build_time().as_secs_f64();
         self.report.accel_bytes = renderer.accel_bytes();

@@ -104,8 +104,9 @@ impl RenderPath for GpuPath {
         let t = self.renderer.timings();
         let counters = self.renderer.counters();
         let traversal = self.renderer.traversal();
-        // The pipeline's first dispatch is timed apart (lazy compilation); its rays and time
-        // count here so that a render's report covers all of it.
+        // The pipeline's first dispatch is timed apart; its rays and time count here so that a
+        // render's report covers all of it. The shaders' compilation is not in it: it happens
+        // when the pipeline is made, or in a dispatch before (`compile_seconds`).
         PathReport {
             rays: t.rays_traced + t.first_dispatch_rays,
             trace_seconds: (t.trace_gpu_ms + t.first_dispatch_ms.unwrap_or(0.0)) * 1e-3
@@ -122,6 +123,7 @@ impl RenderPath for GpuPath {
             submits: counters.submits,
             cpu_waits: counters.cpu_waits,
             readback_bytes: counters.readback_bytes,
+            compile_seconds: counters.compile_seconds(),
         }
     }
 

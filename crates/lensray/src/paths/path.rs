@@ -274,6 +274,9 @@ pub struct PathReport {
     pub submits: u64,
     pub cpu_waits: u64,
     pub readback_bytes: u64,
+    /// Time the driver took to make the path's pipelines (its shader compiler), seconds: long
+    /// on a device's first use, apart from the render's time.
+    pub compile_seconds: f64,
 }
 
 impl PathReport {
@@ -291,6 +294,7 @@ impl PathReport {
             submits: self.submits - earlier.submits,
             cpu_waits: self.cpu_waits - earlier.cpu_waits,
             readback_bytes: self.readback_bytes - earlier.readback_bytes,
+            compile_seconds: self.compile_seconds - earlier.compile_seconds,
             ..*self
         }
     }
@@ -300,7 +304,7 @@ impl PathReport {
 pub trait RenderPath {
     fn kind(&self) -> PathKind;
 
-    /// The device it runs on, in words ("llvmpipe (LLVM 15.0.6, 256 bits)", "CPU, 2 threads").
+    /// The device it runs on, in words ("llvmpipe (LLVM 15.0.6, 256 bits)", "CPU, 2 threads, Embree avx2").
     fn device_name(&self) -> String;
 
     /// Loads `scene` (and builds what the path traverses), replacing any earlier scene.

@@ -178,3 +178,77 @@ fn the_pipeline_cache_is_kept_and_a_damaged_one_is_replaced() {
         "replaced by the device's"
     );
 }
+
+/// A device's first use (no pipeline cache file of this build yet) says in one line that the
+/// driver compiles the shaders, and the summary counts that time apart from the render's time
+/// and rays per second; the next run says nothing, and neither does `--progress none`.
+#[test]
+fn first_use_of_a_device_says_it_compiles_shaders() {
+    let test = "first_use_of_a_device_says_it_compiles_shaders";
+    let dir = tempfile::tempdir().unwrap();
+    let (cache, mesa_cache) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    let args = [
+        "render", "--path", "software", "--width", "64", "--height", "48", "--spp", "4", "--out",
+        "a.png",
+    ];
+    let run = |extra: &[&str], cache: &Path| {
+        Command::new(env!("CARGO_BIN_EXE_lensray"))
+            .args(args.iter().chain(extra))
+            .current_dir(dir.path())
+            .env("LENSRAY_CACHE_DIR", cache)
+            // Mesa's own shader cache, empty: lavapipe compiles as on a first install.
+            .env("MESA_SHADER_CACHE_DIR", mesa_cache.path())
+            .output()
+            .expect("run lensray")
+    };
+    let announced = |out: &Output| {
+        stderr(out)
+            .lines()
+            .filter(|l| l.starts_with("compiling shaders for "))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    let first = run(&[], cache.path());
+    if !first.status.success() {
+        skip_or_fail(test, &stderr(&first));
+        return;
+    }
+    let lines = announced(&first);
+    assert_eq!(lines.len(), 1, "{}", stderr(&first));
+    assert!(
+        lines[0].ends_with("(first use; cached after)"),
+        "{}",
+        lines[0]
+    );
+    let summary = String::from_utf8_lossy(&first.stdout).into_owned();
+    let rate = |summary: &str| -> f64 {
+        let before = summary.rsplit_once(" Mrays/s").expect("a rate").0;
+        before
+            .rsplit(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .expect("a number")
+    };
+    if lines[0].contains("llvmpipe") {
+        // lavapipe compiles for seconds from an empty cache, in the pipeline's first dispatch.
+        assert!(summary.contains(" s of it compiling shaders)"), "{summary}");
+    }
+    let second = run(&[], cache.path());
+    assert!(second.status.success(), "{}", stderr(&second));
+    assert!(announced(&second).is_empty(), "{}", stderr(&second));
+    // The compiler's seconds are not in the rate: the first run's is near the second's (a
+    // first dispatch that compiled made it 0.00 Mrays/s).
+    let (first_rate, second_rate) = (
+        rate(&summary),
+        rate(&String::from_utf8_lossy(&second.stdout)),
+    );
+    assert!(
+        first_rate > 0.3 * second_rate,
+        "first use {first_rate} Mrays/s, then {second_rate}: {summary}"
+    );
+    let quiet_cache = tempfile::tempdir().unwrap();
+    let quiet = run(&["--progress", "none"], quiet_cache.path());
+    assert!(quiet.status.success(), "{}", stderr(&quiet));
+    assert!(announced(&quiet).is_empty(), "{}", stderr(&quiet));
+}

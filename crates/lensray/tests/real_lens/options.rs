@@ -166,3 +166,25 @@ fn bad_real_lens_options_get_one_line() {
     failures.extend(tolerance_edge_failure());
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// `--path raster` draws a real lens by its first-order model and says so in one line (the
+/// hybrid refuses it: `bad_real_lens_options_get_one_line`).
+#[test]
+fn raster_says_it_draws_a_real_lens_by_its_first_order_model() {
+    let (out, _dir) = render(&[
+        "--path",
+        "raster",
+        "--lens",
+        "double-gauss-50",
+        "--progress",
+        "none",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    let notices: Vec<&str> = err.lines().filter(|l| l.starts_with("notice: ")).collect();
+    assert_eq!(notices.len(), 1, "{err}");
+    assert!(
+        notices[0].contains("--path raster renders lens double-gauss-50 by its first-order model")
+            && notices[0].contains("no aberrations, distortion or vignetting"),
+        "{err}"
+    );
+}

@@ -108,6 +108,15 @@ impl TracePass {
         };
     }
 
+    /// Records one workgroup of the pipeline in use whose invocations all leave at once (`push`
+    /// names no blocks): it runs the shader without touching a pixel.
+    pub(super) fn record_empty_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush) {
+        debug_assert_eq!(push.block_count, 0);
+        self.pipeline_in_use().bind(cmd, bytemuck::bytes_of(&push));
+        // SAFETY: compute pipeline and its complete descriptor set are bound.
+        unsafe { self.ctx.device.cmd_dispatch(cmd, 1, 1, 1) };
+    }
+
     /// Keeps the rays counted so far (the pipeline's first dispatch) in the counter's second
     /// word.
     pub(super) fn record_copy_first_rays(&self, cmd: vk::CommandBuffer) {
