@@ -5,7 +5,8 @@
 #   - no two types of the workspace with the same name (public or not);
 #   - comments carry no history: no "issue N" references (those go to commit messages and docs/);
 #   - each crate depends only on the crates below it (core <- vulkan <- app);
-#   - `cargo doc --no-deps` with broken intra-doc links denied ([workspace.lints.rustdoc]).
+#   - `cargo doc --no-deps` with broken intra-doc links denied ([workspace.lints.rustdoc]);
+#   - README.md within 8,000 characters (what grows goes to docs/).
 # Clippy keeps the others: too_many_lines at 100 ([workspace.lints.clippy], clippy.toml).
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -47,10 +48,15 @@ if grep -rqE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-core
   grep -rnE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-core/src crates/lensray/src | sed 's/^/    /'
 fi
 
+max_readme=8000
+readme=$(wc -m <README.md)
+echo "house: README.md is $readme characters (at most $max_readme)"
+[ "$readme" -le $max_readme ] || fail "README.md is $readme characters, over $max_readme: move what grew to docs/"
+
 if ! doc_log=$(cargo doc --workspace --no-deps --quiet 2>&1); then
   fail "cargo doc --no-deps failed (broken intra-doc links are denied):"
   printf '%s\n' "$doc_log" | grep -E '^(error|warning)|-->' | sed 's/^/    /'
 fi
 
-[ $failed -eq 0 ] && echo "house: ok (files <= $max_lines lines, unique type names, no history in comments, layers, docs)"
+[ $failed -eq 0 ] && echo "house: ok (files <= $max_lines lines, unique type names, no history in comments, layers, docs, README)"
 exit $failed
