@@ -106,7 +106,7 @@ impl RenderPath for GpuPath {
         let traversal = self.renderer.traversal();
         // The pipeline's first dispatch is timed apart; its rays and time count here so that a
         // render's report covers all of it. The shaders' compilation is not in it: it happens
-        // when the pipeline is made, or in a dispatch before (`compile_seconds`).
+        // when the pipeline is made, or in an empty dispatch before (`compile_seconds`).
         PathReport {
             rays: t.rays_traced + t.first_dispatch_rays,
             trace_seconds: (t.trace_gpu_ms + t.first_dispatch_ms.unwrap_or(0.0)) * 1e-3
@@ -123,7 +123,7 @@ impl RenderPath for GpuPath {
             submits: counters.submits,
             cpu_waits: counters.cpu_waits,
             readback_bytes: counters.readback_bytes,
-            compile_seconds: counters.compile_seconds(),
+            compile_seconds: counters.compile_seconds() + t.compile_ms * 1e-3,
         }
     }
 

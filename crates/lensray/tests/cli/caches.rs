@@ -188,7 +188,7 @@ fn first_use_of_a_device_says_it_compiles_shaders() {
     let dir = tempfile::tempdir().unwrap();
     let (cache, mesa_cache) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
     let args = [
-        "render", "--path", "software", "--width", "64", "--height", "48", "--spp", "4", "--out",
+        "render", "--path", "software", "--width", "160", "--height", "120", "--spp", "8", "--out",
         "a.png",
     ];
     let run = |extra: &[&str], cache: &Path| {

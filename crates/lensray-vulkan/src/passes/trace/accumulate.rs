@@ -60,42 +60,15 @@ impl TracePass {
         let steps = self.plan_steps(width, height, band_rows, &samples, mode, raster);
         let total: u64 = steps.iter().map(|s| s.work).sum();
         progress(0, total);
-        self.ensure_timestamps(2 * steps.len() as u32)?;
+        // Two timestamps per step, and two for the pipeline's empty first dispatch.
+        self.ensure_timestamps(2 * steps.len() as u32 + 2)?;
 
         let first_dispatch = !self.pipelines[self.current].first_dispatch_done;
-        if first_dispatch {
-            self.compile_now(&params, mode)?;
-        }
         let batches =
             self.submit_steps(&steps, &params, (film, start), width, first_dispatch, batch)?;
         self.wait_reporting(&batches, total, progress)?;
         self.films.finished(film);
         self.record_timings(&steps, first_dispatch, timings)
-    }
-
-    /// A dispatch of the pipeline in use that traces nothing (no blocks), before its first
-    /// real one: a driver that compiles lazily (lavapipe's llvmpipe) compiles the shaders in a
-    /// pipeline's first dispatch, half a minute on a device's first use. Timed here as the
-    /// pipeline's making, it stays out of the render's tracing time and rays per second.
-    fn compile_now(&self, params: &TraceParams, mode: u32) -> Result<(), GpuError> {
-        let start = std::time::Instant::now();
-        let push = TracePush {
-            band_origin: 0,
-            band_height: 0,
-            block_first: 0,
-            block_stride: 1,
-            block_count: 0,
-            sample_begin: 0,
-            sample_end: 0,
-            mode,
-        };
-        self.ctx.submit_and_wait(|cmd| {
-            self.record_params(cmd, params);
-            self.record_empty_dispatch(cmd, push);
-            Ok(())
-        })?;
-        self.ctx.counters.compiled(start.elapsed());
-        Ok(())
     }
 
     /// An error when the shader's `mode` cannot run on an image of `pixels` pixels: the
@@ -132,6 +105,9 @@ impl TracePass {
                     self.record_params(cmd, params);
                     self.record_clear_ray_counter(cmd);
                     self.films.record_start(cmd, film, start);
+                    if first_dispatch {
+                        self.record_compile(cmd, batch.mode(), 2 * steps.len() as u32);
+                    }
                 }
                 for (i, step) in chunk.iter().enumerate() {
                     let index = (first + i) as u32;

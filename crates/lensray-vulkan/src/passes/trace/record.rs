@@ -108,13 +108,29 @@ impl TracePass {
         };
     }
 
-    /// Records one workgroup of the pipeline in use whose invocations all leave at once (`push`
-    /// names no blocks): it runs the shader without touching a pixel.
-    pub(super) fn record_empty_dispatch(&self, cmd: vk::CommandBuffer, push: TracePush) {
-        debug_assert_eq!(push.block_count, 0);
+    /// Records the pipeline's first dispatch, one that traces nothing (its push names no blocks:
+    /// every invocation leaves at once), between timestamps `query` and `query + 1`. A driver
+    /// that compiles lazily (lavapipe's llvmpipe) compiles the shaders in a pipeline's first
+    /// dispatch, half a minute on a device's first use: timed apart here, that stays out of the
+    /// render's tracing time and rays per second (`Timings::compile_ms`).
+    pub(super) fn record_compile(&self, cmd: vk::CommandBuffer, mode: u32, query: u32) {
+        let push = TracePush {
+            band_origin: 0,
+            band_height: 0,
+            block_first: 0,
+            block_stride: 1,
+            block_count: 0,
+            sample_begin: 0,
+            sample_end: 0,
+            mode,
+        };
+        self.timestamps
+            .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, query);
         self.pipeline_in_use().bind(cmd, bytemuck::bytes_of(&push));
         // SAFETY: compute pipeline and its complete descriptor set are bound.
         unsafe { self.ctx.device.cmd_dispatch(cmd, 1, 1, 1) };
+        self.timestamps
+            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, query + 1);
     }
 
     /// Keeps the rays counted so far (the pipeline's first dispatch) in the counter's second

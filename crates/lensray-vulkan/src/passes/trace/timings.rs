@@ -27,6 +27,9 @@ pub struct Timings {
     pub first_dispatch_ms: Option<f64>,
     /// Rays traced by those first dispatches.
     pub first_dispatch_rays: u64,
+    /// GPU time of each trace pipeline's empty dispatch before its first (`record_compile`):
+    /// the driver's lazy compilation of the shaders, where it compiles lazily.
+    pub compile_ms: f64,
     /// GPU time of every later dispatch of the trace pass, summed.
     pub trace_gpu_ms: f64,
     /// Rays (camera + shadow) traced by those dispatches.
@@ -85,7 +88,12 @@ impl TracePass {
         first_dispatch: bool,
         timings: &mut Timings,
     ) -> Result<(), GpuError> {
-        let ticks = self.timestamps.results_of(2 * steps.len() as u32)?;
+        let queries = 2 * steps.len() as u32 + if first_dispatch { 2 } else { 0 };
+        let ticks = self.timestamps.results_of(queries)?;
+        if first_dispatch {
+            let compile = 2 * steps.len();
+            timings.compile_ms += self.ctx.elapsed_ns(ticks[compile], ticks[compile + 1]) * 1e-6;
+        }
         let words = bytemuck::cast_slice::<u8, u32>(self.counters.read()?);
         let (all_rays, first_rays) = (u64::from(words[0]), u64::from(words[1]));
         if std::mem::take(&mut self.prepass_rays_pending) {
