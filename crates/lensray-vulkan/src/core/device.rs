@@ -435,7 +435,8 @@ fn create_objects(
             return Err(e);
         }
     };
-    let pipeline_cache_file = pipeline_cache::load(&adapter.report);
+    let pipeline_cache_file =
+        pipeline_cache::load(&adapter.report, crate::core::shader::shaders_hash());
     let pipeline_cache = match create_pipeline_cache(device, &pipeline_cache_file.data) {
         Ok(cache) => cache,
         Err(e) => {

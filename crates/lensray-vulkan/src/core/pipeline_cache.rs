@@ -30,8 +30,9 @@ impl PipelineCacheFile {
     }
 }
 
-/// The cache file of `device`, and its data when it belongs to this device and driver.
-pub(crate) fn load(device: &DeviceReport) -> PipelineCacheFile {
+/// The cache file of `device` for the shaders whose hash is `shaders_hash`, and its data when it
+/// belongs to this device and driver.
+pub(crate) fn load(device: &DeviceReport, shaders_hash: u64) -> PipelineCacheFile {
     let Some(dir) = lensray_core::cache::dir() else {
         return PipelineCacheFile {
             path: None,
@@ -45,9 +46,7 @@ pub(crate) fn load(device: &DeviceReport) -> PipelineCacheFile {
         .collect();
     let path = dir.join(format!(
         "pipelines-{:04x}-{:04x}-{uuid}-{:016x}.bin",
-        device.vendor_id,
-        device.device_id,
-        crate::core::shader::shaders_hash()
+        device.vendor_id, device.device_id, shaders_hash
     ));
     let data = match std::fs::read(&path) {
         Ok(data) => match check_header(&data, device) {
