@@ -135,6 +135,13 @@ shader_interface! {
         /// The aperture-centre ray of the AOVs and G-buffer draws nothing: a BLEND surface
         /// stops it where its alpha exceeds this.
         AOV_BLEND_THRESHOLD: f32 = 0.5;
+        /// What a triangle's surface makes a raster fragment look up (`SurfaceRun`): a
+        /// diffuse texture, an alpha test. The raster passes draw each run of triangles with
+        /// the fragment stage specialized for its bits (specialization constant
+        /// SPEC_RASTER_SURFACES, shaders/include/raster_surface.glsl).
+        SURFACE_TEXTURED: u32 = 1;
+        SURFACE_ALPHA_TESTED: u32 = 2;
+        SPEC_RASTER_SURFACES: u32 = 0;
         /// trace.comp: after the scene arrays.
         TRACE_BINDING_TLAS: u32 = 5;
         TRACE_BINDING_ACCUM: u32 = 6;
