@@ -60,6 +60,8 @@ pub(crate) struct FlatScene {
     pub meshes: Vec<MeshRange>,
     /// Every triangle in one run, in order.
     pub surface_runs: Vec<SurfaceRun>,
+    /// What the traced shading meets on any surface (SURFACE_*).
+    pub surfaces: u32,
 }
 
 /// Instance custom indices have 24 bits: the first triangle of every mesh must fit.
@@ -96,6 +98,11 @@ impl FlatScene {
         if flat.lights.is_empty() {
             flat.lights.push(GpuLight::zeroed());
         }
+        flat.surfaces = scene
+            .materials
+            .iter()
+            .map(traced_surface_bits)
+            .fold(0, |a, b| a | b);
         for mesh in &scene.meshes {
             let has_normals = !mesh.normals.is_empty();
             let base = flat.positions.len() as u32;
@@ -156,6 +163,17 @@ fn surface_bits(m: &Material) -> u32 {
         0
     };
     textured | alpha_tested
+}
+
+/// What the traced shading of a hit on `m` looks up (SURFACE_*): it samples the emission
+/// texture too.
+fn traced_surface_bits(m: &Material) -> u32 {
+    let emission = if m.emission_texture.is_some() {
+        SURFACE_TEXTURED
+    } else {
+        0
+    };
+    surface_bits(m) | emission
 }
 
 /// Appends triangle `triangle` with `surfaces` to the runs (the last one when it has them).

@@ -8,15 +8,8 @@
 #include "scene.glsl"
 #include "texture.glsl"
 
-// The SURFACE_* bits every triangle of the draw has at most: the raster passes draw each run of
-// triangles with the pipeline specialized for its surfaces (passes/draw.rs), so the fragments of
-// an untextured, opaque surface run no footprint, texel or alpha code. A branch on a flat
-// varying would not spare them that on CPU drivers, which run both sides of a branch that may
-// differ between fragments.
-layout(constant_id = SPEC_RASTER_SURFACES) const uint RASTER_SURFACES =
-    SURFACE_TEXTURED | SURFACE_ALPHA_TESTED;
-const bool RASTER_TEXTURED = (RASTER_SURFACES & SURFACE_TEXTURED) != 0u;
-const bool RASTER_ALPHA_TESTED = (RASTER_SURFACES & SURFACE_ALPHA_TESTED) != 0u;
+// SURFACES (texture.glsl) holds what every triangle of the draw may have: the raster passes
+// draw each run of triangles with the pipeline specialized for its surfaces (passes/draw.rs).
 
 // The interpolated shading normal turned to face the viewer: the viewing direction runs along
 // the axis (orthographic) or from the eye (perspective).

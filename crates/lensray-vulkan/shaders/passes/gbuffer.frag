@@ -21,15 +21,15 @@ void main() {
     // The footprint before the discard: its derivatives need the whole quad.
     vec2 dx = vec2(0.0);
     vec2 dy = vec2(0.0);
-    if (RASTER_TEXTURED) {
+    if (SURFACES_TEXTURED) {
         fragment_footprint(pc.clip_from_world, in_world, in_triangle, dx, dy);
     }
-    if (RASTER_ALPHA_TESTED
+    if (SURFACES_ALPHA_TESTED
         && !fragment_stops_ray(in_triangle, in_texcoord, aperture_centre_cut())) {
         discard;
     }
     out_normal = vec4(viewer_facing_normal(pc, in_normal, in_world), 1.0);
-    vec3 albedo = RASTER_TEXTURED ? fragment_albedo(in_triangle, in_texcoord, dx, dy) : in_albedo;
+    vec3 albedo = SURFACES_TEXTURED ? fragment_albedo(in_triangle, in_texcoord, dx, dy) : in_albedo;
     out_albedo = vec4(albedo, 1.0);
     out_depth = in_view_depth;
 }

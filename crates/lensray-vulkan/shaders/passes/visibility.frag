@@ -13,7 +13,7 @@ layout(location = 1) in vec2 in_texcoord;
 layout(location = 0) out uint out_triangle;
 
 void main() {
-    if (RASTER_ALPHA_TESTED) {
+    if (SURFACES_ALPHA_TESTED) {
         uint pixel_index = uint(gl_FragCoord.y) * pc.width + uint(gl_FragCoord.x);
         BlendCut cut = pc.aperture_centre != 0u
             ? aperture_centre_cut()

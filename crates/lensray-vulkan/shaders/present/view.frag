@@ -22,13 +22,13 @@ layout(location = 0) out vec4 out_shown;
 
 void main() {
     // As gbuffer.frag; the footprint only where a texture is shown.
-    bool textured = RASTER_TEXTURED && pc.shown.view == VIEW_ALBEDO;
+    bool textured = SURFACES_TEXTURED && pc.shown.view == VIEW_ALBEDO;
     vec2 dx = vec2(0.0);
     vec2 dy = vec2(0.0);
     if (textured) {
         fragment_footprint(pc.raster.clip_from_world, in_world, in_triangle, dx, dy);
     }
-    if (RASTER_ALPHA_TESTED
+    if (SURFACES_ALPHA_TESTED
         && !fragment_stops_ray(in_triangle, in_texcoord, aperture_centre_cut())) {
         discard;
     }

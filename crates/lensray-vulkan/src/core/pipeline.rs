@@ -8,7 +8,7 @@ use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::{pipeline_err, vk_err, GpuError};
 use crate::core::shader::ShaderModule;
-use lensray_core::interface::SPEC_RASTER_SURFACES;
+use lensray_core::interface::SPEC_SURFACES;
 
 /// One descriptor of a pipeline's set: binding number (from `lensray_core::interface`), type, stages.
 pub(crate) type Binding = (u32, vk::DescriptorType, vk::ShaderStageFlags);
@@ -39,7 +39,7 @@ pub(crate) struct GraphicsDesc<'a> {
     pub color_attachments: u32,
     /// LESS for the course's depth (0 at the near plane), GREATER for reversed depth.
     pub depth_compare: vk::CompareOp,
-    /// The SURFACE_* bits the fragment stage's specialization constant SPEC_RASTER_SURFACES
+    /// The SURFACE_* bits the fragment stage's specialization constant SPEC_SURFACES
     /// takes: one pipeline is made for each subset of them (0: one pipeline, unspecialized).
     pub surface_variants: u32,
 }
@@ -124,6 +124,17 @@ impl Pipeline {
         bindings: &[Binding],
         push_size: u32,
     ) -> Result<Self, GpuError> {
+        Self::compute_specialized(ctx, spirv, bindings, push_size, None)
+    }
+
+    /// A compute pipeline whose SPEC_SURFACES is `surfaces` (`None`: the shader's default).
+    pub(crate) fn compute_specialized(
+        ctx: &Arc<Context>,
+        spirv: &[u8],
+        bindings: &[Binding],
+        push_size: u32,
+        surfaces: Option<u32>,
+    ) -> Result<Self, GpuError> {
         let mut this = Self::with_layout(
             ctx,
             bindings,
@@ -131,22 +142,19 @@ impl Pipeline {
             vk::ShaderStageFlags::COMPUTE,
             vk::PipelineBindPoint::COMPUTE,
         )?;
-        let module = ShaderModule::new(ctx, spirv)?;
-        let stage = vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(module.module)
-            .name(c"main");
-        let info = [vk::ComputePipelineCreateInfo::default()
-            .stage(stage)
-            .layout(this.layout)];
-        // SAFETY: the module and layout are live and match the shader's interface.
-        this.pipeline = unsafe {
-            ctx.device
-                .create_compute_pipelines(ctx.pipeline_cache, &info, None)
-        }
-        .map_err(pipeline_err("vkCreateComputePipelines"))?[0];
-        ctx.counters.made_pipeline();
+        this.pipeline = create_compute(ctx, spirv, this.layout, surfaces)?;
         Ok(this)
+    }
+
+    /// Replaces the compute pipeline with one made from `spirv` with SPEC_SURFACES `surfaces`.
+    /// The layout and set stay, and so does what is bound to them. No submission using the
+    /// pipeline may be pending.
+    pub(crate) fn respecialize(&mut self, spirv: &[u8], surfaces: u32) -> Result<(), GpuError> {
+        let pipeline = create_compute(&self.ctx, spirv, self.layout, Some(surfaces))?;
+        // SAFETY: no pending submission uses the old pipeline (the caller's contract).
+        unsafe { self.ctx.device.destroy_pipeline(self.pipeline, None) };
+        self.pipeline = pipeline;
+        Ok(())
     }
 
     /// A graphics pipeline, specialized for every subset of `desc.surface_variants` (one
@@ -169,17 +177,12 @@ impl Pipeline {
         let mask = desc.surface_variants;
         // Index s: the pipeline for surfaces s; the last (s = mask) is `pipeline`.
         let surfaces: Vec<u32> = (0..=mask).filter(|s| s & !mask == 0).collect();
-        let spec_entries = [vk::SpecializationMapEntry {
-            constant_id: SPEC_RASTER_SURFACES,
-            offset: 0,
-            size: std::mem::size_of::<u32>(),
-        }];
         let spec_data: Vec<[u8; 4]> = surfaces.iter().map(|s| s.to_ne_bytes()).collect();
         let specs: Vec<_> = spec_data
             .iter()
             .map(|data| {
                 vk::SpecializationInfo::default()
-                    .map_entries(&spec_entries)
+                    .map_entries(&SURFACES_ENTRY)
                     .data(data)
             })
             .collect();
@@ -308,6 +311,47 @@ impl Pipeline {
     pub(crate) fn surface_variants(&self) -> u32 {
         self.surface_variants
     }
+}
+
+/// The entry and map of SPEC_SURFACES: a u32 at offset 0.
+const SURFACES_ENTRY: [vk::SpecializationMapEntry; 1] = [vk::SpecializationMapEntry {
+    constant_id: SPEC_SURFACES,
+    offset: 0,
+    size: std::mem::size_of::<u32>(),
+}];
+
+/// A compute pipeline of `spirv` with `layout`, SPEC_SURFACES `surfaces` where given.
+fn create_compute(
+    ctx: &Context,
+    spirv: &[u8],
+    layout: vk::PipelineLayout,
+    surfaces: Option<u32>,
+) -> Result<vk::Pipeline, GpuError> {
+    let module = ShaderModule::new(ctx, spirv)?;
+    let data = surfaces.map(u32::to_ne_bytes);
+    let spec = data.as_ref().map(|data| {
+        vk::SpecializationInfo::default()
+            .map_entries(&SURFACES_ENTRY)
+            .data(data)
+    });
+    let mut stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module.module)
+        .name(c"main");
+    if let Some(spec) = &spec {
+        stage = stage.specialization_info(spec);
+    }
+    let info = [vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout)];
+    // SAFETY: the module and layout are live and match the shader's interface.
+    let pipeline = unsafe {
+        ctx.device
+            .create_compute_pipelines(ctx.pipeline_cache, &info, None)
+    }
+    .map_err(pipeline_err("vkCreateComputePipelines"))?[0];
+    ctx.counters.made_pipeline();
+    Ok(pipeline)
 }
 
 /// The fixed-function state of every scene draw and one pipeline per entry of `stages`

@@ -102,6 +102,9 @@ pub(crate) struct SceneBuffers {
     pub triangle_count: u32,
     /// Every triangle, in runs of the same surfaces (the raster passes' draws).
     pub surface_runs: Vec<SurfaceRun>,
+    /// What the traced shading meets on any surface (SURFACE_*): the trace pass's
+    /// specialization.
+    pub surfaces: u32,
 }
 
 impl SceneBuffers {
@@ -198,6 +201,7 @@ impl SceneBuffers {
             lights: lights?,
             triangle_count: flat.triangle_count(),
             surface_runs: flat.surface_runs,
+            surfaces: flat.surfaces,
         })
     }
 
