@@ -12,7 +12,8 @@ use lensray_core::interface::{
     RasterPush, ResolvePush, TraceParams, ViewParams, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE,
     APERTURE_MAX_FAN, LENS_MAX_SURFACES, LENS_PUPIL_BINS, LIGHT_DIRECTIONAL, LIGHT_POINT,
     LIGHT_SPOT, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT,
-    TEXTURE_NONE, TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
+    SURFACE_ALPHA_TESTED, SURFACE_TEXTURED, TEXTURE_NONE, TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE,
+    WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
 use lensray_core::scene::order::spatial_order;
 use lensray_core::scene::texture::{Encoding, Wrap, MAX_LEVELS};
@@ -29,6 +30,15 @@ pub(crate) struct MeshRange {
     pub triangle_count: u32,
     /// No triangle's material is alpha-tested: ray queries may skip the test.
     pub opaque: bool,
+}
+
+/// Consecutive triangles whose surfaces have the same SURFACE_* bits (`surface_bits`): the raster
+/// passes draw each run with the pipeline specialized for them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SurfaceRun {
+    pub first_triangle: u32,
+    pub triangle_count: u32,
+    pub surfaces: u32,
 }
 
 /// Every mesh concatenated, its triangles in a spatial order (`scene::order`): one vertex array (vec4 positions and normals, std430 friendly),
@@ -48,6 +58,10 @@ pub(crate) struct FlatScene {
     /// At least one: a scene without lights holds one LIGHT_NONE.
     pub lights: Vec<GpuLight>,
     pub meshes: Vec<MeshRange>,
+    /// Every triangle in one run, in order.
+    pub surface_runs: Vec<SurfaceRun>,
+    /// What the traced shading meets on any surface (SURFACE_*).
+    pub surfaces: u32,
 }
 
 /// Instance custom indices have 24 bits: the first triangle of every mesh must fit.
@@ -84,6 +98,11 @@ impl FlatScene {
         if flat.lights.is_empty() {
             flat.lights.push(GpuLight::zeroed());
         }
+        flat.surfaces = scene
+            .materials
+            .iter()
+            .map(traced_surface_bits)
+            .fold(0, |a, b| a | b);
         for mesh in &scene.meshes {
             let has_normals = !mesh.normals.is_empty();
             let base = flat.positions.len() as u32;
@@ -116,6 +135,8 @@ impl FlatScene {
                 let t = t as usize;
                 let (tri, material) = (&mesh.triangles[t], mesh.material_ids[t]);
                 flat.indices.extend(tri.iter().map(|&i| base + i));
+                let surfaces = surface_bits(&scene.materials[material as usize]);
+                push_surface(&mut flat.surface_runs, flat.tri_info.len() as u32, surfaces);
                 flat.tri_info
                     .push(material | if has_normals { TRI_HAS_NORMALS } else { 0 });
             }
@@ -125,6 +146,45 @@ impl FlatScene {
 
     pub(crate) fn triangle_count(&self) -> u32 {
         self.tri_info.len() as u32
+    }
+}
+
+/// What a raster fragment of `m` looks up (SURFACE_*): the G-buffer's albedo samples only the
+/// diffuse texture.
+fn surface_bits(m: &Material) -> u32 {
+    let textured = if m.diffuse_texture.is_some() {
+        SURFACE_TEXTURED
+    } else {
+        0
+    };
+    let alpha_tested = if m.is_alpha_tested() {
+        SURFACE_ALPHA_TESTED
+    } else {
+        0
+    };
+    textured | alpha_tested
+}
+
+/// What the traced shading of a hit on `m` looks up (SURFACE_*): it samples the emission
+/// texture too.
+fn traced_surface_bits(m: &Material) -> u32 {
+    let emission = if m.emission_texture.is_some() {
+        SURFACE_TEXTURED
+    } else {
+        0
+    };
+    surface_bits(m) | emission
+}
+
+/// Appends triangle `triangle` with `surfaces` to the runs (the last one when it has them).
+fn push_surface(runs: &mut Vec<SurfaceRun>, triangle: u32, surfaces: u32) {
+    match runs.last_mut() {
+        Some(run) if run.surfaces == surfaces => run.triangle_count += 1,
+        _ => runs.push(SurfaceRun {
+            first_triangle: triangle,
+            triangle_count: 1,
+            surfaces,
+        }),
     }
 }
 

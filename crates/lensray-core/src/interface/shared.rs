@@ -135,6 +135,14 @@ shader_interface! {
         /// The aperture-centre ray of the AOVs and G-buffer draws nothing: a BLEND surface
         /// stops it where its alpha exceeds this.
         AOV_BLEND_THRESHOLD: f32 = 0.5;
+        /// What a surface makes a shader look up: a texture (the raster passes: the diffuse
+        /// colour's; the traced shading: the diffuse or emission colour's), an alpha test. The
+        /// raster passes draw each run of triangles (`SurfaceRun`), the trace pass each scene,
+        /// with the shaders specialized for the bits their surfaces have (specialization
+        /// constant SPEC_SURFACES, `SURFACES` in shaders/include/texture.glsl).
+        SURFACE_TEXTURED: u32 = 1;
+        SURFACE_ALPHA_TESTED: u32 = 2;
+        SPEC_SURFACES: u32 = 0;
         /// trace.comp: after the scene arrays.
         TRACE_BINDING_TLAS: u32 = 5;
         TRACE_BINDING_ACCUM: u32 = 6;

@@ -18,13 +18,20 @@ void test_candidate(rayQueryEXT rq, BlendCut cut) {
     }
 }
 
+// Without alpha-tested surfaces every hit is opaque: the traversal need not offer candidates.
+uint surfaces_ray_flags() {
+    return SURFACES_ALPHA_TESTED ? gl_RayFlagsNoneEXT : gl_RayFlagsOpaqueEXT;
+}
+
 // The closest hit with t in (0, t_max) that stops a ray cutting BLEND surfaces with `cut`: the
 // global triangle index, t and the weights of v1, v2.
 bool closest_hit(vec3 origin, vec3 direction, float t_max, BlendCut cut, out Hit hit) {
     rayQueryEXT rq;
-    rayQueryInitializeEXT(rq, tlas, gl_RayFlagsNoneEXT, 0xFFu, origin, 0.0, direction, t_max);
+    rayQueryInitializeEXT(rq, tlas, surfaces_ray_flags(), 0xFFu, origin, 0.0, direction, t_max);
     while (rayQueryProceedEXT(rq)) {
-        test_candidate(rq, cut);
+        if (SURFACES_ALPHA_TESTED) {
+            test_candidate(rq, cut);
+        }
     }
     if (rayQueryGetIntersectionTypeEXT(rq, true) == gl_RayQueryCommittedIntersectionNoneEXT) {
         return false;
@@ -40,10 +47,12 @@ bool closest_hit(vec3 origin, vec3 direction, float t_max, BlendCut cut, out Hit
 // query.
 bool occluded(vec3 origin, vec3 direction, float t_max, BlendCut cut) {
     rayQueryEXT rq;
-    rayQueryInitializeEXT(rq, tlas, gl_RayFlagsTerminateOnFirstHitEXT,
+    rayQueryInitializeEXT(rq, tlas, surfaces_ray_flags() | gl_RayFlagsTerminateOnFirstHitEXT,
                           0xFFu, origin, 0.0, direction, t_max);
     while (rayQueryProceedEXT(rq)) {
-        test_candidate(rq, cut);
+        if (SURFACES_ALPHA_TESTED) {
+            test_candidate(rq, cut);
+        }
     }
     return rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionNoneEXT;
 }

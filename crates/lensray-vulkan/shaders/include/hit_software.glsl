@@ -138,7 +138,8 @@ bool traverse(vec3 origin, vec3 direction, float t_max, bool any_hit, BlendCut c
                 float t;
                 vec2 bary;
                 if (intersect_triangle(r, slot, hit_t, t, bary)
-                    && triangle_stops_ray(uint(bvh_triangles[slot].v0.w), bary, cut)) {
+                    && (!SURFACES_ALPHA_TESTED
+                        || triangle_stops_ray(uint(bvh_triangles[slot].v0.w), bary, cut))) {
                     found = true;
                     hit_t = t;
                     hit_slot = slot;

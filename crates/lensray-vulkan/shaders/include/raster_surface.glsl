@@ -8,6 +8,9 @@
 #include "scene.glsl"
 #include "texture.glsl"
 
+// SURFACES (texture.glsl) holds what every triangle of the draw may have: the raster passes
+// draw each run of triangles with the pipeline specialized for its surfaces (passes/draw.rs).
+
 // The interpolated shading normal turned to face the viewer: the viewing direction runs along
 // the axis (orthographic) or from the eye (perspective).
 vec3 viewer_facing_normal(RasterPush raster, vec3 normal, vec3 world) {

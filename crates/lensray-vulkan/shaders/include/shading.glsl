@@ -76,7 +76,8 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out u
     shadowed = 0u;
     uint tri = hit.triangle;
     Material mat = materials[triangle_material(tri)];
-    bool textured = has_texture(mat.diffuse_texture) || has_texture(mat.emission_texture);
+    bool textured = SURFACES_TEXTURED
+        && (has_texture(mat.diffuse_texture) || has_texture(mat.emission_texture));
     if (params.shading == SHADING_UNLIT && !textured) {
         return mat.diffuse.xyz;
     }

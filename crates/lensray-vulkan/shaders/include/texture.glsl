@@ -18,6 +18,14 @@ layout(std430, set = SCENE_SET, binding = SCENE_BINDING_TEXELS) readonly buffer 
     uint texels[];
 };
 
+// The SURFACE_* bits any surface the shader meets may have. A pass specialized without one
+// (SPEC_SURFACES) compiles out its texture or alpha code, which CPU drivers would otherwise run
+// for every fragment or hit: they run both sides of a branch that may differ between
+// invocations. Unspecialized: all.
+layout(constant_id = SPEC_SURFACES) const uint SURFACES = SURFACE_TEXTURED | SURFACE_ALPHA_TESTED;
+const bool SURFACES_TEXTURED = (SURFACES & SURFACE_TEXTURED) != 0u;
+const bool SURFACES_ALPHA_TESTED = (SURFACES & SURFACE_ALPHA_TESTED) != 0u;
+
 // texture/mod.rs: srgb_to_linear
 float srgb_to_linear(float c) {
     return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);

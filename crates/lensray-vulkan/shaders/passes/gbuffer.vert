@@ -12,6 +12,7 @@ layout(location = 1) out float out_view_depth;  // camera-space z, perspective-c
 layout(location = 2) out vec3 out_world;
 layout(location = 3) flat out uint out_triangle;
 layout(location = 4) out vec2 out_texcoord;
+layout(location = 5) flat out vec3 out_albedo;  // untextured: the fragments' albedo
 
 void main() {
     uint tri = uint(gl_VertexIndex) / 3u;
@@ -21,6 +22,7 @@ void main() {
     vec3 ng = triangle_geometric_normal(tri);
     out_normal = triangle_has_normals(tri) ? normals[index].xyz : ng;
     out_triangle = tri;
+    out_albedo = materials[triangle_material(tri)].diffuse.xyz;
     out_texcoord = texcoords[index];
     out_view_depth = dot(p - pc.eye.xyz, pc.forward.xyz);
     out_world = p;

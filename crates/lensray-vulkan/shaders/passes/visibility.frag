@@ -13,12 +13,14 @@ layout(location = 1) in vec2 in_texcoord;
 layout(location = 0) out uint out_triangle;
 
 void main() {
-    uint pixel_index = uint(gl_FragCoord.y) * pc.width + uint(gl_FragCoord.x);
-    BlendCut cut = pc.aperture_centre != 0u
-        ? aperture_centre_cut()
-        : ray_cut(sample_key(pc.seed, pixel_index, pc.sample_index) ^ BLEND_CAMERA_SALT);
-    if (!fragment_stops_ray(in_triangle, in_texcoord, cut)) {
-        discard;
+    if (SURFACES_ALPHA_TESTED) {
+        uint pixel_index = uint(gl_FragCoord.y) * pc.width + uint(gl_FragCoord.x);
+        BlendCut cut = pc.aperture_centre != 0u
+            ? aperture_centre_cut()
+            : ray_cut(sample_key(pc.seed, pixel_index, pc.sample_index) ^ BLEND_CAMERA_SALT);
+        if (!fragment_stops_ray(in_triangle, in_texcoord, cut)) {
+            discard;
+        }
     }
     out_triangle = in_triangle + 1u;
 }

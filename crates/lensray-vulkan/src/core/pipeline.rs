@@ -9,6 +9,7 @@ use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::{pipeline_err, vk_err, GpuError};
 use crate::core::shader::ShaderModule;
+use lensray_core::interface::SPEC_SURFACES;
 
 /// One descriptor of a pipeline's set: binding number (from `lensray_core::interface`), type, stages.
 pub(crate) type Binding = (u32, vk::DescriptorType, vk::ShaderStageFlags);
@@ -16,7 +17,13 @@ pub(crate) type Binding = (u32, vk::DescriptorType, vk::ShaderStageFlags);
 /// A pipeline, its layout, and one descriptor set (with its layout and pool).
 pub(crate) struct Pipeline {
     ctx: Arc<Context>,
+    /// The pipeline; of a graphics pipeline with surface variants, the one for all of them
+    /// (the general code).
     pub pipeline: vk::Pipeline,
+    /// The SURFACE_* bits the fragment stage is specialized on (0: none); entry s (below
+    /// them) of `variants` is the pipeline for surfaces s, null where s has other bits.
+    surface_variants: u32,
+    variants: Vec<vk::Pipeline>,
     pub layout: vk::PipelineLayout,
     set_layout: vk::DescriptorSetLayout,
     pool: vk::DescriptorPool,
@@ -33,6 +40,9 @@ pub(crate) struct GraphicsDesc<'a> {
     pub color_attachments: u32,
     /// LESS for the course's depth (0 at the near plane), GREATER for reversed depth.
     pub depth_compare: vk::CompareOp,
+    /// The SURFACE_* bits the fragment stage's specialization constant SPEC_SURFACES
+    /// takes: one pipeline is made for each subset of them (0: one pipeline, unspecialized).
+    pub surface_variants: u32,
 }
 
 impl Pipeline {
@@ -47,6 +57,8 @@ impl Pipeline {
         let mut this = Self {
             ctx: ctx.clone(),
             pipeline: vk::Pipeline::null(),
+            surface_variants: 0,
+            variants: Vec::new(),
             layout: vk::PipelineLayout::null(),
             set_layout: vk::DescriptorSetLayout::null(),
             pool: vk::DescriptorPool::null(),
@@ -113,6 +125,17 @@ impl Pipeline {
         bindings: &[Binding],
         push_size: u32,
     ) -> Result<Self, GpuError> {
+        Self::compute_specialized(ctx, spirv, bindings, push_size, None)
+    }
+
+    /// A compute pipeline whose SPEC_SURFACES is `surfaces` (`None`: the shader's default).
+    pub(crate) fn compute_specialized(
+        ctx: &Arc<Context>,
+        spirv: &[u8],
+        bindings: &[Binding],
+        push_size: u32,
+        surfaces: Option<u32>,
+    ) -> Result<Self, GpuError> {
         let mut this = Self::with_layout(
             ctx,
             bindings,
@@ -120,26 +143,23 @@ impl Pipeline {
             vk::ShaderStageFlags::COMPUTE,
             vk::PipelineBindPoint::COMPUTE,
         )?;
-        ctx.announce_compile();
-        let start = Instant::now();
-        let module = ShaderModule::new(ctx, spirv)?;
-        let stage = vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(module.module)
-            .name(c"main");
-        let info = [vk::ComputePipelineCreateInfo::default()
-            .stage(stage)
-            .layout(this.layout)];
-        // SAFETY: the module and layout are live and match the shader's interface.
-        this.pipeline = unsafe {
-            ctx.device
-                .create_compute_pipelines(ctx.pipeline_cache, &info, None)
-        }
-        .map_err(pipeline_err("vkCreateComputePipelines"))?[0];
-        ctx.counters.made_pipeline(start.elapsed());
+        this.pipeline = create_compute(ctx, spirv, this.layout, surfaces)?;
         Ok(this)
     }
 
+    /// Replaces the compute pipeline with one made from `spirv` with SPEC_SURFACES `surfaces`.
+    /// The layout and set stay, and so does what is bound to them. No submission using the
+    /// pipeline may be pending.
+    pub(crate) fn respecialize(&mut self, spirv: &[u8], surfaces: u32) -> Result<(), GpuError> {
+        let pipeline = create_compute(&self.ctx, spirv, self.layout, Some(surfaces))?;
+        // SAFETY: no pending submission uses the old pipeline (the caller's contract).
+        unsafe { self.ctx.device.destroy_pipeline(self.pipeline, None) };
+        self.pipeline = pipeline;
+        Ok(())
+    }
+
+    /// A graphics pipeline, specialized for every subset of `desc.surface_variants` (one
+    /// vkCreateGraphicsPipelines call); [`Self::bind_surfaces`] picks one.
     pub(crate) fn graphics(
         ctx: &Arc<Context>,
         desc: &GraphicsDesc<'_>,
@@ -157,64 +177,48 @@ impl Pipeline {
         let start = Instant::now();
         let vert = ShaderModule::new(ctx, desc.vert)?;
         let frag = ShaderModule::new(ctx, desc.frag)?;
-        let stages = [
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::VERTEX)
-                .module(vert.module)
-                .name(c"main"),
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(frag.module)
-                .name(c"main"),
-        ];
-        // Vertices are pulled from storage buffers: no vertex input.
-        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
-        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-        let viewport = vk::PipelineViewportStateCreateInfo::default()
-            .viewport_count(1)
-            .scissor_count(1);
-        // The camera frame is left-handed (a mirror of the world): no culling, both windings.
-        let raster = vk::PipelineRasterizationStateCreateInfo::default()
-            .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(vk::CullModeFlags::NONE)
-            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-            .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(true)
-            .depth_write_enable(true)
-            .depth_compare_op(desc.depth_compare);
-        let blend: Vec<_> = (0..desc.color_attachments)
-            .map(|_| {
-                vk::PipelineColorBlendAttachmentState::default()
-                    .blend_enable(false)
-                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+        let mask = desc.surface_variants;
+        // Index s: the pipeline for surfaces s; the last (s = mask) is `pipeline`.
+        let surfaces: Vec<u32> = (0..=mask).filter(|s| s & !mask == 0).collect();
+        let spec_data: Vec<[u8; 4]> = surfaces.iter().map(|s| s.to_ne_bytes()).collect();
+        let specs: Vec<_> = spec_data
+            .iter()
+            .map(|data| {
+                vk::SpecializationInfo::default()
+                    .map_entries(&SURFACES_ENTRY)
+                    .data(data)
             })
             .collect();
-        let blend_state = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
-        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-        let info = [vk::GraphicsPipelineCreateInfo::default()
-            .stages(&stages)
-            .vertex_input_state(&vertex_input)
-            .input_assembly_state(&assembly)
-            .viewport_state(&viewport)
-            .rasterization_state(&raster)
-            .multisample_state(&multisample)
-            .depth_stencil_state(&depth)
-            .color_blend_state(&blend_state)
-            .dynamic_state(&dynamic)
-            .layout(this.layout)
-            .render_pass(desc.render_pass)
-            .subpass(0)];
-        // SAFETY: every referenced state, module, layout and render pass is live.
-        this.pipeline = unsafe {
-            ctx.device
-                .create_graphics_pipelines(ctx.pipeline_cache, &info, None)
+        let stages: Vec<_> = specs
+            .iter()
+            .map(|spec| {
+                let frag = vk::PipelineShaderStageCreateInfo::default()
+                    .stage(vk::ShaderStageFlags::FRAGMENT)
+                    .module(frag.module)
+                    .name(c"main");
+                let vert = vk::PipelineShaderStageCreateInfo::default()
+                    .stage(vk::ShaderStageFlags::VERTEX)
+                    .module(vert.module)
+                    .name(c"main");
+                [
+                    vert,
+                    if mask == 0 {
+                        frag
+                    } else {
+                        frag.specialization_info(spec)
+                    },
+                ]
+            })
+            .collect();
+        let made = create_graphics(ctx, desc, this.layout, &stages)?;
+        this.surface_variants = mask;
+        this.variants = vec![vk::Pipeline::null(); mask as usize];
+        for (&s, &pipeline) in surfaces.iter().zip(&made) {
+            match this.variants.get_mut(s as usize) {
+                Some(slot) => *slot = pipeline,
+                None => this.pipeline = pipeline,
+            }
         }
-        .map_err(pipeline_err("vkCreateGraphicsPipelines"))?[0];
         ctx.counters.made_pipeline(start.elapsed());
         Ok(this)
     }
@@ -287,6 +291,137 @@ impl Pipeline {
     }
 }
 
+impl Pipeline {
+    /// Binds the graphics pipeline specialized for `surfaces` (SURFACE_* bits; those it is not
+    /// specialized on take the general code). The set and push constants bound by
+    /// [`Self::bind`] stay: every variant has the same layout.
+    pub(crate) fn bind_surfaces(&self, cmd: vk::CommandBuffer, surfaces: u32) {
+        let s = surfaces & self.surface_variants;
+        let pipeline = self
+            .variants
+            .get(s as usize)
+            .copied()
+            .unwrap_or(self.pipeline);
+        // SAFETY: command buffer in the recording state; the pipeline is live.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_bind_pipeline(cmd, self.bind_point, pipeline)
+        };
+    }
+
+    /// The SURFACE_* bits the pipeline is specialized on.
+    pub(crate) fn surface_variants(&self) -> u32 {
+        self.surface_variants
+    }
+}
+
+/// The entry and map of SPEC_SURFACES: a u32 at offset 0.
+const SURFACES_ENTRY: [vk::SpecializationMapEntry; 1] = [vk::SpecializationMapEntry {
+    constant_id: SPEC_SURFACES,
+    offset: 0,
+    size: std::mem::size_of::<u32>(),
+}];
+
+/// A compute pipeline of `spirv` with `layout`, SPEC_SURFACES `surfaces` where given.
+fn create_compute(
+    ctx: &Context,
+    spirv: &[u8],
+    layout: vk::PipelineLayout,
+    surfaces: Option<u32>,
+) -> Result<vk::Pipeline, GpuError> {
+    ctx.announce_compile();
+    let start = Instant::now();
+    let module = ShaderModule::new(ctx, spirv)?;
+    let data = surfaces.map(u32::to_ne_bytes);
+    let spec = data.as_ref().map(|data| {
+        vk::SpecializationInfo::default()
+            .map_entries(&SURFACES_ENTRY)
+            .data(data)
+    });
+    let mut stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module.module)
+        .name(c"main");
+    if let Some(spec) = &spec {
+        stage = stage.specialization_info(spec);
+    }
+    let info = [vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout)];
+    // SAFETY: the module and layout are live and match the shader's interface.
+    let pipeline = unsafe {
+        ctx.device
+            .create_compute_pipelines(ctx.pipeline_cache, &info, None)
+    }
+    .map_err(pipeline_err("vkCreateComputePipelines"))?[0];
+    ctx.counters.made_pipeline(start.elapsed());
+    Ok(pipeline)
+}
+
+/// The fixed-function state of every scene draw and one pipeline per entry of `stages`
+/// (vertex, fragment).
+fn create_graphics(
+    ctx: &Context,
+    desc: &GraphicsDesc<'_>,
+    layout: vk::PipelineLayout,
+    stages: &[[vk::PipelineShaderStageCreateInfo<'_>; 2]],
+) -> Result<Vec<vk::Pipeline>, GpuError> {
+    // Vertices are pulled from storage buffers: no vertex input.
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    // The camera frame is left-handed (a mirror of the world): no culling, both windings.
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::NONE)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(true)
+        .depth_compare_op(desc.depth_compare);
+    let blend: Vec<_> = (0..desc.color_attachments)
+        .map(|_| {
+            vk::PipelineColorBlendAttachmentState::default()
+                .blend_enable(false)
+                .color_write_mask(vk::ColorComponentFlags::RGBA)
+        })
+        .collect();
+    let blend_state = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let infos: Vec<_> = stages
+        .iter()
+        .map(|stages| {
+            vk::GraphicsPipelineCreateInfo::default()
+                .stages(stages)
+                .vertex_input_state(&vertex_input)
+                .input_assembly_state(&assembly)
+                .viewport_state(&viewport)
+                .rasterization_state(&raster)
+                .multisample_state(&multisample)
+                .depth_stencil_state(&depth)
+                .color_blend_state(&blend_state)
+                .dynamic_state(&dynamic)
+                .layout(layout)
+                .render_pass(desc.render_pass)
+                .subpass(0)
+        })
+        .collect();
+    // SAFETY: every referenced state, module, layout and render pass is live.
+    unsafe {
+        ctx.device
+            .create_graphics_pipelines(ctx.pipeline_cache, &infos, None)
+    }
+    .map_err(pipeline_err("vkCreateGraphicsPipelines"))
+}
+
 impl Drop for Pipeline {
     fn drop(&mut self) {
         // SAFETY: no submission using these objects is pending; null handles are ignored by
@@ -294,6 +429,9 @@ impl Drop for Pipeline {
         unsafe {
             let d = &self.ctx.device;
             d.destroy_pipeline(self.pipeline, None);
+            for &variant in &self.variants {
+                d.destroy_pipeline(variant, None);
+            }
             d.destroy_pipeline_layout(self.layout, None);
             d.destroy_descriptor_pool(self.pool, None);
             d.destroy_descriptor_set_layout(self.set_layout, None);

@@ -1,6 +1,7 @@
 //! Drawing the scene in a raster pass: what the G-buffer and the raster path's visibility pass
-//! record alike (render pass over the whole framebuffer, dynamic viewport and scissor, one
-//! non-indexed draw of 3 pulled vertices per triangle).
+//! record alike (render pass over the whole framebuffer, dynamic viewport and scissor,
+//! non-indexed draws of 3 pulled vertices per triangle, one per run of triangles with the same
+//! surfaces).
 
 use std::sync::Arc;
 
@@ -10,6 +11,7 @@ use crate::core::device::Context;
 use crate::core::error::{vk_err, GpuError};
 use crate::core::pipeline::Pipeline;
 use crate::scene::SceneBuffers;
+use crate::upload::SurfaceRun;
 
 /// The depth buffer of every scene draw.
 pub(crate) const SCENE_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -216,12 +218,42 @@ pub(crate) fn record_scene_draw(
         ctx.device.cmd_set_scissor(cmd, 0, &[area]);
     }
     draw.pipeline.bind(cmd, draw.push);
-    let vertices = scene.triangle_count * 3;
-    // SAFETY: inside the render pass with a graphics pipeline bound.
-    unsafe {
-        if vertices > 0 {
-            ctx.device.cmd_draw(cmd, vertices, 1, 0, 0);
-        }
-        ctx.device.cmd_end_render_pass(cmd);
+    for run in surface_draws(scene, draw.pipeline.surface_variants()) {
+        draw.pipeline.bind_surfaces(cmd, run.surfaces);
+        // SAFETY: inside the render pass with a graphics pipeline bound; the run lies within
+        // the scene's triangles.
+        unsafe {
+            ctx.device
+                .cmd_draw(cmd, run.triangle_count * 3, 1, run.first_triangle * 3, 0)
+        };
     }
+    // SAFETY: inside the render pass.
+    unsafe { ctx.device.cmd_end_render_pass(cmd) };
+}
+
+/// More draws than this in one pass cost more than the fragments they spare: the scene is drawn
+/// whole with the general pipeline instead.
+const MAX_SURFACE_DRAWS: usize = 64;
+
+/// The draws of `scene`'s triangles, in order: its surface runs with the bits a pipeline
+/// specialized on `variants` tells apart, neighbours that become equal merged. Which pipeline
+/// draws a triangle changes what its fragments compute, not their values: the general code
+/// finds an untextured, opaque surface's colour as the specialized one does.
+fn surface_draws(scene: &SceneBuffers, variants: u32) -> Vec<SurfaceRun> {
+    let mut draws: Vec<SurfaceRun> = Vec::new();
+    for run in &scene.surface_runs {
+        let surfaces = run.surfaces & variants;
+        match draws.last_mut() {
+            Some(last) if last.surfaces == surfaces => last.triangle_count += run.triangle_count,
+            _ => draws.push(SurfaceRun { surfaces, ..*run }),
+        }
+    }
+    if draws.len() > MAX_SURFACE_DRAWS {
+        return vec![SurfaceRun {
+            first_triangle: 0,
+            triangle_count: scene.triangle_count,
+            surfaces: variants,
+        }];
+    }
+    draws
 }

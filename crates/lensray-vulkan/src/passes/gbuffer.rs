@@ -22,7 +22,7 @@ use crate::passes::draw::{
 };
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
-use lensray_core::interface::RasterPush;
+use lensray_core::interface::{RasterPush, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED};
 
 /// The G-buffer read back to the host; row-major, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -178,6 +178,7 @@ impl GBufferPass {
                 render_pass: render_pass.handle,
                 color_attachments: 3,
                 depth_compare: vk::CompareOp::LESS,
+                surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED,
             },
             &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
             std::mem::size_of::<RasterPush>() as u32,

@@ -56,6 +56,8 @@ const MAX_BAND_PIXELS: u64 = 1 << 22;
 struct TracePipeline {
     traversal: Traversal,
     pipeline: Pipeline,
+    /// The SURFACE_* bits it is specialized for: those of the scene bound (none before one is).
+    surfaces: u32,
     /// Its first dispatch (lazily compiled by some drivers) is timed apart.
     first_dispatch_done: bool,
 }
@@ -108,6 +110,7 @@ impl TracePass {
                 Ok(TracePipeline {
                     traversal: t,
                     pipeline: Self::pipeline(ctx, t)?,
+                    surfaces: 0,
                     first_dispatch_done: false,
                 })
             })
@@ -285,23 +288,18 @@ impl TracePass {
 
     /// The compute pipeline of `traversal`: the scene arrays, that traversal's structures, and
     /// the pass's own buffers.
+    /// Specialized for scenes without textures or alpha tests until `bind_scene` says otherwise.
     fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
         let compute = vk::ShaderStageFlags::COMPUTE;
         let mut bindings: Vec<Binding> = SceneBuffers::bindings(compute).to_vec();
-        let spirv = match traversal {
-            Traversal::RayQuery => {
-                bindings.push((
-                    TRACE_BINDING_TLAS,
-                    vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
-                    compute,
-                ));
-                shader::TRACE_RAYQUERY_COMP
-            }
-            Traversal::Software => {
-                bindings.extend(BvhBuffers::bindings(compute));
-                shader::TRACE_SOFTWARE_COMP
-            }
-        };
+        match traversal {
+            Traversal::RayQuery => bindings.push((
+                TRACE_BINDING_TLAS,
+                vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+                compute,
+            )),
+            Traversal::Software => bindings.extend(BvhBuffers::bindings(compute)),
+        }
         bindings.extend([
             (
                 TRACE_BINDING_ACCUM,
@@ -344,11 +342,12 @@ impl TracePass {
                 compute,
             ),
         ]);
-        Pipeline::compute(
+        Pipeline::compute_specialized(
             ctx,
-            spirv,
+            trace_spirv(traversal),
             &bindings,
             std::mem::size_of::<TracePush>() as u32,
+            Some(0),
         )
     }
 
@@ -386,8 +385,16 @@ impl TracePass {
         &self.pipelines[self.current].pipeline
     }
 
-    pub(crate) fn bind_scene(&self, scene: &SceneBuffers) {
-        for p in &self.pipelines {
+    /// Binds `scene` to every pipeline, first specialized anew where the scene's surfaces
+    /// differ from the last one's. No submission using the pipelines may be pending.
+    pub(crate) fn bind_scene(&mut self, scene: &SceneBuffers) -> Result<(), GpuError> {
+        for p in &mut self.pipelines {
+            if p.surfaces != scene.surfaces {
+                p.pipeline
+                    .respecialize(trace_spirv(p.traversal), scene.surfaces)?;
+                p.surfaces = scene.surfaces;
+                p.first_dispatch_done = false;
+            }
             scene.bind(&p.pipeline);
             match p.traversal {
                 Traversal::RayQuery => {
@@ -402,6 +409,7 @@ impl TracePass {
                 }
             }
         }
+        Ok(())
     }
 
     /// Makes the aperture tables and the real lens those of `camera` (see
@@ -447,5 +455,13 @@ impl TracePass {
     pub(crate) fn bind_accumulation(&mut self, buffer: &Buffer) {
         self.accum = None;
         self.bind_accum_buffer(buffer);
+    }
+}
+
+/// The trace shader of `traversal`.
+fn trace_spirv(traversal: Traversal) -> &'static [u8] {
+    match traversal {
+        Traversal::RayQuery => shader::TRACE_RAYQUERY_COMP,
+        Traversal::Software => shader::TRACE_SOFTWARE_COMP,
     }
 }

@@ -20,7 +20,7 @@ use crate::passes::draw::{
 };
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
-use lensray_core::interface::VisibilityPush;
+use lensray_core::interface::{VisibilityPush, SURFACE_ALPHA_TESTED};
 use lensray_core::sampler::{pixel_camera_sample, shared_pixel_sampler};
 use lensray_core::settings::RenderSettings;
 
@@ -107,6 +107,7 @@ impl VisibilityPass {
                 render_pass: render_pass.handle,
                 color_attachments: 1,
                 depth_compare: vk::CompareOp::GREATER,
+                surface_variants: SURFACE_ALPHA_TESTED,
             },
             &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
             std::mem::size_of::<VisibilityPush>() as u32,

@@ -21,7 +21,9 @@ use crate::passes::draw::{
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
 use lensray_core::film::colour::linear_to_srgb;
-use lensray_core::interface::{ViewParams, ViewPush, VIEW_ALBEDO, VIEW_FINAL};
+use lensray_core::interface::{
+    ViewParams, ViewPush, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED, VIEW_ALBEDO, VIEW_FINAL,
+};
 
 /// One framebuffer per target image, sharing a depth buffer.
 struct ViewTargets {
@@ -57,6 +59,7 @@ impl ViewPass {
                 render_pass: render_pass.handle,
                 color_attachments: 1,
                 depth_compare: vk::CompareOp::LESS,
+                surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED,
             },
             &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
             std::mem::size_of::<ViewPush>() as u32,

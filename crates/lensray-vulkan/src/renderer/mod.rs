@@ -124,7 +124,7 @@ impl GpuRenderer {
         if let Some(gbuffer) = &self.gbuffer {
             gbuffer.bind_scene(&buffers);
         }
-        self.trace.bind_scene(&buffers);
+        self.trace.bind_scene(&buffers)?;
         if let Some(visibility) = &self.visibility {
             visibility.bind_scene(&buffers);
         }

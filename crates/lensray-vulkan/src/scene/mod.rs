@@ -14,7 +14,7 @@ use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::{Binding, Pipeline};
 use crate::traversal::Traversal;
-use crate::upload::FlatScene;
+use crate::upload::{FlatScene, SurfaceRun};
 use accel::SceneAccel;
 use bvh::{BvhParams, FlatBvh};
 use lensray_core::interface::{
@@ -100,6 +100,11 @@ pub(crate) struct SceneBuffers {
     texels: Buffer,
     lights: Buffer,
     pub triangle_count: u32,
+    /// Every triangle, in runs of the same surfaces (the raster passes' draws).
+    pub surface_runs: Vec<SurfaceRun>,
+    /// What the traced shading meets on any surface (SURFACE_*): the trace pass's
+    /// specialization.
+    pub surfaces: u32,
 }
 
 impl SceneBuffers {
@@ -195,6 +200,8 @@ impl SceneBuffers {
             texels: texels?,
             lights: lights?,
             triangle_count: flat.triangle_count(),
+            surface_runs: flat.surface_runs,
+            surfaces: flat.surfaces,
         })
     }
 
