@@ -4,7 +4,7 @@
 #   - no Rust source file over 600 lines (src, tests and benches alike);
 #   - no two types of the workspace with the same name (public or not);
 #   - comments carry no history: no "issue N" references (those go to commit messages and docs/);
-#   - each crate depends only on the crates below it (core <- vulkan <- app);
+#   - each crate depends only on the crates below it (interface <- core <- vulkan <- app);
 #   - `cargo doc --no-deps` with broken intra-doc links denied ([workspace.lints.rustdoc]);
 #   - README.md within 8,000 characters (what grows goes to docs/).
 # Clippy keeps the others: too_many_lines at 100 ([workspace.lints.clippy], clippy.toml).
@@ -41,11 +41,12 @@ fi
 
 # The layers: a crate's manifest names only the crates below it.
 deps_of() { sed -n '/^\[dependencies\]/,/^\[/p' "crates/$1/Cargo.toml" | grep -oE '^lensray[a-z-]*' | sort -u | tr '\n' ' '; }
-[ -z "$(deps_of lensray-core)" ] || fail "lensray-core depends on $(deps_of lensray-core)(it depends on no other lensray crate)"
+[ -z "$(deps_of lensray-interface)" ] || fail "lensray-interface depends on $(deps_of lensray-interface)(it depends on no other lensray crate)"
+[ "$(deps_of lensray-core)" = "lensray-interface " ] || fail "lensray-core depends on $(deps_of lensray-core)(only lensray-interface)"
 [ "$(deps_of lensray-vulkan)" = "lensray-core " ] || fail "lensray-vulkan depends on $(deps_of lensray-vulkan)(only lensray-core)"
-if grep -rqE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-core/src crates/lensray/src; then
+if grep -rqE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-interface/src crates/lensray-core/src crates/lensray/src; then
   fail "unsafe code outside lensray-vulkan:"
-  grep -rnE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-core/src crates/lensray/src | sed 's/^/    /'
+  grep -rnE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-interface/src crates/lensray-core/src crates/lensray/src | sed 's/^/    /'
 fi
 
 max_readme=8000

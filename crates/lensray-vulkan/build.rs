@@ -8,29 +8,14 @@
 //! that variant's macro defined, into `$OUT_DIR/VARIANT.STAGE.spv`.
 //! A compile error fails the build with the file and line of every message.
 //!
-//! First it writes `$OUT_DIR/interface.glsl` from `lensray-core/src/interface/shared.rs`, the one definition
-//! of what the host and the shaders share, and fails if Rust lays out a shared struct
+//! First it writes `$OUT_DIR/interface.glsl` from the `lensray-interface` crate, the one
+//! definition of what the host and the shaders share, and fails if Rust lays out a shared struct
 //! differently from GLSL.
 
 // Brings in the glslang / SPIRV-Tools libraries that Debian's libshaderc needs (see its build.rs).
 extern crate lensray_shaderc_link;
 
 use std::path::{Path, PathBuf};
-
-/// lensray-core's `interface` module, compiled here too (its files use no crate paths).
-#[allow(dead_code)]
-mod interface {
-    #[macro_use]
-    pub mod glsl {
-        include!("../lensray-core/src/interface/glsl.rs");
-    }
-    mod header {
-        include!("../lensray-core/src/interface/header.rs");
-    }
-    pub mod shared {
-        include!("../lensray-core/src/interface/shared.rs");
-    }
-}
 
 const INTERFACE_HEADER: &str = "interface.glsl";
 
@@ -49,14 +34,11 @@ fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
     let shader_dir = manifest.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
-    println!("cargo:rerun-if-changed=../lensray-core/src/interface");
-    // shared.rs includes the generated spectral tables.
-    println!("cargo:rerun-if-changed=../lensray-core/src/film/spectral_table.rs");
 
-    if let Err(errors) = interface::shared::check_layouts() {
+    if let Err(errors) = lensray_interface::check_layouts() {
         panic!("shared structs differ from their GLSL layout:\n{errors}");
     }
-    std::fs::write(out.join(INTERFACE_HEADER), interface::shared::glsl_header())
+    std::fs::write(out.join(INTERFACE_HEADER), lensray_interface::glsl_header())
         .expect("write interface.glsl");
 
     let compiler = shaderc::Compiler::new().expect("shaderc: cannot create a compiler");

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The tables of lensray's RGB-to-spectrum weighting (crates/lensray-core/src/film/spectral.rs,
 which states the definition), written as Rust source to
-crates/lensray-core/src/film/spectral_table.rs, the one definition of the numbers: the crate
+crates/lensray-interface/src/spectral_table.rs, the one definition of the numbers: the crate
 reads them through lensray_core::interface (shared.rs includes the file) and the shaders through
 the generated interface.glsl.
 
@@ -21,7 +21,7 @@ import colour
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent.parent
-OUT = ROOT / "crates/lensray-core/src/film/spectral_table.rs"
+OUT = ROOT / "crates/lensray-interface/src/spectral_table.rs"
 
 MIN_NM, MAX_NM, STEP_NM = 380, 780, 5
 NODES = (MAX_NM - MIN_NM) // STEP_NM + 1

@@ -14,7 +14,7 @@
 pub mod cache;
 pub mod camera;
 pub mod film;
-pub mod interface;
+pub use lensray_interface as interface;
 pub mod optics;
 pub mod reference;
 pub mod sampler;

@@ -42,8 +42,8 @@
 //!   n = 65536. At a node the weight takes the interval its wavelength's position rounds into,
 //!   which can differ from the one the search chose only within rounding of the node.
 //!
-//! The numbers are generated once by `scripts/spectral/tables.py` into `spectral_table.rs`
-//! (beside this file), their one definition; `interface/shared.rs` includes that file and
+//! The numbers are generated once by `scripts/spectral/tables.py` into lensray-interface's
+//! `spectral_table.rs`, their one definition; its `shared.rs` includes that file and
 //! names its tables as the shared constants `SPECTRAL_*`, which the GLSL header declares too.
 //!
 //! # Arithmetic

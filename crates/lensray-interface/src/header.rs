@@ -1,7 +1,6 @@
 // The GLSL header writer and the layout probe it declares: which blocks the probe reads each
 // shared struct through, the checks the list of structs must pass for it, and the text of
-// `interface.glsl`. Compiled twice, like `glsl.rs` (as `crate::interface::header` and by
-// build.rs through `include!`), so it uses no crate paths and no inner attributes.
+// `interface.glsl`.
 
 use super::glsl::{GlslConst, Layout, ScalarKind, SharedStruct};
 

@@ -6,6 +6,8 @@
 //! wrote it (tests/gpu.rs), through blocks generated from the same list of structs
 //! (`shared_structs()`, `glsl::layout_probe_reads`).
 
+#![forbid(unsafe_code)]
+
 #[macro_use]
 pub mod glsl;
 mod header;

@@ -1,8 +1,6 @@
 // The machinery behind `shader_interface!`: the GLSL types and block layouts of the shared
 // structs, and the macro that declares them (the header's text and the layout probe are in
-// `header.rs`). This file is compiled twice: as `crate::interface::glsl` and by build.rs
-// (through `include!`), so it uses no crate paths and no inner attributes, and needs nothing
-// beyond std and bytemuck.
+// `header.rs`).
 
 // What `shader_interface!`'s expansion and the crate's users (`interface::glsl::*`) name; a
 // glob, as build.rs uses only part of it.
