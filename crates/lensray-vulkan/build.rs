@@ -8,9 +8,9 @@
 //! that variant's macro defined, into `$OUT_DIR/VARIANT.STAGE.spv`.
 //! A compile error fails the build with the file and line of every message.
 //!
-//! First it writes `$OUT_DIR/interface.glsl` from the `lensray-interface` crate, the one
-//! definition of what the host and the shaders share, and fails if Rust lays out a shared struct
-//! differently from GLSL.
+//! First it writes `$OUT_DIR/interface.glsl` and a `$OUT_DIR/set_<name>.glsl` per pipeline's
+//! descriptor set from the `lensray-interface` crate, the one definition of what the host and
+//! the shaders share, and fails if Rust lays out a shared struct differently from GLSL.
 
 // Brings in the glslang / SPIRV-Tools libraries that Debian's libshaderc needs (see its build.rs).
 extern crate lensray_shaderc_link;
@@ -40,6 +40,12 @@ fn main() {
     }
     std::fs::write(out.join(INTERFACE_HEADER), lensray_interface::glsl_header())
         .expect("write interface.glsl");
+    // Each pipeline's descriptor set (lensray-interface's bindings.rs): `set_<name>.glsl`.
+    for set in lensray_interface::SETS {
+        let file = format!("set_{}.glsl", set.name);
+        std::fs::write(out.join(&file), lensray_interface::set_glsl(set))
+            .unwrap_or_else(|e| panic!("write {file}: {e}"));
+    }
 
     let compiler = shaderc::Compiler::new().expect("shaderc: cannot create a compiler");
     let mut layers = vec!["passes", "present"];
@@ -103,7 +109,7 @@ fn main() {
 }
 
 /// Vulkan 1.2 / SPIR-V 1.4, optimised, warnings as errors, includes from `shaders/include/` (and the
-/// generated header from `$OUT_DIR`), `define` set when given.
+/// generated headers from `$OUT_DIR`), `define` set when given.
 fn compile_options<'a>(
     include_dir: &Path,
     out: &Path,
@@ -123,7 +129,7 @@ fn compile_options<'a>(
     let include_dir = include_dir.to_path_buf();
     let generated_dir = out.to_path_buf();
     options.set_include_callback(move |requested, _kind, requester, _depth| {
-        let dir = if requested == INTERFACE_HEADER {
+        let dir = if is_generated(requested) {
             &generated_dir
         } else {
             &include_dir
@@ -133,15 +139,21 @@ fn compile_options<'a>(
     options
 }
 
+/// Whether `requested` is a header this script writes (the interface, a set's bindings).
+fn is_generated(requested: &str) -> bool {
+    requested == INTERFACE_HEADER || (requested.starts_with("set_") && requested.ends_with(".glsl"))
+}
+
 fn resolve_include(
     dir: &Path,
     requested: &str,
     requester: &str,
 ) -> Result<shaderc::ResolvedInclude, String> {
     let path = dir.join(requested);
-    // The generated header is written by this script, after cargo noted its start: watching it
-    // would make every build run the script again. Its source, the interface module, is watched.
-    if requested != INTERFACE_HEADER {
+    // The generated headers are written by this script, after cargo noted its start: watching
+    // them would make every build run the script again. Their source, lensray-interface, is a
+    // dependency of the script.
+    if !is_generated(requested) {
         println!("cargo:rerun-if-changed={}", path.display());
     }
     let content = std::fs::read_to_string(&path)

@@ -1,6 +1,6 @@
-//! What the host and the shaders share, defined once in `shared.rs`: constants (shading modes,
-//! binding numbers, workgroup sizes, ray offsets) and the structs of uniform blocks, push
-//! constants and storage buffers. build.rs generates the GLSL header `interface.glsl` from the
+//! What the host and the shaders share, defined once: in `shared.rs` constants (shading modes,
+//! workgroup sizes, ray offsets) and the structs of uniform blocks, push constants and storage
+//! buffers; in `bindings.rs` every pipeline's descriptor set, binding by binding. build.rs generates the GLSL header `interface.glsl` from the
 //! same definition and refuses to build when Rust lays a struct out differently from GLSL;
 //! `shaders/probes/layouts.comp` checks on a device that the shaders read every field where Rust
 //! wrote it (tests/gpu.rs), through blocks generated from the same list of structs
@@ -10,9 +10,11 @@
 
 #[macro_use]
 pub mod glsl;
+pub mod bindings;
 mod header;
 mod shared;
 
+pub use bindings::*;
 pub use shared::*;
 
 #[cfg(test)]
@@ -46,7 +48,7 @@ mod tests {
     #[test]
     fn header_declares_every_constant_and_struct() {
         let header = glsl_header();
-        assert!(header.contains("const uint TRACE_BINDING_PARAMS = 8u;"));
+        assert!(header.contains("const uint TRACE_GROUP_SIZE = 8u;"));
         assert!(header.contains("const float T_MAX = 1e30;"));
         assert!(header.contains("struct TraceParams {\n    Camera camera;"));
         assert!(header.contains("uint layout_probe_Camera(Camera v, uint i)"));

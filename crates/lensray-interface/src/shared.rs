@@ -97,21 +97,6 @@ shader_interface! {
         TRACE_GROUP_SIZE: u32 = 8;
         PROBE_GROUP_SIZE: u32 = 64;
 
-        /// Scene arrays (shaders/include/scene.glsl), in the set the including shader names.
-        SCENE_BINDING_POSITIONS: u32 = 0;
-        SCENE_BINDING_NORMALS: u32 = 1;
-        SCENE_BINDING_INDICES: u32 = 2;
-        SCENE_BINDING_TRI_INFO: u32 = 3;
-        SCENE_BINDING_MATERIALS: u32 = 4;
-        /// Scene textures (shaders/include/texture.glsl), in the scene's set: per vertex its
-        /// texture coordinates (vec2), the textures (`Texture`), every texture's texels (RGBA8
-        /// in a uint, every mip level).
-        SCENE_BINDING_TEXCOORDS: u32 = 16;
-        SCENE_BINDING_TEXTURES: u32 = 17;
-        SCENE_BINDING_TEXELS: u32 = 18;
-        /// The scene's lights (`Light`, shaders/include/lights.glsl), in the scene's set; a
-        /// scene without lights holds one LIGHT_NONE.
-        SCENE_BINDING_LIGHTS: u32 = 19;
         /// `Light.kind` (`scene::LightKind`).
         LIGHT_NONE: u32 = 0;
         LIGHT_POINT: u32 = 1;
@@ -142,34 +127,6 @@ shader_interface! {
         SURFACE_TEXTURED: u32 = 1;
         SURFACE_ALPHA_TESTED: u32 = 2;
         SPEC_SURFACES: u32 = 0;
-        /// trace.comp: after the scene arrays.
-        TRACE_BINDING_TLAS: u32 = 5;
-        TRACE_BINDING_ACCUM: u32 = 6;
-        TRACE_BINDING_COUNTERS: u32 = 7;
-        TRACE_BINDING_PARAMS: u32 = 8;
-        /// trace.comp, software traversal (shaders/include/hit_software.glsl): the BVH's nodes and its
-        /// triangles in leaf order.
-        TRACE_BINDING_BVH_NODES: u32 = 9;
-        TRACE_BINDING_BVH_TRIANGLES: u32 = 10;
-        /// trace.comp, hybrid path (lensray-vulkan/src/renderer/batch.rs, docs/hybrid.md): one vec4
-        /// per pixel of the whole image: xyz the shortcut value, w the samples to trace (w >= 1:
-        /// samples i < w are traced, later ones skipped) or HYBRID_SHORTCUT (the pixel takes the
-        /// shortcut value, checked by tracing with probability 1 / HYBRID_CHECK_INVERSE).
-        TRACE_BINDING_PLAN: u32 = 11;
-        /// trace.comp, raster path (docs/raster.md): one uint per pixel of
-        /// the whole image, what the raster pass of the current sample sees there: the global
-        /// triangle index + 1, or 0 (nothing).
-        TRACE_BINDING_VISIBILITY: u32 = 12;
-        /// trace.comp, hybrid path, lit: one float per pixel of the whole image, the
-        /// camera-space depth of the surface the G-buffer sees at the pixel centre (0: none),
-        /// written by the plan; the lit shortcut samples reproject through it.
-        TRACE_BINDING_SURFACE_DEPTH: u32 = 13;
-        /// trace.comp: the aperture image's tables (`ApertureImage::table`: the marginal
-        /// cumulative distribution over rows, then each row's over its columns), floats; a
-        /// placeholder when the aperture is no image.
-        TRACE_BINDING_APERTURE: u32 = 14;
-        /// trace.comp: the real lens (`Lens`, camera::real_lens; shaders/include/real_lens.glsl).
-        TRACE_BINDING_LENS: u32 = 15;
         /// Most surfaces of a real lens on the GPU, and the exit pupil's bins
         /// (camera::real_lens::PUPIL_BINS).
         LENS_MAX_SURFACES: u32 = 32;
@@ -227,42 +184,12 @@ shader_interface! {
         HYBRID_PLAN_STEP_COLUMNS: u32 = 2;
         HYBRID_PLAN_STEP_DILATE: u32 = 3;
         HYBRID_PLAN_STEP_ENTRIES: u32 = 4;
-        /// hybrid_plan.comp's bindings: the G-buffer images, the per-tile CoC maxima (then the
-        /// dilated ones), the
-        /// summed-area table of edge marks ((width + 1) x (height + 1) uints), the plan (the
-        /// trace pass's TRACE_BINDING_PLAN buffer).
-        HYBRID_PLAN_BINDING_NORMAL: u32 = 0;
-        HYBRID_PLAN_BINDING_ALBEDO: u32 = 1;
-        HYBRID_PLAN_BINDING_VIEW_DEPTH: u32 = 2;
-        HYBRID_PLAN_BINDING_TILES: u32 = 3;
-        HYBRID_PLAN_BINDING_EDGES: u32 = 4;
-        HYBRID_PLAN_BINDING_PLAN: u32 = 5;
-        /// The trace pass's TRACE_BINDING_SURFACE_DEPTH, written by the entries step.
-        HYBRID_PLAN_BINDING_SURFACE_DEPTH: u32 = 6;
         /// Entries of the software traversal's stack of nodes still to visit; the BVH build
         /// refuses deeper trees (lensray-vulkan/src/scene/bvh.rs).
         BVH_STACK_SIZE: u32 = 64;
-        /// probe.comp.
-        PROBE_BINDING_QUERIES: u32 = 0;
-        PROBE_BINDING_RESULTS: u32 = 1;
-        PROBE_BINDING_CAMERA: u32 = 2;
-        /// The aperture image's tables, as TRACE_BINDING_APERTURE.
-        PROBE_BINDING_APERTURE: u32 = 3;
-        /// The real lens, as TRACE_BINDING_LENS.
-        PROBE_BINDING_LENS: u32 = 4;
-        /// resolve.comp (the preview): the accumulation, the G-buffer images, the display image.
+        /// resolve.comp (the preview): RESOLVE_GROUP_SIZE x RESOLVE_GROUP_SIZE pixels a group.
         RESOLVE_GROUP_SIZE: u32 = 8;
-        RESOLVE_BINDING_ACCUM: u32 = 0;
-        RESOLVE_BINDING_NORMAL: u32 = 1;
-        RESOLVE_BINDING_ALBEDO: u32 = 2;
-        RESOLVE_BINDING_VIEW_DEPTH: u32 = 3;
-        RESOLVE_BINDING_DISPLAY: u32 = 4;
-        /// sampler_cost.comp (the benchmark of sample generation alone).
-        SAMPLER_COST_BINDING_SUMS: u32 = 0;
-        /// spectral.comp (the check of shaders/include/spectral.glsl): per query a vec2 (u, a
-        /// wavelength), per result SPECTRAL_PROBE_RESULT_FLOATS floats.
-        SPECTRAL_PROBE_BINDING_QUERIES: u32 = 0;
-        SPECTRAL_PROBE_BINDING_RESULTS: u32 = 1;
+        /// spectral.comp (the check of shaders/include/spectral.glsl): floats per result.
         SPECTRAL_PROBE_RESULT_FLOATS: u32 = 20;
     }
     // Every struct here is read back by the layout probe (lensray-vulkan/src/probes/layouts.rs) through
@@ -284,7 +211,7 @@ shader_interface! {
             /// The aperture's height over its width.
             aperture_aspect: f32,
             /// Cells of the aperture image (camera::aperture::image) a row and a column; 0: no
-            /// image. Its tables are the storage buffer at APERTURE_TABLE_BINDING.
+            /// image. Its tables are `ApertureGroup`'s `aperture_table`.
             aperture_image_columns: u32,
             aperture_image_rows: u32,
             /// (cos, sin) of the aperture's rotation, which turns an image; zw unused.

@@ -70,11 +70,8 @@ vec2 sample_fan(Camera cam, vec2 u) {
     return p;
 }
 
-#ifdef APERTURE_TABLE_BINDING
-// The aperture image's tables (aperture/image.rs, ApertureImage::table).
-layout(std430, set = 0, binding = APERTURE_TABLE_BINDING) readonly buffer ApertureTable {
-    float aperture_table[];
-};
+#ifdef GROUP_APERTURE
+// The aperture image's tables (aperture/image.rs, ApertureImage::table) are `aperture_table`.
 
 // aperture/image.rs: invert, over the n + 1 values of aperture_table from `start` (a
 // branch-free binary search whose steps depend on n only). Returns the interval and the
@@ -109,7 +106,7 @@ vec2 sample_aperture_image(Camera cam, vec2 u) {
 // aperture/mod.rs: Aperture::unit_point
 vec2 aperture_unit_point(Camera cam, vec2 u) {
     precise vec2 p;
-#ifdef APERTURE_TABLE_BINDING
+#ifdef GROUP_APERTURE
     if (cam.aperture_image_columns > 0u) {
         vec2 q = sample_aperture_image(cam, u);
         vec2 c = cam.aperture_turn.xy;
@@ -190,7 +187,7 @@ Ray first_order_ray(Camera cam, vec2 p_raster, vec2 lens_u) {
     return r;
 }
 
-#ifdef LENS_BINDING
+#ifdef GROUP_LENS
 #include "real_lens.glsl"
 #endif
 

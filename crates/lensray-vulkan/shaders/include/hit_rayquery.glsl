@@ -4,8 +4,6 @@
 #ifndef LENSRAY_HIT_RAYQUERY_GLSL
 #define LENSRAY_HIT_RAYQUERY_GLSL
 
-layout(set = 0, binding = TRACE_BINDING_TLAS) uniform accelerationStructureEXT tlas;
-
 // Confirms the query's candidate triangle where its alpha test lets it stop the ray: only
 // alpha-tested meshes (geometry not marked opaque, scene/accel.rs) give candidates.
 void test_candidate(rayQueryEXT rq, BlendCut cut) {

@@ -10,13 +10,6 @@
 #ifndef LENSRAY_HIT_SOFTWARE_GLSL
 #define LENSRAY_HIT_SOFTWARE_GLSL
 
-layout(std430, set = 0, binding = TRACE_BINDING_BVH_NODES) readonly buffer BvhNodes {
-    BvhNode bvh_nodes[];
-};
-layout(std430, set = 0, binding = TRACE_BINDING_BVH_TRIANGLES) readonly buffer BvhTriangles {
-    BvhTriangle bvh_triangles[];
-};
-
 // Far ends of slab intervals are scaled up by this (1 + 2 gamma(3), Ize 2013) so rounding never
 // culls a box that the triangle test would hit.
 const float SLAB_FAR_SCALE = 1.0000004;

@@ -1,12 +1,8 @@
 // Mirror of lensray-core/src/scene/light.rs, function by function: the scene's punctual lights
-// and the environment's cosine-distributed direction. Include after scene.glsl (SCENE_SET) and
+// and the environment's cosine-distributed direction. Include after scene.glsl and
 // camera.glsl (concentric_sample_disk).
 #ifndef LENSRAY_LIGHTS_GLSL
 #define LENSRAY_LIGHTS_GLSL
-
-layout(std430, set = SCENE_SET, binding = SCENE_BINDING_LIGHTS) readonly buffer Lights {
-    Light lights[];
-};
 
 // light.rs: Incident
 struct Incident {

@@ -1,5 +1,5 @@
 // The surface a raster fragment sees, shared by the G-buffer pass, the view pass and the
-// visibility pass. Declare SCENE_SET before including.
+// visibility pass. Include after the set's header (set_*.glsl).
 #ifndef LENSRAY_RASTER_SURFACE_GLSL
 #define LENSRAY_RASTER_SURFACE_GLSL
 

@@ -2,12 +2,10 @@
 // (`narrow`), function by function: a camera ray from a film point toward the exit pupil's
 // region, refracted through every surface of the lens in the storage buffer `lens` (struct
 // Lens in the generated interface.glsl, written by lensray-vulkan/src/core/conv.rs from the Rust lens).
-// Included by camera.glsl where the shader defines LENS_BINDING (and APERTURE_TABLE_BINDING,
+// Included by camera.glsl where the shader's set holds the lens (GROUP_LENS; and GROUP_APERTURE,
 // whose image the stop reads). `precise`: no fused multiply-adds, Rust's roundings.
 #ifndef LENSRAY_REAL_LENS_GLSL
 #define LENSRAY_REAL_LENS_GLSL
-
-layout(std430, set = 0, binding = LENS_BINDING) readonly buffer LensBlock { Lens lens; };
 
 // trace.rs: LensRay
 struct LensRay {
@@ -206,7 +204,7 @@ bool lens_pass_toward_scene(uint i, inout LensRay ray, float k) {
 // aperture/mod.rs: Aperture::transmission, at a point of the unit shape's plane.
 float aperture_transmission(Camera cam, vec2 p) {
     precise vec2 q = vec2(p.x, p.y / cam.aperture_aspect);
-#ifdef APERTURE_TABLE_BINDING
+#ifdef GROUP_APERTURE
     if (cam.aperture_image_columns > 0u) {
         vec2 c = cam.aperture_turn.xy;
         precise vec2 r = vec2(c.x * q.x + c.y * q.y, c.x * q.y - c.y * q.x);

@@ -1,26 +1,10 @@
 // The scene as the shaders see it (lensray-vulkan/src/core/conv.rs builds these arrays): every mesh
 // concatenated, global vertex indices, one info word per triangle, materials.
-// Declare SCENE_SET before including; bindings SCENE_BINDING_* of that set.
+// Include after the set's header (set_*.glsl), which declares the arrays (SceneGroup).
 #ifndef LENSRAY_SCENE_GLSL
 #define LENSRAY_SCENE_GLSL
 
 #include "interface.glsl"
-
-layout(std430, set = SCENE_SET, binding = SCENE_BINDING_POSITIONS) readonly buffer Positions {
-    vec4 positions[];
-};
-layout(std430, set = SCENE_SET, binding = SCENE_BINDING_NORMALS) readonly buffer Normals {
-    vec4 normals[];
-};
-layout(std430, set = SCENE_SET, binding = SCENE_BINDING_INDICES) readonly buffer Indices {
-    uint indices[];
-};
-layout(std430, set = SCENE_SET, binding = SCENE_BINDING_TRI_INFO) readonly buffer TriInfo {
-    uint tri_info[];
-};
-layout(std430, set = SCENE_SET, binding = SCENE_BINDING_MATERIALS) readonly buffer Materials {
-    Material materials[];
-};
 
 uint triangle_material(uint tri) { return tri_info[tri] & ~TRI_HAS_NORMALS; }
 bool triangle_has_normals(uint tri) { return (tri_info[tri] & TRI_HAS_NORMALS) != 0u; }

@@ -11,11 +11,11 @@
 // spectral.rs: SEARCH_FIRST_STEP
 const uint SPECTRAL_SEARCH_FIRST_STEP = 64u;
 
-// Where the tables are read: a shader with the lens buffer (LENS_BINDING: the trace pass) reads
+// Where the tables are read: a shader with the lens buffer (GROUP_LENS: the trace pass) reads
 // them from Lens.spectral_table, since a constant array indexed by a variable costs lavapipe a
 // copy per invocation (interface::SPECTRAL_AT_*); others (the probe) from the constants. The
 // values are the same floats.
-#ifdef LENS_BINDING
+#ifdef GROUP_LENS
 #define SPECTRAL_TABLE_AT(i) lens.spectral_table[(i) >> 2u][(i) & 3u]
 #define SPECTRAL_CDF_AT(k) SPECTRAL_TABLE_AT(SPECTRAL_AT_CDF + (k))
 #define SPECTRAL_INV_PROBABILITY_AT(k) SPECTRAL_TABLE_AT(SPECTRAL_AT_INV_PROBABILITY + (k))

@@ -2,21 +2,11 @@
 // alpha) and camera/footprint.rs (the pinhole's pixel footprint), function by function: the
 // texels are a storage buffer read with the CPU's arithmetic, so every path filters as the CPU
 // reference does. `precise` keeps the compiler from fusing what Rust rounds twice. Include after
-// scene.glsl (SCENE_SET).
+// scene.glsl (the set's header declares the arrays).
 #ifndef LENSRAY_TEXTURE_GLSL
 #define LENSRAY_TEXTURE_GLSL
 
 #include "sampler.glsl"
-
-layout(std430, set = SCENE_SET, binding = SCENE_BINDING_TEXCOORDS) readonly buffer Texcoords {
-    vec2 texcoords[];
-};
-layout(std430, set = SCENE_SET, binding = SCENE_BINDING_TEXTURES) readonly buffer Textures {
-    Texture textures[];
-};
-layout(std430, set = SCENE_SET, binding = SCENE_BINDING_TEXELS) readonly buffer Texels {
-    uint texels[];
-};
 
 // The SURFACE_* bits any surface the shader meets may have. A pass specialized without one
 // (SPEC_SURFACES) compiles out its texture or alpha code, which CPU drivers would otherwise run

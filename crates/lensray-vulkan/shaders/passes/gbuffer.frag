@@ -1,7 +1,7 @@
 #version 460
 // G-buffer pass, fragment stage: shading normal facing the viewer, albedo (textured), linear view
 // depth; fragments an alpha test removes from the aperture-centre ray are discarded.
-#define SCENE_SET 0
+#include "set_gbuffer.glsl"
 #include "raster_surface.glsl"
 
 layout(push_constant) uniform PushBlock { RasterPush pc; };

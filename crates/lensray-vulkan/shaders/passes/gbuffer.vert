@@ -1,7 +1,7 @@
 #version 460
 // G-buffer pass, vertex stage: pulls triangle corners from the scene arrays (non-indexed draw of
 // 3 vertices per triangle) and projects them with the Rust camera's clip_from_world().
-#define SCENE_SET 0
+#include "set_gbuffer.glsl"
 #include "scene.glsl"
 #include "texture.glsl"
 

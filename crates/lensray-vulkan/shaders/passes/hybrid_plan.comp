@@ -12,26 +12,15 @@
 //   DILATE   per tile: its dilated CoC (maximum of the tiles that reach it);
 //   ENTRIES  per row segment (a tile row: its pixels share the tile's CoC): per pixel the
 //            shortcut or the sample count, the segment's shared decision, the plan entries
-//            (TRACE_BINDING_PLAN).
+//            (the trace pass's `plan`).
 // Arithmetic that decides is written as the host writes it (no contraction: `precise`), so the
 // plans are equal (tests/hybrid.rs).
 
+#include "set_hybrid_plan.glsl"
 #include "camera.glsl"
 
 layout(local_size_x = HYBRID_PLAN_GROUP_SIZE) in;
 
-
-layout(set = 0, binding = HYBRID_PLAN_BINDING_NORMAL, rgba32f) readonly uniform image2D g_normal;
-layout(set = 0, binding = HYBRID_PLAN_BINDING_ALBEDO, rgba32f) readonly uniform image2D g_albedo;
-layout(set = 0, binding = HYBRID_PLAN_BINDING_VIEW_DEPTH, r32f) readonly uniform image2D g_depth;
-layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_TILES) buffer Tiles { float tile_max[]; };
-layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_EDGES) buffer Edges { uint table[]; };
-// Lit, the pre-pass (trace.comp's TRACE_MODE_SHORTCUT) left each pixel's shortcut value in xyz
-// and its shadow state in w; ENTRIES writes the entries over them (keeping xyz).
-layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_PLAN) buffer Plan { vec4 plan[]; };
-layout(std430, set = 0, binding = HYBRID_PLAN_BINDING_SURFACE_DEPTH) writeonly buffer SurfaceDepth {
-    float surface_depth[];
-};
 layout(push_constant) uniform PushBlock { HybridPlanPush pc; };
 
 const int REACH = int(HYBRID_MAX_REACH_TILES);

@@ -18,27 +18,19 @@
 #error "define TRAVERSAL_RAY_QUERY or TRAVERSAL_SOFTWARE"
 #endif
 
-#define APERTURE_TABLE_BINDING TRACE_BINDING_APERTURE
-#define LENS_BINDING TRACE_BINDING_LENS
+#if defined(TRAVERSAL_RAY_QUERY)
+#include "set_trace_rayquery.glsl"
+#else
+#include "set_trace_software.glsl"
+#endif
 #include "camera.glsl"
 #include "sampler.glsl"
 #include "spectral.glsl"
-#define SCENE_SET 0
 #include "scene.glsl"
 #include "texture.glsl"
 
 layout(local_size_x = TRACE_GROUP_SIZE, local_size_y = TRACE_GROUP_SIZE) in;
 
-layout(std430, set = 0, binding = TRACE_BINDING_ACCUM) buffer Accum { vec4 accum[]; };
-layout(std430, set = 0, binding = TRACE_BINDING_COUNTERS) buffer Counters { uint rays_traced; };
-layout(std140, set = 0, binding = TRACE_BINDING_PARAMS) uniform ParamsBlock { TraceParams params; };
-layout(std430, set = 0, binding = TRACE_BINDING_PLAN) buffer Plan { vec4 plan[]; };
-layout(std430, set = 0, binding = TRACE_BINDING_VISIBILITY) readonly buffer Visibility {
-    uint visibility[];
-};
-layout(std430, set = 0, binding = TRACE_BINDING_SURFACE_DEPTH) readonly buffer SurfaceDepth {
-    float surface_depth[];
-};
 layout(push_constant) uniform PushBlock { TracePush pc; };
 
 // What the hit implementations return: the global triangle index (as `instance custom index +

@@ -3,7 +3,7 @@
 // shading pass (trace.comp, TRACE_MODE_RASTER) shades it along the sample's lens ray. Fragments
 // the alpha test removes from the sample's camera ray (the key its traced twin has) are
 // discarded, so the depth test keeps the nearest surface that stops the ray.
-#define SCENE_SET 0
+#include "set_visibility.glsl"
 #include "raster_surface.glsl"
 
 layout(push_constant) uniform PushBlock { VisibilityPush pc; };

@@ -3,7 +3,7 @@
 // arrays (non-indexed draw of 3 vertices per triangle) and projects them through one lens point
 // with Camera::clip_from_world_through_lens. The triangle index goes to the fragment stage as a
 // flat varying (gl_PrimitiveID there would need the geometry-shader feature).
-#define SCENE_SET 0
+#include "set_visibility.glsl"
 #include "scene.glsl"
 #include "texture.glsl"
 

@@ -4,15 +4,11 @@
 // accumulation has not reached yet show the G-buffer's albedo (the pinhole view) meanwhile.
 // The encodings are views.glsl's.
 
+#include "set_resolve.glsl"
 #include "views.glsl"
 
 layout(local_size_x = RESOLVE_GROUP_SIZE, local_size_y = RESOLVE_GROUP_SIZE) in;
 
-layout(std430, set = 0, binding = RESOLVE_BINDING_ACCUM) readonly buffer Accum { vec4 accum[]; };
-layout(set = 0, binding = RESOLVE_BINDING_NORMAL, rgba32f) readonly uniform image2D g_normal;
-layout(set = 0, binding = RESOLVE_BINDING_ALBEDO, rgba32f) readonly uniform image2D g_albedo;
-layout(set = 0, binding = RESOLVE_BINDING_VIEW_DEPTH, r32f) readonly uniform image2D g_depth;
-layout(set = 0, binding = RESOLVE_BINDING_DISPLAY, rgba8) writeonly uniform image2D display;
 layout(push_constant) uniform PushBlock { ResolvePush pc; };
 
 void main() {

@@ -5,7 +5,7 @@
 // so each fragment has the values the G-buffer would store and shows what resolve.comp would
 // show for them (views.glsl).
 
-#define SCENE_SET 0
+#include "set_view.glsl"
 #include "raster_surface.glsl"
 #include "views.glsl"
 

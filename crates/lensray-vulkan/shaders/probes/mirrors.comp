@@ -2,8 +2,7 @@
 // Mirror check: evaluates shaders/include/sampler.glsl and shaders/include/camera.glsl for a list of queries so
 // tests can compare them with lensray-core/src/sampler.rs and lensray-core/src/camera bit for bit.
 #include "interface.glsl"
-#define APERTURE_TABLE_BINDING PROBE_BINDING_APERTURE
-#define LENS_BINDING PROBE_BINDING_LENS
+#include "set_mirror_probe.glsl"
 #include "camera.glsl"
 #include "sampler.glsl"
 
@@ -11,9 +10,6 @@ layout(local_size_x = PROBE_GROUP_SIZE) in;
 
 // struct ProbeQuery and ProbeResult: the generated interface.glsl.
 
-layout(std430, set = 0, binding = PROBE_BINDING_QUERIES) readonly buffer Queries { ProbeQuery queries[]; };
-layout(std430, set = 0, binding = PROBE_BINDING_RESULTS) writeonly buffer Results { ProbeResult results[]; };
-layout(std140, set = 0, binding = PROBE_BINDING_CAMERA) uniform CameraBlock { Camera cam; };
 layout(push_constant) uniform Push { uint count; } pc;
 
 void main() {

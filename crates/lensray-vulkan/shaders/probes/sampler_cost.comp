@@ -1,13 +1,11 @@
 #version 460
 // The cost of sample generation alone: trace.comp's per-pixel sample loop with the ray
 // generation and tracing left out. The sums are written so that nothing is optimised away.
+#include "set_sampler_cost.glsl"
 #include "sampler.glsl"
 
 layout(local_size_x = TRACE_GROUP_SIZE, local_size_y = TRACE_GROUP_SIZE) in;
 
-layout(std430, set = 0, binding = SAMPLER_COST_BINDING_SUMS) writeonly buffer Sums {
-    vec4 sums[];
-};
 layout(push_constant) uniform PushBlock { SamplerCostPush pc; };
 
 void main() {

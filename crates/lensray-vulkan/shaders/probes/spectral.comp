@@ -2,19 +2,11 @@
 // Mirror check of shaders/include/spectral.glsl: for each query (u, a wavelength) the wavelength
 // of u, the weight at that wavelength and the weight at the given one, so that tests can compare
 // them with lensray-core/src/film/spectral.rs bit for bit.
-#include "interface.glsl"
+#include "set_spectral_probe.glsl"
 #include "spectral.glsl"
 
 layout(local_size_x = PROBE_GROUP_SIZE) in;
 
-layout(std430, set = 0, binding = SPECTRAL_PROBE_BINDING_QUERIES) readonly buffer Queries {
-    vec2 queries[];
-};
-// Per query SPECTRAL_PROBE_RESULT_FLOATS floats: sample_wavelength(u), the interval as a float,
-// rgb_weights(that wavelength) column by column, rgb_weights(the given wavelength), unused.
-layout(std430, set = 0, binding = SPECTRAL_PROBE_BINDING_RESULTS) writeonly buffer Results {
-    float results[];
-};
 layout(push_constant) uniform Push { uint count; } pc;
 
 void write_matrix(uint at, mat3 m) {

@@ -5,6 +5,7 @@
 pub(crate) mod adapter;
 pub(crate) mod buffer;
 pub(crate) mod counters;
+pub(crate) mod descriptors;
 pub(crate) mod device;
 pub(crate) mod error;
 pub(crate) mod image;

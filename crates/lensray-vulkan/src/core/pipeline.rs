@@ -5,18 +5,21 @@ use std::time::Instant;
 
 use ash::vk;
 
-use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::{pipeline_err, vk_err, GpuError};
 use crate::core::shader::ShaderModule;
-use lensray_core::interface::SPEC_SURFACES;
+use lensray_core::interface::{SetDecl, SPEC_SURFACES};
 
-/// One descriptor of a pipeline's set: binding number (from `lensray_core::interface`), type, stages.
+/// One descriptor of a pipeline's set: binding number, type, stages (`descriptors::layout_of`
+/// makes them from a set's declaration).
 pub(crate) type Binding = (u32, vk::DescriptorType, vk::ShaderStageFlags);
 
 /// A pipeline, its layout, and one descriptor set (with its layout and pool).
 pub(crate) struct Pipeline {
-    ctx: Arc<Context>,
+    pub(super) ctx: Arc<Context>,
+    /// The declaration of its descriptor set (`None`: bindings from elsewhere, the layout
+    /// probe's).
+    pub(super) set_decl: Option<&'static SetDecl>,
     /// The pipeline; of a graphics pipeline with surface variants, the one for all of them
     /// (the general code).
     pub pipeline: vk::Pipeline,
@@ -47,7 +50,7 @@ pub(crate) struct GraphicsDesc<'a> {
 
 impl Pipeline {
     /// Layout objects first, then the pipeline; on error `Drop` cleans up what exists.
-    fn with_layout(
+    pub(super) fn with_layout(
         ctx: &Arc<Context>,
         bindings: &[Binding],
         push_size: u32,
@@ -56,6 +59,7 @@ impl Pipeline {
     ) -> Result<Self, GpuError> {
         let mut this = Self {
             ctx: ctx.clone(),
+            set_decl: None,
             pipeline: vk::Pipeline::null(),
             surface_variants: 0,
             variants: Vec::new(),
@@ -119,22 +123,35 @@ impl Pipeline {
         Ok(this)
     }
 
+    /// A compute pipeline of `spirv` whose descriptor set is `set`.
     pub(crate) fn compute(
         ctx: &Arc<Context>,
+        set: &'static SetDecl,
         spirv: &[u8],
-        bindings: &[Binding],
-        push_size: u32,
     ) -> Result<Self, GpuError> {
-        Self::compute_specialized(ctx, spirv, bindings, push_size, None)
+        Self::compute_specialized(ctx, set, spirv, None)
     }
 
     /// A compute pipeline whose SPEC_SURFACES is `surfaces` (`None`: the shader's default).
     pub(crate) fn compute_specialized(
         ctx: &Arc<Context>,
+        set: &'static SetDecl,
+        spirv: &[u8],
+        surfaces: Option<u32>,
+    ) -> Result<Self, GpuError> {
+        let mut this = Self::with_set(ctx, set, vk::PipelineBindPoint::COMPUTE)?;
+        this.pipeline = create_compute(ctx, spirv, this.layout, surfaces)?;
+        Ok(this)
+    }
+
+    /// A compute pipeline over bindings made elsewhere than a set declaration: the layout
+    /// probe's, generated from the list of shared structs.
+    #[cfg(feature = "probes")]
+    pub(crate) fn compute_with_bindings(
+        ctx: &Arc<Context>,
         spirv: &[u8],
         bindings: &[Binding],
         push_size: u32,
-        surfaces: Option<u32>,
     ) -> Result<Self, GpuError> {
         let mut this = Self::with_layout(
             ctx,
@@ -143,7 +160,7 @@ impl Pipeline {
             vk::ShaderStageFlags::COMPUTE,
             vk::PipelineBindPoint::COMPUTE,
         )?;
-        this.pipeline = create_compute(ctx, spirv, this.layout, surfaces)?;
+        this.pipeline = create_compute(ctx, spirv, this.layout, None)?;
         Ok(this)
     }
 
@@ -162,17 +179,10 @@ impl Pipeline {
     /// vkCreateGraphicsPipelines call); [`Self::bind_surfaces`] picks one.
     pub(crate) fn graphics(
         ctx: &Arc<Context>,
+        set: &'static SetDecl,
         desc: &GraphicsDesc<'_>,
-        bindings: &[Binding],
-        push_size: u32,
     ) -> Result<Self, GpuError> {
-        let mut this = Self::with_layout(
-            ctx,
-            bindings,
-            push_size,
-            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-            vk::PipelineBindPoint::GRAPHICS,
-        )?;
+        let mut this = Self::with_set(ctx, set, vk::PipelineBindPoint::GRAPHICS)?;
         ctx.announce_compile();
         let start = Instant::now();
         let vert = ShaderModule::new(ctx, desc.vert)?;
@@ -221,50 +231,6 @@ impl Pipeline {
         }
         ctx.counters.made_pipeline(start.elapsed());
         Ok(this)
-    }
-
-    /// Points binding `binding` at `buffer` (storage or uniform, whole buffer).
-    pub(crate) fn bind_buffer(&self, binding: u32, ty: vk::DescriptorType, buffer: &Buffer) {
-        let info = [vk::DescriptorBufferInfo::default()
-            .buffer(buffer.buffer)
-            .offset(0)
-            .range(vk::WHOLE_SIZE)];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(ty)
-            .buffer_info(&info);
-        // SAFETY: no submission using the set is pending (every submission is waited for).
-        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
-    }
-
-    /// Points binding `binding` at a storage image `view` (in GENERAL layout when used).
-    pub(crate) fn bind_storage_image(&self, binding: u32, view: vk::ImageView) {
-        let info = [vk::DescriptorImageInfo::default()
-            .image_view(view)
-            .image_layout(vk::ImageLayout::GENERAL)];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-            .image_info(&info);
-        // SAFETY: the set is not in use by a pending command buffer (callers rebind only
-        // between frames, after waiting) and the view is live.
-        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
-    }
-
-    pub(crate) fn bind_accel(&self, binding: u32, accel: vk::AccelerationStructureKHR) {
-        let handles = [accel];
-        let mut accel_info = vk::WriteDescriptorSetAccelerationStructureKHR::default()
-            .acceleration_structures(&handles);
-        let mut write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
-            .push_next(&mut accel_info);
-        write.descriptor_count = 1;
-        // SAFETY: as in `bind_buffer`; the count is set explicitly for the extension struct.
-        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
     }
 
     /// Binds the pipeline and its set, and pushes `push` (if non-empty).

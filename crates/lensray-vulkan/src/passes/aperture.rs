@@ -9,10 +9,13 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::core::buffer::Buffer;
+use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
+use crate::core::pipeline::Pipeline;
 use lensray_core::camera::aperture::ApertureImage;
 use lensray_core::camera::Camera;
+use lensray_core::interface::ApertureGroup;
 
 pub(crate) struct ApertureTable {
     ctx: Arc<Context>,
@@ -22,6 +25,13 @@ pub(crate) struct ApertureTable {
 }
 
 impl ApertureTable {
+    /// Points `pipeline`'s `ApertureGroup` at the buffer.
+    pub(crate) fn bind(&self, pipeline: &Pipeline) {
+        pipeline.bind_group(&ApertureGroup::<Gpu> {
+            aperture_table: &self.buffer,
+        });
+    }
+
     pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         Ok(ApertureTable {
             ctx: ctx.clone(),

@@ -22,7 +22,7 @@ use crate::passes::draw::{
 };
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
-use lensray_core::interface::{RasterPush, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED};
+use lensray_core::interface::{DescriptorSet, GBufferSet, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED};
 
 /// The G-buffer read back to the host; row-major, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -172,6 +172,7 @@ impl GBufferPass {
             SceneRenderPass::new(ctx, &[NORMAL_FORMAT, ALBEDO_FORMAT, VIEW_DEPTH_FORMAT])?;
         let pipeline = Pipeline::graphics(
             ctx,
+            GBufferSet::DECL,
             &GraphicsDesc {
                 vert: shader::GBUFFER_VERT,
                 frag: shader::GBUFFER_FRAG,
@@ -180,8 +181,6 @@ impl GBufferPass {
                 depth_compare: vk::CompareOp::LESS,
                 surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED,
             },
-            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
-            std::mem::size_of::<RasterPush>() as u32,
         )?;
         Ok(Self {
             ctx: ctx.clone(),

@@ -9,6 +9,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::{barrier, Buffer};
+use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::image::{transition, Transition};
@@ -17,9 +18,7 @@ use crate::core::shader;
 use crate::passes::gbuffer::GBufferTargets;
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
-    HybridPlanPush, HYBRID_PLAN_BINDING_ALBEDO, HYBRID_PLAN_BINDING_EDGES,
-    HYBRID_PLAN_BINDING_NORMAL, HYBRID_PLAN_BINDING_PLAN, HYBRID_PLAN_BINDING_SURFACE_DEPTH,
-    HYBRID_PLAN_BINDING_TILES, HYBRID_PLAN_BINDING_VIEW_DEPTH, HYBRID_PLAN_GROUP_SIZE,
+    DescriptorSet, HybridPlanGroup, HybridPlanPush, HybridPlanSet, HYBRID_PLAN_GROUP_SIZE,
     HYBRID_PLAN_STEP_COLUMNS, HYBRID_PLAN_STEP_DILATE, HYBRID_PLAN_STEP_ENTRIES,
     HYBRID_PLAN_STEP_ROWS, HYBRID_PLAN_STEP_TILES, HYBRID_SEGMENT, HYBRID_TILE, SHADING_LIT,
     SHADING_UNLIT,
@@ -49,24 +48,7 @@ pub(crate) struct HybridPlanPass {
 
 impl HybridPlanPass {
     pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let compute = vk::ShaderStageFlags::COMPUTE;
-        let image = vk::DescriptorType::STORAGE_IMAGE;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let bindings = [
-            (HYBRID_PLAN_BINDING_NORMAL, image, compute),
-            (HYBRID_PLAN_BINDING_ALBEDO, image, compute),
-            (HYBRID_PLAN_BINDING_VIEW_DEPTH, image, compute),
-            (HYBRID_PLAN_BINDING_TILES, storage, compute),
-            (HYBRID_PLAN_BINDING_EDGES, storage, compute),
-            (HYBRID_PLAN_BINDING_PLAN, storage, compute),
-            (HYBRID_PLAN_BINDING_SURFACE_DEPTH, storage, compute),
-        ];
-        let pipeline = Pipeline::compute(
-            ctx,
-            shader::HYBRID_PLAN_COMP,
-            &bindings,
-            std::mem::size_of::<HybridPlanPush>() as u32,
-        )?;
+        let pipeline = Pipeline::compute(ctx, HybridPlanSet::DECL, shader::HYBRID_PLAN_COMP)?;
         Ok(Self {
             ctx: ctx.clone(),
             pipeline,
@@ -119,15 +101,15 @@ impl HybridPlanPass {
             });
         }
         let scratch = self.scratch.as_ref().expect("created above");
-        let p = &self.pipeline;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        p.bind_storage_image(HYBRID_PLAN_BINDING_NORMAL, targets.normal.view);
-        p.bind_storage_image(HYBRID_PLAN_BINDING_ALBEDO, targets.albedo.view);
-        p.bind_storage_image(HYBRID_PLAN_BINDING_VIEW_DEPTH, targets.view_depth.view);
-        p.bind_buffer(HYBRID_PLAN_BINDING_TILES, storage, &scratch.tiles);
-        p.bind_buffer(HYBRID_PLAN_BINDING_EDGES, storage, &scratch.edges);
-        p.bind_buffer(HYBRID_PLAN_BINDING_PLAN, storage, plan);
-        p.bind_buffer(HYBRID_PLAN_BINDING_SURFACE_DEPTH, storage, surface_depth);
+        self.pipeline.bind_group(&HybridPlanGroup::<Gpu> {
+            g_normal: targets.normal.view,
+            g_albedo: targets.albedo.view,
+            g_depth: targets.view_depth.view,
+            tiles: &scratch.tiles,
+            edges: &scratch.edges,
+            plan,
+            surface_depth,
+        });
         Ok(())
     }
 

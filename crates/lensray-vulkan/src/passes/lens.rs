@@ -8,10 +8,12 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::core::buffer::Buffer;
+use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
+use crate::core::pipeline::Pipeline;
 use lensray_core::camera::{Camera, RealLens};
-use lensray_core::interface::GpuLens;
+use lensray_core::interface::{GpuLens, LensGroup};
 
 pub(crate) struct LensBuffer {
     ctx: Arc<Context>,
@@ -21,6 +23,11 @@ pub(crate) struct LensBuffer {
 }
 
 impl LensBuffer {
+    /// Points `pipeline`'s `LensGroup` at the buffer.
+    pub(crate) fn bind(&self, pipeline: &Pipeline) {
+        pipeline.bind_group(&LensGroup::<Gpu> { lens: &self.buffer });
+    }
+
     pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         Ok(LensBuffer {
             ctx: ctx.clone(),

@@ -24,21 +24,21 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::Buffer;
+use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::pipeline::{Binding, Pipeline};
+use crate::core::pipeline::Pipeline;
 use crate::core::query::QueryPool;
 use crate::core::shader;
 use crate::passes::aperture::ApertureTable;
 use crate::passes::films::DeviceFilms;
 use crate::passes::lens::LensBuffer;
-use crate::scene::{BvhBuffers, SceneBuffers};
+use crate::scene::SceneBuffers;
 use crate::traversal::Traversal;
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
-    TraceParams, TracePush, TRACE_BINDING_ACCUM, TRACE_BINDING_APERTURE, TRACE_BINDING_COUNTERS,
-    TRACE_BINDING_LENS, TRACE_BINDING_PARAMS, TRACE_BINDING_PLAN, TRACE_BINDING_SURFACE_DEPTH,
-    TRACE_BINDING_TLAS, TRACE_BINDING_VISIBILITY,
+    AccumulationGroup, DescriptorSet, HybridTraceGroup, RasterTraceGroup, TlasGroup, TraceGroup,
+    TraceParams, TraceRayQuerySet, TraceSoftwareSet,
 };
 
 use accumulate::BandSums;
@@ -70,11 +70,11 @@ pub(crate) struct TracePass {
     current: usize,
     params: Buffer,
     counters: Buffer,
-    /// The hybrid path's plan (one vec4 per pixel, see TRACE_BINDING_PLAN); a placeholder of
+    /// The hybrid path's plan (one vec4 per pixel, `HybridTraceGroup`); a placeholder of
     /// one entry while none is set (the binding must be valid in every mode).
     plan: Buffer,
     /// Per pixel of the plan: the camera-space depth of the surface the G-buffer sees (0:
-    /// none), from the device plan (TRACE_BINDING_SURFACE_DEPTH).
+    /// none), from the device plan (`HybridTraceGroup`).
     surface_depth: Buffer,
     /// Pixels of the plan the device plan pass wrote (`use_device_plan`); `None`: no plan.
     plan_pixels: Option<u64>,
@@ -89,9 +89,9 @@ pub(crate) struct TracePass {
     accum: Option<BandSums>,
     /// The accumulations' sums on the device.
     pub films: DeviceFilms,
-    /// The aperture image's tables (TRACE_BINDING_APERTURE).
+    /// The aperture image's tables (`ApertureGroup`).
     aperture: ApertureTable,
-    /// The real lens (TRACE_BINDING_LENS).
+    /// The real lens (`LensGroup`).
     lens: LensBuffer,
     /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
     pub samples_per_dispatch: u64,
@@ -155,21 +155,24 @@ impl TracePass {
         let accum_placeholder = placeholder("trace accumulation placeholder")?;
         let aperture = ApertureTable::new(ctx)?;
         let lens = LensBuffer::new(ctx)?;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
         for p in &pipelines {
             let pipeline = &p.pipeline;
-            pipeline.bind_buffer(
-                TRACE_BINDING_PARAMS,
-                vk::DescriptorType::UNIFORM_BUFFER,
-                &params,
-            );
-            pipeline.bind_buffer(TRACE_BINDING_COUNTERS, storage, &counters);
-            pipeline.bind_buffer(TRACE_BINDING_ACCUM, storage, &accum_placeholder);
-            pipeline.bind_buffer(TRACE_BINDING_PLAN, storage, &plan);
-            pipeline.bind_buffer(TRACE_BINDING_SURFACE_DEPTH, storage, &surface_depth);
-            pipeline.bind_buffer(TRACE_BINDING_VISIBILITY, storage, &visibility);
-            pipeline.bind_buffer(TRACE_BINDING_APERTURE, storage, &aperture.buffer);
-            pipeline.bind_buffer(TRACE_BINDING_LENS, storage, &lens.buffer);
+            pipeline.bind_group(&TraceGroup::<Gpu> {
+                params: &params,
+                counters: &counters,
+            });
+            pipeline.bind_group(&AccumulationGroup::<Gpu> {
+                accum: &accum_placeholder,
+            });
+            pipeline.bind_group(&HybridTraceGroup::<Gpu> {
+                plan: &plan,
+                surface_depth: &surface_depth,
+            });
+            pipeline.bind_group(&RasterTraceGroup::<Gpu> {
+                visibility: &visibility,
+            });
+            aperture.bind(pipeline);
+            lens.bind(pipeline);
         }
         let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
         Ok(Self {
@@ -221,16 +224,10 @@ impl TracePass {
             self.plan = Self::plan_buffer(&self.ctx, bytes)?;
             self.surface_depth = Self::surface_depth_buffer(&self.ctx, bytes / 4)?;
             for p in &self.pipelines {
-                p.pipeline.bind_buffer(
-                    TRACE_BINDING_PLAN,
-                    vk::DescriptorType::STORAGE_BUFFER,
-                    &self.plan,
-                );
-                p.pipeline.bind_buffer(
-                    TRACE_BINDING_SURFACE_DEPTH,
-                    vk::DescriptorType::STORAGE_BUFFER,
-                    &self.surface_depth,
-                );
+                p.pipeline.bind_group(&HybridTraceGroup::<Gpu> {
+                    plan: &self.plan,
+                    surface_depth: &self.surface_depth,
+                });
             }
         }
         Ok(())
@@ -251,11 +248,8 @@ impl TracePass {
     /// the visibility pass, which outlives the pass's use of it).
     pub(crate) fn bind_visibility(&self, buffer: &Buffer) {
         for p in &self.pipelines {
-            p.pipeline.bind_buffer(
-                TRACE_BINDING_VISIBILITY,
-                vk::DescriptorType::STORAGE_BUFFER,
-                buffer,
-            );
+            p.pipeline
+                .bind_group(&RasterTraceGroup::<Gpu> { visibility: buffer });
         }
     }
 
@@ -290,65 +284,11 @@ impl TracePass {
     /// the pass's own buffers.
     /// Specialized for scenes without textures or alpha tests until `bind_scene` says otherwise.
     fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
-        let compute = vk::ShaderStageFlags::COMPUTE;
-        let mut bindings: Vec<Binding> = SceneBuffers::bindings(compute).to_vec();
-        match traversal {
-            Traversal::RayQuery => bindings.push((
-                TRACE_BINDING_TLAS,
-                vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
-                compute,
-            )),
-            Traversal::Software => bindings.extend(BvhBuffers::bindings(compute)),
-        }
-        bindings.extend([
-            (
-                TRACE_BINDING_ACCUM,
-                vk::DescriptorType::STORAGE_BUFFER,
-                compute,
-            ),
-            (
-                TRACE_BINDING_COUNTERS,
-                vk::DescriptorType::STORAGE_BUFFER,
-                compute,
-            ),
-            (
-                TRACE_BINDING_PARAMS,
-                vk::DescriptorType::UNIFORM_BUFFER,
-                compute,
-            ),
-            (
-                TRACE_BINDING_PLAN,
-                vk::DescriptorType::STORAGE_BUFFER,
-                compute,
-            ),
-            (
-                TRACE_BINDING_VISIBILITY,
-                vk::DescriptorType::STORAGE_BUFFER,
-                compute,
-            ),
-            (
-                TRACE_BINDING_SURFACE_DEPTH,
-                vk::DescriptorType::STORAGE_BUFFER,
-                compute,
-            ),
-            (
-                TRACE_BINDING_APERTURE,
-                vk::DescriptorType::STORAGE_BUFFER,
-                compute,
-            ),
-            (
-                TRACE_BINDING_LENS,
-                vk::DescriptorType::STORAGE_BUFFER,
-                compute,
-            ),
-        ]);
-        Pipeline::compute_specialized(
-            ctx,
-            trace_spirv(traversal),
-            &bindings,
-            std::mem::size_of::<TracePush>() as u32,
-            Some(0),
-        )
+        let set = match traversal {
+            Traversal::RayQuery => TraceRayQuerySet::DECL,
+            Traversal::Software => TraceSoftwareSet::DECL,
+        };
+        Pipeline::compute_specialized(ctx, set, trace_spirv(traversal), Some(0))
     }
 
     /// The traversals this pass can trace with.
@@ -399,7 +339,9 @@ impl TracePass {
             match p.traversal {
                 Traversal::RayQuery => {
                     if let Some(accel) = &scene.accel {
-                        p.pipeline.bind_accel(TRACE_BINDING_TLAS, accel.tlas.handle);
+                        p.pipeline.bind_group(&TlasGroup::<Gpu> {
+                            tlas: accel.tlas.handle,
+                        });
                     }
                 }
                 Traversal::Software => {
@@ -416,18 +358,14 @@ impl TracePass {
     /// `ApertureTable::ensure`, `LensBuffer::ensure`), binding them anew when they change.
     /// Called before recording work with `camera`'s parameters.
     pub(crate) fn ensure_camera_tables(&mut self, camera: &Camera) -> Result<(), GpuError> {
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
         if self.aperture.ensure(camera)? {
             for p in &self.pipelines {
-                let buffer = &self.aperture.buffer;
-                p.pipeline
-                    .bind_buffer(TRACE_BINDING_APERTURE, storage, buffer);
+                self.aperture.bind(&p.pipeline);
             }
         }
         if self.lens.ensure(camera)? {
             for p in &self.pipelines {
-                p.pipeline
-                    .bind_buffer(TRACE_BINDING_LENS, storage, &self.lens.buffer);
+                self.lens.bind(&p.pipeline);
             }
         }
         Ok(())
@@ -442,11 +380,8 @@ impl TracePass {
     /// Points every pipeline's accumulation binding at `buffer`.
     fn bind_accum_buffer(&self, buffer: &Buffer) {
         for p in &self.pipelines {
-            p.pipeline.bind_buffer(
-                TRACE_BINDING_ACCUM,
-                vk::DescriptorType::STORAGE_BUFFER,
-                buffer,
-            );
+            p.pipeline
+                .bind_group(&AccumulationGroup::<Gpu> { accum: buffer });
         }
     }
 

@@ -20,7 +20,7 @@ use crate::passes::draw::{
 };
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
-use lensray_core::interface::{VisibilityPush, SURFACE_ALPHA_TESTED};
+use lensray_core::interface::{DescriptorSet, VisibilityPush, VisibilitySet, SURFACE_ALPHA_TESTED};
 use lensray_core::sampler::{pixel_camera_sample, shared_pixel_sampler};
 use lensray_core::settings::RenderSettings;
 
@@ -101,6 +101,7 @@ impl VisibilityPass {
         let render_pass = SceneRenderPass::new(ctx, &[TRIANGLE_FORMAT])?;
         let pipeline = Pipeline::graphics(
             ctx,
+            VisibilitySet::DECL,
             &GraphicsDesc {
                 vert: shader::VISIBILITY_VERT,
                 frag: shader::VISIBILITY_FRAG,
@@ -109,8 +110,6 @@ impl VisibilityPass {
                 depth_compare: vk::CompareOp::GREATER,
                 surface_variants: SURFACE_ALPHA_TESTED,
             },
-            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
-            std::mem::size_of::<VisibilityPush>() as u32,
         )?;
         Ok(Self {
             ctx: ctx.clone(),

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::core::buffer::Buffer;
+use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::image::{transition, DeviceImage, Transition};
@@ -13,8 +14,7 @@ use crate::core::pipeline::Pipeline;
 use crate::core::shader;
 use crate::passes::gbuffer::GBufferTargets;
 use lensray_core::interface::{
-    ResolvePush, RESOLVE_BINDING_ACCUM, RESOLVE_BINDING_ALBEDO, RESOLVE_BINDING_DISPLAY,
-    RESOLVE_BINDING_NORMAL, RESOLVE_BINDING_VIEW_DEPTH, RESOLVE_GROUP_SIZE,
+    DescriptorSet, ResolveGroup, ResolvePush, ResolveSet, RESOLVE_GROUP_SIZE,
 };
 
 /// rgba8 in resolve.comp; sRGB-encoded values, as in lensray's PNGs.
@@ -29,25 +29,7 @@ pub(crate) struct ResolvePass {
 
 impl ResolvePass {
     pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let compute = vk::ShaderStageFlags::COMPUTE;
-        let image = vk::DescriptorType::STORAGE_IMAGE;
-        let bindings = [
-            (
-                RESOLVE_BINDING_ACCUM,
-                vk::DescriptorType::STORAGE_BUFFER,
-                compute,
-            ),
-            (RESOLVE_BINDING_NORMAL, image, compute),
-            (RESOLVE_BINDING_ALBEDO, image, compute),
-            (RESOLVE_BINDING_VIEW_DEPTH, image, compute),
-            (RESOLVE_BINDING_DISPLAY, image, compute),
-        ];
-        let pipeline = Pipeline::compute(
-            ctx,
-            shader::RESOLVE_COMP,
-            &bindings,
-            std::mem::size_of::<ResolvePush>() as u32,
-        )?;
+        let pipeline = Pipeline::compute(ctx, ResolveSet::DECL, shader::RESOLVE_COMP)?;
         Ok(Self {
             ctx: ctx.clone(),
             pipeline,
@@ -74,16 +56,13 @@ impl ResolvePass {
             vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
             vk::ImageAspectFlags::COLOR,
         )?;
-        let p = &self.pipeline;
-        p.bind_buffer(
-            RESOLVE_BINDING_ACCUM,
-            vk::DescriptorType::STORAGE_BUFFER,
+        self.pipeline.bind_group(&ResolveGroup::<Gpu> {
             accum,
-        );
-        p.bind_storage_image(RESOLVE_BINDING_NORMAL, targets.normal.view);
-        p.bind_storage_image(RESOLVE_BINDING_ALBEDO, targets.albedo.view);
-        p.bind_storage_image(RESOLVE_BINDING_VIEW_DEPTH, targets.view_depth.view);
-        p.bind_storage_image(RESOLVE_BINDING_DISPLAY, display.view);
+            g_normal: targets.normal.view,
+            g_albedo: targets.albedo.view,
+            g_depth: targets.view_depth.view,
+            display: display.view,
+        });
         self.display = Some(display);
         Ok(())
     }

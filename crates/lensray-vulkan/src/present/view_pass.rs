@@ -22,7 +22,8 @@ use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
 use lensray_core::film::colour::linear_to_srgb;
 use lensray_core::interface::{
-    ViewParams, ViewPush, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED, VIEW_ALBEDO, VIEW_FINAL,
+    DescriptorSet, ViewParams, ViewPush, ViewSet, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED,
+    VIEW_ALBEDO, VIEW_FINAL,
 };
 
 /// One framebuffer per target image, sharing a depth buffer.
@@ -53,6 +54,7 @@ impl ViewPass {
         let render_pass = SceneRenderPass::with_final_layout(ctx, &[format], final_layout)?;
         let pipeline = Pipeline::graphics(
             ctx,
+            ViewSet::DECL,
             &GraphicsDesc {
                 vert: shader::GBUFFER_VERT,
                 frag: shader::VIEW_FRAG,
@@ -61,8 +63,6 @@ impl ViewPass {
                 depth_compare: vk::CompareOp::LESS,
                 surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED,
             },
-            &SceneBuffers::bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
-            std::mem::size_of::<ViewPush>() as u32,
         )?;
         Ok(Self {
             ctx: ctx.clone(),

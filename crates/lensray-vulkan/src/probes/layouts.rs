@@ -177,7 +177,7 @@ fn dispatch(
 ) -> Result<Vec<u32>, GpuError> {
     let storage = vk::DescriptorType::STORAGE_BUFFER;
     let push = inputs.push;
-    let pipeline = Pipeline::compute(
+    let pipeline = Pipeline::compute_with_bindings(
         ctx,
         shader::LAYOUTS_COMP,
         &inputs.bindings,
@@ -192,9 +192,9 @@ fn dispatch(
         MemoryLocation::GpuToCpu,
     )?;
     output.write(bytemuck::cast_slice(&vec![UNWRITTEN; scalars + 1]))?;
-    pipeline.bind_buffer(LAYOUT_PROBE_BINDING_OUT, storage, &output);
+    pipeline.write_buffer(LAYOUT_PROBE_BINDING_OUT, storage, &output);
     for (binding, ty, buffer) in &inputs.buffers {
-        pipeline.bind_buffer(*binding, *ty, buffer);
+        pipeline.write_buffer(*binding, *ty, buffer);
     }
     ctx.submit_and_wait(|cmd| {
         pipeline.bind(cmd, push);

@@ -7,6 +7,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
@@ -15,8 +16,8 @@ use crate::passes::aperture::ApertureTable;
 use crate::passes::lens::LensBuffer;
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
-    GpuCamera, PROBE_BINDING_APERTURE, PROBE_BINDING_CAMERA, PROBE_BINDING_LENS,
-    PROBE_BINDING_QUERIES, PROBE_BINDING_RESULTS, PROBE_GROUP_SIZE,
+    ApertureGroup, DescriptorSet, GpuCamera, LensGroup, MirrorProbeGroup, MirrorProbeSet,
+    PROBE_GROUP_SIZE,
 };
 pub use lensray_core::interface::{ProbeQuery, ProbeResult};
 
@@ -25,19 +26,7 @@ pub(crate) fn run(
     camera: &Camera,
     queries: &[ProbeQuery],
 ) -> Result<Vec<ProbeResult>, GpuError> {
-    let (storage, uniform) = (
-        vk::DescriptorType::STORAGE_BUFFER,
-        vk::DescriptorType::UNIFORM_BUFFER,
-    );
-    let compute = vk::ShaderStageFlags::COMPUTE;
-    let bindings = [
-        (PROBE_BINDING_QUERIES, storage, compute),
-        (PROBE_BINDING_RESULTS, storage, compute),
-        (PROBE_BINDING_CAMERA, uniform, compute),
-        (PROBE_BINDING_APERTURE, storage, compute),
-        (PROBE_BINDING_LENS, storage, compute),
-    ];
-    let pipeline = Pipeline::compute(ctx, shader::MIRRORS_COMP, &bindings, 4)?;
+    let pipeline = Pipeline::compute(ctx, MirrorProbeSet::DECL, shader::MIRRORS_COMP)?;
     let input = Buffer::with_data(
         ctx,
         "probe queries",
@@ -60,13 +49,17 @@ pub(crate) fn run(
         MemoryLocation::CpuToGpu,
     )?;
     cam.write(bytemuck::bytes_of(&crate::upload::gpu_camera(camera)))?;
-    pipeline.bind_buffer(PROBE_BINDING_QUERIES, storage, &input);
-    pipeline.bind_buffer(PROBE_BINDING_RESULTS, storage, &output);
-    pipeline.bind_buffer(PROBE_BINDING_CAMERA, uniform, &cam);
+    pipeline.bind_group(&MirrorProbeGroup::<Gpu> {
+        queries: &input,
+        results: &output,
+        camera: &cam,
+    });
     let aperture = ApertureTable::of(ctx, camera)?;
-    pipeline.bind_buffer(PROBE_BINDING_APERTURE, storage, &aperture);
+    pipeline.bind_group(&ApertureGroup::<Gpu> {
+        aperture_table: &aperture,
+    });
     let lens = LensBuffer::of(ctx, camera)?;
-    pipeline.bind_buffer(PROBE_BINDING_LENS, storage, &lens);
+    pipeline.bind_group(&LensGroup::<Gpu> { lens: &lens });
     let count = queries.len() as u32;
     ctx.submit_and_wait(|cmd| {
         pipeline.bind(cmd, bytemuck::bytes_of(&count));

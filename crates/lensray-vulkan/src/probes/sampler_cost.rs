@@ -7,13 +7,14 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::{barrier, Buffer};
+use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
 use crate::core::query::QueryPool;
 use crate::core::shader;
 use lensray_core::interface::{
-    SamplerCostPush, SAMPLER_COST_BINDING_SUMS, TRACE_GROUP_SIZE as GROUP,
+    DescriptorSet, SamplerCostGroup, SamplerCostPush, SamplerCostSet, TRACE_GROUP_SIZE as GROUP,
 };
 use lensray_core::settings::RenderSettings;
 
@@ -26,17 +27,7 @@ pub(crate) fn run(
     height: u32,
     settings: &RenderSettings,
 ) -> Result<f64, GpuError> {
-    let storage = (
-        SAMPLER_COST_BINDING_SUMS,
-        vk::DescriptorType::STORAGE_BUFFER,
-        vk::ShaderStageFlags::COMPUTE,
-    );
-    let pipeline = Pipeline::compute(
-        ctx,
-        shader::SAMPLER_COST_COMP,
-        &[storage],
-        std::mem::size_of::<SamplerCostPush>() as u32,
-    )?;
+    let pipeline = Pipeline::compute(ctx, SamplerCostSet::DECL, shader::SAMPLER_COST_COMP)?;
     let sums = Buffer::new(
         ctx,
         "sample sums",
@@ -44,11 +35,7 @@ pub(crate) fn run(
         vk::BufferUsageFlags::STORAGE_BUFFER,
         MemoryLocation::GpuOnly,
     )?;
-    pipeline.bind_buffer(
-        SAMPLER_COST_BINDING_SUMS,
-        vk::DescriptorType::STORAGE_BUFFER,
-        &sums,
-    );
+    pipeline.bind_group(&SamplerCostGroup::<Gpu> { sums: &sums });
     let timestamps = QueryPool::new(ctx, vk::QueryType::TIMESTAMP, 2)?;
     let push = SamplerCostPush {
         width,

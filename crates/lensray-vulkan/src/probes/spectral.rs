@@ -6,11 +6,12 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::descriptors::Gpu;
 use crate::core::pipeline::Pipeline;
 use crate::core::shader;
 use crate::{GpuError, GpuRenderer};
 use lensray_core::interface::{
-    PROBE_GROUP_SIZE, SPECTRAL_PROBE_BINDING_QUERIES, SPECTRAL_PROBE_BINDING_RESULTS,
+    DescriptorSet, SpectralProbeGroup, SpectralProbeSet, PROBE_GROUP_SIZE,
     SPECTRAL_PROBE_RESULT_FLOATS,
 };
 
@@ -33,13 +34,7 @@ pub fn probe_spectral(
     queries: &[[f32; 2]],
 ) -> Result<Vec<SpectralProbe>, GpuError> {
     let ctx = renderer.ctx();
-    let storage = vk::DescriptorType::STORAGE_BUFFER;
-    let compute = vk::ShaderStageFlags::COMPUTE;
-    let bindings = [
-        (SPECTRAL_PROBE_BINDING_QUERIES, storage, compute),
-        (SPECTRAL_PROBE_BINDING_RESULTS, storage, compute),
-    ];
-    let pipeline = Pipeline::compute(ctx, shader::SPECTRAL_COMP, &bindings, 4)?;
+    let pipeline = Pipeline::compute(ctx, SpectralProbeSet::DECL, shader::SPECTRAL_COMP)?;
     let input = Buffer::with_data(
         ctx,
         "spectral probe queries",
@@ -54,8 +49,10 @@ pub fn probe_spectral(
         vk::BufferUsageFlags::STORAGE_BUFFER,
         MemoryLocation::GpuToCpu,
     )?;
-    pipeline.bind_buffer(SPECTRAL_PROBE_BINDING_QUERIES, storage, &input);
-    pipeline.bind_buffer(SPECTRAL_PROBE_BINDING_RESULTS, storage, &output);
+    pipeline.bind_group(&SpectralProbeGroup::<Gpu> {
+        queries: &input,
+        results: &output,
+    });
     let count = queries.len() as u32;
     ctx.submit_and_wait(|cmd| {
         pipeline.bind(cmd, bytemuck::bytes_of(&count));

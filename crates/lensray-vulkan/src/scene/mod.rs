@@ -10,32 +10,16 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::core::buffer::Buffer;
+use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::pipeline::{Binding, Pipeline};
+use crate::core::pipeline::Pipeline;
 use crate::traversal::Traversal;
 use crate::upload::{FlatScene, SurfaceRun};
 use accel::SceneAccel;
 use bvh::{BvhParams, FlatBvh};
-use lensray_core::interface::{
-    SCENE_BINDING_INDICES, SCENE_BINDING_LIGHTS, SCENE_BINDING_MATERIALS, SCENE_BINDING_NORMALS,
-    SCENE_BINDING_POSITIONS, SCENE_BINDING_TEXCOORDS, SCENE_BINDING_TEXELS, SCENE_BINDING_TEXTURES,
-    SCENE_BINDING_TRI_INFO, TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES,
-};
+use lensray_core::interface::{BvhGroup, SceneGroup};
 use lensray_core::scene::Scene;
-
-/// The arrays' binding numbers, in the order of the fields below.
-const SCENE_BINDINGS: [u32; 9] = [
-    SCENE_BINDING_POSITIONS,
-    SCENE_BINDING_NORMALS,
-    SCENE_BINDING_INDICES,
-    SCENE_BINDING_TRI_INFO,
-    SCENE_BINDING_MATERIALS,
-    SCENE_BINDING_TEXCOORDS,
-    SCENE_BINDING_TEXTURES,
-    SCENE_BINDING_TEXELS,
-    SCENE_BINDING_LIGHTS,
-];
 
 /// The software traversal's BVH on the device (lensray-vulkan/src/scene/bvh.rs).
 pub(crate) struct BvhBuffers {
@@ -72,16 +56,12 @@ impl BvhBuffers {
         })
     }
 
-    /// The descriptors of shaders/include/hit_software.glsl.
-    pub(crate) fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 2] {
-        [TRACE_BINDING_BVH_NODES, TRACE_BINDING_BVH_TRIANGLES]
-            .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
-    }
-
+    /// The BVH as `pipeline`'s set binds it (shaders/include/hit_software.glsl).
     pub(crate) fn bind(&self, pipeline: &Pipeline) {
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        pipeline.bind_buffer(TRACE_BINDING_BVH_NODES, storage, &self.nodes);
-        pipeline.bind_buffer(TRACE_BINDING_BVH_TRIANGLES, storage, &self.triangles);
+        pipeline.bind_group(&BvhGroup::<Gpu> {
+            bvh_nodes: &self.nodes,
+            bvh_triangles: &self.triangles,
+        });
     }
 }
 
@@ -205,26 +185,18 @@ impl SceneBuffers {
         })
     }
 
-    /// The descriptors of shaders/include/scene.glsl, read by `stages`.
-    pub(crate) fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 9] {
-        SCENE_BINDINGS.map(|b| (b, vk::DescriptorType::STORAGE_BUFFER, stages))
-    }
-
-    /// Points the scene's descriptors of `pipeline`'s set at these arrays.
+    /// Points the scene's group of `pipeline`'s set at these arrays.
     pub(crate) fn bind(&self, pipeline: &Pipeline) {
-        let buffers = [
-            &self.positions,
-            &self.normals,
-            &self.indices,
-            &self.tri_info,
-            &self.materials,
-            &self.texcoords,
-            &self.textures,
-            &self.texels,
-            &self.lights,
-        ];
-        for (binding, buffer) in SCENE_BINDINGS.into_iter().zip(buffers) {
-            pipeline.bind_buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer);
-        }
+        pipeline.bind_group(&SceneGroup::<Gpu> {
+            positions: &self.positions,
+            normals: &self.normals,
+            indices: &self.indices,
+            tri_info: &self.tri_info,
+            materials: &self.materials,
+            texcoords: &self.texcoords,
+            textures: &self.textures,
+            texels: &self.texels,
+            lights: &self.lights,
+        });
     }
 }
