@@ -7,6 +7,7 @@ use anyhow::{bail, Result};
 use clap::Args;
 
 use super::args::{DeviceArgs, MovementArgs};
+use super::named::by_name;
 use crate::bench::options::{
     BenchOptions, NamedScene, SceneChoice, SweepKind, DEFAULT_CACHE_DIR, DEFAULT_REFERENCE_SPP,
 };
@@ -52,7 +53,7 @@ pub struct BenchArgs {
     /// Samples per pixel (the largest of the spp sweep).
     #[arg(long, value_name = "N", default_value_t = lensray_core::settings::DEFAULT_SPP)]
     pub spp: u32,
-    #[arg(long, value_enum, default_value_t = Shading::Unlit)]
+    #[arg(long, value_parser = by_name::<Shading>(), default_value = Shading::Unlit.name())]
     pub shading: Shading,
     /// Lens aperture radius, in the scene's units (0 = pinhole) [default: the scene's].
     #[arg(long, value_name = "R")]
@@ -69,7 +70,7 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub movements: MovementArgs,
     /// How samples are drawn [default: the scene's, else sobol].
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = by_name::<SamplerKind>())]
     pub sampler: Option<SamplerKind>,
     /// Seed of the paths' samples (the reference uses another).
     #[arg(long, value_name = "S")]

@@ -7,6 +7,7 @@ pub mod focus;
 pub mod generate;
 pub mod info;
 pub mod lens;
+pub mod named;
 pub mod preview;
 pub mod progress;
 pub mod render;
