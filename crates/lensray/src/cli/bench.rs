@@ -14,6 +14,7 @@ use crate::bench::options::{
 use crate::output::PendingFile;
 use crate::paths::PathChoice;
 use lensray_core::sampler::SamplerKind;
+use lensray_core::scene::generate::DEFAULT_DENSE_TRIANGLES;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Shading;
 
@@ -44,7 +45,7 @@ pub struct BenchArgs {
     #[arg(long, value_name = "UNITS", value_parser = SceneUnits::parse)]
     pub scene_units: Option<SceneUnits>,
     /// Triangles of `--scene dense`.
-    #[arg(long, value_name = "N", default_value_t = crate::cli::generate::DEFAULT_DENSE_TRIANGLES)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_DENSE_TRIANGLES)]
     pub dense_triangles: usize,
     #[arg(long, value_name = "W", default_value_t = lensray_core::settings::DEFAULT_WIDTH)]
     pub width: u32,

@@ -3,7 +3,6 @@
 pub mod args;
 pub mod bench;
 pub mod calibrate;
-pub mod focus;
 pub mod generate;
 pub mod info;
 pub mod lens;
