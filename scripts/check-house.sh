@@ -22,9 +22,10 @@ fi
 
 # Every struct, enum, trait and type alias in the crates' sources (test modules' files aside),
 # whatever its visibility: a private type that shares a public one's name is a second concept
-# under one name all the same.
+# under one name all the same. A trait's associated types (declared in the trait, defined in each
+# impl) are one concept each, not types of their own: `type` counts at the top level only.
 dups=$(git ls-files --cached --others --exclude-standard 'crates/*/src/*.rs' 'crates/*/src/**/*.rs' | grep -v '/tests\.rs$\|/tests/' |
-  xargs grep -HoE '^\s*(pub(\([a-z]+\))? )?(struct|enum|trait|type) [A-Z][A-Za-z0-9_]*' |
+  xargs grep -HoE '^(\s*(pub(\([a-z]+\))? )?(struct|enum|trait)|(pub(\([a-z]+\))? )?type) [A-Z][A-Za-z0-9_]*' |
   sed -E 's/:\s*(pub(\([a-z]+\))? )?(struct|enum|trait|type) /\t/' | sort -t$'\t' -k2,2 |
   awk -F'\t' '{ n[$2]++; where[$2] = where[$2] "    " $1 "\n" } END { for (t in n) if (n[t] > 1) printf "  %s:\n%s", t, where[t] }')
 if [ -n "$dups" ]; then

@@ -115,25 +115,25 @@ impl SetDecl {
 /// The resource types a host binds, by kind (lensray-vulkan: its buffers, image views and
 /// acceleration structures).
 pub trait Resources {
-    type Buffer;
-    type Image;
-    type Accel;
+    type BufferResource;
+    type ImageResource;
+    type AccelResource;
 }
 
 /// No resources: the groups' declarations, without values.
 pub enum NoResources {}
 
 impl Resources for NoResources {
-    type Buffer = ();
-    type Image = ();
-    type Accel = ();
+    type BufferResource = ();
+    type ImageResource = ();
+    type AccelResource = ();
 }
 
 /// One resource of a group's value, in the order of its declaration.
 pub enum Resource<'r, R: Resources> {
-    Buffer(&'r R::Buffer),
-    Image(&'r R::Image),
-    Accel(&'r R::Accel),
+    Buffer(&'r R::BufferResource),
+    Image(&'r R::ImageResource),
+    Accel(&'r R::AccelResource),
 }
 
 /// A group's value: a resource per binding.
@@ -151,16 +151,16 @@ pub trait DescriptorSet {
 /// The field type of a binding of kind `$kind` in a group over resources `$r`.
 macro_rules! binding_type {
     (storage_buffer, $r:ident) => {
-        $r::Buffer
+        $r::BufferResource
     };
     (uniform_buffer, $r:ident) => {
-        $r::Buffer
+        $r::BufferResource
     };
     (storage_image, $r:ident) => {
-        $r::Image
+        $r::ImageResource
     };
     (acceleration_structure, $r:ident) => {
-        $r::Accel
+        $r::AccelResource
     };
 }
 

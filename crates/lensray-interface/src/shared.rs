@@ -382,13 +382,13 @@ shader_interface! {
             dimension_bits: u32,
             /// film.xy, lens.xy of camera_sample(sampler_kind, seed, pixel, width, sample_index)
             camera_sample: [f32; 4],
-            /// first_order_ray(camera, film, lens): origin (w = 1)
+            /// first_order_ray(camera, camera sample): origin (w = 1)
             origin: [f32; 4],
             /// ... and direction (w = 0)
             direction: [f32; 4],
             /// lens_point(camera, lens).xy, then 0, 0
             lens_point: [f32; 4],
-            /// generate_ray(camera, film, lens): origin, w the weight (-1: the
+            /// generate_ray(camera, camera sample, wavelength_nm): origin, w the weight (-1: the
             /// real lens blocks the ray)
             through_lens_origin: [f32; 4],
             /// ... and direction (w = 0)

@@ -496,6 +496,7 @@ mod tests {
 
     use glam::{Vec2, Vec3};
     use lensray_core::camera::{CameraParams, LensParams, ProjectionParams};
+    use lensray_core::sampler::CameraSample;
 
     /// The raster pass uses `clip_from_world()` as is: Vulkan's clip space has y down and depth
     /// in [0, 1]. A point on the pinhole ray through raster point (x, y) must land at
@@ -526,7 +527,10 @@ mod tests {
                 Vec2::new(159.5, 10.25),
                 Vec2::new(80.0, 89.0),
             ] {
-                let ray = cam.first_order_ray(raster, Vec2::splat(0.5));
+                let ray = cam.first_order_ray(CameraSample {
+                    film: raster,
+                    lens: Vec2::splat(0.5),
+                });
                 for depth in [cam.near, 2.0, cam.far] {
                     // The point of the ray at view depth `depth`.
                     let t =

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-use lensray::bench::machine::Machine;
+use lensray::machine::Machine;
 use lensray_core::stats::{median, range};
 
 struct Run {
@@ -145,7 +145,7 @@ fn main() {
         mesa: work.path().join("mesa"),
     };
     let timings = run_all(&setup, options.repeat);
-    let machine = lensray::bench::machine::describe();
+    let machine = lensray::machine::describe();
     print_summary(&options, &setup, &timings, &machine);
     if let Some(file) = &options.json {
         let json = serde_json::json!({

@@ -2,6 +2,13 @@
 //! from a kind to its implementation), the [`preview`] window, the [`bench`](mod@bench), the
 //! command line ([`cli`]) and image files ([`output`]).
 //!
+//! Its modules, top to bottom; each imports only from those below it:
+//! - [`cli`]: the subcommands and their options (`main.rs` parses them);
+//! - [`preview`] and [`bench`](mod@bench);
+//! - [`focus`]: focusing on what a path sees under a pixel (`render` and the preview);
+//! - [`paths`]: the render paths and `auto`;
+//! - [`output`] (image files) and [`machine`] (the machine lensray runs on).
+//!
 //! It stands on two crates: `lensray-core` (camera, optics, sampler, scene, shot, film and the
 //! CPU reference; no Vulkan) and `lensray-vulkan` (the device, the passes and presentation; the
 //! only `unsafe` code). Imports point down only.
@@ -12,6 +19,8 @@
 
 pub mod bench;
 pub mod cli;
+pub mod focus;
+pub mod machine;
 pub mod output;
 pub mod paths;
 pub mod preview;

@@ -15,7 +15,6 @@ use lensray_core::camera::{
     ApertureShape, Camera, CameraError, CameraParams, LensParams, Movements, ProjectionParams,
 };
 use lensray_core::optics::builtin;
-use lensray_core::optics::glass::dispersion_offset_f32;
 use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::sampler::{camera_sample, hash_u32, SamplerKind};
 use lensray_core::settings::{Shading, Shot};
@@ -80,7 +79,7 @@ fn ray_cases() -> Vec<(Option<f64>, ApertureShape, Movements)> {
     cases
 }
 
-/// The probe's rays through the lens against `Camera::generate_ray_at`, at several
+/// The probe's rays through the lens against `Camera::generate_ray`, at several
 /// wavelengths (through aspheres too), square to the film and moved (`LENS_MOVED`; where the
 /// moved film leaves a lens's image circle, aspheric-31's, the camera is refused and skipped):
 /// the same rays pass, with the same weights, origins and directions. The GPU's sqrt, division and
@@ -132,11 +131,8 @@ fn real_lens_rays_match_the_cpu() {
                         q.sample_index,
                     );
                     checked += 1;
-                    let k = match q.wavelength_nm {
-                        0.0 => 0.0,
-                        lambda => dispersion_offset_f32(lambda),
-                    };
-                    let cpu = cam.generate_ray_at(cs.film, cs.lens, k);
+                    let wavelength = (q.wavelength_nm > 0.0).then_some(q.wavelength_nm);
+                    let cpu = cam.generate_ray(cs, wavelength);
                     let gpu_weight = r.through_lens_origin[3];
                     match cpu {
                         None if gpu_weight < 0.0 => {}

@@ -207,7 +207,7 @@ fn a_spot_light_falls_off_across_its_cone() {
                 size,
                 0,
             );
-            let ray = camera.first_order_ray(sample.film, sample.lens);
+            let ray = camera.first_order_ray(sample);
             let p = ray.at(-ray.origin.y / ray.direction.y);
             let angle = p.x.hypot(p.z).atan().to_degrees();
             // From the shadow ray's origin (reference/surface.rs), just above the ground.

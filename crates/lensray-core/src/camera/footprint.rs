@@ -79,6 +79,7 @@ mod tests {
     use glam::{Vec2, Vec3};
 
     use crate::camera::{CameraParams, LensParams, ProjectionParams};
+    use crate::sampler::CameraSample;
 
     /// The footprint is where the pinhole rays through the neighbouring pixels meet the plane:
     /// checked by intersecting those rays, for both projections and a tilted plane.
@@ -105,7 +106,10 @@ mod tests {
             let n = Vec3::new(0.2, 1.0, 0.4).normalize();
             let plane_point = Vec3::new(0.0, 0.1, 0.0);
             let meet = |raster: Vec2| {
-                let ray = camera.first_order_ray(raster, Vec2::splat(0.5));
+                let ray = camera.first_order_ray(CameraSample {
+                    film: raster,
+                    lens: Vec2::splat(0.5),
+                });
                 let t = n.dot(plane_point - ray.origin) / n.dot(ray.direction);
                 ray.at(t)
             };

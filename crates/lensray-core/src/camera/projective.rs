@@ -1,5 +1,13 @@
 //! The projective camera: the transform chain camera -> screen -> NDC -> raster built once, and
 //! ray generation through a point of a pixel (slides "To generate a ray through pixel (i,j)").
+//!
+//! A camera ray has one entry, [`Camera::generate_ray`]: a camera sample (film point, lens
+//! sample) and, for a dispersive lens, a wavelength, dispatched to the lens kind's own ray in
+//! camera space ([`Camera::pinhole_ray`],
+//! [`ThinLens::generate_ray`](super::ThinLens::generate_ray),
+//! [`RealLens::generate_ray`](super::RealLens::generate_ray)), then taken to world space.
+//! [`Camera::first_order_ray`] is another concept: the ray of the lens's first-order thin lens,
+//! what rasterizing passes draw and AOVs and focus picking see (for a thin lens, the same ray).
 
 use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
@@ -10,6 +18,8 @@ use super::look_at::CameraFrame;
 use super::raster::{self, ScreenWindow};
 use super::real_lens::RealLensError;
 use super::{Aperture, Lens, Projection, Ray};
+use crate::optics::glass::dispersion_offset_f32;
+use crate::sampler::CameraSample;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
@@ -136,8 +146,8 @@ impl Camera {
 
     /// The raster path's matrix for one camera sample shared by every pixel (film offset
     /// `film_u` in [0, 1)^2 within the pixel, lens sample `lens_u`): rasterizing with it, the
-    /// pixel centre (column + 0.5, row + 0.5) sees what `first_order_ray((column, row) + film_u,
-    /// lens_u)` hits. The first-order lens's shear
+    /// pixel centre (column + 0.5, row + 0.5) sees what [`Self::first_order_ray`] of the sample
+    /// (film `(column, row) + film_u`, lens `lens_u`) hits. The first-order lens's shear
     /// ([`ThinLens::pinhole_from_camera`](super::ThinLens::pinhole_from_camera)) moves the
     /// centre of projection to the lens point with the focal plane fixed, and a raster
     /// translation by `0.5 - film_u` brings the film sample to the pixel centre, where the
@@ -199,10 +209,47 @@ impl Camera {
         (p_world - self.frame.eye).dot(self.frame.forward)
     }
 
-    /// The aperture-centre (pinhole) ray through raster point `p_raster` = (column + u, row + v),
-    /// in camera space, exactly as the slides build it:
-    /// (i, j) -> (s, t) -> (x, y) on the front plane -> camera point -> ray.
-    pub fn pinhole_ray_camera(&self, p_raster: Vec2) -> Ray {
+    /// The camera ray of `sample` (film point: a raster point; lens sample in [0, 1)^2) in world
+    /// space, with its weight (the image averages weight x radiance): the one way to make a
+    /// camera ray, whatever the lens. Each lens kind makes its ray in camera space: a pinhole
+    /// its aperture-centre ray, a thin lens its lens ray (weight 1 for both), a real lens its
+    /// traced ray (`None` when the lens blocks it) at `wavelength` (nm; `None`: the d line,
+    /// what a lens without dispersion traces at: see [`Self::sample_wavelength`]).
+    pub fn generate_ray(
+        &self,
+        sample: CameraSample,
+        wavelength: Option<f32>,
+    ) -> Option<(Ray, f32)> {
+        let (ray, weight) = match &self.lens {
+            Lens::Thin(thin) if thin.aperture_radius <= 0.0 => (self.pinhole_ray(sample.film), 1.0),
+            Lens::Thin(thin) => (
+                thin.generate_ray(&self.pinhole_ray(sample.film), sample.lens),
+                1.0,
+            ),
+            Lens::Real { real, .. } => {
+                let film = real.film_point(sample.film, self.width, self.height);
+                let k = wavelength.map_or(0.0, dispersion_offset_f32);
+                real.generate_ray(film, sample.lens, k)?
+            }
+        };
+        Some((ray.transformed(&self.world_from_camera), weight))
+    }
+
+    /// The ray of the lens's first-order thin lens ([`Lens::first_order`]: a [`Lens::Thin`]
+    /// itself, or a [`Lens::Real`]'s thin lens at its entrance pupil) for `sample`, in world
+    /// space: what rasterizing passes draw, and AOVs and focus picking see. For a thin lens it
+    /// is [`Self::generate_ray`]'s ray; a real lens's camera rays are traced instead.
+    pub fn first_order_ray(&self, sample: CameraSample) -> Ray {
+        let pinhole = self.pinhole_ray(sample.film);
+        let ray = self.lens.first_order().generate_ray(&pinhole, sample.lens);
+        ray.transformed(&self.world_from_camera)
+    }
+
+    /// The pinhole's ray, in camera space: the aperture-centre ray through raster point
+    /// `p_raster` = (column + u, row + v), exactly as the slides build it:
+    /// (i, j) -> (s, t) -> (x, y) on the front plane -> camera point -> ray. A thin lens's
+    /// rays start from it.
+    pub fn pinhole_ray(&self, p_raster: Vec2) -> Ray {
         let p_screen = self
             .screen_from_raster
             .transform_point3(p_raster.extend(0.0));
@@ -221,34 +268,6 @@ impl Camera {
         }
     }
 
-    /// The thin lens's ray in world space through raster point `p_raster` and lens sample
-    /// `lens_u` in [0, 1)^2: pinhole ray, thin lens, then "transform the ray to world space".
-    /// The thin lens is [`Lens::first_order`]: a [`Lens::Thin`] itself, or a [`Lens::Real`]'s
-    /// first-order model (the thin lens at its entrance pupil, what rasterizing passes draw and
-    /// AOVs and focus picking see); a camera ray of the camera as it is, real lens included, is
-    /// [`generate_ray`](Self::generate_ray).
-    pub fn first_order_ray(&self, p_raster: Vec2, lens_u: Vec2) -> Ray {
-        let camera_ray = self
-            .lens
-            .first_order()
-            .lens_ray(&self.pinhole_ray_camera(p_raster), lens_u);
-        Ray {
-            origin: self.world_from_camera.transform_point3(camera_ray.origin),
-            direction: self
-                .world_from_camera
-                .transform_vector3(camera_ray.direction),
-        }
-    }
-
-    /// The camera ray through raster point `p_raster` and lens sample `lens_u`, in world
-    /// space, with its weight (the image averages weight x radiance): the one way to make a
-    /// camera ray, whatever the lens. A [`Lens::Real`]'s traced ray (`None` when the lens
-    /// blocks it), else the [`Lens::Thin`]'s (`first_order_ray`, a pinhole when the aperture is
-    /// closed) with weight 1.
-    pub fn generate_ray(&self, p_raster: Vec2, lens_u: Vec2) -> Option<(Ray, f32)> {
-        self.generate_ray_at(p_raster, lens_u, 0.0)
-    }
-
     /// The wavelength (nm) that sample `sample_index` of `sampler`'s pixel traces the lens at:
     /// drawn from `DIM_WAVELENGTH` when the lens is dispersive (`RealLens::dispersive`), else
     /// `None` (the d line).
@@ -261,25 +280,6 @@ impl Camera {
         self.lens.real().filter(|real| real.dispersive())?;
         let u = pixel_dimension(sampler, sample_index, DIM_WAVELENGTH);
         Some(crate::film::spectral::sample_wavelength(u))
-    }
-
-    /// [`Self::generate_ray`] at dispersion offset `k` (`optics::glass::dispersion_offset_f32`
-    /// of the sample's wavelength; 0: the d line); a thin lens has no dispersion.
-    pub fn generate_ray_at(&self, p_raster: Vec2, lens_u: Vec2, k: f32) -> Option<(Ray, f32)> {
-        let Lens::Real { real, .. } = &self.lens else {
-            return Some((self.first_order_ray(p_raster, lens_u), 1.0));
-        };
-        let film = real.film_point(p_raster, self.width, self.height);
-        let (camera_ray, weight) = real.camera_ray_at(film, lens_u, k)?;
-        Some((
-            Ray {
-                origin: self.world_from_camera.transform_point3(camera_ray.origin),
-                direction: self
-                    .world_from_camera
-                    .transform_vector3(camera_ray.direction),
-            },
-            weight,
-        ))
     }
 
     /// The plane z = lens_z holds the lens: z = 0 (the eye) for perspective, the near plane for
@@ -309,7 +309,7 @@ impl Camera {
     /// The camera-space point at view depth `z` on the aperture-centre ray through raster
     /// point `p_raster`.
     pub fn camera_point(&self, p_raster: Vec2, z: f32) -> Vec3 {
-        let ray = self.pinhole_ray_camera(p_raster);
+        let ray = self.pinhole_ray(p_raster);
         ray.at((z - ray.origin.z) / ray.direction.z)
     }
 }

@@ -79,7 +79,9 @@ impl ThinLens {
         (t > 0.0 && t.is_finite()).then(|| pinhole.at(t))
     }
 
-    /// Steps 3-4, in camera space. `lens_u` is a uniform sample of [0, 1)^2. The lens point is
+    /// The thin lens's camera ray (steps 3-4), in camera space, from the aperture-centre ray
+    /// `pinhole` of its film point (`Camera::pinhole_ray`); a closed lens (a pinhole) returns
+    /// `pinhole` itself. `lens_u` is a uniform sample of [0, 1)^2. The lens point is
     /// added to the pinhole ray's origin: the lens centre for perspective, the film point for
     /// orthographic (whose rays start on the near plane, each with its own lens centre).
     ///
@@ -89,7 +91,7 @@ impl ThinLens {
     /// of one lens point then runs parallel to (focus_distance - near) z - l, whatever film
     /// point it serves, so the raster path's map stays affine ([`Self::pinhole_from_camera`]).
     /// A perspective ray starts at the lens centre, where the scale is exactly 1.
-    pub fn lens_ray(&self, pinhole: &Ray, lens_u: Vec2) -> Ray {
+    pub fn generate_ray(&self, pinhole: &Ray, lens_u: Vec2) -> Ray {
         if self.aperture_radius <= 0.0 {
             return *pinhole;
         }

@@ -1,7 +1,7 @@
 //! The CPU reference renderer: the ground truth every GPU path is compared with.
 //!
 //! Shading definitions (the GPU compute pass implements the same, see `shaders/passes/trace.comp`):
-//! - Primary rays: `Camera::first_order_ray` from the shared sampler's `camera_sample`, t in (0, inf).
+//! - Camera rays: `Camera::generate_ray` from the shared sampler's `camera_sample`, t in (0, inf).
 //! - `unlit`: Kd of the first hit, background on a miss.
 //! - `lit`: Ke plus, for each of the scene's lights, Kd / pi * E * cos when a shadow ray from
 //!   `surface::shadow_origin` towards the light, t in (0, d), is unoccluded (`lighting`), plus
@@ -23,7 +23,7 @@ pub use accel::{packet_alignment, Accel, AlphaTest, Hit, PacketMask, PACKET_SIZE
 pub use embree::{
     cpu_name, EmbreeConfigError, EmbreeReport, EmbreeSettings, Isa, EMBREE_CONFIG_VAR,
 };
-pub use rays::primary_rays;
+pub use rays::first_order_rays;
 pub use render::{RenderStats, Renderer};
 pub use surface::{shadow_origin, SurfacePoint};
 pub use triangle::WatertightRay;

@@ -1,9 +1,12 @@
-//! The primary rays of a packet of samples at once: `pixel_camera_samples` then `Camera::first_order_ray`
-//! for every lane, laid out by lane so the divisions and square roots vectorize. Operation for
-//! operation the same arithmetic as the camera module (glam's `transform_point3`,
-//! `transform_vector3`, `normalize`; `ThinLens::lens_ray` and `lens_point`), so the rays
-//! are bit-identical to `Camera::first_order_ray` (tests/reference.rs checks it); the camera module
-//! stays the definition the GLSL mirrors.
+//! The camera rays of a packet of samples at once, named after the camera's own:
+//! [`generate_rays`] is `Camera::generate_ray` for every lane, [`first_order_rays`]
+//! `Camera::first_order_ray` (`pixel_camera_samples` then the ray) for every lane, laid out by
+//! lane so the divisions and square roots vectorize. Operation for operation the same
+//! arithmetic as the camera module (glam's `transform_point3`, `transform_vector3`,
+//! `normalize`; `Camera::pinhole_ray`, `ThinLens::generate_ray` and `lens_point`), so the rays
+//! are bit-identical to `Camera::first_order_ray` (tests/reference/traversal.rs checks it); a
+//! real lens's packet is `RealLens::generate_rays`. The camera module stays the definition the
+//! GLSL mirrors.
 
 use glam::{Mat4, Vec3};
 
@@ -63,10 +66,10 @@ fn normalize(v: &mut Lanes3) {
     }
 }
 
-/// World-space primary rays of samples `first..first + PACKET_SIZE` of the sampler's pixel (the
-/// caller uses the first `spp - first` of them), as `Camera::first_order_ray(sample.film,
-/// sample.lens)` makes them.
-pub fn primary_rays(
+/// World-space first-order rays of samples `first..first + PACKET_SIZE` of the sampler's pixel
+/// (the caller uses the first `spp - first` of them), as `Camera::first_order_ray(sample)`
+/// makes them.
+pub fn first_order_rays(
     camera: &Camera,
     sampler: &PixelSampler,
     first: u32,
@@ -79,7 +82,7 @@ pub fn primary_rays(
         y: film_y,
         z: [0.0; PACKET_SIZE],
     };
-    // Camera::pinhole_ray_camera.
+    // Camera::pinhole_ray.
     let screen = transform(&camera.screen_from_raster, &film, true);
     let near = camera.near;
     let (mut origin, mut direction) = match camera.projection {
@@ -101,7 +104,7 @@ pub fn primary_rays(
             (Lanes3::splat(Vec3::ZERO), d)
         }
     };
-    // ThinLens::lens_ray.
+    // ThinLens::generate_ray (a closed lens keeps the pinhole's ray).
     let lens = camera.lens.first_order();
     if lens.aperture_radius > 0.0 {
         // ThinLens::lens_point: the aperture's map of each lane's lens sample.
@@ -129,7 +132,7 @@ pub fn primary_rays(
         normalize(&mut to_focus);
         direction = to_focus;
     }
-    // Camera::first_order_ray: to world space.
+    // Ray::transformed by world_from_camera.
     let world_origin = transform(&camera.world_from_camera, &origin, true);
     let world_direction = transform(&camera.world_from_camera, &direction, false);
     for l in 0..PACKET_SIZE {
@@ -142,8 +145,8 @@ pub fn primary_rays(
     }
 }
 
-/// A packet of real-lens camera rays, packed: the first slots hold the rays the lens lets
-/// through, in world space, with their weights, sample indices and wavelengths.
+/// A packet of camera rays, packed: the first slots hold the rays the lens lets through, in
+/// world space, with their weights, sample indices and wavelengths.
 pub(super) struct LensPacket {
     pub(super) origins: [Vec3; PACKET_SIZE],
     pub(super) directions: [Vec3; PACKET_SIZE],
@@ -165,19 +168,29 @@ impl LensPacket {
     }
 }
 
-/// The rays of samples `first..first + n` of the sampler's pixel through the camera's real
-/// lens (`Camera::generate_ray_at`, each at the wavelength `sample_wavelength` draws from
-/// `DIM_WAVELENGTH` when the lens is dispersive); returns how many passed.
-pub(super) fn real_lens_rays(
+/// The camera rays of samples `first..first + n` of the sampler's pixel, as
+/// `Camera::generate_ray` makes them (each at the wavelength `sample_wavelength` draws from
+/// `DIM_WAVELENGTH` when the lens is dispersive), packed into `out`; returns how many passed.
+/// A thin lens (or pinhole) passes every ray, weight 1: its [`first_order_rays`].
+pub(super) fn generate_rays(
     camera: &Camera,
     sampler: &PixelSampler,
     (first, n): (u32, usize),
     out: &mut LensPacket,
 ) -> usize {
-    let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
     let Some(real) = camera.lens.real() else {
-        return 0;
+        first_order_rays(
+            camera,
+            sampler,
+            first,
+            &mut out.origins,
+            &mut out.directions,
+        );
+        out.indices = std::array::from_fn(|l| first + l as u32);
+        out.weights = [1.0; PACKET_SIZE];
+        return n;
     };
+    let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
     let mut wavelengths = [0.0f32; PACKET_SIZE];
     let mut offsets = [0.0f32; PACKET_SIZE];
     if real.dispersive() {
@@ -187,8 +200,8 @@ pub(super) fn real_lens_rays(
             offsets[l] = lambda.map_or(0.0, dispersion_offset_f32);
         }
     }
-    // RealLens::camera_rays traces the packet's rays together (what
-    // Camera::generate_ray_at gives one by one, bit for bit).
+    // RealLens::generate_rays traces the packet's rays together (what
+    // Camera::generate_ray gives one by one, bit for bit).
     let mut samples = [(Vec3::ZERO, glam::Vec2::ZERO, 0.0); PACKET_SIZE];
     for l in 0..n {
         let film = glam::Vec2::new(film_x[l], film_y[l]);
@@ -199,14 +212,15 @@ pub(super) fn real_lens_rays(
         );
     }
     let mut traced = [None; PACKET_SIZE];
-    real.camera_rays(&samples[..n], &mut traced);
+    real.generate_rays(&samples[..n], &mut traced);
     let mut passed = 0;
     for (l, traced) in traced.into_iter().enumerate() {
         let Some((ray, weight)) = traced else {
             continue;
         };
-        out.origins[passed] = camera.world_from_camera.transform_point3(ray.origin);
-        out.directions[passed] = camera.world_from_camera.transform_vector3(ray.direction);
+        let ray = ray.transformed(&camera.world_from_camera);
+        out.origins[passed] = ray.origin;
+        out.directions[passed] = ray.direction;
         out.weights[passed] = weight;
         out.indices[passed] = first + l as u32;
         out.wavelengths[passed] = wavelengths[l];

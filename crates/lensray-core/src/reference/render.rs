@@ -10,12 +10,14 @@ use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
 use super::lighting::{LightDraw, LitLane};
-use super::rays::{primary_rays, real_lens_rays, LensPacket};
+use super::rays::{generate_rays, LensPacket};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Footprint, Ray};
 use crate::film::spectral::rgb_weights;
 use crate::film::{Image, OnDevice, Progress, Sums};
-use crate::sampler::{pixel_dimension, pixel_sampler, shared_pixel_sampler, PixelSampler};
+use crate::sampler::{
+    pixel_dimension, pixel_sampler, shared_pixel_sampler, CameraSample, PixelSampler,
+};
 use crate::sampler::{DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y};
 use crate::scene::order::spatial_order;
 use crate::scene::{blend_threshold, ray_key, Light, Scene};
@@ -190,7 +192,10 @@ impl Renderer {
             for (x, value) in row.iter_mut().enumerate() {
                 // The G-buffer's definition: the aperture-centre ray through the pixel centre.
                 let centre = UVec2::new(x as u32, y).as_vec2() + Vec2::splat(0.5);
-                let ray = camera.first_order_ray(centre, Vec2::splat(0.5));
+                let ray = camera.first_order_ray(CameraSample {
+                    film: centre,
+                    lens: Vec2::splat(0.5),
+                });
                 *value = self.aov(shot, &ray);
             }
             row.len() as u64
@@ -255,15 +260,7 @@ impl Renderer {
         let footprint = camera.footprint();
         for first in samples.clone().step_by(PACKET_SIZE) {
             let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
-            let traced = if camera.lens.real().is_some() {
-                real_lens_rays(camera, &sampler, (first, n), &mut packet)
-            } else {
-                let (o, d) = (&mut packet.origins, &mut packet.directions);
-                primary_rays(camera, &sampler, first, o, d);
-                packet.indices = std::array::from_fn(|l| first + l as u32);
-                packet.weights = [1.0; PACKET_SIZE];
-                n
-            };
+            let traced = generate_rays(camera, &sampler, (first, n), &mut packet);
             let LensPacket {
                 origins,
                 directions,

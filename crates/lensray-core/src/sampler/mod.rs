@@ -30,9 +30,7 @@ pub use crate::interface::{
 };
 
 /// How samples are drawn. The discriminants are the shaders' `SAMPLER_*` constants.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Deserialize, Serialize, clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 #[repr(u32)]
 pub enum SamplerKind {
@@ -45,6 +43,8 @@ pub enum SamplerKind {
 }
 
 impl SamplerKind {
+    pub const ALL: [SamplerKind; 2] = [Self::Sobol, Self::Independent];
+
     /// The value of the shaders' `sampler` parameter (`SAMPLER_SOBOL`, `SAMPLER_INDEPENDENT`).
     pub fn id(self) -> u32 {
         match self {
@@ -205,11 +205,9 @@ pub fn camera_sample(
 mod tests {
     use super::*;
 
-    const KINDS: [SamplerKind; 2] = [SamplerKind::Sobol, SamplerKind::Independent];
-
     #[test]
     fn film_sample_stays_in_its_pixel() {
-        for kind in KINDS {
+        for kind in SamplerKind::ALL {
             for s in 0..256 {
                 let c = camera_sample(kind, 1, UVec2::new(5, 9), 16, s);
                 assert!(c.film.x >= 5.0 && c.film.x < 6.0 && c.film.y >= 9.0 && c.film.y < 10.0);
@@ -220,7 +218,7 @@ mod tests {
 
     #[test]
     fn pixel_dimensions_are_the_dimensions_on_their_own() {
-        for kind in KINDS {
+        for kind in SamplerKind::ALL {
             let state = pixel_sampler(kind, 11, UVec2::new(5, 3), 640);
             for s in 0..64 {
                 for dim in 0..8 {
@@ -233,7 +231,7 @@ mod tests {
 
     #[test]
     fn camera_sample_is_the_four_dimensions() {
-        for kind in KINDS {
+        for kind in SamplerKind::ALL {
             for (x, y) in [(0u32, 0u32), (639, 479), (17, 3)] {
                 for s in [0u32, 1, 15, 16, 1000, u32::MAX] {
                     let c = camera_sample(kind, 11, UVec2::new(x, y), 640, s);
@@ -247,7 +245,7 @@ mod tests {
 
     #[test]
     fn batches_equal_single_samples() {
-        for kind in KINDS {
+        for kind in SamplerKind::ALL {
             let state = pixel_sampler(kind, 5, UVec2::new(600, 400), 640);
             for first in [0u32, 16, 1 << 20, u32::MAX - 7] {
                 let [fx, fy, lx, ly] = pixel_camera_samples::<16>(&state, first);
@@ -265,9 +263,11 @@ mod tests {
 
     #[test]
     fn kinds_parse_and_name_themselves() {
-        for kind in KINDS {
-            let parsed: SamplerKind =
-                clap::ValueEnum::from_str(kind.name(), false).expect("a known name");
+        for kind in SamplerKind::ALL {
+            // A scene file's `sampler` reads the same name.
+            let name: serde::de::value::StrDeserializer<serde::de::value::Error> =
+                serde::de::IntoDeserializer::into_deserializer(kind.name());
+            let parsed = SamplerKind::deserialize(name).expect("a known name");
             assert_eq!(parsed, kind);
         }
         assert_eq!(SamplerKind::default(), SamplerKind::Sobol);

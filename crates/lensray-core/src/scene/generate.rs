@@ -422,6 +422,10 @@ pub fn sphere_row() -> SceneDescription {
     )
 }
 
+/// Triangles of the [`dense`] benchmark scene unless told otherwise (`lensray generate dense
+/// --triangles`, `lensray bench --dense-triangles`).
+pub const DEFAULT_DENSE_TRIANGLES: usize = 1_000_000;
+
 /// Side of the grid of spheres in [`dense`].
 pub const DENSE_GRID: u32 = 10;
 

@@ -7,7 +7,7 @@ use crate::sampler::SamplerKind;
 
 /// What a pixel shows. `Unlit` and `Lit` are traced through the thin lens; the rest are AOVs:
 /// the raster G-buffer's content, the surface seen by the aperture-centre ray at each pixel centre.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Shading {
     /// Diffuse colour Kd of the first surface hit, or the background on a miss: pure visibility,
@@ -26,6 +26,25 @@ pub enum Shading {
 }
 
 impl Shading {
+    pub const ALL: [Shading; 5] = [
+        Self::Unlit,
+        Self::Lit,
+        Self::Depth,
+        Self::Normal,
+        Self::Albedo,
+    ];
+
+    /// The name `--shading` and `shading` take.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Unlit => "unlit",
+            Self::Lit => "lit",
+            Self::Depth => "depth",
+            Self::Normal => "normal",
+            Self::Albedo => "albedo",
+        }
+    }
+
     /// AOVs describe the surface seen through each pixel centre: one ray, no lens blur.
     pub fn is_aov(self) -> bool {
         matches!(self, Shading::Depth | Shading::Normal | Shading::Albedo)

@@ -9,11 +9,23 @@ use serde::{Deserialize, Serialize};
 use crate::sampler::SamplerKind;
 use crate::settings::{Lights, Shading};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ProjectionKind {
     Perspective,
     Orthographic,
+}
+
+impl ProjectionKind {
+    pub const ALL: [ProjectionKind; 2] = [Self::Perspective, Self::Orthographic];
+
+    /// The name `--projection` and `projection` take.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Perspective => "perspective",
+            Self::Orthographic => "orthographic",
+        }
+    }
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
@@ -67,11 +79,23 @@ pub struct LensSettings {
 }
 
 /// On or off (`--dispersion off`, `dispersion = "off"`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Switch {
     On,
     Off,
+}
+
+impl Switch {
+    pub const ALL: [Switch; 2] = [Self::On, Self::Off];
+
+    /// The name the command line and scene files take.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::On => "on",
+            Self::Off => "off",
+        }
+    }
 }
 
 /// The aperture's shape (`camera::aperture` states the conventions).

@@ -5,6 +5,7 @@ use lensray_core::camera::{CameraParams, LensParams, ProjectionParams, Ray};
 
 use crate::common::*;
 use crate::round_trip::unproject;
+use lensray_core::sampler::CameraSample;
 
 /// Pixels to visit: every pixel of small images, a stride (plus the last row and column) of
 /// larger ones.
@@ -34,11 +35,17 @@ fn pinhole_ray_through_pixel_centre_hits_unprojected_points() {
         for (i, j) in pixels(cam.width, cam.height) {
             let centre = Vec2::new(j as f32 + 0.5, i as f32 + 0.5);
             // Aperture 0: the lens sample must not matter.
-            let ray = cam.first_order_ray(centre, rng.vec2());
-            let other = cam.first_order_ray(centre, rng.vec2());
+            let ray = cam.first_order_ray(CameraSample {
+                film: centre,
+                lens: rng.vec2(),
+            });
+            let other = cam.first_order_ray(CameraSample {
+                film: centre,
+                lens: rng.vec2(),
+            });
             assert_eq!(ray, other, "{name}: pinhole ray depends on the lens sample");
             // The camera-space pinhole ray, moved to world space by hand.
-            let camera_ray = cam.pinhole_ray_camera(centre);
+            let camera_ray = cam.pinhole_ray(centre);
             let by_hand = Ray {
                 origin: cam.world_from_camera.transform_point3(camera_ray.origin),
                 direction: cam
@@ -66,7 +73,7 @@ fn pinhole_ray_through_pixel_centre_hits_unprojected_points() {
                      ({off:.3e} px off, tolerance {px_tol:.3e})"
                 );
                 let scale = (pd - r.eye).length();
-                for (which, ray) in [("first_order_ray", &ray), ("pinhole_ray_camera", &by_hand)] {
+                for (which, ray) in [("first_order_ray", &ray), ("pinhole_ray", &by_hand)] {
                     let (dist, t) = ray_distance(ray, pd);
                     assert!(
                         dist <= 1e-5 * scale,
@@ -102,7 +109,10 @@ fn pinhole_ray_origin_and_direction_follow_the_model() {
                 rng.range(0.0, r.width) as f32,
                 rng.range(0.0, r.height) as f32,
             );
-            let ray = cam.first_order_ray(film, Vec2::splat(0.5));
+            let ray = cam.first_order_ray(CameraSample {
+                film,
+                lens: Vec2::splat(0.5),
+            });
             let o = ray.origin.as_dvec3();
             let d = ray.direction.as_dvec3();
             if setup.is_orthographic() {
@@ -234,8 +244,14 @@ fn image_orientation() {
             h / 2.0
         );
         // Rays through the top-left and bottom-right pixels.
-        let top_left = cam.first_order_ray(Vec2::new(0.5, 0.5), Vec2::splat(0.5));
-        let bottom_right = cam.first_order_ray(Vec2::new(w - 0.5, h - 0.5), Vec2::splat(0.5));
+        let top_left = cam.first_order_ray(CameraSample {
+            film: Vec2::new(0.5, 0.5),
+            lens: Vec2::splat(0.5),
+        });
+        let bottom_right = cam.first_order_ray(CameraSample {
+            film: Vec2::new(w - 0.5, h - 0.5),
+            lens: Vec2::splat(0.5),
+        });
         // Orthographic rays are parallel: compare origins; perspective: directions.
         let (tl, br) = if cam.is_orthographic() {
             (top_left.origin - eye, bottom_right.origin - eye)

@@ -5,6 +5,7 @@ use glam::{DMat3, DVec3, Vec2};
 use lensray_core::camera::{Camera, Ray};
 
 use crate::common::*;
+use lensray_core::sampler::CameraSample;
 
 /// Film points: centre, the four image corners, points just inside edges, random ones.
 fn film_points(r: &RefCam, rng: &mut Rng) -> Vec<Vec2> {
@@ -84,11 +85,11 @@ fn lens_rays_of_a_film_point_meet_on_the_focal_plane() {
             // Reference: where the pinhole ray of this film point crosses z_camera = F.
             let expected = r.world_from_camera_coords(r.pinhole_point_camera(col, row, r.focus));
             let scale = (expected - r.eye).length();
-            let pinhole_camera = cam.pinhole_ray_camera(film);
+            let pinhole_camera = cam.pinhole_ray(film);
 
             let rays: Vec<Ray> = samples
                 .iter()
-                .map(|&u| cam.first_order_ray(film, u))
+                .map(|&u| cam.first_order_ray(CameraSample { film, lens: u }))
                 .collect();
             let meet = convergence_point(&rays);
             assert_close(
@@ -169,7 +170,7 @@ fn lens_ray_spread_matches_circle_of_confusion() {
             let (col, row) = (film.x as f64, film.y as f64);
             let rays: Vec<Ray> = samples
                 .iter()
-                .map(|&u| cam.first_order_ray(film, u))
+                .map(|&u| cam.first_order_ray(CameraSample { film, lens: u }))
                 .collect();
             for k in [0.2, 0.5, 0.8, 1.25, 2.0, 5.0] {
                 // Depths in front of and behind focus, all in front of the lens plane.
@@ -243,10 +244,10 @@ fn zero_aperture_lens_is_the_pinhole() {
             .camera();
         for _ in 0..64 {
             let film = Vec2::new(rng.f32() * cam.width as f32, rng.f32() * cam.height as f32);
-            let pinhole = cam.pinhole_ray_camera(film);
+            let pinhole = cam.pinhole_ray(film);
             let u = rng.vec2();
             assert_eq!(
-                cam.lens.first_order().lens_ray(&pinhole, u),
+                cam.lens.first_order().generate_ray(&pinhole, u),
                 pinhole,
                 "{}: aperture 0, lens sample {u:?}",
                 setup.name
@@ -278,7 +279,10 @@ fn sheared_projection_sends_lens_rays_to_their_pixel_centre() {
             );
             let film_u = p - p.floor();
             for lens_u in lens_samples(&mut rng).into_iter().take(40) {
-                let ray = cam.first_order_ray(p, lens_u);
+                let ray = cam.first_order_ray(CameraSample {
+                    film: p,
+                    lens: lens_u,
+                });
                 let clip_from_world = cam.clip_from_world_through_lens(film_u, lens_u);
                 for t in [0.3f32, 1.0, 3.0, 7.0] {
                     let point = ray.at(t * cam.lens.first_order().focus_distance);

@@ -11,6 +11,7 @@ use lensray_core::scene::{Mesh, Scene};
 use lensray_core::settings::{Shading, Shot};
 
 use crate::{edge_fit, material, settings};
+use lensray_core::sampler::CameraSample;
 
 const WIDTH: u32 = 256;
 const HEIGHT: u32 = 192;
@@ -72,7 +73,10 @@ fn camera(focus_distance: f64, movements: Movements) -> Camera {
 /// ray, as `--focus-plane` finds it).
 fn surface_point(renderer: &Renderer, cam: &Camera, pixel: [u32; 2]) -> DVec3 {
     let centre = Vec2::new(pixel[0] as f32 + 0.5, pixel[1] as f32 + 0.5);
-    let ray: Ray = cam.first_order_ray(centre, Vec2::splat(0.5));
+    let ray: Ray = cam.first_order_ray(CameraSample {
+        film: centre,
+        lens: Vec2::splat(0.5),
+    });
     let hit = renderer
         .intersect(&ray)
         .expect("the floor is under every test pixel");

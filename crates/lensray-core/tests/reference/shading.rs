@@ -62,7 +62,7 @@ fn lit_matches_lambert_with_inverse_square() {
                 16,
                 0,
             );
-            let ray = cam.first_order_ray(sample.film, sample.lens);
+            let ray = cam.first_order_ray(sample);
             let t = (-4.0 - ray.origin.z) / ray.direction.z;
             let p = ray.at(t);
             let to_light = light.position - p;

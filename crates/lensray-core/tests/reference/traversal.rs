@@ -1,5 +1,5 @@
 //! Ray traversal: Embree against brute force, ray packets against single rays, and the
-//! packets' primary rays against `Camera::first_order_ray`.
+//! packets' first-order rays (`reference::first_order_rays`) against `Camera::first_order_ray`.
 
 use glam::{Vec3, Vec3A};
 use lensray_core::camera::{CameraParams, LensParams, ProjectionParams};
@@ -239,7 +239,7 @@ fn rays_with_negative_zero_components_hit() {
 }
 
 #[test]
-fn packet_primary_rays_equal_generate_ray_bit_for_bit() {
+fn packet_first_order_rays_equal_first_order_ray_bit_for_bit() {
     let lenses = [
         LensParams::Pinhole,
         LensParams::ThinLens {
@@ -275,7 +275,7 @@ fn packet_primary_rays_equal_generate_ray_bit_for_bit() {
                             lensray_core::sampler::pixel_sampler(kind, seed, pixel, cam.width);
                         let mut origins = [Vec3::ZERO; lensray_core::reference::PACKET_SIZE];
                         let mut directions = origins;
-                        lensray_core::reference::primary_rays(
+                        lensray_core::reference::first_order_rays(
                             &cam,
                             &sampler,
                             first,
@@ -290,7 +290,7 @@ fn packet_primary_rays_equal_generate_ray_bit_for_bit() {
                                 cam.width,
                                 first + l,
                             );
-                            let ray = cam.first_order_ray(sample.film, sample.lens);
+                            let ray = cam.first_order_ray(sample);
                             let bits = |v: Vec3| v.to_array().map(f32::to_bits);
                             assert_eq!(
                                 (bits(origins[l as usize]), bits(directions[l as usize])),

@@ -1,10 +1,14 @@
 // Mirror of lensray-core/src/camera (projective.rs, thin_lens.rs), function by function. The matrices come
 // from the Rust `Camera` (struct Camera in the generated interface.glsl): there is no second
-// camera here.
+// camera here. The camera-ray functions carry the Rust names (GLSL has no methods: a method's
+// overload takes its receiver's data from `cam` or `lens`): generate_ray is Camera's (the one
+// entry, where the shader binds a lens), ThinLens's and RealLens's; pinhole_ray and
+// first_order_ray are Camera's.
 #ifndef LENSRAY_CAMERA_GLSL
 #define LENSRAY_CAMERA_GLSL
 
 #include "interface.glsl"
+#include "sampler.glsl"
 
 struct Ray {
     vec3 origin;
@@ -134,8 +138,9 @@ float focus_across(Camera cam, vec3 v) {
     return d;
 }
 
-// thin_lens.rs: ThinLens::lens_ray (the focal point in homogeneous form: see there).
-Ray lens_ray(Camera cam, Ray pinhole, vec2 lens_u) {
+// thin_lens.rs: ThinLens::generate_ray, in camera space from the aperture-centre ray
+// `pinhole` (the focal point in homogeneous form: see there); a closed lens keeps `pinhole`.
+Ray generate_ray(Camera cam, Ray pinhole, vec2 lens_u) {
     if (cam.aperture_radius <= 0.0) {
         return pinhole;
     }
@@ -164,8 +169,8 @@ float coc_radius_pixels(CocLens c, vec2 p_raster, float z) {
     return r;
 }
 
-// projective.rs: Camera::pinhole_ray_camera
-Ray pinhole_ray_camera(Camera cam, vec2 p_raster) {
+// projective.rs: Camera::pinhole_ray, in camera space.
+Ray pinhole_ray(Camera cam, vec2 p_raster) {
     vec3 p_screen = (cam.screen_from_raster * vec4(p_raster, 0.0, 1.0)).xyz;
     Ray r;
     if (cam.projection == PROJECTION_ORTHOGRAPHIC) {
@@ -178,17 +183,44 @@ Ray pinhole_ray_camera(Camera cam, vec2 p_raster) {
     return r;
 }
 
-// projective.rs: Camera::first_order_ray
-Ray first_order_ray(Camera cam, vec2 p_raster, vec2 lens_u) {
-    Ray camera_ray = lens_ray(cam, pinhole_ray_camera(cam, p_raster), lens_u);
+// ray.rs: Ray::transformed, by the affine a_from_b.
+Ray ray_transformed(Ray ray, mat4 a_from_b) {
     Ray r;
-    r.origin = (cam.world_from_camera * vec4(camera_ray.origin, 1.0)).xyz;
-    r.direction = (cam.world_from_camera * vec4(camera_ray.direction, 0.0)).xyz;
+    r.origin = (a_from_b * vec4(ray.origin, 1.0)).xyz;
+    r.direction = (a_from_b * vec4(ray.direction, 0.0)).xyz;
     return r;
+}
+
+// projective.rs: Camera::first_order_ray, in world space.
+Ray first_order_ray(Camera cam, CameraSample cs) {
+    Ray camera_ray = generate_ray(cam, pinhole_ray(cam, cs.film), cs.lens);
+    return ray_transformed(camera_ray, cam.world_from_camera);
 }
 
 #ifdef GROUP_LENS
 #include "real_lens.glsl"
+
+// projective.rs: Camera::generate_ray, in world space: the lens kind's ray (a pinhole's, a thin
+// lens's, or the real lens's at wavelength lambda, nm; 0: the d line). False when the real lens
+// blocks it (`r` then the camera-space axis, `weight` 0).
+bool generate_ray(Camera cam, CameraSample cs, float lambda, out Ray r, out float weight) {
+    Ray camera_ray;
+    weight = 1.0;
+    if (lens.surface_count != 0u) {
+        float k = lambda > 0.0 ? dispersion_offset(lambda) : 0.0;
+        vec3 film = lens_film_point(cs.film);
+        if (!generate_ray(cam, film, cs.lens, k, camera_ray, weight)) {
+            r = camera_ray;
+            return false;
+        }
+    } else if (cam.aperture_radius <= 0.0) {
+        camera_ray = pinhole_ray(cam, cs.film);
+    } else {
+        camera_ray = generate_ray(cam, pinhole_ray(cam, cs.film), cs.lens);
+    }
+    r = ray_transformed(camera_ray, cam.world_from_camera);
+    return true;
+}
 #endif
 
 #endif

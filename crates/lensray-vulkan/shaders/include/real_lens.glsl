@@ -313,20 +313,12 @@ vec3 lens_pupil_sample(vec3 film, vec2 u, out float area) {
     return vec3(turned, lens.rear_z);
 }
 
-// projective.rs: Camera::generate_ray_at (real_lens/mod.rs: RealLens::camera_ray_at,
-// camera_from_lens) at dispersion offset k. False when the lens blocks the ray; the thin lens:
-// first_order_ray, weight 1.
-bool generate_ray(Camera cam, vec2 p_raster, vec2 lens_u, float k, out Ray r,
-                               out float weight) {
-    if (lens.surface_count == 0u) {
-        r = first_order_ray(cam, p_raster, lens_u);
-        weight = 1.0;
-        return true;
-    }
+// real_lens/mod.rs: RealLens::generate_ray (and camera_from_lens), in camera space, of film
+// point `film` (lens_film_point) at dispersion offset k. False when the lens blocks the ray.
+bool generate_ray(Camera cam, vec3 film, vec2 lens_u, float k, out Ray r, out float weight) {
     r.origin = vec3(0.0);
     r.direction = vec3(0.0, 0.0, 1.0);
     weight = 0.0;
-    vec3 film = lens_film_point(p_raster);
     float area;
     vec3 rear = lens_pupil_sample(film, lens_u, area);
     vec3 direction = normalize(rear - film);
@@ -348,10 +340,8 @@ bool generate_ray(Camera cam, vec2 p_raster, vec2 lens_u, float k, out Ray r,
     const float scale = 1.0 / 1000.0;  // physical.rs: MM_PER_WORLD_UNIT
     precise vec3 turned =
         lens_turn(vec3(ray.origin.x, ray.origin.y, lens.entrance_pupil_z - ray.origin.z));
-    vec3 origin = vec3(turned.x * scale, turned.y * scale, turned.z * scale);
-    vec3 dir = lens_turn(vec3(ray.direction.x, ray.direction.y, -ray.direction.z));
-    r.origin = (cam.world_from_camera * vec4(origin, 1.0)).xyz;
-    r.direction = (cam.world_from_camera * vec4(dir, 0.0)).xyz;
+    r.origin = vec3(turned.x * scale, turned.y * scale, turned.z * scale);
+    r.direction = lens_turn(vec3(ray.direction.x, ray.direction.y, -ray.direction.z));
     return true;
 }
 

@@ -82,7 +82,7 @@ vec3 reprojected_shortcut(Reprojection r, uint pixel_index, CameraSample cs) {
     if (r.depth <= 0.0) {
         return plan[pixel_index].xyz;
     }
-    Ray c = lens_ray(params.camera, pinhole_ray_camera(params.camera, cs.film), cs.lens);
+    Ray c = generate_ray(params.camera, pinhole_ray(params.camera, cs.film), cs.lens);
     vec3 p = ray_at(c, (r.depth - c.origin.z) / c.direction.z);
     vec2 screen = params.camera.projection == PROJECTION_PERSPECTIVE ? p.xy / p.z : p.xy;
     // Bilinear between pixel centres, clamped to the image.
@@ -200,19 +200,17 @@ uint trace_pixel() {
         vec3 value = !shortcut ? vec3(0.0) : lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut_value;
         Ray ray;
         float weight = 1.0;
-        // nm; 0: the sample carries no wavelength (reference/rays.rs: real_lens_rays).
+        // nm; 0: the sample carries no wavelength (reference/rays.rs: generate_rays).
         float lambda = 0.0;
         if (pre_pass) {
-            ray = first_order_ray(params.camera, vec2(x, y) + 0.5, vec2(0.5));
+            ray = first_order_ray(params.camera, CameraSample(vec2(x, y) + 0.5, vec2(0.5)));
         } else if (pc.mode == TRACE_MODE_ALL) {
-            float k = 0.0;
             if (lens.dispersive != 0u) {
                 lambda = sample_wavelength(pixel_dimension(sampler_state, s, DIM_WAVELENGTH));
-                k = dispersion_offset(lambda);
             }
-            trace = generate_ray(params.camera, cs.film, cs.lens, k, ray, weight);
+            trace = generate_ray(params.camera, cs, lambda, ray, weight);
         } else if (trace) {
-            ray = first_order_ray(params.camera, cs.film, cs.lens);
+            ray = first_order_ray(params.camera, cs);
         }
         if (trace) {
             LightDraw draw = sample_draw(sampler_state, pixel_index, s);

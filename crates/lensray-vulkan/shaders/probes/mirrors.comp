@@ -32,14 +32,13 @@ void main() {
     CameraSample cs = camera_sample(q.sampler_kind, q.seed, uvec2(q.pixel_x, q.pixel_y), q.width,
                                     q.sample_index);
     r.camera_sample = vec4(cs.film, cs.lens);
-    Ray ray = first_order_ray(cam, cs.film, cs.lens);
+    Ray ray = first_order_ray(cam, cs);
     r.origin = vec4(ray.origin, 1.0);
     r.direction = vec4(ray.direction, 0.0);
     r.lens_point = vec4(lens_point(cam, cs.lens), 0.0, 0.0);
     Ray through;
     float weight;
-    float k = q.wavelength_nm > 0.0 ? dispersion_offset(q.wavelength_nm) : 0.0;
-    bool passed = generate_ray(cam, cs.film, cs.lens, k, through, weight);
+    bool passed = generate_ray(cam, cs, q.wavelength_nm, through, weight);
     r.through_lens_origin = vec4(through.origin, passed ? weight : -1.0);
     r.through_lens_direction = vec4(through.direction, 0.0);
     results[i] = r;

@@ -18,9 +18,9 @@ use lensray_core::interface::{BindingGroup, DescriptorKind, Resource, Resources,
 pub(crate) struct Gpu<'a>(PhantomData<&'a ()>);
 
 impl<'a> Resources for Gpu<'a> {
-    type Buffer = &'a Buffer;
-    type Image = vk::ImageView;
-    type Accel = vk::AccelerationStructureKHR;
+    type BufferResource = &'a Buffer;
+    type ImageResource = vk::ImageView;
+    type AccelResource = vk::AccelerationStructureKHR;
 }
 
 fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {

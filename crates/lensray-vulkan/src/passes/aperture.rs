@@ -1,5 +1,5 @@
 //! The aperture image's tables on the device (`camera::aperture::image`): the storage buffer
-//! that trace.comp (TRACE_BINDING_APERTURE) and the mirror probe read: the cumulative tables,
+//! that trace.comp (`ApertureGroup`) and the mirror probe read: the cumulative tables,
 //! then the cells' transmissions (a real lens's stop reads them, `Lens.aperture_transmission_start`).
 //! A placeholder while the aperture is no image; uploaded again only when the camera's image
 //! changes.

@@ -1,6 +1,6 @@
 //! The hybrid path's plan on the device (shaders/passes/hybrid_plan.comp): from the G-buffer images
 //! already drawn in the same command buffer into the trace pass's plan buffer
-//! (TRACE_BINDING_PLAN), with no readback. The rules are those of the host's reference
+//! (`HybridTraceGroup`), with no readback. The rules are those of the host's reference
 //! `probes::hybrid_plan::Plan::new`; tests/hybrid.rs checks that both plans are equal.
 
 use std::sync::Arc;

@@ -1,5 +1,5 @@
 //! A real lens on the device (`camera::real_lens`): the storage buffer that trace.comp
-//! (TRACE_BINDING_LENS) and the mirror probe read, laid out as `interface::GpuLens`. It
+//! (`LensGroup`) and the mirror probe read, laid out as `interface::GpuLens`. It
 //! holds `surface_count` 0 while the camera has a thin lens; uploaded again only when the
 //! lens or the image size changes (focusing or stopping down makes a new lens).
 

@@ -33,7 +33,7 @@ pub(crate) struct VisibilityTargets {
     triangle: DeviceImage,
     #[allow(dead_code)] // owned here: the framebuffer uses its view
     depth: DeviceImage,
-    /// One uint per pixel, row-major: TRACE_BINDING_VISIBILITY.
+    /// One uint per pixel, row-major: `RasterTraceGroup`'s `visibility`.
     pub buffer: Buffer,
     pub width: u32,
     pub height: u32,

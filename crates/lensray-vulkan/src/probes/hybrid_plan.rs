@@ -37,7 +37,7 @@ fn window_radius(coc: f32) -> u32 {
     1 + (coc.min(1e7) + SHORTCUT_COC).floor() as u32
 }
 
-/// Per pixel: what the trace pass does (see `interface::TRACE_BINDING_PLAN`).
+/// Per pixel: what the trace pass does (see `interface::HybridTraceGroup`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
     pub width: u32,

@@ -16,6 +16,7 @@ use lensray_core::scene::file::SceneDescription;
 use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 use crate::{edges, mean_rmse, reference, render, resolved, scenes, slope, Options};
+use lensray_core::sampler::CameraSample;
 
 /// Film offset and lens position of sample `index` of the pixel with key `key`.
 type Candidate = fn(u32, u32) -> [f32; 4];
@@ -85,7 +86,10 @@ fn unlit_estimate(
                 for s in 0..spp {
                     let u = candidate(key, s);
                     let film = Vec2::new(x as f32 + u[0], y as f32 + u[1]);
-                    let ray = camera.first_order_ray(film, Vec2::new(u[2], u[3]));
+                    let ray = camera.first_order_ray(CameraSample {
+                        film,
+                        lens: Vec2::new(u[2], u[3]),
+                    });
                     sum += match renderer.intersect(&ray) {
                         Some(hit) => {
                             let m = renderer.surface_point(&ray, &hit).material;

@@ -17,8 +17,8 @@ use anyhow::{Context, Result};
 use clap::ValueEnum;
 use serde::Serialize;
 
-use lensray::bench::machine::{self, Machine};
 use lensray::bench::runs::{timed_render, Spread};
+use lensray::machine::{self, Machine};
 use lensray::paths::{self, PathKind, PathOptions, RenderPath};
 use lensray_core::film::compare::rmse;
 use lensray_core::film::Image;

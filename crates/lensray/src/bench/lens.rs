@@ -20,11 +20,10 @@ use super::runs::Measurement;
 use super::sweep::BenchLens;
 use crate::paths::PathKind;
 use lensray_core::camera::{Camera, RealLens};
-use lensray_core::optics::glass::dispersion_offset_f32;
 use lensray_core::optics::trace::narrow::LensRay;
 use lensray_core::reference::PACKET_SIZE;
 use lensray_core::sampler::{
-    pixel_camera_sample, pixel_sampler, shared_pixel_sampler, PixelSampler,
+    pixel_camera_sample, pixel_sampler, shared_pixel_sampler, CameraSample, PixelSampler,
 };
 use lensray_core::settings::Shot;
 use lensray_core::stats::median;
@@ -78,7 +77,7 @@ pub struct CpuPieces {
     pub lens_trace_ns: f64,
     /// `generate_ray` as a whole (pupil, trace, weight, to world space).
     pub camera_ray_ns: f64,
-    /// What the CPU path runs instead: `RealLens::camera_rays` on packets of `PACKET_SIZE`
+    /// What the CPU path runs instead: `RealLens::generate_rays` on packets of `PACKET_SIZE`
     /// samples traced together by lane (film point, pupil, trace and weight, in camera
     /// space). The thin lens's figure is `camera_ray_ns`: its packets are made elsewhere.
     pub packet_ns: f64,
@@ -166,7 +165,8 @@ impl CpuPieces {
         let camera_ray_ns = ns_per_sample(n, &|| {
             let mut sum = 0.0;
             for &(film, lens) in &samples {
-                if let Some((ray, weight)) = camera.generate_ray(film, lens) {
+                if let Some((ray, weight)) = camera.generate_ray(CameraSample { film, lens }, None)
+                {
                     sum += ray.direction.x + weight;
                 }
             }
@@ -212,7 +212,7 @@ fn ns_per_sample(n: f64, work: &dyn Fn() -> f32) -> f64 {
 
 /// The real lens's pieces per sample over `samples` (`n` of them, at least 1): the film point
 /// and pupil sample, the trace through the surfaces (the pupil's time taken off), and
-/// `RealLens::camera_rays` on packets.
+/// `RealLens::generate_rays` on packets.
 fn real_lens_pieces(
     real: &RealLens,
     camera: &Camera,
@@ -252,7 +252,7 @@ fn real_lens_pieces(
                 *lane = (real.film_point(film, width, height), lens, 0.0);
             }
             let mut out = [None; PACKET_SIZE];
-            real.camera_rays(&lanes[..chunk.len()], &mut out);
+            real.generate_rays(&lanes[..chunk.len()], &mut out);
             for (ray, weight) in out.into_iter().flatten() {
                 sum += ray.direction.x + weight;
             }
@@ -279,10 +279,8 @@ pub fn shot_camera_rays(shot: &Shot) -> u64 {
                 for i in 0..settings.spp {
                     let sample = pixel_camera_sample(&sampler, i);
                     // At the sample's wavelength, as the render traces it.
-                    let k = camera
-                        .sample_wavelength(&sampler, i)
-                        .map_or(0.0, dispersion_offset_f32);
-                    let ray = camera.generate_ray_at(sample.film, sample.lens, k);
+                    let wavelength = camera.sample_wavelength(&sampler, i);
+                    let ray = camera.generate_ray(sample, wavelength);
                     passed += u64::from(ray.is_some());
                 }
             }
@@ -308,7 +306,8 @@ pub fn centre_camera_rays(camera: &Camera) -> (u64, u64) {
             for j in 0..CENTRE_GRID {
                 for i in 0..CENTRE_GRID {
                     let lens = (Vec2::new(i as f32, j as f32) + 0.5) / CENTRE_GRID as f32;
-                    passed += u64::from(camera.generate_ray(film, lens).is_some());
+                    let sample = CameraSample { film, lens };
+                    passed += u64::from(camera.generate_ray(sample, None).is_some());
                     drawn += 1;
                 }
             }

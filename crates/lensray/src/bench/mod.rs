@@ -7,13 +7,13 @@
 //! `reference` (the cached converged image), `focus` (how much of the shot is in focus), `lens`
 //! (the lens sweep's pass shares and costs per camera ray), `movements` (the movements sweep's
 //! shots), `runs` (timing the paths at one point), `report` (the results, also the JSON file),
-//! `camera` (the shot's camera in it), `table`, `plot`, `machine`.
+//! `camera` (the shot's camera in it), `table`, `plot`; the machine it ran on is
+//! `crate::machine`.
 
 pub mod camera;
 pub mod choose;
 pub mod focus;
 pub mod lens;
-pub mod machine;
 pub mod movements;
 pub mod options;
 pub mod plot;
@@ -86,7 +86,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
     let mut report = BenchReport {
         schema: report::SCHEMA,
         lensray_version: env!("CARGO_PKG_VERSION"),
-        machine: machine::describe(),
+        machine: crate::machine::describe(),
         scene: SceneInfo {
             name: base.name.clone(),
             triangles: base.triangles,

@@ -129,7 +129,7 @@ impl Default for BenchOptions {
     fn default() -> Self {
         Self {
             scene: SceneChoice::Named(NamedScene::Default),
-            dense_triangles: crate::cli::generate::DEFAULT_DENSE_TRIANGLES,
+            dense_triangles: lensray_core::scene::generate::DEFAULT_DENSE_TRIANGLES,
             scene_units: None,
             paths: Vec::new(),
             device: DeviceChoice::Auto,

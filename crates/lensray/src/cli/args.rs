@@ -7,6 +7,7 @@ use clap::Args;
 /// The crease angle of `--smooth-normals` given without one, degrees.
 const DEFAULT_CREASE: &str = "60";
 
+use super::named::by_name;
 use crate::paths::{DeviceChoice, PathChoice, PathOptions};
 use lensray_vulkan::GpuOptions;
 
@@ -153,7 +154,7 @@ pub struct ViewArgs {
     /// focus distance, ...): m, cm, mm or in [default: the scene file's `units`, else m].
     #[arg(long, value_name = "UNITS", value_parser = SceneUnits::parse)]
     pub scene_units: Option<SceneUnits>,
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = by_name::<ProjectionKind>())]
     pub projection: Option<ProjectionKind>,
     /// Camera position, in the scene's units (as every world length below; lens data is in mm).
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
@@ -225,7 +226,7 @@ pub struct ViewArgs {
     pub lens: Option<String>,
     /// With --lens: whether each camera ray carries a wavelength through the lens's glass
     /// (colour fringes from dispersion; default on when the lens gives Abbe numbers).
-    #[arg(long, value_enum, value_name = "on|off")]
+    #[arg(long, value_parser = by_name::<Switch>(), value_name = "on|off")]
     pub dispersion: Option<Switch>,
     /// f-number N: aperture radius = f / (2N); with --lens, the stop is closed until the
     /// entrance pupil gives N (default: wide open).
@@ -251,9 +252,9 @@ pub struct ViewArgs {
     #[arg(long, value_name = "S")]
     pub seed: Option<u32>,
     /// How samples are drawn (default sobol).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = by_name::<SamplerKind>())]
     pub sampler: Option<SamplerKind>,
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = by_name::<Shading>())]
     pub shading: Option<Shading>,
     /// Background colour, linear RGB.
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]

@@ -7,12 +7,14 @@ use anyhow::{bail, Result};
 use clap::Args;
 
 use super::args::{DeviceArgs, MovementArgs};
+use super::named::by_name;
 use crate::bench::options::{
     BenchOptions, NamedScene, SceneChoice, SweepKind, DEFAULT_CACHE_DIR, DEFAULT_REFERENCE_SPP,
 };
 use crate::output::PendingFile;
 use crate::paths::PathChoice;
 use lensray_core::sampler::SamplerKind;
+use lensray_core::scene::generate::DEFAULT_DENSE_TRIANGLES;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Shading;
 
@@ -43,7 +45,7 @@ pub struct BenchArgs {
     #[arg(long, value_name = "UNITS", value_parser = SceneUnits::parse)]
     pub scene_units: Option<SceneUnits>,
     /// Triangles of `--scene dense`.
-    #[arg(long, value_name = "N", default_value_t = crate::cli::generate::DEFAULT_DENSE_TRIANGLES)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_DENSE_TRIANGLES)]
     pub dense_triangles: usize,
     #[arg(long, value_name = "W", default_value_t = lensray_core::settings::DEFAULT_WIDTH)]
     pub width: u32,
@@ -52,7 +54,7 @@ pub struct BenchArgs {
     /// Samples per pixel (the largest of the spp sweep).
     #[arg(long, value_name = "N", default_value_t = lensray_core::settings::DEFAULT_SPP)]
     pub spp: u32,
-    #[arg(long, value_enum, default_value_t = Shading::Unlit)]
+    #[arg(long, value_parser = by_name::<Shading>(), default_value = Shading::Unlit.name())]
     pub shading: Shading,
     /// Lens aperture radius, in the scene's units (0 = pinhole) [default: the scene's].
     #[arg(long, value_name = "R")]
@@ -69,7 +71,7 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub movements: MovementArgs,
     /// How samples are drawn [default: the scene's, else sobol].
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = by_name::<SamplerKind>())]
     pub sampler: Option<SamplerKind>,
     /// Seed of the paths' samples (the reference uses another).
     #[arg(long, value_name = "S")]

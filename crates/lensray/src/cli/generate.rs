@@ -12,13 +12,12 @@ use anyhow::{bail, Context};
 
 use lensray_core::scene::builtin::default_scene;
 use lensray_core::scene::file::write_scene_file;
-use lensray_core::scene::generate::{bokeh, cornell_box, dense, sphere_row};
+use lensray_core::scene::generate::{
+    bokeh, cornell_box, dense, sphere_row, DEFAULT_DENSE_TRIANGLES,
+};
 use lensray_core::scene::gltf_out::write_scene_gltf;
 use lensray_core::scene::textured::{self, write_textured};
 use lensray_core::scene::{write_obj, SceneDescription};
-
-/// Triangles of the dense benchmark scene unless `--triangles` says otherwise.
-pub const DEFAULT_DENSE_TRIANGLES: usize = 1_000_000;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Which {

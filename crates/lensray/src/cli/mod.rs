@@ -3,10 +3,10 @@
 pub mod args;
 pub mod bench;
 pub mod calibrate;
-pub mod focus;
 pub mod generate;
 pub mod info;
 pub mod lens;
+pub mod named;
 pub mod preview;
 pub mod progress;
 pub mod render;

@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 
 use super::args::{PathArgs, ViewArgs};
+use super::named::by_name;
 use super::render::{load_scene, merged_settings};
 use crate::preview::app::{run as run_window, PreviewConfig};
 use crate::preview::player::ScriptPlayer;
@@ -20,7 +21,7 @@ pub struct PreviewArgs {
     #[arg(long = "view", value_enum, default_value_t = ViewMode::Final)]
     pub initial_view: ViewMode,
     /// How frames wait for the display.
-    #[arg(long, value_enum, default_value_t = PresentMode::Fifo)]
+    #[arg(long, value_parser = by_name::<PresentMode>(), default_value = PresentMode::Fifo.name())]
     pub present_mode: PresentMode,
     /// Draw this many frames, then exit.
     #[arg(long, value_name = "N")]

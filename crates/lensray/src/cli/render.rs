@@ -7,8 +7,8 @@ use anyhow::{Context, Result};
 use clap::Args;
 
 use super::args::{parse_pixel, PathArgs, ViewArgs};
-use super::focus::{focus_depth_at, lay_focus_plane};
 use super::progress::{ProgressMode, ProgressReporter};
+use crate::focus::{focus_depth_at, lay_focus_plane};
 use crate::output::PendingOutput;
 use crate::paths::{self, OpenedPath};
 use lensray_core::scene::file::SceneDescription;

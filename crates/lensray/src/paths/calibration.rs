@@ -78,7 +78,7 @@ impl Calibration {
 /// slower) and the calibration's format, the Vulkan device (name, IDs, driver, pipeline-cache
 /// UUID) and the CPU (model, threads).
 pub fn key(device: &DeviceReport) -> String {
-    let machine = crate::bench::machine::describe();
+    let machine = crate::machine::describe();
     let uuid: String = device
         .pipeline_cache_uuid
         .iter()

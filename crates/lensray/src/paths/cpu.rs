@@ -9,6 +9,7 @@ use crate::paths::{Clock, PathKind, PathReport, RenderPath};
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::reference::{EmbreeSettings, Renderer};
+use lensray_core::sampler::CameraSample;
 use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
 
@@ -104,7 +105,10 @@ impl RenderPath for CpuPath {
 
     fn focus_depth_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<Option<f32>> {
         let centre = UVec2::from(pixel).as_vec2() + Vec2::splat(0.5);
-        let ray = camera.first_order_ray(centre, Vec2::splat(0.5));
+        let ray = camera.first_order_ray(CameraSample {
+            film: centre,
+            lens: Vec2::splat(0.5),
+        });
         Ok(self
             .renderer()?
             .intersect(&ray)

@@ -9,7 +9,6 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use clap::ValueEnum;
 use glam::Vec3;
 
 use lensray_core::camera::Projection;
@@ -156,14 +155,6 @@ fn triple(v: [f64; 3]) -> String {
     format!("{},{},{}", v[0], v[1], v[2])
 }
 
-fn value_name(value: impl ValueEnum) -> String {
-    value
-        .to_possible_value()
-        .expect("no skipped variants")
-        .get_name()
-        .to_string()
-}
-
 /// A word the shell passes through unchanged: as is when it is plain, else single-quoted.
 pub fn shell_word(text: &str) -> String {
     let plain = |c: char| c.is_ascii_alphanumeric() || "_-./,=:+@%".contains(c);
@@ -194,7 +185,7 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
         &settings.render,
         &settings.light,
     );
-    option("projection", c.projection.map(value_name));
+    option("projection", c.projection.map(|p| p.name().to_string()));
     option("eye", c.eye.map(triple));
     option("target", c.target.map(triple));
     option("up", c.up.map(triple));
@@ -202,7 +193,10 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
     option("vfov", number(c.vfov_degrees));
     option("ortho-height", number(c.ortho_height));
     option("lens", c.lens.prescription.as_deref().map(shell_word));
-    option("dispersion", c.lens.dispersion.map(value_name));
+    option(
+        "dispersion",
+        c.lens.dispersion.map(|d| d.name().to_string()),
+    );
     option("aperture-radius", number(c.aperture_radius));
     option("focal-length-mm", number(c.focal_length_mm));
     option("f-number", number(c.f_number));
@@ -229,7 +223,7 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
     option("spp", i.spp.map(|x| x.to_string()));
     option("seed", i.seed.map(|x| x.to_string()));
     option("sampler", i.sampler.map(|s| s.name().to_string()));
-    option("shading", r.shading.map(value_name));
+    option("shading", r.shading.map(|s| s.name().to_string()));
     option("background", r.background.map(triple));
     option("environment", r.environment.map(triple));
     // The command line gives one point light; other lights need the scene file's tables.

@@ -237,7 +237,7 @@ fn check_camera_mirrors(cam: &Camera, q: &ProbeQuery, r: &ProbeResult, cs: &Came
     }
     // Rays: same formulas, but GPU transcendentals and fused operations may differ in
     // the last bits.
-    let ray = cam.first_order_ray(cs.film, cs.lens);
+    let ray = cam.first_order_ray(*cs);
     let o = Vec3::new(r.origin[0], r.origin[1], r.origin[2]);
     let d = Vec3::new(r.direction[0], r.direction[1], r.direction[2]);
     let err =

@@ -19,8 +19,8 @@ const IRRADIANCE_GRID: u32 = 400;
 /// cross), by the midpoint rule on a `IRRADIANCE_GRID` square grid, T and passing from
 /// `RealLens::trace_to_scene`; theta_film from the film's normal (the axis, but for a tilted
 /// lens), theta_rear from the axis, d the distance. For a film square to the axis this is
-/// T cos^4(theta) / h^2. Independent of the lens's exit-pupil regions and of `camera_ray`'s
-/// weights.
+/// T cos^4(theta) / h^2. Independent of the lens's exit-pupil regions and of
+/// `RealLens::generate_ray`'s weights.
 fn irradiance(lens: &RealLens, film: Vec3) -> f64 {
     irradiance_on_grid(lens, film, IRRADIANCE_GRID)
 }
@@ -55,8 +55,8 @@ pub(crate) fn irradiance_on_grid(lens: &RealLens, film: Vec3, n: u32) -> f64 {
     sum * f64::from(cell * cell)
 }
 
-/// The mean weight of `camera_ray` at `film` over a 256 x 256 midpoint grid of lens samples
-/// (blocked rays count 0): what the image averages there.
+/// The mean weight of `RealLens::generate_ray` at `film` over a 256 x 256 midpoint grid of lens
+/// samples (blocked rays count 0): what the image averages there.
 pub(crate) fn mean_weight(lens: &RealLens, film: Vec3) -> f64 {
     const M: u32 = 256;
     let sum: f64 = (0..M)
@@ -65,7 +65,7 @@ pub(crate) fn mean_weight(lens: &RealLens, film: Vec3) -> f64 {
             (0..M)
                 .filter_map(|i| {
                     let u = Vec2::new(i as f32 + 0.5, j as f32 + 0.5) / M as f32;
-                    lens.camera_ray(film, u).map(|(_, w)| f64::from(w))
+                    lens.generate_ray(film, u, 0.0).map(|(_, w)| f64::from(w))
                 })
                 .sum::<f64>()
         })

@@ -187,7 +187,7 @@ pub fn render_window(
                 let mut sum = 0.0;
                 for k in 0..spp {
                     let sample = camera_sample(SamplerKind::Sobol, 1, pixel, camera.width, k);
-                    let Some((ray, weight)) = camera.generate_ray(sample.film, sample.lens) else {
+                    let Some((ray, weight)) = camera.generate_ray(sample, None) else {
                         continue;
                     };
                     // The emitter's plane is world z = -centre.z.

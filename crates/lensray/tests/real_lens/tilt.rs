@@ -96,7 +96,7 @@ fn best_focus(lens: &RealLens, film: glam::Vec3) -> Option<DVec3> {
     for j in 0..M {
         for i in 0..M {
             let u = Vec2::new(i as f32 + 0.5, j as f32 + 0.5) / M as f32;
-            let Some((ray, _)) = lens.camera_ray(film, u) else {
+            let Some((ray, _)) = lens.generate_ray(film, u, 0.0) else {
                 continue;
             };
             let d = ray.direction.as_dvec3().normalize();

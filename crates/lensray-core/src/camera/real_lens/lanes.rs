@@ -4,8 +4,8 @@
 //! and `refract` operation for operation, in the same order (glam's `Vec3` is scalar: `dot` is
 //! `(x x + y y) + z z`, `a + t d` per coordinate), with branches turned into selects and a
 //! blocked lane's mask cleared; so every lane that passes carries `trace_to_scene`'s ray bit
-//! for bit (`RealLens::camera_rays` is tested against `camera_ray`). The scalar tracer stays the
-//! definition the GLSL mirrors.
+//! for bit (`RealLens::generate_rays` is tested against `generate_ray`). The scalar tracer
+//! stays the definition the GLSL mirrors.
 
 // Lane loops index several arrays by lane: the layout the vectorizer wants.
 #![allow(clippy::needless_range_loop)]

@@ -360,25 +360,20 @@ impl RealLens {
         self.film.point(u, v)
     }
 
-    /// The camera ray (camera space) of film point `film` (from [`Self::film_point`]) and
-    /// lens sample `lens_u` in [0, 1)^2 at the d line, with its weight (see the module's
-    /// radiometry); `None` when the lens blocks it.
-    pub fn camera_ray(&self, film: Vec3, lens_u: Vec2) -> Option<(Ray, f32)> {
-        self.camera_ray_at(film, lens_u, 0.0)
-    }
-
-    /// [`Self::camera_ray`] at dispersion offset `k` (`optics::glass::dispersion_offset_f32`
-    /// of the sample's wavelength; 0: the d line).
-    pub fn camera_ray_at(&self, film: Vec3, lens_u: Vec2, k: f32) -> Option<(Ray, f32)> {
+    /// The real lens's camera ray (camera space) of film point `film` (from
+    /// [`Self::film_point`]) and lens sample `lens_u` in [0, 1)^2 at dispersion offset `k`
+    /// (`optics::glass::dispersion_offset_f32` of the sample's wavelength; 0: the d line),
+    /// with its weight (see the module's radiometry); `None` when the lens blocks it.
+    pub fn generate_ray(&self, film: Vec3, lens_u: Vec2, k: f32) -> Option<(Ray, f32)> {
         let (start, area) = self.start(film, lens_u);
         let (out, transmission) = self.trace_to_scene_at(start, k)?;
         Some(self.finish(start, area, out, transmission))
     }
 
-    /// `camera_ray_at` for many samples (film point, lens sample, dispersion offset) at once,
-    /// bit for bit: the rays cross the lens surface by surface together, laid out by lane so
-    /// each surface's arithmetic runs as vector instructions across them (`lanes.rs`).
-    pub fn camera_rays<const N: usize>(
+    /// [`Self::generate_ray`] for many samples (film point, lens sample, dispersion offset) at
+    /// once, bit for bit: the rays cross the lens surface by surface together, laid out by lane
+    /// so each surface's arithmetic runs as vector instructions across them (`lanes.rs`).
+    pub fn generate_rays<const N: usize>(
         &self,
         samples: &[(Vec3, Vec2, f32)],
         out: &mut [Option<(Ray, f32)>; N],

@@ -255,7 +255,7 @@ impl ExitPupil {
     }
 
     /// The integral of T cos^4(theta) dA over the rear plane, for the film's centre: a
-    /// midpoint rule over its region (what `RealLens::camera_ray` averages to, there).
+    /// midpoint rule over its region (what `RealLens::generate_ray` averages to, there).
     fn centre_integral(&self, lens: &RealLens) -> f64 {
         let region = self.bins[0].inner;
         if region.is_empty() {

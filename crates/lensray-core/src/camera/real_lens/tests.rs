@@ -2,9 +2,9 @@
 
 use super::*;
 
-/// The packet trace gives `camera_ray`'s rays and weights bit for bit, full packets and a
+/// The packet trace gives `generate_ray`'s rays and weights bit for bit, full packets and a
 /// part-filled one, square to the film and tilted and shifted (the CPU renders with it; the
-/// GPU mirror is checked against `camera_ray`). Also reports both speeds.
+/// GPU mirror is checked against `generate_ray`). Also reports both speeds.
 #[test]
 fn packets_trace_the_same_rays() {
     let six_blades = Aperture::new(crate::camera::ApertureShape {
@@ -68,14 +68,14 @@ fn packets_match_one_by_one(real: &RealLens) {
         let start = std::time::Instant::now();
         one_by_one = samples
             .iter()
-            .map(|&(f, u, k)| real.camera_ray_at(f, u, k))
+            .map(|&(f, u, k)| real.generate_ray(f, u, k))
             .collect();
         scalar = scalar.min(start.elapsed());
         let start = std::time::Instant::now();
         packed.clear();
         for chunk in samples.chunks(crate::reference::PACKET_SIZE) {
             let mut out = [None; crate::reference::PACKET_SIZE];
-            real.camera_rays(chunk, &mut out);
+            real.generate_rays(chunk, &mut out);
             packed.extend_from_slice(&out[..chunk.len()]);
         }
         packets = packets.min(start.elapsed());

@@ -6,7 +6,7 @@ use crate::{Estimator, GpuOptions};
 use lensray_core::settings::Shot;
 
 /// How the window waits for the display (VkPresentModeKHR).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum PresentMode {
     /// Wait for vertical blank, never tear (always available).
     #[default]
@@ -15,6 +15,19 @@ pub enum PresentMode {
     Mailbox,
     /// Present at once; may tear.
     Immediate,
+}
+
+impl PresentMode {
+    pub const ALL: [PresentMode; 3] = [Self::Fifo, Self::Mailbox, Self::Immediate];
+
+    /// The name `--present-mode` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Fifo => "fifo",
+            Self::Mailbox => "mailbox",
+            Self::Immediate => "immediate",
+        }
+    }
 }
 
 /// What the next frame shows.

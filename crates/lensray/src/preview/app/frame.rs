@@ -8,6 +8,7 @@ use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
 use super::App;
+use crate::focus;
 use crate::preview::cpu_feed::Snapshot;
 use crate::preview::panel::PanelStats;
 use lensray_core::camera::Camera;
@@ -192,8 +193,6 @@ impl App {
         self.converged = result.converged;
     }
 
-    /// Focuses at the picked view depth (`None`: nothing under the cursor), no nearer than
-    /// the lens reaches, and says where.
     /// A Shift+clicked surface at view depth `depth` under `pixel` of `camera`: the third lays
     /// the plane of focus through the three.
     fn plane_point(&mut self, depth: Option<f32>, pixel: [u32; 2], camera: &Camera) {
@@ -202,10 +201,9 @@ impl App {
             eprintln!("focus plane: nothing under the cursor (points so far are kept)");
             return;
         };
-        let centre = glam::Vec2::new(pixel[0] as f32 + 0.5, pixel[1] as f32 + 0.5);
         let point = camera
             .world_from_camera
-            .transform_point3(camera.camera_point(centre, z));
+            .transform_point3(focus::pixel_point(camera, pixel, z));
         self.plane_points.push(point.as_dvec3());
         let n = self.plane_points.len();
         if n < 3 {
@@ -219,11 +217,13 @@ impl App {
         ];
         self.plane_points.clear();
         match self.config.rig.lay_focus_plane(&points, camera) {
-            Ok(plane) => eprintln!("focus plane: {}", crate::cli::focus::describe(&plane)),
+            Ok(plane) => eprintln!("focus plane: {}", focus::describe(&plane)),
             Err(e) => eprintln!("focus plane: {e}"),
         }
     }
 
+    /// Focuses at the picked view depth (`None`: nothing under the cursor), no nearer than
+    /// the lens reaches, and says where.
     fn focus_on_pick(&mut self, depth: Option<f32>) {
         // The new focus shows from the next frame on.
         self.converged = false;

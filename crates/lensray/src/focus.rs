@@ -1,8 +1,10 @@
 //! Focusing on what the image shows: the view depth under a pixel (`--focus-at`), and the plane
-//! of focus through the surfaces under three pixels (`--focus-plane`, `camera::FocusPlane`).
+//! of focus through the surfaces under three pixels (`--focus-plane`, `camera::FocusPlane`; the
+//! preview's Shift+clicks). Neither command-line nor window code: `render` and the preview both
+//! focus through it.
 
 use anyhow::{Context, Result};
-use glam::{DVec3, Vec2};
+use glam::{DVec3, Vec2, Vec3};
 
 use crate::paths::RenderPath;
 use lensray_core::camera::{Camera, FocusPlane};
@@ -38,10 +40,16 @@ pub fn surface_points(
     let mut points = [DVec3::ZERO; 3];
     for (point, pixel) in points.iter_mut().zip(pixels) {
         let z = focus_depth_at(path, camera, pixel, "--focus-plane")?;
-        let centre = Vec2::new(pixel[0] as f32 + 0.5, pixel[1] as f32 + 0.5);
-        *point = camera.camera_point(centre, z).as_dvec3();
+        *point = pixel_point(camera, pixel, z).as_dvec3();
     }
     Ok(points)
+}
+
+/// The camera-space point at view depth `z` under the centre of `pixel` of `camera` (on its
+/// aperture-centre ray): where a picked surface lies.
+pub fn pixel_point(camera: &Camera, pixel: [u32; 2], z: f32) -> Vec3 {
+    let centre = Vec2::new(pixel[0] as f32 + 0.5, pixel[1] as f32 + 0.5);
+    camera.camera_point(centre, z)
 }
 
 /// Lays the plane of focus through the surfaces under `settings`' three focus-plane pixels,

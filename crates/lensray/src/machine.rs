@@ -1,4 +1,5 @@
-//! The machine a bench ran on, for its report.
+//! The machine lensray runs on: what a bench's report names and what `auto`'s calibration is
+//! kept for.
 
 use serde::Serialize;
 
