@@ -3,7 +3,7 @@
 //! buffers; in `bindings.rs` every pipeline's descriptor set, binding by binding. build.rs generates the GLSL header `interface.glsl` from the
 //! same definition and refuses to build when Rust lays a struct out differently from GLSL;
 //! `shaders/probes/layouts.comp` checks on a device that the shaders read every field where Rust
-//! wrote it (tests/gpu.rs), through blocks generated from the same list of structs
+//! wrote it (lensray-vulkan's tests/renderer/mirrors.rs), through blocks generated from the same list of structs
 //! (`shared_structs()`, `glsl::layout_probe_reads`).
 
 #![forbid(unsafe_code)]

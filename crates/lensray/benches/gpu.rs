@@ -5,7 +5,7 @@
 //! it only runs a tiny smoke version. Without a ray-query device it fails, unless
 //! LENSRAY_SKIP_GPU_TESTS=1 (then it records the skip, as the GPU tests do).
 
-#[path = "../tests/gpu_support/mod.rs"]
+#[path = "../../lensray-vulkan/tests/support/mod.rs"]
 mod gpu_support;
 
 use glam::Vec3;

@@ -10,7 +10,7 @@
 //! measures; under `cargo test --all-targets` (no `--bench` argument) it only runs a tiny smoke
 //! version. Without a Vulkan device it fails, unless LENSRAY_SKIP_GPU_TESTS=1.
 
-#[path = "../tests/gpu_support/mod.rs"]
+#[path = "../../lensray-vulkan/tests/support/mod.rs"]
 mod gpu_support;
 
 use lensray_core::scene::{Scene, SceneDescription};

@@ -1,7 +1,8 @@
 //! Real lenses on the GPU (shaders/include/real_lens.glsl, the mirror of lensray-core/src/camera/real_lens
 //! and lensray-core/src/optics/trace.rs): the probe traces the same film and lens samples as the CPU for
 //! every built-in lens, wide open and stopped down, with round, bladed and image stops; and
-//! the traced paths render what the CPU renders. Validation on; see tests/gpu.rs for skips.
+//! the traced paths render what the CPU renders. Validation on; see lensray-vulkan's
+//! tests/renderer.rs for skips.
 
 mod gpu_support;
 

@@ -1,7 +1,7 @@
 //! Shift and tilt (`camera::movements`): a shifted window is a crop of a wider centred one,
 //! and every path renders the CPU reference's image of a shifted, tilted shot, perspective and
 //! orthographic. The hybrid (tests/hybrid.rs), the raster path (tests/raster.rs), the GLSL
-//! mirrors (tests/gpu/mirrors.rs) and the Scheimpflug rule (lensray-core's
+//! mirrors (lensray-vulkan's tests/renderer/mirrors.rs) and the Scheimpflug rule (lensray-core's
 //! tests/reference/scheimpflug.rs) are checked beside their kind.
 
 mod gpu_support;

@@ -256,8 +256,8 @@ fn gpu_paths_agree_with_the_cpu_on_a_shaped_aperture() {
     }
 }
 
-/// Each GPU path renders the CPU reference's image (the statistics of tests/gpu.rs), and finds
-/// the same focus depth at a pixel.
+/// Each GPU path renders the CPU reference's image (the statistics of lensray-vulkan's
+/// tests/renderer/renders.rs), and finds the same focus depth at a pixel.
 #[test]
 fn gpu_paths_agree_with_the_cpu_reference() {
     let test = "gpu_paths_agree_with_the_cpu_reference";

@@ -1,10 +1,10 @@
 //! Choosing the device: `--device gpu`, `auto` without a Vulkan device or validation layer,
-//! `--gpu`, and the benches' device handling.
+//! `--gpu`, the benches' device handling, and the devices `info` lists.
 
 use std::path::Path;
 use std::process::{Command, Output};
 
-use crate::gpu_support::skip_or_fail;
+use crate::gpu_support::{may_skip, record_skip, skip_or_fail};
 use crate::{lensray, render_args, stderr};
 
 /// Runs lensray with the Vulkan loader pointed at no driver at all: the machine "has no GPU".
@@ -182,6 +182,35 @@ fn aov_bench_reports_passes_per_second() {
     }
     assert!(
         text.contains("rayquery") || text.contains("software"),
+        "{text}"
+    );
+}
+
+/// `info`'s list of the Vulkan devices (lensray-vulkan's tests check the reports themselves):
+/// a ray-query device, by name, with its ray queries and every path it runs.
+#[test]
+fn info_lists_a_ray_query_device() {
+    let test = "info_lists_a_ray_query_device";
+    let devices = match lensray_vulkan::list_devices() {
+        Ok(d) => d,
+        Err(e) if may_skip(&e) => {
+            record_skip(test, &e.to_string());
+            return;
+        }
+        Err(e) => panic!("list_devices: {e}"),
+    };
+    let Some(usable) = devices.iter().find(|d| d.ray_query) else {
+        if std::env::var("LENSRAY_SKIP_GPU_TESTS").as_deref() == Ok("1") {
+            record_skip(test, "no Vulkan device with ray queries");
+            return;
+        }
+        panic!("no ray-query device in {devices:#?}");
+    };
+    let text = lensray::cli::info::format_devices(&devices);
+    assert!(
+        text.contains(&usable.name)
+            && text.contains("ray queries        yes")
+            && text.contains("paths              rayquery, software, hybrid, raster, cpu"),
         "{text}"
     );
 }

@@ -3,17 +3,17 @@
 //! traversal finds the surfaces ray queries find, shades like the CPU reference, and runs on a
 //! device whose ray queries are hidden.
 //!
-//! Skipping follows tests/gpu.rs (LENSRAY_SKIP_GPU_TESTS=1 on machines without a device).
+//! Skipping follows tests/renderer.rs (LENSRAY_SKIP_GPU_TESTS=1 on machines without a device).
 
-mod gpu_support;
+mod support;
 
-use gpu_support::*;
 use lensray_core::camera::LensParams;
 use lensray_core::film::Image;
 use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::scene::Scene;
 use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::{GpuError, GpuOptions, Traversal};
+use support::*;
 
 /// The project's scenes (built-in default, Cornell box) as the CLI resolves them, small.
 fn project_scenes(
@@ -109,8 +109,8 @@ fn software_equals_rayquery_unlit() {
     finish(gpu, log);
 }
 
-/// Lit, the software traversal against the CPU reference with the statistics of tests/gpu.rs
-/// (`gpu_matches_cpu`): the test scene through a thin lens, and the project's scenes.
+/// Lit, the software traversal against the CPU reference with the statistics of
+/// tests/renderer/renders.rs (`gpu_matches_cpu`): the test scene through a thin lens, and the project's scenes.
 #[test]
 fn software_matches_cpu_lit() {
     let Some((mut gpu, log)) = renderer("software_matches_cpu_lit") else {

@@ -5,7 +5,7 @@ use lensray_core::camera::LensParams;
 use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::{GpuError, GpuOptions, GpuRenderer};
 
-use crate::gpu_support::*;
+use crate::support::*;
 
 #[test]
 fn bogus_device_index_is_a_clear_error() {
@@ -158,13 +158,6 @@ fn list_devices_reports_a_ray_query_device() {
         assert_eq!(d.ray_query, d.missing.is_empty(), "{d:?}");
         assert!(d.max_image_dimension_2d >= 4096 && d.max_storage_buffer_range > 0);
     }
-    let text = lensray::cli::info::format_devices(&devices);
-    assert!(
-        text.contains(&usable[0].name)
-            && text.contains("ray queries        yes")
-            && text.contains("paths              rayquery, software, hybrid, raster, cpu"),
-        "{text}"
-    );
     // The renderer picks a usable device, and names it.
     let Some((gpu, log)) = renderer("list_devices_reports_a_ray_query_device") else {
         return;

@@ -10,7 +10,7 @@ use lensray_core::sampler::{
 };
 use lensray_vulkan::{ProbeQuery, ProbeResult};
 
-use crate::gpu_support::*;
+use crate::support::*;
 
 /// The sampler kinds the mirror probe alternates between, indexed by their ids.
 const KINDS: [SamplerKind; 2] = [SamplerKind::Sobol, SamplerKind::Independent];
@@ -242,7 +242,7 @@ fn check_camera_mirrors(cam: &Camera, q: &ProbeQuery, r: &ProbeResult, cs: &Came
     let d = Vec3::new(r.direction[0], r.direction[1], r.direction[2]);
     let err =
         (o - ray.origin).length() / (1.0 + ray.origin.length()) + (d - ray.direction).length();
-    // A thin lens: the ray through the lens is that ray, weight 1 (tests/gpu_lens.rs
+    // A thin lens: the ray through the lens is that ray, weight 1 (the app's tests/gpu_lens.rs
     // checks real lenses).
     assert_eq!(
         r.through_lens_origin,

@@ -5,13 +5,13 @@
 //! Without a ray-query device (or the validation layer) these tests fail, unless
 //! LENSRAY_SKIP_GPU_TESTS=1; then they are skipped, and scripts/test.sh reports how many.
 
-mod gpu_support;
+mod support;
 
-#[path = "gpu/device.rs"]
+#[path = "renderer/device.rs"]
 mod device;
-#[path = "gpu/gbuffer.rs"]
+#[path = "renderer/gbuffer.rs"]
 mod gbuffer;
-#[path = "gpu/mirrors.rs"]
+#[path = "renderer/mirrors.rs"]
 mod mirrors;
-#[path = "gpu/renders.rs"]
+#[path = "renderer/renders.rs"]
 mod renders;

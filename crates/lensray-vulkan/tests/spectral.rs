@@ -1,8 +1,8 @@
 //! The GLSL mirror of the spectral weighting (shaders/include/spectral.glsl) against
-//! lensray-core/src/film/spectral.rs on the device, bit for bit, validation on (tests/gpu.rs
+//! lensray-core/src/film/spectral.rs on the device, bit for bit, validation on (tests/renderer.rs
 //! says how a machine without a device skips).
 
-mod gpu_support;
+mod support;
 
 use lensray_core::film::spectral::{
     rgb_weights, sample_wavelength, wavelength_interval, WAVELENGTH_MAX_NM, WAVELENGTH_MIN_NM,
@@ -10,7 +10,7 @@ use lensray_core::film::spectral::{
 use lensray_core::interface::SPECTRAL_CDF;
 use lensray_vulkan::probe_spectral;
 
-use gpu_support::*;
+use support::*;
 
 /// Sample values and wavelengths where rounding is likeliest to differ: a stratified grid, each
 /// entry of the cumulative table and the float below it, the ends; each wavelength node, the

@@ -8,7 +8,7 @@ use lensray_core::sampler::SamplerKind;
 use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::GpuOptions;
 
-use crate::gpu_support::*;
+use crate::support::*;
 
 fn gpu_matches_cpu(orthographic: bool, shading: Shading) {
     let name = format!(
@@ -132,7 +132,7 @@ fn split_dispatches_accumulate_identically() {
 #[test]
 fn a_traced_render_makes_only_its_trace_pipeline() {
     let test = "a_traced_render_makes_only_its_trace_pipeline";
-    let Some(traversal) = traced_path(test).and_then(|p| p.traversal()) else {
+    let Some(traversal) = default_traversal(test) else {
         return;
     };
     let options = GpuOptions {

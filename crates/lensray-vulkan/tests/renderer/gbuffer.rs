@@ -9,7 +9,7 @@ use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::settings::{Shading, Shot};
 use lensray_vulkan::focus_distance_at;
 
-use crate::gpu_support::*;
+use crate::support::*;
 use lensray_core::sampler::CameraSample;
 
 /// Mesh index of each flattened triangle.
