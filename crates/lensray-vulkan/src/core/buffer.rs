@@ -95,21 +95,10 @@ impl Buffer {
             MemoryLocation::CpuToGpu,
         )?;
         staging.write(data)?;
-        ctx.submit_and_wait(|cmd| {
+        ctx.submit_and_wait(|rec| {
             let region = vk::BufferCopy::default().size(data.len() as u64);
-            // SAFETY: both buffers are live, large enough, and have the transfer usages.
-            unsafe {
-                ctx.device
-                    .cmd_copy_buffer(cmd, staging.buffer, buffer.buffer, &[region]);
-            }
-            barrier(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::AccessFlags::TRANSFER_WRITE,
-                vk::PipelineStageFlags::ALL_COMMANDS,
-                vk::AccessFlags::MEMORY_READ,
-            );
+            rec.copy_buffer(&staging, &buffer, &[region]);
+            rec.publish(&[&buffer]);
             Ok(())
         })?;
         Ok(buffer)
@@ -148,48 +137,4 @@ impl Drop for Buffer {
             let _ = self.ctx.allocator().free(a);
         }
     }
-}
-
-/// A global memory barrier.
-pub(crate) fn barrier(
-    ctx: &Context,
-    cmd: vk::CommandBuffer,
-    src_stage: vk::PipelineStageFlags,
-    src_access: vk::AccessFlags,
-    dst_stage: vk::PipelineStageFlags,
-    dst_access: vk::AccessFlags,
-) {
-    let memory = [vk::MemoryBarrier::default()
-        .src_access_mask(src_access)
-        .dst_access_mask(dst_access)];
-    // SAFETY: recording into a command buffer in the recording state.
-    unsafe {
-        ctx.device.cmd_pipeline_barrier(
-            cmd,
-            src_stage,
-            dst_stage,
-            vk::DependencyFlags::empty(),
-            &memory,
-            &[],
-            &[],
-        )
-    };
-}
-
-/// Orders writes of `src_stage` (with `src_access`) before host reads of mapped memory: the
-/// last command of every readback.
-pub(crate) fn barrier_to_host(
-    ctx: &Context,
-    cmd: vk::CommandBuffer,
-    src_stage: vk::PipelineStageFlags,
-    src_access: vk::AccessFlags,
-) {
-    barrier(
-        ctx,
-        cmd,
-        src_stage,
-        src_access,
-        vk::PipelineStageFlags::HOST,
-        vk::AccessFlags::HOST_READ,
-    );
 }

@@ -12,6 +12,7 @@ use crate::core::counters::DeviceCounters;
 use crate::core::error::{alloc_err, vk_err, GpuError};
 use crate::core::instance::Instance;
 use crate::core::pipeline_cache;
+use crate::core::recorder::Recorder;
 use crate::core::surface::WindowSurface;
 use crate::traversal::Traversal;
 use crate::GpuOptions;
@@ -164,7 +165,7 @@ impl Context {
     /// Records `record` into a fresh command buffer, submits it, waits for it to finish.
     pub(crate) fn submit_and_wait(
         &self,
-        record: impl FnOnce(vk::CommandBuffer) -> Result<(), GpuError>,
+        record: impl FnOnce(&mut Recorder<'_>) -> Result<(), GpuError>,
     ) -> Result<(), GpuError> {
         let value = self.submit(record)?;
         self.wait_until(value)
@@ -176,7 +177,7 @@ impl Context {
     /// after earlier ones with barriers as usual.
     pub(crate) fn submit(
         &self,
-        record: impl FnOnce(vk::CommandBuffer) -> Result<(), GpuError>,
+        record: impl FnOnce(&mut Recorder<'_>) -> Result<(), GpuError>,
     ) -> Result<u64, GpuError> {
         let info = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.command_pool)
@@ -221,14 +222,14 @@ impl Context {
         cmd: vk::CommandBuffer,
         value: u64,
         fence: vk::Fence,
-        record: impl FnOnce(vk::CommandBuffer) -> Result<(), GpuError>,
+        record: impl FnOnce(&mut Recorder<'_>) -> Result<(), GpuError>,
     ) -> Result<(), GpuError> {
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: fresh command buffer from our pool.
         unsafe { self.device.begin_command_buffer(cmd, &begin) }
             .map_err(vk_err("vkBeginCommandBuffer"))?;
-        record(cmd)?;
+        record(&mut Recorder::new(self, cmd))?;
         // SAFETY: recording began above.
         unsafe { self.device.end_command_buffer(cmd) }.map_err(vk_err("vkEndCommandBuffer"))?;
         let cmds = [cmd];

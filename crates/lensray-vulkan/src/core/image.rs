@@ -6,7 +6,6 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::{barrier_to_host, Buffer};
 use crate::core::device::Context;
 use crate::core::error::{alloc_err, vk_err, GpuError};
 
@@ -193,32 +192,4 @@ pub(crate) fn record_copy_to_buffer(
             &[region],
         )
     };
-}
-
-/// Records the copy of each whole `width` x `height` colour image (in TRANSFER_SRC_OPTIMAL, its
-/// writes ordered before transfers) into its host-visible buffer, then makes the copies visible
-/// to the host.
-pub(crate) fn record_readbacks(
-    ctx: &Context,
-    cmd: vk::CommandBuffer,
-    copies: &[(&DeviceImage, &Buffer)],
-    width: u32,
-    height: u32,
-) {
-    for (image, buffer) in copies {
-        record_copy_to_buffer(
-            ctx,
-            cmd,
-            image.image,
-            buffer.buffer,
-            [0, 0],
-            [width, height],
-        );
-    }
-    barrier_to_host(
-        ctx,
-        cmd,
-        vk::PipelineStageFlags::TRANSFER,
-        vk::AccessFlags::TRANSFER_WRITE,
-    );
 }

@@ -2,6 +2,7 @@
 //! queries, pipelines, embedded SPIR-V, the window surface and errors. It knows nothing of
 //! cameras or scenes.
 
+pub(crate) mod accel;
 pub(crate) mod adapter;
 pub(crate) mod buffer;
 pub(crate) mod counters;
@@ -13,5 +14,6 @@ pub(crate) mod instance;
 pub(crate) mod pipeline;
 pub(crate) mod pipeline_cache;
 pub(crate) mod query;
+pub(crate) mod recorder;
 pub(crate) mod shader;
 pub(crate) mod surface;

@@ -10,6 +10,7 @@ use ash::vk;
 use crate::core::device::Context;
 use crate::core::error::{vk_err, GpuError};
 use crate::core::pipeline::Pipeline;
+use crate::core::recorder::Recorder;
 use crate::scene::SceneBuffers;
 use crate::upload::SurfaceRun;
 
@@ -182,53 +183,22 @@ pub(crate) struct SceneDraw<'a> {
     pub push: &'a [u8],
 }
 
-/// Records `draw`: begins the render pass, draws every triangle of `scene`, ends it.
-pub(crate) fn record_scene_draw(
-    ctx: &Context,
-    cmd: vk::CommandBuffer,
-    scene: &SceneBuffers,
-    draw: &SceneDraw<'_>,
-) {
-    let area = vk::Rect2D {
-        offset: vk::Offset2D { x: 0, y: 0 },
-        extent: vk::Extent2D {
-            width: draw.width,
-            height: draw.height,
-        },
-    };
-    let begin = vk::RenderPassBeginInfo::default()
-        .render_pass(draw.render_pass)
-        .framebuffer(draw.framebuffer)
-        .render_area(area)
-        .clear_values(draw.clear);
-    let viewport = vk::Viewport {
-        x: 0.0,
-        y: 0.0,
-        width: draw.width as f32,
-        height: draw.height as f32,
-        min_depth: 0.0,
-        max_depth: 1.0,
-    };
-    // SAFETY: recording state; the framebuffer matches the render pass; the scene buffers
-    // bound in the pipeline's set are live.
-    unsafe {
-        ctx.device
-            .cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
-        ctx.device.cmd_set_viewport(cmd, 0, &[viewport]);
-        ctx.device.cmd_set_scissor(cmd, 0, &[area]);
-    }
-    draw.pipeline.bind(cmd, draw.push);
+/// Records `draw`: begins the render pass, draws every triangle of `scene`, ends it. The
+/// render pass's dependencies order its attachments' writes against earlier and later
+/// transfers and compute reads; the scene's arrays are uploads, published to every command.
+pub(crate) fn record_scene_draw(rec: &mut Recorder<'_>, scene: &SceneBuffers, draw: &SceneDraw<'_>) {
+    rec.begin_render_pass(
+        draw.render_pass,
+        draw.framebuffer,
+        (draw.width, draw.height),
+        draw.clear,
+    );
+    rec.bind_graphics(draw.pipeline, draw.push);
     for run in surface_draws(scene, draw.pipeline.surface_variants()) {
-        draw.pipeline.bind_surfaces(cmd, run.surfaces);
-        // SAFETY: inside the render pass with a graphics pipeline bound; the run lies within
-        // the scene's triangles.
-        unsafe {
-            ctx.device
-                .cmd_draw(cmd, run.triangle_count * 3, 1, run.first_triangle * 3, 0)
-        };
+        rec.bind_surfaces(draw.pipeline, run.surfaces);
+        rec.draw(run.first_triangle * 3, run.triangle_count * 3);
     }
-    // SAFETY: inside the render pass.
-    unsafe { ctx.device.cmd_end_render_pass(cmd) };
+    rec.end_render_pass();
 }
 
 /// More draws than this in one pass cost more than the fragments they spare: the scene is drawn

@@ -11,7 +11,8 @@ use std::sync::{Arc, Weak};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::{barrier, barrier_to_host, Buffer};
+use crate::core::buffer::Buffer;
+use crate::core::recorder::Recorder;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use lensray_core::film::{Accumulation, Holder, OnDevice};
@@ -118,48 +119,18 @@ impl DeviceFilms {
         &self.films[index].sums
     }
 
-    /// Records what film `index` needs before samples are added (`take`'s `Start`), ordered
-    /// after every earlier use of the buffer and before the copies of the trace pass.
-    pub(crate) fn record_start(&self, cmd: vk::CommandBuffer, index: usize, start: Start) {
+    /// Records what film `index` needs before samples are added (`take`'s `Start`): its sums
+    /// from the transfer buffer, or zeros.
+    pub(crate) fn record_start(&self, rec: &mut Recorder<'_>, index: usize, start: Start) {
         let film = &self.films[index].sums;
-        if start == Start::Ready {
-            return;
-        }
-        barrier(
-            &self.ctx,
-            cmd,
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-        );
         match (start, &self.transfer) {
+            (Start::Ready, _) => {}
             (Start::Upload, Some(transfer)) => {
                 let copy = vk::BufferCopy::default().size(film.size);
-                // SAFETY: recording state; both buffers have the image's size and the
-                // TRANSFER usages (`take`).
-                unsafe {
-                    self.ctx
-                        .device
-                        .cmd_copy_buffer(cmd, transfer.buffer, film.buffer, &[copy])
-                };
+                rec.copy_buffer(transfer, film, &[copy]);
             }
-            // SAFETY: recording state; the film has TRANSFER_DST usage and a size that is a
-            // multiple of 4.
-            _ => unsafe {
-                self.ctx
-                    .device
-                    .cmd_fill_buffer(cmd, film.buffer, 0, vk::WHOLE_SIZE, 0)
-            },
+            _ => rec.fill_buffer(film, 0, vk::WHOLE_SIZE, 0),
         }
-        barrier(
-            &self.ctx,
-            cmd,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-            vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::SHADER_READ,
-        );
     }
 
     /// Makes the transfer buffer fit film `index`, before a call records `record_finish`.
@@ -168,11 +139,12 @@ impl DeviceFilms {
         self.transfer(bytes).map(|_| ())
     }
 
-    /// Records the copy of film `index` to the transfer buffer, ordered after every earlier
-    /// write (the call's last band) and before the host's read (the caller's last barrier).
-    pub(crate) fn record_finish(&self, cmd: vk::CommandBuffer, index: usize) {
+    /// Records the copy of film `index` to the transfer buffer, after the call's last band;
+    /// returns the transfer buffer, which the host reads after the submission's wait.
+    pub(crate) fn record_finish(&self, rec: &mut Recorder<'_>, index: usize) -> &Buffer {
         let transfer = self.transfer.as_ref().expect("prepare_finish made it");
-        self.record_copy_out(cmd, &self.films[index].sums, transfer);
+        self.record_copy_out(rec, &self.films[index].sums, transfer);
+        transfer
     }
 
     /// The copy that `record_finish` recorded for film `index` was waited for: the transfer
@@ -198,14 +170,9 @@ impl DeviceFilms {
         if !self.in_transfer.as_ref().is_some_and(|k| k.ptr_eq(&key)) {
             self.prepare_finish(index)?;
             let transfer = self.transfer.as_ref().expect("made above");
-            self.ctx.submit_and_wait(|cmd| {
-                self.record_copy_out(cmd, &self.films[index].sums, transfer);
-                barrier_to_host(
-                    &self.ctx,
-                    cmd,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                );
+            self.ctx.submit_and_wait(|rec| {
+                self.record_copy_out(rec, &self.films[index].sums, transfer);
+                rec.read_on_host(&[transfer]);
                 Ok(())
             })?;
             self.in_transfer = Some(key);
@@ -216,24 +183,10 @@ impl DeviceFilms {
         Ok(())
     }
 
-    /// Records the copy of `film` into `transfer`, after every earlier write.
-    fn record_copy_out(&self, cmd: vk::CommandBuffer, film: &Buffer, transfer: &Buffer) {
-        barrier(
-            &self.ctx,
-            cmd,
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_WRITE,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::TRANSFER_WRITE,
-        );
+    /// Records the copy of `film` into `transfer`.
+    fn record_copy_out(&self, rec: &mut Recorder<'_>, film: &Buffer, transfer: &Buffer) {
         let copy = vk::BufferCopy::default().size(film.size);
-        // SAFETY: recording state; both buffers have the film's size (`prepare_finish`) and the
-        // TRANSFER usages.
-        unsafe {
-            self.ctx
-                .device
-                .cmd_copy_buffer(cmd, film.buffer, transfer.buffer, &[copy])
-        };
+        rec.copy_buffer(film, transfer, &[copy]);
     }
 
     /// The host-visible transfer buffer of `bytes` (made anew for another size; no submission

@@ -10,10 +10,11 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
+use crate::core::recorder::Recorder;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{record_readbacks, transition, DeviceImage, Transition};
+use crate::core::image::{DeviceImage, Transition};
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
 use crate::core::query::QueryPool;
 use crate::core::shader;
@@ -79,16 +80,9 @@ impl GBufferTargets {
     /// Records the colour images' transition from `old` (TRANSFER_SRC_OPTIMAL after their pass)
     /// to GENERAL for compute-shader reads (the preview's resolve, the hybrid's plan), their
     /// pass's writes ordered before those reads. The caller keeps `layout` up to date.
-    pub(crate) fn record_to_general(
-        &self,
-        ctx: &Context,
-        cmd: vk::CommandBuffer,
-        old: vk::ImageLayout,
-    ) {
+    pub(crate) fn record_to_general(&self, rec: &mut Recorder<'_>, old: vk::ImageLayout) {
         for image in [&self.normal, &self.albedo, &self.view_depth] {
-            transition(
-                ctx,
-                cmd,
+            rec.transition(
                 image.image,
                 &Transition {
                     old,
@@ -220,18 +214,17 @@ impl GBufferPass {
     /// reads. `timestamps`: a pool and the first of two queries written around the draw.
     pub(crate) fn record(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         scene: &SceneBuffers,
         camera: &Camera,
         background: Vec3,
         timestamps: Option<(&QueryPool, u32)>,
     ) {
-        let ctx = &self.ctx;
         let targets = self.targets.as_ref().expect("ensure_targets first");
         let (width, height) = (targets.width, targets.height);
         let push = crate::upload::raster_push(camera);
         if let Some((pool, first)) = timestamps {
-            pool.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, first);
+            rec.timestamp(pool, vk::PipelineStageFlags::TOP_OF_PIPE, first);
         }
         let clear = [
             vk::ClearValue {
@@ -253,8 +246,7 @@ impl GBufferPass {
             },
         ];
         record_scene_draw(
-            ctx,
-            cmd,
+            rec,
             scene,
             &SceneDraw {
                 render_pass: self.render_pass.handle,
@@ -268,7 +260,7 @@ impl GBufferPass {
         );
         targets.layout.set(vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
         if let Some((pool, first)) = timestamps {
-            pool.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, first + 1);
+            rec.timestamp(pool, vk::PipelineStageFlags::BOTTOM_OF_PIPE, first + 1);
         }
     }
 
@@ -296,22 +288,20 @@ impl GBufferPass {
         let albedo_rb = readback("G-buffer albedo readback", 16)?;
         let depth_rb = readback("G-buffer depth readback", 4)?;
         let ctx = &self.ctx;
-        ctx.submit_and_wait(|cmd| {
-            self.timestamps.reset(cmd);
-            self.record(cmd, scene, camera, background, Some((&self.timestamps, 0)));
+        ctx.submit_and_wait(|rec| {
+            rec.reset_queries(&self.timestamps);
+            self.record(rec, scene, camera, background, Some((&self.timestamps, 0)));
             // The render pass left the images in TRANSFER_SRC_OPTIMAL and its outgoing
             // dependency orders the attachment writes before these copies.
-            record_readbacks(
-                ctx,
-                cmd,
-                &[
-                    (&targets.normal, &normal_rb),
-                    (&targets.albedo, &albedo_rb),
-                    (&targets.view_depth, &depth_rb),
-                ],
-                width,
-                height,
-            );
+            let copies = [
+                (&targets.normal, &normal_rb),
+                (&targets.albedo, &albedo_rb),
+                (&targets.view_depth, &depth_rb),
+            ];
+            for (image, buffer) in copies {
+                rec.copy_image_to_buffer(image.image, buffer, [0, 0], [width, height]);
+            }
+            rec.read_on_host(&[&normal_rb, &albedo_rb, &depth_rb]);
             Ok(())
         })?;
         let ticks = self.timestamps.results()?;

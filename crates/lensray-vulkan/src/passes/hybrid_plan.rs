@@ -8,11 +8,12 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::{barrier, Buffer};
+use crate::core::recorder::{Access, Recorder};
+use crate::core::buffer::Buffer;
 use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{transition, Transition};
+use crate::core::image::Transition;
 use crate::core::pipeline::Pipeline;
 use crate::core::shader;
 use crate::passes::gbuffer::GBufferTargets;
@@ -44,6 +45,10 @@ pub(crate) struct HybridPlanPass {
     ctx: Arc<Context>,
     pipeline: Pipeline,
     scratch: Option<Scratch>,
+    /// The trace pass's plan and surface-depth buffers bound (the recorder orders the plan's
+    /// writes against the trace pass's reads).
+    bound_plan: vk::Buffer,
+    bound_surface_depth: vk::Buffer,
 }
 
 impl HybridPlanPass {
@@ -53,6 +58,8 @@ impl HybridPlanPass {
             ctx: ctx.clone(),
             pipeline,
             scratch: None,
+            bound_plan: vk::Buffer::null(),
+            bound_surface_depth: vk::Buffer::null(),
         })
     }
 
@@ -101,6 +108,7 @@ impl HybridPlanPass {
             });
         }
         let scratch = self.scratch.as_ref().expect("created above");
+        (self.bound_plan, self.bound_surface_depth) = (plan.buffer, surface_depth.buffer);
         self.pipeline.bind_group(&HybridPlanGroup::<Gpu> {
             g_normal: targets.normal.view,
             g_albedo: targets.albedo.view,
@@ -119,14 +127,13 @@ impl HybridPlanPass {
     /// plan's writes are ordered before later compute reads.
     pub(crate) fn record(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         targets: &GBufferTargets,
         camera: &Camera,
         shading: Shading,
         spp: u32,
     ) {
-        let ctx = &self.ctx;
-        targets.record_to_general(ctx, cmd, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
+        targets.record_to_general(rec, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
         let (width, height) = (targets.width, targets.height);
         let (tiles_x, tiles_y) = (width.div_ceil(HYBRID_TILE), height.div_ceil(HYBRID_TILE));
         let push = |step| HybridPlanPush {
@@ -151,36 +158,19 @@ impl HybridPlanPass {
             (HYBRID_PLAN_STEP_DILATE, tiles_x * tiles_y),
             (HYBRID_PLAN_STEP_ENTRIES, tiles_x * height),
         ];
+        let scratch = self.scratch.as_ref().expect("bind made it");
+        let uses = [
+            (scratch.tiles.buffer, Access::ComputeWrite),
+            (scratch.edges.buffer, Access::ComputeWrite),
+            (self.bound_plan, Access::ComputeWrite),
+            (self.bound_surface_depth, Access::ComputeWrite),
+        ];
         for (step, invocations) in steps {
-            // Earlier steps' writes (and earlier readers of the scratch and plan) first.
-            barrier(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-            );
-            self.pipeline.bind(cmd, bytemuck::bytes_of(&push(step)));
-            // SAFETY: compute pipeline and its complete set bound (`bind`); the images are in
-            // GENERAL.
-            unsafe {
-                ctx.device
-                    .cmd_dispatch(cmd, invocations.div_ceil(HYBRID_PLAN_GROUP_SIZE), 1, 1)
-            };
+            let groups = [invocations.div_ceil(HYBRID_PLAN_GROUP_SIZE), 1, 1];
+            rec.dispatch(&self.pipeline, bytemuck::bytes_of(&push(step)), groups, &uses);
         }
-        barrier(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_WRITE,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-        );
         for image in [&targets.normal, &targets.albedo, &targets.view_depth] {
-            transition(
-                ctx,
-                cmd,
+            rec.transition(
                 image.image,
                 &Transition {
                     old: vk::ImageLayout::GENERAL,

@@ -82,6 +82,10 @@ pub(crate) struct TracePass {
     prepass_rays_pending: bool,
     /// Placeholder of the raster path's visibility binding until `bind_visibility`.
     _visibility_placeholder: Buffer,
+    /// The visibility and accumulation buffers the pipelines' sets hold now (the recorder
+    /// orders the dispatches after their writes).
+    bound_visibility: vk::Buffer,
+    bound_accum: vk::Buffer,
     /// Placeholder of the accumulation binding until a render or the preview binds one.
     _accum_placeholder: Buffer,
     timestamps: QueryPool,
@@ -185,6 +189,8 @@ impl TracePass {
             surface_depth,
             plan_pixels: None,
             prepass_rays_pending: false,
+            bound_visibility: visibility.buffer,
+            bound_accum: accum_placeholder.buffer,
             _visibility_placeholder: visibility,
             _accum_placeholder: accum_placeholder,
             timestamps,
@@ -246,7 +252,8 @@ impl TracePass {
 
     /// Points the raster path's visibility binding at `buffer` (one uint per pixel, owned by
     /// the visibility pass, which outlives the pass's use of it).
-    pub(crate) fn bind_visibility(&self, buffer: &Buffer) {
+    pub(crate) fn bind_visibility(&mut self, buffer: &Buffer) {
+        self.bound_visibility = buffer.buffer;
         for p in &self.pipelines {
             p.pipeline
                 .bind_group(&RasterTraceGroup::<Gpu> { visibility: buffer });
@@ -378,7 +385,8 @@ impl TracePass {
     }
 
     /// Points every pipeline's accumulation binding at `buffer`.
-    fn bind_accum_buffer(&self, buffer: &Buffer) {
+    fn bind_accum_buffer(&mut self, buffer: &Buffer) {
+        self.bound_accum = buffer.buffer;
         for p in &self.pipelines {
             p.pipeline
                 .bind_group(&AccumulationGroup::<Gpu> { accum: buffer });

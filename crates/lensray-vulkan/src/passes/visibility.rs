@@ -9,10 +9,11 @@ use ash::vk;
 use glam::{UVec2, Vec2};
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::{barrier, Buffer};
+use crate::core::recorder::Recorder;
+use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{record_copy_to_buffer, DeviceImage};
+use crate::core::image::DeviceImage;
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
 use crate::core::shader;
 use crate::passes::draw::{
@@ -149,7 +150,7 @@ impl VisibilityPass {
     /// pixel. See `record`.
     pub(crate) fn record_sample(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         scene: &SceneBuffers,
         camera: &Camera,
         settings: &RenderSettings,
@@ -158,7 +159,7 @@ impl VisibilityPass {
         let shared = shared_pixel_sampler(settings.sampler, settings.seed, UVec2::ZERO);
         let cs = pixel_camera_sample(&shared, sample);
         let blend = Some((settings.seed, sample));
-        self.record(cmd, scene, camera, (cs.film, cs.lens), blend);
+        self.record(rec, scene, camera, (cs.film, cs.lens), blend);
     }
 
     /// Records the pass along each pixel's aperture-centre ray through its centre (the hybrid's
@@ -166,7 +167,7 @@ impl VisibilityPass {
     /// traced camera; its raster counterpart is taken here.
     pub(crate) fn record_aperture_centre(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         scene: &SceneBuffers,
         camera: &Camera,
     ) {
@@ -174,7 +175,7 @@ impl VisibilityPass {
         // (concentric_sample_disk), as first_order_ray is given them in the pre-pass.
         let centre = Vec2::splat(0.5);
         let camera = camera.for_rasterizing_rays();
-        self.record(cmd, scene, &camera, (centre, centre), None);
+        self.record(rec, scene, &camera, (centre, centre), None);
     }
 
     /// Records the pass for one camera sample shared by every pixel (`film_u`, `lens_u`; the
@@ -185,13 +186,12 @@ impl VisibilityPass {
     /// buffer are ordered before the copy.
     pub(crate) fn record(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         scene: &SceneBuffers,
         camera: &Camera,
         (film_u, lens_u): (Vec2, Vec2),
         blend: Option<(u32, u32)>,
     ) {
-        let ctx = &self.ctx;
         let targets = self.targets.as_ref().expect("ensure_targets first");
         let (width, height) = (targets.width, targets.height);
         let (seed, sample_index) = blend.unwrap_or((0, 0));
@@ -217,8 +217,7 @@ impl VisibilityPass {
             },
         ];
         record_scene_draw(
-            ctx,
-            cmd,
+            rec,
             scene,
             &SceneDraw {
                 render_pass: self.render_pass.handle,
@@ -230,32 +229,14 @@ impl VisibilityPass {
                 push: bytemuck::bytes_of(&push),
             },
         );
-        // The previous sample's shading pass read the buffer: before the copy overwrites it.
-        barrier(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_READ,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-        );
         // The render pass left the image in TRANSFER_SRC_OPTIMAL and its outgoing dependency
-        // orders the attachment writes before this copy; the buffer holds a uint per pixel.
-        record_copy_to_buffer(
-            ctx,
-            cmd,
+        // orders the attachment writes before this copy; the buffer holds a uint per pixel, and
+        // the previous sample's shading pass read it (the recorder orders the copy after).
+        rec.copy_image_to_buffer(
             targets.triangle.image,
-            targets.buffer.buffer,
+            &targets.buffer,
             [0, 0],
             [width, height],
-        );
-        barrier(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_READ,
         );
     }
 }

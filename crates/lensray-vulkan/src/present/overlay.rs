@@ -9,6 +9,7 @@ use egui_ash_renderer::allocator::DefaultAllocator;
 use egui_ash_renderer::{Options, RenderMode, Renderer};
 
 use crate::core::device::Context;
+use crate::core::recorder::Recorder;
 use crate::core::error::{vk_err, GpuError};
 use crate::present::swapchain::Swapchain;
 
@@ -159,10 +160,11 @@ impl Overlay {
     /// the copy), leaving it in PRESENT_SRC_KHR.
     pub(crate) fn record(
         &mut self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         image_index: u32,
         frame: Option<&OverlayFrame>,
     ) -> Result<(), GpuError> {
+        let cmd = rec.cmd();
         let begin = vk::RenderPassBeginInfo::default()
             .render_pass(self.render_pass)
             .framebuffer(self.framebuffers[image_index as usize])

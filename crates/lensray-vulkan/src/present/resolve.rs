@@ -9,7 +9,8 @@ use crate::core::buffer::Buffer;
 use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{transition, DeviceImage, Transition};
+use crate::core::image::{DeviceImage, Transition};
+use crate::core::recorder::{Access, Recorder};
 use crate::core::pipeline::Pipeline;
 use crate::core::shader;
 use crate::passes::gbuffer::GBufferTargets;
@@ -25,6 +26,8 @@ pub(crate) struct ResolvePass {
     pipeline: Pipeline,
     /// The display image of the current size.
     pub display: Option<DeviceImage>,
+    /// The accumulation bound (the recorder orders the resolve after the samples' writes).
+    bound_accum: vk::Buffer,
 }
 
 impl ResolvePass {
@@ -34,6 +37,7 @@ impl ResolvePass {
             ctx: ctx.clone(),
             pipeline,
             display: None,
+            bound_accum: vk::Buffer::null(),
         })
     }
 
@@ -56,6 +60,7 @@ impl ResolvePass {
             vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
             vk::ImageAspectFlags::COLOR,
         )?;
+        self.bound_accum = accum.buffer;
         self.pipeline.bind_group(&ResolveGroup::<Gpu> {
             accum,
             g_normal: targets.normal.view,
@@ -72,20 +77,17 @@ impl ResolvePass {
     /// written and left in TRANSFER_SRC_OPTIMAL for the copy.
     pub(crate) fn record(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         targets: &GBufferTargets,
         push: &ResolvePush,
     ) {
-        let ctx = &self.ctx;
         let display = self.display.as_ref().expect("bind first");
         let old = targets.layout.get();
         if old != vk::ImageLayout::GENERAL {
-            targets.record_to_general(ctx, cmd, old);
+            targets.record_to_general(rec, old);
             targets.layout.set(vk::ImageLayout::GENERAL);
         }
-        transition(
-            ctx,
-            cmd,
+        rec.transition(
             display.image,
             &Transition {
                 old: vk::ImageLayout::UNDEFINED,
@@ -96,19 +98,18 @@ impl ResolvePass {
                 dst_access: vk::AccessFlags::SHADER_WRITE,
             },
         );
-        self.pipeline.bind(cmd, bytemuck::bytes_of(push));
-        // SAFETY: compute pipeline and complete set bound; the images are in GENERAL.
-        unsafe {
-            ctx.device.cmd_dispatch(
-                cmd,
-                push.width.div_ceil(RESOLVE_GROUP_SIZE),
-                push.height.div_ceil(RESOLVE_GROUP_SIZE),
-                1,
-            )
-        };
-        transition(
-            ctx,
-            cmd,
+        let groups = [
+            push.width.div_ceil(RESOLVE_GROUP_SIZE),
+            push.height.div_ceil(RESOLVE_GROUP_SIZE),
+            1,
+        ];
+        rec.dispatch(
+            &self.pipeline,
+            bytemuck::bytes_of(push),
+            groups,
+            &[(self.bound_accum, Access::ComputeRead)],
+        );
+        rec.transition(
             display.image,
             &Transition {
                 old: vk::ImageLayout::GENERAL,

@@ -13,6 +13,7 @@ use glam::Vec3;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::image::DeviceImage;
+use crate::core::recorder::Recorder;
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
 use crate::core::shader;
 use crate::passes::draw::{
@@ -126,7 +127,7 @@ impl ViewPass {
     /// black in the others.
     pub(crate) fn record(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         scene: &SceneBuffers,
         camera: &Camera,
         background: Vec3,
@@ -158,8 +159,7 @@ impl ViewPass {
             shown,
         };
         record_scene_draw(
-            &self.ctx,
-            cmd,
+            rec,
             scene,
             &SceneDraw {
                 render_pass: self.render_pass.handle,

@@ -26,7 +26,7 @@ use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
-use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::buffer::Buffer;
 use crate::core::error::{vk_err, GpuError};
 use crate::core::surface::WindowSurface;
 use crate::present::frames::{Frames, FRAMES_IN_FLIGHT};
@@ -255,19 +255,10 @@ impl Viewer {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        ctx.submit_and_wait(|cmd| {
+        ctx.submit_and_wait(|rec| {
             let region = vk::BufferCopy::default().size(accum.buffer.size);
-            // SAFETY: recording state; the preview's frames finished (waited above).
-            unsafe {
-                ctx.device
-                    .cmd_copy_buffer(cmd, accum.buffer.buffer, readback.buffer, &[region])
-            };
-            barrier_to_host(
-                &ctx,
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::AccessFlags::TRANSFER_WRITE,
-            );
+            rec.copy_buffer(&accum.buffer, &readback, &[region]);
+            rec.read_on_host(&[&readback]);
             Ok(())
         })?;
         let sums: &[[f32; 4]] = bytemuck::cast_slice(readback.read()?);

@@ -10,7 +10,8 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::buffer::Buffer;
+use crate::core::recorder::Access;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
@@ -196,16 +197,9 @@ fn dispatch(
     for (binding, ty, buffer) in &inputs.buffers {
         pipeline.write_buffer(*binding, *ty, buffer);
     }
-    ctx.submit_and_wait(|cmd| {
-        pipeline.bind(cmd, push);
-        // SAFETY: compute pipeline and complete set bound.
-        unsafe { ctx.device.cmd_dispatch(cmd, 1, 1, 1) };
-        barrier_to_host(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_WRITE,
-        );
+    ctx.submit_and_wait(|rec| {
+        rec.dispatch(&pipeline, push, [1, 1, 1], &[(output.buffer, Access::ComputeWrite)]);
+        rec.read_on_host(&[&output]);
         Ok(())
     })?;
     let got: &[u32] = bytemuck::cast_slice(output.read()?);

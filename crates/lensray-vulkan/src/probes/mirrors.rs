@@ -6,7 +6,8 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::buffer::Buffer;
+use crate::core::recorder::Access;
 use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
@@ -61,19 +62,11 @@ pub(crate) fn run(
     let lens = LensBuffer::of(ctx, camera)?;
     pipeline.bind_group(&LensGroup::<Gpu> { lens: &lens });
     let count = queries.len() as u32;
-    ctx.submit_and_wait(|cmd| {
-        pipeline.bind(cmd, bytemuck::bytes_of(&count));
-        // SAFETY: compute pipeline and complete set bound.
-        unsafe {
-            ctx.device
-                .cmd_dispatch(cmd, count.div_ceil(PROBE_GROUP_SIZE), 1, 1)
-        };
-        barrier_to_host(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_WRITE,
-        );
+    ctx.submit_and_wait(|rec| {
+        let groups = [count.div_ceil(PROBE_GROUP_SIZE), 1, 1];
+        let push = bytemuck::bytes_of(&count);
+        rec.dispatch(&pipeline, push, groups, &[(output.buffer, Access::ComputeWrite)]);
+        rec.read_on_host(&[&output]);
         Ok(())
     })?;
     let results: &[ProbeResult] = bytemuck::cast_slice(output.read()?);

@@ -6,7 +6,8 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::{barrier, Buffer};
+use crate::core::buffer::Buffer;
+use crate::core::recorder::Access;
 use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
@@ -45,24 +46,13 @@ pub(crate) fn run(
         spp: settings.spp,
     };
     for _warm_up_then_timed in 0..2 {
-        ctx.submit_and_wait(|cmd| {
-            barrier(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::ALL_COMMANDS,
-                vk::AccessFlags::MEMORY_WRITE,
-                vk::PipelineStageFlags::ALL_COMMANDS,
-                vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-            );
-            timestamps.reset(cmd);
-            timestamps.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
-            pipeline.bind(cmd, bytemuck::bytes_of(&push));
-            // SAFETY: compute pipeline and its complete descriptor set are bound.
-            unsafe {
-                ctx.device
-                    .cmd_dispatch(cmd, width.div_ceil(GROUP), height.div_ceil(GROUP), 1)
-            };
-            timestamps.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+        ctx.submit_and_wait(|rec| {
+            rec.reset_queries(&timestamps);
+            rec.timestamp(&timestamps, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+            let groups = [width.div_ceil(GROUP), height.div_ceil(GROUP), 1];
+            let uses = [(sums.buffer, Access::ComputeWrite)];
+            rec.dispatch(&pipeline, bytemuck::bytes_of(&push), groups, &uses);
+            rec.timestamp(&timestamps, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
             Ok(())
         })?;
     }

@@ -5,7 +5,8 @@
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::buffer::Buffer;
+use crate::core::recorder::Access;
 use crate::core::descriptors::Gpu;
 use crate::core::pipeline::Pipeline;
 use crate::core::shader;
@@ -54,19 +55,11 @@ pub fn probe_spectral(
         results: &output,
     });
     let count = queries.len() as u32;
-    ctx.submit_and_wait(|cmd| {
-        pipeline.bind(cmd, bytemuck::bytes_of(&count));
-        // SAFETY: compute pipeline and complete set bound.
-        unsafe {
-            ctx.device
-                .cmd_dispatch(cmd, count.div_ceil(PROBE_GROUP_SIZE), 1, 1)
-        };
-        barrier_to_host(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_WRITE,
-        );
+    ctx.submit_and_wait(|rec| {
+        let groups = [count.div_ceil(PROBE_GROUP_SIZE), 1, 1];
+        let push = bytemuck::bytes_of(&count);
+        rec.dispatch(&pipeline, push, groups, &[(output.buffer, Access::ComputeWrite)]);
+        rec.read_on_host(&[&output]);
         Ok(())
     })?;
     let floats: &[f32] = bytemuck::cast_slice(output.read()?);

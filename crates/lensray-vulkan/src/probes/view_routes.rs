@@ -11,7 +11,7 @@ use gpu_allocator::MemoryLocation;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{record_readbacks, DeviceImage};
+use crate::core::image::{DeviceImage};
 use crate::passes::gbuffer::GBufferPass;
 use crate::present::resolve::{ResolvePass, DISPLAY_FORMAT};
 use crate::present::view_pass::ViewPass;
@@ -73,11 +73,11 @@ pub(crate) fn run(
     let resolved_rb = readback("view probe resolved readback")?;
     let drawn_rb = readback("view probe drawn readback")?;
     let display = resolve.display.as_ref().expect("bound above");
-    ctx.submit_and_wait(|cmd| {
-        gbuffer.record(cmd, scene, camera, background, None);
-        resolve.record(cmd, targets, &crate::upload::resolve_push(camera, view));
+    ctx.submit_and_wait(|rec| {
+        gbuffer.record(rec, scene, camera, background, None);
+        resolve.record(rec, targets, &crate::upload::resolve_push(camera, view));
         pass.record(
-            cmd,
+            rec,
             scene,
             camera,
             background,
@@ -86,13 +86,10 @@ pub(crate) fn run(
         );
         // The resolve and the view pass left their images in TRANSFER_SRC_OPTIMAL, their
         // writes ordered before transfers; the buffers hold the whole image.
-        record_readbacks(
-            ctx,
-            cmd,
-            &[(display, &resolved_rb), (&target, &drawn_rb)],
-            width,
-            height,
-        );
+        for (image, buffer) in [(display, &resolved_rb), (&target, &drawn_rb)] {
+            rec.copy_image_to_buffer(image.image, buffer, [0, 0], [width, height]);
+        }
+        rec.read_on_host(&[&resolved_rb, &drawn_rb]);
         Ok(())
     })?;
     let pixels = |buffer: &Buffer| -> Result<Vec<[u8; 4]>, GpuError> {

@@ -9,8 +9,8 @@
 //!   G-buffer of the planning camera; then dispatches that follow the plan
 //!   (`TRACE_MODE_HYBRID`).
 
-use ash::vk;
 
+use crate::core::recorder::Recorder;
 use crate::core::error::GpuError;
 use crate::passes::gbuffer::GBufferTargets;
 use crate::passes::hybrid_plan::HybridPlanPass;
@@ -88,15 +88,15 @@ impl<'r> SampleBatch<'r> {
     pub(crate) fn record_plan(
         &self,
         (trace, plan): (&TracePass, &HybridPlanPass),
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         targets: &GBufferTargets,
         target_spp: u32,
     ) -> Result<(), GpuError> {
         let camera = &self.shot.camera;
         if self.shot.render.shading == Shading::Lit {
-            self.record_lit_prepass(trace, cmd)?;
+            self.record_lit_prepass(trace, rec)?;
         }
-        plan.record(cmd, targets, camera, self.shot.render.shading, target_spp);
+        plan.record(rec, targets, camera, self.shot.render.shading, target_spp);
         Ok(())
     }
 
@@ -106,14 +106,14 @@ impl<'r> SampleBatch<'r> {
     pub(crate) fn record_lit_prepass(
         &self,
         trace: &TracePass,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
     ) -> Result<(), GpuError> {
         let visibility = self.visibility.ok_or_else(|| {
             GpuError::Invalid("the lit pre-pass's visibility pass is not prepared".into())
         })?;
         let camera = &self.shot.camera;
-        visibility.record_aperture_centre(cmd, self.scene, camera);
-        trace.record_lit_prepass(cmd, camera.width, camera.height);
+        visibility.record_aperture_centre(rec, self.scene, camera);
+        trace.record_lit_prepass(rec, camera.width, camera.height);
         Ok(())
     }
 }
@@ -127,7 +127,7 @@ impl RecordSamples for SampleBatch<'_> {
         }
     }
 
-    fn record(&self, trace: &TracePass, cmd: vk::CommandBuffer, push: TracePush, width: u32) {
+    fn record(&self, trace: &TracePass, rec: &mut Recorder<'_>, push: TracePush, width: u32) {
         let push = TracePush {
             mode: self.mode(),
             ..push
@@ -135,7 +135,7 @@ impl RecordSamples for SampleBatch<'_> {
         let raster = self.visibility.zip(self.raster_camera.as_ref());
         let Some((visibility, camera)) = raster.filter(|_| self.estimator == Estimator::Raster)
         else {
-            trace.record_ordered_dispatch(cmd, push, width);
+            trace.record_dispatch(rec, push, width);
             return;
         };
         for sample in push.sample_begin..push.sample_end {
@@ -143,14 +143,14 @@ impl RecordSamples for SampleBatch<'_> {
             // rasterized with its first group (group 0); the later groups read that visibility
             // (the queue keeps them in order, and nothing else writes it until the next sample).
             if push.block_first == 0 {
-                visibility.record_sample(cmd, self.scene, camera, &self.shot.render, sample);
+                visibility.record_sample(rec, self.scene, camera, &self.shot.render, sample);
             }
             let one = TracePush {
                 sample_begin: sample,
                 sample_end: sample + 1,
                 ..push
             };
-            trace.record_ordered_dispatch(cmd, one, width);
+            trace.record_dispatch(rec, one, width);
         }
     }
 }

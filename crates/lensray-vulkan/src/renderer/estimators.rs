@@ -35,14 +35,12 @@
 
 use std::time::Instant;
 
-use ash::vk;
 
 use lensray_core::film::{Accumulation, Progress};
 use lensray_core::settings::{Shading, Shot};
 
 use super::batch::SampleBatch;
 use super::{check_samples, check_size, GpuRenderer};
-use crate::core::buffer::barrier_to_host;
 use crate::core::error::GpuError;
 use crate::passes::hybrid_plan::HybridPlanPass;
 use crate::passes::visibility::VisibilityPass;
@@ -165,23 +163,19 @@ impl GpuRenderer {
         let trace = &mut self.trace;
         // Not waited for: the render's submissions follow on the queue, and the pre-pass's
         // rays reach the render's report through the counter (`record_keep_prepass_rays`).
-        ctx.submit(|cmd| {
+        ctx.submit(|rec| {
             let planning = batch.gbuffer_camera();
-            gbuffer.record(cmd, scene, planning, settings.background, None);
+            gbuffer.record(rec, scene, planning, settings.background, None);
             if lit {
-                trace.record_params(cmd, &crate::upload::trace_params(batch.shot()));
-                trace.record_clear_ray_counter(cmd);
+                trace.record_params(rec, &crate::upload::trace_params(batch.shot()));
+                trace.record_clear_ray_counter(rec);
             }
-            batch.record_plan((trace, plan), cmd, targets, settings.spp)?;
+            batch.record_plan((trace, plan), rec, targets, settings.spp)?;
             if lit {
-                trace.record_keep_prepass_rays(cmd);
+                trace.record_keep_prepass_rays(rec);
             }
-            barrier_to_host(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            );
+            // The probes read the plan back (`read_plan_entries`).
+            rec.read_on_host(&[trace.plan_buffer_ref()]);
             Ok(())
         })?;
         self.timings.gbuffer_passes += 1;

@@ -5,10 +5,10 @@
 
 use std::sync::Arc;
 
-use ash::vk;
 
 use super::batch::SampleBatch;
 use super::GpuRenderer;
+use crate::core::recorder::Recorder;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
@@ -97,7 +97,7 @@ impl GpuRenderer {
     /// Records the G-buffer of `batch`'s G-buffer camera, its timestamps at `timestamps`.
     pub(crate) fn record_gbuffer(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         batch: &SampleBatch<'_>,
         timestamps: (&QueryPool, u32),
     ) -> Result<(), GpuError> {
@@ -105,7 +105,7 @@ impl GpuRenderer {
         let scene = self.scene_buffers()?;
         let background = batch.shot().render.background;
         gbuffer.record(
-            cmd,
+            rec,
             scene,
             batch.gbuffer_camera(),
             background,
@@ -116,32 +116,32 @@ impl GpuRenderer {
 
     /// Records the trace parameters of `batch`'s shot (ordered between earlier and later
     /// dispatches).
-    pub(crate) fn record_trace_params(&self, cmd: vk::CommandBuffer, batch: &SampleBatch<'_>) {
+    pub(crate) fn record_trace_params(&self, rec: &mut Recorder<'_>, batch: &SampleBatch<'_>) {
         let params = crate::upload::trace_params(batch.shot());
-        self.trace.record_params(cmd, &params);
+        self.trace.record_params(rec, &params);
     }
 
     /// Records the hybrid's plan of `target_spp` samples from the G-buffer recorded before it
     /// (`SampleBatch::record_plan`).
     pub(crate) fn record_plan(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         batch: &SampleBatch<'_>,
         target_spp: u32,
     ) -> Result<(), GpuError> {
         let plan = self.hybrid_plan.as_ref().ok_or_else(not_prepared)?;
         let targets = self.gbuffer_targets().ok_or_else(not_prepared)?;
-        batch.record_plan((&self.trace, plan), cmd, targets, target_spp)
+        batch.record_plan((&self.trace, plan), rec, targets, target_spp)
     }
 
     /// Records the blocks and samples `push` names over the whole image (`SampleBatch`).
     pub(crate) fn record_samples(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &mut Recorder<'_>,
         batch: &SampleBatch<'_>,
         push: TracePush,
     ) {
-        batch.record(&self.trace, cmd, push, batch.shot().camera.width);
+        batch.record(&self.trace, rec, push, batch.shot().camera.width);
     }
 }
 

@@ -2,12 +2,10 @@
 //! through: knobs that force bands and submissions, the GLSL mirrors, the shared layouts, the
 //! preview's view routes, the sampler's cost, and the hybrid plan's inputs and entries.
 
-use ash::vk;
 use glam::Vec3;
 
 use super::batch::SampleBatch;
 use super::{check_size, GpuRenderer};
-use crate::core::buffer::barrier_to_host;
 use crate::probes::layouts::{self, LayoutReport};
 use crate::probes::mirrors::{self, ProbeQuery, ProbeResult};
 use crate::probes::sampler_cost;
@@ -94,16 +92,11 @@ impl GpuRenderer {
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
         let batch = SampleBatch::new(Estimator::Hybrid, shot, self.visibility.as_ref(), scene)?;
         let (ctx, trace) = (&self.ctx, &self.trace);
-        ctx.submit_and_wait(|cmd| {
-            trace.record_params(cmd, &crate::upload::trace_params(batch.shot()));
-            trace.record_clear_ray_counter(cmd);
-            batch.record_lit_prepass(trace, cmd)?;
-            barrier_to_host(
-                ctx,
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            );
+        ctx.submit_and_wait(|rec| {
+            trace.record_params(rec, &crate::upload::trace_params(batch.shot()));
+            trace.record_clear_ray_counter(rec);
+            batch.record_lit_prepass(trace, rec)?;
+            rec.read_on_host(&[trace.plan_buffer_ref()]);
             Ok(())
         })?;
         self.trace.read_plan(pixels)

@@ -6,70 +6,15 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use ash::{khr, vk};
+use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::buffer::{barrier, Buffer};
+use crate::core::accel::{build_sizes, AccelStruct};
+use crate::core::buffer::Buffer;
 use crate::core::device::Context;
-use crate::core::error::{vk_err, GpuError};
+use crate::core::error::GpuError;
 use crate::core::query::QueryPool;
 use crate::upload::{FlatScene, MeshRange};
-
-/// An acceleration structure and its storage buffer.
-pub(crate) struct AccelStruct {
-    ctx: Arc<Context>,
-    pub handle: vk::AccelerationStructureKHR,
-    pub address: vk::DeviceAddress,
-    _buffer: Buffer,
-}
-
-impl AccelStruct {
-    fn new(
-        ctx: &Arc<Context>,
-        name: &str,
-        ty: vk::AccelerationStructureTypeKHR,
-        size: u64,
-    ) -> Result<Self, GpuError> {
-        let buffer = Buffer::new(
-            ctx,
-            name,
-            size,
-            vk::BufferUsageFlags::ACCELERATION_STRUCTURE_STORAGE_KHR
-                | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
-            MemoryLocation::GpuOnly,
-        )?;
-        let info = vk::AccelerationStructureCreateInfoKHR::default()
-            .buffer(buffer.buffer)
-            .offset(0)
-            .size(size)
-            .ty(ty);
-        let fns = ctx.accel()?;
-        // SAFETY: the buffer is bound, large enough and has the storage usage.
-        let handle = unsafe { fns.create_acceleration_structure(&info, None) }
-            .map_err(vk_err("vkCreateAccelerationStructureKHR"))?;
-        let address_info =
-            vk::AccelerationStructureDeviceAddressInfoKHR::default().acceleration_structure(handle);
-        // SAFETY: `handle` was just created on this device.
-        let address = unsafe { fns.get_acceleration_structure_device_address(&address_info) };
-        Ok(Self {
-            ctx: ctx.clone(),
-            handle,
-            address,
-            _buffer: buffer,
-        })
-    }
-}
-
-impl Drop for AccelStruct {
-    fn drop(&mut self) {
-        // Created only through `Context::accel`, so the functions exist.
-        if let Some(fns) = &self.ctx.accel {
-            // SAFETY: no submission using it is pending (users wait); destroyed before its
-            // buffer.
-            unsafe { fns.destroy_acceleration_structure(self.handle, None) };
-        }
-    }
-}
 
 /// The scene's acceleration structures.
 pub(crate) struct SceneAccel {
@@ -113,7 +58,6 @@ pub(crate) fn build(
     indices: &Buffer,
 ) -> Result<SceneAccel, GpuError> {
     let start = Instant::now();
-    let fns = ctx.accel()?;
     let meshes: Vec<_> = flat
         .meshes
         .iter()
@@ -127,7 +71,7 @@ pub(crate) fn build(
         blases,
         scratch,
         bytes: blas_bytes,
-    } = create_blases(ctx, fns, &mut infos, &meshes)?;
+    } = create_blases(ctx, &mut infos, &meshes)?;
     let ranges: Vec<[vk::AccelerationStructureBuildRangeInfoKHR; 1]> = meshes
         .iter()
         .map(|m| {
@@ -150,14 +94,13 @@ pub(crate) fn build(
         timestamps: &timestamps,
         compact_sizes: compact_sizes.as_ref(),
     };
-    build_blases(ctx, fns, &infos, &ranges, &blases, &queries)?;
+    build_blases(ctx, &infos, &ranges, &blases, &queries)?;
     drop(scratch);
 
     let (compacted, blas_compacted_bytes) = create_compacted(ctx, compact_sizes.as_ref())?;
     let (instances, instance_bytes_len) = tlas_instances(ctx, &meshes, &compacted)?;
     let (tlas, tlas_size) = build_tlas(
         ctx,
-        fns,
         &instances,
         meshes.len() as u32,
         (&blases, &compacted),
@@ -243,7 +186,6 @@ struct BlasStorage {
 /// aligned, disjoint range per build, and points each info at its destination and scratch.
 fn create_blases(
     ctx: &Arc<Context>,
-    fns: &khr::acceleration_structure::Device,
     infos: &mut [vk::AccelerationStructureBuildGeometryInfoKHR<'_>],
     meshes: &[MeshRange],
 ) -> Result<BlasStorage, GpuError> {
@@ -253,16 +195,7 @@ fn create_blases(
     let mut scratch_total = 0u64;
     let mut blas_bytes = 0u64;
     for (info, m) in infos.iter().zip(meshes) {
-        let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
-        // SAFETY: `info` describes valid geometry; one primitive count per geometry.
-        unsafe {
-            fns.get_acceleration_structure_build_sizes(
-                vk::AccelerationStructureBuildTypeKHR::DEVICE,
-                info,
-                &[m.triangle_count],
-                &mut sizes,
-            )
-        };
+        let sizes = build_sizes(ctx, info, &[m.triangle_count])?;
         blases.push(AccelStruct::new(
             ctx,
             "BLAS",
@@ -305,7 +238,6 @@ struct BuildQueries<'a> {
 /// Builds every BLAS in one submission and queries their compacted sizes; waits for it.
 fn build_blases(
     ctx: &Context,
-    fns: &khr::acceleration_structure::Device,
     infos: &[vk::AccelerationStructureBuildGeometryInfoKHR<'_>],
     ranges: &[[vk::AccelerationStructureBuildRangeInfoKHR; 1]],
     blases: &[AccelStruct],
@@ -314,33 +246,18 @@ fn build_blases(
     let range_refs: Vec<&[vk::AccelerationStructureBuildRangeInfoKHR]> =
         ranges.iter().map(|r| &r[..]).collect();
     let timestamps = queries.timestamps;
-    let handles: Vec<_> = blases.iter().map(|b| b.handle).collect();
-    ctx.submit_and_wait(|cmd| {
-        timestamps.reset(cmd);
+    let built: Vec<&AccelStruct> = blases.iter().collect();
+    ctx.submit_and_wait(|rec| {
+        rec.reset_queries(timestamps);
         if let Some(q) = queries.compact_sizes {
-            q.reset(cmd);
+            rec.reset_queries(q);
         }
-        timestamps.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
-        if !infos.is_empty() {
-            // SAFETY: every info has a destination, scratch inside `scratch` (aligned, disjoint
-            // per build) and inputs in live buffers with the build-input usage.
-            unsafe { fns.cmd_build_acceleration_structures(cmd, infos, &range_refs) };
-        }
-        build_to_build_barrier(ctx, cmd);
+        rec.timestamp(timestamps, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+        rec.build_accels(infos, &range_refs, (&built, &[]))?;
         if let Some(q) = queries.compact_sizes {
-            // SAFETY: the structures were built with ALLOW_COMPACTION; the barrier above
-            // orders the builds before the query.
-            unsafe {
-                fns.cmd_write_acceleration_structures_properties(
-                    cmd,
-                    &handles,
-                    vk::QueryType::ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR,
-                    q.pool,
-                    0,
-                )
-            };
+            rec.write_compacted_sizes(&built, q)?;
         }
-        timestamps.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+        rec.timestamp(timestamps, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
         Ok(())
     })
 }
@@ -395,7 +312,6 @@ fn tlas_instances(
 /// and its size.
 fn build_tlas(
     ctx: &Arc<Context>,
-    fns: &khr::acceleration_structure::Device,
     instances: &Buffer,
     instance_count: u32,
     (blases, compacted): (&[AccelStruct], &[AccelStruct]),
@@ -417,16 +333,7 @@ fn build_tlas(
         .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
         .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
         .geometries(&instance_geometry);
-    let mut tlas_sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
-    // SAFETY: valid instance geometry description.
-    unsafe {
-        fns.get_acceleration_structure_build_sizes(
-            vk::AccelerationStructureBuildTypeKHR::DEVICE,
-            &tlas_info,
-            &[instance_count],
-            &mut tlas_sizes,
-        )
-    };
+    let tlas_sizes = build_sizes(ctx, &tlas_info, &[instance_count])?;
     let tlas = AccelStruct::new(
         ctx,
         "TLAS",
@@ -447,54 +354,24 @@ fn build_tlas(
         });
     let tlas_range =
         [vk::AccelerationStructureBuildRangeInfoKHR::default().primitive_count(instance_count)];
-    ctx.submit_and_wait(|cmd| {
-        timestamps.write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
-        record_compaction(fns, cmd, blases, compacted);
-        build_to_build_barrier(ctx, cmd);
-        // SAFETY: the instances reference the compacted BLASes, whose copies the barrier
-        // above orders before this build; scratch is aligned and large enough.
-        unsafe { fns.cmd_build_acceleration_structures(cmd, &[tlas_info], &[&tlas_range]) };
-        barrier(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
-            vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR,
-        );
-        timestamps.write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 3);
+    ctx.submit_and_wait(|rec| {
+        rec.timestamp(timestamps, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
+        for (src, dst) in blases.iter().zip(compacted) {
+            rec.compact_accel(src, dst)?;
+        }
+        // The instances reference the compacted BLASes (or the built ones, without
+        // compaction); scratch is aligned and large enough.
+        let read: Vec<&AccelStruct> = if compacted.is_empty() {
+            blases.iter().collect()
+        } else {
+            compacted.iter().collect()
+        };
+        rec.build_accels(&[tlas_info], &[&tlas_range], (&[&tlas], &read))?;
+        // The trace pass's ray queries read it in later submissions.
+        rec.publish(&[&tlas.storage]);
+        rec.timestamp(timestamps, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 3);
         Ok(())
     })?;
     drop(tlas_scratch);
     Ok((tlas, tlas_sizes.acceleration_structure_size))
-}
-
-/// Records a compacting copy of each of `blases` into its structure in `compacted`.
-fn record_compaction(
-    fns: &khr::acceleration_structure::Device,
-    cmd: vk::CommandBuffer,
-    blases: &[AccelStruct],
-    compacted: &[AccelStruct],
-) {
-    for (src, dst) in blases.iter().zip(compacted) {
-        let copy = vk::CopyAccelerationStructureInfoKHR::default()
-            .src(src.handle)
-            .dst(dst.handle)
-            .mode(vk::CopyAccelerationStructureModeKHR::COMPACT);
-        // SAFETY: `src` was built with ALLOW_COMPACTION, `dst` has the queried size.
-        unsafe { fns.cmd_copy_acceleration_structure(cmd, &copy) };
-    }
-}
-
-/// Orders acceleration-structure writes (builds, compaction copies) before later builds and
-/// copies that read them.
-fn build_to_build_barrier(ctx: &Context, cmd: vk::CommandBuffer) {
-    barrier(
-        ctx,
-        cmd,
-        vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
-        vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
-        vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
-        vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR,
-    );
 }

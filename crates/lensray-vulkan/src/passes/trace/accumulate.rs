@@ -9,7 +9,8 @@ use gpu_allocator::MemoryLocation;
 
 use super::steps::Step;
 use super::{Timings, TracePass};
-use crate::core::buffer::{barrier_to_host, Buffer};
+use crate::core::buffer::Buffer;
+use crate::core::recorder::Recorder;
 use crate::core::error::GpuError;
 use crate::passes::films::Start;
 use lensray_core::film::{Accumulation, Progress};
@@ -99,32 +100,27 @@ impl TracePass {
         let mut batches = Vec::new();
         for (submission, chunk) in steps.chunks(STEPS_PER_SUBMIT).enumerate() {
             let first = submission * STEPS_PER_SUBMIT;
-            let value = self.ctx.submit(|cmd| {
+            let value = self.ctx.submit(|rec| {
                 if first == 0 {
-                    self.timestamps.reset(cmd);
-                    self.record_params(cmd, params);
-                    self.record_clear_ray_counter(cmd);
-                    self.films.record_start(cmd, film, start);
+                    rec.reset_queries(&self.timestamps);
+                    self.record_params(rec, params);
+                    self.record_clear_ray_counter(rec);
+                    self.films.record_start(rec, film, start);
                     if first_dispatch {
-                        self.record_compile(cmd, batch.mode(), 2 * steps.len() as u32);
+                        self.record_compile(rec, batch.mode(), 2 * steps.len() as u32);
                     }
                 }
                 for (i, step) in chunk.iter().enumerate() {
                     let index = (first + i) as u32;
-                    self.record_step(cmd, step, (film, width), index, batch);
+                    self.record_step(rec, step, (film, width), index, batch);
                     if index == 0 && first_dispatch {
                         // The pipeline's first dispatch is reported apart: its rays too.
-                        self.record_copy_first_rays(cmd);
+                        self.record_copy_first_rays(rec);
                     }
                 }
                 if first + chunk.len() == steps.len() {
-                    self.films.record_finish(cmd, film);
-                    barrier_to_host(
-                        &self.ctx,
-                        cmd,
-                        vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
-                        vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE,
-                    );
+                    let transfer = self.films.record_finish(rec, film);
+                    rec.read_on_host(&[transfer, &self.counters]);
                 }
                 Ok(())
             })?;
@@ -206,7 +202,7 @@ pub(crate) trait RecordSamples {
     /// Records the blocks and samples `push` names (its mode replaced by [`Self::mode`]) over
     /// an image `width` pixels wide with `trace`, each dispatch after what the estimator
     /// records before it (the raster path: its sample's raster pass).
-    fn record(&self, trace: &TracePass, cmd: vk::CommandBuffer, push: TracePush, width: u32);
+    fn record(&self, trace: &TracePass, rec: &mut Recorder<'_>, push: TracePush, width: u32);
 }
 
 /// The sums of one band of rows.

@@ -8,12 +8,11 @@ use gpu_allocator::MemoryLocation;
 
 use super::draw::{Frame, FramePlan};
 use super::FrameRequest;
-use crate::core::buffer::{barrier, barrier_to_host, Buffer};
-use crate::core::device::Context;
-use crate::core::error::{vk_err, GpuError};
-use crate::core::image::{record_copy_to_buffer, transition, Transition};
+use crate::core::buffer::Buffer;
+use crate::core::error::GpuError;
+use crate::core::image::Transition;
+use crate::core::recorder::Recorder;
 use crate::passes::gbuffer::GBufferTargets;
-use crate::present::frames::FrameSlot;
 use crate::renderer::SampleBatch;
 use lensray_core::interface::{TracePush, TRACE_MODE_ALL};
 
@@ -24,77 +23,46 @@ impl Frame<'_> {
         request: &FrameRequest<'_>,
         plan: &FramePlan,
     ) -> Result<(), GpuError> {
-        let cmd = self.slot.cmd;
-        self.begin_commands()?;
+        // The slot's previous frame finished (its fence was waited for). What the frames
+        // share (the G-buffer, the accumulation) orders itself after the frames before: the
+        // recorder knows nothing of them, so each one's first use waits for earlier writes.
+        let ctx = self.ctx.clone();
+        let mut rec = Recorder::begin_again(&ctx, self.slot.cmd, self.slot.fence)?;
+        rec.reset_queries(&self.slot.timestamps);
         let gpu = self.gpu;
         let batch = gpu.sample_batch(request.shot, self.estimator)?;
-        self.record_raster(request, plan, &batch)?;
+        self.record_raster(&mut rec, request, plan, &batch)?;
         let targets = gpu.gbuffer_targets().expect("made in resize_images");
         if let Some([x, y]) = request.pick {
-            record_pick(&self.ctx, cmd, targets.view_depth.image, &*self.slot, x, y);
+            // The G-buffer pass left the image in TRANSFER_SRC_OPTIMAL with its writes ordered
+            // before transfers; (x, y) lies inside it (checked by the caller).
+            let pick = &self.slot.pick;
+            rec.copy_image_to_buffer(targets.view_depth.image, pick, [x, y], [1, 1]);
+            rec.read_on_host(&[pick]);
         }
-
-        self.slot
-            .timestamps
-            .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
+        let stamps = &self.slot.timestamps;
+        rec.timestamp(stamps, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
         if plan.restart {
-            self.record_restart(&batch);
+            rec.fill_buffer(&self.accum.buffer, 0, vk::WHOLE_SIZE, 0);
+            gpu.record_trace_params(&mut rec, &batch);
         }
         if let Some(sums) = request.host.as_ref().and_then(|h| h.sums) {
-            self.record_host_sums(sums)?;
+            self.record_host_sums(&mut rec, sums)?;
         }
-        self.slot
-            .timestamps
-            .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 6);
+        let stamps = &self.slot.timestamps;
+        rec.timestamp(stamps, vk::PipelineStageFlags::TOP_OF_PIPE, 6);
         if plan.make_plan {
-            gpu.record_plan(cmd, &batch, request.target_spp)?;
+            gpu.record_plan(&mut rec, &batch, request.target_spp)?;
             *self.plan_spp = Some(request.target_spp);
         }
         self.slot.made_plan = plan.make_plan;
-        self.slot
-            .timestamps
-            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 7);
-        self.record_dispatches(plan, &batch);
-        self.slot
-            .timestamps
-            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 3);
-        self.record_resolve(request, plan, targets);
-        self.record_window(request, plan)
-    }
-
-    /// Resets the slot's fence and command buffer and begins recording, after the previous
-    /// frame's work; resets the slot's timestamps.
-    fn begin_commands(&self) -> Result<(), GpuError> {
-        let device = &self.ctx.device;
-        let cmd = self.slot.cmd;
-        // SAFETY: the slot's previous frame finished (fence waited): its command buffer may be
-        // reset and re-recorded, its fence reset.
-        unsafe {
-            device
-                .reset_fences(&[self.slot.fence])
-                .map_err(vk_err("vkResetFences"))?;
-            device
-                .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
-                .map_err(vk_err("vkResetCommandBuffer"))?;
-            device
-                .begin_command_buffer(
-                    cmd,
-                    &vk::CommandBufferBeginInfo::default()
-                        .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
-                )
-                .map_err(vk_err("vkBeginCommandBuffer"))?;
-        }
-        // The previous frame's work on the shared images and buffers comes first.
-        barrier(
-            &self.ctx,
-            cmd,
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_WRITE,
-            vk::PipelineStageFlags::ALL_COMMANDS,
-            vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE,
-        );
-        self.slot.timestamps.reset(cmd);
-        Ok(())
+        let stamps = &self.slot.timestamps;
+        rec.timestamp(stamps, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 7);
+        self.record_dispatches(&mut rec, plan, &batch);
+        rec.timestamp(stamps, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 3);
+        self.record_resolve(&mut rec, request, plan, targets);
+        self.record_window(&mut rec, request, plan)?;
+        rec.finish()
     }
 
     /// Records the G-buffer pass, or the view pass into the window image, between timestamps
@@ -103,58 +71,44 @@ impl Frame<'_> {
     /// which the views show as well.
     fn record_raster(
         &mut self,
+        rec: &mut Recorder<'_>,
         request: &FrameRequest<'_>,
         plan: &FramePlan,
         batch: &SampleBatch<'_>,
     ) -> Result<(), GpuError> {
-        let cmd = self.slot.cmd;
         let view_pass = self.view_pass.filter(|_| plan.direct);
         self.slot.drew_gbuffer = !plan.skip_gbuffer;
         let slot = &*self.slot;
         match view_pass {
             None if plan.skip_gbuffer => {
-                slot.timestamps
-                    .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
-                slot.timestamps
-                    .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+                rec.timestamp(&slot.timestamps, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+                rec.timestamp(&slot.timestamps, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
             }
             Some(pass) => {
-                slot.timestamps
-                    .write(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
+                rec.timestamp(&slot.timestamps, vk::PipelineStageFlags::TOP_OF_PIPE, 0);
                 pass.record(
-                    cmd,
+                    rec,
                     self.gpu.scene_buffers()?,
                     batch.gbuffer_camera(),
                     request.shot.render.background,
                     crate::upload::view_params(&request.shot.camera, request.view),
                     plan.image_index as usize,
                 );
-                slot.timestamps
-                    .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
+                rec.timestamp(&slot.timestamps, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 1);
             }
-            None => self.gpu.record_gbuffer(cmd, batch, (&slot.timestamps, 0))?,
+            None => self.gpu.record_gbuffer(rec, batch, (&slot.timestamps, 0))?,
         }
         Ok(())
     }
 
-    /// Records the restart of the accumulation: cleared, then the trace parameters of the
-    /// batch's shot.
-    fn record_restart(&self, batch: &SampleBatch<'_>) {
-        let cmd = self.slot.cmd;
-        // SAFETY: recording state; the buffer has TRANSFER_DST usage.
-        unsafe {
-            self.ctx
-                .device
-                .cmd_fill_buffer(cmd, self.accum.buffer.buffer, 0, vk::WHOLE_SIZE, 0)
-        };
-        self.gpu.record_trace_params(cmd, batch);
-    }
-
     /// Records the copy of samples traced on the host into the accumulation, through the
     /// slot's staging buffer (made larger when they do not fit).
-    fn record_host_sums(&mut self, sums: &[[f32; 4]]) -> Result<(), GpuError> {
+    fn record_host_sums(
+        &mut self,
+        rec: &mut Recorder<'_>,
+        sums: &[[f32; 4]],
+    ) -> Result<(), GpuError> {
         let ctx = &self.ctx;
-        let cmd = self.slot.cmd;
         let accum = &*self.accum;
         let bytes: &[u8] = bytemuck::cast_slice(sums);
         if bytes.len() as u64 > accum.buffer.size {
@@ -181,27 +135,16 @@ impl Frame<'_> {
         }
         let upload = slot.upload.as_mut().expect("created above");
         upload.write(bytes)?;
-        barrier(
-            ctx,
-            cmd,
-            vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_READ,
-            vk::PipelineStageFlags::TRANSFER,
-            vk::AccessFlags::TRANSFER_WRITE,
-        );
+        // The slot's upload buffer is not in use (its fence was waited for) and the region fits
+        // both buffers (checked above).
         let region = vk::BufferCopy::default().size(bytes.len() as u64);
-        // SAFETY: recording state; the slot's upload buffer is not in use (its fence was
-        // waited) and the region fits both buffers (checked above).
-        unsafe {
-            ctx.device
-                .cmd_copy_buffer(cmd, upload.buffer, accum.buffer.buffer, &[region])
-        };
+        rec.copy_buffer(upload, &accum.buffer, &[region]);
         Ok(())
     }
 
     /// Records the frame's samples, each work item over the whole image through the batch
     /// (the estimator's passes with them).
-    fn record_dispatches(&self, plan: &FramePlan, batch: &SampleBatch<'_>) {
+    fn record_dispatches(&self, rec: &mut Recorder<'_>, plan: &FramePlan, batch: &SampleBatch<'_>) {
         let height = batch.shot().camera.height;
         for item in &plan.work {
             let push = TracePush {
@@ -215,7 +158,7 @@ impl Frame<'_> {
                 // The batch sets its estimator's mode.
                 mode: TRACE_MODE_ALL,
             };
-            self.gpu.record_samples(self.slot.cmd, batch, push);
+            self.gpu.record_samples(rec, batch, push);
         }
     }
 
@@ -223,89 +166,61 @@ impl Frame<'_> {
     /// view pass), after the dispatches, up to timestamp 4.
     fn record_resolve(
         &self,
+        rec: &mut Recorder<'_>,
         request: &FrameRequest<'_>,
         plan: &FramePlan,
         targets: &GBufferTargets,
     ) {
-        let cmd = self.slot.cmd;
-        barrier(
-            &self.ctx,
-            cmd,
-            vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_READ,
-        );
         if !plan.direct {
             self.resolve.record(
-                cmd,
+                rec,
                 targets,
                 &crate::upload::resolve_push(&request.shot.camera, request.view),
             );
         }
-        self.slot
-            .timestamps
-            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 4);
+        rec.timestamp(
+            &self.slot.timestamps,
+            vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+            4,
+        );
     }
 
     /// Records the display image's copy into the window image (not in a frame of the view
-    /// pass) and the panel over it, up to timestamp 5, and ends the command buffer.
+    /// pass) and the panel over it, up to timestamp 5.
     fn record_window(
         &mut self,
+        rec: &mut Recorder<'_>,
         request: &FrameRequest<'_>,
         plan: &FramePlan,
     ) -> Result<(), GpuError> {
-        let cmd = self.slot.cmd;
         let image_index = plan.image_index;
         if !plan.direct {
             let window_image = self.swapchain.images[image_index as usize];
             let display = self.resolve.display.as_ref().expect("bound in prepare");
             let extent = self.swapchain.extent;
-            record_copy_to_window(&self.ctx, cmd, display.image, window_image, extent);
+            record_copy_to_window(rec, display.image, window_image, extent);
         }
         if let Some(overlay) = &mut self.overlay {
-            overlay.record(cmd, image_index, request.overlay.as_ref())?;
+            overlay.record(rec, image_index, request.overlay.as_ref())?;
         }
-        self.slot
-            .timestamps
-            .write(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, 5);
-        // SAFETY: recording began in `begin_commands`.
-        unsafe { self.ctx.device.end_command_buffer(cmd) }.map_err(vk_err("vkEndCommandBuffer"))
+        rec.timestamp(
+            &self.slot.timestamps,
+            vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+            5,
+        );
+        Ok(())
     }
-}
-
-/// Copies the view depth at (x, y) (G-buffer in TRANSFER_SRC_OPTIMAL) to the slot's pick buffer.
-fn record_pick(
-    ctx: &Context,
-    cmd: vk::CommandBuffer,
-    view_depth: vk::Image,
-    slot: &FrameSlot,
-    x: u32,
-    y: u32,
-) {
-    // The G-buffer pass left the image in TRANSFER_SRC_OPTIMAL with its writes ordered before
-    // transfers; (x, y) lies inside it (checked by the caller).
-    record_copy_to_buffer(ctx, cmd, view_depth, slot.pick.buffer, [x, y], [1, 1]);
-    barrier_to_host(
-        ctx,
-        cmd,
-        vk::PipelineStageFlags::TRANSFER,
-        vk::AccessFlags::TRANSFER_WRITE,
-    );
 }
 
 /// Blits the display image (TRANSFER_SRC_OPTIMAL) onto the window image, which ends in
 /// TRANSFER_DST_OPTIMAL for the overlay's render pass.
 fn record_copy_to_window(
-    ctx: &Context,
-    cmd: vk::CommandBuffer,
+    rec: &mut Recorder<'_>,
     display: vk::Image,
     window: vk::Image,
     extent: vk::Extent2D,
 ) {
-    transition(
-        ctx,
-        cmd,
+    rec.transition(
         window,
         &Transition {
             old: vk::ImageLayout::UNDEFINED,
@@ -317,33 +232,5 @@ fn record_copy_to_window(
             dst_access: vk::AccessFlags::TRANSFER_WRITE,
         },
     );
-    let layers = vk::ImageSubresourceLayers {
-        aspect_mask: vk::ImageAspectFlags::COLOR,
-        mip_level: 0,
-        base_array_layer: 0,
-        layer_count: 1,
-    };
-    let corner = vk::Offset3D {
-        x: extent.width as i32,
-        y: extent.height as i32,
-        z: 1,
-    };
-    let region = vk::ImageBlit::default()
-        .src_subresource(layers)
-        .src_offsets([vk::Offset3D::default(), corner])
-        .dst_subresource(layers)
-        .dst_offsets([vk::Offset3D::default(), corner]);
-    // SAFETY: both images are live, of the same size, in the layouts named; a 1:1 blit only
-    // reorders channels (RGBA8 -> the window's BGRA8/RGBA8 UNORM).
-    unsafe {
-        ctx.device.cmd_blit_image(
-            cmd,
-            display,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            window,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            &[region],
-            vk::Filter::NEAREST,
-        )
-    };
+    rec.blit(display, window, extent);
 }
