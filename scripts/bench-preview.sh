@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The preview window's speed (docs/preview.md): 1280x720, built-in default scene, under a private
 # Xvfb server (FIFO is not throttled there, so frame rates are the renderer's own).
-#   1. frames per second of the G-buffer view alone (--view albedo: no tracing, the view pass),
-#      three runs (the first launch after a build is often slower: quote the median)
+#   1. frames per second and G-buffer pass time per frame of the G-buffer view alone (--view
+#      albedo: no tracing, the view pass), three runs (the first launch after a build is often
+#      slower: quote the median); scripts/bench-gbuffer-ab.sh compares the pass with a commit's
 #   2. frames per second with depth of field accumulating (final view)
 #   3. samples per pixel reached 1 s and 5 s after the window opened
 #   4. time from an input (a key) to the submission of the frame that shows it
@@ -14,7 +15,7 @@ source scripts/preview-bench-env.sh
 size=(--width 1280 --height 720)
 run() { "$bin" preview "${size[@]}" "$@"; }
 
-echo "== 1. G-buffer view alone: 3 runs of 300 frames"
+echo "== 1. G-buffer view alone: 3 runs of 300 frames (each exit line: median frame time, median G-buffer pass per frame)"
 for _ in 1 2 3; do run --view albedo --frames 300 "$@" | tail -1; done
 echo "== 2. depth of field accumulating (target 4096 spp): 150 frames"
 run --spp 4096 --frames 150 "$@" | tail -1

@@ -18,7 +18,8 @@ Sources (docs/bench/):
   (commands in docs/bench.md, docs/hybrid.md, docs/raster.md, docs/movements-bench.md);
   sampler-*.json, preview.json: tables copied from docs/sampler.md and docs/preview.md, with the
   command that printed them (`cargo bench --bench sampler -- --only ...`,
-  `./scripts/bench-preview.sh`), which write no JSON of their own.
+  `./scripts/bench-preview.sh`), which write no JSON of their own;
+  gbuffer-ab.json: `./scripts/bench-gbuffer-ab.sh` runs (AB_JSON; docs/preview.md).
 """
 
 import json
@@ -350,6 +351,22 @@ def figures():
               "the next frame shows an input"))
     fig("preview.json CPU while converged",
         claim(preview["cpu_ms_while_converged_3s"] == 0, "no CPU is used once converged"))
+
+    # The G-buffer pass against a named commit (./scripts/bench-gbuffer-ab.sh, which writes
+    # docs/bench/gbuffer-ab.json itself): medians of the runs of each binary, taken in turns.
+    ab = load("gbuffer-ab.json")
+    ab_med = {w: {k: statistics.median(ab[w][k]) for k in ("frame_ms", "gbuffer_ms")}
+              for w in ("base", "build")}
+    base, build = ab_med["base"], ab_med["build"]
+    fig("gbuffer-ab.json G-buffer pass",
+        f"G-buffer pass {build['gbuffer_ms']:.2f} ms per frame against {base['gbuffer_ms']:.2f} ms "
+        f"at {ab['base']['commit']} ({x(build['gbuffer_ms'] / base['gbuffer_ms'], 2)})")
+    fig("gbuffer-ab.json frame",
+        f"frame {build['frame_ms']:.1f} ms against {base['frame_ms']:.1f} ms "
+        f"({1000 / build['frame_ms']:.0f} fps)")
+    fig("gbuffer-ab.json runs and machine",
+        f"medians of {len(ab['build']['gbuffer_ms'])} runs each, {ab['machine']['cpu']}, "
+        f"{ab['machine']['threads']} threads")
     return out
 
 

@@ -5,7 +5,7 @@
 //! side). Each `shaders/LAYER/NAME.{vert,frag,comp}` becomes `$OUT_DIR/NAME.STAGE.spv`, embedded
 //! by `lensray-vulkan/src/core/shader.rs` with `include_bytes!`. `#include "x.glsl"` resolves in
 //! `shaders/include/`. A shader listed in `VARIANTS` is compiled once per variant instead, with
-//! that variant's macro defined, into `$OUT_DIR/VARIANT.STAGE.spv`.
+//! that variant's macros defined, into `$OUT_DIR/VARIANT.STAGE.spv`.
 //! A compile error fails the build with the file and line of every message.
 //!
 //! First it writes `$OUT_DIR/interface.glsl` and a `$OUT_DIR/set_<name>.glsl` per pipeline's
@@ -19,15 +19,78 @@ use std::path::{Path, PathBuf};
 
 const INTERFACE_HEADER: &str = "interface.glsl";
 
-/// Shaders compiled more than once: file name, then (output name, macro defined) per variant.
-/// trace.comp: one closest-hit implementation each (lensray-vulkan/src/passes/trace.rs picks the pipeline).
-const VARIANTS: &[(&str, &[(&str, &str)])] = &[(
-    "trace.comp",
-    &[
-        ("trace_rayquery.comp", "TRAVERSAL_RAY_QUERY"),
-        ("trace_software.comp", "TRAVERSAL_SOFTWARE"),
-    ],
-)];
+/// A variant of a shader: its output name and the macros it defines.
+type Variant = (&'static str, &'static [&'static str]);
+
+/// Shaders compiled more than once: file name, then its variants. trace.comp: one closest-hit
+/// implementation each (lensray-vulkan/src/passes/trace.rs picks the pipeline). The raster
+/// stages: as written, and with PLAIN_SURFACES, which draws the surfaces with none of the bits
+/// the pass is specialized on (untextured and opaque; the visibility pass: not alpha-tested),
+/// without the inputs only those bits' code reads. The G-buffer's vertex stage and the view
+/// pass's fragment stage: once per view of the view pass (SHOWN_*) too, each passing only what
+/// the view reads (shaders/include/surface_varyings.glsl).
+const VARIANTS: &[(&str, &[Variant])] = &[
+    (
+        "trace.comp",
+        &[
+            ("trace_rayquery.comp", &["TRAVERSAL_RAY_QUERY"]),
+            ("trace_software.comp", &["TRAVERSAL_SOFTWARE"]),
+        ],
+    ),
+    (
+        "gbuffer.vert",
+        &[
+            ("gbuffer.vert", &[]),
+            ("gbuffer_plain.vert", PLAIN),
+            ("view_albedo.vert", &["SHOWN_ALBEDO"]),
+            (
+                "view_albedo_plain.vert",
+                &["SHOWN_ALBEDO", "PLAIN_SURFACES"],
+            ),
+            ("view_normal.vert", &["SHOWN_NORMAL"]),
+            (
+                "view_normal_plain.vert",
+                &["SHOWN_NORMAL", "PLAIN_SURFACES"],
+            ),
+            ("view_depth.vert", &["SHOWN_DEPTH"]),
+            ("view_depth_plain.vert", &["SHOWN_DEPTH", "PLAIN_SURFACES"]),
+            ("view_coc.vert", &["SHOWN_COC"]),
+            ("view_coc_plain.vert", &["SHOWN_COC", "PLAIN_SURFACES"]),
+        ],
+    ),
+    (
+        "gbuffer.frag",
+        &[("gbuffer.frag", &[]), ("gbuffer_plain.frag", PLAIN)],
+    ),
+    (
+        "view.frag",
+        &[
+            ("view_albedo.frag", &["SHOWN_ALBEDO"]),
+            (
+                "view_albedo_plain.frag",
+                &["SHOWN_ALBEDO", "PLAIN_SURFACES"],
+            ),
+            ("view_normal.frag", &["SHOWN_NORMAL"]),
+            (
+                "view_normal_plain.frag",
+                &["SHOWN_NORMAL", "PLAIN_SURFACES"],
+            ),
+            ("view_depth.frag", &["SHOWN_DEPTH"]),
+            ("view_depth_plain.frag", &["SHOWN_DEPTH", "PLAIN_SURFACES"]),
+            ("view_coc.frag", &["SHOWN_COC"]),
+            ("view_coc_plain.frag", &["SHOWN_COC", "PLAIN_SURFACES"]),
+        ],
+    ),
+    (
+        "visibility.vert",
+        &[("visibility.vert", &[]), ("visibility_plain.vert", PLAIN)],
+    ),
+    (
+        "visibility.frag",
+        &[("visibility.frag", &[]), ("visibility_plain.frag", PLAIN)],
+    ),
+];
+const PLAIN: &[&str] = &["PLAIN_SURFACES"];
 
 fn main() {
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
@@ -76,16 +139,16 @@ fn main() {
         };
         let source = std::fs::read_to_string(&path).expect("read shader");
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        let variants: Vec<(String, Option<&str>)> =
-            match VARIANTS.iter().find(|(file, _)| *file == name) {
-                Some((_, list)) => list
-                    .iter()
-                    .map(|(out_name, define)| (out_name.to_string(), Some(*define)))
-                    .collect(),
-                None => vec![(name.clone(), None)],
-            };
-        for (out_name, define) in variants {
-            let options = compile_options(&include_dir, &out, define);
+        let variants: Vec<(String, &[&str])> = match VARIANTS.iter().find(|(file, _)| *file == name)
+        {
+            Some((_, list)) => list
+                .iter()
+                .map(|(out_name, defines)| (out_name.to_string(), *defines))
+                .collect(),
+            None => vec![(name.clone(), &[])],
+        };
+        for (out_name, defines) in variants {
+            let options = compile_options(&include_dir, &out, defines);
             match compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options)) {
                 Ok(artifact) => {
                     if artifact.get_num_warnings() > 0 {
@@ -109,11 +172,11 @@ fn main() {
 }
 
 /// Vulkan 1.2 / SPIR-V 1.4, optimised, warnings as errors, includes from `shaders/include/` (and the
-/// generated headers from `$OUT_DIR`), `define` set when given.
+/// generated headers from `$OUT_DIR`), `defines` set.
 fn compile_options<'a>(
     include_dir: &Path,
     out: &Path,
-    define: Option<&str>,
+    defines: &[&str],
 ) -> shaderc::CompileOptions<'a> {
     let mut options = shaderc::CompileOptions::new().expect("shaderc options");
     options.set_target_env(
@@ -123,7 +186,7 @@ fn compile_options<'a>(
     options.set_target_spirv(shaderc::SpirvVersion::V1_4);
     options.set_optimization_level(shaderc::OptimizationLevel::Performance);
     options.set_warnings_as_errors();
-    if let Some(define) = define {
+    for define in defines {
         options.add_macro_definition(define, None);
     }
     let include_dir = include_dir.to_path_buf();

@@ -5,12 +5,13 @@
 use std::process::Command;
 
 /// The pages that quote figures of the stored runs; each figure must appear in one of them.
-const PAGES: [&str; 5] = [
+const PAGES: [&str; 6] = [
     "README.md",
     "docs/cli.md",
     "docs/performance.md",
     "docs/architecture.md",
     "docs/lenses.md",
+    "docs/preview.md",
 ];
 
 #[test]

@@ -10,6 +10,9 @@
 
 // SURFACES (texture.glsl) holds what every triangle of the draw may have: the raster passes
 // draw each run of triangles with the pipeline specialized for its surfaces (passes/draw.rs).
+// The runs with none of the pass's bits take the stages' PLAIN_SURFACES build (build.rs), which
+// passes between them only what those surfaces read: no texture coordinates, and no triangle
+// index where only textures and alpha tests read it (surface_varyings.glsl, visibility.frag).
 
 // The interpolated shading normal turned to face the viewer: the viewing direction runs along
 // the axis (orthographic) or from the eye (perspective).

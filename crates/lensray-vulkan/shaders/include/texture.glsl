@@ -11,8 +11,13 @@
 // The SURFACE_* bits any surface the shader meets may have. A pass specialized without one
 // (SPEC_SURFACES) compiles out its texture or alpha code, which CPU drivers would otherwise run
 // for every fragment or hit: they run both sides of a branch that may differ between
-// invocations. Unspecialized: all.
+// invocations. Unspecialized: all. The raster stages' PLAIN_SURFACES build (build.rs) draws
+// surfaces with none of them (raster_surface.glsl).
+#ifdef PLAIN_SURFACES
+const uint SURFACES = 0u;
+#else
 layout(constant_id = SPEC_SURFACES) const uint SURFACES = SURFACE_TEXTURED | SURFACE_ALPHA_TESTED;
+#endif
 const bool SURFACES_TEXTURED = (SURFACES & SURFACE_TEXTURED) != 0u;
 const bool SURFACES_ALPHA_TESTED = (SURFACES & SURFACE_ALPHA_TESTED) != 0u;
 

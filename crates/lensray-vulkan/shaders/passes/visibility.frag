@@ -9,7 +9,11 @@
 layout(push_constant) uniform PushBlock { VisibilityPush pc; };
 
 layout(location = 0) flat in uint in_triangle;
+#ifdef PLAIN_SURFACES
+const vec2 in_texcoord = vec2(0.0);  // read by alpha tests only (raster_surface.glsl)
+#else
 layout(location = 1) in vec2 in_texcoord;
+#endif
 layout(location = 0) out uint out_triangle;
 
 void main() {

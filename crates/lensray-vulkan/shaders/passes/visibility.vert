@@ -2,7 +2,8 @@
 // Raster path, visibility pass (lensray-vulkan/src/passes/visibility.rs): pulls triangle corners from the scene
 // arrays (non-indexed draw of 3 vertices per triangle) and projects them through one lens point
 // with Camera::clip_from_world_through_lens. The triangle index goes to the fragment stage as a
-// flat varying (gl_PrimitiveID there would need the geometry-shader feature).
+// flat varying (gl_PrimitiveID there would need the geometry-shader feature). Its PLAIN_SURFACES
+// build passes no texture coordinates (raster_surface.glsl).
 #include "set_visibility.glsl"
 #include "scene.glsl"
 #include "texture.glsl"
@@ -10,7 +11,9 @@
 layout(push_constant) uniform PushBlock { VisibilityPush pc; };
 
 layout(location = 0) flat out uint out_triangle;
+#ifndef PLAIN_SURFACES
 layout(location = 1) out vec2 out_texcoord;
+#endif
 
 void main() {
     uint tri = uint(gl_VertexIndex) / 3u;
@@ -18,6 +21,8 @@ void main() {
     uint index = indices[3u * tri + corner];
     vec3 p = positions[index].xyz;
     out_triangle = tri;
+#ifndef PLAIN_SURFACES
     out_texcoord = texcoords[index];
+#endif
     gl_Position = pc.clip_from_world * vec4(p, 1.0);
 }

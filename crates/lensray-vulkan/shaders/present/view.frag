@@ -3,45 +3,53 @@
 // confusion) drawn straight into the window image, one 8-bit target instead of the G-buffer's
 // three float targets and the resolve pass. The vertex stage is the G-buffer's (gbuffer.vert),
 // so each fragment has the values the G-buffer would store and shows what resolve.comp would
-// show for them (views.glsl).
+// show for them (views.glsl). One build per view (SHOWN_*, build.rs), each with only the inputs
+// that view reads (surface_varyings.glsl): what a CPU driver spends on a fragment grows with the
+// inputs it declares, not with the code a view leaves out.
 
 #include "set_view.glsl"
 #include "raster_surface.glsl"
+#include "surface_varyings.glsl"
 #include "views.glsl"
 
 layout(push_constant) uniform PushBlock { ViewPush pc; };
 
-layout(location = 0) in vec3 in_normal;
-layout(location = 1) in float in_view_depth;
-layout(location = 2) in vec3 in_world;
-layout(location = 3) flat in uint in_triangle;
-layout(location = 4) in vec2 in_texcoord;
-layout(location = 5) flat in vec3 in_albedo;
+#if defined(SHOWN_ALBEDO)
+const uint VIEW = VIEW_ALBEDO;
+#elif defined(SHOWN_NORMAL)
+const uint VIEW = VIEW_NORMAL;
+#elif defined(SHOWN_DEPTH)
+const uint VIEW = VIEW_DEPTH;
+#elif defined(SHOWN_COC)
+const uint VIEW = VIEW_COC;
+#else
+#error "view.frag is built once per view: define SHOWN_ALBEDO, SHOWN_NORMAL, SHOWN_DEPTH or SHOWN_COC"
+#endif
 
 layout(location = 0) out vec4 out_shown;
 
 void main() {
     // As gbuffer.frag; the footprint only where a texture is shown.
-    bool textured = SURFACES_TEXTURED && pc.shown.view == VIEW_ALBEDO;
+    bool textured = SURFACES_TEXTURED && VIEW == VIEW_ALBEDO;
     vec2 dx = vec2(0.0);
     vec2 dy = vec2(0.0);
     if (textured) {
-        fragment_footprint(pc.raster.clip_from_world, in_world, in_triangle, dx, dy);
+        fragment_footprint(pc.raster.clip_from_world, v_world, v_triangle, dx, dy);
     }
     if (SURFACES_ALPHA_TESTED
-        && !fragment_stops_ray(in_triangle, in_texcoord, aperture_centre_cut())) {
+        && !fragment_stops_ray(v_triangle, v_texcoord, aperture_centre_cut())) {
         discard;
     }
     vec3 shown;
-    if (pc.shown.view == VIEW_ALBEDO) {
-        vec3 albedo = textured ? fragment_albedo(in_triangle, in_texcoord, dx, dy) : in_albedo;
+    if (VIEW == VIEW_ALBEDO) {
+        vec3 albedo = textured ? fragment_albedo(v_triangle, v_texcoord, dx, dy) : v_albedo;
         shown = encode_srgb(albedo);
-    } else if (pc.shown.view == VIEW_NORMAL) {
-        shown = normal_shown(vec4(viewer_facing_normal(pc.raster, in_normal, in_world), 1.0));
-    } else if (pc.shown.view == VIEW_DEPTH) {
-        shown = depth_shown(pc.shown, in_view_depth);
+    } else if (VIEW == VIEW_NORMAL) {
+        shown = normal_shown(vec4(viewer_facing_normal(pc.raster, v_normal, v_world), 1.0));
+    } else if (VIEW == VIEW_DEPTH) {
+        shown = depth_shown(pc.shown, v_view_depth);
     } else {
-        shown = coc_shown(pc.shown, gl_FragCoord.xy, in_view_depth);
+        shown = coc_shown(pc.shown, gl_FragCoord.xy, v_view_depth);
     }
     out_shown = display_value(shown);
 }

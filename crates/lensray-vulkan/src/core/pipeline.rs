@@ -46,6 +46,10 @@ pub(crate) struct GraphicsDesc<'a> {
     /// The SURFACE_* bits the fragment stage's specialization constant SPEC_SURFACES
     /// takes: one pipeline is made for each subset of them (0: one pipeline, unspecialized).
     pub surface_variants: u32,
+    /// The stages (vertex, fragment) of the variant for none of those bits, where a build of
+    /// them leaves out the inputs only the bits' code reads (lavapipe interpolates every input
+    /// a fragment stage declares); `None`: `vert` and `frag`.
+    pub plain: Option<(&'a [u8], &'a [u8])>,
 }
 
 impl Pipeline {
@@ -185,8 +189,16 @@ impl Pipeline {
         let mut this = Self::with_set(ctx, set, vk::PipelineBindPoint::GRAPHICS)?;
         ctx.announce_compile();
         let start = Instant::now();
-        let vert = ShaderModule::new(ctx, desc.vert)?;
-        let frag = ShaderModule::new(ctx, desc.frag)?;
+        let general = [
+            ShaderModule::new(ctx, desc.vert)?,
+            ShaderModule::new(ctx, desc.frag)?,
+        ];
+        let plain = match desc.plain {
+            Some((vert, frag)) => {
+                Some([ShaderModule::new(ctx, vert)?, ShaderModule::new(ctx, frag)?])
+            }
+            None => None,
+        };
         let mask = desc.surface_variants;
         // Index s: the pipeline for surfaces s; the last (s = mask) is `pipeline`.
         let surfaces: Vec<u32> = (0..=mask).filter(|s| s & !mask == 0).collect();
@@ -199,9 +211,14 @@ impl Pipeline {
                     .data(data)
             })
             .collect();
-        let stages: Vec<_> = specs
+        let stages: Vec<_> = surfaces
             .iter()
-            .map(|spec| {
+            .zip(&specs)
+            .map(|(&s, spec)| {
+                let [vert, frag] = match &plain {
+                    Some(plain) if s == 0 => plain,
+                    _ => &general,
+                };
                 let frag = vk::PipelineShaderStageCreateInfo::default()
                     .stage(vk::ShaderStageFlags::FRAGMENT)
                     .module(frag.module)

@@ -15,7 +15,12 @@ macro_rules! spirv {
 
 pub(crate) const GBUFFER_VERT: &[u8] = spirv!("gbuffer.vert");
 pub(crate) const GBUFFER_FRAG: &[u8] = spirv!("gbuffer.frag");
-pub(crate) const VIEW_FRAG: &[u8] = spirv!("view.frag");
+/// The raster stages' builds for the surfaces with none of their pass's bits (build.rs,
+/// PLAIN_SURFACES).
+pub(crate) const GBUFFER_PLAIN_VERT: &[u8] = spirv!("gbuffer_plain.vert");
+pub(crate) const GBUFFER_PLAIN_FRAG: &[u8] = spirv!("gbuffer_plain.frag");
+pub(crate) const VISIBILITY_PLAIN_VERT: &[u8] = spirv!("visibility_plain.vert");
+pub(crate) const VISIBILITY_PLAIN_FRAG: &[u8] = spirv!("visibility_plain.frag");
 pub(crate) const TRACE_RAYQUERY_COMP: &[u8] = spirv!("trace_rayquery.comp");
 pub(crate) const TRACE_SOFTWARE_COMP: &[u8] = spirv!("trace_software.comp");
 pub(crate) const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
@@ -31,21 +36,57 @@ pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
 #[cfg(feature = "probes")]
 pub(crate) const SPECTRAL_COMP: &[u8] = spirv!("spectral.comp");
 
+/// A pipeline's vertex and fragment stages.
+pub(crate) type Stages = (&'static [u8], &'static [u8]);
+
+/// The view pass's builds of gbuffer.vert and view.frag for `$view` (build.rs): for any surfaces,
+/// then for plain ones.
+macro_rules! view_stages {
+    ($view:literal) => {
+        [
+            (
+                include_bytes!(concat!(env!("OUT_DIR"), "/view_", $view, ".vert.spv")),
+                include_bytes!(concat!(env!("OUT_DIR"), "/view_", $view, ".frag.spv")),
+            ),
+            (
+                include_bytes!(concat!(env!("OUT_DIR"), "/view_", $view, "_plain.vert.spv")),
+                include_bytes!(concat!(env!("OUT_DIR"), "/view_", $view, "_plain.frag.spv")),
+            ),
+        ]
+    };
+}
+
+/// The view pass's stages, entry `view - VIEW_ALBEDO` (VIEW_ALBEDO to VIEW_COC).
+pub(crate) const VIEW_STAGES: [[Stages; 2]; 4] = [
+    view_stages!("albedo"),
+    view_stages!("normal"),
+    view_stages!("depth"),
+    view_stages!("coc"),
+];
+
 /// A hash (FNV-1a, 64 bits) of every shader lensray renders with: a driver compiles them again
 /// when they change, so the pipeline cache's file is named by it.
 pub(crate) fn shaders_hash() -> u64 {
+    let view_stages = VIEW_STAGES
+        .iter()
+        .flatten()
+        .flat_map(|&(vert, frag)| [vert, frag]);
     [
         GBUFFER_VERT,
         GBUFFER_FRAG,
-        VIEW_FRAG,
+        GBUFFER_PLAIN_VERT,
+        GBUFFER_PLAIN_FRAG,
         TRACE_RAYQUERY_COMP,
         TRACE_SOFTWARE_COMP,
         RESOLVE_COMP,
         VISIBILITY_VERT,
         VISIBILITY_FRAG,
+        VISIBILITY_PLAIN_VERT,
+        VISIBILITY_PLAIN_FRAG,
         HYBRID_PLAN_COMP,
     ]
-    .iter()
+    .into_iter()
+    .chain(view_stages)
     .flat_map(|spirv| spirv.iter())
     .fold(0xcbf2_9ce4_8422_2325, |hash, &byte| {
         (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3)

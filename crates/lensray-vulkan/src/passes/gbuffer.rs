@@ -174,6 +174,7 @@ impl GBufferPass {
                 color_attachments: 3,
                 depth_compare: vk::CompareOp::LESS,
                 surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED,
+                plain: Some((shader::GBUFFER_PLAIN_VERT, shader::GBUFFER_PLAIN_FRAG)),
             },
         )?;
         Ok(Self {

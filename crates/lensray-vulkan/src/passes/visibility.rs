@@ -110,6 +110,7 @@ impl VisibilityPass {
                 color_attachments: 1,
                 depth_compare: vk::CompareOp::GREATER,
                 surface_variants: SURFACE_ALPHA_TESTED,
+                plain: Some((shader::VISIBILITY_PLAIN_VERT, shader::VISIBILITY_PLAIN_FRAG)),
             },
         )?;
         Ok(Self {

@@ -3,7 +3,10 @@
 //! G-buffer pass followed by the resolve shows (the same vertex stage, the encodings of
 //! shaders/include/views.glsl), for a third of the G-buffer's target bandwidth and without the resolve
 //! and the copy into the window: those frames are what a window that only frames the shot
-//! draws, and on lavapipe they are where the frame rate is won (docs/preview.md).
+//! draws, and on lavapipe they are where the frame rate is won (docs/preview.md). Each view has
+//! its own pipeline, made when the view is first drawn, whose stages pass only what that view
+//! reads (shaders/include/surface_varyings.glsl): lavapipe's cost per fragment grows with the
+//! inputs the fragment stage declares.
 
 use std::sync::Arc;
 
@@ -24,8 +27,11 @@ use lensray_core::camera::Camera;
 use lensray_core::film::colour::linear_to_srgb;
 use lensray_core::interface::{
     DescriptorSet, ViewParams, ViewPush, ViewSet, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED,
-    VIEW_ALBEDO, VIEW_FINAL,
+    VIEW_ALBEDO, VIEW_COC, VIEW_FINAL,
 };
+
+/// The views the pass draws, VIEW_ALBEDO to VIEW_COC: one pipeline each.
+const VIEWS: usize = (VIEW_COC - VIEW_ALBEDO + 1) as usize;
 
 /// One framebuffer per target image, sharing a depth buffer.
 struct ViewTargets {
@@ -39,7 +45,8 @@ struct ViewTargets {
 
 pub(crate) struct ViewPass {
     ctx: Arc<Context>,
-    pipeline: Pipeline,
+    /// Entry `view - VIEW_ALBEDO`: that view's pipeline, made the first time the view is drawn.
+    pipelines: [Option<Pipeline>; VIEWS],
     targets: Option<ViewTargets>,
     render_pass: SceneRenderPass,
     format: vk::Format,
@@ -53,21 +60,9 @@ impl ViewPass {
         final_layout: vk::ImageLayout,
     ) -> Result<Self, GpuError> {
         let render_pass = SceneRenderPass::with_final_layout(ctx, &[format], final_layout)?;
-        let pipeline = Pipeline::graphics(
-            ctx,
-            ViewSet::DECL,
-            &GraphicsDesc {
-                vert: shader::GBUFFER_VERT,
-                frag: shader::VIEW_FRAG,
-                render_pass: render_pass.handle,
-                color_attachments: 1,
-                depth_compare: vk::CompareOp::LESS,
-                surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED,
-            },
-        )?;
         Ok(Self {
             ctx: ctx.clone(),
-            pipeline,
+            pipelines: Default::default(),
             targets: None,
             render_pass,
             format,
@@ -78,9 +73,30 @@ impl ViewPass {
         self.format
     }
 
-    /// Points the pipeline's set at the scene's arrays.
-    pub(crate) fn bind_scene(&self, scene: &SceneBuffers) {
-        scene.bind(&self.pipeline);
+    /// Makes the pipeline of `view` (VIEW_ALBEDO to VIEW_COC) unless it exists, its set
+    /// pointed at `scene`'s arrays.
+    pub(crate) fn ensure_view(&mut self, view: u32, scene: &SceneBuffers) -> Result<(), GpuError> {
+        let slot = &mut self.pipelines[view_index(view)];
+        if slot.is_some() {
+            return Ok(());
+        }
+        let [(vert, frag), plain] = shader::VIEW_STAGES[view_index(view)];
+        let pipeline = Pipeline::graphics(
+            &self.ctx,
+            ViewSet::DECL,
+            &GraphicsDesc {
+                vert,
+                frag,
+                render_pass: self.render_pass.handle,
+                color_attachments: 1,
+                depth_compare: vk::CompareOp::LESS,
+                surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED,
+                plain: Some(plain),
+            },
+        )?;
+        scene.bind(&pipeline);
+        *slot = Some(pipeline);
+        Ok(())
     }
 
     /// Framebuffers over `views` (target images of `width` x `height`, alive until the next
@@ -122,9 +138,9 @@ impl ViewPass {
         Ok(())
     }
 
-    /// Records view `shown.view` (not VIEW_FINAL) of `camera` into target `index`: uncovered
-    /// pixels show the background in the albedo view (as the G-buffer's cleared albedo does),
-    /// black in the others.
+    /// Records view `shown.view` (not VIEW_FINAL; its pipeline made by [`Self::ensure_view`])
+    /// of `camera` into target `index`: uncovered pixels show the background in the albedo view
+    /// (as the G-buffer's cleared albedo does), black in the others.
     pub(crate) fn record(
         &self,
         rec: &mut Recorder<'_>,
@@ -136,6 +152,9 @@ impl ViewPass {
     ) {
         debug_assert_ne!(shown.view, VIEW_FINAL, "the final view is the resolve's");
         let targets = self.targets.as_ref().expect("attach first");
+        let pipeline = self.pipelines[view_index(shown.view)]
+            .as_ref()
+            .expect("ensure_view first");
         let clear_color = if shown.view == VIEW_ALBEDO {
             background.map(|c| linear_to_srgb(c).clamp(0.0, 1.0))
         } else {
@@ -167,9 +186,15 @@ impl ViewPass {
                 width: targets.width,
                 height: targets.height,
                 clear: &clear,
-                pipeline: &self.pipeline,
+                pipeline,
                 push: bytemuck::bytes_of(&push),
             },
         );
     }
+}
+
+/// The entry of `view` (VIEW_ALBEDO to VIEW_COC) in `ViewPass::pipelines`.
+fn view_index(view: u32) -> usize {
+    debug_assert!((VIEW_ALBEDO..=VIEW_COC).contains(&view), "view {view}");
+    (view - VIEW_ALBEDO) as usize
 }

@@ -183,13 +183,11 @@ impl Viewer {
         {
             self.view_pass = None;
             // Left as the copy into the window leaves it, for the panel's pass.
-            let pass = ViewPass::new(
+            self.view_pass = Some(ViewPass::new(
                 &ctx,
                 swapchain.format,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            )?;
-            pass.bind_scene(self.gpu.scene_buffers()?);
-            self.view_pass = Some(pass);
+            )?);
         }
         self.view_pass.as_mut().expect("created above").attach(
             &swapchain.views,

@@ -59,7 +59,7 @@ pub(crate) fn run(
         vk::ImageAspectFlags::COLOR,
     )?;
     let mut pass = ViewPass::new(ctx, DISPLAY_FORMAT, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)?;
-    pass.bind_scene(scene);
+    pass.ensure_view(view, scene)?;
     pass.attach(&[target.view], width, height)?;
     let readback = |name| {
         Buffer::new(

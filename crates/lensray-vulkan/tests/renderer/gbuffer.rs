@@ -2,12 +2,13 @@
 //! render, the AOVs it gives (and the CPU reference's), and the preview's two routes to a view.
 
 use glam::{Vec2, Vec3};
-use lensray_core::camera::LensParams;
+use lensray_core::camera::{Camera, CameraParams, LensParams, Movements, ProjectionParams};
 use lensray_core::film::Image;
 use lensray_core::interface::{VIEW_ALBEDO, VIEW_COC, VIEW_DEPTH, VIEW_NORMAL};
 use lensray_core::reference::Renderer as CpuRenderer;
+use lensray_core::scene::test_card::test_card;
 use lensray_core::settings::{Shading, Shot};
-use lensray_vulkan::focus_distance_at;
+use lensray_vulkan::{focus_distance_at, GpuRenderer};
 
 use crate::support::*;
 use lensray_core::sampler::CameraSample;
@@ -262,41 +263,78 @@ fn preview_views_by_both_routes_are_equal() {
     };
     for orthographic in [false, true] {
         let cam = camera(orthographic, lens.clone(), 96, 64);
-        for view in [VIEW_ALBEDO, VIEW_NORMAL, VIEW_DEPTH, VIEW_COC] {
-            let routes = gpu
-                .probe_view_routes(&cam, BACKGROUND, view)
-                .expect("both routes");
-            let differ: Vec<i32> = routes
-                .resolved
-                .iter()
-                .zip(&routes.drawn)
-                .map(|(a, b)| {
-                    (0..4)
-                        .map(|c| (a[c] as i32 - b[c] as i32).abs())
-                        .max()
-                        .unwrap()
-                })
-                .filter(|&d| d > 0)
-                .collect();
-            if !differ.is_empty() {
-                let name = format!("view{view}-ortho{orthographic}");
-                for (pixels, route) in [(&routes.resolved, "resolved"), (&routes.drawn, "drawn")] {
-                    let bytes = pixels.iter().flatten().copied().collect();
-                    image::RgbaImage::from_raw(cam.width, cam.height, bytes)
-                        .expect("4 bytes per pixel")
-                        .save(output_dir().join(format!("{name}-{route}.png")))
-                        .expect("write PNG");
-                }
-                panic!(
-                    "view {view} (ortho {orthographic}): {} of {} pixels differ between the \
-                     resolve and the view pass, by up to {}/255; wrote {name}-*.png under {}",
-                    differ.len(),
-                    routes.drawn.len(),
-                    differ.iter().max().unwrap(),
-                    output_dir().display()
-                );
-            }
-        }
+        assert_view_routes_equal(&mut gpu, &cam, &format!("ortho{orthographic}"));
     }
     finish(gpu, log);
+}
+
+/// The same on the textured test card: textured, alpha-tested and plain surfaces, each drawn by
+/// its own specialization of the view pass and of the G-buffer pass.
+#[test]
+fn preview_views_of_textured_surfaces_by_both_routes_are_equal() {
+    let test = "preview_views_of_textured_surfaces_by_both_routes_are_equal";
+    let Some((mut gpu, log)) = renderer(test) else {
+        return;
+    };
+    gpu.load_scene(&test_card()).expect("load scene");
+    let cam = CameraParams {
+        eye: Vec3::new(0.0, 1.2, 4.0),
+        target: Vec3::new(0.0, 0.8, 0.0),
+        up: Vec3::Y,
+        projection: ProjectionParams::Perspective { vfov_degrees: 50.0 },
+        lens: LensParams::ThinLens {
+            aperture_radius: 0.06,
+            focus_distance: 4.3,
+        },
+        near: 0.1,
+        far: 100.0,
+        width: 96,
+        height: 72,
+        movements: Movements::NONE,
+    }
+    .build()
+    .expect("valid camera");
+    assert_view_routes_equal(&mut gpu, &cam, "card");
+    finish(gpu, log);
+}
+
+/// Every non-final view of `cam` by the G-buffer and resolve and by the view pass: the same
+/// bytes in every pixel, background included (else both routes' images are written, named
+/// after `name`).
+fn assert_view_routes_equal(gpu: &mut GpuRenderer, cam: &Camera, name: &str) {
+    for view in [VIEW_ALBEDO, VIEW_NORMAL, VIEW_DEPTH, VIEW_COC] {
+        let routes = gpu
+            .probe_view_routes(cam, BACKGROUND, view)
+            .expect("both routes");
+        let differ: Vec<i32> = routes
+            .resolved
+            .iter()
+            .zip(&routes.drawn)
+            .map(|(a, b)| {
+                (0..4)
+                    .map(|c| (a[c] as i32 - b[c] as i32).abs())
+                    .max()
+                    .unwrap()
+            })
+            .filter(|&d| d > 0)
+            .collect();
+        if !differ.is_empty() {
+            let name = format!("view{view}-{name}");
+            for (pixels, route) in [(&routes.resolved, "resolved"), (&routes.drawn, "drawn")] {
+                let bytes = pixels.iter().flatten().copied().collect();
+                image::RgbaImage::from_raw(cam.width, cam.height, bytes)
+                    .expect("4 bytes per pixel")
+                    .save(output_dir().join(format!("{name}-{route}.png")))
+                    .expect("write PNG");
+            }
+            panic!(
+                "view {view} ({name}): {} of {} pixels differ between the resolve and the view \
+                 pass, by up to {}/255; wrote {name}-*.png under {}",
+                differ.len(),
+                routes.drawn.len(),
+                differ.iter().max().unwrap(),
+                output_dir().display()
+            );
+        }
+    }
 }

@@ -82,8 +82,9 @@ impl Viewer {
         Ok(result)
     }
 
-    /// Waits for the current slot's previous frame, applies egui's texture changes, and makes
-    /// the trace pass's camera tables those of the request.
+    /// Waits for the current slot's previous frame, applies egui's texture changes, makes the
+    /// view pass's pipeline of the request's view if it is new, and makes the trace pass's
+    /// camera tables those of the request.
     fn start_frame(&mut self, request: &mut FrameRequest<'_>) -> Result<(), GpuError> {
         // This slot's previous frame must be finished before anything of it is reused.
         let slot = &mut self.frames.slots[self.frames.current];
@@ -100,6 +101,14 @@ impl Viewer {
                     .extend(frame.textures.free.iter().copied());
                 frame.textures.clear();
             }
+        }
+        // A view's pipeline is made when the view is first shown.
+        if let Some(pass) = self
+            .view_pass
+            .as_mut()
+            .filter(|_| request.view != VIEW_FINAL)
+        {
+            pass.ensure_view(request.view, self.gpu.scene_buffers()?)?;
         }
         if self.gpu.camera_tables_differ(&request.shot.camera) {
             // Frames in flight bind the old tables (a new aperture image: rare).
