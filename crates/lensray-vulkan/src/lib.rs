@@ -7,19 +7,21 @@
 //! with `clip_from_world()`, the compute pass generates rays with
 //! `shaders/include/camera.glsl`, a function-by-function mirror of `lensray-core/src/camera`,
 //! fed with the camera's own matrices. This crate is the only one of the workspace with
-//! `unsafe` code; every Vulkan object is owned by a Rust value and destroyed on drop.
+//! `unsafe` code, all of it in `core`; every Vulkan object is owned by a Rust value and
+//! destroyed on drop.
 //!
 //! Layers, each a folder (the shaders in `shaders/` have the same ones):
 //! - `core`: Vulkan itself: instance and validation, device and submissions, buffers, images,
-//!   queries, pipelines, embedded SPIR-V, host data in the shaders' layouts, errors;
+//!   queries, pipelines, render passes, fences and semaphores, the window's surface and
+//!   swapchain, embedded SPIR-V, host data in the shaders' layouts, errors;
 //! - `scene`: a scene on the device: its arrays, acceleration structures, the software BVH;
 //! - `passes`: the renderer's passes: G-buffer, thin-lens trace, the raster path's visibility
 //!   pass and the hybrid's plan;
 //! - `renderer`: [`GpuRenderer`], which owns the device and the passes: its entries, the one
 //!   function that records a batch of samples with an [`Estimator`] (headless renders and the
 //!   preview's frames alike), and what the preview records through it;
-//! - `present`: the preview window: surface, swapchain, frames in flight, resolve, view pass,
-//!   egui overlay, and the viewer that drives a frame;
+//! - `present`: the preview window: frames in flight, resolve, view pass, egui overlay, and
+//!   the viewer that drives a frame;
 //! - `probes` (feature `probes`, on for the crate's tests and benches): GLSL mirror checks,
 //!   the hybrid plan's host reference, shared-struct layouts, the preview's view routes, sample
 //!   generation cost, pass timings.

@@ -4,7 +4,7 @@
 /// What the host asked of the device since it was opened: queue submissions, waits that block
 /// the host on the device (fences, semaphores), bytes read back from mapped memory and query
 /// results, and pipelines made. Counted where those calls are made (`Context`, `Buffer::read`,
-/// `QueryPool::results`, the preview's frames, `Pipeline`).
+/// `QueryPool::results`, `Fence::wait`, `Pipeline`).
 #[derive(Debug, Default)]
 pub(crate) struct DeviceCounters {
     pub submits: std::sync::atomic::AtomicU64,

@@ -14,6 +14,7 @@ use crate::core::instance::Instance;
 use crate::core::pipeline_cache;
 use crate::core::recorder::Recorder;
 use crate::core::surface::WindowSurface;
+use crate::core::sync::{CommandBuffer, Fence, Semaphore};
 use crate::traversal::Traversal;
 use crate::GpuOptions;
 
@@ -137,6 +138,18 @@ impl Context {
             .map_err(vk_err("vkCreateSampler"))
     }
 
+    /// The physical device's limits.
+    #[cfg(feature = "probes")]
+    pub(crate) fn limits(&self) -> vk::PhysicalDeviceLimits {
+        // SAFETY: the physical device was enumerated from this instance; a query only.
+        unsafe {
+            self.instance
+                .instance
+                .get_physical_device_properties(self.physical_device)
+        }
+        .limits
+    }
+
     /// Before the first pipeline of a device's first use: one line saying that the driver
     /// compiles the shaders now (on lavapipe for half a minute) and caches them for later runs.
     pub(crate) fn announce_compile(&self) {
@@ -247,6 +260,42 @@ impl Context {
             .map_err(vk_err("vkQueueSubmit"))?;
         self.counters.submitted();
         Ok(())
+    }
+
+    /// Submits a frame's recorded `cmd`, its commands from `wait.1` on waiting for `wait.0` (the
+    /// window image's acquire); it signals `signal` (the image's present waits on it) and
+    /// `fence` when it finishes. Outside the timeline of `submit`: the frame's fence tells when.
+    pub(crate) fn submit_frame(
+        &self,
+        cmd: &CommandBuffer,
+        wait: (&Semaphore, vk::PipelineStageFlags),
+        signal: &Semaphore,
+        fence: &Fence,
+    ) -> Result<(), GpuError> {
+        let waits = [wait.0.handle];
+        let wait_stages = [wait.1];
+        let cmds = [cmd.handle];
+        let signals = [signal.handle];
+        let submit = vk::SubmitInfo::default()
+            .wait_semaphores(&waits)
+            .wait_dst_stage_mask(&wait_stages)
+            .command_buffers(&cmds)
+            .signal_semaphores(&signals);
+        // SAFETY: the command buffer is recorded; the semaphores and fence are the slot's and
+        // the image's, unsignalled and not waited on by anything pending.
+        unsafe {
+            self.device
+                .queue_submit(self.queue, &[submit], fence.handle)
+        }
+        .map_err(vk_err("vkQueueSubmit"))?;
+        self.counters.submitted();
+        Ok(())
+    }
+
+    /// Waits until the device is idle: on rare events only (resize, screenshot, exit).
+    pub(crate) fn wait_idle(&self) -> Result<(), GpuError> {
+        // SAFETY: a live device; its queue's submissions come from the caller's thread.
+        unsafe { self.device.device_wait_idle() }.map_err(vk_err("vkDeviceWaitIdle"))
     }
 
     /// Waits until every submission so far finished (none pending: no wait).

@@ -1,6 +1,7 @@
 //! Vulkan itself: instance and validation, device selection and submissions, buffers, images,
-//! queries, pipelines, embedded SPIR-V, the window surface and errors. It knows nothing of
-//! cameras or scenes.
+//! queries, pipelines, render passes, fences and semaphores, embedded SPIR-V, the window
+//! surface and its swapchain, and errors. It knows nothing of cameras or scenes. The crate's
+//! `unsafe` code lives here, behind owning types and safe methods.
 
 pub(crate) mod accel;
 pub(crate) mod adapter;
@@ -15,5 +16,8 @@ pub(crate) mod pipeline;
 pub(crate) mod pipeline_cache;
 pub(crate) mod query;
 pub(crate) mod recorder;
+pub(crate) mod render_pass;
 pub(crate) mod shader;
 pub(crate) mod surface;
+pub(crate) mod swapchain;
+pub(crate) mod sync;

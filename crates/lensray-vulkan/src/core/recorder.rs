@@ -17,6 +17,7 @@ use crate::core::error::{vk_err, GpuError};
 use crate::core::image::{transition, Transition};
 use crate::core::pipeline::Pipeline;
 use crate::core::query::QueryPool;
+use crate::core::sync::{CommandBuffer, Fence};
 
 /// How a command uses a buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,10 +90,7 @@ impl Track {
                 vk::PipelineStageFlags::ALL_COMMANDS,
                 vk::AccessFlags::MEMORY_WRITE,
             )),
-            visible: (
-                vk::PipelineStageFlags::empty(),
-                vk::AccessFlags::empty(),
-            ),
+            visible: (vk::PipelineStageFlags::empty(), vk::AccessFlags::empty()),
             read_stages: vk::PipelineStageFlags::ALL_COMMANDS,
         }
     }
@@ -173,10 +171,11 @@ impl<'a> Recorder<'a> {
     /// fence and the command buffer are reset first. `finish` ends it.
     pub(crate) fn begin_again(
         ctx: &'a Context,
-        cmd: vk::CommandBuffer,
-        fence: vk::Fence,
+        cmd: &CommandBuffer,
+        fence: &Fence,
     ) -> Result<Self, GpuError> {
         let device = &ctx.device;
+        let (cmd, fence) = (cmd.handle, fence.handle);
         // SAFETY: the previous submission of `cmd` finished (the caller waited for `fence`):
         // the command buffer may be reset and recorded again, the fence reset.
         unsafe {
@@ -333,8 +332,10 @@ impl<'a> Recorder<'a> {
 
     /// Makes `buffers`' earlier writes visible to the host (after the submission's wait).
     pub(crate) fn read_on_host(&mut self, buffers: &[&Buffer]) {
-        let uses: Vec<(vk::Buffer, Access)> =
-            buffers.iter().map(|b| (b.buffer, Access::HostRead)).collect();
+        let uses: Vec<(vk::Buffer, Access)> = buffers
+            .iter()
+            .map(|b| (b.buffer, Access::HostRead))
+            .collect();
         self.uses(&uses);
     }
 
@@ -372,7 +373,12 @@ impl<'a> Recorder<'a> {
     }
 
     /// Writes timestamp `query` of `pool` when the commands before reach `stage`.
-    pub(crate) fn timestamp(&mut self, pool: &QueryPool, stage: vk::PipelineStageFlags, query: u32) {
+    pub(crate) fn timestamp(
+        &mut self,
+        pool: &QueryPool,
+        stage: vk::PipelineStageFlags,
+        query: u32,
+    ) {
         pool.write(self.cmd, stage, query);
     }
 
@@ -482,14 +488,19 @@ mod tests {
         let raw = tracks.barrier_for(&[(a, Access::ComputeRead)]).unwrap();
         assert_eq!(
             (raw.src_stage, raw.src_access),
-            (vk::PipelineStageFlags::TRANSFER, vk::AccessFlags::TRANSFER_WRITE)
+            (
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE
+            )
         );
         assert_eq!(raw.dst_access, vk::AccessFlags::SHADER_READ);
         // A second read of what is visible already: no barrier.
         assert!(tracks.barrier_for(&[(a, Access::ComputeRead)]).is_none());
         // Write after read: the readers' execution first, no data to make visible.
         let war = tracks.barrier_for(&[(a, Access::TransferWrite)]).unwrap();
-        assert!(war.src_stage.contains(vk::PipelineStageFlags::COMPUTE_SHADER));
+        assert!(war
+            .src_stage
+            .contains(vk::PipelineStageFlags::COMPUTE_SHADER));
         // One barrier covers several buffers' hazards.
         tracks.barrier_for(&[(b, Access::ComputeWrite)]);
         let both = tracks

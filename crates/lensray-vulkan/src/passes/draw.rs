@@ -8,168 +8,102 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::core::device::Context;
-use crate::core::error::{vk_err, GpuError};
+use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
 use crate::core::recorder::Recorder;
+use crate::core::render_pass::RenderPass;
 use crate::scene::SceneBuffers;
 use crate::upload::SurfaceRun;
 
 /// The depth buffer of every scene draw.
 pub(crate) const SCENE_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// The render pass of a scene draw: colour targets cleared, stored and left in a transfer
-/// layout (TRANSFER_SRC_OPTIMAL for readbacks, copies and compute reads; TRANSFER_DST_OPTIMAL
-/// for the window image the panel's pass takes over), and a D32 depth buffer.
-pub(crate) struct SceneRenderPass {
-    ctx: Arc<Context>,
-    pub handle: vk::RenderPass,
-}
-
-impl SceneRenderPass {
-    /// Colour attachments of `color_formats` (locations 0, 1, ...), then the depth buffer.
-    pub(crate) fn new(ctx: &Arc<Context>, color_formats: &[vk::Format]) -> Result<Self, GpuError> {
-        Self::with_final_layout(ctx, color_formats, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-    }
-
-    /// [`Self::new`] with the colour targets left in `final_layout`.
-    pub(crate) fn with_final_layout(
-        ctx: &Arc<Context>,
-        color_formats: &[vk::Format],
-        final_layout: vk::ImageLayout,
-    ) -> Result<Self, GpuError> {
-        let color = |format| {
-            vk::AttachmentDescription::default()
-                .format(format)
-                .samples(vk::SampleCountFlags::TYPE_1)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
-                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
-                .initial_layout(vk::ImageLayout::UNDEFINED)
-                .final_layout(final_layout)
-        };
-        let depth = vk::AttachmentDescription::default()
-            .format(SCENE_DEPTH_FORMAT)
+/// The render pass of a scene draw: colour attachments of `color_formats` (locations 0, 1, ...)
+/// cleared, stored and left in `final_layout`, a transfer layout (TRANSFER_SRC_OPTIMAL for
+/// readbacks, copies and compute reads; TRANSFER_DST_OPTIMAL for the window image the panel's
+/// pass takes over), then a D32 depth buffer.
+pub(crate) fn scene_render_pass(
+    ctx: &Arc<Context>,
+    color_formats: &[vk::Format],
+    final_layout: vk::ImageLayout,
+) -> Result<RenderPass, GpuError> {
+    let color = |format| {
+        vk::AttachmentDescription::default()
+            .format(format)
             .samples(vk::SampleCountFlags::TYPE_1)
             .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .store_op(vk::AttachmentStoreOp::STORE)
             .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
             .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
             .initial_layout(vk::ImageLayout::UNDEFINED)
-            .final_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-        let attachments: Vec<_> = color_formats
-            .iter()
-            .map(|&format| color(format))
-            .chain(std::iter::once(depth))
-            .collect();
-        let color_refs: Vec<_> = (0..color_formats.len() as u32)
-            .map(|i| {
-                vk::AttachmentReference::default()
-                    .attachment(i)
-                    .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            })
-            .collect();
-        let depth_ref = vk::AttachmentReference::default()
-            .attachment(color_formats.len() as u32)
-            .layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-        let subpasses = [vk::SubpassDescription::default()
-            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-            .color_attachments(&color_refs)
-            .depth_stencil_attachment(&depth_ref)];
-        let attachment_stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-            | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
-        let attachment_writes = vk::AccessFlags::COLOR_ATTACHMENT_WRITE
-            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
-        let dependencies = [
-            // Earlier readbacks / passes of these images before this pass writes them.
-            vk::SubpassDependency::default()
-                .src_subpass(vk::SUBPASS_EXTERNAL)
-                .dst_subpass(0)
-                .src_stage_mask(
-                    attachment_stages
-                        | vk::PipelineStageFlags::TRANSFER
-                        | vk::PipelineStageFlags::COMPUTE_SHADER,
-                )
-                .src_access_mask(attachment_writes)
-                .dst_stage_mask(attachment_stages)
-                .dst_access_mask(
-                    attachment_writes | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
-                ),
-            // This pass's writes before readbacks and later shader reads.
-            vk::SubpassDependency::default()
-                .src_subpass(0)
-                .dst_subpass(vk::SUBPASS_EXTERNAL)
-                .src_stage_mask(attachment_stages)
-                .src_access_mask(attachment_writes)
-                .dst_stage_mask(
-                    vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-                )
-                .dst_access_mask(
-                    vk::AccessFlags::TRANSFER_READ
-                        | vk::AccessFlags::TRANSFER_WRITE
-                        | vk::AccessFlags::SHADER_READ,
-                ),
-        ];
-        let info = vk::RenderPassCreateInfo::default()
-            .attachments(&attachments)
-            .subpasses(&subpasses)
-            .dependencies(&dependencies);
-        // SAFETY: valid create-info on a live device.
-        let handle = unsafe { ctx.device.create_render_pass(&info, None) }
-            .map_err(vk_err("vkCreateRenderPass"))?;
-        Ok(Self {
-            ctx: ctx.clone(),
-            handle,
+            .final_layout(final_layout)
+    };
+    let depth = vk::AttachmentDescription::default()
+        .format(SCENE_DEPTH_FORMAT)
+        .samples(vk::SampleCountFlags::TYPE_1)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::DONT_CARE)
+        .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+        .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+        .initial_layout(vk::ImageLayout::UNDEFINED)
+        .final_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    let attachments: Vec<_> = color_formats
+        .iter()
+        .map(|&format| color(format))
+        .chain(std::iter::once(depth))
+        .collect();
+    let color_refs: Vec<_> = (0..color_formats.len() as u32)
+        .map(|i| {
+            vk::AttachmentReference::default()
+                .attachment(i)
+                .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
         })
-    }
-}
-
-impl Drop for SceneRenderPass {
-    fn drop(&mut self) {
-        // SAFETY: no pending submission uses it (pipelines and framebuffers only needed it at
-        // creation).
-        unsafe { self.ctx.device.destroy_render_pass(self.handle, None) };
-    }
-}
-
-/// A framebuffer of a scene render pass over `views`, which its owner keeps alive longer
-/// (declared after it, so dropped after it).
-pub(crate) struct SceneFramebuffer {
-    ctx: Arc<Context>,
-    pub handle: vk::Framebuffer,
-}
-
-impl SceneFramebuffer {
-    pub(crate) fn new(
-        ctx: &Arc<Context>,
-        render_pass: vk::RenderPass,
-        views: &[vk::ImageView],
-        width: u32,
-        height: u32,
-    ) -> Result<Self, GpuError> {
-        let info = vk::FramebufferCreateInfo::default()
-            .render_pass(render_pass)
-            .attachments(views)
-            .width(width)
-            .height(height)
-            .layers(1);
-        // SAFETY: the views match the render pass's attachments and outlive the framebuffer
-        // (the owner declares them after it).
-        let handle = unsafe { ctx.device.create_framebuffer(&info, None) }
-            .map_err(vk_err("vkCreateFramebuffer"))?;
-        Ok(Self {
-            ctx: ctx.clone(),
-            handle,
-        })
-    }
-}
-
-impl Drop for SceneFramebuffer {
-    fn drop(&mut self) {
-        // SAFETY: no pending submission uses it; its views are dropped after it.
-        unsafe { self.ctx.device.destroy_framebuffer(self.handle, None) };
-    }
+        .collect();
+    let depth_ref = vk::AttachmentReference::default()
+        .attachment(color_formats.len() as u32)
+        .layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    let subpasses = [vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&color_refs)
+        .depth_stencil_attachment(&depth_ref)];
+    let attachment_stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+        | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+        | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
+    let attachment_writes =
+        vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
+    let dependencies = [
+        // Earlier readbacks / passes of these images before this pass writes them.
+        vk::SubpassDependency::default()
+            .src_subpass(vk::SUBPASS_EXTERNAL)
+            .dst_subpass(0)
+            .src_stage_mask(
+                attachment_stages
+                    | vk::PipelineStageFlags::TRANSFER
+                    | vk::PipelineStageFlags::COMPUTE_SHADER,
+            )
+            .src_access_mask(attachment_writes)
+            .dst_stage_mask(attachment_stages)
+            .dst_access_mask(attachment_writes | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ),
+        // This pass's writes before readbacks and later shader reads.
+        vk::SubpassDependency::default()
+            .src_subpass(0)
+            .dst_subpass(vk::SUBPASS_EXTERNAL)
+            .src_stage_mask(attachment_stages)
+            .src_access_mask(attachment_writes)
+            .dst_stage_mask(
+                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+            )
+            .dst_access_mask(
+                vk::AccessFlags::TRANSFER_READ
+                    | vk::AccessFlags::TRANSFER_WRITE
+                    | vk::AccessFlags::SHADER_READ,
+            ),
+    ];
+    let info = vk::RenderPassCreateInfo::default()
+        .attachments(&attachments)
+        .subpasses(&subpasses)
+        .dependencies(&dependencies);
+    RenderPass::new(ctx, &info)
 }
 
 /// A render pass instance and what it draws with.
@@ -186,7 +120,11 @@ pub(crate) struct SceneDraw<'a> {
 /// Records `draw`: begins the render pass, draws every triangle of `scene`, ends it. The
 /// render pass's dependencies order its attachments' writes against earlier and later
 /// transfers and compute reads; the scene's arrays are uploads, published to every command.
-pub(crate) fn record_scene_draw(rec: &mut Recorder<'_>, scene: &SceneBuffers, draw: &SceneDraw<'_>) {
+pub(crate) fn record_scene_draw(
+    rec: &mut Recorder<'_>,
+    scene: &SceneBuffers,
+    draw: &SceneDraw<'_>,
+) {
     rec.begin_render_pass(
         draw.render_pass,
         draw.framebuffer,

@@ -10,17 +10,16 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::recorder::Recorder;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::image::{DeviceImage, Transition};
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
 use crate::core::query::QueryPool;
+use crate::core::recorder::Recorder;
+use crate::core::render_pass::{Framebuffer, RenderPass};
 use crate::core::shader;
-use crate::passes::draw::{
-    record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
-};
+use crate::passes::draw::{record_scene_draw, scene_render_pass, SceneDraw, SCENE_DEPTH_FORMAT};
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
 use lensray_core::interface::{DescriptorSet, GBufferSet, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED};
@@ -65,7 +64,7 @@ pub(crate) struct GBufferTargets {
     /// order): the G-buffer pass leaves TRANSFER_SRC_OPTIMAL, the preview's resolve GENERAL.
     pub layout: Cell<vk::ImageLayout>,
     /// First: dropped before the images whose views it uses.
-    framebuffer: SceneFramebuffer,
+    framebuffer: Framebuffer,
     pub normal: DeviceImage,
     pub albedo: DeviceImage,
     pub view_depth: DeviceImage,
@@ -130,7 +129,7 @@ impl GBufferTargets {
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             vk::ImageAspectFlags::DEPTH,
         )?;
-        let framebuffer = SceneFramebuffer::new(
+        let framebuffer = Framebuffer::new(
             ctx,
             render_pass,
             &[normal.view, albedo.view, view_depth.view, depth.view],
@@ -154,7 +153,7 @@ pub(crate) struct GBufferPass {
     ctx: Arc<Context>,
     pipeline: Pipeline,
     pub targets: Option<GBufferTargets>,
-    render_pass: SceneRenderPass,
+    render_pass: RenderPass,
     timestamps: QueryPool,
     /// GPU time of the last pass's draw (timestamps around the render pass), ms.
     pub last_gpu_ms: f64,
@@ -162,8 +161,11 @@ pub(crate) struct GBufferPass {
 
 impl GBufferPass {
     pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let render_pass =
-            SceneRenderPass::new(ctx, &[NORMAL_FORMAT, ALBEDO_FORMAT, VIEW_DEPTH_FORMAT])?;
+        let render_pass = scene_render_pass(
+            ctx,
+            &[NORMAL_FORMAT, ALBEDO_FORMAT, VIEW_DEPTH_FORMAT],
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        )?;
         let pipeline = Pipeline::graphics(
             ctx,
             GBufferSet::DECL,

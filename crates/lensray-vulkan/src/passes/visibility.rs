@@ -9,16 +9,15 @@ use ash::vk;
 use glam::{UVec2, Vec2};
 use gpu_allocator::MemoryLocation;
 
-use crate::core::recorder::Recorder;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::image::DeviceImage;
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
+use crate::core::recorder::Recorder;
+use crate::core::render_pass::{Framebuffer, RenderPass};
 use crate::core::shader;
-use crate::passes::draw::{
-    record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
-};
+use crate::passes::draw::{record_scene_draw, scene_render_pass, SceneDraw, SCENE_DEPTH_FORMAT};
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
 use lensray_core::interface::{DescriptorSet, VisibilityPush, VisibilitySet, SURFACE_ALPHA_TESTED};
@@ -30,7 +29,7 @@ const TRIANGLE_FORMAT: vk::Format = vk::Format::R32_UINT;
 /// The images of one size, their framebuffer, and the buffer the shading pass reads.
 pub(crate) struct VisibilityTargets {
     /// First: dropped before the images whose views it uses.
-    framebuffer: SceneFramebuffer,
+    framebuffer: Framebuffer,
     triangle: DeviceImage,
     #[allow(dead_code)] // owned here: the framebuffer uses its view
     depth: DeviceImage,
@@ -72,7 +71,7 @@ impl VisibilityTargets {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        let framebuffer = SceneFramebuffer::new(
+        let framebuffer = Framebuffer::new(
             ctx,
             render_pass,
             &[triangle.view, depth.view],
@@ -94,12 +93,16 @@ pub(crate) struct VisibilityPass {
     ctx: Arc<Context>,
     pipeline: Pipeline,
     pub targets: Option<VisibilityTargets>,
-    render_pass: SceneRenderPass,
+    render_pass: RenderPass,
 }
 
 impl VisibilityPass {
     pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let render_pass = SceneRenderPass::new(ctx, &[TRIANGLE_FORMAT])?;
+        let render_pass = scene_render_pass(
+            ctx,
+            &[TRIANGLE_FORMAT],
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        )?;
         let pipeline = Pipeline::graphics(
             ctx,
             VisibilitySet::DECL,

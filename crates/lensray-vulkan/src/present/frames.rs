@@ -9,8 +9,9 @@ use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
-use crate::core::error::{vk_err, GpuError};
+use crate::core::error::GpuError;
 use crate::core::query::QueryPool;
+use crate::core::sync::{CommandBuffer, Fence, Semaphore};
 
 pub(crate) const FRAMES_IN_FLIGHT: usize = 2;
 /// Timestamps of a frame: G-buffer start/end, trace start/end, resolve end, frame end, the
@@ -18,12 +19,11 @@ pub(crate) const FRAMES_IN_FLIGHT: usize = 2;
 pub(crate) const FRAME_QUERIES: u32 = 8;
 
 pub(crate) struct FrameSlot {
-    ctx: Arc<Context>,
-    pub cmd: vk::CommandBuffer,
+    pub cmd: CommandBuffer,
     /// Signalled when the slot's last submission finished (created signalled).
-    pub fence: vk::Fence,
+    pub fence: Fence,
     /// Signalled by the acquire of the window image this slot renders to.
-    pub image_acquired: vk::Semaphore,
+    pub image_acquired: Semaphore,
     pub timestamps: QueryPool,
     /// One f32 of view depth copied from the G-buffer when the frame picks a pixel.
     pub pick: Buffer,
@@ -43,18 +43,10 @@ pub(crate) struct FrameSlot {
 
 impl FrameSlot {
     fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
-        let info = vk::CommandBufferAllocateInfo::default()
-            .command_pool(ctx.command_pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        // SAFETY: the pool belongs to this device; used from the viewer's thread only.
-        let cmd = unsafe { ctx.device.allocate_command_buffers(&info) }
-            .map_err(vk_err("vkAllocateCommandBuffers"))?[0];
-        let mut slot = Self {
-            ctx: ctx.clone(),
-            cmd,
-            fence: vk::Fence::null(),
-            image_acquired: vk::Semaphore::null(),
+        Ok(Self {
+            cmd: CommandBuffer::new(ctx)?,
+            fence: Fence::signalled(ctx)?,
+            image_acquired: Semaphore::new(ctx)?,
             timestamps: QueryPool::new(ctx, vk::QueryType::TIMESTAMP, FRAME_QUERIES)?,
             pick: Buffer::new(
                 ctx,
@@ -69,49 +61,12 @@ impl FrameSlot {
             drew_gbuffer: false,
             textures_to_free: Vec::new(),
             upload: None,
-        };
-        let fence_info = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
-        // SAFETY: valid create-infos on a live device; destroyed in Drop.
-        unsafe {
-            slot.fence = ctx
-                .device
-                .create_fence(&fence_info, None)
-                .map_err(vk_err("vkCreateFence"))?;
-            slot.image_acquired = ctx
-                .device
-                .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
-                .map_err(vk_err("vkCreateSemaphore"))?;
-        }
-        Ok(slot)
+        })
     }
 
     /// Waits until the slot's last frame finished.
     pub(crate) fn wait(&self) -> Result<(), GpuError> {
-        self.ctx.counters.waited();
-        // SAFETY: our own fence.
-        unsafe {
-            self.ctx
-                .device
-                .wait_for_fences(&[self.fence], true, u64::MAX)
-        }
-        .map_err(vk_err("vkWaitForFences"))
-    }
-}
-
-impl Drop for FrameSlot {
-    fn drop(&mut self) {
-        // SAFETY: the viewer waits for the device to be idle before dropping its frames.
-        unsafe {
-            self.ctx
-                .device
-                .free_command_buffers(self.ctx.command_pool, &[self.cmd]);
-            if self.fence != vk::Fence::null() {
-                self.ctx.device.destroy_fence(self.fence, None);
-            }
-            if self.image_acquired != vk::Semaphore::null() {
-                self.ctx.device.destroy_semaphore(self.image_acquired, None);
-            }
-        }
+        self.fence.wait()
     }
 }
 

@@ -9,9 +9,10 @@ use egui_ash_renderer::allocator::DefaultAllocator;
 use egui_ash_renderer::{Options, RenderMode, Renderer};
 
 use crate::core::device::Context;
+use crate::core::error::GpuError;
 use crate::core::recorder::Recorder;
-use crate::core::error::{vk_err, GpuError};
-use crate::present::swapchain::Swapchain;
+use crate::core::render_pass::{Framebuffer, RenderPass};
+use crate::core::swapchain::Swapchain;
 
 /// What egui asks the frame to draw.
 pub struct OverlayFrame {
@@ -22,10 +23,11 @@ pub struct OverlayFrame {
 
 pub(crate) struct Overlay {
     ctx: Arc<Context>,
-    /// Dropped before the render pass its pipeline was made for.
-    renderer: Option<Renderer<DefaultAllocator>>,
-    render_pass: vk::RenderPass,
-    framebuffers: Vec<vk::Framebuffer>,
+    // Dropped in this order: the framebuffers and the renderer (its pipeline), then the render
+    // pass they were made for.
+    framebuffers: Vec<Framebuffer>,
+    renderer: Renderer<DefaultAllocator>,
+    render_pass: RenderPass,
     extent: vk::Extent2D,
     format: vk::Format,
 }
@@ -80,34 +82,29 @@ impl Overlay {
             .attachments(&attachment)
             .subpasses(&subpass)
             .dependencies(&dependencies);
-        // SAFETY: valid create-info on a live device; destroyed in Drop.
-        let render_pass = unsafe { ctx.device.create_render_pass(&info, None) }
-            .map_err(vk_err("vkCreateRenderPass"))?;
-        let mut this = Self {
+        let render_pass = RenderPass::new(ctx, &info)?;
+        let renderer = Renderer::with_default_allocator(
+            &ctx.instance.instance,
+            ctx.physical_device,
+            ctx.device.clone(),
+            RenderMode::RenderPass(render_pass.handle),
+            Options {
+                in_flight_frames: frames,
+                enable_depth_test: false,
+                enable_depth_write: false,
+                // The window image is UNORM holding sRGB-encoded values: egui encodes.
+                srgb_framebuffer: false,
+            },
+        )
+        .map_err(egui_err)?;
+        Ok(Self {
             ctx: ctx.clone(),
-            renderer: None,
-            render_pass,
             framebuffers: Vec::new(),
+            renderer,
+            render_pass,
             extent: vk::Extent2D::default(),
             format,
-        };
-        this.renderer = Some(
-            Renderer::with_default_allocator(
-                &ctx.instance.instance,
-                ctx.physical_device,
-                ctx.device.clone(),
-                RenderMode::RenderPass(render_pass),
-                Options {
-                    in_flight_frames: frames,
-                    enable_depth_test: false,
-                    enable_depth_write: false,
-                    // The window image is UNORM holding sRGB-encoded values: egui encodes.
-                    srgb_framebuffer: false,
-                },
-            )
-            .map_err(egui_err)?,
-        );
-        Ok(this)
+        })
     }
 
     pub(crate) fn format(&self) -> vk::Format {
@@ -116,19 +113,16 @@ impl Overlay {
 
     /// Framebuffers for the images of a new swapchain. No frame may be in flight.
     pub(crate) fn attach(&mut self, swapchain: &Swapchain) -> Result<(), GpuError> {
-        self.destroy_framebuffers();
+        self.framebuffers.clear();
+        let extent = swapchain.extent;
         for &view in &swapchain.views {
-            let views = [view];
-            let info = vk::FramebufferCreateInfo::default()
-                .render_pass(self.render_pass)
-                .attachments(&views)
-                .width(swapchain.extent.width)
-                .height(swapchain.extent.height)
-                .layers(1);
-            // SAFETY: the view is a live swapchain image view of the render pass's format.
-            let framebuffer = unsafe { self.ctx.device.create_framebuffer(&info, None) }
-                .map_err(vk_err("vkCreateFramebuffer"))?;
-            self.framebuffers.push(framebuffer);
+            self.framebuffers.push(Framebuffer::new(
+                &self.ctx,
+                self.render_pass.handle,
+                &[view],
+                extent.width,
+                extent.height,
+            )?);
         }
         self.extent = swapchain.extent;
         Ok(())
@@ -136,10 +130,9 @@ impl Overlay {
 
     /// Uploads egui's new and changed textures (before recording the frame that uses them).
     pub(crate) fn set_textures(&mut self, textures: &egui::TexturesDelta) -> Result<(), GpuError> {
-        let renderer = self.renderer.as_mut().expect("renderer");
         for (id, deltas) in &textures.set {
             for delta in deltas {
-                renderer
+                self.renderer
                     .set_texture(self.ctx.queue, self.ctx.command_pool, *id, delta)
                     .map_err(egui_err)?;
             }
@@ -149,9 +142,8 @@ impl Overlay {
 
     /// Frees textures egui no longer uses (after the frames that drew with them finished).
     pub(crate) fn free_textures(&mut self, ids: &[egui::TextureId]) -> Result<(), GpuError> {
-        let renderer = self.renderer.as_mut().expect("renderer");
         for &id in ids {
-            renderer.free_texture(id).map_err(egui_err)?;
+            self.renderer.free_texture(id).map_err(egui_err)?;
         }
         Ok(())
     }
@@ -164,44 +156,21 @@ impl Overlay {
         image_index: u32,
         frame: Option<&OverlayFrame>,
     ) -> Result<(), GpuError> {
-        let cmd = rec.cmd();
-        let begin = vk::RenderPassBeginInfo::default()
-            .render_pass(self.render_pass)
-            .framebuffer(self.framebuffers[image_index as usize])
-            .render_area(vk::Rect2D {
-                offset: vk::Offset2D { x: 0, y: 0 },
-                extent: self.extent,
-            });
-        // SAFETY: recording state; the framebuffer was made for this render pass and image.
-        unsafe {
-            self.ctx
-                .device
-                .cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE)
-        };
+        let extent = self.extent;
+        // The render pass loads the window image: nothing to clear. egui sets its own viewport
+        // and scissors over the ones the recorder sets.
+        rec.begin_render_pass(
+            self.render_pass.handle,
+            self.framebuffers[image_index as usize].handle,
+            (extent.width, extent.height),
+            &[],
+        );
         if let Some(frame) = frame {
-            let renderer = self.renderer.as_mut().expect("renderer");
-            renderer
-                .cmd_draw(cmd, self.extent, frame.pixels_per_point, &frame.primitives)
+            self.renderer
+                .cmd_draw(rec.cmd(), extent, frame.pixels_per_point, &frame.primitives)
                 .map_err(egui_err)?;
         }
-        // SAFETY: inside the render pass begun above.
-        unsafe { self.ctx.device.cmd_end_render_pass(cmd) };
+        rec.end_render_pass();
         Ok(())
-    }
-
-    fn destroy_framebuffers(&mut self) {
-        for framebuffer in self.framebuffers.drain(..) {
-            // SAFETY: callers wait until no frame uses the framebuffers.
-            unsafe { self.ctx.device.destroy_framebuffer(framebuffer, None) };
-        }
-    }
-}
-
-impl Drop for Overlay {
-    fn drop(&mut self) {
-        self.destroy_framebuffers();
-        self.renderer = None;
-        // SAFETY: the viewer waited for the device; the renderer's pipeline is destroyed.
-        unsafe { self.ctx.device.destroy_render_pass(self.render_pass, None) };
     }
 }

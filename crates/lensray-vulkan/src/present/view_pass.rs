@@ -16,12 +16,11 @@ use glam::Vec3;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::image::DeviceImage;
-use crate::core::recorder::Recorder;
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
+use crate::core::recorder::Recorder;
+use crate::core::render_pass::{Framebuffer, RenderPass};
 use crate::core::shader;
-use crate::passes::draw::{
-    record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
-};
+use crate::passes::draw::{record_scene_draw, scene_render_pass, SceneDraw, SCENE_DEPTH_FORMAT};
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
 use lensray_core::film::colour::linear_to_srgb;
@@ -36,7 +35,7 @@ const VIEWS: usize = (VIEW_COC - VIEW_ALBEDO + 1) as usize;
 /// One framebuffer per target image, sharing a depth buffer.
 struct ViewTargets {
     /// First: dropped before the depth image their views use.
-    framebuffers: Vec<SceneFramebuffer>,
+    framebuffers: Vec<Framebuffer>,
     #[allow(dead_code)] // alive while the framebuffers use it
     depth: DeviceImage,
     width: u32,
@@ -48,7 +47,7 @@ pub(crate) struct ViewPass {
     /// Entry `view - VIEW_ALBEDO`: that view's pipeline, made the first time the view is drawn.
     pipelines: [Option<Pipeline>; VIEWS],
     targets: Option<ViewTargets>,
-    render_pass: SceneRenderPass,
+    render_pass: RenderPass,
     format: vk::Format,
 }
 
@@ -59,7 +58,7 @@ impl ViewPass {
         format: vk::Format,
         final_layout: vk::ImageLayout,
     ) -> Result<Self, GpuError> {
-        let render_pass = SceneRenderPass::with_final_layout(ctx, &[format], final_layout)?;
+        let render_pass = scene_render_pass(ctx, &[format], final_layout)?;
         Ok(Self {
             ctx: ctx.clone(),
             pipelines: Default::default(),
@@ -120,7 +119,7 @@ impl ViewPass {
         let framebuffers = views
             .iter()
             .map(|&view| {
-                SceneFramebuffer::new(
+                Framebuffer::new(
                     &self.ctx,
                     self.render_pass.handle,
                     &[view, depth.view],

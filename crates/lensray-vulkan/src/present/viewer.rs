@@ -27,12 +27,12 @@ use gpu_allocator::MemoryLocation;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
 use crate::core::buffer::Buffer;
-use crate::core::error::{vk_err, GpuError};
+use crate::core::error::GpuError;
 use crate::core::surface::WindowSurface;
+use crate::core::swapchain::Swapchain;
 use crate::present::frames::{Frames, FRAMES_IN_FLIGHT};
 use crate::present::overlay::Overlay;
 use crate::present::resolve::ResolvePass;
-use crate::present::swapchain::Swapchain;
 use crate::present::view_pass::ViewPass;
 use crate::renderer::check_validation_log;
 use crate::{Estimator, GpuRenderer, ValidationLog};
@@ -278,8 +278,7 @@ impl Viewer {
     }
 
     fn wait_idle(&self) -> Result<(), GpuError> {
-        // SAFETY: a live device; used on rare events only (resize, screenshot, exit).
-        unsafe { self.gpu.ctx().device.device_wait_idle() }.map_err(vk_err("vkDeviceWaitIdle"))
+        self.gpu.ctx().wait_idle()
     }
 
     /// Destroys every Vulkan object; with validation on, fails on any message, the leak report

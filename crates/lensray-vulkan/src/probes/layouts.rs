@@ -11,10 +11,10 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::Buffer;
-use crate::core::recorder::Access;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
+use crate::core::recorder::Access;
 use crate::core::shader;
 use lensray_core::interface::glsl::{
     layout_probe_reads, ProbeBlock, ProbeRead, SharedStruct, LAYOUT_PROBE_BINDING_OUT,
@@ -198,7 +198,12 @@ fn dispatch(
         pipeline.write_buffer(*binding, *ty, buffer);
     }
     ctx.submit_and_wait(|rec| {
-        rec.dispatch(&pipeline, push, [1, 1, 1], &[(output.buffer, Access::ComputeWrite)]);
+        rec.dispatch(
+            &pipeline,
+            push,
+            [1, 1, 1],
+            &[(output.buffer, Access::ComputeWrite)],
+        );
         rec.read_on_host(&[&output]);
         Ok(())
     })?;
@@ -242,13 +247,7 @@ fn check_limits(
     bindings: &[(u32, vk::DescriptorType, vk::ShaderStageFlags)],
     push_size: usize,
 ) -> Result<(), GpuError> {
-    // SAFETY: the physical device was enumerated from this instance; a query only.
-    let limits = unsafe {
-        ctx.instance
-            .instance
-            .get_physical_device_properties(ctx.physical_device)
-    }
-    .limits;
+    let limits = ctx.limits();
     let count = |ty| bindings.iter().filter(|b| b.1 == ty).count() as u32;
     let storage = count(vk::DescriptorType::STORAGE_BUFFER);
     let uniform = count(vk::DescriptorType::UNIFORM_BUFFER);

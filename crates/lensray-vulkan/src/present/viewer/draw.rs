@@ -8,11 +8,11 @@ use ash::vk;
 
 use super::{FrameRequest, FrameResult, FrameTimes, Viewer, WindowAccumulation};
 use crate::core::device::Context;
-use crate::core::error::{vk_err, GpuError};
+use crate::core::error::GpuError;
+use crate::core::swapchain::{Acquired, Swapchain};
 use crate::present::frames::FrameSlot;
 use crate::present::overlay::Overlay;
 use crate::present::resolve::ResolvePass;
-use crate::present::swapchain::{Acquired, Swapchain};
 use crate::present::view_pass::ViewPass;
 use crate::{Estimator, GpuRenderer};
 use lensray_core::camera::Camera;
@@ -173,7 +173,7 @@ impl Frame<'_> {
     /// The window image to draw into; `None` when the swapchain is out of date (made again
     /// before the next frame).
     fn acquire(&mut self) -> Result<Option<u32>, GpuError> {
-        match self.swapchain.acquire(self.slot.image_acquired)? {
+        match self.swapchain.acquire(&self.slot.image_acquired)? {
             Acquired::Image(i) => Ok(Some(i)),
             Acquired::OutOfDate => {
                 *self.recreate = true;
@@ -230,28 +230,19 @@ impl Frame<'_> {
     /// Submits the recorded command buffer (after the window image's acquire, signalling its
     /// rendering) and presents the image; an out-of-date swapchain is made again later.
     fn submit_and_present(&mut self, plan: &FramePlan) -> Result<(), GpuError> {
-        let ctx = &self.ctx;
-        let device = &ctx.device;
         let image_index = plan.image_index;
-        let waits = [self.slot.image_acquired];
         // The first use of the window image is the view pass or the copy into it.
-        let wait_stages = [if plan.direct {
+        let wait_stage = if plan.direct {
             vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
         } else {
             vk::PipelineStageFlags::TRANSFER
-        }];
-        let signals = [self.swapchain.rendered[image_index as usize]];
-        let cmds = [self.slot.cmd];
-        let submit = vk::SubmitInfo::default()
-            .wait_semaphores(&waits)
-            .wait_dst_stage_mask(&wait_stages)
-            .command_buffers(&cmds)
-            .signal_semaphores(&signals);
-        // SAFETY: the command buffer is recorded; the semaphores and fence are the slot's and
-        // the image's, unsignalled and not waited on by anything pending.
-        unsafe { device.queue_submit(ctx.queue, &[submit], self.slot.fence) }
-            .map_err(vk_err("vkQueueSubmit"))?;
-        ctx.counters.submitted();
+        };
+        self.ctx.submit_frame(
+            &self.slot.cmd,
+            (&self.slot.image_acquired, wait_stage),
+            &self.swapchain.rendered[image_index as usize],
+            &self.slot.fence,
+        )?;
         self.slot.submitted = true;
         if !self.swapchain.present(image_index)? {
             *self.recreate = true;

@@ -27,7 +27,7 @@ impl Frame<'_> {
         // share (the G-buffer, the accumulation) orders itself after the frames before: the
         // recorder knows nothing of them, so each one's first use waits for earlier writes.
         let ctx = self.ctx.clone();
-        let mut rec = Recorder::begin_again(&ctx, self.slot.cmd, self.slot.fence)?;
+        let mut rec = Recorder::begin_again(&ctx, &self.slot.cmd, &self.slot.fence)?;
         rec.reset_queries(&self.slot.timestamps);
         let gpu = self.gpu;
         let batch = gpu.sample_batch(request.shot, self.estimator)?;

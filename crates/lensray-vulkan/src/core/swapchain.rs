@@ -10,6 +10,7 @@ use crate::core::device::Context;
 use crate::core::error::{vk_err, GpuError};
 use crate::core::image::subresource_range;
 use crate::core::surface::WindowSurface;
+use crate::core::sync::Semaphore;
 
 /// 8-bit UNORM formats: the viewer writes sRGB-encoded values itself (the resolve pass), so the
 /// presentation engine must not encode again.
@@ -22,7 +23,7 @@ pub(crate) struct Swapchain {
     pub images: Vec<vk::Image>,
     pub views: Vec<vk::ImageView>,
     /// Signalled when image i's frame is rendered; its present waits on it.
-    pub rendered: Vec<vk::Semaphore>,
+    pub rendered: Vec<Semaphore>,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     pub present_mode: vk::PresentModeKHR,
@@ -139,24 +140,18 @@ impl Swapchain {
             let view = unsafe { ctx.device.create_image_view(&view_info, None) }
                 .map_err(vk_err("vkCreateImageView"))?;
             this.views.push(view);
-            // SAFETY: default create-info on a live device; destroyed in Drop.
-            let semaphore = unsafe {
-                ctx.device
-                    .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
-            }
-            .map_err(vk_err("vkCreateSemaphore"))?;
-            this.rendered.push(semaphore);
+            this.rendered.push(Semaphore::new(ctx)?);
         }
         Ok(Some(this))
     }
 
     /// The next image to render to; `signal` is signalled when it may be written.
-    pub(crate) fn acquire(&self, signal: vk::Semaphore) -> Result<Acquired, GpuError> {
+    pub(crate) fn acquire(&self, signal: &Semaphore) -> Result<Acquired, GpuError> {
         // SAFETY: live swapchain; the semaphore is unsignalled with no pending wait (each frame
         // slot's semaphore is waited on by that slot's previous submission, finished by now).
         match unsafe {
             self.loader
-                .acquire_next_image(self.handle, u64::MAX, signal, vk::Fence::null())
+                .acquire_next_image(self.handle, u64::MAX, signal.handle, vk::Fence::null())
         } {
             // A suboptimal image is still presented; the next frame recreates the swapchain.
             Ok((index, _suboptimal)) => Ok(Acquired::Image(index)),
@@ -168,7 +163,7 @@ impl Swapchain {
     /// Presents image `index` once its `rendered` semaphore is signalled; false when the
     /// swapchain should be recreated (out of date or suboptimal).
     pub(crate) fn present(&self, index: u32) -> Result<bool, GpuError> {
-        let wait = [self.rendered[index as usize]];
+        let wait = [self.rendered[index as usize].handle];
         let swapchains = [self.handle];
         let indices = [index];
         let info = vk::PresentInfoKHR::default()
@@ -192,10 +187,10 @@ impl Drop for Swapchain {
             for &view in &self.views {
                 self.ctx.device.destroy_image_view(view, None);
             }
-            for &semaphore in &self.rendered {
-                self.ctx.device.destroy_semaphore(semaphore, None);
-            }
-            self.loader.destroy_swapchain(self.handle, None);
         }
+        // The semaphores go before the swapchain whose presents waited on them.
+        self.rendered.clear();
+        // SAFETY: as above; its views are destroyed.
+        unsafe { self.loader.destroy_swapchain(self.handle, None) };
     }
 }
