@@ -105,7 +105,11 @@ impl Recorder<'_> {
             .iter()
             .map(|s| (s.storage.buffer, Access::AccelBuildRead))
             .collect();
-        uses.extend(built.iter().map(|s| (s.storage.buffer, Access::AccelBuildWrite)));
+        uses.extend(
+            built
+                .iter()
+                .map(|s| (s.storage.buffer, Access::AccelBuildWrite)),
+        );
         self.uses(&uses);
         if !infos.is_empty() {
             // SAFETY: every info has a destination, scratch (aligned, disjoint per build) and

@@ -12,9 +12,9 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::Buffer;
-use crate::core::recorder::Recorder;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
+use crate::core::recorder::Recorder;
 use lensray_core::film::{Accumulation, Holder, OnDevice};
 
 /// Bytes of one pixel's sums (`[r, g, b, n]` as f32).

@@ -8,13 +8,13 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::recorder::{Access, Recorder};
 use crate::core::buffer::Buffer;
 use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::image::Transition;
 use crate::core::pipeline::Pipeline;
+use crate::core::recorder::{Access, Recorder};
 use crate::core::shader;
 use crate::passes::gbuffer::GBufferTargets;
 use lensray_core::camera::Camera;
@@ -167,7 +167,12 @@ impl HybridPlanPass {
         ];
         for (step, invocations) in steps {
             let groups = [invocations.div_ceil(HYBRID_PLAN_GROUP_SIZE), 1, 1];
-            rec.dispatch(&self.pipeline, bytemuck::bytes_of(&push(step)), groups, &uses);
+            rec.dispatch(
+                &self.pipeline,
+                bytemuck::bytes_of(&push(step)),
+                groups,
+                &uses,
+            );
         }
         for image in [&targets.normal, &targets.albedo, &targets.view_depth] {
             rec.transition(

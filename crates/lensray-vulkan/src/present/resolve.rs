@@ -10,8 +10,8 @@ use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::image::{DeviceImage, Transition};
-use crate::core::recorder::{Access, Recorder};
 use crate::core::pipeline::Pipeline;
+use crate::core::recorder::{Access, Recorder};
 use crate::core::shader;
 use crate::passes::gbuffer::GBufferTargets;
 use lensray_core::interface::{

@@ -7,11 +7,11 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::Buffer;
-use crate::core::recorder::Access;
 use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
+use crate::core::recorder::Access;
 use crate::core::shader;
 use crate::passes::aperture::ApertureTable;
 use crate::passes::lens::LensBuffer;
@@ -65,7 +65,12 @@ pub(crate) fn run(
     ctx.submit_and_wait(|rec| {
         let groups = [count.div_ceil(PROBE_GROUP_SIZE), 1, 1];
         let push = bytemuck::bytes_of(&count);
-        rec.dispatch(&pipeline, push, groups, &[(output.buffer, Access::ComputeWrite)]);
+        rec.dispatch(
+            &pipeline,
+            push,
+            groups,
+            &[(output.buffer, Access::ComputeWrite)],
+        );
         rec.read_on_host(&[&output]);
         Ok(())
     })?;

@@ -7,12 +7,12 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::Buffer;
-use crate::core::recorder::Access;
 use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
 use crate::core::query::QueryPool;
+use crate::core::recorder::Access;
 use crate::core::shader;
 use lensray_core::interface::{
     DescriptorSet, SamplerCostGroup, SamplerCostPush, SamplerCostSet, TRACE_GROUP_SIZE as GROUP,

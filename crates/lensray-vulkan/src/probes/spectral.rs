@@ -6,9 +6,9 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::Buffer;
-use crate::core::recorder::Access;
 use crate::core::descriptors::Gpu;
 use crate::core::pipeline::Pipeline;
+use crate::core::recorder::Access;
 use crate::core::shader;
 use crate::{GpuError, GpuRenderer};
 use lensray_core::interface::{
@@ -58,7 +58,12 @@ pub fn probe_spectral(
     ctx.submit_and_wait(|rec| {
         let groups = [count.div_ceil(PROBE_GROUP_SIZE), 1, 1];
         let push = bytemuck::bytes_of(&count);
-        rec.dispatch(&pipeline, push, groups, &[(output.buffer, Access::ComputeWrite)]);
+        rec.dispatch(
+            &pipeline,
+            push,
+            groups,
+            &[(output.buffer, Access::ComputeWrite)],
+        );
         rec.read_on_host(&[&output]);
         Ok(())
     })?;

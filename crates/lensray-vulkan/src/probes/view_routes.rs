@@ -11,7 +11,7 @@ use gpu_allocator::MemoryLocation;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use crate::core::image::{DeviceImage};
+use crate::core::image::DeviceImage;
 use crate::passes::gbuffer::GBufferPass;
 use crate::present::resolve::{ResolvePass, DISPLAY_FORMAT};
 use crate::present::view_pass::ViewPass;

@@ -9,9 +9,8 @@
 //!   G-buffer of the planning camera; then dispatches that follow the plan
 //!   (`TRACE_MODE_HYBRID`).
 
-
-use crate::core::recorder::Recorder;
 use crate::core::error::GpuError;
+use crate::core::recorder::Recorder;
 use crate::passes::gbuffer::GBufferTargets;
 use crate::passes::hybrid_plan::HybridPlanPass;
 use crate::passes::trace::{RecordSamples, TracePass};

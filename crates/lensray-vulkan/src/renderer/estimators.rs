@@ -35,7 +35,6 @@
 
 use std::time::Instant;
 
-
 use lensray_core::film::{Accumulation, Progress};
 use lensray_core::settings::{Shading, Shot};
 

@@ -5,14 +5,13 @@
 
 use std::sync::Arc;
 
-
 use super::batch::SampleBatch;
 use super::GpuRenderer;
-use crate::core::recorder::Recorder;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::query::QueryPool;
+use crate::core::recorder::Recorder;
 use crate::passes::gbuffer::GBufferTargets;
 use crate::passes::trace::RecordSamples;
 use crate::scene::SceneBuffers;
