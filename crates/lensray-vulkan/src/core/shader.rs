@@ -37,7 +37,7 @@ pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
 pub(crate) const SPECTRAL_COMP: &[u8] = spirv!("spectral.comp");
 
 /// A pipeline's vertex and fragment stages.
-pub(crate) type Stages = (&'static [u8], &'static [u8]);
+pub(crate) type RasterStages = (&'static [u8], &'static [u8]);
 
 /// The view pass's builds of gbuffer.vert and view.frag for `$view` (build.rs): for any surfaces,
 /// then for plain ones.
@@ -57,7 +57,7 @@ macro_rules! view_stages {
 }
 
 /// The view pass's stages, entry `view - VIEW_ALBEDO` (VIEW_ALBEDO to VIEW_COC).
-pub(crate) const VIEW_STAGES: [[Stages; 2]; 4] = [
+pub(crate) const VIEW_STAGES: [[RasterStages; 2]; 4] = [
     view_stages!("albedo"),
     view_stages!("normal"),
     view_stages!("depth"),
