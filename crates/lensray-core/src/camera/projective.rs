@@ -50,7 +50,10 @@ pub struct Camera {
 impl Camera {
     /// Inputs are assumed valid (see `CameraParams::build`, which checks them). `screen_shift`
     /// moves the screen window's centre off the view axis (screen units; zero: centred).
-    #[allow(clippy::too_many_arguments)]
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "each is one of the camera's parameters"
+    )]
     pub fn new(
         projection: Projection,
         frame: CameraFrame,

@@ -47,7 +47,7 @@ pub struct ElementGlass {
 
 /// A figure at the F, d and C lines.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-#[allow(non_snake_case)]
+#[expect(non_snake_case, reason = "the Fraunhofer lines' names")]
 pub struct ByLine {
     pub F: f64,
     pub d: f64,

@@ -14,15 +14,6 @@ pub(crate) struct DeviceImage {
     pub image: vk::Image,
     pub view: vk::ImageView,
     allocation: Option<Allocation>,
-    /// Described for later passes that sample or copy the image.
-    #[allow(dead_code)]
-    pub format: vk::Format,
-    #[allow(dead_code)]
-    pub width: u32,
-    #[allow(dead_code)]
-    pub height: u32,
-    #[allow(dead_code)]
-    pub aspect: vk::ImageAspectFlags,
 }
 
 impl DeviceImage {
@@ -58,10 +49,6 @@ impl DeviceImage {
             image,
             view: vk::ImageView::null(),
             allocation: None,
-            format,
-            width,
-            height,
-            aspect,
         };
         // SAFETY: `image` was just created from this device.
         let requirements = unsafe { ctx.device.get_image_memory_requirements(image) };

@@ -68,9 +68,9 @@ pub(crate) struct GBufferTargets {
     pub normal: DeviceImage,
     pub albedo: DeviceImage,
     pub view_depth: DeviceImage,
-    /// The depth buffer (D32), kept for later passes.
-    #[allow(dead_code)]
-    pub depth: DeviceImage,
+    /// The depth buffer (D32) the framebuffer tests against.
+    #[expect(dead_code, reason = "owned here: the framebuffer uses its view")]
+    depth: DeviceImage,
     pub width: u32,
     pub height: u32,
 }

@@ -31,7 +31,7 @@ pub(crate) struct VisibilityTargets {
     /// First: dropped before the images whose views it uses.
     framebuffer: Framebuffer,
     triangle: DeviceImage,
-    #[allow(dead_code)] // owned here: the framebuffer uses its view
+    #[expect(dead_code, reason = "owned here: the framebuffer uses its view")]
     depth: DeviceImage,
     /// One uint per pixel, row-major: `RasterTraceGroup`'s `visibility`.
     pub buffer: Buffer,

@@ -36,7 +36,7 @@ const VIEWS: usize = (VIEW_COC - VIEW_ALBEDO + 1) as usize;
 struct ViewTargets {
     /// First: dropped before the depth image their views use.
     framebuffers: Vec<Framebuffer>,
-    #[allow(dead_code)] // alive while the framebuffers use it
+    #[expect(dead_code, reason = "owned here: the framebuffers use its view")]
     depth: DeviceImage,
     width: u32,
     height: u32,

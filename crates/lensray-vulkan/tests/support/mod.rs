@@ -4,7 +4,10 @@
 //! lensray-vulkan's tests use it as `mod support;`; the app's tests and benches include this
 //! same file through theirs (crates/lensray/tests/gpu_support/mod.rs), which adds the helpers
 //! that open the app's render paths.
-#![allow(dead_code)]
+#![allow(
+    dead_code,
+    reason = "each test binary includes this module and uses part of it"
+)]
 
 use std::path::PathBuf;
 

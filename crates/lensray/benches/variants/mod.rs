@@ -8,8 +8,10 @@
 //! on every variant alike and no variant always runs first. Times are those `lensray bench`
 //! reports (`bench::runs`): GPU timestamps around the trace dispatches on the GPU paths, the
 //! host clock around the traversal on the CPU.
-// Each bench includes this module and uses part of it.
-#![allow(dead_code)]
+#![allow(
+    dead_code,
+    reason = "each bench includes this module and uses part of it"
+)]
 
 use std::fmt::Write as _;
 

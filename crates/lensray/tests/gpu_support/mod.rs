@@ -1,7 +1,10 @@
 //! The app's GPU test helpers: the shared GPU test support of lensray-vulkan's tests (one
 //! copy, included below: the renderer or a recorded skip, validation checks, test scenes and
 //! cameras, image comparison), and the helpers that open the app's render paths on it.
-#![allow(dead_code)]
+#![allow(
+    dead_code,
+    reason = "each test binary includes this module and uses part of it"
+)]
 
 // lensray-vulkan's own test support: one copy, which its tests use as `mod support;`.
 #[path = "../../../lensray-vulkan/tests/support/mod.rs"]

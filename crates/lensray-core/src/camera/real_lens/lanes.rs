@@ -7,10 +7,14 @@
 //! for bit (`RealLens::generate_rays` is tested against `generate_ray`). The scalar tracer
 //! stays the definition the GLSL mirrors.
 
-// Lane loops index several arrays by lane: the layout the vectorizer wants.
-#![allow(clippy::needless_range_loop)]
-// `!(a > b)` as the scalar tracer tests it: a NaN does not block there, so not here either.
-#![allow(clippy::neg_cmp_op_on_partial_ord)]
+#![expect(
+    clippy::needless_range_loop,
+    reason = "lane loops index several arrays by lane: the layout the vectorizer wants"
+)]
+#![expect(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(a > b)` as the scalar tracer tests it: a NaN does not block there either"
+)]
 
 use glam::{Vec2, Vec3};
 
