@@ -49,6 +49,10 @@ if grep -rqE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-inte
   fail "unsafe code outside lensray-vulkan:"
   grep -rnE '^\s*unsafe |unsafe \{|#!?\[allow\(unsafe_code' crates/lensray-interface/src crates/lensray-core/src crates/lensray/src | sed 's/^/    /'
 fi
+# Inside lensray-vulkan, unsafe blocks live in core/, the layer that owns every Vulkan object.
+outside_core=$(grep -rnE 'unsafe \{|unsafe fn |unsafe impl ' crates/lensray-vulkan/src --include=*.rs | grep -v '^crates/lensray-vulkan/src/core/' || true)
+[ -z "$outside_core" ] || fail "unsafe code in lensray-vulkan outside src/core/:
+$(printf '%s\n' "$outside_core" | sed 's/^/    /')"
 
 max_readme=8000
 readme=$(wc -m <README.md)
