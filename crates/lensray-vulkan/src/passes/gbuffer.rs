@@ -10,13 +10,13 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
-use crate::core::recorder::Recorder;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::image::{DeviceImage, Transition};
 use crate::core::pipeline::{GraphicsDesc, Pipeline};
 use crate::core::query::QueryPool;
+use crate::core::recorder::Recorder;
 use crate::core::shader;
 use crate::passes::draw::{
     record_scene_draw, SceneDraw, SceneFramebuffer, SceneRenderPass, SCENE_DEPTH_FORMAT,
@@ -192,22 +192,30 @@ impl GBufferPass {
         scene.bind(&self.pipeline);
     }
 
-    /// Makes the targets `width` x `height` (recreating them on a size change).
-    pub(crate) fn ensure_targets(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
+    /// Makes the targets `width` x `height` (recreating them on a size change) and returns
+    /// them.
+    pub(crate) fn ensure_targets(
+        &mut self,
+        width: u32,
+        height: u32,
+    ) -> Result<&GBufferTargets, GpuError> {
         if self
             .targets
             .as_ref()
-            .is_none_or(|t| t.width != width || t.height != height)
+            .is_some_and(|t| t.width != width || t.height != height)
         {
+            // The old images go before the new ones are allocated.
             self.targets = None;
-            self.targets = Some(GBufferTargets::new(
+        }
+        match &mut self.targets {
+            Some(targets) => Ok(targets),
+            none => Ok(none.insert(GBufferTargets::new(
                 &self.ctx,
                 self.render_pass.handle,
                 width,
                 height,
-            )?);
+            )?)),
         }
-        Ok(())
     }
 
     /// Records the pass into `cmd` (targets of the camera's size must exist): afterwards the
