@@ -2,9 +2,10 @@
 //! to live in a device-local buffer (a film) for as long as the accumulation does, so that a
 //! render continued call after call uploads nothing and reads nothing back until the host asks
 //! (`read`). A film starts cleared (a new accumulation) or from the host's sums (one the CPU
-//! filled, or read back and changed); the trace pass copies each band of rows in and out of it,
-//! and at the end of its call copies the film to host-visible memory (a copy on the device, no
-//! host read), so that reading the sums after a render needs no submission and no second wait.
+//! filled, or read back and changed); the trace shader adds to a band of rows of it at a time
+//! (`ensure_band`: the band's sums copied in from the film and back, `band_copy`), and at the
+//! end of its call the film is copied to host-visible memory (a copy on the device, no host
+//! read), so that reading the sums after a render needs no submission and no second wait.
 
 use std::sync::{Arc, Weak};
 
@@ -19,6 +20,10 @@ use lensray_core::film::{Accumulation, Holder, OnDevice};
 
 /// Bytes of one pixel's sums (`[r, g, b, n]` as f32).
 const PIXEL_BYTES: u64 = 16;
+
+/// Most pixels whose sums the shader adds to at once (64 MiB); larger images go in bands of
+/// rows.
+const MAX_BAND_PIXELS: u64 = 1 << 22;
 
 /// One accumulation's sums on the device.
 struct Film {
@@ -52,6 +57,41 @@ pub(crate) struct DeviceFilms {
     /// The film whose current sums `transfer` holds (copied at the end of the last call that
     /// added to it, and waited for).
     in_transfer: Option<Weak<()>>,
+    /// The band of sums the shader adds to, for the current image size; `None` while the
+    /// preview's accumulation is bound instead.
+    band: Option<BandSums>,
+    /// Most pixels of a band (tests lower it to force bands).
+    pub max_band_pixels: u64,
+}
+
+/// The sums of one band of rows.
+struct BandSums {
+    buffer: Buffer,
+    bytes: u64,
+}
+
+/// The copies of one band of rows between a film and the band's sums.
+pub(crate) struct BandCopy<'f> {
+    film: &'f Buffer,
+    band: &'f Buffer,
+    /// The band's bytes within the film.
+    region: vk::BufferCopy,
+}
+
+impl BandCopy<'_> {
+    /// Records the copy of the band's sums from the film into the band buffer.
+    pub(crate) fn record_in(&self, rec: &mut Recorder<'_>) {
+        let up = vk::BufferCopy::default()
+            .src_offset(self.region.dst_offset)
+            .dst_offset(0)
+            .size(self.region.size);
+        rec.copy_buffer(self.film, self.band, &[up]);
+    }
+
+    /// Records the copy of the band buffer's first `bytes` back into the film.
+    pub(crate) fn record_out(&self, rec: &mut Recorder<'_>, bytes: u64) {
+        rec.copy_buffer(self.band, self.film, &[self.region.size(bytes)]);
+    }
 }
 
 impl DeviceFilms {
@@ -63,6 +103,67 @@ impl DeviceFilms {
             retired: Vec::new(),
             transfer: None,
             in_transfer: None,
+            band: None,
+            max_band_pixels: MAX_BAND_PIXELS,
+        }
+    }
+
+    /// The band buffer for a `width` x `height` image and the rows of a band, with the buffer
+    /// when it is new (to bind). The shader adds to a storage buffer covering a band of rows,
+    /// bounded by the device's storage-buffer range (128 MiB on lavapipe); each band is copied
+    /// in from the film and back (`band_copy`).
+    pub(crate) fn ensure_band(
+        &mut self,
+        width: u32,
+        height: u32,
+    ) -> Result<(u32, Option<&Buffer>), GpuError> {
+        let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / PIXEL_BYTES)
+            .min(self.max_band_pixels)
+            .max(u64::from(width));
+        let band_rows = (max_band_pixels / u64::from(width)).clamp(1, u64::from(height)) as u32;
+        let bytes = u64::from(band_rows) * u64::from(width) * PIXEL_BYTES;
+        if self.band.as_ref().is_some_and(|b| b.bytes == bytes) {
+            return Ok((band_rows, None));
+        }
+        // A pending submission (the hybrid's plan) binds the old buffer: it finishes first.
+        self.ctx.wait_all()?;
+        self.band = None;
+        let buffer = Buffer::new(
+            &self.ctx,
+            "trace band sums",
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        let band = self.band.insert(BandSums { buffer, bytes });
+        Ok((band_rows, Some(&band.buffer)))
+    }
+
+    /// Frees the band buffer: the preview binds its own accumulation instead, and a later call
+    /// makes and binds a band again.
+    pub(crate) fn drop_band(&mut self) {
+        self.band = None;
+    }
+
+    /// The copies of the band of rows `band_origin..band_origin + band_height` of an image
+    /// `width` pixels wide between film `film` and the band buffer (`ensure_band` made it).
+    pub(crate) fn band_copy(
+        &self,
+        film: usize,
+        (band_origin, band_height): (u32, u32),
+        width: u32,
+    ) -> BandCopy<'_> {
+        let band = &self.band.as_ref().expect("ensure_band made it").buffer;
+        let row_bytes = u64::from(width) * PIXEL_BYTES;
+        BandCopy {
+            film: &self.films[film].sums,
+            band,
+            region: vk::BufferCopy::default()
+                .src_offset(0)
+                .dst_offset(u64::from(band_origin) * row_bytes)
+                .size(u64::from(band_height) * row_bytes),
         }
     }
 
@@ -112,11 +213,6 @@ impl DeviceFilms {
         )?;
         self.films.push(Film { key, sums });
         Ok((self.films.len() - 1, start))
-    }
-
-    /// The buffer of film `index`.
-    pub(crate) fn sums(&self, index: usize) -> &Buffer {
-        &self.films[index].sums
     }
 
     /// Records what film `index` needs before samples are added (`take`'s `Start`): its sums

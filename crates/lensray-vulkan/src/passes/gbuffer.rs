@@ -194,22 +194,30 @@ impl GBufferPass {
         scene.bind(&self.pipeline);
     }
 
-    /// Makes the targets `width` x `height` (recreating them on a size change).
-    pub(crate) fn ensure_targets(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
+    /// Makes the targets `width` x `height` (recreating them on a size change) and returns
+    /// them.
+    pub(crate) fn ensure_targets(
+        &mut self,
+        width: u32,
+        height: u32,
+    ) -> Result<&GBufferTargets, GpuError> {
         if self
             .targets
             .as_ref()
-            .is_none_or(|t| t.width != width || t.height != height)
+            .is_some_and(|t| t.width != width || t.height != height)
         {
+            // The old images go before the new ones are allocated.
             self.targets = None;
-            self.targets = Some(GBufferTargets::new(
+        }
+        match &mut self.targets {
+            Some(targets) => Ok(targets),
+            none => Ok(none.insert(GBufferTargets::new(
                 &self.ctx,
                 self.render_pass.handle,
                 width,
                 height,
-            )?);
+            )?)),
         }
-        Ok(())
     }
 
     /// Records the pass into `cmd` (targets of the camera's size must exist): afterwards the

@@ -129,24 +129,24 @@ impl VisibilityPass {
         scene.bind(&self.pipeline);
     }
 
-    /// Makes the targets `width` x `height` (recreating them on a size change); true when they
-    /// were recreated (the buffer must be bound again).
-    pub(crate) fn ensure_targets(&mut self, width: u32, height: u32) -> Result<bool, GpuError> {
+    /// Makes the targets `width` x `height` (recreating them on a size change); returns them
+    /// when they were recreated (their buffer must be bound again).
+    pub(crate) fn ensure_targets(
+        &mut self,
+        width: u32,
+        height: u32,
+    ) -> Result<Option<&VisibilityTargets>, GpuError> {
         if self
             .targets
             .as_ref()
             .is_some_and(|t| t.width == width && t.height == height)
         {
-            return Ok(false);
+            return Ok(None);
         }
+        // The old images go before the new ones are allocated.
         self.targets = None;
-        self.targets = Some(VisibilityTargets::new(
-            &self.ctx,
-            self.render_pass.handle,
-            width,
-            height,
-        )?);
-        Ok(true)
+        let targets = VisibilityTargets::new(&self.ctx, self.render_pass.handle, width, height)?;
+        Ok(Some(self.targets.insert(targets)))
     }
 
     /// Records the pass of camera sample `sample`, shared by every pixel: pixel (0, 0)'s

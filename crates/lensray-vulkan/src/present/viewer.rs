@@ -221,11 +221,11 @@ impl Viewer {
                 | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;
-        self.gpu
+        let targets = self
+            .gpu
             .prepare_frames((width, height), self.estimator, &buffer)?;
         // A new size restarts the accumulation: the hybrid's plan is made again.
         self.plan_spp = None;
-        let targets = self.gpu.gbuffer_targets().expect("prepared above");
         self.resolve.bind(&buffer, targets, width, height)?;
         self.accum = Some(WindowAccumulation {
             buffer,
@@ -240,7 +240,7 @@ impl Viewer {
         let Some(accum) = self.accum.as_ref() else {
             return Ok(None);
         };
-        let Some(targets) = self.gpu.gbuffer_targets() else {
+        let Ok(targets) = self.gpu.gbuffer_targets() else {
             return Ok(None);
         };
         let (width, height) = (targets.width, targets.height);

@@ -13,12 +13,15 @@ use crate::core::error::GpuError;
 use crate::core::recorder::Recorder;
 use crate::passes::gbuffer::GBufferTargets;
 use crate::passes::hybrid_plan::HybridPlanPass;
-use crate::passes::trace::{RecordSamples, TracePass};
+use crate::passes::trace::{RecordSamples, TracePipelines};
 use crate::passes::visibility::VisibilityPass;
 use crate::scene::SceneBuffers;
 use crate::Estimator;
 use lensray_core::camera::Camera;
-use lensray_core::interface::{TracePush, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER};
+use lensray_core::interface::{
+    TracePush, TRACE_GROUP_SIZE, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER,
+    TRACE_MODE_SHORTCUT,
+};
 use lensray_core::settings::{RenderSettings, Shading, Shot};
 
 /// A batch of samples of one shot with one estimator, borrowing the passes it records with.
@@ -86,7 +89,7 @@ impl<'r> SampleBatch<'r> {
     /// before it.
     pub(crate) fn record_plan(
         &self,
-        (trace, plan): (&TracePass, &HybridPlanPass),
+        (trace, plan): (&TracePipelines, &HybridPlanPass),
         rec: &mut Recorder<'_>,
         targets: &GBufferTargets,
         target_spp: u32,
@@ -100,11 +103,13 @@ impl<'r> SampleBatch<'r> {
     }
 
     /// Records the hybrid's lit pre-pass: the visibility pass along each pixel's aperture-centre
-    /// ray, then each pixel's shortcut value and shadow state into the plan buffer, in which
-    /// the plan's steps order themselves after it.
+    /// ray, then one dispatch over the image (TRACE_MODE_SHORTCUT: each pixel's shortcut value
+    /// and shadow state into the plan buffer, which must hold the image), in which the plan's
+    /// steps order themselves after it. The trace parameters of [`Self::shot`] are recorded
+    /// before it.
     pub(crate) fn record_lit_prepass(
         &self,
-        trace: &TracePass,
+        trace: &TracePipelines,
         rec: &mut Recorder<'_>,
     ) -> Result<(), GpuError> {
         let visibility = self.visibility.ok_or_else(|| {
@@ -112,7 +117,17 @@ impl<'r> SampleBatch<'r> {
         })?;
         let camera = &self.shot.camera;
         visibility.record_aperture_centre(rec, self.scene, camera);
-        trace.record_lit_prepass(rec, camera.width, camera.height);
+        let push = TracePush {
+            band_origin: 0,
+            band_height: camera.height,
+            block_first: 0,
+            block_stride: 1,
+            block_count: camera.height.div_ceil(TRACE_GROUP_SIZE),
+            sample_begin: 0,
+            sample_end: 0,
+            mode: TRACE_MODE_SHORTCUT,
+        };
+        trace.record_dispatch(rec, push, camera.width);
         Ok(())
     }
 }
@@ -126,7 +141,7 @@ impl RecordSamples for SampleBatch<'_> {
         }
     }
 
-    fn record(&self, trace: &TracePass, rec: &mut Recorder<'_>, push: TracePush, width: u32) {
+    fn record(&self, trace: &TracePipelines, rec: &mut Recorder<'_>, push: TracePush, width: u32) {
         let push = TracePush {
             mode: self.mode(),
             ..push

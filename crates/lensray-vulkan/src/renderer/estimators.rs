@@ -39,10 +39,9 @@ use lensray_core::film::{Accumulation, Progress};
 use lensray_core::settings::{Shading, Shot};
 
 use super::batch::SampleBatch;
+use super::raster::PlanPasses;
 use super::{check_samples, check_size, GpuRenderer};
 use crate::core::error::GpuError;
-use crate::passes::hybrid_plan::HybridPlanPass;
-use crate::passes::visibility::VisibilityPass;
 use crate::Estimator;
 
 /// What adding a batch of samples cost besides the trace pass's GPU timestamps.
@@ -86,7 +85,7 @@ impl GpuRenderer {
             }
         }
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let batch = SampleBatch::new(estimator, shot, self.visibility.as_ref(), scene)?;
+        let batch = SampleBatch::new(estimator, shot, self.raster.visibility(), scene)?;
         let traced = self.trace.accumulate(
             batch.shot(),
             samples,
@@ -96,7 +95,7 @@ impl GpuRenderer {
             progress,
         );
         if estimator == Estimator::Hybrid {
-            self.trace.clear_plan();
+            self.trace.plan.clear();
         }
         traced.map(|()| added)
     }
@@ -105,25 +104,17 @@ impl GpuRenderer {
     /// `height` image, bound to the trace pass (the hybrid's lit pre-pass uses it too).
     pub(crate) fn prepare_raster(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        if self.visibility.is_none() {
-            let pass = VisibilityPass::new(&self.ctx)?;
-            pass.bind_scene(scene);
-            self.visibility = Some(pass);
-        }
-        let visibility = self.visibility.as_mut().expect("made above");
-        if visibility.ensure_targets(width, height)? {
-            let targets = visibility.targets.as_ref().expect("just made");
-            self.trace.bind_visibility(&targets.buffer);
-        }
-        Ok(())
+        self.raster
+            .prepare_visibility(scene, &mut self.trace, (width, height))
     }
 
-    /// The hybrid plan's pass, made on first use (only the hybrid path compiles its pipeline).
-    pub(crate) fn ensure_hybrid_plan(&mut self) -> Result<(), GpuError> {
-        if self.hybrid_plan.is_none() {
-            self.hybrid_plan = Some(HybridPlanPass::new(&self.ctx)?);
-        }
-        Ok(())
+    /// Makes the hybrid's plan pass (on first use: only the hybrid path compiles its pipeline),
+    /// the G-buffer's targets and the trace pass's plan buffers for a `width` x `height` image,
+    /// bound together: the one set-up of the plan, the render path's and the preview's.
+    pub(crate) fn prepare_hybrid_plan(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
+        let scene = self.scene.as_ref();
+        self.raster
+            .prepare_hybrid_plan(scene, &mut self.trace, (width, height))
     }
 
     /// The hybrid path's plan of `shot` made on the device (shaders/passes/hybrid_plan.comp) for
@@ -138,47 +129,40 @@ impl GpuRenderer {
         if lit {
             self.prepare_raster(camera.width, camera.height)?;
         }
-        self.ensure_hybrid_plan()?;
-        self.gbuffer_pass()?
-            .ensure_targets(camera.width, camera.height)?;
-        let pixels = u64::from(camera.width) * u64::from(camera.height);
-        self.trace.ensure_plan_capacity(pixels)?;
+        let (width, height) = (camera.width, camera.height);
+        self.prepare_hybrid_plan(width, height)?;
         // The render's buffers now, while nothing is pending: the plan is not waited for.
-        self.trace
-            .ensure_accumulation(camera.width, camera.height)?;
+        self.trace.ensure_accumulation(width, height)?;
         self.trace.ensure_camera_tables(camera)?;
-        let gbuffer = self.gbuffer.as_ref().expect("made above");
-        let targets = gbuffer.targets.as_ref().expect("ensured above");
-        let hybrid_plan = self.hybrid_plan.as_mut().expect("made above");
-        hybrid_plan.bind(
-            targets,
-            self.trace.plan_buffer_ref(),
-            self.trace.surface_depth_ref(),
-        )?;
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let batch = SampleBatch::new(Estimator::Hybrid, shot, self.visibility.as_ref(), scene)?;
-        let ctx = &self.ctx;
-        let plan = self.hybrid_plan.as_ref().expect("made above");
+        let batch = SampleBatch::new(Estimator::Hybrid, shot, self.raster.visibility(), scene)?;
+        let PlanPasses {
+            gbuffer,
+            targets,
+            plan,
+        } = self.raster.plan_passes()?;
         let trace = &mut self.trace;
         // Not waited for: the render's submissions follow on the queue, and the pre-pass's
-        // rays reach the render's report through the counter (`record_keep_prepass_rays`).
-        ctx.submit(|rec| {
+        // rays reach the render's report through the counter (`RayCounter::record_keep_prepass`).
+        self.ctx.submit(|rec| {
             let planning = batch.gbuffer_camera();
             gbuffer.record(rec, scene, planning, settings.background, None);
             if lit {
                 trace.record_params(rec, &crate::upload::trace_params(batch.shot()));
-                trace.record_clear_ray_counter(rec);
+                trace.rays.record_clear(rec);
             }
-            batch.record_plan((trace, plan), rec, targets, settings.spp)?;
+            batch.record_plan((&trace.pipelines, plan), rec, targets, settings.spp)?;
             if lit {
-                trace.record_keep_prepass_rays(rec);
+                trace.rays.record_keep_prepass(rec);
             }
             // The probes read the plan back (`read_plan_entries`).
-            rec.read_on_host(&[trace.plan_buffer_ref()]);
+            rec.read_on_host(&[trace.plan.plan()]);
             Ok(())
         })?;
         self.timings.gbuffer_passes += 1;
-        self.trace.use_device_plan(pixels);
+        self.trace
+            .plan
+            .use_device_plan(u64::from(width) * u64::from(height));
         Ok(())
     }
 }

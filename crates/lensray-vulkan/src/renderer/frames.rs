@@ -32,46 +32,36 @@ impl GpuRenderer {
     }
 
     /// The G-buffer's images, once `prepare_frames` made them.
-    pub(crate) fn gbuffer_targets(&self) -> Option<&GBufferTargets> {
-        self.gbuffer.as_ref().and_then(|g| g.targets.as_ref())
+    pub(crate) fn gbuffer_targets(&self) -> Result<&GBufferTargets, GpuError> {
+        self.raster.gbuffer_targets().ok_or_else(not_prepared)
     }
 
     /// Makes what frames of `width` x `height` adding samples with `estimator` to
-    /// `accumulation` (one sum per pixel) need: the G-buffer's images, the trace pass bound to
-    /// the accumulation, the raster path's visibility pass (which the hybrid's lit pre-pass
-    /// uses too: the shading can turn lit at any frame) and the hybrid's plan pass. No frame
-    /// may be in flight.
+    /// `accumulation` (one sum per pixel) need: the trace pass bound to the accumulation, the
+    /// raster path's visibility pass (which the hybrid's lit pre-pass uses too: the shading can
+    /// turn lit at any frame), the hybrid's plan (`prepare_hybrid_plan`) and the G-buffer's
+    /// images, which it returns. No frame may be in flight.
     pub(crate) fn prepare_frames(
         &mut self,
         (width, height): (u32, u32),
         estimator: Estimator,
         accumulation: &Buffer,
-    ) -> Result<(), GpuError> {
-        self.gbuffer_pass()?.ensure_targets(width, height)?;
+    ) -> Result<&GBufferTargets, GpuError> {
         self.trace.bind_accumulation(accumulation);
         if estimator != Estimator::Traced {
             self.prepare_raster(width, height)?;
         }
         if estimator == Estimator::Hybrid {
-            self.ensure_hybrid_plan()?;
-            self.trace
-                .ensure_plan_capacity(u64::from(width) * u64::from(height))?;
-            let gbuffer = self.gbuffer.as_ref().expect("made above");
-            let targets = gbuffer.targets.as_ref().expect("ensured above");
-            let hybrid_plan = self.hybrid_plan.as_mut().expect("made above");
-            hybrid_plan.bind(
-                targets,
-                self.trace.plan_buffer_ref(),
-                self.trace.surface_depth_ref(),
-            )?;
+            self.prepare_hybrid_plan(width, height)?;
         }
-        Ok(())
+        let gbuffer = self.raster.gbuffer_pass(self.scene.as_ref())?;
+        gbuffer.ensure_targets(width, height)
     }
 
     /// Whether `camera`'s aperture and lens tables differ from those bound (frames in flight
     /// read the bound ones).
     pub(crate) fn camera_tables_differ(&self, camera: &Camera) -> bool {
-        self.trace.camera_tables_differ(camera)
+        self.trace.tables.differ(camera)
     }
 
     /// Binds `camera`'s aperture and lens tables (no frame reading the old ones in flight).
@@ -88,7 +78,7 @@ impl GpuRenderer {
         SampleBatch::new(
             estimator,
             shot,
-            self.visibility.as_ref(),
+            self.raster.visibility(),
             self.scene_buffers()?,
         )
     }
@@ -100,7 +90,7 @@ impl GpuRenderer {
         batch: &SampleBatch<'_>,
         timestamps: (&QueryPool, u32),
     ) -> Result<(), GpuError> {
-        let gbuffer = self.gbuffer.as_ref().ok_or_else(not_prepared)?;
+        let gbuffer = self.raster.gbuffer().ok_or_else(not_prepared)?;
         let scene = self.scene_buffers()?;
         let background = batch.shot().render.background;
         gbuffer.record(
@@ -128,9 +118,9 @@ impl GpuRenderer {
         batch: &SampleBatch<'_>,
         target_spp: u32,
     ) -> Result<(), GpuError> {
-        let plan = self.hybrid_plan.as_ref().ok_or_else(not_prepared)?;
-        let targets = self.gbuffer_targets().ok_or_else(not_prepared)?;
-        batch.record_plan((&self.trace, plan), rec, targets, target_spp)
+        let passes = self.raster.plan_passes().map_err(|_| not_prepared())?;
+        let pipelines = &self.trace.pipelines;
+        batch.record_plan((pipelines, passes.plan), rec, passes.targets, target_spp)
     }
 
     /// Records the blocks and samples `push` names over the whole image (`SampleBatch`).
@@ -140,7 +130,7 @@ impl GpuRenderer {
         batch: &SampleBatch<'_>,
         push: TracePush,
     ) {
-        batch.record(&self.trace, rec, push, batch.shot().camera.width);
+        batch.record(&self.trace.pipelines, rec, push, batch.shot().camera.width);
     }
 }
 

@@ -1,14 +1,15 @@
 //! [`GpuRenderer`]: the device and the passes it owns, the scene on the device, and the
 //! renderer's entries (G-buffer, render, AOVs, sums). How samples are added lives in
-//! `estimators`; what the preview records into its frames in `frames`; the probes' hooks in
-//! `probe_hooks`. The fields are private to this module: the rest of the crate (the preview
-//! included) goes through these functions.
+//! `estimators`; the passes made on first use in `raster`; what the preview records into its
+//! frames in `frames`; the probes' hooks in `probe_hooks`. The fields are private to this
+//! module: the rest of the crate (the preview included) goes through these functions.
 
 mod batch;
 mod estimators;
 mod frames;
 #[cfg(feature = "probes")]
 mod probe_hooks;
+mod raster;
 
 use std::sync::Arc;
 
@@ -19,10 +20,7 @@ use crate::core::device::Context;
 use crate::core::error::vk_err;
 use crate::core::instance::Instance;
 use crate::core::surface::WindowSurface;
-use crate::passes::gbuffer::GBufferPass;
-use crate::passes::hybrid_plan::HybridPlanPass;
 use crate::passes::trace::TracePass;
-use crate::passes::visibility::VisibilityPass;
 use crate::scene::SceneBuffers;
 use crate::{
     BvhParams, Counters, DeviceReport, Estimator, GBuffer, GpuError, GpuOptions, Timings,
@@ -35,18 +33,14 @@ use lensray_core::settings::{Shading, Shot};
 
 pub(crate) use batch::SampleBatch;
 pub use estimators::SamplesAdded;
+use raster::RasterPasses;
 
 /// The Vulkan renderer. Fields drop in order; everything holds an `Arc` to the device context,
 /// which is destroyed last, then the instance.
 pub struct GpuRenderer {
     trace: TracePass,
-    /// The raster G-buffer (AOVs, focus picking, the hybrid's plan, the preview), made on its
-    /// first use: a traced render compiles no raster pipeline.
-    gbuffer: Option<GBufferPass>,
-    /// The raster path's pass, made on its first use.
-    visibility: Option<VisibilityPass>,
-    /// The hybrid path's plan on the device (the render path's and the preview's).
-    hybrid_plan: Option<HybridPlanPass>,
+    /// The G-buffer, the raster path's visibility and the hybrid's plan, made on first use.
+    raster: RasterPasses,
     scene: Option<SceneBuffers>,
     bvh_params: BvhParams,
     timings: Timings,
@@ -80,9 +74,7 @@ impl GpuRenderer {
         let trace = TracePass::new(&ctx)?;
         let renderer = Self {
             trace,
-            gbuffer: None,
-            visibility: None,
-            hybrid_plan: None,
+            raster: RasterPasses::new(&ctx),
             scene: None,
             bvh_params: BvhParams::default(),
             timings: Timings::default(),
@@ -102,18 +94,18 @@ impl GpuRenderer {
 
     /// The traversals this device can trace with (what it was opened for).
     pub fn traversals(&self) -> Vec<Traversal> {
-        self.trace.traversals()
+        self.trace.pipelines.traversals()
     }
 
     /// The traversal `render` uses.
     pub fn traversal(&self) -> Traversal {
-        self.trace.traversal()
+        self.trace.pipelines.traversal()
     }
 
     /// Uses `traversal` from now on (the preview's later frames included); an error when the
     /// device was not opened for it.
     pub fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
-        self.trace.set_traversal(traversal)
+        self.trace.pipelines.set_traversal(traversal)
     }
 
     /// Uploads the scene and builds the structures of the device's traversals: acceleration
@@ -121,13 +113,8 @@ impl GpuRenderer {
     pub fn load_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
         self.scene = None;
         let buffers = SceneBuffers::new(&self.ctx, scene, &self.bvh_params)?;
-        if let Some(gbuffer) = &self.gbuffer {
-            gbuffer.bind_scene(&buffers);
-        }
-        self.trace.bind_scene(&buffers)?;
-        if let Some(visibility) = &self.visibility {
-            visibility.bind_scene(&buffers);
-        }
+        self.raster.bind_scene(&buffers);
+        self.trace.pipelines.bind_scene(&buffers)?;
         let t = &mut self.timings;
         let accel = buffers.accel.as_ref();
         t.accel_build_gpu_ms = accel.map_or(0.0, |a| a.build_gpu_ns * 1e-6);
@@ -152,25 +139,12 @@ impl GpuRenderer {
         if self.scene.is_none() {
             return Err(GpuError::NoScene);
         }
-        self.gbuffer_pass()?;
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let pass = self.gbuffer.as_mut().expect("made above");
+        let pass = self.raster.gbuffer_pass(Some(scene))?;
         let gbuffer = pass.render(scene, camera, background)?;
         self.timings.gbuffer_passes += 1;
         self.timings.gbuffer_gpu_ms += pass.last_gpu_ms;
         Ok(gbuffer)
-    }
-
-    /// The G-buffer pass, made (and bound to the loaded scene) on first use.
-    fn gbuffer_pass(&mut self) -> Result<&mut GBufferPass, GpuError> {
-        if self.gbuffer.is_none() {
-            let pass = GBufferPass::new(&self.ctx)?;
-            if let Some(scene) = &self.scene {
-                pass.bind_scene(scene);
-            }
-            self.gbuffer = Some(pass);
-        }
-        Ok(self.gbuffer.as_mut().expect("made above"))
     }
 
     /// Renders `shot` in its shading: `Unlit` and `Lit` through the thin lens with the compute

@@ -43,16 +43,9 @@ impl GpuRenderer {
         view: u32,
     ) -> Result<ViewRoutes, GpuError> {
         check_size(camera)?;
-        self.gbuffer_pass()?;
+        let gbuffer = self.raster.gbuffer_pass(self.scene.as_ref())?;
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        view_routes::run(
-            &self.ctx,
-            self.gbuffer.as_mut().expect("made above"),
-            scene,
-            camera,
-            background,
-            view,
-        )
+        view_routes::run(&self.ctx, gbuffer, scene, camera, background, view)
     }
     /// Reads every field of the shared structs back through the shaders' blocks (tests).
     pub fn probe_layouts(&mut self) -> Result<LayoutReport, GpuError> {
@@ -70,11 +63,11 @@ impl GpuRenderer {
     /// submissions). By default dispatches are sized from the measured speed to last
     /// `TARGET_DISPATCH_MS`.
     pub fn set_samples_per_dispatch(&mut self, samples: u64) {
-        self.trace.samples_per_dispatch = samples.max(1);
+        self.trace.sizing.samples_per_dispatch = samples.max(1);
     }
     /// Most pixels whose sums the compute pass holds at once (tests use it to force bands).
     pub fn set_max_band_pixels(&mut self, pixels: u64) {
-        self.trace.max_band_pixels = pixels.max(1);
+        self.trace.films.max_band_pixels = pixels.max(1);
     }
 }
 
@@ -90,22 +83,22 @@ impl GpuRenderer {
         self.trace.ensure_plan_capacity(pixels)?;
         self.trace.ensure_camera_tables(camera)?;
         let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
-        let batch = SampleBatch::new(Estimator::Hybrid, shot, self.visibility.as_ref(), scene)?;
+        let batch = SampleBatch::new(Estimator::Hybrid, shot, self.raster.visibility(), scene)?;
         let (ctx, trace) = (&self.ctx, &self.trace);
         ctx.submit_and_wait(|rec| {
             trace.record_params(rec, &crate::upload::trace_params(batch.shot()));
-            trace.record_clear_ray_counter(rec);
-            batch.record_lit_prepass(trace, rec)?;
-            rec.read_on_host(&[trace.plan_buffer_ref()]);
+            trace.rays.record_clear(rec);
+            batch.record_lit_prepass(&trace.pipelines, rec)?;
+            rec.read_on_host(&[trace.plan.plan()]);
             Ok(())
         })?;
-        self.trace.read_plan(pixels)
+        self.trace.plan.read(pixels)
     }
 
     /// The entries of the plan last made by `plan_on_device` (`pixels` of them), once it is
     /// made.
     pub(crate) fn read_plan_entries(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
         self.ctx.wait_all()?;
-        self.trace.read_plan(pixels)
+        self.trace.plan.read(pixels)
     }
 }

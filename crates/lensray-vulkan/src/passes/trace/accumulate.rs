@@ -1,20 +1,19 @@
 //! The renderer's entry of the traced path: `accumulate` plans a call's steps, records and
-//! submits them in batches without waiting, reports progress from the device's timeline, and
-//! keeps the band of sums the shader adds to.
+//! submits them in batches without waiting, and reports progress from the device's timeline.
+//! Each step records its band's copies from and to the film around the estimator's dispatch.
 
 use std::ops::Range;
 
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
+use super::pipelines::TracePipelines;
 use super::steps::Step;
 use super::{Timings, TracePass};
-use crate::core::buffer::Buffer;
 use crate::core::error::GpuError;
 use crate::core::recorder::Recorder;
 use crate::passes::films::Start;
 use lensray_core::film::{Accumulation, Progress};
-use lensray_core::interface::{TraceParams, TracePush, TRACE_MODE_HYBRID, TRACE_MODE_RASTER};
+use lensray_core::interface::{TraceParams, TracePush, TRACE_MODE_RASTER};
 use lensray_core::settings::Shot;
 
 /// Steps (dispatches) recorded per command buffer: each submission signals the timeline, whose
@@ -49,7 +48,7 @@ impl TracePass {
             return Ok(());
         }
         let mode = batch.mode();
-        self.check_plan(pixels, mode)?;
+        self.plan.check(pixels, mode)?;
         let band_rows = self.ensure_accumulation(width, height)?;
         self.ensure_camera_tables(camera)?;
         let (film, start) = self.films.take(accumulation)?;
@@ -58,31 +57,20 @@ impl TracePass {
         let params = crate::upload::trace_params(shot);
 
         let raster = mode == TRACE_MODE_RASTER;
-        let steps = self.plan_steps(width, height, band_rows, &samples, mode, raster);
+        let steps = self
+            .sizing
+            .steps(width, height, band_rows, &samples, mode, raster);
         let total: u64 = steps.iter().map(|s| s.work).sum();
         progress(0, total);
         // Two timestamps per step, and two for the pipeline's empty first dispatch.
         self.ensure_timestamps(2 * steps.len() as u32 + 2)?;
 
-        let first_dispatch = !self.pipelines[self.current].first_dispatch_done;
+        let first_dispatch = !self.pipelines.first_dispatch_done();
         let batches =
             self.submit_steps(&steps, &params, (film, start), width, first_dispatch, batch)?;
         self.wait_reporting(&batches, total, progress)?;
         self.films.finished(film);
         self.record_timings(&steps, first_dispatch, timings)
-    }
-
-    /// An error when the shader's `mode` cannot run on an image of `pixels` pixels: the
-    /// hybrid's needs a plan covering the image.
-    fn check_plan(&self, pixels: u64, mode: u32) -> Result<(), GpuError> {
-        match self.plan_pixels {
-            _ if mode != TRACE_MODE_HYBRID => Ok(()),
-            Some(n) if n == pixels => Ok(()),
-            Some(n) => Err(GpuError::Invalid(format!(
-                "the hybrid plan has {n} pixels, the image {pixels}"
-            ))),
-            None => Err(GpuError::Invalid("the hybrid's plan is not made".into())),
-        }
     }
 
     /// Records and submits every step before any wait: batches of steps per command buffer,
@@ -104,10 +92,12 @@ impl TracePass {
                 if first == 0 {
                     rec.reset_queries(&self.timestamps);
                     self.record_params(rec, params);
-                    self.record_clear_ray_counter(rec);
+                    self.rays.record_clear(rec);
                     self.films.record_start(rec, film, start);
                     if first_dispatch {
-                        self.record_compile(rec, batch.mode(), 2 * steps.len() as u32);
+                        let query = 2 * steps.len() as u32;
+                        let timestamps = (&self.timestamps, query);
+                        self.pipelines.record_compile(rec, batch.mode(), timestamps);
                     }
                 }
                 for (i, step) in chunk.iter().enumerate() {
@@ -115,12 +105,12 @@ impl TracePass {
                     self.record_step(rec, step, (film, width), index, batch);
                     if index == 0 && first_dispatch {
                         // The pipeline's first dispatch is reported apart: its rays too.
-                        self.record_copy_first_rays(rec);
+                        self.rays.record_copy_first(rec);
                     }
                 }
                 if first + chunk.len() == steps.len() {
                     let transfer = self.films.record_finish(rec, film);
-                    rec.read_on_host(&[transfer, &self.counters]);
+                    rec.read_on_host(&[transfer, self.rays.buffer()]);
                 }
                 Ok(())
             })?;
@@ -164,33 +154,37 @@ impl TracePass {
         Ok(())
     }
 
-    /// The band buffer for a `width` x `height` image (made anew, and bound, when the size
-    /// changes), and the rows of a band. The shader adds to a storage buffer covering a band of
-    /// rows, bounded by the device's storage-buffer range (128 MiB on lavapipe); each band is
-    /// copied in from the film and back.
-    pub(crate) fn ensure_accumulation(&mut self, width: u32, height: u32) -> Result<u32, GpuError> {
-        let max_band_pixels = (u64::from(self.ctx.report.max_storage_buffer_range) / 16)
-            .min(self.max_band_pixels)
-            .max(u64::from(width));
-        let band_rows = (max_band_pixels / u64::from(width)).clamp(1, u64::from(height)) as u32;
-        let bytes = u64::from(band_rows) * u64::from(width) * 16;
-        if self.accum.as_ref().is_none_or(|a| a.bytes != bytes) {
-            // A pending submission (the hybrid's plan) binds the old buffer: it finishes first.
-            self.ctx.wait_all()?;
-            self.accum = None;
-            let buffer = Buffer::new(
-                &self.ctx,
-                "trace band sums",
-                bytes,
-                vk::BufferUsageFlags::STORAGE_BUFFER
-                    | vk::BufferUsageFlags::TRANSFER_SRC
-                    | vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuOnly,
-            )?;
-            self.bind_accum_buffer(&buffer);
-            self.accum = Some(BandSums { buffer, bytes });
+    /// Records one step: the band's sums in from film `film` first (`load`), then the
+    /// estimator's dispatch (`batch`, with the raster path's pass before it) between
+    /// timestamps `2 index` and `2 index + 1`, then the band's sums back to the film
+    /// (`copy_out`).
+    /// The dispatch covers the blocks of GROUP rows `block_first + i * block_stride`,
+    /// i < block_count, of the band.
+    fn record_step(
+        &self,
+        rec: &mut Recorder<'_>,
+        step: &Step,
+        (film, width): (usize, u32),
+        index: u32,
+        batch: &dyn RecordSamples,
+    ) {
+        let push = step.push;
+        let band = (push.band_origin, push.band_height);
+        let copy = self.films.band_copy(film, band, width);
+        if step.load {
+            copy.record_in(rec);
         }
-        Ok(band_rows)
+        let stamps = &self.timestamps;
+        rec.timestamp(stamps, vk::PipelineStageFlags::TOP_OF_PIPE, 2 * index);
+        batch.record(&self.pipelines, rec, push, width);
+        rec.timestamp(
+            stamps,
+            vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+            2 * index + 1,
+        );
+        if let Some(bytes) = step.copy_out {
+            copy.record_out(rec, bytes);
+        }
     }
 }
 
@@ -200,13 +194,13 @@ pub(crate) trait RecordSamples {
     /// The shader's mode (`TRACE_MODE_*`) of the dispatches.
     fn mode(&self) -> u32;
     /// Records the blocks and samples `push` names (its mode replaced by [`Self::mode`]) over
-    /// an image `width` pixels wide with `trace`, each dispatch after what the estimator
+    /// an image `width` pixels wide with `pipelines`, each dispatch after what the estimator
     /// records before it (the raster path: its sample's raster pass).
-    fn record(&self, trace: &TracePass, rec: &mut Recorder<'_>, push: TracePush, width: u32);
-}
-
-/// The sums of one band of rows.
-pub(super) struct BandSums {
-    pub(super) buffer: Buffer,
-    pub(super) bytes: u64,
+    fn record(
+        &self,
+        pipelines: &TracePipelines,
+        rec: &mut Recorder<'_>,
+        push: TracePush,
+        width: u32,
+    );
 }

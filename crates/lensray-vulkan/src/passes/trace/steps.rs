@@ -1,10 +1,34 @@
 //! How one `accumulate` call is split into dispatches (steps): bands of rows, ranges of
-//! samples, groups of row blocks, each step sized from the measured speed.
+//! samples, groups of row blocks, each step sized from the measured speed (`DispatchSizing`).
 
 use std::ops::Range;
 
-use super::TracePass;
 use lensray_core::interface::{TracePush, TRACE_GROUP_SIZE as GROUP};
+
+/// Pixel-samples of the first dispatches: ~0.03-0.1 s on lavapipe (2 cores, 80k triangles).
+const INITIAL_SAMPLES_PER_DISPATCH: u64 = 1 << 16;
+/// The most pixel-samples per dispatch, however fast the device.
+const MAX_SAMPLES_PER_DISPATCH: u64 = 1 << 22;
+/// Dispatch duration aimed at when sizing the next dispatches from the last one's timestamps
+/// (well under the ~0.5 s that a single dispatch should not exceed).
+const TARGET_DISPATCH_MS: f64 = 100.0;
+
+/// How large the dispatches of the next calls are: sized from the measured speed, capped.
+pub(crate) struct DispatchSizing {
+    /// Upper bound of pixel-samples per dispatch (tests lower it to force many submissions).
+    pub samples_per_dispatch: u64,
+    /// Current size of a dispatch, adapted to the measured speed.
+    adaptive_samples: u64,
+}
+
+impl Default for DispatchSizing {
+    fn default() -> Self {
+        Self {
+            samples_per_dispatch: MAX_SAMPLES_PER_DISPATCH,
+            adaptive_samples: INITIAL_SAMPLES_PER_DISPATCH,
+        }
+    }
+}
 
 /// How one render is split: `samples_per` samples of `rows_per` rows per dispatch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,12 +64,12 @@ pub(super) struct Step {
     pub(super) work: u64,
 }
 
-impl TracePass {
+impl DispatchSizing {
     /// The dispatches of one `accumulate` call, in order: band after band; in a band, the
     /// raster path's samples one by one, else ranges of samples of groups of row blocks sized
     /// by `adaptive_samples` (any split adds each pixel's samples in the same order, so the
     /// sums do not depend on it).
-    pub(super) fn plan_steps(
+    pub(super) fn steps(
         &self,
         width: u32,
         height: u32,
@@ -123,5 +147,17 @@ impl TracePass {
             band_origin += band_height;
         }
         steps
+    }
+
+    /// Sizes the next calls' dispatches from `work` pixel-samples traced in `ms` GPU
+    /// milliseconds (nothing measured when either is 0): grows at most 4x per call, shrinks at
+    /// once.
+    pub(super) fn measured(&mut self, work: u64, ms: f64) {
+        if work > 0 && ms > 0.0 {
+            let rate = work as f64 / ms;
+            self.adaptive_samples = ((rate * TARGET_DISPATCH_MS) as u64)
+                .min(4 * self.adaptive_samples)
+                .clamp(1024, MAX_SAMPLES_PER_DISPATCH);
+        }
     }
 }

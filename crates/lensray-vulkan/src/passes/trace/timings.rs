@@ -4,15 +4,11 @@
 use ash::vk;
 
 use super::steps::Step;
-use super::{TracePass, MAX_SAMPLES_PER_DISPATCH};
+use super::TracePass;
 use crate::core::error::GpuError;
 use crate::core::query::QueryPool;
 use crate::traversal::Traversal;
 use lensray_core::interface::TRACE_MODE_RASTER;
-
-/// Dispatch duration aimed at when sizing the next dispatches from the last one's timestamps
-/// (well under the ~0.5 s that a single dispatch should not exceed).
-const TARGET_DISPATCH_MS: f64 = 100.0;
 
 /// Timing of the GPU passes, from timestamp queries (milliseconds).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -94,11 +90,8 @@ impl TracePass {
             let compile = 2 * steps.len();
             timings.compile_ms += self.ctx.elapsed_ns(ticks[compile], ticks[compile + 1]) * 1e-6;
         }
-        let words = bytemuck::cast_slice::<u8, u32>(self.counters.read()?);
-        let (all_rays, first_rays) = (u64::from(words[0]), u64::from(words[1]));
-        if std::mem::take(&mut self.prepass_rays_pending) {
-            timings.rays_traced += u64::from(words[2]);
-        }
+        let rays = self.rays.read()?;
+        timings.rays_traced += rays.prepass;
         let (mut work, mut ms) = (0u64, 0.0f64);
         for (i, step) in steps.iter().enumerate() {
             let gpu_ms = self.ctx.elapsed_ns(ticks[2 * i], ticks[2 * i + 1]) * 1e-6;
@@ -117,19 +110,13 @@ impl TracePass {
         }
         if first_dispatch {
             // Summed over the pipelines (one per traversal), so that reports can subtract.
-            timings.first_dispatch_rays += first_rays;
-            timings.rays_traced += all_rays - first_rays;
-            self.pipelines[self.current].first_dispatch_done = true;
+            timings.first_dispatch_rays += rays.first;
+            timings.rays_traced += rays.all - rays.first;
+            self.pipelines.first_dispatch_timed();
         } else {
-            timings.rays_traced += all_rays;
+            timings.rays_traced += rays.all;
         }
-        if work > 0 && ms > 0.0 {
-            // Grows at most 4x per call; shrinks at once.
-            let rate = work as f64 / ms;
-            self.adaptive_samples = ((rate * TARGET_DISPATCH_MS) as u64)
-                .min(4 * self.adaptive_samples)
-                .clamp(1024, MAX_SAMPLES_PER_DISPATCH);
-        }
+        self.sizing.measured(work, ms);
         Ok(())
     }
 }

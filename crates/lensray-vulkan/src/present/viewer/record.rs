@@ -32,7 +32,7 @@ impl Frame<'_> {
         let gpu = self.gpu;
         let batch = gpu.sample_batch(request.shot, self.estimator)?;
         self.record_raster(&mut rec, request, plan, &batch)?;
-        let targets = gpu.gbuffer_targets().expect("made in resize_images");
+        let targets = gpu.gbuffer_targets()?;
         if let Some([x, y]) = request.pick {
             // The G-buffer pass left the image in TRANSFER_SRC_OPTIMAL with its writes ordered
             // before transfers; (x, y) lies inside it (checked by the caller).

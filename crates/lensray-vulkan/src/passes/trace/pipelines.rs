@@ -1,0 +1,309 @@
+//! The dispatch of an estimator: the trace shader's pipelines, one per traversal the device was
+//! opened for (the one in use is `traversal()`), each specialized for the bound scene's surfaces;
+//! the buffers their sets hold, placeholders until a render, the preview or the raster path
+//! binds its own (every binding must be valid in every mode); and the recording of dispatches,
+//! each naming to the recorder what it reads and writes.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::core::buffer::Buffer;
+use crate::core::descriptors::Gpu;
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use crate::core::pipeline::Pipeline;
+use crate::core::query::QueryPool;
+use crate::core::recorder::{Access, Recorder};
+use crate::core::shader;
+use crate::scene::SceneBuffers;
+use crate::traversal::Traversal;
+use lensray_core::interface::{
+    AccumulationGroup, BindingGroup, DescriptorSet, HybridTraceGroup, RasterTraceGroup, TlasGroup,
+    TraceGroup, TracePush, TraceRayQuerySet, TraceSoftwareSet, TRACE_GROUP_SIZE as GROUP,
+};
+
+/// The pipeline of one traversal.
+struct TracePipeline {
+    traversal: Traversal,
+    pipeline: Pipeline,
+    /// The SURFACE_* bits it is specialized for: those of the scene bound (none before one is).
+    surfaces: u32,
+    /// Its first dispatch (lazily compiled by some drivers) is timed apart.
+    first_dispatch_done: bool,
+}
+
+/// The buffers every pipeline's set holds now: the recorder orders each dispatch after their
+/// writes.
+struct BoundBuffers {
+    params: vk::Buffer,
+    counters: vk::Buffer,
+    accum: vk::Buffer,
+    plan: vk::Buffer,
+    surface_depth: vk::Buffer,
+    visibility: vk::Buffer,
+}
+
+pub(crate) struct TracePipelines {
+    ctx: Arc<Context>,
+    /// One per traversal of the device, in `ctx.traversals` order.
+    pipelines: Vec<TracePipeline>,
+    /// Index of the one in use.
+    current: usize,
+    bound: BoundBuffers,
+    /// Placeholder of the accumulation binding until a render or the preview binds one: the
+    /// hybrid's lit pre-pass (which does not touch the sums) may run first.
+    accum_placeholder: Buffer,
+    /// Placeholder of the raster path's visibility binding until `bind_visibility`.
+    visibility_placeholder: Buffer,
+}
+
+impl TracePipelines {
+    /// Creates a pipeline for each traversal of `ctx.traversals` (the first is in use), its
+    /// accumulation and visibility bound to placeholders. The parameters and the plan are bound
+    /// next (`bind_parameters`, `bind_plan`), before any dispatch.
+    pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
+        let pipelines = ctx
+            .traversals
+            .iter()
+            .map(|&t| {
+                Ok(TracePipeline {
+                    traversal: t,
+                    pipeline: Self::pipeline(ctx, t)?,
+                    surfaces: 0,
+                    first_dispatch_done: false,
+                })
+            })
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        if pipelines.is_empty() {
+            return Err(GpuError::Invalid(
+                "the device was opened with no traversal to trace with".into(),
+            ));
+        }
+        let placeholder = |name| {
+            Buffer::new(
+                ctx,
+                name,
+                16,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        let visibility = placeholder("raster visibility placeholder")?;
+        let accum = placeholder("trace accumulation placeholder")?;
+        let null = vk::Buffer::null();
+        let this = Self {
+            ctx: ctx.clone(),
+            pipelines,
+            current: 0,
+            bound: BoundBuffers {
+                params: null,
+                counters: null,
+                accum: accum.buffer,
+                plan: null,
+                surface_depth: null,
+                visibility: visibility.buffer,
+            },
+            accum_placeholder: accum,
+            visibility_placeholder: visibility,
+        };
+        this.bind_group(&AccumulationGroup::<Gpu> {
+            accum: &this.accum_placeholder,
+        });
+        this.bind_group(&RasterTraceGroup::<Gpu> {
+            visibility: &this.visibility_placeholder,
+        });
+        Ok(this)
+    }
+
+    /// The compute pipeline of `traversal`: the scene arrays, that traversal's structures, and
+    /// the pass's own buffers.
+    /// Specialized for scenes without textures or alpha tests until `bind_scene` says otherwise.
+    fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
+        let set = match traversal {
+            Traversal::RayQuery => TraceRayQuerySet::DECL,
+            Traversal::Software => TraceSoftwareSet::DECL,
+        };
+        Pipeline::compute_specialized(ctx, set, trace_spirv(traversal), Some(0))
+    }
+
+    /// The traversals the pass can trace with.
+    pub(crate) fn traversals(&self) -> Vec<Traversal> {
+        self.pipelines.iter().map(|p| p.traversal).collect()
+    }
+
+    /// The traversal in use.
+    pub(crate) fn traversal(&self) -> Traversal {
+        self.pipelines[self.current].traversal
+    }
+
+    /// Uses `traversal` from now on; an error when the device was not opened for it.
+    pub(crate) fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
+        let index = self
+            .pipelines
+            .iter()
+            .position(|p| p.traversal == traversal)
+            .ok_or_else(|| GpuError::TraversalUnavailable {
+                traversal,
+                device: self.ctx.report.name.clone(),
+                available: self
+                    .traversals()
+                    .iter()
+                    .map(|t| t.name())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })?;
+        self.current = index;
+        Ok(())
+    }
+
+    /// Whether the pipeline in use dispatched before (its first dispatch is timed apart).
+    pub(crate) fn first_dispatch_done(&self) -> bool {
+        self.pipelines[self.current].first_dispatch_done
+    }
+
+    /// The first dispatch of the pipeline in use was timed.
+    pub(crate) fn first_dispatch_timed(&mut self) {
+        self.pipelines[self.current].first_dispatch_done = true;
+    }
+
+    /// Calls `bind` with every pipeline (the camera tables bind themselves to each).
+    pub(crate) fn bind_each(&self, bind: impl Fn(&Pipeline)) {
+        for p in &self.pipelines {
+            bind(&p.pipeline);
+        }
+    }
+
+    fn bind_group<'a, G: BindingGroup<Gpu<'a>>>(&self, group: &G) {
+        self.bind_each(|p| p.bind_group(group));
+    }
+
+    /// Binds `scene` to every pipeline, first specialized anew where the scene's surfaces
+    /// differ from the last one's. No submission using the pipelines may be pending.
+    pub(crate) fn bind_scene(&mut self, scene: &SceneBuffers) -> Result<(), GpuError> {
+        for p in &mut self.pipelines {
+            if p.surfaces != scene.surfaces {
+                p.pipeline
+                    .respecialize(trace_spirv(p.traversal), scene.surfaces)?;
+                p.surfaces = scene.surfaces;
+                p.first_dispatch_done = false;
+            }
+            scene.bind(&p.pipeline);
+            match p.traversal {
+                Traversal::RayQuery => {
+                    if let Some(accel) = &scene.accel {
+                        p.pipeline.bind_group(&TlasGroup::<Gpu> {
+                            tlas: accel.tlas.handle,
+                        });
+                    }
+                }
+                Traversal::Software => {
+                    if let Some(bvh) = &scene.bvh {
+                        bvh.bind(&p.pipeline);
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Points every pipeline at the uniform parameters and the ray counter.
+    pub(crate) fn bind_parameters(&mut self, params: &Buffer, counters: &Buffer) {
+        (self.bound.params, self.bound.counters) = (params.buffer, counters.buffer);
+        self.bind_group(&TraceGroup::<Gpu> { params, counters });
+    }
+
+    /// Points every pipeline's accumulation binding at `accum` (a band of sums, or the
+    /// preview's accumulation).
+    pub(crate) fn bind_accumulation(&mut self, accum: &Buffer) {
+        self.bound.accum = accum.buffer;
+        self.bind_group(&AccumulationGroup::<Gpu> { accum });
+    }
+
+    /// Points every pipeline at the hybrid's plan and surface depths.
+    pub(crate) fn bind_plan(&mut self, plan: &Buffer, surface_depth: &Buffer) {
+        (self.bound.plan, self.bound.surface_depth) = (plan.buffer, surface_depth.buffer);
+        self.bind_group(&HybridTraceGroup::<Gpu> {
+            plan,
+            surface_depth,
+        });
+    }
+
+    /// Points the raster path's visibility binding at `visibility` (one uint per pixel, owned
+    /// by the visibility pass, which outlives the pipelines' use of it).
+    pub(crate) fn bind_visibility(&mut self, visibility: &Buffer) {
+        self.bound.visibility = visibility.buffer;
+        self.bind_group(&RasterTraceGroup::<Gpu> { visibility });
+    }
+
+    /// What a dispatch reads and writes: the parameters, the ray counter, the accumulation
+    /// bound, the hybrid's plan (the lit pre-pass writes it) and surface depths, and the raster
+    /// path's visibility.
+    fn dispatch_uses(&self) -> [(vk::Buffer, Access); 6] {
+        let b = &self.bound;
+        [
+            (b.params, Access::Uniform),
+            (b.counters, Access::ComputeWrite),
+            (b.accum, Access::ComputeWrite),
+            (b.plan, Access::ComputeWrite),
+            (b.surface_depth, Access::ComputeRead),
+            (b.visibility, Access::ComputeRead),
+        ]
+    }
+
+    /// Records one dispatch of the pipeline in use over the blocks and samples `push` names, of
+    /// an image `width` pixels wide, after what it reads was written.
+    pub(crate) fn record_dispatch(&self, rec: &mut Recorder<'_>, push: TracePush, width: u32) {
+        let groups = [width.div_ceil(GROUP), push.block_count, 1];
+        rec.dispatch(
+            &self.pipelines[self.current].pipeline,
+            bytemuck::bytes_of(&push),
+            groups,
+            &self.dispatch_uses(),
+        );
+    }
+
+    /// Records the pipeline's first dispatch, one that traces nothing (its push names no blocks:
+    /// every invocation leaves at once), between timestamps `query` and `query + 1` of
+    /// `timestamps`. A driver that compiles lazily (lavapipe's llvmpipe) compiles the shaders in
+    /// a pipeline's first dispatch, half a minute on a device's first use: timed apart here,
+    /// that stays out of the render's tracing time and rays per second (`Timings::compile_ms`).
+    pub(crate) fn record_compile(
+        &self,
+        rec: &mut Recorder<'_>,
+        mode: u32,
+        (timestamps, query): (&QueryPool, u32),
+    ) {
+        let push = TracePush {
+            band_origin: 0,
+            band_height: 0,
+            block_first: 0,
+            block_stride: 1,
+            block_count: 0,
+            sample_begin: 0,
+            sample_end: 0,
+            mode,
+        };
+        rec.timestamp(timestamps, vk::PipelineStageFlags::TOP_OF_PIPE, query);
+        rec.dispatch(
+            &self.pipelines[self.current].pipeline,
+            bytemuck::bytes_of(&push),
+            [1, 1, 1],
+            &self.dispatch_uses(),
+        );
+        rec.timestamp(
+            timestamps,
+            vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+            query + 1,
+        );
+    }
+}
+
+/// The trace shader of `traversal`.
+fn trace_spirv(traversal: Traversal) -> &'static [u8] {
+    match traversal {
+        Traversal::RayQuery => shader::TRACE_RAYQUERY_COMP,
+        Traversal::Software => shader::TRACE_SOFTWARE_COMP,
+    }
+}
