@@ -6,7 +6,10 @@
 //! dark-to-bright step at raster x = e therefore becomes, at signed distance d = x - e, the
 //! fraction of the disk on the bright side ([`disk_step`]), and a pixel, whose film samples are
 //! uniform over its width, shows that averaged over the pixel ([`pixel_value`]).
-#![allow(dead_code, reason = "the reference tests and the app's autofocus test each use part of it")]
+#![allow(
+    dead_code,
+    reason = "the reference tests and the app's autofocus test each use part of it"
+)]
 
 use std::f64::consts::PI;
 

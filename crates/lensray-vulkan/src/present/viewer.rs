@@ -170,26 +170,29 @@ impl Viewer {
             .is_none_or(|o| o.format() != swapchain.format)
         {
             self.overlay = None;
-            self.overlay = Some(Overlay::new(&ctx, swapchain.format, FRAMES_IN_FLIGHT)?);
         }
-        self.overlay
-            .as_mut()
-            .expect("created above")
-            .attach(&swapchain)?;
+        let overlay = match &mut self.overlay {
+            Some(overlay) => overlay,
+            empty => empty.insert(Overlay::new(&ctx, swapchain.format, FRAMES_IN_FLIGHT)?),
+        };
+        overlay.attach(&swapchain)?;
         if self
             .view_pass
             .as_ref()
             .is_none_or(|v| v.format() != swapchain.format)
         {
             self.view_pass = None;
+        }
+        let view_pass = match &mut self.view_pass {
+            Some(pass) => pass,
             // Left as the copy into the window leaves it, for the panel's pass.
-            self.view_pass = Some(ViewPass::new(
+            empty => empty.insert(ViewPass::new(
                 &ctx,
                 swapchain.format,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            )?);
-        }
-        self.view_pass.as_mut().expect("created above").attach(
+            )?),
+        };
+        view_pass.attach(
             &swapchain.views,
             swapchain.extent.width,
             swapchain.extent.height,

@@ -125,15 +125,17 @@ impl Frame<'_> {
             .is_none_or(|b| b.size < bytes.len() as u64)
         {
             slot.upload = None;
-            slot.upload = Some(Buffer::new(
+        }
+        let upload = match &mut slot.upload {
+            Some(upload) => upload,
+            empty => empty.insert(Buffer::new(
                 ctx,
                 "preview host samples",
                 bytes.len() as u64,
                 vk::BufferUsageFlags::TRANSFER_SRC,
                 MemoryLocation::CpuToGpu,
-            )?);
-        }
-        let upload = slot.upload.as_mut().expect("created above");
+            )?),
+        };
         upload.write(bytes)?;
         // The slot's upload buffer is not in use (its fence was waited for) and the region fits
         // both buffers (checked above).
