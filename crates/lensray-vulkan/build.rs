@@ -43,17 +43,11 @@ const VARIANTS: &[(&str, &[Variant])] = &[
     ),
     (
         "rt_hit.rahit",
-        &[
-            ("rt_hit.rahit", &[]),
-            ("rt_shadow.rahit", &["SHADOW_RAY"]),
-        ],
+        &[("rt_hit.rahit", &[]), ("rt_shadow.rahit", &["SHADOW_RAY"])],
     ),
     (
         "rt_miss.rmiss",
-        &[
-            ("rt_miss.rmiss", &[]),
-            ("rt_shadow.rmiss", &["SHADOW_RAY"]),
-        ],
+        &[("rt_miss.rmiss", &[]), ("rt_shadow.rmiss", &["SHADOW_RAY"])],
     ),
     (
         "gbuffer.vert",

@@ -47,6 +47,8 @@ impl FromStr for Traversal {
         Traversal::ALL
             .into_iter()
             .find(|t| t.name() == s)
-            .ok_or_else(|| format!("unknown traversal '{s}' (expected rayquery, rtpipeline or software)"))
+            .ok_or_else(|| {
+                format!("unknown traversal '{s}' (expected rayquery, rtpipeline or software)")
+            })
     }
 }

@@ -119,13 +119,19 @@ impl DeviceReport {
         }
     }
 
-    /// Reports the device as lacking ray queries (`GpuOptions::hide_ray_query`): the software
-    /// traversal's tests, and the ray-tracing pipeline's choice where ray queries are absent.
+    /// Reports the device as lacking ray queries and the ray-tracing pipeline
+    /// (`GpuOptions::hide_ray_query`): a device without ray-tracing support, which traces with
+    /// the software traversal.
     pub(crate) fn hide_ray_query(&mut self) {
         if self.ray_query {
             self.ray_query = false;
             self.missing
                 .push("VK_KHR_ray_query (hidden: --hide-ray-query)".into());
+        }
+        if self.rt_pipeline {
+            self.rt_pipeline = false;
+            self.missing_rt_pipeline
+                .push("VK_KHR_ray_tracing_pipeline (hidden: --hide-ray-query)".into());
         }
     }
 }
@@ -443,6 +449,43 @@ mod tests {
                 pipeline_cache_uuid: [index as u8; 16],
             },
         )
+    }
+
+    #[test]
+    fn the_rt_pipeline_is_opened_where_ray_queries_are_absent_or_when_asked_for() {
+        let mut both = fake(0, "both", "discrete GPU", &[]).1;
+        both.rt_pipeline = true;
+        both.missing_rt_pipeline.clear();
+        let all = [
+            Traversal::RayQuery,
+            Traversal::RtPipeline,
+            Traversal::Software,
+        ];
+        assert_eq!(both.traversals(), all);
+        assert_eq!(
+            both.opened_traversals(None),
+            [Traversal::RayQuery, Traversal::Software]
+        );
+        let rt = Some(Traversal::RtPipeline);
+        assert_eq!(both.opened_traversals(rt), [Traversal::RtPipeline]);
+        // A GPU with the pipeline but no ray queries traces with the pipeline first.
+        let mut pipeline_only = both.clone();
+        pipeline_only.ray_query = false;
+        pipeline_only.missing.push("VK_KHR_ray_query".into());
+        assert_eq!(
+            pipeline_only.opened_traversals(None),
+            [Traversal::RtPipeline, Traversal::Software]
+        );
+        let devices = [(vk::Handle::from_raw(1), pipeline_only.clone())];
+        assert_eq!(select(&devices, None, rt).unwrap().1.name, "both");
+        let text = select(&devices, None, Some(Traversal::RayQuery))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(text.contains("VK_KHR_ray_query"), "{text}");
+        both.hide_ray_query();
+        assert_eq!(both.opened_traversals(None), [Traversal::Software]);
+        assert!(both.opened_traversals(rt).is_empty());
     }
 
     #[test]

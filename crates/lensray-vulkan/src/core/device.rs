@@ -8,9 +8,9 @@ use ash::{khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use crate::core::adapter::{enumerate, queue_family, select, DeviceReport};
-use crate::core::features::{accel_scratch_alignment, create_device, RayTracingUse};
 use crate::core::counters::DeviceCounters;
 use crate::core::error::{alloc_err, vk_err, GpuError};
+use crate::core::features::{accel_scratch_alignment, create_device, RayTracingUse};
 use crate::core::instance::Instance;
 use crate::core::pipeline_cache;
 use crate::core::recorder::Recorder;
@@ -80,7 +80,12 @@ impl Context {
         let adapter = pick_adapter(&instance.instance, options, surface)?;
         let uses = RayTracingUse::of(&adapter.traversals);
         let (physical, family) = (adapter.physical, adapter.queue_family);
-        let device = create_device(&instance.instance, (physical, family), uses, surface.is_some())?;
+        let device = create_device(
+            &instance.instance,
+            (physical, family),
+            uses,
+            surface.is_some(),
+        )?;
         // SAFETY: the queue family was requested with one queue.
         let queue = unsafe { device.get_device_queue(adapter.queue_family, 0) };
         let accel = uses

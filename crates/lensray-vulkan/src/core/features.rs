@@ -90,7 +90,10 @@ pub(crate) fn create_device(
 
 /// The alignment of acceleration-structure build scratch memory (acceleration structures
 /// enabled).
-pub(crate) fn accel_scratch_alignment(instance: &ash::Instance, physical: vk::PhysicalDevice) -> u64 {
+pub(crate) fn accel_scratch_alignment(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+) -> u64 {
     let mut as_props = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut as_props);
     // SAFETY: the extension is enabled; query only.

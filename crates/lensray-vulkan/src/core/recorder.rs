@@ -328,8 +328,7 @@ impl<'a> Recorder<'a> {
     ) {
         let uses: Vec<_> = uses.iter().map(|&(b, a)| (b, a.in_ray_tracing())).collect();
         self.uses(&uses);
-        let (Some(sbt), Some(rt)) = (pipeline.shader_binding_table(), &self.ctx.ray_tracing)
-        else {
+        let (Some(sbt), Some(rt)) = (pipeline.shader_binding_table(), &self.ctx.ray_tracing) else {
             unreachable!("a ray-tracing pipeline has its table, on a device with the extension");
         };
         pipeline.bind(self.cmd, push);

@@ -207,10 +207,18 @@ fn info_lists_a_ray_query_device() {
         panic!("no ray-query device in {devices:#?}");
     };
     let text = lensray::cli::info::format_devices(&devices);
+    let (rt_pipeline, paths) = if usable.rt_pipeline {
+        ("rt pipeline        yes", "rayquery, rtpipeline, software")
+    } else {
+        ("rt pipeline        no: missing", "rayquery, software")
+    };
     assert!(
         text.contains(&usable.name)
             && text.contains("ray queries        yes")
-            && text.contains("paths              rayquery, software, hybrid, raster, cpu"),
+            && text.contains(rt_pipeline)
+            && text.contains(&format!(
+                "paths              {paths}, hybrid, raster (tracing with rayquery), cpu"
+            )),
         "{text}"
     );
 }

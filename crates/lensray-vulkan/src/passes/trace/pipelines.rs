@@ -125,18 +125,21 @@ impl TracePipelines {
     /// Specialized for scenes without textures or alpha tests until `bind_scene` says otherwise.
     fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
         match traversal {
-            Traversal::RayQuery => {
-                Pipeline::compute_specialized(ctx, TraceRayQuerySet::DECL, trace_spirv(traversal), Some(0))
-            }
-            Traversal::Software => {
-                Pipeline::compute_specialized(ctx, TraceSoftwareSet::DECL, trace_spirv(traversal), Some(0))
-            }
-            Traversal::RtPipeline => Pipeline::ray_tracing(
+            Traversal::RayQuery => Pipeline::compute_specialized(
                 ctx,
-                TraceRtPipelineSet::DECL,
-                &shader::TRACE_RTPIPELINE,
-                0,
+                TraceRayQuerySet::DECL,
+                trace_spirv(traversal),
+                Some(0),
             ),
+            Traversal::Software => Pipeline::compute_specialized(
+                ctx,
+                TraceSoftwareSet::DECL,
+                trace_spirv(traversal),
+                Some(0),
+            ),
+            Traversal::RtPipeline => {
+                Pipeline::ray_tracing(ctx, TraceRtPipelineSet::DECL, &shader::TRACE_RTPIPELINE, 0)
+            }
         }
     }
 
