@@ -228,37 +228,9 @@ pub(crate) fn report(
                 .to_string_lossy()
         );
 
-        let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
-        let mut f_as = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default();
-        let mut f_rq = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
-        let mut f_rtp = vk::PhysicalDeviceRayTracingPipelineFeaturesKHR::default();
-        let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut f12);
-        if has(khr::acceleration_structure::NAME) {
-            features = features.push_next(&mut f_as);
-        }
-        if has(khr::ray_query::NAME) {
-            features = features.push_next(&mut f_rq);
-        }
-        if has(khr::ray_tracing_pipeline::NAME) {
-            features = features.push_next(&mut f_rtp);
-        }
-        // SAFETY: only structures of supported extensions are chained.
-        unsafe { instance.get_physical_device_features2(pd, &mut features) };
-        let mut accel = Vec::new();
-        if f12.buffer_device_address == vk::FALSE {
-            accel.push("feature bufferDeviceAddress".to_string());
-        }
-        if has(khr::acceleration_structure::NAME) && f_as.acceleration_structure == vk::FALSE {
-            accel.push("feature accelerationStructure".into());
-        }
-        missing.extend(accel.iter().cloned());
-        missing_rt_pipeline.extend(accel);
-        if has(khr::ray_query::NAME) && f_rq.ray_query == vk::FALSE {
-            missing.push("feature rayQuery".into());
-        }
-        if has(khr::ray_tracing_pipeline::NAME) && f_rtp.ray_tracing_pipeline == vk::FALSE {
-            missing_rt_pipeline.push("feature rayTracingPipeline".into());
-        }
+        let (rq, rtp) = missing_features(instance, pd, &has);
+        missing.extend(rq);
+        missing_rt_pipeline.extend(rtp);
     }
     let family = queue_family(instance, pd);
     if family.is_none() {
@@ -297,6 +269,47 @@ pub(crate) fn report(
         device_id: props.device_id,
         pipeline_cache_uuid: props.pipeline_cache_uuid,
     })
+}
+
+/// The features that `pd` (Vulkan 1.2) lacks for ray queries and for the ray-tracing pipeline,
+/// of those its extensions (`has`) bring: each list with the acceleration structures' first.
+fn missing_features(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    has: &dyn Fn(&CStr) -> bool,
+) -> (Vec<String>, Vec<String>) {
+    let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut f_as = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default();
+    let mut f_rq = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
+    let mut f_rtp = vk::PhysicalDeviceRayTracingPipelineFeaturesKHR::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut f12);
+    if has(khr::acceleration_structure::NAME) {
+        features = features.push_next(&mut f_as);
+    }
+    if has(khr::ray_query::NAME) {
+        features = features.push_next(&mut f_rq);
+    }
+    if has(khr::ray_tracing_pipeline::NAME) {
+        features = features.push_next(&mut f_rtp);
+    }
+    // SAFETY: only structures of supported extensions are chained.
+    unsafe { instance.get_physical_device_features2(pd, &mut features) };
+    let mut accel = Vec::new();
+    if f12.buffer_device_address == vk::FALSE {
+        accel.push("feature bufferDeviceAddress".to_string());
+    }
+    if has(khr::acceleration_structure::NAME) && f_as.acceleration_structure == vk::FALSE {
+        accel.push("feature accelerationStructure".into());
+    }
+    let mut rtp = accel.clone();
+    let mut rq = accel;
+    if has(khr::ray_query::NAME) && f_rq.ray_query == vk::FALSE {
+        rq.push("feature rayQuery".into());
+    }
+    if has(khr::ray_tracing_pipeline::NAME) && f_rtp.ray_tracing_pipeline == vk::FALSE {
+        rtp.push("feature rayTracingPipeline".into());
+    }
+    (rq, rtp)
 }
 
 pub(crate) fn enumerate(

@@ -69,7 +69,7 @@ impl ShaderBindingTable {
         counts: GroupCounts,
     ) -> Result<Self, GpuError> {
         let rt = ctx.ray_tracing()?;
-        let layout = Layout::of(rt, counts);
+        let layout = TableLayout::of(rt, counts);
         let group_count = 1 + counts.misses + counts.hits;
         let handle_size = rt.handle_size as usize;
         // SAFETY: `pipeline` is a live ray-tracing pipeline with `group_count` groups; the size
@@ -128,7 +128,7 @@ impl ShaderBindingTable {
 
 /// Where the regions and records lie in a table, in bytes from its start.
 #[derive(Debug, PartialEq, Eq)]
-struct Layout {
+struct TableLayout {
     /// A miss or hit record: the handle, rounded up to the handle alignment.
     record: u64,
     /// The ray generation region: one record, rounded up to the base alignment (its stride
@@ -140,7 +140,7 @@ struct Layout {
     bytes: u64,
 }
 
-impl Layout {
+impl TableLayout {
     fn of(rt: &RayTracing, counts: GroupCounts) -> Self {
         Self::with(
             (rt.handle_size, rt.handle_alignment, rt.base_alignment),
@@ -182,7 +182,7 @@ mod tests {
     fn regions_start_at_the_base_alignment_and_records_at_the_handle_alignment() {
         let counts = GroupCounts { misses: 2, hits: 2 };
         // NVIDIA's properties: 32-byte handles, 32-byte records, regions at 64 bytes.
-        let layout = Layout::with((32, 32, 64), counts);
+        let layout = TableLayout::with((32, 32, 64), counts);
         assert_eq!(layout.record, 32);
         assert_eq!(layout.raygen_size, 64);
         assert_eq!((layout.miss_offset, layout.hit_offset), (64, 128));
@@ -190,7 +190,7 @@ mod tests {
         let offsets: Vec<u64> = (0..5).map(|g| layout.record_offset(g)).collect();
         assert_eq!(offsets, [0, 64, 96, 128, 160]);
         // A handle smaller than its alignment: records keep the alignment.
-        let layout = Layout::with((20, 32, 64), GroupCounts { misses: 3, hits: 1 });
+        let layout = TableLayout::with((20, 32, 64), GroupCounts { misses: 3, hits: 1 });
         assert_eq!(layout.record, 32);
         assert_eq!(layout.hit_offset, 192);
         assert_eq!(layout.record_offset(3), 128);

@@ -124,23 +124,15 @@ impl TracePipelines {
     /// pass's own buffers.
     /// Specialized for scenes without textures or alpha tests until `bind_scene` says otherwise.
     fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
-        match traversal {
-            Traversal::RayQuery => Pipeline::compute_specialized(
-                ctx,
-                TraceRayQuerySet::DECL,
-                trace_spirv(traversal),
-                Some(0),
-            ),
-            Traversal::Software => Pipeline::compute_specialized(
-                ctx,
-                TraceSoftwareSet::DECL,
-                trace_spirv(traversal),
-                Some(0),
-            ),
+        let set = match traversal {
+            Traversal::RayQuery => TraceRayQuerySet::DECL,
+            Traversal::Software => TraceSoftwareSet::DECL,
             Traversal::RtPipeline => {
-                Pipeline::ray_tracing(ctx, TraceRtPipelineSet::DECL, &shader::TRACE_RTPIPELINE, 0)
+                let set = TraceRtPipelineSet::DECL;
+                return Pipeline::ray_tracing(ctx, set, &shader::TRACE_RTPIPELINE, 0);
             }
-        }
+        };
+        Pipeline::compute_specialized(ctx, set, trace_spirv(traversal), Some(0))
     }
 
     /// The traversals the pass can trace with.
