@@ -41,7 +41,7 @@ pub(crate) struct Context {
     pub accel: Option<khr::acceleration_structure::Device>,
     /// The ray-tracing pipeline's functions and properties, when it is enabled.
     pub ray_tracing: Option<RayTracing>,
-    /// The traversals this device was opened for (ray queries enabled or not).
+    /// The traversals this device was opened for (`DeviceReport::opened_traversals`).
     pub traversals: Vec<Traversal>,
     pub queue: vk::Queue,
     pub command_pool: vk::CommandPool,
