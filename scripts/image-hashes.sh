@@ -24,7 +24,7 @@ shots=(
   "hexagon|--aperture-blades 6 --aperture-roundness 0.2"
   "double-gauss|--lens double-gauss-50 --f-number 2"
 )
-for path in cpu rayquery software hybrid raster; do
+for path in cpu rayquery rtpipeline software hybrid raster; do
   for shot in "${shots[@]}"; do
     name=${shot%%|*}
     # shellcheck disable=SC2206
@@ -32,7 +32,7 @@ for path in cpu rayquery software hybrid raster; do
     case "$path:$name" in
       hybrid:double-gauss) continue ;; # the hybrid refuses real lenses
     esac
-    # The hybrid and raster paths trace with the traversal a timing race picks, and the two
+    # The hybrid and raster paths trace with the traversal a timing race picks, and the
     # traversals' images differ in the last bits: pin the software traversal.
     case "$path" in hybrid | raster) extra+=(--hide-ray-query) ;; esac
     file="$out/$path-$name.exr"

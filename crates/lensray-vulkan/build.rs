@@ -22,8 +22,11 @@ const INTERFACE_HEADER: &str = "interface.glsl";
 /// A variant of a shader: its output name and the macros it defines.
 type Variant = (&'static str, &'static [&'static str]);
 
-/// Shaders compiled more than once: file name, then its variants. trace.comp: one closest-hit
-/// implementation each (lensray-vulkan/src/passes/trace.rs picks the pipeline). The raster
+/// Shaders compiled more than once: file name, then its variants; a variant's stage is its
+/// output name's extension. trace.comp: one closest-hit implementation each
+/// (lensray-vulkan/src/passes/trace.rs picks the pipeline), the ray-tracing pipeline's as its
+/// ray generation stage. The ray-tracing pipeline's any-hit and miss stages: one per kind of
+/// ray (shaders/include/hit_rtpipeline.glsl). The raster
 /// stages: as written, and with PLAIN_SURFACES, which draws the surfaces with none of the bits
 /// the pass is specialized on (untextured and opaque; the visibility pass: not alpha-tested),
 /// without the inputs only those bits' code reads. The G-buffer's vertex stage and the view
@@ -35,7 +38,16 @@ const VARIANTS: &[(&str, &[Variant])] = &[
         &[
             ("trace_rayquery.comp", &["TRAVERSAL_RAY_QUERY"]),
             ("trace_software.comp", &["TRAVERSAL_SOFTWARE"]),
+            ("trace_rtpipeline.rgen", &["TRAVERSAL_RT_PIPELINE"]),
         ],
+    ),
+    (
+        "rt_hit.rahit",
+        &[("rt_hit.rahit", &[]), ("rt_shadow.rahit", &["SHADOW_RAY"])],
+    ),
+    (
+        "rt_miss.rmiss",
+        &[("rt_miss.rmiss", &[]), ("rt_shadow.rmiss", &["SHADOW_RAY"])],
     ),
     (
         "gbuffer.vert",
@@ -130,13 +142,10 @@ fn main() {
     let mut failures = Vec::new();
     for path in entries {
         println!("cargo:rerun-if-changed={}", path.display());
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        let kind = match ext {
-            "vert" => shaderc::ShaderKind::Vertex,
-            "frag" => shaderc::ShaderKind::Fragment,
-            "comp" => shaderc::ShaderKind::Compute,
-            _ => continue, // includes (*.glsl) are compiled as part of their users
-        };
+        // Includes (*.glsl) are compiled as part of their users.
+        if stage_of(&path).is_none() {
+            continue;
+        }
         let source = std::fs::read_to_string(&path).expect("read shader");
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let variants: Vec<(String, &[&str])> = match VARIANTS.iter().find(|(file, _)| *file == name)
@@ -148,6 +157,7 @@ fn main() {
             None => vec![(name.clone(), &[])],
         };
         for (out_name, defines) in variants {
+            let kind = stage_of(Path::new(&out_name)).expect("a variant names its stage");
             let options = compile_options(&include_dir, &out, defines);
             match compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options)) {
                 Ok(artifact) => {
@@ -169,6 +179,20 @@ fn main() {
         }
         panic!("shader compilation failed:\n{}", failures.join("\n"));
     }
+}
+
+/// The stage of a shader named `path`, by its extension (`None`: an include).
+fn stage_of(path: &Path) -> Option<shaderc::ShaderKind> {
+    Some(match path.extension().and_then(|e| e.to_str())? {
+        "vert" => shaderc::ShaderKind::Vertex,
+        "frag" => shaderc::ShaderKind::Fragment,
+        "comp" => shaderc::ShaderKind::Compute,
+        "rgen" => shaderc::ShaderKind::RayGeneration,
+        "rchit" => shaderc::ShaderKind::ClosestHit,
+        "rahit" => shaderc::ShaderKind::AnyHit,
+        "rmiss" => shaderc::ShaderKind::Miss,
+        _ => return None,
+    })
 }
 
 /// Vulkan 1.2 / SPIR-V 1.4, optimised, warnings as errors, includes from `shaders/include/` (and the

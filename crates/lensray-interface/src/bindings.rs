@@ -67,6 +67,8 @@ pub enum Stages {
     Compute,
     /// The vertex and fragment stages of a raster pass.
     Raster,
+    /// The stages of a ray-tracing pipeline: ray generation, closest hit, any hit and miss.
+    RayTracing,
 }
 
 /// A pipeline's descriptor set, as `descriptor_sets!` declares it.
@@ -411,6 +413,12 @@ descriptor_sets! {
     /// trace.comp with the software traversal.
     TraceSoftwareSet("trace_software", Compute, crate::TracePush) {
         SceneGroup, BvhGroup, TraceGroup, AccumulationGroup, HybridTraceGroup, RasterTraceGroup,
+        ApertureGroup, LensGroup,
+    }
+    /// trace.comp as the ray generation of a ray-tracing pipeline, with its hit and miss
+    /// shaders (rt_hit.rchit, rt_hit.rahit, rt_miss.rmiss).
+    TraceRtPipelineSet("trace_rtpipeline", RayTracing, crate::TracePush) {
+        SceneGroup, TlasGroup, TraceGroup, AccumulationGroup, HybridTraceGroup, RasterTraceGroup,
         ApertureGroup, LensGroup,
     }
     /// The G-buffer pass (gbuffer.vert, gbuffer.frag).

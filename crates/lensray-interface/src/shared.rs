@@ -95,6 +95,11 @@ shader_interface! {
 
         /// Workgroups: trace.comp is TRACE_GROUP_SIZE x TRACE_GROUP_SIZE (a coherent tile).
         TRACE_GROUP_SIZE: u32 = 8;
+        /// The ray-tracing pipeline's two kinds of ray (shaders/include/hit_rtpipeline.glsl):
+        /// each its payload's location, its hit group and its miss shader in the shader
+        /// binding table (lensray-vulkan's core/sbt.rs).
+        RT_RAY_CLOSEST: u32 = 0;
+        RT_RAY_SHADOW: u32 = 1;
         PROBE_GROUP_SIZE: u32 = 64;
 
         /// `Light.kind` (`scene::LightKind`).

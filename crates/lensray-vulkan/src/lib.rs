@@ -1,7 +1,8 @@
 //! The Vulkan renderer (ash, raw Vulkan 1.2): a raster G-buffer pass and a thin-lens compute
-//! pass that finds closest hits with one of two [`Traversal`]s: VK_KHR_ray_query against
-//! per-mesh BLASes under one TLAS, or a software traversal of the project's own BVH in the
-//! shader, which needs no ray-tracing support.
+//! pass that finds closest hits with one of three [`Traversal`]s: VK_KHR_ray_query against
+//! per-mesh BLASes under one TLAS, VK_KHR_ray_tracing_pipeline against the same structures (the
+//! pass's shader as a ray-tracing pipeline's ray generation stage), or a software traversal of
+//! the project's own BVH in the shader, which needs no ray-tracing support.
 //!
 //! The camera is the Rust [`Camera`](lensray_core::camera::Camera): the raster pass projects
 //! with `clip_from_world()`, the compute pass generates rays with
@@ -107,11 +108,13 @@ pub struct GpuOptions {
     /// first).
     pub device_index: Option<usize>,
     /// The traversal to open the device for: `RayQuery` needs a device with ray queries,
-    /// `Software` enables no ray-tracing extension and builds only the BVH; None opens both
-    /// where the device has ray queries (ray queries in use first), else software only.
+    /// `RtPipeline` one with the ray-tracing pipeline, `Software` enables no ray-tracing
+    /// extension and builds only the BVH; None opens every traversal the device runs but the
+    /// ray-tracing pipeline where ray queries serve, the first in use
+    /// (`DeviceReport::opened_traversals`).
     pub traversal: Option<Traversal>,
-    /// Treat every device as lacking VK_KHR_ray_query (tests of the software traversal on a
-    /// device that has it).
+    /// Treat every device as lacking VK_KHR_ray_query and VK_KHR_ray_tracing_pipeline (tests of
+    /// the software traversal on a device that has them).
     pub hide_ray_query: bool,
     /// Say in one line on stderr when the driver compiles the shaders for a device's first use
     /// (its pipeline cache file is not there yet).

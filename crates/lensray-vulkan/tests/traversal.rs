@@ -1,18 +1,19 @@
-//! The compute pass's two closest-hit implementations (ray queries; the software traversal of
-//! the project's own BVH) on the device present (lavapipe on CI), validation on: the software
-//! traversal finds the surfaces ray queries find, shades like the CPU reference, and runs on a
-//! device whose ray queries are hidden.
+//! The trace pass's closest-hit implementations (ray queries; the ray-tracing pipeline; the
+//! software traversal of the project's own BVH) on the device present (lavapipe on CI),
+//! validation on: the ray-tracing pipeline and the software traversal find the surfaces ray
+//! queries find, the software traversal shades like the CPU reference and runs on a device whose
+//! ray queries are hidden.
 //!
 //! Skipping follows tests/renderer.rs (LENSRAY_SKIP_GPU_TESTS=1 on machines without a device).
 
 mod support;
 
 use lensray_core::camera::LensParams;
-use lensray_core::film::Image;
+use lensray_core::film::{Accumulation, Image};
 use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::scene::Scene;
 use lensray_core::settings::{Shading, Shot};
-use lensray_vulkan::{GpuError, GpuOptions, Traversal};
+use lensray_vulkan::{Estimator, GpuError, GpuOptions, Traversal};
 use support::*;
 
 /// The project's scenes (built-in default, Cornell box) as the CLI resolves them, small.
@@ -107,6 +108,106 @@ fn software_equals_rayquery_unlit() {
         assert!(t.accel_bytes > 0 && t.bvh_bytes > 0, "{t:?}");
     }
     finish(gpu, log);
+}
+
+/// The ray-tracing pipeline traces through the acceleration structures ray queries use, with
+/// the same alpha test and shading: unlit and lit (its shadow rays), the project's scenes, the
+/// same images as ray queries but for shared-edge ties.
+#[test]
+fn rtpipeline_equals_rayquery() {
+    let test = "rtpipeline_equals_rayquery";
+    let open = |traversal| {
+        let options = GpuOptions {
+            traversal: Some(traversal),
+            ..Default::default()
+        };
+        renderer_with(test, &options)
+    };
+    let Some((mut rayquery, rayquery_log)) = open(Traversal::RayQuery) else {
+        return;
+    };
+    if !rayquery.device_report().rt_pipeline {
+        record_skip(test, "the device has no ray-tracing pipeline");
+        return;
+    }
+    let Some((mut pipeline, pipeline_log)) = open(Traversal::RtPipeline) else {
+        return;
+    };
+    assert_eq!(pipeline.traversals(), vec![Traversal::RtPipeline]);
+    for shading in [Shading::Unlit, Shading::Lit] {
+        for (name, scene, shot) in project_scenes(96, 72, 2, shading) {
+            rayquery.load_scene(&scene).expect("load scene");
+            pipeline.load_scene(&scene).expect("load scene");
+            let expected = rayquery.render(&shot, &mut |_, _| {}).expect("ray queries");
+            let image = pipeline.render(&shot, &mut |_, _| {}).expect("rt pipeline");
+            let differing = differing_pixels(&image, &expected);
+            let pixels = image.pixels.len();
+            println!("{name} {shading:?}: {differing} of {pixels} pixels differ");
+            if differing * 1000 >= pixels {
+                let files = write_comparison(&image, &expected, &format!("rtp-rq-{name}"));
+                panic!("{name} {shading:?}: {differing} of {pixels} pixels differ; wrote {files}");
+            }
+            let t = pipeline.timings();
+            assert!(t.accel_bytes > 0 && t.bvh_bytes == 0, "{t:?}");
+        }
+    }
+    finish(pipeline, pipeline_log);
+    finish(rayquery, rayquery_log);
+}
+
+/// On a device opened for the ray-tracing pipeline alone (as one without ray queries), the
+/// hybrid and raster estimators trace their rays with it: lit, the same sums as with ray
+/// queries but for shared-edge ties.
+#[test]
+fn rtpipeline_traces_the_hybrid_and_raster_estimators() {
+    let test = "rtpipeline_traces_the_hybrid_and_raster_estimators";
+    let open = |traversal| {
+        let options = GpuOptions {
+            traversal: Some(traversal),
+            ..Default::default()
+        };
+        renderer_with(test, &options)
+    };
+    let Some((mut rayquery, rayquery_log)) = open(Traversal::RayQuery) else {
+        return;
+    };
+    if !rayquery.device_report().rt_pipeline {
+        record_skip(test, "the device has no ray-tracing pipeline");
+        return;
+    }
+    let Some((mut pipeline, pipeline_log)) = open(Traversal::RtPipeline) else {
+        return;
+    };
+    let (name, scene, shot) = project_scenes(96, 72, 4, Shading::Lit).remove(0);
+    rayquery.load_scene(&scene).expect("load scene");
+    pipeline.load_scene(&scene).expect("load scene");
+    for estimator in [Estimator::Hybrid, Estimator::Raster] {
+        let image = |gpu: &mut lensray_vulkan::GpuRenderer| {
+            let cam = &shot.camera;
+            let mut sums = Accumulation::new(cam.width, cam.height);
+            gpu.add_samples(
+                &shot,
+                estimator,
+                0..shot.render.spp,
+                &mut sums,
+                &mut |_, _| {},
+            )
+            .expect("add samples");
+            gpu.read_sums(&mut sums).expect("read sums");
+            sums.image().expect("on the host")
+        };
+        let expected = image(&mut rayquery);
+        let traced = image(&mut pipeline);
+        let differing = differing_pixels(&traced, &expected);
+        let pixels = traced.pixels.len();
+        println!("{name} {estimator:?}: {differing} of {pixels} pixels differ");
+        if differing * 1000 >= pixels {
+            let files = write_comparison(&traced, &expected, &format!("rtp-rq-{estimator:?}"));
+            panic!("{estimator:?}: {differing} of {pixels} pixels differ; wrote {files}");
+        }
+    }
+    finish(pipeline, pipeline_log);
+    finish(rayquery, rayquery_log);
 }
 
 /// Lit, the software traversal against the CPU reference with the statistics of
@@ -209,7 +310,7 @@ fn a_requested_traversal_builds_only_its_structures() {
         assert_eq!(
             (t.accel_bytes > 0, t.bvh_bytes > 0),
             (
-                traversal == Traversal::RayQuery,
+                traversal != Traversal::Software,
                 traversal == Traversal::Software
             ),
             "{traversal}: {t:?}"

@@ -195,7 +195,7 @@ fn render_real_lens_on_traced_paths(movements: Movements) {
         render: settings(Shading::Lit, 8),
     };
     let (cpu, _) = CpuRenderer::new(&test_scene()).render(&shot, &mut |_, _| {});
-    for kind in [PathKind::RayQuery, PathKind::Software] {
+    for kind in [PathKind::RayQuery, PathKind::RtPipeline, PathKind::Software] {
         let test = format!("traced_paths_render_a_real_lens_as_the_cpu_does ({kind})");
         let Some(image) = render_path(&test, PathChoice::Only(kind), &shot) else {
             continue;

@@ -139,10 +139,12 @@ fn an_accumulation_moves_between_paths() {
     cpu.add_samples(&shot, 0..8, &mut reference, &mut |_, _| {})
         .expect("cpu 0..8");
     let reference = reference.image().expect("on the host");
-    for choice in available(test)
-        .into_iter()
-        .filter(|c| matches!(c.only(), Some(PathKind::RayQuery | PathKind::Software)))
-    {
+    for choice in available(test).into_iter().filter(|c| {
+        matches!(
+            c.only(),
+            Some(PathKind::RayQuery | PathKind::RtPipeline | PathKind::Software)
+        )
+    }) {
         let Some(OpenedPath { mut path, .. }) = open(test, choice) else {
             continue;
         };
@@ -225,7 +227,12 @@ fn gpu_paths_agree_with_the_cpu_on_a_shaped_aperture() {
         for choice in available(test).into_iter().filter(|c| {
             matches!(
                 c.only(),
-                Some(PathKind::RayQuery | PathKind::Software | PathKind::Raster)
+                Some(
+                    PathKind::RayQuery
+                        | PathKind::RtPipeline
+                        | PathKind::Software
+                        | PathKind::Raster
+                )
             )
         }) {
             let Some(OpenedPath { mut path, .. }) = open(test, choice) else {

@@ -233,7 +233,12 @@ fn gpu_paths_render_the_textured_gltf_as_the_cpu_does() {
     let test = "gpu_paths_render_the_textured_gltf_as_the_cpu_does";
     let (_dir, gltf, _) = generated();
     let scene = &gltf.scene;
-    for kind in [PathKind::RayQuery, PathKind::Software, PathKind::Raster] {
+    for kind in [
+        PathKind::RayQuery,
+        PathKind::RtPipeline,
+        PathKind::Software,
+        PathKind::Raster,
+    ] {
         let shots = [Shading::Unlit, Shading::Lit].map(|shading| {
             let mut shot = small_shot(&gltf, shading, 8);
             shot.render.shared_samples = kind == PathKind::Raster;

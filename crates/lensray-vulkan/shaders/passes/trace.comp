@@ -2,8 +2,10 @@
 // Thin-lens compute pass: spp camera samples per pixel, each traced and shaded as specified for
 // every renderer (shading.glsl; lensray-core/src/settings/render.rs, the CPU reference). build.rs compiles it
 // once per closest-hit implementation: TRAVERSAL_RAY_QUERY (ray queries against the TLAS,
-// hit_rayquery.glsl) and TRAVERSAL_SOFTWARE (the project's own BVH, hit_software.glsl, no
-// ray-tracing extension). One dispatch covers some rows (strided) and a range of samples; sums
+// hit_rayquery.glsl), TRAVERSAL_SOFTWARE (the project's own BVH, hit_software.glsl, no
+// ray-tracing extension) and TRAVERSAL_RT_PIPELINE (the ray generation stage of a ray-tracing
+// pipeline, traceRayEXT against the TLAS, hit_rtpipeline.glsl: the same pixels and samples, a
+// launch of TRACE_GROUP_SIZE rows per block standing for the workgroups). One dispatch covers some rows (strided) and a range of samples; sums
 // accumulate in `accum` (xyz: the sum, w: how many samples), which holds a band of rows of the
 // image (bounded by the device's storage-buffer range).
 // The hybrid path (src/estimators.rs, docs/hybrid.md) runs it in TRACE_MODE_HYBRID: a plan
@@ -14,12 +16,16 @@
 // of its raster passes: one camera sample shared by all pixels, whose first hit the pass drew.
 #if defined(TRAVERSAL_RAY_QUERY)
 #extension GL_EXT_ray_query : require
+#elif defined(TRAVERSAL_RT_PIPELINE)
+#extension GL_EXT_ray_tracing : require
 #elif !defined(TRAVERSAL_SOFTWARE)
-#error "define TRAVERSAL_RAY_QUERY or TRAVERSAL_SOFTWARE"
+#error "define TRAVERSAL_RAY_QUERY, TRAVERSAL_SOFTWARE or TRAVERSAL_RT_PIPELINE"
 #endif
 
 #if defined(TRAVERSAL_RAY_QUERY)
 #include "set_trace_rayquery.glsl"
+#elif defined(TRAVERSAL_RT_PIPELINE)
+#include "set_trace_rtpipeline.glsl"
 #else
 #include "set_trace_software.glsl"
 #endif
@@ -29,7 +35,19 @@
 #include "scene.glsl"
 #include "texture.glsl"
 
+#if defined(TRAVERSAL_RT_PIPELINE)
+// The pixel and its block of rows: launch (x, y) is the compute pass's invocation (x, y).
+#define PIXEL_X gl_LaunchIDEXT.x
+#define BLOCK (gl_LaunchIDEXT.y / TRACE_GROUP_SIZE)
+#define BLOCK_ROWS TRACE_GROUP_SIZE
+#define ROW_IN_BLOCK (gl_LaunchIDEXT.y % TRACE_GROUP_SIZE)
+#else
 layout(local_size_x = TRACE_GROUP_SIZE, local_size_y = TRACE_GROUP_SIZE) in;
+#define PIXEL_X gl_GlobalInvocationID.x
+#define BLOCK gl_WorkGroupID.y
+#define BLOCK_ROWS gl_WorkGroupSize.y
+#define ROW_IN_BLOCK gl_LocalInvocationID.y
+#endif
 
 layout(push_constant) uniform PushBlock { TracePush pc; };
 
@@ -43,6 +61,8 @@ struct Hit {
 
 #if defined(TRAVERSAL_RAY_QUERY)
 #include "hit_rayquery.glsl"
+#elif defined(TRAVERSAL_RT_PIPELINE)
+#include "hit_rtpipeline.glsl"
 #else
 #include "hit_software.glsl"
 #endif
@@ -157,10 +177,9 @@ LightDraw sample_draw(PixelSampler state, uint pixel_index, uint s) {
 //   lockstep) check alike. Lit, the value is reprojected per sample (above); unlit the albedo is
 //   the value of every lens ray of a uniform neighbourhood.
 uint trace_pixel() {
-    uint x = gl_GlobalInvocationID.x;
-    uint block = gl_WorkGroupID.y;
-    uint band_row = (pc.block_first + block * pc.block_stride) * gl_WorkGroupSize.y
-                  + gl_LocalInvocationID.y;
+    uint x = PIXEL_X;
+    uint block = BLOCK;
+    uint band_row = (pc.block_first + block * pc.block_stride) * BLOCK_ROWS + ROW_IN_BLOCK;
     uint y = pc.band_origin + band_row;
     if (x >= params.width || block >= pc.block_count || band_row >= pc.band_height) {
         return 0u;
@@ -240,6 +259,15 @@ uint trace_pixel() {
     return rays;
 }
 
+#if defined(TRAVERSAL_RT_PIPELINE)
+// A ray generation stage has no workgroup to sum the rays in: each invocation adds its own.
+void main() {
+    uint rays = trace_pixel();
+    if (rays != 0u) {
+        atomicAdd(rays_traced, rays);
+    }
+}
+#else
 // Rays are summed per workgroup in shared memory and added to the global counter once per
 // workgroup: a global atomic per invocation serializes on one address across the whole GPU.
 shared uint group_rays;
@@ -260,3 +288,4 @@ void main() {
         atomicAdd(rays_traced, group_rays);
     }
 }
+#endif

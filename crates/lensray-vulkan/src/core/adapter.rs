@@ -27,6 +27,11 @@ pub struct DeviceReport {
     pub ray_query: bool,
     /// What is missing for ray queries (extension names, features); empty when `ray_query`.
     pub missing: Vec<String>,
+    /// Whether it can run the ray-tracing pipeline's traversal (VK_KHR_ray_tracing_pipeline
+    /// over the same acceleration structures).
+    pub rt_pipeline: bool,
+    /// What is missing for the ray-tracing pipeline; empty when `rt_pipeline`.
+    pub missing_rt_pipeline: Vec<String>,
     /// Whether it can run the software traversal (Vulkan 1.2 and a graphics + compute queue;
     /// no ray-tracing support needed).
     pub software: bool,
@@ -54,6 +59,13 @@ pub(crate) const DEVICE_EXTENSIONS: [&CStr; 3] = [
     khr::deferred_host_operations::NAME,
 ];
 
+/// The extensions of the ray-tracing pipeline's traversal.
+pub(crate) const RT_PIPELINE_EXTENSIONS: [&CStr; 3] = [
+    khr::acceleration_structure::NAME,
+    khr::ray_tracing_pipeline::NAME,
+    khr::deferred_host_operations::NAME,
+];
+
 impl DeviceReport {
     /// Whether the device is a CPU implementation of Vulkan (VK_PHYSICAL_DEVICE_TYPE_CPU, as
     /// lavapipe): it runs on the cores the CPU reference renders with.
@@ -61,11 +73,15 @@ impl DeviceReport {
         self.device_type == type_name(vk::PhysicalDeviceType::CPU)
     }
 
-    /// The traversals this device can run, ray queries first.
+    /// The traversals this device can run, the driver's first: ray queries, the ray-tracing
+    /// pipeline, then the software traversal.
     pub fn traversals(&self) -> Vec<Traversal> {
         let mut out = Vec::new();
         if self.ray_query {
             out.push(Traversal::RayQuery);
+        }
+        if self.rt_pipeline {
+            out.push(Traversal::RtPipeline);
         }
         if self.software {
             out.push(Traversal::Software);
@@ -73,9 +89,24 @@ impl DeviceReport {
         out
     }
 
+    /// The traversals a device opened for `wanted` (`None`: its best) runs: the one wanted,
+    /// else every one it can run but the ray-tracing pipeline where ray queries serve (they
+    /// trace from the same compute pass as the other traversals, and a second pipeline of the
+    /// driver's would be compiled for nothing).
+    pub fn opened_traversals(&self, wanted: Option<Traversal>) -> Vec<Traversal> {
+        self.traversals()
+            .into_iter()
+            .filter(|&t| match wanted {
+                Some(wanted) => wanted == t,
+                None => t != Traversal::RtPipeline || !self.ray_query,
+            })
+            .collect()
+    }
+
     fn can_run(&self, traversal: Option<Traversal>) -> bool {
         match traversal {
             Some(Traversal::RayQuery) => self.ray_query,
+            Some(Traversal::RtPipeline) => self.rt_pipeline,
             _ => self.software,
         }
     }
@@ -83,16 +114,24 @@ impl DeviceReport {
     fn missing_for(&self, traversal: Option<Traversal>) -> &[String] {
         match traversal {
             Some(Traversal::RayQuery) => &self.missing,
+            Some(Traversal::RtPipeline) => &self.missing_rt_pipeline,
             _ => &self.missing_software,
         }
     }
 
-    /// Reports the device as lacking ray queries (`GpuOptions::hide_ray_query`).
+    /// Reports the device as lacking ray queries and the ray-tracing pipeline
+    /// (`GpuOptions::hide_ray_query`): a device without ray-tracing support, which traces with
+    /// the software traversal.
     pub(crate) fn hide_ray_query(&mut self) {
         if self.ray_query {
             self.ray_query = false;
             self.missing
                 .push("VK_KHR_ray_query (hidden: --hide-ray-query)".into());
+        }
+        if self.rt_pipeline {
+            self.rt_pipeline = false;
+            self.missing_rt_pipeline
+                .push("VK_KHR_ray_tracing_pipeline (hidden: --hide-ray-query)".into());
         }
     }
 }
@@ -152,6 +191,7 @@ pub(crate) fn report(
     let has = |name: &CStr| exts.iter().any(|e| e.extension_name_as_c_str() == Ok(name));
 
     let mut missing = Vec::new();
+    let mut missing_rt_pipeline = Vec::new();
     let mut missing_software = Vec::new();
     let api_ok = props.api_version >= vk::API_VERSION_1_2;
     if !api_ok {
@@ -163,6 +203,11 @@ pub(crate) fn report(
     for name in DEVICE_EXTENSIONS {
         if !has(name) {
             missing.push(name.to_string_lossy().into_owned());
+        }
+    }
+    for name in RT_PIPELINE_EXTENSIONS {
+        if !has(name) {
+            missing_rt_pipeline.push(name.to_string_lossy().into_owned());
         }
     }
     let mut driver = String::new();
@@ -183,27 +228,9 @@ pub(crate) fn report(
                 .to_string_lossy()
         );
 
-        let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
-        let mut f_as = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default();
-        let mut f_rq = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
-        let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut f12);
-        if has(khr::acceleration_structure::NAME) {
-            features = features.push_next(&mut f_as);
-        }
-        if has(khr::ray_query::NAME) {
-            features = features.push_next(&mut f_rq);
-        }
-        // SAFETY: only structures of supported extensions are chained.
-        unsafe { instance.get_physical_device_features2(pd, &mut features) };
-        if f12.buffer_device_address == vk::FALSE {
-            missing.push("feature bufferDeviceAddress".into());
-        }
-        if has(khr::acceleration_structure::NAME) && f_as.acceleration_structure == vk::FALSE {
-            missing.push("feature accelerationStructure".into());
-        }
-        if has(khr::ray_query::NAME) && f_rq.ray_query == vk::FALSE {
-            missing.push("feature rayQuery".into());
-        }
+        let (rq, rtp) = missing_features(instance, pd, &has);
+        missing.extend(rq);
+        missing_rt_pipeline.extend(rtp);
     }
     let family = queue_family(instance, pd);
     if family.is_none() {
@@ -211,6 +238,7 @@ pub(crate) fn report(
     }
     // Ray queries need everything the software traversal needs, first in the list.
     missing.splice(0..0, missing_software.iter().cloned());
+    missing_rt_pipeline.splice(0..0, missing_software.iter().cloned());
     let limits = props.limits;
     Ok(DeviceReport {
         index,
@@ -225,6 +253,8 @@ pub(crate) fn report(
         driver,
         ray_query: missing.is_empty(),
         missing,
+        rt_pipeline: missing_rt_pipeline.is_empty(),
+        missing_rt_pipeline,
         software: missing_software.is_empty(),
         missing_software,
         max_image_dimension_2d: limits.max_image_dimension2_d,
@@ -239,6 +269,47 @@ pub(crate) fn report(
         device_id: props.device_id,
         pipeline_cache_uuid: props.pipeline_cache_uuid,
     })
+}
+
+/// The features that `pd` (Vulkan 1.2) lacks for ray queries and for the ray-tracing pipeline,
+/// of those its extensions (`has`) bring: each list with the acceleration structures' first.
+fn missing_features(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    has: &dyn Fn(&CStr) -> bool,
+) -> (Vec<String>, Vec<String>) {
+    let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut f_as = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default();
+    let mut f_rq = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
+    let mut f_rtp = vk::PhysicalDeviceRayTracingPipelineFeaturesKHR::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut f12);
+    if has(khr::acceleration_structure::NAME) {
+        features = features.push_next(&mut f_as);
+    }
+    if has(khr::ray_query::NAME) {
+        features = features.push_next(&mut f_rq);
+    }
+    if has(khr::ray_tracing_pipeline::NAME) {
+        features = features.push_next(&mut f_rtp);
+    }
+    // SAFETY: only structures of supported extensions are chained.
+    unsafe { instance.get_physical_device_features2(pd, &mut features) };
+    let mut accel = Vec::new();
+    if f12.buffer_device_address == vk::FALSE {
+        accel.push("feature bufferDeviceAddress".to_string());
+    }
+    if has(khr::acceleration_structure::NAME) && f_as.acceleration_structure == vk::FALSE {
+        accel.push("feature accelerationStructure".into());
+    }
+    let mut rtp = accel.clone();
+    let mut rq = accel;
+    if has(khr::ray_query::NAME) && f_rq.ray_query == vk::FALSE {
+        rq.push("feature rayQuery".into());
+    }
+    if has(khr::ray_tracing_pipeline::NAME) && f_rtp.ray_tracing_pipeline == vk::FALSE {
+        rtp.push("feature rayTracingPipeline".into());
+    }
+    (rq, rtp)
 }
 
 pub(crate) fn enumerate(
@@ -272,6 +343,7 @@ fn describe_missing(reports: &[DeviceReport], traversal: Option<Traversal>) -> S
 fn requirement(traversal: Option<Traversal>) -> &'static str {
     match traversal {
         Some(Traversal::RayQuery) => "supports VK_KHR_ray_query",
+        Some(Traversal::RtPipeline) => "supports VK_KHR_ray_tracing_pipeline",
         _ => "can run lensray (Vulkan 1.2 with a graphics + compute queue)",
     }
 }
@@ -307,6 +379,7 @@ pub(crate) fn select(
         if !r.can_run(traversal) {
             let what = match traversal {
                 Some(Traversal::RayQuery) => "does not support VK_KHR_ray_query",
+                Some(Traversal::RtPipeline) => "does not support VK_KHR_ray_tracing_pipeline",
                 _ => "cannot run lensray",
             };
             return Err(GpuError::NoRayQueryDevice(format!(
@@ -369,6 +442,8 @@ mod tests {
                 driver: String::new(),
                 ray_query: missing.is_empty(),
                 missing: missing.iter().map(|m| m.to_string()).collect(),
+                rt_pipeline: false,
+                missing_rt_pipeline: vec!["VK_KHR_ray_tracing_pipeline".into()],
                 software: !missing.iter().any(|m| m.starts_with("Vulkan 1.2")),
                 missing_software: missing
                     .iter()
@@ -387,6 +462,43 @@ mod tests {
                 pipeline_cache_uuid: [index as u8; 16],
             },
         )
+    }
+
+    #[test]
+    fn the_rt_pipeline_is_opened_where_ray_queries_are_absent_or_when_asked_for() {
+        let mut both = fake(0, "both", "discrete GPU", &[]).1;
+        both.rt_pipeline = true;
+        both.missing_rt_pipeline.clear();
+        let all = [
+            Traversal::RayQuery,
+            Traversal::RtPipeline,
+            Traversal::Software,
+        ];
+        assert_eq!(both.traversals(), all);
+        assert_eq!(
+            both.opened_traversals(None),
+            [Traversal::RayQuery, Traversal::Software]
+        );
+        let rt = Some(Traversal::RtPipeline);
+        assert_eq!(both.opened_traversals(rt), [Traversal::RtPipeline]);
+        // A GPU with the pipeline but no ray queries traces with the pipeline first.
+        let mut pipeline_only = both.clone();
+        pipeline_only.ray_query = false;
+        pipeline_only.missing.push("VK_KHR_ray_query".into());
+        assert_eq!(
+            pipeline_only.opened_traversals(None),
+            [Traversal::RtPipeline, Traversal::Software]
+        );
+        let devices = [(vk::Handle::from_raw(1), pipeline_only.clone())];
+        assert_eq!(select(&devices, None, rt).unwrap().1.name, "both");
+        let text = select(&devices, None, Some(Traversal::RayQuery))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(text.contains("VK_KHR_ray_query"), "{text}");
+        both.hide_ray_query();
+        assert_eq!(both.opened_traversals(None), [Traversal::Software]);
+        assert!(both.opened_traversals(rt).is_empty());
     }
 
     #[test]

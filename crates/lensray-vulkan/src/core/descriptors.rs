@@ -36,6 +36,12 @@ pub(crate) fn stage_flags(stages: Stages) -> vk::ShaderStageFlags {
     match stages {
         Stages::Compute => vk::ShaderStageFlags::COMPUTE,
         Stages::Raster => vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+        Stages::RayTracing => {
+            vk::ShaderStageFlags::RAYGEN_KHR
+                | vk::ShaderStageFlags::CLOSEST_HIT_KHR
+                | vk::ShaderStageFlags::ANY_HIT_KHR
+                | vk::ShaderStageFlags::MISS_KHR
+        }
     }
 }
 

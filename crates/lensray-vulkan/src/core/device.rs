@@ -7,12 +7,14 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use ash::{khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
-use crate::core::adapter::{enumerate, queue_family, select, DeviceReport, DEVICE_EXTENSIONS};
+use crate::core::adapter::{enumerate, queue_family, select, DeviceReport};
 use crate::core::counters::DeviceCounters;
 use crate::core::error::{alloc_err, vk_err, GpuError};
+use crate::core::features::{accel_scratch_alignment, create_device, RayTracingUse};
 use crate::core::instance::Instance;
 use crate::core::pipeline_cache;
 use crate::core::recorder::Recorder;
+use crate::core::sbt::RayTracing;
 use crate::core::surface::WindowSurface;
 use crate::core::sync::{CommandBuffer, Fence, Semaphore};
 use crate::traversal::Traversal;
@@ -34,9 +36,12 @@ pub(crate) struct Context {
     pub instance: Arc<Instance>,
     pub physical_device: vk::PhysicalDevice,
     pub device: ash::Device,
-    /// The acceleration-structure functions, when ray queries are enabled.
+    /// The acceleration-structure functions, when ray queries or the ray-tracing pipeline are
+    /// enabled.
     pub accel: Option<khr::acceleration_structure::Device>,
-    /// The traversals this device was opened for (ray queries enabled or not).
+    /// The ray-tracing pipeline's functions and properties, when it is enabled.
+    pub ray_tracing: Option<RayTracing>,
+    /// The traversals this device was opened for (`DeviceReport::opened_traversals`).
     pub traversals: Vec<Traversal>,
     pub queue: vk::Queue,
     pub command_pool: vk::CommandPool,
@@ -65,25 +70,35 @@ pub(crate) struct Context {
 
 impl Context {
     /// `surface`: a window the device must present to (adds VK_KHR_swapchain).
-    /// With `options.traversal` Software, or a device without (or hiding) ray queries, the
-    /// ray-tracing extensions and features are not enabled.
+    /// The ray-tracing extensions and features are enabled for the traversals the device is
+    /// opened for (`DeviceReport::opened_traversals`): none for `options.traversal` Software.
     pub(crate) fn new(
         instance: Arc<Instance>,
         options: &GpuOptions,
         surface: Option<&WindowSurface>,
     ) -> Result<Self, GpuError> {
         let adapter = pick_adapter(&instance.instance, options, surface)?;
-        let ray_query = adapter.traversals.contains(&Traversal::RayQuery);
-        let device = create_device(&instance.instance, &adapter, ray_query, surface.is_some())?;
+        let uses = RayTracingUse::of(&adapter.traversals);
+        let (physical, family) = (adapter.physical, adapter.queue_family);
+        let device = create_device(
+            &instance.instance,
+            (physical, family),
+            uses,
+            surface.is_some(),
+        )?;
         // SAFETY: the queue family was requested with one queue.
         let queue = unsafe { device.get_device_queue(adapter.queue_family, 0) };
-        let accel = ray_query
+        let accel = uses
+            .accel()
             .then(|| khr::acceleration_structure::Device::new(&instance.instance, &device));
+        let ray_tracing = uses
+            .rt_pipeline
+            .then(|| RayTracing::load(&instance.instance, physical, &device));
         let mut scratch_alignment = 1;
-        if ray_query {
+        if uses.accel() {
             scratch_alignment = accel_scratch_alignment(&instance.instance, adapter.physical);
         }
-        let objects = create_objects(&instance.instance, &device, &adapter, ray_query)?;
+        let objects = create_objects(&instance.instance, &device, &adapter, uses.accel())?;
         let Adapter {
             physical,
             report,
@@ -105,6 +120,7 @@ impl Context {
             physical_device: physical,
             device,
             accel,
+            ray_tracing,
             traversals,
             queue,
             command_pool: objects.command_pool,
@@ -121,11 +137,19 @@ impl Context {
         })
     }
 
-    /// The acceleration-structure functions; an error when ray queries are not enabled.
+    /// The acceleration-structure functions; an error when no traversal of the driver's is
+    /// enabled.
     pub(crate) fn accel(&self) -> Result<&khr::acceleration_structure::Device, GpuError> {
-        self.accel
-            .as_ref()
-            .ok_or_else(|| GpuError::Invalid("ray queries are not enabled on this device".into()))
+        self.accel.as_ref().ok_or_else(|| {
+            GpuError::Invalid("acceleration structures are not enabled on this device".into())
+        })
+    }
+
+    /// The ray-tracing pipeline's functions; an error when it is not enabled.
+    pub(crate) fn ray_tracing(&self) -> Result<&RayTracing, GpuError> {
+        self.ray_tracing.as_ref().ok_or_else(|| {
+            GpuError::Invalid("the ray-tracing pipeline is not enabled on this device".into())
+        })
     }
 
     /// Creates a sampler and forgets it: a deliberate leak for the tests of the leak report.
@@ -374,11 +398,7 @@ fn pick_adapter(
         }
     }
     let (physical, report) = select(&devices, options.device_index, options.traversal)?;
-    let traversals: Vec<Traversal> = report
-        .traversals()
-        .into_iter()
-        .filter(|t| options.traversal.is_none_or(|wanted| wanted == *t))
-        .collect();
+    let traversals = report.opened_traversals(options.traversal);
     let (queue_family, timestamp_bits) = queue_family(instance, physical)
         .ok_or_else(|| GpuError::NoRayQueryDevice("no graphics + compute queue".into()))?;
     if let Some(surface) = surface {
@@ -399,56 +419,6 @@ fn pick_adapter(
     })
 }
 
-/// Creates the logical device with one queue of the adapter's family, the ray-tracing
-/// extensions and features when `ray_query`, and VK_KHR_swapchain when it `presents`.
-fn create_device(
-    instance: &ash::Instance,
-    adapter: &Adapter,
-    ray_query: bool,
-    presents: bool,
-) -> Result<ash::Device, GpuError> {
-    let priorities = [1.0f32];
-    let queues = [vk::DeviceQueueCreateInfo::default()
-        .queue_family_index(adapter.queue_family)
-        .queue_priorities(&priorities)];
-    let mut extensions: Vec<_> = Vec::new();
-    if ray_query {
-        extensions.extend(DEVICE_EXTENSIONS.iter().map(|e| e.as_ptr()));
-    }
-    if presents {
-        extensions.push(khr::swapchain::NAME.as_ptr());
-    }
-    // Device addresses only feed the acceleration-structure builds. Timeline semaphores
-    // (core and required in Vulkan 1.2) order and report the submissions (`submit`).
-    let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
-        .buffer_device_address(ray_query)
-        .timeline_semaphore(true);
-    let mut f_as =
-        vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default().acceleration_structure(true);
-    let mut f_rq = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
-    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut f12);
-    if ray_query {
-        features = features.push_next(&mut f_as).push_next(&mut f_rq);
-    }
-    let info = vk::DeviceCreateInfo::default()
-        .queue_create_infos(&queues)
-        .enabled_extension_names(&extensions)
-        .push_next(&mut features);
-    // SAFETY: the device was checked to support these extensions and features; all
-    // pointers in `info` refer to locals alive during the call.
-    unsafe { instance.create_device(adapter.physical, &info, None) }
-        .map_err(vk_err("vkCreateDevice"))
-}
-
-/// The alignment of acceleration-structure build scratch memory (ray queries enabled).
-fn accel_scratch_alignment(instance: &ash::Instance, physical: vk::PhysicalDevice) -> u64 {
-    let mut as_props = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
-    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut as_props);
-    // SAFETY: the extension is enabled; query only.
-    unsafe { instance.get_physical_device_properties2(physical, &mut props2) };
-    u64::from(as_props.min_acceleration_structure_scratch_offset_alignment).max(1)
-}
-
 /// What is created once with the logical device, after its queue.
 struct DeviceObjects {
     command_pool: vk::CommandPool,
@@ -464,7 +434,7 @@ fn create_objects(
     instance: &ash::Instance,
     device: &ash::Device,
     adapter: &Adapter,
-    ray_query: bool,
+    device_addresses: bool,
 ) -> Result<DeviceObjects, GpuError> {
     let command_pool = match create_command_pool(device, adapter.queue_family) {
         Ok(p) => p,
@@ -504,7 +474,7 @@ fn create_objects(
         device: device.clone(),
         physical_device: adapter.physical,
         debug_settings: Default::default(),
-        buffer_device_address: ray_query,
+        buffer_device_address: device_addresses,
         allocation_sizes: Default::default(),
     });
     let allocator = match allocator {

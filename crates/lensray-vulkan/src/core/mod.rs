@@ -1,5 +1,5 @@
 //! Vulkan itself: instance and validation, device selection and submissions, buffers, images,
-//! queries, pipelines, render passes, fences and semaphores, embedded SPIR-V, the window
+//! queries, pipelines and the ray-tracing pipeline's shader binding table, render passes, fences and semaphores, embedded SPIR-V, the window
 //! surface and its swapchain, and errors. It knows nothing of cameras or scenes. The crate's
 //! `unsafe` code lives here, behind owning types and safe methods.
 
@@ -10,6 +10,7 @@ pub(crate) mod counters;
 pub(crate) mod descriptors;
 pub(crate) mod device;
 pub(crate) mod error;
+pub(crate) mod features;
 pub(crate) mod image;
 pub(crate) mod instance;
 pub(crate) mod pipeline;
@@ -17,6 +18,7 @@ pub(crate) mod pipeline_cache;
 pub(crate) mod query;
 pub(crate) mod recorder;
 pub(crate) mod render_pass;
+pub(crate) mod sbt;
 pub(crate) mod shader;
 pub(crate) mod surface;
 pub(crate) mod swapchain;

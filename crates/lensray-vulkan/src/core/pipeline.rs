@@ -1,4 +1,5 @@
-//! Pipelines with their layout and one descriptor set each (compute and graphics).
+//! Pipelines with their layout and one descriptor set each (compute, graphics and ray
+//! tracing, the last with its shader binding table).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -7,6 +8,7 @@ use ash::vk;
 
 use crate::core::device::Context;
 use crate::core::error::{pipeline_err, vk_err, GpuError};
+use crate::core::sbt::{GroupCounts, ShaderBindingTable};
 use crate::core::shader::ShaderModule;
 use lensray_core::interface::{SetDecl, SPEC_SURFACES};
 
@@ -33,6 +35,24 @@ pub(crate) struct Pipeline {
     pub set: vk::DescriptorSet,
     pub bind_point: vk::PipelineBindPoint,
     push_stages: vk::ShaderStageFlags,
+    /// A ray-tracing pipeline's table (`None`: another kind).
+    pub(super) sbt: Option<ShaderBindingTable>,
+}
+
+/// The stages of a ray-tracing pipeline whose ray generation stage traces kinds of ray: for
+/// each kind (its index the `sbtRecordOffset` and `missIndex` the stage traces it with), its
+/// miss stage and its hit group's stages.
+pub(crate) struct RayTracingDesc<'a> {
+    pub raygen: &'a [u8],
+    pub rays: &'a [RayStages<'a>],
+}
+
+/// One kind of ray of a [`RayTracingDesc`].
+pub(crate) struct RayStages<'a> {
+    pub miss: &'a [u8],
+    /// `None`: the kind skips the closest-hit stage.
+    pub closest_hit: Option<&'a [u8]>,
+    pub any_hit: Option<&'a [u8]>,
 }
 
 /// The graphics state of the G-buffer pass.
@@ -73,6 +93,7 @@ impl Pipeline {
             set: vk::DescriptorSet::null(),
             bind_point,
             push_stages,
+            sbt: None,
         };
         let layout_bindings: Vec<_> = bindings
             .iter()
@@ -177,6 +198,52 @@ impl Pipeline {
         unsafe { self.ctx.device.destroy_pipeline(self.pipeline, None) };
         self.pipeline = pipeline;
         Ok(())
+    }
+
+    /// A ray-tracing pipeline of `desc` with SPEC_SURFACES `surfaces` in every stage, and its
+    /// shader binding table.
+    pub(crate) fn ray_tracing(
+        ctx: &Arc<Context>,
+        set: &'static SetDecl,
+        desc: &RayTracingDesc<'_>,
+        surfaces: u32,
+    ) -> Result<Self, GpuError> {
+        let mut this = Self::with_set(ctx, set, vk::PipelineBindPoint::RAY_TRACING_KHR)?;
+        this.respecialize_ray_tracing(desc, surfaces)?;
+        Ok(this)
+    }
+
+    /// Replaces the ray-tracing pipeline (and its table) with one of `desc` with SPEC_SURFACES
+    /// `surfaces`. No submission using the pipeline may be pending.
+    pub(crate) fn respecialize_ray_tracing(
+        &mut self,
+        desc: &RayTracingDesc<'_>,
+        surfaces: u32,
+    ) -> Result<(), GpuError> {
+        let pipeline = create_ray_tracing(&self.ctx, desc, self.layout, surfaces)?;
+        let rays = desc.rays.len() as u32;
+        let counts = GroupCounts {
+            misses: rays,
+            hits: rays,
+        };
+        let sbt = match ShaderBindingTable::new(&self.ctx, pipeline, counts) {
+            Ok(sbt) => sbt,
+            Err(e) => {
+                // SAFETY: the pipeline was just created and never used.
+                unsafe { self.ctx.device.destroy_pipeline(pipeline, None) };
+                return Err(e);
+            }
+        };
+        // SAFETY: no pending submission uses the old pipeline (the caller's contract).
+        unsafe { self.ctx.device.destroy_pipeline(self.pipeline, None) };
+        self.pipeline = pipeline;
+        self.sbt = Some(sbt);
+        Ok(())
+    }
+
+    /// A ray-tracing pipeline's shader binding table (`None`: another kind of pipeline).
+    pub(crate) fn shader_binding_table(&self) -> Option<&ShaderBindingTable> {
+        self.sbt.as_ref()
     }
 
     /// A graphics pipeline, specialized for every subset of `desc.surface_variants` (one
@@ -338,6 +405,89 @@ fn create_compute(
             .create_compute_pipelines(ctx.pipeline_cache, &info, None)
     }
     .map_err(pipeline_err("vkCreateComputePipelines"))?[0];
+    ctx.counters.made_pipeline(start.elapsed());
+    Ok(pipeline)
+}
+
+/// A ray-tracing pipeline of `desc` with `layout`, SPEC_SURFACES `surfaces` in every stage.
+/// Its groups: the ray generation stage, a miss stage per kind of ray, a hit group per kind of
+/// ray (the shader binding table's order, `sbt::GroupCounts`).
+fn create_ray_tracing<'a>(
+    ctx: &Context,
+    desc: &RayTracingDesc<'a>,
+    layout: vk::PipelineLayout,
+    surfaces: u32,
+) -> Result<vk::Pipeline, GpuError> {
+    type Stage = vk::ShaderStageFlags;
+    let rt = ctx.ray_tracing()?;
+    ctx.announce_compile();
+    let start = Instant::now();
+    // Every stage, in group order; a hit group's stages are its closest hit, then its any hit.
+    let mut spirv: Vec<(Stage, &'a [u8])> = vec![(Stage::RAYGEN_KHR, desc.raygen)];
+    spirv.extend(desc.rays.iter().map(|r| (Stage::MISS_KHR, r.miss)));
+    let general = |index: usize| {
+        vk::RayTracingShaderGroupCreateInfoKHR::default()
+            .ty(vk::RayTracingShaderGroupTypeKHR::GENERAL)
+            .general_shader(index as u32)
+            .closest_hit_shader(vk::SHADER_UNUSED_KHR)
+            .any_hit_shader(vk::SHADER_UNUSED_KHR)
+            .intersection_shader(vk::SHADER_UNUSED_KHR)
+    };
+    let mut groups: Vec<_> = (0..spirv.len()).map(general).collect();
+    for ray in desc.rays {
+        let mut stage_of = |stage: Stage, code: Option<&'a [u8]>| {
+            code.map_or(vk::SHADER_UNUSED_KHR, |code| {
+                spirv.push((stage, code));
+                spirv.len() as u32 - 1
+            })
+        };
+        let closest = stage_of(Stage::CLOSEST_HIT_KHR, ray.closest_hit);
+        let any = stage_of(Stage::ANY_HIT_KHR, ray.any_hit);
+        groups.push(
+            vk::RayTracingShaderGroupCreateInfoKHR::default()
+                .ty(vk::RayTracingShaderGroupTypeKHR::TRIANGLES_HIT_GROUP)
+                .general_shader(vk::SHADER_UNUSED_KHR)
+                .closest_hit_shader(closest)
+                .any_hit_shader(any)
+                .intersection_shader(vk::SHADER_UNUSED_KHR),
+        );
+    }
+    let modules = spirv
+        .iter()
+        .map(|(_, code)| ShaderModule::new(ctx, code))
+        .collect::<Result<Vec<_>, _>>()?;
+    let data = surfaces.to_ne_bytes();
+    let spec = vk::SpecializationInfo::default()
+        .map_entries(&SURFACES_ENTRY)
+        .data(&data);
+    let stages: Vec<_> = spirv
+        .iter()
+        .zip(&modules)
+        .map(|(&(stage, _), module)| {
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(stage)
+                .module(module.module)
+                .name(c"main")
+                .specialization_info(&spec)
+        })
+        .collect();
+    // Only the ray generation stage traces rays.
+    let info = [vk::RayTracingPipelineCreateInfoKHR::default()
+        .stages(&stages)
+        .groups(&groups)
+        .max_pipeline_ray_recursion_depth(1)
+        .layout(layout)];
+    // SAFETY: the modules and layout are live and match the shaders' interface; the groups
+    // name stages of `stages`.
+    let pipeline = unsafe {
+        rt.fns.create_ray_tracing_pipelines(
+            vk::DeferredOperationKHR::null(),
+            ctx.pipeline_cache,
+            &info,
+            None,
+        )
+    }
+    .map_err(pipeline_err("vkCreateRayTracingPipelinesKHR"))?[0];
     ctx.counters.made_pipeline(start.elapsed());
     Ok(pipeline)
 }

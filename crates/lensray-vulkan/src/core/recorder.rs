@@ -28,6 +28,12 @@ pub(crate) enum Access {
     ComputeRead,
     /// Read and written by a compute shader.
     ComputeWrite,
+    /// A ray-tracing pipeline's uniform block.
+    RayTracingUniform,
+    /// Read by a ray-tracing pipeline's stages.
+    RayTracingRead,
+    /// Read and written by a ray-tracing pipeline's stages.
+    RayTracingWrite,
     TransferRead,
     TransferWrite,
     /// Read by the host after the submission's wait (mapped memory).
@@ -44,6 +50,9 @@ impl Access {
             Access::Uniform | Access::ComputeRead | Access::ComputeWrite => {
                 vk::PipelineStageFlags::COMPUTE_SHADER
             }
+            Access::RayTracingUniform | Access::RayTracingRead | Access::RayTracingWrite => {
+                vk::PipelineStageFlags::RAY_TRACING_SHADER_KHR
+            }
             Access::TransferRead | Access::TransferWrite => vk::PipelineStageFlags::TRANSFER,
             Access::HostRead => vk::PipelineStageFlags::HOST,
             Access::AccelBuildRead | Access::AccelBuildWrite => {
@@ -54,9 +63,11 @@ impl Access {
 
     fn mask(self) -> vk::AccessFlags {
         match self {
-            Access::Uniform => vk::AccessFlags::UNIFORM_READ,
-            Access::ComputeRead => vk::AccessFlags::SHADER_READ,
-            Access::ComputeWrite => vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            Access::Uniform | Access::RayTracingUniform => vk::AccessFlags::UNIFORM_READ,
+            Access::ComputeRead | Access::RayTracingRead => vk::AccessFlags::SHADER_READ,
+            Access::ComputeWrite | Access::RayTracingWrite => {
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE
+            }
             Access::TransferRead => vk::AccessFlags::TRANSFER_READ,
             Access::TransferWrite => vk::AccessFlags::TRANSFER_WRITE,
             Access::HostRead => vk::AccessFlags::HOST_READ,
@@ -68,8 +79,22 @@ impl Access {
     fn writes(self) -> bool {
         matches!(
             self,
-            Access::ComputeWrite | Access::TransferWrite | Access::AccelBuildWrite
+            Access::ComputeWrite
+                | Access::RayTracingWrite
+                | Access::TransferWrite
+                | Access::AccelBuildWrite
         )
+    }
+
+    /// The same access by a ray-tracing pipeline's stages where it is a compute shader's: a
+    /// pass that records a dispatch or a trace of rays names its accesses once.
+    pub(crate) fn in_ray_tracing(self) -> Self {
+        match self {
+            Access::Uniform => Access::RayTracingUniform,
+            Access::ComputeRead => Access::RayTracingRead,
+            Access::ComputeWrite => Access::RayTracingWrite,
+            other => other,
+        }
     }
 }
 
@@ -288,6 +313,38 @@ impl<'a> Recorder<'a> {
             self.ctx
                 .device
                 .cmd_dispatch(self.cmd, groups[0], groups[1], groups[2])
+        };
+    }
+
+    /// Binds `pipeline` (ray tracing) with `push` and traces `extent` rays from its ray
+    /// generation stage, after the barrier `uses` need (compute accesses stand for the same
+    /// accesses of its stages, `Access::in_ray_tracing`).
+    pub(crate) fn trace_rays(
+        &mut self,
+        pipeline: &Pipeline,
+        push: &[u8],
+        extent: [u32; 3],
+        uses: &[(vk::Buffer, Access)],
+    ) {
+        let uses: Vec<_> = uses.iter().map(|&(b, a)| (b, a.in_ray_tracing())).collect();
+        self.uses(&uses);
+        let (Some(sbt), Some(rt)) = (pipeline.shader_binding_table(), &self.ctx.ray_tracing) else {
+            unreachable!("a ray-tracing pipeline has its table, on a device with the extension");
+        };
+        pipeline.bind(self.cmd, push);
+        // SAFETY: a ray-tracing pipeline with its complete descriptor set is bound; its table's
+        // regions hold its groups' handles.
+        unsafe {
+            rt.fns.cmd_trace_rays(
+                self.cmd,
+                &sbt.raygen,
+                &sbt.miss,
+                &sbt.hit,
+                &sbt.callable,
+                extent[0],
+                extent[1],
+                extent[2],
+            )
         };
     }
 

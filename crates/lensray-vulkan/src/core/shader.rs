@@ -6,6 +6,7 @@ use ash::vk;
 
 use crate::core::device::Context;
 use crate::core::error::{vk_err, GpuError};
+use crate::core::pipeline::{RayStages, RayTracingDesc};
 
 macro_rules! spirv {
     ($name:literal) => {
@@ -23,6 +24,23 @@ pub(crate) const VISIBILITY_PLAIN_VERT: &[u8] = spirv!("visibility_plain.vert");
 pub(crate) const VISIBILITY_PLAIN_FRAG: &[u8] = spirv!("visibility_plain.frag");
 pub(crate) const TRACE_RAYQUERY_COMP: &[u8] = spirv!("trace_rayquery.comp");
 pub(crate) const TRACE_SOFTWARE_COMP: &[u8] = spirv!("trace_software.comp");
+/// The ray-tracing pipeline's trace pass: trace.comp as its ray generation stage, and its kinds
+/// of ray in RT_RAY_* order (closest hit, shadow).
+pub(crate) const TRACE_RTPIPELINE: RayTracingDesc<'static> = RayTracingDesc {
+    raygen: spirv!("trace_rtpipeline.rgen"),
+    rays: &[
+        RayStages {
+            miss: spirv!("rt_miss.rmiss"),
+            closest_hit: Some(spirv!("rt_hit.rchit")),
+            any_hit: Some(spirv!("rt_hit.rahit")),
+        },
+        RayStages {
+            miss: spirv!("rt_shadow.rmiss"),
+            closest_hit: None,
+            any_hit: Some(spirv!("rt_shadow.rahit")),
+        },
+    ],
+};
 pub(crate) const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
 pub(crate) const VISIBILITY_VERT: &[u8] = spirv!("visibility.vert");
 pub(crate) const VISIBILITY_FRAG: &[u8] = spirv!("visibility.frag");
@@ -78,6 +96,7 @@ pub(crate) fn shaders_hash() -> u64 {
         GBUFFER_PLAIN_FRAG,
         TRACE_RAYQUERY_COMP,
         TRACE_SOFTWARE_COMP,
+        TRACE_RTPIPELINE.raygen,
         RESOLVE_COMP,
         VISIBILITY_VERT,
         VISIBILITY_FRAG,
@@ -87,6 +106,11 @@ pub(crate) fn shaders_hash() -> u64 {
     ]
     .into_iter()
     .chain(view_stages)
+    .chain(TRACE_RTPIPELINE.rays.iter().flat_map(|r| {
+        [Some(r.miss), r.closest_hit, r.any_hit]
+            .into_iter()
+            .flatten()
+    }))
     .flat_map(|spirv| spirv.iter())
     .fold(0xcbf2_9ce4_8422_2325, |hash, &byte| {
         (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3)

@@ -111,8 +111,9 @@ impl SceneBuffers {
             }
         }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let ray_query = ctx.traversals.contains(&Traversal::RayQuery);
-        let build_input = if ray_query {
+        // Both traversals of the driver's trace through its acceleration structures.
+        let accel_structures = ctx.accel.is_some();
+        let build_input = if accel_structures {
             storage
                 | vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
                 | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS
@@ -159,7 +160,7 @@ impl SceneBuffers {
             ("scene lights", bytemuck::cast_slice(&flat.lights)),
         ]
         .map(|(name, data)| Buffer::with_data(ctx, name, data, storage));
-        let accel = ray_query
+        let accel = accel_structures
             .then(|| accel::build(ctx, &flat, &positions, &indices))
             .transpose()?;
         let bvh = ctx

@@ -69,7 +69,12 @@ pub fn paths_to_run(
     let mut kinds = Vec::new();
     if options.paths.is_empty() {
         if let Some((_, gpu_kinds)) = &supported {
-            kinds.extend(gpu_kinds);
+            // The ray-tracing pipeline where ray queries serve only when asked for: the
+            // device's paths are those it opens for (`DeviceReport::opened_traversals`).
+            let asked_only = |k: &&PathKind| {
+                **k == PathKind::RtPipeline && gpu_kinds.contains(&PathKind::RayQuery)
+            };
+            kinds.extend(gpu_kinds.iter().filter(|k| !asked_only(k)));
         }
         if device != Choice::Only(DeviceKind::Gpu) {
             kinds.push(PathKind::Cpu);
@@ -130,8 +135,10 @@ fn gpu_paths(
         }
         Err(error) => return Err(anyhow::Error::from(error).context("the Vulkan device")),
     };
-    let traversals = renderer.traversals();
-    let mut kinds: Vec<PathKind> = [PathKind::RayQuery, PathKind::Software]
+    // Every traversal the device can run: the ray-tracing pipeline's too where ray queries
+    // serve (benchmarked when asked for).
+    let traversals = renderer.device_report().traversals();
+    let mut kinds: Vec<PathKind> = [PathKind::RayQuery, PathKind::RtPipeline, PathKind::Software]
         .into_iter()
         .filter(|&k| k.traversal().is_some_and(|t| traversals.contains(&t)))
         .collect();

@@ -468,7 +468,8 @@ fn lens_points(
     measured.into_iter().map(Some).collect()
 }
 
-/// The lens sweep's paths: those that trace real lenses (cpu, rayquery, software). The hybrid
+/// The lens sweep's paths: those that trace real lenses (cpu, rayquery, rtpipeline,
+/// software). The hybrid
 /// refuses them and raster renders their first-order model: asked for, an error; in the
 /// default list, left out with a notice.
 fn lens_paths(
@@ -478,7 +479,7 @@ fn lens_paths(
 ) -> Result<Vec<PathKind>> {
     let untraced = |k: &PathKind| matches!(k, PathKind::Hybrid | PathKind::Raster);
     if let Some(kind) = options.paths.iter().filter_map(|p| p.only()).find(untraced) {
-        bail!("--sweep lens: --paths {kind} does not trace real lenses (hybrid refuses them, raster renders their first-order model); use cpu, rayquery or software");
+        bail!("--sweep lens: --paths {kind} does not trace real lenses (hybrid refuses them, raster renders their first-order model); use cpu, rayquery, rtpipeline or software");
     }
     let (left, kept): (Vec<PathKind>, Vec<PathKind>) = kinds.into_iter().partition(untraced);
     if !left.is_empty() {
@@ -489,7 +490,7 @@ fn lens_paths(
     }
     ensure!(
         !kept.is_empty(),
-        "--sweep lens: no path that traces real lenses (cpu, rayquery, software) to run"
+        "--sweep lens: no path that traces real lenses (cpu, rayquery, rtpipeline, software) to run"
     );
     Ok(kept)
 }

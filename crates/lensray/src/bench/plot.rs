@@ -99,6 +99,7 @@ fn label_count(range: &std::ops::Range<f64>) -> usize {
 fn colour(path: PathKind) -> RGBColor {
     match path {
         PathKind::RayQuery => RGBColor(200, 40, 40),
+        PathKind::RtPipeline => RGBColor(120, 20, 20),
         PathKind::Software => RGBColor(30, 90, 200),
         PathKind::Hybrid => RGBColor(150, 60, 180),
         PathKind::Raster => RGBColor(230, 140, 20),

@@ -79,8 +79,8 @@ pub struct DeviceArgs {
     /// Use this Vulkan device (index from `lensray info`).
     #[arg(long, value_name = "INDEX")]
     pub gpu: Option<usize>,
-    /// Act as if the Vulkan device had no ray queries (to try the software path where it
-    /// would be the only one).
+    /// Act as if the Vulkan device had no ray-tracing support, neither ray queries nor the
+    /// ray-tracing pipeline (to try the software path where it would be the only one).
     #[arg(long)]
     pub hide_ray_query: bool,
 }

@@ -15,7 +15,8 @@ pub struct CalibrateArgs {
     /// Turn on the Vulkan validation layer; any warning or error fails the command.
     #[arg(long)]
     pub validate: bool,
-    /// Act as if the Vulkan device had no ray queries.
+    /// Act as if the Vulkan device had no ray-tracing support (ray queries, the ray-tracing
+    /// pipeline).
     #[arg(long)]
     pub hide_ray_query: bool,
 }

@@ -69,6 +69,14 @@ pub fn format_devices(devices: &[DeviceReport]) -> String {
                 d.missing.join(", ")
             );
         }
+        if d.rt_pipeline {
+            out += "    rt pipeline        yes\n";
+        } else {
+            out += &format!(
+                "    rt pipeline        no: missing {}\n",
+                d.missing_rt_pipeline.join(", ")
+            );
+        }
         let paths: Vec<&str> = d.traversals().iter().map(|t| t.name()).collect();
         out += &if paths.is_empty() {
             format!(
@@ -76,9 +84,10 @@ pub fn format_devices(devices: &[DeviceReport]) -> String {
                 d.missing_software.join(", ")
             )
         } else {
-            // The hybrid and raster paths trace with any of the device's traversals.
+            // The hybrid and raster paths trace with the device's best traversal.
+            let best = d.opened_traversals(None).first().map_or("", |t| t.name());
             format!(
-                "    paths              {}, hybrid, raster, cpu\n",
+                "    paths              {}, hybrid, raster (tracing with {best}), cpu\n",
                 paths.join(", ")
             )
         };

@@ -1,5 +1,6 @@
-//! `--path auto`: which path renders a shot on an open Vulkan device. The traversal paths
-//! (`rayquery`, `software`) are timed on a small render of the shot, the fastest is the one the
+//! `--path auto`: which path renders a shot on an open Vulkan device. The traversal paths it
+//! was opened for (`rayquery`, `software`, and `rtpipeline` where ray queries are absent) are
+//! timed on a small render of the shot, the fastest is the one the
 //! hybrid and raster paths trace with, and then the fastest of that traversal, the hybrid and
 //! the raster path (where its ghost copies would not show) is kept.
 

@@ -351,6 +351,15 @@ mod tests {
             assert_eq!(traversal, Some(Traversal::RayQuery));
             assert!(why.contains("rayquery") && why.contains("5.0x"), "{why}");
         }
+        // A device without ray queries, whose ray-tracing pipeline was measured the fastest.
+        let pipeline_fast = calibration(&[(Cpu, 0.05), (RtPipeline, 0.01), (Software, 0.02)]);
+        let DeviceDecision::Gpu(traversal, why) =
+            decide(&device("discrete GPU"), Some(&pipeline_fast), 1_000_000)
+        else {
+            panic!("rtpipeline was measured 5x faster than the CPU");
+        };
+        assert_eq!(traversal, Some(Traversal::RtPipeline));
+        assert!(why.contains("rtpipeline"), "{why}");
     }
 
     #[test]

@@ -113,7 +113,7 @@ impl RenderPath for GpuPath {
                 + self.plan_seconds,
             clock: Clock::GpuTimestamps,
             build_seconds: match traversal {
-                Traversal::RayQuery => t.accel_build_wall_ms * 1e-3,
+                Traversal::RayQuery | Traversal::RtPipeline => t.accel_build_wall_ms * 1e-3,
                 Traversal::Software => t.bvh_build_ms * 1e-3,
             },
             accel_bytes: t.traversal_bytes(traversal),

@@ -43,7 +43,7 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
     if let (Some(real), Some(kind)) = (real_lens, options.path.only()) {
         match kind.real_lens_support() {
             RealLensSupport::Refused => bail!(
-                "--path {kind} does not trace real lenses (--lens {}): use cpu, rayquery, software or auto",
+                "--path {kind} does not trace real lenses (--lens {}): use cpu, rayquery, rtpipeline, software or auto",
                 real.name()
             ),
             RealLensSupport::FirstOrder => eprintln!(

@@ -35,6 +35,11 @@ pub enum PathKind {
     /// GPU compute pass, closest hits from Vulkan ray queries (VK_KHR_ray_query).
     #[value(name = "rayquery")]
     RayQuery,
+    /// GPU ray-tracing pipeline (VK_KHR_ray_tracing_pipeline): the compute pass's per-pixel
+    /// work as a ray generation stage, closest hits and shadow rays from traceRayEXT over the
+    /// same acceleration structures as rayquery (for devices without ray queries).
+    #[value(name = "rtpipeline")]
+    RtPipeline,
     /// GPU compute pass, closest hits from lensray's own BVH traversed in the shader: needs no
     /// ray-tracing support.
     Software,
@@ -60,8 +65,9 @@ pub enum DeviceKind {
 }
 
 impl PathKind {
-    pub const ALL: [PathKind; 5] = [
+    pub const ALL: [PathKind; 6] = [
         PathKind::RayQuery,
+        PathKind::RtPipeline,
         PathKind::Software,
         PathKind::Hybrid,
         PathKind::Raster,
@@ -71,6 +77,7 @@ impl PathKind {
     pub fn name(self) -> &'static str {
         match self {
             PathKind::RayQuery => "rayquery",
+            PathKind::RtPipeline => "rtpipeline",
             PathKind::Software => "software",
             PathKind::Hybrid => "hybrid",
             PathKind::Raster => "raster",
@@ -94,6 +101,7 @@ impl PathKind {
     pub fn traversal(self) -> Option<Traversal> {
         match self {
             PathKind::RayQuery => Some(Traversal::RayQuery),
+            PathKind::RtPipeline => Some(Traversal::RtPipeline),
             PathKind::Software => Some(Traversal::Software),
             PathKind::Hybrid | PathKind::Raster | PathKind::Cpu => None,
         }
@@ -104,14 +112,18 @@ impl PathKind {
         match self {
             PathKind::Hybrid => Estimator::Hybrid,
             PathKind::Raster => Estimator::Raster,
-            PathKind::RayQuery | PathKind::Software | PathKind::Cpu => Estimator::Traced,
+            PathKind::RayQuery | PathKind::RtPipeline | PathKind::Software | PathKind::Cpu => {
+                Estimator::Traced
+            }
         }
     }
 
     /// How the path renders a real lens (`camera::real_lens`).
     pub fn real_lens_support(self) -> RealLensSupport {
         match self {
-            PathKind::Cpu | PathKind::RayQuery | PathKind::Software => RealLensSupport::Traced,
+            PathKind::Cpu | PathKind::RayQuery | PathKind::RtPipeline | PathKind::Software => {
+                RealLensSupport::Traced
+            }
             PathKind::Raster => RealLensSupport::FirstOrder,
             // Its shortcuts and windows bound where thin-lens rays go, not where a real
             // lens's aberrated, vignetted rays go.
@@ -123,6 +135,7 @@ impl PathKind {
     pub fn of_traversal(traversal: Traversal) -> PathKind {
         match traversal {
             Traversal::RayQuery => PathKind::RayQuery,
+            Traversal::RtPipeline => PathKind::RtPipeline,
             Traversal::Software => PathKind::Software,
         }
     }
@@ -206,7 +219,7 @@ const fn choices<T: Copy, const N: usize, const M: usize>(all: [T; N]) -> [Choic
     out
 }
 
-const PATH_CHOICES: [PathChoice; 6] = choices(PathKind::ALL);
+const PATH_CHOICES: [PathChoice; 7] = choices(PathKind::ALL);
 const DEVICE_CHOICES: [DeviceChoice; 3] = choices([DeviceKind::Cpu, DeviceKind::Gpu]);
 
 macro_rules! choice_value_enum {

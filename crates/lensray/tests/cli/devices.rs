@@ -34,6 +34,30 @@ fn device_gpu_without_a_vulkan_device_is_one_clear_line() {
     assert!(!dir.path().join("g.png").exists());
 }
 
+/// `--path rtpipeline` on a device without the ray-tracing pipeline (hidden, as on a GPU without
+/// ray tracing) is one line that names the extension, and a non-zero exit.
+#[test]
+fn rtpipeline_without_the_extension_is_one_clear_line() {
+    let test = "rtpipeline_without_the_extension_is_one_clear_line";
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = render_args(&["--path", "rtpipeline", "--hide-ray-query", "--out", "r.png"]);
+    args[2] = "gpu";
+    let out = lensray(&args, dir.path());
+    let err = stderr(&out);
+    assert!(
+        !out.status.success(),
+        "accepted without the extension: {err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(!dir.path().join("r.png").exists());
+    if !err.contains("VK_KHR_ray_tracing_pipeline") {
+        // No Vulkan device at all: the line says that instead.
+        skip_or_fail(test, &err);
+        return;
+    }
+    assert!(err.contains("--path rtpipeline"), "{err}");
+}
+
 #[test]
 fn device_auto_falls_back_to_the_cpu_with_a_notice() {
     let dir = tempfile::tempdir().unwrap();
@@ -207,10 +231,18 @@ fn info_lists_a_ray_query_device() {
         panic!("no ray-query device in {devices:#?}");
     };
     let text = lensray::cli::info::format_devices(&devices);
+    let (rt_pipeline, paths) = if usable.rt_pipeline {
+        ("rt pipeline        yes", "rayquery, rtpipeline, software")
+    } else {
+        ("rt pipeline        no: missing", "rayquery, software")
+    };
     assert!(
         text.contains(&usable.name)
             && text.contains("ray queries        yes")
-            && text.contains("paths              rayquery, software, hybrid, raster, cpu"),
+            && text.contains(rt_pipeline)
+            && text.contains(&format!(
+                "paths              {paths}, hybrid, raster (tracing with rayquery), cpu"
+            )),
         "{text}"
     );
 }

@@ -96,7 +96,12 @@ pub fn assert_gpu_paths_match_cpu(test: &str, name: &str, scene: &Scene, shot: &
         return;
     };
     write_png(&reference, &format!("{name}-cpu.png"));
-    for kind in [PathKind::RayQuery, PathKind::Software, PathKind::Raster] {
+    for kind in [
+        PathKind::RayQuery,
+        PathKind::RtPipeline,
+        PathKind::Software,
+        PathKind::Raster,
+    ] {
         let (shot, reference) = if kind == PathKind::Raster {
             (&shared, &shared_reference)
         } else {

@@ -1,5 +1,7 @@
 //! The dispatch of an estimator: the trace shader's pipelines, one per traversal the device was
-//! opened for (the one in use is `traversal()`), each specialized for the bound scene's surfaces;
+//! opened for (the one in use is `traversal()`; compute pipelines, and for the ray-tracing
+//! pipeline's traversal a ray-tracing pipeline whose launch stands for the dispatch's
+//! workgroups), each specialized for the bound scene's surfaces;
 //! the buffers their sets hold, placeholders until a render, the preview or the raster path
 //! binds its own (every binding must be valid in every mode); and the recording of dispatches,
 //! each naming to the recorder what it reads and writes.
@@ -21,7 +23,8 @@ use crate::scene::SceneBuffers;
 use crate::traversal::Traversal;
 use lensray_core::interface::{
     AccumulationGroup, BindingGroup, DescriptorSet, HybridTraceGroup, RasterTraceGroup, TlasGroup,
-    TraceGroup, TracePush, TraceRayQuerySet, TraceSoftwareSet, TRACE_GROUP_SIZE as GROUP,
+    TraceGroup, TracePush, TraceRayQuerySet, TraceRtPipelineSet, TraceSoftwareSet,
+    TRACE_GROUP_SIZE as GROUP,
 };
 
 /// The pipeline of one traversal.
@@ -117,13 +120,17 @@ impl TracePipelines {
         Ok(this)
     }
 
-    /// The compute pipeline of `traversal`: the scene arrays, that traversal's structures, and
-    /// the pass's own buffers.
+    /// The pipeline of `traversal`: the scene arrays, that traversal's structures, and the
+    /// pass's own buffers.
     /// Specialized for scenes without textures or alpha tests until `bind_scene` says otherwise.
     fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
         let set = match traversal {
             Traversal::RayQuery => TraceRayQuerySet::DECL,
             Traversal::Software => TraceSoftwareSet::DECL,
+            Traversal::RtPipeline => {
+                let set = TraceRtPipelineSet::DECL;
+                return Pipeline::ray_tracing(ctx, set, &shader::TRACE_RTPIPELINE, 0);
+            }
         };
         Pipeline::compute_specialized(ctx, set, trace_spirv(traversal), Some(0))
     }
@@ -184,14 +191,18 @@ impl TracePipelines {
     pub(crate) fn bind_scene(&mut self, scene: &SceneBuffers) -> Result<(), GpuError> {
         for p in &mut self.pipelines {
             if p.surfaces != scene.surfaces {
-                p.pipeline
-                    .respecialize(trace_spirv(p.traversal), scene.surfaces)?;
+                match p.traversal {
+                    Traversal::RtPipeline => p
+                        .pipeline
+                        .respecialize_ray_tracing(&shader::TRACE_RTPIPELINE, scene.surfaces)?,
+                    t => p.pipeline.respecialize(trace_spirv(t), scene.surfaces)?,
+                }
                 p.surfaces = scene.surfaces;
                 p.first_dispatch_done = false;
             }
             scene.bind(&p.pipeline);
             match p.traversal {
-                Traversal::RayQuery => {
+                Traversal::RayQuery | Traversal::RtPipeline => {
                     if let Some(accel) = &scene.accel {
                         p.pipeline.bind_group(&TlasGroup::<Gpu> {
                             tlas: accel.tlas.handle,
@@ -255,13 +266,23 @@ impl TracePipelines {
     /// Records one dispatch of the pipeline in use over the blocks and samples `push` names, of
     /// an image `width` pixels wide, after what it reads was written.
     pub(crate) fn record_dispatch(&self, rec: &mut Recorder<'_>, push: TracePush, width: u32) {
-        let groups = [width.div_ceil(GROUP), push.block_count, 1];
-        rec.dispatch(
-            &self.pipelines[self.current].pipeline,
-            bytemuck::bytes_of(&push),
-            groups,
-            &self.dispatch_uses(),
-        );
+        self.record(rec, push, [width.div_ceil(GROUP), push.block_count, 1]);
+    }
+
+    /// Records `groups` workgroups of the pipeline in use: a compute dispatch, or the launch of
+    /// the ray-tracing pipeline's invocations that stand for them.
+    fn record(&self, rec: &mut Recorder<'_>, push: TracePush, groups: [u32; 3]) {
+        let p = &self.pipelines[self.current];
+        let push = bytemuck::bytes_of(&push);
+        match p.traversal {
+            Traversal::RtPipeline => {
+                let launch = [groups[0] * GROUP, groups[1] * GROUP, groups[2]];
+                rec.trace_rays(&p.pipeline, push, launch, &self.dispatch_uses());
+            }
+            Traversal::RayQuery | Traversal::Software => {
+                rec.dispatch(&p.pipeline, push, groups, &self.dispatch_uses());
+            }
+        }
     }
 
     /// Records the pipeline's first dispatch, one that traces nothing (its push names no blocks:
@@ -286,12 +307,7 @@ impl TracePipelines {
             mode,
         };
         rec.timestamp(timestamps, vk::PipelineStageFlags::TOP_OF_PIPE, query);
-        rec.dispatch(
-            &self.pipelines[self.current].pipeline,
-            bytemuck::bytes_of(&push),
-            [1, 1, 1],
-            &self.dispatch_uses(),
-        );
+        self.record(rec, push, [1, 1, 1]);
         rec.timestamp(
             timestamps,
             vk::PipelineStageFlags::BOTTOM_OF_PIPE,
@@ -300,10 +316,12 @@ impl TracePipelines {
     }
 }
 
-/// The trace shader of `traversal`.
+/// The compute shader of `traversal` (the ray-tracing pipeline's ray generation stage for
+/// `RtPipeline`, which no compute pipeline runs).
 fn trace_spirv(traversal: Traversal) -> &'static [u8] {
     match traversal {
         Traversal::RayQuery => shader::TRACE_RAYQUERY_COMP,
         Traversal::Software => shader::TRACE_SOFTWARE_COMP,
+        Traversal::RtPipeline => shader::TRACE_RTPIPELINE.raygen,
     }
 }

@@ -60,7 +60,7 @@ impl Timings {
     /// by both, not counted).
     pub fn traversal_bytes(&self, traversal: Traversal) -> u64 {
         match traversal {
-            Traversal::RayQuery => self.accel_bytes,
+            Traversal::RayQuery | Traversal::RtPipeline => self.accel_bytes,
             Traversal::Software => self.bvh_bytes,
         }
     }

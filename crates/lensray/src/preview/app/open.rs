@@ -127,7 +127,7 @@ impl App {
         let asked = self.config.viewer.estimator;
         if let (Some(real), Estimator::Hybrid) = (&real_lens, asked) {
             anyhow::bail!(
-                "--path hybrid does not trace real lenses (--lens {}): use cpu, rayquery, software or auto",
+                "--path hybrid does not trace real lenses (--lens {}): use cpu, rayquery, rtpipeline, software or auto",
                 real.name()
             );
         }
