@@ -152,7 +152,13 @@ pub fn terrain() -> SceneDescription {
     let mut b = SceneBuilder::new();
     let ground = b.material("ground", Vec3::new(0.45, 0.5, 0.35), Vec3::ZERO);
     let colours: Vec<u32> = (0..10)
-        .map(|i| b.material(&format!("hue_{i}"), hue(i as f32 / 10.0, 0.8, 0.85), Vec3::ZERO))
+        .map(|i| {
+            b.material(
+                &format!("hue_{i}"),
+                hue(i as f32 / 10.0, 0.8, 0.85),
+                Vec3::ZERO,
+            )
+        })
         .collect();
     b.add(height_field(ground));
     let (unit_positions, triangles) = icosphere(TERRAIN_SPHERE_LEVEL);
@@ -164,7 +170,10 @@ pub fn terrain() -> SceneDescription {
         let material = colours[(i % 10) as usize];
         b.add(Mesh {
             name: format!("sphere_{i}"),
-            positions: unit_positions.iter().map(|&n| center + radius * n).collect(),
+            positions: unit_positions
+                .iter()
+                .map(|&n| center + radius * n)
+                .collect(),
             normals: unit_positions.clone(),
             material_ids: vec![material; triangles.len()],
             triangles: triangles.clone(),

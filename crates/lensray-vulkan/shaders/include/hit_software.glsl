@@ -127,22 +127,25 @@ void intersect_node(TraversalRay r, uint index, uint octant, float t_max, out uv
     // q * cell_t + origin_t, one fma a plane. cell_t is exact (cells are powers of two).
     vec3 cell_t = cell * r.inv_direction;
     vec3 origin_t = origin * r.inv_direction - r.origin_inv;
+    // Along a negative direction the upper plane is met first: the near and far planes are
+    // chosen once a node, and t grows with q along each axis (fma is monotonic), so each
+    // child's entry and exit are the slab test's min and max without computing both.
+    bvec3 negative = lessThan(r.inv_direction, vec3(0.0));
+    uvec4 x = negative.x ? n.x_planes.zwxy : n.x_planes;
+    uvec4 y = negative.y ? n.y_planes.zwxy : n.y_planes;
+    uvec4 z = negative.z ? n.z_planes.zwxy : n.z_planes;
     uint hits = 0u;
     [[unroll]] for (uint i = 0u; i < 8u; ++i) {
         uint word = i >> 2u;
         uint shift = (i & 3u) * 8u;
         // An empty child's meta is 0: it sets no bit, so it needs no branch.
         uint meta = (n.links[2u + word] >> shift) & 0xffu;
-        vec3 q_lo = vec3((uvec3(n.x_planes[word], n.y_planes[word], n.z_planes[word]) >> shift)
-                         & 0xffu);
-        vec3 q_hi = vec3((uvec3(n.x_planes[word + 2u], n.y_planes[word + 2u], n.z_planes[word + 2u])
-                          >> shift) & 0xffu);
-        vec3 t0 = q_lo * cell_t + origin_t;
-        vec3 t1 = q_hi * cell_t + origin_t;
-        vec3 near3 = min(t0, t1);
-        vec3 far3 = max(t0, t1);
-        float near = max(max(near3.x, near3.y), max(near3.z, 0.0));
-        float far = min(min(far3.x, far3.y), min(far3.z, t_max)) * SLAB_FAR_SCALE;
+        vec3 q_near = vec3((uvec3(x[word], y[word], z[word]) >> shift) & 0xffu);
+        vec3 q_far = vec3((uvec3(x[word + 2u], y[word + 2u], z[word + 2u]) >> shift) & 0xffu);
+        vec3 t_near = q_near * cell_t + origin_t;
+        vec3 t_far = q_far * cell_t + origin_t;
+        float near = max(max(t_near.x, t_near.y), max(t_near.z, 0.0));
+        float far = min(min(t_far.x, t_far.y), min(t_far.z, t_max)) * SLAB_FAR_SCALE;
         bool inner = ((imask >> i) & 1u) != 0u;
         uint bits = (meta >> 5u) << ((meta & 0x1fu) ^ (inner ? octant : 0u));
         hits |= near <= far ? bits : 0u;

@@ -15,6 +15,8 @@
 //!
 //! Measured choices: see [`BvhParams::default`].
 
+#[cfg(test)]
+mod fetches;
 mod quantize;
 #[cfg(test)]
 mod tests;
@@ -22,7 +24,9 @@ mod tests;
 use std::time::{Duration, Instant};
 
 use glam::Vec3A;
-use obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh_from_tris, triangle::Triangle, BvhBuildParams};
+use obvhs::{
+    aabb::Aabb, cwbvh::builder::build_cwbvh_from_tris, triangle::Triangle, BvhBuildParams,
+};
 
 use crate::core::error::GpuError;
 use lensray_core::interface::{GpuBvhNode, GpuBvhTriangle, BVH_STACK_SIZE};

@@ -22,9 +22,15 @@ pub(super) enum Link {
 /// A child as the shader decodes it: its box and what it holds.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Child {
-    #[cfg_attr(not(test), expect(dead_code, reason = "the tests check the decoded boxes"))]
+    #[cfg_attr(
+        not(test),
+        expect(dead_code, reason = "the tests check the decoded boxes")
+    )]
     pub lo: Vec3A,
-    #[cfg_attr(not(test), expect(dead_code, reason = "the tests check the decoded boxes"))]
+    #[cfg_attr(
+        not(test),
+        expect(dead_code, reason = "the tests check the decoded boxes")
+    )]
     pub hi: Vec3A,
     pub link: Link,
 }
@@ -44,7 +50,12 @@ pub(super) fn nodes(cw: &[CwBvhNode], triangles: &[GpuBvhTriangle]) -> Vec<GpuBv
     cw.iter()
         .map(|n| {
             let children = child_boxes(n, &boxes, triangles);
-            encode(&children, n.imask, n.child_meta, [n.child_base_idx, n.primitive_base_idx])
+            encode(
+                &children,
+                n.imask,
+                n.child_meta,
+                [n.child_base_idx, n.primitive_base_idx],
+            )
         })
         .collect()
 }
@@ -101,7 +112,9 @@ fn quantize_axis(origin: f32, cell: f32, lo: f32, hi: f32) -> (u8, u8) {
     while q_lo > 0 && plane(origin, cell, q_lo) > lo {
         q_lo -= 1;
     }
-    let mut q_hi = ((hi - f64::from(origin)) / f64::from(cell)).ceil().clamp(0.0, 255.0) as u8;
+    let mut q_hi = ((hi - f64::from(origin)) / f64::from(cell))
+        .ceil()
+        .clamp(0.0, 255.0) as u8;
     while q_hi < 255 && plane(origin, cell, q_hi) < hi {
         q_hi += 1;
     }
@@ -133,7 +146,14 @@ fn encode(children: &[Option<Aabb>; 8], imask: u8, meta: [u8; 8], bases: [u32; 2
     let word = |bytes: &[u8; 8], half: usize| {
         u32::from_le_bytes(bytes[4 * half..4 * half + 4].try_into().expect("4 bytes"))
     };
-    let planes = |a: usize| [word(&lo[a], 0), word(&lo[a], 1), word(&hi[a], 0), word(&hi[a], 1)];
+    let planes = |a: usize| {
+        [
+            word(&lo[a], 0),
+            word(&lo[a], 1),
+            word(&hi[a], 0),
+            word(&hi[a], 1),
+        ]
+    };
     GpuBvhNode {
         header: [
             origin.x.to_bits(),

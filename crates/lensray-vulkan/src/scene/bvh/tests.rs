@@ -25,7 +25,14 @@ fn octant(d: Vec3) -> u32 {
 }
 
 /// The shader's intersect_node: the groups of hit child nodes and hit leaves' triangles.
-fn intersect_node(bvh: &FlatBvh, index: u32, o: Vec3A, inv: Vec3A, oct: u32, t_max: f32) -> [(u32, u32); 2] {
+fn intersect_node(
+    bvh: &FlatBvh,
+    index: u32,
+    o: Vec3A,
+    inv: Vec3A,
+    oct: u32,
+    t_max: f32,
+) -> [(u32, u32); 2] {
     let n = &bvh.nodes[index as usize];
     let mut hits = 0u32;
     for (i, c) in children(n) {
@@ -38,11 +45,14 @@ fn intersect_node(bvh: &FlatBvh, index: u32, o: Vec3A, inv: Vec3A, oct: u32, t_m
         };
     }
     let imask = n.header[3] >> 24;
-    [(n.links[0], (hits & 0xff00_0000) | imask), (n.links[1], hits & 0x00ff_ffff)]
+    [
+        (n.links[0], (hits & 0xff00_0000) | imask),
+        (n.links[1], hits & 0x00ff_ffff),
+    ]
 }
 
-/// Closest hit (triangle index, t) and the nodes fetched.
-fn traverse(bvh: &FlatBvh, o: Vec3, d: Vec3) -> (Option<(u32, f32)>, u32) {
+/// Closest hit (triangle index, t), the nodes fetched and the triangles tested.
+pub(super) fn traverse(bvh: &FlatBvh, o: Vec3, d: Vec3) -> (Option<(u32, f32)>, u32, u32) {
     let ray = WatertightRay::new(o, d);
     let (o3, inv) = (Vec3A::from(o), Vec3A::from(d.recip()));
     let oct = octant(d);
@@ -50,7 +60,7 @@ fn traverse(bvh: &FlatBvh, o: Vec3, d: Vec3) -> (Option<(u32, f32)>, u32) {
     let mut stack = Vec::new();
     let mut nodes = (0u32, 0x8000_0000u32);
     let mut triangles = (0u32, 0u32);
-    let mut fetches = 0;
+    let (mut fetches, mut tests) = (0, 0);
     loop {
         if nodes.1 & 0xff00_0000 != 0 {
             let bit = 31 - nodes.1.leading_zeros();
@@ -69,6 +79,7 @@ fn traverse(bvh: &FlatBvh, o: Vec3, d: Vec3) -> (Option<(u32, f32)>, u32) {
             let bit = 31 - triangles.1.leading_zeros();
             triangles.1 &= !(1 << bit);
             let t = &bvh.triangles[(triangles.0 + bit) as usize];
+            tests += 1;
             let v = [t.v0, t.v1, t.v2].map(|p| Vec3A::from_slice(&p[..3]));
             let bound = best.map_or(f32::INFINITY, |b| f32::from_bits(b.1.to_bits() + 2));
             let Some((t_hit, _)) = ray.intersect(&v, 0.0, bound) else {
@@ -86,10 +97,10 @@ fn traverse(bvh: &FlatBvh, o: Vec3, d: Vec3) -> (Option<(u32, f32)>, u32) {
             }
         }
     }
-    (best, fetches)
+    (best, fetches, tests)
 }
 
-fn flatten(meshes: &[lensray_core::scene::Mesh]) -> (Vec<[f32; 4]>, Vec<u32>) {
+pub(super) fn flatten(meshes: &[lensray_core::scene::Mesh]) -> (Vec<[f32; 4]>, Vec<u32>) {
     let (mut positions, mut indices) = (Vec::new(), Vec::new());
     for m in meshes {
         let base = positions.len() as u32;
@@ -106,7 +117,10 @@ fn test_meshes() -> Vec<lensray_core::scene::Mesh> {
         uv_sphere("b", Vec3::new(1.5, 0.3, -1.0), 0.7, 16, 8, 0),
     ];
     let (unit, triangles) = icosphere(1);
-    for (k, centre) in [Vec3::new(-1.2, 0.4, 0.5), Vec3::new(-1.2, 0.4, 0.5)].iter().enumerate() {
+    for (k, centre) in [Vec3::new(-1.2, 0.4, 0.5), Vec3::new(-1.2, 0.4, 0.5)]
+        .iter()
+        .enumerate()
+    {
         meshes.push(lensray_core::scene::Mesh {
             name: format!("ico{k}"),
             positions: unit.iter().map(|&p| *centre + 0.5 * p).collect(),
@@ -130,7 +144,10 @@ fn finds_the_reference_closest_hits() {
     let brute_force = |o: Vec3, d: Vec3| {
         let ray = WatertightRay::new(o, d);
         (0..tris.len() as u32)
-            .filter_map(|i| ray.intersect(&tris[i as usize], 0.0, f32::INFINITY).map(|h| (i, h.0)))
+            .filter_map(|i| {
+                ray.intersect(&tris[i as usize], 0.0, f32::INFINITY)
+                    .map(|h| (i, h.0))
+            })
             .fold(None, |best: Option<(u32, f32)>, hit| match best {
                 Some(b) if b.1 <= hit.1 => Some(b),
                 _ => Some(hit),
@@ -158,7 +175,7 @@ fn finds_the_reference_closest_hits() {
             };
             let d = (target - o).normalize();
             let want = brute_force(o, d);
-            let (got, n) = traverse(&bvh, o, d);
+            let (got, n, _) = traverse(&bvh, o, d);
             assert_eq!(got, want, "ray {i} with {params:?}");
             hits += usize::from(got.is_some());
             fetches += n;
@@ -207,7 +224,10 @@ fn every_triangle_in_one_leaf_inside_every_box_above_it() {
         assert!(seen.iter().all(|&n| n == 1), "every triangle in one leaf");
         let mut indices_seen: Vec<u32> = bvh.triangles.iter().map(|t| t.v0[3] as u32).collect();
         indices_seen.sort_unstable();
-        assert_eq!(indices_seen, (0..(indices.len() / 3) as u32).collect::<Vec<_>>());
+        assert_eq!(
+            indices_seen,
+            (0..(indices.len() / 3) as u32).collect::<Vec<_>>()
+        );
         let levels = depth(&bvh.nodes);
         assert!((2..=BVH_STACK_SIZE).contains(&levels), "{levels}");
     }
@@ -226,6 +246,6 @@ fn empty_and_single_leaf_scenes() {
     ];
     let bvh = FlatBvh::build(&positions, &[0, 1, 2], &BvhParams::default()).unwrap();
     assert_eq!(bvh.nodes.len(), 1);
-    let (hit, fetches) = traverse(&bvh, Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
-    assert_eq!((hit, fetches), (Some((0, 1.0)), 1));
+    let (hit, fetches, tests) = traverse(&bvh, Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
+    assert_eq!((hit, fetches, tests), (Some((0, 1.0)), 1, 1));
 }
