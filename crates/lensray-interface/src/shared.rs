@@ -189,9 +189,9 @@ shader_interface! {
         HYBRID_PLAN_STEP_COLUMNS: u32 = 2;
         HYBRID_PLAN_STEP_DILATE: u32 = 3;
         HYBRID_PLAN_STEP_ENTRIES: u32 = 4;
-        /// Entries of the software traversal's stack of nodes still to visit; the BVH build
-        /// refuses deeper trees (lensray-vulkan/src/scene/bvh.rs).
-        BVH_STACK_SIZE: u32 = 64;
+        /// Entries of the software traversal's stack of node groups still to visit (one a level
+        /// at most); the BVH build refuses deeper trees (lensray-vulkan/src/scene/bvh.rs).
+        BVH_STACK_SIZE: u32 = 32;
         /// resolve.comp (the preview): RESOLVE_GROUP_SIZE x RESOLVE_GROUP_SIZE pixels a group.
         RESOLVE_GROUP_SIZE: u32 = 8;
         /// spectral.comp (the check of shaders/include/spectral.glsl): floats per result.
@@ -506,19 +506,27 @@ shader_interface! {
             pad1: u32,
             pad2: u32,
         }
-        /// An inner node of the software traversal's BVH (lensray-vulkan/src/scene/bvh.rs): the boxes of both
-        /// children, so one node fetch tests two boxes (Aila and Laine's layout). A child is
-        /// another node (count 0: `link` indexes the node array) or a leaf (count > 0: `count`
-        /// triangles from `link` in the leaf-ordered triangle array).
+        /// A node of the software traversal's 8-wide BVH (lensray-vulkan/src/scene/bvh.rs), the
+        /// compressed layout of Ylitie, Karras and Laine (2017): up to eight children's boxes,
+        /// quantized to 8 bits on a grid from `origin` with power-of-two cell sizes, so that one
+        /// 80-byte fetch tests eight boxes. A child is another node or a leaf of 1 to 3
+        /// triangles; leaves cost no node fetch.
         Std430 struct GpuBvhNode as BvhNode {
-            /// Child a: min x, max x, min y, max y.
-            a_xy: [f32; 4],
-            /// Child b: min x, max x, min y, max y.
-            b_xy: [f32; 4],
-            /// min z, max z of child a, then of child b.
-            ab_z: [f32; 4],
-            /// Link of a, link of b, triangle count of a, of b.
-            children: [u32; 4],
+            /// The grid's origin (f32 bits of x, y, z), then the cell sizes' biased exponents
+            /// (bits 0-23, one byte an axis) and the mask of children that are nodes (bits 24-31).
+            header: [u32; 4],
+            /// The first child node's index, the first triangle's slot, then one byte a child
+            /// (children 0-3, 4-7): 0 for an empty child; for a node 24 + its child index, plus
+            /// 0x20; for a leaf its first triangle's offset from the first slot (bits 0-4) and
+            /// its triangle count in unary (bits 5-7).
+            links: [u32; 4],
+            /// Grid coordinates of the children's lower x planes (children 0-3, 4-7), then of
+            /// their upper x planes.
+            x_planes: [u32; 4],
+            /// The same for y.
+            y_planes: [u32; 4],
+            /// The same for z.
+            z_planes: [u32; 4],
         }
         /// A triangle of the software traversal, in BVH leaf order: its vertices, and in
         /// `v0[3]` the global triangle index as a float (exact: indices stay below 2^24).

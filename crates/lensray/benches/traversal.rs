@@ -203,29 +203,20 @@ fn bvh_sweep(desc: &SceneDescription, a: &Args) -> Result<(), GpuError> {
         a.spp,
         shot.render.shading
     );
-    let choices = [
-        (1, 10, true),
-        (2, 10, true),
-        (4, 15, true),
-        (4, 30, true),
-        (8, 30, true),
-        (4, 15, false),
-    ];
+    let choices = [(1, true), (2, true), (3, true), (3, false)];
     let mut contenders = Vec::new();
-    for (max_leaf_triangles, collapse_cost_x10, medium_build) in choices {
+    for (max_leaf_triangles, medium_build) in choices {
         let mut gpu = GpuRenderer::new(&GpuOptions {
             traversal: Some(Traversal::Software),
             ..Default::default()
         })?;
         gpu.set_bvh_params(BvhParams {
             max_leaf_triangles,
-            collapse_cost_x10,
             medium_build,
         });
         gpu.load_scene(&desc.scene)?;
         let label = format!(
-            "leaf <= {max_leaf_triangles}, cost {:.1}, {} build, {:.2} MiB",
-            collapse_cost_x10 as f32 / 10.0,
+            "leaf <= {max_leaf_triangles}, {} build, {:.2} MiB",
             if medium_build { "medium" } else { "fast" },
             gpu.timings().bvh_bytes as f64 / (1 << 20) as f64
         );

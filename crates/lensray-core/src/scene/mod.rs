@@ -20,6 +20,7 @@ mod material;
 pub mod normals;
 pub mod obj;
 pub mod order;
+pub mod terrain;
 pub mod test_card;
 pub mod texture;
 pub mod textured;

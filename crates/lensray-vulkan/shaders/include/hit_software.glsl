@@ -1,14 +1,19 @@
 // The hit interface (see shading.glsl) answered by a stack-based traversal of the project's own
-// BVH (lensray-vulkan/src/scene/bvh.rs): nodes hold both children's boxes (one fetch, two slab tests), leaves are
-// named by their parent (first triangle, count), triangles are stored in leaf order. Ordered
-// traversal: leaves are tested as soon as their box is hit (shortening the ray), then the nearer
-// inner child is visited first and the other pushed with its entry distance, so that a popped
-// node beyond the closest hit so far costs no fetch (+4% rays/s on the default scene). A stack
-// in shared memory instead of this local array measured ~3% slower on lavapipe. The triangle test is Woop, Benthin and
-// Wald's watertight one, as in the CPU reference (lensray-core/src/reference/triangle.rs). Needs no
-// extension: runs on any Vulkan 1.2 device.
+// BVH (lensray-vulkan/src/scene/bvh.rs): the compressed 8-wide BVH of Ylitie, Karras and Laine
+// (2017). A node holds up to eight children's boxes quantized on a grid (one 80-byte fetch, eight
+// slab tests on the decoded planes), leaves of 1 to 3 triangles are named by their parent,
+// triangles are stored in leaf order. The stack holds node groups (a first child index and a
+// mask of the children still to visit), visited nearest-first by the ray's octant (the build
+// orders each node's child slots by direction); a leaf's triangles are tested as soon as its box
+// is hit, shortening the ray before the next node is fetched. The closest hit is the smallest t,
+// ties going to the smallest triangle index, so the order candidates are met in never changes
+// the result. The triangle test is Woop, Benthin and Wald's watertight one, as in the CPU
+// reference (lensray-core/src/reference/triangle.rs). Needs no extension: runs on any Vulkan 1.2
+// device.
 #ifndef LENSRAY_HIT_SOFTWARE_GLSL
 #define LENSRAY_HIT_SOFTWARE_GLSL
+
+#extension GL_EXT_control_flow_attributes : require
 
 // Far ends of slab intervals are scaled up by this (1 + 2 gamma(3), Ize 2013) so rounding never
 // culls a box that the triangle test would hit.
@@ -101,67 +106,113 @@ float slab_entry(TraversalRay r, vec3 lo, vec3 hi, float t_max) {
     return near <= far ? near : -1.0;
 }
 
+// The ray's octant as the build orders child slots (obvhs's octant, inverted): 4 for x >= 0,
+// 2 for y >= 0, 1 for z >= 0.
+uint traversal_octant(vec3 direction) {
+    return (direction.x < 0.0 ? 0u : 4u) | (direction.y < 0.0 ? 0u : 2u)
+        | (direction.z < 0.0 ? 0u : 1u);
+}
+
+// The children of node `index` whose boxes the ray enters before t_max: `nodes` is the group of
+// its child nodes (first index; bit 24 + (slot ^ octant) for each hit, the node mask in bits
+// 0-7), `triangles` the group of its hit leaves' triangles (first slot; a bit a triangle).
+void intersect_node(TraversalRay r, uint index, uint octant, float t_max, out uvec2 nodes,
+                    out uvec2 triangles) {
+    BvhNode n = bvh_nodes[index];
+    vec3 origin = uintBitsToFloat(n.header.xyz);
+    uint packed = n.header.w;
+    vec3 cell = uintBitsToFloat((uvec3(packed, packed >> 8u, packed >> 16u) & 0xffu) << 23u);
+    uint imask = packed >> 24u;
+    // The ray in the node's grid (Ylitie et al.): a plane q cells from the origin is met at
+    // q * cell_t + origin_t, one fma a plane. cell_t is exact (cells are powers of two).
+    vec3 cell_t = cell * r.inv_direction;
+    vec3 origin_t = origin * r.inv_direction - r.origin_inv;
+    // Along a negative direction the upper plane is met first: the near and far planes are
+    // chosen once a node, and t grows with q along each axis (fma is monotonic), so each
+    // child's entry and exit are the slab test's min and max without computing both.
+    bvec3 negative = lessThan(r.inv_direction, vec3(0.0));
+    uvec4 x = negative.x ? n.x_planes.zwxy : n.x_planes;
+    uvec4 y = negative.y ? n.y_planes.zwxy : n.y_planes;
+    uvec4 z = negative.z ? n.z_planes.zwxy : n.z_planes;
+    uint hits = 0u;
+    [[unroll]] for (uint i = 0u; i < 8u; ++i) {
+        uint word = i >> 2u;
+        uint shift = (i & 3u) * 8u;
+        // An empty child's meta is 0: it sets no bit, so it needs no branch.
+        uint meta = (n.links[2u + word] >> shift) & 0xffu;
+        vec3 q_near = vec3((uvec3(x[word], y[word], z[word]) >> shift) & 0xffu);
+        vec3 q_far = vec3((uvec3(x[word + 2u], y[word + 2u], z[word + 2u]) >> shift) & 0xffu);
+        vec3 t_near = q_near * cell_t + origin_t;
+        vec3 t_far = q_far * cell_t + origin_t;
+        float near = max(max(t_near.x, t_near.y), max(t_near.z, 0.0));
+        float far = min(min(t_far.x, t_far.y), min(t_far.z, t_max)) * SLAB_FAR_SCALE;
+        bool inner = ((imask >> i) & 1u) != 0u;
+        uint bits = (meta >> 5u) << ((meta & 0x1fu) ^ (inner ? octant : 0u));
+        hits |= near <= far ? bits : 0u;
+    }
+    nodes = uvec2(n.links.x, (hits & 0xff000000u) | imask);
+    triangles = uvec2(n.links.y, hits & 0x00ffffffu);
+}
+
 // The closest hit with t in (0, t_max), or with `any_hit` the first one found.
 bool traverse(vec3 origin, vec3 direction, float t_max, bool any_hit, BlendCut cut,
               out uint hit_slot, out float hit_t, out vec2 hit_barycentrics) {
     TraversalRay r = traversal_ray(origin, direction);
-    uint stack[BVH_STACK_SIZE];
-    // Entry distance of each pushed node: popped nodes beyond the closest hit are skipped.
-    float stack_near[BVH_STACK_SIZE];
+    uint octant = traversal_octant(direction);
+    uvec2 stack[BVH_STACK_SIZE];
     uint depth = 0u;
-    uint node = 0u;
+    // The root, as the one child node of a group at node 0.
+    uvec2 nodes = uvec2(0u, 0x80000000u);
+    uvec2 triangles = uvec2(0u);
     bool found = false;
+    uint hit_index = 0u;
     hit_slot = 0u;
     hit_t = t_max;
     hit_barycentrics = vec2(0.0);
     while (true) {
-        BvhNode n = bvh_nodes[node];
-        float near_a = slab_entry(r, vec3(n.a_xy.xz, n.ab_z.x), vec3(n.a_xy.yw, n.ab_z.y), hit_t);
-        float near_b = slab_entry(r, vec3(n.b_xy.xz, n.ab_z.z), vec3(n.b_xy.yw, n.ab_z.w), hit_t);
-        uvec4 children = n.children;
-        // Leaf children now: their hits shorten the ray before the inner children are chosen.
-        for (uint k = 0u; k < 2u; ++k) {
-            uint count = k == 0u ? children.z : children.w;
-            float near = k == 0u ? near_a : near_b;
-            if (count == 0u || near < 0.0) {
+        if ((nodes.y & 0xff000000u) != 0u) {
+            uint bit = findMSB(nodes.y);
+            nodes.y &= ~(1u << bit);
+            uint slot = (bit - 24u) ^ octant;
+            // Child nodes are stored in slot order: those in lower slots come first.
+            uint node = nodes.x + bitCount(nodes.y & ~(0xffffffffu << slot));
+            if ((nodes.y & 0xff000000u) != 0u) {
+                stack[depth] = nodes;
+                depth += 1u;
+            }
+            intersect_node(r, node, octant, hit_t, nodes, triangles);
+        }
+        while (triangles.y != 0u) {
+            uint bit = findMSB(triangles.y);
+            triangles.y &= ~(1u << bit);
+            uint slot = triangles.x + bit;
+            // Up to the closest hit so far and two ulps beyond it: a hit at the same t passes
+            // the scaled range test, and the rule below decides.
+            float bound = found ? uintBitsToFloat(floatBitsToUint(hit_t) + 2u) : t_max;
+            float t;
+            vec2 bary;
+            if (!intersect_triangle(r, slot, bound, t, bary)) {
                 continue;
             }
-            uint first = k == 0u ? children.x : children.y;
-            for (uint slot = first; slot < first + count; ++slot) {
-                float t;
-                vec2 bary;
-                if (intersect_triangle(r, slot, hit_t, t, bary)
-                    && (!SURFACES_ALPHA_TESTED
-                        || triangle_stops_ray(uint(bvh_triangles[slot].v0.w), bary, cut))) {
-                    found = true;
-                    hit_t = t;
-                    hit_slot = slot;
-                    hit_barycentrics = bary;
-                    if (any_hit) {
-                        return true;
-                    }
+            uint index = uint(bvh_triangles[slot].v0.w);
+            bool closer = !found || t < hit_t || (t == hit_t && index < hit_index);
+            if (closer && (!SURFACES_ALPHA_TESTED || triangle_stops_ray(index, bary, cut))) {
+                found = true;
+                hit_t = t;
+                hit_slot = slot;
+                hit_index = index;
+                hit_barycentrics = bary;
+                if (any_hit) {
+                    return true;
                 }
             }
         }
-        bool visit_a = children.z == 0u && near_a >= 0.0 && near_a <= hit_t;
-        bool visit_b = children.w == 0u && near_b >= 0.0 && near_b <= hit_t;
-        if (visit_a && visit_b) {
-            bool b_first = near_b < near_a;
-            node = b_first ? children.y : children.x;
-            stack[depth] = b_first ? children.x : children.y;
-            stack_near[depth] = b_first ? near_a : near_b;
-            depth += 1u;
-        } else if (visit_a || visit_b) {
-            node = visit_a ? children.x : children.y;
-        } else {
-            while (depth > 0u && stack_near[depth - 1u] > hit_t) {
-                depth -= 1u;
-            }
+        if ((nodes.y & 0xff000000u) == 0u) {
             if (depth == 0u) {
                 break;
             }
             depth -= 1u;
-            node = stack[depth];
+            nodes = stack[depth];
         }
     }
     return found;

@@ -18,6 +18,8 @@ pub enum NamedScene {
     Dense,
     /// The generated Cornell-box-style room.
     Cornell,
+    /// The generated terrain: a 513 x 513 height field and 700 icospheres (748,288 triangles).
+    Terrain,
 }
 
 impl NamedScene {
@@ -26,6 +28,7 @@ impl NamedScene {
             NamedScene::Default => "default",
             NamedScene::Dense => "dense",
             NamedScene::Cornell => "cornell",
+            NamedScene::Terrain => "terrain",
         }
     }
 }

@@ -10,7 +10,7 @@ use lensray_core::scene::Scene;
 /// A scene ready to bench: its description, a short name and its fingerprint.
 pub struct BenchScene {
     pub description: SceneDescription,
-    /// "default", "dense", "cornell", the file's path, or "generated dense" for a sweep.
+    /// "default", "dense", "cornell", "terrain", the file's path, or "generated dense" for a sweep.
     pub name: String,
     pub triangles: usize,
     pub fingerprint: u64,
@@ -55,6 +55,7 @@ fn named_scene(named: NamedScene, dense_triangles: usize) -> SceneDescription {
         NamedScene::Default => lensray_core::scene::builtin::default_scene(),
         NamedScene::Dense => lensray_core::scene::generate::dense(dense_triangles),
         NamedScene::Cornell => lensray_core::scene::generate::cornell_box(),
+        NamedScene::Terrain => lensray_core::scene::terrain::terrain(),
     }
 }
 
