@@ -255,6 +255,7 @@ fn median_phases(runs: &[Run]) -> Phases {
         tracing_seconds: of(|p| p.tracing_seconds),
         beyond_tracing_seconds: of(|p| p.beyond_tracing_seconds),
         passes: runs.first().map_or(0, |r| r.phases.passes),
+        submits: runs.last().map_or(0, |r| r.phases.submits),
         readback_seconds: of(|p| p.readback_seconds),
         ..Phases::default()
     }

@@ -25,6 +25,8 @@ pub struct Phases {
     pub beyond_tracing_seconds: f64,
     /// Sample passes of the render (its spp; 1 for an AOV).
     pub passes: u32,
+    /// Queue submissions of the render (0 on the CPU): what the host's time per pass pays for.
+    pub submits: u64,
     /// Bringing the sums to the host.
     pub readback_seconds: f64,
     /// Encoding the image and writing its file.
@@ -48,6 +50,7 @@ impl Phases {
             tracing_seconds,
             beyond_tracing_seconds: (wall - tracing_seconds - done.readback_seconds).max(0.0),
             passes,
+            submits: done.submits,
             readback_seconds: done.readback_seconds,
             ..Self::default()
         }
@@ -88,9 +91,10 @@ impl Phases {
     /// beyond tracing, then the total.
     pub fn lines(&self) -> Vec<String> {
         let per_pass = format!(
-            " ({:.3} ms per pass, {} passes)",
+            " ({:.3} ms per pass, {} passes, {} submissions)",
             self.beyond_tracing_per_pass() * 1e3,
-            self.passes
+            self.passes,
+            self.submits
         );
         [
             ("load", self.load_seconds, String::new()),
@@ -121,6 +125,7 @@ mod tests {
     fn the_phases_and_other_sum_to_the_total() {
         let done = PathReport {
             trace_seconds: 0.5,
+            submits: 3,
             readback_seconds: 0.1,
             ..PathReport::default()
         };
@@ -141,7 +146,7 @@ mod tests {
         assert_eq!(lines.len(), 9);
         assert_eq!(
             lines[4],
-            "timings: beyond tracing 0.2000 s (50.000 ms per pass, 4 passes)"
+            "timings: beyond tracing 0.2000 s (50.000 ms per pass, 4 passes, 3 submissions)"
         );
         assert_eq!(lines[8], "timings: total 1.2000 s");
     }
