@@ -53,6 +53,12 @@ fn a_plan_covers_each_row_and_sample_once_whatever_the_budgets() {
             work += step.work;
         }
         assert!(plan.is_done() && !band_open);
+        // Budgets at or above the first never take more steps than the first alone (the
+        // timestamp pool holds that many).
+        let fresh = StepPlan::new((w, h), band_rows, samples.clone(), 0, raster);
+        let mut growing = fresh.clone();
+        let grown = (0..).map_while(|k| growing.next(1000 << (k % 5))).count();
+        assert!(grown <= fresh.count(1000), "{w}x{h}: {grown}");
         assert!(next_sample.iter().all(|&s| s == samples.end), "{w}x{h}");
         assert_eq!(work, total, "{w}x{h}");
     }
