@@ -192,7 +192,8 @@ impl TracePass {
             }
             if last {
                 let transfer = self.films.record_finish(rec, film);
-                rec.read_on_host(&[transfer, self.rays.buffer()]);
+                let counts = self.rays.record_read_back(rec);
+                rec.read_on_host(&[transfer, counts]);
             }
             Ok(())
         })
