@@ -252,6 +252,7 @@ fn median_phases(runs: &[Run]) -> Phases {
         median(&runs.iter().map(|r| phase(&r.phases)).collect::<Vec<_>>())
     };
     Phases {
+        device_seconds: of(|p| p.device_seconds),
         tracing_seconds: of(|p| p.tracing_seconds),
         beyond_tracing_seconds: of(|p| p.beyond_tracing_seconds),
         passes: runs.first().map_or(0, |r| r.phases.passes),

@@ -39,16 +39,21 @@ pub struct Phases {
 
 impl Phases {
     /// The render call's phases: `wall` seconds around it, `done` what the path reported for
-    /// it (`PathReport::since`), `passes` its sample passes, `aov` whether it was an AOV.
+    /// it (`PathReport::since`), `passes` its sample passes, `aov` whether it was an AOV. The
+    /// pipelines the call made first (the hybrid's plan pass, a driver's lazy compilation)
+    /// count with the device and its pipelines, not beyond tracing.
     pub fn of_render(wall: f64, done: &PathReport, passes: u32, aov: bool) -> Self {
         let tracing_seconds = if aov {
             done.aov_seconds
         } else {
             done.trace_seconds
         };
+        let compile = done.compile_seconds.clamp(0.0, wall);
         Self {
+            device_seconds: compile,
             tracing_seconds,
-            beyond_tracing_seconds: (wall - tracing_seconds - done.readback_seconds).max(0.0),
+            beyond_tracing_seconds: (wall - tracing_seconds - done.readback_seconds - compile)
+                .max(0.0),
             passes,
             submits: done.submits,
             readback_seconds: done.readback_seconds,
@@ -59,7 +64,7 @@ impl Phases {
     /// With what opening the path took.
     pub fn with_startup(self, startup: Startup) -> Self {
         Self {
-            device_seconds: startup.device_seconds,
+            device_seconds: self.device_seconds + startup.device_seconds,
             scene_seconds: startup.scene_seconds,
             ..self
         }
@@ -125,6 +130,7 @@ mod tests {
     fn the_phases_and_other_sum_to_the_total() {
         let done = PathReport {
             trace_seconds: 0.5,
+            compile_seconds: 0.04,
             submits: 3,
             readback_seconds: 0.1,
             ..PathReport::default()
@@ -132,16 +138,17 @@ mod tests {
         let phases = Phases {
             load_seconds: 0.05,
             write_seconds: 0.02,
-            ..Phases::of_render(0.8, &done, 4, false)
+            ..Phases::of_render(0.84, &done, 4, false)
         }
         .with_startup(Startup {
             device_seconds: 0.2,
             scene_seconds: 0.03,
         })
         .closed(1.2);
+        assert!((phases.device_seconds - 0.24).abs() < 1e-12);
         assert!((phases.beyond_tracing_seconds - 0.2).abs() < 1e-12);
         assert!((phases.beyond_tracing_per_pass() - 0.05).abs() < 1e-12);
-        assert!((phases.other_seconds - 0.1).abs() < 1e-9);
+        assert!((phases.other_seconds - 0.06).abs() < 1e-9);
         let lines = phases.lines();
         assert_eq!(lines.len(), 9);
         assert_eq!(
