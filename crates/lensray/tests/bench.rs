@@ -83,6 +83,17 @@ fn check_measurement(m: &Value) {
     ] {
         assert!(!m[field].is_null(), "no {field}: {m}");
     }
+    // The render's phases: tracing as `trace_seconds`, the rest of the call's wall time beyond
+    // it and the read-back, and the passes (one per sample, at least one).
+    let phases = &m["phases"];
+    let tracing = phases["tracing_seconds"].as_f64().unwrap();
+    assert!((tracing - med).abs() <= 1e-9, "{m}");
+    let beyond = phases["beyond_tracing_seconds"].as_f64().unwrap();
+    let readback = phases["readback_seconds"].as_f64().unwrap();
+    let wall = m["wall_seconds"]["median"].as_f64().unwrap();
+    assert!(beyond >= 0.0 && readback >= 0.0, "{m}");
+    assert!(tracing + beyond + readback <= wall + 1e-6, "{m}");
+    assert!(phases["passes"].as_u64().unwrap() >= 1, "{m}");
 }
 
 /// The default scene's camera as the JSON gives it, at the top and at every point.
@@ -320,6 +331,10 @@ fn resolution_and_triangle_sweeps_run() {
         assert!(values[0] < values[1], "{sweep}: {values:?}");
         for (_, m) in measurements(&json) {
             check_measurement(m);
+        }
+        for path in json["paths"].as_array().unwrap() {
+            let scene = path["startup"]["scene_seconds"].as_f64().unwrap();
+            assert!(scene > 0.0, "the scene's start-up: {path}");
         }
         check_png(&dir.path().join(&plot));
     }

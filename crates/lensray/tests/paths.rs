@@ -327,7 +327,7 @@ fn gpu_paths_agree_with_the_cpu_reference() {
 #[test]
 fn auto_says_what_it_chose_and_why() {
     let test = "auto_says_what_it_chose_and_why";
-    let Some(OpenedPath { path, why }) = open(test, PathChoice::Auto) else {
+    let Some(OpenedPath { path, why, .. }) = open(test, PathChoice::Auto) else {
         return;
     };
     println!("auto: {} on {} ({why})", path.kind(), path.device_name());
@@ -359,7 +359,7 @@ fn auto_considers_the_hybrid_and_raster_paths() {
         ),
         render: s,
     };
-    let Some(OpenedPath { path, why }) = open_path(test, PathChoice::Auto, &blurred) else {
+    let Some(OpenedPath { path, why, .. }) = open_path(test, PathChoice::Auto, &blurred) else {
         return;
     };
     println!("blurred, {} spp: {} ({why})", s.spp, path.kind());
@@ -405,7 +405,7 @@ fn auto_considers_the_hybrid_and_raster_paths() {
         camera: sharp,
         render: settings(Shading::Unlit, 64),
     };
-    let Some(OpenedPath { mut path, why }) = open_path(test, PathChoice::Auto, &many) else {
+    let Some(OpenedPath { mut path, why, .. }) = open_path(test, PathChoice::Auto, &many) else {
         return;
     };
     println!("nearly pinhole, 64 spp: {} ({why})", path.kind());
@@ -476,7 +476,7 @@ fn without_ray_queries_the_software_path_runs() {
             ..GpuOptions::default()
         },
     };
-    let OpenedPath { mut path, why } =
+    let OpenedPath { mut path, why, .. } =
         match paths::open(&hidden(PathChoice::Auto), &test_scene(), &shot) {
             Ok(opened) => opened,
             Err(e) => match e.downcast_ref::<GpuError>() {

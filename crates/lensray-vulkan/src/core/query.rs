@@ -61,14 +61,25 @@ impl QueryPool {
     /// The first `count` queries' 64-bit results; call after the submission that wrote them
     /// finished.
     pub(crate) fn results_of(&self, count: u32) -> Result<Vec<u64>, GpuError> {
-        let count = count.min(self.count);
+        self.results_in(0, count)
+    }
+
+    /// The 64-bit results of queries `first..first + count` (clamped to the pool); call after
+    /// the submission that wrote them finished.
+    pub(crate) fn results_in(&self, first: u32, count: u32) -> Result<Vec<u64>, GpuError> {
+        let first = first.min(self.count);
+        let count = count.min(self.count - first);
         let mut out = vec![0u64; count as usize];
+        if count == 0 {
+            return Ok(out);
+        }
         self.ctx.counters.read_back(8 * u64::from(count));
-        // SAFETY: `out` has one u64 per query; the writing submission has completed.
+        // SAFETY: `out` has one u64 per query of the range, inside the pool; the writing
+        // submission has completed.
         unsafe {
             self.ctx.device.get_query_pool_results(
                 self.pool,
-                0,
+                first,
                 &mut out,
                 vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
             )

@@ -1,7 +1,8 @@
 //! The thin-lens compute pass (shaders/passes/trace.comp): camera samples traced with one
 //! pipeline per traversal the device was opened for (ray queries, or the software BVH
 //! traversal; the one in use is `pipelines.traversal()`), split into dispatches of bounded size
-//! (bands of rows x ranges of samples), several per submission, none waited for until the last.
+//! (bands of rows x ranges of samples) sized as the call goes by the speed measured so far,
+//! several per submission, a few submissions in flight, none waited for until the last.
 //! The shader adds to a band's sums in a float buffer, copied in and out of the accumulation's
 //! film (`films`), which stays on the device: the host reads it only when asked.
 //!
@@ -9,7 +10,7 @@
 //! the pipeline in use, what the sets hold, the recording of dispatches), `steps` (the dispatch
 //! sizing: how one call is split), `films` (the accumulations' sums and bands), `camera_tables`
 //! (aperture and lens), `plan` (the hybrid's plan buffers) and `rays` (the ray counter).
-//! `accumulate` holds the renderer's entry that records the steps, submits them and waits;
+//! `accumulate` holds the renderer's entry that plans, records and submits the steps and waits;
 //! `timings` what the timestamps and ray counter say.
 
 mod accumulate;

@@ -28,7 +28,7 @@
 //!
 //! The probe `probes::hybrid_plan` holds the same rules on the host: its `Plan::new` is the
 //! reference the device plan is checked against (tests/hybrid.rs). A render reads none of the
-//! plan back.
+//! plan back (the probes copy it out).
 //!
 //! Whether a pixel traces sample `i` depends on the plan (camera, settings, scene) only, never on
 //! the range asked for, so any split of a range gives the same sums, as for every path.
@@ -155,8 +155,6 @@ impl GpuRenderer {
             if lit {
                 trace.rays.record_keep_prepass(rec);
             }
-            // The probes read the plan back (`read_plan_entries`).
-            rec.read_on_host(&[trace.plan.plan()]);
             Ok(())
         })?;
         self.timings.gbuffer_passes += 1;

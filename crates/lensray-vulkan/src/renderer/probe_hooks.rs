@@ -89,7 +89,6 @@ impl GpuRenderer {
             trace.record_params(rec, &crate::upload::trace_params(batch.shot()));
             trace.rays.record_clear(rec);
             batch.record_lit_prepass(&trace.pipelines, rec)?;
-            rec.read_on_host(&[trace.plan.plan()]);
             Ok(())
         })?;
         self.trace.plan.read(pixels)

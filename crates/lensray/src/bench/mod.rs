@@ -327,7 +327,7 @@ fn open_paths(
 ) -> Result<Vec<Box<dyn RenderPath>>> {
     let mut opened: Vec<Box<dyn RenderPath>> = Vec::with_capacity(kinds.len());
     for &kind in kinds {
-        let OpenedPath { path, .. } = paths::open(
+        let OpenedPath { path, startup, .. } = paths::open(
             &choose::path_options(kind, options),
             &scene.description.scene,
             first,
@@ -337,6 +337,7 @@ fn open_paths(
             paths_seen.push(PathInfo {
                 path: kind,
                 device: path.device_name(),
+                startup,
             });
         }
         opened.push(path);

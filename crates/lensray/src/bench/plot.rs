@@ -1,6 +1,7 @@
 //! The bench's plot (plotters, drawn in memory, encoded as PNG by `image`): error (RMSE)
 //! against time, one curve per path over the spp sweep, or for the other sweeps time against
-//! the swept quantity. Both axes are logarithmic. Text uses a font compiled into the program
+//! the swept quantity, each path's tracing (filled circles) under its whole render call (open
+//! circles, a thin line): the gap is the time beyond tracing. Both axes are logarithmic. Text uses a font compiled into the program
 //! (egui's), so the plot needs no font installed on the machine.
 
 use std::sync::OnceLock;
@@ -18,10 +19,12 @@ use crate::paths::PathKind;
 const SIZE: (u32, u32) = (1024, 720);
 const FONT: &str = "sans-serif";
 
-/// One curve: a path's points (x, y, label).
+/// One curve: a path's points (x, y, label), and for a sweep of time against a quantity the
+/// same points' whole render call (x, wall-clock seconds).
 struct Curve {
     path: PathKind,
     points: Vec<(f64, f64, String)>,
+    wall: Vec<(f64, f64)>,
 }
 
 /// The plot of `report` as PNG bytes.
@@ -50,6 +53,20 @@ fn curves(report: &BenchReport) -> Vec<Curve> {
         .iter()
         .map(|info| Curve {
             path: info.path,
+            wall: match report.sweep {
+                None | Some(SweepKind::Spp) => Vec::new(),
+                Some(_) => report
+                    .points
+                    .iter()
+                    .flat_map(|point| {
+                        point
+                            .results
+                            .iter()
+                            .filter(|m| m.path == info.path)
+                            .map(|m| (point.swept(report.sweep), m.wall_seconds.median))
+                    })
+                    .collect(),
+            },
             points: report
                 .points
                 .iter()
@@ -134,7 +151,8 @@ fn draw(report: &BenchReport, rgb: &mut [u8]) -> Result<(), Box<dyn std::error::
     let curves = curves(report);
     let all = || curves.iter().flat_map(|c| c.points.iter());
     let x_range = log_range(all().map(|p| p.0));
-    let y_range = log_range(all().map(|p| p.1));
+    let walls = curves.iter().flat_map(|c| c.wall.iter().map(|p| p.1));
+    let y_range = log_range(all().map(|p| p.1).chain(walls));
     let s = &report.settings;
     let (title, x_desc, y_desc) = match report.sweep {
         None | Some(SweepKind::Spp) => (
@@ -151,7 +169,7 @@ fn draw(report: &BenchReport, rgb: &mut [u8]) -> Result<(), Box<dyn std::error::
                 report.scene.name, s.spp
             ),
             "pixels",
-            "time, seconds (median)",
+            "time, seconds (median; filled: tracing, open: the whole render call)",
         ),
         Some(SweepKind::Triangles) => (
             format!(
@@ -159,7 +177,7 @@ fn draw(report: &BenchReport, rgb: &mut [u8]) -> Result<(), Box<dyn std::error::
                 s.width, s.height, s.spp
             ),
             "triangles",
-            "time, seconds (median)",
+            "time, seconds (median; filled: tracing, open: the whole render call)",
         ),
         Some(SweepKind::Aperture) => (
             format!(
@@ -167,12 +185,12 @@ fn draw(report: &BenchReport, rgb: &mut [u8]) -> Result<(), Box<dyn std::error::
                 s.width, s.height, s.spp
             ),
             "shape: 1 round, 2 hexagon, 3 curved9, 4 squeezed, 5 image",
-            "time, seconds (median)",
+            "time, seconds (median; filled: tracing, open: the whole render call)",
         ),
         Some(SweepKind::Lens) => (
             format!("Time against lens: {}x{}, {} spp", s.width, s.height, s.spp),
             "lens: 1 biconvex-50, 2 double-gauss-50, 3 wide-22, 4 cooke-triplet-50 (+0.5: real)",
-            "time, seconds (median)",
+            "time, seconds (median; filled: tracing, open: the whole render call)",
         ),
         Some(SweepKind::Movements) => (
             format!(
@@ -180,7 +198,7 @@ fn draw(report: &BenchReport, rgb: &mut [u8]) -> Result<(), Box<dyn std::error::
                 s.width, s.height, s.spp
             ),
             "shot: 1 plain, 2 shift, 3 tilt, 4 moved (shifted and tilted)",
-            "time, seconds (median)",
+            "time, seconds (median; filled: tracing, open: the whole render call)",
         ),
     };
 
@@ -216,6 +234,11 @@ fn draw(report: &BenchReport, rgb: &mut [u8]) -> Result<(), Box<dyn std::error::
         chart.draw_series(curve.points.iter().map(|p| {
             EmptyElement::at((p.0, p.1)) + Text::new(p.2.clone(), (6, -16), (FONT, 13))
         }))?;
+        if !curve.wall.is_empty() {
+            let thin = colour(curve.path).stroke_width(1);
+            chart.draw_series(LineSeries::new(curve.wall.iter().copied(), thin))?;
+            chart.draw_series(curve.wall.iter().map(|&p| Circle::new(p, 5, thin)))?;
+        }
     }
     chart
         .configure_series_labels()

@@ -13,6 +13,7 @@ use super::runs::Measurement;
 use super::sweep::BenchAperture;
 use crate::machine::Machine;
 use crate::paths::PathKind;
+use crate::paths::Startup;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::SceneDescription;
 use lensray_core::settings::Shading;
@@ -101,6 +102,9 @@ pub struct SettingsInfo {
 pub struct PathInfo {
     pub path: PathKind,
     pub device: String,
+    /// What opening the path took the first time (device and pipelines, scene upload and
+    /// acceleration structures): its start-up.
+    pub startup: Startup,
 }
 
 /// One configuration and every path's measurement of it.

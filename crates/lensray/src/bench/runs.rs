@@ -7,7 +7,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use crate::paths::{Clock, PathKind, RenderPath};
+use crate::paths::{Clock, PathKind, Phases, RenderPath};
 use lensray_core::film::compare::rmse;
 use lensray_core::film::Image;
 use lensray_core::settings::{RenderSettings, Shot};
@@ -26,6 +26,8 @@ pub struct Run {
     pub submits: u64,
     pub cpu_waits: u64,
     pub readback_bytes: u64,
+    /// The render's phases: tracing, beyond tracing (and per sample pass), read-back.
+    pub phases: Phases,
 }
 
 /// Median and extremes of repeated measurements.
@@ -66,6 +68,9 @@ pub struct Measurement {
     pub readback_bytes: u64,
     /// `rays` over the median trace time.
     pub rays_per_second: f64,
+    /// The median of each phase of the runs (`beyond_tracing_seconds` over `passes`: the
+    /// host's time per sample pass beyond tracing).
+    pub phases: Phases,
     /// AOV benches: images (GPU: G-buffer passes) per second at the median time.
     pub aov_passes_per_second: Option<f64>,
     /// Device memory held at the peak so far (0 for the CPU).
@@ -181,18 +186,17 @@ pub fn timed_render(path: &mut dyn RenderPath, shot: &Shot) -> Result<(Run, Imag
     let wall_seconds = start.elapsed().as_secs_f64();
     let done = path.report().since(&before);
     // An AOV is one pass (GPU: the raster G-buffer), timed as such; no rays on the GPU.
-    let trace_seconds = if shot.render.shading.is_aov() {
-        done.aov_seconds
-    } else {
-        done.trace_seconds
-    };
+    let aov = shot.render.shading.is_aov();
+    let passes = if aov { 1 } else { shot.render.spp };
+    let phases = Phases::of_render(wall_seconds, &done, passes, aov);
     let run = Run {
-        trace_seconds,
+        trace_seconds: phases.tracing_seconds,
         wall_seconds,
         rays: done.rays,
         submits: done.submits,
         cpu_waits: done.cpu_waits,
         readback_bytes: done.readback_bytes,
+        phases,
     };
     Ok((run, image))
 }
@@ -215,7 +219,6 @@ fn measurement(
         path: path.kind(),
         device: path.device_name(),
         clock: report.clock,
-        runs,
         trace_seconds,
         wall_seconds: Spread::of(&wall),
         rays,
@@ -223,6 +226,7 @@ fn measurement(
         cpu_waits: last.map_or(0, |r| r.cpu_waits),
         readback_bytes: last.map_or(0, |r| r.readback_bytes),
         rays_per_second: rays as f64 / trace_seconds.median.max(1e-12),
+        phases: median_phases(&runs),
         aov_passes_per_second: settings
             .shading
             .is_aov()
@@ -238,6 +242,23 @@ fn measurement(
         cost_vs_thin: None,
         cost_per_camera_ray_vs_thin: None,
         time_per_sample_vs_plain: None,
+        runs,
+    }
+}
+
+/// Each render phase's median over `runs`.
+fn median_phases(runs: &[Run]) -> Phases {
+    let of = |phase: fn(&Phases) -> f64| {
+        median(&runs.iter().map(|r| phase(&r.phases)).collect::<Vec<_>>())
+    };
+    Phases {
+        device_seconds: of(|p| p.device_seconds),
+        tracing_seconds: of(|p| p.tracing_seconds),
+        beyond_tracing_seconds: of(|p| p.beyond_tracing_seconds),
+        passes: runs.first().map_or(0, |r| r.phases.passes),
+        submits: runs.last().map_or(0, |r| r.phases.submits),
+        readback_seconds: of(|p| p.readback_seconds),
+        ..Phases::default()
     }
 }
 
@@ -274,12 +295,14 @@ mod tests {
                 submits: 0,
                 cpu_waits: 0,
                 readback_bytes: 0,
+                phases: Phases::default(),
             })
             .collect();
         Measurement {
             path,
             device: String::new(),
             clock: Clock::WallClock,
+            phases: median_phases(&runs),
             trace_seconds: Spread::of(seconds),
             wall_seconds: Spread::of(seconds),
             runs,

@@ -154,6 +154,21 @@ fn results(out: &mut String, report: &BenchReport) {
         out,
         "time: tracing only, by GPU timestamps (gpu) or the CPU's clock; wall: the whole render call. vs cpu: the CPU path's time over the path's (higher is faster). PSNR: peak 1."
     );
+    let startups: Vec<String> = report
+        .paths
+        .iter()
+        .map(|p| {
+            let s = p.startup;
+            format!(
+                "{} {:.2} s (device and pipelines {:.2} s, scene {:.3} s)",
+                p.path,
+                s.device_seconds + s.scene_seconds,
+                s.device_seconds,
+                s.scene_seconds
+            )
+        })
+        .collect();
+    let _ = writeln!(out, "start-up: {}.", startups.join("; "));
 }
 
 /// The results table's row of one path at one point.

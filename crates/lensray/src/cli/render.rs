@@ -10,7 +10,7 @@ use super::args::{parse_pixel, PathArgs, ViewArgs};
 use super::progress::{ProgressMode, ProgressReporter};
 use crate::focus::{focus_depth_at, lay_focus_plane};
 use crate::output::PendingOutput;
-use crate::paths::{self, OpenedPath};
+use crate::paths::{self, OpenedPath, Phases};
 use lensray_core::scene::file::SceneDescription;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Settings;
@@ -33,6 +33,9 @@ pub struct RenderArgs {
     /// How to show progress: a bar on a terminal, plain lines, or nothing.
     #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
     pub progress: ProgressMode,
+    /// Print where the time went, phase by phase (docs/performance.md, "Phases of a render").
+    #[arg(long)]
+    pub timings: bool,
 }
 
 /// The scene the options name (with the camera `--camera` picks), or the built-in default
@@ -122,6 +125,7 @@ impl Default for RenderArgs {
             out: PathBuf::from(DEFAULT_OUTPUT),
             focus_at: None,
             progress: ProgressMode::Auto,
+            timings: false,
         }
     }
 }
@@ -145,10 +149,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let context = || format!("scene {}", description.source);
     let mut resolved = shot(&settings, &description.scene).with_context(context)?;
     light_scene(&settings, &mut description.scene).with_context(context)?;
+    let load_seconds = start.elapsed().as_secs_f64();
 
     let mut options = args.path.options();
     options.gpu.first_use_notice = args.progress != ProgressMode::None;
-    let OpenedPath { mut path, why } = paths::open(&options, &description.scene, &resolved)?;
+    let OpenedPath {
+        mut path,
+        why,
+        startup,
+    } = paths::open(&options, &description.scene, &resolved)?;
     if settings.camera.focus_plane.is_some() {
         if args.focus_at.is_some() {
             anyhow::bail!("give either --focus-at or --focus-plane, not both");
@@ -174,7 +183,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let mut progress = ProgressReporter::new("rendering", args.progress);
     let before = path.report();
+    let render_start = Instant::now();
     let image = path.render(&resolved, &mut |d, t| progress.update(d, t))?;
+    let render_seconds = render_start.elapsed().as_secs_f64();
     progress.finish();
     let report = path.report().since(&before);
     // Pipelines may be made while the path opens (auto's choice) or in the render.
@@ -182,7 +193,20 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let (kind, device) = (path.kind(), path.device_name());
     path.close()?;
     let Shot { camera, render } = &resolved;
+    let write_start = Instant::now();
     output.finish(&image, render.shading)?;
+    let aov = render.shading.is_aov();
+    let phases = Phases {
+        load_seconds,
+        write_seconds: write_start.elapsed().as_secs_f64(),
+        ..Phases::of_render(
+            render_seconds,
+            &report,
+            if aov { 1 } else { render.spp },
+            aov,
+        )
+    }
+    .with_startup(startup);
     println!(
         "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, path {kind} ({why}) on {}: {:.2} s total{}, {:.2} Mrays/s",
         args.out.display(),
@@ -201,6 +225,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         println!("  {}", real.summary());
         if let Some(notice) = real.params.prescription.dispersion_notice() {
             eprintln!("warning: {notice}");
+        }
+    }
+    if args.timings {
+        for line in phases.closed(start.elapsed().as_secs_f64()).lines() {
+            println!("{line}");
         }
     }
     Ok(())

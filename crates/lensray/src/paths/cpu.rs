@@ -34,6 +34,7 @@ impl CpuPath {
                 submits: 0,
                 cpu_waits: 0,
                 readback_bytes: 0,
+                readback_seconds: 0.0,
                 compile_seconds: 0.0,
             },
         }

@@ -22,6 +22,8 @@ pub struct GpuPath {
     /// Wall-clock seconds of the hybrid's plans (G-buffer draw and plan on the device),
     /// counted in the report's trace time: they are part of what the path costs.
     plan_seconds: f64,
+    /// Wall-clock seconds of `read_sums`.
+    readback_seconds: f64,
 }
 
 impl GpuPath {
@@ -36,6 +38,7 @@ impl GpuPath {
             renderer,
             estimator: kind.estimator(),
             plan_seconds: 0.0,
+            readback_seconds: 0.0,
         })
     }
 
@@ -85,7 +88,10 @@ impl RenderPath for GpuPath {
     }
 
     fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<()> {
-        Ok(self.renderer.read_sums(accumulation)?)
+        let start = std::time::Instant::now();
+        let read = self.renderer.read_sums(accumulation);
+        self.readback_seconds += start.elapsed().as_secs_f64();
+        Ok(read?)
     }
 
     fn aov(&mut self, shot: &Shot) -> Result<Image> {
@@ -123,6 +129,7 @@ impl RenderPath for GpuPath {
             submits: counters.submits,
             cpu_waits: counters.cpu_waits,
             readback_bytes: counters.readback_bytes,
+            readback_seconds: self.readback_seconds,
             compile_seconds: counters.compile_seconds() + t.compile_ms * 1e-3,
         }
     }

@@ -9,7 +9,10 @@ pub mod calibration;
 mod cpu;
 mod gpu;
 mod path;
+mod phases;
 pub mod request;
+
+use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 
@@ -20,6 +23,7 @@ pub use path::{
     Choice, Clock, DeviceChoice, DeviceKind, PathChoice, PathKind, PathReport, RealLensSupport,
     RenderPath,
 };
+pub use phases::Phases;
 pub use request::PathOptions;
 
 use lensray_core::film::Accumulation;
@@ -27,10 +31,21 @@ use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
 use lensray_vulkan::{Estimator, GpuOptions, GpuRenderer};
 
-/// An open path with its scene loaded, and why it was chosen (for the summary line).
+/// An open path with its scene loaded, why it was chosen (for the summary line), and what
+/// opening it took.
 pub struct OpenedPath {
     pub path: Box<dyn RenderPath>,
     pub why: String,
+    pub startup: Startup,
+}
+
+/// What opening a path took, wall-clock seconds: the device and its pipelines (Vulkan
+/// instance, device, pipeline creation and compilation, and `auto`'s calibration and choice),
+/// and the scene on it (upload, acceleration structures or BVH).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Startup {
+    pub device_seconds: f64,
+    pub scene_seconds: f64,
 }
 
 /// Opens the path `options` ask for and loads `scene`. `auto` renders a small version of
@@ -62,6 +77,8 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
         return open_cpu(scene, why);
     }
 
+    // Auto's calibration counts with the device: it is what opening one costs.
+    let device_start = Instant::now();
     let mut gpu_options = GpuOptions {
         traversal: options.path.only().and_then(PathKind::traversal),
         ..options.gpu
@@ -91,7 +108,14 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
             };
         }
     };
+    let mut startup = Startup {
+        device_seconds: device_start.elapsed().as_secs_f64(),
+        scene_seconds: 0.0,
+    };
+    let scene_start = Instant::now();
     renderer.load_scene(scene)?;
+    startup.scene_seconds = scene_start.elapsed().as_secs_f64();
+    let choice_start = Instant::now();
     let (kind, why) = match options.path.only() {
         Some(kind) => match kind.traversal() {
             Some(traversal) => {
@@ -109,9 +133,12 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
         None if real_lens.is_some() => pick_traversal(&mut renderer, shot)?,
         None => pick_path(&mut renderer, shot)?,
     };
+    // Setting the traversal makes its pipeline; auto's choice renders with each path.
+    startup.device_seconds += choice_start.elapsed().as_secs_f64();
     Ok(OpenedPath {
         path: Box::new(GpuPath::new(renderer, kind)?),
         why,
+        startup,
     })
 }
 
@@ -150,10 +177,15 @@ fn auto_device(
 
 fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
     let mut path = CpuPath::new();
+    let start = Instant::now();
     path.load_scene(scene)?;
     Ok(OpenedPath {
         path: Box::new(path),
         why: why.into(),
+        startup: Startup {
+            device_seconds: 0.0,
+            scene_seconds: start.elapsed().as_secs_f64(),
+        },
     })
 }
 

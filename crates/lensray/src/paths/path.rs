@@ -253,18 +253,19 @@ choice_value_enum!(
 );
 
 /// How a path's trace time was measured.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Clock {
     /// GPU timestamp queries around each dispatch (a pipeline's first dispatch excluded: drivers
     /// may compile it lazily).
     GpuTimestamps,
     /// Host wall clock.
+    #[default]
     WallClock,
 }
 
 /// What a path did since it was opened.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct PathReport {
     /// Camera and shadow rays traced.
     pub rays: u64,
@@ -287,6 +288,9 @@ pub struct PathReport {
     pub submits: u64,
     pub cpu_waits: u64,
     pub readback_bytes: u64,
+    /// Wall-clock seconds of bringing sums to the host (`read_sums`; 0 on the CPU, whose sums
+    /// are there).
+    pub readback_seconds: f64,
     /// Time the driver took to make the path's pipelines (its shader compiler), seconds: long
     /// on a device's first use, apart from the render's time.
     pub compile_seconds: f64,
@@ -307,6 +311,7 @@ impl PathReport {
             submits: self.submits - earlier.submits,
             cpu_waits: self.cpu_waits - earlier.cpu_waits,
             readback_bytes: self.readback_bytes - earlier.readback_bytes,
+            readback_seconds: self.readback_seconds - earlier.readback_seconds,
             compile_seconds: self.compile_seconds - earlier.compile_seconds,
             ..*self
         }

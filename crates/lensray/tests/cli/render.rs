@@ -141,3 +141,61 @@ fn progress_lines_count_up_to_100_percent() {
     assert!(percents.windows(2).all(|w| w[0] < w[1]), "{percents:?}");
     assert_eq!(percents.last(), Some(&100), "{err}");
 }
+
+/// `--timings` names every phase once, in order, and they sum to the total (the total is the
+/// command's own clock, read after the others: "other" holds what no phase does); the time
+/// beyond tracing is given per sample pass. On the CPU and, where there is one, on a GPU path.
+#[test]
+fn timings_name_every_phase_and_sum_to_the_total() {
+    let phases = [
+        "load",
+        "device and pipelines",
+        "scene upload and acceleration structures",
+        "tracing",
+        "beyond tracing",
+        "read-back",
+        "encode and write",
+        "other",
+        "total",
+    ];
+    for device in ["cpu", "gpu"] {
+        let dir = tempfile::tempdir().unwrap();
+        let mut args = render_args(&["--timings", "--spp", "4", "--out", "t.png"]);
+        args[2] = device;
+        let out = lensray(&args, dir.path());
+        if !out.status.success() {
+            crate::gpu_support::skip_or_fail("timings_name_every_phase", &stderr(&out));
+            continue;
+        }
+        let text = String::from_utf8_lossy(&out.stdout);
+        let lines: Vec<&str> = text
+            .lines()
+            .filter(|l| l.starts_with("timings: "))
+            .collect();
+        assert_eq!(lines.len(), phases.len(), "{device}: {text}");
+        let seconds: Vec<f64> = lines
+            .iter()
+            .zip(phases)
+            .map(|(line, phase)| {
+                let rest = line
+                    .strip_prefix(&format!("timings: {phase} "))
+                    .unwrap_or_else(|| panic!("{device}: '{line}' is not phase '{phase}'"));
+                rest.split(' ').next().unwrap().parse().unwrap()
+            })
+            .collect();
+        let (named, total) = (&seconds[..phases.len() - 1], seconds[phases.len() - 1]);
+        assert!(named.iter().all(|&s| s >= 0.0), "{device}: {text}");
+        let sum: f64 = named.iter().sum();
+        assert!(
+            total > 0.0 && (sum - total).abs() <= 0.002,
+            "{device}: {sum} against {total}: {text}"
+        );
+        assert!(
+            lines[4].contains(" ms per pass, 4 passes"),
+            "{device}: {}",
+            lines[4]
+        );
+        // The path's tracing is most of a render of the built-in scene on either device.
+        assert!(seconds[3] > 0.0, "{device}: {text}");
+    }
+}

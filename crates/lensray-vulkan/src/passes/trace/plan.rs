@@ -37,13 +37,13 @@ impl PlanBuffers {
 
     fn plan_buffer(ctx: &Arc<Context>, bytes: u64) -> Result<Buffer, GpuError> {
         // Written by the device plan pass, read (and, lit, completed by the shortcut pre-pass)
-        // by the shader; host-visible so that the device plan reads back.
+        // by the shader on every pass: device-local; the probes copy it out to read it.
         Buffer::new(
             ctx,
             "hybrid plan",
             bytes,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::CpuToGpu,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
         )
     }
 
@@ -105,14 +105,30 @@ impl PlanBuffers {
         }
     }
 
-    /// The plan's entries as the device left them (host-visible buffer; the caller waited for
-    /// the submissions that wrote it).
+    /// The plan's first `pixels` entries as the device left them, copied to host-visible
+    /// memory in a submission of their own, waited for.
     #[cfg(feature = "probes")]
     pub(crate) fn read(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
-        let entries: &[[f32; 4]] = bytemuck::cast_slice(self.plan.read()?);
-        entries
-            .get(..pixels as usize)
-            .map(<[_]>::to_vec)
-            .ok_or_else(|| GpuError::Invalid(format!("the plan buffer has no {pixels} entries")))
+        let bytes = pixels * 16;
+        if bytes > self.plan.size {
+            return Err(GpuError::Invalid(format!(
+                "the plan buffer has no {pixels} entries"
+            )));
+        }
+        let host = Buffer::new(
+            &self.ctx,
+            "hybrid plan read-back",
+            bytes.max(16),
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        self.ctx.submit_and_wait(|rec| {
+            let copy = vk::BufferCopy::default().size(bytes.max(16));
+            rec.copy_buffer(&self.plan, &host, &[copy]);
+            rec.read_on_host(&[&host]);
+            Ok(())
+        })?;
+        let entries: &[[f32; 4]] = bytemuck::cast_slice(host.read()?);
+        Ok(entries[..pixels as usize].to_vec())
     }
 }

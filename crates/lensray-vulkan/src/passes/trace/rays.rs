@@ -24,7 +24,10 @@ pub(super) struct CountedRays {
 }
 
 pub(crate) struct RayCounter {
+    /// Device-local: every workgroup of every dispatch adds to it.
     buffer: Buffer,
+    /// Host-visible: the counts copied at the end of a call, read after its wait.
+    host: Buffer,
     /// The hybrid's lit pre-pass counted rays into word 2, not yet reported.
     prepass_pending: bool,
 }
@@ -39,17 +42,36 @@ impl RayCounter {
             vk::BufferUsageFlags::STORAGE_BUFFER
                 | vk::BufferUsageFlags::TRANSFER_SRC
                 | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        let host = Buffer::new(
+            ctx,
+            "trace ray counts",
+            16,
+            vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
         Ok(Self {
             buffer,
+            host,
             prepass_pending: false,
         })
     }
 
-    /// The counter's buffer (bound to the pipelines; read on the host after a call).
+    /// The counter's buffer (bound to the pipelines).
     pub(crate) fn buffer(&self) -> &Buffer {
         &self.buffer
+    }
+
+    /// Records the copy of the counts to host-visible memory, at the end of a call; returns
+    /// the buffer the host reads (`read`) after the call's wait.
+    pub(super) fn record_read_back(&self, rec: &mut Recorder<'_>) -> &Buffer {
+        rec.copy_buffer(
+            &self.buffer,
+            &self.host,
+            &[vk::BufferCopy::default().size(16)],
+        );
+        &self.host
     }
 
     /// Records a clear of words 0 and 1 (all rays, the first dispatch's); word 2 keeps the
@@ -81,7 +103,7 @@ impl RayCounter {
 
     /// The counts after a call's wait; a pending pre-pass's count is reported once.
     pub(super) fn read(&mut self) -> Result<CountedRays, GpuError> {
-        let words = bytemuck::cast_slice::<u8, u32>(self.buffer.read()?);
+        let words = bytemuck::cast_slice::<u8, u32>(self.host.read()?);
         let (all, first, prepass) = (words[0], words[1], words[2]);
         let prepass = if std::mem::take(&mut self.prepass_pending) {
             u64::from(prepass)

@@ -1,5 +1,8 @@
 //! How one `accumulate` call is split into dispatches (steps): bands of rows, ranges of
-//! samples, groups of row blocks, each step sized from the measured speed (`DispatchSizing`).
+//! samples, groups of row blocks, each range of samples sized from the speed measured so far
+//! (`DispatchSizing`), the call's own dispatches included: `StepPlan` plans the steps one at a
+//! time, so a sample pass costs the host the same few dispatches whatever the image's size
+//! once the speed is known.
 
 use std::ops::Range;
 
@@ -54,6 +57,7 @@ impl Split {
 }
 
 /// One dispatch of an `accumulate` call and what comes with it.
+#[derive(Clone, Copy, Debug)]
 pub(super) struct Step {
     pub(super) push: TracePush,
     /// The first step of a band: the band's sums come in from the film first.
@@ -65,93 +69,13 @@ pub(super) struct Step {
 }
 
 impl DispatchSizing {
-    /// The dispatches of one `accumulate` call, in order: band after band; in a band, the
-    /// raster path's samples one by one, else ranges of samples of groups of row blocks sized
-    /// by `adaptive_samples` (any split adds each pixel's samples in the same order, so the
-    /// sums do not depend on it).
-    pub(super) fn steps(
-        &self,
-        width: u32,
-        height: u32,
-        band_rows: u32,
-        samples: &Range<u32>,
-        mode: u32,
-        raster: bool,
-    ) -> Vec<Step> {
-        let (first_sample, spp) = (samples.start, samples.end);
-        let mut steps = Vec::new();
-        let mut band_origin = 0;
-        while band_origin < height {
-            let band_height = band_rows.min(height - band_origin);
-            let band_bytes = u64::from(band_height) * u64::from(width) * 16;
-            let band_start = steps.len();
-            if raster {
-                for sample in first_sample..spp {
-                    steps.push(Step {
-                        push: TracePush {
-                            band_origin,
-                            band_height,
-                            block_first: 0,
-                            block_stride: 1,
-                            block_count: band_height.div_ceil(GROUP),
-                            sample_begin: sample,
-                            sample_end: sample + 1,
-                            mode,
-                        },
-                        load: false,
-                        copy_out: None,
-                        work: u64::from(band_height) * u64::from(width),
-                    });
-                }
-            } else {
-                let mut sample_begin = first_sample;
-                while sample_begin < spp {
-                    let budget = self.adaptive_samples.min(self.samples_per_dispatch);
-                    let split = Split::new(width, band_height, spp - sample_begin, budget);
-                    let sample_end = (sample_begin + split.samples_per).min(spp);
-                    // The band's blocks of GROUP rows are dealt out to `groups` dispatches with
-                    // a stride, so each dispatch covers the whole band evenly (similar cost per
-                    // dispatch, sky and geometry mixed alike) while each workgroup still traces
-                    // a coherent 8x8 tile.
-                    let blocks = band_height.div_ceil(GROUP);
-                    let blocks_per = (split.rows_per / GROUP).max(1);
-                    let groups = blocks.div_ceil(blocks_per);
-                    for group in 0..groups {
-                        let block_count = (blocks - group).div_ceil(groups);
-                        let rows: u32 = (0..block_count)
-                            .map(|b| GROUP.min(band_height - (group + b * groups) * GROUP))
-                            .sum();
-                        steps.push(Step {
-                            push: TracePush {
-                                band_origin,
-                                band_height,
-                                block_first: group,
-                                block_stride: groups,
-                                block_count,
-                                sample_begin,
-                                sample_end,
-                                mode,
-                            },
-                            load: false,
-                            copy_out: None,
-                            work: u64::from(rows)
-                                * u64::from(width)
-                                * u64::from(sample_end - sample_begin),
-                        });
-                    }
-                    sample_begin = sample_end;
-                }
-            }
-            steps[band_start].load = true;
-            steps.last_mut().expect("a band has a step").copy_out = Some(band_bytes);
-            band_origin += band_height;
-        }
-        steps
+    /// Pixel-samples of the next sample range's dispatches: the measured size, capped.
+    pub(super) fn budget(&self) -> u64 {
+        self.adaptive_samples.min(self.samples_per_dispatch)
     }
 
-    /// Sizes the next calls' dispatches from `work` pixel-samples traced in `ms` GPU
-    /// milliseconds (nothing measured when either is 0): grows at most 4x per call, shrinks at
-    /// once.
+    /// Sizes the next dispatches from `work` pixel-samples traced in `ms` GPU milliseconds
+    /// (nothing measured when either is 0): grows at most 4x per measurement, shrinks at once.
     pub(super) fn measured(&mut self, work: u64, ms: f64) {
         if work > 0 && ms > 0.0 {
             let rate = work as f64 / ms;
@@ -159,5 +83,141 @@ impl DispatchSizing {
                 .min(4 * self.adaptive_samples)
                 .clamp(1024, MAX_SAMPLES_PER_DISPATCH);
         }
+    }
+}
+
+/// The steps of one `accumulate` call, planned one at a time: band after band; in a band, the
+/// raster path's samples one by one, else ranges of samples of groups of row blocks, each range
+/// sized by the budget given when it starts (any split adds each pixel's samples in the same
+/// order, so the sums do not depend on it).
+#[derive(Clone, Debug)]
+pub(super) struct StepPlan {
+    width: u32,
+    height: u32,
+    band_rows: u32,
+    samples: Range<u32>,
+    mode: u32,
+    raster: bool,
+    band_origin: u32,
+    sample_begin: u32,
+    range: Option<SampleRange>,
+}
+
+/// The range of samples being planned in the current band and how its row blocks are dealt.
+#[derive(Clone, Copy, Debug)]
+struct SampleRange {
+    sample_end: u32,
+    blocks: u32,
+    groups: u32,
+    next_group: u32,
+}
+
+impl StepPlan {
+    pub(super) fn new(
+        (width, height): (u32, u32),
+        band_rows: u32,
+        samples: Range<u32>,
+        mode: u32,
+        raster: bool,
+    ) -> Self {
+        Self {
+            width,
+            height,
+            band_rows: band_rows.max(1),
+            sample_begin: samples.start,
+            samples,
+            mode,
+            raster,
+            band_origin: 0,
+            range: None,
+        }
+    }
+
+    /// Pixel-samples of the whole call (the progress's total).
+    pub(super) fn work(&self) -> u64 {
+        u64::from(self.width) * u64::from(self.height) * u64::from(self.samples.len() as u32)
+    }
+
+    /// Every step is planned.
+    pub(super) fn is_done(&self) -> bool {
+        self.samples.is_empty() || self.band_origin >= self.height
+    }
+
+    /// How many steps the rest of the call takes with `budget` for every range.
+    pub(super) fn count(&self, budget: u64) -> usize {
+        let mut plan = self.clone();
+        std::iter::from_fn(|| plan.next(budget)).count()
+    }
+
+    /// The next step; a range of samples that starts with it is sized by `budget`.
+    pub(super) fn next(&mut self, budget: u64) -> Option<Step> {
+        if self.is_done() {
+            return None;
+        }
+        let (width, band_origin) = (self.width, self.band_origin);
+        let band_height = self.band_rows.min(self.height - band_origin);
+        let sample_begin = self.sample_begin;
+        let range = *self.range.get_or_insert_with(|| {
+            let (sample_end, groups, blocks) = if self.raster {
+                (sample_begin + 1, 1, band_height.div_ceil(GROUP))
+            } else {
+                let spp = self.samples.end;
+                let split = Split::new(width, band_height, spp - sample_begin, budget);
+                // The band's blocks of GROUP rows are dealt out to `groups` dispatches with a
+                // stride, so each dispatch covers the whole band evenly (similar cost per
+                // dispatch, sky and geometry mixed alike) while each workgroup still traces a
+                // coherent 8x8 tile.
+                let blocks = band_height.div_ceil(GROUP);
+                let blocks_per = (split.rows_per / GROUP).max(1);
+                let end = (sample_begin + split.samples_per).min(spp);
+                (end, blocks.div_ceil(blocks_per), blocks)
+            };
+            SampleRange {
+                sample_end,
+                blocks,
+                groups,
+                next_group: 0,
+            }
+        });
+        let group = range.next_group;
+        let (block_count, rows) = if self.raster {
+            (range.blocks, band_height)
+        } else {
+            let block_count = (range.blocks - group).div_ceil(range.groups);
+            let rows = (0..block_count)
+                .map(|b| GROUP.min(band_height - (group + b * range.groups) * GROUP))
+                .sum();
+            (block_count, rows)
+        };
+        let mut step = Step {
+            push: TracePush {
+                band_origin,
+                band_height,
+                block_first: group,
+                block_stride: range.groups,
+                block_count,
+                sample_begin,
+                sample_end: range.sample_end,
+                mode: self.mode,
+            },
+            load: sample_begin == self.samples.start && group == 0,
+            copy_out: None,
+            work: u64::from(rows) * u64::from(width) * u64::from(range.sample_end - sample_begin),
+        };
+        if group + 1 < range.groups {
+            self.range = Some(SampleRange {
+                next_group: group + 1,
+                ..range
+            });
+        } else {
+            self.range = None;
+            self.sample_begin = range.sample_end;
+            if self.sample_begin >= self.samples.end {
+                step.copy_out = Some(u64::from(band_height) * u64::from(width) * 16);
+                self.band_origin += band_height;
+                self.sample_begin = self.samples.start;
+            }
+        }
+        Some(step)
     }
 }

@@ -3,7 +3,7 @@
 
 use ash::vk;
 
-use super::steps::Step;
+use super::accumulate::{Submitted, FIRST_STEP_QUERY};
 use super::TracePass;
 use crate::core::error::GpuError;
 use crate::core::query::QueryPool;
@@ -76,26 +76,32 @@ impl TracePass {
         Ok(())
     }
 
-    /// After a call's wait: each step's GPU time (the pipeline's first dispatch apart), the
-    /// rays counted, and the size of the next calls' dispatches from the measured speed.
-    pub(super) fn record_timings(
+    /// Takes the timestamps of the batches of `submitted` that signal `completed` or less (they
+    /// finished): each step's GPU time (the pipeline's first dispatch apart), and the size of
+    /// the dispatches still to plan from the measured speed.
+    pub(super) fn take_timings(
         &mut self,
-        steps: &[Step],
-        first_dispatch: bool,
+        submitted: &mut Submitted,
+        completed: u64,
         timings: &mut Timings,
     ) -> Result<(), GpuError> {
-        let queries = 2 * steps.len() as u32 + if first_dispatch { 2 } else { 0 };
-        let ticks = self.timestamps.results_of(queries)?;
-        if first_dispatch {
-            let compile = 2 * steps.len();
-            timings.compile_ms += self.ctx.elapsed_ns(ticks[compile], ticks[compile + 1]) * 1e-6;
+        let finished = submitted.batches[submitted.finished..]
+            .iter()
+            .take_while(|b| b.value <= completed)
+            .count();
+        if finished == 0 {
+            return Ok(());
         }
-        let rays = self.rays.read()?;
-        timings.rays_traced += rays.prepass;
+        let batches = &submitted.batches[submitted.finished..submitted.finished + finished];
+        let steps = batches[0].steps.start..batches[finished - 1].steps.end;
+        submitted.finished += finished;
+        let first = FIRST_STEP_QUERY + 2 * steps.start as u32;
+        let ticks = self.timestamps.results_in(first, 2 * steps.len() as u32)?;
         let (mut work, mut ms) = (0u64, 0.0f64);
-        for (i, step) in steps.iter().enumerate() {
-            let gpu_ms = self.ctx.elapsed_ns(ticks[2 * i], ticks[2 * i + 1]) * 1e-6;
-            if i == 0 && first_dispatch {
+        for (k, step) in submitted.steps[steps.clone()].iter().enumerate() {
+            submitted.done += step.work;
+            let gpu_ms = self.ctx.elapsed_ns(ticks[2 * k], ticks[2 * k + 1]) * 1e-6;
+            if steps.start + k == 0 && submitted.first_dispatch {
                 timings.first_dispatch_ms = Some(timings.first_dispatch_ms.unwrap_or(0.0) + gpu_ms);
                 continue;
             }
@@ -108,6 +114,23 @@ impl TracePass {
                 ms += gpu_ms;
             }
         }
+        self.sizing.measured(work, ms);
+        Ok(())
+    }
+
+    /// After a call's last wait: the rays counted, and the pipeline's compilation when the
+    /// call made its first dispatch.
+    pub(super) fn finish_timings(
+        &mut self,
+        first_dispatch: bool,
+        timings: &mut Timings,
+    ) -> Result<(), GpuError> {
+        if first_dispatch {
+            let ticks = self.timestamps.results_in(0, 2)?;
+            timings.compile_ms += self.ctx.elapsed_ns(ticks[0], ticks[1]) * 1e-6;
+        }
+        let rays = self.rays.read()?;
+        timings.rays_traced += rays.prepass;
         if first_dispatch {
             // Summed over the pipelines (one per traversal), so that reports can subtract.
             timings.first_dispatch_rays += rays.first;
@@ -116,7 +139,6 @@ impl TracePass {
         } else {
             timings.rays_traced += rays.all;
         }
-        self.sizing.measured(work, ms);
         Ok(())
     }
 }
