@@ -103,7 +103,7 @@ fn bad_option_cases() -> [(&'static [&'static str], &'static [&'static str]); 8]
             &["--path", "hybrid", "--lens", "double-gauss-50"],
             &[
                 "--path hybrid does not trace real lenses (--lens double-gauss-50)",
-                "use cpu, rayquery, software or auto",
+                "use cpu, rayquery, rtpipeline, software or auto",
             ],
         ),
     ]
