@@ -13,7 +13,7 @@ use lensray_core::film::{Accumulation, Image};
 use lensray_core::reference::Renderer as CpuRenderer;
 use lensray_core::scene::Scene;
 use lensray_core::settings::{Shading, Shot};
-use lensray_vulkan::{Estimator, GpuError, GpuOptions, Traversal};
+use lensray_vulkan::{Estimator, GpuError, GpuOptions, GpuRenderer, Traversal, ValidationLog};
 use support::*;
 
 /// The project's scenes (built-in default, Cornell box) as the CLI resolves them, small.
@@ -110,12 +110,11 @@ fn software_equals_rayquery_unlit() {
     finish(gpu, log);
 }
 
-/// The ray-tracing pipeline traces through the acceleration structures ray queries use, with
-/// the same alpha test and shading: unlit and lit (its shadow rays), the project's scenes, the
-/// same images as ray queries but for shared-edge ties.
-#[test]
-fn rtpipeline_equals_rayquery() {
-    let test = "rtpipeline_equals_rayquery";
+/// Two renderers on the device, one opened for ray queries and one for the ray-tracing
+/// pipeline alone; `None` (recorded as a skip) where the device has either missing.
+fn rayquery_and_rtpipeline(
+    test: &str,
+) -> Option<((GpuRenderer, ValidationLog), (GpuRenderer, ValidationLog))> {
     let open = |traversal| {
         let options = GpuOptions {
             traversal: Some(traversal),
@@ -123,14 +122,23 @@ fn rtpipeline_equals_rayquery() {
         };
         renderer_with(test, &options)
     };
-    let Some((mut rayquery, rayquery_log)) = open(Traversal::RayQuery) else {
-        return;
-    };
-    if !rayquery.device_report().rt_pipeline {
+    let rayquery = open(Traversal::RayQuery)?;
+    if !rayquery.0.device_report().rt_pipeline {
         record_skip(test, "the device has no ray-tracing pipeline");
-        return;
+        return None;
     }
-    let Some((mut pipeline, pipeline_log)) = open(Traversal::RtPipeline) else {
+    Some((rayquery, open(Traversal::RtPipeline)?))
+}
+
+/// The ray-tracing pipeline traces through the acceleration structures ray queries use, with
+/// the same alpha test and shading: unlit and lit (its shadow rays), the project's scenes, the
+/// same images as ray queries but for shared-edge ties.
+#[test]
+fn rtpipeline_equals_rayquery() {
+    let test = "rtpipeline_equals_rayquery";
+    let Some(((mut rayquery, rayquery_log), (mut pipeline, pipeline_log))) =
+        rayquery_and_rtpipeline(test)
+    else {
         return;
     };
     assert_eq!(pipeline.traversals(), vec![Traversal::RtPipeline]);
@@ -161,28 +169,16 @@ fn rtpipeline_equals_rayquery() {
 #[test]
 fn rtpipeline_traces_the_hybrid_and_raster_estimators() {
     let test = "rtpipeline_traces_the_hybrid_and_raster_estimators";
-    let open = |traversal| {
-        let options = GpuOptions {
-            traversal: Some(traversal),
-            ..Default::default()
-        };
-        renderer_with(test, &options)
-    };
-    let Some((mut rayquery, rayquery_log)) = open(Traversal::RayQuery) else {
-        return;
-    };
-    if !rayquery.device_report().rt_pipeline {
-        record_skip(test, "the device has no ray-tracing pipeline");
-        return;
-    }
-    let Some((mut pipeline, pipeline_log)) = open(Traversal::RtPipeline) else {
+    let Some(((mut rayquery, rayquery_log), (mut pipeline, pipeline_log))) =
+        rayquery_and_rtpipeline(test)
+    else {
         return;
     };
     let (name, scene, shot) = project_scenes(96, 72, 4, Shading::Lit).remove(0);
     rayquery.load_scene(&scene).expect("load scene");
     pipeline.load_scene(&scene).expect("load scene");
     for estimator in [Estimator::Hybrid, Estimator::Raster] {
-        let image = |gpu: &mut lensray_vulkan::GpuRenderer| {
+        let image = |gpu: &mut GpuRenderer| {
             let cam = &shot.camera;
             let mut sums = Accumulation::new(cam.width, cam.height);
             gpu.add_samples(

@@ -11,14 +11,12 @@ use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
-use crate::core::recorder::Access;
 use crate::core::shader;
 use crate::passes::aperture::ApertureTable;
 use crate::passes::lens::LensBuffer;
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
     ApertureGroup, DescriptorSet, GpuCamera, LensGroup, MirrorProbeGroup, MirrorProbeSet,
-    PROBE_GROUP_SIZE,
 };
 pub use lensray_core::interface::{ProbeQuery, ProbeResult};
 
@@ -62,18 +60,7 @@ pub(crate) fn run(
     let lens = LensBuffer::of(ctx, camera)?;
     pipeline.bind_group(&LensGroup::<Gpu> { lens: &lens });
     let count = queries.len() as u32;
-    ctx.submit_and_wait(|rec| {
-        let groups = [count.div_ceil(PROBE_GROUP_SIZE), 1, 1];
-        let push = bytemuck::bytes_of(&count);
-        rec.dispatch(
-            &pipeline,
-            push,
-            groups,
-            &[(output.buffer, Access::ComputeWrite)],
-        );
-        rec.read_on_host(&[&output]);
-        Ok(())
-    })?;
+    super::run_probe(ctx, &pipeline, count, &output)?;
     let results: &[ProbeResult] = bytemuck::cast_slice(output.read()?);
     Ok(results[..queries.len()].to_vec())
 }

@@ -11,3 +11,32 @@ pub(crate) mod sampler_cost;
 pub(crate) mod spectral;
 pub(crate) mod timing;
 pub(crate) mod view_routes;
+
+use crate::core::buffer::Buffer;
+use crate::core::device::Context;
+use crate::core::error::GpuError;
+use crate::core::pipeline::Pipeline;
+use crate::core::recorder::Access;
+use lensray_core::interface::PROBE_GROUP_SIZE;
+
+/// Runs a probe's pipeline once over `count` queries (its push constant) and waits until
+/// `output`, which the shader writes, can be read on the host.
+pub(crate) fn run_probe(
+    ctx: &Context,
+    pipeline: &Pipeline,
+    count: u32,
+    output: &Buffer,
+) -> Result<(), GpuError> {
+    ctx.submit_and_wait(|rec| {
+        let groups = [count.div_ceil(PROBE_GROUP_SIZE), 1, 1];
+        let push = bytemuck::bytes_of(&count);
+        rec.dispatch(
+            pipeline,
+            push,
+            groups,
+            &[(output.buffer, Access::ComputeWrite)],
+        );
+        rec.read_on_host(&[output]);
+        Ok(())
+    })
+}

@@ -8,12 +8,10 @@ use gpu_allocator::MemoryLocation;
 use crate::core::buffer::Buffer;
 use crate::core::descriptors::Gpu;
 use crate::core::pipeline::Pipeline;
-use crate::core::recorder::Access;
 use crate::core::shader;
 use crate::{GpuError, GpuRenderer};
 use lensray_core::interface::{
-    DescriptorSet, SpectralProbeGroup, SpectralProbeSet, PROBE_GROUP_SIZE,
-    SPECTRAL_PROBE_RESULT_FLOATS,
+    DescriptorSet, SpectralProbeGroup, SpectralProbeSet, SPECTRAL_PROBE_RESULT_FLOATS,
 };
 
 /// What the device computes for one query `[u, lambda_nm]` (spectral.glsl).
@@ -55,18 +53,7 @@ pub fn probe_spectral(
         results: &output,
     });
     let count = queries.len() as u32;
-    ctx.submit_and_wait(|rec| {
-        let groups = [count.div_ceil(PROBE_GROUP_SIZE), 1, 1];
-        let push = bytemuck::bytes_of(&count);
-        rec.dispatch(
-            &pipeline,
-            push,
-            groups,
-            &[(output.buffer, Access::ComputeWrite)],
-        );
-        rec.read_on_host(&[&output]);
-        Ok(())
-    })?;
+    super::run_probe(ctx, &pipeline, count, &output)?;
     let floats: &[f32] = bytemuck::cast_slice(output.read()?);
     Ok(floats
         .chunks_exact(stride)
