@@ -6,12 +6,14 @@
 #   scripts/image-hashes.sh target/release/lensray > after.txt    # at the new one
 #   diff before.txt after.txt
 # Hashes depend on the machine (the build uses every instruction the CPU has), so compare lists
-# made on one machine.
+# made on one machine. The hashes are of the files, so a change of the EXR encoding changes them
+# all: then keep the images of both (IMAGE_HASHES_KEEP=DIR) and compare their decoded floats.
 set -euo pipefail
 bin=${1:?usage: scripts/image-hashes.sh PATH/TO/lensray}
 cd "$(dirname "$0")/.."
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+out=${IMAGE_HASHES_KEEP:-$(mktemp -d)}
+mkdir -p "$out"
+[ -n "${IMAGE_HASHES_KEEP:-}" ] || trap 'rm -rf "$out"' EXIT
 export LENSRAY_CACHE_DIR="$out/cache"
 
 small=(--width 96 --height 72 --spp 8 --progress none)

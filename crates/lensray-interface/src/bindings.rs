@@ -323,9 +323,10 @@ binding_groups! {
     /// The trace pass's parameters and ray counter (shaders/passes/trace.comp).
     TraceGroup("GROUP_TRACE") {
         params: uniform_buffer() = "uniform ParamsBlock { TraceParams params; }",
-        /// Word 0: the rays traced; word 1: those of a pipeline's first dispatch; word 2: the
-        /// hybrid's lit pre-pass's.
-        counters: storage_buffer() = "buffer Counters { uint rays_traced; }",
+        /// 64-bit counts as pairs of words (low, high): words 0-1 the rays traced (a 4K render
+        /// at 256 spp passes 2^32), 2-3 those of a pipeline's first dispatch, 4-5 the hybrid's
+        /// lit pre-pass's.
+        counters: storage_buffer() = "buffer Counters { uint rays_traced; uint rays_traced_high; }",
     }
     /// The band of sums the trace pass adds to (xyz: sum, w: samples), a band of rows of the
     /// image.

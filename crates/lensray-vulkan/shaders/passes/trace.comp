@@ -259,12 +259,21 @@ uint trace_pixel() {
     return rays;
 }
 
+// Adds to the 64-bit count (two words): the add that wraps the low word carries into the high
+// one, exactly once per wrap.
+void count_rays(uint rays) {
+    uint before = atomicAdd(rays_traced, rays);
+    if (before > 0xFFFFFFFFu - rays) {
+        atomicAdd(rays_traced_high, 1u);
+    }
+}
+
 #if defined(TRAVERSAL_RT_PIPELINE)
 // A ray generation stage has no workgroup to sum the rays in: each invocation adds its own.
 void main() {
     uint rays = trace_pixel();
     if (rays != 0u) {
-        atomicAdd(rays_traced, rays);
+        count_rays(rays);
     }
 }
 #else
@@ -285,7 +294,7 @@ void main() {
     memoryBarrierShared();
     barrier();
     if (gl_LocalInvocationIndex == 0u && group_rays != 0u) {
-        atomicAdd(rays_traced, group_rays);
+        count_rays(group_rays);
     }
 }
 #endif

@@ -44,6 +44,8 @@ pub struct GpuRenderer {
     scene: Option<SceneBuffers>,
     bvh_params: BvhParams,
     timings: Timings,
+    /// Seconds the Vulkan instance and device took to open (what no pipeline adds to).
+    open_seconds: f64,
     log: ValidationLog,
     ctx: Arc<Context>,
 }
@@ -65,12 +67,14 @@ impl GpuRenderer {
                 .map_err(vk_err("vkEnumerateInstanceExtensionProperties"))?,
             None => &[],
         };
+        let start = std::time::Instant::now();
         let instance = Arc::new(Instance::new(options.validate, window_extensions)?);
         let log = instance.log.clone();
         let surface = window
             .map(|(display, window)| WindowSurface::new(&instance, display, window))
             .transpose()?;
         let ctx = Arc::new(Context::new(instance, options, surface.as_ref())?);
+        let open_seconds = start.elapsed().as_secs_f64();
         let trace = TracePass::new(&ctx)?;
         let renderer = Self {
             trace,
@@ -78,10 +82,17 @@ impl GpuRenderer {
             scene: None,
             bvh_params: BvhParams::default(),
             timings: Timings::default(),
+            open_seconds,
             log,
             ctx,
         };
         Ok((renderer, surface))
+    }
+
+    /// Seconds the Vulkan instance and device took to open, of the time `new` took (the rest
+    /// is pipelines).
+    pub fn open_seconds(&self) -> f64 {
+        self.open_seconds
     }
 
     pub fn device_name(&self) -> String {

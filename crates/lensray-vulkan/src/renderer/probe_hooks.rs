@@ -65,6 +65,11 @@ impl GpuRenderer {
     pub fn set_samples_per_dispatch(&mut self, samples: u64) {
         self.trace.sizing.samples_per_dispatch = samples.max(1);
     }
+    /// Starts the ray counter of later calls at `low` (tests start near 2^32 to see the carry
+    /// into the count's high word); the reports subtract it.
+    pub fn set_ray_counter_start(&mut self, low: u32) {
+        self.trace.rays.start = low;
+    }
     /// Most pixels whose sums the compute pass holds at once (tests use it to force bands).
     pub fn set_max_band_pixels(&mut self, pixels: u64) {
         self.trace.films.max_band_pixels = pixels.max(1);

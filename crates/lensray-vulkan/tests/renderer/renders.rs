@@ -106,7 +106,7 @@ fn split_dispatches_accumulate_identically() {
     // The image's sums, the ray counter and two timestamps per dispatch.
     assert_eq!(
         counted.readback_bytes,
-        64 * 48 * 16 + 16 + 16 * dispatches,
+        64 * 48 * 16 + 24 + 16 * dispatches,
         "{counted:?}"
     );
     assert!(calls.windows(2).all(|w| w[0].0 <= w[1].0));
@@ -288,6 +288,41 @@ fn rays_are_counted_exactly_per_workgroup() {
         let rays = (after.rays_traced + after.first_dispatch_rays)
             - (before.rays_traced + before.first_dispatch_rays);
         assert_eq!(rays, 37 * 23 * 3, "{traversal}");
+    }
+    finish(gpu, log);
+}
+
+/// The ray count is 64 bits wide (a 4K render at 256 spp passes 2^32 rays): started 256 below
+/// 2^32, a render of 768 camera rays must carry into the high word and report them all.
+#[test]
+fn the_ray_count_carries_past_two_to_the_32() {
+    let Some((mut gpu, log)) = renderer("the_ray_count_carries_past_two_to_the_32") else {
+        return;
+    };
+    gpu.load_scene(&test_scene()).expect("load scene");
+    let shot = Shot {
+        camera: camera(false, LensParams::Pinhole, 24, 16),
+        render: settings(Shading::Unlit, 2),
+    };
+    for traversal in gpu.traversals() {
+        gpu.set_traversal(traversal).expect("traversal");
+        // The first call times the pipeline's first dispatch apart; the later ones compare.
+        gpu.render(&shot, &mut |_, _| {}).expect("render");
+        let rays = |gpu: &mut lensray_vulkan::GpuRenderer| {
+            let before = gpu.timings().rays_traced;
+            gpu.render(&shot, &mut |_, _| {}).expect("render");
+            gpu.timings().rays_traced - before
+        };
+        gpu.set_ray_counter_start(0);
+        let plain = rays(&mut gpu);
+        gpu.set_ray_counter_start(u32::MAX - 255);
+        let carried = rays(&mut gpu);
+        gpu.set_ray_counter_start(0);
+        assert_eq!(plain, 24 * 16 * 2, "{traversal:?}: camera rays of the shot");
+        assert_eq!(
+            carried, plain,
+            "{traversal:?}: the count started at 2^32 - 256 lost the carry"
+        );
     }
     finish(gpu, log);
 }

@@ -253,6 +253,7 @@ fn median_phases(runs: &[Run]) -> Phases {
     };
     Phases {
         device_seconds: of(|p| p.device_seconds),
+        instance_seconds: of(|p| p.instance_seconds),
         tracing_seconds: of(|p| p.tracing_seconds),
         beyond_tracing_seconds: of(|p| p.beyond_tracing_seconds),
         passes: runs.first().map_or(0, |r| r.phases.passes),

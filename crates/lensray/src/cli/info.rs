@@ -4,7 +4,10 @@
 use anyhow::{Context, Result};
 
 use lensray_core::reference::{EmbreeReport, EmbreeSettings, EMBREE_CONFIG_VAR};
-use lensray_vulkan::{list_devices, DeviceReport};
+use lensray_core::settings::{DEFAULT_HEIGHT, DEFAULT_SPP, DEFAULT_WIDTH};
+use lensray_vulkan::{list_devices, DeviceReport, Traversal};
+
+use crate::paths::{calibration, PathKind};
 
 /// Prints the CPU path's set-up, then every Vulkan device with its ray-query support, the render
 /// paths it runs and the limits that matter.
@@ -12,8 +15,21 @@ pub fn run() -> Result<()> {
     let settings = EmbreeSettings::from_env()?;
     print!("{}", format_cpu(&EmbreeReport::new(settings), settings));
     let devices = list_devices().context("listing Vulkan devices")?;
-    print!("\n{}", format_devices(&devices));
+    print!("\n{}", format_devices(&devices, calibrated_traversal));
     Ok(())
+}
+
+/// The fastest traversal of the device by its cached calibration, for the default shot.
+fn calibrated_traversal(device: &DeviceReport) -> Option<Traversal> {
+    let kinds = device
+        .opened_traversals(None)
+        .into_iter()
+        .map(PathKind::of_traversal);
+    let samples = u64::from(DEFAULT_WIDTH) * u64::from(DEFAULT_HEIGHT) * u64::from(DEFAULT_SPP);
+    calibration::load(&calibration::key(device))?
+        .fastest(kinds, samples)?
+        .0
+        .traversal()
 }
 
 /// The CPU path: the CPU, the instruction set Embree's kernels run, and the threads.
@@ -41,8 +57,12 @@ pub fn format_cpu(report: &EmbreeReport, settings: &EmbreeSettings) -> String {
     out
 }
 
-/// The text `run` prints.
-pub fn format_devices(devices: &[DeviceReport]) -> String {
+/// The text `run` prints; `calibrated` names a device's fastest traversal by its cached
+/// calibration, which the hybrid and raster paths trace with.
+pub fn format_devices(
+    devices: &[DeviceReport],
+    calibrated: impl Fn(&DeviceReport) -> Option<Traversal>,
+) -> String {
     if devices.is_empty() {
         return "no Vulkan devices found (install a Vulkan driver, e.g. Mesa's lavapipe)\n".into();
     }
@@ -84,11 +104,10 @@ pub fn format_devices(devices: &[DeviceReport]) -> String {
                 d.missing_software.join(", ")
             )
         } else {
-            // The hybrid and raster paths trace with the device's best traversal.
-            let best = d.opened_traversals(None).first().map_or("", |t| t.name());
             format!(
-                "    paths              {}, hybrid, raster (tracing with {best}), cpu\n",
-                paths.join(", ")
+                "    paths              {}, hybrid, raster ({}), cpu\n",
+                paths.join(", "),
+                hybrid_traversal(d, calibrated(d))
             )
         };
         out += &format!("    max image 2D       {} px\n", d.max_image_dimension_2d);
@@ -113,4 +132,22 @@ pub fn format_devices(devices: &[DeviceReport]) -> String {
         );
     }
     out
+}
+
+/// What the hybrid and raster paths trace with on `device`: the one traversal it opens, the
+/// calibration's fastest, or the faster of its traversals by a timing at their first render
+/// (`paths::auto::pick_traversal`).
+fn hybrid_traversal(device: &DeviceReport, calibrated: Option<Traversal>) -> String {
+    let opened = device.opened_traversals(None);
+    match (opened.as_slice(), calibrated) {
+        ([only], _) => format!("tracing with {}", only.name()),
+        (_, Some(fastest)) => format!("tracing with {}: this device's calibration", fastest.name()),
+        _ => {
+            let names: Vec<&str> = opened.iter().map(|t| t.name()).collect();
+            format!(
+                "tracing with the faster of {}, timed at their first render",
+                names.join(" and ")
+            )
+        }
+    }
 }

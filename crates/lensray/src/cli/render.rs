@@ -191,14 +191,25 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // Pipelines may be made while the path opens (auto's choice) or in the render.
     let compile_seconds = path.report().compile_seconds;
     let (kind, device) = (path.kind(), path.device_name());
-    path.close()?;
     let Shot { camera, render } = &resolved;
-    let write_start = Instant::now();
-    output.finish(&image, render.shading)?;
+    // The device closes while the image encodes (on NVIDIA's driver closing takes ~60 ms);
+    // the file reaches its name only once the device closed cleanly.
+    let (closed, (encoded, write_seconds)) = std::thread::scope(|s| {
+        let closing = s.spawn(move || path.close());
+        let write_start = Instant::now();
+        let encoded = output.encode(&image, render.shading);
+        let write_seconds = write_start.elapsed().as_secs_f64();
+        let closed = closing
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (closed, (encoded, write_seconds))
+    });
+    closed?;
+    encoded?.commit()?;
     let aov = render.shading.is_aov();
     let phases = Phases {
         load_seconds,
-        write_seconds: write_start.elapsed().as_secs_f64(),
+        write_seconds,
         ..Phases::of_render(
             render_seconds,
             &report,

@@ -45,6 +45,9 @@ pub struct OpenedPath {
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Startup {
     pub device_seconds: f64,
+    /// Of `device_seconds`, the Vulkan instance and device alone (the rest is pipelines and
+    /// `auto`'s choice).
+    pub instance_seconds: f64,
     pub scene_seconds: f64,
 }
 
@@ -110,6 +113,7 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
     };
     let mut startup = Startup {
         device_seconds: device_start.elapsed().as_secs_f64(),
+        instance_seconds: renderer.open_seconds(),
         scene_seconds: 0.0,
     };
     let scene_start = Instant::now();
@@ -183,8 +187,8 @@ fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
         path: Box::new(path),
         why: why.into(),
         startup: Startup {
-            device_seconds: 0.0,
             scene_seconds: start.elapsed().as_secs_f64(),
+            ..Startup::default()
         },
     })
 }

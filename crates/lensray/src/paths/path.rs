@@ -318,8 +318,9 @@ impl PathReport {
     }
 }
 
-/// One render path, open on its device.
-pub trait RenderPath {
+/// One render path, open on its device (`Send`: `render` closes it on a thread while the image
+/// encodes).
+pub trait RenderPath: Send {
     fn kind(&self) -> PathKind;
 
     /// The device it runs on, in words ("llvmpipe (LLVM 15.0.6, 256 bits)", "CPU, 2 threads, Embree avx2").

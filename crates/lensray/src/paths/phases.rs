@@ -16,6 +16,8 @@ pub struct Phases {
     /// The device and its pipelines (instance, device, pipeline creation and compilation,
     /// `auto`'s choice).
     pub device_seconds: f64,
+    /// Of `device_seconds`, the Vulkan instance and device alone.
+    pub instance_seconds: f64,
     /// The scene on the device: upload, acceleration structures or BVH.
     pub scene_seconds: f64,
     /// Tracing, as the path measures it (the G-buffer pass for an AOV).
@@ -65,6 +67,7 @@ impl Phases {
     pub fn with_startup(self, startup: Startup) -> Self {
         Self {
             device_seconds: self.device_seconds + startup.device_seconds,
+            instance_seconds: startup.instance_seconds,
             scene_seconds: startup.scene_seconds,
             ..self
         }
@@ -101,9 +104,18 @@ impl Phases {
             self.passes,
             self.submits
         );
+        let device = if self.instance_seconds > 0.0 {
+            format!(
+                " (instance and device {:.4} s, pipelines {:.4} s)",
+                self.instance_seconds,
+                self.device_seconds - self.instance_seconds
+            )
+        } else {
+            String::new()
+        };
         [
             ("load", self.load_seconds, String::new()),
-            ("device and pipelines", self.device_seconds, String::new()),
+            ("device and pipelines", self.device_seconds, device),
             (
                 "scene upload and acceleration structures",
                 self.scene_seconds,
@@ -142,6 +154,7 @@ mod tests {
         }
         .with_startup(Startup {
             device_seconds: 0.2,
+            instance_seconds: 0.15,
             scene_seconds: 0.03,
         })
         .closed(1.2);
@@ -151,6 +164,10 @@ mod tests {
         assert!((phases.other_seconds - 0.06).abs() < 1e-9);
         let lines = phases.lines();
         assert_eq!(lines.len(), 9);
+        assert_eq!(
+            lines[1],
+            "timings: device and pipelines 0.2400 s (instance and device 0.1500 s, pipelines 0.0900 s)"
+        );
         assert_eq!(
             lines[4],
             "timings: beyond tracing 0.2000 s (50.000 ms per pass, 4 passes, 3 submissions)"

@@ -230,7 +230,7 @@ fn info_lists_a_ray_query_device() {
         }
         panic!("no ray-query device in {devices:#?}");
     };
-    let text = lensray::cli::info::format_devices(&devices);
+    let text = lensray::cli::info::format_devices(&devices, |_| None);
     let (rt_pipeline, paths) = if usable.rt_pipeline {
         ("rt pipeline        yes", "rayquery, rtpipeline, software")
     } else {
@@ -241,8 +241,14 @@ fn info_lists_a_ray_query_device() {
             && text.contains("ray queries        yes")
             && text.contains(rt_pipeline)
             && text.contains(&format!(
-                "paths              {paths}, hybrid, raster (tracing with rayquery), cpu"
+                "paths              {paths}, hybrid, raster (tracing with the faster of rayquery and software, timed at their first render), cpu"
             )),
         "{text}"
+    );
+    let calibrated =
+        lensray::cli::info::format_devices(&devices, |_| Some(lensray_vulkan::Traversal::Software));
+    assert!(
+        calibrated.contains("raster (tracing with software: this device's calibration)"),
+        "{calibrated}"
     );
 }

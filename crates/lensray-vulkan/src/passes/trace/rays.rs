@@ -1,7 +1,7 @@
-//! The trace shader's ray counter (`TraceGroup`): word 0 counts every ray (camera + shadow)
-//! since the call's clear, word 1 keeps the count after the pipeline's first dispatch (reported
-//! apart), word 2 the hybrid's lit pre-pass, which the plan records without waiting and the next
-//! call reports.
+//! The trace shader's ray counter (`TraceGroup`), three 64-bit counts as (low, high) pairs of
+//! words: count 0 is every ray (camera + shadow) since the call's clear, count 1 keeps it after
+//! the pipeline's first dispatch (reported apart), count 2 the hybrid's lit pre-pass, which the
+//! plan records without waiting and the next call reports.
 
 use std::sync::Arc;
 
@@ -28,16 +28,24 @@ pub(crate) struct RayCounter {
     buffer: Buffer,
     /// Host-visible: the counts copied at the end of a call, read after its wait.
     host: Buffer,
-    /// The hybrid's lit pre-pass counted rays into word 2, not yet reported.
+    /// The hybrid's lit pre-pass counted rays into count 2, not yet reported.
     prepass_pending: bool,
+    /// What a call's clear sets the low word of count 0 to (tests start near 2^32 to see the
+    /// carry); reports subtract it.
+    pub(crate) start: u32,
 }
+
+/// Bytes of one count: two words.
+const COUNT: u64 = 8;
+/// Bytes of the buffer: three counts.
+const BYTES: u64 = 3 * COUNT;
 
 impl RayCounter {
     pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         let buffer = Buffer::new(
             ctx,
             "trace ray counter",
-            16,
+            BYTES,
             // TRANSFER_SRC: the first dispatch's count is copied into the second word.
             vk::BufferUsageFlags::STORAGE_BUFFER
                 | vk::BufferUsageFlags::TRANSFER_SRC
@@ -47,7 +55,7 @@ impl RayCounter {
         let host = Buffer::new(
             ctx,
             "trace ray counts",
-            16,
+            BYTES,
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
@@ -55,6 +63,7 @@ impl RayCounter {
             buffer,
             host,
             prepass_pending: false,
+            start: 0,
         })
     }
 
@@ -69,50 +78,54 @@ impl RayCounter {
         rec.copy_buffer(
             &self.buffer,
             &self.host,
-            &[vk::BufferCopy::default().size(16)],
+            &[vk::BufferCopy::default().size(BYTES)],
         );
         &self.host
     }
 
-    /// Records a clear of words 0 and 1 (all rays, the first dispatch's); word 2 keeps the
+    /// Records a clear of counts 0 and 1 (all rays, the first dispatch's); count 2 keeps the
     /// hybrid's lit pre-pass until the next call reads it.
     pub(crate) fn record_clear(&self, rec: &mut Recorder<'_>) {
-        rec.fill_buffer(&self.buffer, 0, 8, 0);
+        rec.fill_buffer(&self.buffer, 0, 2 * COUNT, 0);
+        if self.start != 0 {
+            rec.fill_buffer(&self.buffer, 0, 4, self.start);
+        }
     }
 
-    /// Records a copy of the rays counted so far (the hybrid's lit pre-pass) into word 2, which
-    /// the next `accumulate` adds to its report: the plan is not waited for.
+    /// Records a copy of the rays counted so far (the hybrid's lit pre-pass) into count 2,
+    /// which the next `accumulate` adds to its report: the plan is not waited for.
     pub(crate) fn record_keep_prepass(&mut self, rec: &mut Recorder<'_>) {
-        self.record_copy(rec, 8);
+        self.record_copy(rec, 2 * COUNT);
         self.prepass_pending = true;
     }
 
-    /// Keeps the rays counted so far (the pipeline's first dispatch) in word 1.
+    /// Keeps the rays counted so far (the pipeline's first dispatch) in count 1.
     pub(super) fn record_copy_first(&self, rec: &mut Recorder<'_>) {
-        self.record_copy(rec, 4);
+        self.record_copy(rec, COUNT);
     }
 
-    /// Copies word 0 (rays so far) to the byte offset `to` (4 or 8: the words do not overlap).
+    /// Copies count 0 (rays so far) to the byte offset `to` (a later count: no overlap).
     fn record_copy(&self, rec: &mut Recorder<'_>, to: u64) {
         let copy = vk::BufferCopy::default()
             .src_offset(0)
             .dst_offset(to)
-            .size(4);
+            .size(COUNT);
         rec.copy_buffer(&self.buffer, &self.buffer, &[copy]);
     }
 
     /// The counts after a call's wait; a pending pre-pass's count is reported once.
     pub(super) fn read(&mut self) -> Result<CountedRays, GpuError> {
         let words = bytemuck::cast_slice::<u8, u32>(self.host.read()?);
-        let (all, first, prepass) = (words[0], words[1], words[2]);
+        let count = |i: usize| u64::from(words[2 * i]) | (u64::from(words[2 * i + 1]) << 32);
+        let start = u64::from(self.start);
         let prepass = if std::mem::take(&mut self.prepass_pending) {
-            u64::from(prepass)
+            count(2).saturating_sub(start)
         } else {
             0
         };
         Ok(CountedRays {
-            all: u64::from(all),
-            first: u64::from(first),
+            all: count(0) - start,
+            first: count(1).saturating_sub(start),
             prepass,
         })
     }
