@@ -8,6 +8,7 @@
 use glam::{Vec2, Vec3};
 
 pub mod builtin;
+pub mod environment;
 mod error;
 pub mod file;
 pub mod file_camera;

@@ -1,8 +1,9 @@
-//! `lensray generate default|cornell|spheres|dense|bokeh|textured [--out DIR] [--triangles N]
-//! [--gltf]`: writes a generated scene (or the built-in default one) as `<out>/<name>.obj`,
-//! `<name>.mtl` and a scene file `<name>.toml` naming the OBJ, or with `--gltf` as
-//! `<name>.gltf` and `<name>.bin` (binary data: loaded without parsing text) with the scene file
-//! naming those; `textured` writes both, reading its PNGs.
+//! `lensray generate default|cornell|spheres|dense|bokeh|textured|studio [--out DIR]
+//! [--triangles N] [--gltf]`: writes a generated scene (or the built-in default one) as
+//! `<out>/<name>.obj`, `<name>.mtl` and a scene file `<name>.toml` naming the OBJ, or with
+//! `--gltf` as `<name>.gltf` and `<name>.bin` (binary data: loaded without parsing text) with
+//! the scene file naming those; `textured` writes both, reading its PNGs; `studio` writes an
+//! HDR environment map, `studio.hdr`.
 
 use std::fs;
 use std::io::{BufRead, BufReader};
@@ -11,6 +12,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context};
 
 use lensray_core::scene::builtin::default_scene;
+use lensray_core::scene::environment::studio;
 use lensray_core::scene::file::write_scene_file;
 use lensray_core::scene::generate::{
     bokeh, cornell_box, dense, sphere_row, DEFAULT_DENSE_TRIANGLES,
@@ -34,6 +36,8 @@ pub enum Which {
     Bokeh,
     /// Textured cards and a leaf cut out by its alpha, as glTF and as OBJ with a scene file.
     Textured,
+    /// A photographic studio as an equirectangular HDR environment (`studio.hdr`, 1024x512).
+    Studio,
 }
 
 impl Which {
@@ -46,6 +50,7 @@ impl Which {
             Which::Dense => "A benchmark scene: a 10 x 10 grid of finely tessellated spheres on a checkerboard, focused on the middle.",
             Which::Bokeh => "Small bright lights at several depths in front of and behind an in-focus sphere on a dark background: out-of-focus highlights take the aperture's shape.",
             Which::Textured => textured::DESCRIPTION,
+            Which::Studio => "An equirectangular HDR environment: a dim studio, a key, a fill and a strip softbox and seven small bright lamps (--environment FILE).",
         }
     }
 
@@ -58,6 +63,7 @@ impl Which {
             Which::Dense => "dense",
             Which::Bokeh => "bokeh",
             Which::Textured => textured::NAME,
+            Which::Studio => "studio",
         }
     }
 }
@@ -95,6 +101,9 @@ pub fn run(args: &GenerateArgs) -> anyhow::Result<()> {
             args.which.name()
         );
     }
+    if args.gltf && args.which == Which::Studio {
+        bail!("`studio` is an environment map, not meshes: leave out --gltf");
+    }
     if args.gltf && args.which == Which::Textured {
         bail!("`textured` always writes glTF beside its OBJ: leave out --gltf");
     }
@@ -105,7 +114,13 @@ pub fn run(args: &GenerateArgs) -> anyhow::Result<()> {
     };
     let triangles = args.triangles.unwrap_or(DEFAULT_DENSE_TRIANGLES);
     let (path, triangles) = generate_as(args.which, &args.out, triangles, format)?;
-    if args.which == Which::Textured {
+    if args.which == Which::Studio {
+        println!(
+            "wrote {} ({STUDIO_WIDTH}x{} environment)",
+            path.display(),
+            STUDIO_WIDTH / 2
+        );
+    } else if args.which == Which::Textured {
         let gltf = path.with_extension("gltf");
         let (path, gltf) = (path.display(), gltf.display());
         println!("wrote {path} (the OBJ's) and {gltf} ({triangles} triangles)");
@@ -149,6 +164,7 @@ pub fn generate_as(
         Which::Dense => dense(dense_triangles),
         Which::Bokeh => bokeh(),
         Which::Textured => return generate_textured(out),
+        Which::Studio => return generate_studio(out),
     };
     let name = which.name();
     let staging = staging(out)?;
@@ -184,6 +200,19 @@ pub fn generate_as(
         out.join(format!("{name}.toml")),
         description.scene.triangle_count(),
     ))
+}
+
+/// Width of the generated studio environment (texels; half as high).
+const STUDIO_WIDTH: u32 = 1024;
+
+/// Writes `studio.hdr` into `out` (through a temporary folder, as the scenes).
+fn generate_studio(out: &Path) -> anyhow::Result<(PathBuf, usize)> {
+    let staging = staging(out)?;
+    let file = "studio.hdr".to_string();
+    studio::write_environment(&studio::studio(STUDIO_WIDTH), &staging.path().join(&file))
+        .map_err(|e| anyhow::anyhow!("cannot write {file}: {e}"))?;
+    move_into(&staging, std::slice::from_ref(&file), out)?;
+    Ok((out.join(file), 0))
 }
 
 /// A temporary folder inside `out` (created if missing) to write a scene's files into.

@@ -252,3 +252,17 @@ fn generate_gltf_renders_as_the_obj_does() {
     let files = std::fs::read_dir(dir.path().join("gltf")).unwrap().count();
     assert_eq!(files, 3, "default.gltf, default.bin and default.toml");
 }
+
+/// `generate studio` writes an equirectangular HDR environment that loads back at 1024x512,
+/// the key light where the studio puts it.
+#[test]
+fn generate_studio_writes_an_environment_map() {
+    use lensray_core::scene::environment::{studio, EnvironmentMap};
+    let dir = tempfile::tempdir().unwrap();
+    let (path, _) = generate(Which::Studio, dir.path(), 0).unwrap();
+    assert_eq!(path, dir.path().join("studio.hdr"));
+    let (map, mended) = EnvironmentMap::load(&path).unwrap();
+    assert_eq!((map.width, map.height, mended.texels), (1024, 512, 0));
+    let key = map.radiance(studio::direction(-45.0, 35.0));
+    assert_eq!(key, glam::Vec3::new(30.0, 27.0, 24.0));
+}
