@@ -395,6 +395,24 @@ binding_groups! {
     SamplerCostGroup("GROUP_SAMPLER_COST") {
         sums: storage_buffer() = "writeonly buffer Sums { vec4 sums[]; }",
     }
+    /// An environment map (shaders/include/environment.glsl): its parameters, its texels (rgb,
+    /// row-major from the top row) and its sampling tables (`EnvironmentSampler`): per row the
+    /// cumulative weights of its texels (width + 1 a row, from 0), and the rows' (height + 1).
+    EnvironmentGroup("GROUP_ENVIRONMENT") {
+        environment: storage_buffer() = "readonly buffer EnvironmentBlock { Environment environment; }",
+        env_texels: storage_buffer() = "readonly buffer EnvironmentTexels { vec4 env_texels[]; }",
+        env_row_cdfs: storage_buffer() = "readonly buffer EnvironmentRowCdfs { float env_row_cdfs[]; }",
+        env_rows_cdf: storage_buffer() = "readonly buffer EnvironmentRowsCdf { float env_rows_cdf[]; }",
+    }
+    /// The environment probe's queries (two vec4s each: the point to sample by, the direction
+    /// to look up) and answers (shaders/probes/environment.comp).
+    EnvironmentProbeGroup("GROUP_ENVIRONMENT_PROBE") {
+        env_queries: storage_buffer() = "readonly buffer EnvironmentQueries { vec4 env_queries[]; }",
+        /// Per query ENVIRONMENT_PROBE_RESULT_FLOATS floats: the sample's direction, pdf,
+        /// radiance and texel index (column + row * width; -1: no sample), then the looked-up
+        /// direction's pdf, radiance and (u, v), two unused.
+        env_results: storage_buffer() = "writeonly buffer EnvironmentResults { float env_results[]; }",
+    }
     /// The spectral probe's queries and answers (shaders/probes/spectral.comp).
     SpectralProbeGroup("GROUP_SPECTRAL_PROBE") {
         queries: storage_buffer() = "readonly buffer Queries { vec2 queries[]; }",
@@ -438,6 +456,8 @@ descriptor_sets! {
     SamplerCostSet("sampler_cost", Compute, crate::SamplerCostPush) { SamplerCostGroup }
     /// The spectral probe (spectral.comp).
     SpectralProbeSet("spectral_probe", Compute, u32) { SpectralProbeGroup }
+    /// The environment probe (environment.comp).
+    EnvironmentProbeSet("environment_probe", Compute, u32) { EnvironmentGroup, EnvironmentProbeGroup }
 }
 
 #[cfg(test)]

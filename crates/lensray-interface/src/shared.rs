@@ -196,6 +196,8 @@ shader_interface! {
         RESOLVE_GROUP_SIZE: u32 = 8;
         /// spectral.comp (the check of shaders/include/spectral.glsl): floats per result.
         SPECTRAL_PROBE_RESULT_FLOATS: u32 = 20;
+        /// environment.comp (the check of shaders/include/environment.glsl): floats per result.
+        ENVIRONMENT_PROBE_RESULT_FLOATS: u32 = 16;
     }
     // Every struct here is read back by the layout probe (lensray-vulkan/src/probes/layouts.rs) through
     // the kind of block its layout is for; the one marked `#[layout_probe(push_constant)]`
@@ -468,6 +470,18 @@ shader_interface! {
             /// Spot: cosines of the inner and outer half-angles.
             cos_inner: f32,
             cos_outer: f32,
+        }
+        /// An environment map's parameters (`scene::environment`); its texels and sampling
+        /// tables are `EnvironmentGroup`'s buffers.
+        Std430 struct GpuEnvironment as Environment {
+            width: u32,
+            height: u32,
+            /// The sum of the sampling weights (`EnvironmentSampler`); 0: nothing emits.
+            total: f32,
+            /// Multiplies every texel.
+            intensity: f32,
+            /// (cos, sin) of the turn about +Y; zw unused.
+            turn: [f32; 4],
         }
         /// A texture of the scene (scene::texture): its levels, size and encoding.
         Std430 struct GpuTexture as Texture {

@@ -71,6 +71,8 @@ pub use present::viewer::{
     FrameRequest, FrameResult, FrameTimes, HostSamples, PresentMode, Viewer, ViewerOptions,
 };
 #[cfg(feature = "probes")]
+pub use probes::environment::{probe_environment, EnvironmentProbe};
+#[cfg(feature = "probes")]
 pub use probes::hybrid_plan::{device_plan, host_plan, read_plan, Plan};
 #[cfg(feature = "probes")]
 pub use probes::layouts::LayoutReport;

@@ -9,6 +9,8 @@ mod support;
 
 #[path = "renderer/device.rs"]
 mod device;
+#[path = "renderer/environment.rs"]
+mod environment;
 #[path = "renderer/gbuffer.rs"]
 mod gbuffer;
 #[path = "renderer/mirrors.rs"]

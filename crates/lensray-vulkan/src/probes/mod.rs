@@ -2,8 +2,10 @@
 //! turn on): the GLSL mirrors of the camera and sampler (`mirrors`), the hybrid plan's host
 //! reference (`hybrid_plan`), the shared structs as the shaders read them (`layouts`), the
 //! preview's two view routes (`view_routes`), the sample generation's cost (`sampler_cost`),
-//! pass timings (`timing`) and the GLSL mirror of the spectral weighting (`spectral`).
+//! pass timings (`timing`), the GLSL mirror of the spectral weighting (`spectral`) and of the
+//! environment map's lookup and sampling (`environment`).
 
+pub(crate) mod environment;
 pub(crate) mod hybrid_plan;
 pub(crate) mod layouts;
 pub(crate) mod mirrors;

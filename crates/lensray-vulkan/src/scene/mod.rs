@@ -4,6 +4,8 @@
 
 pub(crate) mod accel;
 pub(crate) mod bvh;
+#[cfg(feature = "probes")]
+pub(crate) mod environment;
 
 use std::sync::Arc;
 

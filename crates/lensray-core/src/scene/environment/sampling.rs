@@ -20,6 +20,8 @@ pub struct EnvironmentSample {
     pub pdf: f32,
     /// The texel's scaled radiance.
     pub radiance: Vec3,
+    /// The texel drawn (column, row).
+    pub texel: (u32, u32),
 }
 
 /// The inversion tables of one map.
@@ -27,13 +29,11 @@ pub struct EnvironmentSample {
 pub struct EnvironmentSampler {
     width: u32,
     height: u32,
-    /// Per row, the cumulative weights of its texels (`width` + 1 each, from 0); a row of
-    /// weight 0 holds a uniform table.
+    /// Per row, the cumulative weights of its texels (`width` + 1 each, from 0): a row's last
+    /// entry is its weight.
     row_cdfs: Vec<f32>,
     /// Cumulative weights of the rows (`height` + 1, from 0).
     rows_cdf: Vec<f32>,
-    /// Each row's weight (the sum of its texels' weights).
-    row_weights: Vec<f32>,
     /// The sum of every weight.
     total: f32,
 }
@@ -67,7 +67,6 @@ impl EnvironmentSampler {
             height: map.height,
             row_cdfs,
             rows_cdf,
-            row_weights,
             total,
         })
     }
@@ -76,11 +75,11 @@ impl EnvironmentSampler {
     /// a uniform point in the texel's (u, v) rectangle by what is left of each coordinate.
     pub fn sample(&self, map: &EnvironmentMap, u: Vec2) -> Option<EnvironmentSample> {
         let (row, v_in) = invert(&self.rows_cdf, u.y * self.total);
-        let row_weight = self.row_weights[row];
+        let stride = self.width as usize + 1;
+        let row_weight = self.row_cdfs[row * stride + self.width as usize];
         if row_weight <= 0.0 {
             return None;
         }
-        let stride = self.width as usize + 1;
         let cdf = &self.row_cdfs[row * stride..(row + 1) * stride];
         let (column, u_in) = invert(cdf, u.x * row_weight);
         let uv = Vec2::new(
@@ -93,7 +92,23 @@ impl EnvironmentSampler {
             direction,
             pdf,
             radiance: map.texel(column as u32, row as u32),
+            texel: (column as u32, row as u32),
         })
+    }
+
+    /// The rows' cumulative tables, `width` + 1 entries a row (what the GPU samples with).
+    pub fn row_cdfs(&self) -> &[f32] {
+        &self.row_cdfs
+    }
+
+    /// The cumulative table over the rows, `height` + 1 entries.
+    pub fn rows_cdf(&self) -> &[f32] {
+        &self.rows_cdf
+    }
+
+    /// The sum of every texel's weight.
+    pub fn total(&self) -> f32 {
+        self.total
     }
 
     /// Density per unit solid angle of drawing direction `d` (unit).

@@ -124,6 +124,7 @@ fn one_bright_texel_draws_every_sample() {
     let sampler = EnvironmentSampler::new(&map).expect("one texel emits");
     for i in 0..300 {
         let s = sampler.sample(&map, r2(i)).expect("a sample");
+        assert_eq!(s.texel, (5, 2));
         assert_eq!(map.texel_at(map.uv_from_world(s.direction)), (5, 2));
         assert_eq!(s.radiance, Vec3::splat(7.0));
     }
