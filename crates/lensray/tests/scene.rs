@@ -21,6 +21,8 @@ mod gltf;
 mod lights;
 #[path = "scene/obj.rs"]
 mod obj;
+#[path = "scene/quantized.rs"]
+mod quantized;
 #[path = "scene/textures.rs"]
 mod textures;
 #[path = "scene/units.rs"]
