@@ -18,6 +18,7 @@ pub use render::{RenderSettings, Shading};
 pub use shot::{
     shot, tilt_model, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_HEIGHT,
     DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_SPP, DEFAULT_VFOV_DEGREES, DEFAULT_WIDTH,
+    FRAMING_AZIMUTH_DEGREES, FRAMING_ELEVATION_DEGREES,
 };
 pub use user::{
     ApertureSettings, CameraSettings, ImageSettings, LensSettings, ProjectionKind, RenderStyle,
