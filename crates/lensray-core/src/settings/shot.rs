@@ -57,6 +57,44 @@ pub enum SettingsError {
     Lens(String),
     #[error("{0}")]
     Light(String),
+    #[error("{err}; {chosen_by} chose it (does --scene-units match the scene's units?)")]
+    Focus {
+        chosen_by: FocusChoice,
+        err: CameraError,
+    },
+}
+
+/// What chose a shot's focus distance, for an error that no image forms there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FocusChoice {
+    /// The settings' focus distance: `--focus-distance`, or the scene file's.
+    Setting,
+    /// The depth of the target the camera looks at: the file's camera's, or `--eye`/`--target`.
+    Target,
+    /// The automatic framing: the depth of the scene's centre.
+    Framing,
+}
+
+impl FocusChoice {
+    fn of(c: &CameraSettings) -> Self {
+        match (c.focus_distance, c.eye) {
+            (Some(_), _) => Self::Setting,
+            (None, Some(_)) => Self::Target,
+            (None, None) => Self::Framing,
+        }
+    }
+}
+
+impl std::fmt::Display for FocusChoice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Setting => "the focus distance setting (--focus-distance or the scene file's)",
+            Self::Target => {
+                "the depth of the camera's target (the file's camera, or --eye and --target)"
+            }
+            Self::Framing => "the automatic framing (the depth of the scene's centre)",
+        })
+    }
 }
 
 impl From<crate::camera::RealLensError> for SettingsError {
@@ -144,6 +182,7 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let projection = projection(c, &view, vfov_degrees);
     let (near, far) = clip_planes(c, &bounds, &view);
     let axis_distance = (view.target - view.eye).length() as f64;
+    let chosen_by = FocusChoice::of(c);
     let lens = lens(c, real_lens, axis_distance)?;
 
     let camera = CameraParams {
@@ -158,7 +197,11 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
         height: settings.image.height.unwrap_or(DEFAULT_HEIGHT),
         movements: movements(c)?,
     }
-    .build_with_aperture(aperture(&c.aperture)?)?;
+    .build_with_aperture(aperture(&c.aperture)?)
+    .map_err(|err| match err {
+        CameraError::FocusWithinFocalLength { .. } => SettingsError::Focus { chosen_by, err },
+        err => err.into(),
+    })?;
 
     let render = render_settings(settings)?;
     Ok(Shot { camera, render })
