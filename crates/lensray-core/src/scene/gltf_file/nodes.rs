@@ -28,6 +28,8 @@ pub(super) struct Walk<'a> {
     pub skipped_modes: usize,
     /// A texture reads a texture coordinate set other than TEXCOORD_0 (read from set 0).
     pub other_texcoords: bool,
+    /// A primitive has vertex colours (COLOR_0), which the materials do not read.
+    pub vertex_colours: bool,
 }
 
 impl<'a> Walk<'a> {
@@ -41,6 +43,7 @@ impl<'a> Walk<'a> {
             images: vec![None; document.images().len()],
             skipped_modes: 0,
             other_texcoords: false,
+            vertex_colours: false,
         }
     }
 
@@ -168,6 +171,7 @@ impl<'a> Walk<'a> {
         } else {
             Vec::new()
         };
+        self.vertex_colours |= primitive.get(&gltf::Semantic::Colors(0)).is_some();
         let material = self
             .material(primitive.material())
             .map_err(|e| format!("{what}: {e}"))?;
@@ -199,6 +203,11 @@ impl<'a> Walk<'a> {
                 "reads every texture with TEXCOORD_0 (lensray reads one texture coordinate set)"
                     .into(),
             );
+        }
+        if self.vertex_colours {
+            self.out
+                .notices
+                .push("ignores the vertex colours (COLOR_0) of its meshes".into());
         }
         if self.skipped_modes > 0 {
             self.out.notices.push(format!(
