@@ -12,6 +12,9 @@ use lensray_core::settings::{shot, Settings, FRAMING_AZIMUTH_DEGREES, FRAMING_EL
 const TRUCK_OBJ: &str = "v 1 0 -3\nv 5 0 -3\nv 5 1.5 -3\nv 1 1.5 -3\nv 1 0 -1\nv 5 0 -1\nv 5 1.5 -1\nv 1 1.5 -1\n\
 f 1 2 3\nf 1 3 4\nf 5 6 7\nf 5 7 8\nf 1 5 8\nf 1 8 4\nf 2 6 7\nf 2 7 3\nf 4 3 7\nf 4 7 8\nf 1 2 6\nf 1 6 5\n";
 
+/// What a case changes in the default settings.
+type Setup = fn(&mut Settings);
+
 /// A real lens of assets/lenses: a 22 mm wide angle.
 const WIDE_22: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -57,7 +60,7 @@ fn a_scene_without_a_camera_is_framed_from_above_the_front_by_the_lens() {
     // The box's farthest corners are its own: the sphere is half its diagonal.
     assert!((centre - Vec3::new(3.0, 0.75, -2.0)).length() < 1e-6);
     assert!((radius - 0.5 * Vec3::new(4.0, 1.5, 2.0).length()).abs() < 1e-5);
-    let lenses: [(&str, fn(&mut Settings)); 4] = [
+    let lenses: [(&str, Setup); 4] = [
         ("the default 40 degrees", |_| {}),
         ("35 mm", |s| s.camera.focal_length_mm = Some(35.0)),
         ("50 mm, portrait", |s| {
