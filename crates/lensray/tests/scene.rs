@@ -13,6 +13,8 @@ use lensray_core::scene::{load, load_obj, Scene, SceneDescription, SceneError};
 mod assets;
 #[path = "scene/file.rs"]
 mod file;
+#[path = "scene/framing.rs"]
+mod framing;
 #[path = "scene/generators.rs"]
 mod generators;
 #[path = "scene/gltf.rs"]
@@ -21,6 +23,8 @@ mod gltf;
 mod lights;
 #[path = "scene/obj.rs"]
 mod obj;
+#[path = "scene/quantized.rs"]
+mod quantized;
 #[path = "scene/textures.rs"]
 mod textures;
 #[path = "scene/units.rs"]

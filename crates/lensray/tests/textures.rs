@@ -114,3 +114,159 @@ fn a_texture_in_focus_is_as_sharp_as_through_a_pinhole() {
         panic!("the in-focus card differs from the pinhole's by {worst} at most");
     }
 }
+
+/// The quadrants of the texture `transformed_quad` writes, as glTF's UV space has them (v
+/// down): red top left, green top right, blue bottom left, white bottom right.
+fn quadrant_colour(uv: Vec2) -> Vec3 {
+    match (uv.x.rem_euclid(1.0) < 0.5, uv.y.rem_euclid(1.0) < 0.5) {
+        (true, true) => Vec3::X,
+        (false, true) => Vec3::Y,
+        (true, false) => Vec3::Z,
+        (false, false) => Vec3::ONE,
+    }
+}
+
+/// A glTF file of one 2 x 2 quad in the plane z = 0, facing +z, its corner (-1, 1) at texture
+/// coordinates (0, 0) and (1, -1) at (1, 1), textured with the quadrant texture (32 x 32,
+/// repeating) through `KHR_texture_transform`'s `transform` (JSON members).
+fn transformed_quad(dir: &std::path::Path, transform: &str) -> Scene {
+    let texture = image::RgbaImage::from_fn(32, 32, |x, y| {
+        let c = quadrant_colour(Vec2::new(x as f32 + 0.5, y as f32 + 0.5) / 32.0) * 255.0;
+        image::Rgba([c.x as u8, c.y as u8, c.z as u8, 255])
+    });
+    texture.save(dir.join("quadrants.png")).expect("write png");
+    let floats: [f32; 20] = [
+        -1.0, 1.0, 0.0, -1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, // positions
+        0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, // texture coordinates
+    ];
+    let mut bin: Vec<u8> = floats.iter().flat_map(|v| v.to_le_bytes()).collect();
+    bin.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    std::fs::write(dir.join("quad.bin"), &bin).expect("write bin");
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+  "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": 0}}]}}],
+  "materials": [{{"doubleSided": true, "pbrMetallicRoughness": {{"metallicFactor": 0.0,
+    "baseColorTexture": {{"index": 0, "extensions": {{"KHR_texture_transform": {{{transform}}}}}}}}}}}],
+  "textures": [{{"source": 0}}], "images": [{{"uri": "quadrants.png"}}],
+  "buffers": [{{"uri": "quad.bin", "byteLength": 92}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}},
+                  {{"buffer": 0, "byteOffset": 48, "byteLength": 32}},
+                  {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]}},
+                {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}},
+                {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}],
+  "extensionsUsed": ["KHR_texture_transform"]}}"#
+    );
+    let path = dir.join("quad.gltf");
+    std::fs::write(&path, json).expect("write gltf");
+    lensray_core::scene::load_gltf(&path)
+        .expect("the quad loads")
+        .scene
+}
+
+/// `KHR_texture_transform` as glTF viewers apply it (the glTF Sample Viewer, three.js,
+/// Babylon.js; the TextureTransformTest sample's green marker): scale, then the rotation
+/// u' = cos u + sin v, v' = -sin u + cos v, then the offset. The extension's sample GLSL has the
+/// transposed rotation, which turns the other way (KhronosGroup/glTF issue #1563).
+fn viewer_uv(uv: Vec2, offset: Vec2, rotation: f32, scale: Vec2, transposed: bool) -> Vec2 {
+    let (s, c) = rotation.sin_cos();
+    let s = if transposed { -s } else { s };
+    let p = uv * scale;
+    Vec2::new(c * p.x + s * p.y, -s * p.x + c * p.y) + offset
+}
+
+/// A quad textured by quadrant through a rotation of +90 degrees, and through an offset, a
+/// non-uniform scale and a rotation of 30 degrees, shows at each pixel the quadrant the
+/// viewers' convention predicts, on the CPU and on the ray-query path (which also matches the
+/// CPU image within the usual bounds); the transposed rotation predicts other quadrants.
+#[test]
+fn texture_transforms_rotate_as_gltf_viewers_do() {
+    let test = "texture_transforms_rotate_as_gltf_viewers_do";
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let cases = [
+        ("rotate-90", Vec2::ZERO, 90f32.to_radians(), Vec2::ONE),
+        (
+            "offset-scale-rotate",
+            Vec2::new(0.2, 0.6),
+            30f32.to_radians(),
+            Vec2::new(1.5, 0.75),
+        ),
+    ];
+    let (width, height) = (48, 48);
+    for (name, offset, rotation, scale) in cases {
+        let transform = format!(
+            r#""offset": [{}, {}], "rotation": {rotation}, "scale": [{}, {}]"#,
+            offset.x, offset.y, scale.x, scale.y
+        );
+        let scene = transformed_quad(dir.path(), &transform);
+        // Square on, orthographic: pixel centres map linearly onto the quad.
+        let camera = CameraParams {
+            eye: Vec3::new(0.0, 0.0, 3.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            projection: ProjectionParams::Orthographic { height: 2.0 },
+            lens: LensParams::Pinhole,
+            near: 0.1,
+            far: 10.0,
+            width,
+            height,
+            movements: lensray_core::camera::Movements::NONE,
+        }
+        .build()
+        .expect("valid camera");
+        let shot = Shot {
+            camera,
+            render: settings(Shading::Unlit, 1),
+        };
+        let cpu = PathChoice::Only(PathKind::Cpu);
+        let (Some(reference), Some(gpu)) = (
+            render_scene(test, cpu, &scene, &shot),
+            render_scene(test, PathKind::RayQuery.into(), &scene, &shot),
+        ) else {
+            return;
+        };
+        let (mut checked, mut transposed_differs) = (0, 0);
+        for (i, (c, g)) in reference.pixels.iter().zip(&gpu.pixels).enumerate() {
+            let (x, y) = ((i as u32 % width) as f32, (i as u32 / width) as f32);
+            let texcoord = Vec2::new(x + 0.5, y + 0.5) / width as f32;
+            let uv = viewer_uv(texcoord, offset, rotation, scale, false);
+            // Pixels whose texture coordinates lie within a pixel's reach (scaled up to 1.5
+            // times, plus the filter's texels at up to the second level) of a quadrant's edge
+            // may mix two colours.
+            let near_edge = |t: f32| {
+                let f = (t * 2.0).rem_euclid(1.0);
+                0.5 * f.min(1.0 - f) < 0.1
+            };
+            if near_edge(uv.x) || near_edge(uv.y) {
+                continue;
+            }
+            let want = quadrant_colour(uv);
+            let transposed = viewer_uv(texcoord, offset, rotation, scale, true);
+            transposed_differs += usize::from(quadrant_colour(transposed) != want);
+            for (path, got) in [("cpu", c), ("rayquery", g)] {
+                let error = (*got - want).abs().max_element();
+                if error > 0.02 {
+                    write_png(&reference, &format!("transform-{name}-cpu.png"));
+                    write_png(&gpu, &format!("transform-{name}-rayquery.png"));
+                    panic!("{name} {path}: pixel ({x}, {y}) at uv {uv} is {got}, not {want} (off by {error})");
+                }
+            }
+            checked += 1;
+        }
+        let diff = gpu_support::compare(&gpu, &reference, 1.0 / 255.0);
+        println!("{name}: {checked} pixels as predicted, {transposed_differs} of them another colour under the transposed rotation; rayquery vs cpu {diff:?}");
+        assert!(
+            checked > 500,
+            "{name}: only {checked} pixels away from quadrant edges"
+        );
+        assert!(
+            transposed_differs > checked / 4,
+            "{name}: the test cannot tell the rotation's direction ({transposed_differs} of {checked})"
+        );
+        assert!(
+            diff.within >= 0.999 && diff.mean_abs < 1e-3,
+            "{name}: rayquery differs from the CPU: {diff:?}"
+        );
+    }
+}

@@ -74,7 +74,9 @@ pub enum CameraError {
     #[error("focus distance {focus} is not in front of the lens (must exceed {min})")]
     FocusNotInFront { focus: f64, min: f64 },
     #[error(
-        "focus distance {focus} m is within the focal length ({focal_length_mm} mm): no image forms"
+        "focus distance {} m is within the focal length ({} mm): no image forms",
+        significant(*.focus),
+        significant(*.focal_length_mm)
     )]
     FocusWithinFocalLength { focus: f64, focal_length_mm: f64 },
     #[error("image {0}x{1} is out of range: each side must be in 1..={MAX_IMAGE_SIDE}")]
@@ -108,6 +110,21 @@ impl ApertureShape {
         }
         positive("aperture aspect", f64::from(self.aspect))?;
         Ok(Aperture::new(self.clone()))
+    }
+}
+
+/// `x` to 4 significant digits without trailing zeros, for messages (a focus distance of
+/// 0.014248992316424847 m reads 0.01425, a focal length of 50 mm 50).
+fn significant(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return x.to_string();
+    }
+    let decimals = (3 - x.abs().log10().floor() as i32).max(0) as usize;
+    let text = format!("{x:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
     }
 }
 

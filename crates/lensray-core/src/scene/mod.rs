@@ -106,6 +106,24 @@ impl Scene {
         let (min, max) = points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
         Some(Bounds { min, max })
     }
+
+    /// A sphere around every vertex that triangles use (centre, radius): centred on the bounds'
+    /// centre, reaching the farthest vertex (a round model's is its own sphere, not its box's,
+    /// which is up to 1.7 times larger); `None` for an empty scene.
+    pub fn bounding_sphere(&self) -> Option<(Vec3, f32)> {
+        let centre = self.bounds()?.center();
+        let farthest = self
+            .meshes
+            .iter()
+            .flat_map(|m| {
+                m.triangles
+                    .iter()
+                    .flatten()
+                    .map(|&i| m.positions[i as usize].distance_squared(centre))
+            })
+            .fold(0.0f32, f32::max);
+        Some((centre, farthest.sqrt().max(1e-6)))
+    }
 }
 
 impl Scene {

@@ -16,8 +16,9 @@ pub mod user;
 pub use lights::{light_scene, pinned_lights, settings_lights, LightSettings, LightType, Lights};
 pub use render::{RenderSettings, Shading};
 pub use shot::{
-    shot, tilt_model, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_HEIGHT,
+    shot, tilt_model, FocusChoice, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_HEIGHT,
     DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_SPP, DEFAULT_VFOV_DEGREES, DEFAULT_WIDTH,
+    FRAMING_AZIMUTH_DEGREES, FRAMING_ELEVATION_DEGREES,
 };
 pub use user::{
     ApertureSettings, CameraSettings, ImageSettings, LensSettings, ProjectionKind, RenderStyle,

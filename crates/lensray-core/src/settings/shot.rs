@@ -1,5 +1,7 @@
 //! Settings (file overridden by command line) + scene -> a validated camera and render settings.
-//! What neither gives gets a default; a bare mesh is framed from the front (+z looking toward -z).
+//! What neither gives gets a default; a scene without a camera position is framed automatically
+//! (`framing_distance`): a three-quarter view from above its front, at the distance that fits its
+//! bounding sphere into the lens's field of view, focused at the sphere's centre.
 
 use glam::{DVec3, Vec3};
 use thiserror::Error;
@@ -26,6 +28,14 @@ pub const DEFAULT_F_NUMBER: f64 = 2.8;
 /// Full-frame sensor height.
 pub const DEFAULT_SENSOR_HEIGHT_MM: f64 = 24.0;
 const DEFAULT_BACKGROUND: [f64; 3] = [0.1, 0.1, 0.1];
+/// The automatic framing's view: turned this far around the vertical axis from the front (glTF's
+/// convention: a model faces +Z) toward +X ...
+pub const FRAMING_AZIMUTH_DEGREES: f64 = 35.0;
+/// ... and this far above the horizon, a three-quarter view from above.
+pub const FRAMING_ELEVATION_DEGREES: f64 = 25.0;
+/// How much larger than the bounding sphere the automatic framing's view is (the sphere's
+/// outline reaches 1 / 1.05 of the way to the frame's nearer edges, a thin margin).
+const FRAMING_MARGIN: f64 = 1.05;
 
 #[derive(Debug, Error, PartialEq)]
 pub enum SettingsError {
@@ -47,6 +57,44 @@ pub enum SettingsError {
     Lens(String),
     #[error("{0}")]
     Light(String),
+    #[error("{err}; {chosen_by} chose it (does --scene-units match the scene's units?)")]
+    Focus {
+        chosen_by: FocusChoice,
+        err: CameraError,
+    },
+}
+
+/// What chose a shot's focus distance, for an error that no image forms there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FocusChoice {
+    /// The settings' focus distance: `--focus-distance`, or the scene file's.
+    Setting,
+    /// The depth of the target the camera looks at: the file's camera's, or `--eye`/`--target`.
+    Target,
+    /// The automatic framing: the depth of the scene's centre.
+    Framing,
+}
+
+impl FocusChoice {
+    fn of(c: &CameraSettings) -> Self {
+        match (c.focus_distance, c.eye) {
+            (Some(_), _) => Self::Setting,
+            (None, Some(_)) => Self::Target,
+            (None, None) => Self::Framing,
+        }
+    }
+}
+
+impl std::fmt::Display for FocusChoice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Setting => "the focus distance setting (--focus-distance or the scene file's)",
+            Self::Target => {
+                "the depth of the camera's target (the file's camera, or --eye and --target)"
+            }
+            Self::Framing => "the automatic framing (the depth of the scene's centre)",
+        })
+    }
 }
 
 impl From<crate::camera::RealLensError> for SettingsError {
@@ -128,13 +176,13 @@ fn prescription(c: &CameraSettings) -> Result<Option<Prescription>, SettingsErro
 pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
     let c = &settings.camera;
-    let radius = (0.5 * bounds.diagonal().length()).max(1e-3) as f64;
     let real_lens = prescription(c)?;
     let vfov_degrees = framing_vfov_degrees(c, real_lens.as_ref());
-    let view = view(c, &bounds, radius, vfov_degrees)?;
+    let view = view(settings, scene, &bounds, real_lens.as_ref())?;
     let projection = projection(c, &view, vfov_degrees);
     let (near, far) = clip_planes(c, &bounds, &view);
     let axis_distance = (view.target - view.eye).length() as f64;
+    let chosen_by = FocusChoice::of(c);
     let lens = lens(c, real_lens, axis_distance)?;
 
     let camera = CameraParams {
@@ -149,7 +197,11 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
         height: settings.image.height.unwrap_or(DEFAULT_HEIGHT),
         movements: movements(c)?,
     }
-    .build_with_aperture(aperture(&c.aperture)?)?;
+    .build_with_aperture(aperture(&c.aperture)?)
+    .map_err(|err| match err {
+        CameraError::FocusWithinFocalLength { .. } => SettingsError::Focus { chosen_by, err },
+        err => err.into(),
+    })?;
 
     let render = render_settings(settings)?;
     Ok(Shot { camera, render })
@@ -168,10 +220,13 @@ pub(super) struct Framing {
 pub(super) fn framing(settings: &Settings, scene: &Scene) -> Result<Framing, SettingsError> {
     let camera = shot(settings, scene)?.camera;
     let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
-    let c = &settings.camera;
     let radius = (0.5 * bounds.diagonal().length()).max(1e-3) as f64;
-    let vfov_degrees = framing_vfov_degrees(c, prescription(c)?.as_ref());
-    let view = view(c, &bounds, radius, vfov_degrees)?;
+    let view = view(
+        settings,
+        scene,
+        &bounds,
+        prescription(&settings.camera)?.as_ref(),
+    )?;
     Ok(Framing {
         eye: view.eye,
         true_up: camera.frame.true_up,
@@ -200,14 +255,16 @@ fn framing_vfov_degrees(c: &CameraSettings, real_lens: Option<&Prescription>) ->
     }
 }
 
-/// Target (default: the scene's centre), up (default: +y) and eye (default: in front of the
-/// target along +z, far enough back to frame the scene's bounding sphere of `radius`).
+/// Target (default: the centre of the scene's bounding sphere), up (default: +y) and eye
+/// (default: the automatic framing's, `framing_direction` from the target at
+/// `framing_distance`).
 fn view(
-    c: &CameraSettings,
+    settings: &Settings,
+    scene: &Scene,
     bounds: &Bounds,
-    radius: f64,
-    vfov_degrees: f64,
+    real_lens: Option<&Prescription>,
 ) -> Result<View, SettingsError> {
+    let c = &settings.camera;
     let target = c
         .target
         .map(|t| point("target", t))
@@ -217,12 +274,73 @@ fn view(
     let eye = match c.eye {
         Some(e) => point("eye", e)?,
         None => {
-            // Far enough back that the bounding sphere fits the view (with a margin).
-            let half_angle = (vfov_degrees.clamp(1.0, 179.0) * 0.5).to_radians();
-            target + Vec3::Z * (1.1 * radius / half_angle.sin()) as f32
+            let (_, radius) = scene.bounding_sphere().ok_or(SettingsError::EmptyScene)?;
+            let distance = framing_distance(settings, real_lens, f64::from(radius));
+            target + (framing_direction(up) * distance).as_vec3()
         }
     };
     Ok(View { eye, target, up })
+}
+
+/// The automatic framing's direction from the target to the eye: `FRAMING_AZIMUTH_DEGREES`
+/// around `up` from the front (+Z, or +X where `up` is along Z) toward the side, and
+/// `FRAMING_ELEVATION_DEGREES` above the plane normal to `up`.
+fn framing_direction(up: Vec3) -> DVec3 {
+    let up = up.as_dvec3().try_normalize().unwrap_or(DVec3::Y);
+    let front = (DVec3::Z - up * up.z)
+        .try_normalize()
+        .unwrap_or_else(|| (DVec3::X - up * up.x).normalize());
+    let side = up.cross(front);
+    let (azimuth, elevation) = (
+        FRAMING_AZIMUTH_DEGREES.to_radians(),
+        FRAMING_ELEVATION_DEGREES.to_radians(),
+    );
+    (front * azimuth.cos() + side * azimuth.sin()) * elevation.cos() + up * elevation.sin()
+}
+
+/// How far from a bounding sphere of `radius` the automatic framing stands: where the sphere's
+/// outline fills the view's narrower half angle but for `FRAMING_MARGIN`, i.e.
+/// d sin(half(d)) = margin x radius. A lens with a focal length f (a thin lens in physical
+/// units, or a real lens's effective focal length) focused at d throws the image to
+/// s_i = f d / (d - f), so its field narrows as d nears f: tan(half) = (h / 2) / s_i for the
+/// sensor height h. Both sides grow with d, so bisection finds it; it is always beyond f.
+fn framing_distance(settings: &Settings, real_lens: Option<&Prescription>, radius: f64) -> f64 {
+    let c = &settings.camera;
+    let width = f64::from(settings.image.width.unwrap_or(DEFAULT_WIDTH).max(1));
+    let height = f64::from(settings.image.height.unwrap_or(DEFAULT_HEIGHT).max(1));
+    let narrower = (width / height).min(1.0);
+    let perspective = c.projection != Some(ProjectionKind::Orthographic);
+    let focal_length_mm = match real_lens {
+        Some(lens) => Some(FirstOrder::of(lens).efl),
+        None if perspective && c.aperture_radius.is_none() => c.focal_length_mm,
+        None => None,
+    };
+    let sensor_mm = c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM);
+    let vfov = framing_vfov_degrees(c, real_lens)
+        .clamp(1.0, 179.0)
+        .to_radians();
+    let f = focal_length_mm.map_or(0.0, |f| f / MM_PER_WORLD_UNIT);
+    let tan_half = |d: f64| match focal_length_mm {
+        Some(f_mm) if f_mm > 0.0 => 0.5 * sensor_mm / f_mm * ((d - f) / d).max(0.0),
+        _ => (0.5 * vfov).tan(),
+    };
+    let excess = |d: f64| d * (tan_half(d) * narrower).atan().sin() - FRAMING_MARGIN * radius;
+    let (mut near, mut far) = (f, f + radius.max(1e-9));
+    for _ in 0..200 {
+        if excess(far) >= 0.0 {
+            break;
+        }
+        (near, far) = (far, far * 2.0);
+    }
+    for _ in 0..100 {
+        let mid = 0.5 * (near + far);
+        if excess(mid) < 0.0 {
+            near = mid;
+        } else {
+            far = mid;
+        }
+    }
+    far
 }
 
 /// The projection the settings name (default: perspective).

@@ -126,3 +126,61 @@ fn unknown_units_are_one_line_errors() {
     assert_rejected(&["--scene-units", "furlong"], "furlong");
     assert_rejected(&["--scene-units", "furlong"], "m, cm, mm or in");
 }
+
+/// A glTF of one triangle, its bounds' centre at (0.5, 0.5, 0), and a camera 1.4248992 m in
+/// front of it on +z: metres, as glTF is.
+fn write_triangle_with_camera(dir: &Path) -> std::path::PathBuf {
+    let floats = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let bin: Vec<u8> = floats.iter().flat_map(|v| v.to_le_bytes()).collect();
+    std::fs::write(dir.join("triangle.bin"), bin).unwrap();
+    let json = r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+  "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.5, 0.5, 1.4248992]}],
+  "cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.001}}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+  "buffers": [{"uri": "triangle.bin", "byteLength": 36}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]}]}"#;
+    let path = dir.join("camera.gltf");
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+/// A focus distance inside the focal length is one error line that names what chose it, with
+/// its numbers rounded, and points at --scene-units; the command fails and writes nothing.
+#[test]
+fn a_focus_within_the_focal_length_names_what_chose_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_triangle_with_camera(dir.path());
+    let scene = scene.to_str().unwrap();
+    let cases: [(&[&str], &str); 2] = [
+        // Read as centimetres, the file's camera stands 1.425 cm from the triangle.
+        (
+            &["--scene-units", "cm", "--focal-length-mm", "50"],
+            "focus distance 0.01425 m is within the focal length (50 mm): no image forms; \
+             the depth of the camera's target (the file's camera, or --eye and --target) chose it \
+             (does --scene-units match the scene's units?)",
+        ),
+        (
+            &["--focus-distance", "0.0123456", "--focal-length-mm", "85"],
+            "focus distance 0.01235 m is within the focal length (85 mm): no image forms; \
+             the focus distance setting (--focus-distance or the scene file's) chose it",
+        ),
+    ];
+    for (extra, says) in cases {
+        let mut args = vec!["render", "--device", "cpu", "--scene", scene];
+        args.extend_from_slice(extra);
+        args.extend(["--out", "out.png"]);
+        let output = lensray(&args, dir.path());
+        let err = stderr(&output);
+        assert!(!output.status.success(), "{extra:?} was accepted: {err}");
+        assert!(!err.contains("panicked"), "{extra:?} panicked: {err}");
+        let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error")).collect();
+        assert_eq!(errors.len(), 1, "{extra:?}: one error line: {err}");
+        assert!(errors[0].contains(says), "{extra:?}: {err}");
+        assert!(
+            !dir.path().join("out.png").exists(),
+            "{extra:?} wrote an image"
+        );
+    }
+}

@@ -92,6 +92,25 @@ fn node_transforms_compose_parent_first() {
 }
 
 #[test]
+fn vertex_colours_are_named_in_one_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_gltf(dir.path(), "colours.gltf", r#"[{"mesh": 0}]"#, TRIANGLE, "");
+    let text = std::fs::read_to_string(&path).unwrap().replace(
+        r#""attributes": {"POSITION": 0}"#,
+        r#""attributes": {"POSITION": 0, "COLOR_0": 0}"#,
+    );
+    std::fs::write(&path, text).unwrap();
+    let file = load_gltf(&path).unwrap();
+    assert_eq!(file.notices.len(), 1, "{:?}", file.notices);
+    assert!(
+        file.notices[0]
+            .ends_with("colours.gltf: ignores the vertex colours (COLOR_0) of its meshes"),
+        "{:?}",
+        file.notices
+    );
+}
+
+#[test]
 fn the_file_camera_projects_as_the_gltf_specification_says() {
     let dir = tempfile::tempdir().unwrap();
     // The camera at (1, 2, 5) turned 20 degrees about +y (so it looks down -z turned toward -x).

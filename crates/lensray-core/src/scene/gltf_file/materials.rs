@@ -186,12 +186,15 @@ fn shorten(uri: &str) -> String {
     }
 }
 
-/// `KHR_texture_transform`'s matrix: translation x rotation x scale, with the extension's
-/// column-major rotation (columns (cos, sin) and (-sin, cos)): u' = cos u - sin v,
-/// v' = sin u + cos v.
+/// `KHR_texture_transform`'s matrix: translation x rotation x scale (scale first, offset last),
+/// with the rotation viewers apply: u' = cos u + sin v, v' = -sin u + cos v, counter-clockwise
+/// in glTF's UV space, whose v axis points down. That is the glTF Sample Viewer's, three.js's,
+/// Babylon.js's and Blender's convention, and what the TextureTransformTest sample's green
+/// marker checks; the extension's sample GLSL (columns (cos, sin) and (-sin, cos)) is its
+/// transpose, which turns the other way (KhronosGroup/glTF issue #1563).
 pub(super) fn texture_transform(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> Affine2 {
     let (sin, cos) = rotation.sin_cos();
-    let rotate = glam::Mat2::from_cols(Vec2::new(cos, sin), Vec2::new(-sin, cos));
+    let rotate = glam::Mat2::from_cols(Vec2::new(cos, -sin), Vec2::new(sin, cos));
     let matrix = rotate * glam::Mat2::from_diagonal(Vec2::from(scale));
     Affine2::from_mat2_translation(matrix, Vec2::from(offset))
 }

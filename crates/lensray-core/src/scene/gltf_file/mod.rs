@@ -5,7 +5,8 @@
 //! (matrix or TRS) applied after its parent's. Every triangle primitive (`TRIANGLES`, strips and
 //! fans; indexed or not) of a node's mesh becomes one [`Mesh`](super::Mesh) in world space: positions through
 //! `world_from_node`, normals through its inverse transpose, the winding kept counter-clockwise
-//! where the transform mirrors; TEXCOORD_0 comes along. Points and lines are skipped with one
+//! where the transform mirrors; TEXCOORD_0 comes along. Vertex attributes may be quantized
+//! (`KHR_mesh_quantization`, `accessors.rs`). Points and lines are skipped with one
 //! notice. Materials and their textures: `materials.rs`; a primitive without one gets glTF's
 //! default material (white). What the Lambert shading does not use is named in one notice.
 //!
@@ -21,15 +22,20 @@ use glam::DMat4;
 use super::file_camera::FileCamera;
 use super::{LoadTimes, Scene, SceneError};
 
+mod accessors;
 mod materials;
 mod nodes;
 
 /// Extensions this loader applies; a file requiring any other is refused.
-const KNOWN_EXTENSIONS: [&str; 3] = [
+const KNOWN_EXTENSIONS: [&str; 4] = [
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
+    "KHR_mesh_quantization",
     "KHR_texture_transform",
 ];
+
+/// Known extensions that lensray reads without the `gltf` crate's help.
+const READ_HERE_EXTENSIONS: [&str; 1] = ["KHR_mesh_quantization"];
 
 /// A mesh file read: the scene, the cameras it holds (in the file's order), what the loader
 /// has to say about it (one line each: what it ignored or repaired) and how long it took.
@@ -57,7 +63,13 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
         gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| bad(e.to_string()))?;
     let mut notices = Vec::new();
     check_extensions(&unchecked.document, &mut notices).map_err(bad)?;
-    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&bytes)
+    let gltf::Gltf { document, blob } = unchecked;
+    // The `gltf` crate's validation refuses a required extension it does not read itself,
+    // though lensray reads it (`KHR_mesh_quantization`: `accessors.rs`); checked above.
+    let mut json = document.into_json();
+    json.extensions_required
+        .retain(|name| !READ_HERE_EXTENSIONS.contains(&name.as_str()));
+    let document = gltf::Document::from_json(json)
         .map_err(|e| bad(e.to_string().trim_end_matches(';').to_string()))?;
     let base = path.parent().unwrap_or(Path::new(""));
     let buffers = read_buffers(&document, base, blob).map_err(bad)?;

@@ -6,6 +6,7 @@ use std::path::Path;
 use glam::{DMat4, DVec3, Vec2, Vec3};
 use gltf::mesh::Mode;
 
+use super::accessors::read_floats;
 use super::materials::ignored_features;
 use super::MeshFile;
 use crate::scene::file_camera::{FileCamera, FileProjection};
@@ -27,6 +28,8 @@ pub(super) struct Walk<'a> {
     pub skipped_modes: usize,
     /// A texture reads a texture coordinate set other than TEXCOORD_0 (read from set 0).
     pub other_texcoords: bool,
+    /// A primitive has vertex colours (COLOR_0), which the materials do not read.
+    pub vertex_colours: bool,
 }
 
 impl<'a> Walk<'a> {
@@ -40,6 +43,7 @@ impl<'a> Walk<'a> {
             images: vec![None; document.images().len()],
             skipped_modes: 0,
             other_texcoords: false,
+            vertex_colours: false,
         }
     }
 
@@ -113,10 +117,12 @@ impl<'a> Walk<'a> {
             check_accessor(&indices, buffers).map_err(|e| format!("{what}: indices: {e}"))?;
         }
         let reader = primitive.reader(get);
-        let positions: Vec<[f32; 3]> = reader
-            .read_positions()
-            .ok_or_else(|| format!("{what} has no POSITION"))?
-            .collect();
+        let attribute = |semantic: gltf::Semantic| primitive.get(&semantic);
+        let positions: Vec<[f32; 3]> = attribute(gltf::Semantic::Positions)
+            .map(|a| read_floats(&a, buffers, "POSITION"))
+            .transpose()
+            .map_err(|e| format!("{what}: {e}"))?
+            .ok_or_else(|| format!("{what} has no POSITION"))?;
         if let Some(p) = positions.iter().find(|p| !p.iter().all(|c| c.is_finite())) {
             return Err(format!("{what}: position {p:?} is not finite"));
         }
@@ -132,10 +138,15 @@ impl<'a> Walk<'a> {
         }
         let mirrored = world_from_node.determinant() < 0.0;
         let triangles = assemble(mode, &corners, mirrored);
-        let normals: Vec<Vec3> = match reader.read_normals() {
+        let normals = attribute(gltf::Semantic::Normals)
+            .map(|a| read_floats::<3>(&a, buffers, "NORMAL"))
+            .transpose()
+            .map_err(|e| format!("{what}: {e}"))?;
+        let normals: Vec<Vec3> = match normals {
             Some(normals) => {
                 let normal_from_node = world_from_node.inverse().transpose();
                 normals
+                    .into_iter()
                     .map(|n| {
                         let n = normal_from_node.transform_vector3(DVec3::from(n.map(f64::from)));
                         n.normalize_or_zero().as_vec3()
@@ -150,15 +161,17 @@ impl<'a> Walk<'a> {
         } else {
             Vec::new()
         };
-        let texcoords: Vec<Vec2> = match reader.read_tex_coords(0) {
-            Some(t) => t.into_f32().map(Vec2::from).collect(),
-            None => Vec::new(),
-        };
+        let texcoords: Vec<Vec2> = attribute(gltf::Semantic::TexCoords(0))
+            .map(|a| read_floats(&a, buffers, "TEXCOORD_0"))
+            .transpose()
+            .map_err(|e| format!("{what}: {e}"))?
+            .map_or_else(Vec::new, |t| t.into_iter().map(Vec2::from).collect());
         let texcoords = if texcoords.len() == count {
             texcoords
         } else {
             Vec::new()
         };
+        self.vertex_colours |= primitive.get(&gltf::Semantic::Colors(0)).is_some();
         let material = self
             .material(primitive.material())
             .map_err(|e| format!("{what}: {e}"))?;
@@ -190,6 +203,11 @@ impl<'a> Walk<'a> {
                 "reads every texture with TEXCOORD_0 (lensray reads one texture coordinate set)"
                     .into(),
             );
+        }
+        if self.vertex_colours {
+            self.out
+                .notices
+                .push("ignores the vertex colours (COLOR_0) of its meshes".into());
         }
         if self.skipped_modes > 0 {
             self.out.notices.push(format!(

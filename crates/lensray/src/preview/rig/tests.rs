@@ -129,10 +129,13 @@ fn pinning_keeps_the_resolved_camera_exactly() {
 
 #[test]
 fn pinning_the_default_camera_gives_explicit_values() {
-    // `settings::shot`'s default eye: 1.1 r / sin(20 degrees) in front of the centre, r = sqrt 3.
+    // `settings::shot`'s automatic framing: 1.05 r / sin(20 degrees) from the centre, r = sqrt 3,
+    // 35 degrees around from +z toward +x and 25 degrees up.
     let rig = rig_for(Settings::default());
-    let distance = 1.1 * 3f64.sqrt() / 20f64.to_radians().sin();
-    assert_vec_close(eye(&rig), DVec3::new(0.0, 0.0, distance), 1e-5);
+    let distance = 1.05 * 3f64.sqrt() / 20f64.to_radians().sin();
+    let (around, up) = (35f64.to_radians(), 25f64.to_radians());
+    let direction = DVec3::new(around.sin() * up.cos(), up.sin(), around.cos() * up.cos());
+    assert_vec_close(eye(&rig), direction * distance, 1e-5);
     assert_eq!(target(&rig), DVec3::ZERO);
     let c = &rig.settings().camera;
     assert_eq!(c.up, Some([0.0, 1.0, 0.0]));
