@@ -403,6 +403,13 @@ binding_groups! {
         /// wavelength), unused.
         results: storage_buffer() = "writeonly buffer Results { float results[]; }",
     }
+    /// The tone-map probe's colours and answers (shaders/probes/tonemap.comp).
+    TonemapProbeGroup("GROUP_TONEMAP_PROBE") {
+        /// Linear colours (w unused).
+        queries: storage_buffer() = "readonly buffer Queries { vec4 queries[]; }",
+        /// Per query: pbr_neutral, then agx, of its colour (w unused).
+        results: storage_buffer() = "writeonly buffer Results { vec4 results[]; }",
+    }
 }
 
 descriptor_sets! {
@@ -438,6 +445,8 @@ descriptor_sets! {
     SamplerCostSet("sampler_cost", Compute, crate::SamplerCostPush) { SamplerCostGroup }
     /// The spectral probe (spectral.comp).
     SpectralProbeSet("spectral_probe", Compute, u32) { SpectralProbeGroup }
+    /// The tone-map probe (tonemap.comp).
+    TonemapProbeSet("tonemap_probe", Compute, u32) { TonemapProbeGroup }
 }
 
 #[cfg(test)]

@@ -351,12 +351,15 @@ shader_interface! {
             far_z: f32,
             coc: GpuCocLens,
         }
-        /// Push constants of resolve.comp: the image size and the view.
+        /// Push constants of resolve.comp: the image size, how the final view is exposed and
+        /// tone mapped, and the view.
         Std430 struct ResolvePush as ResolvePush {
             width: u32,
             height: u32,
-            pad0: u32,
-            pad1: u32,
+            /// The final view's linear scale (film::tonemap::Display::exposure).
+            exposure: f32,
+            /// TONEMAP_*
+            tonemap: u32,
             shown: ViewParams,
         }
         /// Push constants of the view pass (gbuffer.vert reads the leading RasterPush,

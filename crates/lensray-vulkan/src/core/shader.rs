@@ -53,6 +53,8 @@ pub(crate) const LAYOUTS_COMP: &[u8] = spirv!("layouts.comp");
 pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
 #[cfg(feature = "probes")]
 pub(crate) const SPECTRAL_COMP: &[u8] = spirv!("spectral.comp");
+#[cfg(feature = "probes")]
+pub(crate) const TONEMAP_COMP: &[u8] = spirv!("tonemap.comp");
 
 /// A pipeline's vertex and fragment stages.
 pub(crate) type RasterStages = (&'static [u8], &'static [u8]);

@@ -140,7 +140,11 @@ fn luminance(c: Vec3) -> f32 {
 #[test]
 fn tone_maps_keep_the_order_of_values() {
     for (name, f) in [("neutral", pbr_neutral as fn(Vec3) -> Vec3), ("agx", agx)] {
-        for colour in [Vec3::ONE, Vec3::new(1.0, 0.5, 0.25), Vec3::new(0.1, 0.3, 1.0)] {
+        for colour in [
+            Vec3::ONE,
+            Vec3::new(1.0, 0.5, 0.25),
+            Vec3::new(0.1, 0.3, 1.0),
+        ] {
             let mut last = f(Vec3::ZERO);
             for x in sweep() {
                 let now = f(colour * x);
@@ -178,10 +182,16 @@ fn bright_values_keep_gradations() {
             .collect()
     };
     let agx_bytes = bytes(agx);
-    assert!(agx_bytes.windows(2).all(|w| w[0] < w[1]), "agx: {agx_bytes:?}");
+    assert!(
+        agx_bytes.windows(2).all(|w| w[0] < w[1]),
+        "agx: {agx_bytes:?}"
+    );
     assert!(agx_bytes.iter().all(|&v| v < 255), "agx: {agx_bytes:?}");
     let neutral = bytes(pbr_neutral);
-    assert!(neutral[..7].windows(2).all(|w| w[0] < w[1]), "neutral: {neutral:?}");
+    assert!(
+        neutral[..7].windows(2).all(|w| w[0] < w[1]),
+        "neutral: {neutral:?}"
+    );
     assert!(neutral.iter().all(|&v| v < 255), "neutral: {neutral:?}");
     assert_eq!(bytes(|c| c)[2..], [255; 8]);
 }
