@@ -421,6 +421,13 @@ binding_groups! {
         /// wavelength), unused.
         results: storage_buffer() = "writeonly buffer Results { float results[]; }",
     }
+    /// The tone-map probe's colours and answers (shaders/probes/tonemap.comp).
+    TonemapProbeGroup("GROUP_TONEMAP_PROBE") {
+        /// Linear colours (w unused).
+        queries: storage_buffer() = "readonly buffer Queries { vec4 queries[]; }",
+        /// Per query: pbr_neutral, then agx, of its colour (w unused).
+        results: storage_buffer() = "writeonly buffer Results { vec4 results[]; }",
+    }
 }
 
 descriptor_sets! {
@@ -458,6 +465,8 @@ descriptor_sets! {
     SpectralProbeSet("spectral_probe", Compute, u32) { SpectralProbeGroup }
     /// The environment probe (environment.comp).
     EnvironmentProbeSet("environment_probe", Compute, u32) { EnvironmentGroup, EnvironmentProbeGroup }
+    /// The tone-map probe (tonemap.comp).
+    TonemapProbeSet("tonemap_probe", Compute, u32) { TonemapProbeGroup }
 }
 
 #[cfg(test)]

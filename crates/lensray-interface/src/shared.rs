@@ -42,6 +42,41 @@ shader_interface! {
         /// The circle of confusion shown as white in the CoC view, pixels.
         COC_DISPLAY_MAX: f32 = 16.0;
 
+        /// The tone maps of PNG files and the preview (`film::tonemap::ToneMap`,
+        /// shaders/include/tonemap.glsl): none (clamp), Khronos PBR Neutral, AgX.
+        TONEMAP_NONE: u32 = 0;
+        TONEMAP_NEUTRAL: u32 = 1;
+        TONEMAP_AGX: u32 = 2;
+        /// Khronos PBR Neutral (the Khronos specification "PBR Neutral", reference code
+        /// github.com/KhronosGroup/ToneMapping, PBR_Neutral/pbrNeutral.glsl): where highlight
+        /// compression starts (0.8 - 0.04) and how fast compressed highlights desaturate.
+        NEUTRAL_START_COMPRESSION: f32 = 0.76;
+        NEUTRAL_DESATURATION: f32 = 0.15;
+        /// AgX as three.js writes it (src/renderers/shaders/ShaderChunk/
+        /// tonemapping_pars_fragment.glsl.js, AgXToneMapping, after Filament's port of
+        /// Blender's AgX; film::tonemap::agx cites it): the log2 encoding's range (log2 of
+        /// 0.18 * 2^-10 and 0.18 * 2^6.5), the matrices column by column (GLSL's mat3 order),
+        /// and the sigmoid's polynomial, x^6 first.
+        AGX_MIN_EV: f32 = -12.47393;
+        AGX_MAX_EV: f32 = 4.026069;
+        AGX_SRGB_TO_REC2020: [f32; 9] = [
+            0.6274, 0.0691, 0.0164, 0.3293, 0.9195, 0.0880, 0.0433, 0.0113, 0.8956,
+        ];
+        AGX_REC2020_TO_SRGB: [f32; 9] = [
+            1.6605, -0.1246, -0.0182, -0.5876, 1.1329, -0.1006, -0.0728, -0.0083, 1.1187,
+        ];
+        AGX_INSET: [f32; 9] = [
+            0.856_627_17, 0.137_318_97, 0.111_898_21,
+            0.095_121_24, 0.761_242, 0.076_799_415,
+            0.048_251_607, 0.101_439_04, 0.811_302_36,
+        ];
+        AGX_OUTSET: [f32; 9] = [
+            1.127_100_6, -0.141_329_77, -0.141_329_77,
+            -0.110_606_64, 1.157_823_7, -0.110_606_64,
+            -0.016_493_939, -0.016_493_939, 1.251_936_4,
+        ];
+        AGX_SIGMOID: [f32; 7] = [15.5, -40.14, 31.96, -6.868, 0.4298, 0.1191, -0.00232];
+
         /// Sample dimensions the camera takes (sampler::camera_sample); later consumers take
         /// dimensions from DIM_FIRST_FREE on.
         DIM_FILM_X: u32 = 0;
@@ -318,12 +353,15 @@ shader_interface! {
             far_z: f32,
             coc: GpuCocLens,
         }
-        /// Push constants of resolve.comp: the image size and the view.
+        /// Push constants of resolve.comp: the image size, how the final view is exposed and
+        /// tone mapped, and the view.
         Std430 struct ResolvePush as ResolvePush {
             width: u32,
             height: u32,
-            pad0: u32,
-            pad1: u32,
+            /// The final view's linear scale (film::tonemap::Display::exposure).
+            exposure: f32,
+            /// TONEMAP_*
+            tonemap: u32,
             shown: ViewParams,
         }
         /// Push constants of the view pass (gbuffer.vert reads the leading RasterPush,

@@ -83,6 +83,8 @@ pub use probes::spectral::{probe_spectral, SpectralProbe};
 #[cfg(feature = "probes")]
 pub use probes::timing::{bench, bench_renderer, BenchedPass, PassBenchOptions, PassBenchReport};
 #[cfg(feature = "probes")]
+pub use probes::tonemap::probe_tonemaps;
+#[cfg(feature = "probes")]
 pub use probes::view_routes::ViewRoutes;
 pub use renderer::{GpuRenderer, SamplesAdded};
 pub use scene::bvh::BvhParams;

@@ -7,6 +7,7 @@ use glam::Mat4;
 
 use lensray_core::camera::Footprint;
 use lensray_core::camera::{Camera, CocLens, Projection};
+use lensray_core::film::tonemap::Display;
 use lensray_core::interface::{
     GpuCamera, GpuCocLens, GpuFootprint, GpuLens, GpuLight, GpuMaterial, GpuTexture, GpuTextureRef,
     RasterPush, ResolvePush, TraceParams, ViewParams, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE,
@@ -470,13 +471,14 @@ pub(crate) fn view_params(camera: &Camera, view: u32) -> ViewParams {
     }
 }
 
-/// View `view` (VIEW_*) of `camera`, over the camera's image.
-pub(crate) fn resolve_push(camera: &Camera, view: u32) -> ResolvePush {
+/// View `view` (VIEW_*) of `camera`, over the camera's image; the final view shown as
+/// `display` says.
+pub(crate) fn resolve_push(camera: &Camera, view: u32, display: &Display) -> ResolvePush {
     ResolvePush {
         width: camera.width,
         height: camera.height,
-        pad0: 0,
-        pad1: 0,
+        exposure: display.exposure,
+        tonemap: display.tonemap.code(),
         shown: view_params(camera, view),
     }
 }

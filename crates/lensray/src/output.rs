@@ -1,5 +1,5 @@
-//! Writing images: PNG (8-bit, sRGB-encoded colour) or OpenEXR (linear 32-bit float), chosen by
-//! the file's extension. The file is written to a temporary file beside the target and renamed
+//! Writing images: PNG (8-bit, sRGB-encoded colour, exposed and tone mapped) or OpenEXR (linear
+//! 32-bit float, exposed only when asked: `settings::exposure`), chosen by the file's extension. The file is written to a temporary file beside the target and renamed
 //! into place, so a failed or interrupted render never leaves a half-written image.
 
 use std::io::{BufWriter, Seek, Write};
@@ -10,9 +10,9 @@ use image::{ExtendedColorType, ImageEncoder};
 use tempfile::NamedTempFile;
 use thiserror::Error;
 
-use lensray_core::film::colour::to_display_bytes;
+use lensray_core::film::colour::to_display_bytes_with;
 use lensray_core::film::Image;
-use lensray_core::settings::Shading;
+use lensray_core::settings::{Exposure, Shading};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -60,13 +60,24 @@ impl PendingOutput {
     }
 
     /// Encodes the image into the temporary file and renames it over the target.
-    pub fn finish(self, image: &Image, shading: Shading) -> Result<(), OutputError> {
-        self.encode(image, shading)?.commit()
+    pub fn finish(
+        self,
+        image: &Image,
+        shading: Shading,
+        exposure: &Exposure,
+    ) -> Result<(), OutputError> {
+        self.encode(image, shading, exposure)?.commit()
     }
 
     /// Encodes the image into a temporary file beside the target; nothing is at the target
-    /// until [`EncodedOutput::commit`] (dropped, the temporary file is removed).
-    pub fn encode(self, image: &Image, shading: Shading) -> Result<EncodedOutput, OutputError> {
+    /// until [`EncodedOutput::commit`] (dropped, the temporary file is removed). A PNG shows
+    /// `exposure`'s display; an EXR of a traced shading is scaled by its `exr_scale`.
+    pub fn encode(
+        self,
+        image: &Image,
+        shading: Shading,
+        exposure: &Exposure,
+    ) -> Result<EncodedOutput, OutputError> {
         let encode_error = |message: String| OutputError::Encode {
             path: self.path.clone(),
             message,
@@ -80,12 +91,19 @@ impl PendingOutput {
             let mut writer = BufWriter::new(temp.as_file_mut());
             match self.format {
                 Format::Png => {
-                    let bytes = to_display_bytes(image, shading);
+                    let bytes = to_display_bytes_with(image, shading, exposure.display);
                     PngEncoder::new(&mut writer)
                         .write_image(&bytes, w, h, ExtendedColorType::Rgb8)
                         .map_err(|e| encode_error(e.to_string()))?;
                 }
-                Format::Exr => write_exr(&mut writer, image).map_err(encode_error)?,
+                Format::Exr => {
+                    let scale = if shading.is_aov() {
+                        1.0
+                    } else {
+                        exposure.exr_scale
+                    };
+                    write_exr(&mut writer, image, scale).map_err(encode_error)?;
+                }
             }
             writer.flush().map_err(|e| encode_error(e.to_string()))?;
         }
@@ -203,12 +221,14 @@ const EXR_ENCODING: exr::image::Encoding = exr::image::Encoding {
     line_order: exr::meta::attribute::LineOrder::Increasing,
 };
 
-/// Writes the image's linear RGB floats, compressing the blocks on every core.
-fn write_exr<W: Write + Seek>(writer: W, image: &Image) -> Result<(), String> {
+/// Writes the image's linear RGB floats times `scale` (1: as rendered), compressing the blocks
+/// on every core.
+fn write_exr<W: Write + Seek>(writer: W, image: &Image, scale: f32) -> Result<(), String> {
     use exr::prelude::{SpecificChannels, Vec2, WritableImage};
     let width = image.width as usize;
     let pixels = SpecificChannels::rgb(|p: Vec2<usize>| {
         let c = image.pixels[p.y() * width + p.x()];
+        let c = if scale == 1.0 { c } else { c * scale };
         (c.x, c.y, c.z)
     });
     exr::prelude::Image::from_encoded_channels((width, image.height as usize), EXR_ENCODING, pixels)

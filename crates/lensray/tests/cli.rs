@@ -11,6 +11,8 @@ use std::process::{Command, Output};
 mod caches;
 #[path = "cli/devices.rs"]
 mod devices;
+#[path = "cli/exposure.rs"]
+mod exposure;
 #[path = "cli/isa.rs"]
 mod isa;
 #[path = "cli/movements.rs"]

@@ -1,12 +1,30 @@
 //! Colour encoding for display and 8-bit files: the sRGB transfer function and its inverse, and
 //! the 8-bit values of an image for each shading (what PNG files and the preview show).
 
+use crate::film::tonemap::Display;
 use crate::film::Image;
 use crate::settings::Shading;
 
-/// 8-bit display values: colours sRGB-encoded; normals as 0.5 n + 0.5; depth scaled so the
-/// farthest visible point is white (EXR keeps the raw values).
+/// 8-bit display values as lensray wrote them before exposure and tone maps
+/// ([`Display::LINEAR`]): see [`to_display_bytes_with`].
 pub fn to_display_bytes(image: &Image, shading: Shading) -> Vec<u8> {
+    to_display_bytes_with(image, shading, Display::LINEAR)
+}
+
+/// 8-bit display values: traced colours (lit, unlit) exposed and tone mapped by `display`,
+/// then sRGB-encoded; albedo sRGB-encoded as it is (a reflectance, not light); normals as
+/// 0.5 n + 0.5; depth scaled so the farthest visible point is white (EXR keeps the raw values).
+pub fn to_display_bytes_with(image: &Image, shading: Shading, display: Display) -> Vec<u8> {
+    if matches!(shading, Shading::Lit | Shading::Unlit) && display != Display::LINEAR {
+        return image
+            .pixels
+            .iter()
+            .flat_map(|&p| {
+                let shown = display.map(p);
+                [shown.x, shown.y, shown.z].map(|c| byte(linear_to_srgb(c)))
+            })
+            .collect();
+    }
     let max_depth =
         image
             .pixels
@@ -25,13 +43,18 @@ pub fn to_display_bytes(image: &Image, shading: Shading) -> Vec<u8> {
             Shading::Normal => 0.5 * c + 0.5,
             Shading::Unlit | Shading::Lit | Shading::Albedo => linear_to_srgb(c),
         };
-        (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+        byte(v)
     };
     image
         .pixels
         .iter()
         .flat_map(|p| [encode(p.x), encode(p.y), encode(p.z)])
         .collect()
+}
+
+/// An encoded value in [0, 1] (clamped) as a byte, rounded.
+fn byte(v: f32) -> u8 {
+    (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
 }
 
 /// The sRGB transfer function (IEC 61966-2-1).

@@ -1,6 +1,7 @@
 //! The film every render path fills: the image (linear RGB), the per-pixel sums it is
 //! accumulated in, comparisons of images, the progressive schedule that decides which
-//! samples to add next, and the weighting of a sample of one wavelength (`spectral`).
+//! samples to add next, the weighting of a sample of one wavelength (`spectral`), and the
+//! exposure and tone map of what is shown (`tonemap`).
 
 pub mod accumulation;
 pub mod colour;
@@ -8,6 +9,7 @@ pub mod compare;
 pub mod image;
 pub mod progressive;
 pub mod spectral;
+pub mod tonemap;
 
 pub use accumulation::{Accumulation, Holder, OnDevice, Sums};
 pub use image::Image;

@@ -5,14 +5,18 @@
 //!   render settings, with a default for what neither gives;
 //! - [`render`]: the render settings every path (CPU and GPU) computes from: samples, seed,
 //!   sampler, shading, background and environment;
-//! - [`lights`]: the settings' lights, added to the scene's own.
+//! - [`lights`]: the settings' lights, added to the scene's own;
+//! - [`exposure`](mod@exposure): the exposure and tone map of what is shown, from the settings
+//!   and the shot's lens.
 
 pub mod aperture_image;
+pub mod exposure;
 pub mod lights;
 pub mod render;
 pub mod shot;
 pub mod user;
 
+pub use exposure::{exposure, Exposure};
 pub use lights::{light_scene, pinned_lights, settings_lights, LightSettings, LightType, Lights};
 pub use render::{RenderSettings, Shading};
 pub use shot::{
@@ -21,6 +25,6 @@ pub use shot::{
     FRAMING_AZIMUTH_DEGREES, FRAMING_ELEVATION_DEGREES,
 };
 pub use user::{
-    ApertureSettings, CameraSettings, ImageSettings, LensSettings, ProjectionKind, RenderStyle,
-    Settings, Switch,
+    ApertureSettings, CameraSettings, ExposureSettings, ImageSettings, LensSettings,
+    ProjectionKind, RenderStyle, Settings, Switch,
 };

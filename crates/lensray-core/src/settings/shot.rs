@@ -62,6 +62,8 @@ pub enum SettingsError {
         chosen_by: FocusChoice,
         err: CameraError,
     },
+    #[error("{0}")]
+    Exposure(String),
 }
 
 /// What chose a shot's focus distance, for an error that no image forms there.
@@ -377,9 +379,12 @@ fn lens(
     real_lens: Option<Prescription>,
     axis_distance: f64,
 ) -> Result<LensParams, SettingsError> {
+    // Without a focal length, an f-number is allowed with a shutter time: it sets the exposure
+    // alone (settings::exposure).
+    let exposure_f_number = c.f_number.is_some() && c.exposure.shutter.is_some();
     if c.focal_length_mm.is_none()
         && real_lens.is_none()
-        && (c.f_number.is_some() || c.sensor_height_mm.is_some())
+        && ((c.f_number.is_some() && !exposure_f_number) || c.sensor_height_mm.is_some())
     {
         return Err(SettingsError::Conflict(
             "f-number and sensor height need a focal length (--focal-length-mm) or a lens (--lens)",

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
+use crate::film::tonemap::ToneMap;
 use crate::sampler::SamplerKind;
 use crate::settings::{Lights, Shading};
 
@@ -63,6 +64,29 @@ pub struct CameraSettings {
     /// `[camera.lens]`: a real lens (a thin lens when absent).
     #[serde(default, skip_serializing_if = "LensSettings::is_unset")]
     pub lens: LensSettings,
+    /// `[camera.exposure]`: exposure and tone map (as rendered, tone mapped by the default
+    /// tone map, when absent).
+    #[serde(default, skip_serializing_if = "ExposureSettings::is_unset")]
+    pub exposure: ExposureSettings,
+}
+
+/// Exposure and tone map (`settings::exposure` resolves them, `film::tonemap` applies them):
+/// a plain offset in stops, a physical exposure from shutter time, ISO and the shot's f-number,
+/// the tone map of PNGs and the preview, and whether EXR files are exposed too.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExposureSettings {
+    /// Stops added on top of the physical exposure (or alone): the image is scaled by 2^ev.
+    pub ev: Option<f64>,
+    /// The sensor's ISO speed (needs a shutter time; default 100).
+    pub iso: Option<f64>,
+    /// Shutter time in seconds: with it, the image is exposed as a camera's,
+    /// 1 / (1.2 * 2^EV100) with EV100 = log2(N^2 / shutter * 100 / ISO).
+    pub shutter: Option<f64>,
+    /// The tone map of PNG files and the preview (default agx).
+    pub tonemap: Option<ToneMap>,
+    /// Whether EXR files are exposed too (default: they keep the render's linear values).
+    pub expose_exr: Option<bool>,
 }
 
 /// A real lens (`camera::real_lens`): its f-number, focus and film are `[camera]`'s
@@ -205,6 +229,8 @@ impl Settings {
         overlay!(a, base, blades, rotation, roundness, aspect, image);
         let (lens, base) = (&c.lens, &mut self.camera.lens);
         overlay!(lens, base, prescription, dispersion);
+        let (e, base) = (&c.exposure, &mut self.camera.exposure);
+        overlay!(e, base, ev, iso, shutter, tonemap, expose_exr);
         overlay!(i, self.image, width, height, spp, seed, sampler);
         overlay!(r, self.render, shading, background, environment);
         self.light = std::mem::take(&mut self.light).overridden_by(l);
@@ -226,6 +252,7 @@ is_unset!(
     CameraSettings,
     ApertureSettings,
     LensSettings,
+    ExposureSettings,
     ImageSettings,
     RenderStyle
 );

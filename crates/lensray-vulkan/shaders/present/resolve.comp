@@ -1,11 +1,12 @@
 #version 460
-// The preview's display: per pixel, the thin-lens accumulation (sum / samples, sRGB-encoded) or
-// a G-buffer view, written to an 8-bit image that is then copied to the window. Pixels the
+// The preview's display: per pixel, the thin-lens accumulation (sum / samples, exposed, tone
+// mapped and sRGB-encoded: tonemap.glsl, as a PNG's pixels) or a G-buffer view, written to an 8-bit image that is then copied to the window. Pixels the
 // accumulation has not reached yet show the G-buffer's albedo (the pinhole view) meanwhile.
 // The encodings are views.glsl's.
 
 #include "set_resolve.glsl"
 #include "views.glsl"
+#include "tonemap.glsl"
 
 layout(local_size_x = RESOLVE_GROUP_SIZE, local_size_y = RESOLVE_GROUP_SIZE) in;
 
@@ -21,8 +22,10 @@ void main() {
     vec3 shown;
     if (pc.shown.view == VIEW_FINAL) {
         vec4 a = accum[p.y * pc.width + p.x];
-        // Pixels the accumulation has not reached yet show the pinhole albedo meanwhile.
-        shown = encode_srgb(a.w > 0.0 ? a.xyz / a.w : imageLoad(g_albedo, q).xyz);
+        // Pixels the accumulation has not reached yet show the pinhole albedo meanwhile (a
+        // reflectance: not exposed, as a PNG of the albedo view).
+        shown = encode_srgb(a.w > 0.0 ? display_mapped(a.xyz / a.w, pc.exposure, pc.tonemap)
+                                      : imageLoad(g_albedo, q).xyz);
     } else if (pc.shown.view == VIEW_ALBEDO) {
         shown = encode_srgb(imageLoad(g_albedo, q).xyz);
     } else if (pc.shown.view == VIEW_NORMAL) {

@@ -55,6 +55,8 @@ pub(crate) const SAMPLER_COST_COMP: &[u8] = spirv!("sampler_cost.comp");
 pub(crate) const SPECTRAL_COMP: &[u8] = spirv!("spectral.comp");
 #[cfg(feature = "probes")]
 pub(crate) const ENVIRONMENT_COMP: &[u8] = spirv!("environment.comp");
+#[cfg(feature = "probes")]
+pub(crate) const TONEMAP_COMP: &[u8] = spirv!("tonemap.comp");
 
 /// A pipeline's vertex and fragment stages.
 pub(crate) type RasterStages = (&'static [u8], &'static [u8]);

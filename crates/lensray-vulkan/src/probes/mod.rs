@@ -2,8 +2,8 @@
 //! turn on): the GLSL mirrors of the camera and sampler (`mirrors`), the hybrid plan's host
 //! reference (`hybrid_plan`), the shared structs as the shaders read them (`layouts`), the
 //! preview's two view routes (`view_routes`), the sample generation's cost (`sampler_cost`),
-//! pass timings (`timing`), the GLSL mirror of the spectral weighting (`spectral`) and of the
-//! environment map's lookup and sampling (`environment`).
+//! pass timings (`timing`), the GLSL mirrors of the spectral weighting (`spectral`), of the
+//! environment map's lookup and sampling (`environment`) and of the tone maps (`tonemap`).
 
 pub(crate) mod environment;
 pub(crate) mod hybrid_plan;
@@ -12,6 +12,7 @@ pub(crate) mod mirrors;
 pub(crate) mod sampler_cost;
 pub(crate) mod spectral;
 pub(crate) mod timing;
+pub(crate) mod tonemap;
 pub(crate) mod view_routes;
 
 use crate::core::buffer::Buffer;

@@ -75,7 +75,15 @@ pub(crate) fn run(
     let display = resolve.display.as_ref().expect("bound above");
     ctx.submit_and_wait(|rec| {
         gbuffer.record(rec, scene, camera, background, None);
-        resolve.record(rec, targets, &crate::upload::resolve_push(camera, view));
+        resolve.record(
+            rec,
+            targets,
+            &crate::upload::resolve_push(
+                camera,
+                view,
+                &lensray_core::film::tonemap::Display::LINEAR,
+            ),
+        );
         pass.record(
             rec,
             scene,

@@ -11,12 +11,13 @@ use super::named::by_name;
 use crate::paths::{DeviceChoice, PathChoice, PathOptions};
 use lensray_vulkan::GpuOptions;
 
+use lensray_core::film::tonemap::ToneMap;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Shading;
 use lensray_core::settings::{
-    ApertureSettings, CameraSettings, ImageSettings, LensSettings, LightSettings, Lights,
-    ProjectionKind, RenderStyle, Settings, Switch,
+    ApertureSettings, CameraSettings, ExposureSettings, ImageSettings, LensSettings, LightSettings,
+    Lights, ProjectionKind, RenderStyle, Settings, Switch,
 };
 
 /// Parses "x,y,z" into three finite-or-not numbers (validation names the option later).
@@ -64,6 +65,56 @@ pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
             .map_err(|_| format!("'{p}' is not a number (in '{s}')"))
     };
     Ok([number(x)?, number(y)?])
+}
+
+/// A time in seconds: a number (0.008) or a fraction as cameras mark it (1/125).
+pub fn parse_seconds(s: &str) -> Result<f64, String> {
+    let number = |p: &str| {
+        p.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("'{s}' is not a time in seconds (like 0.008 or 1/125)"))
+    };
+    match s.split_once('/') {
+        Some((a, b)) => Ok(number(a)? / number(b)?),
+        None => number(s),
+    }
+}
+
+/// Exposure and tone map (`settings::exposure`): shared by `render` and `preview` (through
+/// [`ViewArgs`]).
+#[derive(Args, Clone, Copy, Debug, Default)]
+pub struct ExposureArgs {
+    /// Exposure in stops: the image is scaled by 2^EV; with --shutter, an offset on top of the
+    /// camera's exposure (default 0: the render's values as they are).
+    #[arg(long, value_name = "EV", allow_hyphen_values = true)]
+    pub exposure: Option<f64>,
+    /// The sensor's ISO speed for a physical exposure (needs --shutter; default 100).
+    #[arg(long, value_name = "ISO", allow_hyphen_values = true)]
+    pub iso: Option<f64>,
+    /// Shutter time, seconds (0.008 or 1/125): expose as a camera does, 1 / (1.2 * 2^EV100)
+    /// with EV100 = log2(N^2 / t * 100 / ISO) and N the lens's f-number (a pinhole's: f/16, or
+    /// --f-number). For glTF's photometric lights: sunny 16 is --iso 100 --shutter 1/125 at f/16.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_hyphen_values = true)]
+    pub shutter: Option<f64>,
+    /// The tone map of PNGs and the preview [default: agx].
+    #[arg(long, value_parser = by_name::<ToneMap>())]
+    pub tonemap: Option<ToneMap>,
+    /// Expose EXR output too (by default an EXR keeps the render's linear values; it is never
+    /// tone mapped).
+    #[arg(long)]
+    pub expose_exr: bool,
+}
+
+impl ExposureArgs {
+    pub fn to_settings(self) -> ExposureSettings {
+        ExposureSettings {
+            ev: self.exposure,
+            iso: self.iso,
+            shutter: self.shutter,
+            tonemap: self.tonemap,
+            expose_exr: self.expose_exr.then_some(true),
+        }
+    }
 }
 
 /// Which device: shared by `render`, `preview` (through [`PathArgs`]) and `bench`.
@@ -271,6 +322,8 @@ pub struct ViewArgs {
     /// That point light's intensity, W/sr per channel.
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
     pub light_intensity: Option<[f64; 3]>,
+    #[command(flatten)]
+    pub exposure: ExposureArgs,
 }
 
 impl ViewArgs {
@@ -305,6 +358,7 @@ impl ViewArgs {
                     prescription: self.lens.clone(),
                     dispersion: self.dispersion,
                 },
+                exposure: self.exposure.to_settings(),
             },
             image: ImageSettings {
                 width: self.width,

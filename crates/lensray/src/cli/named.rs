@@ -1,10 +1,11 @@
 //! The command line's values of the lower crates' option enums (`--projection`, `--dispersion`,
-//! `--sampler`, `--shading`, `--present-mode`). Each enum lists its values and names them
+//! `--sampler`, `--shading`, `--tonemap`, `--present-mode`). Each enum lists its values and names them
 //! itself (`ALL`, `name`: the names its scene files take too); what `--help` says of each value
 //! is the command line's text, here.
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 
+use lensray_core::film::tonemap::ToneMap;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::settings::{ProjectionKind, Shading, Switch};
 use lensray_vulkan::PresentMode;
@@ -47,6 +48,26 @@ impl NamedOption for ProjectionKind {
 
     fn name(self) -> &'static str {
         ProjectionKind::name(self)
+    }
+}
+
+impl NamedOption for ToneMap {
+    const ALL: &'static [Self] = &ToneMap::ALL;
+
+    fn name(self) -> &'static str {
+        ToneMap::name(self)
+    }
+
+    fn help(self) -> Option<&'static str> {
+        Some(match self {
+            ToneMap::None => {
+                "the values as they are, clamped at 1 (lensray's PNGs before tone maps)"
+            }
+            ToneMap::Neutral => "Khronos PBR Neutral: colours kept, highlights compressed",
+            ToneMap::Agx => {
+                "AgX (as three.js, after Blender): highlights roll off to white (default)"
+            }
+        })
     }
 }
 

@@ -54,6 +54,10 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
     let settings = merged_settings(&description.settings, description.units, &args.view);
     let rig = CameraRig::new(settings, &description.scene)
         .with_context(|| format!("scene {}", description.source))?;
+    // Bad exposure options fail here, in one line, before the window opens.
+    rig.shot(&description.scene)
+        .and_then(|shot| rig.exposure(&shot.camera))
+        .with_context(|| format!("scene {}", description.source))?;
     // The rig's lights are pinned: they light the scene wherever the camera goes.
     lensray_core::settings::light_scene(rig.settings(), &mut description.scene)
         .with_context(|| format!("scene {}", description.source))?;

@@ -14,7 +14,7 @@ use crate::paths::{self, OpenedPath, Phases};
 use lensray_core::scene::file::SceneDescription;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Settings;
-use lensray_core::settings::{light_scene, shot, Shot};
+use lensray_core::settings::{exposure, light_scene, shot, Exposure, Shot};
 
 pub const DEFAULT_OUTPUT: &str = "lensray.png";
 
@@ -24,7 +24,8 @@ pub struct RenderArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub path: PathArgs,
-    /// Output image: .png (sRGB) or .exr (linear float).
+    /// Output image: .png (sRGB, exposed and tone mapped) or .exr (linear float, exposed only
+    /// with --expose-exr).
     #[arg(long, value_name = "FILE", default_value = DEFAULT_OUTPUT)]
     pub out: PathBuf,
     /// Autofocus: focus on the surface seen at this pixel (column,row).
@@ -140,6 +141,14 @@ fn compile_note(seconds: f64) -> String {
     }
 }
 
+/// The exposure's line of the summary, where one was asked for.
+fn print_exposure(settings: &Settings, exposure: &Exposure) {
+    if settings.camera.exposure.ev.is_some() || exposure.physical.is_some() {
+        let ev = settings.camera.exposure.ev.unwrap_or(0.0);
+        println!("  exposure: {}", exposure.summary(ev));
+    }
+}
+
 pub fn run(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     // Fail on a bad output path before spending time on the render.
@@ -148,6 +157,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut settings = merged_settings(&description.settings, description.units, &args.view);
     let context = || format!("scene {}", description.source);
     let mut resolved = shot(&settings, &description.scene).with_context(context)?;
+    // The f-number is the lens's, which focusing below leaves as it is.
+    let exposure = exposure(&settings, &resolved.camera).with_context(context)?;
     light_scene(&settings, &mut description.scene).with_context(context)?;
     let load_seconds = start.elapsed().as_secs_f64();
 
@@ -197,7 +208,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let (closed, (encoded, write_seconds)) = std::thread::scope(|s| {
         let closing = s.spawn(move || path.close());
         let write_start = Instant::now();
-        let encoded = output.encode(&image, render.shading);
+        let encoded = output.encode(&image, render.shading, &exposure);
         let write_seconds = write_start.elapsed().as_secs_f64();
         let closed = closing
             .join()
@@ -232,6 +243,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         compile_note(compile_seconds),
         report.rays_per_second() / 1e6
     );
+    print_exposure(&settings, &exposure);
     if let Some(real) = camera.lens.real() {
         println!("  {}", real.summary());
         if let Some(notice) = real.params.prescription.dispersion_notice() {

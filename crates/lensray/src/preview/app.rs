@@ -159,6 +159,8 @@ struct App {
     awaiting_size: Option<([u32; 2], Instant)>,
     /// The view of the last frame drawn.
     shown_view: Option<ViewMode>,
+    /// The exposure and tone map of the last frame drawn.
+    shown_display: Option<lensray_core::film::tonemap::Display>,
     /// The window has no area: nothing to draw until it comes back.
     minimised: bool,
     spp: u32,
@@ -189,6 +191,7 @@ impl App {
             plane_points: Vec::new(),
             awaiting_size: None,
             shown_view: None,
+            shown_display: None,
             minimised: false,
             spp: 0,
             converged: false,

@@ -8,6 +8,7 @@ use super::rig::{
     CameraRig, LensChoice, LensReadout, PANEL_MAX_TILT_DEGREES, SENSOR_HEIGHT_RANGE_MM,
 };
 use super::view::ViewMode;
+use lensray_core::film::tonemap::ToneMap;
 use lensray_core::settings::ProjectionKind;
 use lensray_vulkan::FrameTimes;
 
@@ -19,6 +20,8 @@ pub struct PanelStats {
     pub frame_ms: Option<f64>,
     /// The real lens's summary line (`RealLens::summary`) of the last frame's camera.
     pub lens_summary: Option<String>,
+    /// The physical exposure's EV100 of the last frame's camera, where one is set.
+    pub ev100: Option<f64>,
 }
 
 pub struct Panel {
@@ -66,6 +69,7 @@ impl Panel {
                 Self::movements(ui, rig);
                 ui.separator();
                 self.view_controls(ui);
+                Self::exposure(ui, rig, stats);
                 ui.separator();
                 Self::timings(ui, stats, self.target_spp);
                 ui.horizontal(|ui| {
@@ -379,6 +383,39 @@ impl Panel {
         ui.horizontal(|ui| {
             ui.label("Target spp");
             ui.add(egui::DragValue::new(&mut self.target_spp).range(1..=1 << 20));
+        });
+    }
+
+    /// Exposure in stops (on top of a physical exposure, whose EV100 is shown) and the tone
+    /// map: they change what the final view shows, not its samples.
+    fn exposure(ui: &mut egui::Ui, rig: &mut CameraRig, stats: &PanelStats) {
+        let set = rig.exposure_settings();
+        let mut ev = set.ev.unwrap_or(0.0);
+        let mut tonemap = set.tonemap.unwrap_or_default();
+        ui.horizontal(|ui| {
+            ui.label("Exposure (EV)");
+            let edit = ui.add(
+                egui::DragValue::new(&mut ev)
+                    .speed(0.05)
+                    .range(-20.0..=20.0)
+                    .fixed_decimals(2),
+            );
+            if edit.changed() {
+                rig.set_exposure_ev(ev);
+            }
+            if let Some(ev100) = stats.ev100 {
+                ui.label(format!("on EV100 {ev100:.2}"));
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("Tone map");
+            let before = tonemap;
+            for t in ToneMap::ALL {
+                ui.selectable_value(&mut tonemap, t, t.name());
+            }
+            if tonemap != before {
+                rig.set_tonemap(tonemap);
+            }
         });
     }
 

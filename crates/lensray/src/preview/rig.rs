@@ -18,9 +18,11 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use lensray_core::camera::physical::PhysicalLens;
-use lensray_core::camera::{Movements, Projection};
+use lensray_core::camera::{Camera, Movements, Projection};
+use lensray_core::film::tonemap::ToneMap;
 use lensray_core::optics::Prescription;
 use lensray_core::scene::Scene;
+use lensray_core::settings::{exposure, Exposure, ExposureSettings};
 use lensray_core::settings::{pinned_lights, ProjectionKind, Settings, Switch};
 use lensray_core::settings::{
     shot, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES,
@@ -188,6 +190,26 @@ impl CameraRig {
     /// resolve [`CameraRig::settings`].
     pub fn shot(&self, scene: &Scene) -> Result<Shot, SettingsError> {
         shot(&self.settings, scene)
+    }
+
+    /// The exposure and tone map of the current view (`settings::exposure`): what the final
+    /// view and a PNG screenshot show.
+    pub fn exposure(&self, camera: &Camera) -> Result<Exposure, SettingsError> {
+        exposure(&self.settings, camera)
+    }
+
+    /// Exposure and tone map as set (`[camera.exposure]`): the panel edits `ev` and `tonemap`.
+    pub fn exposure_settings(&self) -> &ExposureSettings {
+        &self.settings.camera.exposure
+    }
+
+    /// Stops on top of the physical exposure, or alone (0: none).
+    pub fn set_exposure_ev(&mut self, ev: f64) {
+        self.settings.camera.exposure.ev = (ev != 0.0).then_some(ev);
+    }
+
+    pub fn set_tonemap(&mut self, tonemap: ToneMap) {
+        self.settings.camera.exposure.tonemap = Some(tonemap);
     }
 
     /// Bounding-sphere radius of the scene.

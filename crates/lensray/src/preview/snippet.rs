@@ -115,7 +115,9 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
             focal_length_mm: c.focal_length_mm,
             f_number: match real {
                 Some(real) => Some(c.f_number.unwrap_or(real.f_number)),
-                None => physical.then(|| c.f_number.unwrap_or(DEFAULT_F_NUMBER)),
+                None if physical => Some(c.f_number.unwrap_or(DEFAULT_F_NUMBER)),
+                // A pinhole's f-number given with a shutter time: the exposure's.
+                None => c.exposure.shutter.and(c.f_number),
             },
             sensor_height_mm: (physical || real.is_some())
                 .then(|| c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM)),
@@ -128,6 +130,8 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
             // The shape as given: what is left out is the round aperture's default.
             aperture: c.aperture.clone(),
             lens: c.lens.clone(),
+            // Exposure and tone map as given (the panel's too).
+            exposure: c.exposure.clone(),
         },
         image: ImageSettings {
             width: Some(camera.width),
@@ -216,6 +220,11 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
             .as_ref()
             .map(|p| shell_word(&p.display().to_string())),
     );
+    let e = &c.exposure;
+    option("exposure", number(e.ev));
+    option("iso", number(e.iso));
+    option("shutter", number(e.shutter));
+    option("tonemap", e.tonemap.map(|t| t.name().to_string()));
     option("near", number(c.near));
     option("far", number(c.far));
     option("width", i.width.map(|x| x.to_string()));
@@ -232,6 +241,9 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
             option("light-position", light.position.map(triple));
             option("light-intensity", light.intensity.map(triple));
         }
+    }
+    if c.exposure.expose_exr == Some(true) {
+        line.push_str(" --expose-exr");
     }
     line
 }

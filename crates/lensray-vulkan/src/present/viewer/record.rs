@@ -177,7 +177,7 @@ impl Frame<'_> {
             self.resolve.record(
                 rec,
                 targets,
-                &crate::upload::resolve_push(&request.shot.camera, request.view),
+                &crate::upload::resolve_push(&request.shot.camera, request.view, &request.display),
             );
         }
         rec.timestamp(

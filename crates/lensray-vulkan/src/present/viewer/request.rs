@@ -36,6 +36,8 @@ pub struct FrameRequest<'a> {
     pub shot: &'a Shot,
     /// `lensray_core::interface::VIEW_*`. Samples are added only in the final view.
     pub view: u32,
+    /// How the final view's accumulation is exposed and tone mapped (as a PNG of the shot).
+    pub display: lensray_core::film::tonemap::Display,
     /// The camera, lens or shading changed: the accumulation starts again.
     pub restart: bool,
     pub target_spp: u32,

@@ -71,17 +71,13 @@ impl App {
         let image = viewer
             .read_accumulation()?
             .context("nothing rendered yet to save")?;
-        let shading = match &self.last {
-            Some(shot) => shot.render.shading,
-            None => {
-                self.config
-                    .rig
-                    .shot(&self.config.description.scene)?
-                    .render
-                    .shading
-            }
+        let shot = match &self.last {
+            Some(shot) => shot.clone(),
+            None => self.config.rig.shot(&self.config.description.scene)?,
         };
-        output.finish(&image, shading)?;
+        // As the final view shows it (a PNG), or linear (an EXR, unless --expose-exr).
+        let exposure = self.config.rig.exposure(&shot.camera)?;
+        output.finish(&image, shot.render.shading, &exposure)?;
         eprintln!(
             "screenshot: {} ({} samples per pixel)",
             path.display(),

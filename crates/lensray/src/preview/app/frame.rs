@@ -55,8 +55,17 @@ impl App {
         if let Some(real) = resolved.camera.lens.real() {
             self.follow_real_lens(real.name());
         }
+        // Exposure and tone map change what the final view shows, not its samples.
+        let display = self
+            .config
+            .rig
+            .exposure(&resolved.camera)
+            .context("exposure")?
+            .display;
         let restart = self.last.as_ref() != Some(&resolved);
-        let changed = restart || Some(self.panel.view) != self.shown_view;
+        let changed = restart
+            || Some(self.panel.view) != self.shown_view
+            || Some(display) != self.shown_display;
         let pick = self.take_pick(width, height);
         let picked_camera = pick.map(|p| (p, resolved.camera.clone()));
         let snapshot = self.cpu_samples(&resolved, restart)?;
@@ -69,6 +78,7 @@ impl App {
         let result = viewer.draw(FrameRequest {
             shot: &resolved,
             view: self.panel.view.code(),
+            display,
             restart,
             target_spp: self.panel.target_spp,
             pick,
@@ -76,6 +86,7 @@ impl App {
             host,
         })?;
         if result.drawn {
+            self.shown_display = Some(display);
             self.record_drawn(&result, changed, resolved, now, [width, height]);
         }
         if let Some(depth) = result.picked_depth {
@@ -123,6 +134,12 @@ impl App {
                 .as_ref()
                 .and_then(|shot| shot.camera.lens.real())
                 .map(|real| real.summary()),
+            ev100: self
+                .last
+                .as_ref()
+                .and_then(|shot| self.config.rig.exposure(&shot.camera).ok())
+                .and_then(|e| e.physical)
+                .map(|p| p.ev100),
         };
         let rig = &mut self.config.rig;
         let panel = &mut self.panel;

@@ -103,7 +103,10 @@ impl RigCamera {
             RigLens::Aperture { radius } => {
                 c.aperture_radius = Some(*radius);
                 c.focal_length_mm = None;
-                c.f_number = None;
+                // With a shutter time the f-number stays: the exposure's (settings::exposure).
+                if c.exposure.shutter.is_none() {
+                    c.f_number = None;
+                }
                 c.sensor_height_mm = None;
             }
             RigLens::Physical(lens) => {

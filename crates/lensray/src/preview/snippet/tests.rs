@@ -366,3 +366,44 @@ fn real_lens_camera_reads_back_exactly() {
     rig.step_aperture(-2);
     assert_round_trip(&rig, &file);
 }
+
+/// The panel's exposure and tone map, and a physical exposure with a pinhole's f-number, are
+/// printed both ways and read back to the same exposure.
+#[test]
+fn exposure_and_tone_map_read_back_exactly() {
+    use lensray_core::film::tonemap::ToneMap;
+    use lensray_core::settings::exposure;
+    let mut file = file_settings();
+    file.camera.aperture_radius = None;
+    file.camera.f_number = Some(8.0);
+    file.camera.exposure.iso = Some(400.0);
+    file.camera.exposure.shutter = Some(1.0 / 250.0);
+    file.camera.exposure.expose_exr = Some(true);
+    let scene = unit_cube();
+    let mut rig = CameraRig::new(file.clone(), &scene).unwrap();
+    rig.set_exposure_ev(-0.5);
+    rig.set_tonemap(ToneMap::Neutral);
+    assert_round_trip(&rig, &file);
+    let original = rig.shot(&scene).unwrap();
+    let wanted = rig.exposure(&original.camera).unwrap();
+    assert_eq!(wanted.physical.unwrap().f_number, 8.0);
+    let snippet = camera_snippet(rig.settings(), &original, None, SceneUnits::M);
+    assert!(
+        snippet.toml.contains("[camera.exposure]"),
+        "{}",
+        snippet.toml
+    );
+    assert!(
+        snippet.command.contains("--exposure -0.5")
+            && snippet.command.contains("--tonemap neutral")
+            && snippet.command.contains("--expose-exr"),
+        "{}",
+        snippet.command
+    );
+    let from_toml = settings_from_toml(&snippet.toml);
+    let (from_command, _) = args_from_command(&snippet.command, &Settings::default());
+    for settings in [from_toml, from_command] {
+        let camera = resolved_shot(&settings, &scene).camera;
+        assert_eq!(exposure(&settings, &camera).unwrap(), wanted);
+    }
+}
