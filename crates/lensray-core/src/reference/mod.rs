@@ -2,7 +2,7 @@
 //!
 //! Shading definitions (the GPU compute pass implements the same, see `shaders/passes/trace.comp`):
 //! - Camera rays: `Camera::generate_ray` from the shared sampler's `camera_sample`, t in (0, inf).
-//! - `unlit`: Kd of the first hit, background on a miss.
+//! - `unlit`: the base colour of the first hit, background on a miss.
 //! - `lit`: the emission plus, for each of the scene's lights, f(l, v) * E * cos when a shadow
 //!   ray from `surface::shadow_origin` towards the light, t in (0, d), is unoccluded
 //!   (`lighting`), plus f(l, v) * pi * environment when a cosine-distributed ray l from there
