@@ -232,6 +232,23 @@ fn metallic_roughness_and_occlusion_textures_load_as_data() {
     let base = m.diffuse_at(textures, Vec2::splat(0.5), &footprint);
     assert!((base.x - 0.051_269_5).abs() < 1e-4, "{base}");
     assert!(file.notices.is_empty(), "{:?}", file.notices);
+
+    // KHR_materials_specular: its factor weighs the lobe; its colour is named as not drawn.
+    let text = std::fs::read_to_string(&path).unwrap().replace(
+        r#""strength": 0.5}}"#,
+        r#""strength": 0.5},
+        "extensions": {"KHR_materials_specular": {"specularFactor": 0.25,
+                                                  "specularColorFactor": [1, 0.5, 0.5]}}}"#,
+    );
+    std::fs::write(&path, text).unwrap();
+    let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(file.scene.materials[0].specular, 0.25);
+    assert_eq!(file.notices.len(), 1, "{:?}", file.notices);
+    assert!(
+        file.notices[0].ends_with("shading: KHR_materials_specular's colour and textures"),
+        "{:?}",
+        file.notices
+    );
 }
 
 #[test]

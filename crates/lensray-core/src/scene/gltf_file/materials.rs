@@ -258,6 +258,14 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
             "single-sided culling (every surface is seen from both sides)",
         );
         note(m.normal_texture().is_some(), "normal maps");
+        note(
+            m.specular().is_some_and(|s| {
+                s.specular_texture().is_some()
+                    || s.specular_color_texture().is_some()
+                    || s.specular_color_factor() != [1.0; 3]
+            }),
+            "KHR_materials_specular's colour and textures",
+        );
     }
     ignored
 }
