@@ -152,6 +152,11 @@ shader_interface! {
         ALPHA_OPAQUE: u32 = 0;
         ALPHA_MASK: u32 = 1;
         ALPHA_BLEND: u32 = 2;
+        /// glTF's metallic-roughness BRDF (reference/brdf.rs): the dielectrics' reflectance at
+        /// normal incidence, and the least roughness shaded (alpha = roughness^2 = 0.002: a
+        /// smaller alpha puts the GGX peak beyond what f32 shading resolves).
+        DIELECTRIC_F0: f32 = 0.04;
+        MIN_ROUGHNESS: f32 = 0.045;
         /// Salts of the keys of a sample's camera ray and shadow ray, whose hash with a triangle
         /// draws whether the ray stops at a BLEND surface (`scene::blend_threshold`).
         BLEND_CAMERA_SALT: u32 = 0x626c_6e64;
@@ -545,7 +550,7 @@ shader_interface! {
         }
         /// A material of the scene's storage buffer (`scene::Material`).
         Std430 struct GpuMaterial as Material {
-            /// Kd; w: alpha
+            /// The base colour; w: alpha
             diffuse: [f32; 4],
             /// Ke; w: the alpha cutoff of ALPHA_MASK
             emission: [f32; 4],
@@ -554,6 +559,14 @@ shader_interface! {
             alpha_texture: GpuTextureRef,
             /// ALPHA_*
             alpha_mode: u32,
+            metallic: f32,
+            roughness: f32,
+            specular: f32,
+            /// B: metallic, G: roughness (linear).
+            metallic_roughness_texture: GpuTextureRef,
+            /// R: the environment's occlusion (linear).
+            occlusion_texture: GpuTextureRef,
+            occlusion_strength: f32,
             pad0: u32,
             pad1: u32,
             pad2: u32,

@@ -166,15 +166,11 @@ fn surface_bits(m: &Material) -> u32 {
     textured | alpha_tested
 }
 
-/// What the traced shading of a hit on `m` looks up (SURFACE_*): it samples the emission
-/// texture too.
+/// What the traced shading of a hit on `m` looks up (SURFACE_*): it samples the emission,
+/// metallic-roughness and occlusion textures too.
 fn traced_surface_bits(m: &Material) -> u32 {
-    let emission = if m.emission_texture.is_some() {
-        SURFACE_TEXTURED
-    } else {
-        0
-    };
-    surface_bits(m) | emission
+    let textured = if m.is_textured() { SURFACE_TEXTURED } else { 0 };
+    surface_bits(m) | textured
 }
 
 /// Appends triangle `triangle` with `surfaces` to the runs (the last one when it has them).
@@ -203,6 +199,12 @@ fn gpu_material(m: &Material) -> GpuMaterial {
         emission_texture: gpu_texture_ref(m.emission_texture.as_ref()),
         alpha_texture: gpu_texture_ref(m.alpha_texture.as_ref()),
         alpha_mode,
+        metallic: m.metallic,
+        roughness: m.roughness,
+        specular: m.specular,
+        metallic_roughness_texture: gpu_texture_ref(m.metallic_roughness_texture.as_ref()),
+        occlusion_texture: gpu_texture_ref(m.occlusion_texture.as_ref()),
+        occlusion_strength: m.occlusion_strength,
         pad0: 0,
         pad1: 0,
         pad2: 0,

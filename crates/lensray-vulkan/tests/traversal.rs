@@ -2,17 +2,19 @@
 //! software traversal of the project's own BVH) on the device present (lavapipe on CI),
 //! validation on: the ray-tracing pipeline and the software traversal find the surfaces ray
 //! queries find, the software traversal shades like the CPU reference and runs on a device whose
-//! ray queries are hidden.
+//! ray queries are hidden; every traversal shades the metallic-roughness BRDF like the CPU.
 //!
 //! Skipping follows tests/renderer.rs (LENSRAY_SKIP_GPU_TESTS=1 on machines without a device).
 
 mod support;
 
+use glam::Vec3;
 use lensray_core::camera::LensParams;
 use lensray_core::film::{Accumulation, Image};
 use lensray_core::reference::Renderer as CpuRenderer;
-use lensray_core::scene::Scene;
-use lensray_core::settings::{Shading, Shot};
+use lensray_core::scene::texture::{Encoding, Texture, TextureRef};
+use lensray_core::scene::{Light, Material, Scene};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{Estimator, GpuError, GpuOptions, GpuRenderer, Traversal, ValidationLog};
 use support::*;
 
@@ -313,4 +315,142 @@ fn a_requested_traversal_builds_only_its_structures() {
         );
         finish(gpu, log);
     }
+}
+
+/// Metallic-roughness spheres (red dielectric and gold metal, roughness 0.2 and 0.6, and a
+/// fifth whose metallic, roughness and occlusion come from 8 x 8 checkers) on a Lambert floor
+/// under a point light.
+fn metallic_rough_scene() -> Scene {
+    let pbr = |name: &str, base: Vec3, metallic: f32, roughness: f32| Material {
+        metallic,
+        roughness,
+        specular: 1.0,
+        ..material(name, base, Vec3::ZERO)
+    };
+    let (red, gold) = (Vec3::new(0.8, 0.1, 0.1), Vec3::new(1.0, 0.78, 0.34));
+    let ball = |x: f32, z: f32, material: u32| {
+        let mut mesh = sphere(Vec3::new(x, 0.45, z), 0.45, 16, 24, material);
+        // Planar texture coordinates: 3 checker cells across the sphere.
+        mesh.texcoords = mesh
+            .positions
+            .iter()
+            .map(|p| glam::Vec2::new(p.x, p.y) * 0.8)
+            .collect();
+        mesh
+    };
+    // Metal (B) and rough (G) in alternate cells; occlusion (R) 1 and 1/4.
+    let checker = |cell: [u8; 4], other: [u8; 4]| -> Vec<u8> {
+        (0..64)
+            .flat_map(|i| {
+                if (i % 8 + i / 8) % 2 == 0 {
+                    cell
+                } else {
+                    other
+                }
+            })
+            .collect()
+    };
+    let metallic_roughness = checker([0, 51, 255, 255], [0, 204, 0, 255]);
+    let occlusion = checker([255, 0, 0, 255], [64, 0, 0, 255]);
+    let textures = vec![
+        Texture::from_rgba8(
+            "metallic-roughness",
+            8,
+            8,
+            &metallic_roughness,
+            Encoding::Linear,
+        ),
+        Texture::from_rgba8("occlusion", 8, 8, &occlusion, Encoding::Linear),
+    ];
+    Scene {
+        meshes: vec![
+            floor(6.0, 0.0, 0),
+            ball(-1.5, 0.0, 1),
+            ball(-0.5, 0.0, 2),
+            ball(0.5, 0.0, 3),
+            ball(1.5, 0.0, 4),
+            ball(0.0, 1.2, 5),
+        ],
+        materials: vec![
+            material("floor", Vec3::splat(0.6), Vec3::ZERO),
+            pbr("plastic 0.2", red, 0.0, 0.2),
+            pbr("plastic 0.6", red, 0.0, 0.6),
+            pbr("gold 0.2", gold, 1.0, 0.2),
+            pbr("gold 0.6", gold, 1.0, 0.6),
+            Material {
+                metallic_roughness_texture: Some(TextureRef::new(0)),
+                occlusion_texture: Some(TextureRef::new(1)),
+                occlusion_strength: 0.8,
+                ..pbr("checkered", gold, 1.0, 1.0)
+            },
+        ],
+        textures,
+        lights: vec![Light::point(Vec3::new(1.0, 4.0, 4.0), Vec3::splat(40.0))],
+    }
+}
+
+/// The metallic-roughness BRDF on each traversal the device has (ray queries, the software
+/// traversal, the ray-tracing pipeline) against the CPU reference, with the statistics of
+/// `gpu_matches_cpu`: lit by the point light, then by the light and the environment.
+#[test]
+fn metallic_rough_spheres_match_cpu_on_every_traversal() {
+    let test = "metallic_rough_spheres_match_cpu_on_every_traversal";
+    let Some((mut rayquery, rayquery_log)) = renderer(test) else {
+        return;
+    };
+    let mut pipeline = if rayquery.device_report().rt_pipeline {
+        let options = GpuOptions {
+            traversal: Some(Traversal::RtPipeline),
+            ..Default::default()
+        };
+        renderer_with(test, &options)
+    } else {
+        record_skip(
+            test,
+            "the device has no ray-tracing pipeline: rtpipeline not checked",
+        );
+        None
+    };
+    let scene = metallic_rough_scene();
+    let cpu = CpuRenderer::new(&scene);
+    rayquery.load_scene(&scene).expect("load scene");
+    if let Some((gpu, _)) = &mut pipeline {
+        gpu.load_scene(&scene).expect("load scene");
+    }
+    for (sky, environment) in [("light", Vec3::ZERO), ("sky", Vec3::splat(0.3))] {
+        let shot = Shot {
+            camera: camera(false, LensParams::Pinhole, 96, 72),
+            render: RenderSettings {
+                environment,
+                ..settings(Shading::Lit, 4)
+            },
+        };
+        let (reference, _) = cpu.render(&shot, &mut |_, _| {});
+        for traversal in [
+            Traversal::RayQuery,
+            Traversal::Software,
+            Traversal::RtPipeline,
+        ] {
+            let gpu = match (traversal, &mut pipeline) {
+                (Traversal::RtPipeline, Some((gpu, _))) => gpu,
+                (Traversal::RtPipeline, None) => continue,
+                _ => {
+                    rayquery.set_traversal(traversal).expect("set traversal");
+                    &mut rayquery
+                }
+            };
+            let image = gpu.render(&shot, &mut |_, _| {}).expect("GPU render");
+            let diff = compare(&image, &reference, 1.0 / 255.0);
+            let label = format!("pbr-{sky}-{traversal:?}").to_lowercase();
+            println!("{label}: {diff:?}");
+            if diff.within < 0.995 || diff.mean_abs >= 1e-3 {
+                let files = write_comparison(&image, &reference, &label);
+                panic!("{label}: GPU and CPU differ: {diff:?}; wrote {files}");
+            }
+        }
+    }
+    if let Some((gpu, log)) = pipeline {
+        finish(gpu, log);
+    }
+    finish(rayquery, rayquery_log);
 }

@@ -68,8 +68,8 @@ fn the_gltf_and_the_obj_load_to_the_same_scene() {
     );
     assert_eq!(gltf.scene.lights.len(), 1);
     assert_eq!(gltf.settings.image.width, Some(640));
-    // The exported materials are not metallic and fully rough, the Lambert surface lensray
-    // draws: neither file gets a notice.
+    // The exported materials are factors and colour textures, all of which lensray draws:
+    // neither file gets a notice.
     assert!(gltf.notices.is_empty(), "{:?}", gltf.notices);
     assert!(obj.notices.is_empty(), "{:?}", obj.notices);
 

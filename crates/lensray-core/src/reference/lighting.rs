@@ -1,12 +1,14 @@
 //! Direct light at a surface point (`lit`): the scene's lights, each through a shadow ray, and the
-//! uniform environment through one cosine-distributed ray. shaders/include/shading.glsl mirrors
-//! it.
+//! uniform environment through one cosine-distributed ray (weighed by the surface's occlusion
+//! map), each reflected by the surface's metallic-roughness BRDF (`brdf`).
+//! shaders/include/shading.glsl mirrors it.
 
-use std::f32::consts::FRAC_1_PI;
+use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
 use super::accel::PACKET_SIZE;
+use super::brdf::MetallicRoughness;
 use super::render::Renderer;
 use super::surface::{shadow_origin, SurfacePoint};
 use crate::scene::light::cosine_direction;
@@ -20,13 +22,32 @@ pub(super) struct LightDraw {
     pub environment: Vec2,
 }
 
-/// A packet lane's surface waiting for its direct light: the point, its diffuse colour, and what
-/// its shadow and environment rays draw.
+/// What a surface point's material gives its shading, textures applied: its BRDF, its
+/// emission and the share of the environment's light that reaches it (its occlusion map).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ShadingInputs {
+    pub brdf: MetallicRoughness,
+    pub emission: Vec3,
+    pub occlusion: f32,
+}
+
+/// A packet lane's surface waiting for its direct light: the point, its BRDF and occlusion, the
+/// unit direction to the viewer, and what its shadow and environment rays draw.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct LitLane {
     pub surface: SurfacePoint,
-    pub diffuse: Vec3,
+    pub brdf: MetallicRoughness,
+    pub occlusion: f32,
+    pub to_viewer: Vec3,
     pub draw: LightDraw,
+}
+
+impl LitLane {
+    /// f(l, v) cos(n, l) of light arriving from `l`.
+    fn reflectance(&self, l: Vec3) -> Vec3 {
+        let n = self.surface.shading_normal;
+        self.brdf.evaluate(n, l, self.to_viewer) * n.dot(l)
+    }
 }
 
 /// One shadow ray of a packet lane and the light it brings if nothing stops it.
@@ -63,23 +84,31 @@ impl Renderer {
                     origin,
                     direction: incident.direction,
                     t_max: incident.distance,
-                    light: lane.diffuse * FRAC_1_PI * incident.irradiance * cosine,
+                    light: lane.reflectance(incident.direction) * incident.irradiance,
                 })
             });
             rays += self.add_unoccluded(&shadow, &keys, reflected);
         }
         if environment != Vec3::ZERO {
-            // Density cos / pi: the estimate of Kd / pi * L * cos is Kd * L where the ray leaves.
+            // Density cos / pi: the estimate of the reflected f L cos is f L pi where the ray
+            // leaves (a fully rough dielectric's: close to the diffuse colour times L).
             let shadow = std::array::from_fn(|l| {
                 let (lane, origin) = (lanes[l]?, origins[l]?);
                 let direction =
                     cosine_direction(lane.surface.shading_normal, lane.draw.environment);
                 // A direction under the surface's own plane is blocked by the surface.
-                (direction.dot(lane.surface.geometric_normal) > 0.0).then(|| ShadowRay {
+                let cosine = lane.surface.shading_normal.dot(direction);
+                let above = direction.dot(lane.surface.geometric_normal) > 0.0 && cosine > 0.0;
+                above.then(|| ShadowRay {
                     origin,
                     direction,
                     t_max: f32::INFINITY,
-                    light: lane.diffuse * environment,
+                    light: lane.brdf.evaluate(
+                        lane.surface.shading_normal,
+                        direction,
+                        lane.to_viewer,
+                    ) * (PI * lane.occlusion)
+                        * environment,
                 })
             });
             rays += self.add_unoccluded(&shadow, &keys, reflected);

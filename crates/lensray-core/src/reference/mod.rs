@@ -2,16 +2,17 @@
 //!
 //! Shading definitions (the GPU compute pass implements the same, see `shaders/passes/trace.comp`):
 //! - Camera rays: `Camera::generate_ray` from the shared sampler's `camera_sample`, t in (0, inf).
-//! - `unlit`: Kd of the first hit, background on a miss.
-//! - `lit`: Ke plus, for each of the scene's lights, Kd / pi * E * cos when a shadow ray from
-//!   `surface::shadow_origin` towards the light, t in (0, d), is unoccluded (`lighting`), plus
-//!   Kd * environment when a cosine-distributed ray from there leaves the scene; background on a
-//!   miss.
+//! - `unlit`: the base colour of the first hit, background on a miss.
+//! - `lit`: the emission plus, for each of the scene's lights, f(l, v) * E * cos when a shadow
+//!   ray from `surface::shadow_origin` towards the light, t in (0, d), is unoccluded
+//!   (`lighting`), plus f(l, v) * pi * environment when a cosine-distributed ray l from there
+//!   leaves the scene; f is glTF's metallic-roughness BRDF (`brdf`); background on a miss.
 //! - `unlit` and `lit` average their `spp` samples per pixel.
 //! - AOVs (`depth`, `normal`, `albedo`) are what the raster G-buffer holds: the surface seen by
 //!   the aperture-centre ray through each pixel centre (one ray per pixel, no lens blur).
 
 mod accel;
+pub mod brdf;
 mod embree;
 mod lighting;
 mod rays;

@@ -9,7 +9,8 @@ use glam::{UVec2, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
-use super::lighting::{LightDraw, LitLane};
+use super::brdf::MetallicRoughness;
+use super::lighting::{LightDraw, LitLane, ShadingInputs};
 use super::rays::{generate_rays, LensPacket};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Footprint, Ray};
@@ -297,22 +298,35 @@ impl Renderer {
         rays
     }
 
-    /// The diffuse colour and emission of `surface` (hit `hit`), textures filtered over the
+    /// What the material of `surface` (hit `hit`) gives shading, textures filtered over the
     /// pinhole's pixel footprint.
-    fn colours(&self, hit: &Hit, surface: &SurfacePoint, footprint: &Footprint) -> (Vec3, Vec3) {
+    fn colours(&self, hit: &Hit, surface: &SurfacePoint, footprint: &Footprint) -> ShadingInputs {
         let material = self.materials.get(surface.material);
         let textures = &self.materials.textures;
-        if material.diffuse_texture.is_none() && material.emission_texture.is_none() {
-            return (material.diffuse, material.emission);
+        let mut inputs = ShadingInputs {
+            brdf: MetallicRoughness {
+                base_colour: material.diffuse,
+                metallic: material.metallic,
+                roughness: material.roughness,
+                specular: material.specular,
+            },
+            emission: material.emission,
+            occlusion: 1.0,
+        };
+        if !material.is_textured() {
+            return inputs;
         }
         let vertices = self.accel.vertices(hit.triangle).map(Vec3::from);
         let duv = self
             .surfaces
             .texcoord_footprint(hit.triangle, vertices, surface, footprint);
-        (
-            material.diffuse_at(textures, surface.texcoord, &duv),
-            material.emission_at(textures, surface.texcoord, &duv),
-        )
+        let texcoord = surface.texcoord;
+        inputs.brdf.base_colour = material.diffuse_at(textures, texcoord, &duv);
+        (inputs.brdf.metallic, inputs.brdf.roughness) =
+            material.metallic_roughness_at(textures, texcoord, &duv);
+        inputs.emission = material.emission_at(textures, texcoord, &duv);
+        inputs.occlusion = material.occlusion_at(textures, texcoord, &duv);
+        inputs
     }
 
     /// The values of a packet's samples (`unlit` or `lit`), with the rays traced: each lane's
@@ -379,16 +393,18 @@ impl Renderer {
             return (material.diffuse, None);
         }
         let surface = self.surface_point(ray, &hit);
-        let (diffuse, emission) = self.colours(&hit, &surface, footprint);
+        let inputs = self.colours(&hit, &surface, footprint);
         if settings.shading == Shading::Unlit {
-            return (diffuse, None);
+            return (inputs.brdf.base_colour, None);
         }
         let lane = LitLane {
             surface,
-            diffuse,
+            brdf: inputs.brdf,
+            occlusion: inputs.occlusion,
+            to_viewer: -ray.direction.normalize(),
             draw,
         };
-        (emission, Some(lane))
+        (inputs.emission, Some(lane))
     }
 
     /// The AOV of `shot.render.shading` of the surface `ray` sees.
@@ -403,7 +419,10 @@ impl Renderer {
                 match shading {
                     Shading::Depth => Vec3::splat(camera.view_depth(surface.position)),
                     Shading::Normal => surface.shading_normal,
-                    _ => self.colours(&hit, &surface, &camera.footprint()).0,
+                    _ => {
+                        let inputs = self.colours(&hit, &surface, &camera.footprint());
+                        inputs.brdf.base_colour
+                    }
                 }
             }
         }

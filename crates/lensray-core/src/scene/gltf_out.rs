@@ -1,9 +1,9 @@
 //! Scenes as glTF 2.0: `NAME.gltf` (the document, built from `gltf-json`'s types) and `NAME.bin`
 //! (per mesh: positions, normals, TEXCOORD_0 as `f32`, indices as `u32`, an index list per
 //! material). Each mesh is one node; its triangles of one material are one primitive.
-//! Materials: `baseColorFactor` and `baseColorTexture`, `emissiveFactor`, not metallic and fully
-//! rough (the matte surface lensray's Lambert shading draws), double-sided, with the scene's
-//! alpha mode. `write_scene_gltf` writes the meshes alone (a scene file adds camera and lights);
+//! Materials: `baseColorFactor` and `baseColorTexture`, `metallicFactor` and `roughnessFactor`,
+//! `KHR_materials_specular`'s `specularFactor` where it is not 1 (0: a Lambert surface),
+//! `emissiveFactor`, double-sided, with the scene's alpha mode. `write_scene_gltf` writes the meshes alone (a scene file adds camera and lights);
 //! `textured::gltf_out` adds textures, a camera and lights.
 
 use std::collections::BTreeMap;
@@ -209,7 +209,7 @@ pub fn write_scene_gltf(scene: &Scene, dir: &Path, name: &str) -> anyhow::Result
                 m.emission
             );
         }
-        b.root.push(material(m));
+        push_material(&mut b.root, m);
     }
     let nodes = b.meshes(scene);
     b.scene(name, nodes);
@@ -223,8 +223,17 @@ fn shortest(values: [f32; 3]) -> json::Value {
     json::Value::from(values.map(decimal).to_vec())
 }
 
+/// Adds the glTF material of `m` to `root`, and the extension it uses to `extensionsUsed`.
+pub(crate) fn push_material(root: &mut json::Root, m: &Material) {
+    let specular = "KHR_materials_specular";
+    if m.specular != 1.0 && !root.extensions_used.iter().any(|e| e == specular) {
+        root.extensions_used.push(specular.into());
+    }
+    root.push(material(m));
+}
+
 /// The glTF material of `m`, whose textures are the document's textures of the same index.
-pub(crate) fn material(m: &Material) -> json::Material {
+fn material(m: &Material) -> json::Material {
     let (alpha_mode, alpha_cutoff) = match m.alpha_mode {
         AlphaMode::Opaque => (json::material::AlphaMode::Opaque, None),
         AlphaMode::Mask { cutoff } => (
@@ -251,11 +260,21 @@ pub(crate) fn material(m: &Material) -> json::Material {
                 extensions: None,
                 extras: Default::default(),
             }),
-            metallic_factor: json::material::StrengthFactor(0.0),
-            roughness_factor: json::material::StrengthFactor(1.0),
+            metallic_factor: json::material::StrengthFactor(m.metallic),
+            roughness_factor: json::material::StrengthFactor(m.roughness),
             ..Default::default()
         },
         emissive_factor: json::material::EmissiveFactor(m.emission.to_array()),
+        extensions: (m.specular != 1.0).then(|| json::extensions::material::Material {
+            specular: Some(json::extensions::material::Specular {
+                specular_factor: json::extensions::material::SpecularFactor(m.specular),
+                specular_texture: None,
+                specular_color_factor: Default::default(),
+                specular_color_texture: None,
+                extras: Default::default(),
+            }),
+            ..Default::default()
+        }),
         ..Default::default()
     }
 }

@@ -1,5 +1,6 @@
-//! Materials: a Lambert diffuse colour and an emission, each a factor times an optional texture,
-//! and how much of a surface is there (alpha).
+//! Materials: glTF's metallic-roughness model (a base colour, metallic and roughness; the BRDF
+//! is `reference::brdf`) and an emission, each a factor times an optional texture, and how much
+//! of a surface is there (alpha).
 
 use glam::{Vec2, Vec3};
 
@@ -19,18 +20,35 @@ pub enum AlphaMode {
     Blend,
 }
 
-/// Linear RGB diffuse colour and emission of a surface, with their textures.
+/// Linear RGB base colour and emission of a surface, with their textures, and its metallic and
+/// roughness.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub name: String,
-    /// `Kd` / `baseColorFactor`.
+    /// The base colour: `Kd` / `baseColorFactor` (what `unlit` shows).
     pub diffuse: Vec3,
+    /// 0: a dielectric; 1: a metal (`metallicFactor`; `Pm`).
+    pub metallic: f32,
+    /// Perceptual roughness in [0, 1] (`roughnessFactor`; `Pr`).
+    pub roughness: f32,
+    /// The weight in [0, 1] of a dielectric's specular lobe (`KHR_materials_specular`'s
+    /// `specularFactor`): 1 in glTF's materials; 0, a Lambert surface, in materials that say
+    /// nothing of specular reflection (an MTL without `Ks`, the built-in scenes).
+    pub specular: f32,
     /// `Ke` / `emissiveFactor` x strength.
     pub emission: Vec3,
     /// Multiplies `diffuse` (`map_Kd`, `baseColorTexture`).
     pub diffuse_texture: Option<TextureRef>,
     /// Multiplies `emission` (`map_Ke`, `emissiveTexture`).
     pub emission_texture: Option<TextureRef>,
+    /// Linear; its blue channel multiplies `metallic` and its green `roughness`
+    /// (`metallicRoughnessTexture`).
+    pub metallic_roughness_texture: Option<TextureRef>,
+    /// Linear; its red channel R is the share of the environment's light that reaches the
+    /// surface, 1 + `occlusion_strength` (R - 1) (`occlusionTexture`). The scene's lights are
+    /// not weighed: their shadow rays find what blocks them.
+    pub occlusion_texture: Option<TextureRef>,
+    pub occlusion_strength: f32,
     pub alpha_mode: AlphaMode,
     /// `d` / the base colour factor's alpha.
     pub alpha: f32,
@@ -45,14 +63,20 @@ impl Default for Material {
 }
 
 impl Material {
-    /// An opaque, untextured material.
+    /// An opaque, untextured Lambert surface (a dielectric without specular reflection).
     pub fn new(name: &str, diffuse: Vec3, emission: Vec3) -> Self {
         Self {
             name: name.into(),
             diffuse,
+            metallic: 0.0,
+            roughness: 1.0,
+            specular: 0.0,
             emission,
             diffuse_texture: None,
             emission_texture: None,
+            metallic_roughness_texture: None,
+            occlusion_texture: None,
+            occlusion_strength: 1.0,
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
             alpha_texture: None,
@@ -85,6 +109,47 @@ impl Material {
             }
             _ => self.emission,
         }
+    }
+
+    /// Metallic and roughness at texture coordinates `texcoord`, filtered over `footprint`.
+    pub fn metallic_roughness_at(
+        &self,
+        textures: &[Texture],
+        texcoord: Vec2,
+        footprint: &TexcoordFootprint,
+    ) -> (f32, f32) {
+        match &self.metallic_roughness_texture {
+            Some(t) => {
+                let texel = sample(textures, t, texcoord, footprint);
+                (self.metallic * texel.z, self.roughness * texel.y)
+            }
+            None => (self.metallic, self.roughness),
+        }
+    }
+
+    /// The share of the environment's light that reaches the surface at texture coordinates
+    /// `texcoord`, filtered over `footprint`.
+    pub fn occlusion_at(
+        &self,
+        textures: &[Texture],
+        texcoord: Vec2,
+        footprint: &TexcoordFootprint,
+    ) -> f32 {
+        match &self.occlusion_texture {
+            Some(t) => {
+                let r = sample(textures, t, texcoord, footprint).x;
+                1.0 + self.occlusion_strength * (r - 1.0)
+            }
+            None => 1.0,
+        }
+    }
+
+    /// Whether any of the colours `lit` shading reads comes from a texture.
+    pub fn is_textured(&self) -> bool {
+        self.diffuse_texture.is_some()
+            || self.emission_texture.is_some()
+            || self.metallic_roughness_texture.is_some()
+            || self.occlusion_texture.is_some()
     }
 
     /// Whether rays may pass through the surface somewhere: what acceleration structures mark

@@ -187,7 +187,13 @@ impl Scene {
     /// Every material's textures exist.
     fn validate_textures(&self) -> Result<(), String> {
         for m in &self.materials {
-            let refs = [&m.diffuse_texture, &m.emission_texture, &m.alpha_texture];
+            let refs = [
+                &m.diffuse_texture,
+                &m.emission_texture,
+                &m.alpha_texture,
+                &m.metallic_roughness_texture,
+                &m.occlusion_texture,
+            ];
             if let Some(t) = refs.into_iter().flatten().find(|t| {
                 self.textures
                     .get(t.texture as usize)

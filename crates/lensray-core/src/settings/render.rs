@@ -10,18 +10,19 @@ use crate::sampler::SamplerKind;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Shading {
-    /// Diffuse colour Kd of the first surface hit, or the background on a miss: pure visibility,
-    /// the mode that validates depth of field.
+    /// Base colour of the first surface hit, or the background on a miss: pure visibility, the
+    /// mode that validates depth of field.
     Unlit,
-    /// Ke + Kd / pi * E cos(theta) summed over the scene's lights (point, spot, directional;
-    /// `scene::light`), each with a hard shadow, plus Kd * environment where a cosine-distributed
-    /// ray leaves the scene; no indirect light.
+    /// Emission + f * E cos(theta) summed over the scene's lights (point, spot, directional;
+    /// `scene::light`), each with a hard shadow, plus f * pi * environment where a
+    /// cosine-distributed ray leaves the scene; f is glTF's metallic-roughness BRDF
+    /// (`reference::brdf`; Lambert for materials without a specular lobe); no indirect light.
     Lit,
     /// Distance of the first hit along the view axis (camera z); 0 on a miss.
     Depth,
     /// World-space shading normal of the first hit, facing the viewer; 0 on a miss.
     Normal,
-    /// Kd of the first hit (the G-buffer's material colour); the background on a miss.
+    /// Base colour of the first hit (the G-buffer's material colour); the background on a miss.
     Albedo,
 }
 

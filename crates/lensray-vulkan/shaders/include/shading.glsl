@@ -1,7 +1,8 @@
 // Shading of the thin-lens compute pass, as specified for every renderer (lensray-core/src/settings/render.rs,
 // the CPU reference, lensray-core/src/reference/render.rs): unlit (the diffuse colour of the
 // closest hit) or lit (emission + the scene's lights, each through a shadow ray, + the
-// environment through a cosine-distributed ray), colours textured and filtered over the
+// environment through a cosine-distributed ray, each reflected by the metallic-roughness BRDF of
+// brdf.glsl), colours textured and filtered over the
 // pinhole's pixel footprint. Include after a hit implementation
 // (hit_rayquery.glsl or hit_software.glsl), which defines
 //   bool closest_hit(vec3 origin, vec3 direction, float t_max, BlendCut cut, out Hit hit);
@@ -11,6 +12,7 @@
 #ifndef LENSRAY_SHADING_GLSL
 #define LENSRAY_SHADING_GLSL
 
+#include "brdf.glsl"
 #include "lights.glsl"
 
 // reference/lighting.rs: LightDraw (the cut is the camera ray's; shadow_cut derives the
@@ -23,8 +25,8 @@ struct LightDraw {
 // reference/lighting.rs: direct_light. `shadowed` gets bit i set where light i (i < 24) is
 // blocked: the hybrid's plan compares it between neighbours. Step i < lights.length() is light
 // i, the last step the environment: one shadow-ray call site, so the traversal is inlined once.
-vec3 direct_light(vec3 o, vec3 ns, vec3 ng, vec3 diffuse, LightDraw draw, inout uint rays,
-                  out uint shadowed) {
+vec3 direct_light(vec3 o, vec3 ns, vec3 ng, vec3 v, MetallicRoughness brdf, float occlusion,
+                  LightDraw draw, inout uint rays, out uint shadowed) {
     shadowed = 0u;
     vec3 radiance = vec3(0.0);
     BlendCut cut = shadow_cut(draw.cut);
@@ -45,19 +47,20 @@ vec3 direct_light(vec3 o, vec3 ns, vec3 ng, vec3 diffuse, LightDraw draw, inout 
             }
             direction = incident.direction;
             t_max = incident.distance;
-            reflected = diffuse * (1.0 / PI) * incident.irradiance * c;
+            reflected = brdf_evaluate(brdf, ns, direction, v) * c * incident.irradiance;
         } else {
             if (!sky) {
                 break;
             }
-            // Density cos / pi: the estimate of Kd / pi * L * cos is Kd * L where the ray leaves;
-            // a direction under the surface's own plane is blocked by the surface.
+            // Density cos / pi: the estimate of the reflected f L cos is f L pi where the ray
+            // leaves; a direction under the surface's own plane is blocked by the surface.
             direction = cosine_direction(ns, draw.environment);
-            if (dot(direction, ng) <= 0.0) {
+            if (dot(direction, ng) <= 0.0 || dot(ns, direction) <= 0.0) {
                 break;
             }
             t_max = T_MAX;
-            reflected = diffuse * params.environment.xyz;
+            reflected = brdf_evaluate(brdf, ns, direction, v) * (PI * occlusion)
+                * params.environment.xyz;
         }
         rays += 1u;
         if (!occluded(o, direction, t_max, cut)) {
@@ -76,8 +79,7 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out u
     shadowed = 0u;
     uint tri = hit.triangle;
     Material mat = materials[triangle_material(tri)];
-    bool textured = SURFACES_TEXTURED
-        && (has_texture(mat.diffuse_texture) || has_texture(mat.emission_texture));
+    bool textured = SURFACES_TEXTURED && material_is_textured(mat);
     if (params.shading == SHADING_UNLIT && !textured) {
         return mat.diffuse.xyz;
     }
@@ -100,6 +102,8 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out u
     }
     vec3 diffuse = mat.diffuse.xyz;
     vec3 emission = mat.emission.xyz;
+    vec2 metallic_roughness = vec2(mat.metallic, mat.roughness);
+    float occlusion = 1.0;
     if (textured) {
         // reference/render.rs: colours
         vec2 texcoord = triangle_texcoord(tri, b);
@@ -110,7 +114,9 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out u
         vec2 dy;
         triangle_texcoord_footprint(tri, dpdx, dpdy, dx, dy);
         diffuse = material_diffuse(mat, texcoord, dx, dy);
+        metallic_roughness = material_metallic_roughness(mat, texcoord, dx, dy);
         emission = material_emission(mat, texcoord, dx, dy);
+        occlusion = material_occlusion(mat, texcoord, dx, dy);
     }
     if (params.shading == SHADING_UNLIT) {
         return diffuse;
@@ -118,7 +124,10 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out u
 
     // reference/surface.rs: shadow_origin
     vec3 o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
-    return emission + direct_light(o, ns, ng, diffuse, draw, rays, shadowed);
+    MetallicRoughness brdf =
+        MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular);
+    vec3 v = -normalize(ray.direction);
+    return emission + direct_light(o, ns, ng, v, brdf, occlusion, draw, rays, shadowed);
 }
 
 // The hit of `ray` with the plane of triangle `tri` (the raster path: the rasterizer found the

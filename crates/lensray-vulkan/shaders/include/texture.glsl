@@ -205,6 +205,31 @@ vec3 material_emission(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
     return m.emission.xyz * texture_sample(m.emission_texture, texcoord, dx, dy).xyz;
 }
 
+// material.rs: Material::metallic_roughness_at; x: metallic, y: roughness.
+vec2 material_metallic_roughness(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+    vec2 factors = vec2(m.metallic, m.roughness);
+    if (!has_texture(m.metallic_roughness_texture)) {
+        return factors;
+    }
+    vec4 texel = texture_sample(m.metallic_roughness_texture, texcoord, dx, dy);
+    return factors * texel.zy;
+}
+
+// material.rs: Material::occlusion_at
+float material_occlusion(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+    if (!has_texture(m.occlusion_texture)) {
+        return 1.0;
+    }
+    float r = texture_sample(m.occlusion_texture, texcoord, dx, dy).x;
+    return 1.0 + m.occlusion_strength * (r - 1.0);
+}
+
+// material.rs: Material::is_textured
+bool material_is_textured(Material m) {
+    return has_texture(m.diffuse_texture) || has_texture(m.emission_texture)
+        || has_texture(m.metallic_roughness_texture) || has_texture(m.occlusion_texture);
+}
+
 // material.rs: Material::alpha_at
 float material_alpha(Material m, vec2 texcoord) {
     if (!has_texture(m.alpha_texture)) {

@@ -109,13 +109,14 @@ impl NamedOption for Shading {
     fn help(self) -> Option<&'static str> {
         Some(match self {
             Shading::Unlit => {
-                "Diffuse colour Kd of the first surface hit, or the background on a miss: pure \
+                "Base colour of the first surface hit, or the background on a miss: pure \
                  visibility, the mode that validates depth of field"
             }
             Shading::Lit => {
-                "Ke + Kd / pi * E cos(theta) summed over the scene's lights (point, spot, \
-                 directional; `scene::light`), each with a hard shadow, plus Kd * environment \
-                 where a cosine-distributed ray leaves the scene; no indirect light"
+                "Emission + f * E cos(theta) summed over the scene's lights (point, spot, \
+                 directional; `scene::light`), each with a hard shadow, plus f * pi * environment \
+                 where a cosine-distributed ray leaves the scene; f is glTF's metallic-roughness \
+                 BRDF (Lambert for materials without a specular lobe); no indirect light"
             }
             Shading::Depth => {
                 "Distance of the first hit along the view axis (camera z); 0 on a miss"
@@ -124,7 +125,8 @@ impl NamedOption for Shading {
                 "World-space shading normal of the first hit, facing the viewer; 0 on a miss"
             }
             Shading::Albedo => {
-                "Kd of the first hit (the G-buffer's material colour); the background on a miss"
+                "Base colour of the first hit (the G-buffer's material colour); the background \
+                 on a miss"
             }
         })
     }

@@ -81,6 +81,8 @@ fn node_transforms_compose_parent_first() {
     assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
     let m = &file.scene.materials[0];
     assert_eq!(m.diffuse, Vec3::new(0.2, 0.4, 0.6));
+    // metallicFactor as given, glTF's default roughnessFactor, the full specular lobe.
+    assert_eq!((m.metallic, m.roughness, m.specular), (0.0, 1.0, 1.0));
     assert_eq!(m.emission, Vec3::new(4.0, 2.0, 0.0));
     assert!(file.notices.is_empty(), "{:?}", file.notices);
 
@@ -192,6 +194,80 @@ fn the_bundled_gltf_loads_alike_from_files_and_data_uris() {
         .iter()
         .fold(0.0f32, |m, t| m.max(t.max_element()));
     assert!(reach > 5.0, "texture coordinates reach {reach}");
+}
+
+/// `metallicRoughnessTexture` (B metallic, G roughness) and `occlusionTexture` (R, with its
+/// strength) are read as linear data, the same image as base colour as sRGB beside it; none of
+/// them is named in a notice.
+#[test]
+fn metallic_roughness_and_occlusion_textures_load_as_data() {
+    use glam::Vec2;
+    use lensray_core::scene::texture::TexcoordFootprint;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let pixel = image::Rgba([64u8, 128, 255, 255]);
+    image::RgbaImage::from_pixel(2, 2, pixel)
+        .save(d.join("data.png"))
+        .unwrap();
+    let nodes = r#"[{"mesh": 0}]"#;
+    let path = write_gltf(d, "pbr.gltf", nodes, TRIANGLE, "");
+    let materials = r#""materials": [{"name": "pbr", "doubleSided": true, "pbrMetallicRoughness": {
+        "baseColorTexture": {"index": 0}, "metallicFactor": 0.8, "roughnessFactor": 0.5,
+        "metallicRoughnessTexture": {"index": 0}},
+        "occlusionTexture": {"index": 0, "strength": 0.5}}],
+      "textures": [{"source": 0}], "images": [{"uri": "data.png"}],"#;
+    let text = std::fs::read_to_string(&path).unwrap();
+    let start = text.find(r#""materials""#).unwrap();
+    let end = text.find(r#""buffers""#).unwrap();
+    std::fs::write(
+        &path,
+        format!("{}{materials}\n  {}", &text[..start], &text[end..]),
+    )
+    .unwrap();
+    let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+    let m = &file.scene.materials[0];
+    let textures = &file.scene.textures;
+    assert_eq!(textures.len(), 2, "the image as colour and as data");
+    let (mr, occlusion) = (
+        m.metallic_roughness_texture.unwrap(),
+        m.occlusion_texture.unwrap(),
+    );
+    assert_eq!(mr.texture, occlusion.texture);
+    assert_ne!(Some(mr.texture), m.diffuse_texture.map(|t| t.texture));
+    let footprint = TexcoordFootprint {
+        dx: Vec2::ZERO,
+        dy: Vec2::ZERO,
+    };
+    let (metallic, roughness) = m.metallic_roughness_at(textures, Vec2::splat(0.5), &footprint);
+    // Linear: B 255 -> 1, G 128 -> 128 / 255, R 64 -> 64 / 255.
+    let want = (0.8, 0.5 * 128.0 / 255.0);
+    println!("metallic, roughness: ({metallic}, {roughness}), want {want:?}");
+    assert!((metallic - want.0).abs() < 1e-6 && (roughness - want.1).abs() < 1e-6);
+    let got = m.occlusion_at(textures, Vec2::splat(0.5), &footprint);
+    let want = 1.0 + 0.5 * (64.0 / 255.0 - 1.0);
+    println!("occlusion: {got}, want {want}");
+    assert!((got - want).abs() < 1e-6);
+    // The base colour is the sRGB decoding of the same texels: R 64 is 0.0513.
+    let base = m.diffuse_at(textures, Vec2::splat(0.5), &footprint);
+    assert!((base.x - 0.051_269_5).abs() < 1e-4, "{base}");
+    assert!(file.notices.is_empty(), "{:?}", file.notices);
+
+    // KHR_materials_specular: its factor weighs the lobe; its colour is named as not drawn.
+    let text = std::fs::read_to_string(&path).unwrap().replace(
+        r#""strength": 0.5}}"#,
+        r#""strength": 0.5},
+        "extensions": {"KHR_materials_specular": {"specularFactor": 0.25,
+                                                  "specularColorFactor": [1, 0.5, 0.5]}}}"#,
+    );
+    std::fs::write(&path, text).unwrap();
+    let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(file.scene.materials[0].specular, 0.25);
+    assert_eq!(file.notices.len(), 1, "{:?}", file.notices);
+    assert!(
+        file.notices[0].ends_with("shading: KHR_materials_specular's colour and textures"),
+        "{:?}",
+        file.notices
+    );
 }
 
 #[test]

@@ -98,6 +98,34 @@ fn kd_and_ke_are_read_exactly() {
     assert_eq!(scene.materials, expected);
 }
 
+/// MTL's Phong terms and the PBR extension as the metallic-roughness model: no `Ks` is
+/// Lambert (specular 0, whatever `Ns`); `Ks` with `Ns` 98 a dielectric of roughness
+/// sqrt(2 / (98 + 2)); `Pm` and `Pr` as given.
+#[test]
+fn ks_ns_and_the_pbr_keys_map_to_metallic_and_roughness() {
+    let dir = tempfile::tempdir().unwrap();
+    let mtl = "newmtl phong\nKd 0.5\nKs 0.5 0.5 0.5\nNs 98\n\
+               newmtl metal\nKd 0.9 0.6 0.3\nPm 1\nPr 0.3\n";
+    write(dir.path(), "m.mtl", mtl);
+    let path = write(
+        dir.path(),
+        "m.obj",
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl phong\nf 1 2 3\nusemtl metal\nf 1 2 3\n",
+    );
+    let scene = load_ok(&path);
+    let got: Vec<_> = scene
+        .materials
+        .iter()
+        .map(|m| (m.name.as_str(), m.metallic, m.roughness, m.specular))
+        .collect();
+    let want = [("phong", 0.0, 0.141_421_36, 1.0), ("metal", 1.0, 0.3, 1.0)];
+    let close = got
+        .iter()
+        .zip(&want)
+        .all(|(g, w)| g.0 == w.0 && g.1 == w.1 && (g.2 - w.2).abs() < 1e-6 && g.3 == w.3);
+    assert!(close, "{got:?} against {want:?}");
+}
+
 #[test]
 fn normals_present_absent_or_partial() {
     let dir = tempfile::tempdir().unwrap();

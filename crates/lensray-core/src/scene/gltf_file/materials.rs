@@ -1,8 +1,12 @@
-//! glTF materials as lensray's: `baseColorFactor` and `baseColorTexture` (sRGB) for the diffuse
-//! colour, `emissiveFactor` x `KHR_materials_emissive_strength` and `emissiveTexture` (sRGB) for
-//! the emission, the base colour's alpha (factor times texture) with `alphaMode` and
-//! `alphaCutoff`, each texture with its sampler's wrap modes and `KHR_texture_transform`.
-//! Images are read once each, from a buffer view, a data URI or a file beside the glTF.
+//! glTF materials as lensray's: `baseColorFactor` and `baseColorTexture` (sRGB) for the base
+//! colour, `metallicFactor` and `roughnessFactor` times `metallicRoughnessTexture`'s B and G
+//! (linear; `KHR_materials_specular`'s `specularFactor` weighs the dielectric's specular lobe),
+//! `occlusionTexture`'s R with its strength (linear), `emissiveFactor` x
+//! `KHR_materials_emissive_strength` and `emissiveTexture` (sRGB) for the emission, the base
+//! colour's alpha (factor times texture) with `alphaMode` and `alphaCutoff`, each texture with
+//! its sampler's wrap modes and `KHR_texture_transform` (the occlusion texture's is not read).
+//! Images are read once each as colour and once as data, from a buffer view, a data URI or a
+//! file beside the glTF.
 
 use std::path::Path;
 
@@ -36,6 +40,11 @@ impl Walk<'_> {
     }
 
     fn convert(&mut self, material: &gltf::Material) -> Result<Material, String> {
+        if material.index().is_none() {
+            // glTF's default material is a fully rough metal; a file that gives none is drawn
+            // as the white Lambert surface of the other formats' files without materials.
+            return Ok(Material::new("glTF default", Vec3::ONE, Vec3::ZERO));
+        }
         let pbr = material.pbr_metallic_roughness();
         let [r, g, b, a] = pbr.base_color_factor();
         let strength = material.emissive_strength().unwrap_or(1.0);
@@ -47,11 +56,23 @@ impl Walk<'_> {
                 None => "glTF default".into(),
             });
         let base = match pbr.base_color_texture() {
-            Some(info) => self.texture_ref(&info)?,
+            Some(info) => self.texture_ref(&info, Encoding::Srgb)?,
             None => None,
         };
         let emissive = match material.emissive_texture() {
-            Some(info) => self.texture_ref(&info)?,
+            Some(info) => self.texture_ref(&info, Encoding::Srgb)?,
+            None => None,
+        };
+        let metallic_roughness = match pbr.metallic_roughness_texture() {
+            Some(info) => self.texture_ref(&info, Encoding::Linear)?,
+            None => None,
+        };
+        let occlusion = material.occlusion_texture();
+        let occlusion_texture = match &occlusion {
+            Some(o) => {
+                let identity = Affine2::IDENTITY;
+                self.texture_slot(o.texture(), o.tex_coord(), identity, Encoding::Linear)?
+            }
             None => None,
         };
         let alpha_mode = match material.alpha_mode() {
@@ -63,49 +84,76 @@ impl Walk<'_> {
         };
         Ok(Material {
             diffuse: Vec3::new(r, g, b),
+            metallic: pbr.metallic_factor().clamp(0.0, 1.0),
+            roughness: pbr.roughness_factor().clamp(0.0, 1.0),
+            specular: material
+                .specular()
+                .map_or(1.0, |s| s.specular_factor().clamp(0.0, 1.0)),
             emission: Vec3::from(material.emissive_factor()) * strength,
             diffuse_texture: base,
             emission_texture: emissive,
             alpha_mode,
             alpha: a,
+            metallic_roughness_texture: metallic_roughness,
+            occlusion_texture,
+            occlusion_strength: occlusion.map_or(1.0, |o| o.strength().clamp(0.0, 1.0)),
             // The base colour texture's alpha is the coverage.
             alpha_texture: base,
             ..Material::new(&name, Vec3::ONE, Vec3::ZERO)
         })
     }
 
-    /// The scene's reference to the texture of `info`: its image (decoded on first use), its
-    /// sampler's wrap modes and its transform; `None` when its image file is missing.
-    fn texture_ref(&mut self, info: &gltf::texture::Info) -> Result<Option<TextureRef>, String> {
-        let texture = info.texture();
-        let sampler = texture.sampler();
-        let wrap = |mode: WrappingMode| match mode {
-            WrappingMode::Repeat => Wrap::Repeat,
-            WrappingMode::ClampToEdge => Wrap::ClampToEdge,
-            WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
-        };
+    /// The scene's reference to the texture of `info`: its image (decoded on first use, as
+    /// `encoding`), its sampler's wrap modes and its transform; `None` when its image file is
+    /// missing.
+    fn texture_ref(
+        &mut self,
+        info: &gltf::texture::Info,
+        encoding: Encoding,
+    ) -> Result<Option<TextureRef>, String> {
         let mut tex_coord = info.tex_coord();
         let mut uv_from_texcoord = Affine2::IDENTITY;
         if let Some(t) = info.texture_transform() {
             uv_from_texcoord = texture_transform(t.offset(), t.rotation(), t.scale());
             tex_coord = t.tex_coord().unwrap_or(tex_coord);
         }
+        self.texture_slot(info.texture(), tex_coord, uv_from_texcoord, encoding)
+    }
+
+    /// The scene's reference to `texture` read at `tex_coord` through `uv_from_texcoord`, its
+    /// image decoded as `encoding`.
+    fn texture_slot(
+        &mut self,
+        texture: gltf::Texture,
+        tex_coord: u32,
+        uv_from_texcoord: Affine2,
+        encoding: Encoding,
+    ) -> Result<Option<TextureRef>, String> {
+        let sampler = texture.sampler();
+        let wrap = |mode: WrappingMode| match mode {
+            WrappingMode::Repeat => Wrap::Repeat,
+            WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+            WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+        };
         if tex_coord != 0 {
             self.other_texcoords = true;
         }
-        Ok(self.image(&texture.source())?.map(|id| TextureRef {
-            texture: id,
-            wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
-            uv_from_texcoord,
-        }))
+        Ok(self
+            .image(&texture.source(), encoding)?
+            .map(|id| TextureRef {
+                texture: id,
+                wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+                uv_from_texcoord,
+            }))
     }
 
-    /// The scene texture of `image` (decoded on its first use; sRGB, as glTF's colour
-    /// textures are); `None`, with a notice, when its file is missing: the material renders
-    /// without it.
-    fn image(&mut self, image: &gltf::Image) -> Result<Option<u32>, String> {
+    /// The scene texture of `image` decoded as `encoding` (on its first use so; glTF's colour
+    /// textures are sRGB, its data textures linear); `None`, with a notice, when its file is
+    /// missing: the material renders without it.
+    fn image(&mut self, image: &gltf::Image, encoding: Encoding) -> Result<Option<u32>, String> {
         let i = image.index();
-        if let Some(id) = self.images[i] {
+        let e = usize::from(encoding == Encoding::Linear);
+        if let Some(id) = self.images[i][e] {
             return Ok(Some(id));
         }
         let name = image
@@ -121,12 +169,12 @@ impl Walk<'_> {
             }
             Err(Missing::Broken(e)) => return Err(e),
         };
-        let texture = decode_texture(&name, &bytes, Encoding::Srgb, &mut self.out.times)
+        let texture = decode_texture(&name, &bytes, encoding, &mut self.out.times)
             .map_err(|e| format!("{name} cannot be decoded: {e}"))?;
         let textures = &mut self.out.scene.textures;
         textures.push(texture);
         let id = (textures.len() - 1) as u32;
-        self.images[i] = Some(id);
+        self.images[i][e] = Some(id);
         Ok(Some(id))
     }
 
@@ -208,20 +256,19 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
         }
     };
     for m in document.materials() {
-        let pbr = m.pbr_metallic_roughness();
         note(
             !m.double_sided(),
             "single-sided culling (every surface is seen from both sides)",
         );
-        // What Lambert shading leaves out is the specular lobe, which a roughness under 1 or a
-        // texture asks for. Fully rough, metal or not scatters close to Lambert (and glTF's
-        // defaults, a material that says nothing, are metallic 1 and roughness 1).
-        note(
-            pbr.metallic_roughness_texture().is_some() || pbr.roughness_factor() < 1.0,
-            "metallic-roughness",
-        );
         note(m.normal_texture().is_some(), "normal maps");
-        note(m.occlusion_texture().is_some(), "occlusion maps");
+        note(
+            m.specular().is_some_and(|s| {
+                s.specular_texture().is_some()
+                    || s.specular_color_texture().is_some()
+                    || s.specular_color_factor() != [1.0; 3]
+            }),
+            "KHR_materials_specular's colour and textures",
+        );
     }
     ignored
 }

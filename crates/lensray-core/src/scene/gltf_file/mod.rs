@@ -7,8 +7,8 @@
 //! `world_from_node`, normals through its inverse transpose, the winding kept counter-clockwise
 //! where the transform mirrors; TEXCOORD_0 comes along. Vertex attributes may be quantized
 //! (`KHR_mesh_quantization`, `accessors.rs`). Points and lines are skipped with one
-//! notice. Materials and their textures: `materials.rs`; a primitive without one gets glTF's
-//! default material (white). What the Lambert shading does not use is named in one notice.
+//! notice. Materials and their textures: `materials.rs`; a primitive without one gets a white
+//! Lambert surface. What the shading does not use is named in one notice.
 //!
 //! Strict where the file is broken: a buffer that is missing or shorter than it says, an
 //! accessor reaching past its buffer view, an index past the vertices, a position that is not
@@ -27,9 +27,10 @@ mod materials;
 mod nodes;
 
 /// Extensions this loader applies; a file requiring any other is refused.
-const KNOWN_EXTENSIONS: [&str; 4] = [
+const KNOWN_EXTENSIONS: [&str; 5] = [
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
     "KHR_mesh_quantization",
     "KHR_texture_transform",
 ];

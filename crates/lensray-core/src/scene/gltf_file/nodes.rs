@@ -22,8 +22,9 @@ pub(super) struct Walk<'a> {
     pub materials: Vec<Option<u32>>,
     /// glTF's default material in the scene, once a primitive needs it.
     pub default_material: Option<u32>,
-    /// The scene texture of each glTF image, once a material uses it.
-    pub images: Vec<Option<u32>>,
+    /// The scene texture of each glTF image, as colour (sRGB) and as data (linear), once a
+    /// material uses it so.
+    pub images: Vec<[Option<u32>; 2]>,
     /// Primitives of point and line modes.
     pub skipped_modes: usize,
     /// A texture reads a texture coordinate set other than TEXCOORD_0 (read from set 0).
@@ -40,7 +41,7 @@ impl<'a> Walk<'a> {
             out: MeshFile::default(),
             materials: vec![None; document.materials().len()],
             default_material: None,
-            images: vec![None; document.images().len()],
+            images: vec![[None; 2]; document.images().len()],
             skipped_modes: 0,
             other_texcoords: false,
             vertex_colours: false,
@@ -218,7 +219,7 @@ impl<'a> Walk<'a> {
         let ignored = ignored_features(document);
         if !ignored.is_empty() {
             self.out.notices.push(format!(
-                "not rendered yet by lensray's Lambert shading: {}",
+                "not rendered yet by lensray's shading: {}",
                 ignored.join(", ")
             ));
         }

@@ -10,11 +10,11 @@ use glam::Vec3;
 use super::textures::{Kind, TextureFiles};
 use crate::scene::{AlphaMode, Material, SceneError};
 
-/// The scene material of an MTL material read from `dir`: `Kd` the diffuse colour (the
-/// default's when absent; white under a `map_Kd` without `Kd`), `Ke` the emission (0 when
-/// absent; white under a `map_Ke` without `Ke`), `d` times `map_d` the coverage, cut
-/// stochastically where it is below 1 (`AlphaMode::Blend`: the average over samples is the
-/// partly covered surface).
+/// The scene material of an MTL material read from `dir`: `Kd` the base colour (the
+/// default's when absent; white under a `map_Kd` without `Kd`), metallic and roughness from
+/// `Pm`, `Pr`, `Ks` and `Ns` (`metallic_roughness`), `Ke` the emission (0 when absent; white
+/// under a `map_Ke` without `Ke`), `d` times `map_d` the coverage, cut stochastically where it
+/// is below 1 (`AlphaMode::Blend`: the average over samples is the partly covered surface).
 pub(super) fn convert_material(
     m: &tobj::Material,
     dir: &Path,
@@ -33,6 +33,7 @@ pub(super) fn convert_material(
     let emission_texture = texture(m.unknown_param.get("map_Ke"), Kind::Colour)?;
     let alpha_texture = texture(m.dissolve_texture.as_ref(), Kind::Coverage)?;
     let alpha = m.dissolve.unwrap_or(1.0).clamp(0.0, 1.0);
+    let (metallic, roughness, specular) = metallic_roughness(m);
     let textured_white = |texture: bool, fallback: Vec3| if texture { Vec3::ONE } else { fallback };
     Ok(Material {
         name: name.clone(),
@@ -40,6 +41,9 @@ pub(super) fn convert_material(
             .diffuse
             .map(Vec3::from)
             .unwrap_or(textured_white(diffuse_texture.is_some(), default.diffuse)),
+        metallic,
+        roughness,
+        specular,
         emission: emission
             .map(Vec3::from)
             .unwrap_or(textured_white(emission_texture.is_some(), Vec3::ZERO)),
@@ -52,7 +56,35 @@ pub(super) fn convert_material(
         },
         alpha,
         alpha_texture,
+        ..default
     })
+}
+
+/// The metallic, roughness and specular weight of an MTL material: the PBR extension's `Pm` and `Pr`
+/// where given (a glTF material), else from the Phong terms: no `Ks` (or a black one) is a
+/// Lambert surface; a `Ks` gives the dielectric's specular lobe, its roughness from the
+/// shininess `Ns` as sqrt(2 / (Ns + 2)), the roughness whose Beckmann lobe the Blinn-Phong
+/// exponent Ns matches (1 without `Ns`).
+fn metallic_roughness(m: &tobj::Material) -> (f32, f32, f32) {
+    let param = |key: &str| {
+        m.unknown_param
+            .get(key)
+            .and_then(|s| s.trim().parse::<f32>().ok())
+            .filter(|v| v.is_finite())
+            .map(|v| v.clamp(0.0, 1.0))
+    };
+    let (pm, pr) = (param("Pm"), param("Pr"));
+    let has_ks = m.specular.is_some_and(|ks| ks.iter().any(|c| *c > 0.0));
+    let phong_roughness = match m.shininess {
+        Some(ns) if has_ks => (2.0 / (ns.max(0.0) + 2.0)).sqrt(),
+        _ => 1.0,
+    };
+    let specular = pm.is_some() || pr.is_some() || has_ks;
+    (
+        pm.unwrap_or(0.0),
+        pr.unwrap_or(phong_roughness),
+        if specular { 1.0 } else { 0.0 },
+    )
 }
 
 /// Parses "r g b" or "v" (grey): finite, non-negative.

@@ -9,7 +9,7 @@ use gltf_json as json;
 use json::validation::Checked::Valid;
 
 use super::TexturedScene;
-use crate::scene::gltf_out::{material, Builder};
+use crate::scene::gltf_out::{push_material, Builder};
 
 /// Writes `NAME.gltf` and `NAME.bin` into `dir`; returns their names.
 pub(super) fn write_gltf(
@@ -28,7 +28,7 @@ pub(super) fn write_gltf(
                 m.name
             );
         }
-        b.root.push(material(m));
+        push_material(&mut b.root, m);
     }
     let sampler = b.root.push(json::texture::Sampler {
         mag_filter: Some(Valid(json::texture::MagFilter::Linear)),
