@@ -31,7 +31,6 @@ shader_interface! {
         /// Most triangles of an aperture's fan (camera::aperture): `Camera.aperture_fan` holds
         /// two vertices per vec4.
         APERTURE_MAX_FAN: u32 = 64;
-
         /// What the preview window shows (`preview::ViewMode`, shaders/present/resolve.comp): the
         /// thin-lens accumulation, a G-buffer AOV, or each pixel's circle of confusion.
         VIEW_FINAL: u32 = 0;
@@ -41,7 +40,6 @@ shader_interface! {
         VIEW_COC: u32 = 4;
         /// The circle of confusion shown as white in the CoC view, pixels.
         COC_DISPLAY_MAX: f32 = 16.0;
-
         /// The tone maps of PNG files and the preview (`film::tonemap::ToneMap`,
         /// shaders/include/tonemap.glsl): none (clamp), Khronos PBR Neutral, AgX.
         TONEMAP_NONE: u32 = 0;
@@ -76,7 +74,6 @@ shader_interface! {
             -0.016_493_939, -0.016_493_939, 1.251_936_4,
         ];
         AGX_SIGMOID: [f32; 7] = [15.5, -40.14, 31.96, -6.868, 0.4298, 0.1191, -0.00232];
-
         /// Sample dimensions the camera takes (sampler::camera_sample); later consumers take
         /// dimensions from DIM_FIRST_FREE on.
         DIM_FILM_X: u32 = 0;
@@ -101,7 +98,6 @@ shader_interface! {
         LENS_INDEX_COLUMNS: [u32; 16] = [
             1, 3, 4, 13, 22, 41, 85, 194, 429, 803, 1522, 3562, 4535, 14805, 21617, 40615,
         ];
-
         /// The RGB-to-spectrum weighting of film::spectral (its documentation has the
         /// definition), from the generated spectral_table.rs: the wavelengths of the
         /// first and last node and their spacing in nm, 1 / that spacing rounded to f32, the
@@ -127,7 +123,6 @@ shader_interface! {
         SPECTRAL_AT_INV_PROBABILITY: u32 = 10 * spectral_table::NODES;
         SPECTRAL_AT_INV_DENSITY: u32 = 11 * spectral_table::NODES - 1;
         SPECTRAL_AT_END: u32 = 12 * spectral_table::NODES - 2;
-
         /// Workgroups: trace.comp is TRACE_GROUP_SIZE x TRACE_GROUP_SIZE (a coherent tile).
         TRACE_GROUP_SIZE: u32 = 8;
         /// The ray-tracing pipeline's two kinds of ray (shaders/include/hit_rtpipeline.glsl):
@@ -136,7 +131,6 @@ shader_interface! {
         RT_RAY_CLOSEST: u32 = 0;
         RT_RAY_SHADOW: u32 = 1;
         PROBE_GROUP_SIZE: u32 = 64;
-
         /// `Light.kind` (`scene::LightKind`).
         LIGHT_NONE: u32 = 0;
         LIGHT_POINT: u32 = 1;
