@@ -17,12 +17,13 @@ use lensray_core::interface::{
     WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
 use lensray_core::scene::order::spatial_order;
-use lensray_core::scene::texture::{Encoding, Wrap, MAX_LEVELS};
-use lensray_core::scene::{AlphaMode, Material, Texture, TextureRef};
+use lensray_core::scene::texture::Wrap;
+use lensray_core::scene::{AlphaMode, Material, TextureRef};
 use lensray_core::scene::{Light, LightKind, Scene};
 use lensray_core::settings::{Shading, Shot};
 
 use crate::core::error::GpuError;
+use crate::scene::texels::flatten as flatten_textures;
 
 /// One mesh's range in the flattened arrays.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,8 +55,10 @@ pub(crate) struct FlatScene {
     pub tri_info: Vec<u32>,
     pub materials: Vec<GpuMaterial>,
     pub textures: Vec<GpuTexture>,
-    /// Every texture's texels, every level.
+    /// Every texture's texels, every level it is read at.
     pub texels: Vec<u32>,
+    /// The textures read from a coarser level to fit (name, size, size read at).
+    pub coarsened: Vec<(String, [u32; 2], [u32; 2])>,
     /// At least one: a scene without lights holds one LIGHT_NONE.
     pub lights: Vec<GpuLight>,
     pub meshes: Vec<MeshRange>,
@@ -69,7 +72,8 @@ pub(crate) struct FlatScene {
 const MAX_TRIANGLES: usize = 1 << 24;
 
 impl FlatScene {
-    pub(crate) fn new(scene: &Scene) -> Result<Self, GpuError> {
+    /// The arrays of `scene`, its texels in at most `texel_limit` bytes (`scene::texels`).
+    pub(crate) fn new(scene: &Scene, texel_limit: u64) -> Result<Self, GpuError> {
         let total = scene.triangle_count();
         if total > MAX_TRIANGLES {
             return Err(GpuError::Invalid(format!(
@@ -86,10 +90,9 @@ impl FlatScene {
             // Shaders index a non-empty array; no triangle may refer to it (checked above).
             flat.materials.push(GpuMaterial::zeroed());
         }
-        for texture in &scene.textures {
-            flat.textures.push(gpu_texture(texture, flat.texels.len())?);
-            flat.texels.extend_from_slice(&texture.texels);
-        }
+        let textures = flatten_textures(&scene.textures, texel_limit)?;
+        (flat.textures, flat.texels) = (textures.textures, textures.texels);
+        flat.coarsened = textures.coarsened;
         if flat.textures.is_empty() {
             // Shaders index non-empty arrays; no material refers to these.
             flat.textures.push(GpuTexture::zeroed());
@@ -232,29 +235,6 @@ fn gpu_texture_ref(texture_ref: Option<&TextureRef>) -> GpuTextureRef {
         wrap_v: wrap(r.wrap[1]),
         pad: 0,
     }
-}
-
-/// A texture's table entry, its texels starting at `first_texel` of the texel buffer.
-fn gpu_texture(texture: &Texture, first_texel: usize) -> Result<GpuTexture, GpuError> {
-    let levels = texture.levels.len();
-    let end = first_texel + texture.texels.len();
-    if levels > MAX_LEVELS || u32::try_from(end).is_err() {
-        return Err(GpuError::Invalid(format!(
-            "texture {} does not fit the GPU's texture table ({levels} levels, texels up to {end})",
-            texture.name
-        )));
-    }
-    let mut level_first = [[0; 4]; 4];
-    for (i, level) in texture.levels.iter().enumerate() {
-        level_first[i / 4][i % 4] = first_texel as u32 + level.first;
-    }
-    Ok(GpuTexture {
-        level_first,
-        width: texture.levels[0].width,
-        height: texture.levels[0].height,
-        levels: levels as u32,
-        srgb: u32::from(texture.encoding == Encoding::Srgb),
-    })
 }
 
 /// `Camera.projection` / `ViewParams.projection` of the shaders.

@@ -6,6 +6,7 @@ pub(crate) mod accel;
 pub(crate) mod bvh;
 #[cfg(feature = "probes")]
 pub(crate) mod environment;
+pub(crate) mod texels;
 
 use std::sync::Arc;
 
@@ -67,6 +68,24 @@ impl BvhBuffers {
     }
 }
 
+/// One line naming the textures the GPU reads from a coarser level to fit `limit` bytes.
+fn warn_coarsened(flat: &FlatScene, limit: u64) {
+    if flat.coarsened.is_empty() {
+        return;
+    }
+    let sizes: Vec<String> = flat
+        .coarsened
+        .iter()
+        .map(|(name, [w, h], [rw, rh])| format!("{name} {w}x{h} at {rw}x{rh}"))
+        .collect();
+    eprintln!(
+        "warning: the scene's textures pass the device's storage buffer range ({} MiB): the \
+         GPU reads {} from a coarser mip level (the CPU path reads them whole)",
+        limit >> 20,
+        sizes.join(", ")
+    );
+}
+
 pub(crate) struct SceneBuffers {
     /// With ray queries enabled.
     pub accel: Option<SceneAccel>,
@@ -97,8 +116,9 @@ impl SceneBuffers {
         scene: &Scene,
         bvh_params: &BvhParams,
     ) -> Result<Self, GpuError> {
-        let flat = FlatScene::new(scene)?;
         let limit = u64::from(ctx.report.max_storage_buffer_range);
+        let flat = FlatScene::new(scene, limit)?;
+        warn_coarsened(&flat, limit);
         for (what, bytes) in [
             ("vertex", std::mem::size_of_val(flat.positions.as_slice())),
             ("index", std::mem::size_of_val(flat.indices.as_slice())),
