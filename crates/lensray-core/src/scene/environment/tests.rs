@@ -34,6 +34,26 @@ fn sky_with_sun() -> EnvironmentMap {
     map
 }
 
+/// The integral of `f` over directions with theta in [0, `theta_max`], by the midpoint rule
+/// over `n_theta` x `n_phi` cells of (theta, phi).
+fn quadrature(n_theta: u32, n_phi: u32, theta_max: f32, f: impl Fn(Vec3) -> f32) -> f64 {
+    let mut sum = 0.0f64;
+    for i in 0..n_theta {
+        let theta = (i as f32 + 0.5) / n_theta as f32 * theta_max;
+        for j in 0..n_phi {
+            let phi = (j as f32 + 0.5) / n_phi as f32 * 2.0 * PI;
+            let d = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            let area = theta.sin() * (theta_max / n_theta as f32) * (2.0 * PI / n_phi as f32);
+            sum += f64::from(f(d) * area);
+        }
+    }
+    sum
+}
+
 /// The R2 sequence (Roberts 2018): points of [0, 1)^2 with low discrepancy.
 fn r2(i: u32) -> Vec2 {
     const A: f64 = 0.754_877_666_246_692_7;
@@ -73,22 +93,8 @@ fn uv_and_direction_are_inverses() {
 fn the_density_integrates_to_one_over_the_sphere() {
     let map = sky().turned(-20.0, 3.0);
     let sampler = EnvironmentSampler::new(&map).expect("the sky emits");
-    // Midpoint quadrature over (theta, phi), 4 points a texel each way.
-    let (n_theta, n_phi) = (128, 256);
-    let mut integral = 0.0f64;
-    for i in 0..n_theta {
-        let theta = (i as f32 + 0.5) / n_theta as f32 * PI;
-        for j in 0..n_phi {
-            let phi = (j as f32 + 0.5) / n_phi as f32 * 2.0 * PI;
-            let d = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                theta.sin() * phi.sin(),
-            );
-            let area = theta.sin() * (PI / n_theta as f32) * (2.0 * PI / n_phi as f32);
-            integral += f64::from(sampler.pdf(&map, d) * area);
-        }
-    }
+    // 4 points a texel each way.
+    let integral = quadrature(128, 256, PI, |d| sampler.pdf(&map, d));
     assert!(
         (integral - 1.0).abs() < 2e-3,
         "integral of the pdf: {integral}"
@@ -140,21 +146,10 @@ fn sampling_the_environment_estimates_irradiance_with_less_variance_than_the_cos
     let map = sky_with_sun().turned(50.0, 1.0);
     let sampler = EnvironmentSampler::new(&map).expect("the sky emits");
     let n = Vec3::Y;
-    let (n_theta, n_phi) = (256, 512);
-    let mut exact = 0.0f64;
-    for i in 0..n_theta / 2 {
-        let theta = (i as f32 + 0.5) / n_theta as f32 * PI;
-        for j in 0..n_phi {
-            let phi = (j as f32 + 0.5) / n_phi as f32 * 2.0 * PI;
-            let d = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                theta.sin() * phi.sin(),
-            );
-            let area = theta.sin() * (PI / n_theta as f32) * (2.0 * PI / n_phi as f32);
-            exact += f64::from(luminance(map.radiance(d)) * d.dot(n) * area);
-        }
-    }
+    // The upper hemisphere, in the cells of a 256 x 512 sphere.
+    let exact = quadrature(128, 512, PI / 2.0, |d| {
+        luminance(map.radiance(d)) * d.dot(n)
+    });
     let count = 4096;
     let (mut map_values, mut cosine_values) = (Vec::new(), Vec::new());
     for i in 0..count {
