@@ -314,16 +314,26 @@ macro_rules! layout_probe_push {
     };
 }
 
-/// Declares the constants and structs shared with the shaders, once: the Rust items, the GLSL
-/// header (`glsl_header()`), the layout check (`check_layouts()`) and the list of structs
+/// Declares the constants shared with the shaders, once: the Rust items and
+/// `declare_constants`, which writes them into the GLSL header.
+macro_rules! shader_constants {
+    ( $( $(#[doc = $cdoc:literal])* $cname:ident : $cty:ty = $cval:expr; )* ) => {
+        $( $(#[doc = $cdoc])* pub const $cname: $cty = $cval; )*
+
+        /// Declares every shared constant in the GLSL header, in the order of their list.
+        pub(crate) fn declare_constants(header: &mut HeaderWriter) {
+            $( header.constant(stringify!($cname), &[$($cdoc),*], $cname); )*
+        }
+    };
+}
+
+/// Declares the structs shared with the shaders, once: the Rust items, the GLSL
+/// header (`glsl_header()`, with the constants of `shader_constants!`), the layout check (`check_layouts()`) and the list of structs
 /// (`shared_structs()`), from which the layout probe's blocks are generated. A struct marked
 /// `#[layout_probe(push_constant)]` (after its doc comment) is read by the probe through push
 /// constants too.
 macro_rules! shader_interface {
     (
-        constants {
-            $( $(#[doc = $cdoc:literal])* $cname:ident : $cty:ty = $cval:expr; )*
-        }
         structs {
             $(
                 $(#[doc = $sdoc:literal])*
@@ -334,8 +344,6 @@ macro_rules! shader_interface {
             )*
         }
     ) => {
-        $( $(#[doc = $cdoc])* pub const $cname: $cty = $cval; )*
-
         $(
             $(#[doc = $sdoc])*
             #[repr(C)]
@@ -405,7 +413,7 @@ macro_rules! shader_interface {
         /// The GLSL header `interface.glsl` (written by build.rs, included by the shaders).
         pub fn glsl_header() -> String {
             let mut header = HeaderWriter::new();
-            $( header.constant(stringify!($cname), &[$($cdoc),*], $cname); )*
+            declare_constants(&mut header);
             let structs = shared_structs();
             for s in &structs {
                 header.structure(s);

@@ -1,5 +1,5 @@
-//! What the host and the shaders share, defined once: in `shared.rs` constants (shading modes,
-//! workgroup sizes, ray offsets) and the structs of uniform blocks, push constants and storage
+//! What the host and the shaders share, defined once: in `constants.rs` the constants (shading
+//! modes, workgroup sizes, ray offsets), in `shared.rs` the structs of uniform blocks, push constants and storage
 //! buffers; in `bindings.rs` every pipeline's descriptor set, binding by binding. build.rs generates the GLSL header `interface.glsl` from the
 //! same definition and refuses to build when Rust lays a struct out differently from GLSL;
 //! `shaders/probes/layouts.comp` checks on a device that the shaders read every field where Rust
@@ -11,10 +11,12 @@
 #[macro_use]
 pub mod glsl;
 pub mod bindings;
+mod constants;
 mod header;
 mod shared;
 
 pub use bindings::*;
+pub use constants::*;
 pub use shared::*;
 
 #[cfg(test)]

@@ -43,7 +43,7 @@
 //!   which can differ from the one the search chose only within rounding of the node.
 //!
 //! The numbers are generated once by `scripts/spectral/tables.py` into lensray-interface's
-//! `spectral_table.rs`, their one definition; its `shared.rs` includes that file and
+//! `spectral_table.rs`, their one definition; its `constants.rs` includes that file and
 //! names its tables as the shared constants `SPECTRAL_*`, which the GLSL header declares too.
 //!
 //! # Arithmetic
