@@ -46,6 +46,8 @@ fn settings(spp: u32) -> RenderSettings {
         background: Vec3::ZERO,
         environment: Vec3::ZERO,
         shared_samples: false,
+        environment_seen: false,
+        bounces: 1,
     }
 }
 

@@ -79,5 +79,7 @@ fn settings(shading: Shading, spp: u32) -> RenderSettings {
         background: Vec3::new(0.2, 0.3, 0.4),
         environment: Vec3::ZERO,
         shared_samples: false,
+        environment_seen: false,
+        bounces: 1,
     }
 }

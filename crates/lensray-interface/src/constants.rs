@@ -71,21 +71,28 @@ shader_constants! {
         -0.016_493_939, -0.016_493_939, 1.251_936_4,
     ];
     AGX_SIGMOID: [f32; 7] = [15.5, -40.14, 31.96, -6.868, 0.4298, 0.1191, -0.00232];
-    /// Sample dimensions the camera takes (sampler::camera_sample); later consumers take
-    /// dimensions from DIM_FIRST_FREE on.
+    /// Sample dimensions the camera takes (sampler::camera_sample); a path's vertices take
+    /// theirs after (sampler::vertex_dimensions).
     DIM_FILM_X: u32 = 0;
     DIM_FILM_Y: u32 = 1;
     DIM_LENS_X: u32 = 2;
     DIM_LENS_Y: u32 = 3;
-    /// The environment's cosine-distributed direction (scene::light::cosine_direction).
+    /// The first vertex's direction drawn from the environment (reference/sky.rs: Sky::sample).
     DIM_ENVIRONMENT_X: u32 = 4;
     DIM_ENVIRONMENT_Y: u32 = 5;
     /// The wavelength of a sample through a dispersive lens (film::spectral's
     /// sample_wavelength): the first of the pair 6, 7, so that it is stratified like the
-    /// camera's dimensions. Dimension 7 is unused for now; DIM_FIRST_FREE stays even so
-    /// that later pairs stay aligned.
+    /// camera's dimensions. Dimension 7 is unused, so that later pairs stay aligned.
     DIM_WAVELENGTH: u32 = 6;
-    DIM_FIRST_FREE: u32 = 8;
+    /// The first vertex's direction drawn from its BRDF (reference/brdf_sampling.rs).
+    DIM_BRDF_X: u32 = 8;
+    DIM_BRDF_Y: u32 = 9;
+    /// Vertex k >= 1 of a path (`--bounces`) draws its environment pair from DIM_BOUNCES +
+    /// DIMS_PER_BOUNCE (k - 1) and its BRDF pair right after.
+    DIM_BOUNCES: u32 = 10;
+    DIMS_PER_BOUNCE: u32 = 4;
+    /// The most vertices a path shades (`--bounces`).
+    MAX_BOUNCES: u32 = 16;
     /// `TraceParams.sampler_kind` (`sampler::SamplerKind`).
     SAMPLER_SOBOL: u32 = 0;
     SAMPLER_INDEPENDENT: u32 = 1;

@@ -5,18 +5,23 @@
 //! - `unlit`: the base colour of the first hit, background on a miss.
 //! - `lit`: the emission plus, for each of the scene's lights, f(l, v) * E * cos when a shadow
 //!   ray from `surface::shadow_origin` towards the light, t in (0, d), is unoccluded
-//!   (`lighting`), plus f(l, v) * pi * environment when a cosine-distributed ray l from there
-//!   leaves the scene; f is glTF's metallic-roughness BRDF (`brdf`); background on a miss.
+//!   (`lighting`), plus the environment (a uniform sky or a map) by multiple importance
+//!   sampling of the environment and the BRDF (`sky`, `brdf_sampling`); f is glTF's
+//!   metallic-roughness BRDF (`brdf`); background (or the map) on a miss. With `bounces` > 1
+//!   the path goes on along the BRDF's draw (`integrator`).
 //! - `unlit` and `lit` average their `spp` samples per pixel.
 //! - AOVs (`depth`, `normal`, `albedo`) are what the raster G-buffer holds: the surface seen by
 //!   the aperture-centre ray through each pixel centre (one ray per pixel, no lens blur).
 
 mod accel;
 pub mod brdf;
+pub mod brdf_sampling;
 mod embree;
+mod integrator;
 mod lighting;
 mod rays;
 mod render;
+mod sky;
 mod surface;
 mod triangle;
 

@@ -9,40 +9,36 @@ use glam::{UVec2, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
-use super::brdf::MetallicRoughness;
-use super::lighting::{LightDraw, LitLane, ShadingInputs};
 use super::rays::{generate_rays, LensPacket};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
-use crate::camera::{Camera, Footprint, Ray};
+use crate::camera::{Camera, Ray};
 use crate::film::spectral::rgb_weights;
 use crate::film::{Image, OnDevice, Progress, Sums};
-use crate::sampler::{
-    pixel_dimension, pixel_sampler, shared_pixel_sampler, CameraSample, PixelSampler,
-};
-use crate::sampler::{DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y};
+use crate::sampler::{pixel_sampler, shared_pixel_sampler, CameraSample};
 use crate::scene::order::spatial_order;
-use crate::scene::{blend_threshold, ray_key, Light, Scene};
-use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
-use crate::settings::{RenderSettings, Shading, Shot};
+use crate::scene::{blend_threshold, ray_key, EnvironmentLight, Light, Scene};
+use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT};
+use crate::settings::{Shading, Shot};
 
 /// Rows rendered between two progress reports.
 const ROWS_PER_BAND: u32 = 16;
 
 pub struct Renderer {
     pub(super) accel: Accel,
-    surfaces: Arc<SurfaceData>,
-    materials: Arc<Materials>,
-    lights: Vec<Light>,
+    pub(super) surfaces: Arc<SurfaceData>,
+    pub(super) materials: Arc<Materials>,
+    pub(super) lights: Vec<Light>,
+    pub(super) environment: Option<Arc<EnvironmentLight>>,
 }
 
 /// A packet of camera rays after their closest hits: per lane its ray, hit, blend key and
 /// sample index.
-struct TracedPacket<'a> {
-    origins: &'a [Vec3],
-    directions: &'a [Vec3],
-    hits: &'a [Option<Hit>],
-    keys: &'a [u32],
-    indices: &'a [u32],
+pub(super) struct TracedPacket<'a> {
+    pub origins: &'a [Vec3],
+    pub directions: &'a [Vec3],
+    pub hits: &'a [Option<Hit>],
+    pub keys: &'a [u32],
+    pub indices: &'a [u32],
 }
 
 /// What a render did, for the summary line and benchmarks.
@@ -108,6 +104,7 @@ impl Renderer {
             surfaces,
             materials,
             lights: scene.lights.clone(),
+            environment: scene.environment.clone(),
         }
     }
 
@@ -298,115 +295,6 @@ impl Renderer {
         rays
     }
 
-    /// What the material of `surface` (hit `hit`) gives shading, textures filtered over the
-    /// pinhole's pixel footprint.
-    fn colours(&self, hit: &Hit, surface: &SurfacePoint, footprint: &Footprint) -> ShadingInputs {
-        let material = self.materials.get(surface.material);
-        let textures = &self.materials.textures;
-        let mut inputs = ShadingInputs {
-            brdf: MetallicRoughness {
-                base_colour: material.diffuse,
-                metallic: material.metallic,
-                roughness: material.roughness,
-                specular: material.specular,
-            },
-            emission: material.emission,
-            occlusion: 1.0,
-        };
-        if !material.is_textured() {
-            return inputs;
-        }
-        let vertices = self.accel.vertices(hit.triangle).map(Vec3::from);
-        let duv = self
-            .surfaces
-            .texcoord_footprint(hit.triangle, vertices, surface, footprint);
-        let texcoord = surface.texcoord;
-        inputs.brdf.base_colour = material.diffuse_at(textures, texcoord, &duv);
-        (inputs.brdf.metallic, inputs.brdf.roughness) =
-            material.metallic_roughness_at(textures, texcoord, &duv);
-        inputs.emission = material.emission_at(textures, texcoord, &duv);
-        inputs.occlusion = material.occlusion_at(textures, texcoord, &duv);
-        inputs
-    }
-
-    /// The values of a packet's samples (`unlit` or `lit`), with the rays traced: each lane's
-    /// surface, then the packet's shadow and environment rays together.
-    fn shade_packet(
-        &self,
-        lanes: &TracedPacket,
-        sampler: &PixelSampler,
-        settings: &RenderSettings,
-        footprint: &Footprint,
-    ) -> ([Vec3; PACKET_SIZE], u64) {
-        let mut values = [Vec3::ZERO; PACKET_SIZE];
-        let mut lit = [None; PACKET_SIZE];
-        for l in 0..lanes.hits.len() {
-            let ray = Ray {
-                origin: lanes.origins[l],
-                direction: lanes.directions[l],
-            };
-            let draw = LightDraw {
-                shadow_key: lanes.keys[l] ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT,
-                environment: if settings.environment == Vec3::ZERO {
-                    Vec2::ZERO
-                } else {
-                    Vec2::new(
-                        pixel_dimension(sampler, lanes.indices[l], DIM_ENVIRONMENT_X),
-                        pixel_dimension(sampler, lanes.indices[l], DIM_ENVIRONMENT_Y),
-                    )
-                },
-            };
-            (values[l], lit[l]) =
-                self.shade_surface(&ray, lanes.hits[l], settings, footprint, draw);
-        }
-        let mut rays = lanes.hits.len() as u64;
-        if lit.iter().any(Option::is_some) {
-            let mut reflected = [Vec3::ZERO; PACKET_SIZE];
-            rays += self.direct_light(&lit, &self.lights, settings.environment, &mut reflected);
-            for (value, (lane, reflected)) in values.iter_mut().zip(lit.iter().zip(reflected)) {
-                if lane.is_some() {
-                    *value += reflected;
-                }
-            }
-        }
-        (values, rays)
-    }
-
-    /// A sample's value without its direct light: the background, the `unlit` colour, or the
-    /// emission of a `lit` surface with what its direct light needs.
-    fn shade_surface(
-        &self,
-        ray: &Ray,
-        hit: Option<Hit>,
-        settings: &RenderSettings,
-        footprint: &Footprint,
-        draw: LightDraw,
-    ) -> (Vec3, Option<LitLane>) {
-        let Some(hit) = hit else {
-            return (settings.background, None);
-        };
-        let material = self
-            .materials
-            .get(self.surfaces.materials[hit.triangle as usize]);
-        if settings.shading == Shading::Unlit && material.diffuse_texture.is_none() {
-            // Visibility only: the material is all that is needed.
-            return (material.diffuse, None);
-        }
-        let surface = self.surface_point(ray, &hit);
-        let inputs = self.colours(&hit, &surface, footprint);
-        if settings.shading == Shading::Unlit {
-            return (inputs.brdf.base_colour, None);
-        }
-        let lane = LitLane {
-            surface,
-            brdf: inputs.brdf,
-            occlusion: inputs.occlusion,
-            to_viewer: -ray.direction.normalize(),
-            draw,
-        };
-        (inputs.emission, Some(lane))
-    }
-
     /// The AOV of `shot.render.shading` of the surface `ray` sees.
     fn aov(&self, shot: &Shot, ray: &Ray) -> Vec3 {
         let (camera, settings) = (&shot.camera, &shot.render);
@@ -420,7 +308,8 @@ impl Renderer {
                     Shading::Depth => Vec3::splat(camera.view_depth(surface.position)),
                     Shading::Normal => surface.shading_normal,
                     _ => {
-                        let inputs = self.colours(&hit, &surface, &camera.footprint());
+                        let footprint = camera.footprint();
+                        let inputs = self.colours(&hit, &surface, Some(&footprint));
                         inputs.brdf.base_colour
                     }
                 }

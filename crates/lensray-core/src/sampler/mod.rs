@@ -22,12 +22,24 @@ pub use hash::{hash_u32, unit_float};
 pub use independent::{independent_sample, sample_1d, sample_key};
 pub use scrambled_sobol::{sobol_1d, sobol_pixel, sobol_sample, SobolPixel};
 
-/// Sample dimensions used by the camera, the environment and the wavelength (defined with what
-/// the shaders share). Later consumers take dimensions from `DIM_FIRST_FREE` on.
+/// Sample dimensions used by the camera, the wavelength and a path's vertices (defined with
+/// what the shaders share).
 pub use crate::interface::{
-    DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_FIRST_FREE, DIM_LENS_X,
-    DIM_LENS_Y, DIM_WAVELENGTH,
+    DIMS_PER_BOUNCE, DIM_BOUNCES, DIM_BRDF_X, DIM_BRDF_Y, DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y,
+    DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y, DIM_WAVELENGTH,
 };
+
+/// The dimensions vertex `vertex` (0: the camera ray's hit) of a path draws from: its
+/// environment pair (x, y), then its BRDF pair. Each pair starts at an even dimension, so that
+/// it is one of the sampler's stratified (0, 2) pairs.
+#[inline]
+pub fn vertex_dimensions(vertex: u32) -> [u32; 4] {
+    if vertex == 0 {
+        return [DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_BRDF_X, DIM_BRDF_Y];
+    }
+    let first = DIM_BOUNCES + DIMS_PER_BOUNCE * (vertex - 1);
+    [first, first + 1, first + 2, first + 3]
+}
 
 /// How samples are drawn. The discriminants are the shaders' `SAMPLER_*` constants.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Deserialize, Serialize)]

@@ -8,7 +8,8 @@
 //! measurements that chose this over padded, randomly shuffled pairs and over Joe and Kuo's 4-D
 //! Sobol' points.
 //!
-//! Later dimensions (from `DIM_FIRST_FREE`) come in pairs padded the usual way: the same (0, 2)
+//! Later dimensions (the environment, the wavelength and the BRDF pairs of a path's vertices,
+//! `vertex_dimensions`) come in pairs padded the usual way: the same (0, 2)
 //! pair at a per-pixel randomly shuffled index, independent of the camera's.
 
 use super::hash::{hash_u32, unit_float};

@@ -299,7 +299,7 @@ pub(crate) fn describe(
             render: RenderStyle {
                 shading: Some(Shading::Lit),
                 background: Some(background),
-                environment: None,
+                ..RenderStyle::default()
             },
             light: Lights(vec![LightSettings {
                 position: Some(round3(light.0)),

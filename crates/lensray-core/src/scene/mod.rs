@@ -5,6 +5,8 @@
 //! OBJ model or glTF primitive becomes one [`Mesh`] (one bottom-level acceleration structure on
 //! the GPU). A glTF file's cameras come with it (`file_camera`).
 
+use std::sync::Arc;
+
 use glam::{Vec2, Vec3};
 
 pub mod builtin;
@@ -28,6 +30,7 @@ pub mod textured;
 pub mod units;
 
 pub use builtin::default_scene;
+pub use environment::EnvironmentLight;
 pub use error::SceneError;
 pub use file::{load, load_scene_file, SceneDescription};
 pub use file_camera::{pick_camera, FileCamera, FileProjection};
@@ -62,6 +65,9 @@ pub struct Scene {
     /// The lights the `lit` shading sums: the file's (glTF `KHR_lights_punctual`) and, once a
     /// shot is lit (`settings::light_scene`), the settings' or the default one.
     pub lights: Vec<Light>,
+    /// The environment map that lights the scene and is seen where rays leave it (the
+    /// settings', once a shot is lit: `settings::light_scene`); none: the settings' uniform sky.
+    pub environment: Option<Arc<EnvironmentLight>>,
 }
 
 /// Axis-aligned bounds.

@@ -258,6 +258,7 @@ impl<'a> ObjSceneBuilder<'a> {
                 materials: converted,
                 textures: files.textures,
                 lights: Vec::new(),
+                environment: None,
             },
             default_material: None,
             all_normals: true,

@@ -129,5 +129,6 @@ pub fn test_card() -> Scene {
         materials,
         textures: textures(),
         lights: Vec::new(),
+        environment: None,
     }
 }

@@ -159,6 +159,7 @@ pub fn textured_scene() -> TexturedScene {
             materials,
             textures,
             lights: vec![LIGHT],
+            environment: None,
         },
         images,
         camera: TexturedCamera {

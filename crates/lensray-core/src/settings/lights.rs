@@ -8,8 +8,9 @@ use glam::{DVec3, Vec3};
 use serde::de::{self, value::MapAccessDeserializer, value::SeqAccessDeserializer};
 use serde::{Deserialize, Deserializer, Serialize};
 
+use super::environment::load_environment;
 use super::shot::{colour, framing, point, SettingsError};
-use super::Settings;
+use super::{EnvironmentSetting, Settings};
 use crate::scene::{Light, LightKind, Scene};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
@@ -176,7 +177,11 @@ fn light(s: &LightSettings, at: &Placement) -> Result<Light, SettingsError> {
 /// The lights `settings` add to `scene`: each of theirs, or one point light above the eye when
 /// neither they nor the scene's file give one and there is no environment to light it.
 pub fn settings_lights(settings: &Settings, scene: &Scene) -> Result<Vec<Light>, SettingsError> {
-    let environment = settings.render.environment.is_some_and(|e| e != [0.0; 3]);
+    let environment = settings
+        .render
+        .environment
+        .as_ref()
+        .is_some_and(EnvironmentSetting::lights);
     let given = &settings.light.0;
     if given.is_empty() && (!scene.lights.is_empty() || environment) {
         return Ok(Vec::new());
@@ -221,12 +226,19 @@ pub fn pinned_lights(settings: &Settings, scene: &Scene) -> Result<Lights, Setti
 }
 
 /// Adds the lights of `settings` (`settings_lights`) to `scene`'s, once: a light already there
-/// is not added again, so lighting a lit scene changes nothing.
-pub fn light_scene(settings: &Settings, scene: &mut Scene) -> Result<(), SettingsError> {
+/// is not added again, so lighting a lit scene changes nothing. The settings' environment map
+/// is loaded into the scene (`Scene::environment`). Returns the warnings to print, one line
+/// each.
+pub fn light_scene(settings: &Settings, scene: &mut Scene) -> Result<Vec<String>, SettingsError> {
     for light in settings_lights(settings, scene)? {
         if !scene.lights.contains(&light) {
             scene.lights.push(light);
         }
     }
-    Ok(())
+    let mut warnings = Vec::new();
+    if let Some((environment, warning)) = load_environment(settings)? {
+        scene.environment = Some(environment);
+        warnings.extend(warning);
+    }
+    Ok(warnings)
 }

@@ -10,12 +10,14 @@
 //!   and the shot's lens.
 
 pub mod aperture_image;
+pub mod environment;
 pub mod exposure;
 pub mod lights;
 pub mod render;
 pub mod shot;
 pub mod user;
 
+pub use environment::EnvironmentSetting;
 pub use exposure::{exposure, Exposure};
 pub use lights::{light_scene, pinned_lights, settings_lights, LightSettings, LightType, Lights};
 pub use render::{RenderSettings, Shading};

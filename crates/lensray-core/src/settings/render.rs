@@ -14,9 +14,11 @@ pub enum Shading {
     /// mode that validates depth of field.
     Unlit,
     /// Emission + f * E cos(theta) summed over the scene's lights (point, spot, directional;
-    /// `scene::light`), each with a hard shadow, plus f * pi * environment where a
-    /// cosine-distributed ray leaves the scene; f is glTF's metallic-roughness BRDF
-    /// (`reference::brdf`; Lambert for materials without a specular lobe); no indirect light.
+    /// `scene::light`), each with a hard shadow, plus the environment (a uniform sky or a map)
+    /// by multiple importance sampling of the environment and the BRDF; f is glTF's
+    /// metallic-roughness BRDF (`reference::brdf`; Lambert for materials without a specular
+    /// lobe). With `bounces` > 1, a path goes on from each surface in the direction its BRDF
+    /// drew, and the surfaces it meets add their emission and their own direct light.
     Lit,
     /// Distance of the first hit along the view axis (camera z); 0 on a miss.
     Depth,
@@ -62,8 +64,14 @@ pub struct RenderSettings {
     pub shading: Shading,
     /// Linear RGB seen on a miss.
     pub background: Vec3,
-    /// Radiance of a uniform sky lighting every surface (`lit`), linear RGB; zero: none.
+    /// Radiance of a uniform sky lighting every surface (`lit`), linear RGB; zero: none (or the
+    /// scene's environment map instead, `Scene::environment`).
     pub environment: Vec3,
+    /// A camera ray that leaves the scene sees the scene's environment map rather than
+    /// `background` (a map and no background given).
+    pub environment_seen: bool,
+    /// The surfaces a `lit` path shades, 1 ..= `MAX_BOUNCES`: 1 is direct light.
+    pub bounces: u32,
     /// Every pixel draws the same camera samples (those of pixel (0, 0), offset to its own
     /// position: `sampler::shared_pixel_sampler`) instead of its own. The `raster` path's
     /// estimator, which projects the whole image through one lens point per pass; the other

@@ -14,11 +14,12 @@ use crate::camera::{
     Aperture, ApertureShape, Camera, CameraError, CameraParams, LensParams, Movements,
     ProjectionParams, RealLensParams,
 };
+use crate::interface::MAX_BOUNCES;
 use crate::optics::paraxial::FirstOrder;
 use crate::optics::Prescription;
 use crate::scene::{Bounds, Scene};
 use crate::settings::{ApertureSettings, CameraSettings, ProjectionKind, Settings, Switch};
-use crate::settings::{RenderSettings, Shading};
+use crate::settings::{EnvironmentSetting, RenderSettings, Shading};
 
 pub const DEFAULT_WIDTH: u32 = 640;
 pub const DEFAULT_HEIGHT: u32 = 480;
@@ -64,6 +65,8 @@ pub enum SettingsError {
     },
     #[error("{0}")]
     Exposure(String),
+    #[error("{0}")]
+    Environment(String),
 }
 
 /// What chose a shot's focus distance, for an error that no image forms there.
@@ -464,11 +467,17 @@ fn render_settings(settings: &Settings) -> Result<RenderSettings, SettingsError>
     if spp == 0 {
         return Err(SettingsError::ZeroSpp);
     }
-    let environment = settings
-        .render
-        .environment
-        .map(|e| colour("environment", e))
-        .transpose()?;
+    let environment = super::environment::sky_radiance(settings)?;
+    let map = matches!(
+        settings.render.environment,
+        Some(EnvironmentSetting::Map(_))
+    );
+    let bounces = settings.render.bounces.unwrap_or(1);
+    if !(1..=MAX_BOUNCES).contains(&bounces) {
+        return Err(SettingsError::Environment(format!(
+            "bounces must be 1 to {MAX_BOUNCES}, got {bounces}"
+        )));
+    }
     Ok(RenderSettings {
         spp,
         seed: settings.image.seed.unwrap_or(0),
@@ -481,6 +490,8 @@ fn render_settings(settings: &Settings) -> Result<RenderSettings, SettingsError>
             (None, None) => colour("background", DEFAULT_BACKGROUND)?,
         },
         environment: environment.unwrap_or(Vec3::ZERO),
+        environment_seen: map && settings.render.background.is_none(),
+        bounces,
         shared_samples: false,
     })
 }

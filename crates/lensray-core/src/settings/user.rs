@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::film::tonemap::ToneMap;
 use crate::sampler::SamplerKind;
-use crate::settings::{Lights, Shading};
+use crate::settings::{EnvironmentSetting, Lights, Shading};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -154,9 +154,15 @@ pub struct ImageSettings {
 pub struct RenderStyle {
     pub shading: Option<Shading>,
     pub background: Option<[f64; 3]>,
-    /// Radiance of a uniform sky that lights every surface, linear RGB; also the background
-    /// unless one is given.
-    pub environment: Option<[f64; 3]>,
+    /// What lights the scene from afar: a uniform sky's radiance (linear RGB) or an
+    /// equirectangular map (`.hdr`, `.exr`); also the background unless one is given.
+    pub environment: Option<EnvironmentSetting>,
+    /// Turns the map counter-clockwise seen from above, degrees.
+    pub environment_rotation: Option<f64>,
+    /// Multiplies the environment's radiance.
+    pub environment_intensity: Option<f64>,
+    /// Surfaces a path shades: 1 (the default) is direct light, more add interreflection.
+    pub bounces: Option<u32>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
@@ -232,7 +238,16 @@ impl Settings {
         let (e, base) = (&c.exposure, &mut self.camera.exposure);
         overlay!(e, base, ev, iso, shutter, tonemap, expose_exr);
         overlay!(i, self.image, width, height, spp, seed, sampler);
-        overlay!(r, self.render, shading, background, environment);
+        overlay!(
+            r,
+            self.render,
+            shading,
+            background,
+            environment,
+            environment_rotation,
+            environment_intensity,
+            bounces
+        );
         self.light = std::mem::take(&mut self.light).overridden_by(l);
         self
     }

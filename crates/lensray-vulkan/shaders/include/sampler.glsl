@@ -174,6 +174,15 @@ float pixel_dimension(PixelSampler state, uint sample_index, uint dim) {
     return sobol_1d(state.key, sample_index, dim);
 }
 
+// mod.rs: vertex_dimensions
+uvec4 vertex_dimensions(uint vertex) {
+    if (vertex == 0u) {
+        return uvec4(DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_BRDF_X, DIM_BRDF_Y);
+    }
+    uint first = DIM_BOUNCES + DIMS_PER_BOUNCE * (vertex - 1u);
+    return uvec4(first, first + 1u, first + 2u, first + 3u);
+}
+
 CameraSample pixel_camera_sample(PixelSampler state, uint sample_index) {
     vec4 u = state.kind == SAMPLER_INDEPENDENT ? independent_sample(state.key, sample_index)
                                                : sobol_sample(state.sobol, sample_index);

@@ -107,6 +107,21 @@ pub fn map_direction(uv: Vec2) -> Vec3 {
     Vec3::new(sin_theta * phi.sin(), cos_theta, -sin_theta * phi.cos())
 }
 
+/// An environment map that lights a scene: the map and the tables that draw its directions
+/// by power (`None` when nothing in it emits: it is then only seen and reflected).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvironmentLight {
+    pub map: EnvironmentMap,
+    pub sampler: Option<EnvironmentSampler>,
+}
+
+impl EnvironmentLight {
+    pub fn new(map: EnvironmentMap) -> Self {
+        let sampler = EnvironmentSampler::new(&map);
+        Self { map, sampler }
+    }
+}
+
 /// Rec. 709 luminance of linear RGB: what a texel's share of the samples follows.
 pub fn luminance(c: Vec3) -> f32 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z

@@ -1,0 +1,233 @@
+//! Drawing directions from the metallic-roughness BRDF (`brdf.rs`): a mixture of its specular
+//! lobe, drawn by GGX's distribution of visible normals (Heitz, "Sampling the GGX Distribution
+//! of Visible Normals", JCGT 7(4), 2018), and its diffuse lobe, drawn by the cosine. The
+//! mixture's density is what both the estimate and multiple importance sampling against the
+//! environment (`sky.rs`) weigh by. shaders/include/brdf.glsl mirrors it function by function.
+
+use std::f32::consts::{FRAC_1_PI, PI};
+
+use glam::{Vec2, Vec3};
+
+use super::brdf::{ggx_distribution, MetallicRoughness};
+use crate::scene::light::{cosine_direction, orthonormal_frame};
+
+/// A direction drawn from a BRDF: where the light comes from, the mixture's density of it, and
+/// f cos / density, what the light arriving along it is multiplied by.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BrdfSample {
+    pub direction: Vec3,
+    pub pdf: f32,
+    pub weight: Vec3,
+}
+
+impl MetallicRoughness {
+    /// The share of draws that go to the specular lobe where the viewer is at n.v =
+    /// `n_dot_v`: all of a metal's, half of a dielectric's (weighed by `specular`), none where
+    /// the viewer is not above the surface (no visible normal then) or there is no lobe.
+    pub fn specular_probability(&self, n_dot_v: f32) -> f32 {
+        if n_dot_v <= 0.0 {
+            return 0.0;
+        }
+        (self.metallic + (1.0 - self.metallic) * 0.5 * self.specular).clamp(0.0, 1.0)
+    }
+
+    /// The mixture's density (per solid angle) of drawing `l` at unit normal `n` seen from
+    /// `v`; 0 below the surface.
+    pub fn pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
+        let n_dot_l = n.dot(l);
+        if n_dot_l <= 0.0 {
+            return 0.0;
+        }
+        let n_dot_v = n.dot(v);
+        let p = self.specular_probability(n_dot_v);
+        let diffuse = n_dot_l * FRAC_1_PI;
+        if p <= 0.0 {
+            return diffuse;
+        }
+        let h = (l + v).normalize();
+        let specular = visible_normal_pdf(n_dot_v, n.dot(h), self.alpha());
+        p * specular + (1.0 - p) * diffuse
+    }
+
+    /// The direction point `u` ([0, 1)^2) draws at unit normal `n` seen from `v`, with its
+    /// density and weight; `None` where it falls below the surface (the sample carries no
+    /// light). The first coordinate picks the lobe and is stretched back to [0, 1) within it.
+    pub fn sample(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<BrdfSample> {
+        let p = self.specular_probability(n.dot(v));
+        let direction = if u.x < p {
+            let (t, b) = orthonormal_frame(n);
+            let v_local = Vec3::new(v.dot(t), v.dot(b), v.dot(n));
+            let m = visible_normal(v_local, self.alpha(), Vec2::new(u.x / p, u.y));
+            let h = t * m.x + b * m.y + n * m.z;
+            2.0 * v.dot(h) * h - v
+        } else {
+            let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
+            cosine_direction(n, stretched)
+        };
+        let n_dot_l = n.dot(direction);
+        let pdf = self.pdf(n, direction, v);
+        if n_dot_l <= 0.0 || pdf <= 0.0 {
+            return None;
+        }
+        let weight = self.evaluate(n, direction, v) * (n_dot_l / pdf);
+        Some(BrdfSample {
+            direction,
+            pdf,
+            weight,
+        })
+    }
+}
+
+/// The density per solid angle of l drawn through a visible normal h: D_v(h) / (4 v.h) =
+/// G1(v) D(h) / (4 n.v), with Smith's G1 = 2 n.v / (n.v + sqrt(a^2 + (1 - a^2) n.v^2)).
+pub fn visible_normal_pdf(n_dot_v: f32, n_dot_h: f32, alpha: f32) -> f32 {
+    if n_dot_v <= 0.0 || n_dot_h <= 0.0 {
+        return 0.0;
+    }
+    let a2 = alpha * alpha;
+    let lambda = (a2 + (1.0 - a2) * n_dot_v * n_dot_v).sqrt();
+    ggx_distribution(n_dot_h, alpha) / (2.0 * (n_dot_v + lambda))
+}
+
+/// A normal of GGX's distribution (alpha `alpha`) visible from `v` (local frame, normal +Z,
+/// v.z > 0) drawn by `u`: Heitz's listing 1.
+pub fn visible_normal(v: Vec3, alpha: f32, u: Vec2) -> Vec3 {
+    // The view direction in the hemisphere configuration.
+    let vh = Vec3::new(alpha * v.x, alpha * v.y, v.z).normalize();
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if lensq > 0.0 {
+        Vec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
+    } else {
+        Vec3::X
+    };
+    let t2 = vh.cross(t1);
+    // A point on the projected disk, its half under vh squeezed.
+    let r = u.x.sqrt();
+    let phi = 2.0 * PI * u.y;
+    let p1 = r * phi.cos();
+    let mut p2 = r * phi.sin();
+    let s = 0.5 * (1.0 + vh.z);
+    p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * p2;
+    let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
+    // Back to the ellipsoid configuration.
+    Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn surface(base: Vec3, metallic: f32, roughness: f32) -> MetallicRoughness {
+        MetallicRoughness {
+            base_colour: base,
+            metallic,
+            roughness,
+            specular: 1.0,
+        }
+    }
+
+    /// A stratified grid of `steps`^2 points of [0, 1)^2.
+    fn grid(steps: usize) -> impl Iterator<Item = Vec2> {
+        (0..steps * steps).map(move |k| {
+            Vec2::new(
+                ((k / steps) as f32 + 0.5) / steps as f32,
+                ((k % steps) as f32 + 0.5) / steps as f32,
+            )
+        })
+    }
+
+    /// The mean weight of the drawn directions is the directional albedo, which a midpoint
+    /// rule over the hemisphere computes independently of the sampling; and every draw's
+    /// density is `pdf` of its direction.
+    #[test]
+    fn draws_estimate_the_albedo_and_carry_their_density() {
+        let n = Vec3::new(0.1, 0.2, 0.95).normalize();
+        let (t, b) = orthonormal_frame(n);
+        for (metallic, roughness) in [(0.0, 1.0), (0.0, 0.3), (1.0, 0.2), (1.0, 0.7), (0.5, 0.5)] {
+            let s = surface(Vec3::new(0.9, 0.6, 0.3), metallic, roughness);
+            for mu in [0.3f32, 0.8, 1.0] {
+                let v = t * (1.0 - mu * mu).sqrt() + n * mu;
+                let steps = 512;
+                let mut drawn = glam::DVec3::ZERO;
+                for u in grid(steps) {
+                    if let Some(d) = s.sample(n, v, u) {
+                        let pdf = s.pdf(n, d.direction, v);
+                        assert!((pdf - d.pdf).abs() <= 1e-6 * pdf, "{pdf} against {}", d.pdf);
+                        drawn += d.weight.as_dvec3();
+                    }
+                }
+                let drawn = drawn / (steps * steps) as f64;
+                // Midpoint rule over (theta, phi) about n: fine enough in theta for the
+                // narrowest lobe (alpha 0.04) at normal incidence.
+                let (qt, qp) = (1000, 1000);
+                let (dt, dp) = (0.5 * PI / qt as f32, 2.0 * PI / qp as f32);
+                let mut quadrature = glam::DVec3::ZERO;
+                for i in 0..qt {
+                    let (sin, cos) = ((i as f32 + 0.5) * dt).sin_cos();
+                    for j in 0..qp {
+                        let phi = (j as f32 + 0.5) * dp;
+                        let l = t * (sin * phi.cos()) + b * (sin * phi.sin()) + n * cos;
+                        quadrature += (s.evaluate(n, l, v) * (cos * sin)).as_dvec3();
+                    }
+                }
+                let quadrature = quadrature * (dt * dp) as f64;
+                let error = ((drawn - quadrature).abs() / quadrature).max_element();
+                println!(
+                    "metallic {metallic}, roughness {roughness}, n.v {mu}: drawn {drawn:.4}, \
+                     quadrature {quadrature:.4}, relative error {error:.2e}"
+                );
+                assert!(error < 5e-3, "{drawn} against {quadrature}");
+            }
+        }
+    }
+
+    /// The mixture's density integrates over the hemisphere to the share of draws that land
+    /// above the surface (the specular lobe sends some below, more the rougher and the more
+    /// grazing the view).
+    #[test]
+    fn the_density_integrates_to_the_share_of_draws_above() {
+        let n = Vec3::Z;
+        for (metallic, roughness, mu) in [(0.0, 0.5, 0.9f32), (1.0, 0.3, 1.0), (1.0, 1.0, 0.5)] {
+            let s = surface(Vec3::ONE, metallic, roughness);
+            let v = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+            let q = 800;
+            let mut sum = 0.0f64;
+            for i in 0..q {
+                let cos = (i as f32 + 0.5) / q as f32;
+                let sin = (1.0 - cos * cos).sqrt();
+                for j in 0..2 * q {
+                    let phi = (j as f32 + 0.5) / (2 * q) as f32 * 2.0 * PI;
+                    let l = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos);
+                    sum += s.pdf(n, l, v) as f64;
+                }
+            }
+            let integral = sum * std::f64::consts::PI / (q * q) as f64;
+            let steps = 512;
+            let above = grid(steps).filter(|&u| s.sample(n, v, u).is_some()).count();
+            let share = above as f64 / (steps * steps) as f64;
+            println!(
+                "metallic {metallic}, roughness {roughness}, n.v {mu}: integral {integral:.5}, \
+                 share of draws above {share:.5}"
+            );
+            assert!((integral - share).abs() < 2e-3, "{integral} against {share}");
+        }
+    }
+
+    /// Seen from the normal, a visible normal is drawn by D (n.h): n.h's distribution is
+    /// GGX's, whose median cos^2 is 1 / (1 + a^2).
+    #[test]
+    fn visible_normals_seen_head_on_follow_the_distribution() {
+        let alpha = 0.5f32;
+        let mut below = 0usize;
+        let steps = 256;
+        for u in grid(steps) {
+            let m = visible_normal(Vec3::Z, alpha, u);
+            if m.z * m.z < 1.0 / (1.0 + alpha * alpha) {
+                below += 1;
+            }
+        }
+        let share = below as f32 / (steps * steps) as f32;
+        println!("share of normals past the median: {share}");
+        assert!((share - 0.5).abs() < 2e-3, "{share}");
+    }
+}

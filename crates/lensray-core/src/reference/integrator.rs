@@ -1,0 +1,276 @@
+//! A packet's samples shaded (`unlit` or `lit`): each lane's surface, then its path. A `lit`
+//! path shades `RenderSettings::bounces` surfaces: at each, the scene's lights (`lighting.rs`)
+//! and the sky by multiple importance sampling (`sky.rs`); from each but the last it goes on
+//! along the direction its BRDF drew (`brdf_sampling.rs`), and the surface found there adds
+//! its emission and its own direct light, weighed by f cos / pdf of every turn so far. At the
+//! last surface the BRDF's draw only asks whether the sky is open. Surfaces met after the
+//! camera's are read without texture filtering (no pixel footprint follows a bounce).
+//! trace.comp's shade_sample mirrors it.
+
+use glam::{Vec2, Vec3};
+
+use super::accel::{Hit, PACKET_SIZE};
+use super::brdf::MetallicRoughness;
+use super::brdf_sampling::BrdfSample;
+use super::lighting::{LightDraw, LitLane, ShadingInputs};
+use super::render::{Renderer, TracedPacket};
+use super::sky::{leaves, sky_along, Sky};
+use super::surface::{shadow_origin, SurfacePoint};
+use crate::camera::{Footprint, Ray};
+use crate::sampler::{pixel_dimension, vertex_dimensions, PixelSampler};
+use crate::scene::texture::TexcoordFootprint;
+use crate::scene::{BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
+use crate::settings::{RenderSettings, Shading};
+
+/// The points of [0, 1)^2 a path's vertex draws with: its sky's and its BRDF's.
+fn vertex_points(
+    sampler: &PixelSampler,
+    lanes: &[Option<LitLane>; PACKET_SIZE],
+    vertex: u32,
+) -> ([Vec2; PACKET_SIZE], [Vec2; PACKET_SIZE]) {
+    let [sx, sy, bx, by] = vertex_dimensions(vertex);
+    let point = |l: usize, x: u32, y: u32| {
+        lanes[l].map_or(Vec2::ZERO, |lane| {
+            let s = lane.draw.sample;
+            Vec2::new(
+                pixel_dimension(sampler, s, x),
+                pixel_dimension(sampler, s, y),
+            )
+        })
+    };
+    (
+        std::array::from_fn(|l| point(l, sx, sy)),
+        std::array::from_fn(|l| point(l, bx, by)),
+    )
+}
+
+impl Renderer {
+    /// What the material of `surface` (hit `hit`) gives shading, textures filtered over the
+    /// pinhole's pixel footprint (`None`: read unfiltered, at their finest level).
+    pub(super) fn colours(
+        &self,
+        hit: &Hit,
+        surface: &SurfacePoint,
+        footprint: Option<&Footprint>,
+    ) -> ShadingInputs {
+        let material = self.materials.get(surface.material);
+        let textures = &self.materials.textures;
+        let mut inputs = ShadingInputs {
+            brdf: MetallicRoughness {
+                base_colour: material.diffuse,
+                metallic: material.metallic,
+                roughness: material.roughness,
+                specular: material.specular,
+            },
+            emission: material.emission,
+            occlusion: 1.0,
+        };
+        if !material.is_textured() {
+            return inputs;
+        }
+        let duv = match footprint {
+            Some(footprint) => {
+                let vertices = self.accel.vertices(hit.triangle).map(Vec3::from);
+                self.surfaces
+                    .texcoord_footprint(hit.triangle, vertices, surface, footprint)
+            }
+            None => TexcoordFootprint {
+                dx: Vec2::ZERO,
+                dy: Vec2::ZERO,
+            },
+        };
+        let texcoord = surface.texcoord;
+        inputs.brdf.base_colour = material.diffuse_at(textures, texcoord, &duv);
+        (inputs.brdf.metallic, inputs.brdf.roughness) =
+            material.metallic_roughness_at(textures, texcoord, &duv);
+        inputs.emission = material.emission_at(textures, texcoord, &duv);
+        inputs.occlusion = material.occlusion_at(textures, texcoord, &duv);
+        inputs
+    }
+
+    /// The values of a packet's samples (`unlit` or `lit`), with the rays traced.
+    pub(super) fn shade_packet(
+        &self,
+        lanes: &TracedPacket,
+        sampler: &PixelSampler,
+        settings: &RenderSettings,
+        footprint: &Footprint,
+    ) -> ([Vec3; PACKET_SIZE], u64) {
+        let mut values = [Vec3::ZERO; PACKET_SIZE];
+        let mut lit = [None; PACKET_SIZE];
+        for l in 0..lanes.hits.len() {
+            let ray = Ray {
+                origin: lanes.origins[l],
+                direction: lanes.directions[l],
+            };
+            let draw = LightDraw {
+                shadow_key: lanes.keys[l] ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT,
+                sample: lanes.indices[l],
+            };
+            (values[l], lit[l]) =
+                self.shade_surface(&ray, lanes.hits[l], settings, Some(footprint), draw);
+        }
+        let mut rays = lanes.hits.len() as u64;
+        if lit.iter().any(Option::is_some) {
+            rays += self.trace_paths(lit, sampler, settings, &mut values);
+        }
+        (values, rays)
+    }
+
+    /// Adds to `values` the light of each lane's path from its first surface on; returns the
+    /// rays traced.
+    fn trace_paths(
+        &self,
+        mut lanes: [Option<LitLane>; PACKET_SIZE],
+        sampler: &PixelSampler,
+        settings: &RenderSettings,
+        values: &mut [Vec3; PACKET_SIZE],
+    ) -> u64 {
+        let sky = Sky::of(settings, self.environment.as_deref());
+        let mut throughput = [Vec3::ONE; PACKET_SIZE];
+        let mut rays = 0;
+        for vertex in 0..settings.bounces {
+            if lanes.iter().all(Option::is_none) {
+                break;
+            }
+            let last = vertex + 1 == settings.bounces;
+            let (sky_points, brdf_points) = vertex_points(sampler, &lanes, vertex);
+            let mut reflected = [Vec3::ZERO; PACKET_SIZE];
+            rays += self.direct_light(&lanes, &self.lights, &mut reflected);
+            if let Some(sky) = &sky {
+                rays += self.sky_light(&lanes, sky, &sky_points, &mut reflected);
+            }
+            // The BRDF's draws: toward the sky, and where the path goes on.
+            let draws: [Option<BrdfSample>; PACKET_SIZE] = std::array::from_fn(|l| {
+                let lane = lanes[l]?;
+                let n = lane.surface.shading_normal;
+                let draw = lane.brdf.sample(n, lane.to_viewer, brdf_points[l])?;
+                leaves(&lane, draw.direction).then_some(draw)
+            });
+            if last {
+                if let Some(sky) = &sky {
+                    rays += self.sky_along_draws(&lanes, sky, &draws, &mut reflected);
+                }
+            }
+            for l in 0..PACKET_SIZE {
+                values[l] += throughput[l] * reflected[l];
+            }
+            if last {
+                break;
+            }
+            rays += self.bounce(&mut lanes, &draws, sky.as_ref(), &mut throughput, values);
+        }
+        rays
+    }
+
+    /// Takes each lane's path one surface on along its BRDF's draw: a draw that leaves the
+    /// scene brings the sky's light (weighed against the sky's draws) and ends the path; one
+    /// that meets a surface adds its emission and makes it the lane's next. Returns the rays.
+    fn bounce(
+        &self,
+        lanes: &mut [Option<LitLane>; PACKET_SIZE],
+        draws: &[Option<BrdfSample>; PACKET_SIZE],
+        sky: Option<&Sky>,
+        throughput: &mut [Vec3; PACKET_SIZE],
+        values: &mut [Vec3; PACKET_SIZE],
+    ) -> u64 {
+        // The packet's rays, gathered: Embree traces a prefix of lanes.
+        let going: Vec<usize> = (0..PACKET_SIZE)
+            .filter(|&l| lanes[l].is_some() && draws[l].is_some())
+            .collect();
+        let origins: Vec<Vec3> = going
+            .iter()
+            .map(|&l| shadow_origin(&lanes[l].unwrap().surface))
+            .collect();
+        let directions: Vec<Vec3> = going.iter().map(|&l| draws[l].unwrap().direction).collect();
+        let keys: Vec<u32> = going
+            .iter()
+            .map(|&l| lanes[l].unwrap().draw.shadow_key)
+            .collect();
+        let mut hits = vec![None; going.len()];
+        if !going.is_empty() {
+            self.accel
+                .closest_hits(&origins, &directions, &keys, 0.0, f32::INFINITY, &mut hits);
+        }
+        let mut next = [None; PACKET_SIZE];
+        for (k, &l) in going.iter().enumerate() {
+            let (lane, draw) = (lanes[l].unwrap(), draws[l].unwrap());
+            let Some(hit) = hits[k] else {
+                if let Some(sky) = sky {
+                    values[l] += throughput[l] * sky_along(sky, &lane, &draw);
+                }
+                continue;
+            };
+            throughput[l] *= draw.weight;
+            let ray = Ray {
+                origin: origins[k],
+                direction: directions[k],
+            };
+            let (emission, surface) = self.surface_lane(&ray, hit, lane.draw);
+            values[l] += throughput[l] * emission;
+            next[l] = surface;
+        }
+        *lanes = next;
+        going.len() as u64
+    }
+
+    /// A sample's value without its direct light: the background, the `unlit` colour, or the
+    /// emission of a `lit` surface with what its direct light needs.
+    pub(super) fn shade_surface(
+        &self,
+        ray: &Ray,
+        hit: Option<Hit>,
+        settings: &RenderSettings,
+        footprint: Option<&Footprint>,
+        draw: LightDraw,
+    ) -> (Vec3, Option<LitLane>) {
+        let Some(hit) = hit else {
+            if settings.environment_seen {
+                if let Some(light) = &self.environment {
+                    return (light.map.radiance(ray.direction.normalize()), None);
+                }
+            }
+            return (settings.background, None);
+        };
+        let material = self
+            .materials
+            .get(self.surfaces.materials[hit.triangle as usize]);
+        if settings.shading == Shading::Unlit && material.diffuse_texture.is_none() {
+            // Visibility only: the material is all that is needed.
+            return (material.diffuse, None);
+        }
+        if settings.shading == Shading::Unlit {
+            let surface = self.surface_point(ray, &hit);
+            let inputs = self.colours(&hit, &surface, footprint);
+            return (inputs.brdf.base_colour, None);
+        }
+        let (emission, lane) = self.lit_surface(ray, hit, footprint, draw);
+        (emission, Some(lane))
+    }
+
+    /// The emission of a surface a bounce met and what its direct light needs.
+    fn surface_lane(&self, ray: &Ray, hit: Hit, draw: LightDraw) -> (Vec3, Option<LitLane>) {
+        let (emission, lane) = self.lit_surface(ray, hit, None, draw);
+        (emission, Some(lane))
+    }
+
+    /// A lit surface's emission and its lane.
+    fn lit_surface(
+        &self,
+        ray: &Ray,
+        hit: Hit,
+        footprint: Option<&Footprint>,
+        draw: LightDraw,
+    ) -> (Vec3, LitLane) {
+        let surface = self.surface_point(ray, &hit);
+        let inputs = self.colours(&hit, &surface, footprint);
+        let lane = LitLane {
+            surface,
+            brdf: inputs.brdf,
+            occlusion: inputs.occlusion,
+            to_viewer: -ray.direction.normalize(),
+            draw,
+        };
+        (inputs.emission, lane)
+    }
+}

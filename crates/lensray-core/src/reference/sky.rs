@@ -1,0 +1,168 @@
+//! The environment as a light (`lit`): a uniform sky or an equirectangular map, each lighting a
+//! surface by two draws combined by multiple importance sampling (Veach's power heuristic):
+//! one drawn from the environment (the map by its power, the uniform sky by the cosine), one
+//! drawn from the BRDF (`brdf_sampling.rs`). Each draw is weighed by the share its density has
+//! of the two, so smooth metals reflect a map's lamps without speckle and rough surfaces see its
+//! broad light without noise. shaders/include/sky.glsl mirrors it function by function.
+
+use std::f32::consts::FRAC_1_PI;
+
+use glam::{Vec2, Vec3};
+
+use super::accel::PACKET_SIZE;
+use super::brdf_sampling::BrdfSample;
+use super::lighting::{LitLane, ShadowRay};
+use super::render::Renderer;
+use super::surface::shadow_origin;
+use crate::scene::light::cosine_direction;
+use crate::scene::EnvironmentLight;
+use crate::settings::RenderSettings;
+
+/// What lights a scene from afar.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Sky<'a> {
+    /// Radiance from every direction (`RenderSettings::environment`).
+    Uniform(Vec3),
+    /// A map that emits somewhere (`Scene::environment`).
+    Map(&'a EnvironmentLight),
+}
+
+/// A direction drawn from the sky, its density and what arrives along it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SkySample {
+    pub direction: Vec3,
+    pub pdf: f32,
+    pub radiance: Vec3,
+}
+
+/// The power heuristic's weight (exponent 2) of a draw of density `a` against one of `b`.
+pub(super) fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 {
+        a2 / (a2 + b2)
+    } else {
+        0.0
+    }
+}
+
+impl<'a> Sky<'a> {
+    /// The scene's map if it emits, else the settings' uniform sky if it is not black; `None`:
+    /// nothing lights from afar.
+    pub(super) fn of(
+        settings: &RenderSettings,
+        environment: Option<&'a EnvironmentLight>,
+    ) -> Option<Self> {
+        match environment {
+            Some(light) => light.sampler.is_some().then_some(Sky::Map(light)),
+            None => {
+                (settings.environment != Vec3::ZERO).then_some(Sky::Uniform(settings.environment))
+            }
+        }
+    }
+
+    /// Radiance arriving from direction `d` (unit, pointing away from the scene).
+    pub(super) fn radiance(&self, d: Vec3) -> Vec3 {
+        match self {
+            Sky::Uniform(l) => *l,
+            Sky::Map(light) => light.map.radiance(d),
+        }
+    }
+
+    /// The density (per solid angle) of `sample` drawing `d` at a surface of normal `n`.
+    pub(super) fn pdf(&self, n: Vec3, d: Vec3) -> f32 {
+        match self {
+            Sky::Uniform(_) => n.dot(d).max(0.0) * FRAC_1_PI,
+            Sky::Map(light) => light.sampler.as_ref().map_or(0.0, |s| s.pdf(&light.map, d)),
+        }
+    }
+
+    /// The direction point `u` draws at a surface of normal `n`; `None` where none is drawn.
+    pub(super) fn sample(&self, n: Vec3, u: Vec2) -> Option<SkySample> {
+        match self {
+            Sky::Uniform(l) => {
+                let direction = cosine_direction(n, u);
+                let pdf = n.dot(direction).max(0.0) * FRAC_1_PI;
+                (pdf > 0.0).then_some(SkySample {
+                    direction,
+                    pdf,
+                    radiance: *l,
+                })
+            }
+            Sky::Map(light) => {
+                let s = light.sampler.as_ref()?.sample(&light.map, u)?;
+                Some(SkySample {
+                    direction: s.direction,
+                    pdf: s.pdf,
+                    radiance: s.radiance,
+                })
+            }
+        }
+    }
+}
+
+/// Whether a direction leaves a surface on its own side: above its geometric plane (a
+/// direction under it is blocked by the surface) and above the shading normal's.
+pub(super) fn leaves(lane: &LitLane, d: Vec3) -> bool {
+    d.dot(lane.surface.geometric_normal) > 0.0 && d.dot(lane.surface.shading_normal) > 0.0
+}
+
+/// The light the sky brings along a BRDF draw that leaves the scene, weighed against the sky's
+/// own draw of the same direction and by the surface's occlusion.
+pub(super) fn sky_along(sky: &Sky, lane: &LitLane, draw: &BrdfSample) -> Vec3 {
+    let w = power_heuristic(
+        draw.pdf,
+        sky.pdf(lane.surface.shading_normal, draw.direction),
+    );
+    draw.weight * sky.radiance(draw.direction) * (w * lane.occlusion)
+}
+
+impl Renderer {
+    /// Adds to `reflected` the sky's light drawn from the sky at each lane (points `u[lane]`),
+    /// weighed against the BRDF's draws, through one packet of shadow rays; returns the rays.
+    pub(super) fn sky_light(
+        &self,
+        lanes: &[Option<LitLane>; PACKET_SIZE],
+        sky: &Sky,
+        u: &[Vec2; PACKET_SIZE],
+        reflected: &mut [Vec3; PACKET_SIZE],
+    ) -> u64 {
+        let shadow = std::array::from_fn(|l| {
+            let lane = lanes[l]?;
+            let s = sky.sample(lane.surface.shading_normal, u[l])?;
+            if !leaves(&lane, s.direction) {
+                return None;
+            }
+            let (n, v) = (lane.surface.shading_normal, lane.to_viewer);
+            let w = power_heuristic(s.pdf, lane.brdf.pdf(n, s.direction, v));
+            let f = lane.brdf.evaluate(n, s.direction, v) * n.dot(s.direction);
+            Some(ShadowRay {
+                origin: shadow_origin(&lane.surface),
+                direction: s.direction,
+                t_max: f32::INFINITY,
+                light: f * s.radiance * (w / s.pdf * lane.occlusion),
+            })
+        });
+        self.add_unoccluded(&shadow, &Self::shadow_keys(lanes), reflected)
+    }
+
+    /// Adds to `reflected` the sky's light along each lane's BRDF draw (`draws[lane]`), through
+    /// one packet of shadow rays (a path's last surface); returns the rays.
+    pub(super) fn sky_along_draws(
+        &self,
+        lanes: &[Option<LitLane>; PACKET_SIZE],
+        sky: &Sky,
+        draws: &[Option<BrdfSample>; PACKET_SIZE],
+        reflected: &mut [Vec3; PACKET_SIZE],
+    ) -> u64 {
+        let shadow = std::array::from_fn(|l| {
+            let (lane, draw) = (lanes[l]?, draws[l]?);
+            Some(ShadowRay {
+                origin: shadow_origin(&lane.surface),
+                direction: draw.direction,
+                t_max: f32::INFINITY,
+                light: sky_along(sky, &lane, &draw),
+            })
+        });
+        self.add_unoccluded(&shadow, &Self::shadow_keys(lanes), reflected)
+    }
+}
