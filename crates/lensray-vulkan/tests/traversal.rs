@@ -52,6 +52,9 @@ fn project_scenes(
                     shading: Some(shading),
                     background: None,
                     environment: None,
+                    environment_rotation: None,
+                    environment_intensity: None,
+                    bounces: None,
                 },
                 ..Default::default()
             };
@@ -386,6 +389,7 @@ fn metallic_rough_scene() -> Scene {
         ],
         textures,
         lights: vec![Light::point(Vec3::new(1.0, 4.0, 4.0), Vec3::splat(40.0))],
+        environment: None,
     }
 }
 

@@ -102,6 +102,8 @@ fn main() {
                 background: Vec3::new(0.1, 0.2, 0.3),
                 environment: Vec3::ZERO,
                 shared_samples: false,
+                environment_seen: false,
+                bounces: 1,
             },
         };
         match bench(&scene, &shot, &options) {

@@ -74,6 +74,9 @@ fn shot(desc: &SceneDescription, a: &Args) -> Shot {
             }),
             background: None,
             environment: None,
+            environment_rotation: None,
+            environment_intensity: None,
+            bounces: None,
         },
         ..Default::default()
     };

@@ -296,6 +296,9 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
             shading: Some(Shading::Lit),
             background: None,
             environment: None,
+            environment_rotation: None,
+            environment_intensity: None,
+            bounces: None,
         },
         ..Default::default()
     };

@@ -128,6 +128,8 @@ fn settings(spp: u32, seed: u32, background: Vec3) -> RenderSettings {
         background,
         environment: Vec3::ZERO,
         shared_samples: false,
+        environment_seen: false,
+        bounces: 1,
     }
 }
 

@@ -107,6 +107,8 @@ fn settings(shading: Shading, sampler: SamplerKind, spp: u32, seed: u32) -> Rend
         background: BACKGROUND,
         environment: Vec3::ZERO,
         shared_samples: false,
+        environment_seen: false,
+        bounces: 1,
     }
 }
 

@@ -236,6 +236,9 @@ fn gpu_matches_cpu_on_project_scenes() {
                     shading: Some(shading),
                     background: None,
                     environment: None,
+                    environment_rotation: None,
+                    environment_intensity: None,
+                    bounces: None,
                 },
                 ..Default::default()
             };

@@ -301,6 +301,8 @@ pub fn settings(shading: Shading, spp: u32) -> RenderSettings {
         background: BACKGROUND,
         environment: Vec3::ZERO,
         shared_samples: false,
+        environment_seen: false,
+        bounces: 1,
     }
 }
 

@@ -104,6 +104,9 @@ impl Args {
                 shading: Some(Shading::Lit),
                 background: None,
                 environment: None,
+                environment_rotation: None,
+                environment_intensity: None,
+                bounces: None,
             },
             ..Default::default()
         };

@@ -14,13 +14,27 @@ use lensray_vulkan::GpuOptions;
 use lensray_core::film::tonemap::ToneMap;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::units::SceneUnits;
-use lensray_core::settings::Shading;
+use lensray_core::settings::{EnvironmentSetting, Shading};
 use lensray_core::settings::{
     ApertureSettings, CameraSettings, ExposureSettings, ImageSettings, LensSettings, LightSettings,
     Lights, ProjectionKind, RenderStyle, Settings, Switch,
 };
 
 /// Parses "x,y,z" into three finite-or-not numbers (validation names the option later).
+/// `--environment`: three numbers are a uniform sky's radiance, an `.hdr` or `.exr` path a map.
+pub fn parse_environment(s: &str) -> Result<EnvironmentSetting, String> {
+    let ext = std::path::Path::new(s)
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if matches!(ext.as_deref(), Some("hdr" | "exr")) {
+        return Ok(EnvironmentSetting::Map(s.into()));
+    }
+    parse_triple(s).map(EnvironmentSetting::Sky).map_err(|e| {
+        format!("{e}; or name an equirectangular map (.hdr, .exr)")
+    })
+}
+
 pub fn parse_triple(s: &str) -> Result<[f64; 3], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != 3 {
@@ -310,10 +324,21 @@ pub struct ViewArgs {
     /// Background colour, linear RGB.
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
     pub background: Option<[f64; 3]>,
-    /// Radiance of a uniform sky that lights every surface (a cosine-distributed ray per
-    /// sample sees whether it is open), linear RGB; also the background unless one is given.
-    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "R,G,B")]
-    pub environment: Option<[f64; 3]>,
+    /// What lights every surface from afar: a uniform sky's radiance (linear RGB) or an
+    /// equirectangular HDR map (.hdr, .exr), drawn by its power; also the background unless
+    /// one is given.
+    #[arg(long, value_parser = parse_environment, allow_hyphen_values = true, value_name = "R,G,B|FILE")]
+    pub environment: Option<EnvironmentSetting>,
+    /// Turns the environment map counter-clockwise seen from above, degrees.
+    #[arg(long, allow_hyphen_values = true, value_name = "DEG")]
+    pub environment_rotation: Option<f64>,
+    /// Multiplies the environment's radiance (default 1).
+    #[arg(long, value_name = "X")]
+    pub environment_intensity: Option<f64>,
+    /// Surfaces a lit path shades (default 1: direct light); more add interreflection, each
+    /// bounce costing about one more closest hit and its shading per sample.
+    #[arg(long, value_name = "N")]
+    pub bounces: Option<u32>,
     /// A point light's position: it replaces the scene file's lights, or moves its one light.
     /// Lights in the scene's glTF stay. Without any light or environment, a point light above
     /// the eye lights the scene.
@@ -370,7 +395,10 @@ impl ViewArgs {
             render: RenderStyle {
                 shading: self.shading,
                 background: self.background,
-                environment: self.environment,
+                environment: self.environment.clone(),
+                environment_rotation: self.environment_rotation,
+                environment_intensity: self.environment_intensity,
+                bounces: self.bounces,
             },
             light: if self.light_position.is_some() || self.light_intensity.is_some() {
                 Lights(vec![LightSettings {

@@ -59,8 +59,11 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
         .and_then(|shot| rig.exposure(&shot.camera))
         .with_context(|| format!("scene {}", description.source))?;
     // The rig's lights are pinned: they light the scene wherever the camera goes.
-    lensray_core::settings::light_scene(rig.settings(), &mut description.scene)
+    let warnings = lensray_core::settings::light_scene(rig.settings(), &mut description.scene)
         .with_context(|| format!("scene {}", description.source))?;
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
     let config = PreviewConfig {
         scene_path: args.view.scene.clone(),
         description,

@@ -159,7 +159,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut resolved = shot(&settings, &description.scene).with_context(context)?;
     // The f-number is the lens's, which focusing below leaves as it is.
     let exposure = exposure(&settings, &resolved.camera).with_context(context)?;
-    light_scene(&settings, &mut description.scene).with_context(context)?;
+    for warning in light_scene(&settings, &mut description.scene).with_context(context)? {
+        eprintln!("warning: {warning}");
+    }
     let load_seconds = start.elapsed().as_secs_f64();
 
     let mut options = args.path.options();

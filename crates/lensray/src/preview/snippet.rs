@@ -13,6 +13,7 @@ use glam::Vec3;
 
 use lensray_core::camera::Projection;
 use lensray_core::scene::units::SceneUnits;
+use lensray_core::settings::EnvironmentSetting;
 use lensray_core::settings::{
     CameraSettings, ImageSettings, LightType, ProjectionKind, RenderStyle, Settings,
 };
@@ -148,7 +149,10 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
                     .background
                     .unwrap_or(array(render.background)),
             ),
-            environment: settings.render.environment,
+            environment: settings.render.environment.clone(),
+            environment_rotation: settings.render.environment_rotation,
+            environment_intensity: settings.render.environment_intensity,
+            bounces: settings.render.bounces,
         },
         // The rig pins its lights (`pinned_lights`): every default is written out.
         light: settings.light.clone(),
@@ -234,7 +238,16 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
     option("sampler", i.sampler.map(|s| s.name().to_string()));
     option("shading", r.shading.map(|s| s.name().to_string()));
     option("background", r.background.map(triple));
-    option("environment", r.environment.map(triple));
+    option(
+        "environment",
+        r.environment.as_ref().map(|e| match e {
+            EnvironmentSetting::Sky(c) => triple(*c),
+            EnvironmentSetting::Map(path) => shell_word(&path.to_string_lossy()),
+        }),
+    );
+    option("environment-rotation", number(r.environment_rotation));
+    option("environment-intensity", number(r.environment_intensity));
+    option("bounces", r.bounces.map(|b| b.to_string()));
     // The command line gives one point light; other lights need the scene file's tables.
     if let [light] = l.0.as_slice() {
         if light.kind.unwrap_or_default() == LightType::Point && light.range.is_none() {

@@ -132,7 +132,10 @@ intensity = [0.5, 0.5, 0.5]
     );
     let d = load(&sky).unwrap();
     assert!(settings_lights(&d.settings, &d.scene).unwrap().is_empty());
-    assert_eq!(d.settings.render.environment, Some([0.2; 3]));
+    assert_eq!(
+        d.settings.render.environment,
+        Some(lensray_core::settings::EnvironmentSetting::Sky([0.2; 3]))
+    );
 }
 
 #[test]

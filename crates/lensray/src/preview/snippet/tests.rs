@@ -47,7 +47,7 @@ fn file_settings() -> Settings {
         render: RenderStyle {
             shading: Some(Shading::Unlit),
             background: Some([0.1, 0.2, 0.3]),
-            environment: None,
+            ..RenderStyle::default()
         },
         // The light is left to resolve: the printout must carry the derived one.
         light: Lights::default(),
