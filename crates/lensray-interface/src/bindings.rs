@@ -434,18 +434,18 @@ descriptor_sets! {
     /// trace.comp with ray queries.
     TraceRayQuerySet("trace_rayquery", Compute, crate::TracePush) {
         SceneGroup, TlasGroup, TraceGroup, AccumulationGroup, HybridTraceGroup, RasterTraceGroup,
-        ApertureGroup, LensGroup,
+        ApertureGroup, LensGroup, EnvironmentGroup,
     }
     /// trace.comp with the software traversal.
     TraceSoftwareSet("trace_software", Compute, crate::TracePush) {
         SceneGroup, BvhGroup, TraceGroup, AccumulationGroup, HybridTraceGroup, RasterTraceGroup,
-        ApertureGroup, LensGroup,
+        ApertureGroup, LensGroup, EnvironmentGroup,
     }
     /// trace.comp as the ray generation of a ray-tracing pipeline, with its hit and miss
     /// shaders (rt_hit.rchit, rt_hit.rahit, rt_miss.rmiss).
     TraceRtPipelineSet("trace_rtpipeline", RayTracing, crate::TracePush) {
         SceneGroup, TlasGroup, TraceGroup, AccumulationGroup, HybridTraceGroup, RasterTraceGroup,
-        ApertureGroup, LensGroup,
+        ApertureGroup, LensGroup, EnvironmentGroup,
     }
     /// The G-buffer pass (gbuffer.vert, gbuffer.frag).
     GBufferSet("gbuffer", Raster, crate::RasterPush) { SceneGroup }

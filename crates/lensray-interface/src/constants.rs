@@ -93,6 +93,11 @@ shader_constants! {
     DIMS_PER_BOUNCE: u32 = 4;
     /// The most vertices a path shades (`--bounces`).
     MAX_BOUNCES: u32 = 16;
+    /// `TraceParams.environment_map`: no map (the uniform sky `environment` lights); the map
+    /// lights and camera rays that leave the scene see the background; they see the map.
+    ENVIRONMENT_MAP_NONE: u32 = 0;
+    ENVIRONMENT_MAP_LIGHTS: u32 = 1;
+    ENVIRONMENT_MAP_SEEN: u32 = 2;
     /// `TraceParams.sampler_kind` (`sampler::SamplerKind`).
     SAMPLER_SOBOL: u32 = 0;
     SAMPLER_INDEPENDENT: u32 = 1;

@@ -63,8 +63,11 @@ shader_interface! {
             /// 1: every pixel draws the camera samples of pixel (0, 0)
             /// (`RenderSettings::shared_samples`, sampler.glsl's shared_pixel_sampler).
             shared_samples: u32,
-            pad1: u32,
-            pad2: u32,
+            /// The surfaces a lit path shades (`RenderSettings::bounces`).
+            bounces: u32,
+            /// ENVIRONMENT_MAP_*: whether the scene's map (EnvironmentGroup) lights, and is
+            /// seen where camera rays leave the scene.
+            environment_map: u32,
             /// The pinhole's pixel footprint (`Camera::footprint`), for texture filtering.
             footprint: GpuFootprint,
         }

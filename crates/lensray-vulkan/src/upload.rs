@@ -11,10 +11,10 @@ use lensray_core::film::tonemap::Display;
 use lensray_core::interface::{
     GpuCamera, GpuCocLens, GpuFootprint, GpuLens, GpuLight, GpuMaterial, GpuTexture, GpuTextureRef,
     RasterPush, ResolvePush, TraceParams, ViewParams, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE,
-    APERTURE_MAX_FAN, LENS_MAX_SURFACES, LENS_PUPIL_BINS, LIGHT_DIRECTIONAL, LIGHT_POINT,
-    LIGHT_SPOT, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT,
-    SURFACE_ALPHA_TESTED, SURFACE_TEXTURED, TEXTURE_NONE, TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE,
-    WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
+    APERTURE_MAX_FAN, ENVIRONMENT_MAP_LIGHTS, ENVIRONMENT_MAP_SEEN, LENS_MAX_SURFACES,
+    LENS_PUPIL_BINS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, PROJECTION_ORTHOGRAPHIC,
+    PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED,
+    TEXTURE_NONE, TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
 use lensray_core::scene::order::spatial_order;
 use lensray_core::scene::texture::Wrap;
@@ -393,8 +393,13 @@ pub(crate) fn trace_params(shot: &Shot) -> TraceParams {
         },
         sampler_kind: settings.sampler.id(),
         shared_samples: u32::from(settings.shared_samples),
-        pad1: 0,
-        pad2: 0,
+        bounces: settings.bounces,
+        // `TracePass::record_params` makes it ENVIRONMENT_MAP_NONE where the scene has no map.
+        environment_map: if settings.environment_seen {
+            ENVIRONMENT_MAP_SEEN
+        } else {
+            ENVIRONMENT_MAP_LIGHTS
+        },
         footprint: gpu_footprint(&camera.footprint()),
     }
 }

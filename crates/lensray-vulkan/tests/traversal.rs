@@ -8,12 +8,15 @@
 
 mod support;
 
+use std::sync::Arc;
+
 use glam::Vec3;
 use lensray_core::camera::LensParams;
 use lensray_core::film::{Accumulation, Image};
 use lensray_core::reference::Renderer as CpuRenderer;
+use lensray_core::scene::environment::studio::studio;
 use lensray_core::scene::texture::{Encoding, Texture, TextureRef};
-use lensray_core::scene::{Light, Material, Scene};
+use lensray_core::scene::{EnvironmentLight, Light, Material, Scene};
 use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{Estimator, GpuError, GpuOptions, GpuRenderer, Traversal, ValidationLog};
 use support::*;
@@ -395,7 +398,9 @@ fn metallic_rough_scene() -> Scene {
 
 /// The metallic-roughness BRDF on each traversal the device has (ray queries, the software
 /// traversal, the ray-tracing pipeline) against the CPU reference, with the statistics of
-/// `gpu_matches_cpu`: lit by the point light, then by the light and the environment.
+/// `gpu_matches_cpu`: lit by the point light; by the light and the uniform sky; by the light and
+/// the studio map (drawn by power and by the BRDF, multiple importance sampling), seen behind;
+/// and by those over paths of three surfaces (`bounces`).
 #[test]
 fn metallic_rough_spheres_match_cpu_on_every_traversal() {
     let test = "metallic_rough_spheres_match_cpu_on_every_traversal";
@@ -415,17 +420,36 @@ fn metallic_rough_spheres_match_cpu_on_every_traversal() {
         );
         None
     };
-    let scene = metallic_rough_scene();
-    let cpu = CpuRenderer::new(&scene);
-    rayquery.load_scene(&scene).expect("load scene");
-    if let Some((gpu, _)) = &mut pipeline {
-        gpu.load_scene(&scene).expect("load scene");
-    }
-    for (sky, environment) in [("light", Vec3::ZERO), ("sky", Vec3::splat(0.3))] {
+    let plain = metallic_rough_scene();
+    let map = Arc::new(EnvironmentLight::new(studio(64).turned(30.0, 0.5)));
+    let mapped = Scene {
+        environment: Some(map),
+        ..plain.clone()
+    };
+    // (label, scene, uniform sky, a miss sees the map, bounces)
+    let cases = [
+        ("light", &plain, Vec3::ZERO, false, 1),
+        ("sky", &plain, Vec3::splat(0.3), false, 1),
+        ("map", &mapped, Vec3::ZERO, true, 1),
+        ("map-bounces", &mapped, Vec3::ZERO, true, 3),
+    ];
+    let mut loaded: Option<&Scene> = None;
+    let mut cpu = CpuRenderer::new(&plain);
+    for (sky, scene, environment, environment_seen, bounces) in cases {
+        if loaded != Some(scene) {
+            cpu = CpuRenderer::new(scene);
+            rayquery.load_scene(scene).expect("load scene");
+            if let Some((gpu, _)) = &mut pipeline {
+                gpu.load_scene(scene).expect("load scene");
+            }
+            loaded = Some(scene);
+        }
         let shot = Shot {
             camera: camera(false, LensParams::Pinhole, 96, 72),
             render: RenderSettings {
                 environment,
+                environment_seen,
+                bounces,
                 ..settings(Shading::Lit, 4)
             },
         };

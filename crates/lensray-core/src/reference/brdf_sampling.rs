@@ -209,7 +209,10 @@ mod tests {
                 "metallic {metallic}, roughness {roughness}, n.v {mu}: integral {integral:.5}, \
                  share of draws above {share:.5}"
             );
-            assert!((integral - share).abs() < 2e-3, "{integral} against {share}");
+            assert!(
+                (integral - share).abs() < 2e-3,
+                "{integral} against {share}"
+            );
         }
     }
 

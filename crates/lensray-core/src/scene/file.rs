@@ -27,7 +27,11 @@
 //! [render]
 //! shading = "lit"
 //! background = [0.0, 0.0, 0.0]
-//! # environment = [0.2, 0.2, 0.2]   # a uniform sky lighting every surface
+//! # environment = [0.2, 0.2, 0.2]   # a uniform sky lighting every surface, or a map:
+//! # environment = "studio.hdr"       # equirectangular .hdr or .exr, beside this file
+//! # environment_rotation = 90.0     # degrees, counter-clockwise seen from above
+//! # environment_intensity = 1.0
+//! # bounces = 1                     # surfaces a path shades; more add interreflection
 //! [[light]]
 //! position = [0.0, 1.9, 0.0]
 //! intensity = [5.0, 5.0, 5.0]
@@ -51,7 +55,9 @@ use super::gltf_file::{load_gltf, MeshFile};
 use super::obj::load_obj;
 use super::units::SceneUnits;
 use super::{LoadTimes, Scene, SceneError};
-use crate::settings::{CameraSettings, ImageSettings, Lights, RenderStyle, Settings};
+use crate::settings::{
+    CameraSettings, EnvironmentSetting, ImageSettings, Lights, RenderStyle, Settings,
+};
 
 /// A scene with the settings that came with it.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -221,10 +227,14 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, MeshOptions), 
             *lens = folder.join(&*lens).to_string_lossy().into_owned();
         }
     }
+    let mut render = file.render;
+    if let Some(EnvironmentSetting::Map(map)) = render.environment.as_mut() {
+        *map = folder.join(&*map);
+    }
     let settings = Settings {
         camera,
         image: file.image,
-        render: file.render,
+        render,
         light: file.light,
     };
     let options = MeshOptions {

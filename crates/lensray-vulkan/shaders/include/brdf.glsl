@@ -1,6 +1,7 @@
-// Mirror of lensray-core/src/reference/brdf.rs, function by function: glTF's metallic-roughness
-// BRDF (the specification's Appendix B). Include after the generated interface (DIELECTRIC_F0,
-// MIN_ROUGHNESS, PI).
+// Mirror of lensray-core/src/reference/brdf.rs and brdf_sampling.rs, function by function:
+// glTF's metallic-roughness BRDF (the specification's Appendix B) and the draws from it.
+// Include after the generated interface (DIELECTRIC_F0, MIN_ROUGHNESS, PI) and lights.glsl
+// (orthonormal_frame, cosine_direction).
 #ifndef LENSRAY_BRDF_GLSL
 #define LENSRAY_BRDF_GLSL
 
@@ -48,6 +49,96 @@ vec3 brdf_evaluate(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
     float specular = ggx_distribution(dot(n, h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
     vec3 diffuse_colour = s.base_colour * (1.0 - s.metallic);
     return (vec3(1.0) - fresnel) * diffuse_colour * (1.0 / PI) + fresnel * specular;
+}
+
+// brdf.rs: MetallicRoughness::alpha
+float brdf_alpha(MetallicRoughness s) {
+    float r = clamp(s.roughness, MIN_ROUGHNESS, 1.0);
+    return r * r;
+}
+
+// brdf_sampling.rs: MetallicRoughness::specular_probability
+float specular_probability(MetallicRoughness s, float n_dot_v) {
+    if (n_dot_v <= 0.0) {
+        return 0.0;
+    }
+    return clamp(s.metallic + (1.0 - s.metallic) * 0.5 * s.specular, 0.0, 1.0);
+}
+
+// brdf_sampling.rs: visible_normal_pdf
+float visible_normal_pdf(float n_dot_v, float n_dot_h, float alpha) {
+    if (n_dot_v <= 0.0 || n_dot_h <= 0.0) {
+        return 0.0;
+    }
+    float a2 = alpha * alpha;
+    float lambda = sqrt(a2 + (1.0 - a2) * n_dot_v * n_dot_v);
+    return ggx_distribution(n_dot_h, alpha) / (2.0 * (n_dot_v + lambda));
+}
+
+// brdf_sampling.rs: MetallicRoughness::pdf
+float brdf_pdf(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
+    float n_dot_l = dot(n, l);
+    if (n_dot_l <= 0.0) {
+        return 0.0;
+    }
+    float n_dot_v = dot(n, v);
+    float p = specular_probability(s, n_dot_v);
+    float diffuse = n_dot_l * (1.0 / PI);
+    if (p <= 0.0) {
+        return diffuse;
+    }
+    vec3 h = normalize(l + v);
+    float specular = visible_normal_pdf(n_dot_v, dot(n, h), brdf_alpha(s));
+    return p * specular + (1.0 - p) * diffuse;
+}
+
+// brdf_sampling.rs: visible_normal
+vec3 visible_normal(vec3 v, float alpha, vec2 u) {
+    vec3 vh = normalize(vec3(alpha * v.x, alpha * v.y, v.z));
+    float lensq = vh.x * vh.x + vh.y * vh.y;
+    vec3 t1 = lensq > 0.0 ? vec3(-vh.y, vh.x, 0.0) / sqrt(lensq) : vec3(1.0, 0.0, 0.0);
+    vec3 t2 = cross(vh, t1);
+    float r = sqrt(u.x);
+    float phi = 2.0 * PI * u.y;
+    float p1 = r * cos(phi);
+    float p2 = r * sin(phi);
+    float s = 0.5 * (1.0 + vh.z);
+    p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * p2;
+    vec3 nh = t1 * p1 + t2 * p2 + vh * sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
+    return normalize(vec3(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0)));
+}
+
+// brdf_sampling.rs: BrdfSample
+struct BrdfSample {
+    vec3 direction;
+    float pdf;
+    vec3 weight;
+};
+
+// brdf_sampling.rs: MetallicRoughness::sample; false where the draw carries no light.
+bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
+    float p = specular_probability(s, dot(n, v));
+    vec3 direction;
+    if (u.x < p) {
+        vec3 t;
+        vec3 b;
+        orthonormal_frame(n, t, b);
+        vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
+        vec3 m = visible_normal(v_local, brdf_alpha(s), vec2(u.x / p, u.y));
+        vec3 h = t * m.x + b * m.y + n * m.z;
+        direction = 2.0 * dot(v, h) * h - v;
+    } else {
+        direction = cosine_direction(n, vec2((u.x - p) / (1.0 - p), u.y));
+    }
+    float n_dot_l = dot(n, direction);
+    float pdf = brdf_pdf(s, n, direction, v);
+    if (n_dot_l <= 0.0 || pdf <= 0.0) {
+        return false;
+    }
+    draw.direction = direction;
+    draw.pdf = pdf;
+    draw.weight = brdf_evaluate(s, n, direction, v) * (n_dot_l / pdf);
+    return true;
 }
 
 #endif

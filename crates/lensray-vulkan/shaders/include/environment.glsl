@@ -1,3 +1,6 @@
+#ifndef LENSRAY_ENVIRONMENT_GLSL
+#define LENSRAY_ENVIRONMENT_GLSL
+
 // An environment map and its sampling by power: the mirror of
 // lensray-core/src/scene/environment/{mod,sampling}.rs, op for op, so that the same point draws
 // the same texel. Needs EnvironmentGroup's buffers (`environment`, `env_texels`,
@@ -113,3 +116,5 @@ bool env_sample(vec2 u, out vec3 direction, out float pdf, out uvec2 texel) {
     pdf = env_texel_pdf(texel, uv.y);
     return pdf > 0.0;
 }
+
+#endif

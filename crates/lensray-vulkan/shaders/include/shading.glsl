@@ -1,69 +1,114 @@
 // Shading of the thin-lens compute pass, as specified for every renderer (lensray-core/src/settings/render.rs,
-// the CPU reference, lensray-core/src/reference/render.rs): unlit (the diffuse colour of the
-// closest hit) or lit (emission + the scene's lights, each through a shadow ray, + the
-// environment through a cosine-distributed ray, each reflected by the metallic-roughness BRDF of
-// brdf.glsl), colours textured and filtered over the
-// pinhole's pixel footprint. Include after a hit implementation
-// (hit_rayquery.glsl or hit_software.glsl), which defines
+// the CPU reference, lensray-core/src/reference/): unlit (the diffuse colour of the closest hit)
+// or lit: at each surface of a path, emission + the scene's lights, each through a shadow ray,
+// + the sky (a uniform one or the scene's map) drawn from the sky and from the BRDF, weighed by
+// multiple importance sampling (sky.glsl), each reflected by the metallic-roughness BRDF of
+// brdf.glsl; colours textured and filtered over the pinhole's pixel footprint at the camera's
+// surface, unfiltered after a bounce. Include after a hit implementation (hit_rayquery.glsl,
+// hit_software.glsl or hit_rtpipeline.glsl), which defines
 //   bool closest_hit(vec3 origin, vec3 direction, float t_max, BlendCut cut, out Hit hit);
 //   bool occluded(vec3 origin, vec3 direction, float t_max, BlendCut cut);
-// over t in (0, t_max), and the trace parameters `params`. shade_hit_shadowed shades a hit found
-// either way (the raster path's rasterized one included).
+// over t in (0, t_max), and the trace parameters `params`. trace.comp's shade_sample walks the
+// path (reference/integrator.rs).
 #ifndef LENSRAY_SHADING_GLSL
 #define LENSRAY_SHADING_GLSL
 
-#include "brdf.glsl"
 #include "lights.glsl"
+#include "brdf.glsl"
+#include "environment.glsl"
+#include "sky.glsl"
 
 // reference/lighting.rs: LightDraw (the cut is the camera ray's; shadow_cut derives the
-// shadow rays' from it).
+// shadow and bounce rays' from it). `centred` (the hybrid's pre-pass) draws every point at
+// (0.5, 0.5).
 struct LightDraw {
     BlendCut cut;
-    vec2 environment;
+    PixelSampler state;
+    uint sample_index;
+    bool centred;
 };
 
-// reference/lighting.rs: direct_light. `shadowed` gets bit i set where light i (i < 24) is
-// blocked: the hybrid's plan compares it between neighbours. Step i < lights.length() is light
-// i, the last step the environment: one shadow-ray call site, so the traversal is inlined once.
-vec3 direct_light(vec3 o, vec3 ns, vec3 ng, vec3 v, MetallicRoughness brdf, float occlusion,
-                  LightDraw draw, inout uint rays, out uint shadowed) {
+// reference/integrator.rs: vertex_points (xy: the sky's point, zw: the BRDF's).
+vec4 vertex_points(LightDraw draw, uint vertex) {
+    if (draw.centred) {
+        return vec4(0.5);
+    }
+    uvec4 d = vertex_dimensions(vertex);
+    return vec4(pixel_dimension(draw.state, draw.sample_index, d.x),
+                pixel_dimension(draw.state, draw.sample_index, d.y),
+                pixel_dimension(draw.state, draw.sample_index, d.z),
+                pixel_dimension(draw.state, draw.sample_index, d.w));
+}
+
+// reference/lighting.rs: LitLane (o: the shadow rays' origin, v: towards the viewer).
+struct LitSurface {
+    vec3 o;
+    vec3 ns;
+    vec3 ng;
+    vec3 v;
+    MetallicRoughness brdf;
+    float occlusion;
+};
+
+// sky.rs: leaves
+bool leaves(LitSurface s, vec3 d) {
+    return dot(d, s.ng) > 0.0 && dot(d, s.ns) > 0.0;
+}
+
+// sky.rs: sky_along
+vec3 sky_along(LitSurface s, BrdfSample draw) {
+    float w = power_heuristic(draw.pdf, sky_pdf(s.ns, draw.direction));
+    return draw.weight * sky_radiance(draw.direction) * (w * s.occlusion);
+}
+
+// reference/lighting.rs: direct_light, then sky.rs: Renderer::sky_light and, where `along` (a
+// path's last surface), Renderer::sky_along_draws with the BRDF's `draw`: steps i < lights.length()
+// are the lights, the next the sky's own draw at `sky_point`, the last the sky along `draw`.
+// One shadow-ray call site, so the traversal is inlined once. `shadowed` gets bit i set where
+// light i (i < 24) is blocked: the hybrid's plan compares it between neighbours.
+vec3 direct_light(LitSurface s, vec2 sky_point, bool along, BrdfSample draw, BlendCut cut,
+                  inout uint rays, out uint shadowed) {
     shadowed = 0u;
     vec3 radiance = vec3(0.0);
-    BlendCut cut = shadow_cut(draw.cut);
     uint count = lights.length();
-    bool sky = params.environment.xyz != vec3(0.0);
-    for (uint i = 0u; i <= count; ++i) {
+    bool sky = sky_lights();
+    for (uint i = 0u; i < count + 2u; ++i) {
         vec3 direction;
-        float t_max;
+        float t_max = T_MAX;
         vec3 reflected;
         if (i < count) {
             Incident incident;
-            if (!light_incident(lights[i], o, incident)) {
+            if (!light_incident(lights[i], s.o, incident)) {
                 continue;
             }
-            float c = dot(ns, incident.direction);
+            float c = dot(s.ns, incident.direction);
             if (c <= 0.0) {
                 continue;
             }
             direction = incident.direction;
             t_max = incident.distance;
-            reflected = brdf_evaluate(brdf, ns, direction, v) * c * incident.irradiance;
-        } else {
+            reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * c * incident.irradiance;
+        } else if (i == count) {
             if (!sky) {
                 break;
             }
-            // Density cos / pi: the estimate of the reflected f L cos is f L pi where the ray
-            // leaves; a direction under the surface's own plane is blocked by the surface.
-            direction = cosine_direction(ns, draw.environment);
-            if (dot(direction, ng) <= 0.0 || dot(ns, direction) <= 0.0) {
+            float pdf;
+            vec3 arriving;
+            if (!sky_sample(s.ns, sky_point, direction, pdf, arriving) || !leaves(s, direction)) {
+                continue;
+            }
+            float w = power_heuristic(pdf, brdf_pdf(s.brdf, s.ns, direction, s.v));
+            reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * dot(s.ns, direction)
+                * arriving * (w / pdf * s.occlusion);
+        } else {
+            if (!along) {
                 break;
             }
-            t_max = T_MAX;
-            reflected = brdf_evaluate(brdf, ns, direction, v) * (PI * occlusion)
-                * params.environment.xyz;
+            direction = draw.direction;
+            reflected = sky_along(s, draw);
         }
         rays += 1u;
-        if (!occluded(o, direction, t_max, cut)) {
+        if (!occluded(s.o, direction, t_max, cut)) {
             radiance += reflected;
         } else if (i < min(count, 24u)) {
             shadowed |= 1u << i;
@@ -72,16 +117,17 @@ vec3 direct_light(vec3 o, vec3 ns, vec3 ng, vec3 v, MetallicRoughness brdf, floa
     return radiance;
 }
 
-// The radiance leaving `hit` (the closest hit of `ray`) towards the ray's origin; `rays` counts
-// the shadow and environment rays, `shadowed` says which lights were blocked (the hybrid's plan
-// looks for shadow boundaries).
-vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out uint shadowed) {
-    shadowed = 0u;
+// reference/integrator.rs: shade_surface and colours. The surface `hit` (the closest hit of
+// `ray`) as its light needs it; false where the shading is unlit, `emission` then holding the
+// colour. Textures are filtered over the pinhole's footprint where `filtered` (the camera's
+// surface), read at their finest level otherwise.
+bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emission) {
     uint tri = hit.triangle;
     Material mat = materials[triangle_material(tri)];
     bool textured = SURFACES_TEXTURED && material_is_textured(mat);
     if (params.shading == SHADING_UNLIT && !textured) {
-        return mat.diffuse.xyz;
+        emission = mat.diffuse.xyz;
+        return false;
     }
 
     vec2 b = hit.barycentrics;  // weights of v1, v2
@@ -101,33 +147,37 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out u
         ns = -ns;
     }
     vec3 diffuse = mat.diffuse.xyz;
-    vec3 emission = mat.emission.xyz;
+    emission = mat.emission.xyz;
     vec2 metallic_roughness = vec2(mat.metallic, mat.roughness);
     float occlusion = 1.0;
     if (textured) {
-        // reference/render.rs: colours
         vec2 texcoord = triangle_texcoord(tri, b);
-        Footprint f = params.footprint;
-        vec3 dpdx = footprint_dp_along(f, p, ng, f.pixel_dx.xyz);
-        vec3 dpdy = footprint_dp_along(f, p, ng, f.pixel_dy.xyz);
-        vec2 dx;
-        vec2 dy;
-        triangle_texcoord_footprint(tri, dpdx, dpdy, dx, dy);
+        vec2 dx = vec2(0.0);
+        vec2 dy = vec2(0.0);
+        if (filtered) {
+            Footprint f = params.footprint;
+            vec3 dpdx = footprint_dp_along(f, p, ng, f.pixel_dx.xyz);
+            vec3 dpdy = footprint_dp_along(f, p, ng, f.pixel_dy.xyz);
+            triangle_texcoord_footprint(tri, dpdx, dpdy, dx, dy);
+        }
         diffuse = material_diffuse(mat, texcoord, dx, dy);
         metallic_roughness = material_metallic_roughness(mat, texcoord, dx, dy);
         emission = material_emission(mat, texcoord, dx, dy);
         occlusion = material_occlusion(mat, texcoord, dx, dy);
     }
     if (params.shading == SHADING_UNLIT) {
-        return diffuse;
+        emission = diffuse;
+        return false;
     }
 
     // reference/surface.rs: shadow_origin
-    vec3 o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
-    MetallicRoughness brdf =
-        MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular);
-    vec3 v = -normalize(ray.direction);
-    return emission + direct_light(o, ns, ng, v, brdf, occlusion, draw, rays, shadowed);
+    s.o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
+    s.ns = ns;
+    s.ng = ng;
+    s.v = -normalize(ray.direction);
+    s.brdf = MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular);
+    s.occlusion = occlusion;
+    return true;
 }
 
 // The hit of `ray` with the plane of triangle `tri` (the raster path: the rasterizer found the

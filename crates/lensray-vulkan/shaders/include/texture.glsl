@@ -97,7 +97,9 @@ float texture_level_of_detail(Texture t, vec2 duv_dx, vec2 duv_dy) {
     precise vec2 x = duv_dx * size;
     precise vec2 y = duv_dy * size;
     precise float longest = max(x.x * x.x + x.y * x.y, y.x * y.x + y.y * y.y);
-    return 0.5 * log2(longest);
+    // No footprint (a surface met after a bounce): the finest level, as Rust's log2(0) = -inf
+    // clamps to; GLSL leaves log2(0) undefined.
+    return longest > 0.0 ? 0.5 * log2(longest) : 0.0;
 }
 
 // texture/mod.rs: Texture::trilinear

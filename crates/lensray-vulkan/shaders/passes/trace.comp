@@ -122,39 +122,82 @@ vec3 reprojected_shortcut(Reprojection r, uint pixel_index, CameraSample cs) {
 
 // The radiance along `ray`, which cuts BLEND surfaces with `draw.cut`; where `rasterized`, the
 // visibility pass drew its first hit at `pixel_index` (the raster path's sample, the hybrid's lit
-// pre-pass) and no traversal finds it. `rays` counts the rays, `shadowed` as shade_hit_shadowed
-// says. Every mode shades through this one call: each inlined copy of the traversal and the
-// shading multiplies lavapipe's pipeline compile time.
+// pre-pass) and no traversal finds it. A lit path shades params.bounces surfaces
+// (reference/integrator.rs): at each its lights and the sky (shading.glsl: direct_light), and
+// from each but the last it goes on along its BRDF's draw, weighed by f cos / pdf. `rays` counts
+// the rays, `shadowed` says which lights the first surface's shadow rays found blocked. Every
+// mode shades through this one call and the path has one closest-hit call site: each inlined
+// copy of the traversal and the shading multiplies lavapipe's pipeline compile time.
 vec3 shade_sample(Ray ray, LightDraw draw, bool rasterized, uint pixel_index, inout uint rays,
                   out uint shadowed) {
     shadowed = 0u;
-    rays += 1u;
-    Hit hit;
-    bool found;
-    if (rasterized) {
-        uint seen = visibility[pixel_index];
-        found = seen != 0u;
-        if (found) {
-            hit = triangle_plane_hit(ray, seen - 1u);
+    vec3 value = vec3(0.0);
+    vec3 throughput = vec3(1.0);
+    BlendCut cut = draw.cut;
+    LitSurface previous;
+    BrdfSample went;
+    for (uint vertex = 0u; vertex < MAX_BOUNCES; ++vertex) {
+        rays += 1u;
+        Hit hit;
+        bool found;
+        if (rasterized && vertex == 0u) {
+            uint seen = visibility[pixel_index];
+            found = seen != 0u;
+            if (found) {
+                hit = triangle_plane_hit(ray, seen - 1u);
+            }
+        } else {
+            found = closest_hit(ray.origin, ray.direction, T_MAX, cut, hit);
         }
-    } else {
-        found = closest_hit(ray.origin, ray.direction, T_MAX, draw.cut, hit);
+        if (!found) {
+            if (vertex == 0u) {
+                return params.environment_map == ENVIRONMENT_MAP_SEEN
+                    ? env_radiance(normalize(ray.direction)) : params.background.xyz;
+            }
+            if (sky_lights()) {
+                value += throughput * sky_along(previous, went);
+            }
+            break;
+        }
+        LitSurface s;
+        vec3 emission;
+        bool lit = surface_at(ray, hit, vertex == 0u, s, emission);
+        if (vertex > 0u) {
+            throughput *= went.weight;
+        }
+        value += throughput * emission;
+        if (!lit) {
+            break;
+        }
+        bool last = vertex + 1u >= params.bounces;
+        vec4 u = vertex_points(draw, vertex);
+        BrdfSample next;
+        bool drawn = brdf_sample(s.brdf, s.ns, s.v, u.zw, next) && leaves(s, next.direction);
+        uint blocked;
+        cut = shadow_cut(draw.cut);
+        vec3 reflected = direct_light(s, u.xy, last && drawn, next, cut, rays, blocked);
+        if (vertex == 0u) {
+            shadowed = blocked;
+        }
+        value += throughput * reflected;
+        if (last || !drawn) {
+            break;
+        }
+        previous = s;
+        went = next;
+        ray = Ray(s.o, next.direction);
     }
-    if (!found) {
-        return params.background.xyz;
-    }
-    return shade_hit_shadowed(ray, hit, draw, rays, shadowed);
+    return value;
 }
 
 // What sample `s` of pixel `pixel_index` draws besides its camera ray (reference/render.rs,
-// add_pixel_samples): its ray's BLEND cut (scene::ray_key) and its environment direction.
+// add_pixel_samples): its ray's BLEND cut (scene::ray_key) and the points of its path.
 LightDraw sample_draw(PixelSampler state, uint pixel_index, uint s) {
     LightDraw draw;
     draw.cut = ray_cut(sample_key(params.seed, pixel_index, s) ^ BLEND_CAMERA_SALT);
-    draw.environment = params.environment.xyz == vec3(0.0)
-        ? vec2(0.0)
-        : vec2(pixel_dimension(state, s, DIM_ENVIRONMENT_X),
-               pixel_dimension(state, s, DIM_ENVIRONMENT_Y));
+    draw.state = state;
+    draw.sample_index = s;
+    draw.centred = false;
     return draw;
 }
 
@@ -168,8 +211,8 @@ LightDraw sample_draw(PixelSampler state, uint pixel_index, uint s) {
 //   centre (concentric_sample_disk(0.5, 0.5) is the lens centre), which the visibility pass
 //   rasterized through the lens centre just before, into the plan: the shortcut value and which
 //   lights were blocked (the plan's edge test compares it between neighbours: a shadow boundary
-//   is an edge). Its environment ray runs along the normal (the disk's centre): the shortcut only
-//   steers the checks, which keep the estimate unbiased.
+//   is an edge). Its path draws every point at (0.5, 0.5): the shortcut only steers the checks,
+//   which keep the estimate unbiased.
 // - TRACE_MODE_HYBRID: the plan's entry says how many samples to trace (w >= 1), or that the
 //   pixel takes the shortcut value (w = HYBRID_SHORTCUT), checked by tracing with probability
 //   1 / HYBRID_CHECK_INVERSE: the value plus (traced - value) * HYBRID_CHECK_INVERSE, unbiased.
@@ -235,7 +278,7 @@ uint trace_pixel() {
             LightDraw draw = sample_draw(sampler_state, pixel_index, s);
             if (pre_pass) {
                 draw.cut = aperture_centre_cut();
-                draw.environment = vec2(0.5);
+                draw.centred = true;
             }
             uint shadowed;
             vec3 shaded = shade_sample(ray, draw, rasterized, pixel_index, rays, shadowed);

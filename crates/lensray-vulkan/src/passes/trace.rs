@@ -38,7 +38,7 @@ use crate::core::query::QueryPool;
 use crate::core::recorder::Recorder;
 use crate::passes::films::DeviceFilms;
 use lensray_core::camera::Camera;
-use lensray_core::interface::TraceParams;
+use lensray_core::interface::{TraceParams, ENVIRONMENT_MAP_NONE};
 
 use camera_tables::CameraTables;
 use plan::PlanBuffers;
@@ -129,8 +129,12 @@ impl TracePass {
     }
 
     /// Records an update of the uniform parameters (frames in flight share the buffer; the
-    /// queue orders the updates).
+    /// queue orders the updates), with no environment map where the bound scene has none.
     pub(crate) fn record_params(&self, rec: &mut Recorder<'_>, params: &TraceParams) {
-        rec.update_buffer(&self.params, bytemuck::bytes_of(params));
+        let mut params = *params;
+        if !self.pipelines.environment_map {
+            params.environment_map = ENVIRONMENT_MAP_NONE;
+        }
+        rec.update_buffer(&self.params, bytemuck::bytes_of(&params));
     }
 }

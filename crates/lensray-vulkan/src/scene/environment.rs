@@ -11,14 +11,18 @@ use crate::core::descriptors::Gpu;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
 use crate::core::pipeline::Pipeline;
+use glam::Vec3;
 use lensray_core::interface::{EnvironmentGroup, GpuEnvironment};
 use lensray_core::scene::environment::{EnvironmentMap, EnvironmentSampler};
+use lensray_core::scene::Scene;
 
 pub(crate) struct EnvironmentBuffers {
     params: Buffer,
     texels: Buffer,
     row_cdfs: Buffer,
     rows_cdf: Buffer,
+    /// Whether these are a scene's map (not the placeholder of a scene without one).
+    pub has_map: bool,
 }
 
 /// The parameters of `map` as the shaders read them; `total` 0 when nothing in it emits.
@@ -34,6 +38,29 @@ pub(crate) fn gpu_environment(map: &EnvironmentMap, total: f32) -> GpuEnvironmen
 }
 
 impl EnvironmentBuffers {
+    /// The map of `scene` (`Scene::environment`), or a black 2x1 placeholder that keeps every
+    /// binding valid. A map whose texels pass the device's storage buffer range is an error.
+    pub(crate) fn of_scene(ctx: &Arc<Context>, scene: &Scene) -> Result<Self, GpuError> {
+        let Some(light) = &scene.environment else {
+            let black =
+                EnvironmentMap::new(2, 1, vec![Vec3::ZERO; 2]).expect("a 2x1 map has its texels");
+            let mut placeholder = Self::new(ctx, &black, None)?;
+            placeholder.has_map = false;
+            return Ok(placeholder);
+        };
+        let map = &light.map;
+        let bytes = u64::from(map.width) * u64::from(map.height) * 16;
+        let limit = u64::from(ctx.report.max_storage_buffer_range);
+        if bytes > limit {
+            return Err(GpuError::Invalid(format!(
+                "the environment map's {}x{} texels need {bytes} bytes, more than the \
+                 device's maximum storage buffer range ({limit} bytes): use a smaller map",
+                map.width, map.height
+            )));
+        }
+        Self::new(ctx, map, light.sampler.as_ref())
+    }
+
     /// Uploads `map` and its tables (`sampler`; `None`: nothing emits, and the tables hold
     /// zeros of the same sizes so that every binding is valid).
     pub(crate) fn new(
@@ -69,6 +96,7 @@ impl EnvironmentBuffers {
                 bytemuck::cast_slice(&rows_cdf),
                 storage,
             )?,
+            has_map: true,
         })
     }
 

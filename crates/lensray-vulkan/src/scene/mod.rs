@@ -4,7 +4,6 @@
 
 pub(crate) mod accel;
 pub(crate) mod bvh;
-#[cfg(feature = "probes")]
 pub(crate) mod environment;
 pub(crate) mod texels;
 
@@ -100,6 +99,8 @@ pub(crate) struct SceneBuffers {
     textures: Buffer,
     texels: Buffer,
     lights: Buffer,
+    /// The scene's environment map, or a black placeholder (`has_map` false).
+    pub environment: environment::EnvironmentBuffers,
     pub triangle_count: u32,
     /// Every triangle, in runs of the same surfaces (the raster passes' draws).
     pub surface_runs: Vec<SurfaceRun>,
@@ -202,6 +203,7 @@ impl SceneBuffers {
             textures: textures?,
             texels: texels?,
             lights: lights?,
+            environment: environment::EnvironmentBuffers::of_scene(ctx, scene)?,
             triangle_count: flat.triangle_count(),
             surface_runs: flat.surface_runs,
             surfaces: flat.surfaces,

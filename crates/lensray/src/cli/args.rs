@@ -14,11 +14,11 @@ use lensray_vulkan::GpuOptions;
 use lensray_core::film::tonemap::ToneMap;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::units::SceneUnits;
-use lensray_core::settings::{EnvironmentSetting, Shading};
 use lensray_core::settings::{
     ApertureSettings, CameraSettings, ExposureSettings, ImageSettings, LensSettings, LightSettings,
     Lights, ProjectionKind, RenderStyle, Settings, Switch,
 };
+use lensray_core::settings::{EnvironmentSetting, Shading};
 
 /// Parses "x,y,z" into three finite-or-not numbers (validation names the option later).
 /// `--environment`: three numbers are a uniform sky's radiance, an `.hdr` or `.exr` path a map.
@@ -30,9 +30,9 @@ pub fn parse_environment(s: &str) -> Result<EnvironmentSetting, String> {
     if matches!(ext.as_deref(), Some("hdr" | "exr")) {
         return Ok(EnvironmentSetting::Map(s.into()));
     }
-    parse_triple(s).map(EnvironmentSetting::Sky).map_err(|e| {
-        format!("{e}; or name an equirectangular map (.hdr, .exr)")
-    })
+    parse_triple(s)
+        .map(EnvironmentSetting::Sky)
+        .map_err(|e| format!("{e}; or name an equirectangular map (.hdr, .exr)"))
 }
 
 pub fn parse_triple(s: &str) -> Result<[f64; 3], String> {

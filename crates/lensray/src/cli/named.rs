@@ -114,9 +114,10 @@ impl NamedOption for Shading {
             }
             Shading::Lit => {
                 "Emission + f * E cos(theta) summed over the scene's lights (point, spot, \
-                 directional; `scene::light`), each with a hard shadow, plus f * pi * environment \
-                 where a cosine-distributed ray leaves the scene; f is glTF's metallic-roughness \
-                 BRDF (Lambert for materials without a specular lobe); no indirect light"
+                 directional; `scene::light`), each with a hard shadow, plus the environment (a \
+                 uniform sky or a map) by multiple importance sampling of the environment and \
+                 the BRDF; f is glTF's metallic-roughness BRDF (Lambert for materials without a \
+                 specular lobe); --bounces N > 1 adds interreflection"
             }
             Shading::Depth => {
                 "Distance of the first hit along the view axis (camera z); 0 on a miss"

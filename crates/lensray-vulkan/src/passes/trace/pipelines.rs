@@ -60,6 +60,8 @@ pub(crate) struct TracePipelines {
     accum_placeholder: Buffer,
     /// Placeholder of the raster path's visibility binding until `bind_visibility`.
     visibility_placeholder: Buffer,
+    /// Whether the bound scene has an environment map (`TraceParams.environment_map`).
+    pub(crate) environment_map: bool,
 }
 
 impl TracePipelines {
@@ -110,6 +112,7 @@ impl TracePipelines {
             },
             accum_placeholder: accum,
             visibility_placeholder: visibility,
+            environment_map: false,
         };
         this.bind_group(&AccumulationGroup::<Gpu> {
             accum: &this.accum_placeholder,
@@ -201,6 +204,7 @@ impl TracePipelines {
                 p.first_dispatch_done = false;
             }
             scene.bind(&p.pipeline);
+            scene.environment.bind(&p.pipeline);
             match p.traversal {
                 Traversal::RayQuery | Traversal::RtPipeline => {
                     if let Some(accel) = &scene.accel {
@@ -216,6 +220,7 @@ impl TracePipelines {
                 }
             }
         }
+        self.environment_map = scene.environment.has_map;
         Ok(())
     }
 
