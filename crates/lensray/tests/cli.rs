@@ -11,6 +11,8 @@ use std::process::{Command, Output};
 mod caches;
 #[path = "cli/devices.rs"]
 mod devices;
+#[path = "cli/environment.rs"]
+mod environment;
 #[path = "cli/exposure.rs"]
 mod exposure;
 #[path = "cli/isa.rs"]

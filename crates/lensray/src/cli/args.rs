@@ -333,7 +333,7 @@ pub struct ViewArgs {
     #[arg(long, allow_hyphen_values = true, value_name = "DEG")]
     pub environment_rotation: Option<f64>,
     /// Multiplies the environment's radiance (default 1).
-    #[arg(long, value_name = "X")]
+    #[arg(long, allow_hyphen_values = true, value_name = "X")]
     pub environment_intensity: Option<f64>,
     /// Surfaces a lit path shades (default 1: direct light); more add interreflection, each
     /// bounce costing about one more closest hit and its shading per sample.
