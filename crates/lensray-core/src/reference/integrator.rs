@@ -127,6 +127,8 @@ impl Renderer {
         values: &mut [Vec3; PACKET_SIZE],
     ) -> u64 {
         let sky = Sky::of(settings, self.environment.as_deref());
+        // With the cosine's draw alone, the BRDF's draws bring no sky.
+        let brdf_sky = sky.filter(|_| !self.cosine_sky);
         let mut throughput = [Vec3::ONE; PACKET_SIZE];
         let mut rays = 0;
         for vertex in 0..settings.bounces {
@@ -137,8 +139,12 @@ impl Renderer {
             let (sky_points, brdf_points) = vertex_points(sampler, &lanes, vertex);
             let mut reflected = [Vec3::ZERO; PACKET_SIZE];
             rays += self.direct_light(&lanes, &self.lights, &mut reflected);
-            if let Some(sky) = &sky {
-                rays += self.sky_light(&lanes, sky, &sky_points, &mut reflected);
+            match &sky {
+                Some(sky) if self.cosine_sky => {
+                    rays += self.sky_by_cosine(&lanes, sky, &sky_points, &mut reflected);
+                }
+                Some(sky) => rays += self.sky_light(&lanes, sky, &sky_points, &mut reflected),
+                None => {}
             }
             // The BRDF's draws: toward the sky, and where the path goes on.
             let draws: [Option<BrdfSample>; PACKET_SIZE] = std::array::from_fn(|l| {
@@ -148,7 +154,7 @@ impl Renderer {
                 leaves(&lane, draw.direction).then_some(draw)
             });
             if last {
-                if let Some(sky) = &sky {
+                if let Some(sky) = &brdf_sky {
                     rays += self.sky_along_draws(&lanes, sky, &draws, &mut reflected);
                 }
             }
@@ -158,7 +164,13 @@ impl Renderer {
             if last {
                 break;
             }
-            rays += self.bounce(&mut lanes, &draws, sky.as_ref(), &mut throughput, values);
+            rays += self.bounce(
+                &mut lanes,
+                &draws,
+                brdf_sky.as_ref(),
+                &mut throughput,
+                values,
+            );
         }
         rays
     }

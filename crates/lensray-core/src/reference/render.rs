@@ -29,6 +29,9 @@ pub struct Renderer {
     pub(super) materials: Arc<Materials>,
     pub(super) lights: Vec<Light>,
     pub(super) environment: Option<Arc<EnvironmentLight>>,
+    /// Light the sky by one cosine-distributed ray a surface instead of the two draws weighed
+    /// by multiple importance sampling (`with_cosine_sky`).
+    pub(super) cosine_sky: bool,
 }
 
 /// A packet of camera rays after their closest hits: per lane its ray, hit, blend key and
@@ -105,7 +108,16 @@ impl Renderer {
             materials,
             lights: scene.lights.clone(),
             environment: scene.environment.clone(),
+            cosine_sky: false,
         }
+    }
+
+    /// This renderer with the sky drawn by one cosine-distributed ray a surface and nothing
+    /// else (an unbiased estimator without multiple importance sampling, which the GPU paths
+    /// do not offer): what benches/environment.rs compares the default with at equal time.
+    pub fn with_cosine_sky(mut self) -> Self {
+        self.cosine_sky = true;
+        self
     }
 
     pub fn bvh_build_time(&self) -> Duration {

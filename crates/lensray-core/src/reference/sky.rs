@@ -145,6 +145,31 @@ impl Renderer {
         self.add_unoccluded(&shadow, &Self::shadow_keys(lanes), reflected)
     }
 
+    /// Adds to `reflected` the sky's light by one cosine-distributed ray a lane (f L pi where it
+    /// leaves the scene), unweighed: `Renderer::with_cosine_sky`. Returns the rays.
+    pub(super) fn sky_by_cosine(
+        &self,
+        lanes: &[Option<LitLane>; PACKET_SIZE],
+        sky: &Sky,
+        u: &[Vec2; PACKET_SIZE],
+        reflected: &mut [Vec3; PACKET_SIZE],
+    ) -> u64 {
+        let shadow = std::array::from_fn(|l| {
+            let lane = lanes[l]?;
+            let (n, v) = (lane.surface.shading_normal, lane.to_viewer);
+            let direction = cosine_direction(n, u[l]);
+            leaves(&lane, direction).then(|| ShadowRay {
+                origin: shadow_origin(&lane.surface),
+                direction,
+                t_max: f32::INFINITY,
+                light: lane.brdf.evaluate(n, direction, v)
+                    * sky.radiance(direction)
+                    * (std::f32::consts::PI * lane.occlusion),
+            })
+        });
+        self.add_unoccluded(&shadow, &Self::shadow_keys(lanes), reflected)
+    }
+
     /// Adds to `reflected` the sky's light along each lane's BRDF draw (`draws[lane]`), through
     /// one packet of shadow rays (a path's last surface); returns the rays.
     pub(super) fn sky_along_draws(

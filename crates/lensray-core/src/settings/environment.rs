@@ -53,11 +53,11 @@ fn environment_rotation(settings: &Settings) -> Result<f32, SettingsError> {
     }
 }
 
-/// The map the settings name, loaded, turned and scaled, with what loading mended as one
-/// warning line; `None` without a map.
-pub fn load_environment(
-    settings: &Settings,
-) -> Result<Option<(Arc<EnvironmentLight>, Option<String>)>, SettingsError> {
+/// A map loaded for a scene, with what loading mended as one warning line.
+pub type LoadedEnvironment = (Arc<EnvironmentLight>, Option<String>);
+
+/// The map the settings name, loaded, turned and scaled; `None` without a map.
+pub fn load_environment(settings: &Settings) -> Result<Option<LoadedEnvironment>, SettingsError> {
     let Some(EnvironmentSetting::Map(path)) = &settings.render.environment else {
         return Ok(None);
     };
