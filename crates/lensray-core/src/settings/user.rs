@@ -238,6 +238,11 @@ impl Settings {
         let (e, base) = (&c.exposure, &mut self.camera.exposure);
         overlay!(e, base, ev, iso, shutter, tonemap, expose_exr);
         overlay!(i, self.image, width, height, spp, seed, sampler);
+        // A map given over is seen behind the scene unless a background is given with it: the
+        // base's background (a scene file's, say) does not hide it.
+        if matches!(r.environment, Some(EnvironmentSetting::Map(_))) && r.background.is_none() {
+            self.render.background = None;
+        }
         overlay!(
             r,
             self.render,
