@@ -17,6 +17,13 @@
 //! what the rays see and pass through, not only the colour; and `linear`, every texture read as
 //! linear, which tells the share of the sRGB decode of each texel); under `cargo test --all-targets` (no
 //! `--bench` argument) it runs a tiny smoke version of the test card on the CPU.
+//!
+//! `--brdf` measures instead what glTF's metallic-roughness BRDF costs against Lambert, the
+//! scenes textured as above (the target: at most 1.5x): `lambert` (every material's specular
+//! weight and metallic 0, no metallic-roughness texture: the BRDF reduces to c / pi), `pbr`
+//! (the apples as their file has them: specular 1 and the 4K roughness texture; the card's
+//! materials given specular 1 and roughness 0.5) and, where a metallic-roughness texture is
+//! read, `pbr factors` (the same without that texture), which tells the share of its reads.
 
 #[path = "variants/mod.rs"]
 mod variants;
@@ -119,16 +126,94 @@ fn measure(name: &str, description: &SceneDescription, args: &Args) -> SceneResu
     results
 }
 
+/// `scene` shaded as Lambert: no specular lobe, no metal, no metallic-roughness texture.
+fn lambert(scene: &Scene) -> Scene {
+    let mut scene = scene.clone();
+    for m in &mut scene.materials {
+        m.specular = 0.0;
+        m.metallic = 0.0;
+        m.metallic_roughness_texture = None;
+    }
+    scene
+}
+
+/// The textured `description` with glTF's metallic-roughness BRDF (`make_pbr` gives it where
+/// the scene has none) against Lambert, on each path.
+fn measure_brdf(
+    name: &str,
+    description: &SceneDescription,
+    make_pbr: fn(&mut Scene),
+    args: &Args,
+) -> SceneResults {
+    let (shot, mut pbr) = args.shot(description);
+    make_pbr(&mut pbr);
+    let mut variants = vec![Variant {
+        name: "lambert".into(),
+        scene: lambert(&pbr),
+    }];
+    if pbr
+        .materials
+        .iter()
+        .any(|m| m.metallic_roughness_texture.is_some())
+    {
+        let mut factors = pbr.clone();
+        for m in &mut factors.materials {
+            m.metallic_roughness_texture = None;
+        }
+        variants.push(Variant {
+            name: "pbr factors".into(),
+            scene: factors,
+        });
+    }
+    let triangles = pbr.triangle_count();
+    variants.push(Variant {
+        name: "pbr".into(),
+        scene: pbr,
+    });
+    let results = SceneResults {
+        scene: format!("{name}: {}", description.source),
+        triangles,
+        paths: variants::measure(&variants, &shot, args).expect("brdf bench"),
+    };
+    println!(
+        "{}",
+        variants::table("brdf", &results, Some(("pbr", "lambert")), args)
+    );
+    results
+}
+
+/// The test card's materials (Lambert, as the built-in scenes are) as glTF's default dielectric
+/// with roughness 0.5.
+fn card_pbr(scene: &mut Scene) {
+    for m in &mut scene.materials {
+        m.specular = 1.0;
+        m.roughness = 0.5;
+    }
+}
+
 fn main() {
     let args = Args::from_env();
     let only = args.value("--scene");
+    // The smoke version runs both measurements on the card.
+    let brdf = args.flag("--brdf") || !args.measure;
+    let textures = !args.flag("--brdf");
     let mut results = vec![];
     if only.is_none_or(|s| s == "card") {
-        results.push(measure("card", &card(), &args));
+        if textures {
+            results.push(measure("card", &card(), &args));
+        }
+        if brdf {
+            results.push(measure_brdf("card", &card(), card_pbr, &args));
+        }
     }
     // The smoke version leaves out the apples: decoding their 4k texture takes half a second.
     if args.measure && only.is_none_or(|s| s == "apples") {
-        results.push(measure("apples", &apples(), &args));
+        results.push(if brdf {
+            measure_brdf("apples", &apples(), |_| {}, &args)
+        } else {
+            measure("apples", &apples(), &args)
+        });
     }
-    variants::write_json("textures", &args, &results).expect("write the JSON");
+    let bench = if brdf { "brdf" } else { "textures" };
+    variants::write_json(bench, &args, &results).expect("write the JSON");
 }

@@ -1,8 +1,12 @@
 //! Textures and alpha on every path: the GPU paths render the textured test card as the CPU
 //! reference does (texture filtering, wrap modes, transforms, masks, blended cuts and shadows
-//! through masks), and a texture at the focal plane stays as sharp as through a pinhole.
+//! through masks), and a texture at the focal plane stays as sharp as through a pinhole;
+//! `KHR_texture_transform` as glTF viewers apply it, and Khronos' TextureTransformTest sample
+//! rebuilt (`textures/transform_test.rs`).
 
 mod gpu_support;
+#[path = "textures/transform_test.rs"]
+mod transform_test;
 
 use glam::{Vec2, Vec3};
 use gpu_support::{assert_gpu_paths_match_cpu, render_scene, settings, write_png};
