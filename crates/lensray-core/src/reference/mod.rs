@@ -18,6 +18,7 @@ mod lighting;
 mod rays;
 mod render;
 mod surface;
+mod surface_frame;
 mod triangle;
 
 pub use accel::{packet_alignment, Accel, AlphaTest, Hit, PacketMask, PACKET_SIZE};

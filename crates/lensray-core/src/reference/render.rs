@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use glam::{UVec2, Vec2, Vec3, Vec3A};
+use glam::{UVec2, Vec2, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
@@ -13,6 +13,7 @@ use super::brdf::MetallicRoughness;
 use super::lighting::{LightDraw, LitLane, ShadingInputs};
 use super::rays::{generate_rays, LensPacket};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
+use super::surface_frame::vertex_coloured;
 use crate::camera::{Camera, Footprint, Ray};
 use crate::film::spectral::rgb_weights;
 use crate::film::{Image, OnDevice, Progress, Sums};
@@ -69,8 +70,12 @@ impl Renderer {
         let mut surfaces = SurfaceData {
             normals: Vec::with_capacity(count),
             texcoords: Vec::with_capacity(count),
+            colours: Vec::new(),
+            tangents: Vec::new(),
             materials: Vec::with_capacity(count),
         };
+        let any_colours = scene.meshes.iter().any(|m| !m.colours.is_empty());
+        let any_tangents = scene.meshes.iter().any(|m| !m.tangents.is_empty());
         for mesh in &scene.meshes {
             for t in spatial_order(&mesh.positions, &mesh.triangles) {
                 let tri = mesh.triangles[t as usize];
@@ -85,6 +90,14 @@ impl Renderer {
                 } else {
                     tri.map(|i| mesh.texcoords[i as usize])
                 });
+                let corners =
+                    |values: &[Vec4]| (!values.is_empty()).then(|| tri.map(|i| values[i as usize]));
+                if any_colours {
+                    surfaces.colours.push(corners(&mesh.colours));
+                }
+                if any_tangents {
+                    surfaces.tangents.push(corners(&mesh.tangents));
+                }
                 surfaces.materials.push(mesh.material_ids[t as usize]);
             }
         }
@@ -299,8 +312,14 @@ impl Renderer {
     }
 
     /// What the material of `surface` (hit `hit`) gives shading, textures filtered over the
-    /// pinhole's pixel footprint.
-    fn colours(&self, hit: &Hit, surface: &SurfacePoint, footprint: &Footprint) -> ShadingInputs {
+    /// pinhole's pixel footprint, with the mesh's vertex colours; a normal map tilts
+    /// `surface.shading_normal`.
+    fn colours(
+        &self,
+        hit: &Hit,
+        surface: &mut SurfacePoint,
+        footprint: &Footprint,
+    ) -> ShadingInputs {
         let material = self.materials.get(surface.material);
         let textures = &self.materials.textures;
         let mut inputs = ShadingInputs {
@@ -313,7 +332,9 @@ impl Renderer {
             emission: material.emission,
             occlusion: 1.0,
         };
+        let colour = self.surfaces.colour(hit.triangle, hit.barycentric);
         if !material.is_textured() {
+            inputs.brdf.base_colour = vertex_coloured(inputs.brdf.base_colour, colour);
             return inputs;
         }
         let vertices = self.accel.vertices(hit.triangle).map(Vec3::from);
@@ -321,7 +342,11 @@ impl Renderer {
             .surfaces
             .texcoord_footprint(hit.triangle, vertices, surface, footprint);
         let texcoord = surface.texcoord;
-        inputs.brdf.base_colour = material.diffuse_at(textures, texcoord, &duv);
+        inputs.brdf.base_colour =
+            vertex_coloured(material.diffuse_at(textures, texcoord, &duv), colour);
+        surface.shading_normal = self
+            .surfaces
+            .normal_mapped(material, textures, hit, vertices, surface, &duv);
         (inputs.brdf.metallic, inputs.brdf.roughness) =
             material.metallic_roughness_at(textures, texcoord, &duv);
         inputs.emission = material.emission_at(textures, texcoord, &duv);
@@ -388,12 +413,15 @@ impl Renderer {
         let material = self
             .materials
             .get(self.surfaces.materials[hit.triangle as usize]);
-        if settings.shading == Shading::Unlit && material.diffuse_texture.is_none() {
+        if settings.shading == Shading::Unlit
+            && material.diffuse_texture.is_none()
+            && !self.surfaces.has_colours(hit.triangle)
+        {
             // Visibility only: the material is all that is needed.
             return (material.diffuse, None);
         }
-        let surface = self.surface_point(ray, &hit);
-        let inputs = self.colours(&hit, &surface, footprint);
+        let mut surface = self.surface_point(ray, &hit);
+        let inputs = self.colours(&hit, &mut surface, footprint);
         if settings.shading == Shading::Unlit {
             return (inputs.brdf.base_colour, None);
         }
@@ -415,12 +443,12 @@ impl Renderer {
             (Shading::Albedo, None) => settings.background,
             (_, None) => Vec3::ZERO,
             (shading, Some(hit)) => {
-                let surface = self.surface_point(ray, &hit);
+                let mut surface = self.surface_point(ray, &hit);
                 match shading {
                     Shading::Depth => Vec3::splat(camera.view_depth(surface.position)),
                     Shading::Normal => surface.shading_normal,
                     _ => {
-                        let inputs = self.colours(&hit, &surface, &camera.footprint());
+                        let inputs = self.colours(&hit, &mut surface, &camera.footprint());
                         inputs.brdf.base_colour
                     }
                 }

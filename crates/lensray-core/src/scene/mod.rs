@@ -5,7 +5,7 @@
 //! OBJ model or glTF primitive becomes one [`Mesh`] (one bottom-level acceleration structure on
 //! the GPU). A glTF file's cameras come with it (`file_camera`).
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 pub mod builtin;
 pub mod environment;
@@ -21,6 +21,7 @@ mod material;
 pub mod normals;
 pub mod obj;
 pub mod order;
+pub mod tangents;
 pub mod terrain;
 pub mod test_card;
 pub mod texture;
@@ -48,6 +49,13 @@ pub struct Mesh {
     /// Per-vertex texture coordinates (glTF's TEXCOORD_0, OBJ's `vt`), same length as
     /// `positions`, or empty when the file has none (textures then read coordinate (0, 0)).
     pub texcoords: Vec<Vec2>,
+    /// Per-vertex linear RGBA colours (glTF's COLOR_0), which multiply the base colour, same
+    /// length as `positions`, or empty.
+    pub colours: Vec<Vec4>,
+    /// Per-vertex tangents (xyz, unit; w = +-1, the sign of the bitangent cross(normal,
+    /// tangent) w), same length as `positions`, or empty: the frame of a normal map
+    /// (glTF's TANGENT, or `tangents::generate`).
+    pub tangents: Vec<Vec4>,
     pub triangles: Vec<[u32; 3]>,
     /// Index into `Scene::materials`, one per triangle.
     pub material_ids: Vec<u32>,
@@ -156,6 +164,14 @@ impl Scene {
                     mesh.texcoords.len()
                 ));
             }
+            for (what, len) in [
+                ("colours", mesh.colours.len()),
+                ("tangents", mesh.tangents.len()),
+            ] {
+                if len != 0 && len != n {
+                    return Err(format!("mesh {name}: {len} {what} for {n} positions"));
+                }
+            }
             if let Some((t, tri)) = mesh
                 .triangles
                 .iter()
@@ -193,6 +209,7 @@ impl Scene {
                 &m.alpha_texture,
                 &m.metallic_roughness_texture,
                 &m.occlusion_texture,
+                &m.normal_texture,
             ];
             if let Some(t) = refs.into_iter().flatten().find(|t| {
                 self.textures

@@ -14,6 +14,7 @@
 
 #include "brdf.glsl"
 #include "lights.glsl"
+#include "surface_frame.glsl"
 
 // reference/lighting.rs: LightDraw (the cut is the camera ray's; shadow_cut derives the
 // shadow rays' from it).
@@ -80,7 +81,8 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out u
     uint tri = hit.triangle;
     Material mat = materials[triangle_material(tri)];
     bool textured = SURFACES_TEXTURED && material_is_textured(mat);
-    if (params.shading == SHADING_UNLIT && !textured) {
+    bool coloured = SURFACES_TEXTURED && triangle_has_colours(tri);
+    if (params.shading == SHADING_UNLIT && !textured && !coloured) {
         return mat.diffuse.xyz;
     }
 
@@ -117,6 +119,10 @@ vec3 shade_hit_shadowed(Ray ray, Hit hit, LightDraw draw, inout uint rays, out u
         metallic_roughness = material_metallic_roughness(mat, texcoord, dx, dy);
         emission = material_emission(mat, texcoord, dx, dy);
         occlusion = material_occlusion(mat, texcoord, dx, dy);
+        ns = normal_mapped(mat, tri, b, ns, texcoord, dx, dy);
+    }
+    if (coloured) {
+        diffuse = vertex_coloured(diffuse, tri, b);
     }
     if (params.shading == SHADING_UNLIT) {
         return diffuse;

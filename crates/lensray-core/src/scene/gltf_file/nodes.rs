@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{DMat4, DVec3, Vec2, Vec3};
 use gltf::mesh::Mode;
 
-use super::accessors::read_floats;
+use super::accessors::{read_colours, read_floats, read_tangents};
 use super::materials::ignored_features;
 use super::MeshFile;
 use crate::scene::file_camera::{FileCamera, FileProjection};
@@ -29,8 +29,6 @@ pub(super) struct Walk<'a> {
     pub skipped_modes: usize,
     /// A texture reads a texture coordinate set other than TEXCOORD_0 (read from set 0).
     pub other_texcoords: bool,
-    /// A primitive has vertex colours (COLOR_0), which the materials do not read.
-    pub vertex_colours: bool,
 }
 
 impl<'a> Walk<'a> {
@@ -44,7 +42,6 @@ impl<'a> Walk<'a> {
             images: vec![[None; 2]; document.images().len()],
             skipped_modes: 0,
             other_texcoords: false,
-            vertex_colours: false,
         }
     }
 
@@ -172,7 +169,9 @@ impl<'a> Walk<'a> {
         } else {
             Vec::new()
         };
-        self.vertex_colours |= primitive.get(&gltf::Semantic::Colors(0)).is_some();
+        let colours = read_colours(primitive, buffers).map_err(|e| format!("{what}: {e}"))?;
+        let tangents = read_tangents(primitive, buffers, world_from_node)
+            .map_err(|e| format!("{what}: {e}"))?;
         let material = self
             .material(primitive.material())
             .map_err(|e| format!("{what}: {e}"))?;
@@ -181,6 +180,8 @@ impl<'a> Walk<'a> {
             .or(mesh.name())
             .map_or_else(|| format!("node {}", node.index()), str::to_string);
         self.out.scene.meshes.push(Mesh {
+            colours,
+            tangents,
             name,
             positions: positions
                 .iter()
@@ -204,11 +205,6 @@ impl<'a> Walk<'a> {
                 "reads every texture with TEXCOORD_0 (lensray reads one texture coordinate set)"
                     .into(),
             );
-        }
-        if self.vertex_colours {
-            self.out
-                .notices
-                .push("ignores the vertex colours (COLOR_0) of its meshes".into());
         }
         if self.skipped_modes > 0 {
             self.out.notices.push(format!(
