@@ -19,7 +19,7 @@ use lensray_core::interface::{
 use lensray_core::scene::order::spatial_order;
 use lensray_core::scene::texture::Wrap;
 use lensray_core::scene::{AlphaMode, Material, TextureRef};
-use lensray_core::scene::{Light, LightKind, Scene};
+use lensray_core::scene::{Light, LightKind, Mesh, Scene};
 use lensray_core::settings::{Shading, Shot};
 
 use crate::core::error::GpuError;
@@ -114,24 +114,10 @@ impl FlatScene {
         let any_colours = scene.meshes.iter().any(|m| !m.colours.is_empty());
         let any_tangents = scene.meshes.iter().any(|m| !m.tangents.is_empty());
         for mesh in &scene.meshes {
-            let has_normals = !mesh.normals.is_empty();
-            if any_colours {
-                extend_or_zeros(&mut flat.colours, &mesh.colours, mesh.positions.len());
-            }
-            if any_tangents {
-                extend_or_zeros(&mut flat.tangents, &mesh.tangents, mesh.positions.len());
-            }
-            let flags = if has_normals { TRI_HAS_NORMALS } else { 0 }
-                | if mesh.colours.is_empty() {
-                    0
-                } else {
-                    TRI_HAS_COLOURS
-                }
-                | if mesh.tangents.is_empty() {
-                    0
-                } else {
-                    TRI_HAS_TANGENTS
-                };
+            let flag = |present: bool, bit: u32| if present { bit } else { 0 };
+            let flags = flag(!mesh.normals.is_empty(), TRI_HAS_NORMALS)
+                | flag(!mesh.colours.is_empty(), TRI_HAS_COLOURS)
+                | flag(!mesh.tangents.is_empty(), TRI_HAS_TANGENTS);
             let base = flat.positions.len() as u32;
             flat.meshes.push(MeshRange {
                 first_triangle: flat.tri_info.len() as u32,
@@ -141,22 +127,7 @@ impl FlatScene {
                     .iter()
                     .all(|&m| !scene.materials[m as usize].is_alpha_tested()),
             });
-            flat.positions
-                .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
-            if mesh.texcoords.is_empty() {
-                flat.texcoords
-                    .extend(std::iter::repeat_n([0.0; 2], mesh.positions.len()));
-            } else {
-                flat.texcoords
-                    .extend(mesh.texcoords.iter().map(|t| t.to_array()));
-            }
-            if has_normals {
-                flat.normals
-                    .extend(mesh.normals.iter().map(|n| n.extend(0.0).to_array()));
-            } else {
-                flat.normals
-                    .extend(std::iter::repeat_n([0.0; 4], mesh.positions.len()));
-            }
+            flat.push_vertices(mesh, any_colours, any_tangents);
             // Every acceleration-structure builder gets the triangles in a spatial order.
             for t in spatial_order(&mesh.positions, &mesh.triangles) {
                 let t = t as usize;
@@ -178,6 +149,28 @@ impl FlatScene {
             }
         }
         Ok(flat)
+    }
+
+    /// Appends the vertices of `mesh`: zeros for what it lacks, colours and tangents only where
+    /// some mesh has them.
+    fn push_vertices(&mut self, mesh: &Mesh, any_colours: bool, any_tangents: bool) {
+        let count = mesh.positions.len();
+        self.positions
+            .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
+        if mesh.texcoords.is_empty() {
+            self.texcoords.extend(std::iter::repeat_n([0.0; 2], count));
+        } else {
+            self.texcoords
+                .extend(mesh.texcoords.iter().map(|t| t.to_array()));
+        }
+        let normals: Vec<glam::Vec4> = mesh.normals.iter().map(|n| n.extend(0.0)).collect();
+        extend_or_zeros(&mut self.normals, &normals, count);
+        if any_colours {
+            extend_or_zeros(&mut self.colours, &mesh.colours, count);
+        }
+        if any_tangents {
+            extend_or_zeros(&mut self.tangents, &mesh.tangents, count);
+        }
     }
 
     pub(crate) fn triangle_count(&self) -> u32 {

@@ -245,7 +245,7 @@ fn a_normal_texture_loads_with_its_scale_and_transform() {
         .save(d.join("normal.png"))
         .unwrap();
     let path = write_gltf(d, "normal.gltf", r#"[{"mesh": 0}]"#, TRIANGLE, "");
-    let materials = r#""materials": [{"name": "bumpy", "normalTexture": {"index": 0,
+    let materials = r#""materials": [{"name": "bumpy", "doubleSided": true, "normalTexture": {"index": 0,
         "scale": 0.7, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0],
         "scale": [2, 2]}}}}],
       "textures": [{"source": 0}], "images": [{"uri": "normal.png"}],"#;
