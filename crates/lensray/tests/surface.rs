@@ -103,7 +103,8 @@ fn write_quads(dir: &Path, name: &str, coloured: bool, materials: &str, extra: &
 /// members.
 fn lambert(more: &str) -> String {
     format!(
-        r#"{{"pbrMetallicRoughness": {{"baseColorFactor": [{}, {}, {}, 1], "metallicFactor": 0}},
+        r#"{{"doubleSided": true,
+            "pbrMetallicRoughness": {{"baseColorFactor": [{}, {}, {}, 1], "metallicFactor": 0}},
             "extensions": {{"KHR_materials_specular": {{"specularFactor": 0}}}}{more}}}"#,
         BASE.x, BASE.y, BASE.z
     )
@@ -111,16 +112,24 @@ fn lambert(more: &str) -> String {
 
 /// An orthographic camera looking down -z at both quads, `width` x `width / 2` pixels.
 fn camera(width: u32) -> Camera {
+    camera_at(0.0, 2.4, width, width / 2)
+}
+
+/// An orthographic camera looking down -z at (0, `y`, 0), `ortho_height` high, `width` x
+/// `height` pixels.
+fn camera_at(y: f32, ortho_height: f64, width: u32, height: u32) -> Camera {
     CameraParams {
-        eye: Vec3::new(0.0, 0.0, 5.0),
-        target: Vec3::ZERO,
+        eye: Vec3::new(0.0, y, 5.0),
+        target: Vec3::new(0.0, y, 0.0),
         up: Vec3::Y,
-        projection: ProjectionParams::Orthographic { height: 2.4 },
+        projection: ProjectionParams::Orthographic {
+            height: ortho_height,
+        },
         lens: LensParams::Pinhole,
         near: 0.1,
         far: 100.0,
         width,
-        height: width / 2,
+        height,
         movements: lensray_core::camera::Movements::NONE,
     }
     .build()
@@ -147,19 +156,22 @@ fn cpu_render(test: &str, scene: &Scene, shot: &Shot) -> Option<Image> {
     render_scene(test, PathChoice::Only(PathKind::Cpu), scene, shot)
 }
 
+/// The two quads of vertex colours under a point light.
+fn coloured_quads(dir: &Path) -> Scene {
+    let materials = format!("[{}, {}]", lambert(""), lambert(""));
+    let path = write_quads(dir, "colours.gltf", true, &materials, "");
+    let file = load_gltf(&path).expect("the quads load");
+    assert!(file.notices.is_empty(), "{:?}", file.notices);
+    file.scene
+}
+
 /// The albedo AOV (the aperture-centre ray through each pixel centre) is the base colour times
-/// the colour interpolated along x: float RGB as written, UNSIGNED_BYTE as c / 255. Every GPU
-/// path renders both quads, lit and unlit, as the CPU does.
+/// the colour interpolated along x: float RGB as written, UNSIGNED_BYTE as c / 255.
 #[test]
 fn vertex_colours_multiply_the_base_colour() {
     let test = "vertex_colours_multiply_the_base_colour";
     let dir = tempfile::tempdir().unwrap();
-    let materials = format!("[{}, {}]", lambert(""), lambert(""));
-    let path = write_quads(dir.path(), "colours.gltf", true, &materials, "");
-    let file = load_gltf(&path).expect("the quads load");
-    assert!(file.notices.is_empty(), "{:?}", file.notices);
-    let mut scene = file.scene;
-    scene.lights = vec![Light::point(Vec3::new(0.5, 1.0, 3.0), Vec3::splat(12.0))];
+    let scene = coloured_quads(dir.path());
     let camera = camera(64);
     let albedo = Shot {
         camera: camera.clone(),
@@ -187,13 +199,6 @@ fn vertex_colours_multiply_the_base_colour() {
             );
         }
     }
-    for shading in [Shading::Lit, Shading::Unlit, Shading::Albedo] {
-        let shot = Shot {
-            camera: camera.clone(),
-            render: settings(shading, 4),
-        };
-        assert_gpu_paths_match_cpu(test, &format!("colours-{shading:?}"), &scene, &shot);
-    }
 }
 
 /// A normal map of one texel, its normal tilted by `degrees` about the bitangent towards the
@@ -213,11 +218,10 @@ fn write_normal_map(dir: &Path, degrees: f32) -> Vec3 {
 /// Kd / pi E n.l with n the map's normal (m.x s, m.y s, m.z) normalized, s its scale, in the
 /// frame (+x, +y, +z) MikkTSpace gives the quad: the left quad's map at scale 1, the right
 /// one's at scale 0.5 (tilted less). Every GPU path renders it as the CPU does.
-#[test]
-fn a_normal_map_tilts_the_shading_normal() {
-    let test = "a_normal_map_tilts_the_shading_normal";
-    let dir = tempfile::tempdir().unwrap();
-    let m = write_normal_map(dir.path(), 30.0);
+/// The quads with the normal map (scale 1 on the left, 0.5 on the right) under a directional
+/// light arriving from `to_light` with irradiance `irradiance`; the map's normal.
+fn normal_mapped_quads(dir: &Path, to_light: Vec3, irradiance: f32) -> (Scene, Vec3) {
+    let m = write_normal_map(dir, 30.0);
     let normal_texture =
         |scale: f32| format!(r#", "normalTexture": {{"index": 0, "scale": {scale}}}"#);
     let materials = format!(
@@ -226,12 +230,10 @@ fn a_normal_map_tilts_the_shading_normal() {
         lambert(&normal_texture(0.5))
     );
     let textures = r#", "images": [{"uri": "normal.png"}], "textures": [{"source": 0}]"#;
-    let path = write_quads(dir.path(), "normal.gltf", false, &materials, textures);
+    let path = write_quads(dir, "normal.gltf", false, &materials, textures);
     let file = load_gltf(&path).expect("the quads load");
     assert!(file.notices.is_empty(), "{:?}", file.notices);
     let mut scene = file.scene;
-    let to_light = Vec3::new(40f32.to_radians().sin(), 0.0, 40f32.to_radians().cos());
-    let irradiance = 3.0;
     scene.lights = vec![Light {
         kind: LightKind::Directional,
         position: Vec3::ZERO,
@@ -239,6 +241,20 @@ fn a_normal_map_tilts_the_shading_normal() {
         intensity: Vec3::splat(irradiance),
         range: 0.0,
     }];
+    (scene, m)
+}
+
+/// Under a directional light arriving at 40 degrees from +x, a Lambert quad's radiance is
+/// Kd / pi E n.l with n the map's normal (m.x s, m.y s, m.z) normalized, s its scale, in the
+/// frame (+x, +y, +z) MikkTSpace gives the quad: the left quad's map at scale 1, the right
+/// one's at scale 0.5 (tilted less).
+#[test]
+fn a_normal_map_tilts_the_shading_normal() {
+    let test = "a_normal_map_tilts_the_shading_normal";
+    let dir = tempfile::tempdir().unwrap();
+    let to_light = Vec3::new(40f32.to_radians().sin(), 0.0, 40f32.to_radians().cos());
+    let irradiance = 3.0;
+    let (scene, m) = normal_mapped_quads(dir.path(), to_light, irradiance);
     // Both corners of an edge share a tangent: no vertex is split.
     assert_eq!(
         scene.meshes[0].tangents.len(),
@@ -270,11 +286,40 @@ fn a_normal_map_tilts_the_shading_normal() {
             }
         }
     }
+}
+
+/// Every GPU path (the raster path and its G-buffer's albedo included) renders the coloured
+/// quads and, below them, the normal-mapped ones, lit and as albedo, as the CPU does.
+#[test]
+fn gpu_paths_render_vertex_colours_and_normal_maps_as_the_cpu_does() {
+    let test = "gpu_paths_render_vertex_colours_and_normal_maps_as_the_cpu_does";
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = coloured_quads(dir.path());
+    let to_light = Vec3::new(0.3, 0.5, 1.0).normalize();
+    let (mapped, _) = normal_mapped_quads(dir.path(), to_light, 3.0);
+    let (materials, textures) = (scene.materials.len() as u32, scene.textures.len() as u32);
+    for mut mesh in mapped.meshes {
+        for p in &mut mesh.positions {
+            p.y -= 2.2;
+        }
+        for id in &mut mesh.material_ids {
+            *id += materials;
+        }
+        scene.meshes.push(mesh);
+    }
+    for mut material in mapped.materials {
+        let normal = material.normal_texture.as_mut().expect("a normal map");
+        normal.texture += textures;
+        scene.materials.push(material);
+    }
+    scene.textures.extend(mapped.textures);
+    scene.lights = mapped.lights;
+    let camera = camera_at(-1.1, 4.6, 64, 64);
     for shading in [Shading::Lit, Shading::Albedo] {
         let shot = Shot {
             camera: camera.clone(),
             render: settings(shading, 4),
         };
-        assert_gpu_paths_match_cpu(test, &format!("normal-map-{shading:?}"), &scene, &shot);
+        assert_gpu_paths_match_cpu(test, &format!("surface-{shading:?}"), &scene, &shot);
     }
 }

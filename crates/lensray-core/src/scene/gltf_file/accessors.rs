@@ -103,14 +103,16 @@ pub(super) fn read_tangents(
     };
     let mirror = world_from_node.determinant().signum() as f32;
     let tangents = read_floats::<4>(&accessor, buffers, "TANGENT")?;
-    Ok(Some(tangents
-        .into_iter()
-        .map(|[x, y, z, w]| {
-            let t = world_from_node.transform_vector3(DVec3::new(x.into(), y.into(), z.into()));
-            let sign = if w < 0.0 { -mirror } else { mirror };
-            t.normalize_or_zero().as_vec3().extend(sign)
-        })
-        .collect()))
+    Ok(Some(
+        tangents
+            .into_iter()
+            .map(|[x, y, z, w]| {
+                let t = world_from_node.transform_vector3(DVec3::new(x.into(), y.into(), z.into()));
+                let sign = if w < 0.0 { -mirror } else { mirror };
+                t.normalize_or_zero().as_vec3().extend(sign)
+            })
+            .collect(),
+    ))
 }
 
 /// The primitive's NORMAL in world space, through the inverse transpose of `world_from_node`,
@@ -133,9 +135,11 @@ pub(super) fn read_normals(
             n.normalize_or_zero().as_vec3()
         })
         .collect();
-    Ok(if normals.len() == count && !normals.contains(&Vec3::ZERO) {
-        normals
-    } else {
-        Vec::new()
-    })
+    Ok(
+        if normals.len() == count && !normals.contains(&Vec3::ZERO) {
+            normals
+        } else {
+            Vec::new()
+        },
+    )
 }
