@@ -136,7 +136,8 @@ impl Scene {
 
 impl Scene {
     /// Checks the invariants the renderers rely on: every index in range, one material id per
-    /// triangle and each in range, normals absent or one per position, positions finite.
+    /// triangle and each in range, normals, texture coordinates, colours and tangents absent or
+    /// one per position, positions finite.
     /// The error says which mesh and what.
     pub fn validate(&self) -> Result<(), String> {
         for (i, light) in self.lights.iter().enumerate() {
