@@ -29,6 +29,8 @@ fn rand01(state: &mut u32) -> f32 {
 /// An axis-aligned quad in the plane z = `z`, facing -z, covering [x0, x1] x [y0, y1].
 fn quad(x0: f32, x1: f32, y0: f32, y1: f32, z: f32, material: u32) -> Mesh {
     Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: "quad".into(),
         positions: vec![
             Vec3::new(x0, y0, z),

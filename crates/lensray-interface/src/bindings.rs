@@ -304,6 +304,12 @@ binding_groups! {
         materials: storage_buffer() = "readonly buffer Materials { Material materials[]; }",
         /// Per vertex its texture coordinates.
         texcoords: storage_buffer() = "readonly buffer Texcoords { vec2 texcoords[]; }",
+        /// Per vertex its colour (RGBA) where its triangles have TRI_HAS_COLOURS; one element
+        /// when no mesh has colours.
+        colours: storage_buffer() = "readonly buffer Colours { vec4 colours[]; }",
+        /// Per vertex its tangent (xyz; w: the bitangent's sign) where its triangles have
+        /// TRI_HAS_TANGENTS; one element when no mesh has tangents.
+        tangents: storage_buffer() = "readonly buffer Tangents { vec4 tangents[]; }",
         textures: storage_buffer() = "readonly buffer Textures { Texture textures[]; }",
         /// Every texture's texels, RGBA8 in a uint, every mip level.
         texels: storage_buffer() = "readonly buffer Texels { uint texels[]; }",

@@ -16,8 +16,14 @@ shader_constants! {
     /// `Camera.projection`.
     PROJECTION_PERSPECTIVE: u32 = 0;
     PROJECTION_ORTHOGRAPHIC: u32 = 1;
-    /// Bit 31 of a triangle's info word: its mesh has vertex normals. Bits 0..30: material.
+    /// Bit 31 of a triangle's info word: its mesh has vertex normals.
     TRI_HAS_NORMALS: u32 = 0x8000_0000;
+    /// Bit 30: its mesh has vertex colours (`colours`), which multiply the base colour.
+    TRI_HAS_COLOURS: u32 = 0x4000_0000;
+    /// Bit 29: its mesh has tangents (`tangents`), which a normal map needs.
+    TRI_HAS_TANGENTS: u32 = 0x2000_0000;
+    /// Bits 0..28 of a triangle's info word: its material.
+    TRI_MATERIAL_MASK: u32 = 0x1fff_ffff;
     /// Far end of camera rays on the GPU (ray queries take a finite tMax; the CPU uses
     /// infinity, which no scene within f32 range can tell apart).
     T_MAX: f32 = 1e30;

@@ -338,9 +338,12 @@ shader_interface! {
             /// R: the environment's occlusion (linear).
             occlusion_texture: GpuTextureRef,
             occlusion_strength: f32,
+            /// glTF's `normalTexture.scale`: multiplies the normal map's x and y.
+            normal_scale: f32,
             pad0: u32,
             pad1: u32,
-            pad2: u32,
+            /// A tangent-space normal map (linear; TEXTURE_NONE: none).
+            normal_texture: GpuTextureRef,
         }
         /// A node of the software traversal's 8-wide BVH (lensray-vulkan/src/scene/bvh.rs), the
         /// compressed layout of Ylitie, Karras and Laine (2017): up to eight children's boxes,

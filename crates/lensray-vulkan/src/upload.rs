@@ -14,12 +14,13 @@ use lensray_core::interface::{
     APERTURE_MAX_FAN, ENVIRONMENT_MAP_LIGHTS, ENVIRONMENT_MAP_SEEN, LENS_MAX_SURFACES,
     LENS_PUPIL_BINS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, PROJECTION_ORTHOGRAPHIC,
     PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED,
-    TEXTURE_NONE, TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
+    TEXTURE_NONE, TRI_HAS_COLOURS, TRI_HAS_NORMALS, TRI_HAS_TANGENTS, WRAP_CLAMP_TO_EDGE,
+    WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
 use lensray_core::scene::order::spatial_order;
 use lensray_core::scene::texture::Wrap;
 use lensray_core::scene::{AlphaMode, Material, TextureRef};
-use lensray_core::scene::{Light, LightKind, Scene};
+use lensray_core::scene::{Light, LightKind, Mesh, Scene};
 use lensray_core::settings::{Shading, Shot};
 
 use crate::core::error::GpuError;
@@ -51,6 +52,10 @@ pub(crate) struct FlatScene {
     pub normals: Vec<[f32; 4]>,
     /// Per vertex; (0, 0) for meshes without texture coordinates.
     pub texcoords: Vec<[f32; 2]>,
+    /// Per vertex (RGBA); zeros for meshes without colours; one zero when no mesh has any.
+    pub colours: Vec<[f32; 4]>,
+    /// Per vertex; zeros for meshes without tangents; one zero when no mesh has any.
+    pub tangents: Vec<[f32; 4]>,
     pub indices: Vec<u32>,
     pub tri_info: Vec<u32>,
     pub materials: Vec<GpuMaterial>,
@@ -107,8 +112,13 @@ impl FlatScene {
             .iter()
             .map(traced_surface_bits)
             .fold(0, |a, b| a | b);
+        let any_colours = scene.meshes.iter().any(|m| !m.colours.is_empty());
+        let any_tangents = scene.meshes.iter().any(|m| !m.tangents.is_empty());
         for mesh in &scene.meshes {
-            let has_normals = !mesh.normals.is_empty();
+            let flag = |present: bool, bit: u32| if present { bit } else { 0 };
+            let flags = flag(!mesh.normals.is_empty(), TRI_HAS_NORMALS)
+                | flag(!mesh.colours.is_empty(), TRI_HAS_COLOURS)
+                | flag(!mesh.tangents.is_empty(), TRI_HAS_TANGENTS);
             let base = flat.positions.len() as u32;
             flat.meshes.push(MeshRange {
                 first_triangle: flat.tri_info.len() as u32,
@@ -118,34 +128,50 @@ impl FlatScene {
                     .iter()
                     .all(|&m| !scene.materials[m as usize].is_alpha_tested()),
             });
-            flat.positions
-                .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
-            if mesh.texcoords.is_empty() {
-                flat.texcoords
-                    .extend(std::iter::repeat_n([0.0; 2], mesh.positions.len()));
-            } else {
-                flat.texcoords
-                    .extend(mesh.texcoords.iter().map(|t| t.to_array()));
-            }
-            if has_normals {
-                flat.normals
-                    .extend(mesh.normals.iter().map(|n| n.extend(0.0).to_array()));
-            } else {
-                flat.normals
-                    .extend(std::iter::repeat_n([0.0; 4], mesh.positions.len()));
-            }
+            flat.push_vertices(mesh, any_colours, any_tangents);
             // Every acceleration-structure builder gets the triangles in a spatial order.
             for t in spatial_order(&mesh.positions, &mesh.triangles) {
                 let t = t as usize;
                 let (tri, material) = (&mesh.triangles[t], mesh.material_ids[t]);
                 flat.indices.extend(tri.iter().map(|&i| base + i));
-                let surfaces = surface_bits(&scene.materials[material as usize]);
+                let surfaces = surface_bits(&scene.materials[material as usize], flags);
                 push_surface(&mut flat.surface_runs, flat.tri_info.len() as u32, surfaces);
-                flat.tri_info
-                    .push(material | if has_normals { TRI_HAS_NORMALS } else { 0 });
+                flat.tri_info.push(material | flags);
+            }
+        }
+        if any_colours {
+            // The traced shading reads the vertex colours where it reads textures.
+            flat.surfaces |= SURFACE_TEXTURED;
+        }
+        for array in [&mut flat.colours, &mut flat.tangents] {
+            if array.is_empty() {
+                // Shaders index non-empty arrays; no triangle's flags let them read this one.
+                array.push([0.0; 4]);
             }
         }
         Ok(flat)
+    }
+
+    /// Appends the vertices of `mesh`: zeros for what it lacks, colours and tangents only where
+    /// some mesh has them.
+    fn push_vertices(&mut self, mesh: &Mesh, any_colours: bool, any_tangents: bool) {
+        let count = mesh.positions.len();
+        self.positions
+            .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
+        if mesh.texcoords.is_empty() {
+            self.texcoords.extend(std::iter::repeat_n([0.0; 2], count));
+        } else {
+            self.texcoords
+                .extend(mesh.texcoords.iter().map(|t| t.to_array()));
+        }
+        let normals: Vec<glam::Vec4> = mesh.normals.iter().map(|n| n.extend(0.0)).collect();
+        extend_or_zeros(&mut self.normals, &normals, count);
+        if any_colours {
+            extend_or_zeros(&mut self.colours, &mesh.colours, count);
+        }
+        if any_tangents {
+            extend_or_zeros(&mut self.tangents, &mesh.tangents, count);
+        }
     }
 
     pub(crate) fn triangle_count(&self) -> u32 {
@@ -153,10 +179,19 @@ impl FlatScene {
     }
 }
 
-/// What a raster fragment of `m` looks up (SURFACE_*): the G-buffer's albedo samples only the
-/// diffuse texture.
-fn surface_bits(m: &Material) -> u32 {
-    let textured = if m.diffuse_texture.is_some() {
+/// `values` as vec4s, or `count` zeros where it is empty.
+fn extend_or_zeros(flat: &mut Vec<[f32; 4]>, values: &[glam::Vec4], count: usize) {
+    if values.is_empty() {
+        flat.extend(std::iter::repeat_n([0.0; 4], count));
+    } else {
+        flat.extend(values.iter().map(|v| v.to_array()));
+    }
+}
+
+/// What a raster fragment of `m` on a triangle with `flags` (TRI_HAS_*) looks up (SURFACE_*):
+/// the G-buffer's albedo samples only the diffuse texture, and the vertex colours.
+fn surface_bits(m: &Material, flags: u32) -> u32 {
+    let textured = if m.diffuse_texture.is_some() || flags & TRI_HAS_COLOURS != 0 {
         SURFACE_TEXTURED
     } else {
         0
@@ -173,7 +208,7 @@ fn surface_bits(m: &Material) -> u32 {
 /// metallic-roughness and occlusion textures too.
 fn traced_surface_bits(m: &Material) -> u32 {
     let textured = if m.is_textured() { SURFACE_TEXTURED } else { 0 };
-    surface_bits(m) | textured
+    surface_bits(m, 0) | textured
 }
 
 /// Appends triangle `triangle` with `surfaces` to the runs (the last one when it has them).
@@ -208,9 +243,10 @@ fn gpu_material(m: &Material) -> GpuMaterial {
         metallic_roughness_texture: gpu_texture_ref(m.metallic_roughness_texture.as_ref()),
         occlusion_texture: gpu_texture_ref(m.occlusion_texture.as_ref()),
         occlusion_strength: m.occlusion_strength,
+        normal_scale: m.normal_scale,
         pad0: 0,
         pad1: 0,
-        pad2: 0,
+        normal_texture: gpu_texture_ref(m.normal_texture.as_ref()),
     }
 }
 

@@ -23,6 +23,8 @@ fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32, material: u32) -
 /// `n x n` spheres on a floor.
 fn scene(n: u32, rings: u32) -> Scene {
     let mut meshes = vec![Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: "floor".into(),
         positions: vec![
             Vec3::new(-20.0, 0.0, -20.0),

@@ -42,6 +42,8 @@ fn split_mix(state: &mut u64) -> u64 {
 /// `mesh` with its triangles (and their materials) in the order `order` gives.
 fn reordered(mesh: &Mesh, order: &[u32]) -> Mesh {
     Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         triangles: order.iter().map(|&t| mesh.triangles[t as usize]).collect(),
         material_ids: order
             .iter()
@@ -123,6 +125,8 @@ fn sphere(segments: u32) -> SceneDescription {
 fn grid(triangles: usize) -> SceneDescription {
     let mut description = generate::dense(triangles);
     let mut merged = Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: "grid".into(),
         ..Mesh::default()
     };

@@ -267,6 +267,8 @@ fn the_environment_lights_open_ground_fully_and_a_wall_s_foot_by_half() {
     // (x within +-0.09): every direction towards +x hits it.
     let mut walled = ground(50.0, kd);
     walled.meshes.push(Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: "wall".into(),
         positions: vec![
             Vec3::new(0.2, 0.0, -50.0),

@@ -34,6 +34,8 @@ fn rectangle(x: f32, y: f32, z: f32, w: f32, h: f32, degrees: f32, material: u32
     let (s, c) = degrees.to_radians().sin_cos();
     let corner = |u: f32, v: f32| Vec3::new(x + c * u - s * v, y + s * u + c * v, z);
     Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: "rectangle".into(),
         positions: vec![corner(-w, -h), corner(w, -h), corner(w, h), corner(-w, h)],
         normals: vec![],

@@ -16,6 +16,7 @@ use super::lighting::{LightDraw, LitLane, ShadingInputs};
 use super::render::{Renderer, TracedPacket};
 use super::sky::{leaves, sky_along, Sky};
 use super::surface::{shadow_origin, SurfacePoint};
+use super::surface_frame::vertex_coloured;
 use crate::camera::{Footprint, Ray};
 use crate::sampler::{pixel_dimension, vertex_dimensions, PixelSampler};
 use crate::scene::texture::TexcoordFootprint;
@@ -46,11 +47,12 @@ fn vertex_points(
 
 impl Renderer {
     /// What the material of `surface` (hit `hit`) gives shading, textures filtered over the
-    /// pinhole's pixel footprint (`None`: read unfiltered, at their finest level).
+    /// pinhole's pixel footprint (`None`: read unfiltered, at their finest level), with the
+    /// mesh's vertex colours; a normal map tilts `surface.shading_normal`.
     pub(super) fn colours(
         &self,
         hit: &Hit,
-        surface: &SurfacePoint,
+        surface: &mut SurfacePoint,
         footprint: Option<&Footprint>,
     ) -> ShadingInputs {
         let material = self.materials.get(surface.material);
@@ -65,12 +67,14 @@ impl Renderer {
             emission: material.emission,
             occlusion: 1.0,
         };
+        let colour = self.surfaces.colour(hit.triangle, hit.barycentric);
         if !material.is_textured() {
+            inputs.brdf.base_colour = vertex_coloured(inputs.brdf.base_colour, colour);
             return inputs;
         }
+        let vertices = self.accel.vertices(hit.triangle).map(Vec3::from);
         let duv = match footprint {
             Some(footprint) => {
-                let vertices = self.accel.vertices(hit.triangle).map(Vec3::from);
                 self.surfaces
                     .texcoord_footprint(hit.triangle, vertices, surface, footprint)
             }
@@ -80,7 +84,11 @@ impl Renderer {
             },
         };
         let texcoord = surface.texcoord;
-        inputs.brdf.base_colour = material.diffuse_at(textures, texcoord, &duv);
+        inputs.brdf.base_colour =
+            vertex_coloured(material.diffuse_at(textures, texcoord, &duv), colour);
+        surface.shading_normal = self
+            .surfaces
+            .normal_mapped(material, textures, hit, vertices, surface, &duv);
         (inputs.brdf.metallic, inputs.brdf.roughness) =
             material.metallic_roughness_at(textures, texcoord, &duv);
         inputs.emission = material.emission_at(textures, texcoord, &duv);
@@ -247,13 +255,16 @@ impl Renderer {
         let material = self
             .materials
             .get(self.surfaces.materials[hit.triangle as usize]);
-        if settings.shading == Shading::Unlit && material.diffuse_texture.is_none() {
+        if settings.shading == Shading::Unlit
+            && material.diffuse_texture.is_none()
+            && !self.surfaces.has_colours(hit.triangle)
+        {
             // Visibility only: the material is all that is needed.
             return (material.diffuse, None);
         }
         if settings.shading == Shading::Unlit {
-            let surface = self.surface_point(ray, &hit);
-            let inputs = self.colours(&hit, &surface, footprint);
+            let mut surface = self.surface_point(ray, &hit);
+            let inputs = self.colours(&hit, &mut surface, footprint);
             return (inputs.brdf.base_colour, None);
         }
         let (emission, lane) = self.lit_surface(ray, hit, footprint, draw);
@@ -274,8 +285,8 @@ impl Renderer {
         footprint: Option<&Footprint>,
         draw: LightDraw,
     ) -> (Vec3, LitLane) {
-        let surface = self.surface_point(ray, &hit);
-        let inputs = self.colours(&hit, &surface, footprint);
+        let mut surface = self.surface_point(ray, &hit);
+        let inputs = self.colours(&hit, &mut surface, footprint);
         let lane = LitLane {
             surface,
             brdf: inputs.brdf,

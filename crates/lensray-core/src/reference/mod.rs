@@ -23,6 +23,7 @@ mod rays;
 mod render;
 mod sky;
 mod surface;
+mod surface_frame;
 mod triangle;
 
 pub use accel::{packet_alignment, Accel, AlphaTest, Hit, PacketMask, PACKET_SIZE};

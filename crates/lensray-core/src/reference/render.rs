@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use glam::{UVec2, Vec2, Vec3, Vec3A};
+use glam::{UVec2, Vec2, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
@@ -68,8 +68,12 @@ impl Renderer {
         let mut surfaces = SurfaceData {
             normals: Vec::with_capacity(count),
             texcoords: Vec::with_capacity(count),
+            colours: Vec::new(),
+            tangents: Vec::new(),
             materials: Vec::with_capacity(count),
         };
+        let any_colours = scene.meshes.iter().any(|m| !m.colours.is_empty());
+        let any_tangents = scene.meshes.iter().any(|m| !m.tangents.is_empty());
         for mesh in &scene.meshes {
             for t in spatial_order(&mesh.positions, &mesh.triangles) {
                 let tri = mesh.triangles[t as usize];
@@ -84,6 +88,14 @@ impl Renderer {
                 } else {
                     tri.map(|i| mesh.texcoords[i as usize])
                 });
+                let corners =
+                    |values: &[Vec4]| (!values.is_empty()).then(|| tri.map(|i| values[i as usize]));
+                if any_colours {
+                    surfaces.colours.push(corners(&mesh.colours));
+                }
+                if any_tangents {
+                    surfaces.tangents.push(corners(&mesh.tangents));
+                }
                 surfaces.materials.push(mesh.material_ids[t as usize]);
             }
         }
@@ -315,13 +327,13 @@ impl Renderer {
             (Shading::Albedo, None) => settings.background,
             (_, None) => Vec3::ZERO,
             (shading, Some(hit)) => {
-                let surface = self.surface_point(ray, &hit);
+                let mut surface = self.surface_point(ray, &hit);
                 match shading {
                     Shading::Depth => Vec3::splat(camera.view_depth(surface.position)),
                     Shading::Normal => surface.shading_normal,
                     _ => {
                         let footprint = camera.footprint();
-                        let inputs = self.colours(&hit, &surface, Some(&footprint));
+                        let inputs = self.colours(&hit, &mut surface, Some(&footprint));
                         inputs.brdf.base_colour
                     }
                 }

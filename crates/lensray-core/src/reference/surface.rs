@@ -1,6 +1,6 @@
 //! What a hit means: position, normals facing the viewer, material. Shared by every shading mode.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use super::accel::Hit;
 use crate::camera::{Footprint, Ray};
@@ -28,6 +28,11 @@ pub(super) struct SurfaceData {
     pub normals: Vec<[Vec3; 3]>,
     /// Texture coordinates per triangle; all zero when the mesh has none.
     pub texcoords: Vec<[Vec2; 3]>,
+    /// Vertex colours per triangle (`None` where its mesh has none); empty when no mesh has
+    /// any.
+    pub colours: Vec<Option<[Vec4; 3]>>,
+    /// Tangents per triangle (`None` where its mesh has none); empty when no mesh has any.
+    pub tangents: Vec<Option<[Vec4; 3]>>,
     pub materials: Vec<u32>,
 }
 
@@ -89,7 +94,7 @@ impl Materials {
 }
 
 /// (1 - b1 - b2) a + b1 b + b2 c.
-fn interpolate(v: [Vec3; 3], b: Vec2) -> Vec3 {
+pub(super) fn interpolate(v: [Vec3; 3], b: Vec2) -> Vec3 {
     (1.0 - b.x - b.y) * v[0] + b.x * v[1] + b.y * v[2]
 }
 

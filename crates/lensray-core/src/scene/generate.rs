@@ -98,6 +98,8 @@ pub fn uv_sphere(
         triangles.push([bottom, ring(rings - 1, j), ring(rings - 1, j + 1)]);
     }
     Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: name.into(),
         positions: normals.iter().map(|&n| center + radius * n).collect(),
         material_ids: vec![material; triangles.len()],
@@ -147,6 +149,8 @@ pub fn grid(
         }
     }
     Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: name.into(),
         normals: vec![normal; positions.len()],
         positions,
@@ -195,6 +199,8 @@ pub fn cuboid(name: &str, center: Vec3, half: Vec3, yaw: f32, material: u32) -> 
         Vec3::new(s, 0.0, c) * half.z,
     ];
     let mut mesh = Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: name.into(),
         ..Mesh::default()
     };

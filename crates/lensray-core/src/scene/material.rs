@@ -49,6 +49,11 @@ pub struct Material {
     /// not weighed: their shadow rays find what blocks them.
     pub occlusion_texture: Option<TextureRef>,
     pub occlusion_strength: f32,
+    /// Linear; a tangent-space normal map (`normalTexture`, MTL's `norm`): RGB in [0, 1] is
+    /// the normal 2 RGB - 1 in the frame (tangent, bitangent, normal) of the mesh's `tangents`.
+    pub normal_texture: Option<TextureRef>,
+    /// Multiplies the normal map's x and y (`normalTexture.scale`).
+    pub normal_scale: f32,
     pub alpha_mode: AlphaMode,
     /// `d` / the base colour factor's alpha.
     pub alpha: f32,
@@ -77,6 +82,8 @@ impl Material {
             metallic_roughness_texture: None,
             occlusion_texture: None,
             occlusion_strength: 1.0,
+            normal_texture: None,
+            normal_scale: 1.0,
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
             alpha_texture: None,
@@ -150,6 +157,7 @@ impl Material {
             || self.emission_texture.is_some()
             || self.metallic_roughness_texture.is_some()
             || self.occlusion_texture.is_some()
+            || self.normal_texture.is_some()
     }
 
     /// Whether rays may pass through the surface somewhere: what acceleration structures mark

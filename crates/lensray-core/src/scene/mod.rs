@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 pub mod builtin;
 pub mod environment;
@@ -23,6 +23,7 @@ mod material;
 pub mod normals;
 pub mod obj;
 pub mod order;
+pub mod tangents;
 pub mod terrain;
 pub mod test_card;
 pub mod texture;
@@ -51,6 +52,13 @@ pub struct Mesh {
     /// Per-vertex texture coordinates (glTF's TEXCOORD_0, OBJ's `vt`), same length as
     /// `positions`, or empty when the file has none (textures then read coordinate (0, 0)).
     pub texcoords: Vec<Vec2>,
+    /// Per-vertex linear RGBA colours (glTF's COLOR_0), which multiply the base colour, same
+    /// length as `positions`, or empty.
+    pub colours: Vec<Vec4>,
+    /// Per-vertex tangents (xyz, unit; w = +-1, the sign of the bitangent cross(normal,
+    /// tangent) w), same length as `positions`, or empty: the frame of a normal map
+    /// (glTF's TANGENT, or `tangents::generate`).
+    pub tangents: Vec<Vec4>,
     pub triangles: Vec<[u32; 3]>,
     /// Index into `Scene::materials`, one per triangle.
     pub material_ids: Vec<u32>,
@@ -134,7 +142,8 @@ impl Scene {
 
 impl Scene {
     /// Checks the invariants the renderers rely on: every index in range, one material id per
-    /// triangle and each in range, normals absent or one per position, positions finite.
+    /// triangle and each in range, normals, texture coordinates, colours and tangents absent or
+    /// one per position, positions finite.
     /// The error says which mesh and what.
     pub fn validate(&self) -> Result<(), String> {
         for (i, light) in self.lights.iter().enumerate() {
@@ -161,6 +170,14 @@ impl Scene {
                     "mesh {name}: {} texture coordinates for {n} positions",
                     mesh.texcoords.len()
                 ));
+            }
+            for (what, len) in [
+                ("colours", mesh.colours.len()),
+                ("tangents", mesh.tangents.len()),
+            ] {
+                if len != 0 && len != n {
+                    return Err(format!("mesh {name}: {len} {what} for {n} positions"));
+                }
             }
             if let Some((t, tri)) = mesh
                 .triangles
@@ -199,6 +216,7 @@ impl Scene {
                 &m.alpha_texture,
                 &m.metallic_roughness_texture,
                 &m.occlusion_texture,
+                &m.normal_texture,
             ];
             if let Some(t) = refs.into_iter().flatten().find(|t| {
                 self.textures

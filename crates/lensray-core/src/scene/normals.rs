@@ -112,6 +112,8 @@ mod tests {
             .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
             .collect();
         Mesh {
+            colours: Vec::new(),
+            tangents: Vec::new(),
             name: "cube".into(),
             positions,
             normals: Vec::new(),

@@ -100,8 +100,8 @@ pub fn load_obj(path: &Path) -> Result<MeshFile, SceneError> {
     for model in models {
         builder.add_model(model)?;
     }
-    let scene = builder.finish();
-
+    let mut scene = builder.finish();
+    notices.extend(super::tangents::unread_notice(&mut scene));
     if scene.triangle_count() == 0 {
         return Err(SceneError::NoTriangles {
             path: path.to_path_buf(),
@@ -277,6 +277,8 @@ impl<'a> ObjSceneBuilder<'a> {
         if self.previous_name.as_deref() != Some(model.name.as_str()) {
             self.finish_mesh();
             self.scene.meshes.push(Mesh {
+                colours: Vec::new(),
+                tangents: Vec::new(),
                 name: model.name.clone(),
                 ..Mesh::default()
             });

@@ -62,6 +62,8 @@ fn height_field(material: u32) -> Mesh {
         }
     }
     Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: "terrain".into(),
         material_ids: vec![material; triangles.len()],
         positions,
@@ -169,6 +171,8 @@ pub fn terrain() -> SceneDescription {
         let center = Vec3::new(x, height(x, z) + 0.8 * radius, z);
         let material = colours[(i % 10) as usize];
         b.add(Mesh {
+            colours: Vec::new(),
+            tangents: Vec::new(),
             name: format!("sphere_{i}"),
             positions: unit_positions
                 .iter()

@@ -185,6 +185,8 @@ mod tests {
         let normal = Vec3::new(0.0, 0.6, 0.8);
         let mut scene = Scene::default();
         scene.meshes.push(Mesh {
+            colours: Vec::new(),
+            tangents: Vec::new(),
             positions: vec![Vec3::new(300.0, -20.0, 5.0), Vec3::ZERO, Vec3::X],
             normals: vec![normal; 3],
             triangles: vec![[0, 1, 2]],

@@ -22,6 +22,8 @@ const BAND: u32 = 8;
 /// The floor y = 0, black for x < 0 and white for x > 0, from 0.5 m to 40 m ahead.
 fn floor() -> Scene {
     let half = |x0: f32, x1: f32, material: u32| Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: "floor".into(),
         positions: vec![
             Vec3::new(x0, 0.0, -0.5),

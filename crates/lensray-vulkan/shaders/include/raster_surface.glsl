@@ -7,6 +7,7 @@
 #include "sampler.glsl"
 #include "scene.glsl"
 #include "texture.glsl"
+#include "surface_frame.glsl"
 
 // SURFACES (texture.glsl) holds what every triangle of the draw may have: the raster passes
 // draw each run of triangles with the pipeline specialized for its surfaces (passes/draw.rs).
@@ -57,9 +58,14 @@ void fragment_footprint(mat4 clip_from_world, vec3 p, uint tri, out vec2 dx, out
     triangle_texcoord_footprint(tri, dpdx, dpdy, dx, dy);
 }
 
-// The diffuse colour of triangle `tri` at `texcoord`, filtered over the footprint (dx, dy).
-vec3 fragment_albedo(uint tri, vec2 texcoord, vec2 dx, vec2 dy) {
-    return material_diffuse(materials[triangle_material(tri)], texcoord, dx, dy);
+// The diffuse colour of triangle `tri` at `texcoord`, filtered over the footprint (dx, dy),
+// times the vertex colour at world point `p`.
+vec3 fragment_albedo(uint tri, vec2 texcoord, vec2 dx, vec2 dy, vec3 p) {
+    vec3 diffuse = material_diffuse(materials[triangle_material(tri)], texcoord, dx, dy);
+    if (!triangle_has_colours(tri)) {
+        return diffuse;
+    }
+    return vertex_coloured(diffuse, tri, triangle_barycentrics_at(tri, p));
 }
 
 #endif

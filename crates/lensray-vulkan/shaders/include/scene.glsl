@@ -6,7 +6,7 @@
 
 #include "interface.glsl"
 
-uint triangle_material(uint tri) { return tri_info[tri] & ~TRI_HAS_NORMALS; }
+uint triangle_material(uint tri) { return tri_info[tri] & TRI_MATERIAL_MASK; }
 bool triangle_has_normals(uint tri) { return (tri_info[tri] & TRI_HAS_NORMALS) != 0u; }
 
 // Geometric normal: normalize(cross(v1 - v0, v2 - v0)).

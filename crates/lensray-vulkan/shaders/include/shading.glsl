@@ -17,6 +17,7 @@
 #include "brdf.glsl"
 #include "environment.glsl"
 #include "sky.glsl"
+#include "surface_frame.glsl"
 
 // reference/lighting.rs: LightDraw (the cut is the camera ray's; shadow_cut derives the
 // shadow and bounce rays' from it). `centred` (the hybrid's pre-pass) draws every point at
@@ -125,7 +126,8 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     uint tri = hit.triangle;
     Material mat = materials[triangle_material(tri)];
     bool textured = SURFACES_TEXTURED && material_is_textured(mat);
-    if (params.shading == SHADING_UNLIT && !textured) {
+    bool coloured = SURFACES_TEXTURED && triangle_has_colours(tri);
+    if (params.shading == SHADING_UNLIT && !textured && !coloured) {
         emission = mat.diffuse.xyz;
         return false;
     }
@@ -164,6 +166,10 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
         metallic_roughness = material_metallic_roughness(mat, texcoord, dx, dy);
         emission = material_emission(mat, texcoord, dx, dy);
         occlusion = material_occlusion(mat, texcoord, dx, dy);
+        ns = normal_mapped(mat, tri, b, ns, texcoord, dx, dy);
+    }
+    if (coloured) {
+        diffuse = vertex_coloured(diffuse, tri, b);
     }
     if (params.shading == SHADING_UNLIT) {
         emission = diffuse;

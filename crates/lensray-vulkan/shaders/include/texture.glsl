@@ -229,7 +229,8 @@ float material_occlusion(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
 // material.rs: Material::is_textured
 bool material_is_textured(Material m) {
     return has_texture(m.diffuse_texture) || has_texture(m.emission_texture)
-        || has_texture(m.metallic_roughness_texture) || has_texture(m.occlusion_texture);
+        || has_texture(m.metallic_roughness_texture) || has_texture(m.occlusion_texture)
+        || has_texture(m.normal_texture);
 }
 
 // material.rs: Material::alpha_at

@@ -23,7 +23,7 @@ void main() {
         discard;
     }
     out_normal = vec4(viewer_facing_normal(pc, v_normal, v_world), 1.0);
-    vec3 albedo = SURFACES_TEXTURED ? fragment_albedo(v_triangle, v_texcoord, dx, dy) : v_albedo;
+    vec3 albedo = SURFACES_TEXTURED ? fragment_albedo(v_triangle, v_texcoord, dx, dy, v_world) : v_albedo;
     out_albedo = vec4(albedo, 1.0);
     out_depth = v_view_depth;
 }

@@ -42,7 +42,7 @@ void main() {
     }
     vec3 shown;
     if (VIEW == VIEW_ALBEDO) {
-        vec3 albedo = textured ? fragment_albedo(v_triangle, v_texcoord, dx, dy) : v_albedo;
+        vec3 albedo = textured ? fragment_albedo(v_triangle, v_texcoord, dx, dy, v_world) : v_albedo;
         shown = encode_srgb(albedo);
     } else if (VIEW == VIEW_NORMAL) {
         shown = normal_shown(vec4(viewer_facing_normal(pc.raster, v_normal, v_world), 1.0));

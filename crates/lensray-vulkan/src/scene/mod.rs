@@ -96,6 +96,8 @@ pub(crate) struct SceneBuffers {
     tri_info: Buffer,
     materials: Buffer,
     texcoords: Buffer,
+    colours: Buffer,
+    tangents: Buffer,
     textures: Buffer,
     texels: Buffer,
     lights: Buffer,
@@ -173,11 +175,13 @@ impl SceneBuffers {
             bytemuck::cast_slice(&flat.materials),
             storage,
         )?;
-        let [texcoords, textures, texels, lights] = [
+        let [texcoords, colours, tangents, textures, texels, lights] = [
             (
                 "scene texture coordinates",
                 bytemuck::cast_slice(&flat.texcoords),
             ),
+            ("scene colours", bytemuck::cast_slice(&flat.colours)),
+            ("scene tangents", bytemuck::cast_slice(&flat.tangents)),
             ("scene textures", bytemuck::cast_slice(&flat.textures)),
             ("scene texels", bytemuck::cast_slice(&flat.texels)),
             ("scene lights", bytemuck::cast_slice(&flat.lights)),
@@ -200,6 +204,8 @@ impl SceneBuffers {
             tri_info,
             materials,
             texcoords: texcoords?,
+            colours: colours?,
+            tangents: tangents?,
             textures: textures?,
             texels: texels?,
             lights: lights?,
@@ -219,6 +225,8 @@ impl SceneBuffers {
             tri_info: &self.tri_info,
             materials: &self.materials,
             texcoords: &self.texcoords,
+            colours: &self.colours,
+            tangents: &self.tangents,
             textures: &self.textures,
             texels: &self.texels,
             lights: &self.lights,

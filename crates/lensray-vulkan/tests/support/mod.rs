@@ -170,6 +170,8 @@ pub fn cuboid(min: Vec3, max: Vec3, material: u32) -> Mesh {
         .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])
         .collect();
     Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: "box".into(),
         positions: corners,
         normals: vec![],
@@ -182,6 +184,8 @@ pub fn cuboid(min: Vec3, max: Vec3, material: u32) -> Mesh {
 /// A horizontal quad at height y.
 pub fn floor(half: f32, y: f32, material: u32) -> Mesh {
     Mesh {
+        colours: Vec::new(),
+        tangents: Vec::new(),
         name: "floor".into(),
         positions: vec![
             Vec3::new(-half, y, -half),

@@ -52,9 +52,8 @@ fn alpha_blend_mode_test_loads_its_alpha_modes_and_renders() {
     assert_eq!(mode("MatCutoffDefault"), AlphaMode::Mask { cutoff: 0.5 });
     assert_eq!(description.notices.len(), 1, "{:?}", description.notices);
     assert!(
-        description.notices[0].ends_with(
-            "shading: single-sided culling (every surface is seen from both sides), normal maps"
-        ),
+        description.notices[0]
+            .ends_with("shading: single-sided culling (every surface is seen from both sides)"),
         "{:?}",
         description.notices
     );
@@ -110,14 +109,18 @@ fn the_scanned_apple_loads_its_4k_texture_and_renders_red() {
     println!("loaded in {:.2} s", start.elapsed().as_secs_f64());
     let scene = &description.scene;
     assert_eq!(scene.triangle_count(), 7012);
-    // The normal map is named, and not even decoded.
-    assert_eq!(description.notices.len(), 1, "{:?}", description.notices);
-    assert!(
-        description.notices[0].ends_with("shading: normal maps"),
-        "{:?}",
-        description.notices
+    // The normal map is read, in the frame of tangents the loader finds.
+    assert!(description.notices.is_empty(), "{:?}", description.notices);
+    assert_eq!(
+        scene.textures.len(),
+        3,
+        "the base colour, the roughness and the normal map"
     );
-    assert_eq!(scene.textures.len(), 2, "the base colour and the roughness");
+    assert!(scene.materials[0].normal_texture.is_some());
+    assert!(scene
+        .meshes
+        .iter()
+        .all(|m| m.tangents.len() == m.positions.len()));
     for texture in &scene.textures {
         let level = texture.levels[0];
         assert_eq!((level.width, level.height), (4096, 4096));
@@ -148,14 +151,13 @@ fn the_scanned_apple_loads_its_4k_texture_and_renders_red() {
 }
 
 /// The README's apples: five nodes of the scanned apple on a table, the file's camera and key
-/// light; the apples' base colour and roughness textures decoded once for all five, the
-/// ignored normal map never.
+/// light; the apples' base colour, roughness and normal textures decoded once for all five.
 #[test]
 fn the_readme_apples_load_with_their_camera_and_light() {
     let description = load(&asset("food_apple_01/apples.gltf")).unwrap_or_else(|e| panic!("{e}"));
     let scene = &description.scene;
     assert_eq!(scene.triangle_count(), 5 * 7012 + 2);
-    assert_eq!(scene.textures.len(), 2);
+    assert_eq!(scene.textures.len(), 3);
     let level = scene.textures[0].levels[0];
     assert_eq!((level.width, level.height), (4096, 4096));
     assert_eq!(scene.lights.len(), 1);

@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec4};
 use lensray_core::scene::texture::Wrap;
 use lensray_core::scene::{load, load_gltf, SceneError};
 use lensray_core::settings::shot;
@@ -94,22 +94,60 @@ fn node_transforms_compose_parent_first() {
 }
 
 #[test]
-fn vertex_colours_are_named_in_one_warning() {
+fn vertex_colours_and_tangents_are_read() {
     let dir = tempfile::tempdir().unwrap();
     let path = write_gltf(dir.path(), "colours.gltf", r#"[{"mesh": 0}]"#, TRIANGLE, "");
+    // COLOR_0 (RGB: alpha 1) reads the positions' accessor.
     let text = std::fs::read_to_string(&path).unwrap().replace(
         r#""attributes": {"POSITION": 0}"#,
         r#""attributes": {"POSITION": 0, "COLOR_0": 0}"#,
     );
     std::fs::write(&path, text).unwrap();
     let file = load_gltf(&path).unwrap();
-    assert_eq!(file.notices.len(), 1, "{:?}", file.notices);
-    assert!(
-        file.notices[0]
-            .ends_with("colours.gltf: ignores the vertex colours (COLOR_0) of its meshes"),
-        "{:?}",
-        file.notices
-    );
+    assert!(file.notices.is_empty(), "{:?}", file.notices);
+    let mesh = &file.scene.meshes[0];
+    let expected: Vec<Vec4> = TRIANGLE
+        .chunks(3)
+        .map(|p| Vec4::new(p[0], p[1], p[2], 1.0))
+        .collect();
+    assert_eq!(mesh.colours, expected);
+
+    // TANGENT in world space: turned with the node, w negated where the node mirrors.
+    let tangents = [1.0f32, 0.0, 0.0, 1.0].repeat(3);
+    let mut bin = f32_bytes(&TRIANGLE);
+    bin.extend(f32_bytes(&tangents));
+    std::fs::write(dir.path().join("tangents.bin"), &bin).unwrap();
+    for (matrix, expected) in [
+        (
+            "0,1,0,0, -1,0,0,0, 0,0,1,0, 0,0,0,1",
+            Vec4::new(0.0, 1.0, 0.0, 1.0),
+        ),
+        (
+            "-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1",
+            Vec4::new(-1.0, 0.0, 0.0, -1.0),
+        ),
+    ] {
+        let json = format!(
+            r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+  "nodes": [{{"mesh": 0, "matrix": [{matrix}]}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TANGENT": 1}}}}]}}],
+  "buffers": [{{"uri": "tangents.bin", "byteLength": 84}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 36}}, {{"buffer": 0, "byteOffset": 36, "byteLength": 48}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                  "min": [0, 0, 0], "max": [1, 1, 0]}},
+                {{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC4"}}]}}"#
+        );
+        let path = dir.path().join("tangents.gltf");
+        std::fs::write(&path, json).unwrap();
+        let mesh = load_gltf(&path).unwrap().scene.meshes.remove(0);
+        for t in &mesh.tangents {
+            assert!(
+                t.abs_diff_eq(expected, 1e-6),
+                "matrix {matrix}: tangent {t}, expected {expected}"
+            );
+        }
+        assert_eq!(mesh.tangents.len(), 3);
+    }
 }
 
 #[test]
@@ -194,6 +232,51 @@ fn the_bundled_gltf_loads_alike_from_files_and_data_uris() {
         .iter()
         .fold(0.0f32, |m, t| m.max(t.max_element()));
     assert!(reach > 5.0, "texture coordinates reach {reach}");
+}
+
+/// `normalTexture` is read as linear data with its scale and `KHR_texture_transform`; a mesh
+/// without texture coordinates has no tangents for it, which one notice says.
+#[test]
+fn a_normal_texture_loads_with_its_scale_and_transform() {
+    use glam::Vec2;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([128u8, 128, 255, 255]))
+        .save(d.join("normal.png"))
+        .unwrap();
+    let path = write_gltf(d, "normal.gltf", r#"[{"mesh": 0}]"#, TRIANGLE, "");
+    let materials = r#""materials": [{"name": "bumpy", "doubleSided": true, "normalTexture": {"index": 0,
+        "scale": 0.7, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0],
+        "scale": [2, 2]}}}}],
+      "textures": [{"source": 0}], "images": [{"uri": "normal.png"}],"#;
+    let text = std::fs::read_to_string(&path).unwrap();
+    let start = text.find(r#""materials""#).unwrap();
+    let end = text.find(r#""buffers""#).unwrap();
+    std::fs::write(
+        &path,
+        format!("{}{materials}\n  {}", &text[..start], &text[end..]),
+    )
+    .unwrap();
+    let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+    let m = &file.scene.materials[0];
+    let normal = m.normal_texture.expect("a normal texture");
+    assert_eq!(m.normal_scale, 0.7);
+    assert_eq!(
+        file.scene.textures[normal.texture as usize].encoding,
+        lensray_core::scene::texture::Encoding::Linear
+    );
+    let uv = normal
+        .uv_from_texcoord
+        .transform_point2(Vec2::new(1.0, 1.0));
+    assert!(uv.abs_diff_eq(Vec2::new(2.5, 2.0), 1e-6), "uv {uv}");
+    assert_eq!(file.notices.len(), 1, "{:?}", file.notices);
+    assert!(
+        file.notices[0].ends_with(
+            "renders without the normal maps of tri (no texture coordinates to find tangents by)"
+        ),
+        "{:?}",
+        file.notices
+    );
 }
 
 /// `metallicRoughnessTexture` (B metallic, G roughness) and `occlusionTexture` (R, with its

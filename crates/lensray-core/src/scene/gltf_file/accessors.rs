@@ -1,12 +1,14 @@
 //! Vertex attributes read as floats from any component type glTF allows for them, with
-//! `KHR_mesh_quantization`'s (gltfpack writes them): positions, normals and texture coordinates
-//! as BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not, besides FLOAT. The
+//! `KHR_mesh_quantization`'s (gltfpack writes them): positions, normals, tangents, texture
+//! coordinates and colours as BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not,
+//! besides FLOAT. The
 //! `gltf` crate's readers take positions and normals for floats whatever the accessor holds (and
 //! stop on signed texture coordinates), so these are decoded here. Normalized integers become
 //! floats as glTF says: c / 255 and c / 65535 unsigned, max(c / 127, -1) and max(c / 32767, -1)
 //! signed; integers that are not normalized keep their values, which the node's transform (for
 //! positions) or the texture transform (for texture coordinates) scales back.
 
+use glam::{DMat4, DVec3, Vec3, Vec4};
 use gltf::accessor::DataType;
 
 /// The `N`-component elements of the vertex attribute `accessor` as floats, for `semantic` (its
@@ -68,4 +70,76 @@ fn scaled(value: f32, normalized: bool, largest: f32) -> f32 {
     } else {
         value
     }
+}
+
+/// The primitive's COLOR_0 as linear RGBA (alpha 1 where it is RGB), float or normalized
+/// UNSIGNED_BYTE / UNSIGNED_SHORT; `None` where it has none.
+pub(super) fn read_colours(
+    primitive: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+) -> Result<Option<Vec<Vec4>>, String> {
+    let Some(accessor) = primitive.get(&gltf::Semantic::Colors(0)) else {
+        return Ok(None);
+    };
+    Ok(Some(if accessor.dimensions().multiplicity() == 3 {
+        let rgb = read_floats::<3>(&accessor, buffers, "COLOR_0")?;
+        rgb.into_iter().map(|c| Vec3::from(c).extend(1.0)).collect()
+    } else {
+        let rgba = read_floats::<4>(&accessor, buffers, "COLOR_0")?;
+        rgba.into_iter().map(Vec4::from).collect()
+    }))
+}
+
+/// The primitive's TANGENT in world space: xyz through `world_from_node`, normalized, w the
+/// bitangent's sign, negated where the transform mirrors (the cross product of the normal and
+/// the tangent turns with it); `None` where it has none.
+pub(super) fn read_tangents(
+    primitive: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+    world_from_node: &DMat4,
+) -> Result<Option<Vec<Vec4>>, String> {
+    let Some(accessor) = primitive.get(&gltf::Semantic::Tangents) else {
+        return Ok(None);
+    };
+    let mirror = world_from_node.determinant().signum() as f32;
+    let tangents = read_floats::<4>(&accessor, buffers, "TANGENT")?;
+    Ok(Some(
+        tangents
+            .into_iter()
+            .map(|[x, y, z, w]| {
+                let t = world_from_node.transform_vector3(DVec3::new(x.into(), y.into(), z.into()));
+                let sign = if w < 0.0 { -mirror } else { mirror };
+                t.normalize_or_zero().as_vec3().extend(sign)
+            })
+            .collect(),
+    ))
+}
+
+/// The primitive's NORMAL in world space, through the inverse transpose of `world_from_node`,
+/// normalized; empty where it has none, where its count is not `count`, or where a normal is
+/// zero (degenerate in the file: the mesh is left faceted, as for OBJ).
+pub(super) fn read_normals(
+    primitive: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+    world_from_node: &DMat4,
+    count: usize,
+) -> Result<Vec<Vec3>, String> {
+    let Some(accessor) = primitive.get(&gltf::Semantic::Normals) else {
+        return Ok(Vec::new());
+    };
+    let normal_from_node = world_from_node.inverse().transpose();
+    let normals: Vec<Vec3> = read_floats::<3>(&accessor, buffers, "NORMAL")?
+        .into_iter()
+        .map(|n| {
+            let n = normal_from_node.transform_vector3(DVec3::from(n.map(f64::from)));
+            n.normalize_or_zero().as_vec3()
+        })
+        .collect();
+    Ok(
+        if normals.len() == count && !normals.contains(&Vec3::ZERO) {
+            normals
+        } else {
+            Vec::new()
+        },
+    )
 }

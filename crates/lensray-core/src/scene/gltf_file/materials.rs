@@ -1,7 +1,8 @@
 //! glTF materials as lensray's: `baseColorFactor` and `baseColorTexture` (sRGB) for the base
 //! colour, `metallicFactor` and `roughnessFactor` times `metallicRoughnessTexture`'s B and G
 //! (linear; `KHR_materials_specular`'s `specularFactor` weighs the dielectric's specular lobe),
-//! `occlusionTexture`'s R with its strength (linear), `emissiveFactor` x
+//! `occlusionTexture`'s R with its strength (linear), `normalTexture` with its scale (linear, in
+//! the frame of the mesh's tangents: `scene::tangents`), `emissiveFactor` x
 //! `KHR_materials_emissive_strength` and `emissiveTexture` (sRGB) for the emission, the base
 //! colour's alpha (factor times texture) with `alphaMode` and `alphaCutoff`, each texture with
 //! its sampler's wrap modes and `KHR_texture_transform` (the occlusion texture's is not read).
@@ -75,6 +76,7 @@ impl Walk<'_> {
             }
             None => None,
         };
+        let (normal_texture, normal_scale) = self.normal_texture(material)?;
         let alpha_mode = match material.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             gltf::material::AlphaMode::Mask => AlphaMode::Mask {
@@ -97,10 +99,50 @@ impl Walk<'_> {
             metallic_roughness_texture: metallic_roughness,
             occlusion_texture,
             occlusion_strength: occlusion.map_or(1.0, |o| o.strength().clamp(0.0, 1.0)),
+            normal_texture,
+            normal_scale,
             // The base colour texture's alpha is the coverage.
             alpha_texture: base,
             ..Material::new(&name, Vec3::ONE, Vec3::ZERO)
         })
+    }
+
+    /// The material's normal map (linear) with its transform, and its scale. The `gltf` crate
+    /// reads no `KHR_texture_transform` on a normal texture: it is read from the JSON here.
+    fn normal_texture(
+        &mut self,
+        material: &gltf::Material,
+    ) -> Result<(Option<TextureRef>, f32), String> {
+        let Some(normal) = material.normal_texture() else {
+            return Ok((None, 1.0));
+        };
+        let mut tex_coord = normal.tex_coord();
+        let mut uv_from_texcoord = Affine2::IDENTITY;
+        if let Some(t) = normal.extension_value("KHR_texture_transform") {
+            let pair = |key: &str, default: [f32; 2]| match t
+                .get(key)
+                .and_then(|v| v.as_array())
+                .map(|a| &a[..])
+            {
+                Some([a, b]) => match (a.as_f64(), b.as_f64()) {
+                    (Some(a), Some(b)) => [a as f32, b as f32],
+                    _ => default,
+                },
+                _ => default,
+            };
+            let rotation = t.get("rotation").and_then(|r| r.as_f64()).unwrap_or(0.0);
+            uv_from_texcoord = texture_transform(
+                pair("offset", [0.0; 2]),
+                rotation as f32,
+                pair("scale", [1.0; 2]),
+            );
+            if let Some(set) = t.get("texCoord").and_then(|c| c.as_u64()) {
+                tex_coord = set as u32;
+            }
+        }
+        let texture = normal.texture();
+        let slot = self.texture_slot(texture, tex_coord, uv_from_texcoord, Encoding::Linear)?;
+        Ok((slot, normal.scale()))
     }
 
     /// The scene's reference to the texture of `info`: its image (decoded on first use, as
@@ -260,7 +302,6 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
             !m.double_sided(),
             "single-sided culling (every surface is seen from both sides)",
         );
-        note(m.normal_texture().is_some(), "normal maps");
         note(
             m.specular().is_some_and(|s| {
                 s.specular_texture().is_some()

@@ -5,7 +5,9 @@
 //! (matrix or TRS) applied after its parent's. Every triangle primitive (`TRIANGLES`, strips and
 //! fans; indexed or not) of a node's mesh becomes one [`Mesh`](super::Mesh) in world space: positions through
 //! `world_from_node`, normals through its inverse transpose, the winding kept counter-clockwise
-//! where the transform mirrors; TEXCOORD_0 comes along. Vertex attributes may be quantized
+//! where the transform mirrors; TEXCOORD_0 and COLOR_0 come along, and TANGENT through
+//! `world_from_node` (its sign turned where the transform mirrors); a normal-mapped mesh without
+//! TANGENT gets MikkTSpace's (`scene::tangents`). Vertex attributes may be quantized
 //! (`KHR_mesh_quantization`, `accessors.rs`). Points and lines are skipped with one
 //! notice. Materials and their textures: `materials.rs`; a primitive without one gets a white
 //! Lambert surface. What the shading does not use is named in one notice.
@@ -84,6 +86,7 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
     }
     let mut out = reader.finish(&document);
     notices.append(&mut out.notices);
+    notices.extend(crate::scene::tangents::unread_notice(&mut out.scene));
     out.notices = notices
         .into_iter()
         .map(|n| format!("{}: {n}", path.display()))

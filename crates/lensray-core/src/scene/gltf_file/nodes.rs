@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{DMat4, DVec3, Vec2, Vec3};
 use gltf::mesh::Mode;
 
-use super::accessors::read_floats;
+use super::accessors::{read_colours, read_floats, read_normals, read_tangents};
 use super::materials::ignored_features;
 use super::MeshFile;
 use crate::scene::file_camera::{FileCamera, FileProjection};
@@ -29,8 +29,6 @@ pub(super) struct Walk<'a> {
     pub skipped_modes: usize,
     /// A texture reads a texture coordinate set other than TEXCOORD_0 (read from set 0).
     pub other_texcoords: bool,
-    /// A primitive has vertex colours (COLOR_0), which the materials do not read.
-    pub vertex_colours: bool,
 }
 
 impl<'a> Walk<'a> {
@@ -44,7 +42,6 @@ impl<'a> Walk<'a> {
             images: vec![[None; 2]; document.images().len()],
             skipped_modes: 0,
             other_texcoords: false,
-            vertex_colours: false,
         }
     }
 
@@ -139,29 +136,8 @@ impl<'a> Walk<'a> {
         }
         let mirrored = world_from_node.determinant() < 0.0;
         let triangles = assemble(mode, &corners, mirrored);
-        let normals = attribute(gltf::Semantic::Normals)
-            .map(|a| read_floats::<3>(&a, buffers, "NORMAL"))
-            .transpose()
+        let normals = read_normals(primitive, buffers, world_from_node, count)
             .map_err(|e| format!("{what}: {e}"))?;
-        let normals: Vec<Vec3> = match normals {
-            Some(normals) => {
-                let normal_from_node = world_from_node.inverse().transpose();
-                normals
-                    .into_iter()
-                    .map(|n| {
-                        let n = normal_from_node.transform_vector3(DVec3::from(n.map(f64::from)));
-                        n.normalize_or_zero().as_vec3()
-                    })
-                    .collect()
-            }
-            None => Vec::new(),
-        };
-        // A zero normal (degenerate in the file) leaves the mesh faceted, as for OBJ.
-        let normals = if normals.len() == count && !normals.contains(&Vec3::ZERO) {
-            normals
-        } else {
-            Vec::new()
-        };
         let texcoords: Vec<Vec2> = attribute(gltf::Semantic::TexCoords(0))
             .map(|a| read_floats(&a, buffers, "TEXCOORD_0"))
             .transpose()
@@ -172,7 +148,14 @@ impl<'a> Walk<'a> {
         } else {
             Vec::new()
         };
-        self.vertex_colours |= primitive.get(&gltf::Semantic::Colors(0)).is_some();
+        let colours = read_colours(primitive, buffers)
+            .map_err(|e| format!("{what}: {e}"))?
+            .filter(|c| c.len() == count)
+            .unwrap_or_default();
+        let tangents = read_tangents(primitive, buffers, world_from_node)
+            .map_err(|e| format!("{what}: {e}"))?
+            .filter(|t| t.len() == count)
+            .unwrap_or_default();
         let material = self
             .material(primitive.material())
             .map_err(|e| format!("{what}: {e}"))?;
@@ -181,6 +164,8 @@ impl<'a> Walk<'a> {
             .or(mesh.name())
             .map_or_else(|| format!("node {}", node.index()), str::to_string);
         self.out.scene.meshes.push(Mesh {
+            colours,
+            tangents,
             name,
             positions: positions
                 .iter()
@@ -204,11 +189,6 @@ impl<'a> Walk<'a> {
                 "reads every texture with TEXCOORD_0 (lensray reads one texture coordinate set)"
                     .into(),
             );
-        }
-        if self.vertex_colours {
-            self.out
-                .notices
-                .push("ignores the vertex colours (COLOR_0) of its meshes".into());
         }
         if self.skipped_modes > 0 {
             self.out.notices.push(format!(

@@ -7,14 +7,16 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::textures::{Kind, TextureFiles};
+use super::textures::{bump_multiplier, Kind, TextureFiles};
 use crate::scene::{AlphaMode, Material, SceneError};
 
 /// The scene material of an MTL material read from `dir`: `Kd` the base colour (the
 /// default's when absent; white under a `map_Kd` without `Kd`), metallic and roughness from
 /// `Pm`, `Pr`, `Ks` and `Ns` (`metallic_roughness`), `Ke` the emission (0 when absent; white
 /// under a `map_Ke` without `Ke`), `d` times `map_d` the coverage, cut stochastically where it
-/// is below 1 (`AlphaMode::Blend`: the average over samples is the partly covered surface).
+/// is below 1 (`AlphaMode::Blend`: the average over samples is the partly covered surface),
+/// `map_Pr` and `map_Pm` times their factors, `norm` a tangent-space normal map (`-bm` its
+/// scale). `map_Bump` is left with a notice: it is as often a height map as a normal map.
 pub(super) fn convert_material(
     m: &tobj::Material,
     dir: &Path,
@@ -33,7 +35,27 @@ pub(super) fn convert_material(
     let emission_texture = texture(m.unknown_param.get("map_Ke"), Kind::Colour)?;
     let alpha_texture = texture(m.dissolve_texture.as_ref(), Kind::Coverage)?;
     let alpha = m.dissolve.unwrap_or(1.0).clamp(0.0, 1.0);
-    let (metallic, roughness, specular) = metallic_roughness(m);
+    let param = |key: &str| m.unknown_param.get(key).map(String::as_str);
+    let (map_pr, map_pm) = (param("map_Pr"), param("map_Pm"));
+    let normal_texture = texture(m.unknown_param.get("norm"), Kind::Data)?;
+    let metallic_roughness_texture = files.metallic_roughness(dir, map_pr, map_pm, name)?;
+    if m.normal_texture.is_some() {
+        files.notices.push(format!(
+            "material {name}: renders without its map_Bump (a bump map may be a height map; \
+             lensray reads tangent-space normal maps from `norm`)"
+        ));
+    }
+    let (mut metallic, mut roughness, mut specular) = metallic_roughness(m);
+    // A map without its factor is read whole (factor 1), as glTF's maps are.
+    if metallic_roughness_texture.is_some() {
+        specular = 1.0;
+        if map_pm.is_some() && param("Pm").is_none() {
+            metallic = 1.0;
+        }
+        if map_pr.is_some() && param("Pr").is_none() {
+            roughness = 1.0;
+        }
+    }
     let textured_white = |texture: bool, fallback: Vec3| if texture { Vec3::ONE } else { fallback };
     Ok(Material {
         name: name.clone(),
@@ -56,6 +78,9 @@ pub(super) fn convert_material(
         },
         alpha,
         alpha_texture,
+        metallic_roughness_texture,
+        normal_scale: param("norm").map_or(1.0, bump_multiplier),
+        normal_texture,
         ..default
     })
 }

@@ -1,5 +1,8 @@
 //! The textures of MTL materials: `map_Kd` and `map_Ke` (sRGB colour, as glTF's base colour),
-//! `map_d` (linear coverage: the image's alpha channel where it has one, else its luminance).
+//! `map_d` (linear coverage: the image's alpha channel where it has one, else its luminance),
+//! `map_Pr` and `map_Pm` (linear roughness and metallic: each image's red channel, put in the G
+//! and B channels of one texture as glTF's metallic-roughness texture has them) and `norm` (a
+//! linear tangent-space normal map).
 //! Paths are relative to the MTL file; options in front of the file name (`-s 1 1 1`, `-bm 0.5`,
 //! `-clamp on`, ...) are skipped, backslashes read as separators. A file that is missing is a
 //! notice and the material goes without it; one that cannot be decoded is an error.
@@ -15,6 +18,8 @@ use crate::scene::{LoadTimes, SceneError, Texture};
 pub(super) enum Kind {
     Colour,
     Coverage,
+    /// Linear, as the file has it (a normal map).
+    Data,
 }
 
 /// The textures read so far, each file and kind once.
@@ -64,6 +69,7 @@ impl<'a> TextureFiles<'a> {
                 let texture = match kind {
                     Kind::Colour => decode_texture(&name, &bytes, Encoding::Srgb, &mut self.times),
                     Kind::Coverage => coverage_from_image(&name, &bytes, &mut self.times),
+                    Kind::Data => decode_texture(&name, &bytes, Encoding::Linear, &mut self.times),
                 }
                 .map_err(|reason| SceneError::Texture {
                     path: path.clone(),
@@ -77,6 +83,101 @@ impl<'a> TextureFiles<'a> {
         self.read.insert((path, kind), loaded);
         Ok(loaded.map(TextureRef::new))
     }
+}
+
+impl TextureFiles<'_> {
+    /// The metallic-roughness texture of `map_Pr` (`roughness`) and `map_Pm` (`metallic`)
+    /// statement values, relative to `dir`: G the roughness image's red channel, B the metallic
+    /// image's (resized to the roughness image's size where they differ), 1 where a map is
+    /// absent, so that its factor alone counts. `None` when neither file can be read.
+    pub(super) fn metallic_roughness(
+        &mut self,
+        dir: &Path,
+        roughness: Option<&str>,
+        metallic: Option<&str>,
+        material: &str,
+    ) -> Result<Option<TextureRef>, SceneError> {
+        let (r, m) = (
+            self.image(dir, roughness, material)?,
+            self.image(dir, metallic, material)?,
+        );
+        if r.is_none() && m.is_none() {
+            return Ok(None);
+        }
+        let finest = |t: &Option<Texture>| t.as_ref().map(|t| t.levels[0]);
+        let size = finest(&r)
+            .or(finest(&m))
+            .map_or([1, 1], |l| [l.width, l.height]);
+        let channel = |t: &Option<Texture>, x: u32, y: u32| match t {
+            // The nearest texel of the finest level, in [0, 255].
+            Some(t) => {
+                let l = t.levels[0];
+                let (sx, sy) = (x * l.width / size[0], y * l.height / size[1]);
+                (t.texels[(l.first + sy * l.width + sx) as usize] & 0xff) as u8
+            }
+            None => 255,
+        };
+        let mut texels = Vec::with_capacity((4 * size[0] * size[1]) as usize);
+        for y in 0..size[1] {
+            for x in 0..size[0] {
+                texels.extend([255, channel(&r, x, y), channel(&m, x, y), 255]);
+            }
+        }
+        let name = format!("{material} metallic-roughness");
+        self.textures.push(Texture::from_rgba8(
+            &name,
+            size[0],
+            size[1],
+            &texels,
+            Encoding::Linear,
+        ));
+        Ok(Some(TextureRef::new((self.textures.len() - 1) as u32)))
+    }
+}
+
+impl TextureFiles<'_> {
+    /// The image of map statement value `value`, relative to `dir`, decoded linear and not
+    /// added to the scene; `None` (with a notice) when there is none or it cannot be read.
+    fn image(
+        &mut self,
+        dir: &Path,
+        value: Option<&str>,
+        material: &str,
+    ) -> Result<Option<Texture>, SceneError> {
+        let Some(value) = value else {
+            return Ok(None);
+        };
+        let path = dir.join(file_name(value));
+        let bytes = match std::fs::read(&path) {
+            Ok(bytes) => bytes,
+            Err(e) => {
+                self.notices.push(format!(
+                    "material {material}: cannot read texture {}: {e}; it renders without it",
+                    path.display()
+                ));
+                return Ok(None);
+            }
+        };
+        let name = path.display().to_string();
+        decode_texture(&name, &bytes, Encoding::Linear, &mut self.times)
+            .map(Some)
+            .map_err(|reason| SceneError::Texture {
+                path,
+                of: self.obj.to_path_buf(),
+                reason,
+            })
+    }
+}
+
+/// The `-bm` (bump multiplier) option of a map statement's value, 1 without one.
+pub(super) fn bump_multiplier(value: &str) -> f32 {
+    let tokens: Vec<&str> = value.split_whitespace().collect();
+    tokens
+        .windows(2)
+        .find(|w| w[0] == "-bm")
+        .and_then(|w| w[1].parse::<f32>().ok())
+        .filter(|v| v.is_finite())
+        .unwrap_or(1.0)
 }
 
 /// Arguments of the MTL map options (`-o u v w` takes up to three numbers).

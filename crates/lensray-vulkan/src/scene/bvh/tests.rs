@@ -122,6 +122,8 @@ fn test_meshes() -> Vec<lensray_core::scene::Mesh> {
         .enumerate()
     {
         meshes.push(lensray_core::scene::Mesh {
+            colours: Vec::new(),
+            tangents: Vec::new(),
             name: format!("ico{k}"),
             positions: unit.iter().map(|&p| *centre + 0.5 * p).collect(),
             triangles: triangles.clone(),
