@@ -13,10 +13,10 @@ use lensray_core::interface::{
     RasterPush, ResolvePush, TraceParams, ViewParams, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE,
     APERTURE_MAX_FAN, LENS_MAX_SURFACES, LENS_PUPIL_BINS, LIGHT_DIRECTIONAL, LIGHT_POINT,
     LIGHT_SPOT, PROJECTION_ORTHOGRAPHIC, PROJECTION_PERSPECTIVE, SHADING_LIT, SHADING_UNLIT,
-    SURFACE_ALPHA_TESTED, SURFACE_TEXTURED, TEXTURE_NONE, TRI_HAS_NORMALS, WRAP_CLAMP_TO_EDGE,
-    WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
+    SURFACE_ALPHA_TESTED, SURFACE_SINGLE_SIDED, SURFACE_TEXTURED, TEXTURE_NONE, TRI_HAS_NORMALS,
+    TRI_SINGLE_SIDED, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
-use lensray_core::scene::order::spatial_order;
+use lensray_core::scene::order::sided_order;
 use lensray_core::scene::texture::Wrap;
 use lensray_core::scene::{AlphaMode, Material, TextureRef};
 use lensray_core::scene::{Light, LightKind, Scene};
@@ -32,6 +32,9 @@ pub(crate) struct MeshRange {
     pub triangle_count: u32,
     /// No triangle's material is alpha-tested: ray queries may skip the test.
     pub opaque: bool,
+    /// Every triangle's material is single-sided (each mesh's single- and double-sided
+    /// triangles are two ranges): its instance culls back faces.
+    pub single_sided: bool,
 }
 
 /// Consecutive triangles whose surfaces have the same SURFACE_* bits (`surface_bits`): the raster
@@ -110,14 +113,6 @@ impl FlatScene {
         for mesh in &scene.meshes {
             let has_normals = !mesh.normals.is_empty();
             let base = flat.positions.len() as u32;
-            flat.meshes.push(MeshRange {
-                first_triangle: flat.tri_info.len() as u32,
-                triangle_count: mesh.triangles.len() as u32,
-                opaque: mesh
-                    .material_ids
-                    .iter()
-                    .all(|&m| !scene.materials[m as usize].is_alpha_tested()),
-            });
             flat.positions
                 .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
             if mesh.texcoords.is_empty() {
@@ -134,27 +129,44 @@ impl FlatScene {
                 flat.normals
                     .extend(std::iter::repeat_n([0.0; 4], mesh.positions.len()));
             }
-            // Every acceleration-structure builder gets the triangles in a spatial order.
-            for t in spatial_order(&mesh.positions, &mesh.triangles) {
+            // Every acceleration-structure builder gets the triangles in a spatial order, each
+            // side's in one range (the CPU reference numbers them so too).
+            let material = |t: usize| &scene.materials[mesh.material_ids[t] as usize];
+            let first_range = flat.meshes.len();
+            for t in sided_order(&mesh.positions, &mesh.triangles, |t| {
+                !material(t).double_sided
+            }) {
                 let t = t as usize;
-                let (tri, material) = (&mesh.triangles[t], mesh.material_ids[t]);
-                flat.indices.extend(tri.iter().map(|&i| base + i));
-                let surfaces = surface_bits(&scene.materials[material as usize]);
-                push_surface(&mut flat.surface_runs, flat.tri_info.len() as u32, surfaces);
-                flat.tri_info
-                    .push(material | if has_normals { TRI_HAS_NORMALS } else { 0 });
+                let single_sided = !material(t).double_sided;
+                let triangle = flat.tri_info.len() as u32;
+                let opaque = !material(t).is_alpha_tested();
+                match flat.meshes[first_range..].last_mut() {
+                    Some(range) if range.single_sided == single_sided => {
+                        range.triangle_count += 1;
+                        range.opaque &= opaque;
+                    }
+                    _ => flat.meshes.push(MeshRange {
+                        first_triangle: triangle,
+                        triangle_count: 1,
+                        opaque,
+                        single_sided,
+                    }),
+                }
+                flat.indices
+                    .extend(mesh.triangles[t].iter().map(|&i| base + i));
+                let surfaces = surface_bits(material(t));
+                push_surface(&mut flat.surface_runs, triangle, surfaces);
+                let normals = if has_normals { TRI_HAS_NORMALS } else { 0 };
+                let side = if single_sided { TRI_SINGLE_SIDED } else { 0 };
+                flat.tri_info.push(mesh.material_ids[t] | normals | side);
             }
         }
         Ok(flat)
     }
-
-    pub(crate) fn triangle_count(&self) -> u32 {
-        self.tri_info.len() as u32
-    }
 }
 
 /// What a raster fragment of `m` looks up (SURFACE_*): the G-buffer's albedo samples only the
-/// diffuse texture.
+/// diffuse texture; a single-sided surface's draws cull back faces.
 fn surface_bits(m: &Material) -> u32 {
     let textured = if m.diffuse_texture.is_some() {
         SURFACE_TEXTURED
@@ -166,7 +178,12 @@ fn surface_bits(m: &Material) -> u32 {
     } else {
         0
     };
-    textured | alpha_tested
+    let single_sided = if m.double_sided {
+        0
+    } else {
+        SURFACE_SINGLE_SIDED
+    };
+    textured | alpha_tested | single_sided
 }
 
 /// What the traced shading of a hit on `m` looks up (SURFACE_*): it samples the emission,

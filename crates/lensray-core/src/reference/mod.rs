@@ -7,6 +7,9 @@
 //!   ray from `surface::shadow_origin` towards the light, t in (0, d), is unoccluded
 //!   (`lighting`), plus f(l, v) * pi * environment when a cosine-distributed ray l from there
 //!   leaves the scene; f is glTF's metallic-roughness BRDF (`brdf`); background on a miss.
+//! - Single-sided surfaces (`Material::double_sided` false): a ray of any kind (camera, shadow,
+//!   environment) that meets one from behind (`is_back_face`: it sees the triangle clockwise)
+//!   passes through it, on every path.
 //! - `unlit` and `lit` average their `spp` samples per pixel.
 //! - AOVs (`depth`, `normal`, `albedo`) are what the raster G-buffer holds: the surface seen by
 //!   the aperture-centre ray through each pixel centre (one ray per pixel, no lens blur).
@@ -20,7 +23,7 @@ mod render;
 mod surface;
 mod triangle;
 
-pub use accel::{packet_alignment, Accel, AlphaTest, Hit, PacketMask, PACKET_SIZE};
+pub use accel::{is_back_face, packet_alignment, Accel, AlphaTest, Hit, PacketMask, PACKET_SIZE};
 pub use embree::{
     cpu_name, EmbreeConfigError, EmbreeReport, EmbreeSettings, Isa, EMBREE_CONFIG_VAR,
 };

@@ -6,8 +6,9 @@
 
 #include "interface.glsl"
 
-uint triangle_material(uint tri) { return tri_info[tri] & ~TRI_HAS_NORMALS; }
+uint triangle_material(uint tri) { return tri_info[tri] & ~(TRI_HAS_NORMALS | TRI_SINGLE_SIDED); }
 bool triangle_has_normals(uint tri) { return (tri_info[tri] & TRI_HAS_NORMALS) != 0u; }
+bool triangle_single_sided(uint tri) { return (tri_info[tri] & TRI_SINGLE_SIDED) != 0u; }
 
 // Geometric normal: normalize(cross(v1 - v0, v2 - v0)).
 vec3 triangle_geometric_normal(uint tri) {

@@ -100,7 +100,6 @@ pub(crate) struct SceneBuffers {
     textures: Buffer,
     texels: Buffer,
     lights: Buffer,
-    pub triangle_count: u32,
     /// Every triangle, in runs of the same surfaces (the raster passes' draws).
     pub surface_runs: Vec<SurfaceRun>,
     /// What the traced shading meets on any surface (SURFACE_*): the trace pass's
@@ -202,7 +201,6 @@ impl SceneBuffers {
             textures: textures?,
             texels: texels?,
             lights: lights?,
-            triangle_count: flat.triangle_count(),
             surface_runs: flat.surface_runs,
             surfaces: flat.surfaces,
         })
