@@ -132,8 +132,7 @@ impl Accel {
         } else {
             BuildQuality::HIGH
         });
-        for group in 0..GROUPS {
-            let members = &triangles_of[group];
+        for (group, members) in triangles_of.iter().enumerate() {
             if members.is_empty() {
                 continue;
             }
