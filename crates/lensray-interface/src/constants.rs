@@ -22,8 +22,11 @@ shader_constants! {
     TRI_HAS_COLOURS: u32 = 0x4000_0000;
     /// Bit 29: its mesh has tangents (`tangents`), which a normal map needs.
     TRI_HAS_TANGENTS: u32 = 0x2000_0000;
-    /// Bits 0..28 of a triangle's info word: its material.
-    TRI_MATERIAL_MASK: u32 = 0x1fff_ffff;
+    /// Bit 28: its material is single-sided (`Material::double_sided` false: a ray that
+    /// reaches its back face passes through it).
+    TRI_SINGLE_SIDED: u32 = 0x1000_0000;
+    /// Bits 0..27 of a triangle's info word: its material.
+    TRI_MATERIAL_MASK: u32 = 0x0fff_ffff;
     /// Far end of camera rays on the GPU (ray queries take a finite tMax; the CPU uses
     /// infinity, which no scene within f32 range can tell apart).
     T_MAX: f32 = 1e30;
@@ -174,12 +177,14 @@ shader_constants! {
     /// stops it where its alpha exceeds this.
     AOV_BLEND_THRESHOLD: f32 = 0.5;
     /// What a surface makes a shader look up: a texture (the raster passes: the diffuse
-    /// colour's; the traced shading: the diffuse or emission colour's), an alpha test. The
+    /// colour's; the traced shading: the diffuse or emission colour's), an alpha test, a
+    /// facing test (single-sided: back faces are culled). The
     /// raster passes draw each run of triangles (`SurfaceRun`), the trace pass each scene,
     /// with the shaders specialized for the bits their surfaces have (specialization
     /// constant SPEC_SURFACES, `SURFACES` in shaders/include/texture.glsl).
     SURFACE_TEXTURED: u32 = 1;
     SURFACE_ALPHA_TESTED: u32 = 2;
+    SURFACE_SINGLE_SIDED: u32 = 4;
     SPEC_SURFACES: u32 = 0;
     /// Most surfaces of a real lens on the GPU, and the exit pupil's bins
     /// (camera::real_lens::PUPIL_BINS).

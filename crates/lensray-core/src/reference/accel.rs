@@ -1,7 +1,9 @@
 //! The acceleration structure of the CPU reference: Embree 3 (Intel's ray-tracing kernels, through
-//! the `embree3` crate's safe binding), built in its robust (watertight) mode. Opaque triangles
-//! and alpha-tested ones are two Embree geometries, so that only candidate hits on the latter go
-//! through the alpha test (an Embree filter function); opaque scenes pay nothing for it.
+//! the `embree3` crate's safe binding), built in its robust (watertight) mode. Triangles are
+//! grouped into Embree geometries by their tests, alpha-tested or not, single-sided or not, so
+//! that only candidate hits on alpha-tested or single-sided triangles go through an Embree filter
+//! function (the alpha test, the facing test [`is_back_face`]); opaque double-sided scenes pay
+//! nothing for either.
 //! docs/performance.md says why Embree and what it measured against lensray's own traversal.
 
 use std::sync::atomic::{AtomicI64, Ordering};
@@ -53,9 +55,10 @@ impl PacketMask {
     }
 }
 
-/// Embree's geometry ids of the two groups of triangles.
-const OPAQUE: usize = 0;
+/// Embree's geometry id of a group of triangles: these bits of their tests.
 const ALPHA_TESTED: usize = 1;
+const SINGLE_SIDED: usize = 2;
+const GROUPS: usize = 4;
 
 /// A ray's `time`, which static geometry leaves unused, tells the alpha test which draw the ray
 /// makes: its key (in the ray's `id`), or the fixed threshold of the AOVs.
@@ -78,9 +81,9 @@ pub struct Hit {
 pub struct Accel {
     scene: Scene<'static>,
     /// Each geometry's primitive -> the caller's triangle.
-    triangles_of: [Arc<Vec<u32>>; 2],
+    triangles_of: [Arc<Vec<u32>>; GROUPS],
     /// Vertices per triangle, the caller's order.
-    vertices: Vec<[Vec3A; 3]>,
+    vertices: Arc<Vec<[Vec3A; 3]>>,
     /// Bytes Embree allocated for the scene (its BVH and its copy of the triangles).
     embree_bytes: u64,
     pub build_time: Duration,
@@ -89,14 +92,17 @@ pub struct Accel {
 impl Accel {
     /// Builds over opaque triangles in the caller's order.
     pub fn build(triangles: &[[Vec3A; 3]]) -> Self {
-        Self::build_with_alpha(triangles, &[], None)
+        Self::build_with_tests(triangles, &[], &[], None)
     }
 
     /// Builds over triangles in the caller's order; those marked in `alpha_tested` (all
-    /// opaque when it is empty) stop a ray only where `alpha` says so.
-    pub fn build_with_alpha(
+    /// opaque when it is empty) stop a ray only where `alpha` says so, those marked in
+    /// `single_sided` (all double-sided when it is empty) only a ray that meets their front
+    /// face ([`is_back_face`]).
+    pub fn build_with_tests(
         triangles: &[[Vec3A; 3]],
         alpha_tested: &[bool],
+        single_sided: &[bool],
         alpha: Option<AlphaTest>,
     ) -> Self {
         let start = Instant::now();
@@ -110,12 +116,15 @@ impl Accel {
             counter.fetch_add(bytes as i64, Ordering::Relaxed);
             true
         });
-        let mut groups = [Vec::new(), Vec::new()];
+        let mut groups: [Vec<u32>; GROUPS] = Default::default();
         for (i, _) in triangles.iter().enumerate() {
             let tested = alpha.is_some() && alpha_tested.get(i).copied().unwrap_or(false);
-            groups[usize::from(tested)].push(i as u32);
+            let one_side = single_sided.get(i).copied().unwrap_or(false);
+            let group = usize::from(tested) * ALPHA_TESTED + usize::from(one_side) * SINGLE_SIDED;
+            groups[group].push(i as u32);
         }
         let triangles_of = groups.map(Arc::new);
+        let all_vertices = Arc::new(triangles.to_vec());
         let mut scene = device.create_scene().expect("an Embree scene");
         scene.set_flags(SceneFlags::ROBUST);
         scene.set_build_quality(if triangles.len() > 250_000 {
@@ -123,8 +132,7 @@ impl Accel {
         } else {
             BuildQuality::HIGH
         });
-        for group in [OPAQUE, ALPHA_TESTED] {
-            let members = &triangles_of[group];
+        for (group, members) in triangles_of.iter().enumerate() {
             if members.is_empty() {
                 continue;
             }
@@ -152,18 +160,18 @@ impl Accel {
                 .set_new_buffer::<[u32; 3]>(BufferUsage::INDEX, 0, Format::UINT3, 12, indices.len())
                 .expect("Embree index buffer")
                 .copy_from_slice(&indices);
-            if let (ALPHA_TESTED, Some(alpha)) = (group, &alpha) {
-                let (map, test) = (Arc::clone(members), Arc::clone(alpha));
+            if group != 0 {
+                let filter = Arc::new(SurfaceFilter {
+                    triangles_of: Arc::clone(members),
+                    vertices: (group & SINGLE_SIDED != 0).then(|| Arc::clone(&all_vertices)),
+                    alpha: alpha.clone().filter(|_| group & ALPHA_TESTED != 0),
+                });
+                let each = Arc::clone(&filter);
                 geometry.set_intersect_filter_function(
-                    move |rays, hits, valid, _, _: Option<&()>| {
-                        alpha_filter(&map, &test, &rays, &hits, valid);
-                    },
+                    move |rays, hits, valid, _, _: Option<&()>| each.run(&rays, &hits, valid),
                 );
-                let (map, test) = (Arc::clone(members), Arc::clone(alpha));
                 geometry.set_occluded_filter_function(
-                    move |rays, hits, valid, _, _: Option<&()>| {
-                        alpha_filter(&map, &test, &rays, &hits, valid);
-                    },
+                    move |rays, hits, valid, _, _: Option<&()>| filter.run(&rays, &hits, valid),
                 );
             }
             scene.attach_geometry_by_id(&geometry.commit(), group as u32);
@@ -172,7 +180,7 @@ impl Accel {
         Self {
             scene,
             triangles_of,
-            vertices: triangles.to_vec(),
+            vertices: all_vertices,
             embree_bytes: allocated.load(Ordering::Relaxed).max(0) as u64,
             build_time: start.elapsed(),
         }
@@ -305,24 +313,43 @@ fn ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32, key: Option<u32>) 
     ray
 }
 
-/// Embree's filter for the alpha-tested geometry: rejects the candidate hits the alpha test
-/// lets through.
-fn alpha_filter(
-    triangles_of: &[u32],
-    alpha: &AlphaTest,
-    rays: &RayN<'_>,
-    hits: &HitN<'_>,
-    mut valid: ValidityN<'_>,
-) {
-    for lane in 0..valid.len() {
-        if valid[lane] == 0 {
-            continue;
-        }
-        let triangle = triangles_of[hits.prim_id(lane) as usize];
-        let key = (rays.time(lane) == TIME_KEYED).then(|| rays.id(lane));
-        let barycentric = Vec2::new(hits.u(lane), hits.v(lane));
-        if !alpha(triangle, barycentric, key) {
-            valid[lane] = 0;
+/// Whether a ray along `direction` that meets triangle `v` reaches its back face: it sees the
+/// triangle's vertices clockwise, d . ((v1 - v0) x (v2 - v0)) > 0 (glTF's front face is the
+/// counter-clockwise one). A ray in the triangle's plane (0) meets the front.
+pub fn is_back_face(direction: Vec3A, v: &[Vec3A; 3]) -> bool {
+    direction.dot((v[1] - v[0]).cross(v[2] - v[0])) > 0.0
+}
+
+/// Embree's filter for a geometry of single-sided or alpha-tested triangles: rejects the
+/// candidate hits on a back face (`vertices` given) and those the alpha test lets through
+/// (`alpha` given).
+struct SurfaceFilter {
+    triangles_of: Arc<Vec<u32>>,
+    vertices: Option<Arc<Vec<[Vec3A; 3]>>>,
+    alpha: Option<AlphaTest>,
+}
+
+impl SurfaceFilter {
+    fn run(&self, rays: &RayN<'_>, hits: &HitN<'_>, mut valid: ValidityN<'_>) {
+        for lane in 0..valid.len() {
+            if valid[lane] == 0 {
+                continue;
+            }
+            let triangle = self.triangles_of[hits.prim_id(lane) as usize];
+            if let Some(vertices) = &self.vertices {
+                let direction = Vec3A::from(rays.dir(lane));
+                if is_back_face(direction, &vertices[triangle as usize]) {
+                    valid[lane] = 0;
+                    continue;
+                }
+            }
+            if let Some(alpha) = &self.alpha {
+                let key = (rays.time(lane) == TIME_KEYED).then(|| rays.id(lane));
+                let barycentric = Vec2::new(hits.u(lane), hits.v(lane));
+                if !alpha(triangle, barycentric, key) {
+                    valid[lane] = 0;
+                }
+            }
         }
     }
 }
@@ -352,6 +379,44 @@ mod tests {
         for mask in &masks {
             let address = std::ptr::from_ref(mask.get()) as usize;
             assert_eq!(address % required, 0, "mask at {address:#x}");
+        }
+    }
+
+    /// A triangle in z = 0, counter-clockwise seen from +z, single-sided (behind it, at z = -1,
+    /// a double-sided one): a ray from +z stops at it (t = 1), a ray from -z passes through it to
+    /// nothing, and the shadow tests and 16-wide packets agree; double-sided, it stops both.
+    #[test]
+    fn single_sided_triangles_stop_only_rays_that_meet_their_front() {
+        let front = [
+            Vec3A::new(-1.0, -1.0, 0.0),
+            Vec3A::new(1.0, -1.0, 0.0),
+            Vec3A::new(0.0, 1.0, 0.0),
+        ];
+        let behind = front.map(|v| v - Vec3A::Z);
+        let (from_front, from_back) = (Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, -2.0));
+        assert!(!is_back_face(Vec3A::NEG_Z, &front) && is_back_face(Vec3A::Z, &front));
+        for single_sided in [true, false] {
+            let accel =
+                Accel::build_with_tests(&[front, behind], &[], &[single_sided, false], None);
+            let front_hit = accel.closest_hit(from_front, Vec3::NEG_Z, 0.0, 10.0, None);
+            assert_eq!(front_hit.map(|h| (h.triangle, h.t)), Some((0, 1.0)));
+            // From -z the ray meets the triangle behind first (t = 1), then this one (t = 2):
+            // look from between them, at z = -0.5, towards +z.
+            let origin = Vec3::new(0.0, 0.0, -0.5);
+            let back_hit = accel.closest_hit(origin, Vec3::Z, 0.0, 10.0, None);
+            let expected = (!single_sided).then_some((0, 0.5));
+            assert_eq!(back_hit.map(|h| (h.triangle, h.t)), expected, "from behind");
+            assert_eq!(
+                accel.occluded(origin, Vec3::Z, 0.0, 10.0, None),
+                !single_sided,
+                "shadow ray from behind"
+            );
+            let mut rays = [None; PACKET_SIZE];
+            rays[0] = Some((origin, Vec3::Z, 10.0));
+            rays[3] = Some((from_back, Vec3::Z, 1.5));
+            let mask = accel.occluded_packet(&rays, &[0; PACKET_SIZE]);
+            // Lane 3 meets the double-sided triangle behind at t = 1.
+            assert_eq!(mask, if single_sided { 0b1000 } else { 0b1001 });
         }
     }
 }

@@ -9,6 +9,9 @@
 //!   sampling of the environment and the BRDF (`sky`, `brdf_sampling`); f is glTF's
 //!   metallic-roughness BRDF (`brdf`); background (or the map) on a miss. With `bounces` > 1
 //!   the path goes on along the BRDF's draw (`integrator`).
+//! - Single-sided surfaces (`Material::double_sided` false): a ray of any kind (camera, shadow,
+//!   environment, bounce) that meets one from behind (`is_back_face`: it sees the triangle
+//!   clockwise) passes through it, on every path.
 //! - `unlit` and `lit` average their `spp` samples per pixel.
 //! - AOVs (`depth`, `normal`, `albedo`) are what the raster G-buffer holds: the surface seen by
 //!   the aperture-centre ray through each pixel centre (one ray per pixel, no lens blur).
@@ -26,7 +29,7 @@ mod surface;
 mod surface_frame;
 mod triangle;
 
-pub use accel::{packet_alignment, Accel, AlphaTest, Hit, PacketMask, PACKET_SIZE};
+pub use accel::{is_back_face, packet_alignment, Accel, AlphaTest, Hit, PacketMask, PACKET_SIZE};
 pub use embree::{
     cpu_name, EmbreeConfigError, EmbreeReport, EmbreeSettings, Isa, EMBREE_CONFIG_VAR,
 };

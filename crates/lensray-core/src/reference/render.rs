@@ -15,7 +15,7 @@ use crate::camera::{Camera, Ray};
 use crate::film::spectral::rgb_weights;
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler, CameraSample};
-use crate::scene::order::spatial_order;
+use crate::scene::order::sided_order;
 use crate::scene::{blend_threshold, ray_key, EnvironmentLight, Light, Scene};
 use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT};
 use crate::settings::{Shading, Shot};
@@ -60,8 +60,8 @@ impl RenderStats {
 
 impl Renderer {
     /// Flattens the scene's meshes and builds the acceleration structure. The triangles are
-    /// numbered as the GPU upload numbers them (each mesh's in its spatial order,
-    /// `scene::order`), which a blend draw hashes.
+    /// numbered as the GPU upload numbers them (each mesh's in its sided spatial order,
+    /// `scene::order::sided_order`), which a blend draw hashes.
     pub fn new(scene: &Scene) -> Self {
         let count = scene.triangle_count();
         let mut triangles = Vec::with_capacity(count);
@@ -75,7 +75,9 @@ impl Renderer {
         let any_colours = scene.meshes.iter().any(|m| !m.colours.is_empty());
         let any_tangents = scene.meshes.iter().any(|m| !m.tangents.is_empty());
         for mesh in &scene.meshes {
-            for t in spatial_order(&mesh.positions, &mesh.triangles) {
+            let single_sided =
+                |t: usize| !scene.materials[mesh.material_ids[t] as usize].double_sided;
+            for t in sided_order(&mesh.positions, &mesh.triangles, single_sided) {
                 let tri = mesh.triangles[t as usize];
                 triangles.push(tri.map(|i| Vec3A::from(mesh.positions[i as usize])));
                 surfaces.normals.push(if mesh.normals.is_empty() {
@@ -114,8 +116,13 @@ impl Renderer {
             Arc::new(move |triangle, b, key| stops(&surfaces, &materials, triangle, b, key))
                 as AlphaTest
         });
+        let single_sided: Vec<bool> = surfaces
+            .materials
+            .iter()
+            .map(|&m| !materials.get(m).double_sided)
+            .collect();
         Self {
-            accel: Accel::build_with_alpha(&triangles, &alpha_tested, alpha),
+            accel: Accel::build_with_tests(&triangles, &alpha_tested, &single_sided, alpha),
             surfaces,
             materials,
             lights: scene.lights.clone(),

@@ -3,7 +3,7 @@
 //! material). Each mesh is one node; its triangles of one material are one primitive.
 //! Materials: `baseColorFactor` and `baseColorTexture`, `metallicFactor` and `roughnessFactor`,
 //! `KHR_materials_specular`'s `specularFactor` where it is not 1 (0: a Lambert surface),
-//! `emissiveFactor`, double-sided, with the scene's alpha mode. `write_scene_gltf` writes the meshes alone (a scene file adds camera and lights);
+//! `emissiveFactor`, `doubleSided` as the material is, with the scene's alpha mode. `write_scene_gltf` writes the meshes alone (a scene file adds camera and lights);
 //! `textured::gltf_out` adds textures, a camera and lights.
 
 use std::collections::BTreeMap;
@@ -246,7 +246,7 @@ fn material(m: &Material) -> json::Material {
         name: Some(m.name.clone()),
         alpha_mode: Valid(alpha_mode),
         alpha_cutoff,
-        double_sided: true,
+        double_sided: m.double_sided,
         pbr_metallic_roughness: json::material::PbrMetallicRoughness {
             base_color_factor: json::material::PbrBaseColorFactor([
                 m.diffuse.x,

@@ -59,6 +59,12 @@ pub struct Material {
     pub alpha: f32,
     /// Its alpha channel multiplies `alpha` (`map_d`; glTF: the base colour texture).
     pub alpha_texture: Option<TextureRef>,
+    /// Seen from both sides (glTF's `doubleSided`; OBJ and the built-in scenes: always). A
+    /// single-sided surface is culled from behind on every path, for every ray: a ray whose
+    /// direction d meets a triangle (v0, v1, v2) with d . ((v1 - v0) x (v2 - v0)) > 0, that is
+    /// one that sees the triangle clockwise, reaches its back face and passes through it
+    /// ([`crate::reference::is_back_face`]).
+    pub double_sided: bool,
 }
 
 impl Default for Material {
@@ -87,6 +93,7 @@ impl Material {
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
             alpha_texture: None,
+            double_sided: true,
         }
     }
 

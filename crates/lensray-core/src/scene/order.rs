@@ -14,6 +14,22 @@
 
 use glam::Vec3;
 
+/// A mesh's triangles as every path numbers them: in [`spatial_order`], the double-sided ones
+/// (`single_sided(t)` false) first, then the single-sided ones. The GPU's acceleration
+/// structures cull back faces per range of triangles (an instance), so each side's triangles of
+/// a mesh are one range; a mesh of one kind keeps its spatial order.
+pub fn sided_order(
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
+    single_sided: impl Fn(usize) -> bool,
+) -> Vec<u32> {
+    let (mut order, single): (Vec<u32>, Vec<u32>) = spatial_order(positions, triangles)
+        .into_iter()
+        .partition(|&t| !single_sided(t as usize));
+    order.extend(single);
+    order
+}
+
 /// The triangles' indices in the order of a balanced median split of their centroids (ties,
 /// equal coordinates, broken by index, so the order depends on the positions and the list's order
 /// only through them).

@@ -17,8 +17,12 @@ void test_candidate(rayQueryEXT rq, BlendCut cut) {
 }
 
 // Without alpha-tested surfaces every hit is opaque: the traversal need not offer candidates.
+// With single-sided surfaces the rays cull back faces: only single-sided meshes' instances
+// let them (the others are marked TRIANGLE_FACING_CULL_DISABLE, scene/accel.rs), so a ray that
+// meets a single-sided triangle from behind passes through it, as on the CPU reference.
 uint surfaces_ray_flags() {
-    return SURFACES_ALPHA_TESTED ? gl_RayFlagsNoneEXT : gl_RayFlagsOpaqueEXT;
+    uint cull = SURFACES_SINGLE_SIDED ? gl_RayFlagsCullBackFacingTrianglesEXT : gl_RayFlagsNoneEXT;
+    return cull | (SURFACES_ALPHA_TESTED ? gl_RayFlagsNoneEXT : gl_RayFlagsOpaqueEXT);
 }
 
 // The closest hit with t in (0, t_max) that stops a ray cutting BLEND surfaces with `cut`: the

@@ -79,7 +79,10 @@ bool intersect_triangle(TraversalRay r, uint slot, float t_max, out float t, out
         return false;
     }
     float det = u + v + w;
-    if (det == 0.0) {
+    // det < 0: the ray sees the triangle clockwise, its back face (the CPU reference's
+    // is_back_face); a single-sided triangle lets it pass.
+    if (det == 0.0
+        || (SURFACES_SINGLE_SIDED && det < 0.0 && triangle_single_sided(uint(tri.v0.w)))) {
         return false;
     }
     float t_scaled = u * a.z + v * b.z + w * c.z;

@@ -8,6 +8,7 @@
 
 uint triangle_material(uint tri) { return tri_info[tri] & TRI_MATERIAL_MASK; }
 bool triangle_has_normals(uint tri) { return (tri_info[tri] & TRI_HAS_NORMALS) != 0u; }
+bool triangle_single_sided(uint tri) { return (tri_info[tri] & TRI_SINGLE_SIDED) != 0u; }
 
 // Geometric normal: normalize(cross(v1 - v0, v2 - v0)).
 vec3 triangle_geometric_normal(uint tri) {

@@ -16,10 +16,12 @@
 #ifdef PLAIN_SURFACES
 const uint SURFACES = 0u;
 #else
-layout(constant_id = SPEC_SURFACES) const uint SURFACES = SURFACE_TEXTURED | SURFACE_ALPHA_TESTED;
+layout(constant_id = SPEC_SURFACES) const uint SURFACES =
+    SURFACE_TEXTURED | SURFACE_ALPHA_TESTED | SURFACE_SINGLE_SIDED;
 #endif
 const bool SURFACES_TEXTURED = (SURFACES & SURFACE_TEXTURED) != 0u;
 const bool SURFACES_ALPHA_TESTED = (SURFACES & SURFACE_ALPHA_TESTED) != 0u;
+const bool SURFACES_SINGLE_SIDED = (SURFACES & SURFACE_SINGLE_SIDED) != 0u;
 
 // texture/mod.rs: srgb_to_linear
 float srgb_to_linear(float c) {

@@ -10,7 +10,7 @@ use crate::core::device::Context;
 use crate::core::error::{pipeline_err, vk_err, GpuError};
 use crate::core::sbt::{GroupCounts, ShaderBindingTable};
 use crate::core::shader::ShaderModule;
-use lensray_core::interface::{SetDecl, SPEC_SURFACES};
+use lensray_core::interface::{SetDecl, SPEC_SURFACES, SURFACE_SINGLE_SIDED};
 
 /// One descriptor of a pipeline's set: binding number, type, stages (`descriptors::layout_of`
 /// makes them from a set's declaration).
@@ -282,8 +282,9 @@ impl Pipeline {
             .iter()
             .zip(&specs)
             .map(|(&s, spec)| {
+                // Culling back faces changes no fragment's code.
                 let [vert, frag] = match &plain {
-                    Some(plain) if s == 0 => plain,
+                    Some(plain) if s & !SURFACE_SINGLE_SIDED == 0 => plain,
                     _ => &general,
                 };
                 let frag = vk::PipelineShaderStageCreateInfo::default()
@@ -304,7 +305,7 @@ impl Pipeline {
                 ]
             })
             .collect();
-        let made = create_graphics(ctx, desc, this.layout, &stages)?;
+        let made = create_graphics(ctx, desc, this.layout, &stages, &surfaces)?;
         this.surface_variants = mask;
         this.variants = vec![vk::Pipeline::null(); mask as usize];
         for (&s, &pipeline) in surfaces.iter().zip(&made) {
@@ -493,12 +494,13 @@ fn create_ray_tracing<'a>(
 }
 
 /// The fixed-function state of every scene draw and one pipeline per entry of `stages`
-/// (vertex, fragment).
+/// (vertex, fragment) for the SURFACE_* bits of the same entry of `surfaces`.
 fn create_graphics(
     ctx: &Context,
     desc: &GraphicsDesc<'_>,
     layout: vk::PipelineLayout,
     stages: &[[vk::PipelineShaderStageCreateInfo<'_>; 2]],
+    surfaces: &[u32],
 ) -> Result<Vec<vk::Pipeline>, GpuError> {
     // Vertices are pulled from storage buffers: no vertex input.
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
@@ -507,12 +509,16 @@ fn create_graphics(
     let viewport = vk::PipelineViewportStateCreateInfo::default()
         .viewport_count(1)
         .scissor_count(1);
-    // The camera frame is left-handed (a mirror of the world): no culling, both windings.
+    // Double-sided surfaces: no culling, both windings. Single-sided ones cull their back
+    // faces: a triangle seen counter-clockwise from the eye (glTF's front,
+    // reference::is_back_face) is counter-clockwise in the image, as Vulkan's front face
+    // COUNTER_CLOCKWISE takes it; the single-sided quads' tests check it against the CPU.
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
+    let culled = raster.cull_mode(vk::CullModeFlags::BACK);
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
         .rasterization_samples(vk::SampleCountFlags::TYPE_1);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
@@ -531,13 +537,18 @@ fn create_graphics(
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
     let infos: Vec<_> = stages
         .iter()
-        .map(|stages| {
+        .zip(surfaces)
+        .map(|(stages, &s)| {
             vk::GraphicsPipelineCreateInfo::default()
                 .stages(stages)
                 .vertex_input_state(&vertex_input)
                 .input_assembly_state(&assembly)
                 .viewport_state(&viewport)
-                .rasterization_state(&raster)
+                .rasterization_state(if s & SURFACE_SINGLE_SIDED != 0 {
+                    &culled
+                } else {
+                    &raster
+                })
                 .multisample_state(&multisample)
                 .depth_stencil_state(&depth)
                 .color_blend_state(&blend_state)

@@ -6,6 +6,7 @@
 use std::sync::Arc;
 
 use ash::vk;
+use lensray_core::interface::SURFACE_SINGLE_SIDED;
 
 use crate::core::device::Context;
 use crate::core::error::GpuError;
@@ -140,28 +141,32 @@ pub(crate) fn record_scene_draw(
 }
 
 /// More draws than this in one pass cost more than the fragments they spare: the scene is drawn
-/// whole with the general pipeline instead.
+/// with the general pipeline instead, one draw per run of single- or double-sided triangles.
 const MAX_SURFACE_DRAWS: usize = 64;
 
 /// The draws of `scene`'s triangles, in order: its surface runs with the bits a pipeline
 /// specialized on `variants` tells apart, neighbours that become equal merged. Which pipeline
 /// draws a triangle changes what its fragments compute, not their values: the general code
-/// finds an untextured, opaque surface's colour as the specialized one does.
+/// finds an untextured, opaque surface's colour as the specialized one does. Whether it culls
+/// back faces (SURFACE_SINGLE_SIDED) is what the surface is, and every draw keeps it.
 fn surface_draws(scene: &SceneBuffers, variants: u32) -> Vec<SurfaceRun> {
+    let draws = merged_runs(&scene.surface_runs, |s| s & variants);
+    if draws.len() > MAX_SURFACE_DRAWS {
+        let general = variants & !SURFACE_SINGLE_SIDED;
+        return merged_runs(&scene.surface_runs, |s| general | (s & variants));
+    }
+    draws
+}
+
+/// `runs` with their bits mapped by `bits`, neighbours that become equal merged.
+fn merged_runs(runs: &[SurfaceRun], bits: impl Fn(u32) -> u32) -> Vec<SurfaceRun> {
     let mut draws: Vec<SurfaceRun> = Vec::new();
-    for run in &scene.surface_runs {
-        let surfaces = run.surfaces & variants;
+    for run in runs {
+        let surfaces = bits(run.surfaces);
         match draws.last_mut() {
             Some(last) if last.surfaces == surfaces => last.triangle_count += run.triangle_count,
             _ => draws.push(SurfaceRun { surfaces, ..*run }),
         }
-    }
-    if draws.len() > MAX_SURFACE_DRAWS {
-        return vec![SurfaceRun {
-            first_triangle: 0,
-            triangle_count: scene.triangle_count,
-            surfaces: variants,
-        }];
     }
     draws
 }

@@ -22,7 +22,9 @@ use crate::core::shader;
 use crate::passes::draw::{record_scene_draw, scene_render_pass, SceneDraw, SCENE_DEPTH_FORMAT};
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
-use lensray_core::interface::{DescriptorSet, GBufferSet, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED};
+use lensray_core::interface::{
+    DescriptorSet, GBufferSet, SURFACE_ALPHA_TESTED, SURFACE_SINGLE_SIDED, SURFACE_TEXTURED,
+};
 
 /// The G-buffer read back to the host; row-major, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -175,7 +177,7 @@ impl GBufferPass {
                 render_pass: render_pass.handle,
                 color_attachments: 3,
                 depth_compare: vk::CompareOp::LESS,
-                surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED,
+                surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED | SURFACE_SINGLE_SIDED,
                 plain: Some((shader::GBUFFER_PLAIN_VERT, shader::GBUFFER_PLAIN_FRAG)),
             },
         )?;

@@ -20,7 +20,9 @@ use crate::core::shader;
 use crate::passes::draw::{record_scene_draw, scene_render_pass, SceneDraw, SCENE_DEPTH_FORMAT};
 use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
-use lensray_core::interface::{DescriptorSet, VisibilityPush, VisibilitySet, SURFACE_ALPHA_TESTED};
+use lensray_core::interface::{
+    DescriptorSet, VisibilityPush, VisibilitySet, SURFACE_ALPHA_TESTED, SURFACE_SINGLE_SIDED,
+};
 use lensray_core::sampler::{pixel_camera_sample, shared_pixel_sampler};
 use lensray_core::settings::RenderSettings;
 
@@ -112,7 +114,7 @@ impl VisibilityPass {
                 render_pass: render_pass.handle,
                 color_attachments: 1,
                 depth_compare: vk::CompareOp::GREATER,
-                surface_variants: SURFACE_ALPHA_TESTED,
+                surface_variants: SURFACE_ALPHA_TESTED | SURFACE_SINGLE_SIDED,
                 plain: Some((shader::VISIBILITY_PLAIN_VERT, shader::VISIBILITY_PLAIN_FRAG)),
             },
         )?;

@@ -25,8 +25,8 @@ use crate::scene::SceneBuffers;
 use lensray_core::camera::Camera;
 use lensray_core::film::colour::linear_to_srgb;
 use lensray_core::interface::{
-    DescriptorSet, ViewParams, ViewPush, ViewSet, SURFACE_ALPHA_TESTED, SURFACE_TEXTURED,
-    VIEW_ALBEDO, VIEW_COC, VIEW_FINAL,
+    DescriptorSet, ViewParams, ViewPush, ViewSet, SURFACE_ALPHA_TESTED, SURFACE_SINGLE_SIDED,
+    SURFACE_TEXTURED, VIEW_ALBEDO, VIEW_COC, VIEW_FINAL,
 };
 
 /// The views the pass draws, VIEW_ALBEDO to VIEW_COC: one pipeline each.
@@ -89,7 +89,7 @@ impl ViewPass {
                 render_pass: self.render_pass.handle,
                 color_attachments: 1,
                 depth_compare: vk::CompareOp::LESS,
-                surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED,
+                surface_variants: SURFACE_TEXTURED | SURFACE_ALPHA_TESTED | SURFACE_SINGLE_SIDED,
                 plain: Some(plain),
             },
         )?;

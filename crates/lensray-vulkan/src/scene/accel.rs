@@ -1,4 +1,5 @@
-//! Acceleration structures: one compacted BLAS per mesh, a TLAS over one instance per mesh with
+//! Acceleration structures: one compacted BLAS per mesh range (a mesh's double-sided and its
+//! single-sided triangles, `MeshRange`), a TLAS over one instance per range with
 //! the identity transform (scene positions are world positions). The instance custom index is
 //! the mesh's first triangle in the flattened arrays, so a hit's global triangle is
 //! `custom index + primitive index`.
@@ -35,13 +36,24 @@ fn align_up(x: u64, a: u64) -> u64 {
     x.div_ceil(a) * a
 }
 
-/// One 64-byte VkAccelerationStructureInstanceKHR: identity transform, mask 0xFF, culling off.
-fn instance_bytes(custom_index: u32, blas_address: u64) -> [u8; 64] {
+/// One 64-byte VkAccelerationStructureInstanceKHR: identity transform, mask 0xFF, culling off
+/// unless `single_sided`. A single-sided mesh's instance culls the triangles a ray meets from
+/// behind when the ray asks for it (gl_RayFlagsCullBackFacingTrianglesEXT, which the shaders set
+/// only for scenes with single-sided surfaces). Vulkan's default facing, front = counter-clockwise
+/// as the ray origin sees the triangle in a right-handed frame (clockwise in a left-handed one),
+/// is glTF's: the instance keeps it, and the tests of single-sided quads check it against the
+/// CPU reference's [`lensray_core::reference::is_back_face`].
+fn instance_bytes(custom_index: u32, blas_address: u64, single_sided: bool) -> [u8; 64] {
     let mut out = [0u8; 64];
     let transform: [f32; 12] = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
     out[..48].copy_from_slice(bytemuck::cast_slice(&transform));
     let custom_and_mask = (custom_index & 0x00ff_ffff) | (0xffu32 << 24);
-    let flags = vk::GeometryInstanceFlagsKHR::TRIANGLE_FACING_CULL_DISABLE.as_raw() as u8;
+    let flags = if single_sided {
+        vk::GeometryInstanceFlagsKHR::empty()
+    } else {
+        vk::GeometryInstanceFlagsKHR::TRIANGLE_FACING_CULL_DISABLE
+    };
+    let flags = flags.as_raw() as u8;
     let sbt_and_flags = u32::from(flags) << 24;
     out[48..52].copy_from_slice(&custom_and_mask.to_le_bytes());
     out[52..56].copy_from_slice(&sbt_and_flags.to_le_bytes());
@@ -294,7 +306,11 @@ fn tlas_instances(
 ) -> Result<(Buffer, u64), GpuError> {
     let mut instance_data = Vec::with_capacity(64 * meshes.len().max(1));
     for (m, blas) in meshes.iter().zip(compacted) {
-        instance_data.extend_from_slice(&instance_bytes(m.first_triangle, blas.address));
+        instance_data.extend_from_slice(&instance_bytes(
+            m.first_triangle,
+            blas.address,
+            m.single_sided,
+        ));
     }
     instance_data.resize(instance_data.len().max(64), 0);
     let instances = Buffer::with_data(

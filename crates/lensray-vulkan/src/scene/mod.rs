@@ -103,7 +103,6 @@ pub(crate) struct SceneBuffers {
     lights: Buffer,
     /// The scene's environment map, or a black placeholder (`has_map` false).
     pub environment: environment::EnvironmentBuffers,
-    pub triangle_count: u32,
     /// Every triangle, in runs of the same surfaces (the raster passes' draws).
     pub surface_runs: Vec<SurfaceRun>,
     /// What the traced shading meets on any surface (SURFACE_*): the trace pass's
@@ -210,7 +209,6 @@ impl SceneBuffers {
             texels: texels?,
             lights: lights?,
             environment: environment::EnvironmentBuffers::of_scene(ctx, scene)?,
-            triangle_count: flat.triangle_count(),
             surface_runs: flat.surface_runs,
             surfaces: flat.surfaces,
         })

@@ -5,7 +5,8 @@
 //! the frame of the mesh's tangents: `scene::tangents`), `emissiveFactor` x
 //! `KHR_materials_emissive_strength` and `emissiveTexture` (sRGB) for the emission, the base
 //! colour's alpha (factor times texture) with `alphaMode` and `alphaCutoff`, each texture with
-//! its sampler's wrap modes and `KHR_texture_transform` (the occlusion texture's is not read).
+//! its sampler's wrap modes and `KHR_texture_transform` (the occlusion texture's is not read),
+//! and `doubleSided` (false, glTF's default: culled from behind, `Material::double_sided`).
 //! Images are read once each as colour and once as data, from a buffer view, a data URI or a
 //! file beside the glTF.
 
@@ -43,8 +44,12 @@ impl Walk<'_> {
     fn convert(&mut self, material: &gltf::Material) -> Result<Material, String> {
         if material.index().is_none() {
             // glTF's default material is a fully rough metal; a file that gives none is drawn
-            // as the white Lambert surface of the other formats' files without materials.
-            return Ok(Material::new("glTF default", Vec3::ONE, Vec3::ZERO));
+            // as the white Lambert surface of the other formats' files without materials,
+            // single-sided as glTF's default is.
+            return Ok(Material {
+                double_sided: false,
+                ..Material::new("glTF default", Vec3::ONE, Vec3::ZERO)
+            });
         }
         let pbr = material.pbr_metallic_roughness();
         let [r, g, b, a] = pbr.base_color_factor();
@@ -103,6 +108,7 @@ impl Walk<'_> {
             normal_scale,
             // The base colour texture's alpha is the coverage.
             alpha_texture: base,
+            double_sided: material.double_sided(),
             ..Material::new(&name, Vec3::ONE, Vec3::ZERO)
         })
     }
@@ -298,10 +304,6 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
         }
     };
     for m in document.materials() {
-        note(
-            !m.double_sided(),
-            "single-sided culling (every surface is seen from both sides)",
-        );
         note(
             m.specular().is_some_and(|s| {
                 s.specular_texture().is_some()
