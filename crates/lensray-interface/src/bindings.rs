@@ -295,7 +295,7 @@ pub fn set_glsl(set: &SetDecl) -> String {
 
 binding_groups! {
     /// The scene's arrays (shaders/include/scene.glsl, texture.glsl, lights.glsl), flattened by
-    /// lensray-vulkan's upload.rs.
+    /// lensray-vulkan's upload/.
     SceneGroup("GROUP_SCENE") {
         positions: storage_buffer() = "readonly buffer Positions { vec4 positions[]; }",
         normals: storage_buffer() = "readonly buffer Normals { vec4 normals[]; }",

@@ -263,7 +263,7 @@ shader_interface! {
             /// ... and a10, a12, a14, a16.
             surface_asphere_high: [[f32; 4]; 32],
             /// The spectral tables, four floats a vec4, at SPECTRAL_AT_* (the trace pass's
-            /// spectral.glsl reads them here; upload.rs copies the SPECTRAL_* constants).
+            /// spectral.glsl reads them here; upload/camera.rs copies the SPECTRAL_* constants).
             spectral_table: [[f32; 4]; 256],
             /// Per bin (LENS_PUPIL_BINS): the region at its inner film radius (centre xy, half
             /// sides zw), and at its outer.
