@@ -14,6 +14,7 @@ use gpu_support::{
 };
 use lensray::paths::{OpenedPath, PathChoice, PathKind};
 use lensray_core::camera::{CameraParams, LensParams, Movements, ProjectionParams};
+use lensray_core::film::compare::mean_error;
 use lensray_core::reference::brdf::{ggx_distribution, MetallicRoughness};
 use lensray_core::reference::Renderer;
 use lensray_core::scene::environment::studio::studio;
@@ -140,12 +141,8 @@ fn a_white_metal_in_a_white_furnace_reflects_its_albedo() {
     }
 }
 
-/// The raster path (one lens point per pass, shared by every pixel) draws metallic-roughness
-/// spheres under the studio map, over paths of two surfaces, as the CPU reference does with
-/// the same shared samples.
-#[test]
-fn the_raster_path_draws_a_map_lit_scene_as_the_cpu_does() {
-    let test = "the_raster_path_draws_a_map_lit_scene_as_the_cpu_does";
+/// The test scene with a gold sphere and a glossy red one, under the studio map.
+fn map_lit_scene() -> Scene {
     let mut scene = test_scene();
     let pbr = |name: &str, base: Vec3, metallic: f32, roughness: f32| Material {
         name: name.into(),
@@ -170,6 +167,16 @@ fn the_raster_path_draws_a_map_lit_scene_as_the_cpu_does() {
     scene.environment = Some(Arc::new(EnvironmentLight::new(
         studio(64).turned(-40.0, 0.7),
     )));
+    scene
+}
+
+/// The raster path (one lens point per pass, shared by every pixel) draws metallic-roughness
+/// spheres under the studio map, over paths of two surfaces, as the CPU reference does with
+/// the same shared samples.
+#[test]
+fn the_raster_path_draws_a_map_lit_scene_as_the_cpu_does() {
+    let test = "the_raster_path_draws_a_map_lit_scene_as_the_cpu_does";
+    let scene = map_lit_scene();
     let lens = LensParams::ThinLens {
         aperture_radius: 0.1,
         focus_distance: 5.0,
@@ -203,4 +210,58 @@ fn the_raster_path_draws_a_map_lit_scene_as_the_cpu_does() {
         panic!("raster: differs from the CPU reference under the map: {diff:?}; wrote {files}");
     }
     path.close().expect("close: validation messages or leaks");
+}
+
+/// The hybrid path (shortcuts where the blur is under half a pixel, checked by traced
+/// samples) under the studio map with two bounces: its image mean is the CPU reference's
+/// within noise (4 standard errors of a reference of 16x the samples and another seed).
+#[test]
+fn the_hybrid_path_converges_under_a_map() {
+    let test = "the_hybrid_path_converges_under_a_map";
+    let scene = map_lit_scene();
+    let lens = LensParams::ThinLens {
+        aperture_radius: 0.1,
+        focus_distance: 5.0,
+    };
+    let shot = Shot {
+        camera: camera(false, lens, 64, 48),
+        render: RenderSettings {
+            environment_seen: true,
+            bounces: 2,
+            ..settings(Shading::Lit, 16)
+        },
+    };
+    let reference_shot = Shot {
+        camera: shot.camera.clone(),
+        render: RenderSettings {
+            spp: 256,
+            seed: shot.render.seed ^ 0x5bd1_e995,
+            ..shot.render
+        },
+    };
+    let Some(OpenedPath { path: mut cpu, .. }) = open_path_with(
+        test,
+        PathChoice::Only(PathKind::Cpu),
+        &scene,
+        &reference_shot,
+    ) else {
+        return;
+    };
+    let reference = cpu
+        .render(&reference_shot, &mut |_, _| {})
+        .expect("cpu render");
+    cpu.close().expect("close");
+    let Some(OpenedPath { mut path, .. }) =
+        open_path_with(test, PathChoice::Only(PathKind::Hybrid), &scene, &shot)
+    else {
+        return;
+    };
+    let image = path.render(&shot, &mut |_, _| {}).expect("hybrid render");
+    path.close().expect("close: validation messages or leaks");
+    let error = mean_error(&image, &reference);
+    println!("hybrid under the map: image-mean error {error:?}");
+    if error.mean.abs() > 4.0 * error.standard_error {
+        let files = write_comparison(&image, &reference, "hybrid-map-vs-cpu");
+        panic!("hybrid: its image mean is off by {error:?} under the map; wrote {files}");
+    }
 }
