@@ -102,7 +102,7 @@ enum KeyValue {
 
 /// What a key's value must be.
 #[derive(Clone, Copy)]
-enum Kind {
+enum ValueKind {
     /// `n` finite numbers.
     Numbers(usize),
     /// A positive finite number.
@@ -116,25 +116,29 @@ enum Kind {
 }
 
 /// The keys a `[[keyframe]]` takes besides `frame` and `interpolation`.
-const KEYS: [(&str, Channel, Kind); 14] = [
-    ("focus_distance", Channel::Focus, Kind::FocusDistance),
-    ("focus_point", Channel::Focus, Kind::FocusPoint),
-    ("focus_at", Channel::Focus, Kind::FocusPixel),
-    ("f_number", Channel::FNumber, Kind::Positive),
-    ("focal_length_mm", Channel::FocalLength, Kind::Positive),
-    ("lens", Channel::Lens, Kind::Lens),
-    ("eye", Channel::Eye, Kind::Numbers(3)),
-    ("target", Channel::Target, Kind::Numbers(3)),
-    ("up", Channel::Up, Kind::Numbers(3)),
-    ("shift", Channel::Shift, Kind::Numbers(2)),
-    ("tilt", Channel::Tilt, Kind::TiltDegrees),
-    ("tilt_direction", Channel::TiltDirection, Kind::Numbers(1)),
+const KEYS: [(&str, Channel, ValueKind); 14] = [
+    ("focus_distance", Channel::Focus, ValueKind::FocusDistance),
+    ("focus_point", Channel::Focus, ValueKind::FocusPoint),
+    ("focus_at", Channel::Focus, ValueKind::FocusPixel),
+    ("f_number", Channel::FNumber, ValueKind::Positive),
+    ("focal_length_mm", Channel::FocalLength, ValueKind::Positive),
+    ("lens", Channel::Lens, ValueKind::Lens),
+    ("eye", Channel::Eye, ValueKind::Numbers(3)),
+    ("target", Channel::Target, ValueKind::Numbers(3)),
+    ("up", Channel::Up, ValueKind::Numbers(3)),
+    ("shift", Channel::Shift, ValueKind::Numbers(2)),
+    ("tilt", Channel::Tilt, ValueKind::TiltDegrees),
+    (
+        "tilt_direction",
+        Channel::TiltDirection,
+        ValueKind::Numbers(1),
+    ),
     (
         "aperture_rotation",
         Channel::ApertureRotation,
-        Kind::Numbers(1),
+        ValueKind::Numbers(1),
     ),
-    ("exposure", Channel::Exposure, Kind::Numbers(1)),
+    ("exposure", Channel::Exposure, ValueKind::Numbers(1)),
 ];
 
 /// One `[[keyframe]]`.
@@ -175,7 +179,7 @@ fn numbers(value: &toml::Value, n: usize) -> Option<Vec<f64>> {
 
 /// The value of key `name` of `kind`, or what is wrong with it. A relative lens file starts at
 /// `folder`.
-fn parse_value(kind: Kind, value: &toml::Value, folder: &Path) -> Result<KeyValue, String> {
+fn parse_value(kind: ValueKind, value: &toml::Value, folder: &Path) -> Result<KeyValue, String> {
     let finite = |n: usize, what: &str| {
         numbers(value, n)
             .filter(|v| v.iter().all(|x| x.is_finite()))
@@ -188,20 +192,20 @@ fn parse_value(kind: Kind, value: &toml::Value, folder: &Path) -> Result<KeyValu
         })
     };
     match kind {
-        Kind::Numbers(1) => finite(1, "a finite number").map(KeyValue::Numbers),
-        Kind::Numbers(n) => finite(n, &format!("{n} finite numbers")).map(KeyValue::Numbers),
-        Kind::Positive => one("a positive number", |x| x > 0.0),
-        Kind::TiltDegrees => one("degrees from 0 to under 90", |x| (0.0..90.0).contains(&x)),
-        Kind::FocusDistance => {
+        ValueKind::Numbers(1) => finite(1, "a finite number").map(KeyValue::Numbers),
+        ValueKind::Numbers(n) => finite(n, &format!("{n} finite numbers")).map(KeyValue::Numbers),
+        ValueKind::Positive => one("a positive number", |x| x > 0.0),
+        ValueKind::TiltDegrees => one("degrees from 0 to under 90", |x| (0.0..90.0).contains(&x)),
+        ValueKind::FocusDistance => {
             let v = finite(1, "a positive distance")?[0];
             match v > 0.0 {
                 true => Ok(KeyValue::Focus(FocusKey::Distance(v))),
                 false => Err(format!("must be a positive distance, got {value}")),
             }
         }
-        Kind::FocusPoint => finite(3, "a point [x, y, z]")
+        ValueKind::FocusPoint => finite(3, "a point [x, y, z]")
             .map(|v| KeyValue::Focus(FocusKey::Point([v[0], v[1], v[2]]))),
-        Kind::FocusPixel => {
+        ValueKind::FocusPixel => {
             let pixel = numbers(value, 2)
                 .filter(|v| v.iter().all(|x| *x >= 0.0 && x.fract() == 0.0 && *x < 1e9))
                 .ok_or_else(|| format!("must be a pixel [column, row], got {value}"))?;
@@ -210,7 +214,7 @@ fn parse_value(kind: Kind, value: &toml::Value, folder: &Path) -> Result<KeyValu
                 pixel[1] as u32,
             ])))
         }
-        Kind::Lens => match value.as_str() {
+        ValueKind::Lens => match value.as_str() {
             Some(name) if !name.trim().is_empty() => {
                 let name = name.trim();
                 Ok(KeyValue::Lens(match crate::optics::builtin::lens(name) {
