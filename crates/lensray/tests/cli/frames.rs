@@ -5,6 +5,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use crate::gpu_support::skip_or_fail;
 use crate::{assert_rejected, lensray, render_args, stderr};
 
 /// The spheres scene with a focus pull from 3 m to 12 m over frames 1 to 6, eased.
@@ -89,6 +90,43 @@ fn a_frame_is_the_same_however_the_range_is_split() {
     assert!(
         bytes(whole.join(name(1))) != bytes(whole.join(name(6))),
         "frames 1 and 6 are equal"
+    );
+}
+
+/// On a GPU path (validation on) each frame uploads its own camera: the range's last frame is
+/// the file the frame renders alone, and start-up is said once.
+#[test]
+fn a_gpu_frame_is_the_same_alone_and_in_a_range() {
+    let test = "a_gpu_frame_is_the_same_alone_and_in_a_range";
+    let dir = tempfile::tempdir().unwrap();
+    let scene = pull_scene(dir.path(), PULL);
+    let run = |frames: &str, out: &str| {
+        let mut args = render_args(&["--scene", scene.to_str().unwrap(), "--frames", frames]);
+        args[2] = "gpu";
+        args.extend(["--path", "software", "--validate", "--out", out]);
+        lensray(&args, dir.path())
+    };
+    let range = run("1-6:5", "r.####.exr");
+    if !range.status.success() {
+        skip_or_fail(test, &stderr(&range));
+        return;
+    }
+    let alone = run("6", "a.####.exr");
+    assert!(alone.status.success(), "{}", stderr(&alone));
+    let file = |name: &str| bytes(dir.path().join(name));
+    assert!(
+        file("r.0006.exr") == file("a.0006.exr"),
+        "frame 6 differs alone and in the range"
+    );
+    assert!(
+        file("r.0001.exr") != file("r.0006.exr"),
+        "frames 1 and 6 are equal"
+    );
+    let summary = String::from_utf8_lossy(&range.stdout);
+    assert_eq!(summary.matches("start-up").count(), 1, "{summary}");
+    assert!(
+        summary.contains("(2 rendered, 0 complete and skipped)"),
+        "{summary}"
     );
 }
 
