@@ -118,8 +118,15 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
     let first_shot = settings.shot(first)?;
     let mut options = args.path.options();
     options.gpu.first_use_notice = args.progress != ProgressMode::None;
-    let OpenedPath { mut path, why, .. } = paths::open(&options, &description.scene, &first_shot)?;
+    let load_seconds = start.elapsed().as_secs_f64();
+    let OpenedPath {
+        mut path,
+        why,
+        startup,
+    } = paths::open(&options, &description.scene, &first_shot)?;
+    let focus_start = Instant::now();
     settings.resolve_focus(path.as_mut())?;
+    let focus_seconds = focus_start.elapsed().as_secs_f64();
     let startup_seconds = start.elapsed().as_secs_f64();
 
     let loop_start = Instant::now();
@@ -129,8 +136,9 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
     path.close()?;
     let Shot { camera, render } = &first_shot;
     println!(
-        "{}: frames {first}-{} ({} rendered, {} complete and skipped), {}x{} px, {} spp, path {kind} ({why}) on {device}: {:.2} s total",
+        "{}: {} frames from {first} to {} ({} rendered, {} complete and skipped), {}x{} px, {} spp, path {kind} ({why}) on {device}: {:.2} s total",
         args.out.display(),
+        frames.len(),
         frames[frames.len() - 1],
         times.rendered,
         times.skipped,
@@ -147,10 +155,27 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
         loop_seconds / times.render.max(1e-9),
     );
     if args.timings {
-        println!("timings:");
-        println!("  start-up           {startup_seconds:9.3} s");
-        println!("  rendering          {:9.3} s", times.render);
-        println!("  shots, encoding    {:9.3} s", times.other);
+        let total = start.elapsed().as_secs_f64();
+        let phases = [
+            ("load", load_seconds),
+            ("device and pipelines", startup.device_seconds),
+            (
+                "scene upload and acceleration structures",
+                startup.scene_seconds,
+            ),
+            ("focus keys", focus_seconds),
+            ("rendering", times.render),
+            (
+                "beyond rendering (shots, exposure, encode and write)",
+                times.other,
+            ),
+        ];
+        let known: f64 = phases.iter().map(|(_, s)| s).sum();
+        for (phase, seconds) in phases {
+            println!("timings: {phase} {seconds:.4} s");
+        }
+        println!("timings: other {:.4} s", (total - known).max(0.0));
+        println!("timings: total {total:.4} s");
     }
     Ok(())
 }
