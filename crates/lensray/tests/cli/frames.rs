@@ -177,6 +177,39 @@ fn resume_keeps_complete_frames_and_renders_partial_ones_again() {
     }
 }
 
+/// A key's `focus_at` focuses that frame as `--focus-at` does: the same file bit for bit.
+#[test]
+fn a_pixel_key_focuses_as_focus_at_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let keyed = pull_scene(dir.path(), "[[keyframe]]\nframe = 2\nfocus_at = [30, 20]\n");
+    fs::rename(&keyed, dir.path().join("keyed.toml")).unwrap();
+    let plain = pull_scene(dir.path(), "");
+    let keyed = dir.path().join("keyed.toml");
+    render_in(
+        dir.path(),
+        &keyed,
+        &["--frames", "2", "--out", "k.####.exr"],
+    );
+    let err = render_in(
+        dir.path(),
+        &plain,
+        &[
+            "--frames",
+            "2",
+            "--focus-at",
+            "30,20",
+            "--out",
+            "p.####.exr",
+        ],
+    );
+    assert!(!err.contains("error"), "{err}");
+    let (k, p) = (
+        bytes(dir.path().join("k.0002.exr")),
+        bytes(dir.path().join("p.0002.exr")),
+    );
+    assert!(k == p, "the keyed pixel's focus differs from --focus-at's");
+}
+
 #[test]
 fn bad_ranges_and_chunks_are_rejected_with_one_line() {
     let seq = |extra: &'static [&'static str]| {
