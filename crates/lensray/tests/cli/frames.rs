@@ -175,6 +175,30 @@ fn resume_keeps_complete_frames_and_renders_partial_ones_again() {
         let line = format!("frame {frame} ({n} of 4): f.{frame:04}.png in ");
         assert!(err.contains(&line), "no line '{line}' in: {err}");
     }
+    // An EXR cut short is rendered again; a whole one is kept.
+    let exr = [
+        "--frames",
+        "1-2",
+        "--out",
+        "e.####.exr",
+        "--progress",
+        "lines",
+    ];
+    render_in(dir.path(), &scene, &exr);
+    let second = bytes(dir.path().join("e.0002.exr"));
+    fs::write(dir.path().join("e.0002.exr"), &second[..second.len() - 100]).unwrap();
+    let mut resume = exr.to_vec();
+    resume.push("--resume");
+    let err = render_in(dir.path(), &scene, &resume);
+    assert!(
+        err.contains("frame 1: e.0001.exr is complete, skipped"),
+        "{err}"
+    );
+    assert!(err.contains("frame 2 (2 of 2): e.0002.exr in "), "{err}");
+    assert!(
+        bytes(dir.path().join("e.0002.exr")) == second,
+        "the cut EXR is not rendered again"
+    );
 }
 
 /// A key's `focus_at` focuses that frame as `--focus-at` does: the same file bit for bit.
