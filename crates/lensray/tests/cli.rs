@@ -15,6 +15,8 @@ mod devices;
 mod environment;
 #[path = "cli/exposure.rs"]
 mod exposure;
+#[path = "cli/frames.rs"]
+mod frames;
 #[path = "cli/isa.rs"]
 mod isa;
 #[path = "cli/movements.rs"]

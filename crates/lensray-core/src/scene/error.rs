@@ -104,6 +104,10 @@ pub enum SceneError {
         err: Box<SceneError>,
     },
 
+    /// A `[[keyframe]]` that is out of order or has an unknown key or a bad value.
+    #[error("{}: {message}", path.display())]
+    Keyframe { path: PathBuf, message: String },
+
     /// A camera of the mesh file that cannot be used, or does not exist.
     #[error("{}: {reason}", path.display())]
     CameraChoice { path: PathBuf, reason: String },

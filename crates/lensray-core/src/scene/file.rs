@@ -3,7 +3,8 @@
 //! cameras (by name or index; default: its first, if it has any), `units` the unit of length of
 //! the mesh and of the file's own positions and distances ([`SceneUnits`]; default metres); the
 //! sections `[camera]`, `[image]`, `[render]` and `[[light]]` (any number; one `[light]` table
-//! reads as one) are those of [`Settings`], all optional. Unknown keys are errors.
+//! reads as one) are those of [`Settings`], all optional; `[[keyframe]]`s move the camera over
+//! a sequence's frames ([`Keyframes`]). Unknown keys are errors.
 //!
 //! ```toml
 //! mesh = "cornell.obj"
@@ -42,6 +43,13 @@
 //! intensity = [3.0, 3.0, 3.0]       # W/sr; W/m^2 for a directional light
 //! inner_cone_degrees = 10.0
 //! outer_cone_degrees = 25.0
+//! [[keyframe]]
+//! frame = 1
+//! focus_distance = 1.5
+//! interpolation = "smooth"          # linear (default), smooth or hold
+//! [[keyframe]]
+//! frame = 48
+//! focus_distance = 4.0
 //! ```
 
 use std::fs;
@@ -56,7 +64,7 @@ use super::obj::load_obj;
 use super::units::SceneUnits;
 use super::{LoadTimes, Scene, SceneError};
 use crate::settings::{
-    CameraSettings, EnvironmentSetting, ImageSettings, Lights, RenderStyle, Settings,
+    CameraSettings, EnvironmentSetting, ImageSettings, Keyframes, Lights, RenderStyle, Settings,
 };
 
 /// A scene with the settings that came with it.
@@ -77,6 +85,8 @@ pub struct SceneDescription {
     pub units: SceneUnits,
     /// How long the mesh file's load took (zero for scenes made in memory).
     pub load_times: LoadTimes,
+    /// The scene file's `[[keyframe]]`s, their lengths in metres like `settings`'.
+    pub keyframes: Keyframes,
 }
 
 impl SceneDescription {
@@ -99,6 +109,7 @@ impl SceneDescription {
                 *camera = camera.scaled(factor);
             }
             self.settings = std::mem::take(&mut self.settings).scaled(factor);
+            self.keyframes = std::mem::take(&mut self.keyframes).scaled(factor);
         }
         self.units = units;
     }
@@ -130,6 +141,7 @@ impl SceneDescription {
             notices: file.notices,
             units: SceneUnits::M,
             load_times: file.times,
+            keyframes: Keyframes::default(),
         };
         match camera {
             Some(choice) => description.use_camera(choice)?,
@@ -164,6 +176,8 @@ struct SceneFile {
     render: RenderStyle,
     #[serde(default)]
     light: Lights,
+    #[serde(default)]
+    keyframe: Vec<toml::Table>,
 }
 
 /// 1-based line and column of byte `offset` in `text`.
@@ -191,6 +205,8 @@ pub struct MeshOptions {
     pub smooth_normals: Option<f64>,
     /// The unit of length of the mesh and of the file's positions and distances.
     pub units: Option<SceneUnits>,
+    /// The `[[keyframe]]`s, their lengths as written.
+    pub keyframes: Keyframes,
 }
 
 /// Parses a scene file's settings (its lengths as written, in its `units`) and resolves its
@@ -216,8 +232,13 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, MeshOptions), 
     if !is_mesh_file(&mesh) {
         return Err(mesh_error("must be an .obj, .gltf or .glb file"));
     }
-    let mut camera = file.camera;
     let folder = path.parent().unwrap_or(Path::new(""));
+    let keyframes =
+        Keyframes::parse(&file.keyframe, folder).map_err(|message| SceneError::Keyframe {
+            path: path.to_path_buf(),
+            message,
+        })?;
+    let mut camera = file.camera;
     if let Some(image) = camera.aperture.image.as_mut() {
         *image = folder.join(&*image);
     }
@@ -241,6 +262,7 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, MeshOptions), 
         camera: file.camera_name,
         smooth_normals: file.smooth_normals,
         units: file.units,
+        keyframes,
     };
     Ok((mesh, settings, options))
 }
@@ -266,6 +288,7 @@ fn load_scene_file_in(
     }
     let source = path.display().to_string();
     let camera = options.camera.as_deref();
+    let keyframes = options.keyframes.clone();
     let mut description =
         SceneDescription::of_mesh(file, settings, source, camera).map_err(|reason| {
             SceneError::CameraChoice {
@@ -273,6 +296,7 @@ fn load_scene_file_in(
                 reason,
             }
         })?;
+    description.keyframes = keyframes;
     description.set_units(units.or(options.units).unwrap_or_default());
     Ok(description)
 }

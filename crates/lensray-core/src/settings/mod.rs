@@ -7,11 +7,13 @@
 //!   sampler, shading, background and environment;
 //! - [`lights`]: the settings' lights, added to the scene's own;
 //! - [`exposure`](mod@exposure): the exposure and tone map of what is shown, from the settings
-//!   and the shot's lens.
+//!   and the shot's lens;
+//! - [`keyframe`]: a scene file's `[[keyframe]]`s, the settings of each frame of a sequence.
 
 pub mod aperture_image;
 pub mod environment;
 pub mod exposure;
+pub mod keyframe;
 pub mod lights;
 pub mod render;
 pub mod shot;
@@ -19,6 +21,7 @@ pub mod user;
 
 pub use environment::EnvironmentSetting;
 pub use exposure::{exposure, Exposure};
+pub use keyframe::{frame_seed, FocusKey, Interpolation, Keyframes};
 pub use lights::{light_scene, pinned_lights, settings_lights, LightSettings, LightType, Lights};
 pub use render::{RenderSettings, Shading};
 pub use shot::{

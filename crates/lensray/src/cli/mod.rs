@@ -3,6 +3,7 @@
 pub mod args;
 pub mod bench;
 pub mod calibrate;
+pub mod frames;
 pub mod generate;
 pub mod info;
 pub mod lens;
@@ -10,3 +11,4 @@ pub mod named;
 pub mod preview;
 pub mod progress;
 pub mod render;
+pub mod sequence;

@@ -7,10 +7,11 @@ use anyhow::{Context, Result};
 use clap::Args;
 
 use super::args::{parse_pixel, PathArgs, ViewArgs};
+use super::frames::{parse_chunk, parse_frames, Chunk, FramePattern, FrameRange};
 use super::progress::{ProgressMode, ProgressReporter};
 use crate::focus::{focus_depth_at, lay_focus_plane};
 use crate::output::PendingOutput;
-use crate::paths::{self, OpenedPath, Phases};
+use crate::paths::{self, OpenedPath, Phases, RenderPath};
 use lensray_core::scene::file::SceneDescription;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Settings;
@@ -37,6 +38,18 @@ pub struct RenderArgs {
     /// Print where the time went, phase by phase (docs/performance.md, "Phases of a render").
     #[arg(long)]
     pub timings: bool,
+    /// Render a sequence: frame N, frames A to B, or every STEP-th of them, the scene's
+    /// `[[keyframe]]`s moving the camera; --out names each frame's file with #### or %04d.
+    #[arg(long, value_parser = parse_frames, value_name = "N|A-B|A-B:STEP", allow_hyphen_values = true)]
+    pub frames: Option<FrameRange>,
+    /// Render only the INDEX-th (from 0) of SIZE contiguous parts of --frames (a render farm's
+    /// task: a job array's index).
+    #[arg(long, value_parser = parse_chunk, value_name = "INDEX/SIZE")]
+    pub chunk: Option<Chunk>,
+    /// With --frames: skip the frames whose file exists and is complete (decodes at the
+    /// shot's size); a partial file is rendered again.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 /// The scene the options name (with the camera `--camera` picks), or the built-in default
@@ -127,6 +140,9 @@ impl Default for RenderArgs {
             focus_at: None,
             progress: ProgressMode::Auto,
             timings: false,
+            frames: None,
+            chunk: None,
+            resume: false,
         }
     }
 }
@@ -149,11 +165,79 @@ fn print_exposure(settings: &Settings, exposure: &Exposure) {
     }
 }
 
+/// A sequence's frames and file names, where `--frames` asks for one; `--chunk` and `--resume`
+/// without it, or a frame number's place in `--out` without it, are refused.
+fn sequence_of(args: &RenderArgs) -> Result<Option<(Vec<u32>, FramePattern)>> {
+    let pattern = FramePattern::of(&args.out);
+    let Some(range) = args.frames else {
+        if args.chunk.is_some() || args.resume {
+            let option = if args.resume { "--resume" } else { "--chunk" };
+            anyhow::bail!("{option} is for sequences: give --frames too");
+        }
+        if pattern.is_some() {
+            anyhow::bail!(
+                "--out {} names a frame number: give --frames (like --frames 1-240)",
+                args.out.display()
+            );
+        }
+        return Ok(None);
+    };
+    let Some(pattern) = pattern else {
+        anyhow::bail!(
+            "--out {}: a sequence's file name needs the frame number's place, like shot.####.exr or shot.%04d.exr",
+            args.out.display()
+        );
+    };
+    let frames = range.frames();
+    let frames = args.chunk.map_or(frames.clone(), |chunk| chunk.of(&frames));
+    Ok(Some((frames, pattern)))
+}
+
+/// `--focus-at`: `settings` focused on the surface seen at `pixel`, and their shot.
+fn autofocus(
+    path: &mut dyn RenderPath,
+    settings: &mut Settings,
+    description: &SceneDescription,
+    resolved: &Shot,
+    pixel: [u32; 2],
+) -> Result<Shot> {
+    let focus = focus_depth_at(path, &resolved.camera, pixel, "--focus-at")?;
+    settings.camera.focus_distance = Some(focus as f64);
+    let resolved = shot(settings, &description.scene)
+        .with_context(|| format!("scene {}", description.source))?;
+    // lensray's lengths are metres: a scene in other units says so.
+    let unit = match description.units {
+        SceneUnits::M => "",
+        _ => " m",
+    };
+    eprintln!(
+        "autofocus: pixel {},{} is {focus:.4}{unit} away along the view axis",
+        pixel[0], pixel[1]
+    );
+    Ok(resolved)
+}
+
+/// A sequence's frames, where `--frames` asks for them, else one image.
 pub fn run(args: &RenderArgs) -> Result<()> {
+    match sequence_of(args)? {
+        Some((frames, pattern)) => super::sequence::run(args, &frames, &pattern),
+        None => render_one(args),
+    }
+}
+
+/// Says that a render of one image leaves the scene's keyframes out.
+fn note_keyframes(description: &SceneDescription) {
+    if let Some((first, last)) = description.keyframes.range() {
+        eprintln!("note: the scene's keyframes (frames {first} to {last}) move the camera in sequences (--frames); this render is the scene without them");
+    }
+}
+
+fn render_one(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     // Fail on a bad output path before spending time on the render.
     let output = PendingOutput::create(&args.out)?;
     let mut description = load_scene(&args.view)?;
+    note_keyframes(&description);
     let mut settings = merged_settings(&description.settings, description.units, &args.view);
     let context = || format!("scene {}", description.source);
     let mut resolved = shot(&settings, &description.scene).with_context(context)?;
@@ -180,18 +264,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         })?;
     }
     if let Some(pixel) = args.focus_at {
-        let focus = focus_depth_at(path.as_mut(), &resolved.camera, pixel, "--focus-at")?;
-        settings.camera.focus_distance = Some(focus as f64);
-        resolved = shot(&settings, &description.scene).with_context(context)?;
-        // lensray's lengths are metres: a scene in other units says so.
-        let unit = match description.units {
-            SceneUnits::M => "",
-            _ => " m",
-        };
-        eprintln!(
-            "autofocus: pixel {},{} is {focus:.4}{unit} away along the view axis",
-            pixel[0], pixel[1]
-        );
+        resolved = autofocus(path.as_mut(), &mut settings, &description, &resolved, pixel)?;
     }
 
     let mut progress = ProgressReporter::new("rendering", args.progress);

@@ -1,0 +1,241 @@
+//! `lensray render --frames`: a sequence of frames in one process. The scene loads, and the
+//! device, its pipelines and the acceleration structures are made, once; each frame is a new
+//! shot (its camera from the scene's keyframes) rendered on the same path, with its own seed
+//! (`settings::frame_seed`), written to a temporary file and renamed when complete.
+
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+
+use super::frames::{is_complete, FramePattern};
+use super::progress::{ProgressMode, ProgressReporter};
+use super::render::{load_scene, merged_settings, RenderArgs};
+use crate::focus::focus_depth_at;
+use crate::output::PendingOutput;
+use crate::paths::{self, OpenedPath, RenderPath};
+use lensray_core::scene::file::SceneDescription;
+use lensray_core::settings::{
+    exposure, frame_seed, light_scene, shot, FocusKey, Keyframes, Settings, Shot,
+};
+
+/// Each frame's settings: the file's with the keyframes at that frame over them, the command
+/// line's over those, and the frame's seed.
+struct FrameSettings<'a> {
+    file: Settings,
+    keyframes: Keyframes,
+    description: &'a SceneDescription,
+    args: &'a RenderArgs,
+    seed: u32,
+}
+
+impl FrameSettings<'_> {
+    fn at(&self, frame: u32) -> Settings {
+        let keyed = self.keyframes.settings_at(&self.file, frame);
+        let mut settings = merged_settings(&keyed, self.description.units, &self.args.view);
+        settings.image.seed = Some(frame_seed(self.seed, frame));
+        settings
+    }
+
+    fn shot(&self, frame: u32) -> Result<Shot> {
+        let settings = self.at(frame);
+        let shot = shot(&settings, &self.description.scene);
+        shot.with_context(|| format!("scene {}: frame {frame}", self.description.source))
+    }
+
+    /// Turns the keyframes' focus points and pixels into distances, each at its frame's camera.
+    fn resolve_focus(&mut self, path: &mut dyn RenderPath) -> Result<()> {
+        for (frame, key) in self.keyframes.unresolved_focus() {
+            let camera = self.shot(frame)?.camera;
+            let distance = match key {
+                FocusKey::Point(p) => {
+                    let depth = camera.view_depth(glam::DVec3::from(p).as_vec3());
+                    if depth <= 0.0 {
+                        anyhow::bail!(
+                            "scene {}: keyframe at frame {frame}: `focus_point` is behind the camera",
+                            self.description.source
+                        );
+                    }
+                    depth
+                }
+                FocusKey::Pixel(pixel) => {
+                    let what = format!("keyframe at frame {frame}: `focus_at`");
+                    focus_depth_at(path, &camera, pixel, &what)?
+                }
+                FocusKey::Distance(d) => d as f32,
+            };
+            self.keyframes.resolve_focus(frame, f64::from(distance));
+        }
+        Ok(())
+    }
+}
+
+/// Where a sequence's time went, seconds.
+#[derive(Default)]
+struct SequenceTimes {
+    rendered: usize,
+    skipped: usize,
+    /// The paths' renders alone.
+    render: f64,
+    /// Everything else of the frames: their shots, autofocus, exposure, encoding and writing.
+    other: f64,
+}
+
+/// Renders `frames` to the files `pattern` names.
+pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<()> {
+    let start = Instant::now();
+    if args.view.focus_plane.is_some() {
+        anyhow::bail!("--focus-plane is for one frame: key focus_distance, tilt and tilt_direction in [[keyframe]]s for a sequence");
+    }
+    let Some(&first) = frames.first() else {
+        println!("{}: no frames in this chunk", args.out.display());
+        return Ok(());
+    };
+    // A bad output path fails before any rendering.
+    PendingOutput::create(&pattern.path(first))?;
+    let mut description = load_scene(&args.view)?;
+    let keyframes = std::mem::take(&mut description.keyframes);
+    let file = description.settings.clone();
+    let seed = merged_settings(&file, description.units, &args.view)
+        .image
+        .seed
+        .unwrap_or(0);
+    // The scene's lights are those of the first frame's settings: the scene stays.
+    let first_settings = {
+        let keyed = keyframes.settings_at(&file, first);
+        merged_settings(&keyed, description.units, &args.view)
+    };
+    let context = format!("scene {}", description.source);
+    for warning in light_scene(&first_settings, &mut description.scene).context(context)? {
+        eprintln!("warning: {warning}");
+    }
+    let mut settings = FrameSettings {
+        file,
+        keyframes,
+        description: &description,
+        args,
+        seed,
+    };
+    let first_shot = settings.shot(first)?;
+    let mut options = args.path.options();
+    options.gpu.first_use_notice = args.progress != ProgressMode::None;
+    let load_seconds = start.elapsed().as_secs_f64();
+    let OpenedPath {
+        mut path,
+        why,
+        startup,
+    } = paths::open(&options, &description.scene, &first_shot)?;
+    let focus_start = Instant::now();
+    settings.resolve_focus(path.as_mut())?;
+    let focus_seconds = focus_start.elapsed().as_secs_f64();
+    let startup_seconds = start.elapsed().as_secs_f64();
+
+    let loop_start = Instant::now();
+    let times = render_frames(args, frames, pattern, &settings, path.as_mut())?;
+    let loop_seconds = loop_start.elapsed().as_secs_f64();
+    let (kind, device) = (path.kind(), path.device_name());
+    path.close()?;
+    let Shot { camera, render } = &first_shot;
+    println!(
+        "{}: {} frames from {first} to {} ({} rendered, {} complete and skipped), {}x{} px, {} spp, path {kind} ({why}) on {device}: {:.2} s total",
+        args.out.display(),
+        frames.len(),
+        frames[frames.len() - 1],
+        times.rendered,
+        times.skipped,
+        camera.width,
+        camera.height,
+        render.spp,
+        start.elapsed().as_secs_f64(),
+    );
+    let per_frame = times.other / times.rendered.max(1) as f64;
+    println!(
+        "  start-up {startup_seconds:.2} s once (scene, device, pipelines, acceleration structures); frames {loop_seconds:.2} s: rendering {:.2} s, beyond it {:.1} ms a frame ({:.3}x rendering alone)",
+        times.render,
+        per_frame * 1e3,
+        loop_seconds / times.render.max(1e-9),
+    );
+    if args.timings {
+        let total = start.elapsed().as_secs_f64();
+        let phases = [
+            ("load", load_seconds),
+            ("device and pipelines", startup.device_seconds),
+            (
+                "scene upload and acceleration structures",
+                startup.scene_seconds,
+            ),
+            ("focus keys", focus_seconds),
+            ("rendering", times.render),
+            (
+                "beyond rendering (shots, exposure, encode and write)",
+                times.other,
+            ),
+        ];
+        let known: f64 = phases.iter().map(|(_, s)| s).sum();
+        for (phase, seconds) in phases {
+            println!("timings: {phase} {seconds:.4} s");
+        }
+        println!("timings: other {:.4} s", (total - known).max(0.0));
+        println!("timings: total {total:.4} s");
+    }
+    Ok(())
+}
+
+/// Renders each frame not yet complete (under `--resume`), with one progress bar over them all.
+fn render_frames(
+    args: &RenderArgs,
+    frames: &[u32],
+    pattern: &FramePattern,
+    settings: &FrameSettings,
+    path: &mut dyn RenderPath,
+) -> Result<SequenceTimes> {
+    let mut times = SequenceTimes::default();
+    let mut progress = ProgressReporter::new("rendering", args.progress);
+    let lines = args.progress == ProgressMode::Lines;
+    let count = frames.len() as u64;
+    for (i, &frame) in frames.iter().enumerate() {
+        let frame_start = Instant::now();
+        let file = pattern.path(frame);
+        let mut resolved = settings.shot(frame)?;
+        let (width, height) = (resolved.camera.width, resolved.camera.height);
+        if args.resume && is_complete(&file, width, height) {
+            times.skipped += 1;
+            if lines {
+                eprintln!("frame {frame}: {} is complete, skipped", file.display());
+            }
+            continue;
+        }
+        let output = PendingOutput::create(&file)?;
+        if let Some(pixel) = args.focus_at {
+            let focus = focus_depth_at(path, &resolved.camera, pixel, "--focus-at")?;
+            let mut keyed = settings.at(frame);
+            keyed.camera.focus_distance = Some(f64::from(focus));
+            resolved = shot(&keyed, &settings.description.scene)
+                .with_context(|| format!("frame {frame}"))?;
+        }
+        let frame_settings = settings.at(frame);
+        let exposure = exposure(&frame_settings, &resolved.camera)
+            .with_context(|| format!("frame {frame}"))?;
+        let render_start = Instant::now();
+        let i = i as u64;
+        let image = path.render(&resolved, &mut |done, total| {
+            progress.update(i * total + done, count * total);
+        })?;
+        let render_seconds = render_start.elapsed().as_secs_f64();
+        output
+            .encode(&image, resolved.render.shading, &exposure)?
+            .commit()?;
+        let frame_seconds = frame_start.elapsed().as_secs_f64();
+        times.rendered += 1;
+        times.render += render_seconds;
+        times.other += frame_seconds - render_seconds;
+        if lines {
+            eprintln!(
+                "frame {frame} ({} of {count}): {} in {frame_seconds:.2} s",
+                i + 1,
+                file.display()
+            );
+        }
+    }
+    progress.finish();
+    Ok(times)
+}
