@@ -36,7 +36,8 @@ venv=$target/cluster-venv
 if ! "$venv/bin/openjd" --version >/dev/null 2>&1 || [ ! -x "$venv/bin/kubernetes-validate" ]; then
   if ! python3 -c 'import ensurepip, venv' 2>/dev/null; then
     say "installing python3-venv"
-    $SUDO apt-get install -y -qq python3-venv >/dev/null
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq python3-venv >/dev/null
   fi
   say "installing openjd-cli and kubernetes-validate into $venv"
   python3 -m venv "$venv"
