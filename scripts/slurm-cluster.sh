@@ -65,10 +65,11 @@ start_munge() {
 }
 
 write_conf() {
-  # One node with every CPU of this machine, one partition; no accounting, no cgroups.
+  # One node with every CPU of this machine, one partition; no accounting, no cgroups. The
+  # daemons talk over 127.0.0.1, so the host name need not resolve.
   $SUDO tee "$conf" >/dev/null <<EOF
 ClusterName=lensray
-SlurmctldHost=$host
+SlurmctldHost=$host(127.0.0.1)
 AuthType=auth/munge
 ProctrackType=proctrack/linuxproc
 TaskPlugin=task/none
@@ -87,7 +88,7 @@ MpiDefault=none
 JobAcctGatherType=jobacct_gather/none
 AccountingStorageType=accounting_storage/none
 KillWait=5
-NodeName=$host CPUs=$(nproc) State=UNKNOWN
+NodeName=$host NodeAddr=127.0.0.1 CPUs=$(nproc) State=UNKNOWN
 PartitionName=lensray Nodes=$host Default=YES MaxTime=INFINITE State=UP
 EOF
 }

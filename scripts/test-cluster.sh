@@ -52,10 +52,10 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# A small shot: 12 frames of 320x180 at 2 spp take about 0.25 s each in a debug build, long
+# A small shot: 12 frames of 480x270 at 2 spp take about 0.3 s each in a debug build, long
 # enough to cancel a task between two frames.
 scene=$root/assets/spheres/spheres.toml
-look=(--path cpu --width 320 --height 180 --spp 2 --progress lines)
+look=(--path cpu --width 480 --height 270 --spp 2 --progress lines)
 frames=1-12
 mkdir -p "$work/single" "$work/farm" "$work/log" "$work/openjd"
 
