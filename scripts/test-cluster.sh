@@ -52,10 +52,9 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# A small shot: 12 frames of 480x270 at 2 spp take about 0.3 s each in a debug build, long
-# enough to cancel a task between two frames.
+# A small shot: 12 frames of 160x90 at 2 spp.
 scene=$root/assets/spheres/spheres.toml
-look=(--path cpu --width 480 --height 270 --spp 2 --progress lines)
+look=(--path cpu --width 160 --height 90 --spp 2 --progress lines)
 frames=1-12
 mkdir -p "$work/single" "$work/farm" "$work/log" "$work/openjd"
 
@@ -89,10 +88,24 @@ eval "$(grep '^export SLURM_CONF=' <<<"$started")"
 say "Slurm: the array as 3 tasks over frames $frames; cancelling task 1 after its first frame"
 SECONDS=0
 job=$(submit)
+# Task 1's process runs in slices of 20 ms, stopped in between, until its first frame (5) is
+# written; it is cancelled while stopped, so however fast frames render, it dies part-way.
+pid=""
+for _ in $(seq 6000); do
+  pid=$(pgrep -f -- "--chunk 1/3\$" | head -n 1 || true)
+  [ -n "$pid" ] && break
+  sleep 0.01
+done
+[ -n "$pid" ] || { cat "$work/log/"*; fail "task 1 did not start in 60 s"; }
+kill -STOP "$pid"
 first=$(frame_file "$work/farm" 5)
-for _ in $(seq 6000); do [ -e "$first" ] && break; sleep 0.01; done
-[ -e "$first" ] || { cat "$work/log/"*; fail "task 1 wrote no frame in 60 s"; }
+for _ in $(seq 3000); do
+  [ -e "$first" ] && break
+  kill -CONT "$pid"; sleep 0.02; kill -STOP "$pid" 2>/dev/null || break
+done
+[ -e "$first" ] || { cat "$work/log/"*; fail "task 1 wrote no frame in 60 s of running"; }
 scancel "${job}_1"
+kill -CONT "$pid" 2>/dev/null || true
 wait_job "$job"
 grep -q CANCELLED "$work/log/${job}_1.log" \
   || fail "task 1's log does not say it was cancelled: $(tail -n 3 "$work/log/${job}_1.log")"
