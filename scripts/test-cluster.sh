@@ -10,7 +10,8 @@
 #  3. Kubernetes: deploy/kubernetes's manifest validates strictly against the Job schema of
 #     kubernetes-validate's bundled OpenAPI schemas (offline), and its index count agrees with
 #     its --chunk.
-# LENSRAY names the binary (default: the debug build that scripts/test.sh's cargo test makes).
+# LENSRAY names the binary (default: the debug build that scripts/test.sh's cargo test makes);
+# TEST_CLUSTER_KEEP=1 keeps the frames and the tasks' logs.
 # openjd-cli and kubernetes-validate go into a virtual environment in the target folder, once.
 # Exit status: 0 passed, 1 failed, 3 skipped (this lensray has no --frames yet).
 set -euo pipefail
@@ -48,7 +49,7 @@ work=$(mktemp -d)
 export SLURM_CONF=
 cleanup() {
   scripts/slurm-cluster.sh stop || true
-  rm -rf "$work"
+  if [ -n "${TEST_CLUSTER_KEEP:-}" ]; then say "frames and logs kept in $work"; else rm -rf "$work"; fi
 }
 trap cleanup EXIT
 
