@@ -31,7 +31,7 @@ if [ $# -eq 0 ]; then
         || status=$?
     fi
   done
-  # deploy/ on a single-node Slurm cluster, with openjd and the Kubernetes schema: about 30 s.
+  # deploy/ on a single-node Slurm cluster, with openjd and the Kubernetes schema: about 16 s.
   echo "== the cluster test (scripts/test-cluster.sh)"
   cluster=0
   LENSRAY="$lensray" ./scripts/test-cluster.sh || cluster=$?
