@@ -13,6 +13,7 @@ skip_log=$(mktemp)
 cache_dir=$(mktemp -d)
 trap 'rm -rf "$skip_log" "$cache_dir"' EXIT
 status=0
+cluster_skipped=0
 LENSRAY_SKIP_LOG="$skip_log" LENSRAY_CACHE_DIR="$cache_dir" cargo test --all-targets "$@" || status=$?
 
 # Embree picks its kernels by the CPU (SSE4.2, AVX2, AVX-512), and their floats differ. The run
@@ -30,6 +31,11 @@ if [ $# -eq 0 ]; then
         || status=$?
     fi
   done
+  # deploy/ on a single-node Slurm cluster, with openjd and the Kubernetes schema: about 16 s.
+  echo "== the cluster test (scripts/test-cluster.sh)"
+  cluster=0
+  LENSRAY="$lensray" ./scripts/test-cluster.sh || cluster=$?
+  if [ $cluster -eq 3 ]; then cluster_skipped=1; elif [ $cluster -ne 0 ]; then status=$cluster; fi
 fi
 
 skipped=$(wc -l <"$skip_log")
@@ -39,5 +45,8 @@ if [ "$skipped" -gt 0 ]; then
   cut -f2 "$skip_log" | sort | uniq -c | sed 's/^/  /'
   cut -f1 "$skip_log" | tr '\n' ' ' | fold -s -w 100 | sed 's/^/  skipped: /'
   echo
+fi
+if [ $cluster_skipped -eq 1 ]; then
+  echo "SKIPPED: the cluster test did not run: this lensray has no 'render --frames'; this is not a full pass"
 fi
 exit $status
