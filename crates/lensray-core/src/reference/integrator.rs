@@ -144,9 +144,17 @@ impl Renderer {
                 break;
             }
             let last = vertex + 1 == settings.bounces;
-            let (sky_points, brdf_points) = vertex_points(sampler, &lanes, vertex);
             let mut reflected = [Vec3::ZERO; PACKET_SIZE];
             rays += self.direct_light(&lanes, &self.lights, &mut reflected);
+            if last && sky.is_none() {
+                // Nothing more to draw (the default render): no sampler dimensions, no BRDF
+                // draw.
+                for l in 0..PACKET_SIZE {
+                    values[l] += throughput[l] * reflected[l];
+                }
+                break;
+            }
+            let (sky_points, brdf_points) = vertex_points(sampler, &lanes, vertex);
             match &sky {
                 Some(sky) if self.cosine_sky => {
                     rays += self.sky_by_cosine(&lanes, sky, &sky_points, &mut reflected);

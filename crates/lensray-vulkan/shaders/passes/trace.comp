@@ -170,9 +170,13 @@ vec3 shade_sample(Ray ray, LightDraw draw, bool rasterized, uint pixel_index, in
             break;
         }
         bool last = vertex + 1u >= params.bounces;
-        vec4 u = vertex_points(draw, vertex);
+        // A path's last surface under no sky draws nothing (the default render): no sampler
+        // dimensions, no BRDF draw (reference/integrator.rs: trace_paths).
+        bool draws = !last || sky_lights();
+        vec4 u = draws ? vertex_points(draw, vertex) : vec4(0.0);
         BrdfSample next;
-        bool drawn = brdf_sample(s.brdf, s.ns, s.v, u.zw, next) && leaves(s, next.direction);
+        bool drawn = draws && brdf_sample(s.brdf, s.ns, s.v, u.zw, next)
+            && leaves(s, next.direction);
         uint blocked;
         cut = shadow_cut(draw.cut);
         vec3 reflected = direct_light(s, u.xy, last && drawn, next, cut, rays, blocked);
