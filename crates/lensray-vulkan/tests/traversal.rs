@@ -50,6 +50,7 @@ fn project_scenes(
                     spp: Some(spp),
                     seed: Some(3),
                     sampler: None,
+                    fps: None,
                 },
                 render: RenderStyle {
                     shading: Some(shading),

@@ -65,6 +65,7 @@ fn shot(desc: &SceneDescription, a: &Args) -> Shot {
             spp: Some(a.spp),
             seed: Some(1),
             sampler: None,
+            fps: None,
         },
         render: RenderStyle {
             shading: Some(if a.unlit {

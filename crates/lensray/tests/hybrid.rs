@@ -291,6 +291,7 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
             spp: Some(16),
             seed: Some(3),
             sampler: None,
+            fps: None,
         },
         render: RenderStyle {
             shading: Some(Shading::Lit),

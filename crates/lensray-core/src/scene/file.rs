@@ -25,6 +25,7 @@
 //! height = 480
 //! spp = 32
 //! sampler = "sobol"
+//! # fps = 24.0                      # a sequence's frames per second (glTF animation, video)
 //! [render]
 //! shading = "lit"
 //! background = [0.0, 0.0, 0.0]

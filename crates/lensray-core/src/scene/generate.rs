@@ -301,6 +301,7 @@ pub(crate) fn describe(
                 spp: Some(spp),
                 seed: None,
                 sampler: None,
+                fps: None,
             },
             render: RenderStyle {
                 shading: Some(Shading::Lit),

@@ -16,7 +16,7 @@
 use std::path::Path;
 
 use crate::sampler::hash::hash_u32;
-use crate::settings::Settings;
+use crate::settings::{Settings, SettingsError};
 
 /// How a setting moves from one key to its next.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -153,6 +153,18 @@ pub struct Keyframe {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Keyframes {
     keys: Vec<Keyframe>,
+}
+
+/// A sequence's frames per second when neither the scene file nor `--fps` gives one.
+pub const DEFAULT_FPS: f64 = 24.0;
+
+/// The settings' frames per second, checked (default [`DEFAULT_FPS`]).
+pub fn fps(settings: &Settings) -> Result<f64, SettingsError> {
+    match settings.image.fps {
+        None => Ok(DEFAULT_FPS),
+        Some(f) if f.is_finite() && f > 0.0 && f <= 1000.0 => Ok(f),
+        Some(f) => Err(SettingsError::Fps(f)),
+    }
 }
 
 /// The seed of frame `frame` of a sequence whose seed is `seed`: a frame is the same image

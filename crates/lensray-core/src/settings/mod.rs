@@ -21,7 +21,7 @@ pub mod user;
 
 pub use environment::EnvironmentSetting;
 pub use exposure::{exposure, Exposure};
-pub use keyframe::{frame_seed, FocusKey, Interpolation, Keyframes};
+pub use keyframe::{fps, frame_seed, FocusKey, Interpolation, Keyframes, DEFAULT_FPS};
 pub use lights::{light_scene, pinned_lights, settings_lights, LightSettings, LightType, Lights};
 pub use render::{RenderSettings, Shading};
 pub use shot::{

@@ -67,6 +67,8 @@ pub enum SettingsError {
     Exposure(String),
     #[error("{0}")]
     Environment(String),
+    #[error("fps must be a positive number up to 1000, got {0}")]
+    Fps(f64),
 }
 
 /// What chose a shot's focus distance, for an error that no image forms there.

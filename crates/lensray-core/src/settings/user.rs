@@ -147,6 +147,9 @@ pub struct ImageSettings {
     pub spp: Option<u32>,
     pub seed: Option<u32>,
     pub sampler: Option<SamplerKind>,
+    /// Frames per second of a sequence: the rate a glTF animation's timeline is sampled at,
+    /// a video's rate and the preview's playback rate (default 24).
+    pub fps: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
@@ -237,7 +240,7 @@ impl Settings {
         overlay!(lens, base, prescription, dispersion);
         let (e, base) = (&c.exposure, &mut self.camera.exposure);
         overlay!(e, base, ev, iso, shutter, tonemap, expose_exr);
-        overlay!(i, self.image, width, height, spp, seed, sampler);
+        overlay!(i, self.image, width, height, spp, seed, sampler, fps);
         // A map given over is seen behind the scene unless a background is given with it: the
         // base's background (a scene file's, say) does not hide it.
         if matches!(r.environment, Some(EnvironmentSetting::Map(_))) && r.background.is_none() {

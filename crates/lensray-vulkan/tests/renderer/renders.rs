@@ -231,6 +231,7 @@ fn gpu_matches_cpu_on_project_scenes() {
                     spp: Some(4),
                     seed: Some(3),
                     sampler: None,
+                    fps: None,
                 },
                 render: RenderStyle {
                     shading: Some(shading),

@@ -99,6 +99,7 @@ impl Args {
                 spp: Some(self.spp),
                 seed: Some(1),
                 sampler: None,
+                fps: None,
             },
             render: RenderStyle {
                 shading: Some(Shading::Lit),

@@ -319,6 +319,10 @@ pub struct ViewArgs {
     /// How samples are drawn (default sobol).
     #[arg(long, value_parser = by_name::<SamplerKind>())]
     pub sampler: Option<SamplerKind>,
+    /// Frames per second of a sequence (default 24): the rate a glTF camera animation is
+    /// sampled at, a video's rate and the preview's playback rate.
+    #[arg(long, value_name = "FPS")]
+    pub fps: Option<f64>,
     #[arg(long, value_parser = by_name::<Shading>())]
     pub shading: Option<Shading>,
     /// Background colour, linear RGB.
@@ -391,6 +395,7 @@ impl ViewArgs {
                 spp: self.spp,
                 seed: self.seed,
                 sampler: self.sampler,
+                fps: self.fps,
             },
             render: RenderStyle {
                 shading: self.shading,

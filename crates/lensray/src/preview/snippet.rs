@@ -140,6 +140,7 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
             spp: Some(render.spp),
             seed: Some(render.seed),
             sampler: Some(render.sampler),
+            fps: settings.image.fps,
         },
         render: RenderStyle {
             shading: Some(render.shading),
@@ -236,6 +237,7 @@ pub fn render_command(settings: &Settings, scene: Option<&Path>, units: SceneUni
     option("spp", i.spp.map(|x| x.to_string()));
     option("seed", i.seed.map(|x| x.to_string()));
     option("sampler", i.sampler.map(|s| s.name().to_string()));
+    option("fps", number(i.fps));
     option("shading", r.shading.map(|s| s.name().to_string()));
     option("background", r.background.map(triple));
     option(

@@ -43,6 +43,7 @@ fn file_settings() -> Settings {
             spp: Some(8),
             seed: Some(7),
             sampler: Some(lensray_core::sampler::SamplerKind::Independent),
+            fps: None,
         },
         render: RenderStyle {
             shading: Some(Shading::Unlit),
