@@ -17,6 +17,8 @@ mod environment;
 mod exposure;
 #[path = "cli/frames.rs"]
 mod frames;
+#[path = "cli/frames_gpu.rs"]
+mod frames_gpu;
 #[path = "cli/isa.rs"]
 mod isa;
 #[path = "cli/movements.rs"]
