@@ -230,7 +230,7 @@ fn render_frames(
         times.other += frame_seconds - render_seconds;
         if lines {
             eprintln!(
-                "frame {frame} ({} of {count}): {} in {frame_seconds:.2} s",
+                "frame {frame} ({} of {count}): {} in {frame_seconds:.3} s (rendering {render_seconds:.3} s)",
                 i + 1,
                 file.display()
             );
