@@ -1,6 +1,8 @@
 //! Colour encoding for display and 8-bit files: the sRGB transfer function and its inverse, and
 //! the 8-bit values of an image for each shading (what PNG files and the preview show).
 
+use rayon::prelude::*;
+
 use crate::film::tonemap::Display;
 use crate::film::Image;
 use crate::settings::Shading;
@@ -16,10 +18,12 @@ pub fn to_display_bytes(image: &Image, shading: Shading) -> Vec<u8> {
 /// 0.5 n + 0.5; depth scaled so the farthest visible point is white (EXR keeps the raw values).
 pub fn to_display_bytes_with(image: &Image, shading: Shading, display: Display) -> Vec<u8> {
     if matches!(shading, Shading::Lit | Shading::Unlit) && display != Display::LINEAR {
+        // Pixels are independent: the tone map and the sRGB curve run on every thread, which
+        // keeps a sequence's per-frame cost beyond its render small.
         return image
             .pixels
-            .iter()
-            .flat_map(|&p| {
+            .par_iter()
+            .flat_map_iter(|&p| {
                 let shown = display.map(p);
                 [shown.x, shown.y, shown.z].map(|c| byte(linear_to_srgb(c)))
             })
@@ -47,8 +51,8 @@ pub fn to_display_bytes_with(image: &Image, shading: Shading, display: Display) 
     };
     image
         .pixels
-        .iter()
-        .flat_map(|p| [encode(p.x), encode(p.y), encode(p.z)])
+        .par_iter()
+        .flat_map_iter(|p| [encode(p.x), encode(p.y), encode(p.z)])
         .collect()
 }
 
