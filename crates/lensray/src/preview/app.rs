@@ -6,6 +6,7 @@ mod actions;
 mod frame;
 mod open;
 mod replay;
+mod shot_frames;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -24,6 +25,7 @@ use super::cpu_feed::CpuFeed;
 use super::frame_log::FrameLog;
 use super::input::InputState;
 use super::panel::Panel;
+use super::playback::Playback;
 use super::player::ScriptPlayer;
 use super::rig::CameraRig;
 use super::view::ViewMode;
@@ -51,6 +53,8 @@ pub struct PreviewConfig {
     /// Save the accumulation here on exit.
     pub screenshot: Option<PathBuf>,
     pub script: ScriptPlayer,
+    /// The scene's keyframed shot, where it has keyframes: the frame shown and its settings.
+    pub playback: Option<Playback>,
 }
 
 /// What the exit line reports.
@@ -223,6 +227,15 @@ impl App {
             || self.awaiting_size.is_some()
             || self.config.frames.is_some()
             || self.last.is_none()
+            || self.playing()
+    }
+
+    /// A keyframed shot plays: every frame may show the next of its frames.
+    fn playing(&self) -> bool {
+        self.config
+            .playback
+            .as_ref()
+            .is_some_and(|p| p.clock.is_playing())
     }
 
     /// Busy only because the CPU path has not reached the target yet.
@@ -235,6 +248,7 @@ impl App {
             && self.awaiting_size.is_none()
             && self.config.frames.is_none()
             && self.last.is_some()
+            && !self.playing()
     }
 
     fn finish(mut self) -> Result<PreviewSummary> {
