@@ -36,7 +36,7 @@ pub struct PreviewArgs {
     #[arg(long, value_name = "FILE")]
     pub screenshot: Option<PathBuf>,
     /// Replay timed input events from this file (keys, clicks, drags, scrolls, resizes,
-    /// `lens NAME|thin`, `wait converged`, `screenshot FILE`, `quit`; one per line after a
+    /// `lens NAME|thin`, `frame N`, `wait converged`, `screenshot FILE`, `quit`; one per line after a
     /// delay in seconds).
     #[arg(long, value_name = "FILE")]
     pub script: Option<PathBuf>,
