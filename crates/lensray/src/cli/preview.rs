@@ -16,7 +16,6 @@ use crate::preview::playback::{Playback, PlaybackClock};
 use crate::preview::player::ScriptPlayer;
 use crate::preview::{CameraRig, ViewMode};
 use lensray_core::scene::file::SceneDescription;
-use lensray_core::settings::FocusKey;
 use lensray_vulkan::{PresentMode, ViewerOptions};
 
 #[derive(Args, Debug)]
@@ -119,32 +118,23 @@ fn keyed_start(
     ))
 }
 
-/// The keyframes' focus points and pixels as distances; a path opens only for pixels.
+/// The keyframes' focus points and pixels as distances; a path opens at the first pixel key.
 fn resolve_focus(
     frames: &mut FrameSettings,
     description: &SceneDescription,
     options: &PathOptions,
 ) -> Result<()> {
     let (scene, source) = (&description.scene, description.source.as_str());
-    let pixels = frames
-        .keyframes()
-        .unresolved_focus()
-        .iter()
-        .any(|(_, key)| matches!(key, FocusKey::Pixel(_)));
+    let (first, _) = frames.keyframes().range().unwrap_or_default();
+    let first_shot = frames.shot(first, scene, source)?;
     let mut opened: Option<OpenedPath> = None;
-    if pixels {
-        let (first, _) = frames.keyframes().range().unwrap_or_default();
-        let shot = frames.shot(first, scene, source)?;
-        opened = Some(paths::open(options, scene, &shot)?);
-    }
-    frames.resolve_focus(
-        scene,
-        source,
-        &mut |camera, pixel, what| match &mut opened {
-            Some(opened) => focus_depth_at(opened.path.as_mut(), camera, pixel, what),
-            None => anyhow::bail!("{what}: no render path to find the depth at a pixel"),
-        },
-    )?;
+    frames.resolve_focus(scene, source, &mut |camera, pixel, what| {
+        let opened = match &mut opened {
+            Some(opened) => opened,
+            None => opened.insert(paths::open(options, scene, &first_shot)?),
+        };
+        focus_depth_at(opened.path.as_mut(), camera, pixel, what)
+    })?;
     if let Some(opened) = opened {
         opened.path.close()?;
     }

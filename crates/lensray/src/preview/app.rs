@@ -40,7 +40,8 @@ const CPU_PATH_POLL: std::time::Duration = std::time::Duration::from_millis(30);
 /// Everything the preview starts from.
 pub struct PreviewConfig {
     pub description: SceneDescription,
-    /// The scene file's settings with the command line's on top.
+    /// The scene file's settings with the command line's on top (with keyframes, the first
+    /// keyed frame's).
     pub rig: CameraRig,
     /// The scene file given on the command line (for the `C` key's render command).
     pub scene_path: Option<PathBuf>,
