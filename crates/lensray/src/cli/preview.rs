@@ -35,8 +35,8 @@ pub struct PreviewArgs {
     #[arg(long, value_name = "FILE")]
     pub screenshot: Option<PathBuf>,
     /// Replay timed input events from this file (keys, clicks, drags, scrolls, resizes,
-    /// `lens NAME|thin`, `frame N`, `wait converged`, `screenshot FILE`, `quit`; one per line after a
-    /// delay in seconds).
+    /// `lens NAME|thin`, `frame N`, `wait converged`, `screenshot FILE`, `quit`; one per line
+    /// after a delay in seconds).
     #[arg(long, value_name = "FILE")]
     pub script: Option<PathBuf>,
     #[command(flatten)]

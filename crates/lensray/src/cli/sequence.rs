@@ -73,7 +73,8 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
         args,
         frames,
         pattern,
-        (&settings, &description),
+        &settings,
+        &description,
         path.as_mut(),
     )?;
     let loop_seconds = loop_start.elapsed().as_secs_f64();
@@ -130,7 +131,8 @@ fn render_frames(
     args: &RenderArgs,
     frames: &[u32],
     pattern: &FramePattern,
-    (settings, description): (&FrameSettings, &SceneDescription),
+    settings: &FrameSettings,
+    description: &SceneDescription,
     path: &mut dyn RenderPath,
 ) -> Result<SequenceTimes> {
     let mut times = SequenceTimes::default();
