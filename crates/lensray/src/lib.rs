@@ -5,7 +5,9 @@
 //! Its modules, top to bottom; each imports only from those below it:
 //! - [`cli`]: the subcommands and their options (`main.rs` parses them);
 //! - [`preview`] and [`bench`](mod@bench);
-//! - [`focus`]: focusing on what a path sees under a pixel (`render` and the preview);
+//! - [`focus`]: focusing on what a path sees under a pixel (`render` and the preview), and
+//!   [`frame_settings`]: a sequence's settings at each frame (`render --frames` and the
+//!   preview's frame slider);
 //! - [`paths`]: the render paths and `auto`;
 //! - [`output`] (image files) and [`machine`] (the machine lensray runs on).
 //!
@@ -20,6 +22,7 @@
 pub mod bench;
 pub mod cli;
 pub mod focus;
+pub mod frame_settings;
 pub mod machine;
 pub mod output;
 pub mod paths;

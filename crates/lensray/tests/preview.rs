@@ -1,9 +1,12 @@
 //! The preview window as a user runs it, under a private Xvfb server started by each test, on
 //! the Vulkan device (lavapipe in CI) with validation on: the converged accumulation equals the
 //! headless render, a click focuses on the surface under the cursor, a resize storm passes
-//! without a validation message, and the keys that print or save work.
+//! without a validation message, the keys that print or save work, and a keyframed shot's
+//! frames are the sequence's (`preview/keyframes.rs`).
 
 mod gpu_support;
+#[path = "preview/keyframes.rs"]
+mod keyframes;
 
 use std::io::Read;
 use std::path::Path;
@@ -340,12 +343,13 @@ fn a_resize_storm_passes_without_validation_messages() {
     assert_eq!((shot.width(), shot.height()), (200, 150));
 }
 
-/// C prints the camera as a scene-file snippet and a render command; P saves the
-/// accumulation; V switches the view; the panel's help lists the controls.
+/// C prints the camera as a scene-file snippet, a render command and (no keyframes: frame 1)
+/// a `[[keyframe]]`; P saves the accumulation; V switches the view; Enter, with no keyframes
+/// to play, says so.
 #[test]
 fn keys_print_the_camera_and_save_screenshots() {
     let dir = tempfile::tempdir().unwrap();
-    let script = "0 wait converged\n0 key C\n0 key P\n0 key V\n0.1 key 1\n0 quit\n";
+    let script = "0 wait converged\n0 key C\n0 key P\n0 key V\n0.1 key 1\n0 key Enter\n0 quit\n";
     let Some(out) = preview(
         "keys_print_the_camera_and_save_screenshots",
         dir.path(),
@@ -358,6 +362,15 @@ fn keys_print_the_camera_and_save_screenshots() {
     assert!(
         stdout.contains("[camera]") && stdout.contains("lensray render"),
         "{stdout}"
+    );
+    assert!(
+        stdout.contains("# keyframe (frame 1):\n[[keyframe]]\nframe = 1\nfocus_distance = 8.0\n"),
+        "{stdout}"
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("playback: the scene has no [[keyframe]]s"),
+        "{stderr}"
     );
     let shot = image::open(dir.path().join("lensray-preview-001.png")).expect("P screenshot");
     assert_eq!((shot.width(), shot.height()), (160, 120));

@@ -7,10 +7,15 @@ use clap::Args;
 
 use super::args::{PathArgs, ViewArgs};
 use super::named::by_name;
-use super::render::{load_scene, merged_settings};
+use super::render::load_scene;
+use crate::focus::focus_depth_at;
+use crate::frame_settings::FrameSettings;
+use crate::paths::{self, OpenedPath, PathOptions};
 use crate::preview::app::{run as run_window, PreviewConfig};
+use crate::preview::playback::{Playback, PlaybackClock};
 use crate::preview::player::ScriptPlayer;
 use crate::preview::{CameraRig, ViewMode};
+use lensray_core::scene::file::SceneDescription;
 use lensray_vulkan::{PresentMode, ViewerOptions};
 
 #[derive(Args, Debug)]
@@ -30,8 +35,8 @@ pub struct PreviewArgs {
     #[arg(long, value_name = "FILE")]
     pub screenshot: Option<PathBuf>,
     /// Replay timed input events from this file (keys, clicks, drags, scrolls, resizes,
-    /// `lens NAME|thin`, `wait converged`, `screenshot FILE`, `quit`; one per line after a
-    /// delay in seconds).
+    /// `lens NAME|thin`, `frame N`, `wait converged`, `screenshot FILE`, `quit`; one per line
+    /// after a delay in seconds).
     #[arg(long, value_name = "FILE")]
     pub script: Option<PathBuf>,
     #[command(flatten)]
@@ -51,7 +56,7 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
     };
     let choice = crate::paths::preview_options(&args.path.options())?;
     let mut description = load_scene(&args.view)?;
-    let settings = merged_settings(&description.settings, description.units, &args.view);
+    let (settings, playback) = keyed_start(&mut description, args)?;
     let rig = CameraRig::new(settings, &description.scene)
         .with_context(|| format!("scene {}", description.source))?;
     // Bad exposure options fail here, in one line, before the window opens.
@@ -78,8 +83,60 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
         frames: args.frames,
         screenshot: args.screenshot.clone(),
         script: ScriptPlayer::new(script),
+        playback,
     };
     let summary = run_window(config)?;
     println!("{summary}");
+    Ok(())
+}
+
+/// The settings the window opens with and, for a scene with keyframes, its shot: the first
+/// keyed frame, exactly as `render --frames` makes it (its focus points and pixels resolved,
+/// a pixel's through the path the options open, as `render` resolves them).
+fn keyed_start(
+    description: &mut SceneDescription,
+    args: &PreviewArgs,
+) -> Result<(lensray_core::settings::Settings, Option<Playback>)> {
+    let mut frames = FrameSettings::new(
+        description.settings.clone(),
+        args.view.to_settings().scaled(description.units.metres()),
+        std::mem::take(&mut description.keyframes),
+    );
+    let Some((first, last)) = frames.keyframes().range() else {
+        return Ok((frames.unkeyed(), None));
+    };
+    let context = || format!("scene {}", description.source);
+    let fps = lensray_core::settings::fps(&frames.at(first)).with_context(context)?;
+    resolve_focus(&mut frames, description, &args.path.options())?;
+    eprintln!(
+        "preview: keyframes from frame {first} to {last} at {fps} fps (the panel's slider picks a frame, Enter plays)"
+    );
+    let clock = PlaybackClock::new((first, last), fps);
+    Ok((
+        frames.at(first),
+        Some(Playback::new(frames, clock, Some(first))),
+    ))
+}
+
+/// The keyframes' focus points and pixels as distances; a path opens at the first pixel key.
+fn resolve_focus(
+    frames: &mut FrameSettings,
+    description: &SceneDescription,
+    options: &PathOptions,
+) -> Result<()> {
+    let (scene, source) = (&description.scene, description.source.as_str());
+    let (first, _) = frames.keyframes().range().unwrap_or_default();
+    let first_shot = frames.shot(first, scene, source)?;
+    let mut opened: Option<OpenedPath> = None;
+    frames.resolve_focus(scene, source, &mut |camera, pixel, what| {
+        let opened = match &mut opened {
+            Some(opened) => opened,
+            None => opened.insert(paths::open(options, scene, &first_shot)?),
+        };
+        focus_depth_at(opened.path.as_mut(), camera, pixel, what)
+    })?;
+    if let Some(opened) = opened {
+        opened.path.close()?;
+    }
     Ok(())
 }

@@ -10,6 +10,7 @@ use super::args::{parse_pixel, PathArgs, ViewArgs};
 use super::frames::{parse_chunk, parse_frames, Chunk, FramePattern, FrameRange};
 use super::progress::{ProgressMode, ProgressReporter};
 use crate::focus::{focus_depth_at, lay_focus_plane};
+use crate::frame_settings::command_line_over;
 use crate::output::PendingOutput;
 use crate::paths::{self, OpenedPath, Phases, RenderPath};
 use lensray_core::scene::file::SceneDescription;
@@ -118,17 +119,7 @@ fn lights_summary(lights: &[lensray_core::scene::Light]) -> Option<String> {
 /// given in the scene's `units`. Lens options replace the file's lens as a group, so a file's
 /// aperture radius does not clash with a command-line focal length.
 pub fn merged_settings(file: &Settings, units: SceneUnits, view: &ViewArgs) -> Settings {
-    let over = view.to_settings().scaled(units.metres());
-    let mut base = file.clone();
-    if over.camera.focal_length_mm.is_some() {
-        base.camera.aperture_radius = None;
-    }
-    if over.camera.aperture_radius.is_some() {
-        base.camera.focal_length_mm = None;
-        base.camera.f_number = None;
-        base.camera.sensor_height_mm = None;
-    }
-    base.overridden_by(&over)
+    command_line_over(file, &view.to_settings().scaled(units.metres()))
 }
 
 impl Default for RenderArgs {

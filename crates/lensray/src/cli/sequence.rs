@@ -9,65 +9,13 @@ use anyhow::{Context, Result};
 
 use super::frames::{is_complete, FramePattern};
 use super::progress::{ProgressMode, ProgressReporter};
-use super::render::{load_scene, merged_settings, RenderArgs};
+use super::render::{load_scene, RenderArgs};
 use crate::focus::focus_depth_at;
+use crate::frame_settings::FrameSettings;
 use crate::output::PendingOutput;
 use crate::paths::{self, OpenedPath, RenderPath};
 use lensray_core::scene::file::SceneDescription;
-use lensray_core::settings::{
-    exposure, frame_seed, light_scene, shot, FocusKey, Keyframes, Settings, Shot,
-};
-
-/// Each frame's settings: the file's with the keyframes at that frame over them, the command
-/// line's over those, and the frame's seed.
-struct FrameSettings<'a> {
-    file: Settings,
-    keyframes: Keyframes,
-    description: &'a SceneDescription,
-    args: &'a RenderArgs,
-    seed: u32,
-}
-
-impl FrameSettings<'_> {
-    fn at(&self, frame: u32) -> Settings {
-        let keyed = self.keyframes.settings_at(&self.file, frame);
-        let mut settings = merged_settings(&keyed, self.description.units, &self.args.view);
-        settings.image.seed = Some(frame_seed(self.seed, frame));
-        settings
-    }
-
-    fn shot(&self, frame: u32) -> Result<Shot> {
-        let settings = self.at(frame);
-        let shot = shot(&settings, &self.description.scene);
-        shot.with_context(|| format!("scene {}: frame {frame}", self.description.source))
-    }
-
-    /// Turns the keyframes' focus points and pixels into distances, each at its frame's camera.
-    fn resolve_focus(&mut self, path: &mut dyn RenderPath) -> Result<()> {
-        for (frame, key) in self.keyframes.unresolved_focus() {
-            let camera = self.shot(frame)?.camera;
-            let distance = match key {
-                FocusKey::Point(p) => {
-                    let depth = camera.view_depth(glam::DVec3::from(p).as_vec3());
-                    if depth <= 0.0 {
-                        anyhow::bail!(
-                            "scene {}: keyframe at frame {frame}: `focus_point` is behind the camera",
-                            self.description.source
-                        );
-                    }
-                    depth
-                }
-                FocusKey::Pixel(pixel) => {
-                    let what = format!("keyframe at frame {frame}: `focus_at`");
-                    focus_depth_at(path, &camera, pixel, &what)?
-                }
-                FocusKey::Distance(d) => d as f32,
-            };
-            self.keyframes.resolve_focus(frame, f64::from(distance));
-        }
-        Ok(())
-    }
-}
+use lensray_core::settings::{exposure, light_scene, shot, Shot};
 
 /// Where a sequence's time went, seconds.
 #[derive(Default)]
@@ -93,29 +41,18 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
     // A bad output path fails before any rendering.
     PendingOutput::create(&pattern.path(first))?;
     let mut description = load_scene(&args.view)?;
-    let keyframes = std::mem::take(&mut description.keyframes);
-    let file = description.settings.clone();
-    let seed = merged_settings(&file, description.units, &args.view)
-        .image
-        .seed
-        .unwrap_or(0);
+    let mut settings = FrameSettings::new(
+        description.settings.clone(),
+        args.view.to_settings().scaled(description.units.metres()),
+        std::mem::take(&mut description.keyframes),
+    );
     // The scene's lights are those of the first frame's settings: the scene stays.
-    let first_settings = {
-        let keyed = keyframes.settings_at(&file, first);
-        merged_settings(&keyed, description.units, &args.view)
-    };
     let context = format!("scene {}", description.source);
-    for warning in light_scene(&first_settings, &mut description.scene).context(context)? {
+    for warning in light_scene(&settings.at(first), &mut description.scene).context(context)? {
         eprintln!("warning: {warning}");
     }
-    let mut settings = FrameSettings {
-        file,
-        keyframes,
-        description: &description,
-        args,
-        seed,
-    };
-    let first_shot = settings.shot(first)?;
+    let (scene, source) = (&description.scene, description.source.as_str());
+    let first_shot = settings.shot(first, scene, source)?;
     let mut options = args.path.options();
     options.gpu.first_use_notice = args.progress != ProgressMode::None;
     let load_seconds = start.elapsed().as_secs_f64();
@@ -123,14 +60,23 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
         mut path,
         why,
         startup,
-    } = paths::open(&options, &description.scene, &first_shot)?;
+    } = paths::open(&options, scene, &first_shot)?;
     let focus_start = Instant::now();
-    settings.resolve_focus(path.as_mut())?;
+    settings.resolve_focus(scene, source, &mut |camera, pixel, what| {
+        focus_depth_at(path.as_mut(), camera, pixel, what)
+    })?;
     let focus_seconds = focus_start.elapsed().as_secs_f64();
     let startup_seconds = start.elapsed().as_secs_f64();
 
     let loop_start = Instant::now();
-    let times = render_frames(args, frames, pattern, &settings, path.as_mut())?;
+    let times = render_frames(
+        args,
+        frames,
+        pattern,
+        &settings,
+        &description,
+        path.as_mut(),
+    )?;
     let loop_seconds = loop_start.elapsed().as_secs_f64();
     let (kind, device) = (path.kind(), path.device_name());
     path.close()?;
@@ -186,6 +132,7 @@ fn render_frames(
     frames: &[u32],
     pattern: &FramePattern,
     settings: &FrameSettings,
+    description: &SceneDescription,
     path: &mut dyn RenderPath,
 ) -> Result<SequenceTimes> {
     let mut times = SequenceTimes::default();
@@ -195,7 +142,7 @@ fn render_frames(
     for (i, &frame) in frames.iter().enumerate() {
         let frame_start = Instant::now();
         let file = pattern.path(frame);
-        let mut resolved = settings.shot(frame)?;
+        let mut resolved = settings.shot(frame, &description.scene, &description.source)?;
         let (width, height) = (resolved.camera.width, resolved.camera.height);
         if args.resume && is_complete(&file, width, height) {
             times.skipped += 1;
@@ -209,8 +156,8 @@ fn render_frames(
             let focus = focus_depth_at(path, &resolved.camera, pixel, "--focus-at")?;
             let mut keyed = settings.at(frame);
             keyed.camera.focus_distance = Some(f64::from(focus));
-            resolved = shot(&keyed, &settings.description.scene)
-                .with_context(|| format!("frame {frame}"))?;
+            resolved =
+                shot(&keyed, &description.scene).with_context(|| format!("frame {frame}"))?;
         }
         let frame_settings = settings.at(frame);
         let exposure = exposure(&frame_settings, &resolved.camera)

@@ -6,6 +6,7 @@ mod actions;
 mod frame;
 mod open;
 mod replay;
+mod shot_frames;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -24,6 +25,7 @@ use super::cpu_feed::CpuFeed;
 use super::frame_log::FrameLog;
 use super::input::InputState;
 use super::panel::Panel;
+use super::playback::Playback;
 use super::player::ScriptPlayer;
 use super::rig::CameraRig;
 use super::view::ViewMode;
@@ -38,7 +40,8 @@ const CPU_PATH_POLL: std::time::Duration = std::time::Duration::from_millis(30);
 /// Everything the preview starts from.
 pub struct PreviewConfig {
     pub description: SceneDescription,
-    /// The scene file's settings with the command line's on top.
+    /// The scene file's settings with the command line's on top (with keyframes, the first
+    /// keyed frame's).
     pub rig: CameraRig,
     /// The scene file given on the command line (for the `C` key's render command).
     pub scene_path: Option<PathBuf>,
@@ -51,6 +54,8 @@ pub struct PreviewConfig {
     /// Save the accumulation here on exit.
     pub screenshot: Option<PathBuf>,
     pub script: ScriptPlayer,
+    /// The scene's keyframed shot, where it has keyframes: the frame shown and its settings.
+    pub playback: Option<Playback>,
 }
 
 /// What the exit line reports.
@@ -223,6 +228,15 @@ impl App {
             || self.awaiting_size.is_some()
             || self.config.frames.is_some()
             || self.last.is_none()
+            || self.playing()
+    }
+
+    /// A keyframed shot plays: every frame may show the next of its frames.
+    fn playing(&self) -> bool {
+        self.config
+            .playback
+            .as_ref()
+            .is_some_and(|p| p.clock.is_playing())
     }
 
     /// Busy only because the CPU path has not reached the target yet.
@@ -235,6 +249,7 @@ impl App {
             && self.awaiting_size.is_none()
             && self.config.frames.is_none()
             && self.last.is_some()
+            && !self.playing()
     }
 
     fn finish(mut self) -> Result<PreviewSummary> {

@@ -47,6 +47,11 @@ pub enum Action {
     Screenshot,
     PrintCamera,
     ResetCamera,
+    /// Plays or pauses a keyframed shot (`playback`).
+    PlayPause,
+    /// The shot's frame before or after the one shown.
+    PreviousFrame,
+    NextFrame,
     ToggleHelp,
     Quit,
     /// Acts for as long as the key is held (the others act once per press).
@@ -70,8 +75,13 @@ impl Action {
             Action::SetView(view) => return format!("view: {view}"),
             Action::NextView => "next view",
             Action::Screenshot => "save a screenshot",
-            Action::PrintCamera => "print the camera as scene-file TOML and a render command",
-            Action::ResetCamera => "reset the camera",
+            Action::PrintCamera => {
+                "print the camera as scene-file TOML, a render command and a [[keyframe]]"
+            }
+            Action::ResetCamera => "reset the camera (with keyframes: to the frame's)",
+            Action::PlayPause => "play / pause the keyframed shot",
+            Action::PreviousFrame => "the shot's previous frame",
+            Action::NextFrame => "the shot's next frame",
             Action::ToggleHelp => "show / hide this help",
             Action::Quit => "quit",
             Action::Fly(direction) => {
@@ -114,6 +124,9 @@ pub const KEY_BINDINGS: &[KeyBinding] = &[
     bind("P", Action::Screenshot),
     bind("C", Action::PrintCamera),
     bind("R", Action::ResetCamera),
+    bind("Enter", Action::PlayPause),
+    bind("ArrowLeft", Action::PreviousFrame),
+    bind("ArrowRight", Action::NextFrame),
     bind("H", Action::ToggleHelp),
     bind("F1", Action::ToggleHelp),
     bind("Escape", Action::Quit),
@@ -240,7 +253,7 @@ mod tests {
             assert_eq!(canonical_key_name(binding.key), binding.key);
             assert_eq!(action_for_key(binding.key), Some(binding.action));
         }
-        assert_eq!(seen.len(), 24);
+        assert_eq!(seen.len(), 27);
     }
 
     #[test]
@@ -261,6 +274,10 @@ mod tests {
         assert_eq!(action_for_key("F1"), Some(Action::ToggleHelp));
         assert_eq!(action_for_key("h"), Some(Action::ToggleHelp));
         assert_eq!(action_for_key("Escape"), Some(Action::Quit));
+        // Space focuses, so Enter plays a keyframed shot and the arrows step its frames.
+        assert_eq!(action_for_key("Enter"), Some(Action::PlayPause));
+        assert_eq!(action_for_key("ArrowLeft"), Some(Action::PreviousFrame));
+        assert_eq!(action_for_key("ArrowRight"), Some(Action::NextFrame));
         assert_eq!(action_for_key("escape"), None, "named keys match exactly");
         assert_eq!(action_for_key("Z"), None);
         assert_eq!(action_for_key(""), None);

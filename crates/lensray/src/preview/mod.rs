@@ -1,7 +1,8 @@
 //! `lensray preview`: the window (`app`, winit + the egui `panel`, drawn by `gpu::Viewer`) and
 //! its logic, which knows nothing of winit, Vulkan or egui and is unit-tested: the interactive
 //! camera (`rig`), what the window shows (`view`), the controls (`bindings`, `input`), scripted
-//! input (`script`, `player`), the camera printout (`snippet`) and frame statistics (`frame_log`).
+//! input (`script`, `player`), the camera printout (`snippet`), frame statistics (`frame_log`)
+//! and a keyframed shot's frame and playback (`playback`).
 
 pub mod app;
 pub mod bindings;
@@ -9,6 +10,7 @@ pub mod cpu_feed;
 pub mod frame_log;
 pub mod input;
 pub mod panel;
+pub mod playback;
 pub mod player;
 pub mod rig;
 pub mod script;

@@ -1,9 +1,11 @@
-//! The lens panel (egui): the lens and the view to edit, the frame's timings to read, and the
-//! controls' help.
+//! The lens panel (egui): the lens and the view to edit, a keyframed shot's frame slider, the
+//! frame's timings to read, and the controls' help.
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use super::bindings::{controls_help, Action};
+use super::playback::PlaybackClock;
 use super::rig::{
     CameraRig, LensChoice, LensReadout, PANEL_MAX_TILT_DEGREES, SENSOR_HEIGHT_RANGE_MM,
 };
@@ -59,11 +61,21 @@ impl Panel {
         }
     }
 
-    pub fn ui(&mut self, ctx: &egui::Context, rig: &mut CameraRig, stats: &PanelStats) {
+    pub fn ui(
+        &mut self,
+        ctx: &egui::Context,
+        rig: &mut CameraRig,
+        clock: Option<&mut PlaybackClock>,
+        stats: &PanelStats,
+    ) {
         egui::Window::new("Lens")
             .default_pos([8.0, 8.0])
             .resizable(false)
             .show(ctx, |ui| {
+                if let Some(clock) = clock {
+                    self.shot_frames(ui, clock);
+                    ui.separator();
+                }
                 self.lens(ui, rig, stats);
                 ui.separator();
                 Self::movements(ui, rig);
@@ -93,6 +105,32 @@ impl Panel {
                 .open(&mut self.show_help)
                 .show(ctx, |ui| ui.monospace(controls_help()));
         }
+    }
+
+    /// A keyframed shot: the frame slider over the keyframes' range and play / pause.
+    fn shot_frames(&mut self, ui: &mut egui::Ui, clock: &mut PlaybackClock) {
+        let (first, last) = clock.range();
+        let mut frame = clock.frame();
+        ui.horizontal(|ui| {
+            let label = if clock.is_playing() {
+                "Pause (Enter)"
+            } else {
+                "Play (Enter)"
+            };
+            if ui.button(label).clicked() {
+                self.actions.push(Action::PlayPause);
+            }
+            let slider = egui::Slider::new(&mut frame, first..=last)
+                .text("frame")
+                .step_by(1.0);
+            if ui.add(slider).changed() {
+                clock.set_frame(frame, Instant::now());
+            }
+        });
+        ui.small(format!(
+            "{} fps; the frame's keyed camera: a change by hand holds until the frame changes",
+            clock.fps()
+        ));
     }
 
     /// Shift and tilt (`camera::movements`), and how to lay the plane of focus by clicks.

@@ -11,6 +11,7 @@
 //! 0   scroll -1.5            # wheel steps; `scroll 2 ctrl` or `scroll 1 shift` with a modifier
 //! 0   resize 800x600         # window size; 0 in either side means minimised
 //! 0   lens double-gauss-50   # the panel's lens picker: a real lens by name, or `thin`
+//! 0   frame 60               # the frame slider of a keyframed shot (`key Enter` plays)
 //! 0   wait converged         # until the accumulation reaches the target spp
 //! 0   screenshot out/a.png   # the rest of the line is the path
 //! 1   quit
@@ -51,6 +52,8 @@ pub enum ScriptEvent {
     /// The panel's lens picker: `thin`, or a real lens by the name the picker lists (a
     /// built-in lens, or the file the preview started with).
     Lens(String),
+    /// The frame slider of a keyframed shot: shows this frame.
+    Frame(u32),
     /// Wait until the accumulation reaches the target spp.
     WaitConverged,
     Screenshot(PathBuf),
@@ -180,6 +183,13 @@ fn parse_line(line: &str) -> Result<TimedEvent, String> {
         "lens" => {
             let [lens] = exactly(name, &words, "a lens name or 'thin'")?;
             ScriptEvent::Lens(lens.to_owned())
+        }
+        "frame" => {
+            let [frame] = exactly(name, &words, "a frame number")?;
+            let frame = frame
+                .parse()
+                .map_err(|_| format!("'{frame}' is not a frame number from 0"))?;
+            ScriptEvent::Frame(frame)
         }
         "wait" => match words.as_slice() {
             ["converged"] => ScriptEvent::WaitConverged,

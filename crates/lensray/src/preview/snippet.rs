@@ -1,6 +1,6 @@
-//! The `C` key: the current camera as text, so the shot can be rendered headless. Two forms: the
-//! scene-file tables (`[camera]`, `[image]`, `[render]`, `[light]`) and the equivalent
-//! `lensray render` command. Every value is explicit, including what `settings::shot` derived
+//! The `C` key: the current camera as text, so the shot can be rendered headless. Three forms:
+//! the scene-file tables (`[camera]`, `[image]`, `[render]`, `[light]`), the equivalent
+//! `lensray render` command, and a `[[keyframe]]` table for a sequence ([`keyframe_table`]). Every value is explicit, including what `settings::shot` derived
 //! (near, far, the light), so later changes to defaults cannot change the shot; numbers are
 //! printed in Rust's shortest round-trip form, so they read back to the same bits. A scene in
 //! units other than metres gets its lengths in those units, as its files and command line give
@@ -20,6 +20,10 @@ use lensray_core::settings::{
 use lensray_core::settings::{
     Shot, DEFAULT_F_NUMBER, DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_VFOV_DEGREES,
 };
+
+mod keyframe;
+
+pub use keyframe::keyframe_table;
 
 /// The two printouts of one camera.
 #[derive(Clone, Debug, PartialEq)]

@@ -10,11 +10,13 @@ use super::App;
 use crate::output::PendingOutput;
 use crate::preview::bindings::{wheel_action, Action, WheelAction, WheelModifier};
 use crate::preview::input::Gesture;
+use lensray_core::scene::units::SceneUnits;
 
 impl App {
     /// Applies a discrete action (a key, the panel's buttons or the script).
     pub(super) fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) -> Result<()> {
-        self.log.input(Instant::now());
+        let now = Instant::now();
+        self.log.input(now);
         let rig = &mut self.config.rig;
         match action {
             Action::FocusUnderCursor => self.pending_pick = Some(self.input.cursor),
@@ -31,6 +33,9 @@ impl App {
             }
             Action::PrintCamera => self.print_camera()?,
             Action::ResetCamera => rig.reset(),
+            Action::PlayPause => self.play_pause(now),
+            Action::PreviousFrame => self.step_frame(-1, now),
+            Action::NextFrame => self.step_frame(1, now),
             Action::ToggleHelp => self.panel.show_help = !self.panel.show_help,
             Action::Quit => self.exit(event_loop),
             // Held keys move the camera every frame while down.
@@ -86,7 +91,8 @@ impl App {
         Ok(())
     }
 
-    /// Prints the current camera as scene-file tables and a `lensray render` command (the `C` key).
+    /// Prints the current camera as scene-file tables, a `lensray render` command and a
+    /// `[[keyframe]]` at the frame shown (the `C` key).
     fn print_camera(&self) -> Result<()> {
         let resolved = self
             .config
@@ -99,7 +105,15 @@ impl App {
             self.config.scene_path.as_deref(),
             self.config.description.units,
         );
-        println!("{snippet}");
+        let frame = self.keyframe_number();
+        let units = self.config.description.units;
+        let keyframe =
+            crate::preview::snippet::keyframe_table(self.config.rig.settings(), frame, units);
+        let lengths = match units {
+            SceneUnits::M => String::new(),
+            units => format!("; lengths in {units}"),
+        };
+        println!("{snippet}# keyframe (frame {frame}{lengths}):\n{keyframe}");
         Ok(())
     }
 }

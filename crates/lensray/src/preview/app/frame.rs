@@ -38,6 +38,8 @@ impl App {
         for action in self.panel.take_actions() {
             self.act(event_loop, action)?;
         }
+        // The frame of a keyframed shot after the panel's slider and keys: its camera.
+        self.follow_frame(Instant::now());
 
         self.config.rig.set_image_size(width, height);
         let rig = &mut self.config.rig;
@@ -142,10 +144,11 @@ impl App {
                 .map(|p| p.ev100),
         };
         let rig = &mut self.config.rig;
+        let mut clock = self.config.playback.as_mut().map(|p| &mut p.clock);
         let panel = &mut self.panel;
-        let output = gui
-            .ctx
-            .run_ui(raw_input, |ui| panel.ui(ui.ctx(), rig, &stats));
+        let output = gui.ctx.run_ui(raw_input, |ui| {
+            panel.ui(ui.ctx(), rig, clock.as_deref_mut(), &stats);
+        });
         gui.state
             .handle_platform_output(window, output.platform_output);
         Ok(OverlayFrame {

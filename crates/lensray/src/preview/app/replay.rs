@@ -88,6 +88,10 @@ impl App {
                     self.log.input(Instant::now());
                     rig.set_lens(&choice);
                 }
+                ScriptEvent::Frame(frame) => {
+                    self.log.input(Instant::now());
+                    self.set_frame(frame, Instant::now())?;
+                }
                 ScriptEvent::WaitConverged => {}
                 ScriptEvent::Screenshot(path) => self.save_screenshot(&path)?,
                 ScriptEvent::Quit => self.exit(event_loop),

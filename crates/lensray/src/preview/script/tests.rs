@@ -93,6 +93,8 @@ fn every_event_kind() {
             height: 0
         }
     );
+    assert_eq!(event("0 frame 60"), ScriptEvent::Frame(60));
+    assert_eq!(event("0 key Enter"), ScriptEvent::Key("Enter".into()));
     assert_eq!(event("0 wait converged"), ScriptEvent::WaitConverged);
     assert_eq!(
         event("0 screenshot out/my shot.png"),
@@ -196,6 +198,18 @@ fn malformed_lines_name_the_line_and_the_problem() {
         "line 1: wait takes one word: 'wait converged'"
     );
     assert_eq!(error("0 screenshot"), "line 1: screenshot needs a PATH");
+    assert_eq!(
+        error("0 frame"),
+        "line 1: frame takes a frame number, got ''"
+    );
+    assert_eq!(
+        error("0 frame -2"),
+        "line 1: '-2' is not a frame number from 0"
+    );
+    assert_eq!(
+        error("0 frame 1.5"),
+        "line 1: '1.5' is not a frame number from 0"
+    );
     assert_eq!(error("0 quit now"), "line 1: quit takes nothing, got 'now'");
     // Every message is one line.
     for text in ["0 jump", "0 click", "0 resize x"] {

@@ -1,0 +1,86 @@
+//! A keyframed shot in the window: the frame the clock, the slider, the keys or the script
+//! pick, and the camera of that frame, made from the settings `render --frames` renders it
+//! with.
+
+use std::time::Instant;
+
+use anyhow::Result;
+
+use super::App;
+use crate::preview::rig::CameraRig;
+
+/// What the play and frame keys say without keyframes.
+const NO_KEYFRAMES: &str =
+    "the scene has no [[keyframe]]s to play (C prints one for the current view)";
+
+impl App {
+    /// Where the frame to show changed (playing, or picked), makes the camera anew from that
+    /// frame's settings at the window's size; a change by hand holds until then. The lights
+    /// stay where the first frame laid them, as a sequence's do.
+    pub(super) fn follow_frame(&mut self, now: Instant) {
+        let Some(playback) = self.config.playback.as_mut() else {
+            return;
+        };
+        let Some(frame) = playback.next_frame(now) else {
+            return;
+        };
+        let mut settings = playback.frames().at(frame);
+        let current = self.config.rig.settings();
+        settings.image.width = current.image.width;
+        settings.image.height = current.image.height;
+        settings.light = current.light.clone();
+        match CameraRig::new(settings, &self.config.description.scene) {
+            Ok(rig) => self.config.rig = rig,
+            Err(e) => eprintln!("frame {frame}: {e} (the camera stays)"),
+        }
+    }
+
+    /// Plays the shot from the frame shown, or pauses on the frame it reached.
+    pub(super) fn play_pause(&mut self, now: Instant) {
+        let Some(playback) = self.config.playback.as_mut() else {
+            eprintln!("playback: {NO_KEYFRAMES}");
+            return;
+        };
+        let clock = &mut playback.clock;
+        clock.toggle(now);
+        if clock.is_playing() {
+            eprintln!(
+                "playback: playing from frame {} at {} fps",
+                clock.frame(),
+                clock.fps()
+            );
+        } else {
+            eprintln!("playback: paused at frame {}", clock.frame());
+        }
+    }
+
+    /// The frame `by` frames on (back where negative), within the keyframes' range.
+    pub(super) fn step_frame(&mut self, by: i64, now: Instant) {
+        match self.config.playback.as_mut() {
+            Some(playback) => playback.clock.step(by, now),
+            None => eprintln!("frames: {NO_KEYFRAMES}"),
+        }
+    }
+
+    /// The script's `frame N`: the slider set to `frame`; outside the keyframes' range, the
+    /// nearest frame of it, with a warning.
+    pub(super) fn set_frame(&mut self, frame: u32, now: Instant) -> Result<()> {
+        let Some(playback) = self.config.playback.as_mut() else {
+            anyhow::bail!("script: frame {frame}: {NO_KEYFRAMES}");
+        };
+        let (first, last) = playback.clock.range();
+        if !(first..=last).contains(&frame) {
+            eprintln!(
+                "warning: script: frame {frame} is outside the keyframes' frames {first} to {last}: the nearest is shown"
+            );
+        }
+        playback.clock.set_frame(frame, now);
+        Ok(())
+    }
+
+    /// The frame a `[[keyframe]]` printout names: the one shown, or 1 without keyframes (a
+    /// shot's start).
+    pub(super) fn keyframe_number(&self) -> u32 {
+        self.config.playback.as_ref().map_or(1, |p| p.clock.frame())
+    }
+}
