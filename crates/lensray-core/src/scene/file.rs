@@ -59,6 +59,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::camera_animation::CameraAnimation;
 use super::file_camera::{pick_camera, FileCamera};
 use super::gltf_file::{load_gltf, MeshFile};
 use super::obj::load_obj;
@@ -88,6 +89,9 @@ pub struct SceneDescription {
     pub load_times: LoadTimes,
     /// The scene file's `[[keyframe]]`s, their lengths in metres like `settings`'.
     pub keyframes: Keyframes,
+    /// The mesh file's animations, as lines name them; the camera in use carries the one that
+    /// moves it ([`FileCamera::animation`]).
+    pub animations: Vec<String>,
 }
 
 impl SceneDescription {
@@ -113,6 +117,11 @@ impl SceneDescription {
             self.keyframes = std::mem::take(&mut self.keyframes).scaled(factor);
         }
         self.units = units;
+    }
+
+    /// The animation that moves the camera in use, if one does.
+    pub fn camera_animation(&self) -> Option<&CameraAnimation> {
+        self.cameras.get(self.camera?)?.animation.as_ref()
     }
 
     /// The camera in use, as "NAME (camera I of N in the file)", if it came from the file.
@@ -143,6 +152,7 @@ impl SceneDescription {
             units: SceneUnits::M,
             load_times: file.times,
             keyframes: Keyframes::default(),
+            animations: file.animations,
         };
         match camera {
             Some(choice) => description.use_camera(choice)?,

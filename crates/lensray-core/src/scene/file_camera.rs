@@ -5,6 +5,7 @@
 
 use glam::DVec3;
 
+use super::camera_animation::CameraAnimation;
 use super::Scene;
 use crate::settings::{ProjectionKind, Settings};
 
@@ -18,6 +19,9 @@ pub struct FileCamera {
     /// The node's +Y axis, unit length.
     pub up: DVec3,
     pub projection: FileProjection,
+    /// The file's animation that moves this camera, if one does (its node's pose above is the
+    /// node at rest).
+    pub animation: Option<CameraAnimation>,
 }
 
 /// The projection of a [`FileCamera`], as glTF gives it.

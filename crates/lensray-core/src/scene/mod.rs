@@ -10,6 +10,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3, Vec4};
 
 pub mod builtin;
+pub mod camera_animation;
 pub mod environment;
 mod error;
 pub mod file;
@@ -31,6 +32,7 @@ pub mod textured;
 pub mod units;
 
 pub use builtin::default_scene;
+pub use camera_animation::{CameraAnimation, CameraPose};
 pub use environment::EnvironmentLight;
 pub use error::SceneError;
 pub use file::{load, load_scene_file, SceneDescription};

@@ -120,6 +120,7 @@ impl FileCamera {
         FileCamera {
             eye: self.eye * factor,
             projection,
+            animation: self.animation.as_ref().map(|a| a.scaled(factor)),
             ..self.clone()
         }
     }
@@ -260,6 +261,7 @@ mod tests {
                 znear: 1.0,
                 zfar: 400.0,
             },
+            animation: None,
         };
         let scaled = camera.scaled(0.01);
         assert_eq!(scaled.eye, DVec3::new(0.0, 0.5, 2.0));

@@ -9,6 +9,9 @@
 //! pull from 1 m to 4 m is halfway in dioptres (1.6 m) a quarter of the way in distance. A lens
 //! is a choice, not a number: it holds until the next key that names one.
 //!
+//! A glTF animation of the scene's camera may move its eye, target and up instead
+//! ([`Keyframes::with_camera_timeline`], [`CameraTimeline`]).
+//!
 //! Focus is a distance, a world point (its depth along the view axis at that frame) or a pixel
 //! (the depth of the surface seen there at that frame, found by the app's render path):
 //! [`Keyframes::resolve_focus`] turns points and pixels into distances before frames are made.
@@ -16,6 +19,7 @@
 use std::path::Path;
 
 use crate::sampler::hash::hash_u32;
+use crate::settings::camera_timeline::CameraTimeline;
 use crate::settings::{Settings, SettingsError};
 
 /// How a setting moves from one key to its next.
@@ -149,10 +153,11 @@ pub struct Keyframe {
     values: Vec<(Channel, KeyValue)>,
 }
 
-/// A scene's keyframes, in frame order.
+/// A scene's keyframes, in frame order, and the glTF animation that moves its camera, if any.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Keyframes {
     keys: Vec<Keyframe>,
+    camera_timeline: Option<CameraTimeline>,
 }
 
 /// A sequence's frames per second when neither the scene file nor `--fps` gives one.
@@ -312,7 +317,36 @@ impl Keyframes {
             }
             keys.push(key);
         }
-        Ok(Self { keys })
+        Ok(Self {
+            keys,
+            camera_timeline: None,
+        })
+    }
+
+    /// These keyframes with `timeline` moving the camera's eye, target and up at each frame,
+    /// unless a key gives eye, target or up: the keys then move the camera, the animation is
+    /// not played, and the warning line returned says so.
+    pub fn with_camera_timeline(mut self, timeline: CameraTimeline) -> (Self, Option<String>) {
+        let keyed = self.keys.iter().find(|k| {
+            k.values
+                .iter()
+                .any(|(c, _)| matches!(c, Channel::Eye | Channel::Target | Channel::Up))
+        });
+        if let Some(key) = keyed {
+            let warning = format!(
+                "the keyframe at frame {} moves the camera (eye, target or up), so the scene's keyframes move it and its glTF {} is not played",
+                key.frame,
+                timeline.animation().name
+            );
+            return (self, Some(warning));
+        }
+        self.camera_timeline = Some(timeline);
+        (self, None)
+    }
+
+    /// The glTF animation that moves the camera, on the sequence's frames, if one does.
+    pub fn camera_timeline(&self) -> Option<&CameraTimeline> {
+        self.camera_timeline.as_ref()
     }
 
     pub fn is_empty(&self) -> bool {
@@ -339,6 +373,7 @@ impl Keyframes {
                 _ => {}
             }
         }
+        self.camera_timeline = self.camera_timeline.map(|t| t.scaled(factor));
         self
     }
 
@@ -366,8 +401,9 @@ impl Keyframes {
         }
     }
 
-    /// `base` with the keyed settings at `frame` over it. Focus keys still points or pixels
-    /// ([`Self::resolve_focus`]) are left out.
+    /// `base` with the keyed settings at `frame` over it, and the camera where the animation
+    /// puts it, if one moves it. Focus keys still points or pixels ([`Self::resolve_focus`])
+    /// are left out.
     pub fn settings_at(&self, base: &Settings, frame: u32) -> Settings {
         let mut over = Settings::default();
         for channel in CHANNELS {
@@ -375,7 +411,11 @@ impl Keyframes {
                 set(&mut over, channel, value);
             }
         }
-        base.clone().overridden_by(&over)
+        let keyed = base.clone().overridden_by(&over);
+        match &self.camera_timeline {
+            Some(timeline) => timeline.settings_at(&keyed, frame),
+            None => keyed,
+        }
     }
 
     /// The value of `channel` at `frame`, if any key gives it.

@@ -8,9 +8,11 @@
 //! - [`lights`]: the settings' lights, added to the scene's own;
 //! - [`exposure`](mod@exposure): the exposure and tone map of what is shown, from the settings
 //!   and the shot's lens;
-//! - [`keyframe`]: a scene file's `[[keyframe]]`s, the settings of each frame of a sequence.
+//! - [`keyframe`]: a scene file's `[[keyframe]]`s, the settings of each frame of a sequence;
+//! - [`camera_timeline`]: a glTF camera animation on a sequence's frames.
 
 pub mod aperture_image;
+pub mod camera_timeline;
 pub mod environment;
 pub mod exposure;
 pub mod keyframe;
@@ -19,6 +21,7 @@ pub mod render;
 pub mod shot;
 pub mod user;
 
+pub use camera_timeline::CameraTimeline;
 pub use environment::EnvironmentSetting;
 pub use exposure::{exposure, Exposure};
 pub use keyframe::{fps, frame_seed, FocusKey, Interpolation, Keyframes, DEFAULT_FPS};

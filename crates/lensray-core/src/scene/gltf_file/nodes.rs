@@ -7,6 +7,7 @@ use glam::{DMat4, DVec3, Vec2, Vec3};
 use gltf::mesh::Mode;
 
 use super::accessors::{read_colours, read_floats, read_normals, read_tangents};
+use super::animation::camera_animation;
 use super::materials::ignored_features;
 use super::MeshFile;
 use crate::scene::file_camera::{FileCamera, FileProjection};
@@ -15,6 +16,9 @@ use crate::scene::{Light, LightKind, Mesh};
 /// The node walk's state: the buffers and what is gathered.
 pub(super) struct Walk<'a> {
     pub buffers: &'a [Vec<u8>],
+    pub document: &'a gltf::Document,
+    /// The nodes from the scene root down to the node being read (an animated camera's chain).
+    pub chain: Vec<usize>,
     /// Where image files named by URI are.
     pub base: &'a Path,
     pub out: MeshFile,
@@ -32,9 +36,15 @@ pub(super) struct Walk<'a> {
 }
 
 impl<'a> Walk<'a> {
-    pub(super) fn new(buffers: &'a [Vec<u8>], base: &'a Path, document: &gltf::Document) -> Self {
+    pub(super) fn new(
+        buffers: &'a [Vec<u8>],
+        base: &'a Path,
+        document: &'a gltf::Document,
+    ) -> Self {
         Self {
             buffers,
+            document,
+            chain: Vec::new(),
             base,
             out: MeshFile::default(),
             materials: vec![None; document.materials().len()],
@@ -64,11 +74,15 @@ impl<'a> Walk<'a> {
                 self.primitive(node, &mesh, &primitive, &world_from_node)?;
             }
         }
+        self.chain.push(node.index());
         if let Some(camera) = node.camera() {
             let index = self.out.cameras.len();
-            self.out
-                .cameras
-                .push(file_camera(node, &camera, &world_from_node, index));
+            let mut camera = file_camera(node, &camera, &world_from_node, index);
+            let (animation, notices) =
+                camera_animation(self.document, self.buffers, &self.chain, &camera.name);
+            camera.animation = animation;
+            self.out.notices.extend(notices);
+            self.out.cameras.push(camera);
         }
         if let Some(light) = node.light() {
             let light = punctual_light(&light, &world_from_node);
@@ -80,6 +94,7 @@ impl<'a> Walk<'a> {
         for child in node.children() {
             self.node(&child, world_from_node)?;
         }
+        self.chain.pop();
         Ok(())
     }
 
@@ -312,6 +327,7 @@ fn file_camera(
             .transform_vector3(DVec3::Y)
             .normalize_or_zero(),
         projection,
+        animation: None,
     }
 }
 

@@ -1,0 +1,217 @@
+//! A camera's animation read from the file's `animations`: the first animation whose channels
+//! move the camera's node or one of its ancestors (translation, rotation, scale), with every
+//! node of the chain from the scene root down. Animations that move other nodes are not read
+//! (lensray renders meshes at rest). An animation whose data is bad (accessors of the wrong
+//! kind or past their buffers, counts that differ, times that do not increase, values that are
+//! not finite) is skipped with one notice, never an error: the file still renders.
+
+use glam::{DMat4, DQuat, DVec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::animation::util::ReadOutputs;
+use gltf::animation::{Interpolation, Property};
+
+use super::nodes::check_accessor;
+use crate::scene::camera_animation::{
+    AnimatedNode, CameraAnimation, Track, TrackInterpolation, TrackValue,
+};
+
+/// An animation as a line names it: "animation I ('NAME')".
+pub(super) fn animation_name(animation: &gltf::Animation) -> String {
+    match animation.name() {
+        Some(name) => format!("animation {} ('{name}')", animation.index()),
+        None => format!("animation {}", animation.index()),
+    }
+}
+
+/// The animation of the camera whose node chain (root first, the camera's node last) is
+/// `chain`, if an animation moves it, and the notices about the animations that move it and
+/// are not played: bad ones (skipped) and those after the first.
+pub(super) fn camera_animation(
+    document: &gltf::Document,
+    buffers: &[Vec<u8>],
+    chain: &[usize],
+    camera: &str,
+) -> (Option<CameraAnimation>, Vec<String>) {
+    let mut notices = Vec::new();
+    let mut played: Option<CameraAnimation> = None;
+    for animation in document.animations() {
+        let moves_chain = animation.channels().any(|c| {
+            chain.contains(&c.target().node().index())
+                && c.target().property() != Property::MorphTargetWeights
+        });
+        if !moves_chain {
+            continue;
+        }
+        let name = animation_name(&animation);
+        match read_chain(document, buffers, &animation, chain) {
+            Err(e) => notices.push(format!(
+                "{name} moves camera '{camera}' but {e}: the animation is skipped"
+            )),
+            Ok(nodes) => match &played {
+                Some(first) => notices.push(format!(
+                    "{name} also moves camera '{camera}'; lensray plays the first that does, {}",
+                    first.name
+                )),
+                None => played = CameraAnimation::new(name, nodes),
+            },
+        }
+    }
+    (played, notices)
+}
+
+/// The nodes of `chain` with the tracks `animation` gives them, or what is wrong with one.
+fn read_chain(
+    document: &gltf::Document,
+    buffers: &[Vec<u8>],
+    animation: &gltf::Animation,
+    chain: &[usize],
+) -> Result<Vec<AnimatedNode>, String> {
+    let mut nodes: Vec<AnimatedNode> = chain
+        .iter()
+        .filter_map(|&i| document.nodes().nth(i))
+        .map(|node| {
+            let transform = node.transform();
+            let (t, r, s) = transform.clone().decomposed();
+            AnimatedNode {
+                rest: DMat4::from_cols_array_2d(&transform.matrix().map(|c| c.map(f64::from))),
+                rest_trs: (
+                    DVec3::from(t.map(f64::from)),
+                    DQuat::from_array(r.map(f64::from)),
+                    DVec3::from(s.map(f64::from)),
+                ),
+                translation: None,
+                rotation: None,
+                scale: None,
+            }
+        })
+        .collect();
+    for channel in animation.channels() {
+        let target = channel.target();
+        let Some(at) = chain.iter().position(|&i| i == target.node().index()) else {
+            continue;
+        };
+        let node = &mut nodes[at];
+        let what = |e: String| {
+            format!(
+                "its channel {} (node {} {:?}) {e}",
+                channel.index(),
+                target.node().index(),
+                target.property()
+            )
+        };
+        match target.property() {
+            Property::Translation => {
+                node.translation = Some(read_track(&channel, buffers).map_err(what)?)
+            }
+            Property::Rotation => {
+                node.rotation = Some(read_track(&channel, buffers).map_err(what)?)
+            }
+            Property::Scale => node.scale = Some(read_track(&channel, buffers).map_err(what)?),
+            Property::MorphTargetWeights => {}
+        }
+    }
+    Ok(nodes)
+}
+
+/// A value a channel's output accessor holds, read from its elements.
+trait ChannelOutput: TrackValue + Sized {
+    /// The values of `outputs`, or `None` when they are not of this kind.
+    fn from_outputs(outputs: ReadOutputs) -> Option<Vec<Self>>;
+    /// Whether `accessor` holds this kind of value in a type the reader converts.
+    fn fits(accessor: &gltf::Accessor) -> bool;
+    /// Whether `value` may be a key's value (a rotation must not be zero).
+    fn is_key(value: &Self) -> bool;
+}
+
+impl ChannelOutput for DVec3 {
+    fn from_outputs(outputs: ReadOutputs) -> Option<Vec<Self>> {
+        match outputs {
+            ReadOutputs::Translations(v) | ReadOutputs::Scales(v) => {
+                Some(v.map(|p| DVec3::from(p.map(f64::from))).collect())
+            }
+            _ => None,
+        }
+    }
+
+    fn fits(accessor: &gltf::Accessor) -> bool {
+        accessor.dimensions() == Dimensions::Vec3 && accessor.data_type() == DataType::F32
+    }
+
+    fn is_key(_: &Self) -> bool {
+        true
+    }
+}
+
+impl ChannelOutput for DQuat {
+    fn from_outputs(outputs: ReadOutputs) -> Option<Vec<Self>> {
+        match outputs {
+            ReadOutputs::Rotations(r) => Some(
+                r.into_f32()
+                    .map(|q| DQuat::from_array(q.map(f64::from)))
+                    .collect(),
+            ),
+            _ => None,
+        }
+    }
+
+    fn fits(accessor: &gltf::Accessor) -> bool {
+        accessor.dimensions() == Dimensions::Vec4
+            && matches!(
+                accessor.data_type(),
+                DataType::F32 | DataType::I8 | DataType::U8 | DataType::I16 | DataType::U16
+            )
+    }
+
+    fn is_key(value: &Self) -> bool {
+        value.length_squared() > 1e-12
+    }
+}
+
+/// The track of `channel`, its accessors checked before they are read.
+fn read_track<T: ChannelOutput>(
+    channel: &gltf::animation::Channel,
+    buffers: &[Vec<u8>],
+) -> Result<Track<T>, String> {
+    let sampler = channel.sampler();
+    let (input, output) = (sampler.input(), sampler.output());
+    check_accessor(&input, buffers)?;
+    check_accessor(&output, buffers)?;
+    if input.dimensions() != Dimensions::Scalar || input.data_type() != DataType::F32 {
+        return Err(format!(
+            "has key times of {:?} {:?}, not float scalars",
+            input.dimensions(),
+            input.data_type()
+        ));
+    }
+    if !T::fits(&output) {
+        return Err(format!(
+            "has values of {:?} {:?}, which glTF does not allow for it",
+            output.dimensions(),
+            output.data_type()
+        ));
+    }
+    let reader = channel.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+    let times: Vec<f64> = reader
+        .read_inputs()
+        .ok_or("has no key times")?
+        .map(f64::from)
+        .collect();
+    let values = reader
+        .read_outputs()
+        .and_then(T::from_outputs)
+        .ok_or("has no values")?;
+    let interpolation = match sampler.interpolation() {
+        Interpolation::Step => TrackInterpolation::Step,
+        Interpolation::Linear => TrackInterpolation::Linear,
+        Interpolation::CubicSpline => TrackInterpolation::CubicSpline,
+    };
+    let keys_are_values = interpolation != TrackInterpolation::CubicSpline;
+    let mut key_values = values
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| keys_are_values || i % 3 == 1);
+    if let Some((i, _)) = key_values.find(|(_, v)| !T::is_key(v)) {
+        return Err(format!("has a zero rotation (value number {i})"));
+    }
+    Track::new(interpolation, times, values)
+}
