@@ -215,3 +215,7 @@ fn read_track<T: ChannelOutput>(
     }
     Track::new(interpolation, times, values)
 }
+
+#[cfg(test)]
+#[path = "animation_tests.rs"]
+mod tests;
