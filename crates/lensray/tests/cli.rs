@@ -9,6 +9,8 @@ use std::process::{Command, Output};
 
 #[path = "cli/caches.rs"]
 mod caches;
+#[path = "cli/camera_animation.rs"]
+mod camera_animation;
 #[path = "cli/devices.rs"]
 mod devices;
 #[path = "cli/environment.rs"]

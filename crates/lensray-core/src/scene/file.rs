@@ -89,9 +89,9 @@ pub struct SceneDescription {
     pub load_times: LoadTimes,
     /// The scene file's `[[keyframe]]`s, their lengths in metres like `settings`'.
     pub keyframes: Keyframes,
-    /// The mesh file's animations, as lines name them; the camera in use carries the one that
-    /// moves it ([`FileCamera::animation`]).
-    pub animations: Vec<String>,
+    /// The mesh file's animations that move no camera, as lines name them; a camera carries
+    /// the one that moves it ([`FileCamera::animation`]).
+    pub other_animations: Vec<String>,
 }
 
 impl SceneDescription {
@@ -152,7 +152,7 @@ impl SceneDescription {
             units: SceneUnits::M,
             load_times: file.times,
             keyframes: Keyframes::default(),
-            animations: file.animations,
+            other_animations: file.other_animations,
         };
         match camera {
             Some(choice) => description.use_camera(choice)?,

@@ -114,7 +114,7 @@ pub fn load_obj(path: &Path) -> Result<MeshFile, SceneError> {
         cameras: Vec::new(),
         notices,
         times,
-        animations: Vec::new(),
+        other_animations: Vec::new(),
     })
 }
 

@@ -27,6 +27,11 @@ impl CameraTimeline {
         &self.animation
     }
 
+    /// Frames per second.
+    pub fn fps(&self) -> f64 {
+        self.fps
+    }
+
     /// The time of `frame` on the file's timeline, seconds.
     pub fn time(&self, frame: u32) -> f64 {
         f64::from(frame) / self.fps

@@ -3,6 +3,7 @@
 pub mod args;
 pub mod bench;
 pub mod calibrate;
+pub mod camera_animation;
 pub mod frames;
 pub mod generate;
 pub mod info;

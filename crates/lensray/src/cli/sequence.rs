@@ -1,7 +1,8 @@
 //! `lensray render --frames`: a sequence of frames in one process. The scene loads, and the
 //! device, its pipelines and the acceleration structures are made, once; each frame is a new
-//! shot (its camera from the scene's keyframes) rendered on the same path, with its own seed
-//! (`settings::frame_seed`), written to a temporary file and renamed when complete.
+//! shot (its camera from the scene's keyframes, or its glTF camera animation) rendered on the
+//! same path, with its own seed (`settings::frame_seed`), written to a temporary file and
+//! renamed when complete.
 
 use std::time::Instant;
 
@@ -11,7 +12,7 @@ use super::frames::{is_complete, FramePattern};
 use super::progress::{ProgressMode, ProgressReporter};
 use super::render::{load_scene, RenderArgs};
 use crate::focus::focus_depth_at;
-use crate::frame_settings::FrameSettings;
+use crate::frame_settings::{command_line_over, FrameSettings};
 use crate::output::PendingOutput;
 use crate::paths::{self, OpenedPath, RenderPath};
 use lensray_core::scene::file::SceneDescription;
@@ -41,11 +42,11 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
     // A bad output path fails before any rendering.
     PendingOutput::create(&pattern.path(first))?;
     let mut description = load_scene(&args.view)?;
-    let mut settings = FrameSettings::new(
-        description.settings.clone(),
-        args.view.to_settings().scaled(description.units.metres()),
-        std::mem::take(&mut description.keyframes),
-    );
+    let command_line = args.view.to_settings().scaled(description.units.metres());
+    let keyframes = std::mem::take(&mut description.keyframes);
+    let merged = command_line_over(&description.settings, &command_line);
+    let keyframes = super::camera_animation::play(keyframes, &description, &merged)?;
+    let mut settings = FrameSettings::new(description.settings.clone(), command_line, keyframes);
     // The scene's lights are those of the first frame's settings: the scene stays.
     let context = format!("scene {}", description.source);
     for warning in light_scene(&settings.at(first), &mut description.scene).context(context)? {

@@ -23,17 +23,28 @@ pub(super) fn animation_name(animation: &gltf::Animation) -> String {
     }
 }
 
-/// The animation of the camera whose node chain (root first, the camera's node last) is
-/// `chain`, if an animation moves it, and the notices about the animations that move it and
-/// are not played: bad ones (skipped) and those after the first.
+/// What the file's animations do to one camera.
+pub(super) struct CameraAnimations {
+    /// The animation played: the first that moves the camera and reads well.
+    pub played: Option<CameraAnimation>,
+    /// The indices of every animation that moves the camera.
+    pub moving: Vec<usize>,
+    /// One line for each that moves it and is not played: bad ones (skipped) and those after
+    /// the first.
+    pub notices: Vec<String>,
+}
+
+/// The animations of the camera whose node chain (root first, the camera's node last) is
+/// `chain`.
 pub(super) fn camera_animation(
     document: &gltf::Document,
     buffers: &[Vec<u8>],
     chain: &[usize],
     camera: &str,
-) -> (Option<CameraAnimation>, Vec<String>) {
+) -> CameraAnimations {
     let mut notices = Vec::new();
     let mut played: Option<CameraAnimation> = None;
+    let mut moving = Vec::new();
     for animation in document.animations() {
         let moves_chain = animation.channels().any(|c| {
             chain.contains(&c.target().node().index())
@@ -42,6 +53,7 @@ pub(super) fn camera_animation(
         if !moves_chain {
             continue;
         }
+        moving.push(animation.index());
         let name = animation_name(&animation);
         match read_chain(document, buffers, &animation, chain) {
             Err(e) => notices.push(format!(
@@ -56,7 +68,11 @@ pub(super) fn camera_animation(
             },
         }
     }
-    (played, notices)
+    CameraAnimations {
+        played,
+        moving,
+        notices,
+    }
 }
 
 /// The nodes of `chain` with the tracks `animation` gives them, or what is wrong with one.

@@ -380,7 +380,10 @@ fn an_animation_of_other_nodes_leaves_the_camera_still() {
     );
     let file = load("", [0.0; 3], &[vec![spin]]);
     assert_eq!(file.cameras[0].animation, None);
-    assert_eq!(file.animations, vec!["animation 0 ('move')".to_string()]);
+    assert_eq!(
+        file.other_animations,
+        vec!["animation 0 ('move')".to_string()]
+    );
     assert!(
         file.notices.iter().all(|n| !n.contains("animation")),
         "{:?}",

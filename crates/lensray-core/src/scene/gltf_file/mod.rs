@@ -49,9 +49,9 @@ pub struct MeshFile {
     pub cameras: Vec<FileCamera>,
     pub notices: Vec<String>,
     pub times: LoadTimes,
-    /// The file's animations, as lines name them ("animation I ('NAME')"); a camera's
-    /// [`FileCamera::animation`] is the one that moves it.
-    pub animations: Vec<String>,
+    /// The file's animations that move no camera, as lines name them ("animation I
+    /// ('NAME')"); a camera's [`FileCamera::animation`] is the one that moves it.
+    pub other_animations: Vec<String>,
 }
 
 /// Reads a `.gltf` or `.glb` file with its buffers.
@@ -89,10 +89,6 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
         reader.node(&node, DMat4::IDENTITY).map_err(bad)?;
     }
     let mut out = reader.finish(&document);
-    out.animations = document
-        .animations()
-        .map(|a| animation::animation_name(&a))
-        .collect();
     notices.append(&mut out.notices);
     notices.extend(crate::scene::tangents::unread_notice(&mut out.scene));
     out.notices = notices

@@ -7,7 +7,7 @@ use glam::{DMat4, DVec3, Vec2, Vec3};
 use gltf::mesh::Mode;
 
 use super::accessors::{read_colours, read_floats, read_normals, read_tangents};
-use super::animation::camera_animation;
+use super::animation::{animation_name, camera_animation};
 use super::materials::ignored_features;
 use super::MeshFile;
 use crate::scene::file_camera::{FileCamera, FileProjection};
@@ -19,6 +19,8 @@ pub(super) struct Walk<'a> {
     pub document: &'a gltf::Document,
     /// The nodes from the scene root down to the node being read (an animated camera's chain).
     pub chain: Vec<usize>,
+    /// The animations that move a camera, by index.
+    pub camera_animations: Vec<usize>,
     /// Where image files named by URI are.
     pub base: &'a Path,
     pub out: MeshFile,
@@ -45,6 +47,7 @@ impl<'a> Walk<'a> {
             buffers,
             document,
             chain: Vec::new(),
+            camera_animations: Vec::new(),
             base,
             out: MeshFile::default(),
             materials: vec![None; document.materials().len()],
@@ -78,10 +81,11 @@ impl<'a> Walk<'a> {
         if let Some(camera) = node.camera() {
             let index = self.out.cameras.len();
             let mut camera = file_camera(node, &camera, &world_from_node, index);
-            let (animation, notices) =
+            let animations =
                 camera_animation(self.document, self.buffers, &self.chain, &camera.name);
-            camera.animation = animation;
-            self.out.notices.extend(notices);
+            camera.animation = animations.played;
+            self.out.notices.extend(animations.notices);
+            self.camera_animations.extend(animations.moving);
             self.out.cameras.push(camera);
         }
         if let Some(light) = node.light() {
@@ -199,6 +203,11 @@ impl<'a> Walk<'a> {
 
     /// What was gathered, with the notices about what the shading ignores.
     pub(super) fn finish(mut self, document: &gltf::Document) -> MeshFile {
+        self.out.other_animations = document
+            .animations()
+            .filter(|a| !self.camera_animations.contains(&a.index()))
+            .map(|a| animation_name(&a))
+            .collect();
         if self.other_texcoords {
             self.out.notices.push(
                 "reads every texture with TEXCOORD_0 (lensray reads one texture coordinate set)"

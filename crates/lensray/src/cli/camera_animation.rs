@@ -1,0 +1,92 @@
+//! A glTF camera animation in the command's renders: a sequence plays the animation of the
+//! camera in use on its frames (frame N at N / fps seconds), and a single render says that it
+//! renders the camera at rest.
+
+use anyhow::{Context, Result};
+
+use lensray_core::scene::file::SceneDescription;
+use lensray_core::scene::CameraAnimation;
+use lensray_core::settings::{fps, CameraTimeline, Keyframes, Settings};
+
+/// How many animations a note names before it counts the rest.
+const NAMED: usize = 4;
+
+/// The camera animation of `description` on frames at the rate `settings` give.
+fn timeline(description: &SceneDescription, settings: &Settings) -> Result<Option<CameraTimeline>> {
+    let Some(animation) = description.camera_animation() else {
+        return Ok(None);
+    };
+    let fps = fps(settings).with_context(|| format!("scene {}", description.source))?;
+    Ok(Some(CameraTimeline::new(animation.clone(), fps)))
+}
+
+/// A line for what `animation` moves: its name and keys.
+fn summary(animation: &CameraAnimation) -> String {
+    let (start, end) = animation.time_range();
+    format!(
+        "{} moves the camera: keys from {start:.3} s to {end:.3} s",
+        animation.name
+    )
+}
+
+/// `keyframes` with the animation of the camera in use playing on the frames (at the fps of
+/// `settings`), unless a key moves the camera; one line each says what plays and what does not.
+pub fn play(
+    keyframes: Keyframes,
+    description: &SceneDescription,
+    settings: &Settings,
+) -> Result<Keyframes> {
+    let timeline = timeline(description, settings)?;
+    // Animations of the file's other cameras do not move the one in use.
+    let other_cameras = description
+        .cameras
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| Some(*i) != description.camera)
+        .filter_map(|(_, c)| c.animation.as_ref().map(|a| a.name.as_str()));
+    let mut others: Vec<&str> = description
+        .other_animations
+        .iter()
+        .map(String::as_str)
+        .chain(other_cameras)
+        .collect();
+    let played = timeline.as_ref().map(|t| t.animation().name.as_str());
+    others.retain(|name| Some(*name) != played);
+    others.sort_unstable();
+    others.dedup();
+    if !others.is_empty() {
+        let more = match others.len().saturating_sub(NAMED) {
+            0 => String::new(),
+            n => format!(" and {n} more"),
+        };
+        eprintln!(
+            "note: the file's {}{more} are not played: lensray plays the animation of the camera in use (animated meshes render at rest)",
+            others[..others.len().min(NAMED)].join(", ")
+        );
+    }
+    let Some(timeline) = timeline else {
+        return Ok(keyframes);
+    };
+    let (first, last) = timeline.frame_range();
+    let line = format!(
+        "{}, frames {first} to {last} at {} fps (frame N at N / fps seconds)",
+        summary(timeline.animation()),
+        timeline.fps()
+    );
+    let (keyframes, warning) = keyframes.with_camera_timeline(timeline);
+    match warning {
+        Some(warning) => eprintln!("warning: {warning}"),
+        None => eprintln!("{line}"),
+    }
+    Ok(keyframes)
+}
+
+/// Says that a render of one image shows the animated camera at rest.
+pub fn note_still(description: &SceneDescription) {
+    if let Some(animation) = description.camera_animation() {
+        eprintln!(
+            "note: {}; this render is the camera at rest, a sequence (--frames) plays it",
+            summary(animation)
+        );
+    }
+}
