@@ -77,13 +77,13 @@ impl TrackValue for DQuat {
 /// One animated property of a node: key times in seconds and the values at them (for
 /// `CUBICSPLINE`, three per key: in-tangent, value, out-tangent).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Track<T> {
+pub struct AnimationTrack<T> {
     interpolation: TrackInterpolation,
     times: Vec<f64>,
     values: Vec<T>,
 }
 
-impl<T: TrackValue> Track<T> {
+impl<T: TrackValue> AnimationTrack<T> {
     /// A track, or what is wrong with its keys: no keys, a count of values that does not match
     /// the keys', times that are not finite or do not increase, values that are not finite.
     pub fn new(
@@ -175,9 +175,9 @@ pub struct AnimatedNode {
     pub rest: DMat4,
     /// The node's translation, rotation and scale at rest, where tracks replace some of them.
     pub rest_trs: (DVec3, DQuat, DVec3),
-    pub translation: Option<Track<DVec3>>,
-    pub rotation: Option<Track<DQuat>>,
-    pub scale: Option<Track<DVec3>>,
+    pub translation: Option<AnimationTrack<DVec3>>,
+    pub rotation: Option<AnimationTrack<DQuat>>,
+    pub scale: Option<AnimationTrack<DVec3>>,
 }
 
 impl AnimatedNode {
@@ -234,9 +234,9 @@ impl CameraAnimation {
     pub fn time_range(&self) -> (f64, f64) {
         let ranges = self.chain.iter().flat_map(|n| {
             [
-                n.translation.as_ref().map(Track::time_range),
-                n.rotation.as_ref().map(Track::time_range),
-                n.scale.as_ref().map(Track::time_range),
+                n.translation.as_ref().map(AnimationTrack::time_range),
+                n.rotation.as_ref().map(AnimationTrack::time_range),
+                n.scale.as_ref().map(AnimationTrack::time_range),
             ]
         });
         ranges

@@ -12,7 +12,7 @@ use gltf::animation::{Interpolation, Property};
 
 use super::nodes::check_accessor;
 use crate::scene::camera_animation::{
-    AnimatedNode, CameraAnimation, Track, TrackInterpolation, TrackValue,
+    AnimatedNode, AnimationTrack, CameraAnimation, TrackInterpolation, TrackValue,
 };
 
 /// An animation as a line names it: "animation I ('NAME')".
@@ -187,7 +187,7 @@ impl ChannelOutput for DQuat {
 fn read_track<T: ChannelOutput>(
     channel: &gltf::animation::Channel,
     buffers: &[Vec<u8>],
-) -> Result<Track<T>, String> {
+) -> Result<AnimationTrack<T>, String> {
     let sampler = channel.sampler();
     let (input, output) = (sampler.input(), sampler.output());
     check_accessor(&input, buffers)?;
@@ -229,7 +229,7 @@ fn read_track<T: ChannelOutput>(
     if let Some((i, _)) = key_values.find(|(_, v)| !T::is_key(v)) {
         return Err(format!("has a zero rotation (value number {i})"));
     }
-    Track::new(interpolation, times, values)
+    AnimationTrack::new(interpolation, times, values)
 }
 
 #[cfg(test)]

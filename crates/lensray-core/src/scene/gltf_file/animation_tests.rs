@@ -201,11 +201,14 @@ fn a_to_b(interpolation: &'static str) -> Vec<TestChannel> {
     ]
 }
 
+/// A frame, the fraction of the way along the translation and that of the turn (NaN: not
+/// checked).
+type Along = (u32, f64, f64);
+
 #[test]
 fn linear_step_and_cubic_spline_poses_match_the_analytic_ones_at_24_fps() {
     let (a, b) = (DVec3::from(A.map(f64::from)), DVec3::from(B.map(f64::from)));
-    // The fraction of the way along the translation and of the turn at each frame.
-    let cases: [(&str, [(u32, f64, f64); 4]); 3] = [
+    let cases: [(&str, [Along; 4]); 3] = [
         (
             "LINEAR",
             [
