@@ -443,3 +443,25 @@ fn a_sequence_takes_eye_target_and_up_from_the_animation_unless_keys_move_the_ca
         Some([0.0, 0.0, 9.0])
     );
 }
+
+#[test]
+fn a_second_animation_of_the_camera_is_named_once_and_not_played() {
+    let file = load("", [0.0; 3], &[a_to_b("STEP"), a_to_b("LINEAR")]);
+    assert_eq!(animation_of(&file).name, "animation 0 ('move')");
+    let notices: Vec<&String> = file
+        .notices
+        .iter()
+        .filter(|n| n.contains("animation"))
+        .collect();
+    assert_eq!(notices.len(), 1, "{notices:?}");
+    assert!(
+        notices[0].contains("animation 1 ('move') also moves camera"),
+        "{}",
+        notices[0]
+    );
+    assert!(
+        file.other_animations.is_empty(),
+        "{:?}",
+        file.other_animations
+    );
+}
