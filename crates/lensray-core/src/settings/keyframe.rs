@@ -353,9 +353,22 @@ impl Keyframes {
         self.keys.is_empty()
     }
 
-    /// The first and last keyed frames.
+    /// The first and last frames that keys or the camera's animation (from its first key to
+    /// its last) move.
     pub fn range(&self) -> Option<(u32, u32)> {
-        Some((self.keys.first()?.frame, self.keys.last()?.frame))
+        let keyed = self
+            .keys
+            .first()
+            .zip(self.keys.last())
+            .map(|(a, b)| (a.frame, b.frame));
+        let animated = self
+            .camera_timeline
+            .as_ref()
+            .map(CameraTimeline::frame_range);
+        match (keyed, animated) {
+            (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
+            (one, other) => one.or(other),
+        }
     }
 
     /// These keyframes with their world lengths (focus distances and points, eye, target)

@@ -9,7 +9,7 @@ use super::args::{PathArgs, ViewArgs};
 use super::named::by_name;
 use super::render::load_scene;
 use crate::focus::focus_depth_at;
-use crate::frame_settings::FrameSettings;
+use crate::frame_settings::{command_line_over, FrameSettings};
 use crate::paths::{self, OpenedPath, PathOptions};
 use crate::preview::app::{run as run_window, PreviewConfig};
 use crate::preview::playback::{Playback, PlaybackClock};
@@ -97,11 +97,12 @@ fn keyed_start(
     description: &mut SceneDescription,
     args: &PreviewArgs,
 ) -> Result<(lensray_core::settings::Settings, Option<Playback>)> {
-    let mut frames = FrameSettings::new(
-        description.settings.clone(),
-        args.view.to_settings().scaled(description.units.metres()),
-        std::mem::take(&mut description.keyframes),
-    );
+    let command_line = args.view.to_settings().scaled(description.units.metres());
+    let keyframes = std::mem::take(&mut description.keyframes);
+    let merged = command_line_over(&description.settings, &command_line);
+    // The camera's glTF animation plays in the window as in `render --frames`.
+    let keyframes = super::camera_animation::play(keyframes, description, &merged)?;
+    let mut frames = FrameSettings::new(description.settings.clone(), command_line, keyframes);
     let Some((first, last)) = frames.keyframes().range() else {
         return Ok((frames.unkeyed(), None));
     };

@@ -408,6 +408,8 @@ fn a_sequence_takes_eye_target_and_up_from_the_animation_unless_keys_move_the_ca
     .unwrap();
     let (keyframes, warning) = focus.with_camera_timeline(timeline.clone());
     assert_eq!(warning, None);
+    // The range (the preview's slider) covers the key at frame 0 and the animation's 24 frames.
+    assert_eq!(keyframes.range(), Some((0, 24)));
     let at = keyframes.settings_at(&base, 12).camera;
     let eye = DVec3::new(1.0, 1.0, 3.0);
     assert_close("eye", DVec3::from(at.eye.unwrap()), eye);
@@ -419,6 +421,7 @@ fn a_sequence_takes_eye_target_and_up_from_the_animation_unless_keys_move_the_ca
     let still = Keyframes::default()
         .with_camera_timeline(timeline.clone())
         .0;
+    assert_eq!(still.range(), Some((0, 24)), "the animation's frames alone");
     let target = DVec3::from(still.settings_at(&base, 24).camera.target.unwrap());
     assert_close(
         "own distance",
