@@ -17,14 +17,15 @@ fi
 if ! command -v apt-get >/dev/null 2>&1 || [ ! -r /etc/os-release ]; then
   say "this is not a Debian/Ubuntu system. Install by hand: Rust (cargo), the Vulkan loader and"
   say "validation layers, Mesa lavapipe >= 24.1 (ray queries), shaderc + glslang + SPIRV-Tools"
-  say "libraries, cmake, python3, a C++ compiler, and Xvfb for the window tests."
+  say "libraries, cmake, python3, a C++ compiler, Xvfb for the window tests and ffmpeg (--video)."
   exit 1
 fi
 
 . /etc/os-release
 # libembree-dev: Embree 3.13, the CPU path's ray queries (the `embree3` crate links libembree3).
+# ffmpeg: `render --video` encodes with it; its tests check the video with ffprobe.
 PACKAGES=(libvulkan1 libvulkan-dev vulkan-tools vulkan-validationlayers mesa-vulkan-drivers
-          libshaderc-dev glslang-dev spirv-tools libembree-dev xvfb pkg-config cmake python3 g++)
+          libshaderc-dev glslang-dev spirv-tools libembree-dev xvfb ffmpeg pkg-config cmake python3 g++)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -97,12 +97,8 @@ impl PendingOutput {
                         .map_err(|e| encode_error(e.to_string()))?;
                 }
                 Format::Exr => {
-                    let scale = if shading.is_aov() {
-                        1.0
-                    } else {
-                        exposure.exr_scale
-                    };
-                    write_exr(&mut writer, image, scale).map_err(encode_error)?;
+                    write_exr(&mut writer, image, exr_scale(shading, exposure))
+                        .map_err(encode_error)?;
                 }
             }
             writer.flush().map_err(|e| encode_error(e.to_string()))?;
@@ -111,6 +107,16 @@ impl PendingOutput {
             path: self.path,
             temp,
         })
+    }
+}
+
+/// The scale an EXR's pixels are written with: the exposure's `exr_scale` for a traced shading,
+/// 1 for an AOV (a depth, normal or albedo is no light to expose).
+pub fn exr_scale(shading: Shading, exposure: &Exposure) -> f32 {
+    if shading.is_aov() {
+        1.0
+    } else {
+        exposure.exr_scale
     }
 }
 
@@ -163,7 +169,25 @@ impl PendingFile {
             .write_all(bytes)
             .and_then(|()| temp.as_file_mut().flush())
             .map_err(unwritable)?;
-        temp.persist(&self.path).map_err(|e| unwritable(e.error))?;
+        self.commit(temp)
+    }
+
+    /// A temporary file beside the target, for a writer that fills it by its name (another
+    /// process); [`PendingFile::commit`] renames it over the target, and dropped it is removed.
+    pub fn temp_file(&self) -> Result<NamedTempFile, OutputError> {
+        temp_file_in(&self.dir).map_err(|reason| OutputError::Unwritable {
+            path: self.path.clone(),
+            reason,
+        })
+    }
+
+    /// Renames `temp` (from [`PendingFile::temp_file`]) over the target.
+    pub fn commit(self, temp: NamedTempFile) -> Result<(), OutputError> {
+        temp.persist(&self.path)
+            .map_err(|e| OutputError::Unwritable {
+                path: self.path,
+                reason: e.error,
+            })?;
         Ok(())
     }
 }

@@ -31,6 +31,8 @@ mod rejected;
 mod render;
 #[path = "cli/units.rs"]
 mod units;
+#[path = "cli/video.rs"]
+mod video;
 
 fn lensray(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_lensray"))
@@ -59,7 +61,8 @@ fn render_args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
 fn assert_rejected(extra: &[&str], needle: &str) {
     let dir = tempfile::tempdir().unwrap();
     let mut args = extra.to_vec();
-    if !extra.contains(&"--out") {
+    // A sequence's video alone has no --out.
+    if !extra.contains(&"--out") && !extra.contains(&"--video") {
         args.extend(["--out", "out.png"]);
     }
     let out = lensray(&render_args(&args), dir.path());

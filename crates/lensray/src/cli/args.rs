@@ -321,7 +321,7 @@ pub struct ViewArgs {
     pub sampler: Option<SamplerKind>,
     /// Frames per second of a sequence (default 24): the rate a glTF camera animation is
     /// sampled at, a video's rate and the preview's playback rate.
-    #[arg(long, value_name = "FPS")]
+    #[arg(long, value_name = "FPS", allow_hyphen_values = true)]
     pub fps: Option<f64>,
     #[arg(long, value_parser = by_name::<Shading>())]
     pub shading: Option<Shading>,

@@ -13,3 +13,4 @@ pub mod preview;
 pub mod progress;
 pub mod render;
 pub mod sequence;
+pub mod video;

@@ -1,6 +1,6 @@
 //! `lensray render`: one image, headless.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -27,9 +27,9 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub path: PathArgs,
     /// Output image: .png (sRGB, exposed and tone mapped) or .exr (linear float, exposed only
-    /// with --expose-exr).
-    #[arg(long, value_name = "FILE", default_value = DEFAULT_OUTPUT)]
-    pub out: PathBuf,
+    /// with --expose-exr); default lensray.png.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
     /// Autofocus: focus on the surface seen at this pixel (column,row).
     #[arg(long, value_parser = parse_pixel, value_name = "X,Y")]
     pub focus_at: Option<[u32; 2]>,
@@ -51,6 +51,17 @@ pub struct RenderArgs {
     /// shot's size); a partial file is rendered again.
     #[arg(long)]
     pub resume: bool,
+    /// With --frames: also encode the frames, in order, into an H.264 MP4 with ffmpeg, at the
+    /// sequence's fps, as PNG frames show them; without --out, the video alone.
+    #[arg(long, value_name = "FILE.mp4")]
+    pub video: Option<PathBuf>,
+}
+
+impl RenderArgs {
+    /// `--out`, or its default.
+    pub fn out_path(&self) -> &Path {
+        self.out.as_deref().unwrap_or(Path::new(DEFAULT_OUTPUT))
+    }
 }
 
 /// The scene the options name (with the camera `--camera` picks), or the built-in default
@@ -127,13 +138,14 @@ impl Default for RenderArgs {
         Self {
             view: ViewArgs::default(),
             path: PathArgs::default(),
-            out: PathBuf::from(DEFAULT_OUTPUT),
+            out: None,
             focus_at: None,
             progress: ProgressMode::Auto,
             timings: false,
             frames: None,
             chunk: None,
             resume: false,
+            video: None,
         }
     }
 }
@@ -156,32 +168,47 @@ fn print_exposure(settings: &Settings, exposure: &Exposure) {
     }
 }
 
-/// A sequence's frames and file names, where `--frames` asks for one; `--chunk` and `--resume`
-/// without it, or a frame number's place in `--out` without it, are refused.
-fn sequence_of(args: &RenderArgs) -> Result<Option<(Vec<u32>, FramePattern)>> {
-    let pattern = FramePattern::of(&args.out);
+/// A sequence's frames and file names (none for a video alone), where `--frames` asks for one;
+/// `--chunk`, `--resume` and `--video` without it, or a frame number's place in `--out` without
+/// it, are refused.
+fn sequence_of(args: &RenderArgs) -> Result<Option<(Vec<u32>, Option<FramePattern>)>> {
+    let out = args.out_path();
+    let pattern = FramePattern::of(out);
     let Some(range) = args.frames else {
-        if args.chunk.is_some() || args.resume {
-            let option = if args.resume { "--resume" } else { "--chunk" };
+        let option = [
+            (args.resume, "--resume"),
+            (args.chunk.is_some(), "--chunk"),
+            (args.video.is_some(), "--video"),
+        ];
+        if let Some((_, option)) = option.into_iter().find(|(given, _)| *given) {
             anyhow::bail!("{option} is for sequences: give --frames too");
         }
         if pattern.is_some() {
             anyhow::bail!(
                 "--out {} names a frame number: give --frames (like --frames 1-240)",
-                args.out.display()
+                out.display()
             );
         }
         return Ok(None);
     };
+    if args.video.is_some() && args.chunk.is_some() {
+        anyhow::bail!("--video encodes a whole sequence, not a --chunk: once the chunks' frames are rendered, one run over the range with --resume --video encodes them");
+    }
+    let frames = range.frames();
+    let frames = args.chunk.map_or(frames.clone(), |chunk| chunk.of(&frames));
+    if args.video.is_some() && args.out.is_none() {
+        if args.resume {
+            anyhow::bail!("--resume skips the frames' complete files: give --out with the frame number's place too");
+        }
+        return Ok(Some((frames, None)));
+    }
     let Some(pattern) = pattern else {
         anyhow::bail!(
             "--out {}: a sequence's file name needs the frame number's place, like shot.####.exr or shot.%04d.exr",
-            args.out.display()
+            out.display()
         );
     };
-    let frames = range.frames();
-    let frames = args.chunk.map_or(frames.clone(), |chunk| chunk.of(&frames));
-    Ok(Some((frames, pattern)))
+    Ok(Some((frames, Some(pattern))))
 }
 
 /// `--focus-at`: `settings` focused on the surface seen at `pixel`, and their shot.
@@ -211,7 +238,7 @@ fn autofocus(
 /// A sequence's frames, where `--frames` asks for them, else one image.
 pub fn run(args: &RenderArgs) -> Result<()> {
     match sequence_of(args)? {
-        Some((frames, pattern)) => super::sequence::run(args, &frames, &pattern),
+        Some((frames, pattern)) => super::sequence::run(args, &frames, pattern.as_ref()),
         None => render_one(args),
     }
 }
@@ -226,7 +253,7 @@ fn note_keyframes(description: &SceneDescription) {
 fn render_one(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     // Fail on a bad output path before spending time on the render.
-    let output = PendingOutput::create(&args.out)?;
+    let output = PendingOutput::create(args.out_path())?;
     let mut description = load_scene(&args.view)?;
     note_keyframes(&description);
     super::camera_animation::note_still(&description);
@@ -298,7 +325,7 @@ fn render_one(args: &RenderArgs) -> Result<()> {
     .with_startup(startup);
     println!(
         "{}: {}x{} px, {} spp ({} sampler), {:?} shading, {} triangles, path {kind} ({why}) on {}: {:.2} s total{}, {:.2} Mrays/s",
-        args.out.display(),
+        args.out_path().display(),
         camera.width,
         camera.height,
         render.spp,

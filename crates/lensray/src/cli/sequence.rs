@@ -4,6 +4,7 @@
 //! same path, with its own seed (`settings::frame_seed`), written to a temporary file and
 //! renamed when complete.
 
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -11,12 +12,13 @@ use anyhow::{Context, Result};
 use super::frames::{is_complete, FramePattern};
 use super::progress::{ProgressMode, ProgressReporter};
 use super::render::{load_scene, RenderArgs};
+use super::video::{VideoEncoder, VideoPlan};
 use crate::focus::focus_depth_at;
 use crate::frame_settings::{command_line_over, FrameSettings};
 use crate::output::PendingOutput;
-use crate::paths::{self, OpenedPath, RenderPath};
+use crate::paths::{self, OpenedPath, RenderPath, Startup};
 use lensray_core::scene::file::SceneDescription;
-use lensray_core::settings::{exposure, light_scene, shot, Shot};
+use lensray_core::settings::{exposure, fps, light_scene, shot, Shot};
 
 /// Where a sequence's time went, seconds.
 #[derive(Default)]
@@ -29,18 +31,21 @@ struct SequenceTimes {
     other: f64,
 }
 
-/// Renders `frames` to the files `pattern` names.
-pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<()> {
+/// Renders `frames` to the files `pattern` names and to `--video`'s.
+pub fn run(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>) -> Result<()> {
     let start = Instant::now();
     if args.view.focus_plane.is_some() {
         anyhow::bail!("--focus-plane is for one frame: key focus_distance, tilt and tilt_direction in [[keyframe]]s for a sequence");
     }
     let Some(&first) = frames.first() else {
-        println!("{}: no frames in this chunk", args.out.display());
+        println!("{}: no frames in this chunk", args.out_path().display());
         return Ok(());
     };
-    // A bad output path fails before any rendering.
-    PendingOutput::create(&pattern.path(first))?;
+    // A missing ffmpeg or a bad output path fails before any rendering.
+    let video = args.video.as_deref().map(VideoPlan::check).transpose()?;
+    if let Some(pattern) = pattern {
+        PendingOutput::create(&pattern.path(first))?;
+    }
     let mut description = load_scene(&args.view)?;
     let command_line = args.view.to_settings().scaled(description.units.metres());
     let keyframes = std::mem::take(&mut description.keyframes);
@@ -49,6 +54,11 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
     let mut settings = FrameSettings::new(description.settings.clone(), command_line, keyframes);
     // The scene's lights are those of the first frame's settings: the scene stays.
     let context = format!("scene {}", description.source);
+    let rate = fps(&merged).map_err(|e| match args.view.fps {
+        Some(_) => anyhow::anyhow!("--fps: {e}"),
+        None => anyhow::anyhow!("{context}: [image] {e}"),
+    });
+    let video = video.map(|video| rate.map(|rate| (video, rate))).transpose()?;
     for warning in light_scene(&settings.at(first), &mut description.scene).context(context)? {
         eprintln!("warning: {warning}");
     }
@@ -70,6 +80,10 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
     let startup_seconds = start.elapsed().as_secs_f64();
 
     let loop_start = Instant::now();
+    let (width, height) = (first_shot.camera.width, first_shot.camera.height);
+    let mut video = video
+        .map(|(video, fps)| video.start(width, height, fps))
+        .transpose()?;
     let times = render_frames(
         args,
         frames,
@@ -77,14 +91,18 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
         &settings,
         &description,
         path.as_mut(),
+        video.as_mut(),
     )?;
     let loop_seconds = loop_start.elapsed().as_secs_f64();
     let (kind, device) = (path.kind(), path.device_name());
     path.close()?;
+    let video = video.map(VideoEncoder::finish).transpose()?;
     let Shot { camera, render } = &first_shot;
+    // Without --out, the video is the sequence's one output.
+    let name = args.out.as_deref().or(args.video.as_deref());
     println!(
         "{}: {} frames from {first} to {} ({} rendered, {} complete and skipped), {}x{} px, {} spp, path {kind} ({why}) on {device}: {:.2} s total",
-        args.out.display(),
+        name.unwrap_or(args.out_path()).display(),
         frames.len(),
         frames[frames.len() - 1],
         times.rendered,
@@ -101,40 +119,55 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: &FramePattern) -> Result<
         per_frame * 1e3,
         loop_seconds / times.render.max(1e-9),
     );
+    if let Some(video) = video {
+        println!("  video {video}");
+    }
     if args.timings {
         let total = start.elapsed().as_secs_f64();
-        let phases = [
-            ("load", load_seconds),
-            ("device and pipelines", startup.device_seconds),
-            (
-                "scene upload and acceleration structures",
-                startup.scene_seconds,
-            ),
-            ("focus keys", focus_seconds),
-            ("rendering", times.render),
-            (
-                "beyond rendering (shots, exposure, encode and write)",
-                times.other,
-            ),
-        ];
-        let known: f64 = phases.iter().map(|(_, s)| s).sum();
-        for (phase, seconds) in phases {
-            println!("timings: {phase} {seconds:.4} s");
-        }
-        println!("timings: other {:.4} s", (total - known).max(0.0));
-        println!("timings: total {total:.4} s");
+        print_timings(total, &startup, load_seconds, focus_seconds, &times);
     }
     Ok(())
+}
+
+/// `--timings`: the sequence's phases, and what they leave of `total`, a line each.
+fn print_timings(
+    total: f64,
+    startup: &Startup,
+    load_seconds: f64,
+    focus_seconds: f64,
+    times: &SequenceTimes,
+) {
+    let phases = [
+        ("load", load_seconds),
+        ("device and pipelines", startup.device_seconds),
+        (
+            "scene upload and acceleration structures",
+            startup.scene_seconds,
+        ),
+        ("focus keys", focus_seconds),
+        ("rendering", times.render),
+        (
+            "beyond rendering (shots, exposure, encode and write)",
+            times.other,
+        ),
+    ];
+    let known: f64 = phases.iter().map(|(_, s)| s).sum();
+    for (phase, seconds) in phases {
+        println!("timings: {phase} {seconds:.4} s");
+    }
+    println!("timings: other {:.4} s", (total - known).max(0.0));
+    println!("timings: total {total:.4} s");
 }
 
 /// Renders each frame not yet complete (under `--resume`), with one progress bar over them all.
 fn render_frames(
     args: &RenderArgs,
     frames: &[u32],
-    pattern: &FramePattern,
+    pattern: Option<&FramePattern>,
     settings: &FrameSettings,
     description: &SceneDescription,
     path: &mut dyn RenderPath,
+    mut video: Option<&mut VideoEncoder>,
 ) -> Result<SequenceTimes> {
     let mut times = SequenceTimes::default();
     let mut progress = ProgressReporter::new("rendering", args.progress);
@@ -142,17 +175,23 @@ fn render_frames(
     let count = frames.len() as u64;
     for (i, &frame) in frames.iter().enumerate() {
         let frame_start = Instant::now();
-        let file = pattern.path(frame);
+        let file = pattern.map(|p| p.path(frame));
         let mut resolved = settings.shot(frame, &description.scene, &description.source)?;
         let (width, height) = (resolved.camera.width, resolved.camera.height);
-        if args.resume && is_complete(&file, width, height) {
+        let complete = |f: &&PathBuf| args.resume && is_complete(f, width, height);
+        if let Some(file) = file.as_ref().filter(complete) {
+            if let Some(video) = video.as_deref_mut() {
+                let exposure = exposure(&settings.at(frame), &resolved.camera)
+                    .with_context(|| format!("frame {frame}"))?;
+                video.push_file(file, resolved.render.shading, &exposure)?;
+            }
             times.skipped += 1;
             if lines {
                 eprintln!("frame {frame}: {} is complete, skipped", file.display());
             }
             continue;
         }
-        let output = PendingOutput::create(&file)?;
+        let output = file.as_deref().map(PendingOutput::create).transpose()?;
         if let Some(pixel) = args.focus_at {
             let focus = focus_depth_at(path, &resolved.camera, pixel, "--focus-at")?;
             let mut keyed = settings.at(frame);
@@ -169,18 +208,23 @@ fn render_frames(
             progress.update(i * total + done, count * total);
         })?;
         let render_seconds = render_start.elapsed().as_secs_f64();
-        output
-            .encode(&image, resolved.render.shading, &exposure)?
-            .commit()?;
+        if let Some(video) = video.as_deref_mut() {
+            video.push_image(&image, resolved.render.shading, &exposure)?;
+        }
+        if let Some(output) = output {
+            output
+                .encode(&image, resolved.render.shading, &exposure)?
+                .commit()?;
+        }
         let frame_seconds = frame_start.elapsed().as_secs_f64();
         times.rendered += 1;
         times.render += render_seconds;
         times.other += frame_seconds - render_seconds;
         if lines {
+            let name = file.map_or("the video".into(), |f| f.display().to_string());
             eprintln!(
-                "frame {frame} ({} of {count}): {} in {frame_seconds:.3} s (rendering {render_seconds:.3} s)",
-                i + 1,
-                file.display()
+                "frame {frame} ({} of {count}): {name} in {frame_seconds:.3} s (rendering {render_seconds:.3} s)",
+                i + 1
             );
         }
     }

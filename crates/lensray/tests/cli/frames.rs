@@ -9,7 +9,7 @@ use crate::gpu_support::skip_or_fail;
 use crate::{assert_rejected, lensray, render_args, stderr};
 
 /// The spheres scene with a focus pull from 3 m to 12 m over frames 1 to 6, eased.
-fn pull_scene(dir: &Path, keyframes: &str) -> PathBuf {
+pub(crate) fn pull_scene(dir: &Path, keyframes: &str) -> PathBuf {
     let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/spheres/spheres.obj");
     let text = format!(
         "mesh = {mesh:?}\n\
@@ -24,7 +24,8 @@ fn pull_scene(dir: &Path, keyframes: &str) -> PathBuf {
     path
 }
 
-const PULL: &str = "[[keyframe]]\nframe = 1\nfocus_distance = 3.0\ninterpolation = \"smooth\"\n\
+pub(crate) const PULL: &str =
+    "[[keyframe]]\nframe = 1\nfocus_distance = 3.0\ninterpolation = \"smooth\"\n\
                     [[keyframe]]\nframe = 6\nfocus_distance = 12.0\n";
 
 /// Renders `extra` (with the pull scene) in `dir`; the command must succeed.
