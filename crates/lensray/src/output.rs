@@ -78,6 +78,19 @@ impl PendingOutput {
         shading: Shading,
         exposure: &Exposure,
     ) -> Result<EncodedOutput, OutputError> {
+        self.encode_shown(image, shading, exposure, None)
+    }
+
+    /// As [`PendingOutput::encode`], a PNG of `shown` where given: the image's display bytes
+    /// (`to_display_bytes_with` of `exposure`'s display) made already for another use too, a
+    /// video's frame.
+    pub fn encode_shown(
+        self,
+        image: &Image,
+        shading: Shading,
+        exposure: &Exposure,
+        shown: Option<&[u8]>,
+    ) -> Result<EncodedOutput, OutputError> {
         let encode_error = |message: String| OutputError::Encode {
             path: self.path.clone(),
             message,
@@ -91,9 +104,16 @@ impl PendingOutput {
             let mut writer = BufWriter::new(temp.as_file_mut());
             match self.format {
                 Format::Png => {
-                    let bytes = to_display_bytes_with(image, shading, exposure.display);
+                    let made;
+                    let bytes = match shown {
+                        Some(bytes) => bytes,
+                        None => {
+                            made = to_display_bytes_with(image, shading, exposure.display);
+                            &made
+                        }
+                    };
                     PngEncoder::new(&mut writer)
-                        .write_image(&bytes, w, h, ExtendedColorType::Rgb8)
+                        .write_image(bytes, w, h, ExtendedColorType::Rgb8)
                         .map_err(|e| encode_error(e.to_string()))?;
                 }
                 Format::Exr => {

@@ -210,14 +210,8 @@ fn render_frames(
             progress.update(i * total + done, count * total);
         })?;
         let render_seconds = render_start.elapsed().as_secs_f64();
-        if let Some(video) = video.as_deref_mut() {
-            video.push_image(&image, resolved.render.shading, &exposure)?;
-        }
-        if let Some(output) = output {
-            output
-                .encode(&image, resolved.render.shading, &exposure)?
-                .commit()?;
-        }
+        let shading = resolved.render.shading;
+        VideoEncoder::write_frame(video.as_deref_mut(), output, &image, shading, &exposure)?;
         let frame_seconds = frame_start.elapsed().as_secs_f64();
         times.rendered += 1;
         times.render += render_seconds;

@@ -13,7 +13,7 @@ use anyhow::{anyhow, bail, Context, Result};
 use glam::Vec3;
 use tempfile::NamedTempFile;
 
-use crate::output::{exr_scale, PendingFile};
+use crate::output::{exr_scale, PendingFile, PendingOutput};
 use lensray_core::film::colour::to_display_bytes_with;
 use lensray_core::film::Image;
 use lensray_core::settings::{Exposure, Shading};
@@ -139,14 +139,32 @@ pub struct VideoEncoder {
 
 impl VideoEncoder {
     /// Adds a rendered frame, as a PNG of it would show it.
-    pub fn push_image(
-        &mut self,
+    fn push_image(&mut self, image: &Image, shading: Shading, exposure: &Exposure) -> Result<()> {
+        let bytes = to_display_bytes_with(image, shading, exposure.display);
+        self.push((image.width, image.height), &bytes)
+    }
+
+    /// Writes a rendered frame to its file, where it has one, and to the video, its display
+    /// bytes made once for both.
+    pub fn write_frame(
+        video: Option<&mut Self>,
+        output: Option<PendingOutput>,
         image: &Image,
         shading: Shading,
         exposure: &Exposure,
     ) -> Result<()> {
-        let bytes = to_display_bytes_with(image, shading, exposure.display);
-        self.push((image.width, image.height), &bytes)
+        let mut shown = None;
+        if let Some(video) = video {
+            let bytes = to_display_bytes_with(image, shading, exposure.display);
+            video.push((image.width, image.height), &bytes)?;
+            shown = Some(bytes);
+        }
+        if let Some(output) = output {
+            output
+                .encode_shown(image, shading, exposure, shown.as_deref())?
+                .commit()?;
+        }
+        Ok(())
     }
 
     /// Adds a frame read back from its complete file (`--resume`): a PNG's bytes as they are;
@@ -184,9 +202,14 @@ impl VideoEncoder {
                 self.size.1
             );
         }
-        pad_to(&mut self.frame, rgb, self.size, self.padded);
+        let frame = if self.padded == self.size {
+            rgb
+        } else {
+            pad_to(&mut self.frame, rgb, self.size, self.padded);
+            &self.frame
+        };
         let written = match self.stdin.as_mut() {
-            Some(stdin) => stdin.write_all(&self.frame),
+            Some(stdin) => stdin.write_all(frame),
             None => Err(ErrorKind::BrokenPipe.into()),
         };
         match written {
