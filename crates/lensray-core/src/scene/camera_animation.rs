@@ -209,6 +209,22 @@ pub struct CameraPose {
     pub up: DVec3,
 }
 
+impl CameraPose {
+    /// The pose of a glTF camera node placed by `world_from_camera`: the eye at its origin, the
+    /// view along its -Z axis, up its +Y axis (glTF's camera axes).
+    pub fn of(world_from_camera: &DMat4) -> Self {
+        Self {
+            eye: world_from_camera.transform_point3(DVec3::ZERO),
+            forward: world_from_camera
+                .transform_vector3(DVec3::NEG_Z)
+                .normalize_or_zero(),
+            up: world_from_camera
+                .transform_vector3(DVec3::Y)
+                .normalize_or_zero(),
+        }
+    }
+}
+
 /// The animation that moves a file's camera: the chain of nodes from a scene root (first) to
 /// the camera's node (last).
 #[derive(Clone, Debug, PartialEq)]
@@ -257,16 +273,7 @@ impl CameraAnimation {
 
     /// The camera's eye, view direction and up at `time` seconds (glTF's camera axes).
     pub fn pose_at(&self, time: f64) -> CameraPose {
-        let world_from_camera = self.world_from_camera(time);
-        CameraPose {
-            eye: world_from_camera.transform_point3(DVec3::ZERO),
-            forward: world_from_camera
-                .transform_vector3(DVec3::NEG_Z)
-                .normalize_or_zero(),
-            up: world_from_camera
-                .transform_vector3(DVec3::Y)
-                .normalize_or_zero(),
-        }
+        CameraPose::of(&self.world_from_camera(time))
     }
 
     /// This animation in a world scaled by `factor`.

@@ -10,6 +10,7 @@ use super::accessors::{read_colours, read_floats, read_normals, read_tangents};
 use super::animation::{animation_name, camera_animation};
 use super::materials::ignored_features;
 use super::MeshFile;
+use crate::scene::camera_animation::CameraPose;
 use crate::scene::file_camera::{FileCamera, FileProjection};
 use crate::scene::{Light, LightKind, Mesh};
 
@@ -326,15 +327,12 @@ fn file_camera(
         .name()
         .or(node.name())
         .map_or_else(|| format!("camera {index}"), str::to_string);
+    let CameraPose { eye, forward, up } = CameraPose::of(world_from_node);
     FileCamera {
         name,
-        eye: world_from_node.transform_point3(DVec3::ZERO),
-        forward: world_from_node
-            .transform_vector3(DVec3::NEG_Z)
-            .normalize_or_zero(),
-        up: world_from_node
-            .transform_vector3(DVec3::Y)
-            .normalize_or_zero(),
+        eye,
+        forward,
+        up,
         projection,
         animation: None,
     }
