@@ -182,6 +182,8 @@ fn prescription(c: &CameraSettings) -> Result<Option<Prescription>, SettingsErro
 /// The shot of `settings` and `scene`: fills in defaults and validates everything.
 pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
+    // A still does not use the rate, but a bad one is still a mistake to name.
+    super::keyframe::fps(settings)?;
     let c = &settings.camera;
     let real_lens = prescription(c)?;
     let vfov_degrees = framing_vfov_degrees(c, real_lens.as_ref());

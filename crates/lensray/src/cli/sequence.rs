@@ -57,10 +57,8 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>) ->
     let rate = fps(&merged).map_err(|e| match args.view.fps {
         Some(_) => anyhow::anyhow!("--fps: {e}"),
         None => anyhow::anyhow!("{context}: [image] {e}"),
-    });
-    let video = video
-        .map(|video| rate.map(|rate| (video, rate)))
-        .transpose()?;
+    })?;
+    let video = video.map(|video| (video, rate));
     for warning in light_scene(&settings.at(first), &mut description.scene).context(context)? {
         eprintln!("warning: {warning}");
     }

@@ -358,5 +358,11 @@ fn bad_video_options_are_one_line() {
             &seq(&["--video", "v.mp4", "--fps", fps]),
             "--fps: fps must be a positive number up to 1000",
         );
+        // A sequence of frames and a still name it too.
+        assert_rejected(
+            &seq(&["--fps", fps]),
+            "--fps: fps must be a positive number up to 1000",
+        );
+        assert_rejected(&["--fps", fps], "fps must be a positive number up to 1000");
     }
 }
