@@ -91,8 +91,16 @@ shader_constants! {
     DIM_ENVIRONMENT_Y: u32 = 5;
     /// The wavelength of a sample through a dispersive lens (film::spectral's
     /// sample_wavelength): the first of the pair 6, 7, so that it is stratified like the
-    /// camera's dimensions. Dimension 7 is unused, so that later pairs stay aligned.
+    /// camera's dimensions.
     DIM_WAVELENGTH: u32 = 6;
+    /// Whether a sample through a dispersive lens checks the d line's estimate at its
+    /// wavelength (film::spectral's `checks_dispersion`: u < 1 / DISPERSION_CHECK_INVERSE):
+    /// the second of the pair, so that the checking samples' wavelengths are stratified among
+    /// themselves.
+    DIM_DISPERSION_CHECK: u32 = 7;
+    /// One sample in DISPERSION_CHECK_INVERSE through a dispersive lens also traces its
+    /// wavelength (docs/lenses.md, "Dispersion").
+    DISPERSION_CHECK_INVERSE: u32 = 4;
     /// The first vertex's direction drawn from its BRDF (reference/brdf_sampling.rs).
     DIM_BRDF_X: u32 = 8;
     DIM_BRDF_Y: u32 = 9;
@@ -169,6 +177,10 @@ shader_constants! {
     /// smaller alpha puts the GGX peak beyond what f32 shading resolves).
     DIELECTRIC_F0: f32 = 0.04;
     MIN_ROUGHNESS: f32 = 0.045;
+    /// The least height above the geometric surface, as a cosine, that the mirror reflection
+    /// of the view about a shading normal keeps (reference/surface_frame.rs:
+    /// `reflection_safe_normal`; 0.9 of the view's own where the viewer grazes the surface).
+    REFLECTION_MIN_COSINE: f32 = 0.01;
     /// Salts of the keys of a sample's camera ray and shadow ray, whose hash with a triangle
     /// draws whether the ray stops at a BLEND surface (`scene::blend_threshold`).
     BLEND_CAMERA_SALT: u32 = 0x626c_6e64;

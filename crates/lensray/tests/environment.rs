@@ -141,6 +141,84 @@ fn a_white_metal_in_a_white_furnace_reflects_its_albedo() {
     }
 }
 
+/// The white furnace with shading normals tilted from the surface's (what a normal map does):
+/// the quad faces the viewer, its vertex normals lean `tilt` degrees towards +Y, so that for
+/// tilts past 45 degrees the mirror reflection of the view about them points into the surface.
+/// Shaded about that normal as it is, a smooth metal reflects nothing there (every draw falls
+/// below the surface); the reflection-safe normal (docs/shading-normals.md) keeps the lobe above
+/// the surface. The metal reflects at most its untilted albedo (plus noise: nothing is
+/// created) and at least half of it (the lobe turned to graze the surface loses its lower
+/// half at most).
+#[test]
+fn a_tilted_shading_normal_in_the_white_furnace_keeps_its_light() {
+    let camera = CameraParams {
+        eye: Vec3::new(0.0, 0.0, 5.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: ProjectionParams::Orthographic { height: 1.0 },
+        lens: LensParams::Pinhole,
+        near: 0.5,
+        far: 50.0,
+        width: 16,
+        height: 16,
+        movements: Movements::NONE,
+    }
+    .build()
+    .expect("furnace camera");
+    let render = RenderSettings {
+        environment: Vec3::ONE,
+        ..settings(Shading::Lit, 64)
+    };
+    for roughness in [0.1f32, 0.5] {
+        let brdf = MetallicRoughness {
+            base_colour: Vec3::ONE,
+            metallic: 1.0,
+            roughness,
+            specular: 1.0,
+        };
+        let untilted = albedo(&brdf, 1.0);
+        for tilt in [30.0f32, 60.0, 80.0] {
+            let mut quad = tilted_quad(0.0);
+            let (s, c) = tilt.to_radians().sin_cos();
+            quad.normals = vec![Vec3::new(0.0, s, c); 4];
+            let scene = Scene {
+                meshes: vec![quad],
+                materials: vec![Material {
+                    name: "white metal".into(),
+                    diffuse: Vec3::ONE,
+                    metallic: 1.0,
+                    roughness,
+                    specular: 1.0,
+                    ..Default::default()
+                }],
+                ..Default::default()
+            };
+            let shot = Shot {
+                camera: camera.clone(),
+                render,
+            };
+            let (image, _) = Renderer::new(&scene).render(&shot, &mut |_, _| {});
+            let values: Vec<f32> = image.pixels.iter().map(|p| p[0]).collect();
+            let n = values.len() as f32;
+            let mean = values.iter().sum::<f32>() / n;
+            let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f32>() / (n - 1.0);
+            let standard_error = (variance / n).sqrt();
+            println!(
+                "roughness {roughness}, tilt {tilt}: reflected {mean:.4} (+- {standard_error:.4}), \
+                 untilted albedo {untilted:.4}"
+            );
+            assert!(
+                mean <= untilted + 4.0 * standard_error + 2e-3,
+                "roughness {roughness}, tilt {tilt}: {mean} is more than the albedo {untilted}"
+            );
+            assert!(
+                mean >= 0.5 * untilted,
+                "roughness {roughness}, tilt {tilt}: {mean} is less than half the albedo {untilted}"
+            );
+        }
+    }
+}
+
 /// The test scene with a gold sphere and a glossy red one, under the studio map.
 fn map_lit_scene() -> Scene {
     let mut scene = test_scene();

@@ -46,6 +46,24 @@
 //! `spectral_table.rs`, their one definition; its `constants.rs` includes that file and
 //! names its tables as the shared constants `SPECTRAL_*`, which the GLSL header declares too.
 //!
+//! # Dispersion at little cost: the d line, checked
+//!
+//! One wavelength per sample makes each sample a saturated colour, and where a pixel's
+//! samples see different radiance (a blurred edge, a texture, a shadow, the lens's own
+//! vignetting) the colours no longer average to white: colour noise many times the luminance
+//! noise. Yet a lens disperses little: at most wavelengths a ray sees what the d line's ray
+//! sees. So every sample of a dispersive lens traces the d line, whose radiance L_d goes to
+//! the film as it is (through the identity: no colour noise), and one sample in
+//! `DISPERSION_CHECK_INVERSE` (k) also traces its wavelength lambda and adds
+//! k W(lambda) (L_lambda - L_d), what its wavelength changes. Whether a sample checks (c = 1)
+//! is [`checks_dispersion`] of dimension `DIM_DISPERSION_CHECK`, independent of lambda (the
+//! pair's other dimension), so E[c k W (L_lambda - L_d)] = E[W L_lambda] - E[W] L_d =
+//! E[W L_lambda] - L_d (E[W] = I) and the estimate L_d + c k W(lambda) (L_lambda - L_d) is
+//! unbiased. The difference is 0 where the two rays see the same thing, so colour noise is
+//! left only where dispersion shows: its fringes. A sample's two rays share every other
+//! dimension, so their paths draw alike. The film's values are [`d_line_value`] and
+//! [`checked_value`].
+//!
 //! # Arithmetic
 //!
 //! f32 only, written out so that GLSL with `precise` rounds every step the same way: only
@@ -53,11 +71,12 @@
 //! comparisons, `min`/`clamp`, float-integer conversions of small exact values and a loop of
 //! fixed length; no fused multiply-add, no libm.
 
-use glam::Mat3;
+use glam::{Mat3, Vec3};
 
 use crate::interface::{
-    SPECTRAL_CDF, SPECTRAL_INTERVALS, SPECTRAL_INV_DENSITY, SPECTRAL_INV_PROBABILITY,
-    SPECTRAL_INV_STEP_NM, SPECTRAL_MAX_NM, SPECTRAL_MIN_NM, SPECTRAL_STEP_NM, SPECTRAL_WEIGHTS,
+    DISPERSION_CHECK_INVERSE, SPECTRAL_CDF, SPECTRAL_INTERVALS, SPECTRAL_INV_DENSITY,
+    SPECTRAL_INV_PROBABILITY, SPECTRAL_INV_STEP_NM, SPECTRAL_MAX_NM, SPECTRAL_MIN_NM,
+    SPECTRAL_STEP_NM, SPECTRAL_WEIGHTS,
 };
 
 /// The shortest wavelength a sample takes, in nm.
@@ -119,6 +138,33 @@ pub fn rgb_weights(lambda_nm: f32) -> Mat3 {
     });
     Mat3::from_cols_array(&w)
 }
+
+/// Whether a sample of a dispersive lens whose dimension `DIM_DISPERSION_CHECK` is `u` traces
+/// its wavelength too: one in `DISPERSION_CHECK_INVERSE` (u k < 1, exact: k is a power of
+/// two).
+#[inline]
+pub fn checks_dispersion(u: f32) -> bool {
+    u * (DISPERSION_CHECK_INVERSE as f32) < 1.0
+}
+
+/// What a dispersive lens's sample adds to the film from its d line's radiance `l_d`: `l_d`,
+/// less k W(lambda) `l_d` where the sample checks the d line at `checked` = lambda (nm).
+#[inline]
+pub fn d_line_value(checked: Option<f32>, l_d: Vec3) -> Vec3 {
+    match checked {
+        Some(lambda) => l_d - rgb_weights(lambda) * l_d * (DISPERSION_CHECK_INVERSE as f32),
+        None => l_d,
+    }
+}
+
+/// What a checking sample adds to the film from its radiance `l` at its wavelength
+/// `lambda_nm`: k W(lambda) `l`.
+#[inline]
+pub fn checked_value(lambda_nm: f32, l: Vec3) -> Vec3 {
+    rgb_weights(lambda_nm) * l * (DISPERSION_CHECK_INVERSE as f32)
+}
+
+const _: () = assert!(DISPERSION_CHECK_INVERSE.is_power_of_two());
 
 #[cfg(test)]
 mod tests {

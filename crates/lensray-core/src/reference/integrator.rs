@@ -16,7 +16,7 @@ use super::lighting::{LightDraw, LitLane, ShadingInputs};
 use super::render::{Renderer, TracedPacket};
 use super::sky::{leaves, sky_along, Sky};
 use super::surface::{shadow_origin, SurfacePoint};
-use super::surface_frame::vertex_coloured;
+use super::surface_frame::{reflection_safe_normal, vertex_coloured};
 use crate::camera::{Footprint, Ray};
 use crate::sampler::{pixel_dimension, vertex_dimensions, PixelSampler};
 use crate::scene::texture::TexcoordFootprint;
@@ -285,7 +285,8 @@ impl Renderer {
         (emission, Some(lane))
     }
 
-    /// A lit surface's emission and its lane.
+    /// A lit surface's emission and its lane, its shading normal made safe for reflection
+    /// (`reflection_safe_normal`).
     fn lit_surface(
         &self,
         ray: &Ray,
@@ -295,11 +296,14 @@ impl Renderer {
     ) -> (Vec3, LitLane) {
         let mut surface = self.surface_point(ray, &hit);
         let inputs = self.colours(&hit, &mut surface, footprint);
+        let to_viewer = -ray.direction.normalize();
+        surface.shading_normal =
+            reflection_safe_normal(surface.geometric_normal, to_viewer, surface.shading_normal);
         let lane = LitLane {
             surface,
             brdf: inputs.brdf,
             occlusion: inputs.occlusion,
-            to_viewer: -ray.direction.normalize(),
+            to_viewer,
             draw,
         };
         (inputs.emission, lane)

@@ -12,8 +12,9 @@ use glam::{Mat4, Vec3};
 
 use super::accel::PACKET_SIZE;
 use crate::camera::{Camera, Projection};
+use crate::film::spectral::checks_dispersion;
 use crate::optics::glass::dispersion_offset_f32;
-use crate::sampler::{pixel_camera_samples, PixelSampler};
+use crate::sampler::{pixel_camera_samples, pixel_dimension, PixelSampler, DIM_DISPERSION_CHECK};
 
 type PacketLanes = [f32; PACKET_SIZE];
 
@@ -168,14 +169,28 @@ impl LensPacket {
     }
 }
 
+/// Which rays of a dispersive lens's samples a packet holds (film::spectral, "Dispersion at
+/// little cost").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum DispersionPass {
+    /// Every sample at the d line (the only pass of a lens that does not disperse); a sample
+    /// that checks it carries its wavelength for `d_line_value`.
+    DLine,
+    /// The samples that check the d line (`checks_dispersion`), each at its wavelength
+    /// (`checked_value`); the others are left out.
+    Checks,
+}
+
 /// The camera rays of samples `first..first + n` of the sampler's pixel, as
-/// `Camera::generate_ray` makes them (each at the wavelength `sample_wavelength` draws from
-/// `DIM_WAVELENGTH` when the lens is dispersive), packed into `out`; returns how many passed.
+/// `Camera::generate_ray` makes them, packed into `out`; returns how many passed. Through a
+/// dispersive lens `pass` says which: the d line's of every sample, or the wavelengths'
+/// (`sample_wavelength` of `DIM_WAVELENGTH`) of the samples that check it.
 /// A thin lens (or pinhole) passes every ray, weight 1: its [`first_order_rays`].
 pub(super) fn generate_rays(
     camera: &Camera,
     sampler: &PixelSampler,
     (first, n): (u32, usize),
+    pass: DispersionPass,
     out: &mut LensPacket,
 ) -> usize {
     let Some(real) = camera.lens.real() else {
@@ -193,28 +208,38 @@ pub(super) fn generate_rays(
     let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
     let mut wavelengths = [0.0f32; PACKET_SIZE];
     let mut offsets = [0.0f32; PACKET_SIZE];
+    // Whether each lane is traced in this pass.
+    let mut included = [true; PACKET_SIZE];
     if real.dispersive() {
         for l in 0..n {
-            let lambda = camera.sample_wavelength(sampler, first + l as u32);
-            wavelengths[l] = lambda.unwrap_or(0.0);
-            offsets[l] = lambda.map_or(0.0, dispersion_offset_f32);
+            let index = first + l as u32;
+            let checks = checks_dispersion(pixel_dimension(sampler, index, DIM_DISPERSION_CHECK));
+            included[l] = pass == DispersionPass::DLine || checks;
+            if checks {
+                let lambda = camera.sample_wavelength(sampler, index);
+                wavelengths[l] = lambda.unwrap_or(0.0);
+                if pass == DispersionPass::Checks {
+                    offsets[l] = lambda.map_or(0.0, dispersion_offset_f32);
+                }
+            }
         }
     }
     // RealLens::generate_rays traces the packet's rays together (what
     // Camera::generate_ray gives one by one, bit for bit).
     let mut samples = [(Vec3::ZERO, glam::Vec2::ZERO, 0.0); PACKET_SIZE];
-    for l in 0..n {
+    let lanes: Vec<usize> = (0..n).filter(|&l| included[l]).collect();
+    for (k, &l) in lanes.iter().enumerate() {
         let film = glam::Vec2::new(film_x[l], film_y[l]);
-        samples[l] = (
+        samples[k] = (
             real.film_point(film, camera.width, camera.height),
             glam::Vec2::new(lens_x[l], lens_y[l]),
             offsets[l],
         );
     }
     let mut traced = [None; PACKET_SIZE];
-    real.generate_rays(&samples[..n], &mut traced);
+    real.generate_rays(&samples[..lanes.len()], &mut traced);
     let mut passed = 0;
-    for (l, traced) in traced.into_iter().enumerate() {
+    for (&l, traced) in lanes.iter().zip(traced) {
         let Some((ray, weight)) = traced else {
             continue;
         };

@@ -9,10 +9,10 @@ use glam::{UVec2, Vec2, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
-use super::rays::{generate_rays, LensPacket};
+use super::rays::{generate_rays, DispersionPass, LensPacket};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
-use crate::film::spectral::rgb_weights;
+use crate::film::spectral::{checked_value, d_line_value};
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler, CameraSample};
 use crate::scene::order::sided_order;
@@ -287,40 +287,48 @@ impl Renderer {
         };
         let pixel_index = pixel.y * camera.width + pixel.x;
         let footprint = camera.footprint();
+        // A dispersive lens traces each packet twice: the d line, then the checks
+        // (film::spectral, "Dispersion at little cost").
+        let passes: &[DispersionPass] = match camera.lens.real() {
+            Some(real) if real.dispersive() => &[DispersionPass::DLine, DispersionPass::Checks],
+            _ => &[DispersionPass::DLine],
+        };
         for first in samples.clone().step_by(PACKET_SIZE) {
             let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
-            let traced = generate_rays(camera, &sampler, (first, n), &mut packet);
-            let LensPacket {
-                origins,
-                directions,
-                weights,
-                indices,
-                wavelengths,
-            } = &packet;
-            for l in 0..traced {
-                keys[l] = ray_key(settings.seed, pixel_index, indices[l], BLEND_CAMERA_SALT);
-            }
-            let (o, d) = (&origins[..traced], &directions[..traced]);
-            self.closest_hits(o, d, &keys[..traced], &mut hits[..traced]);
-            let lanes = TracedPacket {
-                origins: &origins[..traced],
-                directions: &directions[..traced],
-                hits: &hits[..traced],
-                keys: &keys[..traced],
-                indices: &indices[..traced],
-            };
-            let (values, count) = self.shade_packet(&lanes, &sampler, settings, &footprint);
-            for l in 0..traced {
-                // A wavelength's sample: its radiance at that wavelength, as linear sRGB
-                // (film::spectral).
-                let value = if wavelengths[l] > 0.0 {
-                    rgb_weights(wavelengths[l]) * values[l]
-                } else {
-                    values[l]
+            for &pass in passes {
+                let traced = generate_rays(camera, &sampler, (first, n), pass, &mut packet);
+                let LensPacket {
+                    origins,
+                    directions,
+                    weights,
+                    indices,
+                    wavelengths,
+                } = &packet;
+                for l in 0..traced {
+                    keys[l] = ray_key(settings.seed, pixel_index, indices[l], BLEND_CAMERA_SALT);
+                }
+                let (o, d) = (&origins[..traced], &directions[..traced]);
+                self.closest_hits(o, d, &keys[..traced], &mut hits[..traced]);
+                let lanes = TracedPacket {
+                    origins: &origins[..traced],
+                    directions: &directions[..traced],
+                    hits: &hits[..traced],
+                    keys: &keys[..traced],
+                    indices: &indices[..traced],
                 };
-                sum += weights[l] * value;
+                let (values, count) = self.shade_packet(&lanes, &sampler, settings, &footprint);
+                for l in 0..traced {
+                    // Through a dispersive lens: the d line's radiance, and where the sample
+                    // checks it, what its wavelength changes, as linear sRGB (film::spectral).
+                    let checked = (wavelengths[l] > 0.0).then_some(wavelengths[l]);
+                    let value = match (pass, checked) {
+                        (DispersionPass::Checks, Some(lambda)) => checked_value(lambda, values[l]),
+                        _ => d_line_value(checked, values[l]),
+                    };
+                    sum += weights[l] * value;
+                }
+                rays += count;
             }
-            rays += count;
         }
         *sum_and_count = [sum.x, sum.y, sum.z, count + samples.len() as f32];
         rays

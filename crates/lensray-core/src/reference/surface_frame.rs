@@ -6,6 +6,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 use super::accel::Hit;
 use super::surface::{interpolate, SurfaceData, SurfacePoint};
+use crate::interface::REFLECTION_MIN_COSINE;
 use crate::scene::texture::{sample, TexcoordFootprint};
 use crate::scene::{Material, Texture};
 
@@ -82,5 +83,112 @@ impl SurfaceData {
             return ns;
         }
         n / length_squared.sqrt()
+    }
+}
+
+/// The shading normal `n` turned towards the geometric normal `ng` (unit, on the viewer's side)
+/// just enough that the mirror reflection of the view `v` (unit, towards the viewer) about it
+/// leaves above the geometric surface, at a cosine of at least t = min(0.9 ng.v,
+/// `REFLECTION_MIN_COSINE`); `n` itself where its reflection already does.
+///
+/// A shading normal (interpolated, or tilted by a normal map) can face away from the viewer or
+/// mirror the view under the surface: the BRDF then sees the viewer below its hemisphere and
+/// its draws fall below the surface, and a glossy surface turns black there ("pepper" and dark
+/// rings). Turning the normal keeps the specular lobe's peak above the surface, as Cycles does
+/// (docs/shading-normals.md says why this rather than microfacet-based normal mapping).
+///
+/// The normal n' = x X + z ng stays in the plane of `ng` and `n` (X: the unit part of `n`
+/// across `ng`), x^2 + z^2 = 1. With v = (v_x, v_z) in that plane, the reflection's height
+/// 2 (n'.v) z - v_z = t gives, in s = z^2,
+/// 4 a s^2 - 4 b s + c = 0 with a = v_x^2 + v_z^2, b = a + v_z t, c = (v_z + t)^2,
+/// whose roots are s = (b +- sqrt(b^2 - a c)) / (2 a). Squaring added the equation
+/// 2 x z v_x = -(t + v_z (1 - 2 s)): of the two roots, the one whose unsquared equation holds
+/// (the smaller residual) is the normal.
+pub(super) fn reflection_safe_normal(ng: Vec3, v: Vec3, n: Vec3) -> Vec3 {
+    let v_z = v.dot(ng);
+    let t = (0.9 * v_z).min(REFLECTION_MIN_COSINE);
+    let reflected_height = 2.0 * n.dot(v) * n.dot(ng) - v_z;
+    if reflected_height >= t || v_z <= 0.0 {
+        return n;
+    }
+    let across = n - ng * n.dot(ng);
+    let length_squared = across.dot(across);
+    if !(length_squared > 0.0 && length_squared.is_finite()) {
+        return ng;
+    }
+    let x_axis = across / length_squared.sqrt();
+    let v_x = v.dot(x_axis);
+    let a = v_x * v_x + v_z * v_z;
+    let b = a + v_z * t;
+    let c = (v_z + t) * (v_z + t);
+    let root = (b * b - a * c).max(0.0).sqrt();
+    let inv_2a = 0.5 / a;
+    let candidate = |s: f32| {
+        let s = s.clamp(0.0, 1.0);
+        let (z, x) = (s.sqrt(), (1.0 - s).sqrt());
+        let residual = (2.0 * x * z * v_x - (t + v_z * (1.0 - 2.0 * s))).abs();
+        (x_axis * x + ng * z, residual)
+    };
+    let (n1, r1) = candidate((b + root) * inv_2a);
+    let (n2, r2) = candidate((b - root) * inv_2a);
+    if r1 <= r2 {
+        n1
+    } else {
+        n2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The mirror reflection's height of `v` about `n` above the plane of `ng`.
+    fn reflected_height(ng: Vec3, v: Vec3, n: Vec3) -> f32 {
+        (2.0 * n.dot(v) * n - v).dot(ng)
+    }
+
+    /// Over views and normals on a grid of the sphere: the normal stays unit and in the plane
+    /// of `ng` and `n`; a normal whose reflection already clears t is kept as it is; one whose
+    /// reflection does not is turned just enough, so that the reflection lands at t.
+    #[test]
+    fn reflections_about_the_safe_normal_clear_the_surface() {
+        let ng = Vec3::Z;
+        let (mut kept, mut turned, mut worst) = (0, 0, 0.0f32);
+        let direction = |theta: f32, phi: f32| {
+            Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            )
+        };
+        for i in 0..40 {
+            let view_theta = (i as f32 + 0.5) / 40.0 * std::f32::consts::FRAC_PI_2;
+            let v = direction(view_theta, 0.3);
+            let t = (0.9 * v.dot(ng)).min(REFLECTION_MIN_COSINE);
+            for j in 0..40 {
+                let normal_theta = (j as f32 + 0.5) / 40.0 * 1.4;
+                for k in 0..16 {
+                    let n = direction(normal_theta, k as f32 / 16.0 * std::f32::consts::TAU);
+                    let safe = reflection_safe_normal(ng, v, n);
+                    assert!((safe.length() - 1.0).abs() < 1e-5, "{safe}");
+                    assert!(safe.dot(ng.cross(n)).abs() < 1e-5, "{safe} left the plane");
+                    let height = reflected_height(ng, v, safe);
+                    if reflected_height(ng, v, n) >= t {
+                        assert_eq!(safe, n);
+                        kept += 1;
+                    } else {
+                        worst = worst.max((height - t).abs());
+                        assert!(
+                            (height - t).abs() < 2e-4,
+                            "v {v}, n {n}: {height} against {t}"
+                        );
+                        assert!(safe.dot(ng) > n.dot(ng), "{safe} turned away from {ng}");
+                        turned += 1;
+                    }
+                }
+            }
+        }
+        println!("kept {kept}, turned {turned}, largest |height - t| {worst:.2e}");
+        assert!(kept > 1000 && turned > 1000, "kept {kept}, turned {turned}");
     }
 }

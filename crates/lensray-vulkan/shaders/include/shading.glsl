@@ -178,9 +178,9 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
 
     // reference/surface.rs: shadow_origin
     s.o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
-    s.ns = ns;
-    s.ng = ng;
     s.v = -normalize(ray.direction);
+    s.ns = reflection_safe_normal(ng, s.v, ns);
+    s.ng = ng;
     s.brdf = MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular);
     s.occlusion = occlusion;
     return true;

@@ -68,4 +68,22 @@ mat3 rgb_weights(float lambda_nm) {
     return mat3(w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]);
 }
 
+// spectral.rs: checks_dispersion
+bool checks_dispersion(float u) {
+    return u * float(DISPERSION_CHECK_INVERSE) < 1.0;
+}
+
+// spectral.rs: d_line_value (`checked` > 0: the sample checks the d line at that wavelength).
+vec3 d_line_value(float checked, vec3 l_d) {
+    if (checked > 0.0) {
+        return l_d - rgb_weights(checked) * l_d * float(DISPERSION_CHECK_INVERSE);
+    }
+    return l_d;
+}
+
+// spectral.rs: checked_value
+vec3 checked_value(float lambda_nm, vec3 l) {
+    return rgb_weights(lambda_nm) * l * float(DISPERSION_CHECK_INVERSE);
+}
+
 #endif

@@ -1,7 +1,7 @@
 // Mirror of lensray-core/src/reference/surface_frame.rs, operation for operation: vertex colours,
-// which multiply the base colour, and the tangent frame in which a normal map tilts the shading
-// normal. A triangle without colours or tangents costs the test of its flag (TRI_HAS_*). Include
-// after texture.glsl.
+// which multiply the base colour, the tangent frame in which a normal map tilts the shading
+// normal, and the shading normal made safe for reflection. A triangle without colours or
+// tangents costs the test of its flag (TRI_HAS_*). Include after texture.glsl.
 #ifndef LENSRAY_SURFACE_FRAME_GLSL
 #define LENSRAY_SURFACE_FRAME_GLSL
 
@@ -77,6 +77,37 @@ vec3 normal_mapped(Material m, uint tri, vec2 b, vec3 ns, vec2 texcoord, vec2 dx
         return ns;
     }
     return n / sqrt(length_squared);
+}
+
+// surface_frame.rs: reflection_safe_normal. `ng` faces the viewer, `v` points to it.
+vec3 reflection_safe_normal(vec3 ng, vec3 v, vec3 n) {
+    float v_z = dot(v, ng);
+    float t = min(0.9 * v_z, REFLECTION_MIN_COSINE);
+    float reflected_height = 2.0 * dot(n, v) * dot(n, ng) - v_z;
+    if (reflected_height >= t || v_z <= 0.0) {
+        return n;
+    }
+    vec3 across = n - ng * dot(n, ng);
+    float length_squared = dot(across, across);
+    if (!(length_squared > 0.0) || isinf(length_squared)) {
+        return ng;
+    }
+    vec3 x_axis = across / sqrt(length_squared);
+    float v_x = dot(v, x_axis);
+    float a = v_x * v_x + v_z * v_z;
+    float b = a + v_z * t;
+    float c = (v_z + t) * (v_z + t);
+    float root = sqrt(max(b * b - a * c, 0.0));
+    float inv_2a = 0.5 / a;
+    float s1 = clamp((b + root) * inv_2a, 0.0, 1.0);
+    float s2 = clamp((b - root) * inv_2a, 0.0, 1.0);
+    float z1 = sqrt(s1);
+    float x1 = sqrt(1.0 - s1);
+    float z2 = sqrt(s2);
+    float x2 = sqrt(1.0 - s2);
+    float r1 = abs(2.0 * x1 * z1 * v_x - (t + v_z * (1.0 - 2.0 * s1)));
+    float r2 = abs(2.0 * x2 * z2 * v_x - (t + v_z * (1.0 - 2.0 * s2)));
+    return r1 <= r2 ? x_axis * x1 + ng * z1 : x_axis * x2 + ng * z2;
 }
 
 #endif

@@ -264,21 +264,30 @@ uint trace_pixel() {
         }
         // What the sample adds untraced: a shortcut's value.
         vec3 value = !shortcut ? vec3(0.0) : lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut_value;
-        Ray ray;
-        float weight = 1.0;
-        // nm; 0: the sample carries no wavelength (reference/rays.rs: generate_rays).
-        float lambda = 0.0;
-        if (pre_pass) {
-            ray = first_order_ray(params.camera, CameraSample(vec2(x, y) + 0.5, vec2(0.5)));
-        } else if (pc.mode == TRACE_MODE_ALL) {
-            if (lens.dispersive != 0u) {
-                lambda = sample_wavelength(pixel_dimension(sampler_state, s, DIM_WAVELENGTH));
-            }
-            trace = generate_ray(params.camera, cs, lambda, ray, weight);
-        } else if (trace) {
-            ray = first_order_ray(params.camera, cs);
+        // Through a dispersive lens the sample traces the d line, and where it checks it, its
+        // wavelength too (nm; 0: it does not): spectral.glsl's d_line_value, checked_value
+        // (reference/render.rs: add_pixel_samples, reference/rays.rs: generate_rays).
+        float checked = 0.0;
+        uint passes = 1u;
+        if (pc.mode == TRACE_MODE_ALL && lens.dispersive != 0u
+            && checks_dispersion(pixel_dimension(sampler_state, s, DIM_DISPERSION_CHECK))) {
+            checked = sample_wavelength(pixel_dimension(sampler_state, s, DIM_WAVELENGTH));
+            passes = 2u;
         }
-        if (trace) {
+        for (uint pass = 0u; pass < passes; ++pass) {
+            Ray ray;
+            float weight = 1.0;
+            bool traced_now = trace;
+            if (pre_pass) {
+                ray = first_order_ray(params.camera, CameraSample(vec2(x, y) + 0.5, vec2(0.5)));
+            } else if (pc.mode == TRACE_MODE_ALL) {
+                traced_now = generate_ray(params.camera, cs, pass == 1u ? checked : 0.0, ray, weight);
+            } else if (trace) {
+                ray = first_order_ray(params.camera, cs);
+            }
+            if (!traced_now) {
+                continue;
+            }
             LightDraw draw = sample_draw(sampler_state, pixel_index, s);
             if (pre_pass) {
                 draw.cut = aperture_centre_cut();
@@ -286,17 +295,14 @@ uint trace_pixel() {
             }
             uint shadowed;
             vec3 shaded = shade_sample(ray, draw, rasterized, pixel_index, rays, shadowed);
-            // A wavelength's sample: its radiance at that wavelength, as linear sRGB
-            // (spectral.glsl).
-            if (lambda > 0.0) {
-                shaded = rgb_weights(lambda) * shaded;
-            }
+            shaded = pass == 1u ? checked_value(checked, shaded) : d_line_value(checked, shaded);
             vec3 traced = weight * shaded;
             if (pre_pass) {
                 plan[pixel_index] = vec4(traced, float(shadowed));
                 return rays;
             }
-            value = shortcut ? value + (traced - value) * float(HYBRID_CHECK_INVERSE) : traced;
+            // Without a shortcut `value` starts at 0: the sum of the sample's passes.
+            value = shortcut ? value + (traced - value) * float(HYBRID_CHECK_INVERSE) : value + traced;
         }
         sum += value;
     }
