@@ -337,6 +337,15 @@ fn render_one(args: &RenderArgs) -> Result<()> {
         compile_note(compile_seconds),
         report.rays_per_second() / 1e6
     );
+    if let Some(threshold) = render.noise_threshold.filter(|_| !aov) {
+        let pixels = camera.width as f64 * camera.height as f64;
+        println!(
+            "  adaptive: noise threshold {threshold}, {} samples, {:.2} spp on average (cap {})",
+            report.adaptive_samples,
+            report.adaptive_samples as f64 / pixels,
+            render.spp
+        );
+    }
     print_exposure(&settings, &exposure);
     if let Some(real) = camera.lens.real() {
         println!("  {}", real.summary());
