@@ -199,7 +199,7 @@ fn main() {
             repeat: arg("--repeat", 3),
             cap: arg("--cap", 256),
             uniform: vec![16, 32, 64, 128],
-            thresholds: vec![0.2, 0.1, 0.05, 0.03, 0.02],
+            thresholds: vec![1.0, 0.5, 0.3, 0.2, 0.15, 0.1, 0.05],
         }
     } else {
         Options {

@@ -48,12 +48,12 @@ fn adaptive_renders_are_deterministic_and_count_their_samples() {
     let (a, summary) = render(dir.path(), "a.exr", &adaptive);
     let (b, _) = render(dir.path(), "b.exr", &adaptive);
     assert!(a == b, "two adaptive renders differ");
-    // Every pixel takes the minimum (48 at 0.05) and at most the cap; the flat background
+    // Every pixel takes the minimum (32 at 0.05) and at most the cap; the flat background
     // stops early.
     let samples = samples_taken(&summary);
     let pixels = 48 * 32;
     assert!(
-        (48 * pixels..128 * pixels * 3 / 4).contains(&samples),
+        (32 * pixels..128 * pixels * 3 / 4).contains(&samples),
         "{samples} samples: {summary}"
     );
 }
@@ -98,16 +98,16 @@ fn the_scene_files_threshold_is_the_flags() {
     assert!(from_flag != uniform, "the threshold changed nothing");
 }
 
-/// At 0.05 every pixel first takes 48 samples: with a cap of 48 the render is the uniform one.
+/// At 0.05 every pixel first takes 32 samples: with a cap of 32 the render is the uniform one.
 #[test]
 fn a_cap_at_the_minimum_is_the_uniform_render() {
     let dir = tempfile::tempdir().unwrap();
     let (adaptive, _) = render(
         dir.path(),
         "a.exr",
-        &["--spp", "48", "--noise-threshold", "0.05"],
+        &["--spp", "32", "--noise-threshold", "0.05"],
     );
-    let (uniform, _) = render(dir.path(), "u.exr", &["--spp", "48"]);
+    let (uniform, _) = render(dir.path(), "u.exr", &["--spp", "32"]);
     assert!(adaptive == uniform);
 }
 
