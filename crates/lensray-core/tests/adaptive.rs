@@ -49,9 +49,8 @@ fn the_same_settings_give_the_same_sums() {
     let (a, samples_a) = adaptive_sums(&renderer, &shot);
     let (b, samples_b) = adaptive_sums(&renderer, &shot);
     assert_eq!(samples_a, samples_b);
-    let bits = |s: &Sums| -> Vec<[u32; 4]> {
-        s.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
-    };
+    let bits =
+        |s: &Sums| -> Vec<[u32; 4]> { s.pixels.iter().map(|p| p.map(f32::to_bits)).collect() };
     assert!(bits(&a) == bits(&b), "two adaptive renders differ");
 }
 
@@ -84,9 +83,16 @@ fn each_pixel_equals_the_uniform_render_at_its_sample_count() {
         compared += here;
         counts_seen += (here > 0) as u32;
     }
-    assert_eq!(compared, (WIDTH * HEIGHT) as usize, "a pixel's count is no round's end");
+    assert_eq!(
+        compared,
+        (WIDTH * HEIGHT) as usize,
+        "a pixel's count is no round's end"
+    );
     // The test means something only if pixels stopped at different counts.
-    assert!(counts_seen >= 3, "pixels stopped at {counts_seen} counts only");
+    assert!(
+        counts_seen >= 3,
+        "pixels stopped at {counts_seen} counts only"
+    );
 }
 
 /// The default scene's sky, ground and sphere interiors are flat: they stop at the minimum,
@@ -122,10 +128,7 @@ fn error_stays_near_the_uniform_render_at_the_cap() {
     let (uniform, _) = renderer.render(&uniform_shot, &mut |_, _| {});
     let (_, adaptive_shot) = default_shot(256, Some(0.02), 0);
     let (sums, samples) = adaptive_sums(&renderer, &adaptive_shot);
-    let (e_uniform, e_adaptive) = (
-        rmse(&uniform, &reference),
-        rmse(&sums.image(), &reference),
-    );
+    let (e_uniform, e_adaptive) = (rmse(&uniform, &reference), rmse(&sums.image(), &reference));
     assert!(
         e_adaptive <= 1.1 * e_uniform,
         "adaptive RMSE {e_adaptive:.5}, uniform {e_uniform:.5}"

@@ -96,7 +96,13 @@ fn compare(name: &str, scene: &Scene, base: &Shot, options: &Options) {
     for &spp in &options.uniform {
         let mut shot = base.clone();
         shot.render.spp = spp;
-        let row = measure(&renderer, &shot, &reference, options.repeat, format!("uniform {spp} spp"));
+        let row = measure(
+            &renderer,
+            &shot,
+            &reference,
+            options.repeat,
+            format!("uniform {spp} spp"),
+        );
         print_row(&row);
         if spp == 64 {
             uniform_64 = Some(row);
@@ -222,6 +228,11 @@ fn main() {
     let base = shot(&settings, &description.scene).expect("the default shot");
     compare("default scene", &description.scene, &base, &options);
     if let Some((scene, shot)) = apples(width / 2, height / 2) {
-        compare("apples, studio map, double Gauss 50 mm f/2", &scene, &shot, &options);
+        compare(
+            "apples, studio map, double Gauss 50 mm f/2",
+            &scene,
+            &shot,
+            &options,
+        );
     }
 }

@@ -170,7 +170,9 @@ mod tests {
     #[test]
     fn class_a_is_half_of_every_aligned_four() {
         for block in 0..1024u32 {
-            let a = (4 * block..4 * block + 4).filter(|&i| is_class_a(i)).count();
+            let a = (4 * block..4 * block + 4)
+                .filter(|&i| is_class_a(i))
+                .count();
             assert_eq!(a, 2, "block {block}");
         }
     }

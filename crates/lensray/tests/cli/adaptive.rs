@@ -94,7 +94,10 @@ fn the_scene_files_threshold_is_the_flags() {
         &["--spp", "128", "--noise-threshold", "0.05"],
     );
     let (uniform, _) = render(dir.path(), "uniform.exr", &["--spp", "128"]);
-    assert!(from_file == from_flag, "the file's threshold differs from the flag's");
+    assert!(
+        from_file == from_flag,
+        "the file's threshold differs from the flag's"
+    );
     assert!(from_flag != uniform, "the threshold changed nothing");
 }
 
