@@ -46,6 +46,7 @@ fn settings(spp: u32) -> RenderSettings {
         background: Vec3::ZERO,
         environment: Vec3::ZERO,
         shared_samples: false,
+        noise_threshold: None,
         environment_seen: false,
         bounces: 1,
     }

@@ -81,6 +81,7 @@ fn settings(shading: Shading, spp: u32) -> RenderSettings {
         background: Vec3::new(0.2, 0.3, 0.4),
         environment: Vec3::ZERO,
         shared_samples: false,
+        noise_threshold: None,
         environment_seen: false,
         bounces: 1,
     }

@@ -59,6 +59,7 @@ fn project_scenes(
                     environment_rotation: None,
                     environment_intensity: None,
                     bounces: None,
+                    noise_threshold: None,
                 },
                 ..Default::default()
             };

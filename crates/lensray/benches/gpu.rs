@@ -104,6 +104,7 @@ fn main() {
                 background: Vec3::new(0.1, 0.2, 0.3),
                 environment: Vec3::ZERO,
                 shared_samples: false,
+                noise_threshold: None,
                 environment_seen: false,
                 bounces: 1,
             },

@@ -78,6 +78,7 @@ fn shot(desc: &SceneDescription, a: &Args) -> Shot {
             environment_rotation: None,
             environment_intensity: None,
             bounces: None,
+            noise_threshold: None,
         },
         ..Default::default()
     };

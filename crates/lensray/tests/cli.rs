@@ -7,6 +7,8 @@ mod gpu_support;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+#[path = "cli/adaptive.rs"]
+mod adaptive;
 #[path = "cli/caches.rs"]
 mod caches;
 #[path = "cli/camera_animation.rs"]

@@ -300,6 +300,7 @@ fn lit_shortcuts_follow_shadows_and_curvature() {
             environment_rotation: None,
             environment_intensity: None,
             bounces: None,
+            noise_threshold: None,
         },
         ..Default::default()
     };

@@ -130,6 +130,7 @@ fn settings(spp: u32, seed: u32, background: Vec3) -> RenderSettings {
         background,
         environment: Vec3::ZERO,
         shared_samples: false,
+        noise_threshold: None,
         environment_seen: false,
         bounces: 1,
     }

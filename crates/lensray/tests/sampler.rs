@@ -109,6 +109,7 @@ fn settings(shading: Shading, sampler: SamplerKind, spp: u32, seed: u32) -> Rend
         background: BACKGROUND,
         environment: Vec3::ZERO,
         shared_samples: false,
+        noise_threshold: None,
         environment_seen: false,
         bounces: 1,
     }

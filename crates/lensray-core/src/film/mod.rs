@@ -1,9 +1,10 @@
 //! The film every render path fills: the image (linear RGB), the per-pixel sums it is
 //! accumulated in, comparisons of images, the progressive schedule that decides which
-//! samples to add next, the weighting of a sample of one wavelength (`spectral`), and the
+//! samples to add next, adaptive sampling's rounds and error estimate (`adaptive`), the weighting of a sample of one wavelength (`spectral`), and the
 //! exposure and tone map of what is shown (`tonemap`).
 
 pub mod accumulation;
+pub mod adaptive;
 pub mod colour;
 pub mod compare;
 pub mod image;

@@ -12,6 +12,7 @@ use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
 use super::rays::{generate_rays, DispersionPass, LensPacket};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
+use crate::film::adaptive::{self, is_class_a, AdaptiveReport};
 use crate::film::spectral::{checked_value, d_line_value};
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler, CameraSample};
@@ -182,7 +183,10 @@ impl Renderer {
             |this: &mut &Self, progress| Ok(this.render_aov(shot, progress)),
             |this, samples, accumulation, progress| {
                 let sums = accumulation.host_mut()?;
-                Ok(this.accumulate(shot, samples, sums, progress))
+                match shot.render.noise_threshold {
+                    Some(threshold) => Ok(this.render_adaptive(shot, threshold, sums, progress).0),
+                    None => Ok(this.accumulate(shot, samples, sums, progress)),
+                }
             },
             |_, _| Ok(()),
         );
@@ -206,10 +210,74 @@ impl Renderer {
             let mut rays = 0;
             for (x, sum) in row.iter_mut().enumerate() {
                 let pixel = UVec2::new(x as u32, y);
-                rays += self.add_pixel_samples(shot, pixel, samples.clone(), sum);
+                rays += self.add_pixel_samples(shot, pixel, samples.clone(), sum, None);
             }
             rays
         })
+    }
+
+    /// Renders `shot` adaptively into `sums` (new, the camera's size): rounds of samples to
+    /// the pixels whose error is still at or above `threshold` (`film::adaptive`), `spp` at
+    /// most. `progress` follows the rounds.
+    pub fn render_adaptive(
+        &self,
+        shot: &Shot,
+        threshold: f32,
+        sums: &mut Sums,
+        progress: &mut Progress,
+    ) -> (RenderStats, AdaptiveReport) {
+        let mut stats = RenderStats::default();
+        let rounds = adaptive::render_adaptive(
+            threshold,
+            shot.render.spp,
+            sums,
+            progress,
+            |end, active, sums, class_a| {
+                let round = self.accumulate_active(shot, end, active, sums, class_a);
+                stats.elapsed += round.elapsed;
+                stats.rays += round.rays;
+                Ok::<_, std::convert::Infallible>(())
+            },
+        );
+        let Ok(report) = rounds;
+        (stats, report)
+    }
+
+    /// Brings every pixel marked in `active` from the samples it has to `end` (its indices
+    /// `count..end`), adding its class A samples (`film::adaptive::is_class_a`) to `class_a`
+    /// too.
+    pub fn accumulate_active(
+        &self,
+        shot: &Shot,
+        end: u32,
+        active: &[bool],
+        sums: &mut Sums,
+        class_a: &mut [Vec3],
+    ) -> RenderStats {
+        let start = Instant::now();
+        let width = shot.camera.width as usize;
+        let rays: u64 = sums
+            .pixels
+            .par_chunks_mut(width)
+            .zip(class_a.par_chunks_mut(width))
+            .zip(active.par_chunks(width))
+            .enumerate()
+            .map(|(y, ((row, row_a), row_active))| {
+                let mut rays = 0;
+                for (x, (sum, a)) in row.iter_mut().zip(row_a).enumerate() {
+                    if row_active[x] {
+                        let pixel = UVec2::new(x as u32, y as u32);
+                        let samples = adaptive::pixel_range(sum[3], end);
+                        rays += self.add_pixel_samples(shot, pixel, samples, sum, Some(a));
+                    }
+                }
+                rays
+            })
+            .sum();
+        RenderStats {
+            elapsed: start.elapsed(),
+            rays,
+        }
     }
 
     /// The AOVs of `shot`: the surface seen by the aperture-centre ray through each pixel
@@ -263,14 +331,15 @@ impl Renderer {
         }
     }
 
-    /// Adds the pixel's samples `samples` of `shot` to its `[sum, count]`; returns the rays
-    /// traced.
+    /// Adds the pixel's samples `samples` of `shot` to its `[sum, count]`, and those of class A
+    /// to `class_a` when given (adaptive sampling); returns the rays traced.
     fn add_pixel_samples(
         &self,
         shot: &Shot,
         pixel: UVec2,
         samples: Range<u32>,
         sum_and_count: &mut [f32; 4],
+        mut class_a: Option<&mut Vec3>,
     ) -> u64 {
         let (camera, settings) = (&shot.camera, &shot.render);
         let [r, g, b, count] = *sum_and_count;
@@ -326,6 +395,9 @@ impl Renderer {
                         _ => d_line_value(checked, values[l]),
                     };
                     sum += weights[l] * value;
+                    if let Some(a) = class_a.as_deref_mut().filter(|_| is_class_a(indices[l])) {
+                        *a += weights[l] * value;
+                    }
                 }
                 rays += count;
             }

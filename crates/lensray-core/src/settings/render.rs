@@ -78,4 +78,8 @@ pub struct RenderSettings {
     /// paths take it to reproduce that path. Off by default: shared lens samples show blur as
     /// ghost copies instead of noise (docs/raster.md).
     pub shared_samples: bool,
+    /// Adaptive sampling (`film::adaptive`): a pixel stops taking samples once its estimated
+    /// error is below this (positive, finite); `spp` is then each pixel's cap. `None`: every
+    /// pixel takes `spp`.
+    pub noise_threshold: Option<f32>,
 }

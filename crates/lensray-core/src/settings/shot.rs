@@ -67,6 +67,8 @@ pub enum SettingsError {
     Exposure(String),
     #[error("{0}")]
     Environment(String),
+    #[error("noise_threshold must be a positive finite number (say 0.01), got {0}")]
+    NoiseThreshold(f64),
     #[error("fps must be a positive number up to 1000, got {0}")]
     Fps(f64),
 }
@@ -465,6 +467,17 @@ pub fn tilt_model(c: &CameraSettings, camera: &crate::camera::Camera) -> TiltMod
     }
 }
 
+/// Adaptive sampling's threshold, checked: positive and finite (in f32 too).
+fn noise_threshold(settings: &Settings) -> Result<Option<f32>, SettingsError> {
+    match settings.render.noise_threshold {
+        None => Ok(None),
+        Some(t) if t.is_finite() && t > 0.0 && (t as f32) > 0.0 && (t as f32).is_finite() => {
+            Ok(Some(t as f32))
+        }
+        Some(t) => Err(SettingsError::NoiseThreshold(t)),
+    }
+}
+
 /// Samples, seed, sampler, shading, background and environment, each checked.
 fn render_settings(settings: &Settings) -> Result<RenderSettings, SettingsError> {
     let spp = settings.image.spp.unwrap_or(DEFAULT_SPP);
@@ -497,5 +510,6 @@ fn render_settings(settings: &Settings) -> Result<RenderSettings, SettingsError>
         environment_seen: map && settings.render.background.is_none(),
         bounces,
         shared_samples: false,
+        noise_threshold: noise_threshold(settings)?,
     })
 }

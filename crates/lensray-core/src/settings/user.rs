@@ -166,6 +166,9 @@ pub struct RenderStyle {
     pub environment_intensity: Option<f64>,
     /// Surfaces a path shades: 1 (the default) is direct light, more add interreflection.
     pub bounces: Option<u32>,
+    /// Adaptive sampling: a pixel stops once its estimated noise is below this (e.g. 0.01),
+    /// with `spp` as its cap (docs/adaptive.md).
+    pub noise_threshold: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
@@ -254,7 +257,8 @@ impl Settings {
             environment,
             environment_rotation,
             environment_intensity,
-            bounces
+            bounces,
+            noise_threshold
         );
         self.light = std::mem::take(&mut self.light).overridden_by(l);
         self

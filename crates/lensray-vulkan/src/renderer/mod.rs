@@ -167,6 +167,11 @@ impl GpuRenderer {
         if shot.render.spp == 0 {
             return Err(GpuError::Invalid("spp must be at least 1".into()));
         }
+        if shot.render.noise_threshold.is_some() && !shot.render.shading.is_aov() {
+            return Err(GpuError::Invalid(
+                "the Vulkan renderer does not sample adaptively (noise threshold): the CPU reference does".into(),
+            ));
+        }
         if self.scene.is_none() {
             return Err(GpuError::NoScene);
         }

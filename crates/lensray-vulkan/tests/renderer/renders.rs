@@ -240,6 +240,7 @@ fn gpu_matches_cpu_on_project_scenes() {
                     environment_rotation: None,
                     environment_intensity: None,
                     bounces: None,
+                    noise_threshold: None,
                 },
                 ..Default::default()
             };

@@ -305,6 +305,7 @@ pub fn settings(shading: Shading, spp: u32) -> RenderSettings {
         background: BACKGROUND,
         environment: Vec3::ZERO,
         shared_samples: false,
+        noise_threshold: None,
         environment_seen: false,
         bounces: 1,
     }

@@ -108,6 +108,7 @@ impl Args {
                 environment_rotation: None,
                 environment_intensity: None,
                 bounces: None,
+                noise_threshold: None,
             },
             ..Default::default()
         };

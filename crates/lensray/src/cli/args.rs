@@ -313,6 +313,11 @@ pub struct ViewArgs {
     /// Samples per pixel.
     #[arg(long, value_name = "N")]
     pub spp: Option<u32>,
+    /// Adaptive sampling: a pixel stops taking samples once its estimated noise is below T
+    /// (say 0.01; smaller is cleaner and slower), --spp being its cap (CPU path;
+    /// docs/adaptive.md).
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub noise_threshold: Option<f64>,
     /// Seed of the deterministic sampler.
     #[arg(long, value_name = "S")]
     pub seed: Option<u32>,
@@ -404,6 +409,7 @@ impl ViewArgs {
                 environment_rotation: self.environment_rotation,
                 environment_intensity: self.environment_intensity,
                 bounces: self.bounces,
+                noise_threshold: self.noise_threshold,
             },
             light: if self.light_position.is_some() || self.light_intensity.is_some() {
                 Lights(vec![LightSettings {

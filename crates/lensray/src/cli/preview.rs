@@ -57,6 +57,9 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
     let choice = crate::paths::preview_options(&args.path.options())?;
     let mut description = load_scene(&args.view)?;
     let (settings, playback) = keyed_start(&mut description, args)?;
+    if let Some(threshold) = settings.render.noise_threshold {
+        eprintln!("notice: the preview gives every pixel the same samples; the noise threshold ({threshold}) applies to `lensray render`");
+    }
     let rig = CameraRig::new(settings, &description.scene)
         .with_context(|| format!("scene {}", description.source))?;
     // Bad exposure options fail here, in one line, before the window opens.

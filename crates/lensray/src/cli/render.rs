@@ -337,6 +337,9 @@ fn render_one(args: &RenderArgs) -> Result<()> {
         compile_note(compile_seconds),
         report.rays_per_second() / 1e6
     );
+    if !aov {
+        print_adaptive(render, camera, report.adaptive_samples);
+    }
     print_exposure(&settings, &exposure);
     if let Some(real) = camera.lens.real() {
         println!("  {}", real.summary());
@@ -350,4 +353,21 @@ fn render_one(args: &RenderArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The summary's line of an adaptive render (`--noise-threshold`): its samples and their
+/// average per pixel.
+fn print_adaptive(
+    render: &lensray_core::settings::RenderSettings,
+    camera: &lensray_core::camera::Camera,
+    samples: u64,
+) {
+    if let Some(threshold) = render.noise_threshold {
+        let pixels = camera.width as f64 * camera.height as f64;
+        println!(
+            "  adaptive: noise threshold {threshold}, {samples} samples, {:.2} spp on average (cap {})",
+            samples as f64 / pixels,
+            render.spp
+        );
+    }
 }

@@ -36,6 +36,7 @@ impl CpuPath {
                 readback_bytes: 0,
                 readback_seconds: 0.0,
                 compile_seconds: 0.0,
+                adaptive_samples: 0,
             },
         }
     }
@@ -88,6 +89,27 @@ impl RenderPath for CpuPath {
         let stats = self.renderer()?.accumulate(shot, samples, sums, progress);
         self.report.rays += stats.rays;
         self.report.trace_seconds += stats.elapsed.as_secs_f64();
+        Ok(())
+    }
+
+    fn add_adaptive(
+        &mut self,
+        shot: &Shot,
+        accumulation: &mut Accumulation,
+        progress: &mut Progress,
+    ) -> Result<()> {
+        super::check_accumulation(shot, accumulation)?;
+        let threshold = shot
+            .render
+            .noise_threshold
+            .ok_or_else(|| anyhow::anyhow!("an adaptive render needs a noise threshold"))?;
+        let sums = accumulation.host_mut()?;
+        let (stats, adaptive) = self
+            .renderer()?
+            .render_adaptive(shot, threshold, sums, progress);
+        self.report.rays += stats.rays;
+        self.report.trace_seconds += stats.elapsed.as_secs_f64();
+        self.report.adaptive_samples += adaptive.samples;
         Ok(())
     }
 

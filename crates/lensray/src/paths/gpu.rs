@@ -131,6 +131,7 @@ impl RenderPath for GpuPath {
             readback_bytes: counters.readback_bytes,
             readback_seconds: self.readback_seconds,
             compile_seconds: counters.compile_seconds() + t.compile_ms * 1e-3,
+            adaptive_samples: 0,
         }
     }
 

@@ -79,6 +79,19 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
         };
         return open_cpu(scene, why);
     }
+    // Only the CPU reference samples adaptively: `auto` takes it, a GPU path asked for is an
+    // error before anything renders.
+    if shot.render.noise_threshold.is_some() && !shot.render.shading.is_aov() {
+        match options.path.only() {
+            Some(kind) => bail!(
+                "--path {kind} does not sample adaptively (--noise-threshold): use --path cpu or auto"
+            ),
+            None if options.device == Choice::Only(DeviceKind::Gpu) => bail!(
+                "--noise-threshold samples adaptively on the CPU path only: it cannot be used with --device gpu"
+            ),
+            None => return open_cpu(scene, "auto: adaptive sampling runs on the CPU"),
+        }
+    }
 
     // Auto's calibration counts with the device: it is what opening one costs.
     let device_start = Instant::now();

@@ -294,6 +294,8 @@ pub struct PathReport {
     /// Time the driver took to make the path's pipelines (its shader compiler), seconds: long
     /// on a device's first use, apart from the render's time.
     pub compile_seconds: f64,
+    /// Samples adaptive renders took, over all their pixels (0: no render was adaptive).
+    pub adaptive_samples: u64,
 }
 
 impl PathReport {
@@ -313,6 +315,7 @@ impl PathReport {
             readback_bytes: self.readback_bytes - earlier.readback_bytes,
             readback_seconds: self.readback_seconds - earlier.readback_seconds,
             compile_seconds: self.compile_seconds - earlier.compile_seconds,
+            adaptive_samples: self.adaptive_samples - earlier.adaptive_samples,
             ..*self
         }
     }
@@ -341,6 +344,22 @@ pub trait RenderPath: Send {
         progress: &mut Progress,
     ) -> Result<()>;
 
+    /// Renders `shot` adaptively (`shot.render.noise_threshold`, `film::adaptive`) into
+    /// `accumulation`, new and the camera's size. Only the CPU path samples adaptively;
+    /// `paths::open` refuses the others before they render.
+    fn add_adaptive(
+        &mut self,
+        shot: &Shot,
+        accumulation: &mut Accumulation,
+        progress: &mut Progress,
+    ) -> Result<()> {
+        let _ = (shot, accumulation, progress);
+        anyhow::bail!(
+            "--path {} does not sample adaptively (--noise-threshold): use --path cpu",
+            self.kind()
+        )
+    }
+
     /// The AOV of `shot` (its shading: `Depth`, `Normal`, `Albedo`): the surface seen by the
     /// aperture-centre ray at each pixel centre (GPU paths: the raster G-buffer).
     fn aov(&mut self, shot: &Shot) -> Result<Image>;
@@ -367,8 +386,14 @@ pub trait RenderPath: Send {
     /// report of the device's destruction included.
     fn close(self: Box<Self>) -> Result<()>;
 
-    /// The whole image of `shot`: traced samples 0..spp, or the AOV.
+    /// The whole image of `shot`: traced samples 0..spp (adaptively with a noise threshold), or
+    /// the AOV.
     fn render(&mut self, shot: &Shot, progress: &mut Progress) -> Result<Image> {
+        if shot.render.noise_threshold.is_some() && !shot.render.shading.is_aov() {
+            let mut accumulation = Accumulation::new(shot.camera.width, shot.camera.height);
+            self.add_adaptive(shot, &mut accumulation, progress)?;
+            return self.image_of(&mut accumulation);
+        }
         let (image, ()) = lensray_core::film::whole_image(
             self,
             progress,

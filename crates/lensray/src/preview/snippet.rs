@@ -158,6 +158,7 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
             environment_rotation: settings.render.environment_rotation,
             environment_intensity: settings.render.environment_intensity,
             bounces: settings.render.bounces,
+            noise_threshold: settings.render.noise_threshold,
         },
         // The rig pins its lights (`pinned_lights`): every default is written out.
         light: settings.light.clone(),

@@ -18,6 +18,12 @@ fn bad_numbers_are_rejected_with_one_line() {
         "height",
     );
     assert_rejected(&["--spp", "0"], "spp");
+    assert_rejected(&["--noise-threshold", "-1"], "noise_threshold");
+    assert_rejected(&["--noise-threshold", "nan"], "noise_threshold");
+    assert_rejected(&["--noise-threshold", "0"], "noise_threshold");
+    assert_rejected(&["--noise-threshold", "inf"], "noise_threshold");
+    assert_rejected(&["--noise-threshold", "1e-50"], "noise_threshold");
+    assert_rejected(&["--noise-threshold", "low"], "noise-threshold");
     assert_rejected(&["--sampler", "bogus"], "sampler");
     assert_rejected(&["--width", "0"], "0x32");
     assert_rejected(&["--height", "20000"], "48x20000");

@@ -1,0 +1,139 @@
+//! `--noise-threshold` (adaptive sampling, docs/adaptive.md) as a user runs it: the same
+//! arguments give the same file, a scene file's `[render] noise_threshold` the same image as
+//! the flag, a cap at the minimum is the uniform render, the summary line counts the samples,
+//! and the GPU paths refuse it in one line.
+
+use std::path::Path;
+
+use crate::{lensray, stderr};
+
+/// 48 x 32 pixels of the spheres scene, lit, on the CPU path.
+fn render(dir: &Path, out: &str, extra: &[&str]) -> (Vec<u8>, String) {
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/spheres/spheres.obj");
+    let mut args = vec![
+        "render",
+        "--scene",
+        mesh.to_str().unwrap(),
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--path",
+        "cpu",
+        "--out",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    let run = lensray(&args, dir);
+    assert!(run.status.success(), "{args:?}: {}", stderr(&run));
+    let stdout = String::from_utf8_lossy(&run.stdout).into_owned();
+    (std::fs::read(dir.join(out)).unwrap(), stdout)
+}
+
+/// The samples the summary line's adaptive line counts.
+fn samples_taken(summary: &str) -> u64 {
+    let line = summary
+        .lines()
+        .find(|l| l.contains("adaptive: noise threshold"))
+        .unwrap_or_else(|| panic!("no adaptive line: {summary}"));
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let at = words.iter().position(|w| w.starts_with("samples")).unwrap();
+    words[at - 1].parse().unwrap_or_else(|_| panic!("{line}"))
+}
+
+#[test]
+fn adaptive_renders_are_deterministic_and_count_their_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let adaptive = ["--spp", "128", "--noise-threshold", "0.05"];
+    let (a, summary) = render(dir.path(), "a.exr", &adaptive);
+    let (b, _) = render(dir.path(), "b.exr", &adaptive);
+    assert!(a == b, "two adaptive renders differ");
+    // Every pixel takes the minimum (32 at 0.05) and at most the cap; the flat background
+    // stops early.
+    let samples = samples_taken(&summary);
+    let pixels = 48 * 32;
+    assert!(
+        (32 * pixels..128 * pixels * 3 / 4).contains(&samples),
+        "{samples} samples: {summary}"
+    );
+}
+
+#[test]
+fn the_scene_files_threshold_is_the_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/spheres/spheres.obj");
+    let scene = dir.path().join("adaptive.toml");
+    let text = format!(
+        "mesh = {:?}\n[render]\nnoise_threshold = 0.05\n",
+        mesh.to_str().unwrap()
+    );
+    std::fs::write(&scene, text).unwrap();
+    let run = lensray(
+        &[
+            "render",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--spp",
+            "128",
+            "--path",
+            "cpu",
+            "--out",
+            "file.exr",
+        ],
+        dir.path(),
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let from_file = std::fs::read(dir.path().join("file.exr")).unwrap();
+    let (from_flag, _) = render(
+        dir.path(),
+        "flag.exr",
+        &["--spp", "128", "--noise-threshold", "0.05"],
+    );
+    let (uniform, _) = render(dir.path(), "uniform.exr", &["--spp", "128"]);
+    assert!(
+        from_file == from_flag,
+        "the file's threshold differs from the flag's"
+    );
+    assert!(from_flag != uniform, "the threshold changed nothing");
+}
+
+/// At 0.05 every pixel first takes 32 samples: with a cap of 32 the render is the uniform one.
+#[test]
+fn a_cap_at_the_minimum_is_the_uniform_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let (adaptive, _) = render(
+        dir.path(),
+        "a.exr",
+        &["--spp", "32", "--noise-threshold", "0.05"],
+    );
+    let (uniform, _) = render(dir.path(), "u.exr", &["--spp", "32"]);
+    assert!(adaptive == uniform);
+}
+
+#[test]
+fn gpu_paths_refuse_adaptive_sampling_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    for path in ["rayquery", "software", "raster", "hybrid"] {
+        let run = lensray(
+            &[
+                "render",
+                "--path",
+                path,
+                "--noise-threshold",
+                "0.01",
+                "--out",
+                "x.png",
+            ],
+            dir.path(),
+        );
+        let err = stderr(&run);
+        assert!(!run.status.success(), "{path} accepted it");
+        assert_eq!(err.trim().lines().count(), 1, "{path}: {err}");
+        assert!(err.contains("does not sample adaptively"), "{path}: {err}");
+        assert!(!dir.path().join("x.png").exists());
+    }
+}
