@@ -57,8 +57,8 @@
 //! `DISPERSION_CHECK_INVERSE` (k) also traces its wavelength lambda and adds
 //! k W(lambda) (L_lambda - L_d), what its wavelength changes. Whether a sample checks (c = 1)
 //! is [`checks_dispersion`] of dimension `DIM_DISPERSION_CHECK`, independent of lambda (the
-//! pair's other dimension), so E[c k W (L_lambda - L_d)] = E[W L_lambda] - E[W] L_d =
-//! E[W L_lambda] - L_d (E[W] = I) and the estimate L_d + c k W(lambda) (L_lambda - L_d) is
+//! pair's other dimension), so E(c k W (L_lambda - L_d)) = E(W L_lambda) - E(W) L_d =
+//! E(W L_lambda) - L_d (E(W) = I) and the estimate L_d + c k W(lambda) (L_lambda - L_d) is
 //! unbiased. The difference is 0 where the two rays see the same thing, so colour noise is
 //! left only where dispersion shows: its fringes. A sample's two rays share every other
 //! dimension, so their paths draw alike. The film's values are [`d_line_value`] and
