@@ -285,6 +285,21 @@ impl Camera {
         Some(crate::film::spectral::sample_wavelength(u))
     }
 
+    /// The wavelength (nm) at which sample `sample_index` of `sampler`'s pixel checks the d
+    /// line through a dispersive lens (film::spectral, "Dispersion at little cost"): its
+    /// [`Self::sample_wavelength`] where dimension `DIM_DISPERSION_CHECK` makes it check, else
+    /// `None` (the sample traces the d line only).
+    pub fn checked_wavelength(
+        &self,
+        sampler: &crate::sampler::PixelSampler,
+        sample_index: u32,
+    ) -> Option<f32> {
+        use crate::sampler::{pixel_dimension, DIM_DISPERSION_CHECK};
+        let lambda = self.sample_wavelength(sampler, sample_index)?;
+        let u = pixel_dimension(sampler, sample_index, DIM_DISPERSION_CHECK);
+        crate::film::spectral::checks_dispersion(u).then_some(lambda)
+    }
+
     /// The plane z = lens_z holds the lens: z = 0 (the eye) for perspective, the near plane for
     /// orthographic (each film point's ray starts there).
     pub fn lens_plane_z(&self) -> f32 {

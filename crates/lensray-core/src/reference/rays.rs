@@ -12,9 +12,8 @@ use glam::{Mat4, Vec3};
 
 use super::accel::PACKET_SIZE;
 use crate::camera::{Camera, Projection};
-use crate::film::spectral::checks_dispersion;
 use crate::optics::glass::dispersion_offset_f32;
-use crate::sampler::{pixel_camera_samples, pixel_dimension, PixelSampler, DIM_DISPERSION_CHECK};
+use crate::sampler::{pixel_camera_samples, PixelSampler};
 
 type PacketLanes = [f32; PACKET_SIZE];
 
@@ -212,14 +211,12 @@ pub(super) fn generate_rays(
     let mut included = [true; PACKET_SIZE];
     if real.dispersive() {
         for l in 0..n {
-            let index = first + l as u32;
-            let checks = checks_dispersion(pixel_dimension(sampler, index, DIM_DISPERSION_CHECK));
-            included[l] = pass == DispersionPass::DLine || checks;
-            if checks {
-                let lambda = camera.sample_wavelength(sampler, index);
-                wavelengths[l] = lambda.unwrap_or(0.0);
+            let checked = camera.checked_wavelength(sampler, first + l as u32);
+            included[l] = pass == DispersionPass::DLine || checked.is_some();
+            if let Some(lambda) = checked {
+                wavelengths[l] = lambda;
                 if pass == DispersionPass::Checks {
-                    offsets[l] = lambda.map_or(0.0, dispersion_offset_f32);
+                    offsets[l] = dispersion_offset_f32(lambda);
                 }
             }
         }

@@ -50,7 +50,7 @@ pub struct LensPoint {
     pub camera_samples: u64,
     /// Those whose camera ray reaches the scene (the lens blocks the others).
     pub camera_rays: u64,
-    /// `camera_rays / camera_samples`.
+    /// The share of the camera samples whose d line's ray reaches the scene.
     pub pass_share: f64,
     /// The same at the image centre: the central pixel(s) (1, 2 or 4), each at its centre
     /// with a `CENTRE_GRID` x `CENTRE_GRID` grid of lens samples.
@@ -101,10 +101,10 @@ impl LensPoint {
         let (camera, settings) = (&shot.camera, &shot.render);
         let f_number = real.lens.real().map_or(0.0, |l| l.f_number);
         let mut seconds = Vec::with_capacity(CAMERA_RAY_PASSES);
-        let mut camera_rays = 0;
+        let (mut camera_rays, mut d_line_rays) = (0, 0);
         for _ in 0..CAMERA_RAY_PASSES {
             let start = Instant::now();
-            camera_rays = shot_camera_rays(shot);
+            (camera_rays, d_line_rays) = shot_camera_rays(shot);
             seconds.push(start.elapsed().as_secs_f64());
         }
         let camera_samples =
@@ -123,7 +123,7 @@ impl LensPoint {
             focus_distance: camera.lens.first_order().focus_distance,
             camera_samples,
             camera_rays,
-            pass_share: camera_rays as f64 / camera_samples.max(1) as f64,
+            pass_share: d_line_rays as f64 / camera_samples.max(1) as f64,
             centre_pass_share: centre_passed as f64 / centre_samples.max(1) as f64,
             centre_samples,
             camera_ray_seconds: median(&seconds),
@@ -265,28 +265,32 @@ fn real_lens_pieces(
     (pupil_ns, lens_trace_ns, packet_ns)
 }
 
-/// The camera samples of a render of `shot` whose rays the lens lets through: every pixel's
-/// samples `0..spp`, drawn as the paths draw them.
-pub fn shot_camera_rays(shot: &Shot) -> u64 {
+/// The camera rays of a render of `shot` that the lens lets through: every pixel's samples
+/// `0..spp`, drawn as the paths draw them (a dispersive lens's checking samples trace two),
+/// and of those the d line's, one a sample at most.
+pub fn shot_camera_rays(shot: &Shot) -> (u64, u64) {
     let (camera, settings) = (&shot.camera, &shot.render);
     (0..camera.height)
         .into_par_iter()
         .map(|y| {
-            let mut passed = 0u64;
+            let (mut passed, mut d_line) = (0u64, 0u64);
             for x in 0..camera.width {
                 let pixel = UVec2::new(x, y);
                 let sampler = sampler_of(shot, pixel);
                 for i in 0..settings.spp {
                     let sample = pixel_camera_sample(&sampler, i);
-                    // At the sample's wavelength, as the render traces it.
-                    let wavelength = camera.sample_wavelength(&sampler, i);
-                    let ray = camera.generate_ray(sample, wavelength);
-                    passed += u64::from(ray.is_some());
+                    // As the render traces it: the d line, and through a dispersive lens the
+                    // wavelength of a sample that checks it.
+                    d_line += u64::from(camera.generate_ray(sample, None).is_some());
+                    if let Some(lambda) = camera.checked_wavelength(&sampler, i) {
+                        let ray = camera.generate_ray(sample, Some(lambda));
+                        passed += u64::from(ray.is_some());
+                    }
                 }
             }
-            passed
+            (passed + d_line, d_line)
         })
-        .sum()
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
 }
 
 /// At the centre of each central pixel (the pixel holding the image's centre, or the two or
