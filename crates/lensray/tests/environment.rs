@@ -64,14 +64,9 @@ fn albedo(brdf: &MetallicRoughness, mu: f32) -> f32 {
     (sum / f64::from(steps * steps)) as f32
 }
 
-/// The white furnace: a white metal (base colour 1, metallic 1) under a uniform sky of
-/// radiance 1 reflects its directional albedo E(n.v) at every pixel, which a quadrature of the
-/// BRDF gives independently of the renderer's sampling; 1 - E is the energy single scattering
-/// loses (no multiple-scattering compensation, as glTF's Appendix B). The loss per roughness
-/// is printed and lies in docs/environment.md.
-#[test]
-fn a_white_metal_in_a_white_furnace_reflects_its_albedo() {
-    let camera = CameraParams {
+/// The furnaces' camera: 16 x 16 pixels looking down -Z at the unit square, orthographic.
+fn furnace_camera() -> lensray_core::camera::Camera {
+    CameraParams {
         eye: Vec3::new(0.0, 0.0, 5.0),
         target: Vec3::ZERO,
         up: Vec3::Y,
@@ -84,7 +79,17 @@ fn a_white_metal_in_a_white_furnace_reflects_its_albedo() {
         movements: Movements::NONE,
     }
     .build()
-    .expect("furnace camera");
+    .expect("furnace camera")
+}
+
+/// The white furnace: a white metal (base colour 1, metallic 1) under a uniform sky of
+/// radiance 1 reflects its directional albedo E(n.v) at every pixel, which a quadrature of the
+/// BRDF gives independently of the renderer's sampling; 1 - E is the energy single scattering
+/// loses (no multiple-scattering compensation, as glTF's Appendix B). The loss per roughness
+/// is printed and lies in docs/environment.md.
+#[test]
+fn a_white_metal_in_a_white_furnace_reflects_its_albedo() {
+    let camera = furnace_camera();
     let render = RenderSettings {
         environment: Vec3::ONE,
         ..settings(Shading::Lit, 64)
@@ -151,20 +156,7 @@ fn a_white_metal_in_a_white_furnace_reflects_its_albedo() {
 /// half at most).
 #[test]
 fn a_tilted_shading_normal_in_the_white_furnace_keeps_its_light() {
-    let camera = CameraParams {
-        eye: Vec3::new(0.0, 0.0, 5.0),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        projection: ProjectionParams::Orthographic { height: 1.0 },
-        lens: LensParams::Pinhole,
-        near: 0.5,
-        far: 50.0,
-        width: 16,
-        height: 16,
-        movements: Movements::NONE,
-    }
-    .build()
-    .expect("furnace camera");
+    let camera = furnace_camera();
     let render = RenderSettings {
         environment: Vec3::ONE,
         ..settings(Shading::Lit, 64)
