@@ -25,7 +25,8 @@ pub use scrambled_sobol::{sobol_1d, sobol_pixel, sobol_sample, SobolPixel};
 /// Sample dimensions used by the camera, the wavelength and a path's vertices (defined with
 /// what the shaders share).
 pub use crate::interface::{
-    DIMS_PER_BOUNCE, DIM_BOUNCES, DIM_BRDF_X, DIM_BRDF_Y, DIM_DISPERSION_CHECK, DIM_ENVIRONMENT_X,
+    DIMS_PER_BOUNCE, DIM_BOUNCES, DIM_BRDF_X, DIM_BRDF_Y, DIM_DISPERSION_CHECK, DIM_EMITTERS,
+    DIM_ENVIRONMENT_X,
     DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y, DIM_WAVELENGTH,
 };
 
@@ -39,6 +40,15 @@ pub fn vertex_dimensions(vertex: u32) -> [u32; 4] {
     }
     let first = DIM_BOUNCES + DIMS_PER_BOUNCE * (vertex - 1);
     [first, first + 1, first + 2, first + 3]
+}
+
+/// The pair of dimensions vertex `vertex` (0: the camera ray's hit) of a path draws its point
+/// on the emissive triangles from (`reference::emitters`). It starts at an even dimension, so
+/// it is one of the sampler's stratified (0, 2) pairs.
+#[inline]
+pub fn emitter_dimensions(vertex: u32) -> [u32; 2] {
+    let first = DIM_EMITTERS + 2 * vertex;
+    [first, first + 1]
 }
 
 /// How samples are drawn. The discriminants are the shaders' `SAMPLER_*` constants.

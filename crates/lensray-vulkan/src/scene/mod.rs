@@ -101,6 +101,9 @@ pub(crate) struct SceneBuffers {
     textures: Buffer,
     texels: Buffer,
     lights: Buffer,
+    emitter_triangles: Buffer,
+    emitter_cdf: Buffer,
+    emitter_area_pdf: Buffer,
     /// The scene's environment map, or a black placeholder (`has_map` false).
     pub environment: environment::EnvironmentBuffers,
     /// Every triangle, in runs of the same surfaces (the raster passes' draws).
@@ -174,18 +177,31 @@ impl SceneBuffers {
             bytemuck::cast_slice(&flat.materials),
             storage,
         )?;
-        let [texcoords, colours, tangents, textures, texels, lights] = [
-            (
-                "scene texture coordinates",
-                bytemuck::cast_slice(&flat.texcoords),
-            ),
-            ("scene colours", bytemuck::cast_slice(&flat.colours)),
-            ("scene tangents", bytemuck::cast_slice(&flat.tangents)),
-            ("scene textures", bytemuck::cast_slice(&flat.textures)),
-            ("scene texels", bytemuck::cast_slice(&flat.texels)),
-            ("scene lights", bytemuck::cast_slice(&flat.lights)),
-        ]
-        .map(|(name, data)| Buffer::with_data(ctx, name, data, storage));
+        let [texcoords, colours, tangents, textures, texels, lights, emitter_triangles, emitter_cdf, emitter_area_pdf] =
+            [
+                (
+                    "scene texture coordinates",
+                    bytemuck::cast_slice(&flat.texcoords),
+                ),
+                ("scene colours", bytemuck::cast_slice(&flat.colours)),
+                ("scene tangents", bytemuck::cast_slice(&flat.tangents)),
+                ("scene textures", bytemuck::cast_slice(&flat.textures)),
+                ("scene texels", bytemuck::cast_slice(&flat.texels)),
+                ("scene lights", bytemuck::cast_slice(&flat.lights)),
+                (
+                    "scene emitter triangles",
+                    bytemuck::cast_slice(&flat.emitters.triangles),
+                ),
+                (
+                    "scene emitter cdf",
+                    bytemuck::cast_slice(&flat.emitters.cdf),
+                ),
+                (
+                    "scene emitter area pdf",
+                    bytemuck::cast_slice(&flat.emitters.area_pdf),
+                ),
+            ]
+            .map(|(name, data)| Buffer::with_data(ctx, name, data, storage));
         let accel = accel_structures
             .then(|| accel::build(ctx, &flat, &positions, &indices))
             .transpose()?;
@@ -208,6 +224,9 @@ impl SceneBuffers {
             textures: textures?,
             texels: texels?,
             lights: lights?,
+            emitter_triangles: emitter_triangles?,
+            emitter_cdf: emitter_cdf?,
+            emitter_area_pdf: emitter_area_pdf?,
             environment: environment::EnvironmentBuffers::of_scene(ctx, scene)?,
             surface_runs: flat.surface_runs,
             surfaces: flat.surfaces,
@@ -228,6 +247,9 @@ impl SceneBuffers {
             textures: &self.textures,
             texels: &self.texels,
             lights: &self.lights,
+            emitter_triangles: &self.emitter_triangles,
+            emitter_cdf: &self.emitter_cdf,
+            emitter_area_pdf: &self.emitter_area_pdf,
         });
     }
 }
