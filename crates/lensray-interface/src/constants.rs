@@ -111,9 +111,9 @@ shader_constants! {
     /// The most vertices a path shades (`--bounces`).
     MAX_BOUNCES: u32 = 16;
     /// Vertex k of a path draws its point on the emissive triangles (reference/emitters.rs:
-    /// Emitters::sample) from the pair DIM_EMITTERS + 2 k: past every vertex's environment and
-    /// BRDF pairs (DIM_BOUNCES + DIMS_PER_BOUNCE (MAX_BOUNCES - 1)), so a scene without
-    /// emitters draws the same samples as before they were lights.
+    /// Renderer::emitter_light) from the pair DIM_EMITTERS + 2 k: past every vertex's environment and
+    /// BRDF pairs (DIM_BOUNCES + DIMS_PER_BOUNCE (MAX_BOUNCES - 1)), so those keep their
+    /// numbers whether or not a scene emits.
     DIM_EMITTERS: u32 = 70;
     /// A shadow ray towards a point drawn on an emissive triangle stops this fraction of the
     /// distance short of it, so that the triangle itself does not occlude it.

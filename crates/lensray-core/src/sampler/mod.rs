@@ -228,6 +228,16 @@ mod tests {
     use super::*;
 
     #[test]
+    fn emitter_pairs_follow_every_vertex_pair() {
+        let last = vertex_dimensions(crate::interface::MAX_BOUNCES - 1);
+        for vertex in 0..crate::interface::MAX_BOUNCES {
+            let [x, y] = emitter_dimensions(vertex);
+            assert!(x % 2 == 0 && y == x + 1, "vertex {vertex}: ({x}, {y})");
+            assert!(x > last[3], "vertex {vertex}: {x} within the vertices' {last:?}");
+        }
+    }
+
+    #[test]
     fn film_sample_stays_in_its_pixel() {
         for kind in SamplerKind::ALL {
             for s in 0..256 {

@@ -9,7 +9,7 @@ use lensray_core::scene::Scene;
 
 /// The arrays of the scene group's `emitter_*` bindings, each at least one element long.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct FlatEmitters {
+pub(crate) struct FlatEmitters {
     pub triangles: Vec<u32>,
     /// A scene without emitters holds one 0 (a drawn cdf ends at 1).
     pub cdf: Vec<f32>,

@@ -27,7 +27,7 @@ mod camera;
 mod emitters;
 
 pub(crate) use camera::*;
-pub use emitters::FlatEmitters;
+pub(crate) use emitters::FlatEmitters;
 
 use crate::core::error::GpuError;
 use crate::scene::texels::flatten as flatten_textures;
