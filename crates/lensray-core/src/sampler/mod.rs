@@ -233,7 +233,10 @@ mod tests {
         for vertex in 0..crate::interface::MAX_BOUNCES {
             let [x, y] = emitter_dimensions(vertex);
             assert!(x % 2 == 0 && y == x + 1, "vertex {vertex}: ({x}, {y})");
-            assert!(x > last[3], "vertex {vertex}: {x} within the vertices' {last:?}");
+            assert!(
+                x > last[3],
+                "vertex {vertex}: {x} within the vertices' {last:?}"
+            );
         }
     }
 
