@@ -7,6 +7,13 @@ use lensray_core::interface::TRI_MATERIAL_MASK;
 use lensray_core::scene::emitters::EmitterDistribution;
 use lensray_core::scene::Scene;
 
+use crate::core::buffer::MIN_BUFFER_SIZE;
+
+/// The least length of each array: a shorter one's buffer is padded to `MIN_BUFFER_SIZE` bytes,
+/// and the shaders' `emitter_cdf.length()` (the last entry says whether anything emits, the
+/// bisection's bound) would count the padding.
+const MIN_LEN: usize = (MIN_BUFFER_SIZE as usize).div_ceil(size_of::<f32>());
+
 /// The arrays of the scene group's `emitter_*` bindings, each at least one element long.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(crate) struct FlatEmitters {
@@ -34,15 +41,25 @@ impl FlatEmitters {
         if d.is_empty() {
             // Shaders index non-empty arrays; a cdf of 0 says nothing emits.
             return Self {
-                triangles: vec![0],
-                cdf: vec![0.0],
-                area_pdf: vec![0.0],
+                triangles: vec![0; MIN_LEN],
+                cdf: vec![0.0; MIN_LEN],
+                area_pdf: vec![0.0; MIN_LEN],
             };
         }
         Self {
-            triangles: d.triangles,
-            cdf: d.cdf,
-            area_pdf: d.area_pdf,
+            triangles: padded(d.triangles, 0),
+            // Entries of 1 past the last draw nothing: no u.x < 1 lies at or above them.
+            cdf: padded(d.cdf, 1.0),
+            // Triangles past the last one are never looked up.
+            area_pdf: padded(d.area_pdf, 0.0),
         }
     }
+}
+
+/// `array` extended with `fill` to at least `MIN_LEN` elements.
+fn padded<T: Copy>(mut array: Vec<T>, fill: T) -> Vec<T> {
+    if array.len() < MIN_LEN {
+        array.resize(MIN_LEN, fill);
+    }
+    array
 }
