@@ -15,16 +15,14 @@ use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{GpuOptions, Traversal};
 use support::*;
 
-/// The Cornell box of assets/cornell without its point light: its ceiling quad (Ke 10) is the
+/// The Cornell box of assets/cornell: its ceiling quad (Ke 30) is the
 /// only light.
 fn emitter_lit_cornell() -> lensray_core::scene::Scene {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/cornell/cornell.obj");
-    let mut scene = lensray_core::scene::load_obj(&path)
+    lensray_core::scene::load_obj(&path)
         .expect("load the Cornell box")
-        .scene;
-    scene.lights.clear();
-    scene
+        .scene
 }
 
 fn cornell_shot(bounces: u32) -> Shot {

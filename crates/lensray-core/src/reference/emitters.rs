@@ -64,12 +64,12 @@ impl Renderer {
             let to_light = position - origin;
             let distance = to_light.length();
             let direction = to_light / distance;
-            if !(distance > 0.0) || !leaves(&lane, direction) {
+            if distance.is_nan() || distance <= 0.0 || !leaves(&lane, direction) {
                 return None;
             }
             let emission = self.emission_towards(triangle, barycentric, direction);
             let pdf = self.emitter_pdf(triangle, direction, distance);
-            if emission == Vec3::ZERO || !(pdf > 0.0) || !pdf.is_finite() {
+            if emission == Vec3::ZERO || !pdf.is_finite() || pdf <= 0.0 {
                 return None;
             }
             let (n, v) = (lane.surface.shading_normal, lane.to_viewer);

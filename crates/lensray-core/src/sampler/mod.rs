@@ -26,8 +26,8 @@ pub use scrambled_sobol::{sobol_1d, sobol_pixel, sobol_sample, SobolPixel};
 /// what the shaders share).
 pub use crate::interface::{
     DIMS_PER_BOUNCE, DIM_BOUNCES, DIM_BRDF_X, DIM_BRDF_Y, DIM_DISPERSION_CHECK, DIM_EMITTERS,
-    DIM_ENVIRONMENT_X,
-    DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y, DIM_WAVELENGTH,
+    DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y,
+    DIM_WAVELENGTH,
 };
 
 /// The dimensions vertex `vertex` (0: the camera ray's hit) of a path draws from: its

@@ -85,6 +85,25 @@ fn warn_coarsened(flat: &FlatScene, limit: u64) {
     );
 }
 
+/// Refuses a scene whose vertex, index, material or texel array passes the device's storage
+/// buffer range (`limit`): the shaders index each as one array.
+fn check_array_sizes(flat: &FlatScene, limit: u64) -> Result<(), GpuError> {
+    for (what, bytes) in [
+        ("vertex", std::mem::size_of_val(flat.positions.as_slice())),
+        ("index", std::mem::size_of_val(flat.indices.as_slice())),
+        ("material", std::mem::size_of_val(flat.materials.as_slice())),
+        ("texel", std::mem::size_of_val(flat.texels.as_slice())),
+    ] {
+        if bytes as u64 > limit {
+            return Err(GpuError::Invalid(format!(
+                "the scene's {what} array needs {bytes} bytes, more than the device's \
+                 maximum storage buffer range ({limit} bytes)"
+            )));
+        }
+    }
+    Ok(())
+}
+
 pub(crate) struct SceneBuffers {
     /// With ray queries enabled.
     pub accel: Option<SceneAccel>,
@@ -124,19 +143,7 @@ impl SceneBuffers {
         let limit = u64::from(ctx.report.max_storage_buffer_range);
         let flat = FlatScene::new(scene, limit)?;
         warn_coarsened(&flat, limit);
-        for (what, bytes) in [
-            ("vertex", std::mem::size_of_val(flat.positions.as_slice())),
-            ("index", std::mem::size_of_val(flat.indices.as_slice())),
-            ("material", std::mem::size_of_val(flat.materials.as_slice())),
-            ("texel", std::mem::size_of_val(flat.texels.as_slice())),
-        ] {
-            if bytes as u64 > limit {
-                return Err(GpuError::Invalid(format!(
-                    "the scene's {what} array needs {bytes} bytes, more than the device's \
-                     maximum storage buffer range ({limit} bytes)"
-                )));
-            }
-        }
+        check_array_sizes(&flat, limit)?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         // Both traversals of the driver's trace through its acceleration structures.
         let accel_structures = ctx.accel.is_some();
@@ -159,26 +166,11 @@ impl SceneBuffers {
             bytemuck::cast_slice(&flat.indices),
             build_input,
         )?;
-        let normals = Buffer::with_data(
-            ctx,
-            "scene normals",
-            bytemuck::cast_slice(&flat.normals),
-            storage,
-        )?;
-        let tri_info = Buffer::with_data(
-            ctx,
-            "scene triangle info",
-            bytemuck::cast_slice(&flat.tri_info),
-            storage,
-        )?;
-        let materials = Buffer::with_data(
-            ctx,
-            "scene materials",
-            bytemuck::cast_slice(&flat.materials),
-            storage,
-        )?;
-        let [texcoords, colours, tangents, textures, texels, lights, emitter_triangles, emitter_cdf, emitter_area_pdf] =
+        let [normals, tri_info, materials, texcoords, colours, tangents, textures, texels, lights, emitter_triangles, emitter_cdf, emitter_area_pdf] =
             [
+                ("scene normals", bytemuck::cast_slice(&flat.normals)),
+                ("scene triangle info", bytemuck::cast_slice(&flat.tri_info)),
+                ("scene materials", bytemuck::cast_slice(&flat.materials)),
                 (
                     "scene texture coordinates",
                     bytemuck::cast_slice(&flat.texcoords),
@@ -214,10 +206,10 @@ impl SceneBuffers {
             accel,
             bvh,
             positions,
-            normals,
+            normals: normals?,
             indices,
-            tri_info,
-            materials,
+            tri_info: tri_info?,
+            materials: materials?,
             texcoords: texcoords?,
             colours: colours?,
             tangents: tangents?,
