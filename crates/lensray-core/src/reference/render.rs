@@ -150,6 +150,14 @@ impl Renderer {
         self
     }
 
+    /// This renderer with no emitters' draw: an emissive triangle's light is found only where
+    /// a BRDF's draw meets it, whole (unbiased, what lensray did before emitters were lights):
+    /// what benches/emitters.rs compares the default with at equal time.
+    pub fn without_emitter_draws(mut self) -> Self {
+        self.emitters = EmitterDistribution::new(&[], |_| Vec3::ZERO);
+        self
+    }
+
     pub fn bvh_build_time(&self) -> Duration {
         self.accel.build_time
     }
