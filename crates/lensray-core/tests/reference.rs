@@ -12,6 +12,8 @@ mod edge_fit;
 
 #[path = "reference/depth_of_field.rs"]
 mod depth_of_field;
+#[path = "reference/emitters.rs"]
+mod emitters;
 #[path = "reference/scheimpflug.rs"]
 mod scheimpflug;
 #[path = "reference/shading.rs"]

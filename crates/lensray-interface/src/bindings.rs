@@ -315,6 +315,14 @@ binding_groups! {
         texels: storage_buffer() = "readonly buffer Texels { uint texels[]; }",
         /// The scene's lights; a scene without lights holds one LIGHT_NONE.
         lights: storage_buffer() = "readonly buffer Lights { Light lights[]; }",
+        /// The emissive triangles (shaders/include/emitters.glsl, lensray-core's
+        /// scene/emitters.rs); a scene without emitters holds one, of cdf 0.
+        emitter_triangles: storage_buffer() = "readonly buffer EmitterTriangles { uint emitter_triangles[]; }",
+        /// Per emissive triangle the share of the power up to it; the last is 1.
+        emitter_cdf: storage_buffer() = "readonly buffer EmitterCdf { float emitter_cdf[]; }",
+        /// Per triangle the density per unit area of an emitter draw's point on it (0 where it
+        /// does not emit); one 0 when no triangle emits.
+        emitter_area_pdf: storage_buffer() = "readonly buffer EmitterAreaPdf { float emitter_area_pdf[]; }",
     }
     /// The software traversal's BVH (shaders/include/hit_software.glsl, lensray-vulkan's
     /// scene/bvh.rs): its nodes, and its triangles in leaf order.

@@ -110,6 +110,14 @@ shader_constants! {
     DIMS_PER_BOUNCE: u32 = 4;
     /// The most vertices a path shades (`--bounces`).
     MAX_BOUNCES: u32 = 16;
+    /// Vertex k of a path draws its point on the emissive triangles (reference/emitters.rs:
+    /// Renderer::emitter_light) from the pair DIM_EMITTERS + 2 k: past every vertex's environment and
+    /// BRDF pairs (DIM_BOUNCES + DIMS_PER_BOUNCE (MAX_BOUNCES - 1)), so those keep their
+    /// numbers whether or not a scene emits.
+    DIM_EMITTERS: u32 = 70;
+    /// A shadow ray towards a point drawn on an emissive triangle stops this fraction of the
+    /// distance short of it, so that the triangle itself does not occlude it.
+    EMITTER_SHADOW_SHORTEN: f32 = 1.0e-3;
     /// `TraceParams.environment_map`: no map (the uniform sky `environment` lights); the map
     /// lights and camera rays that leave the scene see the background; they see the map.
     ENVIRONMENT_MAP_NONE: u32 = 0;

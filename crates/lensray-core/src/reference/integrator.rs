@@ -1,10 +1,12 @@
 //! A packet's samples shaded (`unlit` or `lit`): each lane's surface, then its path. A `lit`
-//! path shades `RenderSettings::bounces` surfaces: at each, the scene's lights (`lighting.rs`)
-//! and the sky by multiple importance sampling (`sky.rs`); from each but the last it goes on
-//! along the direction its BRDF drew (`brdf_sampling.rs`), and the surface found there adds
-//! its emission and its own direct light, weighed by f cos / pdf of every turn so far. At the
-//! last surface the BRDF's draw only asks whether the sky is open. Surfaces met after the
-//! camera's are read without texture filtering (no pixel footprint follows a bounce).
+//! path shades `RenderSettings::bounces` surfaces: at each, the scene's lights (`lighting.rs`),
+//! the emissive triangles (`emitters.rs`) and the sky, each of the last two by multiple
+//! importance sampling with the BRDF (`sky.rs`); from each but the last it goes on along the
+//! direction its BRDF drew (`brdf_sampling.rs`), and the surface found there adds its emission
+//! (weighed against the emitters' draw of it) and its own direct light, weighed by f cos / pdf
+//! of every turn so far. At the last surface the BRDF's draw only asks whether the sky is open
+//! (so the emitters' draw there counts whole). Surfaces met after the camera's are read
+//! without texture filtering (no pixel footprint follows a bounce).
 //! trace.comp's shade_sample mirrors it.
 
 use glam::{Vec2, Vec3};
@@ -14,11 +16,11 @@ use super::brdf::MetallicRoughness;
 use super::brdf_sampling::BrdfSample;
 use super::lighting::{LightDraw, LitLane, ShadingInputs};
 use super::render::{Renderer, TracedPacket};
-use super::sky::{leaves, sky_along, Sky};
+use super::sky::{leaves, power_heuristic, sky_along, Sky};
 use super::surface::{shadow_origin, SurfacePoint};
 use super::surface_frame::{reflection_safe_normal, vertex_coloured};
 use crate::camera::{Footprint, Ray};
-use crate::sampler::{pixel_dimension, vertex_dimensions, PixelSampler};
+use crate::sampler::{emitter_dimensions, pixel_dimension, vertex_dimensions, PixelSampler};
 use crate::scene::texture::TexcoordFootprint;
 use crate::scene::{BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 use crate::settings::{RenderSettings, Shading};
@@ -43,6 +45,24 @@ fn vertex_points(
         std::array::from_fn(|l| point(l, sx, sy)),
         std::array::from_fn(|l| point(l, bx, by)),
     )
+}
+
+/// The points of [0, 1)^2 a path's vertex draws its emitter point with.
+fn emitter_points(
+    sampler: &PixelSampler,
+    lanes: &[Option<LitLane>; PACKET_SIZE],
+    vertex: u32,
+) -> [Vec2; PACKET_SIZE] {
+    let [x, y] = emitter_dimensions(vertex);
+    std::array::from_fn(|l| {
+        lanes[l].map_or(Vec2::ZERO, |lane| {
+            let s = lane.draw.sample;
+            Vec2::new(
+                pixel_dimension(sampler, s, x),
+                pixel_dimension(sampler, s, y),
+            )
+        })
+    })
 }
 
 impl Renderer {
@@ -146,6 +166,11 @@ impl Renderer {
             let last = vertex + 1 == settings.bounces;
             let mut reflected = [Vec3::ZERO; PACKET_SIZE];
             rays += self.direct_light(&lanes, &self.lights, &mut reflected);
+            if !self.emitters.is_empty() {
+                // The last vertex's BRDF draw meets no emitter: the emitters' draw counts whole.
+                let points = emitter_points(sampler, &lanes, vertex);
+                rays += self.emitter_light(&lanes, &points, !last, &mut reflected);
+            }
             if last && sky.is_none() {
                 // Nothing more to draw (the default render): no sampler dimensions, no BRDF
                 // draw.
@@ -235,11 +260,22 @@ impl Renderer {
                 direction: directions[k],
             };
             let (emission, surface) = self.surface_lane(&ray, hit, lane.draw);
-            values[l] += throughput[l] * emission;
+            values[l] += throughput[l] * emission * self.emission_weight(&draw, &hit);
             next[l] = surface;
         }
         *lanes = next;
         going.len() as u64
+    }
+
+    /// The weight of the emission a BRDF draw meets at `hit` against the emitters' draw of the
+    /// same point (1 where nothing is drawn from the emitters).
+    fn emission_weight(&self, draw: &BrdfSample, hit: &Hit) -> f32 {
+        if self.emitters.is_empty() {
+            return 1.0;
+        }
+        let distance = hit.t * draw.direction.length();
+        let pdf = self.emitter_pdf(hit.triangle, draw.direction.normalize(), distance);
+        power_heuristic(draw.pdf, pdf)
     }
 
     /// A sample's value without its direct light: the background, the `unlit` colour, or the

@@ -7,8 +7,9 @@
 //!   ray from `surface::shadow_origin` towards the light, t in (0, d), is unoccluded
 //!   (`lighting`), plus the environment (a uniform sky or a map) by multiple importance
 //!   sampling of the environment and the BRDF (`sky`, `brdf_sampling`); f is glTF's
-//!   metallic-roughness BRDF (`brdf`); background (or the map) on a miss. With `bounces` > 1
-//!   the path goes on along the BRDF's draw (`integrator`).
+//!   metallic-roughness BRDF (`brdf`); background (or the map) on a miss. Emissive triangles
+//!   light too, drawn by their power and weighed against the BRDF's draws (`emitters`). With
+//!   `bounces` > 1 the path goes on along the BRDF's draw (`integrator`).
 //! - Single-sided surfaces (`Material::double_sided` false): a ray of any kind (camera, shadow,
 //!   environment, bounce) that meets one from behind (`is_back_face`: it sees the triangle
 //!   clockwise) passes through it, on every path.
@@ -20,6 +21,7 @@ mod accel;
 pub mod brdf;
 pub mod brdf_sampling;
 mod embree;
+mod emitters;
 mod integrator;
 mod lighting;
 mod rays;

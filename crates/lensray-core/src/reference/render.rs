@@ -16,6 +16,7 @@ use crate::film::adaptive::{self, is_class_a, AdaptiveReport};
 use crate::film::spectral::{checked_value, d_line_value};
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler, CameraSample};
+use crate::scene::emitters::EmitterDistribution;
 use crate::scene::order::sided_order;
 use crate::scene::{blend_threshold, ray_key, EnvironmentLight, Light, Scene};
 use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT};
@@ -29,6 +30,8 @@ pub struct Renderer {
     pub(super) surfaces: Arc<SurfaceData>,
     pub(super) materials: Arc<Materials>,
     pub(super) lights: Vec<Light>,
+    /// The emissive triangles, drawn as lights by their power.
+    pub(super) emitters: EmitterDistribution,
     pub(super) environment: Option<Arc<EnvironmentLight>>,
     /// Light the sky by one cosine-distributed ray a surface instead of the two draws weighed
     /// by multiple importance sampling (`with_cosine_sky`).
@@ -123,6 +126,13 @@ impl Renderer {
             .map(|&m| !materials.get(m).double_sided)
             .collect();
         Self {
+            emitters: EmitterDistribution::new(
+                &triangles
+                    .iter()
+                    .map(|t| t.map(Vec3::from))
+                    .collect::<Vec<_>>(),
+                |t| materials.get(surfaces.materials[t]).emission,
+            ),
             accel: Accel::build_with_tests(&triangles, &alpha_tested, &single_sided, alpha),
             surfaces,
             materials,
@@ -137,6 +147,14 @@ impl Renderer {
     /// do not offer): what benches/environment.rs compares the default with at equal time.
     pub fn with_cosine_sky(mut self) -> Self {
         self.cosine_sky = true;
+        self
+    }
+
+    /// This renderer with no emitters' draw: an emissive triangle's light is found only where
+    /// a BRDF's draw meets it, whole (unbiased, what lensray did before emitters were lights):
+    /// what benches/emitters.rs compares the default with at equal time.
+    pub fn without_emitter_draws(mut self) -> Self {
+        self.emitters = EmitterDistribution::new(&[], |_| Vec3::ZERO);
         self
     }
 

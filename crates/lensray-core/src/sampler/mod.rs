@@ -25,8 +25,9 @@ pub use scrambled_sobol::{sobol_1d, sobol_pixel, sobol_sample, SobolPixel};
 /// Sample dimensions used by the camera, the wavelength and a path's vertices (defined with
 /// what the shaders share).
 pub use crate::interface::{
-    DIMS_PER_BOUNCE, DIM_BOUNCES, DIM_BRDF_X, DIM_BRDF_Y, DIM_DISPERSION_CHECK, DIM_ENVIRONMENT_X,
-    DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y, DIM_WAVELENGTH,
+    DIMS_PER_BOUNCE, DIM_BOUNCES, DIM_BRDF_X, DIM_BRDF_Y, DIM_DISPERSION_CHECK, DIM_EMITTERS,
+    DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y,
+    DIM_WAVELENGTH,
 };
 
 /// The dimensions vertex `vertex` (0: the camera ray's hit) of a path draws from: its
@@ -39,6 +40,15 @@ pub fn vertex_dimensions(vertex: u32) -> [u32; 4] {
     }
     let first = DIM_BOUNCES + DIMS_PER_BOUNCE * (vertex - 1);
     [first, first + 1, first + 2, first + 3]
+}
+
+/// The pair of dimensions vertex `vertex` (0: the camera ray's hit) of a path draws its point
+/// on the emissive triangles from (`reference::emitters`). It starts at an even dimension, so
+/// it is one of the sampler's stratified (0, 2) pairs.
+#[inline]
+pub fn emitter_dimensions(vertex: u32) -> [u32; 2] {
+    let first = DIM_EMITTERS + 2 * vertex;
+    [first, first + 1]
 }
 
 /// How samples are drawn. The discriminants are the shaders' `SAMPLER_*` constants.
@@ -216,6 +226,19 @@ pub fn camera_sample(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn emitter_pairs_follow_every_vertex_pair() {
+        let last = vertex_dimensions(crate::interface::MAX_BOUNCES - 1);
+        for vertex in 0..crate::interface::MAX_BOUNCES {
+            let [x, y] = emitter_dimensions(vertex);
+            assert!(x % 2 == 0 && y == x + 1, "vertex {vertex}: ({x}, {y})");
+            assert!(
+                x > last[3],
+                "vertex {vertex}: {x} within the vertices' {last:?}"
+            );
+        }
+    }
 
     #[test]
     fn film_sample_stays_in_its_pixel() {

@@ -86,7 +86,7 @@ pub fn default_scene() -> SceneDescription {
         camera,
         16,
         [0.45, 0.6, 0.85],
-        (Vec3::new(-4.0, 10.0, 5.0), [400.0, 400.0, 400.0]),
+        Some((Vec3::new(-4.0, 10.0, 5.0), [400.0, 400.0, 400.0])),
         DEFAULT_SCENE_SOURCE,
     )
 }

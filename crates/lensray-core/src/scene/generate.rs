@@ -282,13 +282,14 @@ pub fn camera_settings(
     }
 }
 
-/// A generated scene with the settings every generator sets: 640x480, lit, one point light.
+/// A generated scene with the settings every generator sets: 640x480, lit, and its point light
+/// (`None`: the scene's emissive surfaces light it).
 pub(crate) fn describe(
     scene: Scene,
     camera: CameraSettings,
     spp: u32,
     background: [f64; 3],
-    light: (Vec3, [f64; 3]),
+    light: Option<(Vec3, [f64; 3])>,
     source: &str,
 ) -> SceneDescription {
     SceneDescription {
@@ -308,11 +309,16 @@ pub(crate) fn describe(
                 background: Some(background),
                 ..RenderStyle::default()
             },
-            light: Lights(vec![LightSettings {
-                position: Some(round3(light.0)),
-                intensity: Some(light.1),
-                ..LightSettings::default()
-            }]),
+            light: Lights(
+                light
+                    .map(|(position, intensity)| LightSettings {
+                        position: Some(round3(position)),
+                        intensity: Some(intensity),
+                        ..LightSettings::default()
+                    })
+                    .into_iter()
+                    .collect(),
+            ),
         },
         source: source.into(),
         ..SceneDescription::default()
@@ -321,15 +327,15 @@ pub(crate) fn describe(
 
 /// A Cornell-box-style room 2 m wide, deep and high (x in [-1, 1], y in [0, 2], z in [-1, 1], open
 /// towards +z): red left wall, green right wall, white floor, ceiling and back wall, a tall box
-/// and a sphere, an emissive patch 2 mm under the ceiling and a point light 15 cm below the
-/// ceiling (close enough to the patch that the patch's shadow on the ceiling stays under a pixel
-/// wide). The camera looks in through the open side, focused on the sphere. 2232 triangles.
+/// and a sphere, lit only by an emissive patch 2 mm under the ceiling (drawn as a light,
+/// `reference::emitters`). The camera looks in through the open side, focused on the sphere.
+/// 2232 triangles.
 pub fn cornell_box() -> SceneDescription {
     let mut b = SceneBuilder::new();
     let white = b.material("white", Vec3::splat(0.73), Vec3::ZERO);
     let red = b.material("red", Vec3::new(0.65, 0.05, 0.05), Vec3::ZERO);
     let green = b.material("green", Vec3::new(0.12, 0.45, 0.15), Vec3::ZERO);
-    let light = b.material("light", Vec3::splat(0.78), Vec3::splat(10.0));
+    let light = b.material("light", Vec3::splat(0.78), Vec3::splat(30.0));
     let blue = b.material("blue", Vec3::new(0.1, 0.2, 0.6), Vec3::ZERO);
     let (x, y, z) = (Vec3::X * 2.0, Vec3::Y * 2.0, Vec3::Z * 2.0);
     let lo = Vec3::new(-1.0, 0.0, -1.0);
@@ -369,7 +375,7 @@ pub fn cornell_box() -> SceneDescription {
         camera,
         32,
         [0.0, 0.0, 0.0],
-        (Vec3::new(0.0, 1.85, 0.0), [5.0, 5.0, 5.0]),
+        None,
         "generated cornell_box",
     )
 }
@@ -424,7 +430,7 @@ pub fn sphere_row() -> SceneDescription {
         camera,
         32,
         [0.5, 0.65, 0.85],
-        (Vec3::new(3.0, 8.0, 6.0), [300.0, 300.0, 300.0]),
+        Some((Vec3::new(3.0, 8.0, 6.0), [300.0, 300.0, 300.0])),
         "generated sphere_row",
     )
 }
@@ -499,7 +505,7 @@ pub fn dense(min_triangles: usize) -> SceneDescription {
         camera,
         16,
         [0.5, 0.65, 0.85],
-        (Vec3::new(-6.0, 12.0, 4.0), [600.0, 600.0, 600.0]),
+        Some((Vec3::new(-6.0, 12.0, 4.0), [600.0, 600.0, 600.0])),
         "generated dense",
     )
 }
@@ -551,7 +557,7 @@ pub fn bokeh() -> SceneDescription {
         camera,
         256,
         [0.01, 0.01, 0.015],
-        (Vec3::new(2.0, 3.0, 7.0), [40.0, 40.0, 40.0]),
+        Some((Vec3::new(2.0, 3.0, 7.0), [40.0, 40.0, 40.0])),
         "generated bokeh",
     )
 }

@@ -11,6 +11,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 pub mod builtin;
 pub mod camera_animation;
+pub mod emitters;
 pub mod environment;
 mod error;
 pub mod file;

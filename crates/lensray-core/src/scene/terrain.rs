@@ -199,7 +199,7 @@ pub fn terrain() -> SceneDescription {
         camera,
         16,
         [0.55, 0.7, 0.9],
-        (Vec3::new(-10.0, 25.0, 10.0), [2000.0, 2000.0, 2000.0]),
+        Some((Vec3::new(-10.0, 25.0, 10.0), [2000.0, 2000.0, 2000.0])),
         "generated terrain",
     )
 }

@@ -1,6 +1,7 @@
 //! The lights a user gives (a scene file's `[[light]]` tables, the command line's `--light-*`)
 //! and what they resolve to: [`Light`]s added to the scene's own, or, where neither the file
-//! nor the settings light the scene and there is no environment, one point light above the eye.
+//! nor the settings light the scene and there is no environment and no emissive surface, one
+//! point light above the eye.
 
 use std::fmt;
 
@@ -174,8 +175,19 @@ fn light(s: &LightSettings, at: &Placement) -> Result<Light, SettingsError> {
     })
 }
 
+/// Whether a triangle of `scene` emits: its emissive surfaces light it
+/// (`reference::emitters`).
+fn emits(scene: &Scene) -> bool {
+    scene.meshes.iter().any(|mesh| {
+        mesh.material_ids
+            .iter()
+            .any(|&m| scene.materials[m as usize].emission != Vec3::ZERO)
+    })
+}
+
 /// The lights `settings` add to `scene`: each of theirs, or one point light above the eye when
-/// neither they nor the scene's file give one and there is no environment to light it.
+/// neither they nor the scene's file give one and there is no environment or emissive surface
+/// to light it.
 pub fn settings_lights(settings: &Settings, scene: &Scene) -> Result<Vec<Light>, SettingsError> {
     let environment = settings
         .render
@@ -183,7 +195,7 @@ pub fn settings_lights(settings: &Settings, scene: &Scene) -> Result<Vec<Light>,
         .as_ref()
         .is_some_and(EnvironmentSetting::lights);
     let given = &settings.light.0;
-    if given.is_empty() && (!scene.lights.is_empty() || environment) {
+    if given.is_empty() && (!scene.lights.is_empty() || environment || emits(scene)) {
         return Ok(Vec::new());
     }
     let f = framing(settings, scene)?;

@@ -3,7 +3,8 @@
 //! The camera looks along -z at a wall z = WALL; a square occluder [-H, H]^2 at z = OCC sits
 //! between the wall and a point light up and to the right, so the shadow falls down and to the
 //! left of where the occluder itself is seen. Wall: red emission plus a grey diffuse term;
-//! occluder: blue emission, no diffuse term. Each of the three cases has its own value.
+//! occluder: black (an emissive occluder would light the wall). Each of the three cases has
+//! its own value.
 
 use std::path::PathBuf;
 
@@ -27,8 +28,8 @@ const H: f32 = 0.2;
 const LIGHT: Vec3 = Vec3::new(0.8, 0.3, -1.0);
 /// The wall's emission: all a shadowed wall pixel shows.
 const WALL_EMISSION: Vec3 = Vec3::new(0.05, 0.0, 0.0);
-/// The occluder's emission: all an occluder pixel shows.
-const OCCLUDER_EMISSION: Vec3 = Vec3::new(0.0, 0.0, 0.05);
+/// What an occluder pixel shows: it neither emits nor reflects.
+const OCCLUDER_EMISSION: Vec3 = Vec3::ZERO;
 
 /// Writes an image as an sRGB PNG under target/test-output (for a failing test to show).
 fn write_png(image: &Image, name: &str) -> PathBuf {

@@ -183,6 +183,12 @@ uvec4 vertex_dimensions(uint vertex) {
     return uvec4(first, first + 1u, first + 2u, first + 3u);
 }
 
+// mod.rs: emitter_dimensions
+uvec2 emitter_dimensions(uint vertex) {
+    uint first = DIM_EMITTERS + 2u * vertex;
+    return uvec2(first, first + 1u);
+}
+
 CameraSample pixel_camera_sample(PixelSampler state, uint sample_index) {
     vec4 u = state.kind == SAMPLER_INDEPENDENT ? independent_sample(state.key, sample_index)
                                                : sobol_sample(state.sobol, sample_index);

@@ -1,7 +1,7 @@
 // Shading of the thin-lens compute pass, as specified for every renderer (lensray-core/src/settings/render.rs,
 // the CPU reference, lensray-core/src/reference/): unlit (the diffuse colour of the closest hit)
 // or lit: at each surface of a path, emission + the scene's lights, each through a shadow ray,
-// + the sky (a uniform one or the scene's map) drawn from the sky and from the BRDF, weighed by
+// + the emissive triangles drawn by power and from the BRDF (emitters.glsl) + the sky (a uniform one or the scene's map) drawn from the sky and from the BRDF, weighed by
 // multiple importance sampling (sky.glsl), each reflected by the metallic-roughness BRDF of
 // brdf.glsl; colours textured and filtered over the pinhole's pixel footprint at the camera's
 // surface, unfiltered after a bounce. Include after a hit implementation (hit_rayquery.glsl,
@@ -17,6 +17,7 @@
 #include "brdf.glsl"
 #include "environment.glsl"
 #include "sky.glsl"
+#include "emitters.glsl"
 #include "surface_frame.glsl"
 
 // reference/lighting.rs: LightDraw (the cut is the camera ray's; shadow_cut derives the
@@ -41,6 +42,16 @@ vec4 vertex_points(LightDraw draw, uint vertex) {
                 pixel_dimension(draw.state, draw.sample_index, d.w));
 }
 
+// reference/integrator.rs: emitter_points (`centred`: (0.5, 0.5)).
+vec2 emitter_point(LightDraw draw, uint vertex) {
+    if (draw.centred) {
+        return vec2(0.5);
+    }
+    uvec2 d = emitter_dimensions(vertex);
+    return vec2(pixel_dimension(draw.state, draw.sample_index, d.x),
+                pixel_dimension(draw.state, draw.sample_index, d.y));
+}
+
 // reference/lighting.rs: LitLane (o: the shadow rays' origin, v: towards the viewer).
 struct LitSurface {
     vec3 o;
@@ -62,18 +73,47 @@ vec3 sky_along(LitSurface s, BrdfSample draw) {
     return draw.weight * sky_radiance(draw.direction) * (w * s.occlusion);
 }
 
-// reference/lighting.rs: direct_light, then sky.rs: Renderer::sky_light and, where `along` (a
-// path's last surface), Renderer::sky_along_draws with the BRDF's `draw`: steps i < lights.length()
-// are the lights, the next the sky's own draw at `sky_point`, the last the sky along `draw`.
+// reference/emitters.rs: Renderer::emitter_light's lane: the shadow ray to the point `u` draws
+// on the emitters and the light it brings, weighed against the BRDF's draw where `mis`.
+bool emitter_draw(LitSurface s, vec2 u, bool mis, out vec3 direction, out float t_max,
+                  out vec3 reflected) {
+    vec2 on_triangle;
+    uint tri = emitter_pick(u, on_triangle);
+    vec2 b;
+    vec3 to_light = uniform_point(tri, on_triangle, b) - s.o;
+    float distance = length(to_light);
+    direction = to_light / distance;
+    t_max = distance * (1.0 - EMITTER_SHADOW_SHORTEN);
+    reflected = vec3(0.0);
+    if (!(distance > 0.0) || !leaves(s, direction)) {
+        return false;
+    }
+    vec3 emission = emission_towards(tri, b, direction);
+    float pdf = emitter_pdf(tri, direction, distance);
+    if (emission == vec3(0.0) || !(pdf > 0.0) || isinf(pdf)) {
+        return false;
+    }
+    float w = mis ? power_heuristic(pdf, brdf_pdf(s.brdf, s.ns, direction, s.v)) : 1.0;
+    reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * dot(s.ns, direction) * emission
+        * (w / pdf);
+    return true;
+}
+
+// reference/lighting.rs: direct_light, emitters.rs: Renderer::emitter_light (where
+// emitters_light(), at `emitter_u`, weighed against the BRDF where `emitter_mis`), then sky.rs:
+// Renderer::sky_light and, where `along` (a path's last surface), Renderer::sky_along_draws
+// with the BRDF's `draw`: steps i < lights.length() are the lights, the next the emitters', the
+// next the sky's own draw at `sky_point`, the last the sky along `draw`.
 // One shadow-ray call site, so the traversal is inlined once. `shadowed` gets bit i set where
 // light i (i < 24) is blocked: the hybrid's plan compares it between neighbours.
-vec3 direct_light(LitSurface s, vec2 sky_point, bool along, BrdfSample draw, BlendCut cut,
-                  inout uint rays, out uint shadowed) {
+vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point, bool along,
+                  BrdfSample draw, BlendCut cut, inout uint rays, out uint shadowed) {
     shadowed = 0u;
     vec3 radiance = vec3(0.0);
     uint count = lights.length();
     bool sky = sky_lights();
-    for (uint i = 0u; i < count + 2u; ++i) {
+    bool emitters = emitters_light();
+    for (uint i = 0u; i < count + 3u; ++i) {
         vec3 direction;
         float t_max = T_MAX;
         vec3 reflected;
@@ -90,6 +130,10 @@ vec3 direct_light(LitSurface s, vec2 sky_point, bool along, BrdfSample draw, Ble
             t_max = incident.distance;
             reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * c * incident.irradiance;
         } else if (i == count) {
+            if (!emitters || !emitter_draw(s, emitter_u, emitter_mis, direction, t_max, reflected)) {
+                continue;
+            }
+        } else if (i == count + 1u) {
             if (!sky) {
                 break;
             }

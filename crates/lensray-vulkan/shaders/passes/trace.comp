@@ -123,7 +123,8 @@ vec3 reprojected_shortcut(Reprojection r, uint pixel_index, CameraSample cs) {
 // The radiance along `ray`, which cuts BLEND surfaces with `draw.cut`; where `rasterized`, the
 // visibility pass drew its first hit at `pixel_index` (the raster path's sample, the hybrid's lit
 // pre-pass) and no traversal finds it. A lit path shades params.bounces surfaces
-// (reference/integrator.rs): at each its lights and the sky (shading.glsl: direct_light), and
+// (reference/integrator.rs): at each its lights, the emitters and the sky (shading.glsl:
+// direct_light; a bounce's emission weighed against the emitters' draw), and
 // from each but the last it goes on along its BRDF's draw, weighed by f cos / pdf. `rays` counts
 // the rays, `shadowed` says which lights the first surface's shadow rays found blocked. Every
 // mode shades through this one call and the path has one closest-hit call site: each inlined
@@ -164,6 +165,12 @@ vec3 shade_sample(Ray ray, LightDraw draw, bool rasterized, uint pixel_index, in
         bool lit = surface_at(ray, hit, vertex == 0u, s, emission);
         if (vertex > 0u) {
             throughput *= went.weight;
+            // reference/integrator.rs: emission_weight
+            if (emitters_light()) {
+                float pdf = emitter_pdf(hit.triangle, normalize(ray.direction),
+                                        hit.t * length(ray.direction));
+                emission *= power_heuristic(went.pdf, pdf);
+            }
         }
         value += throughput * emission;
         if (!lit) {
@@ -179,7 +186,9 @@ vec3 shade_sample(Ray ray, LightDraw draw, bool rasterized, uint pixel_index, in
             && leaves(s, next.direction);
         uint blocked;
         cut = shadow_cut(draw.cut);
-        vec3 reflected = direct_light(s, u.xy, last && drawn, next, cut, rays, blocked);
+        // The last surface's BRDF draw meets no emitter: the emitters' draw counts whole.
+        vec2 e = emitters_light() ? emitter_point(draw, vertex) : vec2(0.0);
+        vec3 reflected = direct_light(s, e, !last, u.xy, last && drawn, next, cut, rays, blocked);
         if (vertex == 0u) {
             shadowed = blocked;
         }

@@ -10,6 +10,10 @@ use crate::core::device::Context;
 use crate::core::error::{alloc_err, vk_err, GpuError};
 
 /// A buffer and its memory, freed on drop.
+/// The least size of a buffer in bytes: descriptors bind whole buffers, so a shader's
+/// `.length()` of a shorter array counts this padding too.
+pub(crate) const MIN_BUFFER_SIZE: u64 = 16;
+
 pub(crate) struct Buffer {
     ctx: Arc<Context>,
     pub buffer: vk::Buffer,
@@ -27,7 +31,7 @@ impl Buffer {
         usage: vk::BufferUsageFlags,
         location: MemoryLocation,
     ) -> Result<Self, GpuError> {
-        let size = size.max(16);
+        let size = size.max(MIN_BUFFER_SIZE);
         let info = vk::BufferCreateInfo::default()
             .size(size)
             .usage(usage)

@@ -85,6 +85,25 @@ fn warn_coarsened(flat: &FlatScene, limit: u64) {
     );
 }
 
+/// Refuses a scene whose vertex, index, material or texel array passes the device's storage
+/// buffer range (`limit`): the shaders index each as one array.
+fn check_array_sizes(flat: &FlatScene, limit: u64) -> Result<(), GpuError> {
+    for (what, bytes) in [
+        ("vertex", std::mem::size_of_val(flat.positions.as_slice())),
+        ("index", std::mem::size_of_val(flat.indices.as_slice())),
+        ("material", std::mem::size_of_val(flat.materials.as_slice())),
+        ("texel", std::mem::size_of_val(flat.texels.as_slice())),
+    ] {
+        if bytes as u64 > limit {
+            return Err(GpuError::Invalid(format!(
+                "the scene's {what} array needs {bytes} bytes, more than the device's \
+                 maximum storage buffer range ({limit} bytes)"
+            )));
+        }
+    }
+    Ok(())
+}
+
 pub(crate) struct SceneBuffers {
     /// With ray queries enabled.
     pub accel: Option<SceneAccel>,
@@ -101,6 +120,9 @@ pub(crate) struct SceneBuffers {
     textures: Buffer,
     texels: Buffer,
     lights: Buffer,
+    emitter_triangles: Buffer,
+    emitter_cdf: Buffer,
+    emitter_area_pdf: Buffer,
     /// The scene's environment map, or a black placeholder (`has_map` false).
     pub environment: environment::EnvironmentBuffers,
     /// Every triangle, in runs of the same surfaces (the raster passes' draws).
@@ -121,19 +143,7 @@ impl SceneBuffers {
         let limit = u64::from(ctx.report.max_storage_buffer_range);
         let flat = FlatScene::new(scene, limit)?;
         warn_coarsened(&flat, limit);
-        for (what, bytes) in [
-            ("vertex", std::mem::size_of_val(flat.positions.as_slice())),
-            ("index", std::mem::size_of_val(flat.indices.as_slice())),
-            ("material", std::mem::size_of_val(flat.materials.as_slice())),
-            ("texel", std::mem::size_of_val(flat.texels.as_slice())),
-        ] {
-            if bytes as u64 > limit {
-                return Err(GpuError::Invalid(format!(
-                    "the scene's {what} array needs {bytes} bytes, more than the device's \
-                     maximum storage buffer range ({limit} bytes)"
-                )));
-            }
-        }
+        check_array_sizes(&flat, limit)?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         // Both traversals of the driver's trace through its acceleration structures.
         let accel_structures = ctx.accel.is_some();
@@ -156,36 +166,34 @@ impl SceneBuffers {
             bytemuck::cast_slice(&flat.indices),
             build_input,
         )?;
-        let normals = Buffer::with_data(
-            ctx,
-            "scene normals",
-            bytemuck::cast_slice(&flat.normals),
-            storage,
-        )?;
-        let tri_info = Buffer::with_data(
-            ctx,
-            "scene triangle info",
-            bytemuck::cast_slice(&flat.tri_info),
-            storage,
-        )?;
-        let materials = Buffer::with_data(
-            ctx,
-            "scene materials",
-            bytemuck::cast_slice(&flat.materials),
-            storage,
-        )?;
-        let [texcoords, colours, tangents, textures, texels, lights] = [
-            (
-                "scene texture coordinates",
-                bytemuck::cast_slice(&flat.texcoords),
-            ),
-            ("scene colours", bytemuck::cast_slice(&flat.colours)),
-            ("scene tangents", bytemuck::cast_slice(&flat.tangents)),
-            ("scene textures", bytemuck::cast_slice(&flat.textures)),
-            ("scene texels", bytemuck::cast_slice(&flat.texels)),
-            ("scene lights", bytemuck::cast_slice(&flat.lights)),
-        ]
-        .map(|(name, data)| Buffer::with_data(ctx, name, data, storage));
+        let [normals, tri_info, materials, texcoords, colours, tangents, textures, texels, lights, emitter_triangles, emitter_cdf, emitter_area_pdf] =
+            [
+                ("scene normals", bytemuck::cast_slice(&flat.normals)),
+                ("scene triangle info", bytemuck::cast_slice(&flat.tri_info)),
+                ("scene materials", bytemuck::cast_slice(&flat.materials)),
+                (
+                    "scene texture coordinates",
+                    bytemuck::cast_slice(&flat.texcoords),
+                ),
+                ("scene colours", bytemuck::cast_slice(&flat.colours)),
+                ("scene tangents", bytemuck::cast_slice(&flat.tangents)),
+                ("scene textures", bytemuck::cast_slice(&flat.textures)),
+                ("scene texels", bytemuck::cast_slice(&flat.texels)),
+                ("scene lights", bytemuck::cast_slice(&flat.lights)),
+                (
+                    "scene emitter triangles",
+                    bytemuck::cast_slice(&flat.emitters.triangles),
+                ),
+                (
+                    "scene emitter cdf",
+                    bytemuck::cast_slice(&flat.emitters.cdf),
+                ),
+                (
+                    "scene emitter area pdf",
+                    bytemuck::cast_slice(&flat.emitters.area_pdf),
+                ),
+            ]
+            .map(|(name, data)| Buffer::with_data(ctx, name, data, storage));
         let accel = accel_structures
             .then(|| accel::build(ctx, &flat, &positions, &indices))
             .transpose()?;
@@ -198,16 +206,19 @@ impl SceneBuffers {
             accel,
             bvh,
             positions,
-            normals,
+            normals: normals?,
             indices,
-            tri_info,
-            materials,
+            tri_info: tri_info?,
+            materials: materials?,
             texcoords: texcoords?,
             colours: colours?,
             tangents: tangents?,
             textures: textures?,
             texels: texels?,
             lights: lights?,
+            emitter_triangles: emitter_triangles?,
+            emitter_cdf: emitter_cdf?,
+            emitter_area_pdf: emitter_area_pdf?,
             environment: environment::EnvironmentBuffers::of_scene(ctx, scene)?,
             surface_runs: flat.surface_runs,
             surfaces: flat.surfaces,
@@ -228,6 +239,9 @@ impl SceneBuffers {
             textures: &self.textures,
             texels: &self.texels,
             lights: &self.lights,
+            emitter_triangles: &self.emitter_triangles,
+            emitter_cdf: &self.emitter_cdf,
+            emitter_area_pdf: &self.emitter_area_pdf,
         });
     }
 }

@@ -24,8 +24,10 @@ use lensray_core::scene::{Light, LightKind, Mesh, Scene};
 use lensray_core::settings::{Shading, Shot};
 
 mod camera;
+mod emitters;
 
 pub(crate) use camera::*;
+pub(crate) use emitters::FlatEmitters;
 
 use crate::core::error::GpuError;
 use crate::scene::texels::flatten as flatten_textures;
@@ -73,6 +75,8 @@ pub(crate) struct FlatScene {
     pub coarsened: Vec<(String, [u32; 2], [u32; 2])>,
     /// At least one: a scene without lights holds one LIGHT_NONE.
     pub lights: Vec<GpuLight>,
+    /// The emissive triangles and their distribution.
+    pub emitters: FlatEmitters,
     pub meshes: Vec<MeshRange>,
     /// Every triangle in one run, in order.
     pub surface_runs: Vec<SurfaceRun>,
@@ -169,6 +173,7 @@ impl FlatScene {
                 array.push([0.0; 4]);
             }
         }
+        flat.emitters = FlatEmitters::new(&flat.positions, &flat.indices, &flat.tri_info, scene);
         Ok(flat)
     }
 
