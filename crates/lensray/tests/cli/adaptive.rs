@@ -193,3 +193,65 @@ fn raster_and_hybrid_refuse_adaptive_sampling_in_one_line() {
         assert!(!dir.path().join("x.png").exists());
     }
 }
+
+/// `lensray bench --noise-threshold`: the paths that sample adaptively run it (the others are
+/// left out with a notice, or refused in one line when named) against the uniform reference,
+/// and the traced GPU paths measure the CPU's error: they take its samples.
+#[test]
+fn the_bench_samples_adaptively_on_the_paths_that_can() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = vec![
+        "bench",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--spp",
+        "32",
+        "--noise-threshold",
+        "0.1",
+        "--repeat",
+        "1",
+        "--reference-spp",
+        "128",
+        "--no-cache",
+    ];
+    let refused = lensray(
+        &[args.as_slice(), &["--paths", "raster"]].concat(),
+        dir.path(),
+    );
+    let err = stderr(&refused);
+    assert!(!refused.status.success(), "raster accepted it");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("does not sample adaptively"), "{err}");
+    args.extend(["--device", "auto", "--validate", "--json", "bench.json"]);
+    let run = lensray(&args, dir.path());
+    if !run.status.success() {
+        skip_or_fail("the_bench_samples_adaptively", &stderr(&run));
+        return;
+    }
+    assert!(
+        stderr(&run).contains("leaving out hybrid and raster"),
+        "{}",
+        stderr(&run)
+    );
+    let bytes = std::fs::read(dir.path().join("bench.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
+    assert_eq!(json["settings"]["noise_threshold"], 0.1, "{json}");
+    let results = json["points"][0]["results"].as_array().unwrap();
+    let rmse = |path: &str| {
+        let m = results.iter().find(|m| m["path"] == path);
+        m.map(|m| m["rmse"].as_f64().unwrap())
+    };
+    let cpu = rmse("cpu").expect("the CPU path runs");
+    for path in ["software", "rayquery"] {
+        let gpu = rmse(path).unwrap_or_else(|| panic!("{path} did not run: {json}"));
+        assert!(
+            (gpu / cpu - 1.0).abs() < 0.01,
+            "{path}: RMSE {gpu}, CPU's {cpu}"
+        );
+    }
+    for path in ["hybrid", "raster"] {
+        assert!(rmse(path).is_none(), "{path} ran: {json}");
+    }
+}
