@@ -51,6 +51,15 @@ impl ProgressiveSchedule {
         self.groups = 1;
     }
 
+    /// Goes on from sample `next_sample` of every pixel to `target` (adaptive sampling's next
+    /// round: the shader skips the samples each pixel already has, `film::adaptive`).
+    pub fn resume(&mut self, next_sample: u32, target: u32) {
+        self.next_sample = next_sample;
+        self.group = 0;
+        self.groups = 1;
+        self.target = target;
+    }
+
     /// A new target: raising it continues where the accumulation is.
     pub fn set_target(&mut self, spp: u32) {
         self.target = spp;

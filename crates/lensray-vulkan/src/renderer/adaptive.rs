@@ -4,34 +4,30 @@
 //! `ADAPTIVE_IDLE` for those that rest) and class A sums go up in the hybrid's plan buffer,
 //! which the traced path leaves unused; the shader adds an active pixel's samples from its
 //! count to the round's end, its class A samples to the entry's sum too. The sums and the
-//! entries come back after each round: the host's rule needs them all.
+//! entries come back after each round: the host's rule needs them all. The preview's rounds
+//! (`present::viewer::rounds`) use the same entries through the helpers at the end.
 
 use glam::Vec3;
 
+use super::batch::SampleBatch;
 use super::{check_samples, GpuRenderer};
 use crate::core::error::GpuError;
 use crate::core::recorder::Recorder;
-use crate::passes::trace::{RecordSamples, TracePipelines};
+use crate::Estimator;
 use lensray_core::film::adaptive::{self, AdaptiveReport};
 use lensray_core::film::{Accumulation, Progress, Sums};
-use lensray_core::interface::{TracePush, ADAPTIVE_IDLE, TRACE_MODE_ADAPTIVE};
+use lensray_core::interface::ADAPTIVE_IDLE;
 use lensray_core::settings::Shot;
 
-/// The traced estimator's dispatches in adaptive sampling's mode.
-struct AdaptiveRound;
-
-impl RecordSamples for AdaptiveRound {
-    fn mode(&self) -> u32 {
-        TRACE_MODE_ADAPTIVE
-    }
-
-    fn record(&self, trace: &TracePipelines, rec: &mut Recorder<'_>, push: TracePush, width: u32) {
-        let push = TracePush {
-            mode: TRACE_MODE_ADAPTIVE,
-            ..push
-        };
-        trace.record_dispatch(rec, push, width);
-    }
+/// The plan entries of a round: each pixel's count where `active` (else `ADAPTIVE_IDLE`) and
+/// its class A sum.
+pub(crate) fn round_entries(sums: &Sums, class_a: &[Vec3], active: &[bool]) -> Vec<[f32; 4]> {
+    sums.pixels
+        .iter()
+        .zip(class_a)
+        .zip(active)
+        .map(|((sum, a), &on)| [a.x, a.y, a.z, if on { sum[3] } else { ADAPTIVE_IDLE }])
+        .collect()
 }
 
 impl GpuRenderer {
@@ -89,13 +85,7 @@ impl GpuRenderer {
         sums: &mut Sums,
         class_a: &mut [Vec3],
     ) -> Result<(), GpuError> {
-        let entries: Vec<[f32; 4]> = sums
-            .pixels
-            .iter()
-            .zip(class_a.iter())
-            .zip(active)
-            .map(|((sum, a), &on)| [a.x, a.y, a.z, if on { sum[3] } else { ADAPTIVE_IDLE }])
-            .collect();
+        let entries = round_entries(sums, class_a, active);
         // The call covers the samples of the pixel furthest behind; each pixel starts at its own.
         let begin = sums
             .pixels
@@ -108,12 +98,14 @@ impl GpuRenderer {
             return Ok(());
         };
         self.trace.plan.upload(&entries)?;
+        let scene = self.scene.as_ref().ok_or(GpuError::NoScene)?;
+        let batch = SampleBatch::new(Estimator::Traced, shot, None, scene)?.adaptive()?;
         self.trace.accumulate(
-            shot,
+            batch.shot(),
             begin..end,
             accumulation,
             &mut self.timings,
-            &AdaptiveRound,
+            &batch,
             &mut |_, _| {},
         )?;
         self.trace.films.read(accumulation)?;
@@ -123,5 +115,37 @@ impl GpuRenderer {
             *a = Vec3::new(entry[0], entry[1], entry[2]);
         }
         Ok(())
+    }
+}
+
+/// The preview's side: its frames record the rounds' samples into their own command buffers
+/// (`SampleBatch::adaptive`), the viewer decides between rounds with every frame finished.
+impl GpuRenderer {
+    /// Whether the plan buffer holds the entries of `pixels` pixels (else
+    /// `ensure_adaptive_entries` replaces it, with no frame in flight).
+    pub(crate) fn adaptive_entries_fit(&self, pixels: u64) -> bool {
+        self.trace.plan.plan().size >= pixels * 16
+    }
+
+    /// Makes the plan buffer hold the entries of `pixels` pixels. No submission using it may
+    /// be pending.
+    pub(crate) fn ensure_adaptive_entries(&mut self, pixels: u64) -> Result<(), GpuError> {
+        self.trace.ensure_plan_capacity(pixels)
+    }
+
+    /// Records the first round's entries: every pixel active from 0, its class A sum 0 (the
+    /// accumulation is cleared in the same frame).
+    pub(crate) fn record_adaptive_start(&self, rec: &mut Recorder<'_>) {
+        rec.fill_buffer(self.trace.plan.plan(), 0, ash::vk::WHOLE_SIZE, 0);
+    }
+
+    /// The first `pixels` entries as the device left them (waited for).
+    pub(crate) fn read_adaptive_entries(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.trace.plan.read(pixels)
+    }
+
+    /// Writes the next round's entries (waited for).
+    pub(crate) fn upload_adaptive_entries(&mut self, entries: &[[f32; 4]]) -> Result<(), GpuError> {
+        self.trace.plan.upload(entries)
     }
 }

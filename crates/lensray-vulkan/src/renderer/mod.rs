@@ -4,7 +4,7 @@
 //! frames in `frames`; the probes' hooks in `probe_hooks`. The fields are private to this
 //! module: the rest of the crate (the preview included) goes through these functions.
 
-mod adaptive;
+pub(crate) mod adaptive;
 mod batch;
 mod estimators;
 mod frames;

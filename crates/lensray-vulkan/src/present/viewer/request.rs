@@ -82,9 +82,12 @@ pub struct FrameTimes {
 pub struct FrameResult {
     /// False when nothing was drawn (window minimised or being resized).
     pub drawn: bool,
-    /// Samples every pixel has.
+    /// Samples every pixel has (sampling adaptively: the pixels still sampling).
     pub spp: u32,
     pub converged: bool,
+    /// Sampling adaptively (`--noise-threshold`): the pixels still taking samples (0 once
+    /// every pixel converged or reached the cap); `None`: every pixel takes the same samples.
+    pub adaptive_active: Option<usize>,
     /// With a pick: the view depth there, `None` where no surface covers the pixel.
     pub picked_depth: Option<Option<f32>>,
     /// Times of the latest finished frame.

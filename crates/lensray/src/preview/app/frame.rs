@@ -211,6 +211,7 @@ impl App {
             .record(now, result.times, u64::from(width) * u64::from(height));
         self.spp = result.spp;
         self.converged = result.converged;
+        self.adaptive_active = result.adaptive_active;
     }
 
     /// A Shift+clicked surface at view depth `depth` under `pixel` of `camera`: the third lays
