@@ -75,7 +75,7 @@ fn gpu_adaptive_matches_cpu(shading: Shading) {
     let gpu_samples: u64 = gpu_counts.iter().map(|&n| u64::from(n)).sum();
     // The render must be adaptive for the comparison to mean anything: some pixels rest.
     assert!(
-        gpu_samples < u64::from(SPP) * pixels as u64 && gpu_counts.iter().any(|&n| n == SPP),
+        gpu_samples < u64::from(SPP) * pixels as u64 && gpu_counts.contains(&SPP),
         "{name}: {gpu_samples} samples over {pixels} pixels"
     );
     // A pixel whose error lies within float noise of the threshold may go on on one device and
