@@ -215,4 +215,17 @@ mod tests {
         assert_eq!(s.samples_complete(), 0);
         assert!(!s.converged());
     }
+
+    #[test]
+    fn resume_goes_on_from_a_sample_to_a_new_target() {
+        let mut s = ProgressiveSchedule::new(16, 16, 8, 32);
+        s.plan(u64::MAX / 4, 64);
+        assert!(s.converged());
+        // An adaptive round: the pixel furthest behind has 16, the round ends at 48.
+        s.resume(16, 48);
+        assert!(!s.converged());
+        let items = s.plan(u64::MAX / 4, 64);
+        assert_eq!((items[0].sample_begin, items[0].sample_end), (16, 48));
+        assert!(s.converged() && s.samples_complete() == 48);
+    }
 }
