@@ -154,6 +154,10 @@ struct App {
     counters_at_start: lensray_vulkan::Counters,
     /// Samples of the current shot the CPU path delivered.
     cpu_spp: u32,
+    /// The CPU path's samples are all added, and its adaptive rounds' active pixels
+    /// (`cpu_feed::Snapshot`).
+    cpu_converged: bool,
+    cpu_active: Option<usize>,
     gui: Option<Gui>,
     window: Option<Arc<Window>>,
     panel: Panel,
@@ -194,6 +198,8 @@ impl App {
             paths: None,
             counters_at_start: lensray_vulkan::Counters::default(),
             cpu_spp: 0,
+            cpu_converged: false,
+            cpu_active: None,
             gui: None,
             window: None,
             panel,

@@ -1,6 +1,6 @@
 //! Adaptive sampling in the preview (`--noise-threshold`, docs/adaptive.md): on a traced GPU
-//! path the window goes through the render's rounds, and once every pixel converged (or reached
-//! the cap) it is the headless adaptive render, float for float.
+//! path and on the CPU path the window goes through the render's rounds, and once every pixel
+//! converged (or reached the cap) it is the headless adaptive render, float for float.
 
 use std::process::Command;
 
@@ -29,32 +29,35 @@ const ADAPTIVE: [&str; 16] = [
 
 #[test]
 fn converged_adaptive_preview_equals_the_adaptive_render() {
-    let test = "converged_adaptive_preview_equals_the_adaptive_render";
-    let dir = tempfile::tempdir().unwrap();
-    let options = ["--path", "rayquery", "--screenshot", "preview.exr"];
-    let script = "0 wait converged\n0 quit\n";
-    let Some(out) = preview_with(test, dir.path(), script, &ADAPTIVE, &options) else {
-        return;
-    };
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        stdout.contains("adaptive: every pixel converged or at the cap"),
-        "{stdout}"
-    );
-    let mut args = vec!["render", "--path", "rayquery"];
-    args.extend_from_slice(&ADAPTIVE);
-    args.extend_from_slice(&["--out", "render.exr"]);
-    let render = Command::new(env!("CARGO_BIN_EXE_lensray"))
-        .args(&args)
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&render.stderr);
-    assert!(render.status.success(), "{stderr}");
-    let summary = String::from_utf8_lossy(&render.stdout);
-    assert!(
-        summary.contains("adaptive: noise threshold 0.05"),
-        "{summary}"
-    );
-    assert_same_image(dir.path(), "preview.exr", "render.exr", "adaptive");
+    for path in ["rayquery", "cpu"] {
+        let test = "converged_adaptive_preview_equals_the_adaptive_render";
+        let dir = tempfile::tempdir().unwrap();
+        let options = ["--path", path, "--screenshot", "preview.exr"];
+        let script = "0 wait converged\n0 quit\n";
+        let Some(out) = preview_with(test, dir.path(), script, &ADAPTIVE, &options) else {
+            return;
+        };
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            stdout.contains("adaptive: every pixel converged or at the cap"),
+            "{path}: {stdout}"
+        );
+        let mut args = vec!["render", "--path", path];
+        args.extend_from_slice(&ADAPTIVE);
+        args.extend_from_slice(&["--out", "render.exr"]);
+        let render = Command::new(env!("CARGO_BIN_EXE_lensray"))
+            .args(&args)
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&render.stderr);
+        assert!(render.status.success(), "{path}: {stderr}");
+        let summary = String::from_utf8_lossy(&render.stdout);
+        assert!(
+            summary.contains("adaptive: noise threshold 0.05"),
+            "{summary}"
+        );
+        let what = format!("adaptive-{path}");
+        assert_same_image(dir.path(), "preview.exr", "render.exr", &what);
+    }
 }

@@ -269,6 +269,7 @@ impl Frame<'_> {
             Some(host) => {
                 result.spp = host.spp;
                 result.converged = host.converged;
+                result.adaptive_active = host.adaptive_active;
             }
             None => match &self.accum.rounds {
                 // The samples of the pixels that go on, and how many there are.

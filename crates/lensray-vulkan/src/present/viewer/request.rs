@@ -53,9 +53,12 @@ pub struct HostSamples<'a> {
     /// New sums and counts of the whole image (`[r, g, b, n]` per pixel, row-major) to show
     /// from this frame on; `None` keeps what the accumulation holds.
     pub sums: Option<&'a [[f32; 4]]>,
-    /// Samples every pixel has, and whether that is the target.
+    /// Samples every pixel has (adaptively: the pixels still sampling), and whether no pixel
+    /// takes more.
     pub spp: u32,
     pub converged: bool,
+    /// As `FrameResult::adaptive_active`, of the host's rounds.
+    pub adaptive_active: Option<usize>,
 }
 
 /// GPU times of one finished frame, ms (timestamps).
