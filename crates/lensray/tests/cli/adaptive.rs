@@ -170,6 +170,36 @@ fn traced_gpu_paths_sample_adaptively_as_the_cpu() {
     }
 }
 
+/// Through a real, dispersive lens (the d line and the checked wavelengths, real_lens.glsl) the
+/// GPU's rounds take the CPU's samples too.
+#[test]
+fn a_real_lens_samples_adaptively_on_the_gpu_as_on_the_cpu() {
+    let dir = tempfile::tempdir().unwrap();
+    let adaptive = [
+        "--spp",
+        "64",
+        "--noise-threshold",
+        "0.1",
+        "--lens",
+        "double-gauss-50",
+        "--f-number",
+        "2",
+    ];
+    let (_, cpu_summary) = render(dir.path(), "cpu.exr", &adaptive);
+    let Some((_, summary)) = render_on("software", dir.path(), "gpu.exr", &adaptive) else {
+        return;
+    };
+    assert_eq!(
+        samples_taken(&summary),
+        samples_taken(&cpu_summary),
+        "{summary}"
+    );
+    let cpu = read_exr(&dir.path().join("cpu.exr"));
+    let diff = compare(&read_exr(&dir.path().join("gpu.exr")), &cpu, 1.0 / 255.0);
+    println!("real lens: {diff:?}");
+    assert!(diff.within >= 0.999 && diff.mean_abs < 1e-3, "{diff:?}");
+}
+
 #[test]
 fn raster_and_hybrid_refuse_adaptive_sampling_in_one_line() {
     let dir = tempfile::tempdir().unwrap();
