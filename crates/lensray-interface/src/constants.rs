@@ -230,6 +230,13 @@ shader_constants! {
     /// raster pass drew with the matrix of that (shared) camera sample; shades the
     /// triangle it names along the sample's lens ray.
     TRACE_MODE_RASTER: u32 = 3;
+    /// Adaptive sampling (lensray-core's film/adaptive.rs decides, on the host): as
+    /// TRACE_MODE_ALL, but each pixel's plan entry says where it starts (w: the samples it
+    /// has; ADAPTIVE_IDLE: it adds none) and holds its class A sum (xyz), which its class A
+    /// samples add to.
+    TRACE_MODE_ADAPTIVE: u32 = 4;
+    /// Plan entry w of a pixel that takes no samples in an adaptive round.
+    ADAPTIVE_IDLE: f32 = -1.0;
     /// Plan entry w of a shortcut pixel.
     HYBRID_SHORTCUT: f32 = -1.0;
     /// A shortcut pixel's sample is traced too with probability 1 / HYBRID_CHECK_INVERSE

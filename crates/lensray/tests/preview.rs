@@ -4,6 +4,8 @@
 //! without a validation message, the keys that print or save work, and a keyframed shot's
 //! frames are the sequence's (`preview/keyframes.rs`).
 
+#[path = "preview/adaptive.rs"]
+mod adaptive;
 mod gpu_support;
 #[path = "preview/keyframes.rs"]
 mod keyframes;

@@ -51,6 +51,15 @@ impl ProgressiveSchedule {
         self.groups = 1;
     }
 
+    /// Goes on from sample `next_sample` of every pixel to `target` (adaptive sampling's next
+    /// round: the shader skips the samples each pixel already has, `film::adaptive`).
+    pub fn resume(&mut self, next_sample: u32, target: u32) {
+        self.next_sample = next_sample;
+        self.group = 0;
+        self.groups = 1;
+        self.target = target;
+    }
+
     /// A new target: raising it continues where the accumulation is.
     pub fn set_target(&mut self, spp: u32) {
         self.target = spp;
@@ -205,5 +214,18 @@ mod tests {
         s.restart();
         assert_eq!(s.samples_complete(), 0);
         assert!(!s.converged());
+    }
+
+    #[test]
+    fn resume_goes_on_from_a_sample_to_a_new_target() {
+        let mut s = ProgressiveSchedule::new(16, 16, 8, 32);
+        s.plan(u64::MAX / 4, 64);
+        assert!(s.converged());
+        // An adaptive round: the pixel furthest behind has 16, the round ends at 48.
+        s.resume(16, 48);
+        assert!(!s.converged());
+        let items = s.plan(u64::MAX / 4, 64);
+        assert_eq!((items[0].sample_begin, items[0].sample_end), (16, 48));
+        assert!(s.converged() && s.samples_complete() == 48);
     }
 }

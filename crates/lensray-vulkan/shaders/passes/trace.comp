@@ -232,6 +232,9 @@ LightDraw sample_draw(PixelSampler state, uint pixel_index, uint s) {
 //   The choice hashes the 8x8 tile and the sample, so that the pixels of a workgroup (run in
 //   lockstep) check alike. Lit, the value is reprojected per sample (above); unlit the albedo is
 //   the value of every lens ray of a uniform neighbourhood.
+// - TRACE_MODE_ADAPTIVE (adaptive sampling's rounds, decided on the host: film/adaptive.rs):
+//   TRACE_MODE_ALL from the pixel's own count (plan w) on, or nothing (w = ADAPTIVE_IDLE); its
+//   class A samples (film/adaptive.rs is_class_a) add to its class A sum, plan xyz.
 uint trace_pixel() {
     uint x = PIXEL_X;
     uint block = BLOCK;
@@ -244,6 +247,8 @@ uint trace_pixel() {
     uint pixel_index = y * params.width + x;
     uint rays = 0u;
     bool pre_pass = pc.mode == TRACE_MODE_SHORTCUT;
+    bool adaptive = pc.mode == TRACE_MODE_ADAPTIVE;
+    bool every_sample = pc.mode == TRACE_MODE_ALL || adaptive;
     bool rasterized = pre_pass || pc.mode == TRACE_MODE_RASTER;
     bool lit = params.shading == SHADING_LIT;
     PixelSampler sampler_state = samples_of(x, y);
@@ -259,6 +264,15 @@ uint trace_pixel() {
         // Samples i < entry.w are traced; the pixel's count stops there.
         end = shortcut ? end : min(end, uint(entry.w));
         r = reprojection(pixel_index);
+    }
+    vec3 class_a = vec3(0.0);
+    if (adaptive) {
+        vec4 entry = plan[pixel_index];
+        if (entry.w == ADAPTIVE_IDLE) {
+            return 0u;
+        }
+        begin = max(begin, uint(entry.w));
+        class_a = entry.xyz;
     }
     uint tile = (y / TRACE_GROUP_SIZE) * ((params.width + TRACE_GROUP_SIZE - 1u) / TRACE_GROUP_SIZE)
               + x / TRACE_GROUP_SIZE;
@@ -278,7 +292,7 @@ uint trace_pixel() {
         // (reference/render.rs: add_pixel_samples, reference/rays.rs: generate_rays).
         float checked = 0.0;
         uint passes = 1u;
-        if (pc.mode == TRACE_MODE_ALL && lens.dispersive != 0u
+        if (every_sample && lens.dispersive != 0u
             && checks_dispersion(pixel_dimension(sampler_state, s, DIM_DISPERSION_CHECK))) {
             checked = sample_wavelength(pixel_dimension(sampler_state, s, DIM_WAVELENGTH));
             passes = 2u;
@@ -289,7 +303,7 @@ uint trace_pixel() {
             bool traced_now = trace;
             if (pre_pass) {
                 ray = first_order_ray(params.camera, CameraSample(vec2(x, y) + 0.5, vec2(0.5)));
-            } else if (pc.mode == TRACE_MODE_ALL) {
+            } else if (every_sample) {
                 traced_now = generate_ray(params.camera, cs, pass == 1u ? checked : 0.0, ray, weight);
             } else if (trace) {
                 ray = first_order_ray(params.camera, cs);
@@ -314,6 +328,13 @@ uint trace_pixel() {
             value = shortcut ? value + (traced - value) * float(HYBRID_CHECK_INVERSE) : value + traced;
         }
         sum += value;
+        // The parity of the index's odd bits, as film/adaptive.rs's is_class_a.
+        if (adaptive && (bitCount(s & 0xaaaaaaaau) & 1) == 1) {
+            class_a += value;
+        }
+    }
+    if (adaptive) {
+        plan[pixel_index].xyz = class_a;
     }
     // w counts the samples added (exact in float up to 2^24): the preview divides by it.
     uint added = end > begin ? end - begin : 0u;

@@ -20,6 +20,7 @@
 mod draw;
 mod record;
 mod request;
+mod rounds;
 
 use ash::vk;
 use glam::Vec3;
@@ -49,6 +50,8 @@ const INITIAL_SAMPLES_PER_FRAME: u64 = 1 << 15;
 struct WindowAccumulation {
     buffer: Buffer,
     schedule: ProgressiveSchedule,
+    /// Adaptive sampling's rounds (`rounds`), when the frames sample adaptively.
+    rounds: Option<rounds::Rounds>,
 }
 
 pub struct Viewer {
@@ -233,6 +236,7 @@ impl Viewer {
         self.accum = Some(WindowAccumulation {
             buffer,
             schedule: ProgressiveSchedule::new(width, height, TRACE_GROUP_SIZE, target),
+            rounds: None,
         });
         Ok(())
     }
@@ -248,26 +252,12 @@ impl Viewer {
         };
         let (width, height) = (targets.width, targets.height);
         self.wait_idle()?;
-        let ctx = self.gpu.ctx().clone();
-        let readback = Buffer::new(
-            &ctx,
-            "preview screenshot readback",
-            accum.buffer.size,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
-        ctx.submit_and_wait(|rec| {
-            let region = vk::BufferCopy::default().size(accum.buffer.size);
-            rec.copy_buffer(&accum.buffer, &readback, &[region]);
-            rec.read_on_host(&[&readback]);
-            Ok(())
-        })?;
-        let sums: &[[f32; 4]] = bytemuck::cast_slice(readback.read()?);
-        let pixels = (width * height) as usize;
+        let pixels = u64::from(width) * u64::from(height);
+        let sums = rounds::read_sums(self.gpu.ctx(), &accum.buffer, pixels)?;
         Ok(Some(Image {
             width,
             height,
-            pixels: sums[..pixels]
+            pixels: sums
                 .iter()
                 .map(|s| {
                     if s[3] > 0.0 {

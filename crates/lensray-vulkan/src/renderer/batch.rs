@@ -2,7 +2,8 @@
 //! into a command buffer someone else submits. Headless renders record it step by step through
 //! the trace pass's `accumulate` (bands, timestamps, progress); the preview's frames record it
 //! into their own command buffer. What each estimator records:
-//! - traced: one trace dispatch (`TRACE_MODE_ALL`);
+//! - traced: one trace dispatch (`TRACE_MODE_ALL`; adaptive sampling's rounds:
+//!   `TRACE_MODE_ADAPTIVE`, `SampleBatch::adaptive`);
 //! - raster: per sample, the visibility pass through that sample's lens point (every pixel shares
 //!   the sample), then the dispatch that shades what each pixel sees (`TRACE_MODE_RASTER`);
 //! - hybrid: once per plan, the lit pre-pass under lit shading and the plan pass from the
@@ -19,8 +20,8 @@ use crate::scene::SceneBuffers;
 use crate::Estimator;
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
-    TracePush, TRACE_GROUP_SIZE, TRACE_MODE_ALL, TRACE_MODE_HYBRID, TRACE_MODE_RASTER,
-    TRACE_MODE_SHORTCUT,
+    TracePush, TRACE_GROUP_SIZE, TRACE_MODE_ADAPTIVE, TRACE_MODE_ALL, TRACE_MODE_HYBRID,
+    TRACE_MODE_RASTER, TRACE_MODE_SHORTCUT,
 };
 use lensray_core::settings::{RenderSettings, Shading, Shot};
 
@@ -35,6 +36,9 @@ pub(crate) struct SampleBatch<'r> {
     /// The visibility pass (the raster path's, and the hybrid's lit pre-pass).
     visibility: Option<&'r VisibilityPass>,
     scene: &'r SceneBuffers,
+    /// The traced estimator in adaptive sampling's mode: each pixel from its own count, as
+    /// the plan buffer's entries say (`renderer::adaptive`).
+    adaptive: bool,
 }
 
 impl<'r> SampleBatch<'r> {
@@ -66,6 +70,22 @@ impl<'r> SampleBatch<'r> {
             raster_camera,
             visibility,
             scene,
+            adaptive: false,
+        })
+    }
+
+    /// The batch in adaptive sampling's mode (`TRACE_MODE_ADAPTIVE`); only the traced
+    /// estimator has it.
+    pub(crate) fn adaptive(self) -> Result<Self, GpuError> {
+        if self.estimator != Estimator::Traced {
+            return Err(GpuError::Invalid(format!(
+                "the {:?} estimator does not sample adaptively",
+                self.estimator
+            )));
+        }
+        Ok(Self {
+            adaptive: true,
+            ..self
         })
     }
 
@@ -135,6 +155,7 @@ impl<'r> SampleBatch<'r> {
 impl RecordSamples for SampleBatch<'_> {
     fn mode(&self) -> u32 {
         match self.estimator {
+            Estimator::Traced if self.adaptive => TRACE_MODE_ADAPTIVE,
             Estimator::Traced => TRACE_MODE_ALL,
             Estimator::Raster => TRACE_MODE_RASTER,
             Estimator::Hybrid => TRACE_MODE_HYBRID,

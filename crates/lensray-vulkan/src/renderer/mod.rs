@@ -1,9 +1,10 @@
 //! [`GpuRenderer`]: the device and the passes it owns, the scene on the device, and the
 //! renderer's entries (G-buffer, render, AOVs, sums). How samples are added lives in
-//! `estimators`; the passes made on first use in `raster`; what the preview records into its
+//! `estimators`, adaptive sampling's rounds in `adaptive`; the passes made on first use in `raster`; what the preview records into its
 //! frames in `frames`; the probes' hooks in `probe_hooks`. The fields are private to this
 //! module: the rest of the crate (the preview included) goes through these functions.
 
+pub(crate) mod adaptive;
 mod batch;
 mod estimators;
 mod frames;
@@ -159,18 +160,14 @@ impl GpuRenderer {
     }
 
     /// Renders `shot` in its shading: `Unlit` and `Lit` through the thin lens with the compute
-    /// pass; `Depth`, `Normal` and `Albedo` from the G-buffer. `progress(done, total)` counts
-    /// pixel-samples.
+    /// pass (adaptively with a noise threshold: `add_adaptive`); `Depth`, `Normal` and `Albedo`
+    /// from the G-buffer. `progress(done, total)` counts pixel-samples (rounds' ends when
+    /// adaptive).
     pub fn render(&mut self, shot: &Shot, progress: &mut Progress) -> Result<Image, GpuError> {
         let camera = &shot.camera;
         check_size(camera)?;
         if shot.render.spp == 0 {
             return Err(GpuError::Invalid("spp must be at least 1".into()));
-        }
-        if shot.render.noise_threshold.is_some() && !shot.render.shading.is_aov() {
-            return Err(GpuError::Invalid(
-                "the Vulkan renderer does not sample adaptively (noise threshold): the CPU reference does".into(),
-            ));
         }
         if self.scene.is_none() {
             return Err(GpuError::NoScene);
@@ -188,9 +185,11 @@ impl GpuRenderer {
             progress,
             shot,
             |this, progress| lensray_core::film::one_pass(progress, || this.aov(shot)),
-            |this, samples, accumulation, progress| {
-                this.add_samples(shot, Estimator::Traced, samples, accumulation, progress)
-                    .map(|_| ())
+            |this, samples, accumulation, progress| match shot.render.noise_threshold {
+                Some(_) => this.add_adaptive(shot, accumulation, progress).map(|_| ()),
+                None => this
+                    .add_samples(shot, Estimator::Traced, samples, accumulation, progress)
+                    .map(|_| ()),
             },
             |this, accumulation| this.read_sums(accumulation),
         )?;

@@ -102,6 +102,7 @@ pub fn paths_to_run(
         };
         kinds.push(kind);
     }
+    adaptive_only(&mut kinds, options, shot, log)?;
     let mut seen = Vec::new();
     kinds.retain(|k| {
         let new = !seen.contains(k);
@@ -112,6 +113,39 @@ pub fn paths_to_run(
         bail!("no path to run: the Vulkan device supports none of lensray's GPU paths");
     }
     Ok(kinds)
+}
+
+/// With adaptive sampling (`shot`'s noise threshold), the paths that sample adaptively: one
+/// named that cannot is an error, the others are left out with a notice.
+fn adaptive_only(
+    kinds: &mut Vec<PathKind>,
+    options: &BenchOptions,
+    shot: &Shot,
+    log: &mut dyn FnMut(&str),
+) -> Result<()> {
+    if shot.render.noise_threshold.is_none() || shot.render.shading.is_aov() {
+        return Ok(());
+    }
+    let named = options.paths.iter().filter_map(|p| p.only());
+    if let Some((kind, why)) = named
+        .filter_map(|k| Some((k, k.adaptive_refusal()?)))
+        .next()
+    {
+        bail!("--paths {kind} does not sample adaptively (--noise-threshold): {why}");
+    }
+    let refused: Vec<&str> = kinds
+        .iter()
+        .filter(|k| k.adaptive_refusal().is_some())
+        .map(|k| k.name())
+        .collect();
+    if !refused.is_empty() {
+        log(&format!(
+            "notice: --noise-threshold: leaving out {}, which do not sample adaptively (docs/adaptive.md)",
+            refused.join(" and ")
+        ));
+        kinds.retain(|k| k.adaptive_refusal().is_none());
+    }
+    Ok(())
 }
 
 /// The Vulkan device's name and the GPU paths it supports; `None` when there is no usable

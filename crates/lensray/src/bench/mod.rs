@@ -96,6 +96,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
             width: options.width,
             height: options.height,
             spp: options.spp,
+            noise_threshold: base_shot.render.noise_threshold,
             shading: base_shot.render.shading,
             sampler: base_shot.render.sampler,
             seed: base_shot.render.seed,
@@ -168,6 +169,7 @@ fn bench_shot(scene: &BenchScene, options: &BenchOptions, value: SweepValue) -> 
     settings.image.width = Some(width);
     settings.image.height = Some(height);
     settings.image.spp = Some(spp_of(value, options));
+    settings.render.noise_threshold = options.noise_threshold.or(settings.render.noise_threshold);
     settings.image.sampler = options.sampler.or(settings.image.sampler);
     settings.image.seed = options.seed.or(settings.image.seed);
     settings.render.shading = Some(options.shading);

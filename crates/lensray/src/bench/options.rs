@@ -96,6 +96,9 @@ pub struct BenchOptions {
     pub width: u32,
     pub height: u32,
     pub spp: u32,
+    /// Adaptive sampling (`render --noise-threshold`), `spp` its cap; the scene's own when
+    /// `None`. The references stay uniform.
+    pub noise_threshold: Option<f64>,
     pub shading: lensray_core::settings::Shading,
     /// The scene's own when `None` (a radius replaces a lens given by focal length and
     /// f-number, as on `render`).
@@ -140,6 +143,7 @@ impl Default for BenchOptions {
             width: lensray_core::settings::DEFAULT_WIDTH,
             height: lensray_core::settings::DEFAULT_HEIGHT,
             spp: lensray_core::settings::DEFAULT_SPP,
+            noise_threshold: None,
             shading: lensray_core::settings::Shading::Unlit,
             aperture_radius: None,
             focus_distance: None,

@@ -62,9 +62,11 @@ pub fn obtain(
     ensure!(spp >= 2, "--reference-spp must be at least 2");
     let shot = Shot {
         camera: shot.camera.clone(),
+        // Uniform: what adaptive renders are measured against converges everywhere.
         render: RenderSettings {
             spp,
             seed: reference_seed(shot.render.seed),
+            noise_threshold: None,
             ..shot.render
         },
     };

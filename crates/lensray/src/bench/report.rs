@@ -87,6 +87,8 @@ pub struct SettingsInfo {
     pub width: u32,
     pub height: u32,
     pub spp: u32,
+    /// Adaptive sampling's threshold (`spp` its cap); `None`: uniform.
+    pub noise_threshold: Option<f32>,
     pub shading: Shading,
     pub sampler: SamplerKind,
     pub seed: u32,

@@ -32,12 +32,16 @@ fn header(out: &mut String, report: &BenchReport) {
     let s = &report.settings;
     let _ = writeln!(
         out,
-        "bench: {} ({} triangles), {}x{} px, {} spp, {:?} shading, aperture radius {} focused at {}, {} sampler, seed {}, median of {} run(s) after a warm-up{}",
+        "bench: {} ({} triangles), {}x{} px, {} spp{}, {:?} shading, aperture radius {} focused at {}, {} sampler, seed {}, median of {} run(s) after a warm-up{}",
         report.scene.name,
         report.scene.triangles,
         s.width,
         s.height,
         s.spp,
+        match s.noise_threshold {
+            Some(threshold) => format!(" (its cap: adaptive, noise threshold {threshold})"),
+            None => String::new(),
+        },
         s.shading,
         s.aperture_radius,
         s.focus_distance,

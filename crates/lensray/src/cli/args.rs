@@ -314,8 +314,8 @@ pub struct ViewArgs {
     #[arg(long, value_name = "N")]
     pub spp: Option<u32>,
     /// Adaptive sampling: a pixel stops taking samples once its estimated noise is below T
-    /// (say 0.01; smaller is cleaner and slower), --spp being its cap (CPU path;
-    /// docs/adaptive.md).
+    /// (say 0.01; smaller is cleaner and slower), --spp being its cap (cpu, rayquery,
+    /// rtpipeline, software; docs/adaptive.md).
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub noise_threshold: Option<f64>,
     /// Seed of the deterministic sampler.

@@ -54,6 +54,10 @@ pub struct BenchArgs {
     /// Samples per pixel (the largest of the spp sweep).
     #[arg(long, value_name = "N", default_value_t = lensray_core::settings::DEFAULT_SPP)]
     pub spp: u32,
+    /// Adaptive sampling as on `render` (--spp its cap) [default: the scene's]: the paths that
+    /// cannot are left out (docs/adaptive.md); the reference stays uniform.
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub noise_threshold: Option<f64>,
     #[arg(long, value_parser = by_name::<Shading>(), default_value = Shading::Unlit.name())]
     pub shading: Shading,
     /// Lens aperture radius, in the scene's units (0 = pinhole) [default: the scene's].
@@ -142,6 +146,7 @@ impl BenchArgs {
             width: self.width,
             height: self.height,
             spp: self.spp,
+            noise_threshold: self.noise_threshold,
             shading: self.shading,
             aperture_radius: self.aperture_radius,
             focus_distance: self.focus_distance,

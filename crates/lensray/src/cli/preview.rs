@@ -57,8 +57,16 @@ pub fn run(args: &PreviewArgs) -> Result<()> {
     let choice = crate::paths::preview_options(&args.path.options())?;
     let mut description = load_scene(&args.view)?;
     let (settings, playback) = keyed_start(&mut description, args)?;
-    if let Some(threshold) = settings.render.noise_threshold {
-        eprintln!("notice: the preview gives every pixel the same samples; the noise threshold ({threshold}) applies to `lensray render`");
+    // The CPU and the traced GPU paths sample adaptively in the preview too (docs/adaptive.md);
+    // the raster and hybrid paths give every pixel the same samples.
+    let uniform = args
+        .path
+        .options()
+        .path
+        .only()
+        .and_then(|kind| Some(format!("--path {kind} ({})", kind.adaptive_refusal()?)));
+    if let (Some(threshold), Some(who)) = (settings.render.noise_threshold, uniform) {
+        eprintln!("notice: {who} gives every pixel the same samples; the noise threshold ({threshold}) applies to `lensray render`");
     }
     let rig = CameraRig::new(settings, &description.scene)
         .with_context(|| format!("scene {}", description.source))?;

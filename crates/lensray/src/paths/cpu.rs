@@ -41,6 +41,26 @@ impl CpuPath {
         }
     }
 
+    /// One round of adaptive sampling (`film::adaptive`): every pixel marked in `active` from
+    /// its count to `end`, its class A samples added to `class_a` (the preview's rounds).
+    pub fn add_round(
+        &mut self,
+        shot: &Shot,
+        end: u32,
+        active: &[bool],
+        accumulation: &mut Accumulation,
+        class_a: &mut [glam::Vec3],
+    ) -> Result<()> {
+        super::check_accumulation(shot, accumulation)?;
+        let sums = accumulation.host_mut()?;
+        let stats = self
+            .renderer()?
+            .accumulate_active(shot, end, active, sums, class_a);
+        self.report.rays += stats.rays;
+        self.report.trace_seconds += stats.elapsed.as_secs_f64();
+        Ok(())
+    }
+
     fn renderer(&self) -> Result<&Renderer> {
         self.renderer
             .as_ref()

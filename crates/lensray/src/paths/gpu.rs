@@ -24,6 +24,8 @@ pub struct GpuPath {
     plan_seconds: f64,
     /// Wall-clock seconds of `read_sums`.
     readback_seconds: f64,
+    /// Samples the adaptive renders took (`PathReport::adaptive_samples`).
+    adaptive_samples: u64,
 }
 
 impl GpuPath {
@@ -39,6 +41,7 @@ impl GpuPath {
             estimator: kind.estimator(),
             plan_seconds: 0.0,
             readback_seconds: 0.0,
+            adaptive_samples: 0,
         })
     }
 
@@ -87,6 +90,25 @@ impl RenderPath for GpuPath {
         Ok(())
     }
 
+    fn add_adaptive(
+        &mut self,
+        shot: &Shot,
+        accumulation: &mut Accumulation,
+        progress: &mut Progress,
+    ) -> Result<()> {
+        super::check_accumulation(shot, accumulation)?;
+        if let Some(why) = self.kind().adaptive_refusal() {
+            anyhow::bail!(
+                "--path {} does not sample adaptively (--noise-threshold): {why}",
+                self.kind()
+            );
+        }
+        let report = self.renderer.add_adaptive(shot, accumulation, progress);
+        self.note_memory();
+        self.adaptive_samples += report?.samples;
+        Ok(())
+    }
+
     fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<()> {
         let start = std::time::Instant::now();
         let read = self.renderer.read_sums(accumulation);
@@ -131,7 +153,7 @@ impl RenderPath for GpuPath {
             readback_bytes: counters.readback_bytes,
             readback_seconds: self.readback_seconds,
             compile_seconds: counters.compile_seconds() + t.compile_ms * 1e-3,
-            adaptive_samples: 0,
+            adaptive_samples: self.adaptive_samples,
         }
     }
 

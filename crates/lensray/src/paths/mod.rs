@@ -79,18 +79,18 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
         };
         return open_cpu(scene, why);
     }
-    // Only the CPU reference samples adaptively: `auto` takes it, a GPU path asked for is an
-    // error before anything renders.
-    if shot.render.noise_threshold.is_some() && !shot.render.shading.is_aov() {
-        match options.path.only() {
-            Some(kind) => bail!(
-                "--path {kind} does not sample adaptively (--noise-threshold): use --path cpu or auto"
-            ),
-            None if options.device == Choice::Only(DeviceKind::Gpu) => bail!(
-                "--noise-threshold samples adaptively on the CPU path only: it cannot be used with --device gpu"
-            ),
-            None => return open_cpu(scene, "auto: adaptive sampling runs on the CPU"),
-        }
+    // Only the CPU and the traced paths sample adaptively: a path that cannot is an error
+    // before anything renders, and `auto` chooses among the traced ones (below).
+    let adaptive = shot.render.noise_threshold.is_some() && !shot.render.shading.is_aov();
+    if let Some((kind, why)) = options
+        .path
+        .only()
+        .and_then(|kind| Some((kind, kind.adaptive_refusal()?)))
+        .filter(|_| adaptive)
+    {
+        bail!(
+            "--path {kind} does not sample adaptively (--noise-threshold): {why}; use cpu, rayquery, rtpipeline, software or auto"
+        );
     }
 
     // Auto's calibration counts with the device: it is what opening one costs.
@@ -146,8 +146,8 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
                 (kind, format!("asked for; traces with {traversal} ({why})"))
             }
         },
-        // Only the traversal paths trace a real lens's rays.
-        None if real_lens.is_some() => pick_traversal(&mut renderer, shot)?,
+        // Only the traversal paths trace a real lens's rays, and sample adaptively.
+        None if real_lens.is_some() || adaptive => pick_traversal(&mut renderer, shot)?,
         None => pick_path(&mut renderer, shot)?,
     };
     // Setting the traversal makes its pipeline; auto's choice renders with each path.

@@ -118,6 +118,21 @@ impl PathKind {
         }
     }
 
+    /// Why the path cannot sample adaptively (`--noise-threshold`), or `None` when it can: the
+    /// CPU and the traced paths give each pixel its own samples; the raster path's samples are
+    /// passes over the whole image, one camera sample shared by every pixel, and the hybrid's
+    /// plan already sets each pixel's samples, in the per-pixel buffer adaptive sampling uses
+    /// (docs/adaptive.md).
+    pub fn adaptive_refusal(self) -> Option<&'static str> {
+        match self {
+            PathKind::Raster => Some(
+                "its samples are raster passes of the whole image, one camera sample shared by every pixel",
+            ),
+            PathKind::Hybrid => Some("its plan already sets how many samples each pixel takes"),
+            PathKind::Cpu | PathKind::RayQuery | PathKind::RtPipeline | PathKind::Software => None,
+        }
+    }
+
     /// How the path renders a real lens (`camera::real_lens`).
     pub fn real_lens_support(self) -> RealLensSupport {
         match self {
@@ -345,8 +360,9 @@ pub trait RenderPath: Send {
     ) -> Result<()>;
 
     /// Renders `shot` adaptively (`shot.render.noise_threshold`, `film::adaptive`) into
-    /// `accumulation`, new and the camera's size. Only the CPU path samples adaptively;
-    /// `paths::open` refuses the others before they render.
+    /// `accumulation`, new and the camera's size. The CPU and the traced GPU paths sample
+    /// adaptively (`PathKind::adaptive_refusal`); `paths::open` refuses the others before they
+    /// render.
     fn add_adaptive(
         &mut self,
         shot: &Shot,
@@ -355,7 +371,7 @@ pub trait RenderPath: Send {
     ) -> Result<()> {
         let _ = (shot, accumulation, progress);
         anyhow::bail!(
-            "--path {} does not sample adaptively (--noise-threshold): use --path cpu",
+            "--path {} does not sample adaptively (--noise-threshold): use cpu, rayquery, rtpipeline, software or auto",
             self.kind()
         )
     }

@@ -66,6 +66,8 @@ pub struct PreviewSummary {
     pub median_gbuffer_ms: f64,
     pub spp: u32,
     pub target_spp: u32,
+    /// Sampling adaptively: the pixels still taking samples (`FrameResult::adaptive_active`).
+    pub adaptive_active: Option<usize>,
     pub median_input_to_frame_ms: Option<f64>,
     /// Samples per pixel traced per second while accumulating (first frames excluded).
     pub samples_per_pixel_per_second: Option<f64>,
@@ -83,6 +85,11 @@ impl std::fmt::Display for PreviewSummary {
              {} of {} samples per pixel reached",
             self.frames, self.median_frame_ms, self.median_gbuffer_ms, self.spp, self.target_spp
         )?;
+        match self.adaptive_active {
+            Some(0) => write!(f, ", adaptive: every pixel converged or at the cap")?,
+            Some(n) => write!(f, ", adaptive: {n} pixels still sampling")?,
+            None => {}
+        }
         if let Some(ms) = self.median_input_to_frame_ms {
             write!(f, ", median input to frame {ms:.1} ms")?;
         }
@@ -147,6 +154,10 @@ struct App {
     counters_at_start: lensray_vulkan::Counters,
     /// Samples of the current shot the CPU path delivered.
     cpu_spp: u32,
+    /// The CPU path's samples are all added, and its adaptive rounds' active pixels
+    /// (`cpu_feed::Snapshot`).
+    cpu_converged: bool,
+    cpu_active: Option<usize>,
     gui: Option<Gui>,
     window: Option<Arc<Window>>,
     panel: Panel,
@@ -170,6 +181,8 @@ struct App {
     minimised: bool,
     spp: u32,
     converged: bool,
+    /// `FrameResult::adaptive_active` of the last frame drawn.
+    adaptive_active: Option<usize>,
     last_fly: Instant,
     error: Option<anyhow::Error>,
     closed: bool,
@@ -185,6 +198,8 @@ impl App {
             paths: None,
             counters_at_start: lensray_vulkan::Counters::default(),
             cpu_spp: 0,
+            cpu_converged: false,
+            cpu_active: None,
             gui: None,
             window: None,
             panel,
@@ -200,6 +215,7 @@ impl App {
             minimised: false,
             spp: 0,
             converged: false,
+            adaptive_active: None,
             last_fly: Instant::now(),
             error: None,
             closed: false,
@@ -270,6 +286,7 @@ impl App {
             median_gbuffer_ms: self.log.median_gbuffer_ms(),
             spp: self.spp,
             target_spp: self.panel.target_spp,
+            adaptive_active: self.adaptive_active,
             median_input_to_frame_ms: self.log.median_input_to_frame_ms(),
             samples_per_pixel_per_second: self.log.samples_per_pixel_per_second(),
             median_plan_ms: self.log.median_plan_ms(),

@@ -2,12 +2,15 @@
 //! sample of every pixel at a time, through the `cpu` render path (`paths::CpuPath`, the very
 //! code `lensray render --path cpu` runs), and publishes the sums after each;
 //! the window uploads the latest to its accumulation. The window itself (G-buffer, display,
-//! panel) stays on the GPU, so it keeps answering at once while the CPU traces.
+//! panel) stays on the GPU, so it keeps answering at once while the CPU traces. With a noise
+//! threshold it adds a round of adaptive sampling at a time instead (`film::adaptive`, as
+//! `render --path cpu`), publishing after each.
 
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 
 use anyhow::Result;
+use lensray_core::film::adaptive::{min_samples, AdaptiveState, STEP};
 use lensray_core::film::{Accumulation, Sums};
 use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
@@ -26,7 +29,87 @@ struct Job {
 pub struct Snapshot {
     pub generation: u64,
     pub sums: Vec<[f32; 4]>,
+    /// Samples every pixel has (adaptively: the pixels still sampling).
     pub spp: u32,
+    /// No pixel takes more samples.
+    pub converged: bool,
+    /// Adaptively: the pixels that take samples in the next round (`None`: uniform).
+    pub adaptive_active: Option<usize>,
+}
+
+/// The accumulation of one generation and target, with adaptive sampling's rounds.
+struct Traced {
+    generation: u64,
+    target_spp: u32,
+    accumulation: Accumulation,
+    /// With a noise threshold: the rounds' state, and where the next round ends (`None`:
+    /// every pixel converged or reached the cap).
+    rounds: Option<(AdaptiveState, Option<u32>)>,
+}
+
+impl Traced {
+    fn new(job: &Job) -> Self {
+        let (width, height) = (job.shot.camera.width, job.shot.camera.height);
+        let rounds = job
+            .shot
+            .render
+            .noise_threshold
+            .filter(|_| !job.shot.render.shading.is_aov())
+            .map(|t| {
+                let first = min_samples(t, job.target_spp);
+                (AdaptiveState::new(width, height), Some(first))
+            });
+        Self {
+            generation: job.generation,
+            target_spp: job.target_spp,
+            accumulation: Accumulation::new(width, height),
+            rounds,
+        }
+    }
+
+    /// Whether `job` is this accumulation's: its shot, and with rounds its target too (a new
+    /// cap starts the rounds again; uniform samples continue).
+    fn of(&self, job: &Job) -> bool {
+        self.generation == job.generation
+            && (self.rounds.is_none() || self.target_spp == job.target_spp)
+    }
+
+    /// No sample is left to add for `job`.
+    fn finished(&self, job: &Job) -> bool {
+        match &self.rounds {
+            Some((_, next)) => next.is_none(),
+            None => self.accumulation.host().map_or(0, Sums::samples) >= job.target_spp,
+        }
+    }
+
+    /// Adds the next sample of every pixel, or the next round, and says what the sums hold.
+    fn add(&mut self, path: &mut CpuPath, job: &Job) -> Result<Snapshot> {
+        let accumulation = &mut self.accumulation;
+        let (spp, converged, adaptive_active) = match &mut self.rounds {
+            Some((state, next)) => {
+                let end = next.unwrap_or(job.target_spp);
+                let threshold = job.shot.render.noise_threshold.unwrap_or(f32::INFINITY);
+                let (active, class_a) = (state.active.clone(), &mut state.class_a);
+                path.add_round(&job.shot, end, &active, accumulation, class_a)?;
+                let active = state.mark_active(accumulation.host()?, threshold, job.target_spp);
+                let more = active > 0 && end < job.target_spp;
+                *next = more.then(|| (end + STEP).min(job.target_spp));
+                (end, !more, Some(if more { active } else { 0 }))
+            }
+            None => {
+                let next = accumulation.host().map_or(0, Sums::samples);
+                path.add_samples(&job.shot, next..next + 1, accumulation, &mut |_, _| {})?;
+                (next + 1, next + 1 >= job.target_spp, None)
+            }
+        };
+        Ok(Snapshot {
+            generation: job.generation,
+            sums: accumulation.host()?.pixels.clone(),
+            spp,
+            converged,
+            adaptive_active,
+        })
+    }
 }
 
 #[derive(Default)]
@@ -123,29 +206,19 @@ impl Drop for CpuFeed {
 /// sums after each; sleeps when the target is reached.
 fn work(path: &mut CpuPath, shared: &(Mutex<Shared>, Condvar)) {
     let (lock, _) = shared;
-    let mut accumulation: Option<(u64, Accumulation)> = None;
+    let mut traced: Option<Traced> = None;
     loop {
-        let Some(job) = next_job(shared, accumulation.as_ref()) else {
+        let Some(job) = next_job(shared, traced.as_ref()) else {
             return;
         };
-        if accumulation
-            .as_ref()
-            .is_none_or(|(generation, _)| *generation != job.generation)
-        {
-            let (width, height) = (job.shot.camera.width, job.shot.camera.height);
-            accumulation = Some((job.generation, Accumulation::new(width, height)));
+        if traced.as_ref().is_none_or(|t| !t.of(&job)) {
+            traced = Some(Traced::new(&job));
         }
-        let (_, sums) = accumulation.as_mut().expect("made above");
-        let next = sums.host().map_or(0, Sums::samples);
-        let added = path.add_samples(&job.shot, next..next + 1, sums, &mut |_, _| {});
+        let added = traced.as_mut().expect("made above").add(path, &job);
         let mut state = lock.lock().expect("the window does not panic while locked");
-        match added.and_then(|()| Ok(sums.host()?.pixels.clone())) {
-            Ok(pixels) => {
-                state.latest = Some(Snapshot {
-                    generation: job.generation,
-                    sums: pixels,
-                    spp: next + 1,
-                });
+        match added {
+            Ok(snapshot) => {
+                state.latest = Some(snapshot);
             }
             Err(e) => {
                 // The job stays refused until the window asks for another shot.
@@ -157,10 +230,7 @@ fn work(path: &mut CpuPath, shared: &(Mutex<Shared>, Condvar)) {
 }
 
 /// Waits for a job with samples left to trace (`None`: the window closed).
-fn next_job(
-    shared: &(Mutex<Shared>, Condvar),
-    accumulation: Option<&(u64, Accumulation)>,
-) -> Option<Job> {
+fn next_job(shared: &(Mutex<Shared>, Condvar), traced: Option<&Traced>) -> Option<Job> {
     let (lock, wake) = shared;
     let mut state = lock.lock().expect("the window does not panic while locked");
     loop {
@@ -168,10 +238,8 @@ fn next_job(
             return None;
         }
         if let Some(job) = state.job.clone() {
-            let done = accumulation
-                .filter(|(generation, _)| *generation == job.generation)
-                .map_or(0, |(_, a)| a.host().map_or(0, Sums::samples));
-            if done < job.target_spp {
+            let finished = traced.is_some_and(|t| t.of(&job) && t.finished(&job));
+            if !finished {
                 return Some(job);
             }
         }

@@ -1,7 +1,9 @@
 //! The hybrid path's plan as the trace shader reads it (`HybridTraceGroup`): one vec4 per pixel,
 //! written by the device plan pass (and, lit, completed by the shortcut pre-pass), the surface
 //! depths beside it, and how many pixels the plan last made covers. One entry while no plan is
-//! needed: the binding must be valid in every mode.
+//! needed: the binding must be valid in every mode. Adaptive sampling's rounds use the same
+//! entries (`TRACE_MODE_ADAPTIVE`): the host uploads each pixel's count or `ADAPTIVE_IDLE` and
+//! its class A sum, the shader adds to the sum, the host reads it back.
 
 use std::sync::Arc;
 
@@ -11,7 +13,7 @@ use gpu_allocator::MemoryLocation;
 use crate::core::buffer::Buffer;
 use crate::core::device::Context;
 use crate::core::error::GpuError;
-use lensray_core::interface::TRACE_MODE_HYBRID;
+use lensray_core::interface::{TRACE_MODE_ADAPTIVE, TRACE_MODE_HYBRID};
 
 pub(crate) struct PlanBuffers {
     ctx: Arc<Context>,
@@ -37,12 +39,15 @@ impl PlanBuffers {
 
     fn plan_buffer(ctx: &Arc<Context>, bytes: u64) -> Result<Buffer, GpuError> {
         // Written by the device plan pass, read (and, lit, completed by the shortcut pre-pass)
-        // by the shader on every pass: device-local; the probes copy it out to read it.
+        // by the shader on every pass: device-local; the probes copy it out to read it, and
+        // adaptive sampling copies its rounds' entries in and out.
         Buffer::new(
             ctx,
             "hybrid plan",
             bytes,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )
     }
@@ -93,10 +98,10 @@ impl PlanBuffers {
     }
 
     /// An error when the shader's `mode` cannot run on an image of `pixels` pixels: the
-    /// hybrid's needs a plan covering the image.
+    /// hybrid's and adaptive sampling's need a plan covering the image.
     pub(super) fn check(&self, pixels: u64, mode: u32) -> Result<(), GpuError> {
         match self.pixels {
-            _ if mode != TRACE_MODE_HYBRID => Ok(()),
+            _ if mode != TRACE_MODE_HYBRID && mode != TRACE_MODE_ADAPTIVE => Ok(()),
             Some(n) if n == pixels => Ok(()),
             Some(n) => Err(GpuError::Invalid(format!(
                 "the hybrid plan has {n} pixels, the image {pixels}"
@@ -105,9 +110,37 @@ impl PlanBuffers {
         }
     }
 
+    /// Writes `entries` over the plan's first entries (the buffer holds them:
+    /// `TracePass::ensure_plan_capacity`) in a submission of its own, waited for, and follows
+    /// them from now on (`use_device_plan`).
+    pub(crate) fn upload(&mut self, entries: &[[f32; 4]]) -> Result<(), GpuError> {
+        let bytes = std::mem::size_of_val(entries) as u64;
+        if bytes > self.plan.size {
+            return Err(GpuError::Invalid(format!(
+                "the plan buffer has no {} entries",
+                entries.len()
+            )));
+        }
+        let mut host = Buffer::new(
+            &self.ctx,
+            "plan upload",
+            bytes.max(16),
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        host.write(bytemuck::cast_slice(entries))?;
+        self.ctx.submit_and_wait(|rec| {
+            let copy = vk::BufferCopy::default().size(bytes.max(16));
+            rec.copy_buffer(&host, &self.plan, &[copy]);
+            rec.publish(&[&self.plan]);
+            Ok(())
+        })?;
+        self.use_device_plan(entries.len() as u64);
+        Ok(())
+    }
+
     /// The plan's first `pixels` entries as the device left them, copied to host-visible
     /// memory in a submission of their own, waited for.
-    #[cfg(feature = "probes")]
     pub(crate) fn read(&self, pixels: u64) -> Result<Vec<[f32; 4]>, GpuError> {
         let bytes = pixels * 16;
         if bytes > self.plan.size {

@@ -62,6 +62,7 @@ impl Viewer {
     pub fn draw(&mut self, mut request: FrameRequest<'_>) -> Result<FrameResult, GpuError> {
         let mut result = FrameResult::default();
         self.start_frame(&mut request)?;
+        self.adaptive_step(&mut request)?;
         let Some(mut frame) = self.frame() else {
             return Ok(result);
         };
@@ -195,7 +196,9 @@ impl Frame<'_> {
             accum.schedule.restart();
             *self.plan_spp = None;
         }
-        accum.schedule.set_target(request.target_spp);
+        // Adaptive sampling's frames go as far as the round's end (`rounds`).
+        let target = accum.rounds.as_ref().map_or(request.target_spp, |r| r.end);
+        accum.schedule.set_target(target);
         let work = if request.view == VIEW_FINAL && request.host.is_none() {
             accum
                 .schedule
@@ -266,11 +269,20 @@ impl Frame<'_> {
             Some(host) => {
                 result.spp = host.spp;
                 result.converged = host.converged;
+                result.adaptive_active = host.adaptive_active;
             }
-            None => {
-                result.spp = self.accum.schedule.samples_complete();
-                result.converged = self.accum.schedule.converged();
-            }
+            None => match &self.accum.rounds {
+                // The samples of the pixels that go on, and how many there are.
+                Some(rounds) => {
+                    result.spp = rounds.end;
+                    result.converged = rounds.done;
+                    result.adaptive_active = Some(rounds.active);
+                }
+                None => {
+                    result.spp = self.accum.schedule.samples_complete();
+                    result.converged = self.accum.schedule.converged();
+                }
+            },
         }
     }
 }

@@ -31,6 +31,8 @@ impl Frame<'_> {
         rec.reset_queries(&self.slot.timestamps);
         let gpu = self.gpu;
         let batch = gpu.sample_batch(request.shot, self.estimator)?;
+        let adaptive = self.accum.rounds.is_some();
+        let batch = if adaptive { batch.adaptive()? } else { batch };
         self.record_raster(&mut rec, request, plan, &batch)?;
         let targets = gpu.gbuffer_targets()?;
         if let Some([x, y]) = request.pick {
@@ -44,6 +46,9 @@ impl Frame<'_> {
         rec.timestamp(stamps, vk::PipelineStageFlags::TOP_OF_PIPE, 2);
         if plan.restart {
             rec.fill_buffer(&self.accum.buffer, 0, vk::WHOLE_SIZE, 0);
+            if adaptive {
+                gpu.record_adaptive_start(&mut rec);
+            }
             gpu.record_trace_params(&mut rec, &batch);
         }
         if let Some(sums) = request.host.as_ref().and_then(|h| h.sums) {

@@ -53,9 +53,12 @@ pub struct HostSamples<'a> {
     /// New sums and counts of the whole image (`[r, g, b, n]` per pixel, row-major) to show
     /// from this frame on; `None` keeps what the accumulation holds.
     pub sums: Option<&'a [[f32; 4]]>,
-    /// Samples every pixel has, and whether that is the target.
+    /// Samples every pixel has (adaptively: the pixels still sampling), and whether no pixel
+    /// takes more.
     pub spp: u32,
     pub converged: bool,
+    /// As `FrameResult::adaptive_active`, of the host's rounds.
+    pub adaptive_active: Option<usize>,
 }
 
 /// GPU times of one finished frame, ms (timestamps).
@@ -82,9 +85,12 @@ pub struct FrameTimes {
 pub struct FrameResult {
     /// False when nothing was drawn (window minimised or being resized).
     pub drawn: bool,
-    /// Samples every pixel has.
+    /// Samples every pixel has (sampling adaptively: the pixels still sampling).
     pub spp: u32,
     pub converged: bool,
+    /// Sampling adaptively (`--noise-threshold`): the pixels still taking samples (0 once
+    /// every pixel converged or reached the cap); `None`: every pixel takes the same samples.
+    pub adaptive_active: Option<usize>,
     /// With a pick: the view depth there, `None` where no surface covers the pixel.
     pub picked_depth: Option<Option<f32>>,
     /// Times of the latest finished frame.

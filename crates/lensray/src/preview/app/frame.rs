@@ -74,7 +74,8 @@ impl App {
         let host = self.cpu_feed.as_ref().map(|_| HostSamples {
             sums: snapshot.as_ref().map(|s| s.sums.as_slice()),
             spp: self.cpu_spp,
-            converged: self.cpu_spp >= self.panel.target_spp,
+            converged: self.cpu_converged,
+            adaptive_active: self.cpu_active,
         });
         let viewer = self.viewer.as_mut().context("no viewer")?;
         let result = viewer.draw(FrameRequest {
@@ -179,9 +180,13 @@ impl App {
         };
         if restart {
             self.cpu_spp = 0;
+            self.cpu_converged = false;
+            self.cpu_active = None;
         }
         if let Some(snapshot) = &snapshot {
             self.cpu_spp = snapshot.spp;
+            self.cpu_converged = snapshot.converged;
+            self.cpu_active = snapshot.adaptive_active;
         }
         Ok(snapshot)
     }
@@ -211,6 +216,7 @@ impl App {
             .record(now, result.times, u64::from(width) * u64::from(height));
         self.spp = result.spp;
         self.converged = result.converged;
+        self.adaptive_active = result.adaptive_active;
     }
 
     /// A Shift+clicked surface at view depth `depth` under `pixel` of `camera`: the third lays

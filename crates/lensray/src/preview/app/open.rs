@@ -135,8 +135,12 @@ impl App {
         let (kind, why) = if self.config.viewer.gpu.traversal.is_some() {
             let traversal = renderer.traversal();
             (traversal.to_string(), "asked for".to_string())
-        } else if asked != Estimator::Traced || real_lens.is_some() {
-            // auto with a real lens: only the traversal paths trace its rays (as `render`).
+        } else if asked != Estimator::Traced
+            || real_lens.is_some()
+            || shot.render.noise_threshold.is_some()
+        {
+            // auto with a real lens or a noise threshold: only the traversal paths trace its
+            // rays and sample adaptively (as `render`).
             let (kind, why) = paths::pick_traversal(renderer, &shot)?;
             (kind.to_string(), why)
         } else {
