@@ -39,13 +39,13 @@ pub enum ToneMap {
     None,
     /// Khronos PBR Neutral: colours below 0.76 kept but for an offset of up to 0.04 (which
     /// cancels a dielectric's 4 % Fresnel reflection) and a quadratic toe below 0.08, highlights
-    /// compressed towards 1 and desaturated.
+    /// compressed towards 1 and desaturated. The default, as in the glTF viewers: base colours
+    /// come out as they show them (docs/cli.md, "Exposure and tone maps", has the measurements).
+    #[default]
     Neutral,
     /// AgX: a log encoding over 16.5 stops around mid grey and a sigmoid, in a widened gamut
     /// (film-like: highlights keep gradations up to 16 times a diffuse white's 1 and bright
-    /// colours desaturate smoothly to white). The default (docs/cli.md, "Exposure and tone
-    /// maps", says why).
-    #[default]
+    /// colours desaturate smoothly to white), for light sources and bright skies in the frame.
     Agx,
 }
 

@@ -3,7 +3,7 @@
 //! lens. The formulas are `film::tonemap`'s.
 //!
 //! - No option: the image's values as rendered (scale 1); PNGs and the preview tone mapped by
-//!   the default tone map ([`ToneMap::Agx`]).
+//!   the default tone map ([`ToneMap::Neutral`]).
 //! - `ev` alone: the image scaled by 2^ev.
 //! - `shutter` (with `iso`, default 100): the physical exposure 1 / (1.2 * 2^EV100), EV100 =
 //!   log2(N^2 / shutter * 100 / ISO); `ev` is then an offset on top (exposure compensation).
@@ -163,7 +163,7 @@ mod tests {
     fn no_option_leaves_the_values_as_rendered() {
         let e = resolve(Settings::default(), ExposureSettings::default()).unwrap();
         assert_eq!(e.display.exposure, 1.0);
-        assert_eq!(e.display.tonemap, ToneMap::Agx);
+        assert_eq!(e.display.tonemap, ToneMap::Neutral);
         assert_eq!(e.exr_scale, 1.0);
         assert_eq!(e.physical, None);
     }

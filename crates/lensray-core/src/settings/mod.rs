@@ -15,6 +15,7 @@ pub mod aperture_image;
 pub mod camera_timeline;
 pub mod environment;
 pub mod exposure;
+pub mod framing;
 pub mod keyframe;
 pub mod lights;
 pub mod render;
@@ -24,13 +25,15 @@ pub mod user;
 pub use camera_timeline::CameraTimeline;
 pub use environment::EnvironmentSetting;
 pub use exposure::{exposure, Exposure};
+pub use framing::{
+    BOARD_ELEVATION_DEGREES, BOARD_THINNESS, FRAMING_AZIMUTH_DEGREES, FRAMING_ELEVATION_DEGREES,
+};
 pub use keyframe::{fps, frame_seed, FocusKey, Interpolation, Keyframes, DEFAULT_FPS};
 pub use lights::{light_scene, pinned_lights, settings_lights, LightSettings, LightType, Lights};
 pub use render::{RenderSettings, Shading};
 pub use shot::{
     shot, tilt_model, FocusChoice, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_HEIGHT,
     DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_SPP, DEFAULT_VFOV_DEGREES, DEFAULT_WIDTH,
-    FRAMING_AZIMUTH_DEGREES, FRAMING_ELEVATION_DEGREES,
 };
 pub use user::{
     ApertureSettings, CameraSettings, ExposureSettings, ImageSettings, LensSettings,

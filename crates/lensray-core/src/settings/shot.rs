@@ -1,7 +1,6 @@
 //! Settings (file overridden by command line) + scene -> a validated camera and render settings.
 //! What neither gives gets a default; a scene without a camera position is framed automatically
-//! (`framing_distance`): a three-quarter view from above its front, at the distance that fits its
-//! bounding sphere into the lens's field of view, focused at the sphere's centre.
+//! (`super::framing`), focused at its centre.
 
 use glam::{DVec3, Vec3};
 use thiserror::Error;
@@ -15,11 +14,12 @@ use crate::camera::{
     ProjectionParams, RealLensParams,
 };
 use crate::interface::MAX_BOUNCES;
-use crate::optics::paraxial::FirstOrder;
 use crate::optics::Prescription;
 use crate::scene::{Bounds, Scene};
 use crate::settings::{ApertureSettings, CameraSettings, ProjectionKind, Settings, Switch};
 use crate::settings::{EnvironmentSetting, RenderSettings, Shading};
+
+use super::framing::{framing_vfov_degrees, view, View};
 
 pub const DEFAULT_WIDTH: u32 = 640;
 pub const DEFAULT_HEIGHT: u32 = 480;
@@ -29,14 +29,6 @@ pub const DEFAULT_F_NUMBER: f64 = 2.8;
 /// Full-frame sensor height.
 pub const DEFAULT_SENSOR_HEIGHT_MM: f64 = 24.0;
 const DEFAULT_BACKGROUND: [f64; 3] = [0.1, 0.1, 0.1];
-/// The automatic framing's view: turned this far around the vertical axis from the front (glTF's
-/// convention: a model faces +Z) toward +X ...
-pub const FRAMING_AZIMUTH_DEGREES: f64 = 35.0;
-/// ... and this far above the horizon, a three-quarter view from above.
-pub const FRAMING_ELEVATION_DEGREES: f64 = 25.0;
-/// How much larger than the bounding sphere the automatic framing's view is (the sphere's
-/// outline reaches 1 / 1.05 of the way to the frame's nearer edges, a thin margin).
-const FRAMING_MARGIN: f64 = 1.05;
 
 #[derive(Debug, Error, PartialEq)]
 pub enum SettingsError {
@@ -244,114 +236,6 @@ pub(super) fn framing(settings: &Settings, scene: &Scene) -> Result<Framing, Set
         target: view.target,
         radius,
     })
-}
-
-/// Where the camera stands and looks, before the checks of `CameraParams::build`.
-struct View {
-    eye: Vec3,
-    target: Vec3,
-    up: Vec3,
-}
-
-/// The vertical field of view the default framing assumes: the real lens's, focused at
-/// infinity (the field narrows a little nearer), or the settings' own.
-fn framing_vfov_degrees(c: &CameraSettings, real_lens: Option<&Prescription>) -> f64 {
-    match real_lens {
-        Some(lens) => {
-            let efl = FirstOrder::of(lens).efl;
-            let height = c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM);
-            (2.0 * (0.5 * height / efl).atan()).to_degrees()
-        }
-        None => c.vfov_degrees.unwrap_or(DEFAULT_VFOV_DEGREES),
-    }
-}
-
-/// Target (default: the centre of the scene's bounding sphere), up (default: +y) and eye
-/// (default: the automatic framing's, `framing_direction` from the target at
-/// `framing_distance`).
-fn view(
-    settings: &Settings,
-    scene: &Scene,
-    bounds: &Bounds,
-    real_lens: Option<&Prescription>,
-) -> Result<View, SettingsError> {
-    let c = &settings.camera;
-    let target = c
-        .target
-        .map(|t| point("target", t))
-        .transpose()?
-        .unwrap_or(bounds.center());
-    let up = c.up.map(|u| point("up", u)).transpose()?.unwrap_or(Vec3::Y);
-    let eye = match c.eye {
-        Some(e) => point("eye", e)?,
-        None => {
-            let (_, radius) = scene.bounding_sphere().ok_or(SettingsError::EmptyScene)?;
-            let distance = framing_distance(settings, real_lens, f64::from(radius));
-            target + (framing_direction(up) * distance).as_vec3()
-        }
-    };
-    Ok(View { eye, target, up })
-}
-
-/// The automatic framing's direction from the target to the eye: `FRAMING_AZIMUTH_DEGREES`
-/// around `up` from the front (+Z, or +X where `up` is along Z) toward the side, and
-/// `FRAMING_ELEVATION_DEGREES` above the plane normal to `up`.
-fn framing_direction(up: Vec3) -> DVec3 {
-    let up = up.as_dvec3().try_normalize().unwrap_or(DVec3::Y);
-    let front = (DVec3::Z - up * up.z)
-        .try_normalize()
-        .unwrap_or_else(|| (DVec3::X - up * up.x).normalize());
-    let side = up.cross(front);
-    let (azimuth, elevation) = (
-        FRAMING_AZIMUTH_DEGREES.to_radians(),
-        FRAMING_ELEVATION_DEGREES.to_radians(),
-    );
-    (front * azimuth.cos() + side * azimuth.sin()) * elevation.cos() + up * elevation.sin()
-}
-
-/// How far from a bounding sphere of `radius` the automatic framing stands: where the sphere's
-/// outline fills the view's narrower half angle but for `FRAMING_MARGIN`, i.e.
-/// d sin(half(d)) = margin x radius. A lens with a focal length f (a thin lens in physical
-/// units, or a real lens's effective focal length) focused at d throws the image to
-/// s_i = f d / (d - f), so its field narrows as d nears f: tan(half) = (h / 2) / s_i for the
-/// sensor height h. Both sides grow with d, so bisection finds it; it is always beyond f.
-fn framing_distance(settings: &Settings, real_lens: Option<&Prescription>, radius: f64) -> f64 {
-    let c = &settings.camera;
-    let width = f64::from(settings.image.width.unwrap_or(DEFAULT_WIDTH).max(1));
-    let height = f64::from(settings.image.height.unwrap_or(DEFAULT_HEIGHT).max(1));
-    let narrower = (width / height).min(1.0);
-    let perspective = c.projection != Some(ProjectionKind::Orthographic);
-    let focal_length_mm = match real_lens {
-        Some(lens) => Some(FirstOrder::of(lens).efl),
-        None if perspective && c.aperture_radius.is_none() => c.focal_length_mm,
-        None => None,
-    };
-    let sensor_mm = c.sensor_height_mm.unwrap_or(DEFAULT_SENSOR_HEIGHT_MM);
-    let vfov = framing_vfov_degrees(c, real_lens)
-        .clamp(1.0, 179.0)
-        .to_radians();
-    let f = focal_length_mm.map_or(0.0, |f| f / MM_PER_WORLD_UNIT);
-    let tan_half = |d: f64| match focal_length_mm {
-        Some(f_mm) if f_mm > 0.0 => 0.5 * sensor_mm / f_mm * ((d - f) / d).max(0.0),
-        _ => (0.5 * vfov).tan(),
-    };
-    let excess = |d: f64| d * (tan_half(d) * narrower).atan().sin() - FRAMING_MARGIN * radius;
-    let (mut near, mut far) = (f, f + radius.max(1e-9));
-    for _ in 0..200 {
-        if excess(far) >= 0.0 {
-            break;
-        }
-        (near, far) = (far, far * 2.0);
-    }
-    for _ in 0..100 {
-        let mid = 0.5 * (near + far);
-        if excess(mid) < 0.0 {
-            near = mid;
-        } else {
-            far = mid;
-        }
-    }
-    far
 }
 
 /// The projection the settings name (default: perspective).

@@ -110,7 +110,7 @@ pub struct ExposureArgs {
     /// --f-number). For glTF's photometric lights: sunny 16 is --iso 100 --shutter 1/125 at f/16.
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_hyphen_values = true)]
     pub shutter: Option<f64>,
-    /// The tone map of PNGs and the preview [default: agx].
+    /// The tone map of PNGs and the preview [default: neutral].
     #[arg(long, value_parser = by_name::<ToneMap>())]
     pub tonemap: Option<ToneMap>,
     /// Expose EXR output too (by default an EXR keeps the render's linear values; it is never

@@ -63,10 +63,10 @@ impl NamedOption for ToneMap {
             ToneMap::None => {
                 "the values as they are, clamped at 1 (lensray's PNGs before tone maps)"
             }
-            ToneMap::Neutral => "Khronos PBR Neutral: colours kept, highlights compressed",
-            ToneMap::Agx => {
-                "AgX (as three.js, after Blender): highlights roll off to white (default)"
+            ToneMap::Neutral => {
+                "Khronos PBR Neutral: colours kept, highlights compressed (default)"
             }
+            ToneMap::Agx => "AgX (as three.js, after Blender): highlights roll off to white",
         })
     }
 }

@@ -54,10 +54,10 @@ fn exposure_brightens_pngs_and_reaches_exr_only_when_asked() {
             "{tonemap}"
         );
     }
-    // The default tone map is agx.
+    // The default tone map is neutral.
     assert_eq!(
         render(d, "d.png", &[]),
-        render(d, "x.png", &["--tonemap", "agx"])
+        render(d, "x.png", &["--tonemap", "neutral"])
     );
     // EXR: the render's values whatever the exposure, unless --expose-exr (and never a tone map).
     let linear = render(d, "a.exr", &[]);

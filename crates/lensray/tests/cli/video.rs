@@ -203,6 +203,10 @@ fn resumed_exr_frames_of_an_odd_size_are_all_in_the_video() {
         "--exposure",
         "0.7",
         "--expose-exr",
+        // The frames `MEAN_TOLERANCE` was measured on: PBR Neutral's deeper shadows give the
+        // codec more contrast in the noise to lose (3.3 levels on frame 2).
+        "--tonemap",
+        "agx",
     ];
     let with = |extra: &[&'static str]| [&common[..], extra].concat();
     render(d, &with(&["--frames", "1-3", "--out", "e.####.exr"]));

@@ -5,7 +5,9 @@
 use glam::Vec3;
 use lensray_core::camera::{Camera, Lens};
 use lensray_core::scene::{load_obj, Scene};
-use lensray_core::settings::{shot, Settings, FRAMING_AZIMUTH_DEGREES, FRAMING_ELEVATION_DEGREES};
+use lensray_core::settings::{
+    shot, Settings, BOARD_ELEVATION_DEGREES, FRAMING_AZIMUTH_DEGREES, FRAMING_ELEVATION_DEGREES,
+};
 
 /// A box 4 m long (x), 1.5 m high and 2 m deep away from the origin, as OBJ: a milk truck's
 /// proportions.
@@ -22,10 +24,32 @@ const WIDE_22: &str = concat!(
 );
 
 fn truck() -> Scene {
+    obj_scene(TRUCK_OBJ)
+}
+
+fn obj_scene(obj: &str) -> Scene {
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("truck.obj");
-    std::fs::write(&path, TRUCK_OBJ).unwrap();
+    let path = dir.path().join("scene.obj");
+    std::fs::write(&path, obj).unwrap();
     load_obj(&path).unwrap().scene
+}
+
+/// A box from `min` to `max` as OBJ, its vertices in the truck's order and its faces the
+/// truck's.
+fn box_obj(min: Vec3, max: Vec3) -> String {
+    let faces = &TRUCK_OBJ[TRUCK_OBJ.find('f').unwrap()..];
+    let mut obj = String::new();
+    for z in [min.z, max.z] {
+        for (x, y) in [
+            (min.x, min.y),
+            (max.x, min.y),
+            (max.x, max.y),
+            (min.x, max.y),
+        ] {
+            obj += &format!("v {x} {y} {z}\n");
+        }
+    }
+    obj + faces
 }
 
 /// The outline of the sphere (`centre`, `radius`) as `camera` sees it: its largest distance
@@ -114,5 +138,60 @@ fn a_scene_without_a_camera_is_framed_from_above_the_front_by_the_lens() {
             (0.8..=1.0).contains(&(reach / half)),
             "{name}: the sphere's outline reaches {reach} px of the narrower half side's {half}"
         );
+    }
+}
+
+#[test]
+fn a_board_is_framed_face_on_from_a_little_above_filling_the_frame() {
+    // A row of samples 8.6 m wide, 2.4 m high and 1.3 m deep (AlphaBlendModeTest's bounds),
+    // facing +Z, and a chart 2 m square and 5 cm thick facing +X.
+    let boards = [
+        (
+            "a row facing +Z",
+            Vec3::new(-4.3, 0.0, -0.7),
+            Vec3::new(4.3, 2.4, 0.6),
+            0.0,
+        ),
+        (
+            "a chart facing +X",
+            Vec3::new(1.0, -1.0, -1.0),
+            Vec3::new(1.05, 1.0, 1.0),
+            90.0f32,
+        ),
+    ];
+    for (name, min, max, facing) in boards {
+        let scene = obj_scene(&box_obj(min, max));
+        for (lens, setup) in [("40 degrees", None), ("50 mm", Some(50.0))] {
+            let mut settings = Settings::default();
+            settings.camera.focal_length_mm = setup;
+            let camera = shot(&settings, &scene).unwrap().camera;
+            let centre = 0.5 * (min + max);
+            let from_centre = camera.frame.eye - centre;
+            let azimuth = from_centre.x.atan2(from_centre.z).to_degrees();
+            let elevation = (from_centre.y / from_centre.length()).asin().to_degrees();
+            assert!(
+                (azimuth - facing).abs() < 1e-3
+                    && (f64::from(elevation) - BOARD_ELEVATION_DEGREES).abs() < 1e-3,
+                "{name}, {lens}: seen from {azimuth} degrees around and {elevation} up"
+            );
+            // Every corner inside the frame, the farthest at the margin's 1 / 1.05.
+            let (w, h) = (camera.width as f32, camera.height as f32);
+            let reach = scene
+                .bounds()
+                .unwrap()
+                .corners()
+                .map(|c| camera.project(c))
+                .iter()
+                .map(|p| ((p.x / w - 0.5).abs() * 2.0).max((p.y / h - 0.5).abs() * 2.0))
+                .fold(0.0f32, f32::max);
+            println!(
+                "{name}, {lens}: the farthest corner reaches {:.1} % of the half frame",
+                100.0 * reach
+            );
+            assert!(
+                (reach - 1.0 / 1.05).abs() < 1e-3,
+                "{name}, {lens}: the farthest corner reaches {reach} of the half frame, not 1 / 1.05"
+            );
+        }
     }
 }
