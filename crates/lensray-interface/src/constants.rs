@@ -185,6 +185,9 @@ shader_constants! {
     /// smaller alpha puts the GGX peak beyond what f32 shading resolves).
     DIELECTRIC_F0: f32 = 0.04;
     MIN_ROUGHNESS: f32 = 0.045;
+    /// `KHR_materials_clearcoat`'s coat (reference/clearcoat.rs): its reflectance at normal
+    /// incidence, ((1 - 1.5) / (1 + 1.5))^2 for its index of refraction 1.5.
+    CLEARCOAT_F0: f32 = 0.04;
     /// The least height above the geometric surface, as a cosine, that the mirror reflection
     /// of the view about a shading normal keeps (reference/surface_frame.rs:
     /// `reflection_safe_normal`; 0.9 of the view's own where the viewer grazes the surface).

@@ -344,6 +344,15 @@ shader_interface! {
             pad1: u32,
             /// A tangent-space normal map (linear; TEXTURE_NONE: none).
             normal_texture: GpuTextureRef,
+            /// `KHR_materials_clearcoat`: the coat's weight and roughness (0: no coat).
+            clearcoat: f32,
+            clearcoat_roughness: f32,
+            pad2: u32,
+            pad3: u32,
+            /// R: multiplies `clearcoat` (linear).
+            clearcoat_texture: GpuTextureRef,
+            /// G: multiplies `clearcoat_roughness` (linear).
+            clearcoat_roughness_texture: GpuTextureRef,
         }
         /// A node of the software traversal's 8-wide BVH (lensray-vulkan/src/scene/bvh.rs), the
         /// compressed layout of Ylitie, Karras and Laine (2017): up to eight children's boxes,

@@ -325,9 +325,10 @@ fn a_requested_traversal_builds_only_its_structures() {
     }
 }
 
-/// Metallic-roughness spheres (red dielectric and gold metal, roughness 0.2 and 0.6, and a
-/// fifth whose metallic, roughness and occlusion come from 8 x 8 checkers) on a Lambert floor
-/// under a point light.
+/// Metallic-roughness spheres (red dielectric and gold metal, roughness 0.2 and 0.6, a fifth
+/// whose metallic, roughness and occlusion come from 8 x 8 checkers, and a sixth of red
+/// plastic under a clear coat whose weight and roughness come from the same checkers) on a
+/// Lambert floor under a point light.
 fn metallic_rough_scene() -> Scene {
     let pbr = |name: &str, base: Vec3, metallic: f32, roughness: f32| Material {
         metallic,
@@ -378,6 +379,7 @@ fn metallic_rough_scene() -> Scene {
             ball(0.5, 0.0, 3),
             ball(1.5, 0.0, 4),
             ball(0.0, 1.2, 5),
+            ball(1.2, 1.2, 6),
         ],
         materials: vec![
             material("floor", Vec3::splat(0.6), Vec3::ZERO),
@@ -390,6 +392,14 @@ fn metallic_rough_scene() -> Scene {
                 occlusion_texture: Some(TextureRef::new(1)),
                 occlusion_strength: 0.8,
                 ..pbr("checkered", gold, 1.0, 1.0)
+            },
+            // Coat weight 1 and 1/4 (R), roughness 0.3 x 0.8 and 0.3 x 0.2 (G).
+            Material {
+                clearcoat: 1.0,
+                clearcoat_texture: Some(TextureRef::new(1)),
+                clearcoat_roughness: 0.3,
+                clearcoat_roughness_texture: Some(TextureRef::new(0)),
+                ..pbr("coated", red, 0.0, 0.6)
             },
         ],
         textures,

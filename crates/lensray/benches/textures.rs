@@ -23,7 +23,9 @@
 //! weight and metallic 0, no metallic-roughness texture: the BRDF reduces to c / pi), `pbr`
 //! (the apples as their file has them: specular 1 and the 4K roughness texture; the card's
 //! materials given specular 1 and roughness 0.5) and, where a metallic-roughness texture is
-//! read, `pbr factors` (the same without that texture), which tells the share of its reads.
+//! read, `pbr factors` (the same without that texture), which tells the share of its reads;
+//! `pbr clearcoat` is `pbr` with every material under a smooth clear coat (weight 1, roughness
+//! 0.1): what the coat's lobe and its draws add.
 
 #[path = "variants/mod.rs"]
 mod variants;
@@ -166,9 +168,18 @@ fn measure_brdf(
         });
     }
     let triangles = pbr.triangle_count();
+    // Every material under a smooth clear coat (KHR_materials_clearcoat 1, roughness 0.1).
+    let mut coated = pbr.clone();
+    for m in &mut coated.materials {
+        (m.clearcoat, m.clearcoat_roughness) = (1.0, 0.1);
+    }
     variants.push(Variant {
         name: "pbr".into(),
         scene: pbr,
+    });
+    variants.push(Variant {
+        name: "pbr clearcoat".into(),
+        scene: coated,
     });
     let results = SceneResults {
         scene: format!("{name}: {}", description.source),

@@ -14,6 +14,7 @@ use glam::{Vec2, Vec3};
 use super::accel::{Hit, PACKET_SIZE};
 use super::brdf::MetallicRoughness;
 use super::brdf_sampling::BrdfSample;
+use super::clearcoat::{Clearcoat, LayeredBrdf};
 use super::lighting::{LightDraw, LitLane, ShadingInputs};
 use super::render::{Renderer, TracedPacket};
 use super::sky::{leaves, power_heuristic, sky_along, Sky};
@@ -78,18 +79,24 @@ impl Renderer {
         let material = self.materials.get(surface.material);
         let textures = &self.materials.textures;
         let mut inputs = ShadingInputs {
-            brdf: MetallicRoughness {
-                base_colour: material.diffuse,
-                metallic: material.metallic,
-                roughness: material.roughness,
-                specular: material.specular,
+            brdf: LayeredBrdf {
+                base: MetallicRoughness {
+                    base_colour: material.diffuse,
+                    metallic: material.metallic,
+                    roughness: material.roughness,
+                    specular: material.specular,
+                },
+                clearcoat: Clearcoat {
+                    weight: material.clearcoat,
+                    roughness: material.clearcoat_roughness,
+                },
             },
             emission: material.emission,
             occlusion: 1.0,
         };
         let colour = self.surfaces.colour(hit.triangle, hit.barycentric);
         if !material.is_textured() {
-            inputs.brdf.base_colour = vertex_coloured(inputs.brdf.base_colour, colour);
+            inputs.brdf.base.base_colour = vertex_coloured(inputs.brdf.base.base_colour, colour);
             return inputs;
         }
         let vertices = self.accel.vertices(hit.triangle).map(Vec3::from);
@@ -104,13 +111,17 @@ impl Renderer {
             },
         };
         let texcoord = surface.texcoord;
-        inputs.brdf.base_colour =
+        inputs.brdf.base.base_colour =
             vertex_coloured(material.diffuse_at(textures, texcoord, &duv), colour);
         surface.shading_normal = self
             .surfaces
             .normal_mapped(material, textures, hit, vertices, surface, &duv);
-        (inputs.brdf.metallic, inputs.brdf.roughness) =
+        (inputs.brdf.base.metallic, inputs.brdf.base.roughness) =
             material.metallic_roughness_at(textures, texcoord, &duv);
+        (
+            inputs.brdf.clearcoat.weight,
+            inputs.brdf.clearcoat.roughness,
+        ) = material.clearcoat_at(textures, texcoord, &duv);
         inputs.emission = material.emission_at(textures, texcoord, &duv);
         inputs.occlusion = material.occlusion_at(textures, texcoord, &duv);
         inputs
@@ -309,7 +320,7 @@ impl Renderer {
         if settings.shading == Shading::Unlit {
             let mut surface = self.surface_point(ray, &hit);
             let inputs = self.colours(&hit, &mut surface, footprint);
-            return (inputs.brdf.base_colour, None);
+            return (inputs.brdf.base.base_colour, None);
         }
         let (emission, lane) = self.lit_surface(ray, hit, footprint, draw);
         (emission, Some(lane))

@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use super::accel::PACKET_SIZE;
-use super::brdf::MetallicRoughness;
+use super::clearcoat::LayeredBrdf;
 use super::render::Renderer;
 use super::surface::{shadow_origin, SurfacePoint};
 use crate::scene::Light;
@@ -23,7 +23,7 @@ pub(super) struct LightDraw {
 /// emission and the share of the environment's light that reaches it (its occlusion map).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct ShadingInputs {
-    pub brdf: MetallicRoughness,
+    pub brdf: LayeredBrdf,
     pub emission: Vec3,
     pub occlusion: f32,
 }
@@ -33,7 +33,7 @@ pub(super) struct ShadingInputs {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct LitLane {
     pub surface: SurfacePoint,
-    pub brdf: MetallicRoughness,
+    pub brdf: LayeredBrdf,
     pub occlusion: f32,
     pub to_viewer: Vec3,
     pub draw: LightDraw,

@@ -20,6 +20,7 @@
 mod accel;
 pub mod brdf;
 pub mod brdf_sampling;
+pub mod clearcoat;
 mod embree;
 mod emitters;
 mod integrator;

@@ -439,7 +439,7 @@ impl Renderer {
                     _ => {
                         let footprint = camera.footprint();
                         let inputs = self.colours(&hit, &mut surface, Some(&footprint));
-                        inputs.brdf.base_colour
+                        inputs.brdf.base.base_colour
                     }
                 }
             }

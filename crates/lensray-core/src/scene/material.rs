@@ -54,6 +54,16 @@ pub struct Material {
     pub normal_texture: Option<TextureRef>,
     /// Multiplies the normal map's x and y (`normalTexture.scale`).
     pub normal_scale: f32,
+    /// `KHR_materials_clearcoat`'s `clearcoatFactor`: the weight in [0, 1] of a clear coat
+    /// over the surface (0: none; `reference::clearcoat`).
+    pub clearcoat: f32,
+    /// Linear; its red channel multiplies `clearcoat` (`clearcoatTexture`).
+    pub clearcoat_texture: Option<TextureRef>,
+    /// The coat's perceptual roughness in [0, 1] (`clearcoatRoughnessFactor`).
+    pub clearcoat_roughness: f32,
+    /// Linear; its green channel multiplies `clearcoat_roughness`
+    /// (`clearcoatRoughnessTexture`).
+    pub clearcoat_roughness_texture: Option<TextureRef>,
     pub alpha_mode: AlphaMode,
     /// `d` / the base colour factor's alpha.
     pub alpha: f32,
@@ -90,6 +100,10 @@ impl Material {
             occlusion_strength: 1.0,
             normal_texture: None,
             normal_scale: 1.0,
+            clearcoat: 0.0,
+            clearcoat_texture: None,
+            clearcoat_roughness: 0.0,
+            clearcoat_roughness_texture: None,
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
             alpha_texture: None,
@@ -158,6 +172,29 @@ impl Material {
         }
     }
 
+    /// The clear coat (weight, roughness) at texture coordinates `texcoord`, filtered over
+    /// `footprint`.
+    pub fn clearcoat_at(
+        &self,
+        textures: &[Texture],
+        texcoord: Vec2,
+        footprint: &TexcoordFootprint,
+    ) -> (f32, f32) {
+        let weight = match &self.clearcoat_texture {
+            Some(t) if self.clearcoat > 0.0 => {
+                self.clearcoat * sample(textures, t, texcoord, footprint).x
+            }
+            _ => self.clearcoat,
+        };
+        let roughness = match &self.clearcoat_roughness_texture {
+            Some(t) if weight > 0.0 => {
+                self.clearcoat_roughness * sample(textures, t, texcoord, footprint).y
+            }
+            _ => self.clearcoat_roughness,
+        };
+        (weight, roughness)
+    }
+
     /// Whether any of the colours `lit` shading reads comes from a texture.
     pub fn is_textured(&self) -> bool {
         self.diffuse_texture.is_some()
@@ -165,6 +202,8 @@ impl Material {
             || self.metallic_roughness_texture.is_some()
             || self.occlusion_texture.is_some()
             || self.normal_texture.is_some()
+            || self.clearcoat_texture.is_some()
+            || self.clearcoat_roughness_texture.is_some()
     }
 
     /// Whether rays may pass through the surface somewhere: what acceleration structures mark

@@ -1,7 +1,7 @@
 //! The lights a user gives (a scene file's `[[light]]` tables, the command line's `--light-*`)
 //! and what they resolve to: [`Light`]s added to the scene's own, or, where neither the file
-//! nor the settings light the scene and there is no environment and no emissive surface, one
-//! point light above the eye.
+//! nor the settings light the scene and there is no environment and no emissive surfaces bright
+//! enough to light it, one point light above the eye.
 
 use std::fmt;
 
@@ -12,6 +12,8 @@ use serde::{Deserialize, Deserializer, Serialize};
 use super::environment::load_environment;
 use super::shot::{colour, framing, point, SettingsError};
 use super::{EnvironmentSetting, Settings};
+use crate::scene::emitters::area_normal;
+use crate::scene::environment::luminance;
 use crate::scene::{Light, LightKind, Scene};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
@@ -175,19 +177,40 @@ fn light(s: &LightSettings, at: &Placement) -> Result<Light, SettingsError> {
     })
 }
 
-/// Whether a triangle of `scene` emits: its emissive surfaces light it
-/// (`reference::emitters`).
-fn emits(scene: &Scene) -> bool {
-    scene.meshes.iter().any(|mesh| {
-        mesh.material_ids
-            .iter()
-            .any(|&m| scene.materials[m as usize].emission != Vec3::ZERO)
-    })
+/// The share of the default light's irradiance (pi W/m^2 at the target) below which a scene's
+/// emitters do not light it by themselves: a room's ceiling patch or a row of glowing cubes is
+/// over it (the Cornell box's 0.24, EmissiveStrengthTest's 0.071), glowing labels are not
+/// (ClearCoatTest's 0.030), and a model with labels keeps the light that shows the rest of it.
+pub const EMITTERS_LIGHT_SHARE: f32 = 0.05;
+
+/// What the emissive surfaces of `scene` give, as a share of the default light's irradiance:
+/// their power (pi x the luminance of their emissive factor x their area, one-sided Lambertian
+/// emitters) spread over the scene's bounding sphere, Phi / (4 pi R^2), over pi.
+pub fn emitters_light_share(scene: &Scene) -> f32 {
+    let Some((_, radius)) = scene.bounding_sphere() else {
+        return 0.0;
+    };
+    let power: f32 = scene
+        .meshes
+        .iter()
+        .flat_map(|mesh| {
+            mesh.triangles
+                .iter()
+                .zip(&mesh.material_ids)
+                .map(|(t, &m)| {
+                    let emission = scene.materials[m as usize].emission;
+                    let v = t.map(|i| mesh.positions[i as usize]);
+                    std::f32::consts::PI * luminance(emission) * area_normal(&v).0
+                })
+        })
+        .filter(|p| p.is_finite())
+        .sum();
+    power / (4.0 * std::f32::consts::PI * radius * radius) / std::f32::consts::PI
 }
 
 /// The lights `settings` add to `scene`: each of theirs, or one point light above the eye when
-/// neither they nor the scene's file give one and there is no environment or emissive surface
-/// to light it.
+/// neither they nor the scene's file give one and there is no environment or emissive surfaces
+/// to light it (`emitters_light_share` at least [`EMITTERS_LIGHT_SHARE`]).
 pub fn settings_lights(settings: &Settings, scene: &Scene) -> Result<Vec<Light>, SettingsError> {
     let environment = settings
         .render
@@ -195,7 +218,8 @@ pub fn settings_lights(settings: &Settings, scene: &Scene) -> Result<Vec<Light>,
         .as_ref()
         .is_some_and(EnvironmentSetting::lights);
     let given = &settings.light.0;
-    if given.is_empty() && (!scene.lights.is_empty() || environment || emits(scene)) {
+    let emitters_light = emitters_light_share(scene) >= EMITTERS_LIGHT_SHARE;
+    if given.is_empty() && (!scene.lights.is_empty() || environment || emitters_light) {
         return Ok(Vec::new());
     }
     let f = framing(settings, scene)?;

@@ -29,7 +29,10 @@ pub use framing::{
     BOARD_ELEVATION_DEGREES, BOARD_THINNESS, FRAMING_AZIMUTH_DEGREES, FRAMING_ELEVATION_DEGREES,
 };
 pub use keyframe::{fps, frame_seed, FocusKey, Interpolation, Keyframes, DEFAULT_FPS};
-pub use lights::{light_scene, pinned_lights, settings_lights, LightSettings, LightType, Lights};
+pub use lights::{
+    emitters_light_share, light_scene, pinned_lights, settings_lights, LightSettings, LightType,
+    Lights, EMITTERS_LIGHT_SHARE,
+};
 pub use render::{RenderSettings, Shading};
 pub use shot::{
     shot, tilt_model, FocusChoice, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_HEIGHT,

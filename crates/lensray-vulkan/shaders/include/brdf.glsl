@@ -1,5 +1,7 @@
-// Mirror of lensray-core/src/reference/brdf.rs and brdf_sampling.rs, function by function:
-// glTF's metallic-roughness BRDF (the specification's Appendix B) and the draws from it.
+// Mirror of lensray-core/src/reference/brdf.rs, brdf_sampling.rs and clearcoat.rs, function by
+// function: glTF's metallic-roughness BRDF (the specification's Appendix B) under
+// KHR_materials_clearcoat's coat, and the draws from them. The layered BRDF's functions
+// overload the base's names.
 // Include after the generated interface (DIELECTRIC_F0, MIN_ROUGHNESS, PI) and lights.glsl
 // (orthonormal_frame, cosine_direction).
 #ifndef LENSRAY_BRDF_GLSL
@@ -129,6 +131,108 @@ bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out BrdfSample dra
         direction = 2.0 * dot(v, h) * h - v;
     } else {
         direction = cosine_direction(n, vec2((u.x - p) / (1.0 - p), u.y));
+    }
+    float n_dot_l = dot(n, direction);
+    float pdf = brdf_pdf(s, n, direction, v);
+    if (n_dot_l <= 0.0 || pdf <= 0.0) {
+        return false;
+    }
+    draw.direction = direction;
+    draw.pdf = pdf;
+    draw.weight = brdf_evaluate(s, n, direction, v) * (n_dot_l / pdf);
+    return true;
+}
+
+// clearcoat.rs: Clearcoat
+struct Clearcoat {
+    float weight;
+    float roughness;
+};
+
+// clearcoat.rs: LayeredBrdf
+struct LayeredBrdf {
+    MetallicRoughness base;
+    Clearcoat clearcoat;
+};
+
+// clearcoat.rs: Clearcoat::alpha
+float clearcoat_alpha(Clearcoat c) {
+    float r = clamp(c.roughness, MIN_ROUGHNESS, 1.0);
+    return r * r;
+}
+
+// clearcoat.rs: Clearcoat::blend
+float clearcoat_blend(Clearcoat c, float n_dot_v) {
+    float m = clamp(1.0 - abs(n_dot_v), 0.0, 1.0);
+    float m2 = m * m;
+    return c.weight * (CLEARCOAT_F0 + (1.0 - CLEARCOAT_F0) * (m2 * m2 * m));
+}
+
+// clearcoat.rs: Clearcoat::lobe
+float clearcoat_lobe(Clearcoat c, float n_dot_l, float n_dot_v, float n_dot_h) {
+    if (n_dot_l <= 0.0 || n_dot_v <= 0.0) {
+        return 0.0;
+    }
+    float alpha = clearcoat_alpha(c);
+    return ggx_distribution(n_dot_h, alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
+}
+
+// clearcoat.rs: Clearcoat::probability
+float clearcoat_probability(Clearcoat c, float n_dot_v) {
+    if (c.weight <= 0.0 || n_dot_v <= 0.0) {
+        return 0.0;
+    }
+    float fresnel = clearcoat_blend(c, n_dot_v) / c.weight;
+    return clamp(c.weight * (0.2 + 0.8 * fresnel), 0.0, 1.0);
+}
+
+// clearcoat.rs: LayeredBrdf::evaluate
+vec3 brdf_evaluate(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
+    vec3 base = brdf_evaluate(s.base, n, l, v);
+    if (s.clearcoat.weight <= 0.0) {
+        return base;
+    }
+    float n_dot_v = dot(n, v);
+    float blend = clearcoat_blend(s.clearcoat, n_dot_v);
+    vec3 h = normalize(l + v);
+    float lobe = clearcoat_lobe(s.clearcoat, dot(n, l), n_dot_v, dot(n, h));
+    return base * (1.0 - blend) + vec3(blend * lobe);
+}
+
+// clearcoat.rs: LayeredBrdf::pdf
+float brdf_pdf(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
+    float base = brdf_pdf(s.base, n, l, v);
+    float n_dot_v = dot(n, v);
+    float p = clearcoat_probability(s.clearcoat, n_dot_v);
+    if (p <= 0.0 || dot(n, l) <= 0.0) {
+        return base;
+    }
+    vec3 h = normalize(l + v);
+    float coat = visible_normal_pdf(n_dot_v, dot(n, h), clearcoat_alpha(s.clearcoat));
+    return p * coat + (1.0 - p) * base;
+}
+
+// clearcoat.rs: LayeredBrdf::sample; false where the draw carries no light.
+bool brdf_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
+    float p = clearcoat_probability(s.clearcoat, dot(n, v));
+    if (p <= 0.0) {
+        return brdf_sample(s.base, n, v, u, draw);
+    }
+    vec3 direction;
+    if (u.x < p) {
+        vec3 t;
+        vec3 b;
+        orthonormal_frame(n, t, b);
+        vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
+        vec3 m = visible_normal(v_local, clearcoat_alpha(s.clearcoat), vec2(u.x / p, u.y));
+        vec3 h = t * m.x + b * m.y + n * m.z;
+        direction = 2.0 * dot(v, h) * h - v;
+    } else {
+        BrdfSample base_draw;
+        if (!brdf_sample(s.base, n, v, vec2((u.x - p) / (1.0 - p), u.y), base_draw)) {
+            return false;
+        }
+        direction = base_draw.direction;
     }
     float n_dot_l = dot(n, direction);
     float pdf = brdf_pdf(s, n, direction, v);

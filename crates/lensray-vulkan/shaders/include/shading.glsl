@@ -58,7 +58,7 @@ struct LitSurface {
     vec3 ns;
     vec3 ng;
     vec3 v;
-    MetallicRoughness brdf;
+    LayeredBrdf brdf;
     float occlusion;
 };
 
@@ -195,6 +195,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     vec3 diffuse = mat.diffuse.xyz;
     emission = mat.emission.xyz;
     vec2 metallic_roughness = vec2(mat.metallic, mat.roughness);
+    vec2 clearcoat = vec2(mat.clearcoat, mat.clearcoat_roughness);
     float occlusion = 1.0;
     if (textured) {
         vec2 texcoord = triangle_texcoord(tri, b);
@@ -208,6 +209,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
         }
         diffuse = material_diffuse(mat, texcoord, dx, dy);
         metallic_roughness = material_metallic_roughness(mat, texcoord, dx, dy);
+        clearcoat = material_clearcoat(mat, texcoord, dx, dy);
         emission = material_emission(mat, texcoord, dx, dy);
         occlusion = material_occlusion(mat, texcoord, dx, dy);
         ns = normal_mapped(mat, tri, b, ns, texcoord, dx, dy);
@@ -225,7 +227,9 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     s.v = -normalize(ray.direction);
     s.ns = reflection_safe_normal(ng, s.v, ns);
     s.ng = ng;
-    s.brdf = MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular);
+    s.brdf = LayeredBrdf(
+        MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular),
+        Clearcoat(clearcoat.x, clearcoat.y));
     s.occlusion = occlusion;
     return true;
 }

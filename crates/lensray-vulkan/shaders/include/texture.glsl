@@ -228,11 +228,26 @@ float material_occlusion(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
     return 1.0 + m.occlusion_strength * (r - 1.0);
 }
 
+// material.rs: Material::clearcoat_at
+vec2 material_clearcoat(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+    float weight = m.clearcoat;
+    if (has_texture(m.clearcoat_texture) && m.clearcoat > 0.0) {
+        weight = m.clearcoat * texture_sample(m.clearcoat_texture, texcoord, dx, dy).x;
+    }
+    float roughness = m.clearcoat_roughness;
+    if (has_texture(m.clearcoat_roughness_texture) && weight > 0.0) {
+        roughness = m.clearcoat_roughness
+            * texture_sample(m.clearcoat_roughness_texture, texcoord, dx, dy).y;
+    }
+    return vec2(weight, roughness);
+}
+
 // material.rs: Material::is_textured
 bool material_is_textured(Material m) {
     return has_texture(m.diffuse_texture) || has_texture(m.emission_texture)
         || has_texture(m.metallic_roughness_texture) || has_texture(m.occlusion_texture)
-        || has_texture(m.normal_texture);
+        || has_texture(m.normal_texture) || has_texture(m.clearcoat_texture)
+        || has_texture(m.clearcoat_roughness_texture);
 }
 
 // material.rs: Material::alpha_at

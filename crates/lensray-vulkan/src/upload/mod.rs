@@ -274,6 +274,12 @@ fn gpu_material(m: &Material) -> GpuMaterial {
         pad0: 0,
         pad1: 0,
         normal_texture: gpu_texture_ref(m.normal_texture.as_ref()),
+        clearcoat: m.clearcoat,
+        clearcoat_roughness: m.clearcoat_roughness,
+        pad2: 0,
+        pad3: 0,
+        clearcoat_texture: gpu_texture_ref(m.clearcoat_texture.as_ref()),
+        clearcoat_roughness_texture: gpu_texture_ref(m.clearcoat_roughness_texture.as_ref()),
     }
 }
 

@@ -4,8 +4,11 @@
 use std::f32::consts::PI;
 
 use glam::Vec3;
-use lensray_core::scene::{load, load_gltf, LightKind};
-use lensray_core::settings::{light_scene, settings_lights};
+use lensray_core::scene::generate::cornell_box;
+use lensray_core::scene::{load, load_gltf, LightKind, Material, Mesh, Scene};
+use lensray_core::settings::{
+    emitters_light_share, light_scene, settings_lights, Settings, EMITTERS_LIGHT_SHARE,
+};
 
 use super::gltf::{write_gltf, TRIANGLE};
 use crate::write;
@@ -184,4 +187,49 @@ fn bad_lights_are_one_line_errors() {
     );
     let err = load(&path).unwrap_err().to_string();
     assert!(err.contains("area") && err.contains("typo.toml"), "{err}");
+}
+
+/// A quad of `material` from `corner` along `a` and `b` (counter-clockwise seen from a x b).
+fn quad(corner: Vec3, a: Vec3, b: Vec3, material: u32) -> Mesh {
+    Mesh {
+        name: "quad".into(),
+        positions: vec![corner, corner + a, corner + a + b, corner + b],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        material_ids: vec![material; 2],
+        ..Default::default()
+    }
+}
+
+/// Emitters that light the scene replace the default light; a glowing label does not: a model
+/// with one keeps the light that shows the rest of it (ClearCoatTest's labels left its tiles
+/// black when any emitter did).
+#[test]
+fn only_emitters_that_light_the_scene_replace_the_default_light() {
+    let cornell = cornell_box();
+    let share = emitters_light_share(&cornell.scene);
+    // A 2 m grey board with a 0.4 m x 0.1 m label glowing at 1.
+    let board = Scene {
+        meshes: vec![
+            quad(Vec3::new(-1.0, -1.0, 0.0), 2.0 * Vec3::X, 2.0 * Vec3::Y, 0),
+            quad(Vec3::new(-0.2, 0.8, 0.01), 0.4 * Vec3::X, 0.1 * Vec3::Y, 1),
+        ],
+        materials: vec![
+            Material::new("board", Vec3::splat(0.5), Vec3::ZERO),
+            Material::new("label", Vec3::ONE, Vec3::ONE),
+        ],
+        ..Default::default()
+    };
+    let label_share = emitters_light_share(&board);
+    println!(
+        "the Cornell box's patch gives {share:.4} of the default light's irradiance, the label \
+         {label_share:.4}; the threshold is {EMITTERS_LIGHT_SHARE}"
+    );
+    assert!(share >= EMITTERS_LIGHT_SHARE && label_share < EMITTERS_LIGHT_SHARE);
+    let settings = Settings::default();
+    assert!(settings_lights(&cornell.settings, &cornell.scene)
+        .unwrap()
+        .is_empty());
+    let lights = settings_lights(&settings, &board).unwrap();
+    assert_eq!(lights.len(), 1, "{lights:?}");
+    assert_eq!(lights[0].kind, LightKind::Point);
 }

@@ -89,7 +89,7 @@ impl Walk<'_> {
             },
             gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         };
-        Ok(Material {
+        let base = Material {
             diffuse: Vec3::new(r, g, b),
             metallic: pbr.metallic_factor().clamp(0.0, 1.0),
             roughness: pbr.roughness_factor().clamp(0.0, 1.0),
@@ -110,7 +110,8 @@ impl Walk<'_> {
             alpha_texture: base,
             double_sided: material.double_sided(),
             ..Material::new(&name, Vec3::ONE, Vec3::ZERO)
-        })
+        };
+        self.layers(material, base)
     }
 
     /// The material's normal map (linear) with its transform, and its scale. The `gltf` crate
@@ -170,7 +171,7 @@ impl Walk<'_> {
 
     /// The scene's reference to `texture` read at `tex_coord` through `uv_from_texcoord`, its
     /// image decoded as `encoding`.
-    fn texture_slot(
+    pub(super) fn texture_slot(
         &mut self,
         texture: gltf::Texture,
         tex_coord: u32,
@@ -311,6 +312,11 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
                     || s.specular_color_factor() != [1.0; 3]
             }),
             "KHR_materials_specular's colour and textures",
+        );
+        note(
+            m.extension_value("KHR_materials_clearcoat")
+                .is_some_and(|c| c.get("clearcoatNormalTexture").is_some()),
+            "KHR_materials_clearcoat's own normal map",
         );
     }
     ignored

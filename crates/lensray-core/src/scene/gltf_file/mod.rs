@@ -26,12 +26,14 @@ use super::{LoadTimes, Scene, SceneError};
 
 mod accessors;
 mod animation;
+mod layers;
 mod materials;
 mod nodes;
 
 /// Extensions this loader applies; a file requiring any other is refused.
-const KNOWN_EXTENSIONS: [&str; 5] = [
+const KNOWN_EXTENSIONS: [&str; 6] = [
     "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
     "KHR_mesh_quantization",

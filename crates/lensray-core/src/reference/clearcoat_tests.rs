@@ -1,0 +1,151 @@
+use std::f32::consts::PI;
+
+use glam::{DVec3, Vec2, Vec3};
+
+use super::*;
+
+fn base(colour: Vec3, metallic: f32, roughness: f32, specular: f32) -> MetallicRoughness {
+    MetallicRoughness {
+        base_colour: colour,
+        metallic,
+        roughness,
+        specular,
+    }
+}
+
+fn coated(base: MetallicRoughness, weight: f32, roughness: f32) -> LayeredBrdf {
+    LayeredBrdf {
+        base,
+        clearcoat: Clearcoat { weight, roughness },
+    }
+}
+
+/// The directional albedo of `s` at n.v = `mu` (normal +Z): the integral of f cos over the
+/// hemisphere, a midpoint rule in polar coordinates (psi, phi) about the mirror direction with
+/// psi = pi s^2, whose steps are finest where a smooth lobe's peak is (alpha 0.01 at grazing
+/// views is 0.6 degrees wide).
+fn albedo(s: &LayeredBrdf, mu: f32) -> DVec3 {
+    let v = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+    let mirror = Vec3::new(-v.x, 0.0, v.z);
+    let (e1, e2) = crate::scene::light::orthonormal_frame(mirror);
+    let (qs, qp) = (2000, 720);
+    let (ds, dp) = (1.0 / qs as f64, std::f64::consts::TAU / qp as f64);
+    let mut sum = DVec3::ZERO;
+    for i in 0..qs {
+        let t = (i as f64 + 0.5) * ds;
+        let psi = std::f64::consts::PI * t * t;
+        // d(solid angle) = sin psi dpsi dphi, dpsi = 2 pi s ds.
+        let jacobian = psi.sin() * 2.0 * std::f64::consts::PI * t;
+        let (sin, cos) = (psi.sin() as f32, psi.cos() as f32);
+        for j in 0..qp {
+            let phi = ((j as f64 + 0.5) * dp) as f32;
+            let l = mirror * cos + (e1 * phi.cos() + e2 * phi.sin()) * sin;
+            if l.z > 0.0 {
+                sum += (s.evaluate(Vec3::Z, l, v) * l.z).as_dvec3() * jacobian;
+            }
+        }
+    }
+    sum * ds * dp
+}
+
+/// n = l = v: Fc = f0 = 0.04, the coat's D = 1 / (pi alpha^2) and V = 1/4.
+#[test]
+fn the_layers_mix_as_the_specification_says() {
+    let n = Vec3::Z;
+    let grey = base(Vec3::splat(0.5), 0.0, 1.0, 1.0);
+    // The base alone: 0.49 / pi (brdf.rs's test); the coat at roughness 0.5 (alpha 0.25):
+    // D V = 1 / (4 pi 0.0625) = 1.273240.
+    let f = coated(grey, 1.0, 0.5).evaluate(n, n, n).x;
+    let want = 0.49 / PI * 0.96 + 0.04 * 1.273_24;
+    println!("coated grey at normal incidence: {f} against {want}");
+    assert!((f - want).abs() < 1e-5 * want, "{f} against {want}");
+    // Half a coat blends half as much; none leaves the base exactly.
+    let f = coated(grey, 0.5, 0.5).evaluate(n, n, n).x;
+    let want = 0.49 / PI * 0.98 + 0.02 * 1.273_24;
+    assert!((f - want).abs() < 1e-5 * want, "{f} against {want}");
+    let l = Vec3::new(0.6, 0.0, 0.8);
+    let v = Vec3::new(-0.3, 0.4, 0.866).normalize();
+    assert_eq!(
+        coated(grey, 0.0, 0.2).evaluate(n, l, v),
+        grey.evaluate(n, l, v)
+    );
+    // At 80 degrees from the normal the coat takes Fc = 0.04 + 0.96 (1 - cos 80)^5 = 0.409910
+    // of the light from the base.
+    let mu = 80f32.to_radians().cos();
+    assert!((coated(grey, 1.0, 0.5).clearcoat.blend(mu) - 0.409_910).abs() < 1e-5);
+}
+
+/// Draws estimate the albedo the quadrature finds, and each carries the density `pdf` gives
+/// its direction.
+#[test]
+fn draws_estimate_the_albedo_and_carry_their_density() {
+    let n = Vec3::Z;
+    let steps = 512;
+    for (weight, roughness, metallic) in [(1.0, 0.1, 0.0), (1.0, 0.6, 0.0), (0.5, 0.3, 1.0)] {
+        let s = coated(
+            base(Vec3::new(0.9, 0.6, 0.3), metallic, 0.5, 1.0),
+            weight,
+            roughness,
+        );
+        for mu in [0.3f32, 0.8, 1.0] {
+            let v = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+            let mut drawn = DVec3::ZERO;
+            for k in 0..steps * steps {
+                let u = Vec2::new(
+                    ((k / steps) as f32 + 0.5) / steps as f32,
+                    ((k % steps) as f32 + 0.5) / steps as f32,
+                );
+                if let Some(d) = s.sample(n, v, u) {
+                    let pdf = s.pdf(n, d.direction, v);
+                    assert!((pdf - d.pdf).abs() <= 1e-5 * pdf, "{pdf} against {}", d.pdf);
+                    drawn += d.weight.as_dvec3();
+                }
+            }
+            let drawn = drawn / (steps * steps) as f64;
+            let quadrature = albedo(&s, mu);
+            let error = ((drawn - quadrature).abs() / quadrature).max_element();
+            println!(
+                "clearcoat {weight} at roughness {roughness} over metallic {metallic}, n.v {mu}: \
+                 drawn {drawn:.4}, quadrature {quadrature:.4}, relative error {error:.2e}"
+            );
+            assert!(error < 5e-3, "{drawn} against {quadrature}");
+        }
+    }
+}
+
+/// The white furnace of a coat over white Lambert (albedo 1): what it loses is the light its
+/// GGX lobe loses (no multiple scattering between microfacets), weighed by its Fresnel, so a
+/// smooth coat keeps nearly everything and a rough one loses most at grazing views. The
+/// bounds are docs/materials.md's.
+#[test]
+fn a_coat_over_white_loses_what_its_lobe_loses() {
+    let white = base(Vec3::ONE, 0.0, 1.0, 0.0);
+    // (coat roughness, n.v, most lost)
+    let cases = [
+        (0.1, 1.0, 0.001),
+        (0.1, 0.5, 0.001),
+        (0.1, 0.2, 0.002),
+        (0.5, 1.0, 0.005),
+        (0.5, 0.5, 0.012),
+        (0.5, 0.2, 0.06),
+        (1.0, 1.0, 0.03),
+        (1.0, 0.5, 0.045),
+        (1.0, 0.2, 0.15),
+    ];
+    for (roughness, mu, most) in cases {
+        let a = albedo(&coated(white, 1.0, roughness), mu).x;
+        println!(
+            "coat roughness {roughness}, n.v {mu}: albedo {a:.5}, lost {:.5}",
+            1.0 - a
+        );
+        assert!(
+            a <= 1.0 + 1e-3,
+            "roughness {roughness}, n.v {mu}: reflects {a}"
+        );
+        assert!(
+            1.0 - a <= most,
+            "roughness {roughness}, n.v {mu}: loses {}",
+            1.0 - a
+        );
+    }
+}

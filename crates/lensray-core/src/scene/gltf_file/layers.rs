@@ -1,0 +1,78 @@
+//! The layers glTF's material extensions put over the metallic-roughness base:
+//! `KHR_materials_clearcoat` (`clearcoatFactor` times `clearcoatTexture`'s R, and
+//! `clearcoatRoughnessFactor` times `clearcoatRoughnessTexture`'s G, both linear, each texture
+//! with its own `texCoord` and `KHR_texture_transform`). The `gltf` crate reads none of them:
+//! they are read from the material's JSON. The coat's own normal map is not drawn (the coat
+//! follows the base's shading normal), and `ignored_features` names it.
+
+use glam::Affine2;
+use gltf_json::Value;
+
+use super::materials::texture_transform;
+use super::nodes::Walk;
+use crate::scene::texture::{Encoding, TextureRef};
+use crate::scene::Material;
+
+impl Walk<'_> {
+    /// `material` with the layers its extensions describe.
+    pub(super) fn layers(
+        &mut self,
+        gltf: &gltf::Material,
+        mut material: Material,
+    ) -> Result<Material, String> {
+        if let Some(coat) = gltf.extension_value("KHR_materials_clearcoat") {
+            let factor = |key: &str| number(coat, key).unwrap_or(0.0).clamp(0.0, 1.0);
+            material.clearcoat = factor("clearcoatFactor");
+            material.clearcoat_roughness = factor("clearcoatRoughnessFactor");
+            material.clearcoat_texture = self.json_texture(coat.get("clearcoatTexture"))?;
+            material.clearcoat_roughness_texture =
+                self.json_texture(coat.get("clearcoatRoughnessTexture"))?;
+        }
+        Ok(material)
+    }
+
+    /// The linear texture a JSON `textureInfo` names, with its `texCoord` and transform;
+    /// `None` where there is none, its index is out of range or its image is missing.
+    fn json_texture(&mut self, info: Option<&Value>) -> Result<Option<TextureRef>, String> {
+        let Some(info) = info else {
+            return Ok(None);
+        };
+        let Some(texture) = info
+            .get("index")
+            .and_then(Value::as_u64)
+            .and_then(|i| self.document.textures().nth(i as usize))
+        else {
+            return Ok(None);
+        };
+        let mut tex_coord = info.get("texCoord").and_then(Value::as_u64).unwrap_or(0) as u32;
+        let mut uv_from_texcoord = Affine2::IDENTITY;
+        if let Some(t) = info
+            .get("extensions")
+            .and_then(|e| e.get("KHR_texture_transform"))
+        {
+            let pair = |key: &str, default: [f32; 2]| match t.get(key).and_then(Value::as_array) {
+                Some(a) if a.len() == 2 => match (a[0].as_f64(), a[1].as_f64()) {
+                    (Some(x), Some(y)) => [x as f32, y as f32],
+                    _ => default,
+                },
+                _ => default,
+            };
+            let rotation = number(t, "rotation").unwrap_or(0.0);
+            uv_from_texcoord =
+                texture_transform(pair("offset", [0.0; 2]), rotation, pair("scale", [1.0; 2]));
+            if let Some(set) = t.get("texCoord").and_then(Value::as_u64) {
+                tex_coord = set as u32;
+            }
+        }
+        self.texture_slot(texture, tex_coord, uv_from_texcoord, Encoding::Linear)
+    }
+}
+
+/// A finite number at `key` of a JSON object.
+fn number(object: &Value, key: &str) -> Option<f32> {
+    object
+        .get(key)
+        .and_then(Value::as_f64)
+        .map(|x| x as f32)
+        .filter(|x| x.is_finite())
+}
