@@ -302,8 +302,12 @@ binding_groups! {
         indices: storage_buffer() = "readonly buffer Indices { uint indices[]; }",
         tri_info: storage_buffer() = "readonly buffer TriInfo { uint tri_info[]; }",
         materials: storage_buffer() = "readonly buffer Materials { Material materials[]; }",
-        /// Per vertex its texture coordinates.
+        /// Per vertex its texture coordinates (TEXCOORD_0).
         texcoords: storage_buffer() = "readonly buffer Texcoords { vec2 texcoords[]; }",
+        /// Per vertex its second texture coordinates (TEXCOORD_1) when some mesh has them
+        /// (zeros for the others); one element, zero, when no mesh has any: a vertex past the
+        /// end reads (0, 0) (texture.glsl's vertex_texcoords).
+        texcoords1: storage_buffer() = "readonly buffer Texcoords1 { vec2 texcoords1[]; }",
         /// Per vertex its colour (RGBA) where its triangles have TRI_HAS_COLOURS; one element
         /// when no mesh has colours.
         colours: storage_buffer() = "readonly buffer Colours { vec4 colours[]; }",
@@ -493,7 +497,7 @@ mod tests {
         let gbuffer = GBufferSet::DECL.bindings();
         let scene: Vec<SetBinding> = TraceRayQuerySet::DECL.bindings()[..gbuffer.len()].to_vec();
         assert_eq!(scene, gbuffer);
-        assert_eq!(scene.len(), 14, "the scene group's bindings");
+        assert_eq!(scene.len(), 15, "the scene group's bindings");
         assert_eq!(scene[0].binding, 0);
         let trace = AccumulationGroup::<NoResources>::DECL;
         let in_rayquery = TraceRayQuerySet::DECL.bindings();

@@ -309,7 +309,8 @@ shader_interface! {
         }
         /// A material's texture slot (`scene::TextureRef`).
         Std430 struct GpuTextureRef as TextureRef {
-            /// uv = (dot(transform_u.xy, texcoord) + transform_u.z, the same with transform_v).
+            /// uv = (dot(transform_u.xy, texcoord) + transform_u.z, the same with transform_v),
+            /// texcoord the coordinates of set `texcoord_set`.
             transform_u: [f32; 4],
             transform_v: [f32; 4],
             /// TEXTURE_NONE: no texture.
@@ -317,7 +318,8 @@ shader_interface! {
             /// WRAP_*
             wrap_u: u32,
             wrap_v: u32,
-            pad: u32,
+            /// The texture coordinate set read: 0 (`texcoords`) or 1 (`texcoords1`).
+            texcoord_set: u32,
         }
         /// A material of the scene's storage buffer (`scene::Material`).
         Std430 struct GpuMaterial as Material {

@@ -1,8 +1,9 @@
 //! Textures and alpha on every path: the GPU paths render the textured test card as the CPU
-//! reference does (texture filtering, wrap modes, transforms, masks, blended cuts and shadows
-//! through masks), and a texture at the focal plane stays as sharp as through a pinhole;
-//! `KHR_texture_transform` as glTF viewers apply it, and Khronos' TextureTransformTest sample
-//! rebuilt (`textures/transform_test.rs`).
+//! reference does (texture filtering, wrap modes, transforms, second texture coordinate sets,
+//! masks, blended cuts and shadows through masks), and a texture at the focal plane stays as
+//! sharp as through a pinhole; `KHR_texture_transform` as glTF viewers apply it, a texture's
+//! `texCoord` read, and Khronos' TextureTransformTest sample rebuilt
+//! (`textures/transform_test.rs`).
 
 mod gpu_support;
 #[path = "textures/transform_test.rs"]
@@ -13,7 +14,7 @@ use gpu_support::{assert_gpu_paths_match_cpu, render_scene, settings, write_png}
 use lensray::paths::{PathChoice, PathKind};
 use lensray_core::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray_core::scene::test_card::test_card;
-use lensray_core::scene::{Light, Scene};
+use lensray_core::scene::{Light, Scene, TextureRef};
 use lensray_core::settings::{Shading, Shot};
 
 fn card_camera(lens: LensParams, width: u32, height: u32) -> Camera {
@@ -48,12 +49,28 @@ fn shot(shading: Shading, spp: u32) -> Shot {
     }
 }
 
-/// The test card under one point light.
+/// The test card under one point light, with textures that read a second texture coordinate
+/// set: the gradient card's (its set turned a quarter from the first), the leaf's colour and
+/// alpha (its set mirrored), and the sign's emission, whose mesh has no second set (it reads
+/// (0, 0)).
 fn lit_card() -> Scene {
-    Scene {
+    let mut scene = Scene {
         lights: vec![Light::point(Vec3::new(1.5, 3.0, 3.0), Vec3::splat(25.0))],
         ..test_card()
+    };
+    let turned: fn(Vec2) -> Vec2 = |t| Vec2::new(t.y, 1.0 - t.x);
+    let mirrored: fn(Vec2) -> Vec2 = |t| Vec2::new(1.0 - t.x, t.y);
+    for (name, second) in [("card", turned), ("leaf", mirrored)] {
+        let mesh = scene.meshes.iter_mut().find(|m| m.name == name).unwrap();
+        mesh.texcoords1 = mesh.texcoords.iter().map(|&t| second(t)).collect();
     }
+    let set1 = |t: &mut Option<TextureRef>| t.as_mut().unwrap().texcoord_set = 1;
+    let m = &mut scene.materials;
+    set1(&mut m[1].diffuse_texture);
+    set1(&mut m[2].diffuse_texture);
+    set1(&mut m[2].alpha_texture);
+    set1(&mut m[4].emission_texture);
+    scene
 }
 
 /// Every traced GPU path and the raster path render the lit, textured, alpha-tested card as the
@@ -134,6 +151,13 @@ fn quadrant_colour(uv: Vec2) -> Vec3 {
 /// coordinates (0, 0) and (1, -1) at (1, 1), textured with the quadrant texture (32 x 32,
 /// repeating) through `KHR_texture_transform`'s `transform` (JSON members).
 fn transformed_quad(dir: &std::path::Path, transform: &str) -> Scene {
+    let info = format!(r#""extensions": {{"KHR_texture_transform": {{{transform}}}}}"#);
+    textured_quad(dir, &info, None)
+}
+
+/// The quad of `transformed_quad` with the base colour texture's other members `info` (JSON),
+/// and TEXCOORD_1 where `second_set` gives its four corners'.
+fn textured_quad(dir: &std::path::Path, info: &str, second_set: Option<[f32; 8]>) -> Scene {
     let texture = image::RgbaImage::from_fn(32, 32, |x, y| {
         let c = quadrant_colour(Vec2::new(x as f32 + 0.5, y as f32 + 0.5) / 32.0) * 255.0;
         image::Rgba([c.x as u8, c.y as u8, c.z as u8, 255])
@@ -145,21 +169,31 @@ fn transformed_quad(dir: &std::path::Path, transform: &str) -> Scene {
     ];
     let mut bin: Vec<u8> = floats.iter().flat_map(|v| v.to_le_bytes()).collect();
     bin.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    // TEXCOORD_1 after the indices: accessor 3.
+    let (mut second, mut second_view, mut second_accessor) = ("", "", "");
+    if let Some(set) = second_set {
+        bin.extend(set.iter().flat_map(|v| v.to_le_bytes()));
+        second = r#", "TEXCOORD_1": 3"#;
+        second_view = r#", {"buffer": 0, "byteOffset": 92, "byteLength": 32}"#;
+        second_accessor =
+            r#", {"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC2"}"#;
+    }
     std::fs::write(dir.join("quad.bin"), &bin).expect("write bin");
+    let byte_length = bin.len();
     let json = format!(
         r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
   "nodes": [{{"mesh": 0}}],
-  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": 0}}]}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1{second}}}, "indices": 2, "material": 0}}]}}],
   "materials": [{{"doubleSided": true, "pbrMetallicRoughness": {{"metallicFactor": 0.0,
-    "baseColorTexture": {{"index": 0, "extensions": {{"KHR_texture_transform": {{{transform}}}}}}}}}}}],
+    "baseColorTexture": {{"index": 0, {info}}}}}}}],
   "textures": [{{"source": 0}}], "images": [{{"uri": "quadrants.png"}}],
-  "buffers": [{{"uri": "quad.bin", "byteLength": 92}}],
+  "buffers": [{{"uri": "quad.bin", "byteLength": {byte_length}}}],
   "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}},
                   {{"buffer": 0, "byteOffset": 48, "byteLength": 32}},
-                  {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}],
+                  {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}{second_view}],
   "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]}},
                 {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}},
-                {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}],
+                {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}{second_accessor}],
   "extensionsUsed": ["KHR_texture_transform"]}}"#
     );
     let path = dir.join("quad.gltf");
@@ -167,6 +201,75 @@ fn transformed_quad(dir: &std::path::Path, transform: &str) -> Scene {
     lensray_core::scene::load_gltf(&path)
         .expect("the quad loads")
         .scene
+}
+
+/// The quad of `textured_quad` seen square on, orthographic, filling a `width` x `height` image
+/// (pixel centres map linearly onto it), unlit, one sample a pixel.
+fn square_on(width: u32, height: u32) -> Shot {
+    let camera = CameraParams {
+        eye: Vec3::new(0.0, 0.0, 3.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: ProjectionParams::Orthographic { height: 2.0 },
+        lens: LensParams::Pinhole,
+        near: 0.1,
+        far: 10.0,
+        width,
+        height,
+        movements: lensray_core::camera::Movements::NONE,
+    }
+    .build()
+    .expect("valid camera");
+    Shot {
+        camera,
+        render: settings(Shading::Unlit, 1),
+    }
+}
+
+/// A base colour texture with `texCoord: 1` reads TEXCOORD_1 on the CPU reference: the quad's
+/// second set mirrors the first left to right, so every pixel away from a quadrant edge shows
+/// the quadrant of the mirrored coordinates, the other side's colour from the first set's.
+#[test]
+fn a_texture_reads_the_set_its_tex_coord_names() {
+    let test = "a_texture_reads_the_set_its_tex_coord_names";
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    // Corners (-1, 1), (-1, -1), (1, -1), (1, 1): set 0 (0, 0), (0, 1), (1, 1), (1, 0).
+    let mirrored = [1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 0.0, 0.0];
+    let scene = textured_quad(dir.path(), r#""texCoord": 1"#, Some(mirrored));
+    let (width, height) = (48, 48);
+    let cpu = PathChoice::Only(PathKind::Cpu);
+    let Some(image) = render_scene(test, cpu, &scene, &square_on(width, height)) else {
+        return;
+    };
+    let (mut checked, mut worst) = (0, 0.0f32);
+    for (i, got) in image.pixels.iter().enumerate() {
+        let (x, y) = ((i as u32 % width) as f32, (i as u32 / width) as f32);
+        let set0 = Vec2::new(x + 0.5, y + 0.5) / width as f32;
+        let set1 = Vec2::new(1.0 - set0.x, set0.y);
+        // A pixel within two pixels of a quadrant edge (the texture's own edges too, where it
+        // repeats) may mix two colours.
+        let near_edge = |t: f32| {
+            let f = (t * 2.0).rem_euclid(1.0);
+            0.5 * f.min(1.0 - f) < 2.0 / width as f32
+        };
+        if near_edge(set0.x) || near_edge(set0.y) {
+            continue;
+        }
+        let want = quadrant_colour(set1);
+        assert_ne!(want, quadrant_colour(set0), "the sets tell apart at {set0}");
+        let error = (*got - want).abs().max_element();
+        worst = worst.max(error);
+        if error > 0.02 {
+            write_png(&image, "texcoord-set-1-cpu.png");
+            panic!("pixel ({x}, {y}) at set 0 {set0}, set 1 {set1} is {got}, not {want} (off by {error})");
+        }
+        checked += 1;
+    }
+    println!("{checked} pixels show set 1's quadrant, off by {worst} at most");
+    assert!(
+        checked > 1500,
+        "only {checked} pixels away from quadrant edges"
+    );
 }
 
 /// `KHR_texture_transform` as glTF viewers apply it (the glTF Sample Viewer, three.js,
@@ -204,25 +307,7 @@ fn texture_transforms_rotate_as_gltf_viewers_do() {
             offset.x, offset.y, scale.x, scale.y
         );
         let scene = transformed_quad(dir.path(), &transform);
-        // Square on, orthographic: pixel centres map linearly onto the quad.
-        let camera = CameraParams {
-            eye: Vec3::new(0.0, 0.0, 3.0),
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            projection: ProjectionParams::Orthographic { height: 2.0 },
-            lens: LensParams::Pinhole,
-            near: 0.1,
-            far: 10.0,
-            width,
-            height,
-            movements: lensray_core::camera::Movements::NONE,
-        }
-        .build()
-        .expect("valid camera");
-        let shot = Shot {
-            camera,
-            render: settings(Shading::Unlit, 1),
-        };
+        let shot = square_on(width, height);
         let cpu = PathChoice::Only(PathKind::Cpu);
         let (Some(reference), Some(gpu)) = (
             render_scene(test, cpu, &scene, &shot),

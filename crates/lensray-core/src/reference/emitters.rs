@@ -15,7 +15,7 @@ use super::sky::{leaves, power_heuristic};
 use super::surface::shadow_origin;
 use crate::interface::EMITTER_SHADOW_SHORTEN;
 use crate::scene::emitters::{area_normal, uniform_point};
-use crate::scene::texture::TexcoordFootprint;
+use crate::scene::texture::FootprintSets;
 
 impl Renderer {
     /// The emission of `triangle` at barycentrics `b` seen along `d` (unit, towards the
@@ -29,12 +29,9 @@ impl Renderer {
         if !material.double_sided && is_back_face(Vec3A::from(d), vertices) {
             return Vec3::ZERO;
         }
-        let texcoord = self.surfaces.texcoord(triangle, b);
-        let duv = TexcoordFootprint {
-            dx: Vec2::ZERO,
-            dy: Vec2::ZERO,
-        };
-        material.emission_at(&self.materials.textures, texcoord, &duv)
+        let texcoords = self.surfaces.texcoords(triangle, b);
+        let duv = FootprintSets::default();
+        material.emission_at(&self.materials.textures, &texcoords, &duv)
     }
 
     /// The density per solid angle with which a lane's emitter draw picks the point a ray along

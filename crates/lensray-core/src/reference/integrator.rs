@@ -22,7 +22,7 @@ use super::surface::{shadow_origin, SurfacePoint};
 use super::surface_frame::{reflection_safe_normal, vertex_coloured};
 use crate::camera::{Footprint, Ray};
 use crate::sampler::{emitter_dimensions, pixel_dimension, vertex_dimensions, PixelSampler};
-use crate::scene::texture::TexcoordFootprint;
+use crate::scene::texture::FootprintSets;
 use crate::scene::{BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 use crate::settings::{RenderSettings, Shading};
 
@@ -103,27 +103,24 @@ impl Renderer {
         let duv = match footprint {
             Some(footprint) => {
                 self.surfaces
-                    .texcoord_footprint(hit.triangle, vertices, surface, footprint)
+                    .texcoord_footprints(hit.triangle, vertices, surface, footprint)
             }
-            None => TexcoordFootprint {
-                dx: Vec2::ZERO,
-                dy: Vec2::ZERO,
-            },
+            None => FootprintSets::default(),
         };
-        let texcoord = surface.texcoord;
+        let texcoords = &surface.texcoords;
         inputs.brdf.base.base_colour =
-            vertex_coloured(material.diffuse_at(textures, texcoord, &duv), colour);
+            vertex_coloured(material.diffuse_at(textures, texcoords, &duv), colour);
         surface.shading_normal = self
             .surfaces
             .normal_mapped(material, textures, hit, vertices, surface, &duv);
         (inputs.brdf.base.metallic, inputs.brdf.base.roughness) =
-            material.metallic_roughness_at(textures, texcoord, &duv);
+            material.metallic_roughness_at(textures, texcoords, &duv);
         (
             inputs.brdf.clearcoat.weight,
             inputs.brdf.clearcoat.roughness,
-        ) = material.clearcoat_at(textures, texcoord, &duv);
-        inputs.emission = material.emission_at(textures, texcoord, &duv);
-        inputs.occlusion = material.occlusion_at(textures, texcoord, &duv);
+        ) = material.clearcoat_at(textures, texcoords, &duv);
+        inputs.emission = material.emission_at(textures, texcoords, &duv);
+        inputs.occlusion = material.occlusion_at(textures, texcoords, &duv);
         inputs
     }
 

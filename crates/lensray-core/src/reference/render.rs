@@ -72,12 +72,14 @@ impl Renderer {
         let mut surfaces = SurfaceData {
             normals: Vec::with_capacity(count),
             texcoords: Vec::with_capacity(count),
+            texcoords1: Vec::new(),
             colours: Vec::new(),
             tangents: Vec::new(),
             materials: Vec::with_capacity(count),
         };
         let any_colours = scene.meshes.iter().any(|m| !m.colours.is_empty());
         let any_tangents = scene.meshes.iter().any(|m| !m.tangents.is_empty());
+        let any_texcoords1 = scene.meshes.iter().any(|m| !m.texcoords1.is_empty());
         for mesh in &scene.meshes {
             let single_sided =
                 |t: usize| !scene.materials[mesh.material_ids[t] as usize].double_sided;
@@ -89,11 +91,14 @@ impl Renderer {
                 } else {
                     tri.map(|i| mesh.normals[i as usize])
                 });
-                surfaces.texcoords.push(if mesh.texcoords.is_empty() {
-                    [Vec2::ZERO; 3]
-                } else {
-                    tri.map(|i| mesh.texcoords[i as usize])
-                });
+                let texcoords = |set: &[Vec2]| match set.is_empty() {
+                    true => [Vec2::ZERO; 3],
+                    false => tri.map(|i| set[i as usize]),
+                };
+                surfaces.texcoords.push(texcoords(&mesh.texcoords));
+                if any_texcoords1 {
+                    surfaces.texcoords1.push(texcoords(&mesh.texcoords1));
+                }
                 let corners =
                     |values: &[Vec4]| (!values.is_empty()).then(|| tri.map(|i| values[i as usize]));
                 if any_colours {
@@ -464,6 +469,6 @@ fn stops(
         Some(key) => blend_threshold(key, triangle),
         None => AOV_BLEND_THRESHOLD,
     };
-    let texcoord = surfaces.texcoord(triangle, b);
-    material.stops_ray(&materials.textures, texcoord, threshold)
+    let texcoords = surfaces.texcoords(triangle, b);
+    material.stops_ray(&materials.textures, &texcoords, threshold)
 }

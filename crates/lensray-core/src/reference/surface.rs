@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 use super::accel::Hit;
 use crate::camera::{Footprint, Ray};
 use crate::interface::SHADOW_ORIGIN_OFFSET;
-use crate::scene::texture::TexcoordFootprint;
+use crate::scene::texture::{FootprintSets, TexcoordFootprint, TexcoordSets};
 use crate::scene::{Material, Texture};
 
 /// A hit point with the normals the shading definition uses.
@@ -18,16 +18,19 @@ pub struct SurfacePoint {
     /// the incoming ray independently of the geometric normal.
     pub shading_normal: Vec3,
     pub material: u32,
-    /// Interpolated texture coordinates ((0, 0) when the mesh has none).
-    pub texcoord: Vec2,
+    /// Interpolated texture coordinates of each set ((0, 0) in a set the mesh lacks).
+    pub texcoords: TexcoordSets,
 }
 
 /// Per-triangle shading data, in the renderer's triangle order.
 pub(super) struct SurfaceData {
     /// Vertex normals per triangle; all zero when the mesh has none.
     pub normals: Vec<[Vec3; 3]>,
-    /// Texture coordinates per triangle; all zero when the mesh has none.
+    /// Texture coordinates (set 0) per triangle; all zero when the mesh has none.
     pub texcoords: Vec<[Vec2; 3]>,
+    /// The second set's per triangle (all zero where the mesh has none); empty when no mesh
+    /// has one.
+    pub texcoords1: Vec<[Vec2; 3]>,
     /// Vertex colours per triangle (`None` where its mesh has none); empty when no mesh has
     /// any.
     pub colours: Vec<Option<[Vec4; 3]>>,
@@ -59,25 +62,35 @@ impl SurfaceData {
             geometric_normal,
             shading_normal,
             material: self.materials[hit.triangle as usize],
-            texcoord: self.texcoord(hit.triangle, hit.barycentric),
+            texcoords: self.texcoords(hit.triangle, hit.barycentric),
         }
     }
 
-    pub(super) fn texcoord(&self, triangle: u32, barycentric: Vec2) -> Vec2 {
-        let t = self.texcoords[triangle as usize];
-        (1.0 - barycentric.x - barycentric.y) * t[0] + barycentric.x * t[1] + barycentric.y * t[2]
+    /// The texture coordinates of each set at `barycentric` on `triangle`.
+    pub(super) fn texcoords(&self, triangle: u32, barycentric: Vec2) -> TexcoordSets {
+        let b = barycentric;
+        self.triangle_texcoords(triangle)
+            .map(|t| (1.0 - b.x - b.y) * t[0] + b.x * t[1] + b.y * t[2])
     }
 
-    /// The pinhole's pixel footprint at `surface` in texture coordinates.
-    pub(super) fn texcoord_footprint(
+    /// The corners' texture coordinates of each set of `triangle`.
+    fn triangle_texcoords(&self, triangle: u32) -> [[Vec2; 3]; 2] {
+        let t = triangle as usize;
+        let second = self.texcoords1.get(t).copied().unwrap_or([Vec2::ZERO; 3]);
+        [self.texcoords[t], second]
+    }
+
+    /// The pinhole's pixel footprint at `surface` in each set's texture coordinates.
+    pub(super) fn texcoord_footprints(
         &self,
         triangle: u32,
         vertices: [Vec3; 3],
         surface: &SurfacePoint,
         footprint: &Footprint,
-    ) -> TexcoordFootprint {
+    ) -> FootprintSets {
         let dp = footprint.dp(surface.position, surface.geometric_normal);
-        TexcoordFootprint::on_triangle(vertices, self.texcoords[triangle as usize], dp)
+        self.triangle_texcoords(triangle)
+            .map(|texcoords| TexcoordFootprint::on_triangle(vertices, texcoords, dp))
     }
 }
 

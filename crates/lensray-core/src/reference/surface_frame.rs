@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3, Vec4};
 use super::accel::Hit;
 use super::surface::{interpolate, SurfaceData, SurfacePoint};
 use crate::interface::REFLECTION_MIN_COSINE;
-use crate::scene::texture::{sample, TexcoordFootprint};
+use crate::scene::texture::{sample, FootprintSets};
 use crate::scene::{Material, Texture};
 
 /// The base colour `base` times the vertex colour `colour` (its RGB; alpha is not read).
@@ -48,7 +48,7 @@ impl SurfaceData {
         hit: &Hit,
         vertices: [Vec3; 3],
         surface: &SurfacePoint,
-        duv: &TexcoordFootprint,
+        duv: &FootprintSets,
     ) -> Vec3 {
         let (triangle, b, ns) = (hit.triangle, hit.barycentric, surface.shading_normal);
         let (Some(normal_map), Some(Some(tangents))) = (
@@ -57,7 +57,7 @@ impl SurfaceData {
         ) else {
             return ns;
         };
-        let texel = sample(textures, normal_map, surface.texcoord, duv);
+        let texel = sample(textures, normal_map, &surface.texcoords, duv);
         let normals = self.normals[triangle as usize];
         let n0 = if normals[0] == Vec3::ZERO {
             (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0])

@@ -155,6 +155,7 @@ pub fn grid(
         normals: vec![normal; positions.len()],
         positions,
         texcoords,
+        texcoords1: Vec::new(),
         triangles,
         material_ids,
     }

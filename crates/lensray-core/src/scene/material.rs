@@ -2,9 +2,9 @@
 //! is `reference::brdf`) and an emission, each a factor times an optional texture, and how much
 //! of a surface is there (alpha).
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
-use super::texture::{sample, sample_finest, TexcoordFootprint, Texture, TextureRef};
+use super::texture::{sample, sample_finest, FootprintSets, TexcoordSets, Texture, TextureRef};
 
 /// How a material's alpha (its factor times its coverage texture's alpha) decides whether a ray
 /// that meets the surface stops there (glTF's `alphaMode`).
@@ -111,44 +111,44 @@ impl Material {
         }
     }
 
-    /// The diffuse colour at texture coordinates `texcoord`, filtered over `footprint`.
+    /// The diffuse colour at texture coordinates `texcoords`, filtered over `footprints`.
     pub fn diffuse_at(
         &self,
         textures: &[Texture],
-        texcoord: Vec2,
-        footprint: &TexcoordFootprint,
+        texcoords: &TexcoordSets,
+        footprints: &FootprintSets,
     ) -> Vec3 {
         match &self.diffuse_texture {
-            Some(t) => self.diffuse * sample(textures, t, texcoord, footprint).truncate(),
+            Some(t) => self.diffuse * sample(textures, t, texcoords, footprints).truncate(),
             None => self.diffuse,
         }
     }
 
-    /// The emission at texture coordinates `texcoord`, filtered over `footprint`.
+    /// The emission at texture coordinates `texcoords`, filtered over `footprints`.
     pub fn emission_at(
         &self,
         textures: &[Texture],
-        texcoord: Vec2,
-        footprint: &TexcoordFootprint,
+        texcoords: &TexcoordSets,
+        footprints: &FootprintSets,
     ) -> Vec3 {
         match &self.emission_texture {
             Some(t) if self.emission != Vec3::ZERO => {
-                self.emission * sample(textures, t, texcoord, footprint).truncate()
+                self.emission * sample(textures, t, texcoords, footprints).truncate()
             }
             _ => self.emission,
         }
     }
 
-    /// Metallic and roughness at texture coordinates `texcoord`, filtered over `footprint`.
+    /// Metallic and roughness at texture coordinates `texcoords`, filtered over `footprints`.
     pub fn metallic_roughness_at(
         &self,
         textures: &[Texture],
-        texcoord: Vec2,
-        footprint: &TexcoordFootprint,
+        texcoords: &TexcoordSets,
+        footprints: &FootprintSets,
     ) -> (f32, f32) {
         match &self.metallic_roughness_texture {
             Some(t) => {
-                let texel = sample(textures, t, texcoord, footprint);
+                let texel = sample(textures, t, texcoords, footprints);
                 (self.metallic * texel.z, self.roughness * texel.y)
             }
             None => (self.metallic, self.roughness),
@@ -156,39 +156,39 @@ impl Material {
     }
 
     /// The share of the environment's light that reaches the surface at texture coordinates
-    /// `texcoord`, filtered over `footprint`.
+    /// `texcoords`, filtered over `footprints`.
     pub fn occlusion_at(
         &self,
         textures: &[Texture],
-        texcoord: Vec2,
-        footprint: &TexcoordFootprint,
+        texcoords: &TexcoordSets,
+        footprints: &FootprintSets,
     ) -> f32 {
         match &self.occlusion_texture {
             Some(t) => {
-                let r = sample(textures, t, texcoord, footprint).x;
+                let r = sample(textures, t, texcoords, footprints).x;
                 1.0 + self.occlusion_strength * (r - 1.0)
             }
             None => 1.0,
         }
     }
 
-    /// The clear coat (weight, roughness) at texture coordinates `texcoord`, filtered over
-    /// `footprint`.
+    /// The clear coat (weight, roughness) at texture coordinates `texcoords`, filtered over
+    /// `footprints`.
     pub fn clearcoat_at(
         &self,
         textures: &[Texture],
-        texcoord: Vec2,
-        footprint: &TexcoordFootprint,
+        texcoords: &TexcoordSets,
+        footprints: &FootprintSets,
     ) -> (f32, f32) {
         let weight = match &self.clearcoat_texture {
             Some(t) if self.clearcoat > 0.0 => {
-                self.clearcoat * sample(textures, t, texcoord, footprint).x
+                self.clearcoat * sample(textures, t, texcoords, footprints).x
             }
             _ => self.clearcoat,
         };
         let roughness = match &self.clearcoat_roughness_texture {
             Some(t) if weight > 0.0 => {
-                self.clearcoat_roughness * sample(textures, t, texcoord, footprint).y
+                self.clearcoat_roughness * sample(textures, t, texcoords, footprints).y
             }
             _ => self.clearcoat_roughness,
         };
@@ -212,21 +212,26 @@ impl Material {
         self.alpha_mode != AlphaMode::Opaque
     }
 
-    /// Alpha at texture coordinates `texcoord`, read at the finest level.
-    pub fn alpha_at(&self, textures: &[Texture], texcoord: Vec2) -> f32 {
+    /// Alpha at texture coordinates `texcoords`, read at the finest level.
+    pub fn alpha_at(&self, textures: &[Texture], texcoords: &TexcoordSets) -> f32 {
         match &self.alpha_texture {
-            Some(t) => self.alpha * sample_finest(textures, t, texcoord).w,
+            Some(t) => self.alpha * sample_finest(textures, t, texcoords).w,
             None => self.alpha,
         }
     }
 
-    /// Whether a ray stops at the surface at `texcoord`; `threshold` in [0, 1) is the ray's
+    /// Whether a ray stops at the surface at `texcoords`; `threshold` in [0, 1) is the ray's
     /// draw for `Blend` (`blend_threshold`).
-    pub fn stops_ray(&self, textures: &[Texture], texcoord: Vec2, threshold: f32) -> bool {
+    pub fn stops_ray(
+        &self,
+        textures: &[Texture],
+        texcoords: &TexcoordSets,
+        threshold: f32,
+    ) -> bool {
         match self.alpha_mode {
             AlphaMode::Opaque => true,
-            AlphaMode::Mask { cutoff } => self.alpha_at(textures, texcoord) >= cutoff,
-            AlphaMode::Blend => self.alpha_at(textures, texcoord) > threshold,
+            AlphaMode::Mask { cutoff } => self.alpha_at(textures, texcoords) >= cutoff,
+            AlphaMode::Blend => self.alpha_at(textures, texcoords) > threshold,
         }
     }
 }

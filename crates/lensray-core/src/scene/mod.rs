@@ -44,7 +44,7 @@ pub use load_times::LoadTimes;
 pub use material::{blend_threshold, ray_key, AlphaMode, Material};
 pub use material::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 pub use obj::{load_obj, write_obj};
-pub use texture::{Texture, TextureRef};
+pub use texture::{Texture, TextureRef, TEXCOORD_SETS};
 
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
@@ -55,6 +55,10 @@ pub struct Mesh {
     /// Per-vertex texture coordinates (glTF's TEXCOORD_0, OBJ's `vt`), same length as
     /// `positions`, or empty when the file has none (textures then read coordinate (0, 0)).
     pub texcoords: Vec<Vec2>,
+    /// Per-vertex second texture coordinates (glTF's TEXCOORD_1), same length as `positions`,
+    /// or empty when the file has none (textures that read this set then read (0, 0)); OBJ
+    /// files carry one set.
+    pub texcoords1: Vec<Vec2>,
     /// Per-vertex linear RGBA colours (glTF's COLOR_0), which multiply the base colour, same
     /// length as `positions`, or empty.
     pub colours: Vec<Vec4>,
@@ -145,8 +149,8 @@ impl Scene {
 
 impl Scene {
     /// Checks the invariants the renderers rely on: every index in range, one material id per
-    /// triangle and each in range, normals, texture coordinates, colours and tangents absent or
-    /// one per position, positions finite.
+    /// triangle and each in range, normals, both texture coordinate sets, colours and tangents
+    /// absent or one per position, positions finite.
     /// The error says which mesh and what.
     pub fn validate(&self) -> Result<(), String> {
         for (i, light) in self.lights.iter().enumerate() {
@@ -168,13 +172,9 @@ impl Scene {
                     mesh.normals.len()
                 ));
             }
-            if !mesh.texcoords.is_empty() && mesh.texcoords.len() != n {
-                return Err(format!(
-                    "mesh {name}: {} texture coordinates for {n} positions",
-                    mesh.texcoords.len()
-                ));
-            }
             for (what, len) in [
+                ("texture coordinates", mesh.texcoords.len()),
+                ("second texture coordinates", mesh.texcoords1.len()),
                 ("colours", mesh.colours.len()),
                 ("tangents", mesh.tangents.len()),
             ] {
@@ -210,7 +210,7 @@ impl Scene {
         self.validate_textures()
     }
 
-    /// Every material's textures exist.
+    /// Every material's textures exist, each reading a set a mesh may have.
     fn validate_textures(&self) -> Result<(), String> {
         for m in &self.materials {
             let refs = [
@@ -222,15 +222,18 @@ impl Scene {
                 &m.normal_texture,
             ];
             if let Some(t) = refs.into_iter().flatten().find(|t| {
-                self.textures
-                    .get(t.texture as usize)
-                    .is_none_or(|texture| texture.levels.is_empty())
+                t.texcoord_set as usize >= TEXCOORD_SETS
+                    || self
+                        .textures
+                        .get(t.texture as usize)
+                        .is_none_or(|texture| texture.levels.is_empty())
             }) {
                 return Err(format!(
-                    "material {}: texture {} of {}",
+                    "material {}: texture {} of {} (texture coordinate set {})",
                     m.name,
                     t.texture,
-                    self.textures.len()
+                    self.textures.len(),
+                    t.texcoord_set
                 ));
             }
         }

@@ -52,6 +52,7 @@ fn smooth_mesh(mesh: &mut Mesh, cos_crease: f32) {
     let mut positions = Vec::new();
     let mut normals = Vec::new();
     let mut texcoords = Vec::new();
+    let mut texcoords1 = Vec::new();
     let mut index: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
     let mut triangles = Vec::with_capacity(mesh.triangles.len());
     for (f, t) in mesh.triangles.iter().enumerate() {
@@ -79,6 +80,9 @@ fn smooth_mesh(mesh: &mut Mesh, cos_crease: f32) {
                     if let Some(&uv) = mesh.texcoords.get(v as usize) {
                         texcoords.push(uv);
                     }
+                    if let Some(&uv) = mesh.texcoords1.get(v as usize) {
+                        texcoords1.push(uv);
+                    }
                     (positions.len() - 1) as u32
                 })
         });
@@ -87,6 +91,7 @@ fn smooth_mesh(mesh: &mut Mesh, cos_crease: f32) {
     mesh.positions = positions;
     mesh.normals = normals;
     mesh.texcoords = texcoords;
+    mesh.texcoords1 = texcoords1;
     mesh.triangles = triangles;
 }
 

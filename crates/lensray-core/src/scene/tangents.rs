@@ -1,6 +1,6 @@
 //! Tangents for normal maps where a file gives none: MikkTSpace (the `mikktspace` crate), the
 //! algorithm glTF prescribes, over the mesh's positions, normals (the faces' where it has none)
-//! and texture coordinates.
+//! and the texture coordinate set the normal map reads.
 //!
 //! glTF's v runs down the image while its normal maps' y runs up it, so the bitangent
 //! cross(normal, tangent) w must point along -dp/dv: MikkTSpace's sign, which follows +dp/dv, is
@@ -15,19 +15,23 @@ use glam::{Vec3, Vec4};
 use super::{Mesh, Scene};
 
 /// Gives tangents to every mesh of `scene` that has texture coordinates, no tangents and a
-/// triangle whose material has a normal map. Returns the names of the meshes whose normal maps
-/// stay unread: without texture coordinates, or where MikkTSpace finds no tangent.
+/// triangle whose material has a normal map, in the set that map reads (its first material's,
+/// where several differ). Returns the names of the meshes whose normal maps stay unread: without
+/// texture coordinates, or where MikkTSpace finds no tangent.
 pub fn generate_missing(scene: &mut Scene) -> Vec<String> {
     let mut unread = Vec::new();
     for mesh in &mut scene.meshes {
-        let normal_mapped = mesh
+        let normal_map = mesh
             .material_ids
             .iter()
-            .any(|&m| scene.materials[m as usize].normal_texture.is_some());
-        if !normal_mapped || !mesh.tangents.is_empty() {
+            .find_map(|&m| scene.materials[m as usize].normal_texture);
+        let Some(normal_map) = normal_map else {
+            continue;
+        };
+        if !mesh.tangents.is_empty() {
             continue;
         }
-        if mesh.texcoords.is_empty() || !generate(mesh) {
+        if !generate_in_set(mesh, normal_map.texcoord_set as usize) {
             unread.push(mesh.name.clone());
         }
     }
@@ -45,14 +49,26 @@ pub fn unread_notice(scene: &mut Scene) -> Option<String> {
     })
 }
 
-/// Sets `mesh.tangents` by MikkTSpace, splitting vertices where their corners' tangents differ;
-/// false (the mesh unchanged) where the mesh has no texture coordinates or MikkTSpace fails.
+/// Sets `mesh.tangents` by MikkTSpace in its first texture coordinate set, splitting vertices
+/// where their corners' tangents differ; false (the mesh unchanged) where the mesh has no
+/// texture coordinates or MikkTSpace fails.
 pub fn generate(mesh: &mut Mesh) -> bool {
-    if mesh.texcoords.is_empty() || mesh.triangles.is_empty() {
+    generate_in_set(mesh, 0)
+}
+
+/// `generate` in texture coordinate set `set` (0: `texcoords`, 1: `texcoords1`).
+pub fn generate_in_set(mesh: &mut Mesh, set: usize) -> bool {
+    let texcoords = if set == 0 {
+        &mesh.texcoords
+    } else {
+        &mesh.texcoords1
+    };
+    if texcoords.is_empty() || mesh.triangles.is_empty() {
         return false;
     }
     let mut corners = Corners {
         mesh,
+        texcoords,
         tangents: vec![Vec4::ZERO; 3 * mesh.triangles.len()],
     };
     if !mikktspace::generate_tangents(&mut corners) {
@@ -66,6 +82,8 @@ pub fn generate(mesh: &mut Mesh) -> bool {
 /// The mesh as MikkTSpace reads it, and the tangent it gives each triangle corner.
 struct Corners<'a> {
     mesh: &'a Mesh,
+    /// The set the normal map reads.
+    texcoords: &'a [glam::Vec2],
     tangents: Vec<Vec4>,
 }
 
@@ -98,7 +116,7 @@ impl mikktspace::Geometry for Corners<'_> {
     }
 
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        self.mesh.texcoords[self.vertex(face, vert)].to_array()
+        self.texcoords[self.vertex(face, vert)].to_array()
     }
 
     fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
@@ -140,7 +158,12 @@ fn split_by_tangent(mesh: &mut Mesh, corner_tangents: &[Vec4]) {
         if !mesh.normals.is_empty() {
             mesh.normals.push(mesh.normals[i]);
         }
-        mesh.texcoords.push(mesh.texcoords[i]);
+        if !mesh.texcoords.is_empty() {
+            mesh.texcoords.push(mesh.texcoords[i]);
+        }
+        if !mesh.texcoords1.is_empty() {
+            mesh.texcoords1.push(mesh.texcoords1[i]);
+        }
         if !mesh.colours.is_empty() {
             mesh.colours.push(mesh.colours[i]);
         }

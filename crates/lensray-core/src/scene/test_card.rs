@@ -50,6 +50,7 @@ pub fn test_card() -> Scene {
             texture: t,
             wrap,
             uv_from_texcoord: uv,
+            texcoord_set: 0,
         })
     };
     let leaf = textured(2, [Wrap::ClampToEdge; 2], Affine2::IDENTITY);

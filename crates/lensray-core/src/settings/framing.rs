@@ -114,7 +114,7 @@ pub(super) fn view(
     let eye = match c.eye {
         Some(e) => point("eye", e)?,
         None => {
-            let (direction, subject) = match board_normal(bounds, up) {
+            let (direction, subject) = match board_normal(scene, bounds, up) {
                 Some(normal) => {
                     let direction = elevated(normal, up, BOARD_ELEVATION_DEGREES);
                     (direction, board_subject(bounds, target, direction, up))
@@ -131,9 +131,10 @@ pub(super) fn view(
     Ok(View { eye, target, up })
 }
 
-/// The horizontal normal of a board's face (+Z, +X or +Y, whichever box axis is the board's
-/// thin one), or `None` where the bounds are not a board's.
-pub(super) fn board_normal(bounds: &Bounds, up: Vec3) -> Option<DVec3> {
+/// The horizontal normal of a board's face, or `None` where the bounds are not a board's: the
+/// box axis that is the board's thin one, toward the side its triangles face (their
+/// area-weighted normals' sum; +Z or +X where they face both ways alike, as a closed box's do).
+pub(super) fn board_normal(scene: &Scene, bounds: &Bounds, up: Vec3) -> Option<DVec3> {
     let extent = bounds.diagonal();
     let up = up.normalize_or_zero();
     let mut axes = [
@@ -142,9 +143,26 @@ pub(super) fn board_normal(bounds: &Bounds, up: Vec3) -> Option<DVec3> {
         (Vec3::Y, extent.y),
     ];
     axes.sort_by(|a, b| a.1.total_cmp(&b.1));
-    let [(thin, thickness), (_, next), _] = axes;
+    let [(thin, thickness), (_, next), (_, widest)] = axes;
     let across_up = thin.dot(up).abs() < 0.5;
-    (across_up && thickness < BOARD_THINNESS * next).then(|| thin.as_dvec3())
+    if !(across_up && thickness < BOARD_THINNESS * next) {
+        return None;
+    }
+    let thin = thin.as_dvec3();
+    // Twice the area each triangle shows along the axis, signed by the side it faces.
+    let facing: f64 = scene
+        .meshes
+        .iter()
+        .flat_map(|m| {
+            m.triangles.iter().map(|t| {
+                let [a, b, c] = t.map(|i| m.positions[i as usize].as_dvec3());
+                (b - a).cross(c - a).dot(thin)
+            })
+        })
+        .sum();
+    // Alike both ways within a thousandth of the board's face: glTF's front.
+    let face = f64::from(next) * f64::from(widest);
+    Some(if facing < -2e-3 * face { -thin } else { thin })
 }
 
 /// `front` turned `degrees` up toward `up` (both unit, `front` across `up`).

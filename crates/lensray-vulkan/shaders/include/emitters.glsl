@@ -65,7 +65,7 @@ vec3 emission_towards(uint tri, vec2 b, vec3 d) {
     }
     Material mat = materials[triangle_material(tri)];
     if (SURFACES_TEXTURED && material_is_textured(mat)) {
-        return material_emission(mat, triangle_texcoord(tri, b), vec2(0.0), vec2(0.0));
+        return material_emission(mat, triangle_texcoords(tri, b), vec4(0.0), vec4(0.0));
     }
     return mat.emission.xyz;
 }

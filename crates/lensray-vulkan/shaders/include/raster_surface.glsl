@@ -23,12 +23,12 @@ vec3 viewer_facing_normal(RasterPush raster, vec3 normal, vec3 world) {
     return dot(ns, d) > 0.0 ? -ns : ns;
 }
 
-// Whether the fragment of triangle `tri` at `texcoord` is there for a ray cutting BLEND
-// surfaces with `cut` (the alpha test; a fragment that is not is discarded).
-bool fragment_stops_ray(uint tri, vec2 texcoord, BlendCut cut) {
+// Whether the fragment of triangle `tri` at `texcoords` (both sets) is there for a ray cutting
+// BLEND surfaces with `cut` (the alpha test; a fragment that is not is discarded).
+bool fragment_stops_ray(uint tri, vec4 texcoords, BlendCut cut) {
     uint material = triangle_material(tri);
     return materials[material].alpha_mode == ALPHA_OPAQUE
-        || material_stops_ray(material, tri, texcoord, cut);
+        || material_stops_ray(material, tri, texcoords, cut);
 }
 
 // The point where the ray through clip-space point (x, y) (any depth) meets the plane through
@@ -47,7 +47,7 @@ vec3 plane_point_at(mat4 world_from_clip, vec2 xy, vec3 p, vec3 n) {
 // clip space is the derivative of the fragment's own clip position, which is linear in the pixel
 // (hardware derivatives of the texture coordinates would not be: they differ from pixel to pixel
 // of a quad where the footprint grows fast).
-void fragment_footprint(mat4 clip_from_world, vec3 p, uint tri, out vec2 dx, out vec2 dy) {
+void fragment_footprint(mat4 clip_from_world, vec3 p, uint tri, out vec4 dx, out vec4 dy) {
     vec4 c = clip_from_world * vec4(p, 1.0);
     vec2 xy = c.xy / c.w;
     vec2 step = vec2(dFdx(xy.x), dFdy(xy.y));
@@ -58,10 +58,10 @@ void fragment_footprint(mat4 clip_from_world, vec3 p, uint tri, out vec2 dx, out
     triangle_texcoord_footprint(tri, dpdx, dpdy, dx, dy);
 }
 
-// The diffuse colour of triangle `tri` at `texcoord`, filtered over the footprint (dx, dy),
-// times the vertex colour at world point `p`.
-vec3 fragment_albedo(uint tri, vec2 texcoord, vec2 dx, vec2 dy, vec3 p) {
-    vec3 diffuse = material_diffuse(materials[triangle_material(tri)], texcoord, dx, dy);
+// The diffuse colour of triangle `tri` at `texcoords` (both sets), filtered over the footprints
+// (dx, dy), times the vertex colour at world point `p`.
+vec3 fragment_albedo(uint tri, vec4 texcoords, vec4 dx, vec4 dy, vec3 p) {
+    vec3 diffuse = material_diffuse(materials[triangle_material(tri)], texcoords, dx, dy);
     if (!triangle_has_colours(tri)) {
         return diffuse;
     }

@@ -198,21 +198,21 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     vec2 clearcoat = vec2(mat.clearcoat, mat.clearcoat_roughness);
     float occlusion = 1.0;
     if (textured) {
-        vec2 texcoord = triangle_texcoord(tri, b);
-        vec2 dx = vec2(0.0);
-        vec2 dy = vec2(0.0);
+        vec4 texcoords = triangle_texcoords(tri, b);
+        vec4 dx = vec4(0.0);
+        vec4 dy = vec4(0.0);
         if (filtered) {
             Footprint f = params.footprint;
             vec3 dpdx = footprint_dp_along(f, p, ng, f.pixel_dx.xyz);
             vec3 dpdy = footprint_dp_along(f, p, ng, f.pixel_dy.xyz);
             triangle_texcoord_footprint(tri, dpdx, dpdy, dx, dy);
         }
-        diffuse = material_diffuse(mat, texcoord, dx, dy);
-        metallic_roughness = material_metallic_roughness(mat, texcoord, dx, dy);
-        clearcoat = material_clearcoat(mat, texcoord, dx, dy);
-        emission = material_emission(mat, texcoord, dx, dy);
-        occlusion = material_occlusion(mat, texcoord, dx, dy);
-        ns = normal_mapped(mat, tri, b, ns, texcoord, dx, dy);
+        diffuse = material_diffuse(mat, texcoords, dx, dy);
+        metallic_roughness = material_metallic_roughness(mat, texcoords, dx, dy);
+        clearcoat = material_clearcoat(mat, texcoords, dx, dy);
+        emission = material_emission(mat, texcoords, dx, dy);
+        occlusion = material_occlusion(mat, texcoords, dx, dy);
+        ns = normal_mapped(mat, tri, b, ns, texcoords, dx, dy);
     }
     if (coloured) {
         diffuse = vertex_coloured(diffuse, tri, b);

@@ -44,11 +44,11 @@ vec2 triangle_barycentrics_at(uint tri, vec3 p) {
 }
 
 // surface_frame.rs: SurfaceData::normal_mapped, the texel read as colours() reads it.
-vec3 normal_mapped(Material m, uint tri, vec2 b, vec3 ns, vec2 texcoord, vec2 dx, vec2 dy) {
+vec3 normal_mapped(Material m, uint tri, vec2 b, vec3 ns, vec4 texcoords, vec4 dx, vec4 dy) {
     if (!has_texture(m.normal_texture) || !triangle_has_tangents(tri)) {
         return ns;
     }
-    vec4 texel = texture_sample(m.normal_texture, texcoord, dx, dy);
+    vec4 texel = texture_sample(m.normal_texture, texcoords, dx, dy);
     uint i0 = indices[3u * tri];
     uint i1 = indices[3u * tri + 1u];
     uint i2 = indices[3u * tri + 2u];

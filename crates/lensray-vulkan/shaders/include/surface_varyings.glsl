@@ -58,10 +58,10 @@ LEFT_OUT(vec3, v_world);
 #endif
 #ifdef READS_SURFACE
 layout(location = 3) flat VARYING uint v_triangle;
-layout(location = 4) VARYING vec2 v_texcoord;
+layout(location = 4) VARYING vec4 v_texcoords;  // xy: set 0, zw: set 1
 #else
 LEFT_OUT(uint, v_triangle);
-LEFT_OUT(vec2, v_texcoord);
+LEFT_OUT(vec4, v_texcoords);
 #endif
 #ifdef READS_ALBEDO
 layout(location = 5) flat VARYING vec3 v_albedo;  // the material's untextured diffuse colour

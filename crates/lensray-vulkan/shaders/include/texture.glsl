@@ -117,6 +117,20 @@ vec4 texture_trilinear(Texture t, vec2 uv, float lod, uint wrap_u, uint wrap_v) 
     return lerp4(below, texture_bilinear(t, uint(l0) + 1u, uv, wrap_u, wrap_v), f);
 }
 
+// A point's texture coordinate sets (texture/mod.rs: TexcoordSets) travel as one vec4: xy set 0,
+// zw set 1; so do their footprints (FootprintSets).
+
+// texture/mod.rs: TextureRef::texcoord
+vec2 texture_texcoord(TextureRef r, vec4 texcoords) {
+    return r.texcoord_set == 1u ? texcoords.zw : texcoords.xy;
+}
+
+// Both sets of vertex `index`; (0, 0) in set 1 past its array's end (no mesh has the set).
+vec4 vertex_texcoords(uint index) {
+    vec2 second = index < uint(texcoords1.length()) ? texcoords1[index] : vec2(0.0);
+    return vec4(texcoords[index], second);
+}
+
 // Affine2::transform_point2 and its matrix alone.
 vec2 texture_uv(TextureRef r, vec2 texcoord) {
     precise vec2 uv = vec2(r.transform_u.x * texcoord.x + r.transform_u.y * texcoord.y + r.transform_u.z,
@@ -130,15 +144,19 @@ vec2 texture_duv(TextureRef r, vec2 d) {
 }
 
 // texture/mod.rs: sample
-vec4 texture_sample(TextureRef r, vec2 texcoord, vec2 dx, vec2 dy) {
+vec4 texture_sample(TextureRef r, vec4 texcoords, vec4 dx, vec4 dy) {
     Texture t = textures[r.texture];
-    float lod = texture_level_of_detail(t, texture_duv(r, dx), texture_duv(r, dy));
-    return texture_trilinear(t, texture_uv(r, texcoord), lod, r.wrap_u, r.wrap_v);
+    vec2 set_dx = texture_texcoord(r, dx);
+    vec2 set_dy = texture_texcoord(r, dy);
+    float lod = texture_level_of_detail(t, texture_duv(r, set_dx), texture_duv(r, set_dy));
+    vec2 uv = texture_uv(r, texture_texcoord(r, texcoords));
+    return texture_trilinear(t, uv, lod, r.wrap_u, r.wrap_v);
 }
 
 // texture/mod.rs: sample_finest
-vec4 texture_sample_finest(TextureRef r, vec2 texcoord) {
-    return texture_bilinear(textures[r.texture], 0u, texture_uv(r, texcoord), r.wrap_u, r.wrap_v);
+vec4 texture_sample_finest(TextureRef r, vec4 texcoords) {
+    vec2 uv = texture_uv(r, texture_texcoord(r, texcoords));
+    return texture_bilinear(textures[r.texture], 0u, uv, r.wrap_u, r.wrap_v);
 }
 
 // footprint.rs: Footprint::dp_along
@@ -156,22 +174,24 @@ vec3 footprint_dp_along(Footprint f, vec3 p, vec3 n, vec3 step) {
     return (t > 0.0 && !isinf(t)) ? t * d - to_p : vec3(FOOTPRINT_EDGE_ON);
 }
 
-// texture/mod.rs: TexcoordFootprint::on_triangle; out: the footprint along x and along y.
-void triangle_texcoord_footprint(uint tri, vec3 dpdx, vec3 dpdy, out vec2 dx, out vec2 dy) {
+// surface.rs: SurfaceData::texcoord_footprints, each set's TexcoordFootprint::on_triangle
+// (texture/mod.rs); out: the footprints along x and along y.
+void triangle_texcoord_footprint(uint tri, vec3 dpdx, vec3 dpdy, out vec4 dx, out vec4 dy) {
     uint i0 = indices[3u * tri];
     uint i1 = indices[3u * tri + 1u];
     uint i2 = indices[3u * tri + 2u];
     vec3 e1 = positions[i1].xyz - positions[i0].xyz;
     vec3 e2 = positions[i2].xyz - positions[i0].xyz;
-    vec2 t1 = texcoords[i1] - texcoords[i0];
-    vec2 t2 = texcoords[i2] - texcoords[i0];
+    vec4 c0 = vertex_texcoords(i0);
+    vec4 t1 = vertex_texcoords(i1) - c0;
+    vec4 t2 = vertex_texcoords(i2) - c0;
     float g11 = dot(e1, e1);
     float g12 = dot(e1, e2);
     float g22 = dot(e2, e2);
     precise float det = g11 * g22 - g12 * g12;
     if (det == 0.0 || isinf(det) || isnan(det)) {
-        dx = vec2(0.0);
-        dy = vec2(0.0);
+        dx = vec4(0.0);
+        dy = vec4(0.0);
         return;
     }
     float r1 = dot(e1, dpdx);
@@ -182,62 +202,62 @@ void triangle_texcoord_footprint(uint tri, vec3 dpdx, vec3 dpdy, out vec2 dx, ou
     dy = (g22 * r1 - g12 * r2) / det * t1 + (g11 * r2 - g12 * r1) / det * t2;
 }
 
-// surface.rs: SurfaceData::texcoord
-vec2 triangle_texcoord(uint tri, vec2 b) {
-    vec2 t0 = texcoords[indices[3u * tri]];
-    vec2 t1 = texcoords[indices[3u * tri + 1u]];
-    vec2 t2 = texcoords[indices[3u * tri + 2u]];
-    precise vec2 t = (1.0 - b.x - b.y) * t0 + b.x * t1 + b.y * t2;
+// surface.rs: SurfaceData::texcoords
+vec4 triangle_texcoords(uint tri, vec2 b) {
+    vec4 t0 = vertex_texcoords(indices[3u * tri]);
+    vec4 t1 = vertex_texcoords(indices[3u * tri + 1u]);
+    vec4 t2 = vertex_texcoords(indices[3u * tri + 2u]);
+    precise vec4 t = (1.0 - b.x - b.y) * t0 + b.x * t1 + b.y * t2;
     return t;
 }
 
 bool has_texture(TextureRef r) { return r.texture != TEXTURE_NONE; }
 
 // material.rs: Material::diffuse_at
-vec3 material_diffuse(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+vec3 material_diffuse(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
     if (!has_texture(m.diffuse_texture)) {
         return m.diffuse.xyz;
     }
-    return m.diffuse.xyz * texture_sample(m.diffuse_texture, texcoord, dx, dy).xyz;
+    return m.diffuse.xyz * texture_sample(m.diffuse_texture, texcoords, dx, dy).xyz;
 }
 
 // material.rs: Material::emission_at
-vec3 material_emission(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+vec3 material_emission(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
     if (!has_texture(m.emission_texture) || m.emission.xyz == vec3(0.0)) {
         return m.emission.xyz;
     }
-    return m.emission.xyz * texture_sample(m.emission_texture, texcoord, dx, dy).xyz;
+    return m.emission.xyz * texture_sample(m.emission_texture, texcoords, dx, dy).xyz;
 }
 
 // material.rs: Material::metallic_roughness_at; x: metallic, y: roughness.
-vec2 material_metallic_roughness(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+vec2 material_metallic_roughness(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
     vec2 factors = vec2(m.metallic, m.roughness);
     if (!has_texture(m.metallic_roughness_texture)) {
         return factors;
     }
-    vec4 texel = texture_sample(m.metallic_roughness_texture, texcoord, dx, dy);
+    vec4 texel = texture_sample(m.metallic_roughness_texture, texcoords, dx, dy);
     return factors * texel.zy;
 }
 
 // material.rs: Material::occlusion_at
-float material_occlusion(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+float material_occlusion(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
     if (!has_texture(m.occlusion_texture)) {
         return 1.0;
     }
-    float r = texture_sample(m.occlusion_texture, texcoord, dx, dy).x;
+    float r = texture_sample(m.occlusion_texture, texcoords, dx, dy).x;
     return 1.0 + m.occlusion_strength * (r - 1.0);
 }
 
 // material.rs: Material::clearcoat_at
-vec2 material_clearcoat(Material m, vec2 texcoord, vec2 dx, vec2 dy) {
+vec2 material_clearcoat(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
     float weight = m.clearcoat;
     if (has_texture(m.clearcoat_texture) && m.clearcoat > 0.0) {
-        weight = m.clearcoat * texture_sample(m.clearcoat_texture, texcoord, dx, dy).x;
+        weight = m.clearcoat * texture_sample(m.clearcoat_texture, texcoords, dx, dy).x;
     }
     float roughness = m.clearcoat_roughness;
     if (has_texture(m.clearcoat_roughness_texture) && weight > 0.0) {
         roughness = m.clearcoat_roughness
-            * texture_sample(m.clearcoat_roughness_texture, texcoord, dx, dy).y;
+            * texture_sample(m.clearcoat_roughness_texture, texcoords, dx, dy).y;
     }
     return vec2(weight, roughness);
 }
@@ -251,11 +271,11 @@ bool material_is_textured(Material m) {
 }
 
 // material.rs: Material::alpha_at
-float material_alpha(Material m, vec2 texcoord) {
+float material_alpha(Material m, vec4 texcoords) {
     if (!has_texture(m.alpha_texture)) {
         return m.diffuse.w;
     }
-    return m.diffuse.w * texture_sample_finest(m.alpha_texture, texcoord).w;
+    return m.diffuse.w * texture_sample_finest(m.alpha_texture, texcoords).w;
 }
 
 // How a ray cuts BLEND surfaces: a draw per surface from its key (`scene::ray_key`), or, for
@@ -276,10 +296,10 @@ BlendCut shadow_cut(BlendCut camera) {
 float blend_threshold(uint key, uint tri) { return unit_float(hash_u32(key ^ hash_u32(tri))); }
 
 // material.rs: Material::stops_ray, for a surface of alpha-tested `material` (the global
-// triangle `tri`) at `texcoord`.
-bool material_stops_ray(uint material, uint tri, vec2 texcoord, BlendCut cut) {
+// triangle `tri`) at `texcoords`.
+bool material_stops_ray(uint material, uint tri, vec4 texcoords, BlendCut cut) {
     Material m = materials[material];
-    float alpha = material_alpha(m, texcoord);
+    float alpha = material_alpha(m, texcoords);
     if (m.alpha_mode == ALPHA_MASK) {
         return alpha >= m.emission.w;
     }
@@ -293,7 +313,7 @@ bool triangle_stops_ray(uint tri, vec2 b, BlendCut cut) {
     if (materials[material].alpha_mode == ALPHA_OPAQUE) {
         return true;
     }
-    return material_stops_ray(material, tri, triangle_texcoord(tri, b), cut);
+    return material_stops_ray(material, tri, triangle_texcoords(tri, b), cut);
 }
 
 #endif

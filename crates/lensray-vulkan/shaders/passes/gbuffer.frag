@@ -13,17 +13,17 @@ layout(location = 2) out float out_depth;
 
 void main() {
     // The footprint before the discard: its derivatives need the whole quad.
-    vec2 dx = vec2(0.0);
-    vec2 dy = vec2(0.0);
+    vec4 dx = vec4(0.0);
+    vec4 dy = vec4(0.0);
     if (SURFACES_TEXTURED) {
         fragment_footprint(pc.clip_from_world, v_world, v_triangle, dx, dy);
     }
     if (SURFACES_ALPHA_TESTED
-        && !fragment_stops_ray(v_triangle, v_texcoord, aperture_centre_cut())) {
+        && !fragment_stops_ray(v_triangle, v_texcoords, aperture_centre_cut())) {
         discard;
     }
     out_normal = vec4(viewer_facing_normal(pc, v_normal, v_world), 1.0);
-    vec3 albedo = SURFACES_TEXTURED ? fragment_albedo(v_triangle, v_texcoord, dx, dy, v_world) : v_albedo;
+    vec3 albedo = SURFACES_TEXTURED ? fragment_albedo(v_triangle, v_texcoords, dx, dy, v_world) : v_albedo;
     out_albedo = vec4(albedo, 1.0);
     out_depth = v_view_depth;
 }

@@ -20,7 +20,7 @@ void main() {
 #endif
 #ifdef READS_SURFACE
     v_triangle = tri;
-    v_texcoord = texcoords[index];
+    v_texcoords = vertex_texcoords(index);
 #endif
     v_albedo = materials[triangle_material(tri)].diffuse.xyz;
     v_view_depth = dot(p - pc.eye.xyz, pc.forward.xyz);

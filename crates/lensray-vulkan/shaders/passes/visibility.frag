@@ -10,9 +10,9 @@ layout(push_constant) uniform PushBlock { VisibilityPush pc; };
 
 layout(location = 0) flat in uint in_triangle;
 #ifdef PLAIN_SURFACES
-const vec2 in_texcoord = vec2(0.0);  // read by alpha tests only (raster_surface.glsl)
+const vec4 in_texcoords = vec4(0.0);  // read by alpha tests only (raster_surface.glsl)
 #else
-layout(location = 1) in vec2 in_texcoord;
+layout(location = 1) in vec4 in_texcoords;
 #endif
 layout(location = 0) out uint out_triangle;
 
@@ -22,7 +22,7 @@ void main() {
         BlendCut cut = pc.aperture_centre != 0u
             ? aperture_centre_cut()
             : ray_cut(sample_key(pc.seed, pixel_index, pc.sample_index) ^ BLEND_CAMERA_SALT);
-        if (!fragment_stops_ray(in_triangle, in_texcoord, cut)) {
+        if (!fragment_stops_ray(in_triangle, in_texcoords, cut)) {
             discard;
         }
     }

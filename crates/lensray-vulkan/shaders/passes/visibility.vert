@@ -12,7 +12,7 @@ layout(push_constant) uniform PushBlock { VisibilityPush pc; };
 
 layout(location = 0) flat out uint out_triangle;
 #ifndef PLAIN_SURFACES
-layout(location = 1) out vec2 out_texcoord;
+layout(location = 1) out vec4 out_texcoords;  // xy: set 0, zw: set 1
 #endif
 
 void main() {
@@ -22,7 +22,7 @@ void main() {
     vec3 p = positions[index].xyz;
     out_triangle = tri;
 #ifndef PLAIN_SURFACES
-    out_texcoord = texcoords[index];
+    out_texcoords = vertex_texcoords(index);
 #endif
     gl_Position = pc.clip_from_world * vec4(p, 1.0);
 }

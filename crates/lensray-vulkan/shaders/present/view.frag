@@ -31,18 +31,18 @@ layout(location = 0) out vec4 out_shown;
 void main() {
     // As gbuffer.frag; the footprint only where a texture is shown.
     bool textured = SURFACES_TEXTURED && VIEW == VIEW_ALBEDO;
-    vec2 dx = vec2(0.0);
-    vec2 dy = vec2(0.0);
+    vec4 dx = vec4(0.0);
+    vec4 dy = vec4(0.0);
     if (textured) {
         fragment_footprint(pc.raster.clip_from_world, v_world, v_triangle, dx, dy);
     }
     if (SURFACES_ALPHA_TESTED
-        && !fragment_stops_ray(v_triangle, v_texcoord, aperture_centre_cut())) {
+        && !fragment_stops_ray(v_triangle, v_texcoords, aperture_centre_cut())) {
         discard;
     }
     vec3 shown;
     if (VIEW == VIEW_ALBEDO) {
-        vec3 albedo = textured ? fragment_albedo(v_triangle, v_texcoord, dx, dy, v_world) : v_albedo;
+        vec3 albedo = textured ? fragment_albedo(v_triangle, v_texcoords, dx, dy, v_world) : v_albedo;
         shown = encode_srgb(albedo);
     } else if (VIEW == VIEW_NORMAL) {
         shown = normal_shown(vec4(viewer_facing_normal(pc.raster, v_normal, v_world), 1.0));

@@ -115,6 +115,7 @@ pub(crate) struct SceneBuffers {
     tri_info: Buffer,
     materials: Buffer,
     texcoords: Buffer,
+    texcoords1: Buffer,
     colours: Buffer,
     tangents: Buffer,
     textures: Buffer,
@@ -166,7 +167,7 @@ impl SceneBuffers {
             bytemuck::cast_slice(&flat.indices),
             build_input,
         )?;
-        let [normals, tri_info, materials, texcoords, colours, tangents, textures, texels, lights, emitter_triangles, emitter_cdf, emitter_area_pdf] =
+        let [normals, tri_info, materials, texcoords, texcoords1, colours, tangents, textures, texels, lights, emitter_triangles, emitter_cdf, emitter_area_pdf] =
             [
                 ("scene normals", bytemuck::cast_slice(&flat.normals)),
                 ("scene triangle info", bytemuck::cast_slice(&flat.tri_info)),
@@ -174,6 +175,10 @@ impl SceneBuffers {
                 (
                     "scene texture coordinates",
                     bytemuck::cast_slice(&flat.texcoords),
+                ),
+                (
+                    "scene second texture coordinates",
+                    bytemuck::cast_slice(&flat.texcoords1),
                 ),
                 ("scene colours", bytemuck::cast_slice(&flat.colours)),
                 ("scene tangents", bytemuck::cast_slice(&flat.tangents)),
@@ -211,6 +216,7 @@ impl SceneBuffers {
             tri_info: tri_info?,
             materials: materials?,
             texcoords: texcoords?,
+            texcoords1: texcoords1?,
             colours: colours?,
             tangents: tangents?,
             textures: textures?,
@@ -234,6 +240,7 @@ impl SceneBuffers {
             tri_info: &self.tri_info,
             materials: &self.materials,
             texcoords: &self.texcoords,
+            texcoords1: &self.texcoords1,
             colours: &self.colours,
             tangents: &self.tangents,
             textures: &self.textures,

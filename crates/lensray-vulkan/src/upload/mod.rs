@@ -61,6 +61,9 @@ pub(crate) struct FlatScene {
     pub normals: Vec<[f32; 4]>,
     /// Per vertex; (0, 0) for meshes without texture coordinates.
     pub texcoords: Vec<[f32; 2]>,
+    /// Per vertex the second set; (0, 0) for meshes without one; one (0, 0) when no mesh has
+    /// one (the shaders read (0, 0) past its end).
+    pub texcoords1: Vec<[f32; 2]>,
     /// Per vertex (RGBA); zeros for meshes without colours; one zero when no mesh has any.
     pub colours: Vec<[f32; 4]>,
     /// Per vertex; zeros for meshes without tangents; one zero when no mesh has any.
@@ -125,13 +128,14 @@ impl FlatScene {
             .fold(0, |a, b| a | b);
         let any_colours = scene.meshes.iter().any(|m| !m.colours.is_empty());
         let any_tangents = scene.meshes.iter().any(|m| !m.tangents.is_empty());
+        let any_texcoords1 = scene.meshes.iter().any(|m| !m.texcoords1.is_empty());
         for mesh in &scene.meshes {
             let flag = |present: bool, bit: u32| if present { bit } else { 0 };
             let flags = flag(!mesh.normals.is_empty(), TRI_HAS_NORMALS)
                 | flag(!mesh.colours.is_empty(), TRI_HAS_COLOURS)
                 | flag(!mesh.tangents.is_empty(), TRI_HAS_TANGENTS);
             let base = flat.positions.len() as u32;
-            flat.push_vertices(mesh, any_colours, any_tangents);
+            flat.push_vertices(mesh, any_colours, any_tangents, any_texcoords1);
             // Every acceleration-structure builder gets the triangles in a spatial order, each
             // side's in one range (the CPU reference numbers them so too).
             let material = |t: usize| &scene.materials[mesh.material_ids[t] as usize];
@@ -173,21 +177,29 @@ impl FlatScene {
                 array.push([0.0; 4]);
             }
         }
+        if flat.texcoords1.is_empty() {
+            // Shaders index non-empty arrays; they read (0, 0) past this one's end.
+            flat.texcoords1.push([0.0; 2]);
+        }
         flat.emitters = FlatEmitters::new(&flat.positions, &flat.indices, &flat.tri_info, scene);
         Ok(flat)
     }
 
-    /// Appends the vertices of `mesh`: zeros for what it lacks, colours and tangents only where
-    /// some mesh has them.
-    fn push_vertices(&mut self, mesh: &Mesh, any_colours: bool, any_tangents: bool) {
+    /// Appends the vertices of `mesh`: zeros for what it lacks, colours, tangents and second
+    /// texture coordinates only where some mesh has them.
+    fn push_vertices(
+        &mut self,
+        mesh: &Mesh,
+        any_colours: bool,
+        any_tangents: bool,
+        any_texcoords1: bool,
+    ) {
         let count = mesh.positions.len();
         self.positions
             .extend(mesh.positions.iter().map(|p| p.extend(1.0).to_array()));
-        if mesh.texcoords.is_empty() {
-            self.texcoords.extend(std::iter::repeat_n([0.0; 2], count));
-        } else {
-            self.texcoords
-                .extend(mesh.texcoords.iter().map(|t| t.to_array()));
+        extend_texcoords(&mut self.texcoords, &mesh.texcoords, count);
+        if any_texcoords1 {
+            extend_texcoords(&mut self.texcoords1, &mesh.texcoords1, count);
         }
         let normals: Vec<glam::Vec4> = mesh.normals.iter().map(|n| n.extend(0.0)).collect();
         extend_or_zeros(&mut self.normals, &normals, count);
@@ -197,6 +209,15 @@ impl FlatScene {
         if any_tangents {
             extend_or_zeros(&mut self.tangents, &mesh.tangents, count);
         }
+    }
+}
+
+/// `texcoords`, or `count` zeros where it is empty.
+fn extend_texcoords(flat: &mut Vec<[f32; 2]>, texcoords: &[glam::Vec2], count: usize) {
+    if texcoords.is_empty() {
+        flat.extend(std::iter::repeat_n([0.0; 2], count));
+    } else {
+        flat.extend(texcoords.iter().map(|t| t.to_array()));
     }
 }
 
@@ -302,7 +323,7 @@ fn gpu_texture_ref(texture_ref: Option<&TextureRef>) -> GpuTextureRef {
         texture: r.texture,
         wrap_u: wrap(r.wrap[0]),
         wrap_v: wrap(r.wrap[1]),
-        pad: 0,
+        texcoord_set: r.texcoord_set,
     }
 }
 

@@ -126,6 +126,13 @@ pub fn fingerprint(scene: &Scene) -> u64 {
             &mut h,
             mesh.texcoords.iter().flat_map(|t| t.to_array()).collect(),
         );
+        if !mesh.texcoords1.is_empty() {
+            // Only where there is a second set: the keys of scenes without one stay as they were.
+            floats(
+                &mut h,
+                mesh.texcoords1.iter().flat_map(|t| t.to_array()).collect(),
+            );
+        }
         h.word(mesh.triangles.len() as u32);
         h.words(mesh.triangles.iter().flatten().copied());
         h.words(mesh.material_ids.iter().copied());

@@ -34,10 +34,11 @@ fn obj_scene(obj: &str) -> Scene {
     load_obj(&path).unwrap().scene
 }
 
-/// A box from `min` to `max` as OBJ, its vertices in the truck's order and its faces the
-/// truck's.
+/// A closed box from `min` to `max` as OBJ, every face wound counter-clockwise seen from
+/// outside (so its faces' normals sum to zero: it faces no side more than another).
 fn box_obj(min: Vec3, max: Vec3) -> String {
-    let faces = &TRUCK_OBJ[TRUCK_OBJ.find('f').unwrap()..];
+    let faces = "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 5 8\nf 1 8 4\n\
+                 f 2 3 7\nf 2 7 6\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\n";
     let mut obj = String::new();
     for z in [min.z, max.z] {
         for (x, y) in [
@@ -194,4 +195,20 @@ fn a_board_is_framed_face_on_from_a_little_above_filling_the_frame() {
             );
         }
     }
+}
+
+/// A board whose triangles face -Z (a one-sided chart made to be seen from behind glTF's
+/// front) is framed from -Z: from where its face shows.
+#[test]
+fn a_board_is_framed_from_the_side_its_face_shows() {
+    // Counter-clockwise seen from -Z: its normal is -Z.
+    let chart = "v -1 -1 0\nv -1 1 0\nv 1 1 0\nv 1 -1 0\nf 1 2 3\nf 1 3 4\n";
+    let scene = obj_scene(chart);
+    let camera = shot(&Settings::default(), &scene).unwrap().camera;
+    let from_centre = camera.frame.eye;
+    let azimuth = from_centre.x.atan2(from_centre.z).to_degrees();
+    assert!(
+        (azimuth.abs() - 180.0).abs() < 1e-3,
+        "seen from {azimuth} degrees around, not from -Z"
+    );
 }

@@ -285,7 +285,7 @@ fn a_normal_texture_loads_with_its_scale_and_transform() {
 #[test]
 fn metallic_roughness_and_occlusion_textures_load_as_data() {
     use glam::Vec2;
-    use lensray_core::scene::texture::TexcoordFootprint;
+    use lensray_core::scene::texture::FootprintSets;
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let pixel = image::Rgba([64u8, 128, 255, 255]);
@@ -317,21 +317,19 @@ fn metallic_roughness_and_occlusion_textures_load_as_data() {
     );
     assert_eq!(mr.texture, occlusion.texture);
     assert_ne!(Some(mr.texture), m.diffuse_texture.map(|t| t.texture));
-    let footprint = TexcoordFootprint {
-        dx: Vec2::ZERO,
-        dy: Vec2::ZERO,
-    };
-    let (metallic, roughness) = m.metallic_roughness_at(textures, Vec2::splat(0.5), &footprint);
+    let footprint = FootprintSets::default();
+    let texcoords = [Vec2::splat(0.5); 2];
+    let (metallic, roughness) = m.metallic_roughness_at(textures, &texcoords, &footprint);
     // Linear: B 255 -> 1, G 128 -> 128 / 255, R 64 -> 64 / 255.
     let want = (0.8, 0.5 * 128.0 / 255.0);
     println!("metallic, roughness: ({metallic}, {roughness}), want {want:?}");
     assert!((metallic - want.0).abs() < 1e-6 && (roughness - want.1).abs() < 1e-6);
-    let got = m.occlusion_at(textures, Vec2::splat(0.5), &footprint);
+    let got = m.occlusion_at(textures, &texcoords, &footprint);
     let want = 1.0 + 0.5 * (64.0 / 255.0 - 1.0);
     println!("occlusion: {got}, want {want}");
     assert!((got - want).abs() < 1e-6);
     // The base colour is the sRGB decoding of the same texels: R 64 is 0.0513.
-    let base = m.diffuse_at(textures, Vec2::splat(0.5), &footprint);
+    let base = m.diffuse_at(textures, &texcoords, &footprint);
     assert!((base.x - 0.051_269_5).abs() < 1e-4, "{base}");
     assert!(file.notices.is_empty(), "{:?}", file.notices);
 

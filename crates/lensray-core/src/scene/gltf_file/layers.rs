@@ -5,10 +5,9 @@
 //! they are read from the material's JSON. The coat's own normal map is not drawn (the coat
 //! follows the base's shading normal), and `ignored_features` names it.
 
-use glam::Affine2;
 use gltf_json::Value;
 
-use super::materials::texture_transform;
+use super::materials::json_transform;
 use super::nodes::Walk;
 use crate::scene::texture::{Encoding, TextureRef};
 use crate::scene::Material;
@@ -44,26 +43,11 @@ impl Walk<'_> {
         else {
             return Ok(None);
         };
-        let mut tex_coord = info.get("texCoord").and_then(Value::as_u64).unwrap_or(0) as u32;
-        let mut uv_from_texcoord = Affine2::IDENTITY;
-        if let Some(t) = info
+        let tex_coord = info.get("texCoord").and_then(Value::as_u64).unwrap_or(0) as u32;
+        let transform = info
             .get("extensions")
-            .and_then(|e| e.get("KHR_texture_transform"))
-        {
-            let pair = |key: &str, default: [f32; 2]| match t.get(key).and_then(Value::as_array) {
-                Some(a) if a.len() == 2 => match (a[0].as_f64(), a[1].as_f64()) {
-                    (Some(x), Some(y)) => [x as f32, y as f32],
-                    _ => default,
-                },
-                _ => default,
-            };
-            let rotation = number(t, "rotation").unwrap_or(0.0);
-            uv_from_texcoord =
-                texture_transform(pair("offset", [0.0; 2]), rotation, pair("scale", [1.0; 2]));
-            if let Some(set) = t.get("texCoord").and_then(Value::as_u64) {
-                tex_coord = set as u32;
-            }
-        }
+            .and_then(|e| e.get("KHR_texture_transform"));
+        let (tex_coord, uv_from_texcoord) = json_transform(tex_coord, transform);
         self.texture_slot(texture, tex_coord, uv_from_texcoord, Encoding::Linear)
     }
 }

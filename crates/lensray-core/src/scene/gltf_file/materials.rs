@@ -5,10 +5,11 @@
 //! the frame of the mesh's tangents: `scene::tangents`), `emissiveFactor` x
 //! `KHR_materials_emissive_strength` and `emissiveTexture` (sRGB) for the emission, the base
 //! colour's alpha (factor times texture) with `alphaMode` and `alphaCutoff`, each texture with
-//! its sampler's wrap modes and `KHR_texture_transform` (the occlusion texture's is not read),
-//! and `doubleSided` (false, glTF's default: culled from behind, `Material::double_sided`).
-//! Images are read once each as colour and once as data, from a buffer view, a data URI or a
-//! file beside the glTF.
+//! its sampler's wrap modes, its `texCoord` set (TEXCOORD_0 or TEXCOORD_1; a higher set reads
+//! TEXCOORD_0, with a notice) and its `KHR_texture_transform`, and `doubleSided` (false, glTF's
+//! default: culled from behind, `Material::double_sided`). Images are read once each as colour
+//! and once as data, from a buffer view, a data URI or a file beside the glTF; a missing file
+//! is reported once.
 
 use std::path::Path;
 
@@ -17,7 +18,7 @@ use glam::{Affine2, Vec2, Vec3};
 use gltf::texture::WrappingMode;
 
 use super::nodes::Walk;
-use crate::scene::texture::{decode_texture, Encoding, TextureRef, Wrap};
+use crate::scene::texture::{decode_texture, Encoding, TextureRef, Wrap, TEXCOORD_SETS};
 use crate::scene::{AlphaMode, Material};
 
 impl Walk<'_> {
@@ -76,8 +77,9 @@ impl Walk<'_> {
         let occlusion = material.occlusion_texture();
         let occlusion_texture = match &occlusion {
             Some(o) => {
-                let identity = Affine2::IDENTITY;
-                self.texture_slot(o.texture(), o.tex_coord(), identity, Encoding::Linear)?
+                let (tex_coord, uv_from_texcoord) =
+                    json_transform(o.tex_coord(), o.extension_value("KHR_texture_transform"));
+                self.texture_slot(o.texture(), tex_coord, uv_from_texcoord, Encoding::Linear)?
             }
             None => None,
         };
@@ -114,8 +116,7 @@ impl Walk<'_> {
         self.layers(material, base)
     }
 
-    /// The material's normal map (linear) with its transform, and its scale. The `gltf` crate
-    /// reads no `KHR_texture_transform` on a normal texture: it is read from the JSON here.
+    /// The material's normal map (linear) with its transform, and its scale.
     fn normal_texture(
         &mut self,
         material: &gltf::Material,
@@ -123,30 +124,10 @@ impl Walk<'_> {
         let Some(normal) = material.normal_texture() else {
             return Ok((None, 1.0));
         };
-        let mut tex_coord = normal.tex_coord();
-        let mut uv_from_texcoord = Affine2::IDENTITY;
-        if let Some(t) = normal.extension_value("KHR_texture_transform") {
-            let pair = |key: &str, default: [f32; 2]| match t
-                .get(key)
-                .and_then(|v| v.as_array())
-                .map(|a| &a[..])
-            {
-                Some([a, b]) => match (a.as_f64(), b.as_f64()) {
-                    (Some(a), Some(b)) => [a as f32, b as f32],
-                    _ => default,
-                },
-                _ => default,
-            };
-            let rotation = t.get("rotation").and_then(|r| r.as_f64()).unwrap_or(0.0);
-            uv_from_texcoord = texture_transform(
-                pair("offset", [0.0; 2]),
-                rotation as f32,
-                pair("scale", [1.0; 2]),
-            );
-            if let Some(set) = t.get("texCoord").and_then(|c| c.as_u64()) {
-                tex_coord = set as u32;
-            }
-        }
+        let (tex_coord, uv_from_texcoord) = json_transform(
+            normal.tex_coord(),
+            normal.extension_value("KHR_texture_transform"),
+        );
         let texture = normal.texture();
         let slot = self.texture_slot(texture, tex_coord, uv_from_texcoord, Encoding::Linear)?;
         Ok((slot, normal.scale()))
@@ -169,8 +150,9 @@ impl Walk<'_> {
         self.texture_slot(info.texture(), tex_coord, uv_from_texcoord, encoding)
     }
 
-    /// The scene's reference to `texture` read at `tex_coord` through `uv_from_texcoord`, its
-    /// image decoded as `encoding`.
+    /// The scene's reference to `texture` read at set `tex_coord` through `uv_from_texcoord`,
+    /// its image decoded as `encoding`. A set past TEXCOORD_1 reads TEXCOORD_0 (the meshes carry
+    /// two), with one notice for the file.
     pub(super) fn texture_slot(
         &mut self,
         texture: gltf::Texture,
@@ -184,26 +166,33 @@ impl Walk<'_> {
             WrappingMode::ClampToEdge => Wrap::ClampToEdge,
             WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
         };
-        if tex_coord != 0 {
-            self.other_texcoords = true;
-        }
+        let texcoord_set = if (tex_coord as usize) < TEXCOORD_SETS {
+            tex_coord
+        } else {
+            self.other_texcoords.get_or_insert(tex_coord);
+            0
+        };
         Ok(self
             .image(&texture.source(), encoding)?
             .map(|id| TextureRef {
                 texture: id,
                 wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+                texcoord_set,
                 uv_from_texcoord,
             }))
     }
 
     /// The scene texture of `image` decoded as `encoding` (on its first use so; glTF's colour
-    /// textures are sRGB, its data textures linear); `None`, with a notice, when its file is
-    /// missing: the material renders without it.
+    /// textures are sRGB, its data textures linear); `None` when its file is missing: the
+    /// material renders without it. The notice of a missing file comes on its first use alone,
+    /// however many textures and encodings use it.
     fn image(&mut self, image: &gltf::Image, encoding: Encoding) -> Result<Option<u32>, String> {
         let i = image.index();
         let e = usize::from(encoding == Encoding::Linear);
-        if let Some(id) = self.images[i][e] {
-            return Ok(Some(id));
+        match self.images[i][e] {
+            Some(ImageSlot::Texture(id)) => return Ok(Some(id)),
+            Some(ImageSlot::Missing) => return Ok(None),
+            None => {}
         }
         let name = image
             .name()
@@ -214,6 +203,7 @@ impl Walk<'_> {
                 self.out
                     .notices
                     .push(format!("{e}: its materials render without it"));
+                self.images[i] = [Some(ImageSlot::Missing); 2];
                 return Ok(None);
             }
             Err(Missing::Broken(e)) => return Err(e),
@@ -223,7 +213,7 @@ impl Walk<'_> {
         let textures = &mut self.out.scene.textures;
         textures.push(texture);
         let id = (textures.len() - 1) as u32;
-        self.images[i][e] = Some(id);
+        self.images[i][e] = Some(ImageSlot::Texture(id));
         Ok(Some(id))
     }
 
@@ -250,6 +240,13 @@ impl Walk<'_> {
             }),
         }
     }
+}
+
+/// A glTF image as the scene holds it, once read: a texture, or a file that is missing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum ImageSlot {
+    Texture(u32),
+    Missing,
 }
 
 /// Why an image's bytes are not there: a file that cannot be read (a warning), or a broken
@@ -281,6 +278,38 @@ fn shorten(uri: &str) -> String {
     } else {
         uri.to_string()
     }
+}
+
+/// The set and transform of a texture whose `KHR_texture_transform` is the JSON `extension`
+/// (the `gltf` crate reads the extension on a material's base colour, emissive and
+/// metallic-roughness textures alone): the extension's `texCoord` overrides the texture's
+/// `tex_coord`.
+pub(super) fn json_transform(
+    tex_coord: u32,
+    extension: Option<&gltf::json::Value>,
+) -> (u32, Affine2) {
+    let Some(t) = extension else {
+        return (tex_coord, Affine2::IDENTITY);
+    };
+    let pair = |key: &str, default: [f32; 2]| match t
+        .get(key)
+        .and_then(|v| v.as_array())
+        .map(|a| &a[..])
+    {
+        Some([a, b]) => match (a.as_f64(), b.as_f64()) {
+            (Some(a), Some(b)) => [a as f32, b as f32],
+            _ => default,
+        },
+        _ => default,
+    };
+    let rotation = t.get("rotation").and_then(|r| r.as_f64()).unwrap_or(0.0);
+    let uv_from_texcoord = texture_transform(
+        pair("offset", [0.0; 2]),
+        rotation as f32,
+        pair("scale", [1.0; 2]),
+    );
+    let set = t.get("texCoord").and_then(|c| c.as_u64());
+    (set.map_or(tex_coord, |s| s as u32), uv_from_texcoord)
 }
 
 /// `KHR_texture_transform`'s matrix: translation x rotation x scale (scale first, offset last),
@@ -321,3 +350,7 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
     }
     ignored
 }
+
+#[cfg(test)]
+#[path = "texcoord_tests.rs"]
+mod texcoord_tests;

@@ -5,7 +5,7 @@
 //! (matrix or TRS) applied after its parent's. Every triangle primitive (`TRIANGLES`, strips and
 //! fans; indexed or not) of a node's mesh becomes one [`Mesh`](super::Mesh) in world space: positions through
 //! `world_from_node`, normals through its inverse transpose, the winding kept counter-clockwise
-//! where the transform mirrors; TEXCOORD_0 and COLOR_0 come along, and TANGENT through
+//! where the transform mirrors; TEXCOORD_0, TEXCOORD_1 and COLOR_0 come along, and TANGENT through
 //! `world_from_node` (its sign turned where the transform mirrors); a normal-mapped mesh without
 //! TANGENT gets MikkTSpace's (`scene::tangents`). Vertex attributes may be quantized
 //! (`KHR_mesh_quantization`, `accessors.rs`). Points and lines are skipped with one

@@ -8,7 +8,7 @@ use gltf::mesh::Mode;
 
 use super::accessors::{read_colours, read_floats, read_normals, read_tangents};
 use super::animation::{animation_name, camera_animation};
-use super::materials::ignored_features;
+use super::materials::{ignored_features, ImageSlot};
 use super::MeshFile;
 use crate::scene::camera_animation::CameraPose;
 use crate::scene::file_camera::{FileCamera, FileProjection};
@@ -30,12 +30,13 @@ pub(super) struct Walk<'a> {
     /// glTF's default material in the scene, once a primitive needs it.
     pub default_material: Option<u32>,
     /// The scene texture of each glTF image, as colour (sRGB) and as data (linear), once a
-    /// material uses it so.
-    pub images: Vec<[Option<u32>; 2]>,
+    /// material uses it so; both missing once its file is found missing.
+    pub images: Vec<[Option<ImageSlot>; 2]>,
     /// Primitives of point and line modes.
     pub skipped_modes: usize,
-    /// A texture reads a texture coordinate set other than TEXCOORD_0 (read from set 0).
-    pub other_texcoords: bool,
+    /// The first texture coordinate set past TEXCOORD_1 that a texture reads (read from
+    /// TEXCOORD_0).
+    pub other_texcoords: Option<u32>,
 }
 
 impl<'a> Walk<'a> {
@@ -55,7 +56,7 @@ impl<'a> Walk<'a> {
             default_material: None,
             images: vec![[None; 2]; document.images().len()],
             skipped_modes: 0,
-            other_texcoords: false,
+            other_texcoords: None,
         }
     }
 
@@ -158,16 +159,21 @@ impl<'a> Walk<'a> {
         let triangles = assemble(mode, &corners, mirrored);
         let normals = read_normals(primitive, buffers, world_from_node, count)
             .map_err(|e| format!("{what}: {e}"))?;
-        let texcoords: Vec<Vec2> = attribute(gltf::Semantic::TexCoords(0))
-            .map(|a| read_floats(&a, buffers, "TEXCOORD_0"))
-            .transpose()
-            .map_err(|e| format!("{what}: {e}"))?
-            .map_or_else(Vec::new, |t| t.into_iter().map(Vec2::from).collect());
-        let texcoords = if texcoords.len() == count {
-            texcoords
-        } else {
-            Vec::new()
+        let texcoord_set = |set: u32| -> Result<Vec<Vec2>, String> {
+            let name = format!("TEXCOORD_{set}");
+            let texcoords: Vec<Vec2> = attribute(gltf::Semantic::TexCoords(set))
+                .map(|a| read_floats(&a, buffers, &name))
+                .transpose()
+                .map_err(|e| format!("{what}: {e}"))?
+                .map_or_else(Vec::new, |t| t.into_iter().map(Vec2::from).collect());
+            Ok(if texcoords.len() == count {
+                texcoords
+            } else {
+                Vec::new()
+            })
         };
+        let texcoords = texcoord_set(0)?;
+        let texcoords1 = texcoord_set(1)?;
         let colours = read_colours(primitive, buffers)
             .map_err(|e| format!("{what}: {e}"))?
             .filter(|c| c.len() == count)
@@ -196,6 +202,7 @@ impl<'a> Walk<'a> {
                 .collect(),
             normals,
             texcoords,
+            texcoords1,
             material_ids: vec![material; triangles.len()],
             triangles,
         });
@@ -209,11 +216,11 @@ impl<'a> Walk<'a> {
             .filter(|a| !self.camera_animations.contains(&a.index()))
             .map(|a| animation_name(&a))
             .collect();
-        if self.other_texcoords {
-            self.out.notices.push(
-                "reads every texture with TEXCOORD_0 (lensray reads one texture coordinate set)"
-                    .into(),
-            );
+        if let Some(set) = self.other_texcoords {
+            self.out.notices.push(format!(
+                "reads textures of TEXCOORD_{set} with TEXCOORD_0 (lensray reads TEXCOORD_0 and \
+                 TEXCOORD_1)"
+            ));
         }
         if self.skipped_modes > 0 {
             self.out.notices.push(format!(

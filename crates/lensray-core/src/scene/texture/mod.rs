@@ -53,12 +53,24 @@ pub struct Texture {
     pub texels: Vec<u32>,
 }
 
-/// A material's use of a texture: which one, how it wraps, and the transform from the mesh's
-/// texture coordinates to the texture's (glTF's `KHR_texture_transform`; identity otherwise).
+/// The texture coordinate sets a mesh carries (glTF's TEXCOORD_0 and TEXCOORD_1).
+pub const TEXCOORD_SETS: usize = 2;
+
+/// A point's coordinates in each texture coordinate set: what a [`TextureRef`] picks from.
+pub type TexcoordSets = [Vec2; TEXCOORD_SETS];
+
+/// The pixel footprint in each texture coordinate set.
+pub type FootprintSets = [TexcoordFootprint; TEXCOORD_SETS];
+
+/// A material's use of a texture: which one, how it wraps, which texture coordinate set it
+/// reads and the transform from that set's coordinates to the texture's (glTF's `texCoord` and
+/// `KHR_texture_transform`; set 0 and identity otherwise).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TextureRef {
     pub texture: u32,
     pub wrap: [Wrap; 2],
+    /// The mesh's set read: 0 (`Mesh::texcoords`) or 1 (`Mesh::texcoords1`).
+    pub texcoord_set: u32,
     pub uv_from_texcoord: Affine2,
 }
 
@@ -67,8 +79,14 @@ impl TextureRef {
         Self {
             texture,
             wrap: [Wrap::Repeat; 2],
+            texcoord_set: 0,
             uv_from_texcoord: Affine2::IDENTITY,
         }
+    }
+
+    /// The coordinates of its set among `texcoords`.
+    pub fn texcoord(&self, texcoords: &TexcoordSets) -> Vec2 {
+        texcoords[self.texcoord_set as usize]
     }
 }
 
@@ -239,16 +257,20 @@ impl Texture {
     }
 }
 
-/// Reads `texture_ref` at mesh texture coordinates `texcoord` filtered over `footprint`.
+/// Reads `texture_ref` at the mesh texture coordinates of its set among `texcoords`, filtered
+/// over that set's footprint among `footprints`.
 pub fn sample(
     textures: &[Texture],
     texture_ref: &TextureRef,
-    texcoord: Vec2,
-    footprint: &TexcoordFootprint,
+    texcoords: &TexcoordSets,
+    footprints: &FootprintSets,
 ) -> Vec4 {
     let texture = &textures[texture_ref.texture as usize];
+    let footprint = &footprints[texture_ref.texcoord_set as usize];
     let m = texture_ref.uv_from_texcoord.matrix2;
-    let uv = texture_ref.uv_from_texcoord.transform_point2(texcoord);
+    let uv = texture_ref
+        .uv_from_texcoord
+        .transform_point2(texture_ref.texcoord(texcoords));
     let duv = TexcoordFootprint {
         dx: m * footprint.dx,
         dy: m * footprint.dy,
@@ -256,10 +278,17 @@ pub fn sample(
     texture.trilinear(uv, texture.level_of_detail(&duv), texture_ref.wrap)
 }
 
-/// Reads `texture_ref` at level 0, bilinearly: what alpha tests see.
-pub fn sample_finest(textures: &[Texture], texture_ref: &TextureRef, texcoord: Vec2) -> Vec4 {
+/// Reads `texture_ref` at its set among `texcoords`, at level 0, bilinearly: what alpha tests
+/// see.
+pub fn sample_finest(
+    textures: &[Texture],
+    texture_ref: &TextureRef,
+    texcoords: &TexcoordSets,
+) -> Vec4 {
     let texture = &textures[texture_ref.texture as usize];
-    let uv = texture_ref.uv_from_texcoord.transform_point2(texcoord);
+    let uv = texture_ref
+        .uv_from_texcoord
+        .transform_point2(texture_ref.texcoord(texcoords));
     texture.bilinear(0, uv, texture_ref.wrap)
 }
 
