@@ -180,10 +180,12 @@ shader_constants! {
     ALPHA_OPAQUE: u32 = 0;
     ALPHA_MASK: u32 = 1;
     ALPHA_BLEND: u32 = 2;
-    /// glTF's metallic-roughness BRDF (reference/brdf.rs): the dielectrics' reflectance at
-    /// normal incidence, and the least roughness shaded (alpha = roughness^2 = 0.002: a
-    /// smaller alpha puts the GGX peak beyond what f32 shading resolves).
-    DIELECTRIC_F0: f32 = 0.04;
+    /// glTF's metallic-roughness BRDF (reference/brdf.rs): the dielectrics' index of
+    /// refraction where a material names none (`KHR_materials_ior`'s default; reflectance at
+    /// normal incidence ((1.5 - 1) / (1.5 + 1))^2 = 0.04), and the least roughness shaded
+    /// (alpha = roughness^2 = 0.002: a smaller alpha puts the GGX peak beyond what f32 shading
+    /// resolves).
+    DEFAULT_IOR: f32 = 1.5;
     MIN_ROUGHNESS: f32 = 0.045;
     /// `KHR_materials_clearcoat`'s coat (reference/clearcoat.rs): its reflectance at normal
     /// incidence, ((1 - 1.5) / (1 + 1.5))^2 for its index of refraction 1.5.

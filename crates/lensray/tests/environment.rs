@@ -15,7 +15,7 @@ use gpu_support::{
 use lensray::paths::{OpenedPath, PathChoice, PathKind};
 use lensray_core::camera::{CameraParams, LensParams, Movements, ProjectionParams};
 use lensray_core::film::compare::mean_error;
-use lensray_core::reference::brdf::{ggx_distribution, MetallicRoughness};
+use lensray_core::reference::brdf::{ggx_distribution, Dielectric, MetallicRoughness};
 use lensray_core::reference::Renderer;
 use lensray_core::scene::environment::studio::studio;
 use lensray_core::scene::{EnvironmentLight, Material, Mesh, Scene};
@@ -100,6 +100,7 @@ fn a_white_metal_in_a_white_furnace_reflects_its_albedo() {
             metallic: 1.0,
             roughness,
             specular: 1.0,
+            dielectric: Dielectric::OPAQUE,
         };
         let mut losses = Vec::new();
         for (degrees, mu) in [(0.0f32, 1.0f32), (60.0, 0.5), (80.0, 0.173_648_18)] {
@@ -167,6 +168,7 @@ fn a_tilted_shading_normal_in_the_white_furnace_keeps_its_light() {
             metallic: 1.0,
             roughness,
             specular: 1.0,
+            dielectric: Dielectric::OPAQUE,
         };
         let untilted = albedo(&brdf, 1.0);
         for tilt in [30.0f32, 60.0, 80.0] {

@@ -1,34 +1,78 @@
 //! glTF's metallic-roughness BRDF, as the specification's Appendix B defines it: a GGX
 //! (Trowbridge-Reitz) distribution with alpha = roughness^2, the height-correlated Smith
-//! visibility term and Schlick's Fresnel, whose reflectance at normal incidence is
-//! `DIELECTRIC_F0` for dielectrics and the base colour for metals, mixed by `metallic`; the
-//! dielectric's Fresnel is weighed by `specular` as `KHR_materials_specular` does (1: Appendix
-//! B; 0: no specular lobe, Lambert):
+//! visibility term and Schlick's Fresnel, whose reflectance at normal incidence is the
+//! dielectric's (((ior - 1) / (ior + 1))^2, `KHR_materials_ior`) for dielectrics and the base
+//! colour for metals, mixed by `metallic`; the dielectric's Fresnel is weighed by `specular` as
+//! `KHR_materials_specular` does (1: Appendix B; 0: no specular lobe, Lambert). A dielectric
+//! that transmits (`KHR_materials_transmission`: weight T) sends that share of what it does not
+//! reflect through the surface instead of diffusing it (`transmission.rs`):
 //!
 //! ```text
 //! c_diff = base (1 - metallic)
-//! f0 = lerp(DIELECTRIC_F0 specular, base, metallic)     f90 = lerp(specular, 1, metallic)
+//! f0 = lerp(f0(ior) specular, base, metallic)     f90 = lerp(specular, 1, metallic)
 //! F = f0 + (f90 - f0) (1 - |v.h|)^5
-//! f = (1 - F) c_diff / pi + F D V
+//! f = (1 - F) (1 - T) c_diff / pi + F D V                      (l above the surface)
+//! f = (1 - F) T c_diff f_t                                      (l below: transmission.rs)
 //! ```
 //!
+//! Seen from inside a volume, Schlick's cosine is the one outside (the refracted one), and
+//! beyond the critical angle F = 1 (total internal reflection).
 //! shaders/include/brdf.glsl mirrors it function by function.
 
 use std::f32::consts::{FRAC_1_PI, PI};
 
 use glam::Vec3;
 
-use crate::interface::{DIELECTRIC_F0, MIN_ROUGHNESS};
+use crate::interface::{DEFAULT_IOR, MIN_ROUGHNESS};
 
 /// What the BRDF of a surface point needs: its base colour, metallic and roughness (each the
-/// material's factor times its texture, in [0, 1]) and the weight of a dielectric's specular
-/// lobe (`Material::specular`).
+/// material's factor times its texture, in [0, 1]), the weight of a dielectric's specular
+/// lobe (`Material::specular`) and what the dielectric refracts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MetallicRoughness {
     pub base_colour: Vec3,
     pub metallic: f32,
     pub roughness: f32,
     pub specular: f32,
+    pub dielectric: Dielectric,
+}
+
+/// The dielectric's optics at a surface point: its index of refraction, the share T of its
+/// unreflected light that goes through the surface, and `eta`, the index beyond the surface
+/// over the index on the viewer's side: `ior` where a ray enters a volume through its front
+/// face, 1 / `ior` where it leaves through its back face, and 1 through a thin wall (which
+/// refracts nothing: its transmission is its reflection lobe mirrored through the surface).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dielectric {
+    pub ior: f32,
+    pub transmission: f32,
+    pub eta: f32,
+}
+
+impl Dielectric {
+    /// An opaque dielectric of the default index.
+    pub const OPAQUE: Self = Self {
+        ior: DEFAULT_IOR,
+        transmission: 0.0,
+        eta: DEFAULT_IOR,
+    };
+
+    /// The reflectance at normal incidence, ((ior - 1) / (ior + 1))^2.
+    pub fn f0(&self) -> f32 {
+        let r = (self.ior - 1.0) / (self.ior + 1.0);
+        r * r
+    }
+
+    /// The cosine Schlick's Fresnel takes for a microfacet at cosine `cos` to the viewer: `cos`
+    /// itself, or from inside a volume (`eta` < 1) the refracted direction's; `None` beyond the
+    /// critical angle.
+    pub fn outside_cosine(&self, cos: f32) -> Option<f32> {
+        if self.eta >= 1.0 {
+            return Some(cos);
+        }
+        let sin2 = (1.0 - cos * cos).max(0.0) / (self.eta * self.eta);
+        (sin2 < 1.0).then(|| (1.0 - sin2).sqrt())
+    }
 }
 
 impl MetallicRoughness {
@@ -45,7 +89,7 @@ impl MetallicRoughness {
 
     /// The reflectance at normal incidence.
     pub fn f0(&self) -> Vec3 {
-        Vec3::splat(DIELECTRIC_F0 * self.specular).lerp(self.base_colour, self.metallic)
+        Vec3::splat(self.dielectric.f0() * self.specular).lerp(self.base_colour, self.metallic)
     }
 
     /// The reflectance at grazing incidence.
@@ -53,17 +97,36 @@ impl MetallicRoughness {
         self.specular + (1.0 - self.specular) * self.metallic
     }
 
+    /// Whether light goes through the surface (a dielectric share that transmits).
+    pub fn transmits(&self) -> bool {
+        self.dielectric.transmission > 0.0 && self.metallic < 1.0
+    }
+
+    /// Schlick's Fresnel of a microfacet at cosine `v_dot_h` to the viewer, 1 beyond the
+    /// critical angle.
+    pub fn fresnel(&self, v_dot_h: f32) -> Vec3 {
+        match self.dielectric.outside_cosine(v_dot_h) {
+            Some(cos) => schlick_fresnel(self.f0(), self.f90(), cos),
+            None => Vec3::ONE,
+        }
+    }
+
     /// f(l, v) for unit normal `n`, direction to the light `l` and to the viewer `v`, with
-    /// n.l > 0 and n.v >= 0 (the caller's cosine tests); 1/sr.
+    /// n.l != 0 and n.v >= 0 (the caller's cosine tests); 1/sr. Light from below the surface
+    /// is transmitted light (`transmission.rs`).
     pub fn evaluate(&self, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
-        let h = (l + v).normalize();
         let n_dot_l = n.dot(l);
+        if n_dot_l < 0.0 {
+            return self.transmitted(n, l, v);
+        }
+        let h = (l + v).normalize();
         let n_dot_v = n.dot(v).max(0.0);
         let alpha = self.alpha();
-        let fresnel = schlick_fresnel(self.f0(), self.f90(), v.dot(h).abs());
+        let fresnel = self.fresnel(v.dot(h).abs());
         let specular =
             ggx_distribution(n.dot(h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
-        (Vec3::ONE - fresnel) * self.diffuse_colour() * FRAC_1_PI + fresnel * specular
+        let diffuse = self.diffuse_colour() * ((1.0 - self.dielectric.transmission) * FRAC_1_PI);
+        (Vec3::ONE - fresnel) * diffuse + fresnel * specular
     }
 }
 
@@ -102,6 +165,7 @@ mod tests {
             metallic,
             roughness,
             specular: 1.0,
+            dielectric: Dielectric::OPAQUE,
         }
     }
 
@@ -148,7 +212,7 @@ mod tests {
         let (l, v) = (Vec3::new(sin, 0.0, cos), Vec3::new(-sin, 0.0, cos));
         assert!((ggx_distribution(1.0, 0.25) - 5.092_958).abs() < 1e-5);
         assert!((smith_visibility(cos, cos, 0.25) - 4.778_601).abs() < 1e-4);
-        let fresnel = schlick_fresnel(Vec3::splat(DIELECTRIC_F0), 1.0, cos);
+        let fresnel = schlick_fresnel(Vec3::splat(0.04), 1.0, cos);
         assert_close(
             fresnel,
             Vec3::splat(0.409_910),

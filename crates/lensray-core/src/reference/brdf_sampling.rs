@@ -8,7 +8,7 @@ use std::f32::consts::{FRAC_1_PI, PI};
 
 use glam::{Vec2, Vec3};
 
-use super::brdf::{ggx_distribution, MetallicRoughness};
+use super::brdf::{ggx_distribution, schlick_fresnel, MetallicRoughness};
 use crate::scene::light::{cosine_direction, orthonormal_frame};
 
 /// A direction drawn from a BRDF: where the light comes from, the mixture's density of it, and
@@ -21,61 +21,92 @@ pub struct BrdfSample {
 }
 
 impl MetallicRoughness {
-    /// The share of draws that go to the specular lobe where the viewer is at n.v =
-    /// `n_dot_v`: all of a metal's, half of a dielectric's (weighed by `specular`), none where
-    /// the viewer is not above the surface (no visible normal then) or there is no lobe.
-    pub fn specular_probability(&self, n_dot_v: f32) -> f32 {
+    /// The shares of draws that go to the specular reflection and to the transmission where
+    /// the viewer is at n.v = `n_dot_v`; the diffuse lobe draws the rest. A metal's draws all
+    /// go to its specular lobe; an opaque dielectric's half to it (weighed by `specular`); a
+    /// transmitting dielectric's share T splits by its Fresnel at n.v. None where the viewer is
+    /// not above the surface (no visible normal then).
+    pub fn lobe_probabilities(&self, n_dot_v: f32) -> (f32, f32) {
         if n_dot_v <= 0.0 {
-            return 0.0;
+            return (0.0, 0.0);
         }
-        (self.metallic + (1.0 - self.metallic) * 0.5 * self.specular).clamp(0.0, 1.0)
+        let dielectric = 1.0 - self.metallic;
+        let t = self.dielectric.transmission;
+        let reflected = match self.dielectric.outside_cosine(n_dot_v) {
+            Some(cos) => schlick_fresnel(Vec3::splat(self.dielectric.f0() * self.specular), self.specular, cos).x,
+            None => 1.0,
+        };
+        let specular = self.metallic + dielectric * ((1.0 - t) * 0.5 * self.specular + t * reflected);
+        let transmitted = dielectric * t * (1.0 - reflected);
+        (specular.clamp(0.0, 1.0), transmitted.clamp(0.0, 1.0 - specular.clamp(0.0, 1.0)))
     }
 
     /// The mixture's density (per solid angle) of drawing `l` at unit normal `n` seen from
-    /// `v`; 0 below the surface.
+    /// `v`; below the surface the transmission's, 0 without one.
     pub fn pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
         let n_dot_l = n.dot(l);
+        let n_dot_v = n.dot(v);
+        let (p, t) = self.lobe_probabilities(n_dot_v);
+        if n_dot_l < 0.0 && t > 0.0 {
+            return t * self.transmission_pdf(n, l, v);
+        }
         if n_dot_l <= 0.0 {
             return 0.0;
         }
-        let n_dot_v = n.dot(v);
-        let p = self.specular_probability(n_dot_v);
-        let diffuse = n_dot_l * FRAC_1_PI;
+        let diffuse = (1.0 - p - t) * n_dot_l * FRAC_1_PI;
         if p <= 0.0 {
             return diffuse;
         }
         let h = (l + v).normalize();
         let specular = visible_normal_pdf(n_dot_v, n.dot(h), self.alpha());
-        p * specular + (1.0 - p) * diffuse
+        p * specular + diffuse
     }
 
     /// The direction point `u` ([0, 1)^2) draws at unit normal `n` seen from `v`, with its
-    /// density and weight; `None` where it falls below the surface (the sample carries no
-    /// light). The first coordinate picks the lobe and is stretched back to [0, 1) within it.
+    /// density and weight; `None` where it carries no light (below the surface of one that
+    /// does not transmit, or beyond the critical angle). The first coordinate picks the lobe
+    /// and is stretched back to [0, 1) within it.
     pub fn sample(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<BrdfSample> {
-        let p = self.specular_probability(n.dot(v));
+        let (p, t) = self.lobe_probabilities(n.dot(v));
         let direction = if u.x < p {
-            let (t, b) = orthonormal_frame(n);
-            let v_local = Vec3::new(v.dot(t), v.dot(b), v.dot(n));
-            let m = visible_normal(v_local, self.alpha(), Vec2::new(u.x / p, u.y));
-            let h = t * m.x + b * m.y + n * m.z;
-            2.0 * v.dot(h) * h - v
+            let h = visible_normal_around(n, v, self.alpha(), Vec2::new(u.x / p, u.y));
+            // The lobe's density counts only what goes above the surface.
+            Some(2.0 * v.dot(h) * h - v).filter(|l| n.dot(*l) > 0.0)?
+        } else if u.x < p + t {
+            self.sample_transmission(n, v, Vec2::new((u.x - p) / t, u.y))?
         } else {
-            let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
+            let stretched = Vec2::new((u.x - p - t) / (1.0 - p - t), u.y);
             cosine_direction(n, stretched)
         };
-        let n_dot_l = n.dot(direction);
-        let pdf = self.pdf(n, direction, v);
-        if n_dot_l <= 0.0 || pdf <= 0.0 {
-            return None;
-        }
-        let weight = self.evaluate(n, direction, v) * (n_dot_l / pdf);
-        Some(BrdfSample {
-            direction,
-            pdf,
-            weight,
-        })
+        finish_draw(direction, self.pdf(n, direction, v), || self.evaluate(n, direction, v), n)
     }
+}
+
+/// A normal of GGX's distribution (alpha `alpha`) about unit normal `n` visible from `v`,
+/// drawn by `u` (`visible_normal` in the frame of `n`).
+pub fn visible_normal_around(n: Vec3, v: Vec3, alpha: f32, u: Vec2) -> Vec3 {
+    let (t, b) = orthonormal_frame(n);
+    let m = visible_normal(Vec3::new(v.dot(t), v.dot(b), v.dot(n)), alpha, u);
+    t * m.x + b * m.y + n * m.z
+}
+
+/// The draw of `direction` with density `pdf` and f = `f()` at unit normal `n`: its weight
+/// f |cos| / pdf; `None` where it carries no light (grazing, or a density of 0).
+pub fn finish_draw(
+    direction: Vec3,
+    pdf: f32,
+    f: impl FnOnce() -> Vec3,
+    n: Vec3,
+) -> Option<BrdfSample> {
+    let cos = n.dot(direction).abs();
+    if cos <= 0.0 || pdf <= 0.0 || !pdf.is_finite() {
+        return None;
+    }
+    Some(BrdfSample {
+        direction,
+        pdf,
+        weight: f() * (cos / pdf),
+    })
 }
 
 /// The density per solid angle of l drawn through a visible normal h: D_v(h) / (4 v.h) =
@@ -116,6 +147,7 @@ pub fn visible_normal(v: Vec3, alpha: f32, u: Vec2) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference::brdf::Dielectric;
 
     fn surface(base: Vec3, metallic: f32, roughness: f32) -> MetallicRoughness {
         MetallicRoughness {
@@ -123,6 +155,7 @@ mod tests {
             metallic,
             roughness,
             specular: 1.0,
+            dielectric: Dielectric::OPAQUE,
         }
     }
 

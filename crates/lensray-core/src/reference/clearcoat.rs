@@ -18,9 +18,8 @@
 use glam::{Vec2, Vec3};
 
 use super::brdf::{ggx_distribution, smith_visibility, MetallicRoughness};
-use super::brdf_sampling::{visible_normal, visible_normal_pdf, BrdfSample};
+use super::brdf_sampling::{finish_draw, visible_normal_around, visible_normal_pdf, BrdfSample};
 use crate::interface::{CLEARCOAT_F0, MIN_ROUGHNESS};
-use crate::scene::light::orthonormal_frame;
 
 /// The coat of a surface point: its weight (`clearcoatFactor` times its texture's R) and its
 /// perceptual roughness (`clearcoatRoughnessFactor` times its texture's G), each in [0, 1].
@@ -74,7 +73,7 @@ impl Clearcoat {
 
 impl LayeredBrdf {
     /// f(l, v) for unit normal `n`, direction to the light `l` and to the viewer `v`, with
-    /// n.l > 0 (the caller's cosine test); 1/sr.
+    /// n.l != 0 (the caller's cosine test; below the surface only the base transmits); 1/sr.
     pub fn evaluate(&self, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
         let base = self.base.evaluate(n, l, v);
         if self.clearcoat.weight <= 0.0 {
@@ -93,16 +92,20 @@ impl LayeredBrdf {
         let base = self.base.pdf(n, l, v);
         let n_dot_v = n.dot(v);
         let p = self.clearcoat.probability(n_dot_v);
-        if p <= 0.0 || n.dot(l) <= 0.0 {
+        if p <= 0.0 {
             return base;
         }
-        let h = (l + v).normalize();
-        let coat = visible_normal_pdf(n_dot_v, n.dot(h), self.clearcoat.alpha());
+        let coat = if n.dot(l) > 0.0 {
+            let h = (l + v).normalize();
+            visible_normal_pdf(n_dot_v, n.dot(h), self.clearcoat.alpha())
+        } else {
+            0.0
+        };
         p * coat + (1.0 - p) * base
     }
 
     /// The direction point `u` ([0, 1)^2) draws at unit normal `n` seen from `v`, with its
-    /// density and weight; `None` where it falls below the surface. The first coordinate
+    /// density and weight; `None` where it carries no light. The first coordinate
     /// picks the coat or the base and is stretched back to [0, 1) within it.
     pub fn sample(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<BrdfSample> {
         let p = self.clearcoat.probability(n.dot(v));
@@ -110,26 +113,15 @@ impl LayeredBrdf {
             return self.base.sample(n, v, u);
         }
         let direction = if u.x < p {
-            let (t, b) = orthonormal_frame(n);
-            let v_local = Vec3::new(v.dot(t), v.dot(b), v.dot(n));
-            let m = visible_normal(v_local, self.clearcoat.alpha(), Vec2::new(u.x / p, u.y));
-            let h = t * m.x + b * m.y + n * m.z;
-            2.0 * v.dot(h) * h - v
+            let alpha = self.clearcoat.alpha();
+            let h = visible_normal_around(n, v, alpha, Vec2::new(u.x / p, u.y));
+            // The lobe's density counts only what goes above the surface.
+            Some(2.0 * v.dot(h) * h - v).filter(|l| n.dot(*l) > 0.0)?
         } else {
             let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
             self.base.sample(n, v, stretched)?.direction
         };
-        let n_dot_l = n.dot(direction);
-        let pdf = self.pdf(n, direction, v);
-        if n_dot_l <= 0.0 || pdf <= 0.0 {
-            return None;
-        }
-        let weight = self.evaluate(n, direction, v) * (n_dot_l / pdf);
-        Some(BrdfSample {
-            direction,
-            pdf,
-            weight,
-        })
+        finish_draw(direction, self.pdf(n, direction, v), || self.evaluate(n, direction, v), n)
     }
 }
 

@@ -3,6 +3,7 @@ use std::f32::consts::PI;
 use glam::{DVec3, Vec2, Vec3};
 
 use super::*;
+use crate::reference::brdf::Dielectric;
 
 fn base(colour: Vec3, metallic: f32, roughness: f32, specular: f32) -> MetallicRoughness {
     MetallicRoughness {
@@ -10,6 +11,7 @@ fn base(colour: Vec3, metallic: f32, roughness: f32, specular: f32) -> MetallicR
         metallic,
         roughness,
         specular,
+        dielectric: Dielectric::OPAQUE,
     }
 }
 

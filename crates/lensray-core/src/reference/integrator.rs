@@ -12,7 +12,7 @@
 use glam::{Vec2, Vec3};
 
 use super::accel::{Hit, PACKET_SIZE};
-use super::brdf::MetallicRoughness;
+use super::brdf::{Dielectric, MetallicRoughness};
 use super::brdf_sampling::BrdfSample;
 use super::clearcoat::{Clearcoat, LayeredBrdf};
 use super::lighting::{LightDraw, LitLane, ShadingInputs};
@@ -85,6 +85,7 @@ impl Renderer {
                     metallic: material.metallic,
                     roughness: material.roughness,
                     specular: material.specular,
+                    dielectric: Dielectric::OPAQUE,
                 },
                 clearcoat: Clearcoat {
                     weight: material.clearcoat,

@@ -28,6 +28,7 @@ mod lighting;
 mod rays;
 mod render;
 mod sky;
+mod transmission;
 mod surface;
 mod surface_frame;
 mod triangle;

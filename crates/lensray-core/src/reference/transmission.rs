@@ -1,0 +1,122 @@
+//! The dielectric's transmitted light (`KHR_materials_transmission`, `KHR_materials_ior`,
+//! `KHR_materials_volume`): light from below the surface (n.l < 0) reaches the viewer through
+//! it, tinted by the diffuse colour and weighed by the share T and what Fresnel lets through:
+//!
+//! ```text
+//! f = (1 - F(v.h)) T c_diff f_t(l, v)
+//! ```
+//!
+//! - Through a volume's boundary (`eta` != 1) f_t is Walter et al.'s microfacet BTDF
+//!   ("Microfacet Models for Refraction through Rough Surfaces", EGSR 2007, eq. 21) without its
+//!   Fresnel, for radiance: with h = -(v + eta l) / |v + eta l| turned to the normal's side,
+//!   f_t = 4 |l.h| |v.h| D(h) V(|n.l|, n.v) / (v.h + eta l.h)^2, where D V is the GGX lobe
+//!   of `brdf.rs` (G2 = 4 V |n.l| |n.v|). The radiance a ray carries out of glass of index
+//!   1.5 into the air is 1 / 1.5^2 of the radiance inside, and the way in multiplies by
+//!   1.5^2: paths that enter and leave carry what they found.
+//! - Through a thin wall (`eta` = 1: nothing refracts) f_t is the reflection lobe mirrored
+//!   through the surface, D(h) V(|n.l|, n.v) with h halfway between v and l mirrored
+//!   (the specification's thin-walled transmission: straight through, blurred by the
+//!   roughness).
+//!
+//! Draws refract (or mirror) the view about a visible normal (`brdf_sampling::visible_normal`);
+//! the density of the refracted direction is the normal's times Walter's Jacobian
+//! eta^2 |l.h| / (v.h + eta l.h)^2 (eq. 17). shaders/include/brdf.glsl mirrors it.
+
+use glam::{Vec2, Vec3};
+
+use super::brdf::{ggx_distribution, smith_visibility, MetallicRoughness};
+use super::brdf_sampling::{visible_normal_around, visible_normal_pdf};
+
+/// `l` mirrored through the plane of unit normal `n`.
+fn mirrored(n: Vec3, l: Vec3) -> Vec3 {
+    l - 2.0 * n.dot(l) * n
+}
+
+/// The refraction of the view `v` (unit, away from the surface) through a microfacet of unit
+/// normal `m` (v.m > 0) into a medium of relative index `eta`; `None` beyond the critical
+/// angle.
+pub(super) fn refract(v: Vec3, m: Vec3, eta: f32) -> Option<Vec3> {
+    let cos = v.dot(m);
+    let sin2 = (1.0 - cos * cos).max(0.0) / (eta * eta);
+    if sin2 >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2).sqrt();
+    Some(-v / eta + m * (cos / eta - cos_t))
+}
+
+/// The microfacet normal that refracts `v` into `l` at relative index `eta`, on the side of
+/// `n`, with v.h and l.h; `None` where no microfacet does (both on one side of it).
+fn refraction_normal(n: Vec3, l: Vec3, v: Vec3, eta: f32) -> Option<(Vec3, f32, f32)> {
+    let mut h = -(v + eta * l).normalize();
+    if n.dot(h) < 0.0 {
+        h = -h;
+    }
+    let (v_dot_h, l_dot_h) = (v.dot(h), l.dot(h));
+    (h.is_finite() && v_dot_h > 0.0 && l_dot_h < 0.0).then_some((h, v_dot_h, l_dot_h))
+}
+
+impl MetallicRoughness {
+    /// f(l, v) for light from below the surface (n.l < 0); 1/sr.
+    pub(super) fn transmitted(&self, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
+        let n_dot_v = n.dot(v);
+        if !self.transmits() || n_dot_v <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let n_dot_l = -n.dot(l);
+        let alpha = self.alpha();
+        let eta = self.dielectric.eta;
+        let (lobe, v_dot_h) = if eta == 1.0 {
+            let h = (mirrored(n, l) + v).normalize();
+            let lobe = ggx_distribution(n.dot(h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
+            (lobe, v.dot(h))
+        } else {
+            let Some((h, v_dot_h, l_dot_h)) = refraction_normal(n, l, v, eta) else {
+                return Vec3::ZERO;
+            };
+            let denominator = v_dot_h + eta * l_dot_h;
+            let dv = ggx_distribution(n.dot(h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
+            let lobe = 4.0 * v_dot_h * -l_dot_h * dv / (denominator * denominator);
+            (lobe, v_dot_h)
+        };
+        let through = Vec3::ONE - self.fresnel(v_dot_h);
+        through * self.diffuse_colour() * (self.dielectric.transmission * lobe)
+    }
+
+    /// The transmission lobe's own density (per solid angle) of drawing `l` below the
+    /// surface.
+    pub(super) fn transmission_pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
+        let n_dot_v = n.dot(v);
+        let alpha = self.alpha();
+        let eta = self.dielectric.eta;
+        if eta == 1.0 {
+            let h = (mirrored(n, l) + v).normalize();
+            return visible_normal_pdf(n_dot_v, n.dot(h), alpha);
+        }
+        let Some((h, v_dot_h, l_dot_h)) = refraction_normal(n, l, v, eta) else {
+            return 0.0;
+        };
+        // visible_normal_pdf is D_v(h) / (4 v.h).
+        let denominator = v_dot_h + eta * l_dot_h;
+        let normal_pdf = 4.0 * v_dot_h * visible_normal_pdf(n_dot_v, n.dot(h), alpha);
+        normal_pdf * eta * eta * -l_dot_h / (denominator * denominator)
+    }
+
+    /// The direction below the surface point `u` draws from the transmission lobe; `None`
+    /// where the drawn microfacet reflects all (beyond the critical angle) or sends it above
+    /// the surface (the lobe's density counts only what goes below).
+    pub(super) fn sample_transmission(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<Vec3> {
+        let h = visible_normal_around(n, v, self.alpha(), u);
+        let eta = self.dielectric.eta;
+        let l = if eta == 1.0 {
+            mirrored(n, 2.0 * v.dot(h) * h - v)
+        } else {
+            refract(v, h, eta)?
+        };
+        (n.dot(l) < 0.0).then_some(l)
+    }
+}
+
+#[cfg(test)]
+#[path = "transmission_tests.rs"]
+mod tests;
