@@ -72,6 +72,11 @@ impl Clearcoat {
 }
 
 impl LayeredBrdf {
+    /// Whether light goes through the surface (its base transmits).
+    pub fn transmits(&self) -> bool {
+        self.base.transmits()
+    }
+
     /// f(l, v) for unit normal `n`, direction to the light `l` and to the viewer `v`, with
     /// n.l != 0 (the caller's cosine test; below the surface only the base transmits); 1/sr.
     pub fn evaluate(&self, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {

@@ -12,7 +12,7 @@ use super::accel::{is_back_face, PACKET_SIZE};
 use super::lighting::{LitLane, ShadowRay};
 use super::render::Renderer;
 use super::sky::{leaves, power_heuristic};
-use super::surface::shadow_origin;
+use super::surface::{origin_towards, shadow_origin};
 use crate::interface::EMITTER_SHADOW_SHORTEN;
 use crate::scene::emitters::{area_normal, uniform_point};
 use crate::scene::texture::FootprintSets;
@@ -57,7 +57,9 @@ impl Renderer {
             let (triangle, u) = self.emitters.pick(u[l]);
             let vertices = self.accel.vertices(triangle).map(Vec3::from);
             let (barycentric, position) = uniform_point(&vertices, u);
-            let origin = shadow_origin(&lane.surface);
+            let front = shadow_origin(&lane.surface);
+            // Behind the surface where the point is (light through it).
+            let origin = origin_towards(&lane.surface, position - front);
             let to_light = position - origin;
             let distance = to_light.length();
             let direction = to_light / distance;
@@ -75,7 +77,7 @@ impl Renderer {
             } else {
                 1.0
             };
-            let f = lane.brdf.evaluate(n, direction, v) * n.dot(direction);
+            let f = lane.brdf.evaluate(n, direction, v) * n.dot(direction).abs();
             Some(ShadowRay {
                 origin,
                 direction,

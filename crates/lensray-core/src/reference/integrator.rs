@@ -12,13 +12,14 @@
 use glam::{Vec2, Vec3};
 
 use super::accel::{Hit, PACKET_SIZE};
-use super::brdf::{Dielectric, MetallicRoughness};
+use super::brdf::MetallicRoughness;
 use super::brdf_sampling::BrdfSample;
 use super::clearcoat::{Clearcoat, LayeredBrdf};
 use super::lighting::{LightDraw, LitLane, ShadingInputs};
 use super::render::{Renderer, TracedPacket};
 use super::sky::{leaves, power_heuristic, sky_along, Sky};
-use super::surface::{shadow_origin, SurfacePoint};
+use super::surface::{origin_towards, SurfacePoint};
+use super::transmission::dielectric_of;
 use super::surface_frame::{reflection_safe_normal, vertex_coloured};
 use crate::camera::{Footprint, Ray};
 use crate::sampler::{emitter_dimensions, pixel_dimension, vertex_dimensions, PixelSampler};
@@ -85,7 +86,7 @@ impl Renderer {
                     metallic: material.metallic,
                     roughness: material.roughness,
                     specular: material.specular,
-                    dielectric: Dielectric::OPAQUE,
+                    dielectric: dielectric_of(material, material.transmission, surface.back_face),
                 },
                 clearcoat: Clearcoat {
                     weight: material.clearcoat,
@@ -120,6 +121,8 @@ impl Renderer {
             inputs.brdf.clearcoat.weight,
             inputs.brdf.clearcoat.roughness,
         ) = material.clearcoat_at(textures, texcoords, &duv);
+        let transmission = material.transmission_at(textures, texcoords, &duv);
+        inputs.brdf.base.dielectric = dielectric_of(material, transmission, surface.back_face);
         inputs.emission = material.emission_at(textures, texcoords, &duv);
         inputs.occlusion = material.occlusion_at(textures, texcoords, &duv);
         inputs
@@ -242,7 +245,7 @@ impl Renderer {
             .collect();
         let origins: Vec<Vec3> = going
             .iter()
-            .map(|&l| shadow_origin(&lanes[l].unwrap().surface))
+            .map(|&l| origin_towards(&lanes[l].unwrap().surface, draws[l].unwrap().direction))
             .collect();
         let directions: Vec<Vec3> = going.iter().map(|&l| draws[l].unwrap().direction).collect();
         let keys: Vec<u32> = going
@@ -268,9 +271,10 @@ impl Renderer {
                 origin: origins[k],
                 direction: directions[k],
             };
-            let (emission, surface) = self.surface_lane(&ray, hit, lane.draw);
+            let (emission, surface) = self.lit_surface(&ray, hit, None, lane.draw);
+            throughput[l] *= self.volume_transmittance(&surface, hit.t);
             values[l] += throughput[l] * emission * self.emission_weight(&draw, &hit);
-            next[l] = surface;
+            next[l] = Some(surface);
         }
         *lanes = next;
         going.len() as u64
@@ -324,10 +328,15 @@ impl Renderer {
         (emission, Some(lane))
     }
 
-    /// The emission of a surface a bounce met and what its direct light needs.
-    fn surface_lane(&self, ray: &Ray, hit: Hit, draw: LightDraw) -> (Vec3, Option<LitLane>) {
-        let (emission, lane) = self.lit_surface(ray, hit, None, draw);
-        (emission, Some(lane))
+    /// What is left of light that crossed `distance` of a volume to leave it at `lane`'s
+    /// surface (a back face of a material with an attenuation): Beer-Lambert's
+    /// exp(-attenuation distance); 1 elsewhere.
+    fn volume_transmittance(&self, lane: &LitLane, distance: f32) -> Vec3 {
+        let material = self.materials.get(lane.surface.material);
+        if !lane.surface.back_face || material.thin || material.attenuation == Vec3::ZERO {
+            return Vec3::ONE;
+        }
+        (-material.attenuation * distance).exp()
     }
 
     /// A lit surface's emission and its lane, its shading normal made safe for reflection

@@ -7,7 +7,8 @@ use glam::Vec3;
 use super::accel::PACKET_SIZE;
 use super::clearcoat::LayeredBrdf;
 use super::render::Renderer;
-use super::surface::{shadow_origin, SurfacePoint};
+use super::sky::leaves;
+use super::surface::{origin_towards, shadow_origin, SurfacePoint};
 use crate::scene::Light;
 
 /// What a sample's shading draws besides its camera ray: the blend key of its shadow and bounce
@@ -40,10 +41,10 @@ pub(super) struct LitLane {
 }
 
 impl LitLane {
-    /// f(l, v) cos(n, l) of light arriving from `l`.
+    /// f(l, v) |cos(n, l)| of light arriving from `l`.
     fn reflectance(&self, l: Vec3) -> Vec3 {
         let n = self.surface.shading_normal;
-        self.brdf.evaluate(n, l, self.to_viewer) * n.dot(l)
+        self.brdf.evaluate(n, l, self.to_viewer) * n.dot(l).abs()
     }
 }
 
@@ -72,10 +73,20 @@ impl Renderer {
         let mut rays = 0;
         for light in lights {
             let shadow = std::array::from_fn(|l| {
-                let (lane, origin) = (lanes[l]?, origins[l]?);
-                let incident = light.incident(origin)?;
-                let cosine = lane.surface.shading_normal.dot(incident.direction);
-                (cosine > 0.0).then(|| ShadowRay {
+                let (lane, mut origin) = (lanes[l]?, origins[l]?);
+                let mut incident = light.incident(origin)?;
+                if lane.surface.shading_normal.dot(incident.direction) <= 0.0 {
+                    // Light from behind reaches the viewer only through the surface.
+                    if !lane.brdf.transmits() {
+                        return None;
+                    }
+                    origin = origin_towards(&lane.surface, incident.direction);
+                    incident = light.incident(origin)?;
+                    if !leaves(&lane, incident.direction) {
+                        return None;
+                    }
+                }
+                Some(ShadowRay {
                     origin,
                     direction: incident.direction,
                     t_max: incident.distance,

@@ -13,7 +13,7 @@ use super::accel::PACKET_SIZE;
 use super::brdf_sampling::BrdfSample;
 use super::lighting::{LitLane, ShadowRay};
 use super::render::Renderer;
-use super::surface::shadow_origin;
+use super::surface::{origin_towards, shadow_origin};
 use crate::scene::light::cosine_direction;
 use crate::scene::EnvironmentLight;
 use crate::settings::RenderSettings;
@@ -100,10 +100,13 @@ impl<'a> Sky<'a> {
     }
 }
 
-/// Whether a direction leaves a surface on its own side: above its geometric plane (a
-/// direction under it is blocked by the surface) and above the shading normal's.
+/// Whether a direction leaves a surface on its own side (above its geometric plane, where a
+/// direction under it is blocked by the surface, and above the shading normal's), or through
+/// it where the surface transmits (below both).
 pub(super) fn leaves(lane: &LitLane, d: Vec3) -> bool {
-    d.dot(lane.surface.geometric_normal) > 0.0 && d.dot(lane.surface.shading_normal) > 0.0
+    let g = d.dot(lane.surface.geometric_normal);
+    let s = d.dot(lane.surface.shading_normal);
+    (g > 0.0 && s > 0.0) || (g < 0.0 && s < 0.0 && lane.brdf.transmits())
 }
 
 /// The light the sky brings along a BRDF draw that leaves the scene, weighed against the sky's
@@ -134,9 +137,9 @@ impl Renderer {
             }
             let (n, v) = (lane.surface.shading_normal, lane.to_viewer);
             let w = power_heuristic(s.pdf, lane.brdf.pdf(n, s.direction, v));
-            let f = lane.brdf.evaluate(n, s.direction, v) * n.dot(s.direction);
+            let f = lane.brdf.evaluate(n, s.direction, v) * n.dot(s.direction).abs();
             Some(ShadowRay {
-                origin: shadow_origin(&lane.surface),
+                origin: origin_towards(&lane.surface, s.direction),
                 direction: s.direction,
                 t_max: f32::INFINITY,
                 light: f * s.radiance * (w / s.pdf * lane.occlusion),
@@ -182,7 +185,7 @@ impl Renderer {
         let shadow = std::array::from_fn(|l| {
             let (lane, draw) = (lanes[l]?, draws[l]?);
             Some(ShadowRay {
-                origin: shadow_origin(&lane.surface),
+                origin: origin_towards(&lane.surface, draw.direction),
                 direction: draw.direction,
                 t_max: f32::INFINITY,
                 light: sky_along(sky, &lane, &draw),

@@ -18,6 +18,9 @@ pub struct SurfacePoint {
     /// the incoming ray independently of the geometric normal.
     pub shading_normal: Vec3,
     pub material: u32,
+    /// Whether the ray met the triangle's back face (it sees it clockwise): a volume's
+    /// boundary is left there.
+    pub back_face: bool,
     /// Interpolated texture coordinates of each set ((0, 0) in a set the mesh lacks).
     pub texcoords: TexcoordSets,
 }
@@ -51,7 +54,8 @@ impl SurfaceData {
         } else {
             interpolate(n, hit.barycentric).normalize()
         };
-        if geometric_normal.dot(ray.direction) > 0.0 {
+        let back_face = geometric_normal.dot(ray.direction) > 0.0;
+        if back_face {
             geometric_normal = -geometric_normal;
         }
         if shading_normal.dot(ray.direction) > 0.0 {
@@ -62,6 +66,7 @@ impl SurfaceData {
             geometric_normal,
             shading_normal,
             material: self.materials[hit.triangle as usize],
+            back_face,
             texcoords: self.texcoords(hit.triangle, hit.barycentric),
         }
     }
@@ -114,6 +119,20 @@ pub(super) fn interpolate(v: [Vec3; 3], b: Vec2) -> Vec3 {
 /// Where a shadow ray starts: off the surface along the facing geometric normal, by an amount
 /// that grows with the magnitude of the coordinates (float spacing grows with them).
 pub fn shadow_origin(p: &SurfacePoint) -> Vec3 {
-    let scale = SHADOW_ORIGIN_OFFSET * (1.0 + p.position.abs().max_element());
-    p.position + p.geometric_normal * scale
+    p.position + p.geometric_normal * origin_offset(p)
+}
+
+/// How far off the surface its rays start (`shadow_origin`).
+fn origin_offset(p: &SurfacePoint) -> f32 {
+    SHADOW_ORIGIN_OFFSET * (1.0 + p.position.abs().max_element())
+}
+
+/// Where a ray along `d` starts: `shadow_origin`, or as far behind the surface where `d`
+/// goes through it (transmitted light).
+pub(super) fn origin_towards(p: &SurfacePoint, d: Vec3) -> Vec3 {
+    if d.dot(p.geometric_normal) < 0.0 {
+        p.position - p.geometric_normal * origin_offset(p)
+    } else {
+        shadow_origin(p)
+    }
 }

@@ -24,8 +24,29 @@
 
 use glam::{Vec2, Vec3};
 
-use super::brdf::{ggx_distribution, smith_visibility, MetallicRoughness};
+use super::brdf::{ggx_distribution, smith_visibility, Dielectric, MetallicRoughness};
 use super::brdf_sampling::{visible_normal_around, visible_normal_pdf};
+use crate::scene::Material;
+
+/// The dielectric optics of `material` where a ray meets it from its front (`back_face`
+/// false) or back, with the transmission's share `transmission`: a volume's boundary
+/// refracts into it (eta = ior) or out of it (1 / ior); a thin wall refracts nothing.
+pub(super) fn dielectric_of(material: &Material, transmission: f32, back_face: bool) -> Dielectric {
+    let eta = if transmission <= 0.0 {
+        material.ior
+    } else if material.thin {
+        1.0
+    } else if back_face {
+        1.0 / material.ior
+    } else {
+        material.ior
+    };
+    Dielectric {
+        ior: material.ior,
+        transmission,
+        eta,
+    }
+}
 
 /// `l` mirrored through the plane of unit normal `n`.
 fn mirrored(n: Vec3, l: Vec3) -> Vec3 {

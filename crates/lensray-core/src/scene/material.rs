@@ -4,6 +4,8 @@
 
 use glam::Vec3;
 
+use crate::interface::DEFAULT_IOR;
+
 use super::texture::{sample, sample_finest, FootprintSets, TexcoordSets, Texture, TextureRef};
 
 /// How a material's alpha (its factor times its coverage texture's alpha) decides whether a ray
@@ -64,6 +66,20 @@ pub struct Material {
     /// Linear; its green channel multiplies `clearcoat_roughness`
     /// (`clearcoatRoughnessTexture`).
     pub clearcoat_roughness_texture: Option<TextureRef>,
+    /// `KHR_materials_transmission`'s `transmissionFactor`: the share in [0, 1] of the
+    /// dielectric's unreflected light that goes through the surface instead of diffusing
+    /// (`reference::transmission`).
+    pub transmission: f32,
+    /// Linear; its red channel multiplies `transmission` (`transmissionTexture`).
+    pub transmission_texture: Option<TextureRef>,
+    /// The dielectric's index of refraction (`KHR_materials_ior`, `DEFAULT_IOR` without).
+    pub ior: f32,
+    /// Whether the surface is a thin wall, which transmits without refracting: glTF's
+    /// default; `KHR_materials_volume` with a thickness makes the mesh a volume's boundary.
+    pub thin: bool,
+    /// The volume's extinction per unit length, -ln(attenuationColor) / attenuationDistance
+    /// per channel (0: clear); light that crosses the volume keeps exp(-attenuation d).
+    pub attenuation: Vec3,
     pub alpha_mode: AlphaMode,
     /// `d` / the base colour factor's alpha.
     pub alpha: f32,
@@ -104,6 +120,11 @@ impl Material {
             clearcoat_texture: None,
             clearcoat_roughness: 0.0,
             clearcoat_roughness_texture: None,
+            transmission: 0.0,
+            transmission_texture: None,
+            ior: DEFAULT_IOR,
+            thin: true,
+            attenuation: Vec3::ZERO,
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
             alpha_texture: None,
@@ -195,6 +216,22 @@ impl Material {
         (weight, roughness)
     }
 
+    /// The transmission's share at texture coordinates `texcoords`, filtered over
+    /// `footprints`.
+    pub fn transmission_at(
+        &self,
+        textures: &[Texture],
+        texcoords: &TexcoordSets,
+        footprints: &FootprintSets,
+    ) -> f32 {
+        match &self.transmission_texture {
+            Some(t) if self.transmission > 0.0 => {
+                self.transmission * sample(textures, t, texcoords, footprints).x
+            }
+            _ => self.transmission,
+        }
+    }
+
     /// Whether any of the colours `lit` shading reads comes from a texture.
     pub fn is_textured(&self) -> bool {
         self.diffuse_texture.is_some()
@@ -204,6 +241,7 @@ impl Material {
             || self.normal_texture.is_some()
             || self.clearcoat_texture.is_some()
             || self.clearcoat_roughness_texture.is_some()
+            || self.transmission_texture.is_some()
     }
 
     /// Whether rays may pass through the surface somewhere: what acceleration structures mark

@@ -4,12 +4,19 @@
 //! with its own `texCoord` and `KHR_texture_transform`). The `gltf` crate reads none of them:
 //! they are read from the material's JSON. The coat's own normal map is not drawn (the coat
 //! follows the base's shading normal), and `ignored_features` names it.
+//! `KHR_materials_transmission` (`transmissionFactor` times `transmissionTexture`'s R),
+//! `KHR_materials_ior` (`ior`) and `KHR_materials_volume` (a `thicknessFactor` above 0 makes
+//! the mesh a volume's boundary; `attenuationColor` and `attenuationDistance` its
+//! extinction) describe what goes through a dielectric. The thickness texture is not read:
+//! rays measure the volume's thickness.
 
+use glam::Vec3;
 use gltf_json::Value;
 
 use super::materials::json_transform;
 use super::nodes::Walk;
 use crate::scene::texture::{Encoding, TextureRef};
+use crate::interface::DEFAULT_IOR;
 use crate::scene::Material;
 
 impl Walk<'_> {
@@ -26,6 +33,20 @@ impl Walk<'_> {
             material.clearcoat_texture = self.json_texture(coat.get("clearcoatTexture"))?;
             material.clearcoat_roughness_texture =
                 self.json_texture(coat.get("clearcoatRoughnessTexture"))?;
+        }
+        if let Some(transmission) = gltf.extension_value("KHR_materials_transmission") {
+            material.transmission = number(transmission, "transmissionFactor")
+                .unwrap_or(0.0)
+                .clamp(0.0, 1.0);
+            material.transmission_texture =
+                self.json_texture(transmission.get("transmissionTexture"))?;
+        }
+        if let Some(ior) = gltf.extension_value("KHR_materials_ior") {
+            material.ior = number(ior, "ior").unwrap_or(DEFAULT_IOR).clamp(1.0, MAX_IOR);
+        }
+        if let Some(volume) = gltf.extension_value("KHR_materials_volume") {
+            material.thin = number(volume, "thicknessFactor").unwrap_or(0.0) <= 0.0;
+            material.attenuation = attenuation(volume);
         }
         Ok(material)
     }
@@ -50,6 +71,25 @@ impl Walk<'_> {
         let (tex_coord, uv_from_texcoord) = json_transform(tex_coord, transform);
         self.texture_slot(texture, tex_coord, uv_from_texcoord, Encoding::Linear)
     }
+}
+
+/// The largest index of refraction drawn (a diamond's is 2.42).
+const MAX_IOR: f32 = 5.0;
+
+/// A volume's extinction per unit length: -ln(attenuationColor) / attenuationDistance per
+/// channel, 0 without a finite distance (the specification's default: no attenuation); a
+/// colour channel of 0 is taken as 1e-4 (it would stop all light at once).
+fn attenuation(volume: &Value) -> Vec3 {
+    let Some(distance) = number(volume, "attenuationDistance").filter(|d| *d > 0.0) else {
+        return Vec3::ZERO;
+    };
+    let colour = volume
+        .get("attenuationColor")
+        .and_then(Value::as_array)
+        .filter(|c| c.len() == 3)
+        .map(|c| Vec3::from_array(std::array::from_fn(|i| c[i].as_f64().unwrap_or(1.0) as f32)))
+        .unwrap_or(Vec3::ONE);
+    -colour.clamp(Vec3::splat(1e-4), Vec3::ONE).ln() / distance
 }
 
 /// A finite number at `key` of a JSON object.
