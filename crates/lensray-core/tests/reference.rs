@@ -14,6 +14,8 @@ mod edge_fit;
 mod depth_of_field;
 #[path = "reference/emitters.rs"]
 mod emitters;
+#[path = "reference/glass.rs"]
+mod glass;
 #[path = "reference/scheimpflug.rs"]
 mod scheimpflug;
 #[path = "reference/shading.rs"]

@@ -355,6 +355,18 @@ shader_interface! {
             clearcoat_texture: GpuTextureRef,
             /// G: multiplies `clearcoat_roughness` (linear).
             clearcoat_roughness_texture: GpuTextureRef,
+            /// `KHR_materials_volume`: the extinction per unit length (xyz; 0: clear).
+            attenuation: [f32; 4],
+            /// `KHR_materials_transmission`: the share of the dielectric's unreflected light
+            /// that goes through (0: opaque).
+            transmission: f32,
+            /// `KHR_materials_ior`: the dielectric's index of refraction.
+            ior: f32,
+            /// 1: a thin wall; 0: a volume's boundary.
+            thin: u32,
+            pad4: u32,
+            /// R: multiplies `transmission` (linear).
+            transmission_texture: GpuTextureRef,
         }
         /// A node of the software traversal's 8-wide BVH (lensray-vulkan/src/scene/bvh.rs), the
         /// compressed layout of Ylitie, Karras and Laine (2017): up to eight children's boxes,

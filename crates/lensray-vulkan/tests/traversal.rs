@@ -326,9 +326,10 @@ fn a_requested_traversal_builds_only_its_structures() {
 }
 
 /// Metallic-roughness spheres (red dielectric and gold metal, roughness 0.2 and 0.6, a fifth
-/// whose metallic, roughness and occlusion come from 8 x 8 checkers, and a sixth of red
-/// plastic under a clear coat whose weight and roughness come from the same checkers) on a
-/// Lambert floor under a point light.
+/// whose metallic, roughness and occlusion come from 8 x 8 checkers, a sixth of red plastic
+/// under a clear coat whose weight and roughness come from the same checkers, a glass volume
+/// whose transmission comes from them and a thin glass wall) on a Lambert floor under a point
+/// light.
 fn metallic_rough_scene() -> Scene {
     let pbr = |name: &str, base: Vec3, metallic: f32, roughness: f32| Material {
         metallic,
@@ -380,6 +381,8 @@ fn metallic_rough_scene() -> Scene {
             ball(1.5, 0.0, 4),
             ball(0.0, 1.2, 5),
             ball(1.2, 1.2, 6),
+            ball(-1.2, 1.2, 7),
+            ball(0.6, 2.2, 8),
         ],
         materials: vec![
             material("floor", Vec3::splat(0.6), Vec3::ZERO),
@@ -400,6 +403,20 @@ fn metallic_rough_scene() -> Scene {
                 clearcoat_roughness: 0.3,
                 clearcoat_roughness_texture: Some(TextureRef::new(0)),
                 ..pbr("coated", red, 0.0, 0.6)
+            },
+            // A glass volume (a purple attenuation) that transmits 1 and 1/4 (R), and a
+            // rough thin wall of a lower index.
+            Material {
+                transmission: 1.0,
+                transmission_texture: Some(TextureRef::new(1)),
+                thin: false,
+                attenuation: Vec3::new(0.3, 2.0, 0.3),
+                ..pbr("glass", Vec3::ONE, 0.0, 0.1)
+            },
+            Material {
+                transmission: 1.0,
+                ior: 1.3,
+                ..pbr("thin", Vec3::new(0.6, 0.8, 1.0), 0.0, 0.3)
             },
         ],
         textures,

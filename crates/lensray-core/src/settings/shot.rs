@@ -206,7 +206,7 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
         err => err.into(),
     })?;
 
-    let render = render_settings(settings)?;
+    let render = render_settings(settings, scene)?;
     Ok(Shot { camera, render })
 }
 
@@ -362,8 +362,13 @@ fn noise_threshold(settings: &Settings) -> Result<Option<f32>, SettingsError> {
     }
 }
 
+/// The surfaces a lit path shades where the settings name none: enough for a path through a
+/// glass volume to meet what is behind it and that surface's light (in, out, the surface)
+/// where the scene transmits light, else 1 (direct light).
+pub const GLASS_BOUNCES: u32 = 4;
+
 /// Samples, seed, sampler, shading, background and environment, each checked.
-fn render_settings(settings: &Settings) -> Result<RenderSettings, SettingsError> {
+fn render_settings(settings: &Settings, scene: &Scene) -> Result<RenderSettings, SettingsError> {
     let spp = settings.image.spp.unwrap_or(DEFAULT_SPP);
     if spp == 0 {
         return Err(SettingsError::ZeroSpp);
@@ -373,7 +378,11 @@ fn render_settings(settings: &Settings) -> Result<RenderSettings, SettingsError>
         settings.render.environment,
         Some(EnvironmentSetting::Map(_))
     );
-    let bounces = settings.render.bounces.unwrap_or(1);
+    let transmits = scene.materials.iter().any(|m| m.transmission > 0.0);
+    let bounces = settings
+        .render
+        .bounces
+        .unwrap_or(if transmits { GLASS_BOUNCES } else { 1 });
     if !(1..=MAX_BOUNCES).contains(&bounces) {
         return Err(SettingsError::Environment(format!(
             "bounces must be 1 to {MAX_BOUNCES}, got {bounces}"

@@ -1,11 +1,19 @@
-// Mirror of lensray-core/src/reference/brdf.rs, brdf_sampling.rs and clearcoat.rs, function by
-// function: glTF's metallic-roughness BRDF (the specification's Appendix B) under
+// Mirror of lensray-core/src/reference/brdf.rs, brdf_sampling.rs, transmission.rs and
+// clearcoat.rs, function by function: glTF's metallic-roughness BRDF (the specification's
+// Appendix B) with KHR_materials_transmission's light through the dielectric, under
 // KHR_materials_clearcoat's coat, and the draws from them. The layered BRDF's functions
 // overload the base's names.
-// Include after the generated interface (DIELECTRIC_F0, MIN_ROUGHNESS, PI) and lights.glsl
+// Include after the generated interface (MIN_ROUGHNESS, PI) and lights.glsl
 // (orthonormal_frame, cosine_direction).
 #ifndef LENSRAY_BRDF_GLSL
 #define LENSRAY_BRDF_GLSL
+
+// brdf.rs: Dielectric
+struct Dielectric {
+    float ior;
+    float transmission;
+    float eta;
+};
 
 // brdf.rs: MetallicRoughness
 struct MetallicRoughness {
@@ -13,7 +21,25 @@ struct MetallicRoughness {
     float metallic;
     float roughness;
     float specular;
+    Dielectric dielectric;
 };
+
+// brdf.rs: Dielectric::f0
+float dielectric_f0(Dielectric d) {
+    float r = (d.ior - 1.0) / (d.ior + 1.0);
+    return r * r;
+}
+
+// brdf.rs: Dielectric::outside_cosine; false beyond the critical angle.
+bool outside_cosine(Dielectric d, float cos_v, out float outside) {
+    outside = cos_v;
+    if (d.eta >= 1.0) {
+        return true;
+    }
+    float sin2 = max(1.0 - cos_v * cos_v, 0.0) / (d.eta * d.eta);
+    outside = sqrt(max(1.0 - sin2, 0.0));
+    return sin2 < 1.0;
+}
 
 // brdf.rs: ggx_distribution
 float ggx_distribution(float n_dot_h, float alpha) {
@@ -38,33 +64,113 @@ vec3 schlick_fresnel(vec3 f0, float f90, float v_dot_h) {
     return f0 + (vec3(f90) - f0) * (m2 * m2 * m);
 }
 
-// brdf.rs: MetallicRoughness::evaluate
-vec3 brdf_evaluate(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
-    vec3 h = normalize(l + v);
-    float n_dot_l = dot(n, l);
-    float n_dot_v = max(dot(n, v), 0.0);
-    float r = clamp(s.roughness, MIN_ROUGHNESS, 1.0);
-    float alpha = r * r;
-    vec3 f0 = mix(vec3(DIELECTRIC_F0 * s.specular), s.base_colour, s.metallic);
-    float f90 = s.specular + (1.0 - s.specular) * s.metallic;
-    vec3 fresnel = schlick_fresnel(f0, f90, abs(dot(v, h)));
-    float specular = ggx_distribution(dot(n, h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
-    vec3 diffuse_colour = s.base_colour * (1.0 - s.metallic);
-    return (vec3(1.0) - fresnel) * diffuse_colour * (1.0 / PI) + fresnel * specular;
-}
-
 // brdf.rs: MetallicRoughness::alpha
 float brdf_alpha(MetallicRoughness s) {
     float r = clamp(s.roughness, MIN_ROUGHNESS, 1.0);
     return r * r;
 }
 
-// brdf_sampling.rs: MetallicRoughness::specular_probability
-float specular_probability(MetallicRoughness s, float n_dot_v) {
-    if (n_dot_v <= 0.0) {
-        return 0.0;
+// brdf.rs: MetallicRoughness::transmits
+bool brdf_transmits(MetallicRoughness s) {
+    return s.dielectric.transmission > 0.0 && s.metallic < 1.0;
+}
+
+// brdf.rs: MetallicRoughness::fresnel
+vec3 brdf_fresnel(MetallicRoughness s, float v_dot_h) {
+    float cos_outside;
+    if (!outside_cosine(s.dielectric, v_dot_h, cos_outside)) {
+        return vec3(1.0);
     }
-    return clamp(s.metallic + (1.0 - s.metallic) * 0.5 * s.specular, 0.0, 1.0);
+    vec3 f0 = mix(vec3(dielectric_f0(s.dielectric) * s.specular), s.base_colour, s.metallic);
+    float f90 = s.specular + (1.0 - s.specular) * s.metallic;
+    return schlick_fresnel(f0, f90, cos_outside);
+}
+
+// transmission.rs: mirrored
+vec3 mirrored(vec3 n, vec3 l) {
+    return l - 2.0 * dot(n, l) * n;
+}
+
+// transmission.rs: refract; false beyond the critical angle.
+bool refract_view(vec3 v, vec3 m, float eta, out vec3 l) {
+    float c = dot(v, m);
+    float sin2 = max(1.0 - c * c, 0.0) / (eta * eta);
+    float cos_t = sqrt(max(1.0 - sin2, 0.0));
+    l = -v / eta + m * (c / eta - cos_t);
+    return sin2 < 1.0;
+}
+
+// transmission.rs: refraction_normal; false where no microfacet refracts v into l.
+bool refraction_normal(vec3 n, vec3 l, vec3 v, float eta, out vec3 h) {
+    h = -normalize(v + eta * l);
+    if (dot(n, h) < 0.0) {
+        h = -h;
+    }
+    return !any(isnan(h)) && dot(v, h) > 0.0 && dot(l, h) < 0.0;
+}
+
+// transmission.rs: MetallicRoughness::transmitted
+vec3 brdf_transmitted(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
+    float n_dot_v = dot(n, v);
+    if (!brdf_transmits(s) || n_dot_v <= 0.0) {
+        return vec3(0.0);
+    }
+    float n_dot_l = -dot(n, l);
+    float alpha = brdf_alpha(s);
+    float eta = s.dielectric.eta;
+    float lobe;
+    float v_dot_h;
+    if (eta == 1.0) {
+        vec3 h = normalize(mirrored(n, l) + v);
+        lobe = ggx_distribution(dot(n, h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
+        v_dot_h = dot(v, h);
+    } else {
+        vec3 h;
+        if (!refraction_normal(n, l, v, eta, h)) {
+            return vec3(0.0);
+        }
+        v_dot_h = dot(v, h);
+        float l_dot_h = dot(l, h);
+        float denominator = v_dot_h + eta * l_dot_h;
+        float dv = ggx_distribution(dot(n, h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
+        lobe = 4.0 * v_dot_h * -l_dot_h * dv / (denominator * denominator);
+    }
+    vec3 through = vec3(1.0) - brdf_fresnel(s, v_dot_h);
+    return through * s.base_colour * (1.0 - s.metallic) * (s.dielectric.transmission * lobe);
+}
+
+// brdf.rs: MetallicRoughness::evaluate
+vec3 brdf_evaluate(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
+    float n_dot_l = dot(n, l);
+    if (n_dot_l < 0.0) {
+        return brdf_transmitted(s, n, l, v);
+    }
+    vec3 h = normalize(l + v);
+    float n_dot_v = max(dot(n, v), 0.0);
+    float alpha = brdf_alpha(s);
+    vec3 fresnel = brdf_fresnel(s, abs(dot(v, h)));
+    float specular = ggx_distribution(dot(n, h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
+    vec3 diffuse = s.base_colour * (1.0 - s.metallic) * ((1.0 - s.dielectric.transmission) * (1.0 / PI));
+    return (vec3(1.0) - fresnel) * diffuse + fresnel * specular;
+}
+
+// brdf_sampling.rs: MetallicRoughness::lobe_probabilities (x: specular, y: transmission).
+vec2 lobe_probabilities(MetallicRoughness s, float n_dot_v) {
+    if (n_dot_v <= 0.0) {
+        return vec2(0.0);
+    }
+    float dielectric = 1.0 - s.metallic;
+    float t = s.dielectric.transmission;
+    float cos_outside;
+    float reflected = 1.0;
+    if (outside_cosine(s.dielectric, n_dot_v, cos_outside)) {
+        reflected = schlick_fresnel(vec3(dielectric_f0(s.dielectric) * s.specular), s.specular,
+                                    cos_outside).x;
+    }
+    float specular = clamp(s.metallic + dielectric * ((1.0 - t) * 0.5 * s.specular + t * reflected),
+                           0.0, 1.0);
+    float transmitted = clamp(dielectric * t * (1.0 - reflected), 0.0, 1.0 - specular);
+    return vec2(specular, transmitted);
 }
 
 // brdf_sampling.rs: visible_normal_pdf
@@ -77,21 +183,43 @@ float visible_normal_pdf(float n_dot_v, float n_dot_h, float alpha) {
     return ggx_distribution(n_dot_h, alpha) / (2.0 * (n_dot_v + lambda));
 }
 
+// transmission.rs: MetallicRoughness::transmission_pdf
+float transmission_pdf(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
+    float n_dot_v = dot(n, v);
+    float alpha = brdf_alpha(s);
+    float eta = s.dielectric.eta;
+    vec3 h;
+    if (eta == 1.0) {
+        h = normalize(mirrored(n, l) + v);
+        return visible_normal_pdf(n_dot_v, dot(n, h), alpha);
+    }
+    if (!refraction_normal(n, l, v, eta, h)) {
+        return 0.0;
+    }
+    float v_dot_h = dot(v, h);
+    float l_dot_h = dot(l, h);
+    float denominator = v_dot_h + eta * l_dot_h;
+    float normal_pdf = 4.0 * v_dot_h * visible_normal_pdf(n_dot_v, dot(n, h), alpha);
+    return normal_pdf * eta * eta * -l_dot_h / (denominator * denominator);
+}
+
 // brdf_sampling.rs: MetallicRoughness::pdf
 float brdf_pdf(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
     float n_dot_l = dot(n, l);
+    float n_dot_v = dot(n, v);
+    vec2 p = lobe_probabilities(s, n_dot_v);
+    if (n_dot_l < 0.0 && p.y > 0.0) {
+        return p.y * transmission_pdf(s, n, l, v);
+    }
     if (n_dot_l <= 0.0) {
         return 0.0;
     }
-    float n_dot_v = dot(n, v);
-    float p = specular_probability(s, n_dot_v);
-    float diffuse = n_dot_l * (1.0 / PI);
-    if (p <= 0.0) {
+    float diffuse = (1.0 - p.x - p.y) * n_dot_l * (1.0 / PI);
+    if (p.x <= 0.0) {
         return diffuse;
     }
     vec3 h = normalize(l + v);
-    float specular = visible_normal_pdf(n_dot_v, dot(n, h), brdf_alpha(s));
-    return p * specular + (1.0 - p) * diffuse;
+    return p.x * visible_normal_pdf(n_dot_v, dot(n, h), brdf_alpha(s)) + diffuse;
 }
 
 // brdf_sampling.rs: visible_normal
@@ -110,6 +238,27 @@ vec3 visible_normal(vec3 v, float alpha, vec2 u) {
     return normalize(vec3(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0)));
 }
 
+// brdf_sampling.rs: visible_normal_around
+vec3 visible_normal_around(vec3 n, vec3 v, float alpha, vec2 u) {
+    vec3 t;
+    vec3 b;
+    orthonormal_frame(n, t, b);
+    vec3 m = visible_normal(vec3(dot(v, t), dot(v, b), dot(v, n)), alpha, u);
+    return t * m.x + b * m.y + n * m.z;
+}
+
+// transmission.rs: MetallicRoughness::sample_transmission; false where nothing goes below.
+bool sample_transmission(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out vec3 l) {
+    vec3 h = visible_normal_around(n, v, brdf_alpha(s), u);
+    float eta = s.dielectric.eta;
+    if (eta == 1.0) {
+        l = mirrored(n, 2.0 * dot(v, h) * h - v);
+    } else if (!refract_view(v, h, eta, l)) {
+        return false;
+    }
+    return dot(n, l) < 0.0;
+}
+
 // brdf_sampling.rs: BrdfSample
 struct BrdfSample {
     vec3 direction;
@@ -117,30 +266,36 @@ struct BrdfSample {
     vec3 weight;
 };
 
-// brdf_sampling.rs: MetallicRoughness::sample; false where the draw carries no light.
-bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
-    float p = specular_probability(s, dot(n, v));
-    vec3 direction;
-    if (u.x < p) {
-        vec3 t;
-        vec3 b;
-        orthonormal_frame(n, t, b);
-        vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
-        vec3 m = visible_normal(v_local, brdf_alpha(s), vec2(u.x / p, u.y));
-        vec3 h = t * m.x + b * m.y + n * m.z;
-        direction = 2.0 * dot(v, h) * h - v;
-    } else {
-        direction = cosine_direction(n, vec2((u.x - p) / (1.0 - p), u.y));
-    }
-    float n_dot_l = dot(n, direction);
-    float pdf = brdf_pdf(s, n, direction, v);
-    if (n_dot_l <= 0.0 || pdf <= 0.0) {
-        return false;
-    }
+// brdf_sampling.rs: finish_draw (f: the BRDF at the direction); false where it carries no
+// light.
+bool finish_draw(vec3 direction, float pdf, vec3 f, vec3 n, out BrdfSample draw) {
+    float c = abs(dot(n, direction));
     draw.direction = direction;
     draw.pdf = pdf;
-    draw.weight = brdf_evaluate(s, n, direction, v) * (n_dot_l / pdf);
-    return true;
+    draw.weight = f * (c / pdf);
+    return c > 0.0 && pdf > 0.0 && !isinf(pdf);
+}
+
+// brdf_sampling.rs: MetallicRoughness::sample; false where the draw carries no light.
+bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
+    vec2 p = lobe_probabilities(s, dot(n, v));
+    vec3 direction;
+    if (u.x < p.x) {
+        vec3 h = visible_normal_around(n, v, brdf_alpha(s), vec2(u.x / p.x, u.y));
+        direction = 2.0 * dot(v, h) * h - v;
+        // The lobe's density counts only what goes above the surface.
+        if (dot(n, direction) <= 0.0) {
+            return false;
+        }
+    } else if (u.x < p.x + p.y) {
+        if (!sample_transmission(s, n, v, vec2((u.x - p.x) / p.y, u.y), direction)) {
+            return false;
+        }
+    } else {
+        direction = cosine_direction(n, vec2((u.x - p.x - p.y) / (1.0 - p.x - p.y), u.y));
+    }
+    return finish_draw(direction, brdf_pdf(s, n, direction, v), brdf_evaluate(s, n, direction, v),
+                       n, draw);
 }
 
 // clearcoat.rs: Clearcoat
@@ -199,16 +354,24 @@ vec3 brdf_evaluate(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
     return base * (1.0 - blend) + vec3(blend * lobe);
 }
 
+// clearcoat.rs: LayeredBrdf::transmits
+bool brdf_transmits(LayeredBrdf s) {
+    return brdf_transmits(s.base);
+}
+
 // clearcoat.rs: LayeredBrdf::pdf
 float brdf_pdf(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
     float base = brdf_pdf(s.base, n, l, v);
     float n_dot_v = dot(n, v);
     float p = clearcoat_probability(s.clearcoat, n_dot_v);
-    if (p <= 0.0 || dot(n, l) <= 0.0) {
+    if (p <= 0.0) {
         return base;
     }
-    vec3 h = normalize(l + v);
-    float coat = visible_normal_pdf(n_dot_v, dot(n, h), clearcoat_alpha(s.clearcoat));
+    float coat = 0.0;
+    if (dot(n, l) > 0.0) {
+        vec3 h = normalize(l + v);
+        coat = visible_normal_pdf(n_dot_v, dot(n, h), clearcoat_alpha(s.clearcoat));
+    }
     return p * coat + (1.0 - p) * base;
 }
 
@@ -220,13 +383,12 @@ bool brdf_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
     }
     vec3 direction;
     if (u.x < p) {
-        vec3 t;
-        vec3 b;
-        orthonormal_frame(n, t, b);
-        vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
-        vec3 m = visible_normal(v_local, clearcoat_alpha(s.clearcoat), vec2(u.x / p, u.y));
-        vec3 h = t * m.x + b * m.y + n * m.z;
+        vec3 h = visible_normal_around(n, v, clearcoat_alpha(s.clearcoat), vec2(u.x / p, u.y));
         direction = 2.0 * dot(v, h) * h - v;
+        // The lobe's density counts only what goes above the surface.
+        if (dot(n, direction) <= 0.0) {
+            return false;
+        }
     } else {
         BrdfSample base_draw;
         if (!brdf_sample(s.base, n, v, vec2((u.x - p) / (1.0 - p), u.y), base_draw)) {
@@ -234,15 +396,8 @@ bool brdf_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
         }
         direction = base_draw.direction;
     }
-    float n_dot_l = dot(n, direction);
-    float pdf = brdf_pdf(s, n, direction, v);
-    if (n_dot_l <= 0.0 || pdf <= 0.0) {
-        return false;
-    }
-    draw.direction = direction;
-    draw.pdf = pdf;
-    draw.weight = brdf_evaluate(s, n, direction, v) * (n_dot_l / pdf);
-    return true;
+    return finish_draw(direction, brdf_pdf(s, n, direction, v), brdf_evaluate(s, n, direction, v),
+                       n, draw);
 }
 
 #endif

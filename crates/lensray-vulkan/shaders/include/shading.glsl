@@ -52,19 +52,30 @@ vec2 emitter_point(LightDraw draw, uint vertex) {
                 pixel_dimension(draw.state, draw.sample_index, d.y));
 }
 
-// reference/lighting.rs: LitLane (o: the shadow rays' origin, v: towards the viewer).
+// reference/lighting.rs: LitLane (o: the shadow rays' origin, `offset` off the surface along
+// ng; v: towards the viewer; attenuation: the extinction of the volume a ray that met the
+// surface crossed, integrator.rs: volume_transmittance).
 struct LitSurface {
     vec3 o;
+    float offset;
     vec3 ns;
     vec3 ng;
     vec3 v;
     LayeredBrdf brdf;
     float occlusion;
+    vec3 attenuation;
 };
 
 // sky.rs: leaves
 bool leaves(LitSurface s, vec3 d) {
-    return dot(d, s.ng) > 0.0 && dot(d, s.ns) > 0.0;
+    float g = dot(d, s.ng);
+    float n = dot(d, s.ns);
+    return (g > 0.0 && n > 0.0) || (g < 0.0 && n < 0.0 && brdf_transmits(s.brdf));
+}
+
+// reference/surface.rs: origin_towards
+vec3 origin_towards(LitSurface s, vec3 d) {
+    return dot(d, s.ng) < 0.0 ? s.o - s.ng * (2.0 * s.offset) : s.o;
 }
 
 // sky.rs: sky_along
@@ -80,7 +91,8 @@ bool emitter_draw(LitSurface s, vec2 u, bool mis, out vec3 direction, out float 
     vec2 on_triangle;
     uint tri = emitter_pick(u, on_triangle);
     vec2 b;
-    vec3 to_light = uniform_point(tri, on_triangle, b) - s.o;
+    vec3 position = uniform_point(tri, on_triangle, b);
+    vec3 to_light = position - origin_towards(s, position - s.o);
     float distance = length(to_light);
     direction = to_light / distance;
     t_max = distance * (1.0 - EMITTER_SHADOW_SHORTEN);
@@ -94,7 +106,7 @@ bool emitter_draw(LitSurface s, vec2 u, bool mis, out vec3 direction, out float 
         return false;
     }
     float w = mis ? power_heuristic(pdf, brdf_pdf(s.brdf, s.ns, direction, s.v)) : 1.0;
-    reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * dot(s.ns, direction) * emission
+    reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * abs(dot(s.ns, direction)) * emission
         * (w / pdf);
     return true;
 }
@@ -122,13 +134,18 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
             if (!light_incident(lights[i], s.o, incident)) {
                 continue;
             }
-            float c = dot(s.ns, incident.direction);
-            if (c <= 0.0) {
-                continue;
+            if (dot(s.ns, incident.direction) <= 0.0) {
+                // Light from behind reaches the viewer only through the surface.
+                if (!brdf_transmits(s.brdf)
+                    || !light_incident(lights[i], origin_towards(s, incident.direction), incident)
+                    || !leaves(s, incident.direction)) {
+                    continue;
+                }
             }
             direction = incident.direction;
             t_max = incident.distance;
-            reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * c * incident.irradiance;
+            reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * abs(dot(s.ns, direction))
+                * incident.irradiance;
         } else if (i == count) {
             if (!emitters || !emitter_draw(s, emitter_u, emitter_mis, direction, t_max, reflected)) {
                 continue;
@@ -143,7 +160,7 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
                 continue;
             }
             float w = power_heuristic(pdf, brdf_pdf(s.brdf, s.ns, direction, s.v));
-            reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * dot(s.ns, direction)
+            reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * abs(dot(s.ns, direction))
                 * arriving * (w / pdf * s.occlusion);
         } else {
             if (!along) {
@@ -153,13 +170,22 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
             reflected = sky_along(s, draw);
         }
         rays += 1u;
-        if (!occluded(s.o, direction, t_max, cut)) {
+        if (!occluded(origin_towards(s, direction), direction, t_max, cut)) {
             radiance += reflected;
         } else if (i < min(count, 24u)) {
             shadowed |= 1u << i;
         }
     }
     return radiance;
+}
+
+// reference/transmission.rs: dielectric_of
+Dielectric material_dielectric(Material m, float transmission, bool back_face) {
+    float eta = m.ior;
+    if (transmission > 0.0) {
+        eta = m.thin != 0u ? 1.0 : back_face ? 1.0 / m.ior : m.ior;
+    }
+    return Dielectric(m.ior, transmission, eta);
 }
 
 // reference/integrator.rs: shade_surface and colours. The surface `hit` (the closest hit of
@@ -186,7 +212,8 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
         vec3 n2 = normals[indices[3u * tri + 2u]].xyz;
         ns = normalize((1.0 - b.x - b.y) * n0 + b.x * n1 + b.y * n2);
     }
-    if (dot(ng, ray.direction) > 0.0) {
+    bool back_face = dot(ng, ray.direction) > 0.0;
+    if (back_face) {
         ng = -ng;
     }
     if (dot(ns, ray.direction) > 0.0) {
@@ -196,6 +223,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     emission = mat.emission.xyz;
     vec2 metallic_roughness = vec2(mat.metallic, mat.roughness);
     vec2 clearcoat = vec2(mat.clearcoat, mat.clearcoat_roughness);
+    float transmission = mat.transmission;
     float occlusion = 1.0;
     if (textured) {
         vec4 texcoords = triangle_texcoords(tri, b);
@@ -210,6 +238,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
         diffuse = material_diffuse(mat, texcoords, dx, dy);
         metallic_roughness = material_metallic_roughness(mat, texcoords, dx, dy);
         clearcoat = material_clearcoat(mat, texcoords, dx, dy);
+        transmission = material_transmission(mat, texcoords, dx, dy);
         emission = material_emission(mat, texcoords, dx, dy);
         occlusion = material_occlusion(mat, texcoords, dx, dy);
         ns = normal_mapped(mat, tri, b, ns, texcoords, dx, dy);
@@ -223,14 +252,17 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     }
 
     // reference/surface.rs: shadow_origin
-    s.o = p + ng * SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
+    s.offset = SHADOW_ORIGIN_OFFSET * (1.0 + max(max(abs(p.x), abs(p.y)), abs(p.z)));
+    s.o = p + ng * s.offset;
     s.v = -normalize(ray.direction);
     s.ns = reflection_safe_normal(ng, s.v, ns);
     s.ng = ng;
     s.brdf = LayeredBrdf(
-        MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular),
+        MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular,
+                          material_dielectric(mat, transmission, back_face)),
         Clearcoat(clearcoat.x, clearcoat.y));
     s.occlusion = occlusion;
+    s.attenuation = back_face && mat.thin == 0u ? mat.attenuation.xyz : vec3(0.0);
     return true;
 }
 

@@ -262,12 +262,20 @@ vec2 material_clearcoat(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
     return vec2(weight, roughness);
 }
 
+// material.rs: Material::transmission_at
+float material_transmission(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
+    if (has_texture(m.transmission_texture) && m.transmission > 0.0) {
+        return m.transmission * texture_sample(m.transmission_texture, texcoords, dx, dy).x;
+    }
+    return m.transmission;
+}
+
 // material.rs: Material::is_textured
 bool material_is_textured(Material m) {
     return has_texture(m.diffuse_texture) || has_texture(m.emission_texture)
         || has_texture(m.metallic_roughness_texture) || has_texture(m.occlusion_texture)
         || has_texture(m.normal_texture) || has_texture(m.clearcoat_texture)
-        || has_texture(m.clearcoat_roughness_texture);
+        || has_texture(m.clearcoat_roughness_texture) || has_texture(m.transmission_texture);
 }
 
 // material.rs: Material::alpha_at

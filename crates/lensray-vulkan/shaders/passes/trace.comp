@@ -165,6 +165,10 @@ vec3 shade_sample(Ray ray, LightDraw draw, bool rasterized, uint pixel_index, in
         bool lit = surface_at(ray, hit, vertex == 0u, s, emission);
         if (vertex > 0u) {
             throughput *= went.weight;
+            // reference/integrator.rs: volume_transmittance
+            if (lit) {
+                throughput *= exp(-s.attenuation * (hit.t * length(ray.direction)));
+            }
             // reference/integrator.rs: emission_weight
             if (emitters_light()) {
                 float pdf = emitter_pdf(hit.triangle, normalize(ray.direction),
@@ -198,7 +202,7 @@ vec3 shade_sample(Ray ray, LightDraw draw, bool rasterized, uint pixel_index, in
         }
         previous = s;
         went = next;
-        ray = Ray(s.o, next.direction);
+        ray = Ray(origin_towards(s, next.direction), next.direction);
     }
     return value;
 }

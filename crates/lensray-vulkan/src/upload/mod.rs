@@ -301,6 +301,12 @@ fn gpu_material(m: &Material) -> GpuMaterial {
         pad3: 0,
         clearcoat_texture: gpu_texture_ref(m.clearcoat_texture.as_ref()),
         clearcoat_roughness_texture: gpu_texture_ref(m.clearcoat_roughness_texture.as_ref()),
+        attenuation: m.attenuation.extend(0.0).to_array(),
+        transmission: m.transmission,
+        ior: m.ior,
+        thin: u32::from(m.thin),
+        pad4: 0,
+        transmission_texture: gpu_texture_ref(m.transmission_texture.as_ref()),
     }
 }
 

@@ -344,8 +344,9 @@ pub struct ViewArgs {
     /// Multiplies the environment's radiance (default 1).
     #[arg(long, allow_hyphen_values = true, value_name = "X")]
     pub environment_intensity: Option<f64>,
-    /// Surfaces a lit path shades (default 1: direct light); more add interreflection, each
-    /// bounce costing about one more closest hit and its shading per sample.
+    /// Surfaces a lit path shades (default 1: direct light; 4 where the scene has glass, so
+    /// that paths go through it); more add interreflection, each bounce costing about one
+    /// more closest hit and its shading per sample.
     #[arg(long, value_name = "N")]
     pub bounces: Option<u32>,
     /// A point light's position: it replaces the scene file's lights, or moves its one light.
