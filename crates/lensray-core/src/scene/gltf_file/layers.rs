@@ -100,3 +100,7 @@ fn number(object: &Value, key: &str) -> Option<f32> {
         .map(|x| x as f32)
         .filter(|x| x.is_finite())
 }
+
+#[cfg(test)]
+#[path = "layers_tests.rs"]
+mod tests;

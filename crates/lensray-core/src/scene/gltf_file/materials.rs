@@ -353,4 +353,4 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
 
 #[cfg(test)]
 #[path = "texcoord_tests.rs"]
-mod texcoord_tests;
+pub(super) mod texcoord_tests;
