@@ -33,12 +33,23 @@ impl MetallicRoughness {
         let dielectric = 1.0 - self.metallic;
         let t = self.dielectric.transmission;
         let reflected = match self.dielectric.outside_cosine(n_dot_v) {
-            Some(cos) => schlick_fresnel(Vec3::splat(self.dielectric.f0() * self.specular), self.specular, cos).x,
+            Some(cos) => {
+                schlick_fresnel(
+                    Vec3::splat(self.dielectric.f0() * self.specular),
+                    self.specular,
+                    cos,
+                )
+                .x
+            }
             None => 1.0,
         };
-        let specular = self.metallic + dielectric * ((1.0 - t) * 0.5 * self.specular + t * reflected);
+        let specular =
+            self.metallic + dielectric * ((1.0 - t) * 0.5 * self.specular + t * reflected);
         let transmitted = dielectric * t * (1.0 - reflected);
-        (specular.clamp(0.0, 1.0), transmitted.clamp(0.0, 1.0 - specular.clamp(0.0, 1.0)))
+        (
+            specular.clamp(0.0, 1.0),
+            transmitted.clamp(0.0, 1.0 - specular.clamp(0.0, 1.0)),
+        )
     }
 
     /// The mixture's density (per solid angle) of drawing `l` at unit normal `n` seen from
@@ -78,7 +89,12 @@ impl MetallicRoughness {
             let stretched = Vec2::new((u.x - p - t) / (1.0 - p - t), u.y);
             cosine_direction(n, stretched)
         };
-        finish_draw(direction, self.pdf(n, direction, v), || self.evaluate(n, direction, v), n)
+        finish_draw(
+            direction,
+            self.pdf(n, direction, v),
+            || self.evaluate(n, direction, v),
+            n,
+        )
     }
 }
 

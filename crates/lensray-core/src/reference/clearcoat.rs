@@ -126,7 +126,12 @@ impl LayeredBrdf {
             let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
             self.base.sample(n, v, stretched)?.direction
         };
-        finish_draw(direction, self.pdf(n, direction, v), || self.evaluate(n, direction, v), n)
+        finish_draw(
+            direction,
+            self.pdf(n, direction, v),
+            || self.evaluate(n, direction, v),
+            n,
+        )
     }
 }
 

@@ -28,9 +28,9 @@ mod lighting;
 mod rays;
 mod render;
 mod sky;
-mod transmission;
 mod surface;
 mod surface_frame;
+mod transmission;
 mod triangle;
 
 pub use accel::{is_back_face, packet_alignment, Accel, AlphaTest, Hit, PacketMask, PACKET_SIZE};

@@ -89,7 +89,8 @@ impl MetallicRoughness {
         let eta = self.dielectric.eta;
         let (lobe, v_dot_h) = if eta == 1.0 {
             let h = (mirrored(n, l) + v).normalize();
-            let lobe = ggx_distribution(n.dot(h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
+            let lobe =
+                ggx_distribution(n.dot(h), alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
             (lobe, v.dot(h))
         } else {
             let Some((h, v_dot_h, l_dot_h)) = refraction_normal(n, l, v, eta) else {

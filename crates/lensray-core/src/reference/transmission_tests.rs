@@ -76,7 +76,10 @@ fn reflected_and_transmitted(s: &MetallicRoughness, mu: f32) -> (f64, f64) {
 fn smooth_glass_refracts_as_snell_and_fresnel_say() {
     let s = glass(MIN_ROUGHNESS, 1.5);
     let (p, t) = s.lobe_probabilities(1.0);
-    assert!((p - 0.04).abs() < 1e-6 && (t - 0.96).abs() < 1e-6, "{p} {t}");
+    assert!(
+        (p - 0.04).abs() < 1e-6 && (t - 0.96).abs() < 1e-6,
+        "{p} {t}"
+    );
     let draw = s.sample(Vec3::Z, Vec3::Z, Vec2::new(0.5, 0.3)).unwrap();
     let want = 1.0 / 2.25;
     println!(
@@ -100,9 +103,18 @@ fn smooth_glass_refracts_as_snell_and_fresnel_say() {
     }
     // GGX's long tail tilts a few draws' microfacets by more than alpha.
     deviations.sort_by(f32::total_cmp);
-    let (median, worst) = (deviations[deviations.len() / 2], deviations[deviations.len() - 1]);
-    println!("45 degrees: {} refracted draws, sin within {median} (median), {worst} of {want}", deviations.len());
-    assert!(deviations.len() > 50 && median < 1e-3 && worst < 0.02, "{median} {worst}");
+    let (median, worst) = (
+        deviations[deviations.len() / 2],
+        deviations[deviations.len() - 1],
+    );
+    println!(
+        "45 degrees: {} refracted draws, sin within {median} (median), {worst} of {want}",
+        deviations.len()
+    );
+    assert!(
+        deviations.len() > 50 && median < 1e-3 && worst < 0.02,
+        "{median} {worst}"
+    );
 }
 
 /// Glass reflects and transmits what arrives and no more: the reflected part plus eta^2
@@ -123,9 +135,14 @@ fn glass_conserves_energy_through_its_boundary() {
                     "eta {eta:.3}, roughness {roughness}, n.v {mu}: reflected {r:.4}, \
                      transmitted {t:.4}, energy {total:.4}"
                 );
-                assert!(total <= 1.002, "energy {total} at eta {eta} roughness {roughness} n.v {mu}");
-                assert!(total >= 1.0 - bound, "energy {total} at eta {eta} roughness {roughness} n.v {mu}");
-
+                assert!(
+                    total <= 1.002,
+                    "energy {total} at eta {eta} roughness {roughness} n.v {mu}"
+                );
+                assert!(
+                    total >= 1.0 - bound,
+                    "energy {total} at eta {eta} roughness {roughness} n.v {mu}"
+                );
             }
         }
     }
@@ -177,7 +194,11 @@ fn draws_estimate_what_the_quadrature_finds() {
                 continue;
             };
             let pdf = s.pdf(Vec3::Z, draw.direction, v);
-            assert!((pdf - draw.pdf).abs() <= 1e-4 * pdf, "{pdf} against {}", draw.pdf);
+            assert!(
+                (pdf - draw.pdf).abs() <= 1e-4 * pdf,
+                "{pdf} against {}",
+                draw.pdf
+            );
             sum += f64::from(draw.weight.x);
         }
         let estimate = sum / f64::from(n);
@@ -186,6 +207,9 @@ fn draws_estimate_what_the_quadrature_finds() {
             "eta {}, roughness {}, n.v {mu}: draws {estimate:.4}, quadrature {want:.4}",
             s.dielectric.eta, s.roughness
         );
-        assert!((estimate - want).abs() < 0.01 * want, "{estimate} against {want}");
+        assert!(
+            (estimate - want).abs() < 0.01 * want,
+            "{estimate} against {want}"
+        );
     }
 }

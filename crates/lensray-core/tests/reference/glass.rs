@@ -87,7 +87,10 @@ fn absorbing_glass_keeps_what_beer_and_fresnel_say() {
     let want = Vec3::splat(f) + (1.0 - f) * (1.0 - f) * a / (Vec3::ONE - f * a);
     let got = centre(glass(0.0, false, sigma), 0.02, 3, 2048, 16);
     println!("through the centre: {got} against {want}");
-    assert!((got - want).abs().max_element() < 0.01, "{got} against {want}");
+    assert!(
+        (got - want).abs().max_element() < 0.01,
+        "{got} against {want}"
+    );
     let one = centre(glass(0.0, false, sigma), 0.02, 3, 256, 1);
     println!("one bounce: {one} against F = {f}");
     assert!((one - Vec3::splat(f)).abs().max_element() < 0.005, "{one}");

@@ -15,8 +15,8 @@ use gltf_json::Value;
 
 use super::materials::json_transform;
 use super::nodes::Walk;
-use crate::scene::texture::{Encoding, TextureRef};
 use crate::interface::DEFAULT_IOR;
+use crate::scene::texture::{Encoding, TextureRef};
 use crate::scene::Material;
 
 impl Walk<'_> {
@@ -42,7 +42,9 @@ impl Walk<'_> {
                 self.json_texture(transmission.get("transmissionTexture"))?;
         }
         if let Some(ior) = gltf.extension_value("KHR_materials_ior") {
-            material.ior = number(ior, "ior").unwrap_or(DEFAULT_IOR).clamp(1.0, MAX_IOR);
+            material.ior = number(ior, "ior")
+                .unwrap_or(DEFAULT_IOR)
+                .clamp(1.0, MAX_IOR);
         }
         if let Some(volume) = gltf.extension_value("KHR_materials_volume") {
             material.thin = number(volume, "thicknessFactor").unwrap_or(0.0) <= 0.0;

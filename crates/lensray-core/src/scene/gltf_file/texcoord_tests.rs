@@ -15,7 +15,11 @@ const SET1: [[f32; 2]; 3] = [[0.5, 0.5], [0.25, 0.5], [0.5, 0.25]];
 
 /// A glTF of one triangle with TEXCOORD_0 and TEXCOORD_1 (its buffer a data URI), material
 /// `material` (JSON), and `extra` top-level members, written into `dir`.
-pub(in crate::scene::gltf_file) fn write_triangle(dir: &Path, material: &str, extra: &str) -> PathBuf {
+pub(in crate::scene::gltf_file) fn write_triangle(
+    dir: &Path,
+    material: &str,
+    extra: &str,
+) -> PathBuf {
     let positions = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
     let floats = positions
         .into_iter()
