@@ -64,18 +64,29 @@ impl MetallicRoughness {
             let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
             cosine_direction(n, stretched)
         };
-        let n_dot_l = n.dot(direction);
         let pdf = self.pdf(n, direction, v);
-        if n_dot_l <= 0.0 || pdf <= 0.0 {
-            return None;
-        }
-        let weight = self.evaluate(n, direction, v) * (n_dot_l / pdf);
-        Some(BrdfSample {
-            direction,
-            pdf,
-            weight,
-        })
+        finish_draw(n, direction, pdf, || self.evaluate(n, direction, v))
     }
+}
+
+/// The draw of `direction` at unit normal `n` from a mixture whose density of it is `pdf`,
+/// weighed by f cos / pdf with f = `f()`; `None` where it falls below the surface or the
+/// mixture could not have drawn it. Every BRDF's `sample` ends here, so that all weigh alike.
+pub fn finish_draw(
+    n: Vec3,
+    direction: Vec3,
+    pdf: f32,
+    f: impl FnOnce() -> Vec3,
+) -> Option<BrdfSample> {
+    let n_dot_l = n.dot(direction);
+    if n_dot_l <= 0.0 || pdf <= 0.0 {
+        return None;
+    }
+    Some(BrdfSample {
+        direction,
+        pdf,
+        weight: f() * (n_dot_l / pdf),
+    })
 }
 
 /// The density per solid angle of l drawn through a visible normal h: D_v(h) / (4 v.h) =

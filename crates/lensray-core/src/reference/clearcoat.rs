@@ -18,7 +18,7 @@
 use glam::{Vec2, Vec3};
 
 use super::brdf::{ggx_distribution, smith_visibility, MetallicRoughness};
-use super::brdf_sampling::{visible_normal, visible_normal_pdf, BrdfSample};
+use super::brdf_sampling::{finish_draw, visible_normal, visible_normal_pdf, BrdfSample};
 use crate::interface::{CLEARCOAT_F0, MIN_ROUGHNESS};
 use crate::scene::light::orthonormal_frame;
 
@@ -119,17 +119,8 @@ impl LayeredBrdf {
             let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
             self.base.sample(n, v, stretched)?.direction
         };
-        let n_dot_l = n.dot(direction);
         let pdf = self.pdf(n, direction, v);
-        if n_dot_l <= 0.0 || pdf <= 0.0 {
-            return None;
-        }
-        let weight = self.evaluate(n, direction, v) * (n_dot_l / pdf);
-        Some(BrdfSample {
-            direction,
-            pdf,
-            weight,
-        })
+        finish_draw(n, direction, pdf, || self.evaluate(n, direction, v))
     }
 }
 

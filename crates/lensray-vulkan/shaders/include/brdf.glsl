@@ -117,6 +117,19 @@ struct BrdfSample {
     vec3 weight;
 };
 
+// brdf_sampling.rs: finish_draw; false where the draw carries no light. f is evaluated before
+// the test (GLSL has no closures); a draw below the surface discards it.
+bool finish_draw(vec3 n, vec3 direction, float pdf, vec3 f, out BrdfSample draw) {
+    float n_dot_l = dot(n, direction);
+    if (n_dot_l <= 0.0 || pdf <= 0.0) {
+        return false;
+    }
+    draw.direction = direction;
+    draw.pdf = pdf;
+    draw.weight = f * (n_dot_l / pdf);
+    return true;
+}
+
 // brdf_sampling.rs: MetallicRoughness::sample; false where the draw carries no light.
 bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
     float p = specular_probability(s, dot(n, v));
@@ -132,15 +145,8 @@ bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out BrdfSample dra
     } else {
         direction = cosine_direction(n, vec2((u.x - p) / (1.0 - p), u.y));
     }
-    float n_dot_l = dot(n, direction);
     float pdf = brdf_pdf(s, n, direction, v);
-    if (n_dot_l <= 0.0 || pdf <= 0.0) {
-        return false;
-    }
-    draw.direction = direction;
-    draw.pdf = pdf;
-    draw.weight = brdf_evaluate(s, n, direction, v) * (n_dot_l / pdf);
-    return true;
+    return finish_draw(n, direction, pdf, brdf_evaluate(s, n, direction, v), draw);
 }
 
 // clearcoat.rs: Clearcoat
@@ -234,15 +240,8 @@ bool brdf_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
         }
         direction = base_draw.direction;
     }
-    float n_dot_l = dot(n, direction);
     float pdf = brdf_pdf(s, n, direction, v);
-    if (n_dot_l <= 0.0 || pdf <= 0.0) {
-        return false;
-    }
-    draw.direction = direction;
-    draw.pdf = pdf;
-    draw.weight = brdf_evaluate(s, n, direction, v) * (n_dot_l / pdf);
-    return true;
+    return finish_draw(n, direction, pdf, brdf_evaluate(s, n, direction, v), draw);
 }
 
 #endif
