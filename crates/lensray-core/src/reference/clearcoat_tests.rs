@@ -17,6 +17,7 @@ fn coated(base: MetallicRoughness, weight: f32, roughness: f32) -> LayeredBrdf {
     LayeredBrdf {
         base,
         clearcoat: Clearcoat { weight, roughness },
+        sheen: crate::reference::sheen::Sheen::default(),
     }
 }
 

@@ -27,6 +27,7 @@ mod integrator;
 mod lighting;
 mod rays;
 mod render;
+pub mod sheen;
 mod sky;
 mod surface;
 mod surface_frame;

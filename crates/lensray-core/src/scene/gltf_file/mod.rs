@@ -31,10 +31,11 @@ mod materials;
 mod nodes;
 
 /// Extensions this loader applies; a file requiring any other is refused.
-const KNOWN_EXTENSIONS: [&str; 6] = [
+const KNOWN_EXTENSIONS: [&str; 7] = [
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
+    "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_mesh_quantization",
     "KHR_texture_transform",
