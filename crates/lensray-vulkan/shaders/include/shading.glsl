@@ -196,6 +196,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     emission = mat.emission.xyz;
     vec2 metallic_roughness = vec2(mat.metallic, mat.roughness);
     vec2 clearcoat = vec2(mat.clearcoat, mat.clearcoat_roughness);
+    vec4 sheen = mat.sheen_colour;
     float occlusion = 1.0;
     if (textured) {
         vec4 texcoords = triangle_texcoords(tri, b);
@@ -210,6 +211,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
         diffuse = material_diffuse(mat, texcoords, dx, dy);
         metallic_roughness = material_metallic_roughness(mat, texcoords, dx, dy);
         clearcoat = material_clearcoat(mat, texcoords, dx, dy);
+        sheen = material_sheen(mat, texcoords, dx, dy);
         emission = material_emission(mat, texcoords, dx, dy);
         occlusion = material_occlusion(mat, texcoords, dx, dy);
         ns = normal_mapped(mat, tri, b, ns, texcoords, dx, dy);
@@ -229,7 +231,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     s.ng = ng;
     s.brdf = LayeredBrdf(
         MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular),
-        Clearcoat(clearcoat.x, clearcoat.y));
+        Clearcoat(clearcoat.x, clearcoat.y), Sheen(sheen.xyz, sheen.w));
     s.occlusion = occlusion;
     return true;
 }

@@ -301,6 +301,9 @@ fn gpu_material(m: &Material) -> GpuMaterial {
         pad3: 0,
         clearcoat_texture: gpu_texture_ref(m.clearcoat_texture.as_ref()),
         clearcoat_roughness_texture: gpu_texture_ref(m.clearcoat_roughness_texture.as_ref()),
+        sheen_colour: m.sheen_colour.extend(m.sheen_roughness).to_array(),
+        sheen_colour_texture: gpu_texture_ref(m.sheen_colour_texture.as_ref()),
+        sheen_roughness_texture: gpu_texture_ref(m.sheen_roughness_texture.as_ref()),
     }
 }
 
