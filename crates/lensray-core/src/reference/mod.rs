@@ -24,6 +24,8 @@ pub mod clearcoat;
 mod embree;
 mod emitters;
 mod integrator;
+#[cfg(test)]
+mod layer_tests;
 mod lighting;
 mod rays;
 mod render;
