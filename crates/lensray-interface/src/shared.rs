@@ -269,6 +269,9 @@ shader_interface! {
             /// sides zw), and at its outer.
             pupil_inner: [[f32; 4]; 64],
             pupil_outer: [[f32; 4]; 64],
+            /// SHEEN_ALBEDO, four floats a vec4 (brdf.glsl's sheen reads it here in the trace
+            /// pass, for the reason spectral_table is here; upload/camera.rs copies it).
+            sheen_albedo: [[f32; 4]; 256],
         }
         /// A light of the scene's storage buffer (`scene::Light`).
         Std430 struct GpuLight as Light {
@@ -355,6 +358,13 @@ shader_interface! {
             clearcoat_texture: GpuTextureRef,
             /// G: multiplies `clearcoat_roughness` (linear).
             clearcoat_roughness_texture: GpuTextureRef,
+            /// `KHR_materials_sheen`: the sheen's linear colour (black: no sheen); w: its
+            /// roughness.
+            sheen_colour: [f32; 4],
+            /// RGB (sRGB): multiplies the sheen's colour.
+            sheen_colour_texture: GpuTextureRef,
+            /// A: multiplies the sheen's roughness (linear).
+            sheen_roughness_texture: GpuTextureRef,
             /// `KHR_materials_volume`: the extinction per unit length (xyz; 0: clear).
             attenuation: [f32; 4],
             /// `KHR_materials_transmission`: the share of the dielectric's unreflected light

@@ -327,9 +327,10 @@ fn a_requested_traversal_builds_only_its_structures() {
 
 /// Metallic-roughness spheres (red dielectric and gold metal, roughness 0.2 and 0.6, a fifth
 /// whose metallic, roughness and occlusion come from 8 x 8 checkers, a sixth of red plastic
-/// under a clear coat whose weight and roughness come from the same checkers, a glass volume
-/// whose transmission comes from them and a thin glass wall) on a Lambert floor under a point
-/// light.
+/// under a clear coat whose weight and roughness come from the same checkers, a seventh of
+/// velvet: dark red under a bright sheen whose colour (sRGB) and roughness (alpha) come from a
+/// checker, a glass volume whose transmission comes from the first checkers and a thin glass
+/// wall) on a Lambert floor under a point light.
 fn metallic_rough_scene() -> Scene {
     let pbr = |name: &str, base: Vec3, metallic: f32, roughness: f32| Material {
         metallic,
@@ -362,6 +363,8 @@ fn metallic_rough_scene() -> Scene {
     };
     let metallic_roughness = checker([0, 51, 255, 255], [0, 204, 0, 255]);
     let occlusion = checker([255, 0, 0, 255], [64, 0, 0, 255]);
+    // Sheen colours warm and cold (sRGB), roughness 0.3 and 0.9 (alpha).
+    let sheen = checker([255, 240, 220, 77], [180, 220, 255, 230]);
     let textures = vec![
         Texture::from_rgba8(
             "metallic-roughness",
@@ -371,6 +374,7 @@ fn metallic_rough_scene() -> Scene {
             Encoding::Linear,
         ),
         Texture::from_rgba8("occlusion", 8, 8, &occlusion, Encoding::Linear),
+        Texture::from_rgba8("sheen", 8, 8, &sheen, Encoding::Srgb),
     ];
     Scene {
         meshes: vec![
@@ -383,6 +387,7 @@ fn metallic_rough_scene() -> Scene {
             ball(1.2, 1.2, 6),
             ball(-1.2, 1.2, 7),
             ball(0.6, 2.2, 8),
+            ball(-0.8, 2.4, 9),
         ],
         materials: vec![
             material("floor", Vec3::splat(0.6), Vec3::ZERO),
@@ -403,6 +408,13 @@ fn metallic_rough_scene() -> Scene {
                 clearcoat_roughness: 0.3,
                 clearcoat_roughness_texture: Some(TextureRef::new(0)),
                 ..pbr("coated", red, 0.0, 0.6)
+            },
+            Material {
+                sheen_colour: Vec3::new(1.0, 0.9, 0.8),
+                sheen_colour_texture: Some(TextureRef::new(2)),
+                sheen_roughness: 1.0,
+                sheen_roughness_texture: Some(TextureRef::new(2)),
+                ..pbr("velvet", Vec3::new(0.3, 0.02, 0.04), 0.0, 0.8)
             },
             // A glass volume (a purple attenuation) that transmits 1 and 1/4 (R), and a
             // rough thin wall of a lower index.

@@ -25,7 +25,9 @@
 //! materials given specular 1 and roughness 0.5) and, where a metallic-roughness texture is
 //! read, `pbr factors` (the same without that texture), which tells the share of its reads;
 //! `pbr clearcoat` is `pbr` with every material under a smooth clear coat (weight 1, roughness
-//! 0.1): what the coat's lobe and its draws add.
+//! 0.1): what the coat's lobe and its draws add; `pbr sheen` is `pbr` with every material
+//! under a white sheen (colour 1, roughness 0.5): what the Charlie lobe, the albedo table's
+//! reads and the sheen's draws add.
 
 #[path = "variants/mod.rs"]
 mod variants;
@@ -173,6 +175,11 @@ fn measure_brdf(
     for m in &mut coated.materials {
         (m.clearcoat, m.clearcoat_roughness) = (1.0, 0.1);
     }
+    // Every material under a white velvet sheen (KHR_materials_sheen colour 1, roughness 0.5).
+    let mut sheened = pbr.clone();
+    for m in &mut sheened.materials {
+        (m.sheen_colour, m.sheen_roughness) = (Vec3::ONE, 0.5);
+    }
     variants.push(Variant {
         name: "pbr".into(),
         scene: pbr,
@@ -180,6 +187,10 @@ fn measure_brdf(
     variants.push(Variant {
         name: "pbr clearcoat".into(),
         scene: coated,
+    });
+    variants.push(Variant {
+        name: "pbr sheen".into(),
+        scene: sheened,
     });
     let results = SceneResults {
         scene: format!("{name}: {}", description.source),

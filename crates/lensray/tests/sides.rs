@@ -10,7 +10,8 @@ mod gpu_support;
 
 use glam::Vec3;
 use gpu_support::{
-    assert_gpu_paths_match_cpu, compare, floor, material, render_scene, settings, write_comparison,
+    assert_gpu_paths_match_cpu, compare, floor, material, orthographic_along_z, render_scene,
+    settings, write_comparison,
 };
 use lensray::paths::{PathChoice, PathKind};
 use lensray_core::camera::{Camera, CameraParams, LensParams, Movements, ProjectionParams};
@@ -227,25 +228,7 @@ fn mirrored_quads(dir: &std::path::Path) -> Scene {
 
 /// Looking at the quads along -z from z = 3 (their front) or along +z from z = -3.
 fn front_or_back(front: bool) -> Shot {
-    let z = if front { 3.0 } else { -3.0 };
-    let camera = CameraParams {
-        eye: Vec3::new(0.0, 0.0, z),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        projection: ProjectionParams::Orthographic { height: 2.0 },
-        lens: LensParams::Pinhole,
-        near: 0.1,
-        far: 10.0,
-        width: 48,
-        height: 16,
-        movements: Movements::NONE,
-    }
-    .build()
-    .expect("valid camera");
-    Shot {
-        camera,
-        render: settings(Shading::Unlit, 4),
-    }
+    orthographic_along_z(if front { 3.0 } else { -3.0 }, 48, 16, 4)
 }
 
 /// Pixels of `image` whose colour is mostly red, and mostly green.

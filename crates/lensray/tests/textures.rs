@@ -10,7 +10,9 @@ mod gpu_support;
 mod transform_test;
 
 use glam::{Vec2, Vec3};
-use gpu_support::{assert_gpu_paths_match_cpu, render_scene, settings, write_png};
+use gpu_support::{
+    assert_gpu_paths_match_cpu, orthographic_along_z, render_scene, settings, write_png,
+};
 use lensray::paths::{PathChoice, PathKind};
 use lensray_core::camera::{Camera, CameraParams, LensParams, ProjectionParams};
 use lensray_core::scene::test_card::test_card;
@@ -206,24 +208,7 @@ fn textured_quad(dir: &std::path::Path, info: &str, second_set: Option<[f32; 8]>
 /// The quad of `textured_quad` seen square on, orthographic, filling a `width` x `height` image
 /// (pixel centres map linearly onto it), unlit, one sample a pixel.
 fn square_on(width: u32, height: u32) -> Shot {
-    let camera = CameraParams {
-        eye: Vec3::new(0.0, 0.0, 3.0),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        projection: ProjectionParams::Orthographic { height: 2.0 },
-        lens: LensParams::Pinhole,
-        near: 0.1,
-        far: 10.0,
-        width,
-        height,
-        movements: lensray_core::camera::Movements::NONE,
-    }
-    .build()
-    .expect("valid camera");
-    Shot {
-        camera,
-        render: settings(Shading::Unlit, 1),
-    }
+    orthographic_along_z(3.0, width, height, 1)
 }
 
 /// A base colour texture with `texCoord: 1` reads TEXCOORD_1 on the CPU reference: the quad's

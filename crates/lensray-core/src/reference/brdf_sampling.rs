@@ -89,12 +89,8 @@ impl MetallicRoughness {
             let stretched = Vec2::new((u.x - p - t) / (1.0 - p - t), u.y);
             cosine_direction(n, stretched)
         };
-        finish_draw(
-            direction,
-            self.pdf(n, direction, v),
-            || self.evaluate(n, direction, v),
-            n,
-        )
+        let pdf = self.pdf(n, direction, v);
+        finish_draw(n, direction, pdf, || self.evaluate(n, direction, v))
     }
 }
 
@@ -106,13 +102,14 @@ pub fn visible_normal_around(n: Vec3, v: Vec3, alpha: f32, u: Vec2) -> Vec3 {
     t * m.x + b * m.y + n * m.z
 }
 
-/// The draw of `direction` with density `pdf` and f = `f()` at unit normal `n`: its weight
-/// f |cos| / pdf; `None` where it carries no light (grazing, or a density of 0).
+/// The draw of `direction` at unit normal `n` from a mixture whose density of it is `pdf`,
+/// weighed by f |cos| / pdf with f = `f()`; `None` where it grazes the surface or the mixture
+/// could not have drawn it. Every BRDF's `sample` ends here, so that all weigh alike.
 pub fn finish_draw(
+    n: Vec3,
     direction: Vec3,
     pdf: f32,
     f: impl FnOnce() -> Vec3,
-    n: Vec3,
 ) -> Option<BrdfSample> {
     let cos = n.dot(direction).abs();
     if cos <= 0.0 || pdf <= 0.0 || !pdf.is_finite() {

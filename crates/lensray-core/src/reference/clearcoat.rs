@@ -8,8 +8,9 @@
 //! f = f_base (1 - clearcoat Fc) + clearcoat Fc D_c V_c
 //! ```
 //!
-//! The base loses what the coat reflects, so the pair never reflects more than the base alone
-//! does plus the coat's lobe (at most 1). The coat shares the base's shading normal: a
+//! f_base is what lies beneath the coat: the base under its sheen (`sheen.rs`), as the
+//! extensions order them. The base loses what the coat reflects, so the pair never reflects
+//! more than the base alone does plus the coat's lobe (at most 1). The coat shares the base's shading normal: a
 //! `clearcoatNormalTexture` of its own is not read (the loader names it). Draws pick the coat's
 //! lobe (Heitz's visible normals, `brdf_sampling`) with probability clearcoat (0.2 + 0.8 Fc),
 //! the base's mixture otherwise; the density is the mixture of both.
@@ -19,6 +20,7 @@ use glam::{Vec2, Vec3};
 
 use super::brdf::{ggx_distribution, smith_visibility, MetallicRoughness};
 use super::brdf_sampling::{finish_draw, visible_normal_around, visible_normal_pdf, BrdfSample};
+use super::sheen::Sheen;
 use crate::interface::{CLEARCOAT_F0, MIN_ROUGHNESS};
 
 /// The coat of a surface point: its weight (`clearcoatFactor` times its texture's R) and its
@@ -29,11 +31,13 @@ pub struct Clearcoat {
     pub roughness: f32,
 }
 
-/// A surface point's BRDF: the metallic-roughness base under its clear coat.
+/// A surface point's BRDF: the metallic-roughness base under its sheen (`sheen.rs`), under
+/// its clear coat.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LayeredBrdf {
     pub base: MetallicRoughness,
     pub clearcoat: Clearcoat,
+    pub sheen: Sheen,
 }
 
 impl Clearcoat {
@@ -80,7 +84,7 @@ impl LayeredBrdf {
     /// f(l, v) for unit normal `n`, direction to the light `l` and to the viewer `v`, with
     /// n.l != 0 (the caller's cosine test; below the surface only the base transmits); 1/sr.
     pub fn evaluate(&self, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
-        let base = self.base.evaluate(n, l, v);
+        let base = self.beneath_evaluate(n, l, v);
         if self.clearcoat.weight <= 0.0 {
             return base;
         }
@@ -94,7 +98,7 @@ impl LayeredBrdf {
     /// The density (per solid angle) of drawing `l` at unit normal `n` seen from `v`: the
     /// coat's share of its lobe's visible-normal density plus the rest of the base's mixture.
     pub fn pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
-        let base = self.base.pdf(n, l, v);
+        let base = self.beneath_pdf(n, l, v);
         let n_dot_v = n.dot(v);
         let p = self.clearcoat.probability(n_dot_v);
         if p <= 0.0 {
@@ -115,7 +119,7 @@ impl LayeredBrdf {
     pub fn sample(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<BrdfSample> {
         let p = self.clearcoat.probability(n.dot(v));
         if p <= 0.0 {
-            return self.base.sample(n, v, u);
+            return self.beneath_sample(n, v, u);
         }
         let direction = if u.x < p {
             let alpha = self.clearcoat.alpha();
@@ -124,14 +128,10 @@ impl LayeredBrdf {
             Some(2.0 * v.dot(h) * h - v).filter(|l| n.dot(*l) > 0.0)?
         } else {
             let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
-            self.base.sample(n, v, stretched)?.direction
+            self.beneath_sample(n, v, stretched)?.direction
         };
-        finish_draw(
-            direction,
-            self.pdf(n, direction, v),
-            || self.evaluate(n, direction, v),
-            n,
-        )
+        let pdf = self.pdf(n, direction, v);
+        finish_draw(n, direction, pdf, || self.evaluate(n, direction, v))
     }
 }
 

@@ -1,24 +1,15 @@
 use std::f32::consts::PI;
 
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Vec3};
 
 use super::*;
-use crate::reference::brdf::Dielectric;
-
-fn base(colour: Vec3, metallic: f32, roughness: f32, specular: f32) -> MetallicRoughness {
-    MetallicRoughness {
-        base_colour: colour,
-        metallic,
-        roughness,
-        specular,
-        dielectric: Dielectric::OPAQUE,
-    }
-}
+use crate::reference::layer_tests::{assert_draws_estimate, base};
 
 fn coated(base: MetallicRoughness, weight: f32, roughness: f32) -> LayeredBrdf {
     LayeredBrdf {
         base,
         clearcoat: Clearcoat { weight, roughness },
+        sheen: crate::reference::sheen::Sheen::default(),
     }
 }
 
@@ -81,8 +72,6 @@ fn the_layers_mix_as_the_specification_says() {
 /// its direction.
 #[test]
 fn draws_estimate_the_albedo_and_carry_their_density() {
-    let n = Vec3::Z;
-    let steps = 512;
     for (weight, roughness, metallic) in [(1.0, 0.1, 0.0), (1.0, 0.6, 0.0), (0.5, 0.3, 1.0)] {
         let s = coated(
             base(Vec3::new(0.9, 0.6, 0.3), metallic, 0.5, 1.0),
@@ -91,26 +80,10 @@ fn draws_estimate_the_albedo_and_carry_their_density() {
         );
         for mu in [0.3f32, 0.8, 1.0] {
             let v = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-            let mut drawn = DVec3::ZERO;
-            for k in 0..steps * steps {
-                let u = Vec2::new(
-                    ((k / steps) as f32 + 0.5) / steps as f32,
-                    ((k % steps) as f32 + 0.5) / steps as f32,
-                );
-                if let Some(d) = s.sample(n, v, u) {
-                    let pdf = s.pdf(n, d.direction, v);
-                    assert!((pdf - d.pdf).abs() <= 1e-5 * pdf, "{pdf} against {}", d.pdf);
-                    drawn += d.weight.as_dvec3();
-                }
-            }
-            let drawn = drawn / (steps * steps) as f64;
-            let quadrature = albedo(&s, mu);
-            let error = ((drawn - quadrature).abs() / quadrature).max_element();
-            println!(
-                "clearcoat {weight} at roughness {roughness} over metallic {metallic}, n.v {mu}: \
-                 drawn {drawn:.4}, quadrature {quadrature:.4}, relative error {error:.2e}"
+            let what = format!(
+                "clearcoat {weight} at roughness {roughness} over metallic {metallic}, n.v {mu}"
             );
-            assert!(error < 5e-3, "{drawn} against {quadrature}");
+            assert_draws_estimate(&s, v, albedo(&s, mu), &what);
         }
     }
 }

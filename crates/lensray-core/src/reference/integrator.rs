@@ -17,6 +17,7 @@ use super::brdf_sampling::BrdfSample;
 use super::clearcoat::{Clearcoat, LayeredBrdf};
 use super::lighting::{LightDraw, LitLane, ShadingInputs};
 use super::render::{Renderer, TracedPacket};
+use super::sheen::Sheen;
 use super::sky::{leaves, power_heuristic, sky_along, Sky};
 use super::surface::{origin_towards, SurfacePoint};
 use super::surface_frame::{reflection_safe_normal, vertex_coloured};
@@ -92,6 +93,10 @@ impl Renderer {
                     weight: material.clearcoat,
                     roughness: material.clearcoat_roughness,
                 },
+                sheen: Sheen {
+                    colour: material.sheen_colour,
+                    roughness: material.sheen_roughness,
+                },
             },
             emission: material.emission,
             occlusion: 1.0,
@@ -123,6 +128,8 @@ impl Renderer {
         ) = material.clearcoat_at(textures, texcoords, &duv);
         let transmission = material.transmission_at(textures, texcoords, &duv);
         inputs.brdf.base.dielectric = dielectric_of(material, transmission, surface.back_face);
+        (inputs.brdf.sheen.colour, inputs.brdf.sheen.roughness) =
+            material.sheen_at(textures, texcoords, &duv);
         inputs.emission = material.emission_at(textures, texcoords, &duv);
         inputs.occlusion = material.occlusion_at(textures, texcoords, &duv);
         inputs

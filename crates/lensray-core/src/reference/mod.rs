@@ -24,9 +24,12 @@ pub mod clearcoat;
 mod embree;
 mod emitters;
 mod integrator;
+#[cfg(test)]
+mod layer_tests;
 mod lighting;
 mod rays;
 mod render;
+pub mod sheen;
 mod sky;
 mod surface;
 mod surface_frame;

@@ -80,6 +80,15 @@ pub struct Material {
     /// The volume's extinction per unit length, -ln(attenuationColor) / attenuationDistance
     /// per channel (0: clear); light that crosses the volume keeps exp(-attenuation d).
     pub attenuation: Vec3,
+    /// `KHR_materials_sheen`'s `sheenColorFactor`: the linear colour of a sheen over the
+    /// surface (black: none; `reference::sheen`).
+    pub sheen_colour: Vec3,
+    /// sRGB; its RGB multiplies `sheen_colour` (`sheenColorTexture`).
+    pub sheen_colour_texture: Option<TextureRef>,
+    /// The sheen's perceptual roughness in [0, 1] (`sheenRoughnessFactor`).
+    pub sheen_roughness: f32,
+    /// Linear; its alpha channel multiplies `sheen_roughness` (`sheenRoughnessTexture`).
+    pub sheen_roughness_texture: Option<TextureRef>,
     pub alpha_mode: AlphaMode,
     /// `d` / the base colour factor's alpha.
     pub alpha: f32,
@@ -125,6 +134,10 @@ impl Material {
             ior: DEFAULT_IOR,
             thin: true,
             attenuation: Vec3::ZERO,
+            sheen_colour: Vec3::ZERO,
+            sheen_colour_texture: None,
+            sheen_roughness: 0.0,
+            sheen_roughness_texture: None,
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
             alpha_texture: None,
@@ -232,6 +245,29 @@ impl Material {
         }
     }
 
+    /// The sheen (colour, roughness) at texture coordinates `texcoords`, filtered over
+    /// `footprints`; the textures are read only where the factor leaves a sheen.
+    pub fn sheen_at(
+        &self,
+        textures: &[Texture],
+        texcoords: &TexcoordSets,
+        footprints: &FootprintSets,
+    ) -> (Vec3, f32) {
+        let colour = match &self.sheen_colour_texture {
+            Some(t) if self.sheen_colour.max_element() > 0.0 => {
+                self.sheen_colour * sample(textures, t, texcoords, footprints).truncate()
+            }
+            _ => self.sheen_colour,
+        };
+        let roughness = match &self.sheen_roughness_texture {
+            Some(t) if colour.max_element() > 0.0 => {
+                self.sheen_roughness * sample(textures, t, texcoords, footprints).w
+            }
+            _ => self.sheen_roughness,
+        };
+        (colour, roughness)
+    }
+
     /// Whether any of the colours `lit` shading reads comes from a texture.
     pub fn is_textured(&self) -> bool {
         self.diffuse_texture.is_some()
@@ -242,6 +278,8 @@ impl Material {
             || self.clearcoat_texture.is_some()
             || self.clearcoat_roughness_texture.is_some()
             || self.transmission_texture.is_some()
+            || self.sheen_colour_texture.is_some()
+            || self.sheen_roughness_texture.is_some()
     }
 
     /// Whether rays may pass through the surface somewhere: what acceleration structures mark

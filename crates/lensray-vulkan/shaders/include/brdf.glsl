@@ -1,8 +1,8 @@
-// Mirror of lensray-core/src/reference/brdf.rs, brdf_sampling.rs, transmission.rs and
-// clearcoat.rs, function by function: glTF's metallic-roughness BRDF (the specification's
+// Mirror of lensray-core/src/reference/brdf.rs, brdf_sampling.rs, transmission.rs, sheen.rs
+// and clearcoat.rs, function by function: glTF's metallic-roughness BRDF (the specification's
 // Appendix B) with KHR_materials_transmission's light through the dielectric, under
-// KHR_materials_clearcoat's coat, and the draws from them. The layered BRDF's functions
-// overload the base's names.
+// KHR_materials_sheen's sheen under KHR_materials_clearcoat's coat, and the draws from them.
+// The layered BRDF's functions overload the base's names.
 // Include after the generated interface (MIN_ROUGHNESS, PI) and lights.glsl
 // (orthonormal_frame, cosine_direction).
 #ifndef LENSRAY_BRDF_GLSL
@@ -266,14 +266,17 @@ struct BrdfSample {
     vec3 weight;
 };
 
-// brdf_sampling.rs: finish_draw (f: the BRDF at the direction); false where it carries no
-// light.
-bool finish_draw(vec3 direction, float pdf, vec3 f, vec3 n, out BrdfSample draw) {
+// brdf_sampling.rs: finish_draw; false where the draw carries no light. f is evaluated before
+// the test (GLSL has no closures); a discarded draw drops it.
+bool finish_draw(vec3 n, vec3 direction, float pdf, vec3 f, out BrdfSample draw) {
     float c = abs(dot(n, direction));
+    if (c <= 0.0 || pdf <= 0.0 || isinf(pdf)) {
+        return false;
+    }
     draw.direction = direction;
     draw.pdf = pdf;
     draw.weight = f * (c / pdf);
-    return c > 0.0 && pdf > 0.0 && !isinf(pdf);
+    return true;
 }
 
 // brdf_sampling.rs: MetallicRoughness::sample; false where the draw carries no light.
@@ -294,8 +297,8 @@ bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out BrdfSample dra
     } else {
         direction = cosine_direction(n, vec2((u.x - p.x - p.y) / (1.0 - p.x - p.y), u.y));
     }
-    return finish_draw(direction, brdf_pdf(s, n, direction, v), brdf_evaluate(s, n, direction, v),
-                       n, draw);
+    float pdf = brdf_pdf(s, n, direction, v);
+    return finish_draw(n, direction, pdf, brdf_evaluate(s, n, direction, v), draw);
 }
 
 // clearcoat.rs: Clearcoat
@@ -304,11 +307,166 @@ struct Clearcoat {
     float roughness;
 };
 
+// sheen.rs: Sheen
+struct Sheen {
+    vec3 colour;
+    float roughness;
+};
+
+// Where SHEEN_ALBEDO is read: the trace pass (GROUP_LENS) from Lens.sheen_albedo, since a
+// constant array indexed by a variable costs lavapipe a copy per invocation (spectral.glsl);
+// others from the constant. The values are the same floats.
+#ifdef GROUP_LENS
+#define SHEEN_ALBEDO_AT(i) lens.sheen_albedo[(i) >> 2u][(i) & 3u]
+#else
+#define SHEEN_ALBEDO_AT(i) SHEEN_ALBEDO[i]
+#endif
+
+// sheen.rs: Sheen::alpha
+float sheen_alpha(Sheen s) {
+    float r = clamp(s.roughness, MIN_ROUGHNESS, 1.0);
+    return r * r;
+}
+
+// sheen.rs: charlie_distribution
+float charlie_distribution(float n_dot_h, float alpha) {
+    float inverse = 1.0 / alpha;
+    float sin2 = max(1.0 - n_dot_h * n_dot_h, 0.0);
+    return (2.0 + inverse) * pow(sin2, 0.5 * inverse) / (2.0 * PI);
+}
+
+// sheen.rs: charlie_fit
+float charlie_fit(float x, float alpha) {
+    float t = (1.0 - alpha) * (1.0 - alpha);
+    float a = 21.5473 + (25.3245 - 21.5473) * t;
+    float b = 3.82987 + (3.32435 - 3.82987) * t;
+    float c = 0.19823 + (0.16801 - 0.19823) * t;
+    float d = -1.97760 + (-1.27393 - -1.97760) * t;
+    float e = -4.32054 + (-4.85967 - -4.32054) * t;
+    return a / (1.0 + b * pow(x, c)) + d * x + e;
+}
+
+// sheen.rs: charlie_lambda
+float charlie_lambda(float cos_theta, float alpha) {
+    if (cos_theta < 0.5) {
+        return exp(charlie_fit(cos_theta, alpha));
+    }
+    return exp(2.0 * charlie_fit(0.5, alpha) - charlie_fit(1.0 - cos_theta, alpha));
+}
+
+// sheen.rs: charlie_visibility
+float charlie_visibility(float n_dot_l, float n_dot_v, float alpha) {
+    float lambda = charlie_lambda(n_dot_v, alpha) + charlie_lambda(n_dot_l, alpha);
+    return clamp(1.0 / ((1.0 + lambda) * (4.0 * n_dot_v * n_dot_l)), 0.0, 1.0);
+}
+
+// sheen.rs: directional_albedo
+float sheen_directional_albedo(float mu, float roughness) {
+    float size = float(SHEEN_ALBEDO_SIZE);
+    float x = clamp(clamp(mu, 0.0, 1.0) * size - 0.5, 0.0, size - 1.0);
+    float y = clamp(clamp(roughness, 0.0, 1.0) * size - 0.5, 0.0, size - 1.0);
+    uint i = min(uint(x), SHEEN_ALBEDO_SIZE - 2u);
+    uint j = min(uint(y), SHEEN_ALBEDO_SIZE - 2u);
+    float fx = x - float(i);
+    float fy = y - float(j);
+    uint k = j * SHEEN_ALBEDO_SIZE + i;
+    float a00 = SHEEN_ALBEDO_AT(k);
+    float a10 = SHEEN_ALBEDO_AT(k + 1u);
+    float a01 = SHEEN_ALBEDO_AT(k + SHEEN_ALBEDO_SIZE);
+    float a11 = SHEEN_ALBEDO_AT(k + SHEEN_ALBEDO_SIZE + 1u);
+    float low = a00 + (a10 - a00) * fx;
+    float high = a01 + (a11 - a01) * fx;
+    return low + (high - low) * fy;
+}
+
+// sheen.rs: Sheen::lobe
+float sheen_lobe(Sheen s, float n_dot_l, float n_dot_v, float n_dot_h) {
+    if (n_dot_l <= 0.0 || n_dot_v <= 0.0) {
+        return 0.0;
+    }
+    float alpha = sheen_alpha(s);
+    return charlie_distribution(n_dot_h, alpha) * charlie_visibility(n_dot_l, n_dot_v, alpha);
+}
+
+// sheen.rs: Sheen::albedo_scaling
+float sheen_albedo_scaling(Sheen s, float n_dot_l, float n_dot_v) {
+    float strength = max(max(s.colour.x, s.colour.y), s.colour.z);
+    float e_v = sheen_directional_albedo(n_dot_v, s.roughness);
+    float e_l = sheen_directional_albedo(n_dot_l, s.roughness);
+    return max(min(1.0 - strength * e_v, 1.0 - strength * e_l), 0.0);
+}
+
+// sheen.rs: Sheen::probability
+float sheen_probability(Sheen s, float n_dot_v) {
+    float strength = max(max(s.colour.x, s.colour.y), s.colour.z);
+    if (strength <= 0.0 || n_dot_v <= 0.0) {
+        return 0.0;
+    }
+    return clamp(strength * sheen_directional_albedo(n_dot_v, s.roughness), 0.0, 1.0);
+}
+
+// sheen.rs: uniform_direction
+vec3 uniform_direction(vec3 n, vec2 u) {
+    vec3 t;
+    vec3 b;
+    orthonormal_frame(n, t, b);
+    float z = u.x;
+    float r = sqrt(max(1.0 - z * z, 0.0));
+    float phi = 2.0 * PI * u.y;
+    return t * (r * cos(phi)) + b * (r * sin(phi)) + n * z;
+}
+
 // clearcoat.rs: LayeredBrdf
 struct LayeredBrdf {
     MetallicRoughness base;
     Clearcoat clearcoat;
+    Sheen sheen;
 };
+
+// sheen.rs: LayeredBrdf::beneath_evaluate
+vec3 beneath_evaluate(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
+    vec3 base = brdf_evaluate(s.base, n, l, v);
+    if (max(max(s.sheen.colour.x, s.sheen.colour.y), s.sheen.colour.z) <= 0.0) {
+        return base;
+    }
+    float n_dot_l = dot(n, l);
+    float n_dot_v = dot(n, v);
+    vec3 h = normalize(l + v);
+    float lobe = sheen_lobe(s.sheen, n_dot_l, n_dot_v, dot(n, h));
+    return base * sheen_albedo_scaling(s.sheen, abs(n_dot_l), n_dot_v) + s.sheen.colour * lobe;
+}
+
+// sheen.rs: LayeredBrdf::beneath_pdf
+float beneath_pdf(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
+    float base = brdf_pdf(s.base, n, l, v);
+    float n_dot_l = dot(n, l);
+    float p = sheen_probability(s.sheen, dot(n, v));
+    if (p <= 0.0) {
+        return base;
+    }
+    float sheen = n_dot_l > 0.0 ? 0.5 / PI : 0.0;
+    return p * sheen + (1.0 - p) * base;
+}
+
+// sheen.rs: LayeredBrdf::beneath_sample; false where the draw carries no light.
+bool beneath_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
+    float p = sheen_probability(s.sheen, dot(n, v));
+    if (p <= 0.0) {
+        return brdf_sample(s.base, n, v, u, draw);
+    }
+    vec3 direction;
+    if (u.x < p) {
+        direction = uniform_direction(n, vec2(u.x / p, u.y));
+    } else {
+        BrdfSample base_draw;
+        if (!brdf_sample(s.base, n, v, vec2((u.x - p) / (1.0 - p), u.y), base_draw)) {
+            return false;
+        }
+        direction = base_draw.direction;
+    }
+    float pdf = beneath_pdf(s, n, direction, v);
+    return finish_draw(n, direction, pdf, beneath_evaluate(s, n, direction, v), draw);
+}
 
 // clearcoat.rs: Clearcoat::alpha
 float clearcoat_alpha(Clearcoat c) {
@@ -343,7 +501,7 @@ float clearcoat_probability(Clearcoat c, float n_dot_v) {
 
 // clearcoat.rs: LayeredBrdf::evaluate
 vec3 brdf_evaluate(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
-    vec3 base = brdf_evaluate(s.base, n, l, v);
+    vec3 base = beneath_evaluate(s, n, l, v);
     if (s.clearcoat.weight <= 0.0) {
         return base;
     }
@@ -361,7 +519,7 @@ bool brdf_transmits(LayeredBrdf s) {
 
 // clearcoat.rs: LayeredBrdf::pdf
 float brdf_pdf(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
-    float base = brdf_pdf(s.base, n, l, v);
+    float base = beneath_pdf(s, n, l, v);
     float n_dot_v = dot(n, v);
     float p = clearcoat_probability(s.clearcoat, n_dot_v);
     if (p <= 0.0) {
@@ -379,7 +537,7 @@ float brdf_pdf(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
 bool brdf_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
     float p = clearcoat_probability(s.clearcoat, dot(n, v));
     if (p <= 0.0) {
-        return brdf_sample(s.base, n, v, u, draw);
+        return beneath_sample(s, n, v, u, draw);
     }
     vec3 direction;
     if (u.x < p) {
@@ -391,13 +549,13 @@ bool brdf_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
         }
     } else {
         BrdfSample base_draw;
-        if (!brdf_sample(s.base, n, v, vec2((u.x - p) / (1.0 - p), u.y), base_draw)) {
+        if (!beneath_sample(s, n, v, vec2((u.x - p) / (1.0 - p), u.y), base_draw)) {
             return false;
         }
         direction = base_draw.direction;
     }
-    return finish_draw(direction, brdf_pdf(s, n, direction, v), brdf_evaluate(s, n, direction, v),
-                       n, draw);
+    float pdf = brdf_pdf(s, n, direction, v);
+    return finish_draw(n, direction, pdf, brdf_evaluate(s, n, direction, v), draw);
 }
 
 #endif

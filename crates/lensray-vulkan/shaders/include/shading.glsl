@@ -224,6 +224,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     vec2 metallic_roughness = vec2(mat.metallic, mat.roughness);
     vec2 clearcoat = vec2(mat.clearcoat, mat.clearcoat_roughness);
     float transmission = mat.transmission;
+    vec4 sheen = mat.sheen_colour;
     float occlusion = 1.0;
     if (textured) {
         vec4 texcoords = triangle_texcoords(tri, b);
@@ -239,6 +240,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
         metallic_roughness = material_metallic_roughness(mat, texcoords, dx, dy);
         clearcoat = material_clearcoat(mat, texcoords, dx, dy);
         transmission = material_transmission(mat, texcoords, dx, dy);
+        sheen = material_sheen(mat, texcoords, dx, dy);
         emission = material_emission(mat, texcoords, dx, dy);
         occlusion = material_occlusion(mat, texcoords, dx, dy);
         ns = normal_mapped(mat, tri, b, ns, texcoords, dx, dy);
@@ -260,7 +262,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     s.brdf = LayeredBrdf(
         MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular,
                           material_dielectric(mat, transmission, back_face)),
-        Clearcoat(clearcoat.x, clearcoat.y));
+        Clearcoat(clearcoat.x, clearcoat.y), Sheen(sheen.xyz, sheen.w));
     s.occlusion = occlusion;
     s.attenuation = back_face && mat.thin == 0u ? mat.attenuation.xyz : vec3(0.0);
     return true;

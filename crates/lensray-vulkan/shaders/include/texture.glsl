@@ -270,12 +270,28 @@ float material_transmission(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
     return m.transmission;
 }
 
+// material.rs: Material::sheen_at; xyz: the colour, w: the roughness.
+vec4 material_sheen(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
+    vec3 colour = m.sheen_colour.xyz;
+    if (has_texture(m.sheen_colour_texture) && max(max(colour.x, colour.y), colour.z) > 0.0) {
+        colour = m.sheen_colour.xyz
+            * texture_sample(m.sheen_colour_texture, texcoords, dx, dy).xyz;
+    }
+    float roughness = m.sheen_colour.w;
+    if (has_texture(m.sheen_roughness_texture) && max(max(colour.x, colour.y), colour.z) > 0.0) {
+        roughness = m.sheen_colour.w
+            * texture_sample(m.sheen_roughness_texture, texcoords, dx, dy).w;
+    }
+    return vec4(colour, roughness);
+}
+
 // material.rs: Material::is_textured
 bool material_is_textured(Material m) {
     return has_texture(m.diffuse_texture) || has_texture(m.emission_texture)
         || has_texture(m.metallic_roughness_texture) || has_texture(m.occlusion_texture)
         || has_texture(m.normal_texture) || has_texture(m.clearcoat_texture)
-        || has_texture(m.clearcoat_roughness_texture) || has_texture(m.transmission_texture);
+        || has_texture(m.clearcoat_roughness_texture) || has_texture(m.sheen_colour_texture)
+        || has_texture(m.sheen_roughness_texture) || has_texture(m.transmission_texture);
 }
 
 // material.rs: Material::alpha_at

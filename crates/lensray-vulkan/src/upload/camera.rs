@@ -44,15 +44,20 @@ fn aperture_fan(fan: &[glam::Vec2]) -> [[f32; 4]; APERTURE_MAX_FAN as usize / 2]
     out
 }
 
-/// No real lens: the shaders trace the thin lens.
+/// No real lens: the shaders trace the thin lens. The block holds the sheen's albedo table
+/// whatever the lens.
 pub(crate) fn thin_lens() -> GpuLens {
-    GpuLens::zeroed()
+    let mut out = GpuLens::zeroed();
+    for (i, &value) in lensray_core::interface::SHEEN_ALBEDO.iter().enumerate() {
+        out.sheen_albedo[i / 4][i % 4] = value;
+    }
+    out
 }
 
 /// The real lens of `camera` as the shaders read it (`surface_count` 0: none); an error if
 /// it has more surfaces than the GPU's block holds.
 pub(crate) fn gpu_lens(camera: &Camera) -> Result<GpuLens, GpuError> {
-    let mut out = GpuLens::zeroed();
+    let mut out = thin_lens();
     let Some(real) = camera.lens.real() else {
         return Ok(out);
     };
@@ -142,3 +147,10 @@ const _: () = assert!(lensray_core::interface::SPECTRAL_AT_END as usize <= 4 * 2
 
 // The bins the Rust lens makes are the ones the GPU block holds.
 const _: () = assert!(lensray_core::camera::real_lens::PUPIL_BINS == LENS_PUPIL_BINS as usize);
+
+// The sheen's albedo table fills the GPU block's sheen_albedo.
+const _: () = assert!(
+    (lensray_core::interface::SHEEN_ALBEDO_SIZE * lensray_core::interface::SHEEN_ALBEDO_SIZE)
+        as usize
+        == 4 * 256
+);

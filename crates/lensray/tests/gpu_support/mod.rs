@@ -12,10 +12,12 @@ mod support;
 
 pub use support::*;
 
+use glam::Vec3;
 use lensray::paths::{self, DeviceChoice, OpenedPath, PathChoice, PathKind, PathOptions};
+use lensray_core::camera::{CameraParams, LensParams, Movements, ProjectionParams};
 use lensray_core::film::Image;
 use lensray_core::scene::Scene;
-use lensray_core::settings::{RenderSettings, Shot};
+use lensray_core::settings::{RenderSettings, Shading, Shot};
 use lensray_vulkan::{GpuError, GpuOptions};
 
 /// `choice` opened on the test scene for `shot` as `render --path` opens it (validation on for
@@ -116,5 +118,29 @@ pub fn assert_gpu_paths_match_cpu(test: &str, name: &str, scene: &Scene, shot: &
             let files = write_comparison(&image, reference, &format!("{name}-{kind}-vs-cpu"));
             panic!("{name} {kind}: differs from the CPU: {diff:?}; wrote {files}");
         }
+    }
+}
+
+/// An unlit shot of `spp` samples a pixel, `width` x `height`, through an orthographic pinhole
+/// two units tall at (0, 0, `z`) looking at the origin, +y up: the test quads of the z = 0
+/// plane seen square on from their front (z > 0) or their back.
+pub fn orthographic_along_z(z: f32, width: u32, height: u32, spp: u32) -> Shot {
+    let camera = CameraParams {
+        eye: Vec3::new(0.0, 0.0, z),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: ProjectionParams::Orthographic { height: 2.0 },
+        lens: LensParams::Pinhole,
+        near: 0.1,
+        far: 10.0,
+        width,
+        height,
+        movements: Movements::NONE,
+    }
+    .build()
+    .expect("valid camera");
+    Shot {
+        camera,
+        render: settings(Shading::Unlit, spp),
     }
 }

@@ -1,8 +1,10 @@
 //! The layers glTF's material extensions put over the metallic-roughness base:
 //! `KHR_materials_clearcoat` (`clearcoatFactor` times `clearcoatTexture`'s R, and
 //! `clearcoatRoughnessFactor` times `clearcoatRoughnessTexture`'s G, both linear, each texture
-//! with its own `texCoord` and `KHR_texture_transform`). The `gltf` crate reads none of them:
-//! they are read from the material's JSON. The coat's own normal map is not drawn (the coat
+//! with its own `texCoord` and `KHR_texture_transform`) and `KHR_materials_sheen`
+//! (`sheenColorFactor` times `sheenColorTexture`'s RGB, sRGB-encoded, and
+//! `sheenRoughnessFactor` times `sheenRoughnessTexture`'s alpha, linear). The `gltf` crate
+//! reads none of them: they are read from the material's JSON. The coat's own normal map is not drawn (the coat
 //! follows the base's shading normal), and `ignored_features` names it.
 //! `KHR_materials_transmission` (`transmissionFactor` times `transmissionTexture`'s R),
 //! `KHR_materials_ior` (`ior`) and `KHR_materials_volume` (a `thicknessFactor` above 0 makes
@@ -30,16 +32,34 @@ impl Walk<'_> {
             let factor = |key: &str| number(coat, key).unwrap_or(0.0).clamp(0.0, 1.0);
             material.clearcoat = factor("clearcoatFactor");
             material.clearcoat_roughness = factor("clearcoatRoughnessFactor");
-            material.clearcoat_texture = self.json_texture(coat.get("clearcoatTexture"))?;
+            material.clearcoat_texture =
+                self.json_texture(coat.get("clearcoatTexture"), Encoding::Linear)?;
             material.clearcoat_roughness_texture =
-                self.json_texture(coat.get("clearcoatRoughnessTexture"))?;
+                self.json_texture(coat.get("clearcoatRoughnessTexture"), Encoding::Linear)?;
+        }
+        if let Some(sheen) = gltf.extension_value("KHR_materials_sheen") {
+            let colour = sheen
+                .get("sheenColorFactor")
+                .and_then(Value::as_array)
+                .filter(|c| c.len() == 3)
+                .map(|c| {
+                    Vec3::from_array(std::array::from_fn(|i| c[i].as_f64().unwrap_or(0.0) as f32))
+                });
+            material.sheen_colour = colour.unwrap_or(Vec3::ZERO).clamp(Vec3::ZERO, Vec3::ONE);
+            material.sheen_roughness = number(sheen, "sheenRoughnessFactor")
+                .unwrap_or(0.0)
+                .clamp(0.0, 1.0);
+            material.sheen_colour_texture =
+                self.json_texture(sheen.get("sheenColorTexture"), Encoding::Srgb)?;
+            material.sheen_roughness_texture =
+                self.json_texture(sheen.get("sheenRoughnessTexture"), Encoding::Linear)?;
         }
         if let Some(transmission) = gltf.extension_value("KHR_materials_transmission") {
             material.transmission = number(transmission, "transmissionFactor")
                 .unwrap_or(0.0)
                 .clamp(0.0, 1.0);
             material.transmission_texture =
-                self.json_texture(transmission.get("transmissionTexture"))?;
+                self.json_texture(transmission.get("transmissionTexture"), Encoding::Linear)?;
         }
         if let Some(ior) = gltf.extension_value("KHR_materials_ior") {
             material.ior = number(ior, "ior")
@@ -53,9 +73,14 @@ impl Walk<'_> {
         Ok(material)
     }
 
-    /// The linear texture a JSON `textureInfo` names, with its `texCoord` and transform;
-    /// `None` where there is none, its index is out of range or its image is missing.
-    fn json_texture(&mut self, info: Option<&Value>) -> Result<Option<TextureRef>, String> {
+    /// The texture a JSON `textureInfo` names, its RGB of `encoding`, with its `texCoord` and
+    /// transform; `None` where there is none, its index is out of range or its image is
+    /// missing.
+    fn json_texture(
+        &mut self,
+        info: Option<&Value>,
+        encoding: Encoding,
+    ) -> Result<Option<TextureRef>, String> {
         let Some(info) = info else {
             return Ok(None);
         };
@@ -71,7 +96,7 @@ impl Walk<'_> {
             .get("extensions")
             .and_then(|e| e.get("KHR_texture_transform"));
         let (tex_coord, uv_from_texcoord) = json_transform(tex_coord, transform);
-        self.texture_slot(texture, tex_coord, uv_from_texcoord, Encoding::Linear)
+        self.texture_slot(texture, tex_coord, uv_from_texcoord, encoding)
     }
 }
 

@@ -31,11 +31,12 @@ mod materials;
 mod nodes;
 
 /// Extensions this loader applies; a file requiring any other is refused.
-const KNOWN_EXTENSIONS: [&str; 9] = [
+const KNOWN_EXTENSIONS: [&str; 10] = [
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
+    "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_volume",

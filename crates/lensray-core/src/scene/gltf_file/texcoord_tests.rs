@@ -154,3 +154,56 @@ fn a_missing_image_is_reported_once() {
     );
     assert!(file.scene.textures.is_empty());
 }
+
+/// `KHR_materials_sheen`: the colour factor times its texture's RGB decoded from sRGB, the
+/// roughness factor times its texture's alpha (linear), each texture with its own set and
+/// transform; the one image serves both, once each encoding.
+#[test]
+fn the_sheen_reads_its_factors_and_textures() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([200u8, 100, 50, 102]))
+        .save(dir.path().join("texels.png"))
+        .expect("write the png");
+    let material = r#"{"extensions": {"KHR_materials_sheen": {
+        "sheenColorFactor": [0.5, 0.25, 1], "sheenColorTexture": {"index": 0, "texCoord": 1},
+        "sheenRoughnessFactor": 0.8, "sheenRoughnessTexture": {"index": 0,
+          "extensions": {"KHR_texture_transform": {"offset": [0.5, 0]}}}}}}"#;
+    let extra = r#",
+  "textures": [{"source": 0}], "images": [{"uri": "texels.png"}],
+  "extensionsUsed": ["KHR_materials_sheen", "KHR_texture_transform"]"#;
+    let path = write_triangle(dir.path(), material, extra);
+    let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(file.notices.is_empty(), "{:?}", file.notices);
+    let m = &file.scene.materials[0];
+    assert_eq!(m.sheen_colour, glam::Vec3::new(0.5, 0.25, 1.0));
+    assert_eq!(m.sheen_roughness, 0.8);
+    let (colour, roughness) = (
+        m.sheen_colour_texture.expect("a colour texture"),
+        m.sheen_roughness_texture.expect("a roughness texture"),
+    );
+    assert_eq!((colour.texcoord_set, roughness.texcoord_set), (1, 0));
+    let uv = roughness
+        .uv_from_texcoord
+        .transform_point2(Vec2::new(0.25, 0.25));
+    assert!(uv.abs_diff_eq(Vec2::new(0.75, 0.25), 1e-6), "uv {uv}");
+    let encoding = |t: crate::scene::TextureRef| file.scene.textures[t.texture as usize].encoding;
+    use crate::scene::texture::{srgb_to_linear, Encoding, FootprintSets};
+    assert_eq!(encoding(colour), Encoding::Srgb);
+    assert_eq!(encoding(roughness), Encoding::Linear);
+    let (got_colour, got_roughness) = m.sheen_at(
+        &file.scene.textures,
+        &[Vec2::splat(0.5); 2],
+        &FootprintSets::default(),
+    );
+    let want = glam::Vec3::new(
+        0.5 * srgb_to_linear(200.0 / 255.0),
+        0.25 * srgb_to_linear(100.0 / 255.0),
+        srgb_to_linear(50.0 / 255.0),
+    );
+    println!("sheen at the centre: {got_colour} (want {want}), roughness {got_roughness}");
+    assert!(
+        got_colour.abs_diff_eq(want, 1e-5),
+        "{got_colour} against {want}"
+    );
+    assert!((got_roughness - 0.8 * 0.4).abs() < 1e-6, "{got_roughness}");
+}
