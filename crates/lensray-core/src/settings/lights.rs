@@ -184,12 +184,25 @@ fn light(s: &LightSettings, at: &Placement) -> Result<Light, SettingsError> {
 pub const EMITTERS_LIGHT_SHARE: f32 = 0.05;
 
 /// What the emissive surfaces of `scene` give, as a share of the default light's irradiance:
-/// their power (pi x the luminance of their emissive factor x their area, one-sided Lambertian
-/// emitters) spread over the scene's bounding sphere, Phi / (4 pi R^2), over pi.
+/// their power (pi x the luminance of their emission x their area, one-sided Lambertian
+/// emitters) spread over the scene's bounding sphere, Phi / (4 pi R^2), over pi. A textured
+/// emission counts at its texture's mean (its 1 x 1 level): a body whose emissive texture
+/// lights only its lamps is not a lamp.
 pub fn emitters_light_share(scene: &Scene) -> f32 {
     let Some((_, radius)) = scene.bounding_sphere() else {
         return 0.0;
     };
+    let emission: Vec<Vec3> = scene
+        .materials
+        .iter()
+        .map(|m| match &m.emission_texture {
+            Some(t) => scene
+                .textures
+                .get(t.texture as usize)
+                .map_or(m.emission, |texture| m.emission * texture.mean().truncate()),
+            None => m.emission,
+        })
+        .collect();
     let power: f32 = scene
         .meshes
         .iter()
@@ -198,9 +211,8 @@ pub fn emitters_light_share(scene: &Scene) -> f32 {
                 .iter()
                 .zip(&mesh.material_ids)
                 .map(|(t, &m)| {
-                    let emission = scene.materials[m as usize].emission;
                     let v = t.map(|i| mesh.positions[i as usize]);
-                    std::f32::consts::PI * luminance(emission) * area_normal(&v).0
+                    std::f32::consts::PI * luminance(emission[m as usize]) * area_normal(&v).0
                 })
         })
         .filter(|p| p.is_finite())

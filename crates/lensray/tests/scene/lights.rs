@@ -5,6 +5,7 @@ use std::f32::consts::PI;
 
 use glam::Vec3;
 use lensray_core::scene::generate::cornell_box;
+use lensray_core::scene::texture::{Encoding, Texture, TextureRef};
 use lensray_core::scene::{load, load_gltf, LightKind, Material, Mesh, Scene};
 use lensray_core::settings::{
     emitters_light_share, light_scene, settings_lights, Settings, EMITTERS_LIGHT_SHARE,
@@ -232,4 +233,34 @@ fn only_emitters_that_light_the_scene_replace_the_default_light() {
     let lights = settings_lights(&settings, &board).unwrap();
     assert_eq!(lights.len(), 1, "{lights:?}");
     assert_eq!(lights[0].kind, LightKind::Point);
+    // The board itself emitting at 1 through a texture black but for one texel in 64 (a
+    // body whose emissive texture lights its lamps, as ToyCar's): its texture's mean counts.
+    let texels: Vec<u8> = (0..64)
+        .flat_map(|i| {
+            if i == 0 {
+                [255, 255, 255, 255]
+            } else {
+                [0, 0, 0, 255]
+            }
+        })
+        .collect();
+    let textured = Scene {
+        materials: vec![Material {
+            emission_texture: Some(TextureRef::new(0)),
+            ..Material::new("body", Vec3::splat(0.5), Vec3::ONE)
+        }],
+        textures: vec![Texture::from_rgba8(
+            "lamps",
+            8,
+            8,
+            &texels,
+            Encoding::Linear,
+        )],
+        meshes: vec![board.meshes[0].clone()],
+        ..Default::default()
+    };
+    let body_share = emitters_light_share(&textured);
+    println!("a board lit by one texel in 64: {body_share:.4}");
+    assert!(body_share < EMITTERS_LIGHT_SHARE);
+    assert_eq!(settings_lights(&settings, &textured).unwrap().len(), 1);
 }

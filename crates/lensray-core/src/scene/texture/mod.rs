@@ -203,6 +203,13 @@ fn reduce(c: f32, wrap: Wrap) -> f32 {
 }
 
 impl Texture {
+    /// The image's mean colour: its last level's one texel.
+    pub fn mean(&self) -> Vec4 {
+        self.levels
+            .last()
+            .map_or(Vec4::ONE, |level| self.texel(level, 0, 0))
+    }
+
     fn texel(&self, level: &Level, x: i32, y: i32) -> Vec4 {
         let i = level.first + y as u32 * level.width + x as u32;
         decode_texel(self.texels[i as usize], self.encoding)
