@@ -170,7 +170,10 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
             reflected = sky_along(s, draw);
         }
         rays += 1u;
-        if (!occluded(origin_towards(s, direction), direction, t_max, cut)) {
+        // A light above the shading normal is seen from the front whatever the geometric
+        // normal says (lighting.rs: direct_light); every other draw left the side it goes to.
+        bool front = i < count && dot(s.ns, direction) > 0.0;
+        if (!occluded(front ? s.o : origin_towards(s, direction), direction, t_max, cut)) {
             radiance += reflected;
         } else if (i < min(count, 24u)) {
             shadowed |= 1u << i;
