@@ -58,8 +58,13 @@ impl Renderer {
             let vertices = self.accel.vertices(triangle).map(Vec3::from);
             let (barycentric, position) = uniform_point(&vertices, u);
             let front = shadow_origin(&lane.surface);
-            // Behind the surface where the point is (light through it).
-            let origin = origin_towards(&lane.surface, position - front);
+            // Behind a surface that transmits where the point is behind it (light through
+            // it); an opaque one's emitters in its own plane stay unseen.
+            let origin = if lane.brdf.transmits() {
+                origin_towards(&lane.surface, position - front)
+            } else {
+                front
+            };
             let to_light = position - origin;
             let distance = to_light.length();
             let direction = to_light / distance;

@@ -92,7 +92,8 @@ bool emitter_draw(LitSurface s, vec2 u, bool mis, out vec3 direction, out float 
     uint tri = emitter_pick(u, on_triangle);
     vec2 b;
     vec3 position = uniform_point(tri, on_triangle, b);
-    vec3 to_light = position - origin_towards(s, position - s.o);
+    vec3 origin = brdf_transmits(s.brdf) ? origin_towards(s, position - s.o) : s.o;
+    vec3 to_light = position - origin;
     float distance = length(to_light);
     direction = to_light / distance;
     t_max = distance * (1.0 - EMITTER_SHADOW_SHORTEN);
