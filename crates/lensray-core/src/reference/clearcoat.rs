@@ -16,11 +16,13 @@
 //! the base's mixture otherwise; the density is the mixture of both.
 //! shaders/include/brdf.glsl mirrors it function by function.
 
+use std::f32::consts::FRAC_1_PI;
+
 use glam::{Vec2, Vec3};
 
 use super::brdf::{ggx_distribution, smith_visibility, MetallicRoughness};
 use super::brdf_sampling::{finish_draw, visible_normal_around, visible_normal_pdf, BrdfSample};
-use super::sheen::Sheen;
+use super::sheen::{uniform_direction, Sheen};
 use crate::interface::{CLEARCOAT_F0, MIN_ROUGHNESS};
 
 /// The coat of a surface point: its weight (`clearcoatFactor` times its texture's R) and its
@@ -132,6 +134,53 @@ impl LayeredBrdf {
         };
         let pdf = self.pdf(n, direction, v);
         finish_draw(n, direction, pdf, || self.evaluate(n, direction, v))
+    }
+}
+
+impl LayeredBrdf {
+    /// What lies beneath the coat, the base under its sheen: f(l, v) for unit normal `n`,
+    /// direction to the light `l` and to the viewer `v`, with n.l != 0 (light from below
+    /// crosses the sheen at |n.l|); 1/sr.
+    pub fn beneath_evaluate(&self, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
+        let base = self.base.evaluate(n, l, v);
+        if self.sheen.colour.max_element() <= 0.0 {
+            return base;
+        }
+        let (n_dot_l, n_dot_v) = (n.dot(l), n.dot(v));
+        let h = (l + v).normalize();
+        let lobe = self.sheen.lobe(n_dot_l, n_dot_v, n.dot(h));
+        base * self.sheen.albedo_scaling(n_dot_l.abs(), n_dot_v) + self.sheen.colour * lobe
+    }
+
+    /// The density (per solid angle) of drawing `l` beneath the coat: the sheen's share of
+    /// the uniform hemisphere plus the rest of the base's mixture.
+    pub fn beneath_pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
+        let base = self.base.pdf(n, l, v);
+        let n_dot_l = n.dot(l);
+        let p = self.sheen.probability(n.dot(v));
+        if p <= 0.0 {
+            return base;
+        }
+        let sheen = if n_dot_l > 0.0 { 0.5 * FRAC_1_PI } else { 0.0 };
+        p * sheen + (1.0 - p) * base
+    }
+
+    /// The direction point `u` ([0, 1)^2) draws beneath the coat, with its density and
+    /// weight; `None` where it carries no light. The first coordinate picks the sheen
+    /// or the base and is stretched back to [0, 1) within it.
+    pub fn beneath_sample(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<BrdfSample> {
+        let p = self.sheen.probability(n.dot(v));
+        if p <= 0.0 {
+            return self.base.sample(n, v, u);
+        }
+        let direction = if u.x < p {
+            uniform_direction(n, Vec2::new(u.x / p, u.y))
+        } else {
+            let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
+            self.base.sample(n, v, stretched)?.direction
+        };
+        let pdf = self.beneath_pdf(n, direction, v);
+        finish_draw(n, direction, pdf, || self.beneath_evaluate(n, direction, v))
     }
 }
 

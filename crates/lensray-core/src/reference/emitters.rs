@@ -9,9 +9,9 @@
 use glam::{Vec2, Vec3, Vec3A};
 
 use super::accel::{is_back_face, PACKET_SIZE};
-use super::lighting::{LitLane, ShadowRay};
+use super::lighting::{leaves, LitLane, ShadowRay};
 use super::render::Renderer;
-use super::sky::{leaves, power_heuristic};
+use super::sky::power_heuristic;
 use super::surface::{origin_towards, shadow_origin};
 use crate::interface::EMITTER_SHADOW_SHORTEN;
 use crate::scene::emitters::{area_normal, uniform_point};

@@ -7,7 +7,6 @@ use glam::Vec3;
 use super::accel::PACKET_SIZE;
 use super::clearcoat::LayeredBrdf;
 use super::render::Renderer;
-use super::sky::leaves;
 use super::surface::{origin_towards, shadow_origin, SurfacePoint};
 use crate::scene::Light;
 
@@ -46,6 +45,15 @@ impl LitLane {
         let n = self.surface.shading_normal;
         self.brdf.evaluate(n, l, self.to_viewer) * n.dot(l).abs()
     }
+}
+
+/// Whether a direction leaves a surface on its own side (above its geometric plane, where a
+/// direction under it is blocked by the surface, and above the shading normal's), or through
+/// it where the surface transmits (below both).
+pub(super) fn leaves(lane: &LitLane, d: Vec3) -> bool {
+    let g = d.dot(lane.surface.geometric_normal);
+    let s = d.dot(lane.surface.shading_normal);
+    (g > 0.0 && s > 0.0) || (g < 0.0 && s < 0.0 && lane.brdf.transmits())
 }
 
 /// One shadow ray of a packet lane and the light it brings if nothing stops it.

@@ -4,7 +4,7 @@ use glam::{DVec3, Vec3};
 
 use super::*;
 use crate::reference::brdf::MetallicRoughness;
-use crate::reference::clearcoat::Clearcoat;
+use crate::reference::clearcoat::{Clearcoat, LayeredBrdf};
 use crate::reference::layer_tests::{assert_draws_estimate, base};
 
 fn sheened(base: MetallicRoughness, colour: Vec3, roughness: f32) -> LayeredBrdf {

@@ -11,7 +11,7 @@ use glam::{Vec2, Vec3};
 
 use super::accel::PACKET_SIZE;
 use super::brdf_sampling::BrdfSample;
-use super::lighting::{LitLane, ShadowRay};
+use super::lighting::{leaves, LitLane, ShadowRay};
 use super::render::Renderer;
 use super::surface::{origin_towards, shadow_origin};
 use crate::scene::light::cosine_direction;
@@ -98,15 +98,6 @@ impl<'a> Sky<'a> {
             }
         }
     }
-}
-
-/// Whether a direction leaves a surface on its own side (above its geometric plane, where a
-/// direction under it is blocked by the surface, and above the shading normal's), or through
-/// it where the surface transmits (below both).
-pub(super) fn leaves(lane: &LitLane, d: Vec3) -> bool {
-    let g = d.dot(lane.surface.geometric_normal);
-    let s = d.dot(lane.surface.shading_normal);
-    (g > 0.0 && s > 0.0) || (g < 0.0 && s < 0.0 && lane.brdf.transmits())
 }
 
 /// The light the sky brings along a BRDF draw that leaves the scene, weighed against the sky's
