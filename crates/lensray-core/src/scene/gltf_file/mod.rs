@@ -19,8 +19,6 @@
 use std::path::Path;
 use std::time::Instant;
 
-use glam::DMat4;
-
 use super::file_camera::FileCamera;
 use super::{LoadTimes, Scene, SceneError};
 
@@ -92,7 +90,7 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
         .or_else(|| document.scenes().next())
         .ok_or_else(|| bad("the file has no scene".into()))?;
     for node in scene.nodes() {
-        reader.node(&node, DMat4::IDENTITY).map_err(bad)?;
+        reader.tree(node).map_err(bad)?;
     }
     let mut out = reader.finish(&document);
     notices.append(&mut out.notices);
