@@ -33,6 +33,8 @@ mod rejected;
 mod render;
 #[path = "cli/units.rs"]
 mod units;
+#[path = "cli/untrusted.rs"]
+mod untrusted;
 #[path = "cli/video.rs"]
 mod video;
 
