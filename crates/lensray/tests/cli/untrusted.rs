@@ -100,3 +100,66 @@ fn images_declaring_huge_sizes_are_refused_in_bounded_memory() {
         assert!(!d.join("out.png").exists(), "{extra:?} wrote an image");
     }
 }
+
+/// A file a scene names outside its folder is read with one note naming it; under
+/// `--assets-root` (or `LENSRAY_ASSETS_ROOT`) one outside the root is refused in one line,
+/// before it is read: a glTF buffer at `../../../../etc/passwd` as the issue found it read.
+#[test]
+fn reads_outside_the_assets_root_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("scene")).unwrap();
+    std::fs::create_dir_all(d.join("lib")).unwrap();
+    std::fs::write(
+        d.join("scene/tri.obj"),
+        "mtllib ../lib/m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n",
+    )
+    .unwrap();
+    std::fs::write(d.join("lib/m.mtl"), "newmtl m\nKd 0.8 0.2 0.2\n").unwrap();
+    let passwd = r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": []}],
+        "buffers": [{"uri": "../../../../../../../../etc/passwd", "byteLength": 44}]}"#;
+    std::fs::write(d.join("scene/passwd.gltf"), passwd).unwrap();
+
+    let out = crate::lensray(
+        &render_args(&["--scene", "scene/tri.obj", "--out", "a.png"]),
+        d,
+    );
+    let err = crate::stderr(&out);
+    assert!(out.status.success(), "{err}");
+    let notes: Vec<&str> = err.lines().filter(|l| l.contains("outside")).collect();
+    assert!(
+        notes.len() == 1 && notes[0].contains("m.mtl"),
+        "one note naming the library: {err}"
+    );
+
+    let root = d.join("scene");
+    let root = root.to_str().unwrap();
+    for (args, env) in [
+        (
+            vec!["--assets-root", root, "--scene", "scene/tri.obj"],
+            None,
+        ),
+        (vec!["--scene", "scene/passwd.gltf"], Some(root)),
+        (
+            vec!["--assets-root", root, "--scene", "scene/passwd.gltf"],
+            None,
+        ),
+    ] {
+        let mut args = render_args(&args);
+        args.extend(["--out", "b.png"]);
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_lensray"));
+        command.args(&args).current_dir(d);
+        if let Some(root) = env {
+            command.env("LENSRAY_ASSETS_ROOT", root);
+        }
+        let out = command.output().unwrap();
+        let err = crate::stderr(&out);
+        println!("{args:?} (LENSRAY_ASSETS_ROOT {env:?}): {err}");
+        assert!(
+            !out.status.success() && err.lines().count() == 1,
+            "{args:?}: {err}"
+        );
+        assert!(err.contains("outside the assets root"), "{err}");
+        assert!(!d.join("b.png").exists());
+    }
+}
