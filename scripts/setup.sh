@@ -24,8 +24,10 @@ fi
 . /etc/os-release
 # libembree-dev: Embree 3.13, the CPU path's ray queries (the `embree3` crate links libembree3).
 # ffmpeg: `render --video` encodes with it; its tests check the video with ffprobe.
+# time: GNU time, whose peak memory the tests of files declaring huge images read.
 PACKAGES=(libvulkan1 libvulkan-dev vulkan-tools vulkan-validationlayers mesa-vulkan-drivers
-          libshaderc-dev glslang-dev spirv-tools libembree-dev xvfb ffmpeg pkg-config cmake python3 g++)
+          libshaderc-dev glslang-dev spirv-tools libembree-dev xvfb ffmpeg pkg-config cmake python3 g++
+          time)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

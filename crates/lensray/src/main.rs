@@ -16,6 +16,10 @@ use lensray::cli;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Read only files inside DIR: a file a scene names outside it (by `..`, an absolute path
+    /// or a link) is refused. Default: the environment's LENSRAY_ASSETS_ROOT, else no limit.
+    #[arg(long, global = true, value_name = "DIR")]
+    assets_root: Option<std::path::PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -64,6 +68,17 @@ fn main() -> ExitCode {
     if let Err(error) = lensray_core::reference::EmbreeSettings::from_env() {
         eprintln!("error: {error}");
         return ExitCode::from(2);
+    }
+    let root = cli.assets_root.clone().or_else(|| {
+        std::env::var_os("LENSRAY_ASSETS_ROOT")
+            .filter(|v| !v.is_empty())
+            .map(Into::into)
+    });
+    if let Some(root) = root {
+        if let Err(error) = lensray_core::scene::reads::confine_reads_to(&root) {
+            eprintln!("error: {error}");
+            return ExitCode::from(2);
+        }
     }
     let result = match &cli.command {
         None => {

@@ -33,6 +33,8 @@ mod rejected;
 mod render;
 #[path = "cli/units.rs"]
 mod units;
+#[path = "cli/untrusted.rs"]
+mod untrusted;
 #[path = "cli/video.rs"]
 mod video;
 
@@ -42,6 +44,16 @@ fn lensray(args: &[&str], dir: &Path) -> Output {
         .current_dir(dir)
         .output()
         .expect("run lensray")
+}
+
+/// Copies the spheres scene's mesh and library into `dir` and names the mesh as a scene file
+/// there does: a file beside it, read without a note (`scene::reads`).
+fn spheres_beside(dir: &Path) -> &'static str {
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/spheres");
+    for file in ["spheres.obj", "spheres.mtl"] {
+        std::fs::copy(assets.join(file), dir.join(file)).expect("copy the spheres");
+    }
+    "spheres.obj"
 }
 
 fn stderr(o: &Output) -> String {

@@ -122,6 +122,10 @@ pub enum SceneError {
         path.display()
     )]
     Extension { path: PathBuf, ext: String },
+
+    /// A file names another outside the assets root (`scene::reads`).
+    #[error("{}: {message}", by.display())]
+    Confined { by: PathBuf, message: String },
 }
 
 fn location(path: &Path, position: Option<(usize, usize)>) -> String {

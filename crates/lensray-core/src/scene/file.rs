@@ -218,6 +218,8 @@ pub struct MeshOptions {
     pub units: Option<SceneUnits>,
     /// The `[[keyframe]]`s, their lengths as written.
     pub keyframes: Keyframes,
+    /// What the user is told of the files the scene file names (`scene::reads`).
+    pub notices: Vec<String>,
 }
 
 /// Parses a scene file's settings (its lengths as written, in its `units`) and resolves its
@@ -236,14 +238,23 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, MeshOptions), 
     if file.mesh.trim().is_empty() {
         return Err(mesh_error("is empty: name an .obj, .gltf or .glb file"));
     }
-    let mesh = path
-        .parent()
-        .unwrap_or(Path::new(""))
-        .join(file.mesh.trim());
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let mut notices = Vec::new();
+    // Each file the scene file names, as `scene::reads` allows it.
+    let mut named = |name: &Path| match super::reads::named_file(folder, name) {
+        Ok(file) => {
+            notices.extend(file.note.map(|n| format!("{}: {n}", path.display())));
+            Ok(file.path)
+        }
+        Err(message) => Err(SceneError::Confined {
+            by: path.to_path_buf(),
+            message,
+        }),
+    };
+    let mesh = named(Path::new(file.mesh.trim()))?;
     if !is_mesh_file(&mesh) {
         return Err(mesh_error("must be an .obj, .gltf or .glb file"));
     }
-    let folder = path.parent().unwrap_or(Path::new(""));
     let keyframes =
         Keyframes::parse(&file.keyframe, folder).map_err(|message| SceneError::Keyframe {
             path: path.to_path_buf(),
@@ -251,17 +262,19 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, MeshOptions), 
         })?;
     let mut camera = file.camera;
     if let Some(image) = camera.aperture.image.as_mut() {
-        *image = folder.join(&*image);
+        *image = named(image)?;
     }
     if let Some(lens) = camera.lens.prescription.as_mut() {
         // A built-in lens's name stays a name.
         if crate::optics::builtin::lens(lens).is_none() {
-            *lens = folder.join(&*lens).to_string_lossy().into_owned();
+            *lens = named(Path::new(lens.as_str()))?
+                .to_string_lossy()
+                .into_owned();
         }
     }
     let mut render = file.render;
     if let Some(EnvironmentSetting::Map(map)) = render.environment.as_mut() {
-        *map = folder.join(&*map);
+        *map = named(map)?;
     }
     let settings = Settings {
         camera,
@@ -274,6 +287,7 @@ pub fn read_scene_file(path: &Path) -> Result<(PathBuf, Settings, MeshOptions), 
         smooth_normals: file.smooth_normals,
         units: file.units,
         keyframes,
+        notices,
     };
     Ok((mesh, settings, options))
 }
@@ -308,6 +322,7 @@ fn load_scene_file_in(
             }
         })?;
     description.keyframes = keyframes;
+    description.notices.splice(0..0, options.notices);
     description.set_units(units.or(options.units).unwrap_or_default());
     Ok(description)
 }

@@ -25,6 +25,7 @@ mod material;
 pub mod normals;
 pub mod obj;
 pub mod order;
+pub mod reads;
 pub mod tangents;
 pub mod terrain;
 pub mod test_card;

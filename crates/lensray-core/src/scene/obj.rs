@@ -152,8 +152,19 @@ fn parse(
     };
     let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &options, |mtl: &Path| {
         // tobj's callback must return a tobj error; the real one travels beside it.
-        let library = dir.join(mtl);
-        let loaded = load_mtl(&library, path, &mut mtl_notices.borrow_mut());
+        let loaded = match super::reads::named_file(dir, mtl) {
+            Ok(file) => {
+                mtl_notices.borrow_mut().extend(file.note);
+                Ok(file.path)
+            }
+            Err(message) => Err(SceneError::Confined {
+                by: path.to_path_buf(),
+                message,
+            }),
+        };
+        let library = loaded.as_ref().map_or_else(|_| dir.join(mtl), Clone::clone);
+        let loaded =
+            loaded.and_then(|library| load_mtl(&library, path, &mut mtl_notices.borrow_mut()));
         match loaded {
             Ok(result) => {
                 if let Ok((materials, _)) = &result {

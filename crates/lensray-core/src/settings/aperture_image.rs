@@ -48,7 +48,7 @@ pub fn load(path: &Path) -> Result<Arc<ApertureImage>, ApertureImageFileError> {
     if !matches!(extension.as_deref(), Some("png" | "exr")) {
         return Err(fail("must be a .png or .exr file".into()));
     }
-    let decoded = image::open(path).map_err(|e| fail(e.to_string()))?;
+    let decoded = crate::image_file::decode_file(path).map_err(fail)?;
     let image = Arc::new(transmission(&decoded).map_err(|e| fail(e.to_string()))?);
     cache
         .lock()

@@ -236,7 +236,10 @@ fn parse_value(kind: ValueKind, value: &toml::Value, folder: &Path) -> Result<Ke
                 let name = name.trim();
                 Ok(KeyValue::Lens(match crate::optics::builtin::lens(name) {
                     Some(_) => name.to_owned(),
-                    None => folder.join(name).to_string_lossy().into_owned(),
+                    None => crate::scene::reads::named_file(folder, Path::new(name))?
+                        .path
+                        .to_string_lossy()
+                        .into_owned(),
                 }))
             }
             _ => Err(format!("must be a lens's name or file, got {value}")),

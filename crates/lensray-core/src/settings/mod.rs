@@ -8,6 +8,7 @@
 //! - [`lights`]: the settings' lights, added to the scene's own;
 //! - [`exposure`](mod@exposure): the exposure and tone map of what is shown, from the settings
 //!   and the shot's lens;
+//! - [`finite`]: the one check that every number of the settings is finite;
 //! - [`keyframe`]: a scene file's `[[keyframe]]`s, the settings of each frame of a sequence;
 //! - [`camera_timeline`]: a glTF camera animation on a sequence's frames.
 
@@ -15,6 +16,7 @@ pub mod aperture_image;
 pub mod camera_timeline;
 pub mod environment;
 pub mod exposure;
+pub mod finite;
 pub mod framing;
 pub mod keyframe;
 pub mod lights;

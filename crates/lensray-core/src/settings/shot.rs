@@ -63,6 +63,8 @@ pub enum SettingsError {
     NoiseThreshold(f64),
     #[error("fps must be a positive number up to 1000, got {0}")]
     Fps(f64),
+    #[error("{0} must be a finite number, got {1}")]
+    NotANumber(String, f64),
 }
 
 /// What chose a shot's focus distance, for an error that no image forms there.
@@ -178,6 +180,9 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
     // A still does not use the rate, but a bad one is still a mistake to name.
     super::keyframe::fps(settings)?;
+    if let Some((key, value)) = super::finite::first_not_finite(settings) {
+        return Err(SettingsError::NotANumber(key, value));
+    }
     let c = &settings.camera;
     let real_lens = prescription(c)?;
     let vfov_degrees = framing_vfov_degrees(c, real_lens.as_ref());

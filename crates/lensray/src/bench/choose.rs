@@ -50,6 +50,8 @@ pub fn paths_to_run(
         }
         .device_to_use("--paths")?;
     }
+    // A named path that cannot sample adaptively is refused before a device is opened.
+    refuse_named_unadaptive(options, shot)?;
     let cpu = Choice::Only(PathKind::Cpu);
     let wants_gpu = device != Choice::Only(DeviceKind::Cpu)
         && (options.paths.is_empty() || options.paths.iter().any(|p| *p != cpu));
@@ -102,7 +104,7 @@ pub fn paths_to_run(
         };
         kinds.push(kind);
     }
-    adaptive_only(&mut kinds, options, shot, log)?;
+    adaptive_only(&mut kinds, shot, log)?;
     let mut seen = Vec::new();
     kinds.retain(|k| {
         let new = !seen.contains(k);
@@ -115,14 +117,9 @@ pub fn paths_to_run(
     Ok(kinds)
 }
 
-/// With adaptive sampling (`shot`'s noise threshold), the paths that sample adaptively: one
-/// named that cannot is an error, the others are left out with a notice.
-fn adaptive_only(
-    kinds: &mut Vec<PathKind>,
-    options: &BenchOptions,
-    shot: &Shot,
-    log: &mut dyn FnMut(&str),
-) -> Result<()> {
+/// With adaptive sampling (`shot`'s noise threshold), a path named in `--paths` that cannot is
+/// an error.
+fn refuse_named_unadaptive(options: &BenchOptions, shot: &Shot) -> Result<()> {
     if shot.render.noise_threshold.is_none() || shot.render.shading.is_aov() {
         return Ok(());
     }
@@ -132,6 +129,16 @@ fn adaptive_only(
         .next()
     {
         bail!("--paths {kind} does not sample adaptively (--noise-threshold): {why}");
+    }
+    Ok(())
+}
+
+/// With adaptive sampling (`shot`'s noise threshold), the paths that sample adaptively: those
+/// that cannot are left out with a notice (one named is refused before, by
+/// `refuse_named_unadaptive`).
+fn adaptive_only(kinds: &mut Vec<PathKind>, shot: &Shot, log: &mut dyn FnMut(&str)) -> Result<()> {
+    if shot.render.noise_threshold.is_none() || shot.render.shading.is_aov() {
+        return Ok(());
     }
     let refused: Vec<&str> = kinds
         .iter()

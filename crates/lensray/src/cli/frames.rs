@@ -167,7 +167,7 @@ fn png_is_complete(path: &Path, width: u32, height: u32) -> Option<bool> {
     if !bytes.ends_with(&PNG_END) {
         return Some(false);
     }
-    let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png).ok()?;
+    let image = lensray_core::image_file::decode_bytes(&bytes).ok()?;
     Some((image.width(), image.height()) == (width, height))
 }
 

@@ -170,7 +170,8 @@ impl VideoEncoder {
     /// Adds a frame read back from its complete file (`--resume`): a PNG's bytes as they are;
     /// an EXR, its exposure's scale undone, as the PNG writer would show it.
     pub fn push_file(&mut self, file: &Path, shading: Shading, exposure: &Exposure) -> Result<()> {
-        let decoded = image::open(file)
+        let decoded = lensray_core::image_file::decode_file(file)
+            .map_err(anyhow::Error::msg)
             .with_context(|| format!("--video: reading back {}", file.display()))?;
         let is_exr = file
             .extension()

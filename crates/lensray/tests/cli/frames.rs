@@ -10,14 +10,13 @@ use crate::{assert_rejected, lensray, render_args, stderr};
 
 /// The spheres scene with a focus pull from 3 m to 12 m over frames 1 to 6, eased.
 pub(crate) fn pull_scene(dir: &Path, keyframes: &str) -> PathBuf {
-    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/spheres/spheres.obj");
+    let mesh = crate::spheres_beside(dir);
     let text = format!(
         "mesh = {mesh:?}\n\
          [camera]\neye = [0.0, 1.2, 6.5]\ntarget = [0.0, 0.4, 0.0]\nvfov_degrees = 40.0\n\
          aperture_radius = 0.3\nfocus_distance = 6.5\n\
          [render]\nshading = \"lit\"\nbackground = [0.5, 0.65, 0.85]\n\
          [light]\nposition = [3.0, 8.0, 6.0]\nintensity = [300.0, 300.0, 300.0]\n{keyframes}",
-        mesh = mesh.to_str().unwrap()
     );
     let path = dir.join("pull.toml");
     fs::write(&path, text).unwrap();

@@ -13,14 +13,13 @@ use crate::{lensray, render_args, stderr};
 
 /// The spheres at 48x32, lit, with `keyframes` over frames 1 to 3.
 fn keyed_scene(dir: &Path, keyframes: &str) -> String {
-    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/spheres/spheres.obj");
+    let mesh = crate::spheres_beside(dir);
     let text = format!(
         "mesh = {mesh:?}\n\
          [camera]\neye = [0.0, 1.2, 6.5]\ntarget = [0.0, 0.4, 0.0]\nvfov_degrees = 40.0\n\
          focus_distance = 6.5\n\
          [render]\nshading = \"lit\"\nbackground = [0.5, 0.65, 0.85]\n\
          [light]\nposition = [3.0, 8.0, 6.0]\nintensity = [300.0, 300.0, 300.0]\n{keyframes}",
-        mesh = mesh.to_str().unwrap()
     );
     let path = dir.join("keyed.toml");
     fs::write(&path, text).unwrap();

@@ -6,11 +6,14 @@ use crate::{assert_rejected, lensray, render_args, stderr};
 
 #[test]
 fn bad_numbers_are_rejected_with_one_line() {
-    assert_rejected(&["--vfov", "nan"], "field of view");
+    assert_rejected(
+        &["--vfov", "nan"],
+        "camera.vfov_degrees must be a finite number",
+    );
     assert_rejected(&["--vfov", "0"], "field of view");
     assert_rejected(&["--vfov", "180"], "field of view");
     assert_rejected(&["--aperture-radius", "-0.1"], "aperture");
-    assert_rejected(&["--aperture-radius", "inf"], "aperture");
+    assert_rejected(&["--aperture-radius", "inf"], "aperture_radius");
     assert_rejected(&["--focus-distance", "-2"], "focus distance");
     assert_rejected(&["--focus-distance", "0"], "focus distance");
     assert_rejected(
@@ -61,8 +64,8 @@ fn bad_aperture_shapes_are_rejected_with_one_line() {
     );
     assert_rejected(&["--aperture-roundness", "-0.1"], "roundness");
     assert_rejected(&["--aperture-aspect", "0"], "aperture aspect");
-    assert_rejected(&["--aperture-aspect", "nan"], "aperture aspect");
-    assert_rejected(&["--aperture-rotation", "inf"], "aperture rotation");
+    assert_rejected(&["--aperture-aspect", "nan"], "aperture.aspect");
+    assert_rejected(&["--aperture-rotation", "inf"], "aperture.rotation");
     // Aperture images: all black, missing, not an image, not PNG or EXR, beside blades.
     let images = tempfile::tempdir().unwrap();
     let path = |name: &str| images.path().join(name).to_str().unwrap().to_owned();
@@ -197,4 +200,55 @@ fn bad_mesh_options_are_rejected_with_one_line() {
         dir.path(),
     );
     assert!(out.status.success(), "{}", stderr(&out));
+}
+
+/// Every option of `render` that takes numbers refuses NaN and infinity in one line. The
+/// options are found by their values' types, so one added later is tried without naming it.
+#[test]
+fn every_number_option_refuses_nan_and_infinity() {
+    use std::any::TypeId;
+    let command = <lensray::cli::render::RenderArgs as clap::Args>::augment_args(
+        clap::Command::new("render"),
+    );
+    let mut tried = Vec::new();
+    for arg in command.get_arguments() {
+        let id = arg.get_value_parser().type_id();
+        let bad = if id == TypeId::of::<f64>() || id == TypeId::of::<f32>() {
+            ["nan", "inf"].map(String::from)
+        } else if id == TypeId::of::<[f64; 2]>() {
+            ["0,nan", "-inf,0"].map(String::from)
+        } else if id == TypeId::of::<[f64; 3]>()
+            || id == TypeId::of::<lensray_core::settings::EnvironmentSetting>()
+        {
+            ["0,NaN,1", "1,1,inf"].map(String::from)
+        } else {
+            continue;
+        };
+        let long = arg.get_long().expect("a number option has a long name");
+        for value in &bad {
+            let option = format!("--{long}");
+            // Each is refused: by its own check (naming the option) or the one over all
+            // settings (naming the key, `environment_rotation` for `--environment-rotation`).
+            let key = long.replace('-', "_");
+            let out = crate::lensray(
+                &crate::render_args(&[&option, value, "--out", "out.png"]),
+                tempfile::tempdir().unwrap().path(),
+            );
+            let err = stderr(&out);
+            let lines = err.lines().filter(|l| !l.trim().is_empty()).count();
+            let names = err.contains(&key) || err.contains(long) || err.contains("finite");
+            assert!(
+                !out.status.success() && lines == 1 && names && !err.contains("panicked"),
+                "{option} {value}: exit {:?}, {lines} lines: {err}",
+                out.status.code()
+            );
+        }
+        tried.push(long);
+    }
+    println!("refused NaN and infinity: {}", tried.join(", "));
+    assert!(
+        tried.len() >= 30,
+        "only {} number options found",
+        tried.len()
+    );
 }

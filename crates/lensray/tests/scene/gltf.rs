@@ -422,3 +422,51 @@ fn broken_gltf_files_are_one_line_errors() {
     let e = load_err(&d.join("cut.glb"), "cut.glb");
     assert!(matches!(e, SceneError::Gltf { .. }), "{e:?}");
 }
+
+/// A node hierarchy is walked without recursion: a cycle and a node with two parents are one
+/// line naming the nodes, and a chain 100 000 nodes deep loads.
+#[test]
+fn node_cycles_and_deep_hierarchies_are_walked_without_recursion() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cases = [
+        (
+            "cycle.gltf",
+            r#"[{"mesh": 0, "children": [1]}, {"children": [2]}, {"children": [1]}]"#,
+            "the node hierarchy has a cycle: nodes 1 -> 2 -> 1",
+        ),
+        (
+            "self.gltf",
+            r#"[{"mesh": 0, "children": [0]}]"#,
+            "the node hierarchy has a cycle: nodes 0 -> 0",
+        ),
+        (
+            "shared.gltf",
+            r#"[{"children": [1, 2]}, {"children": [3]}, {"children": [3]}, {"mesh": 0}]"#,
+            "node 3 is reached twice",
+        ),
+    ];
+    for (name, nodes, says) in cases {
+        let e = load_err(&write_gltf(d, name, nodes, TRIANGLE, ""), name);
+        assert!(matches!(e, SceneError::Gltf { .. }), "{e:?}");
+        assert!(e.to_string().contains(says), "{name}: {e}");
+        assert!(!e.to_string().contains('\n'), "{e}");
+    }
+
+    let depth = 100_000;
+    let mut nodes: Vec<String> = (1..depth)
+        .map(|i| format!(r#"{{"children": [{i}], "translation": [0.0, 0.0, -1e-5]}}"#))
+        .collect();
+    nodes.push(r#"{"mesh": 0}"#.into());
+    let path = write_gltf(
+        d,
+        "deep.gltf",
+        &format!("[{}]", nodes.join(",")),
+        TRIANGLE,
+        "",
+    );
+    let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+    let z = file.scene.meshes[0].positions[0].z;
+    println!("the deepest node's triangle at z = {z} (expected -1)");
+    assert!((z + 1.0).abs() < 1e-3, "z = {z}");
+}

@@ -46,12 +46,8 @@ impl EnvironmentMap {
             path: path.to_owned(),
             message,
         };
-        let image = image::ImageReader::open(path)
-            .map_err(|e| unreadable(e.to_string()))?
-            .with_guessed_format()
-            .map_err(|e| unreadable(e.to_string()))?
-            .decode()
-            .map_err(|e| unreadable(e.to_string()))?
+        let image = crate::image_file::decode_file(path)
+            .map_err(unreadable)?
             .into_rgb32f();
         let (width, height) = image.dimensions();
         if width != 2 * height || height == 0 {

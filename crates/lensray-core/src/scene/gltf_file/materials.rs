@@ -18,6 +18,7 @@ use glam::{Affine2, Vec2, Vec3};
 use gltf::texture::WrappingMode;
 
 use super::nodes::Walk;
+use crate::scene::reads::named_file;
 use crate::scene::texture::{decode_texture, Encoding, TextureRef, Wrap, TEXCOORD_SETS};
 use crate::scene::{AlphaMode, Material};
 
@@ -198,7 +199,13 @@ impl Walk<'_> {
             .name()
             .map_or_else(|| format!("image {i}"), str::to_string);
         let bytes = match self.image_bytes(image) {
-            Ok(bytes) => bytes,
+            Ok((bytes, note)) => {
+                // Once per image: the sRGB and the linear decode read the same file.
+                if self.images[i][1 - e].is_none() {
+                    self.out.notices.extend(note);
+                }
+                bytes
+            }
             Err(Missing::File(e)) => {
                 self.out
                     .notices
@@ -217,8 +224,9 @@ impl Walk<'_> {
         Ok(Some(id))
     }
 
-    /// The encoded bytes of `image`.
-    fn image_bytes(&self, image: &gltf::Image) -> Result<Vec<u8>, Missing> {
+    /// The encoded bytes of `image`, and the note a file outside the glTF's folder is read
+    /// with.
+    fn image_bytes(&self, image: &gltf::Image) -> Result<(Vec<u8>, Option<String>), Missing> {
         let what = format!("image {}", image.index());
         match image.source() {
             gltf::image::Source::View { view, .. } => {
@@ -228,7 +236,7 @@ impl Walk<'_> {
                     .map_or(&[][..], Vec::as_slice);
                 buffer
                     .get(view.offset()..view.offset() + view.length())
-                    .map(<[u8]>::to_vec)
+                    .map(|bytes| (bytes.to_vec(), None))
                     .ok_or_else(|| {
                         let view = view.index();
                         Missing::Broken(format!("{what}: buffer view {view} is past its buffer"))
@@ -251,24 +259,28 @@ pub(super) enum ImageSlot {
 
 /// Why an image's bytes are not there: a file that cannot be read (a warning), or a broken
 /// reference (an error).
-enum Missing {
+pub(super) enum Missing {
     File(String),
     Broken(String),
 }
 
-/// The bytes a glTF URI names: a base64 data URI or a percent-encoded path relative to `base`.
-fn read_uri(uri: &str, base: &Path) -> Result<Vec<u8>, Missing> {
+/// The bytes a glTF URI names: a base64 data URI or a percent-encoded path relative to `base`
+/// (`scene::reads`: refused outside the assets root, noted outside `base`), and the note.
+pub(super) fn read_uri(uri: &str, base: &Path) -> Result<(Vec<u8>, Option<String>), Missing> {
     if let Some(data) = uri.strip_prefix("data:") {
         let (_, payload) = data
             .split_once(";base64,")
             .ok_or(Missing::Broken("a data URI without base64 content".into()))?;
         return base64::engine::general_purpose::STANDARD
             .decode(payload)
+            .map(|bytes| (bytes, None))
             .map_err(|e| Missing::Broken(format!("bad base64: {e}")));
     }
     let path = urlencoding::decode(uri).map_err(|e| Missing::Broken(e.to_string()))?;
-    let path = base.join(path.as_ref());
-    std::fs::read(&path).map_err(|e| Missing::File(format!("cannot read {}: {e}", path.display())))
+    let file = named_file(base, Path::new(path.as_ref())).map_err(Missing::Broken)?;
+    let bytes = std::fs::read(&file.path)
+        .map_err(|e| Missing::File(format!("cannot read {}: {e}", file.path.display())))?;
+    Ok((bytes, file.note))
 }
 
 /// A URI short enough for a message (data URIs are long).

@@ -19,8 +19,6 @@
 use std::path::Path;
 use std::time::Instant;
 
-use glam::DMat4;
-
 use super::file_camera::FileCamera;
 use super::{LoadTimes, Scene, SceneError};
 
@@ -29,6 +27,8 @@ mod animation;
 mod layers;
 mod materials;
 mod nodes;
+
+use materials::Missing;
 
 /// Extensions this loader applies; a file requiring any other is refused.
 const KNOWN_EXTENSIONS: [&str; 10] = [
@@ -85,14 +85,14 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
     let document = gltf::Document::from_json(json)
         .map_err(|e| bad(e.to_string().trim_end_matches(';').to_string()))?;
     let base = path.parent().unwrap_or(Path::new(""));
-    let buffers = read_buffers(&document, base, blob).map_err(bad)?;
+    let buffers = read_buffers(&document, base, blob, &mut notices).map_err(bad)?;
     let mut reader = nodes::Walk::new(&buffers, base, &document);
     let scene = document
         .default_scene()
         .or_else(|| document.scenes().next())
         .ok_or_else(|| bad("the file has no scene".into()))?;
     for node in scene.nodes() {
-        reader.node(&node, DMat4::IDENTITY).map_err(bad)?;
+        reader.tree(node).map_err(bad)?;
     }
     let mut out = reader.finish(&document);
     notices.append(&mut out.notices);
@@ -131,6 +131,7 @@ fn read_buffers(
     document: &gltf::Document,
     base: &Path,
     mut blob: Option<Vec<u8>>,
+    notices: &mut Vec<String>,
 ) -> Result<Vec<Vec<u8>>, String> {
     document
         .buffers()
@@ -144,9 +145,22 @@ fn read_buffers(
                 }
                 gltf::buffer::Source::Uri(uri) => format!("buffer {} ({uri})", buffer.index()),
             };
-            let data =
-                gltf::buffer::Data::from_source_and_blob(buffer.source(), Some(base), &mut blob)
-                    .map_err(|e| format!("{name}: {e}"))?;
+            let data = match buffer.source() {
+                gltf::buffer::Source::Bin => {
+                    gltf::buffer::Data::from_source_and_blob(buffer.source(), None, &mut blob)
+                        .map_err(|e| format!("{name}: {e}"))?
+                        .0
+                }
+                gltf::buffer::Source::Uri(uri) => match materials::read_uri(uri, base) {
+                    Ok((bytes, note)) => {
+                        notices.extend(note);
+                        bytes
+                    }
+                    Err(Missing::File(e) | Missing::Broken(e)) => {
+                        return Err(format!("{name}: {e}"))
+                    }
+                },
+            };
             if data.len() < buffer.length() {
                 return Err(format!(
                     "{name} has {} bytes, fewer than its byteLength {}",
@@ -154,7 +168,7 @@ fn read_buffers(
                     buffer.length()
                 ));
             }
-            Ok(data.0)
+            Ok(data)
         })
         .collect()
 }

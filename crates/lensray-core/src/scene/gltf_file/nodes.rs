@@ -20,6 +20,10 @@ pub(super) struct Walk<'a> {
     pub document: &'a gltf::Document,
     /// The nodes from the scene root down to the node being read (an animated camera's chain).
     pub chain: Vec<usize>,
+    /// The nodes already read, so that a node reached twice is refused rather than walked again.
+    visited: Vec<bool>,
+    /// Whether each node is on `chain`, so that a cycle is found without searching it.
+    on_chain: Vec<bool>,
     /// The animations that move a camera, by index.
     pub camera_animations: Vec<usize>,
     /// Where image files named by URI are.
@@ -49,6 +53,8 @@ impl<'a> Walk<'a> {
             buffers,
             document,
             chain: Vec::new(),
+            visited: vec![false; document.nodes().len()],
+            on_chain: vec![false; document.nodes().len()],
             camera_animations: Vec::new(),
             base,
             out: MeshFile::default(),
@@ -60,12 +66,51 @@ impl<'a> Walk<'a> {
         }
     }
 
-    /// Adds `node` and its subtree under `world_from_parent`.
-    pub(super) fn node(
-        &mut self,
-        node: &gltf::Node,
-        world_from_parent: DMat4,
-    ) -> Result<(), String> {
+    /// Adds the tree under the scene root `root`. The walk keeps its own stack: a file's
+    /// hierarchy may be deep, and a cycle or a node with two parents is refused in one line.
+    pub(super) fn tree(&mut self, root: gltf::Node) -> Result<(), String> {
+        let mut stack = vec![(root, DMat4::IDENTITY, 0)];
+        while let Some((node, world_from_parent, depth)) = stack.pop() {
+            while self.chain.len() > depth {
+                let left = self.chain.pop().expect("the chain is longer than depth");
+                self.on_chain[left] = false;
+            }
+            let index = node.index();
+            if self.on_chain[index] {
+                let at = self.chain.iter().position(|&n| n == index).unwrap_or(0);
+                let cycle: Vec<String> = self.chain[at..]
+                    .iter()
+                    .chain([&index])
+                    .map(|n| n.to_string())
+                    .collect();
+                return Err(format!(
+                    "the node hierarchy has a cycle: nodes {}",
+                    cycle.join(" -> ")
+                ));
+            }
+            if std::mem::replace(&mut self.visited[index], true) {
+                return Err(format!(
+                    "node {index} is reached twice (a child of two nodes, or a scene root and a \
+                     child); glTF's node hierarchy is a set of trees"
+                ));
+            }
+            let world_from_node = self.node(&node, world_from_parent)?;
+            self.on_chain[index] = true;
+            // Pushed last to first, so that the children are read in the file's order.
+            let children: Vec<gltf::Node> = node.children().collect();
+            for child in children.into_iter().rev() {
+                stack.push((child, world_from_node, depth + 1));
+            }
+        }
+        for left in self.chain.drain(..) {
+            self.on_chain[left] = false;
+        }
+        Ok(())
+    }
+
+    /// Adds `node` itself under `world_from_parent`, leaves it last on the chain, and returns
+    /// its world transform.
+    fn node(&mut self, node: &gltf::Node, world_from_parent: DMat4) -> Result<DMat4, String> {
         let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         let world_from_node = world_from_parent * local;
         if !world_from_node.is_finite() {
@@ -97,11 +142,7 @@ impl<'a> Walk<'a> {
                 .map_err(|e| format!("node {}: {e}", node.index()))?;
             self.out.scene.lights.push(light);
         }
-        for child in node.children() {
-            self.node(&child, world_from_node)?;
-        }
-        self.chain.pop();
-        Ok(())
+        Ok(world_from_node)
     }
 
     /// Adds one primitive of `mesh` at `node` as a mesh in world space.

@@ -52,7 +52,7 @@ impl<'a> TextureFiles<'a> {
         kind: Kind,
         material: &str,
     ) -> Result<Option<TextureRef>, SceneError> {
-        let path = dir.join(file_name(value));
+        let path = self.named(dir, value)?;
         if let Some(&known) = self.read.get(&(path.clone(), kind)) {
             return Ok(known.map(TextureRef::new));
         }
@@ -86,6 +86,21 @@ impl<'a> TextureFiles<'a> {
 }
 
 impl TextureFiles<'_> {
+    /// The path of the image file of map statement value `value` in `dir` (`scene::reads`:
+    /// refused outside the assets root; noted once outside `dir`).
+    fn named(&mut self, dir: &Path, value: &str) -> Result<PathBuf, SceneError> {
+        let file = crate::scene::reads::named_file(dir, Path::new(&file_name(value))).map_err(
+            |message| SceneError::Confined {
+                by: self.obj.to_path_buf(),
+                message,
+            },
+        )?;
+        if !self.read.keys().any(|(p, _)| *p == file.path) {
+            self.notices.extend(file.note);
+        }
+        Ok(file.path)
+    }
+
     /// The metallic-roughness texture of `map_Pr` (`roughness`) and `map_Pm` (`metallic`)
     /// statement values, relative to `dir`: G the roughness image's red channel, B the metallic
     /// image's (resized to the roughness image's size where they differ), 1 where a map is
@@ -147,7 +162,7 @@ impl TextureFiles<'_> {
         let Some(value) = value else {
             return Ok(None);
         };
-        let path = dir.join(file_name(value));
+        let path = self.named(dir, value)?;
         let bytes = match std::fs::read(&path) {
             Ok(bytes) => bytes,
             Err(e) => {

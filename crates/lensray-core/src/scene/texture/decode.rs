@@ -60,11 +60,8 @@ pub fn coverage_from_image(
 }
 
 fn decode(bytes: &[u8]) -> Result<image::DynamicImage, String> {
-    let image = image::load_from_memory(bytes).map_err(|e| e.to_string())?;
+    let image = crate::image_file::decode_bytes(bytes)?;
     let (w, h) = (image.width(), image.height());
-    if w == 0 || h == 0 {
-        return Err("the image is empty".into());
-    }
     if w > MAX_SIZE || h > MAX_SIZE {
         return Err(format!(
             "the image is {w} x {h} pixels; lensray reads textures up to {MAX_SIZE} on a side"

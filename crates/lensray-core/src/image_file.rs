@@ -1,0 +1,86 @@
+//! Image files from bytes nobody here wrote (textures, environment maps, aperture images): the
+//! size a file declares is read from its header and checked before a pixel is decoded, so a
+//! small, highly compressible file declaring a huge image is refused at once rather than
+//! allocated.
+
+use std::io::{BufRead, Cursor, Seek};
+use std::path::Path;
+
+use image::{DynamicImage, ImageDecoder, ImageReader, Limits};
+
+/// The most pixels lensray decodes from one image file: 2^26, that is 8192 x 8192, or a 2:1
+/// environment map up to 11584 x 5792 (docs/limits.md).
+pub const MAX_IMAGE_PIXELS: u64 = 1 << 26;
+
+/// What a decoder may allocate: the largest image at four 32-bit floats a pixel, with room for
+/// a decoder's own buffers.
+const MAX_DECODE_BYTES: u64 = MAX_IMAGE_PIXELS * 16 + (64 << 20);
+
+/// Decodes an image file's contents; the error says why in a few words.
+pub fn decode_bytes(bytes: &[u8]) -> Result<DynamicImage, String> {
+    let reader = ImageReader::new(Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    decode(reader)
+}
+
+/// Decodes the image file at `path`, its format from its contents or else its extension; the
+/// error says why in a few words (without the path).
+pub fn decode_file(path: &Path) -> Result<DynamicImage, String> {
+    let reader = ImageReader::open(path)
+        .map_err(|e| e.to_string())?
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    decode(reader)
+}
+
+fn decode<R: BufRead + Seek>(mut reader: ImageReader<R>) -> Result<DynamicImage, String> {
+    let mut limits = Limits::default();
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    reader.limits(limits);
+    let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
+    let (width, height) = decoder.dimensions();
+    check_size(width, height)?;
+    DynamicImage::from_decoder(decoder).map_err(|e| e.to_string())
+}
+
+/// Refuses a size of no pixels or of more than [`MAX_IMAGE_PIXELS`].
+fn check_size(width: u32, height: u32) -> Result<(), String> {
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels == 0 {
+        return Err(format!("the image declares {width} x {height} pixels"));
+    }
+    if pixels > MAX_IMAGE_PIXELS {
+        return Err(format!(
+            "the image declares {width} x {height} pixels ({:.0} million); lensray decodes \
+             images up to {} million pixels (8192 x 8192)",
+            pixels as f64 / 1e6,
+            MAX_IMAGE_PIXELS / 1_000_000
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A Radiance HDR file whose header declares `width` x `height` pixels, with no pixels
+    /// after it: what a decompression bomb's header says, in a few bytes.
+    fn declared_hdr(width: u32, height: u32) -> Vec<u8> {
+        format!("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n").into_bytes()
+    }
+
+    /// A file declaring more than the limit is refused from its header, naming its size; a
+    /// small one decodes.
+    #[test]
+    fn an_image_past_the_limit_is_refused_from_its_header() {
+        let e = decode_bytes(&declared_hdr(12_000, 6_000)).expect_err("72 million pixels");
+        assert!(e.contains("12000 x 6000 pixels (72 million)"), "{e}");
+        assert!(e.contains("up to 67 million"), "{e}");
+        let mut small = declared_hdr(2, 1);
+        small.extend([128, 64, 32, 129, 1, 2, 3, 128]);
+        let fine = decode_bytes(&small).expect("a small image decodes");
+        assert_eq!((fine.width(), fine.height()), (2, 1));
+    }
+}
