@@ -9,7 +9,7 @@ use std::path::Path;
 use image::{DynamicImage, ImageDecoder, ImageReader, Limits};
 
 /// The most pixels lensray decodes from one image file: 2^26, that is 8192 x 8192, or a 2:1
-/// environment map up to 11584 x 5792 (docs/limits.md).
+/// environment map up to 11584 x 5792 (docs/untrusted.md).
 pub const MAX_IMAGE_PIXELS: u64 = 1 << 26;
 
 /// What a decoder may allocate: the largest image at four 32-bit floats a pixel, with room for

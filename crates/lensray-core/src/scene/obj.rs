@@ -152,19 +152,21 @@ fn parse(
     };
     let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &options, |mtl: &Path| {
         // tobj's callback must return a tobj error; the real one travels beside it.
-        let loaded = match super::reads::named_file(dir, mtl) {
+        let library = match super::reads::named_file(dir, mtl) {
             Ok(file) => {
                 mtl_notices.borrow_mut().extend(file.note);
-                Ok(file.path)
+                file.path
             }
-            Err(message) => Err(SceneError::Confined {
-                by: path.to_path_buf(),
-                message,
-            }),
+            Err(message) => {
+                let by = path.to_path_buf();
+                mtl_error
+                    .borrow_mut()
+                    .get_or_insert(SceneError::Confined { by, message });
+                return Err(tobj::LoadError::OpenFileFailed);
+            }
         };
-        let library = loaded.as_ref().map_or_else(|_| dir.join(mtl), Clone::clone);
-        let loaded =
-            loaded.and_then(|library| load_mtl(&library, path, &mut mtl_notices.borrow_mut()));
+        // Bound first: the notices' borrow ends here, before the arms borrow them again.
+        let loaded = load_mtl(&library, path, &mut mtl_notices.borrow_mut());
         match loaded {
             Ok(result) => {
                 if let Ok((materials, _)) = &result {

@@ -11,14 +11,11 @@
 //! and once as data, from a buffer view, a data URI or a file beside the glTF; a missing file
 //! is reported once.
 
-use std::path::Path;
-
-use base64::Engine;
 use glam::{Affine2, Vec2, Vec3};
 use gltf::texture::WrappingMode;
 
 use super::nodes::Walk;
-use crate::scene::reads::named_file;
+use super::{read_uri, Missing};
 use crate::scene::texture::{decode_texture, Encoding, TextureRef, Wrap, TEXCOORD_SETS};
 use crate::scene::{AlphaMode, Material};
 
@@ -255,32 +252,6 @@ impl Walk<'_> {
 pub(super) enum ImageSlot {
     Texture(u32),
     Missing,
-}
-
-/// Why an image's bytes are not there: a file that cannot be read (a warning), or a broken
-/// reference (an error).
-pub(super) enum Missing {
-    File(String),
-    Broken(String),
-}
-
-/// The bytes a glTF URI names: a base64 data URI or a percent-encoded path relative to `base`
-/// (`scene::reads`: refused outside the assets root, noted outside `base`), and the note.
-pub(super) fn read_uri(uri: &str, base: &Path) -> Result<(Vec<u8>, Option<String>), Missing> {
-    if let Some(data) = uri.strip_prefix("data:") {
-        let (_, payload) = data
-            .split_once(";base64,")
-            .ok_or(Missing::Broken("a data URI without base64 content".into()))?;
-        return base64::engine::general_purpose::STANDARD
-            .decode(payload)
-            .map(|bytes| (bytes, None))
-            .map_err(|e| Missing::Broken(format!("bad base64: {e}")));
-    }
-    let path = urlencoding::decode(uri).map_err(|e| Missing::Broken(e.to_string()))?;
-    let file = named_file(base, Path::new(path.as_ref())).map_err(Missing::Broken)?;
-    let bytes = std::fs::read(&file.path)
-        .map_err(|e| Missing::File(format!("cannot read {}: {e}", file.path.display())))?;
-    Ok((bytes, file.note))
 }
 
 /// A URI short enough for a message (data URIs are long).

@@ -19,6 +19,8 @@
 use std::path::Path;
 use std::time::Instant;
 
+use base64::Engine;
+
 use super::file_camera::FileCamera;
 use super::{LoadTimes, Scene, SceneError};
 
@@ -27,8 +29,6 @@ mod animation;
 mod layers;
 mod materials;
 mod nodes;
-
-use materials::Missing;
 
 /// Extensions this loader applies; a file requiring any other is refused.
 const KNOWN_EXTENSIONS: [&str; 10] = [
@@ -151,7 +151,7 @@ fn read_buffers(
                         .map_err(|e| format!("{name}: {e}"))?
                         .0
                 }
-                gltf::buffer::Source::Uri(uri) => match materials::read_uri(uri, base) {
+                gltf::buffer::Source::Uri(uri) => match read_uri(uri, base) {
                     Ok((bytes, note)) => {
                         notices.extend(note);
                         bytes
@@ -171,4 +171,30 @@ fn read_buffers(
             Ok(data)
         })
         .collect()
+}
+
+/// Why an image's bytes are not there: a file that cannot be read (a warning), or a broken
+/// reference (an error).
+enum Missing {
+    File(String),
+    Broken(String),
+}
+
+/// The bytes a glTF URI names: a base64 data URI or a percent-encoded path relative to `base`
+/// (`scene::reads`: refused outside the assets root, noted outside `base`), and the note.
+fn read_uri(uri: &str, base: &Path) -> Result<(Vec<u8>, Option<String>), Missing> {
+    if let Some(data) = uri.strip_prefix("data:") {
+        let (_, payload) = data
+            .split_once(";base64,")
+            .ok_or(Missing::Broken("a data URI without base64 content".into()))?;
+        return base64::engine::general_purpose::STANDARD
+            .decode(payload)
+            .map(|bytes| (bytes, None))
+            .map_err(|e| Missing::Broken(format!("bad base64: {e}")));
+    }
+    let path = urlencoding::decode(uri).map_err(|e| Missing::Broken(e.to_string()))?;
+    let file = super::reads::named_file(base, Path::new(path.as_ref())).map_err(Missing::Broken)?;
+    let bytes = std::fs::read(&file.path)
+        .map_err(|e| Missing::File(format!("cannot read {}: {e}", file.path.display())))?;
+    Ok((bytes, file.note))
 }
