@@ -71,6 +71,7 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
         path: path.to_path_buf(),
         reason,
     };
+    check_glb_header(&bytes).map_err(bad)?;
     // Extensions first, so that an unknown required one is named as such.
     let unchecked =
         gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| bad(e.to_string()))?;
@@ -82,6 +83,7 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
     let mut json = document.into_json();
     json.extensions_required
         .retain(|name| !READ_HERE_EXTENSIONS.contains(&name.as_str()));
+    check_positions(&json).map_err(bad)?;
     let document = gltf::Document::from_json(json)
         .map_err(|e| bad(e.to_string().trim_end_matches(';').to_string()))?;
     let base = path.parent().unwrap_or(Path::new(""));
@@ -108,6 +110,44 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
     }
     out.times.total = start.elapsed();
     Ok(out)
+}
+
+/// A GLB header whose length is shorter than the header itself, refused here: the `gltf` crate
+/// subtracts the header's size from it unchecked.
+fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
+    let length = bytes
+        .strip_prefix(b"glTF")
+        .and_then(|rest| rest.get(4..8))
+        .and_then(|field| field.try_into().ok())
+        .map(u32::from_le_bytes);
+    match length {
+        Some(length) if length < 12 => Err(format!(
+            "the GLB header gives the file's length as {length} bytes, less than the header's 12"
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// A primitive whose POSITION names no accessor, refused here: the `gltf` crate's validation
+/// reads that accessor's bounds before it checks the index.
+fn check_positions(json: &gltf::json::Root) -> Result<(), String> {
+    use gltf::json::mesh::Semantic;
+    use gltf::json::validation::Checked;
+    let accessors = json.accessors.len();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = primitive
+                .attributes
+                .get(&Checked::Valid(Semantic::Positions));
+            if let Some(index) = position.filter(|index| index.value() >= accessors) {
+                return Err(format!(
+                    "mesh {m} primitive {p}: POSITION names accessor {}, and the file has {accessors}",
+                    index.value()
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// An error for a required extension lensray does not apply; a notice for used ones.
