@@ -5,7 +5,8 @@
 # fuzz/artifacts/TARGET/ (add it to fuzz/regressions/TARGET/ once fixed).
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   CI runs 20 s each (.ci/run)
 #   scripts/fuzz.sh --merge [TARGET...]                 minimizes fuzz/corpus/ with the new finds
-# Environment: FUZZ_TARGET_DIR (default fuzz/target).
+# Environment: FUZZ_TARGET_DIR (default fuzz/target); FUZZ_FLAGS, more libFuzzer flags (a long
+# campaign: "-fork=1 -ignore_crashes=1" goes on past a crash, saving each).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -32,6 +33,10 @@ cargo build --manifest-path fuzz/Cargo.toml --release --quiet --target "$host" \
   --target-dir "$target_dir" "${bins[@]}"
 echo "fuzz: built in $(( $(date +%s) - start )) s"
 bin_dir=$target_dir/$host/release
+# Where the targets write each input's files; removed on exit.
+LENSRAY_FUZZ_DIR=$(mktemp -d -p /dev/shm lensray-fuzz.XXXXXX 2>/dev/null || mktemp -d)
+export LENSRAY_FUZZ_DIR
+trap 'rm -rf "$LENSRAY_FUZZ_DIR"' EXIT
 
 # What stops a run: an input that runs 10 s, or the process past 2 GiB. Inputs stay under
 # 12 kB, so the checked-in corpus stays small.
@@ -48,7 +53,8 @@ for t in "${targets[@]}"; do
     merged=$(mktemp -d)
     extra=()
     for d in "fuzz/new/$t" "fuzz/seeds/$t"; do [ -d "$d" ] && extra+=("$d"); done
-    "$bin_dir/$t" -merge=1 "${limits[@]}" "$merged" "$corpus" "${extra[@]}" 2>&1 | grep -E '^MERGE-OUTER: [0-9]+ new files' || true
+    # Edges only (no hit counts), so the checked-in corpus stays small.
+    "$bin_dir/$t" -merge=1 -use_counters=0 "${limits[@]}" "$merged" "$corpus" "${extra[@]}" 2>&1 | grep -E '^MERGE-OUTER: [0-9]+ new files' || true
     rm -rf "$corpus" && mkdir -p "$corpus" && cp "$merged"/* "$corpus"/ && rm -rf "$merged"
     echo "fuzz: $t corpus: $(ls "$corpus" | wc -l) files, $(du -s --apparent-size -k "$corpus" | cut -f1) KiB"
     continue
@@ -61,8 +67,9 @@ for t in "${targets[@]}"; do
   echo "== fuzz: $t for $seconds s"
   status=0
   "$bin_dir/$t" "$new" "$corpus" "$regressions" "${dict[@]}" "${limits[@]}" -max_total_time="$seconds" \
-    -artifact_prefix="$artifacts/" -print_final_stats=1 >"$log" 2>&1 || status=$?
+    -artifact_prefix="$artifacts/" -print_final_stats=1 ${FUZZ_FLAGS:-} >"$log" 2>&1 || status=$?
   grep -E '^(stat::number_of_executed_units|stat::average_exec_per_sec|stat::peak_rss_mb)|^Done ' "$log" || true
+  grep -E '^#[0-9]+: cov' "$log" | tail -1 || true
   if [ $status -ne 0 ]; then
     failed+=("$t")
     grep -E 'panicked|ERROR: libFuzzer|SUMMARY|Test unit written|deadly signal|timeout|out-of-memory' "$log" | head -20 || true

@@ -9,7 +9,7 @@ use libfuzzer_sys::{fuzz_mutator, fuzz_target, fuzzer_mutate};
 fuzz_target!(|data: &[u8]| lensray_fuzz::targets::gltf(data));
 
 fuzz_mutator!(|data: &mut [u8], size: usize, max_size: usize, seed: u32| {
-    if seed % 2 == 0 {
+    if seed.is_multiple_of(2) {
         if let Some(changed) = gltf_mutator::mutate(&data[..size], seed) {
             if changed.len() <= max_size {
                 data[..changed.len()].copy_from_slice(&changed);

@@ -62,7 +62,7 @@ impl<'a> Glb<'a> {
 
     fn with_json(&self, json: &[u8]) -> Vec<u8> {
         let mut chunk = json.to_vec();
-        while chunk.len() % 4 != 0 {
+        while !chunk.len().is_multiple_of(4) {
             chunk.push(b' ');
         }
         let total = 12 + 8 + chunk.len() + self.after.len();

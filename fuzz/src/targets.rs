@@ -24,8 +24,11 @@ use lensray_core::settings::{
     exposure, fps, light_scene, shot, CameraTimeline, EnvironmentSetting, Settings,
 };
 
+/// What a target runs on one input.
+pub type Target = fn(&[u8]);
+
 /// Each target's name (its folder under fuzz/corpus and fuzz/regressions) and what it runs.
-pub const TARGETS: [(&str, fn(&[u8])); 6] = [
+pub const TARGETS: [(&str, Target); 6] = [
     ("gltf", gltf),
     ("obj", obj),
     ("scene", scene),
@@ -156,17 +159,18 @@ fn safe_name(name: &[u8]) -> Option<PathBuf> {
         .then_some(path)
 }
 
-/// The process's folder for a fuzz input's files, on tmpfs where there is one. Scenes' reads
-/// are confined to it (`--assets-root`), so an input naming `/dev/zero` or another file of the
+/// The process's folder for a fuzz input's files: under `LENSRAY_FUZZ_DIR` (scripts/fuzz.sh
+/// makes one and removes it after), else on tmpfs where there is one. Scenes' reads are
+/// confined to it (`--assets-root`), so an input naming `/dev/zero` or another file of the
 /// machine reads nothing outside.
 fn folder() -> &'static Path {
     static FOLDER: OnceLock<PathBuf> = OnceLock::new();
     FOLDER.get_or_init(|| {
         let shm = Path::new("/dev/shm");
-        let base = if shm.is_dir() {
-            shm.to_path_buf()
-        } else {
-            std::env::temp_dir()
+        let base = match std::env::var_os("LENSRAY_FUZZ_DIR") {
+            Some(dir) => PathBuf::from(dir),
+            None if shm.is_dir() => shm.to_path_buf(),
+            None => std::env::temp_dir(),
         };
         let folder = base.join(format!("lensray-fuzz-{}", std::process::id()));
         fs::create_dir_all(&folder).expect("the fuzz folder is made");

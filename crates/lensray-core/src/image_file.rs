@@ -6,11 +6,17 @@
 use std::io::{BufRead, Cursor, Seek};
 use std::path::Path;
 
-use image::{DynamicImage, ImageDecoder, ImageReader, Limits};
+use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
 
 /// The most pixels lensray decodes from one image file: 2^26, that is 8192 x 8192, or a 2:1
 /// environment map up to 11584 x 5792 (docs/untrusted.md).
+#[cfg(not(fuzzing))]
 pub const MAX_IMAGE_PIXELS: u64 = 1 << 26;
+/// Under the fuzzers (`--cfg fuzzing`, scripts/fuzz.sh): 2^20 pixels. A few hundred bytes of
+/// JPEG can declare 50 million pixels, which their instrumented build takes over their 10 s
+/// limit to decode: a time-out that is no bug, and would stop every run that meets one.
+#[cfg(fuzzing)]
+pub const MAX_IMAGE_PIXELS: u64 = 1 << 20;
 
 /// What a decoder may allocate: the largest image at four 32-bit floats a pixel, with room for
 /// a decoder's own buffers.
@@ -18,6 +24,7 @@ const MAX_DECODE_BYTES: u64 = MAX_IMAGE_PIXELS * 16 + (64 << 20);
 
 /// Decodes an image file's contents; the error says why in a few words.
 pub fn decode_bytes(bytes: &[u8]) -> Result<DynamicImage, String> {
+    check_png_palette(bytes)?;
     let reader = ImageReader::new(Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| e.to_string())?;
@@ -27,11 +34,41 @@ pub fn decode_bytes(bytes: &[u8]) -> Result<DynamicImage, String> {
 /// Decodes the image file at `path`, its format from its contents or else its extension; the
 /// error says why in a few words (without the path).
 pub fn decode_file(path: &Path) -> Result<DynamicImage, String> {
-    let reader = ImageReader::open(path)
-        .map_err(|e| e.to_string())?
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?;
-    decode(reader)
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    check_png_palette(&bytes)?;
+    let mut reader = ImageReader::new(Cursor::new(bytes.as_slice()));
+    if let Ok(format) = ImageFormat::from_path(path) {
+        reader.set_format(format);
+    }
+    decode(reader.with_guessed_format().map_err(|e| e.to_string())?)
+}
+
+/// A PNG's palette (PLTE) of 1 to 256 RGB entries, checked before decoding: the `png` crate
+/// expands one whose length is no multiple of 3 past its end (a panic).
+fn check_png_palette(bytes: &[u8]) -> Result<(), String> {
+    const SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+    if !bytes.starts_with(SIGNATURE) {
+        return Ok(());
+    }
+    let mut at = SIGNATURE.len();
+    while let Some(head) = bytes.get(at..at + 8) {
+        let length = u32::from_be_bytes([head[0], head[1], head[2], head[3]]) as usize;
+        match &head[4..8] {
+            b"PLTE" if !length.is_multiple_of(3) || !(3..=768).contains(&length) => {
+                return Err(format!(
+                    "the PNG's palette (PLTE) is {length} bytes: 1 to 256 RGB entries are 3 to \
+                     768 bytes, a multiple of 3"
+                ))
+            }
+            b"IDAT" | b"IEND" => break,
+            _ => {}
+        }
+        at = match at.checked_add(length).and_then(|end| end.checked_add(12)) {
+            Some(next) => next,
+            None => break,
+        };
+    }
+    Ok(())
 }
 
 fn decode<R: BufRead + Seek>(mut reader: ImageReader<R>) -> Result<DynamicImage, String> {
@@ -82,5 +119,21 @@ mod tests {
         small.extend([128, 64, 32, 129, 1, 2, 3, 128]);
         let fine = decode_bytes(&small).expect("a small image decodes");
         assert_eq!((fine.width(), fine.height()), (2, 1));
+    }
+
+    /// A palette whose length is no multiple of 3 is refused in one line before the `png`
+    /// crate expands it (fuzz/regressions/image/ holds the whole file the fuzzer found).
+    #[test]
+    fn a_png_palette_of_a_partial_entry_is_refused() {
+        let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+        png.extend(13u32.to_be_bytes());
+        png.extend(b"IHDR");
+        png.extend([0, 0, 0, 2, 0, 0, 0, 1, 8, 3, 0, 0, 0]);
+        png.extend([0; 4]);
+        png.extend(4u32.to_be_bytes());
+        png.extend(b"PLTE");
+        png.extend([255, 0, 0, 255, 0, 0, 0, 0]);
+        let e = decode_bytes(&png).expect_err("4 bytes of palette");
+        assert!(e.contains("palette (PLTE) is 4 bytes"), "{e}");
     }
 }

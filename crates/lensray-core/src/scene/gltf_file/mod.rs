@@ -83,7 +83,7 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
     let mut json = document.into_json();
     json.extensions_required
         .retain(|name| !READ_HERE_EXTENSIONS.contains(&name.as_str()));
-    check_positions(&json).map_err(bad)?;
+    check_trusted(&json).map_err(bad)?;
     let document = gltf::Document::from_json(json)
         .map_err(|e| bad(e.to_string().trim_end_matches(';').to_string()))?;
     let base = path.parent().unwrap_or(Path::new(""));
@@ -128,8 +128,34 @@ fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
     }
 }
 
-/// A primitive whose POSITION names no accessor, refused here: the `gltf` crate's validation
-/// reads that accessor's bounds before it checks the index.
+/// What the `gltf` crate's validation takes on trust and its readers unwrap, refused here in
+/// one line: a primitive whose POSITION names no accessor (validation reads that accessor's
+/// bounds before it checks the index), an animation channel aimed at no node or at no
+/// property, an image without a URI or with a buffer view but no MIME type, and a camera
+/// without the projection its type names (validation asks for either projection).
+fn check_trusted(json: &gltf::json::Root) -> Result<(), String> {
+    check_positions(json)?;
+    check_channels(json)?;
+    check_images(json)?;
+    check_cameras(json)
+}
+
+fn check_cameras(json: &gltf::json::Root) -> Result<(), String> {
+    use gltf::json::camera::Type;
+    use gltf::json::validation::Checked;
+    for (i, camera) in json.cameras.iter().enumerate() {
+        let missing = match camera.type_ {
+            Checked::Valid(Type::Perspective) if camera.perspective.is_none() => "perspective",
+            Checked::Valid(Type::Orthographic) if camera.orthographic.is_none() => "orthographic",
+            _ => continue,
+        };
+        return Err(format!(
+            "camera {i} is {missing} but has no {missing} object"
+        ));
+    }
+    Ok(())
+}
+
 fn check_positions(json: &gltf::json::Root) -> Result<(), String> {
     use gltf::json::mesh::Semantic;
     use gltf::json::validation::Checked;
@@ -145,6 +171,40 @@ fn check_positions(json: &gltf::json::Root) -> Result<(), String> {
                     index.value()
                 ));
             }
+        }
+    }
+    Ok(())
+}
+
+fn check_channels(json: &gltf::json::Root) -> Result<(), String> {
+    let nodes = json.nodes.len();
+    for (a, animation) in json.animations.iter().enumerate() {
+        for (c, channel) in animation.channels.iter().enumerate() {
+            let target = &channel.target;
+            if target.node.value() >= nodes {
+                return Err(format!(
+                    "animation {a} channel {c} targets node {}, and the file has {nodes}",
+                    target.node.value()
+                ));
+            }
+            if matches!(target.path, gltf::json::validation::Checked::Invalid) {
+                return Err(format!(
+                    "animation {a} channel {c}: its target's path is not translation, rotation, \
+                     scale or weights"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn check_images(json: &gltf::json::Root) -> Result<(), String> {
+    for (i, image) in json.images.iter().enumerate() {
+        if image.buffer_view.is_some() && image.mime_type.is_none() {
+            return Err(format!("image {i} is in a buffer view but has no mimeType"));
+        }
+        if image.buffer_view.is_none() && image.uri.is_none() {
+            return Err(format!("image {i} has neither a uri nor a bufferView"));
         }
     }
     Ok(())

@@ -175,6 +175,7 @@ impl<'a> Walk<'a> {
         }
         if let Some(indices) = primitive.indices() {
             check_accessor(&indices, buffers).map_err(|e| format!("{what}: indices: {e}"))?;
+            check_index_type(&indices).map_err(|e| format!("{what}: indices: {e}"))?;
         }
         let reader = primitive.reader(get);
         let attribute = |semantic: gltf::Semantic| primitive.get(&semantic);
@@ -309,6 +310,27 @@ fn assemble(mode: Mode, corners: &[u32], mirrored: bool) -> Vec<[u32; 3]> {
         triangles.into_iter().map(|[a, b, c]| [a, c, b]).collect()
     } else {
         triangles
+    }
+}
+
+/// An error when an indices accessor holds anything but unsigned integers, one a vertex (the
+/// `gltf` crate's reader treats any other component type as unreachable).
+fn check_index_type(indices: &gltf::Accessor) -> Result<(), String> {
+    use gltf::accessor::{DataType, Dimensions};
+    let unsigned = matches!(
+        indices.data_type(),
+        DataType::U8 | DataType::U16 | DataType::U32
+    );
+    if unsigned && indices.dimensions() == Dimensions::Scalar {
+        Ok(())
+    } else {
+        Err(format!(
+            "accessor {} holds {:?} {:?}: indices are SCALAR unsigned integers (componentType \
+             5121, 5123 or 5125)",
+            indices.index(),
+            indices.dimensions(),
+            indices.data_type()
+        ))
     }
 }
 
