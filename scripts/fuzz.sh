@@ -3,7 +3,7 @@
 # stable toolchain and runs each for SECONDS over its checked-in corpus and regressions. A crash,
 # a hang (10 s) or a blown memory limit fails the run; its input is saved under
 # fuzz/artifacts/TARGET/ (add it to fuzz/regressions/TARGET/ once fixed).
-#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   CI runs 20 s each (.ci/run)
+#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   CI runs 10 s each (.ci/run)
 #   scripts/fuzz.sh --merge [TARGET...]                 minimizes fuzz/corpus/ with the new finds
 # Environment: FUZZ_TARGET_DIR (default fuzz/target); FUZZ_FLAGS, more libFuzzer flags (a long
 # campaign: "-fork=1 -ignore_crashes=1" goes on past a crash, saving each).

@@ -54,7 +54,7 @@ fn check_png_palette(bytes: &[u8]) -> Result<(), String> {
     while let Some(head) = bytes.get(at..at + 8) {
         let length = u32::from_be_bytes([head[0], head[1], head[2], head[3]]) as usize;
         match &head[4..8] {
-            b"PLTE" if !length.is_multiple_of(3) || !(3..=768).contains(&length) => {
+            b"PLTE" if length % 3 != 0 || !(3..=768).contains(&length) => {
                 return Err(format!(
                     "the PNG's palette (PLTE) is {length} bytes: 1 to 256 RGB entries are 3 to \
                      768 bytes, a multiple of 3"
