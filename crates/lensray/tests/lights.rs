@@ -72,12 +72,8 @@ fn shot(environment: Vec3, spp: u32) -> Shot {
 #[test]
 fn gpu_paths_light_as_the_cpu_does() {
     let test = "gpu_paths_light_as_the_cpu_does";
-    assert_gpu_paths_match_cpu(
-        test,
-        test,
-        &lit_scene(),
-        &shot(Vec3::new(0.3, 0.35, 0.45), 8),
-    );
+    let shot = shot(Vec3::new(0.3, 0.35, 0.45), 8);
+    assert_gpu_paths_match_cpu(test, &lit_scene(), &[(test.into(), shot)]);
 }
 
 /// The textured card's masked leaf casts its shadow through the mask under a spot and the sky.
@@ -121,7 +117,7 @@ fn gpu_paths_cast_masked_shadows_from_every_light() {
             ..settings(Shading::Lit, 8)
         },
     };
-    assert_gpu_paths_match_cpu(test, test, &scene, &shot);
+    assert_gpu_paths_match_cpu(test, &scene, &[(test.into(), shot)]);
 }
 
 /// A square of `half` metres at height 0 facing up (+y), of colour `kd`.

@@ -106,7 +106,7 @@ fn a_shifted_window_is_a_crop_of_a_wider_one() {
 #[test]
 fn every_path_agrees_with_the_cpu_on_a_shifted_tilted_shot() {
     let test = "every_path_agrees_with_the_cpu_on_a_shifted_tilted_shot";
-    for orthographic in [false, true] {
+    let shots = [false, true].map(|orthographic| {
         let lens = LensParams::ThinLens {
             aperture_radius: 0.12,
             focus_distance: 5.0,
@@ -115,7 +115,7 @@ fn every_path_agrees_with_the_cpu_on_a_shifted_tilted_shot() {
             camera: moved_camera(orthographic, lens, 64, 48, MOVED),
             render: settings(Shading::Lit, 8),
         };
-        let name = format!("moved-ortho-{orthographic}");
-        assert_gpu_paths_match_cpu(test, &name, &test_scene(), &shot);
-    }
+        (format!("moved-ortho-{orthographic}"), shot)
+    });
+    assert_gpu_paths_match_cpu(test, &test_scene(), &shots);
 }

@@ -315,11 +315,12 @@ fn gpu_paths_render_vertex_colours_and_normal_maps_as_the_cpu_does() {
     scene.textures.extend(mapped.textures);
     scene.lights = mapped.lights;
     let camera = camera_at(-1.1, 4.6, 64, 64);
-    for shading in [Shading::Lit, Shading::Albedo] {
+    let shots = [Shading::Lit, Shading::Albedo].map(|shading| {
         let shot = Shot {
             camera: camera.clone(),
             render: settings(shading, 4),
         };
-        assert_gpu_paths_match_cpu(test, &format!("surface-{shading:?}"), &scene, &shot);
-    }
+        (format!("surface-{shading:?}"), shot)
+    });
+    assert_gpu_paths_match_cpu(test, &scene, &shots);
 }

@@ -80,10 +80,8 @@ fn lit_card() -> Scene {
 #[test]
 fn gpu_paths_render_textures_and_alpha_as_the_cpu_does() {
     let test = "gpu_paths_render_textures_and_alpha_as_the_cpu_does";
-    for shading in [Shading::Lit, Shading::Albedo] {
-        let name = format!("textures-{shading:?}");
-        assert_gpu_paths_match_cpu(test, &name, &lit_card(), &shot(shading, 8));
-    }
+    let shots = [Shading::Lit, Shading::Albedo].map(|s| (format!("textures-{s:?}"), shot(s, 8)));
+    assert_gpu_paths_match_cpu(test, &lit_card(), &shots);
 }
 
 /// The gradient card at the focal plane reads the same texture level through a wide aperture as

@@ -42,6 +42,9 @@ pub struct DeviceReport {
     pub max_compute_work_group_size: [u32; 3],
     pub max_compute_work_group_invocations: u32,
     pub max_storage_buffer_range: u32,
+    /// The largest memory allocation the driver is sure to make (maxMemoryAllocationSize; 2 GiB
+    /// on lavapipe, whose larger ones crash in its copies).
+    pub max_memory_allocation_size: u64,
     /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f32,
     /// Whether graphics and compute queues support timestamps.
@@ -211,9 +214,12 @@ pub(crate) fn report(
         }
     }
     let mut driver = String::new();
+    let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
     if api_ok {
         let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
-        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver_props);
+        let mut props2 = vk::PhysicalDeviceProperties2::default()
+            .push_next(&mut driver_props)
+            .push_next(&mut maintenance3);
         // SAFETY: the device supports Vulkan 1.2, where the driver properties are core.
         unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
         driver = format!(
@@ -262,6 +268,7 @@ pub(crate) fn report(
         max_compute_work_group_size: limits.max_compute_work_group_size,
         max_compute_work_group_invocations: limits.max_compute_work_group_invocations,
         max_storage_buffer_range: limits.max_storage_buffer_range,
+        max_memory_allocation_size: maintenance3.max_memory_allocation_size,
         timestamp_period_ns: limits.timestamp_period,
         timestamps: limits.timestamp_compute_and_graphics == vk::TRUE
             && family.is_some_and(|(_, bits)| bits > 0),
@@ -455,6 +462,7 @@ mod tests {
                 max_compute_work_group_size: [1024; 3],
                 max_compute_work_group_invocations: 1024,
                 max_storage_buffer_range: 1 << 27,
+                max_memory_allocation_size: 1 << 31,
                 timestamp_period_ns: 1.0,
                 timestamps: true,
                 vendor_id: 0,

@@ -7,7 +7,7 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
 use crate::core::device::Context;
-use crate::core::error::{alloc_err, vk_err, GpuError};
+use crate::core::error::{alloc_err, check_allocation, vk_err, GpuError};
 
 /// A buffer and its memory, freed on drop.
 /// The least size of a buffer in bytes: descriptors bind whole buffers, so a shader's
@@ -32,6 +32,7 @@ impl Buffer {
         location: MemoryLocation,
     ) -> Result<Self, GpuError> {
         let size = size.max(MIN_BUFFER_SIZE);
+        check_allocation(ctx, name, size)?;
         let info = vk::BufferCreateInfo::default()
             .size(size)
             .usage(usage)

@@ -3,6 +3,7 @@
 use ash::vk;
 use thiserror::Error;
 
+use crate::core::device::Context;
 use crate::traversal::Traversal;
 
 #[derive(Debug, Error)]
@@ -21,6 +22,19 @@ pub enum GpuError {
     Vulkan {
         call: &'static str,
         result: vk::Result,
+    },
+    /// One resource needs more memory than the device allocates at once.
+    #[error(
+        "{what} needs {} MiB of GPU memory, more than {device} allocates at once \
+         ({} MiB, maxMemoryAllocationSize): render a smaller image or scene",
+        bytes >> 20,
+        limit >> 20
+    )]
+    TooLarge {
+        what: String,
+        bytes: u64,
+        device: String,
+        limit: u64,
     },
     /// gpu-allocator could not provide memory.
     #[error("GPU memory allocation for {what} failed: {source}")]
@@ -88,6 +102,22 @@ pub(crate) fn alloc_err(
         what: what.to_string(),
         source,
     }
+}
+
+/// `Err(TooLarge)` where `bytes` of the resource `what` pass the device's largest allocation:
+/// a driver may make a larger one and fail later (lavapipe's copies then crash), so none is
+/// asked for.
+pub(crate) fn check_allocation(ctx: &Context, what: &str, bytes: u64) -> Result<(), GpuError> {
+    let limit = ctx.report.max_memory_allocation_size;
+    if bytes > limit {
+        return Err(GpuError::TooLarge {
+            what: what.to_string(),
+            bytes,
+            device: ctx.report.name.clone(),
+            limit,
+        });
+    }
+    Ok(())
 }
 
 /// Maps a failure to load the Vulkan library.

@@ -7,7 +7,7 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
 use crate::core::device::Context;
-use crate::core::error::{alloc_err, vk_err, GpuError};
+use crate::core::error::{alloc_err, check_allocation, vk_err, GpuError};
 
 pub(crate) struct DeviceImage {
     ctx: Arc<Context>,
@@ -52,6 +52,8 @@ impl DeviceImage {
         };
         // SAFETY: `image` was just created from this device.
         let requirements = unsafe { ctx.device.get_image_memory_requirements(image) };
+        // `this` destroys the image on the way out.
+        check_allocation(ctx, name, requirements.size)?;
         let allocation = ctx
             .allocator()
             .allocate(&AllocationCreateDesc {

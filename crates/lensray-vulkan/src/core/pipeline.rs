@@ -189,6 +189,16 @@ impl Pipeline {
         Ok(this)
     }
 
+    /// The layout and set of a pipeline whose code comes later (`respecialize`,
+    /// `respecialize_ray_tracing`): a pass that may never use a traversal does not compile it.
+    pub(crate) fn unbuilt(
+        ctx: &Arc<Context>,
+        set: &'static SetDecl,
+        bind_point: vk::PipelineBindPoint,
+    ) -> Result<Self, GpuError> {
+        Self::with_set(ctx, set, bind_point)
+    }
+
     /// Replaces the compute pipeline with one made from `spirv` with SPEC_SURFACES `surfaces`.
     /// The layout and set stay, and so does what is bound to them. No submission using the
     /// pipeline may be pending.
@@ -198,19 +208,6 @@ impl Pipeline {
         unsafe { self.ctx.device.destroy_pipeline(self.pipeline, None) };
         self.pipeline = pipeline;
         Ok(())
-    }
-
-    /// A ray-tracing pipeline of `desc` with SPEC_SURFACES `surfaces` in every stage, and its
-    /// shader binding table.
-    pub(crate) fn ray_tracing(
-        ctx: &Arc<Context>,
-        set: &'static SetDecl,
-        desc: &RayTracingDesc<'_>,
-        surfaces: u32,
-    ) -> Result<Self, GpuError> {
-        let mut this = Self::with_set(ctx, set, vk::PipelineBindPoint::RAY_TRACING_KHR)?;
-        this.respecialize_ray_tracing(desc, surfaces)?;
-        Ok(this)
     }
 
     /// Replaces the ray-tracing pipeline (and its table) with one of `desc` with SPEC_SURFACES

@@ -206,7 +206,7 @@ impl DeviceFilms {
         }
         let sums = Buffer::new(
             &self.ctx,
-            "film sums",
+            "the image's accumulation film",
             bytes,
             vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
@@ -293,7 +293,7 @@ impl DeviceFilms {
             self.in_transfer = None;
             self.transfer = Some(Buffer::new(
                 &self.ctx,
-                "film transfer",
+                "the image's read-back buffer",
                 bytes,
                 vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuToCpu,

@@ -19,19 +19,13 @@ use lensray_vulkan::{Estimator, GpuRenderer};
 /// of the device's cached calibration (`calibration`), or else the fastest on a small render of
 /// `shot`. Sets it, and says which and why.
 pub fn pick_traversal(renderer: &mut GpuRenderer, shot: &Shot) -> Result<(PathKind, String)> {
-    let kinds: Vec<PathKind> = renderer
-        .traversals()
-        .into_iter()
-        .map(PathKind::of_traversal)
-        .collect();
-    let calibrated = calibration::load(&calibration::key(&renderer.device_report()))
-        .and_then(|c| c.fastest(kinds.iter().copied(), pixel_samples(shot)));
-    let (kind, why) = match (kinds.as_slice(), calibrated) {
+    let kinds = traversal_kinds(renderer);
+    let (kind, why) = match (kinds.as_slice(), cached_fastest(renderer, &kinds, shot)) {
         ([], _) => bail!(
             "the Vulkan device {} runs no lensray path",
             renderer.device_name()
         ),
-        (_, Some((kind, _))) => (
+        (_, Some(kind)) => (
             kind,
             "auto: the fastest traversal of this device's calibration (cached)".to_string(),
         ),
@@ -43,6 +37,31 @@ pub fn pick_traversal(renderer: &mut GpuRenderer, shot: &Shot) -> Result<(PathKi
     };
     renderer.set_traversal(kind.traversal().expect("a GPU path"))?;
     Ok((kind, why))
+}
+
+/// Sets the traversal the device's cached calibration picks for `shot`, if one is cached:
+/// before a scene is loaded, so that only that traversal's pipeline is built for it.
+pub(super) fn preset_cached_traversal(renderer: &mut GpuRenderer, shot: &Shot) -> Result<()> {
+    let kinds = traversal_kinds(renderer);
+    if let Some(kind) = cached_fastest(renderer, &kinds, shot) {
+        renderer.set_traversal(kind.traversal().expect("a GPU path"))?;
+    }
+    Ok(())
+}
+
+fn traversal_kinds(renderer: &GpuRenderer) -> Vec<PathKind> {
+    renderer
+        .traversals()
+        .into_iter()
+        .map(PathKind::of_traversal)
+        .collect()
+}
+
+/// The fastest of `kinds` for `shot` by the device's cached calibration, if one is cached.
+fn cached_fastest(renderer: &GpuRenderer, kinds: &[PathKind], shot: &Shot) -> Option<PathKind> {
+    calibration::load(&calibration::key(&renderer.device_report()))
+        .and_then(|c| c.fastest(kinds.iter().copied(), pixel_samples(shot)))
+        .map(|(kind, _)| kind)
 }
 
 /// The pixel-samples of `shot` (an AOV: one per pixel).

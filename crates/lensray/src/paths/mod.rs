@@ -129,6 +129,9 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
         instance_seconds: renderer.open_seconds(),
         scene_seconds: 0.0,
     };
+    if options.path.only().and_then(PathKind::traversal).is_none() {
+        auto::preset_cached_traversal(&mut renderer, shot)?;
+    }
     let scene_start = Instant::now();
     renderer.load_scene(scene)?;
     startup.scene_seconds = scene_start.elapsed().as_secs_f64();

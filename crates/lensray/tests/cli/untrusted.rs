@@ -1,10 +1,14 @@
 //! Files nobody here wrote: an image declaring a huge size (a decompression bomb: a few bytes
 //! that would decode to gigabytes) is refused from its header in one line naming the file and
 //! the size, within bounded memory, as a texture, an environment map and an aperture image.
+//! What does not fit the GPU (an image past its largest allocation, a scene past its
+//! storage-buffer range) is one line naming it and the device's limit.
 
 use std::path::Path;
 
-use crate::render_args;
+use crate::gpu_support::{record_skip, skip_or_fail};
+use crate::{lensray, render_args, stderr};
+use lensray_vulkan::GpuOptions;
 
 /// CRC-32 (ISO 3309, as PNG chunks carry it).
 fn crc32(bytes: &[u8]) -> u32 {
@@ -162,4 +166,76 @@ fn reads_outside_the_assets_root_are_refused() {
         assert!(err.contains("outside the assets root"), "{err}");
         assert!(!d.join("b.png").exists());
     }
+}
+
+/// Runs a GPU render of `extra` with validation on in `dir`, and checks that it fails in one
+/// line containing `needle` and writes no image; `None` (skip recorded) without a device.
+fn assert_does_not_fit(test: &str, extra: &[&str], needle: &str, dir: &Path) {
+    let mut args = vec!["render", "--device", "gpu", "--validate", "--spp", "1"];
+    args.extend(["--shading", "unlit", "--out", "big.png"]);
+    args.extend(extra);
+    let out = lensray(&args, dir);
+    let err = stderr(&out);
+    println!("{extra:?}: exit {:?}: {err}", out.status.code());
+    if !err.contains(needle) {
+        skip_or_fail(test, &err);
+        return;
+    }
+    assert!(!out.status.success() && err.lines().count() == 1, "{err}");
+    assert!(!dir.join("big.png").exists(), "{extra:?} wrote an image");
+}
+
+/// An image whose accumulation film (16 bytes a pixel) passes the device's largest allocation
+/// (lavapipe: 2 GiB; a larger buffer crashed in its copies) and a scene whose software-traversal
+/// triangles (48 bytes each) pass its storage-buffer range (lavapipe: 128 MiB) are refused in
+/// one line naming what did not fit and the limit, with no validation message. A device with
+/// room for them (a real GPU's limits are larger) records a skip.
+#[test]
+fn what_does_not_fit_the_device_is_one_line() {
+    let test = "what_does_not_fit_the_device_is_one_line";
+    let device = match lensray_vulkan::preferred_device(&GpuOptions::default()) {
+        Ok(device) => device,
+        Err(e) => return skip_or_fail(test, &e.to_string()),
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (width, height) = (16_000u64, 9_000u64);
+    if width * height * 16 <= device.max_memory_allocation_size {
+        record_skip(
+            test,
+            &format!("{} allocates a 16000 x 9000 film", device.name),
+        );
+    } else {
+        let size = ["--width", "16000", "--height", "9000", "--path", "software"];
+        assert_does_not_fit(test, &size, "accumulation film needs", d);
+    }
+    let triangles = 3_000_000u64;
+    if triangles * 48 <= u64::from(device.max_storage_buffer_range) {
+        return record_skip(
+            test,
+            &format!("{} holds 3M triangles in one buffer", device.name),
+        );
+    }
+    let generate = [
+        "generate",
+        "dense",
+        "--gltf",
+        "--triangles",
+        "3000000",
+        "--out",
+        ".",
+    ];
+    assert!(
+        lensray(&generate, d).status.success(),
+        "generate the dense scene"
+    );
+    let scene = [
+        "--scene",
+        "dense.toml",
+        "--path",
+        "software",
+        "--width",
+        "16",
+    ];
+    assert_does_not_fit(test, &scene, "maximum storage buffer range", d);
 }

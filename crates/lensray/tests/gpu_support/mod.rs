@@ -78,47 +78,73 @@ pub fn render_scene(test: &str, choice: PathChoice, scene: &Scene, shot: &Shot) 
     Some(image)
 }
 
-/// Renders `shot` of `scene` on the CPU and on every GPU path (`rayquery`, `software`, and
-/// `raster` with the shared samples it draws), and panics, with the images written under `name`,
-/// unless each agrees with the CPU within 1/255 on 99.9 % of pixels with a mean difference under
-/// 1e-3.
-pub fn assert_gpu_paths_match_cpu(test: &str, name: &str, scene: &Scene, shot: &Shot) {
-    let shared = Shot {
-        render: RenderSettings {
-            shared_samples: true,
-            ..shot.render
-        },
-        ..shot.clone()
-    };
+/// Renders each of `shots` (named) of `scene` on the CPU and on every GPU path (`rayquery`,
+/// `rtpipeline`, `software`, and `raster` with the shared samples it draws), and panics, with
+/// the images written under the shot's name, unless each agrees with the CPU within 1/255 on
+/// 99.9 % of pixels with a mean difference under 1e-3. Each GPU path is opened once for all
+/// the shots, as a sequence's frames are: opening one (its device and pipelines) costs more
+/// than these small renders.
+pub fn assert_gpu_paths_match_cpu(test: &str, scene: &Scene, shots: &[(String, Shot)]) {
+    assert!(!shots.is_empty(), "{test}: no shot to compare");
     let cpu = PathChoice::Only(PathKind::Cpu);
-    let (Some(reference), Some(shared_reference)) = (
-        render_scene(test, cpu, scene, shot),
-        render_scene(test, cpu, scene, &shared),
-    ) else {
-        return;
-    };
-    write_png(&reference, &format!("{name}-cpu.png"));
+    let mut references = Vec::new();
+    for (name, shot) in shots {
+        let shared = Shot {
+            render: RenderSettings {
+                shared_samples: true,
+                ..shot.render
+            },
+            ..shot.clone()
+        };
+        let (Some(image), Some(shared_image)) = (
+            render_scene(test, cpu, scene, shot),
+            render_scene(test, cpu, scene, &shared),
+        ) else {
+            return;
+        };
+        write_png(&image, &format!("{name}-cpu.png"));
+        references.push(Reference {
+            shot: shot.clone(),
+            image,
+            shared,
+            shared_image,
+        });
+    }
     for kind in [
         PathKind::RayQuery,
         PathKind::RtPipeline,
         PathKind::Software,
         PathKind::Raster,
     ] {
-        let (shot, reference) = if kind == PathKind::Raster {
-            (&shared, &shared_reference)
-        } else {
-            (shot, &reference)
+        let of = |r: &Reference| match kind {
+            PathKind::Raster => (r.shared.clone(), r.shared_image.clone()),
+            _ => (r.shot.clone(), r.image.clone()),
         };
-        let Some(image) = render_scene(test, kind.into(), scene, shot) else {
+        let first = of(&references[0]).0;
+        let Some(OpenedPath { mut path, .. }) = open_path_with(test, kind.into(), scene, &first)
+        else {
             return;
         };
-        let diff = compare(&image, reference, 1.0 / 255.0);
-        println!("{name} {kind}: {diff:?}");
-        if diff.within < 0.999 || diff.mean_abs >= 1e-3 {
-            let files = write_comparison(&image, reference, &format!("{name}-{kind}-vs-cpu"));
-            panic!("{name} {kind}: differs from the CPU: {diff:?}; wrote {files}");
+        for ((name, _), r) in shots.iter().zip(&references) {
+            let (shot, reference) = of(r);
+            let image = path.render(&shot, &mut |_, _| {}).expect("render");
+            let diff = compare(&image, &reference, 1.0 / 255.0);
+            println!("{name} {kind}: {diff:?}");
+            if diff.within < 0.999 || diff.mean_abs >= 1e-3 {
+                let files = write_comparison(&image, &reference, &format!("{name}-{kind}-vs-cpu"));
+                panic!("{name} {kind}: differs from the CPU: {diff:?}; wrote {files}");
+            }
         }
+        path.close().expect("close: validation messages or leaks");
     }
+}
+
+/// A shot's CPU reference, and its shared-sample one (the raster path's).
+struct Reference {
+    shot: Shot,
+    image: Image,
+    shared: Shot,
+    shared_image: Image,
 }
 
 /// An unlit shot of `spp` samples a pixel, `width` x `height`, through an orthographic pinhole

@@ -1,7 +1,8 @@
 //! The dispatch of an estimator: the trace shader's pipelines, one per traversal the device was
 //! opened for (the one in use is `traversal()`; compute pipelines, and for the ray-tracing
 //! pipeline's traversal a ray-tracing pipeline whose launch stands for the dispatch's
-//! workgroups), each specialized for the bound scene's surfaces;
+//! workgroups), each built when it is first used with a scene, specialized for that scene's
+//! surfaces (a traversal never used is never compiled: lavapipe takes seconds over each);
 //! the buffers their sets hold, placeholders until a render, the preview or the raster path
 //! binds its own (every binding must be valid in every mode); and the recording of dispatches,
 //! each naming to the recorder what it reads and writes.
@@ -31,8 +32,9 @@ use lensray_core::interface::{
 struct TracePipeline {
     traversal: Traversal,
     pipeline: Pipeline,
-    /// The SURFACE_* bits it is specialized for: those of the scene bound (none before one is).
-    surfaces: u32,
+    /// The SURFACE_* bits its code is specialized for; `None` until it is built (when it is in
+    /// use with a scene bound).
+    surfaces: Option<u32>,
     /// Its first dispatch (lazily compiled by some drivers) is timed apart.
     first_dispatch_done: bool,
 }
@@ -62,11 +64,14 @@ pub(crate) struct TracePipelines {
     visibility_placeholder: Buffer,
     /// Whether the bound scene has an environment map (`TraceParams.environment_map`).
     pub(crate) environment_map: bool,
+    /// The SURFACE_* bits of the bound scene (`None` before one is).
+    scene_surfaces: Option<u32>,
 }
 
 impl TracePipelines {
-    /// Creates a pipeline for each traversal of `ctx.traversals` (the first is in use), its
-    /// accumulation and visibility bound to placeholders. The parameters and the plan are bound
+    /// Creates the layout of a pipeline for each traversal of `ctx.traversals` (the first is in
+    /// use; its code is built with the first scene), its accumulation and visibility bound to
+    /// placeholders. The parameters and the plan are bound
     /// next (`bind_parameters`, `bind_plan`), before any dispatch.
     pub(crate) fn new(ctx: &Arc<Context>) -> Result<Self, GpuError> {
         let pipelines = ctx
@@ -75,8 +80,8 @@ impl TracePipelines {
             .map(|&t| {
                 Ok(TracePipeline {
                     traversal: t,
-                    pipeline: Self::pipeline(ctx, t)?,
-                    surfaces: 0,
+                    pipeline: Self::layout(ctx, t)?,
+                    surfaces: None,
                     first_dispatch_done: false,
                 })
             })
@@ -113,6 +118,7 @@ impl TracePipelines {
             accum_placeholder: accum,
             visibility_placeholder: visibility,
             environment_map: false,
+            scene_surfaces: None,
         };
         this.bind_group(&AccumulationGroup::<Gpu> {
             accum: &this.accum_placeholder,
@@ -123,19 +129,38 @@ impl TracePipelines {
         Ok(this)
     }
 
-    /// The pipeline of `traversal`: the scene arrays, that traversal's structures, and the
-    /// pass's own buffers.
-    /// Specialized for scenes without textures or alpha tests until `bind_scene` says otherwise.
-    fn pipeline(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
-        let set = match traversal {
-            Traversal::RayQuery => TraceRayQuerySet::DECL,
-            Traversal::Software => TraceSoftwareSet::DECL,
-            Traversal::RtPipeline => {
-                let set = TraceRtPipelineSet::DECL;
-                return Pipeline::ray_tracing(ctx, set, &shader::TRACE_RTPIPELINE, 0);
-            }
+    /// The layout and set of `traversal`'s pipeline (the scene arrays, that traversal's
+    /// structures, and the pass's own buffers), its code not yet built (`build_current`).
+    fn layout(ctx: &Arc<Context>, traversal: Traversal) -> Result<Pipeline, GpuError> {
+        let (set, bind_point) = match traversal {
+            Traversal::RayQuery => (TraceRayQuerySet::DECL, vk::PipelineBindPoint::COMPUTE),
+            Traversal::Software => (TraceSoftwareSet::DECL, vk::PipelineBindPoint::COMPUTE),
+            Traversal::RtPipeline => (
+                TraceRtPipelineSet::DECL,
+                vk::PipelineBindPoint::RAY_TRACING_KHR,
+            ),
         };
-        Pipeline::compute_specialized(ctx, set, trace_spirv(traversal), Some(0))
+        Pipeline::unbuilt(ctx, set, bind_point)
+    }
+
+    /// Builds the pipeline in use for the bound scene's surfaces where its code is for others
+    /// or not yet made; nothing before a scene is bound. No submission using it may be pending.
+    fn build_current(&mut self) -> Result<(), GpuError> {
+        let Some(surfaces) = self.scene_surfaces else {
+            return Ok(());
+        };
+        let p = &mut self.pipelines[self.current];
+        if p.surfaces != Some(surfaces) {
+            match p.traversal {
+                Traversal::RtPipeline => p
+                    .pipeline
+                    .respecialize_ray_tracing(&shader::TRACE_RTPIPELINE, surfaces)?,
+                t => p.pipeline.respecialize(trace_spirv(t), surfaces)?,
+            }
+            p.surfaces = Some(surfaces);
+            p.first_dispatch_done = false;
+        }
+        Ok(())
     }
 
     /// The traversals the pass can trace with.
@@ -148,7 +173,8 @@ impl TracePipelines {
         self.pipelines[self.current].traversal
     }
 
-    /// Uses `traversal` from now on; an error when the device was not opened for it.
+    /// Uses `traversal` from now on, built for the bound scene; an error when the device was
+    /// not opened for it. No submission using the pipelines may be pending.
     pub(crate) fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
         let index = self
             .pipelines
@@ -165,7 +191,7 @@ impl TracePipelines {
                     .join(", "),
             })?;
         self.current = index;
-        Ok(())
+        self.build_current()
     }
 
     /// Whether the pipeline in use dispatched before (its first dispatch is timed apart).
@@ -189,20 +215,13 @@ impl TracePipelines {
         self.bind_each(|p| p.bind_group(group));
     }
 
-    /// Binds `scene` to every pipeline, first specialized anew where the scene's surfaces
-    /// differ from the last one's. No submission using the pipelines may be pending.
+    /// Binds `scene` to every pipeline; the one in use is built anew where the scene's surfaces
+    /// differ from those it was built for, the others when they are next used. No submission
+    /// using the pipelines may be pending.
     pub(crate) fn bind_scene(&mut self, scene: &SceneBuffers) -> Result<(), GpuError> {
+        self.scene_surfaces = Some(scene.surfaces);
+        self.build_current()?;
         for p in &mut self.pipelines {
-            if p.surfaces != scene.surfaces {
-                match p.traversal {
-                    Traversal::RtPipeline => p
-                        .pipeline
-                        .respecialize_ray_tracing(&shader::TRACE_RTPIPELINE, scene.surfaces)?,
-                    t => p.pipeline.respecialize(trace_spirv(t), scene.surfaces)?,
-                }
-                p.surfaces = scene.surfaces;
-                p.first_dispatch_done = false;
-            }
             scene.bind(&p.pipeline);
             scene.environment.bind(&p.pipeline);
             match p.traversal {
@@ -278,6 +297,10 @@ impl TracePipelines {
     /// the ray-tracing pipeline's invocations that stand for them.
     fn record(&self, rec: &mut Recorder<'_>, push: TracePush, groups: [u32; 3]) {
         let p = &self.pipelines[self.current];
+        debug_assert!(
+            p.surfaces.is_some(),
+            "a trace dispatch before a scene is bound"
+        );
         let push = bytemuck::bytes_of(&push);
         match p.traversal {
             Traversal::RtPipeline => {
