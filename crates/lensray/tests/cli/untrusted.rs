@@ -181,7 +181,9 @@ fn assert_does_not_fit(test: &str, extra: &[&str], needle: &str, dir: &Path) {
         skip_or_fail(test, &err);
         return;
     }
-    assert!(!out.status.success() && err.lines().count() == 1, "{err}");
+    // A device's first use also says that it compiles shaders (`caches.rs`).
+    let lines = err.lines().filter(|l| !l.starts_with("compiling shaders"));
+    assert!(!out.status.success() && lines.count() == 1, "{err}");
     assert!(!dir.join("big.png").exists(), "{extra:?} wrote an image");
 }
 
