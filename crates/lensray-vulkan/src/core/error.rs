@@ -17,6 +17,13 @@ pub enum GpuError {
          lavapipe, or your GPU vendor's driver)"
     )]
     NoDriver,
+    /// The device was lost (VK_ERROR_DEVICE_LOST: a GPU fault, a driver reset or a watchdog's
+    /// timeout): nothing it was computing can be read back.
+    #[error(
+        "the GPU device was lost during {call} (a GPU fault, a driver reset or a timeout): the \
+         render stopped and wrote nothing"
+    )]
+    DeviceLost { call: &'static str },
     /// A Vulkan call returned an error code.
     #[error("Vulkan call {call} failed: {result}")]
     Vulkan {
@@ -84,14 +91,17 @@ pub enum GpuError {
 
 /// Maps the error code of Vulkan call `call` (use the command's name).
 pub(crate) fn vk_err(call: &'static str) -> impl FnOnce(vk::Result) -> GpuError {
-    move |result| GpuError::Vulkan { call, result }
+    move |result| match result {
+        vk::Result::ERROR_DEVICE_LOST => GpuError::DeviceLost { call },
+        result => GpuError::Vulkan { call, result },
+    }
 }
 
 /// Maps a pipeline-creation error, which comes with the partially created pipelines.
 pub(crate) fn pipeline_err(
     call: &'static str,
 ) -> impl FnOnce((Vec<vk::Pipeline>, vk::Result)) -> GpuError {
-    move |(_, result)| GpuError::Vulkan { call, result }
+    move |(_, result)| vk_err(call)(result)
 }
 
 /// Maps an allocation failure of gpu-allocator for the resource `what`.
@@ -123,4 +133,30 @@ pub(crate) fn check_allocation(ctx: &Context, what: &str, bytes: u64) -> Result<
 /// Maps a failure to load the Vulkan library.
 pub(crate) fn loader_err(e: ash::LoadingError) -> GpuError {
     GpuError::Loader(e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A lost device (which lavapipe cannot be made to lose) is one line naming it and the
+    /// call; other codes keep their name.
+    #[test]
+    fn a_lost_device_is_one_line_naming_it() {
+        let lost = vk_err("vkQueueSubmit2")(vk::Result::ERROR_DEVICE_LOST).to_string();
+        assert!(matches!(
+            vk_err("vkQueueSubmit2")(vk::Result::ERROR_DEVICE_LOST),
+            GpuError::DeviceLost { .. }
+        ));
+        assert_eq!(lost.lines().count(), 1, "{lost}");
+        assert!(
+            lost.contains("device was lost") && lost.contains("vkQueueSubmit2"),
+            "{lost}"
+        );
+        let memory = vk_err("vkAllocateMemory")(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY);
+        assert!(
+            memory.to_string().contains("memory allocation has failed"),
+            "{memory}"
+        );
+    }
 }
