@@ -1,7 +1,7 @@
 //! Image files from bytes nobody here wrote (textures, environment maps, aperture images): the
 //! size a file declares is read from its header and checked before a pixel is decoded, so a
 //! small, highly compressible file declaring a huge image is refused at once rather than
-//! allocated.
+//! allocated, and so is a file too short to hold the pixels it declares.
 
 use std::io::{BufRead, Cursor, Seek};
 use std::path::Path;
@@ -28,7 +28,7 @@ pub fn decode_bytes(bytes: &[u8]) -> Result<DynamicImage, String> {
     let reader = ImageReader::new(Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| e.to_string())?;
-    decode(reader)
+    decode(reader, bytes.len())
 }
 
 /// Decodes the image file at `path`, its format from its contents or else its extension; the
@@ -40,7 +40,11 @@ pub fn decode_file(path: &Path) -> Result<DynamicImage, String> {
     if let Ok(format) = ImageFormat::from_path(path) {
         reader.set_format(format);
     }
-    decode(reader.with_guessed_format().map_err(|e| e.to_string())?)
+    let length = bytes.len();
+    decode(
+        reader.with_guessed_format().map_err(|e| e.to_string())?,
+        length,
+    )
 }
 
 /// A PNG's palette (PLTE) of 1 to 256 RGB entries, checked before decoding: the `png` crate
@@ -71,14 +75,40 @@ fn check_png_palette(bytes: &[u8]) -> Result<(), String> {
     Ok(())
 }
 
-fn decode<R: BufRead + Seek>(mut reader: ImageReader<R>) -> Result<DynamicImage, String> {
+/// Decodes the file of `length` bytes that `reader` reads.
+fn decode<R: BufRead + Seek>(
+    mut reader: ImageReader<R>,
+    length: usize,
+) -> Result<DynamicImage, String> {
     let mut limits = Limits::default();
     limits.max_alloc = Some(MAX_DECODE_BYTES);
     reader.limits(limits);
+    let format = reader.format();
     let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
     let (width, height) = decoder.dimensions();
     check_size(width, height)?;
+    if format == Some(ImageFormat::Jpeg) {
+        check_jpeg_length(width, height, length)?;
+    }
     DynamicImage::from_decoder(decoder).map_err(|e| e.to_string())
+}
+
+/// Refuses a JPEG too short for the pixels it declares. The decoder reads Huffman-coded JPEGs
+/// only (baseline and progressive; arithmetic coding is refused), which spend at least one bit
+/// on each 8 x 8 block of a component (its DC code, in the first scan), so `width` x `height`
+/// pixels take at least one byte per 512. A shorter file is truncated or crafted, and its
+/// decoder would still transform every block the header declares: seconds for a few hundred
+/// bytes.
+fn check_jpeg_length(width: u32, height: u32, length: usize) -> Result<(), String> {
+    let blocks = u64::from(width).div_ceil(8) * u64::from(height).div_ceil(8);
+    let least = blocks.div_ceil(8);
+    if (length as u64) < least {
+        return Err(format!(
+            "the JPEG declares {width} x {height} pixels in {length} bytes: its {blocks} blocks \
+             of 8 x 8 take at least a bit each, {least} bytes (a truncated or crafted file)"
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses a size of no pixels or of more than [`MAX_IMAGE_PIXELS`].
@@ -119,6 +149,31 @@ mod tests {
         small.extend([128, 64, 32, 129, 1, 2, 3, 128]);
         let fine = decode_bytes(&small).expect("a small image decodes");
         assert_eq!((fine.width(), fine.height()), (2, 1));
+    }
+
+    /// A JPEG whose header declares 2064 x 24592 pixels in a few hundred bytes is refused
+    /// before its decoder transforms 800 000 blocks; the same file at its own size decodes.
+    #[test]
+    fn a_jpeg_too_short_for_its_pixels_is_refused() {
+        let mut jpeg = Vec::new();
+        let tile = image::RgbImage::from_pixel(16, 16, image::Rgb([200, 100, 50]));
+        tile.write_to(&mut Cursor::new(&mut jpeg), ImageFormat::Jpeg)
+            .unwrap();
+        let fine = decode_bytes(&jpeg).expect("a 16 x 16 JPEG decodes");
+        assert_eq!((fine.width(), fine.height()), (16, 16));
+        // The baseline frame header (SOF0): marker, length, precision, then height and width.
+        let sof = jpeg.windows(2).position(|w| w == [0xff, 0xc0]).unwrap();
+        jpeg[sof + 5..sof + 7].copy_from_slice(&24592u16.to_be_bytes());
+        jpeg[sof + 7..sof + 9].copy_from_slice(&2064u16.to_be_bytes());
+        let start = std::time::Instant::now();
+        let e = decode_bytes(&jpeg).expect_err("50 million pixels in a few hundred bytes");
+        let what = format!(
+            "the JPEG declares 2064 x 24592 pixels in {} bytes",
+            jpeg.len()
+        );
+        assert!(e.contains(&what) && e.contains("793092 blocks"), "{e}");
+        assert!(e.contains("99137 bytes"), "{e}");
+        assert!(start.elapsed().as_secs_f64() < 0.5, "{:?}", start.elapsed());
     }
 
     /// A palette whose length is no multiple of 3 is refused in one line before the `png`

@@ -280,8 +280,9 @@ enum Missing {
     Broken(String),
 }
 
-/// The bytes a glTF URI names: a base64 data URI or a percent-encoded path relative to `base`
-/// (`scene::reads`: refused outside the assets root, noted outside `base`), and the note.
+/// The bytes a glTF URI names: a base64 data URI, a `file:` URI or a percent-encoded path
+/// relative to `base` (`scene::reads`: refused outside the assets root, noted outside `base`),
+/// and the note.
 fn read_uri(uri: &str, base: &Path) -> Result<(Vec<u8>, Option<String>), Missing> {
     if let Some(data) = uri.strip_prefix("data:") {
         let (_, payload) = data
@@ -292,9 +293,104 @@ fn read_uri(uri: &str, base: &Path) -> Result<(Vec<u8>, Option<String>), Missing
             .map(|bytes| (bytes, None))
             .map_err(|e| Missing::Broken(format!("bad base64: {e}")));
     }
-    let path = urlencoding::decode(uri).map_err(|e| Missing::Broken(e.to_string()))?;
+    let path = urlencoding::decode(local_path(uri)?).map_err(|e| Missing::Broken(e.to_string()))?;
     let file = super::reads::named_file(base, Path::new(path.as_ref())).map_err(Missing::Broken)?;
     let bytes = std::fs::read(&file.path)
         .map_err(|e| Missing::File(format!("cannot read {}: {e}", file.path.display())))?;
     Ok((bytes, file.note))
+}
+
+/// The path part of a URI that is not a data URI: a relative reference as it is, a `file:` URI's
+/// path (RFC 8089: `file:///a/b`, `file://localhost/a/b` or `file:/a/b`; exporters write them).
+/// Another scheme (`http:`) or host is refused in one line: lensray reads no network.
+fn local_path(uri: &str) -> Result<&str, Missing> {
+    let scheme = uri.split_once(':').map(|(scheme, _)| scheme).filter(|s| {
+        // RFC 3986's scheme, longer than a letter: `C:` starts a Windows path.
+        s.len() > 1
+            && s.starts_with(|c: char| c.is_ascii_alphabetic())
+            && s.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '+' | '-' | '.'))
+    });
+    let Some(scheme) = scheme else {
+        return Ok(uri);
+    };
+    if !scheme.eq_ignore_ascii_case("file") {
+        return Err(Missing::Broken(format!(
+            "a {scheme}: URI; lensray reads files beside the glTF, file: URIs and data URIs, \
+             not the network"
+        )));
+    }
+    let rest = &uri[scheme.len() + 1..];
+    let Some(authority_and_path) = rest.strip_prefix("//") else {
+        return Ok(rest);
+    };
+    let (host, path) = authority_and_path
+        .find('/')
+        .map_or((authority_and_path, ""), |at| {
+            authority_and_path.split_at(at)
+        });
+    if !(host.is_empty() || host.eq_ignore_ascii_case("localhost")) {
+        return Err(Missing::Broken(format!(
+            "a file: URI on host {host}; lensray reads files on this machine"
+        )));
+    }
+    Ok(path)
+}
+
+#[cfg(test)]
+mod uri_tests {
+    use super::*;
+
+    fn path_of(uri: &str) -> Result<&str, String> {
+        local_path(uri).map_err(|(Missing::File(e) | Missing::Broken(e))| e)
+    }
+
+    /// Relative references pass as they are; `file:` URIs give their path, with or without an
+    /// authority; other schemes and hosts are one line naming them.
+    #[test]
+    fn file_uris_give_their_path_and_other_schemes_are_refused() {
+        assert_eq!(path_of("meshes/a%20b.bin"), Ok("meshes/a%20b.bin"));
+        assert_eq!(path_of("file:///srv/a%20b.bin"), Ok("/srv/a%20b.bin"));
+        assert_eq!(path_of("FILE://localhost/srv/a.bin"), Ok("/srv/a.bin"));
+        assert_eq!(path_of("file:/srv/a.bin"), Ok("/srv/a.bin"));
+        assert_eq!(path_of("file:a.bin"), Ok("a.bin"));
+        assert_eq!(path_of("C:/models/a.bin"), Ok("C:/models/a.bin"));
+        let web = path_of("https://example.com/a.bin").unwrap_err();
+        assert!(
+            web.starts_with("a https: URI;") && web.contains("not the network"),
+            "{web}"
+        );
+        let host = path_of("file://server/share/a.bin").unwrap_err();
+        assert!(host.contains("on host server"), "{host}");
+    }
+
+    /// A buffer named by a `file://` URI with a percent-encoded absolute path loads as the same
+    /// buffer beside the file does.
+    #[test]
+    fn a_buffer_named_by_a_file_uri_loads() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let path = materials::texcoord_tests::write_triangle(dir.path(), "{}", "");
+        let json = std::fs::read_to_string(&path).unwrap();
+        let (head, tail) = json
+            .split_once("data:application/octet-stream;base64,")
+            .unwrap();
+        let (data, tail) = tail.split_once('"').unwrap();
+        let bin = base64::engine::general_purpose::STANDARD
+            .decode(data)
+            .unwrap();
+        let folder = dir.path().join("two words");
+        std::fs::create_dir(&folder).unwrap();
+        std::fs::write(folder.join("tri.bin"), bin).unwrap();
+        let uri = format!("file://{}/two%20words/tri.bin", dir.path().display());
+        std::fs::write(&path, format!("{head}{uri}\"{tail}")).unwrap();
+        let file = load_gltf(&path).unwrap_or_else(|e| panic!("{uri}: {e}"));
+        assert_eq!(file.scene.meshes.len(), 1);
+        let https = json.replace("data:", "https://example.com/tri.bin#");
+        std::fs::write(&path, https).unwrap();
+        let e = load_gltf(&path).map(|_| ()).unwrap_err().to_string();
+        assert!(
+            e.contains("buffer 0 (https://example.com/tri.bin#") && e.contains("https: URI"),
+            "{e}"
+        );
+    }
 }
