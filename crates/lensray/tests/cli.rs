@@ -9,6 +9,8 @@ use std::process::{Command, Output};
 
 #[path = "cli/adaptive.rs"]
 mod adaptive;
+#[path = "cli/animated_nodes.rs"]
+mod animated_nodes;
 #[path = "cli/caches.rs"]
 mod caches;
 #[path = "cli/camera_animation.rs"]

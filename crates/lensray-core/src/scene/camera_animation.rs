@@ -181,13 +181,13 @@ pub struct AnimatedNode {
 }
 
 impl AnimatedNode {
-    fn is_animated(&self) -> bool {
+    pub(crate) fn is_animated(&self) -> bool {
         self.translation.is_some() || self.rotation.is_some() || self.scale.is_some()
     }
 
     /// The node's local transform (`parent_from_node`) at `time`: T R S, each from its track
     /// where one moves it.
-    fn parent_from_node(&self, time: f64) -> DMat4 {
+    pub(crate) fn parent_from_node(&self, time: f64) -> DMat4 {
         if !self.is_animated() {
             return self.rest;
         }
@@ -197,6 +197,32 @@ impl AnimatedNode {
         let s = self.scale.as_ref().map_or(s, |k| k.at(time));
         DMat4::from_scale_rotation_translation(s, r.normalize(), t)
     }
+}
+
+/// The earliest and latest key times of the tracks of `chain`, seconds.
+pub(crate) fn chain_time_range(chain: &[AnimatedNode]) -> (f64, f64) {
+    let ranges = chain.iter().flat_map(|n| {
+        [
+            n.translation.as_ref().map(AnimationTrack::time_range),
+            n.rotation.as_ref().map(AnimationTrack::time_range),
+            n.scale.as_ref().map(AnimationTrack::time_range),
+        ]
+    });
+    ranges
+        .flatten()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (s, e)| {
+            (a.min(s), b.max(e))
+        })
+}
+
+/// The last node of `chain` (a scene root first) at `time` seconds in a world scaled by
+/// `world_scale`: the scale times the nodes' local transforms, root first.
+pub(crate) fn world_from_chain(world_scale: f64, chain: &[AnimatedNode], time: f64) -> DMat4 {
+    chain
+        .iter()
+        .fold(DMat4::from_scale(DVec3::splat(world_scale)), |m, n| {
+            m * n.parent_from_node(time)
+        })
 }
 
 /// Where a camera is at one time, in world space.
@@ -248,27 +274,12 @@ impl CameraAnimation {
 
     /// The earliest and latest key times of its tracks, seconds.
     pub fn time_range(&self) -> (f64, f64) {
-        let ranges = self.chain.iter().flat_map(|n| {
-            [
-                n.translation.as_ref().map(AnimationTrack::time_range),
-                n.rotation.as_ref().map(AnimationTrack::time_range),
-                n.scale.as_ref().map(AnimationTrack::time_range),
-            ]
-        });
-        ranges
-            .flatten()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (s, e)| {
-                (a.min(s), b.max(e))
-            })
+        chain_time_range(&self.chain)
     }
 
     /// The camera node's world transform at `time` seconds.
     pub fn world_from_camera(&self, time: f64) -> DMat4 {
-        self.chain
-            .iter()
-            .fold(DMat4::from_scale(DVec3::splat(self.world_scale)), |m, n| {
-                m * n.parent_from_node(time)
-            })
+        world_from_chain(self.world_scale, &self.chain, time)
     }
 
     /// The camera's eye, view direction and up at `time` seconds (glTF's camera axes).

@@ -62,6 +62,7 @@ use serde::{Deserialize, Serialize};
 use super::camera_animation::CameraAnimation;
 use super::file_camera::{pick_camera, FileCamera};
 use super::gltf_file::{load_gltf, MeshFile};
+use super::motion::SceneMotion;
 use super::obj::load_obj;
 use super::units::SceneUnits;
 use super::{LoadTimes, Scene, SceneError};
@@ -92,6 +93,9 @@ pub struct SceneDescription {
     /// The mesh file's animations that move no camera, as lines name them; a camera carries
     /// the one that moves it ([`FileCamera::animation`]).
     pub other_animations: Vec<String>,
+    /// The meshes and lights the mesh file's animations move, if any: a sequence poses them
+    /// on each frame, a still render shows them at rest.
+    pub motion: Option<SceneMotion>,
 }
 
 impl SceneDescription {
@@ -110,6 +114,9 @@ impl SceneDescription {
         let factor = units.metres() / self.units.metres();
         if factor != 1.0 {
             self.scene.scale(factor);
+            if let Some(motion) = &mut self.motion {
+                motion.scale(factor);
+            }
             for camera in &mut self.cameras {
                 *camera = camera.scaled(factor);
             }
@@ -153,6 +160,7 @@ impl SceneDescription {
             load_times: file.times,
             keyframes: Keyframes::default(),
             other_animations: file.other_animations,
+            motion: file.motion,
         };
         match camera {
             Some(choice) => description.use_camera(choice)?,

@@ -22,6 +22,7 @@ pub mod gltf_out;
 pub mod light;
 pub mod load_times;
 mod material;
+pub mod motion;
 pub mod normals;
 pub mod obj;
 pub mod order;

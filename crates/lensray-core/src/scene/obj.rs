@@ -115,6 +115,7 @@ pub fn load_obj(path: &Path) -> Result<MeshFile, SceneError> {
         notices,
         times,
         other_animations: Vec::new(),
+        motion: None,
     })
 }
 

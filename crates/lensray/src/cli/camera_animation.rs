@@ -1,6 +1,6 @@
-//! A glTF camera animation in the command's renders: a sequence plays the animation of the
-//! camera in use on its frames (frame N at N / fps seconds), and a single render says that it
-//! renders the camera at rest.
+//! A glTF file's animations in the command's renders: a sequence plays the animation of the
+//! camera in use and those that move meshes and lights on its frames (frame N at N / fps
+//! seconds), and a single render says that it shows them at rest.
 
 use anyhow::{Context, Result};
 
@@ -60,7 +60,7 @@ pub fn play(
             n => format!(" and {n} more"),
         };
         eprintln!(
-            "note: the file's {}{more} are not played: lensray plays the animation of the camera in use (animated meshes render at rest)",
+            "note: the file's {}{more} are not played: lensray plays the animation of the camera in use and those that move meshes and lights (skins and morph targets render at rest)",
             others[..others.len().min(NAMED)].join(", ")
         );
     }
@@ -88,5 +88,33 @@ pub fn note_still(description: &SceneDescription) {
             "note: {}; this render is the camera at rest, a sequence (--frames) plays it",
             summary(animation)
         );
+    }
+}
+
+/// Says what the file's animations move besides cameras: played on the frames at `fps` in a
+/// sequence, at rest in a single render (`fps` none).
+pub fn note_motion(description: &SceneDescription, fps: Option<f64>) {
+    let Some(motion) = &description.motion else {
+        return;
+    };
+    let (start, end) = motion.time_range();
+    let count = |n: usize, one: &str, many: &str| match n {
+        1 => format!("1 {one}"),
+        n => format!("{n} {many}"),
+    };
+    let what = format!(
+        "{} move{} {} and {}: keys from {start:.3} s to {end:.3} s",
+        motion.names.join(", "),
+        if motion.names.len() == 1 { "s" } else { "" },
+        count(motion.meshes.len(), "mesh", "meshes"),
+        count(motion.lights.len(), "light", "lights"),
+    );
+    match fps {
+        Some(fps) => {
+            eprintln!("{what}, posed on each frame at {fps} fps (frame N at N / fps seconds)")
+        }
+        None => eprintln!(
+            "note: {what}; this render shows them at rest, a sequence (--frames) plays them"
+        ),
     }
 }

@@ -257,6 +257,7 @@ fn render_one(args: &RenderArgs) -> Result<()> {
     let mut description = load_scene(&args.view)?;
     note_keyframes(&description);
     super::camera_animation::note_still(&description);
+    super::camera_animation::note_motion(&description, None);
     let mut settings = merged_settings(&description.settings, description.units, &args.view);
     let context = || format!("scene {}", description.source);
     let mut resolved = shot(&settings, &description.scene).with_context(context)?;

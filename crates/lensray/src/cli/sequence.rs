@@ -84,6 +84,7 @@ pub fn run(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>) ->
     let mut video = video
         .map(|(video, fps)| video.start(width, height, fps))
         .transpose()?;
+    super::camera_animation::note_motion(&description, Some(rate));
     let times = render_frames(
         args,
         frames,
@@ -159,7 +160,8 @@ fn print_timings(
     println!("timings: total {total:.4} s");
 }
 
-/// Renders each frame not yet complete (under `--resume`), with one progress bar over them all.
+/// Renders each frame not yet complete (under `--resume`), with one progress bar over them all;
+/// what the file's animations move is posed at each frame's time (frame N at N / fps seconds).
 fn render_frames(
     args: &RenderArgs,
     frames: &[u32],
@@ -169,6 +171,10 @@ fn render_frames(
     path: &mut dyn RenderPath,
     mut video: Option<&mut VideoEncoder>,
 ) -> Result<SequenceTimes> {
+    let mut posed = description
+        .motion
+        .as_ref()
+        .map(|motion| (motion, description.scene.clone()));
     let mut times = SequenceTimes::default();
     let mut progress = ProgressReporter::new("rendering", args.progress);
     let lines = args.progress == ProgressMode::Lines;
@@ -192,6 +198,12 @@ fn render_frames(
             continue;
         }
         let output = file.as_deref().map(PendingOutput::create).transpose()?;
+        if let Some((motion, scene)) = posed.as_mut() {
+            let rate = fps(&settings.at(frame)).with_context(|| format!("frame {frame}"))?;
+            motion.pose(scene, f64::from(frame) / rate);
+            path.load_scene(scene)
+                .with_context(|| format!("frame {frame}: the posed scene"))?;
+        }
         if let Some(pixel) = args.focus_at {
             let focus = focus_depth_at(path, &resolved.camera, pixel, "--focus-at")?;
             let mut keyed = settings.at(frame);

@@ -1,7 +1,7 @@
 //! A camera's animation read from the file's `animations`: the first animation whose channels
 //! move the camera's node or one of its ancestors (translation, rotation, scale), with every
-//! node of the chain from the scene root down. Animations that move other nodes are not read
-//! (lensray renders meshes at rest). An animation whose data is bad (accessors of the wrong
+//! node of the chain from the scene root down; and every node's tracks (`node_tracks`), which
+//! move meshes and lights (`scene::motion`). An animation whose data is bad (accessors of the wrong
 //! kind or past their buffers, counts that differ, times that do not increase, values that are
 //! not finite) is skipped with one notice, never an error: the file still renders.
 
@@ -85,21 +85,7 @@ fn read_chain(
     let mut nodes: Vec<AnimatedNode> = chain
         .iter()
         .filter_map(|&i| document.nodes().nth(i))
-        .map(|node| {
-            let transform = node.transform();
-            let (t, r, s) = transform.clone().decomposed();
-            AnimatedNode {
-                rest: DMat4::from_cols_array_2d(&transform.matrix().map(|c| c.map(f64::from))),
-                rest_trs: (
-                    DVec3::from(t.map(f64::from)),
-                    DQuat::from_array(r.map(f64::from)),
-                    DVec3::from(s.map(f64::from)),
-                ),
-                translation: None,
-                rotation: None,
-                scale: None,
-            }
-        })
+        .map(|node| rest_node(&node))
         .collect();
     for channel in animation.channels() {
         let target = channel.target();
@@ -127,6 +113,92 @@ fn read_chain(
         }
     }
     Ok(nodes)
+}
+
+/// `node` at rest, no track moving it.
+fn rest_node(node: &gltf::Node) -> AnimatedNode {
+    let transform = node.transform();
+    let (t, r, s) = transform.clone().decomposed();
+    AnimatedNode {
+        rest: DMat4::from_cols_array_2d(&transform.matrix().map(|c| c.map(f64::from))),
+        rest_trs: (
+            DVec3::from(t.map(f64::from)),
+            DQuat::from_array(r.map(f64::from)),
+            DVec3::from(s.map(f64::from)),
+        ),
+        translation: None,
+        rotation: None,
+        scale: None,
+    }
+}
+
+/// Every node with the tracks of the file's animations: all of them play at once, on one
+/// timeline, the first (in the file's order) that moves a node's translation, rotation or
+/// scale moving it.
+pub(super) struct NodeTracks {
+    /// By node index.
+    pub nodes: Vec<AnimatedNode>,
+    /// By node index: the animations whose tracks move it.
+    pub movers: Vec<Vec<usize>>,
+    /// One line for each animation skipped (bad data) or overruled on a node.
+    pub notices: Vec<String>,
+}
+
+/// The tracks every animation gives the nodes (morph weights aside).
+pub(super) fn node_tracks(document: &gltf::Document, buffers: &[Vec<u8>]) -> NodeTracks {
+    let mut tracks = NodeTracks {
+        nodes: document.nodes().map(|n| rest_node(&n)).collect(),
+        movers: vec![Vec::new(); document.nodes().len()],
+        notices: Vec::new(),
+    };
+    for animation in document.animations() {
+        let mut moved: Vec<usize> = animation
+            .channels()
+            .filter(|c| c.target().property() != Property::MorphTargetWeights)
+            .map(|c| c.target().node().index())
+            .collect();
+        moved.sort_unstable();
+        moved.dedup();
+        let name = animation_name(&animation);
+        let read = match read_chain(document, buffers, &animation, &moved) {
+            Ok(read) => read,
+            Err(e) => {
+                tracks
+                    .notices
+                    .push(format!("{name} {e}: the animation is skipped"));
+                continue;
+            }
+        };
+        let mut overruled = false;
+        for (&i, node) in moved.iter().zip(read) {
+            let into = &mut tracks.nodes[i];
+            let mut took = false;
+            for (mine, theirs) in [
+                (&mut into.translation, node.translation),
+                (&mut into.scale, node.scale),
+            ] {
+                match (mine.is_some(), theirs) {
+                    (false, Some(track)) => (*mine, took) = (Some(track), true),
+                    (true, Some(_)) => overruled = true,
+                    _ => {}
+                }
+            }
+            match (into.rotation.is_some(), node.rotation) {
+                (false, Some(track)) => (into.rotation, took) = (Some(track), true),
+                (true, Some(_)) => overruled = true,
+                _ => {}
+            }
+            if took {
+                tracks.movers[i].push(animation.index());
+            }
+        }
+        if overruled {
+            tracks.notices.push(format!(
+                "{name} moves a node an earlier animation moves too: the earlier one moves it"
+            ));
+        }
+    }
+    tracks
 }
 
 /// A value a channel's output accessor holds, read from its elements.

@@ -372,6 +372,8 @@ fn bad_animation_data_is_one_notice_and_the_animation_is_skipped() {
     }
 }
 
+/// An animation of the mesh's node leaves the camera still and moves the mesh: it is the
+/// scene's motion, not an animation left unplayed.
 #[test]
 fn an_animation_of_other_nodes_leaves_the_camera_still() {
     let spin = channel(
@@ -383,10 +385,15 @@ fn an_animation_of_other_nodes_leaves_the_camera_still() {
     );
     let file = load("", [0.0; 3], &[vec![spin]]);
     assert_eq!(file.cameras[0].animation, None);
-    assert_eq!(
-        file.other_animations,
-        vec!["animation 0 ('move')".to_string()]
+    assert!(
+        file.other_animations.is_empty(),
+        "{:?}",
+        file.other_animations
     );
+    let motion = file.motion.as_ref().expect("the mesh moves");
+    assert_eq!(motion.names, vec!["animation 0 ('move')".to_string()]);
+    assert_eq!((motion.meshes.len(), motion.meshes[0].index), (1, 0));
+    assert_eq!(motion.time_range(), (0.0, 1.0));
     assert!(
         file.notices.iter().all(|n| !n.contains("animation")),
         "{:?}",

@@ -22,6 +22,7 @@ use std::time::Instant;
 use base64::Engine;
 
 use super::file_camera::FileCamera;
+use super::motion::SceneMotion;
 use super::{LoadTimes, Scene, SceneError};
 
 mod accessors;
@@ -58,6 +59,8 @@ pub struct MeshFile {
     /// The file's animations that move no camera, as lines name them ("animation I
     /// ('NAME')"); a camera's [`FileCamera::animation`] is the one that moves it.
     pub other_animations: Vec<String>,
+    /// The meshes and lights the file's animations move, if any.
+    pub motion: Option<SceneMotion>,
 }
 
 /// Reads a `.gltf` or `.glb` file with its buffers.
@@ -99,6 +102,22 @@ pub fn load_gltf(path: &Path) -> Result<MeshFile, SceneError> {
     let mut out = reader.finish(&document);
     notices.append(&mut out.notices);
     notices.extend(crate::scene::tangents::unread_notice(&mut out.scene));
+    if let Some(motion) = &mut out.motion {
+        // A moving normal-mapped mesh without TANGENT gets MikkTSpace's in its node's space.
+        let mut node_scene = super::Scene {
+            meshes: motion
+                .meshes
+                .iter_mut()
+                .map(|m| std::mem::take(&mut m.node_mesh))
+                .collect(),
+            materials: out.scene.materials.clone(),
+            ..super::Scene::default()
+        };
+        super::tangents::generate_missing(&mut node_scene);
+        for (moving, mesh) in motion.meshes.iter_mut().zip(node_scene.meshes) {
+            moving.node_mesh = mesh;
+        }
+    }
     out.notices = notices
         .into_iter()
         .map(|n| format!("{}: {n}", path.display()))

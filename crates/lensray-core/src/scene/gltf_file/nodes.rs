@@ -7,11 +7,12 @@ use glam::{DMat4, DVec3, Vec2, Vec3};
 use gltf::mesh::Mode;
 
 use super::accessors::{read_colours, read_floats, read_normals, read_tangents};
-use super::animation::{animation_name, camera_animation};
+use super::animation::{animation_name, camera_animation, node_tracks, NodeTracks};
 use super::materials::{ignored_features, ImageSlot};
 use super::MeshFile;
-use crate::scene::camera_animation::CameraPose;
+use crate::scene::camera_animation::{AnimatedNode, CameraPose};
 use crate::scene::file_camera::{FileCamera, FileProjection};
+use crate::scene::motion::{MovingLight, MovingMesh, SceneMotion};
 use crate::scene::{Light, LightKind, Mesh};
 
 /// The node walk's state: the buffers and what is gathered.
@@ -26,6 +27,12 @@ pub(super) struct Walk<'a> {
     on_chain: Vec<bool>,
     /// The animations that move a camera, by index.
     pub camera_animations: Vec<usize>,
+    /// Every node's tracks, from all the animations.
+    tracks: NodeTracks,
+    /// The meshes and lights the animations move, and the animations that move them.
+    moving_meshes: Vec<MovingMesh>,
+    moving_lights: Vec<MovingLight>,
+    motion_animations: Vec<usize>,
     /// Where image files named by URI are.
     pub base: &'a Path,
     pub out: MeshFile,
@@ -56,6 +63,10 @@ impl<'a> Walk<'a> {
             visited: vec![false; document.nodes().len()],
             on_chain: vec![false; document.nodes().len()],
             camera_animations: Vec::new(),
+            tracks: node_tracks(document, buffers),
+            moving_meshes: Vec::new(),
+            moving_lights: Vec::new(),
+            motion_animations: Vec::new(),
             base,
             out: MeshFile::default(),
             materials: vec![None; document.materials().len()],
@@ -119,12 +130,12 @@ impl<'a> Walk<'a> {
                 node.index()
             ));
         }
+        self.chain.push(node.index());
         if let Some(mesh) = node.mesh() {
             for primitive in mesh.primitives() {
                 self.primitive(node, &mesh, &primitive, &world_from_node)?;
             }
         }
-        self.chain.push(node.index());
         if let Some(camera) = node.camera() {
             let index = self.out.cameras.len();
             let mut camera = file_camera(node, &camera, &world_from_node, index);
@@ -136,13 +147,34 @@ impl<'a> Walk<'a> {
             self.out.cameras.push(camera);
         }
         if let Some(light) = node.light() {
+            let node_light = punctual_light(&light, &DMat4::IDENTITY);
             let light = punctual_light(&light, &world_from_node);
             light
                 .check()
                 .map_err(|e| format!("node {}: {e}", node.index()))?;
+            if let Some(chain) = self.moving_chain() {
+                self.moving_lights.push(MovingLight {
+                    index: self.out.scene.lights.len(),
+                    chain,
+                    node_light,
+                });
+            }
             self.out.scene.lights.push(light);
         }
         Ok(world_from_node)
+    }
+
+    /// The nodes of `chain` with their tracks, where an animation moves one of them, and the
+    /// animations that do noted as played.
+    fn moving_chain(&mut self) -> Option<Vec<AnimatedNode>> {
+        let nodes = &self.tracks.nodes;
+        if !self.chain.iter().any(|&i| nodes[i].is_animated()) {
+            return None;
+        }
+        for &i in &self.chain {
+            self.motion_animations.extend(&self.tracks.movers[i]);
+        }
+        Some(self.chain.iter().map(|&i| nodes[i].clone()).collect())
     }
 
     /// Adds one primitive of `mesh` at `node` as a mesh in world space.
@@ -227,37 +259,48 @@ impl<'a> Walk<'a> {
         let material = self
             .material(primitive.material())
             .map_err(|e| format!("{what}: {e}"))?;
-        let name = node
-            .name()
-            .or(mesh.name())
-            .map_or_else(|| format!("node {}", node.index()), str::to_string);
-        self.out.scene.meshes.push(Mesh {
+        let mesh = Mesh {
             colours,
             tangents,
-            name,
-            positions: positions
-                .iter()
-                .map(|p| {
-                    let p = world_from_node.transform_point3(DVec3::from(p.map(f64::from)));
-                    p.as_vec3()
-                })
-                .collect(),
+            name: mesh_name(node, mesh),
+            positions: world_positions(&positions, world_from_node),
             normals,
             texcoords,
             texcoords1,
             material_ids: vec![material; triangles.len()],
             triangles,
-        });
+        };
+        if let Some(chain) = self.moving_chain() {
+            let triangles = assemble(mode, &corners, false);
+            let node_mesh = node_space_mesh(primitive, buffers, &mesh, &positions, triangles)
+                .map_err(|e| format!("{what}: {e}"))?;
+            self.moving_meshes.push(MovingMesh {
+                index: self.out.scene.meshes.len(),
+                chain,
+                node_mesh,
+            });
+        }
+        self.out.scene.meshes.push(mesh);
         Ok(())
     }
 
     /// What was gathered, with the notices about what the shading ignores.
     pub(super) fn finish(mut self, document: &gltf::Document) -> MeshFile {
+        let played = |i: &usize| self.motion_animations.contains(i);
         self.out.other_animations = document
             .animations()
-            .filter(|a| !self.camera_animations.contains(&a.index()))
+            .filter(|a| !self.camera_animations.contains(&a.index()) && !played(&a.index()))
             .map(|a| animation_name(&a))
             .collect();
+        let names = document
+            .animations()
+            .filter(|a| played(&a.index()))
+            .map(|a| animation_name(&a))
+            .collect();
+        self.out.motion = SceneMotion::new(names, self.moving_meshes, self.moving_lights);
+        if self.out.motion.is_some() {
+            self.out.notices.append(&mut self.tracks.notices);
+        }
         if let Some(set) = self.other_texcoords {
             self.out.notices.push(format!(
                 "reads textures of TEXCOORD_{set} with TEXCOORD_0 (lensray reads TEXCOORD_0 and \
@@ -279,6 +322,46 @@ impl<'a> Walk<'a> {
         }
         self.out
     }
+}
+
+/// A mesh's name in lines: its node's, else its own, else "node I".
+fn mesh_name(node: &gltf::Node, mesh: &gltf::Mesh) -> String {
+    node.name()
+        .or(mesh.name())
+        .map_or_else(|| format!("node {}", node.index()), str::to_string)
+}
+
+/// `positions` (in a node's space) in the world.
+fn world_positions(positions: &[[f32; 3]], world_from_node: &DMat4) -> Vec<Vec3> {
+    positions
+        .iter()
+        .map(|p| {
+            let p = world_from_node.transform_point3(DVec3::from(p.map(f64::from)));
+            p.as_vec3()
+        })
+        .collect()
+}
+
+/// `mesh` (read from `primitive` and placed in the world) in its node's space: `positions` as
+/// the file holds them, the normals and tangents read again without the node's transform, and
+/// `triangles` wound as in the file.
+fn node_space_mesh(
+    primitive: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+    mesh: &Mesh,
+    positions: &[[f32; 3]],
+    triangles: Vec<[u32; 3]>,
+) -> Result<Mesh, String> {
+    let count = positions.len();
+    Ok(Mesh {
+        positions: positions.iter().map(|&p| Vec3::from(p)).collect(),
+        normals: read_normals(primitive, buffers, &DMat4::IDENTITY, count)?,
+        tangents: read_tangents(primitive, buffers, &DMat4::IDENTITY)?
+            .filter(|t| t.len() == count)
+            .unwrap_or_default(),
+        triangles,
+        ..mesh.clone()
+    })
 }
 
 /// The triangles of `corners` in `mode`, counter-clockwise as glTF winds them (reversed where
