@@ -6,6 +6,8 @@
 
 #[path = "preview/adaptive.rs"]
 mod adaptive;
+#[path = "preview/animated.rs"]
+mod animated;
 mod gpu_support;
 #[path = "preview/keyframes.rs"]
 mod keyframes;

@@ -72,6 +72,14 @@ impl ViewPass {
         self.format
     }
 
+    /// Points the sets of the pipelines made so far at `scene`'s arrays (a new scene). No
+    /// frame is in flight.
+    pub(crate) fn rebind(&self, scene: &SceneBuffers) {
+        for pipeline in self.pipelines.iter().flatten() {
+            scene.bind(pipeline);
+        }
+    }
+
     /// Makes the pipeline of `view` (VIEW_ALBEDO to VIEW_COC) unless it exists, its set
     /// pointed at `scene`'s arrays.
     pub(crate) fn ensure_view(&mut self, view: u32, scene: &SceneBuffers) -> Result<(), GpuError> {

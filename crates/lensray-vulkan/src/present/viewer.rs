@@ -121,6 +121,17 @@ impl Viewer {
         self.gpu.device_name()
     }
 
+    /// Replaces the scene the window draws (an animated file's pose of another frame): waits
+    /// for the frames in flight, then uploads it and points every pass at it.
+    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
+        self.wait_idle()?;
+        self.gpu.load_scene(scene)?;
+        if let Some(view_pass) = &self.view_pass {
+            view_pass.rebind(self.gpu.scene_buffers()?);
+        }
+        Ok(())
+    }
+
     /// The renderer behind the window (to pick its traversal before the first frame).
     pub fn renderer_mut(&mut self) -> &mut GpuRenderer {
         &mut self.gpu

@@ -114,20 +114,38 @@ fn keyed_start(
     // The camera's glTF animation plays in the window as in `render --frames`.
     let keyframes = super::camera_animation::play(keyframes, description, &merged)?;
     let mut frames = FrameSettings::new(description.settings.clone(), command_line, keyframes);
-    let Some((first, last)) = frames.keyframes().range() else {
+    let context = || format!("scene {}", description.source);
+    // The frames an animated file's meshes and lights move over play too.
+    let moving = match &description.motion {
+        Some(motion) => {
+            let fps = lensray_core::settings::fps(&merged).with_context(context)?;
+            let (start, end) = motion.time_range();
+            let frame = |t: f64| t.clamp(0.0, f64::from(u32::MAX)) as u32;
+            Some((frame((start * fps).floor()), frame((end * fps).ceil())))
+        }
+        None => None,
+    };
+    let range = match (frames.keyframes().range(), moving) {
+        (Some(keyed), Some(moving)) => Some((keyed.0.min(moving.0), keyed.1.max(moving.1))),
+        (keyed, moving) => keyed.or(moving),
+    };
+    let Some((first, last)) = range else {
         return Ok((frames.unkeyed(), None));
     };
-    let context = || format!("scene {}", description.source);
     let fps = lensray_core::settings::fps(&frames.at(first)).with_context(context)?;
     resolve_focus(&mut frames, description, &args.path.options())?;
+    let what = if frames.keyframes().range().is_some() {
+        "keyframes from frame"
+    } else {
+        "frames"
+    };
     eprintln!(
-        "preview: keyframes from frame {first} to {last} at {fps} fps (the panel's slider picks a frame, Enter plays)"
+        "preview: {what} {first} to {last} at {fps} fps (the panel's slider picks a frame, Enter plays)"
     );
     let clock = PlaybackClock::new((first, last), fps);
-    Ok((
-        frames.at(first),
-        Some(Playback::new(frames, clock, Some(first))),
-    ))
+    // An animated file's first frame is posed when the window shows it.
+    let shown = description.motion.is_none().then_some(first);
+    Ok((frames.at(first), Some(Playback::new(frames, clock, shown))))
 }
 
 /// The keyframes' focus points and pixels as distances; a path opens at the first pixel key.

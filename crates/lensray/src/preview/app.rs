@@ -165,6 +165,8 @@ struct App {
     log: FrameLog,
     /// What the last frame rendered: a change restarts the accumulation.
     last: Option<Shot>,
+    /// An animated file's scene posed at the frame shown (`None`: at rest).
+    posed: Option<lensray_core::scene::Scene>,
     pending_pick: Option<Vec2>,
     /// Whether the pending pick is a point of the plane of focus (Shift+click).
     plane_pick: bool,
@@ -206,6 +208,7 @@ impl App {
             input: InputState::default(),
             log: FrameLog::default(),
             last: None,
+            posed: None,
             pending_pick: None,
             plane_pick: false,
             plane_points: Vec::new(),

@@ -115,6 +115,8 @@ impl Traced {
 #[derive(Default)]
 struct Shared {
     job: Option<Job>,
+    /// A scene to trace from the next job on (an animated file's next pose).
+    scene: Option<Scene>,
     latest: Option<Snapshot>,
     /// Why the worker stopped tracing the current job (a shot the CPU path refuses).
     error: Option<String>,
@@ -172,6 +174,18 @@ impl CpuFeed {
         wake.notify_all();
     }
 
+    /// Traces `scene` from the next request on (an animated file's pose of another frame):
+    /// the next request starts from 0 samples, even of the same shot.
+    pub fn load_scene(&mut self, scene: &Scene) {
+        self.current = None;
+        let (lock, wake) = &*self.shared;
+        let mut shared = lock.lock().expect("the worker does not panic");
+        shared.scene = Some(scene.clone());
+        shared.job = None;
+        shared.latest = None;
+        wake.notify_all();
+    }
+
     /// The newest sums of the current shot, if any arrived since the last call; an error when
     /// the CPU path refused the shot.
     pub fn take_latest(&mut self) -> Result<Option<Snapshot>> {
@@ -208,9 +222,18 @@ fn work(path: &mut CpuPath, shared: &(Mutex<Shared>, Condvar)) {
     let (lock, _) = shared;
     let mut traced: Option<Traced> = None;
     loop {
-        let Some(job) = next_job(shared, traced.as_ref()) else {
+        let Some((job, scene)) = next_job(shared, traced.as_ref()) else {
             return;
         };
+        if let Some(scene) = scene {
+            traced = None;
+            if let Err(e) = path.load_scene(&scene) {
+                let mut state = lock.lock().expect("the window does not panic while locked");
+                state.error = Some(format!("{e:#}"));
+                state.job = None;
+                continue;
+            }
+        }
         if traced.as_ref().is_none_or(|t| !t.of(&job)) {
             traced = Some(Traced::new(&job));
         }
@@ -229,8 +252,12 @@ fn work(path: &mut CpuPath, shared: &(Mutex<Shared>, Condvar)) {
     }
 }
 
-/// Waits for a job with samples left to trace (`None`: the window closed).
-fn next_job(shared: &(Mutex<Shared>, Condvar), traced: Option<&Traced>) -> Option<Job> {
+/// Waits for a job with samples left to trace, with the scene to load first if a new one
+/// came (`None`: the window closed).
+fn next_job(
+    shared: &(Mutex<Shared>, Condvar),
+    traced: Option<&Traced>,
+) -> Option<(Job, Option<Scene>)> {
     let (lock, wake) = shared;
     let mut state = lock.lock().expect("the window does not panic while locked");
     loop {
@@ -238,9 +265,12 @@ fn next_job(shared: &(Mutex<Shared>, Condvar), traced: Option<&Traced>) -> Optio
             return None;
         }
         if let Some(job) = state.job.clone() {
+            if state.scene.is_some() {
+                return Some((job, state.scene.take()));
+            }
             let finished = traced.is_some_and(|t| t.of(&job) && t.finished(&job));
             if !finished {
-                return Some(job);
+                return Some((job, None));
             }
         }
         state = wake

@@ -24,6 +24,7 @@ impl App {
         let Some(frame) = playback.next_frame(now) else {
             return;
         };
+        let fps = playback.clock.fps();
         let mut settings = playback.frames().at(frame);
         let current = self.config.rig.settings();
         settings.image.width = current.image.width;
@@ -33,6 +34,28 @@ impl App {
             Ok(rig) => self.config.rig = rig,
             Err(e) => eprintln!("frame {frame}: {e} (the camera stays)"),
         }
+        self.pose(f64::from(frame) / fps);
+    }
+
+    /// Poses what the file's animations move at `time` seconds, as `render --frames` does, and
+    /// hands the pose to the path tracing the samples; the accumulation restarts. The camera's
+    /// framing stays the scene's at rest, as a sequence's does.
+    fn pose(&mut self, time: f64) {
+        let Some(motion) = &self.config.description.motion else {
+            return;
+        };
+        let scene = self
+            .posed
+            .get_or_insert_with(|| self.config.description.scene.clone());
+        motion.pose(scene, time);
+        if let Some(feed) = self.cpu_feed.as_mut() {
+            feed.load_scene(scene);
+        } else if let Some(viewer) = self.viewer.as_mut() {
+            if let Err(e) = viewer.load_scene(scene) {
+                eprintln!("the pose at {time:.3} s: {e} (the scene stays)");
+            }
+        }
+        self.last = None;
     }
 
     /// Plays the shot from the frame shown, or pauses on the frame it reached.

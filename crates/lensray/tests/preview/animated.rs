@@ -1,0 +1,59 @@
+//! An animated glTF in the preview: Khronos's BoxAnimated (`assets/BoxAnimated`) plays over its
+//! animation's frames, and a frame the script sets is the frame `render --frames` renders,
+//! float for float, the inner box posed there (the scene handed to the path again on each
+//! frame, validation on).
+
+use super::{assert_same_image, preview_with};
+
+#[test]
+fn a_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
+    let test = "a_frame_of_an_animated_file_is_the_frame_the_sequence_renders";
+    let dir = tempfile::tempdir().unwrap();
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/BoxAnimated/BoxAnimated.gltf");
+    let view = [
+        "--scene",
+        file.to_str().unwrap(),
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--spp",
+        "4",
+        "--eye",
+        "0,3,7",
+        "--target",
+        "0,1.5,0",
+        "--up",
+        "0,1,0",
+        "--light-position",
+        "2,6,5",
+        "--light-intensity",
+        "60,60,60",
+    ];
+    let script = "0 frame 18\n0 wait converged\n0 screenshot p18.exr\n\
+                  0 frame 42\n0 wait converged\n0 screenshot p42.exr\n0 quit\n";
+    let Some(out) = preview_with(test, dir.path(), script, &view, &["--path", "software"]) else {
+        return;
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // The animation's keys run from 0 to 3.708 s: frames 0 to 89 at 24 fps.
+    assert!(
+        stderr.contains("preview: frames 0 to 89 at 24 fps"),
+        "{stderr}"
+    );
+    let render = std::process::Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .args(["render", "--path", "software", "--frames", "18-42:24"])
+        .args(view)
+        .args(["--out", "r.####.exr"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        render.status.success(),
+        "{}",
+        String::from_utf8_lossy(&render.stderr)
+    );
+    assert_same_image(dir.path(), "p18.exr", "r.0018.exr", "animated-18");
+    assert_same_image(dir.path(), "p42.exr", "r.0042.exr", "animated-42");
+}
