@@ -83,9 +83,9 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         None => {
             // No subcommand at all: render the default scene with every default.
-            cli::render::run(&cli::render::RenderArgs::default())
+            cli::sequence::run(&cli::render::RenderArgs::default())
         }
-        Some(Command::Render(args)) => cli::render::run(args),
+        Some(Command::Render(args)) => cli::sequence::run(args),
         Some(Command::Preview(args)) => cli::preview::run(args),
         Some(Command::Bench(args)) => cli::bench::run(args),
         Some(Command::Calibrate(args)) => cli::calibrate::run(args),

@@ -1,4 +1,5 @@
-//! `lensray render`: one image, headless.
+//! `lensray render`: its options, the scene they name, and one image, headless (a sequence,
+//! `--frames`, is `cli::sequence`'s, which renders a still here).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -7,7 +8,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 
 use super::args::{parse_pixel, PathArgs, ViewArgs};
-use super::frames::{parse_chunk, parse_frames, Chunk, FramePattern, FrameRange};
+use super::frames::{parse_chunk, parse_frames, Chunk, FrameRange};
 use super::progress::{ProgressMode, ProgressReporter};
 use crate::focus::{focus_depth_at, lay_focus_plane};
 use crate::frame_settings::command_line_over;
@@ -168,49 +169,6 @@ fn print_exposure(settings: &Settings, exposure: &Exposure) {
     }
 }
 
-/// A sequence's frames and file names (none for a video alone), where `--frames` asks for one;
-/// `--chunk`, `--resume` and `--video` without it, or a frame number's place in `--out` without
-/// it, are refused.
-fn sequence_of(args: &RenderArgs) -> Result<Option<(Vec<u32>, Option<FramePattern>)>> {
-    let out = args.out_path();
-    let pattern = FramePattern::of(out);
-    let Some(range) = args.frames else {
-        let option = [
-            (args.resume, "--resume"),
-            (args.chunk.is_some(), "--chunk"),
-            (args.video.is_some(), "--video"),
-        ];
-        if let Some((_, option)) = option.into_iter().find(|(given, _)| *given) {
-            anyhow::bail!("{option} is for sequences: give --frames too");
-        }
-        if pattern.is_some() {
-            anyhow::bail!(
-                "--out {} names a frame number: give --frames (like --frames 1-240)",
-                out.display()
-            );
-        }
-        return Ok(None);
-    };
-    if args.video.is_some() && args.chunk.is_some() {
-        anyhow::bail!("--video encodes a whole sequence, not a --chunk: once the chunks' frames are rendered, one run over the range with --resume --video encodes them");
-    }
-    let frames = range.frames();
-    let frames = args.chunk.map_or(frames.clone(), |chunk| chunk.of(&frames));
-    if args.video.is_some() && args.out.is_none() {
-        if args.resume {
-            anyhow::bail!("--resume skips the frames' complete files: give --out with the frame number's place too");
-        }
-        return Ok(Some((frames, None)));
-    }
-    let Some(pattern) = pattern else {
-        anyhow::bail!(
-            "--out {}: a sequence's file name needs the frame number's place, like shot.####.exr or shot.%04d.exr",
-            out.display()
-        );
-    };
-    Ok(Some((frames, Some(pattern))))
-}
-
 /// `--focus-at`: `settings` focused on the surface seen at `pixel`, and their shot.
 fn autofocus(
     path: &mut dyn RenderPath,
@@ -235,14 +193,6 @@ fn autofocus(
     Ok(resolved)
 }
 
-/// A sequence's frames, where `--frames` asks for them, else one image.
-pub fn run(args: &RenderArgs) -> Result<()> {
-    match sequence_of(args)? {
-        Some((frames, pattern)) => super::sequence::run(args, &frames, pattern.as_ref()),
-        None => render_one(args),
-    }
-}
-
 /// Says that a render of one image leaves the scene's keyframes out.
 fn note_keyframes(description: &SceneDescription) {
     if let Some((first, last)) = description.keyframes.range() {
@@ -250,7 +200,8 @@ fn note_keyframes(description: &SceneDescription) {
     }
 }
 
-fn render_one(args: &RenderArgs) -> Result<()> {
+/// One image (`render` without `--frames`; `cli::sequence::run` decides).
+pub fn render_one(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     // Fail on a bad output path before spending time on the render.
     let output = PendingOutput::create(args.out_path())?;

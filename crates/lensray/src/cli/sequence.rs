@@ -1,8 +1,9 @@
-//! `lensray render --frames`: a sequence of frames in one process. The scene loads, and the
-//! device, its pipelines and the acceleration structures are made, once; each frame is a new
-//! shot (its camera from the scene's keyframes, or its glTF camera animation) rendered on the
-//! same path, with its own seed (`settings::frame_seed`), written to a temporary file and
-//! renamed when complete.
+//! `lensray render`: the sequence `--frames` asks for, else one image (`render::render_one`).
+//! A sequence renders in one process: the scene loads, and the device, its pipelines and the
+//! acceleration structures are made, once; each frame is a new shot (its camera from the
+//! scene's keyframes, or its glTF camera animation; what the file's animations move posed at
+//! its time) rendered on the same path, with its own seed (`settings::frame_seed`), written to
+//! a temporary file and renamed when complete.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -31,8 +32,59 @@ struct SequenceTimes {
     other: f64,
 }
 
+/// `lensray render`: the frames `--frames` asks for, else one image (`render::render_one`).
+pub fn run(args: &RenderArgs) -> Result<()> {
+    match sequence_of(args)? {
+        Some((frames, pattern)) => run_frames(args, &frames, pattern.as_ref()),
+        None => super::render::render_one(args),
+    }
+}
+
+/// A sequence's frames and file names (none for a video alone), where `--frames` asks for one;
+/// `--chunk`, `--resume` and `--video` without it, or a frame number's place in `--out` without
+/// it, are refused.
+fn sequence_of(args: &RenderArgs) -> Result<Option<(Vec<u32>, Option<FramePattern>)>> {
+    let out = args.out_path();
+    let pattern = FramePattern::of(out);
+    let Some(range) = args.frames else {
+        let option = [
+            (args.resume, "--resume"),
+            (args.chunk.is_some(), "--chunk"),
+            (args.video.is_some(), "--video"),
+        ];
+        if let Some((_, option)) = option.into_iter().find(|(given, _)| *given) {
+            anyhow::bail!("{option} is for sequences: give --frames too");
+        }
+        if pattern.is_some() {
+            anyhow::bail!(
+                "--out {} names a frame number: give --frames (like --frames 1-240)",
+                out.display()
+            );
+        }
+        return Ok(None);
+    };
+    if args.video.is_some() && args.chunk.is_some() {
+        anyhow::bail!("--video encodes a whole sequence, not a --chunk: once the chunks' frames are rendered, one run over the range with --resume --video encodes them");
+    }
+    let frames = range.frames();
+    let frames = args.chunk.map_or(frames.clone(), |chunk| chunk.of(&frames));
+    if args.video.is_some() && args.out.is_none() {
+        if args.resume {
+            anyhow::bail!("--resume skips the frames' complete files: give --out with the frame number's place too");
+        }
+        return Ok(Some((frames, None)));
+    }
+    let Some(pattern) = pattern else {
+        anyhow::bail!(
+            "--out {}: a sequence's file name needs the frame number's place, like shot.####.exr or shot.%04d.exr",
+            out.display()
+        );
+    };
+    Ok(Some((frames, Some(pattern))))
+}
+
 /// Renders `frames` to the files `pattern` names and to `--video`'s.
-pub fn run(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>) -> Result<()> {
+fn run_frames(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>) -> Result<()> {
     let start = Instant::now();
     if args.view.focus_plane.is_some() {
         anyhow::bail!("--focus-plane is for one frame: key focus_distance, tilt and tilt_direction in [[keyframe]]s for a sequence");
