@@ -58,6 +58,18 @@ fn spheres_beside(dir: &Path) -> &'static str {
     "spheres.obj"
 }
 
+/// The linear RGB of an EXR a render wrote.
+fn read_exr(path: &Path) -> lensray_core::film::Image {
+    let rgb = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb32f();
+    lensray_core::film::Image {
+        width: rgb.width(),
+        height: rgb.height(),
+        pixels: rgb.pixels().map(|p| glam::Vec3::from(p.0)).collect(),
+    }
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }

@@ -144,6 +144,21 @@ fn preview_with(
     Some(out)
 }
 
+/// Runs `lensray render ARGS` in `dir` (no window), which must succeed.
+fn headless(dir: &Path, args: &[&str]) {
+    let render = Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .arg("render")
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        render.status.success(),
+        "lensray render {args:?}: {}",
+        String::from_utf8_lossy(&render.stderr)
+    );
+}
+
 fn read_exr(path: &Path) -> image::Rgb32FImage {
     image::open(path)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
@@ -225,16 +240,7 @@ fn converged_preview_equals_the_headless_render() {
         args.extend_from_slice(&VIEW);
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--out", "render.exr"]);
-        let render = Command::new(env!("CARGO_BIN_EXE_lensray"))
-            .args(&args)
-            .current_dir(dir.path())
-            .output()
-            .unwrap();
-        assert!(
-            render.status.success(),
-            "{}",
-            String::from_utf8_lossy(&render.stderr)
-        );
+        headless(dir.path(), &args[1..]);
         let a = read_exr(&dir.path().join("preview.exr"));
         let b = read_exr(&dir.path().join("render.exr"));
         assert_eq!(a.dimensions(), b.dimensions(), "window size");

@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use crate::gpu_support::{compare, skip_or_fail};
-use crate::{lensray, stderr};
+use crate::{lensray, read_exr, stderr};
 
 /// 48 x 32 pixels of the spheres scene, lit, on the CPU path.
 fn render(dir: &Path, out: &str, extra: &[&str]) -> (Vec<u8>, String) {
@@ -43,18 +43,6 @@ fn render_on(path: &str, dir: &Path, out: &str, extra: &[&str]) -> Option<(Vec<u
     assert!(run.status.success(), "{args:?}: {}", stderr(&run));
     let stdout = String::from_utf8_lossy(&run.stdout).into_owned();
     Some((std::fs::read(dir.join(out)).unwrap(), stdout))
-}
-
-/// The linear RGB of an EXR a render wrote.
-fn read_exr(path: &Path) -> lensray_core::film::Image {
-    let rgb = image::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgb32f();
-    lensray_core::film::Image {
-        width: rgb.width(),
-        height: rgb.height(),
-        pixels: rgb.pixels().map(|p| glam::Vec3::from(p.0)).collect(),
-    }
 }
 
 /// The samples the summary line's adaptive line counts.

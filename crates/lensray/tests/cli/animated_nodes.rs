@@ -7,12 +7,11 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use glam::{DQuat, DVec3, Vec3};
-use lensray_core::film::Image;
+use glam::{DQuat, DVec3};
 use lensray_core::settings::frame_seed;
 
 use crate::gpu_support::{compare, skip_or_fail, write_comparison};
-use crate::{lensray, render_args, stderr};
+use crate::{lensray, read_exr, render_args, stderr};
 
 /// Frame 18 (0.75 s at 24 fps): the box rising, not yet turning; frame 42 (1.75 s): at the top,
 /// 40 % through its turn.
@@ -77,17 +76,6 @@ fn posed_copy(dir: &Path, time: f64) -> PathBuf {
     path
 }
 
-fn image(path: &Path) -> Image {
-    let rgb = image::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgb32f();
-    Image {
-        width: rgb.width(),
-        height: rgb.height(),
-        pixels: rgb.pixels().map(|p| Vec3::from(p.0)).collect(),
-    }
-}
-
 /// Renders `scene` with `extra` on `device` (`gpu`: the path `path`, validation on).
 fn render(
     dir: &Path,
@@ -122,7 +110,7 @@ fn animated_nodes_move_each_frame_as_posed_by_hand() {
         err.contains("animation 0 moves 1 mesh and 0 lights: keys from 0.000 s to 3.708 s"),
         "{err}"
     );
-    let frame = |prefix: &str, n: u32| image(&d.join(format!("{prefix}.{n:04}.exr")));
+    let frame = |prefix: &str, n: u32| read_exr(&d.join(format!("{prefix}.{n:04}.exr")));
     let moved = compare(
         &frame("cpu", FRAMES[0]),
         &frame("cpu", FRAMES[1]),
@@ -141,12 +129,12 @@ fn animated_nodes_move_each_frame_as_posed_by_hand() {
         // The loader places the still's nodes with the gltf crate's f32 matrices, the sequence
         // with f64 products of the tracks' TRS: positions agree to float rounding (measured:
         // every pixel within 1.2e-7), which could move an edge sample on a pixel or two.
-        let diff = compare(&frame("cpu", n), &image(&d.join(&still)), 1.0 / 255.0);
+        let diff = compare(&frame("cpu", n), &read_exr(&d.join(&still)), 1.0 / 255.0);
         println!("{test}: frame {n} against the still posed by hand: {diff:?}");
         if diff.within < 0.999 || diff.mean_abs >= 1e-5 {
             let files = write_comparison(
                 &frame("cpu", n),
-                &image(&d.join(&still)),
+                &read_exr(&d.join(&still)),
                 &format!("{test}-{n}"),
             );
             panic!("{test}: frame {n} is not the still posed by hand: {diff:?}; wrote {files}");

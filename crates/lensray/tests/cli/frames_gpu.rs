@@ -5,11 +5,8 @@
 use std::fs;
 use std::path::Path;
 
-use glam::Vec3;
-use lensray_core::film::Image;
-
 use crate::gpu_support::{compare, skip_or_fail, write_comparison};
-use crate::{lensray, render_args, stderr};
+use crate::{lensray, read_exr, render_args, stderr};
 
 /// The spheres at 48x32, lit, with `keyframes` over frames 1 to 3.
 fn keyed_scene(dir: &Path, keyframes: &str) -> String {
@@ -24,18 +21,6 @@ fn keyed_scene(dir: &Path, keyframes: &str) -> String {
     let path = dir.join("keyed.toml");
     fs::write(&path, text).unwrap();
     path.to_str().unwrap().to_owned()
-}
-
-/// The linear RGB of an EXR the sequence wrote.
-fn read_exr(path: &Path) -> Image {
-    let rgb = image::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgb32f();
-    Image {
-        width: rgb.width(),
-        height: rgb.height(),
-        pixels: rgb.pixels().map(|p| Vec3::from(p.0)).collect(),
-    }
 }
 
 /// Renders frames 1 to 3 of `keyframes` on the CPU and, each in one process, on the `software`

@@ -8,7 +8,7 @@ use std::process::{Command, Output};
 use lensray_core::reference::Isa;
 
 use crate::gpu_support::{compare, write_comparison};
-use crate::stderr;
+use crate::{read_exr, stderr};
 
 /// The instruction sets CI renders with: Embree's SSE4.2, AVX2 and AVX-512 kernels.
 const CI_ISAS: [Isa; 3] = [Isa::Sse42, Isa::Avx2, Isa::Avx512];
@@ -143,17 +143,6 @@ fn default_render_agrees_across_instruction_sets() {
                 diff.max_abs
             );
         }
-    }
-}
-
-fn read_exr(path: &Path) -> lensray_core::film::Image {
-    let rgb = image::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgb32f();
-    lensray_core::film::Image {
-        width: rgb.width(),
-        height: rgb.height(),
-        pixels: rgb.pixels().map(|p| glam::Vec3::from_array(p.0)).collect(),
     }
 }
 

@@ -3,7 +3,7 @@
 //! float for float, the inner box posed there (the scene handed to the path again on each
 //! frame, validation on).
 
-use super::{assert_same_image, preview_with};
+use super::{assert_same_image, headless, preview_with};
 
 #[test]
 fn a_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
@@ -42,18 +42,16 @@ fn a_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
         stderr.contains("preview: frames 0 to 89 at 24 fps"),
         "{stderr}"
     );
-    let render = std::process::Command::new(env!("CARGO_BIN_EXE_lensray"))
-        .args(["render", "--path", "software", "--frames", "18-42:24"])
-        .args(view)
-        .args(["--out", "r.####.exr"])
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        render.status.success(),
-        "{}",
-        String::from_utf8_lossy(&render.stderr)
-    );
+    let mut args = vec![
+        "--path",
+        "software",
+        "--frames",
+        "18-42:24",
+        "--out",
+        "r.####.exr",
+    ];
+    args.extend(view);
+    headless(dir.path(), &args);
     assert_same_image(dir.path(), "p18.exr", "r.0018.exr", "animated-18");
     assert_same_image(dir.path(), "p42.exr", "r.0042.exr", "animated-42");
 }

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use super::{assert_same_image, preview_with};
+use super::{assert_same_image, headless, preview_with};
 use lensray_core::settings::Keyframes;
 
 /// The spheres with a focus pull from 3 m to 12 m and the eye moving over frames 1 to
@@ -71,18 +71,16 @@ fn a_frame_of_a_keyframed_shot_is_the_frame_the_sequence_renders() {
         stderr.contains("preview: keyframes from frame 1 to 240 at 24 fps"),
         "{stderr}"
     );
-    let render = std::process::Command::new(env!("CARGO_BIN_EXE_lensray"))
-        .args(["render", "--path", "rayquery", "--frames", "30-200:170"])
-        .args(view)
-        .args(["--out", "r.####.exr"])
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        render.status.success(),
-        "{}",
-        String::from_utf8_lossy(&render.stderr)
-    );
+    let mut args = vec![
+        "--path",
+        "rayquery",
+        "--frames",
+        "30-200:170",
+        "--out",
+        "r.####.exr",
+    ];
+    args.extend(view);
+    headless(dir.path(), &args);
     assert_same_image(dir.path(), "p30.exr", "r.0030.exr", "keyframe-30");
     assert_same_image(dir.path(), "p200.exr", "r.0200.exr", "keyframe-200");
 
