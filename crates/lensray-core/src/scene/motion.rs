@@ -92,6 +92,23 @@ impl SceneMotion {
         }
     }
 
+    /// Gives the moving meshes without normals smoothed ones, in their nodes' spaces, as
+    /// [`Scene::smooth_normals`] gives the scene's (`--smooth-normals`).
+    pub fn smooth_normals(&mut self, crease_degrees: f64) {
+        let mut node_scene = Scene {
+            meshes: self
+                .meshes
+                .iter_mut()
+                .map(|m| std::mem::take(&mut m.node_mesh))
+                .collect(),
+            ..Scene::default()
+        };
+        node_scene.smooth_normals(crease_degrees);
+        for (moving, mesh) in self.meshes.iter_mut().zip(node_scene.meshes) {
+            moving.node_mesh = mesh;
+        }
+    }
+
     /// This motion in a world scaled by `factor` (`Scene::scale`).
     pub fn scale(&mut self, factor: f64) {
         self.world_scale *= factor;
@@ -231,6 +248,31 @@ mod tests {
             (after - Vec3::new(-0.002, 0.0, 0.0)).length() < 1e-9,
             "{after}"
         );
+    }
+
+    /// `--smooth-normals` reaches the moving meshes: one without normals gets them in its
+    /// node's space, and its poses carry them.
+    #[test]
+    fn smoothed_normals_reach_the_poses() {
+        let mut bare = triangle();
+        bare.normals.clear();
+        let mut motion = SceneMotion::new(
+            Vec::new(),
+            vec![MovingMesh {
+                index: 0,
+                chain: vec![sliding()],
+                node_mesh: bare.clone(),
+            }],
+            Vec::new(),
+        )
+        .unwrap();
+        motion.smooth_normals(60.0);
+        let mut scene = Scene {
+            meshes: vec![bare],
+            ..Scene::default()
+        };
+        motion.pose(&mut scene, 0.5);
+        assert_eq!(scene.meshes[0].normals, vec![Vec3::Z; 3]);
     }
 
     /// A light follows its chain: its position and direction through the transform, its range

@@ -89,6 +89,9 @@ pub fn load_scene(view: &ViewArgs) -> Result<SceneDescription> {
     }
     if let Some(crease) = view.smooth_normals {
         let meshes = description.scene.smooth_normals(crease);
+        if let Some(motion) = &mut description.motion {
+            motion.smooth_normals(crease);
+        }
         eprintln!("smooth normals: {meshes} meshes without normals, creased at {crease} degrees");
     }
     if let Some(choice) = &view.camera {
