@@ -7,12 +7,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/setup.sh
 
-# lavapipe compiles each pipeline with LLVM on its first use, and most of the suite's time is
-# that compile (docs/testing.md, "Where CI's time goes"). At a native vector width of 128 bits
-# it compiles in about half the time of the default 256 and traces as fast on these small
-# renders; the shaders' results do not depend on the width. A width the caller set is kept.
-export LP_NATIVE_VECTOR_WIDTH="${LP_NATIVE_VECTOR_WIDTH:-128}"
-
 skip_log=$(mktemp)
 # What lensray caches per machine (auto's calibration, the pipeline cache) goes to a fresh
 # folder: the tests neither read nor change the user's.

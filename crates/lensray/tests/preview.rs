@@ -72,10 +72,6 @@ fn lensray(x: &Xvfb, dir: &Path, args: &[&str], limit: Duration) -> Output {
         .current_dir(dir)
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
-        // llvmpipe (Mesa 25.0.7) corrupts its heap drawing egui's triangles at a native vector
-        // width of 128 bits, which scripts/test.sh sets for compile time: the window runs at
-        // the driver's default width (docs/testing.md, "Where CI's time goes").
-        .env_remove("LP_NATIVE_VECTOR_WIDTH")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
