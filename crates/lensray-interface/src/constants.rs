@@ -121,6 +121,13 @@ shader_constants! {
     /// BRDF pairs (DIM_BOUNCES + DIMS_PER_BOUNCE (MAX_BOUNCES - 1)), so those keep their
     /// numbers whether or not a scene emits.
     DIM_EMITTERS: u32 = 70;
+    /// A sample's time in the shutter (camera::motion: Camera::sample_time), drawn only when
+    /// the camera moves while the shutter is open: past the emitters' pairs (DIM_EMITTERS + 2
+    /// MAX_BOUNCES), so that a still's samples keep their numbers.
+    DIM_TIME: u32 = 102;
+    /// The camera's poses over the shutter (camera::motion::CameraMotion): evenly spaced in
+    /// time from the first row's opening to the last row's closing.
+    MOTION_STEPS: u32 = 8;
     /// A shadow ray towards a point drawn on an emissive triangle stops this fraction of the
     /// distance short of it, so that the triangle itself does not occlude it.
     EMITTER_SHADOW_SHORTEN: f32 = 1.0e-3;

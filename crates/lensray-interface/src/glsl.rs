@@ -112,6 +112,7 @@ macro_rules! glsl_vec4_array {
 }
 
 glsl_vec4_array!([f32; 4], 3, "vec4[3]");
+glsl_vec4_array!([f32; 4], 8, "vec4[8]");
 glsl_vec4_array!([f32; 4], 32, "vec4[32]");
 glsl_vec4_array!([f32; 4], 64, "vec4[64]");
 glsl_vec4_array!([f32; 4], 256, "vec4[256]");

@@ -35,6 +35,16 @@ shader_interface! {
             focus_tilt: [f32; 4],
             /// The fan's vertices (unit circumscribed radius), two per vec4: (x0, y0, x1, y1).
             aperture_fan: [[f32; 4]; 32],
+            /// camera::motion's CameraMotion: 0 while the camera is still (every ray through
+            /// world_from_camera), else MOTION_STEPS poses.
+            motion_steps: u32,
+            motion_exposure_share: f32,
+            motion_rolling_share: f32,
+            /// The image's height in rows, for a row's share of the readout.
+            motion_height: f32,
+            /// Each pose's eye (w unused) and rotation (a quaternion, xyzw).
+            motion_eye: [[f32; 4]; 8],
+            motion_rotation: [[f32; 4]; 8],
         }
         /// Where the pinhole ray through a pixel and its neighbours run (camera/footprint.rs).
         Std140 struct GpuFootprint as Footprint {

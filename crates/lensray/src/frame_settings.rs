@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 
 use lensray_core::camera::Camera;
 use lensray_core::scene::Scene;
-use lensray_core::settings::{frame_seed, shot, FocusKey, Keyframes, Settings, Shot};
+use lensray_core::settings::{frame_seed, shot, shutter, FocusKey, Keyframes, Settings, Shot};
 
 /// The command line's settings (`command_line`, in metres) over a scene file's (`file`): a
 /// lens the command line describes replaces the file's description of one (a focal length
@@ -72,10 +72,37 @@ impl FrameSettings {
         settings
     }
 
-    /// The shot of frame `frame` on `scene` (whose file `source` names in an error).
+    /// The settings at the fractional frame `frame`: a time within a frame's shutter (the
+    /// seed is the frame's own, [`Self::at`]'s).
+    pub fn at_time(&self, frame: f64) -> Settings {
+        let keyed = self.keyframes.settings_at_time(&self.file, frame);
+        command_line_over(&keyed, &self.command_line)
+    }
+
+    /// The shot of frame `frame` on `scene` (whose file `source` names in an error), its
+    /// camera moving over the frame's shutter where motion blur or a rolling shutter is on.
     pub fn shot(&self, frame: u32, scene: &Scene, source: &str) -> Result<Shot> {
         let settings = self.at(frame);
-        shot(&settings, scene).with_context(|| format!("scene {source}: frame {frame}"))
+        let shot =
+            shot(&settings, scene).with_context(|| format!("scene {source}: frame {frame}"))?;
+        self.moving(frame, shot, scene, source)
+    }
+
+    /// `shot` of frame `frame` with its camera moving as the keyframes or the camera
+    /// animation move it over the frame's shutter (`settings::shutter`), if it is open for a
+    /// time or rolls.
+    pub fn moving(&self, frame: u32, shot: Shot, scene: &Scene, source: &str) -> Result<Shot> {
+        let context = || format!("scene {source}: frame {frame}");
+        let Some(shutter) = shutter(&self.at(frame)).with_context(context)? else {
+            return Ok(shot);
+        };
+        let motion = shutter
+            .camera_motion(f64::from(frame), &|t| self.at_time(t), scene)
+            .with_context(context)?;
+        Ok(Shot {
+            camera: shot.camera.with_motion(motion),
+            ..shot
+        })
     }
 
     /// Turns the keyframes' focus points and pixels into distances, each at its frame's camera;

@@ -274,10 +274,10 @@ fn traced_depth(pixel: UVec2) -> f32 {
     let settings =
         lensray::cli::render::merged_settings(&description.settings, description.units, &args);
     let camera = shot(&settings, &description.scene).unwrap().camera;
-    let ray = camera.first_order_ray(CameraSample {
-        film: pixel.as_vec2() + Vec2::splat(0.5),
-        lens: Vec2::splat(0.5),
-    });
+    let ray = camera.first_order_ray(CameraSample::new(
+        pixel.as_vec2() + Vec2::splat(0.5),
+        Vec2::splat(0.5),
+    ));
     let hit = Renderer::new(&description.scene)
         .intersect(&ray)
         .expect("a surface under the test pixel");

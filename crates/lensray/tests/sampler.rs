@@ -409,10 +409,9 @@ fn unlit_with(f: &Fixture, spp: u32, sample: impl Fn(u32, u32) -> [f32; 4]) -> I
             for s in 0..spp {
                 let u = sample(y * WIDTH + x, s);
                 let film = UVec2::new(x, y).as_vec2() + Vec2::new(u[0], u[1]);
-                let ray = f.camera.first_order_ray(CameraSample {
-                    film,
-                    lens: Vec2::new(u[2], u[3]),
-                });
+                let ray = f
+                    .camera
+                    .first_order_ray(CameraSample::new(film, Vec2::new(u[2], u[3])));
                 sum += match f.renderer.intersect(&ray) {
                     Some(hit) => {
                         let m = f.renderer.surface_point(&ray, &hit).material;

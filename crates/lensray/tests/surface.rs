@@ -140,10 +140,10 @@ fn camera_at(y: f32, ortho_height: f64, width: u32, height: u32) -> Camera {
 fn pixel_at(camera: &Camera, p: Vec3) -> ((u32, u32), Vec3) {
     let raster = camera.project(p);
     let pixel = (raster.x as u32, raster.y as u32);
-    let ray = camera.first_order_ray(CameraSample {
-        film: Vec2::new(pixel.0 as f32 + 0.5, pixel.1 as f32 + 0.5),
-        lens: Vec2::splat(0.5),
-    });
+    let ray = camera.first_order_ray(CameraSample::new(
+        Vec2::new(pixel.0 as f32 + 0.5, pixel.1 as f32 + 0.5),
+        Vec2::splat(0.5),
+    ));
     let t = -ray.origin.z / ray.direction.z;
     (pixel, ray.at(t))
 }

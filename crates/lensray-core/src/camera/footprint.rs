@@ -106,10 +106,7 @@ mod tests {
             let n = Vec3::new(0.2, 1.0, 0.4).normalize();
             let plane_point = Vec3::new(0.0, 0.1, 0.0);
             let meet = |raster: Vec2| {
-                let ray = camera.first_order_ray(CameraSample {
-                    film: raster,
-                    lens: Vec2::splat(0.5),
-                });
+                let ray = camera.first_order_ray(CameraSample::new(raster, Vec2::splat(0.5)));
                 let t = n.dot(plane_point - ray.origin) / n.dot(ray.direction);
                 ray.at(t)
             };

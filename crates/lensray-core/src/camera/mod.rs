@@ -43,6 +43,7 @@
 //!   real lens traced surface by surface with its first-order thin lens.
 //! - [`real_lens`]: past the course's thin lens, rays refracted through a real lens's
 //!   surfaces (`optics`), focused by moving the lens, sampled toward the exit pupil.
+//! - [`motion`]: the camera moving while the shutter is open (motion blur, rolling shutter).
 //! - [`params`]: what a user gives, validated.
 
 pub mod aperture;
@@ -50,6 +51,7 @@ pub mod coc;
 pub mod footprint;
 pub mod lens;
 pub mod look_at;
+pub mod motion;
 pub mod movements;
 pub mod params;
 pub mod physical;
@@ -64,6 +66,8 @@ pub use aperture::{Aperture, ApertureShape};
 pub use coc::CocLens;
 pub use footprint::Footprint;
 pub use lens::Lens;
+pub use look_at::CameraFrame;
+pub use motion::{CameraMotion, CameraPose};
 pub use movements::{FocusPlane, Movements};
 pub use params::{CameraError, CameraParams, LensParams, ProjectionParams};
 pub use projection::Projection;

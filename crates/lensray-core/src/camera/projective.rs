@@ -15,6 +15,7 @@ use std::sync::Arc;
 
 use super::coc::CocLens;
 use super::look_at::CameraFrame;
+use super::motion::CameraMotion;
 use super::raster::{self, ScreenWindow};
 use super::real_lens::RealLensError;
 use super::{Aperture, Lens, Projection, Ray};
@@ -45,6 +46,9 @@ pub struct Camera {
     pub raster_from_screen: Mat4,
     /// screen_from_ndc * ndc_from_raster: affine; the course's (i, j) -> (s, t) -> (x, y).
     pub screen_from_raster: Mat4,
+    /// The camera's poses while the shutter is open, when it moves then (`None`: every ray
+    /// leaves from `world_from_camera`, the frame's pose).
+    pub motion: Option<Arc<CameraMotion>>,
 }
 
 impl Camera {
@@ -89,7 +93,14 @@ impl Camera {
             ndc_from_raster,
             raster_from_screen: raster_from_ndc * ndc_from_screen,
             screen_from_raster: screen_from_ndc * ndc_from_raster,
+            motion: None,
         }
+    }
+
+    /// The same camera moving through `motion` while the shutter is open (`None`: still).
+    pub fn with_motion(mut self, motion: Option<CameraMotion>) -> Self {
+        self.motion = motion.map(Arc::new);
+        self
     }
 
     /// The same camera with the aperture `aperture` (the lens's opening; no matrix depends on
@@ -117,6 +128,7 @@ impl Camera {
             height,
             self.screen_window.centre,
         );
+        camera.motion = self.motion.clone();
         if let Lens::Real { real, first_order } = &mut camera.lens {
             let aspect = width as f32 / height as f32;
             if aspect != real.aspect() {
@@ -235,7 +247,24 @@ impl Camera {
                 real.generate_ray(film, sample.lens, k)?
             }
         };
-        Some((ray.transformed(&self.world_from_camera), weight))
+        Some((self.world_ray(&ray, &sample), weight))
+    }
+
+    /// A camera-space ray of `sample` in world space: through the frame's `world_from_camera`,
+    /// or, while the camera moves, through its pose at the sample's moment
+    /// ([`CameraMotion::moment`] of its time and film row).
+    pub fn world_ray(&self, ray: &Ray, sample: &CameraSample) -> Ray {
+        match &self.motion {
+            None => ray.transformed(&self.world_from_camera),
+            Some(motion) => {
+                let moment = motion.moment(sample.time, sample.film.y, self.height);
+                let pose = motion.pose_at(moment);
+                Ray {
+                    origin: pose.world_point(ray.origin),
+                    direction: pose.world_vector(ray.direction),
+                }
+            }
+        }
     }
 
     /// The ray of the lens's first-order thin lens ([`Lens::first_order`]: a [`Lens::Thin`]
@@ -245,7 +274,7 @@ impl Camera {
     pub fn first_order_ray(&self, sample: CameraSample) -> Ray {
         let pinhole = self.pinhole_ray(sample.film);
         let ray = self.lens.first_order().generate_ray(&pinhole, sample.lens);
-        ray.transformed(&self.world_from_camera)
+        self.world_ray(&ray, &sample)
     }
 
     /// The pinhole's ray, in camera space: the aperture-centre ray through raster point
@@ -283,6 +312,16 @@ impl Camera {
         self.lens.real().filter(|real| real.dispersive())?;
         let u = pixel_dimension(sampler, sample_index, DIM_WAVELENGTH);
         Some(crate::film::spectral::sample_wavelength(u))
+    }
+
+    /// The shutter time in [0, 1) of sample `sample_index` of `sampler`'s pixel: drawn from
+    /// `DIM_TIME` while the camera moves, else the middle (no ray depends on it then).
+    pub fn sample_time(&self, sampler: &crate::sampler::PixelSampler, sample_index: u32) -> f32 {
+        use crate::sampler::{pixel_dimension, DIM_TIME};
+        match self.motion {
+            Some(_) => pixel_dimension(sampler, sample_index, DIM_TIME),
+            None => crate::sampler::CameraSample::MIDDLE,
+        }
     }
 
     /// The wavelength (nm) at which sample `sample_index` of `sampler`'s pixel checks the d

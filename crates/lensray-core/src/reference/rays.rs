@@ -11,9 +11,9 @@
 use glam::{Mat4, Vec3};
 
 use super::accel::PACKET_SIZE;
-use crate::camera::{Camera, Projection};
+use crate::camera::{Camera, Projection, Ray};
 use crate::optics::glass::dispersion_offset_f32;
-use crate::sampler::{pixel_camera_samples, PixelSampler};
+use crate::sampler::{pixel_camera_samples, CameraSample, PixelSampler};
 
 type PacketLanes = [f32; PACKET_SIZE];
 
@@ -132,6 +132,20 @@ pub fn first_order_rays(
         normalize(&mut to_focus);
         direction = to_focus;
     }
+    if camera.motion.is_some() {
+        // Each lane at its own moment: Camera::world_ray.
+        for l in 0..PACKET_SIZE {
+            let sample = moving_sample(camera, sampler, first + l as u32, film_y[l]);
+            let ray = Ray {
+                origin: Vec3::new(origin.x[l], origin.y[l], origin.z[l]),
+                direction: Vec3::new(direction.x[l], direction.y[l], direction.z[l]),
+            };
+            let ray = camera.world_ray(&ray, &sample);
+            origins[l] = ray.origin;
+            directions[l] = ray.direction;
+        }
+        return;
+    }
     // Ray::transformed by world_from_camera.
     let world_origin = transform(&camera.world_from_camera, &origin, true);
     let world_direction = transform(&camera.world_from_camera, &direction, false);
@@ -142,6 +156,16 @@ pub fn first_order_rays(
             world_direction.y[l],
             world_direction.z[l],
         );
+    }
+}
+
+/// What `Camera::world_ray` needs of sample `index` (film row `film_y`): its row and time
+/// (the film's column and the lens sample are the camera-space ray's already).
+fn moving_sample(camera: &Camera, sampler: &PixelSampler, index: u32, film_y: f32) -> CameraSample {
+    CameraSample {
+        film: glam::Vec2::new(0.0, film_y),
+        lens: glam::Vec2::ZERO,
+        time: camera.sample_time(sampler, index),
     }
 }
 
@@ -240,7 +264,8 @@ pub(super) fn generate_rays(
         let Some((ray, weight)) = traced else {
             continue;
         };
-        let ray = ray.transformed(&camera.world_from_camera);
+        let sample = moving_sample(camera, sampler, first + l as u32, film_y[l]);
+        let ray = camera.world_ray(&ray, &sample);
         out.origins[passed] = ray.origin;
         out.directions[passed] = ray.direction;
         out.weights[passed] = weight;

@@ -312,10 +312,7 @@ impl Renderer {
             for (x, value) in row.iter_mut().enumerate() {
                 // The G-buffer's definition: the aperture-centre ray through the pixel centre.
                 let centre = UVec2::new(x as u32, y).as_vec2() + Vec2::splat(0.5);
-                let ray = camera.first_order_ray(CameraSample {
-                    film: centre,
-                    lens: Vec2::splat(0.5),
-                });
+                let ray = camera.first_order_ray(CameraSample::new(centre, Vec2::splat(0.5)));
                 *value = self.aov(shot, &ray);
             }
             row.len() as u64

@@ -26,7 +26,7 @@ pub use scrambled_sobol::{sobol_1d, sobol_pixel, sobol_sample, SobolPixel};
 /// what the shaders share).
 pub use crate::interface::{
     DIMS_PER_BOUNCE, DIM_BOUNCES, DIM_BRDF_X, DIM_BRDF_Y, DIM_DISPERSION_CHECK, DIM_EMITTERS,
-    DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y,
+    DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y, DIM_TIME,
     DIM_WAVELENGTH,
 };
 
@@ -119,6 +119,23 @@ pub struct CameraSample {
     pub film: Vec2,
     /// Uniform in [0, 1)^2, mapped to the aperture disk by the lens.
     pub lens: Vec2,
+    /// Where in the shutter's time the sample is taken, in [0, 1): drawn (`Camera::sample_time`)
+    /// only while the camera moves, [`CameraSample::MIDDLE`] otherwise.
+    pub time: f32,
+}
+
+impl CameraSample {
+    /// The shutter's middle: a still camera's samples' time.
+    pub const MIDDLE: f32 = 0.5;
+
+    /// The sample at film point `film` and lens sample `lens`, at the shutter's middle.
+    pub fn new(film: Vec2, lens: Vec2) -> Self {
+        Self {
+            film,
+            lens,
+            time: Self::MIDDLE,
+        }
+    }
 }
 
 /// What drawing a pixel's camera samples needs, computed once per pixel.
@@ -175,10 +192,10 @@ pub fn pixel_camera_sample(state: &PixelSampler, sample_index: u32) -> CameraSam
         SamplerKind::Sobol => sobol_sample(&state.sobol, sample_index),
         SamplerKind::Independent => independent_sample(state.key, sample_index),
     };
-    CameraSample {
-        film: Vec2::new(state.pixel.x as f32 + film_x, state.pixel.y as f32 + film_y),
-        lens: Vec2::new(lens_x, lens_y),
-    }
+    CameraSample::new(
+        Vec2::new(state.pixel.x as f32 + film_x, state.pixel.y as f32 + film_y),
+        Vec2::new(lens_x, lens_y),
+    )
 }
 
 /// Film x, film y, lens x and lens y of samples `first..first + N` of the sampler's pixel, as

@@ -50,7 +50,12 @@ impl CameraTimeline {
 
     /// `settings` with the camera's eye, target and up at `frame`.
     pub fn settings_at(&self, settings: &Settings, frame: u32) -> Settings {
-        let pose = self.animation.pose_at(self.time(frame));
+        self.settings_at_time(settings, f64::from(frame))
+    }
+
+    /// [`Self::settings_at`] a fractional frame `frame` (a time within a frame's shutter).
+    pub fn settings_at_time(&self, settings: &Settings, frame: f64) -> Settings {
+        let pose = self.animation.pose_at(frame / self.fps);
         let c = &settings.camera;
         let own_distance = c
             .eye

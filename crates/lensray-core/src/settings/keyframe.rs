@@ -421,6 +421,11 @@ impl Keyframes {
     /// puts it, if one moves it. Focus keys still points or pixels ([`Self::resolve_focus`])
     /// are left out.
     pub fn settings_at(&self, base: &Settings, frame: u32) -> Settings {
+        self.settings_at_time(base, f64::from(frame))
+    }
+
+    /// [`Self::settings_at`] a fractional frame `frame` (a time within a frame's shutter).
+    pub fn settings_at_time(&self, base: &Settings, frame: f64) -> Settings {
         let mut over = Settings::default();
         for channel in CHANNELS {
             if let Some(value) = self.value_at(channel, frame) {
@@ -429,13 +434,13 @@ impl Keyframes {
         }
         let keyed = base.clone().overridden_by(&over);
         match &self.camera_timeline {
-            Some(timeline) => timeline.settings_at(&keyed, frame),
+            Some(timeline) => timeline.settings_at_time(&keyed, frame),
             None => keyed,
         }
     }
 
     /// The value of `channel` at `frame`, if any key gives it.
-    fn value_at(&self, channel: Channel, frame: u32) -> Option<KeyValue> {
+    fn value_at(&self, channel: Channel, frame: f64) -> Option<KeyValue> {
         let keyed: Vec<(&Keyframe, &KeyValue)> = self
             .keys
             .iter()
@@ -447,13 +452,13 @@ impl Keyframes {
                 }
             })
             .collect();
-        let after = keyed.iter().position(|(k, _)| k.frame > frame);
+        let after = keyed.iter().position(|(k, _)| f64::from(k.frame) > frame);
         let (from, to) = match after {
             None => return keyed.last().map(|(_, v)| (*v).clone()),
             Some(0) => return Some(keyed[0].1.clone()),
             Some(i) => (keyed[i - 1], keyed[i]),
         };
-        let t = f64::from(frame - from.0.frame) / f64::from(to.0.frame - from.0.frame);
+        let t = (frame - f64::from(from.0.frame)) / f64::from(to.0.frame - from.0.frame);
         let w = from.0.interpolation.weight(t);
         Some(between(from.1, to.1, w))
     }

@@ -9,6 +9,8 @@
 //! - [`exposure`](mod@exposure): the exposure and tone map of what is shown, from the settings
 //!   and the shot's lens;
 //! - [`finite`]: the one check that every number of the settings is finite;
+//! - [`shutter`](mod@shutter): when the shutter is open about a frame's time, for motion blur
+//!   and a rolling shutter;
 //! - [`keyframe`]: a scene file's `[[keyframe]]`s, the settings of each frame of a sequence;
 //! - [`camera_timeline`]: a glTF camera animation on a sequence's frames.
 
@@ -22,6 +24,7 @@ pub mod keyframe;
 pub mod lights;
 pub mod render;
 pub mod shot;
+pub mod shutter;
 pub mod user;
 
 pub use camera_timeline::CameraTimeline;
@@ -40,7 +43,8 @@ pub use shot::{
     shot, tilt_model, FocusChoice, SettingsError, Shot, DEFAULT_F_NUMBER, DEFAULT_HEIGHT,
     DEFAULT_SENSOR_HEIGHT_MM, DEFAULT_SPP, DEFAULT_VFOV_DEGREES, DEFAULT_WIDTH,
 };
+pub use shutter::{shutter, Shutter};
 pub use user::{
     ApertureSettings, CameraSettings, ExposureSettings, ImageSettings, LensSettings,
-    ProjectionKind, RenderStyle, Settings, Switch,
+    ProjectionKind, RenderStyle, Settings, ShutterPosition, ShutterSettings, Switch,
 };

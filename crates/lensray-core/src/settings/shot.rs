@@ -7,6 +7,7 @@ use thiserror::Error;
 
 use std::sync::Arc;
 
+use crate::camera::look_at::CameraFrame;
 use crate::camera::movements::TiltModel;
 use crate::camera::physical::{PhysicalLens, MM_PER_WORLD_UNIT};
 use crate::camera::{
@@ -65,6 +66,8 @@ pub enum SettingsError {
     Fps(f64),
     #[error("{0} must be a finite number, got {1}")]
     NotANumber(String, f64),
+    #[error("{0}")]
+    Shutter(String),
 }
 
 /// What chose a shot's focus distance, for an error that no image forms there.
@@ -213,6 +216,20 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
 
     let render = render_settings(settings, scene)?;
     Ok(Shot { camera, render })
+}
+
+/// The camera's frame (eye and axes) that `settings` give on `scene`: the pose of
+/// [`shot`]'s camera, without building its lens.
+pub fn camera_frame(settings: &Settings, scene: &Scene) -> Result<CameraFrame, SettingsError> {
+    let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
+    let real_lens = prescription(&settings.camera)?;
+    let view = view(settings, scene, &bounds, real_lens.as_ref())?;
+    CameraFrame::look_at(view.eye, view.target, view.up).ok_or_else(|| {
+        SettingsError::Shutter(format!(
+            "the camera at eye {} looking at {} with up {} has no frame",
+            view.eye, view.target, view.up
+        ))
+    })
 }
 
 /// Where the default lights go (`lights::settings_lights`): the eye, the camera's up, the

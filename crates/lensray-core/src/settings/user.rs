@@ -68,6 +68,53 @@ pub struct CameraSettings {
     /// tone map, when absent).
     #[serde(default, skip_serializing_if = "ExposureSettings::is_unset")]
     pub exposure: ExposureSettings,
+    /// `[camera.shutter]`: motion blur and rolling shutter (`settings::shutter`; neither when
+    /// absent).
+    #[serde(default, skip_serializing_if = "ShutterSettings::is_unset")]
+    pub shutter: ShutterSettings,
+}
+
+/// What moves while the shutter is open (`settings::shutter` resolves it). Its time is the
+/// exposure's shutter time when one is given, else the angle's share of a frame.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShutterSettings {
+    /// Whether what moves during the exposure blurs (default off).
+    pub motion_blur: Option<Switch>,
+    /// The open share of a frame at the sequence's fps, degrees in (0, 360] (default 180);
+    /// `camera.exposure.shutter`, when given, sets the time instead.
+    pub angle: Option<f64>,
+    /// Where the exposure lies about the frame's time (default centre).
+    pub position: Option<ShutterPosition>,
+    /// A rolling shutter's readout: seconds from the top row's opening to the bottom row's
+    /// (default 0: every row at once).
+    pub rolling: Option<f64>,
+}
+
+/// Where a frame's exposure lies about the frame's own time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShutterPosition {
+    /// Opens at the frame's time.
+    Start,
+    /// Centred on it (Cycles' default).
+    #[serde(alias = "centre")]
+    Center,
+    /// Closes at it.
+    End,
+}
+
+impl ShutterPosition {
+    pub const ALL: [ShutterPosition; 3] = [Self::Start, Self::Center, Self::End];
+
+    /// The name the command line and scene files take.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Start => "start",
+            Self::Center => "center",
+            Self::End => "end",
+        }
+    }
 }
 
 /// Exposure and tone map (`settings::exposure` resolves them, `film::tonemap` applies them):
@@ -241,6 +288,8 @@ impl Settings {
         overlay!(a, base, blades, rotation, roundness, aspect, image);
         let (lens, base) = (&c.lens, &mut self.camera.lens);
         overlay!(lens, base, prescription, dispersion);
+        let (sh, base) = (&c.shutter, &mut self.camera.shutter);
+        overlay!(sh, base, motion_blur, angle, position, rolling);
         let (e, base) = (&c.exposure, &mut self.camera.exposure);
         overlay!(e, base, ev, iso, shutter, tonemap, expose_exr);
         overlay!(i, self.image, width, height, spp, seed, sampler, fps);
@@ -280,6 +329,7 @@ is_unset!(
     ApertureSettings,
     LensSettings,
     ExposureSettings,
+    ShutterSettings,
     ImageSettings,
     RenderStyle
 );

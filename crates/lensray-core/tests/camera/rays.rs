@@ -35,14 +35,8 @@ fn pinhole_ray_through_pixel_centre_hits_unprojected_points() {
         for (i, j) in pixels(cam.width, cam.height) {
             let centre = Vec2::new(j as f32 + 0.5, i as f32 + 0.5);
             // Aperture 0: the lens sample must not matter.
-            let ray = cam.first_order_ray(CameraSample {
-                film: centre,
-                lens: rng.vec2(),
-            });
-            let other = cam.first_order_ray(CameraSample {
-                film: centre,
-                lens: rng.vec2(),
-            });
+            let ray = cam.first_order_ray(CameraSample::new(centre, rng.vec2()));
+            let other = cam.first_order_ray(CameraSample::new(centre, rng.vec2()));
             assert_eq!(ray, other, "{name}: pinhole ray depends on the lens sample");
             // The camera-space pinhole ray, moved to world space by hand.
             let camera_ray = cam.pinhole_ray(centre);
@@ -109,10 +103,7 @@ fn pinhole_ray_origin_and_direction_follow_the_model() {
                 rng.range(0.0, r.width) as f32,
                 rng.range(0.0, r.height) as f32,
             );
-            let ray = cam.first_order_ray(CameraSample {
-                film,
-                lens: Vec2::splat(0.5),
-            });
+            let ray = cam.first_order_ray(CameraSample::new(film, Vec2::splat(0.5)));
             let o = ray.origin.as_dvec3();
             let d = ray.direction.as_dvec3();
             if setup.is_orthographic() {
@@ -244,14 +235,12 @@ fn image_orientation() {
             h / 2.0
         );
         // Rays through the top-left and bottom-right pixels.
-        let top_left = cam.first_order_ray(CameraSample {
-            film: Vec2::new(0.5, 0.5),
-            lens: Vec2::splat(0.5),
-        });
-        let bottom_right = cam.first_order_ray(CameraSample {
-            film: Vec2::new(w - 0.5, h - 0.5),
-            lens: Vec2::splat(0.5),
-        });
+        let top_left =
+            cam.first_order_ray(CameraSample::new(Vec2::new(0.5, 0.5), Vec2::splat(0.5)));
+        let bottom_right = cam.first_order_ray(CameraSample::new(
+            Vec2::new(w - 0.5, h - 0.5),
+            Vec2::splat(0.5),
+        ));
         // Orthographic rays are parallel: compare origins; perspective: directions.
         let (tl, br) = if cam.is_orthographic() {
             (top_left.origin - eye, bottom_right.origin - eye)

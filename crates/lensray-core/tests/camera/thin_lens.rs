@@ -89,7 +89,7 @@ fn lens_rays_of_a_film_point_meet_on_the_focal_plane() {
 
             let rays: Vec<Ray> = samples
                 .iter()
-                .map(|&u| cam.first_order_ray(CameraSample { film, lens: u }))
+                .map(|&u| cam.first_order_ray(CameraSample::new(film, u)))
                 .collect();
             let meet = convergence_point(&rays);
             assert_close(
@@ -170,7 +170,7 @@ fn lens_ray_spread_matches_circle_of_confusion() {
             let (col, row) = (film.x as f64, film.y as f64);
             let rays: Vec<Ray> = samples
                 .iter()
-                .map(|&u| cam.first_order_ray(CameraSample { film, lens: u }))
+                .map(|&u| cam.first_order_ray(CameraSample::new(film, u)))
                 .collect();
             for k in [0.2, 0.5, 0.8, 1.25, 2.0, 5.0] {
                 // Depths in front of and behind focus, all in front of the lens plane.
@@ -279,10 +279,7 @@ fn sheared_projection_sends_lens_rays_to_their_pixel_centre() {
             );
             let film_u = p - p.floor();
             for lens_u in lens_samples(&mut rng).into_iter().take(40) {
-                let ray = cam.first_order_ray(CameraSample {
-                    film: p,
-                    lens: lens_u,
-                });
+                let ray = cam.first_order_ray(CameraSample::new(p, lens_u));
                 let clip_from_world = cam.clip_from_world_through_lens(film_u, lens_u);
                 for t in [0.3f32, 1.0, 3.0, 7.0] {
                     let point = ray.at(t * cam.lens.first_order().focus_distance);

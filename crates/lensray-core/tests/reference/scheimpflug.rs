@@ -75,10 +75,7 @@ fn camera(focus_distance: f64, movements: Movements) -> Camera {
 /// ray, as `--focus-plane` finds it).
 fn surface_point(renderer: &Renderer, cam: &Camera, pixel: [u32; 2]) -> DVec3 {
     let centre = Vec2::new(pixel[0] as f32 + 0.5, pixel[1] as f32 + 0.5);
-    let ray: Ray = cam.first_order_ray(CameraSample {
-        film: centre,
-        lens: Vec2::splat(0.5),
-    });
+    let ray: Ray = cam.first_order_ray(CameraSample::new(centre, Vec2::splat(0.5)));
     let hit = renderer
         .intersect(&ray)
         .expect("the floor is under every test pixel");

@@ -191,10 +191,55 @@ Ray ray_transformed(Ray ray, mat4 a_from_b) {
     return r;
 }
 
+// motion.rs: slerp of unit quaternions (xyzw) along the shorter arc.
+vec4 slerp(vec4 a, vec4 b, float f) {
+    float c = dot(a, b);
+    if (c < 0.0) {
+        c = -c;
+        b = -b;
+    }
+    if (c > 0.9995) {
+        return normalize(a * (1.0 - f) + b * f);
+    }
+    float angle = acos(c);
+    float inverse_sin = 1.0 / sin(angle);
+    return a * (sin((1.0 - f) * angle) * inverse_sin) + b * (sin(f * angle) * inverse_sin);
+}
+
+// glam's Quat * Vec3.
+vec3 quat_rotate(vec4 q, vec3 v) {
+    vec3 b = q.xyz;
+    return v * (q.w * q.w - dot(b, b)) + b * (dot(v, b) * 2.0) + cross(b, v) * (q.w * 2.0);
+}
+
+// motion.rs: CameraMotion::moment then pose_at; CameraPose::world_point and world_vector.
+Ray moving_ray(Camera cam, Ray ray, CameraSample cs) {
+    float row_share = clamp(cs.film.y / cam.motion_height, 0.0, 1.0);
+    float moment = clamp(cs.time * cam.motion_exposure_share + row_share * cam.motion_rolling_share,
+                         0.0, 1.0);
+    float s = moment * float(cam.motion_steps - 1u);
+    uint i = min(uint(s), cam.motion_steps - 2u);
+    float f = s - float(i);
+    vec3 eye = cam.motion_eye[i].xyz + (cam.motion_eye[i + 1u].xyz - cam.motion_eye[i].xyz) * f;
+    vec4 rotation = slerp(cam.motion_rotation[i], cam.motion_rotation[i + 1u], f);
+    Ray r;
+    r.origin = eye + quat_rotate(rotation, ray.origin * vec3(1.0, 1.0, -1.0));
+    r.direction = quat_rotate(rotation, ray.direction * vec3(1.0, 1.0, -1.0));
+    return r;
+}
+
+// projective.rs: Camera::world_ray.
+Ray world_ray(Camera cam, Ray ray, CameraSample cs) {
+    if (cam.motion_steps == 0u) {
+        return ray_transformed(ray, cam.world_from_camera);
+    }
+    return moving_ray(cam, ray, cs);
+}
+
 // projective.rs: Camera::first_order_ray, in world space.
 Ray first_order_ray(Camera cam, CameraSample cs) {
     Ray camera_ray = generate_ray(cam, pinhole_ray(cam, cs.film), cs.lens);
-    return ray_transformed(camera_ray, cam.world_from_camera);
+    return world_ray(cam, camera_ray, cs);
 }
 
 #ifdef GROUP_LENS
@@ -218,7 +263,7 @@ bool generate_ray(Camera cam, CameraSample cs, float lambda, out Ray r, out floa
     } else {
         camera_ray = generate_ray(cam, pinhole_ray(cam, cs.film), cs.lens);
     }
-    r = ray_transformed(camera_ray, cam.world_from_camera);
+    r = world_ray(cam, camera_ray, cs);
     return true;
 }
 #endif

@@ -141,7 +141,11 @@ float sample_dimension(uint kind, uint seed, uint pixel_index, uint sample_index
 struct CameraSample {
     vec2 film;
     vec2 lens;
+    // mod.rs: CameraSample::time (CAMERA_SAMPLE_MIDDLE while the camera is still).
+    float time;
 };
+
+const float CAMERA_SAMPLE_MIDDLE = 0.5;
 
 struct PixelSampler {
     uint kind;
@@ -195,6 +199,7 @@ CameraSample pixel_camera_sample(PixelSampler state, uint sample_index) {
     CameraSample s;
     s.film = vec2(float(state.pixel.x) + u.x, float(state.pixel.y) + u.y);
     s.lens = u.zw;
+    s.time = CAMERA_SAMPLE_MIDDLE;
     return s;
 }
 

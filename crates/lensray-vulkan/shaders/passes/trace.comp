@@ -288,6 +288,10 @@ uint trace_pixel() {
         CameraSample cs;
         if (trace || lit) {
             cs = pixel_camera_sample(sampler_state, s);
+            // projective.rs: Camera::sample_time.
+            if (params.camera.motion_steps != 0u) {
+                cs.time = pixel_dimension(sampler_state, s, DIM_TIME);
+            }
         }
         // What the sample adds untraced: a shortcut's value.
         vec3 value = !shortcut ? vec3(0.0) : lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut_value;
@@ -306,7 +310,7 @@ uint trace_pixel() {
             float weight = 1.0;
             bool traced_now = trace;
             if (pre_pass) {
-                ray = first_order_ray(params.camera, CameraSample(vec2(x, y) + 0.5, vec2(0.5)));
+                ray = first_order_ray(params.camera, CameraSample(vec2(x, y) + 0.5, vec2(0.5), CAMERA_SAMPLE_MIDDLE));
             } else if (every_sample) {
                 traced_now = generate_ray(params.camera, cs, pass == 1u ? checked : 0.0, ray, weight);
             } else if (trace) {

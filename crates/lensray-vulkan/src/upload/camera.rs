@@ -31,8 +31,29 @@ pub(crate) fn gpu_camera(camera: &Camera) -> GpuCamera {
         aperture_turn: [turn.x, turn.y, 0.0, 0.0],
         focus_tilt: [lens.focus_tilt.x, lens.focus_tilt.y, 0.0, 0.0],
         aperture_fan: aperture_fan(lens.aperture.fan()),
+        ..motion(camera)
     }
 }
+
+/// The camera's motion over the shutter (`Camera.motion_*`; zeros while it is still).
+fn motion(camera: &Camera) -> GpuCamera {
+    let mut out = GpuCamera::zeroed();
+    let Some(motion) = &camera.motion else {
+        return out;
+    };
+    out.motion_steps = motion.poses.len() as u32;
+    out.motion_exposure_share = motion.exposure_share;
+    out.motion_rolling_share = motion.rolling_share;
+    out.motion_height = camera.height as f32;
+    for (i, pose) in motion.poses.iter().enumerate() {
+        out.motion_eye[i] = pose.eye.extend(0.0).to_array();
+        out.motion_rotation[i] = pose.rotation.to_array();
+    }
+    out
+}
+
+// The block holds every pose of a moving camera.
+const _: () = assert!(lensray_core::interface::MOTION_STEPS == 8);
 
 /// The fan's vertices, two per vec4 (`Camera.aperture_fan`), zeros after the last.
 fn aperture_fan(fan: &[glam::Vec2]) -> [[f32; 4]; APERTURE_MAX_FAN as usize / 2] {

@@ -475,10 +475,7 @@ mod tests {
                 Vec2::new(159.5, 10.25),
                 Vec2::new(80.0, 89.0),
             ] {
-                let ray = cam.first_order_ray(CameraSample {
-                    film: raster,
-                    lens: Vec2::splat(0.5),
-                });
+                let ray = cam.first_order_ray(CameraSample::new(raster, Vec2::splat(0.5)));
                 for depth in [cam.near, 2.0, cam.far] {
                     // The point of the ray at view depth `depth`.
                     let t =

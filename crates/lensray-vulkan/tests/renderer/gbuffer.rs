@@ -65,10 +65,7 @@ fn raster_depth_matches_rays(orthographic: bool) {
     for y in 0..cam.height {
         for x in 0..cam.width {
             let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-            let ray = cam.first_order_ray(CameraSample {
-                film: centre,
-                lens: Vec2::splat(0.5),
-            });
+            let ray = cam.first_order_ray(CameraSample::new(centre, Vec2::splat(0.5)));
             if let Some(hit) = cpu.intersect(&ray) {
                 let i = g.index(x, y);
                 ids[i] = meshes[hit.triangle as usize] as i64;

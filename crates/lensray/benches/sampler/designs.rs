@@ -86,10 +86,8 @@ fn unlit_estimate(
                 for s in 0..spp {
                     let u = candidate(key, s);
                     let film = Vec2::new(x as f32 + u[0], y as f32 + u[1]);
-                    let ray = camera.first_order_ray(CameraSample {
-                        film,
-                        lens: Vec2::new(u[2], u[3]),
-                    });
+                    let ray =
+                        camera.first_order_ray(CameraSample::new(film, Vec2::new(u[2], u[3])));
                     sum += match renderer.intersect(&ray) {
                         Some(hit) => {
                             let m = renderer.surface_point(&ray, &hit).material;

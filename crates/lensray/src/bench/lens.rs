@@ -165,7 +165,8 @@ impl CpuPieces {
         let camera_ray_ns = ns_per_sample(n, &|| {
             let mut sum = 0.0;
             for &(film, lens) in &samples {
-                if let Some((ray, weight)) = camera.generate_ray(CameraSample { film, lens }, None)
+                if let Some((ray, weight)) =
+                    camera.generate_ray(CameraSample::new(film, lens), None)
                 {
                     sum += ray.direction.x + weight;
                 }
@@ -310,7 +311,7 @@ pub fn centre_camera_rays(camera: &Camera) -> (u64, u64) {
             for j in 0..CENTRE_GRID {
                 for i in 0..CENTRE_GRID {
                     let lens = (Vec2::new(i as f32, j as f32) + 0.5) / CENTRE_GRID as f32;
-                    let sample = CameraSample { film, lens };
+                    let sample = CameraSample::new(film, lens);
                     passed += u64::from(camera.generate_ray(sample, None).is_some());
                     drawn += 1;
                 }

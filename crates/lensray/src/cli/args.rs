@@ -16,7 +16,7 @@ use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::{
     ApertureSettings, CameraSettings, ExposureSettings, ImageSettings, LensSettings, LightSettings,
-    Lights, ProjectionKind, RenderStyle, Settings, Switch,
+    Lights, ProjectionKind, RenderStyle, Settings, ShutterPosition, ShutterSettings, Switch,
 };
 use lensray_core::settings::{EnvironmentSetting, Shading};
 
@@ -359,6 +359,40 @@ pub struct ViewArgs {
     pub light_intensity: Option<[f64; 3]>,
     #[command(flatten)]
     pub exposure: ExposureArgs,
+    #[command(flatten)]
+    pub shutter: ShutterArgs,
+}
+
+/// Motion blur and rolling shutter (`settings::shutter`): shared by `render` and `preview`
+/// (through [`ViewArgs`]).
+#[derive(Args, Clone, Copy, Debug, Default)]
+pub struct ShutterArgs {
+    /// Blur what moves while the shutter is open: the camera's keyframes or glTF animation
+    /// (default off; cpu, software, rayquery and rtpipeline).
+    #[arg(long, value_parser = by_name::<Switch>(), value_name = "on|off")]
+    pub motion_blur: Option<Switch>,
+    /// How long the shutter is open, degrees of a frame at --fps (default 180: half a frame);
+    /// --shutter sets the time instead when given.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub shutter_angle: Option<f64>,
+    /// Where the open time lies about the frame's own time (default center).
+    #[arg(long, value_parser = by_name::<ShutterPosition>())]
+    pub shutter_position: Option<ShutterPosition>,
+    /// A rolling shutter: seconds from the top row's opening to the bottom row's (1/30 or
+    /// 0.02); each row sees the scene that much later by its place down the image.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_hyphen_values = true)]
+    pub rolling_shutter: Option<f64>,
+}
+
+impl ShutterArgs {
+    pub fn to_settings(self) -> ShutterSettings {
+        ShutterSettings {
+            motion_blur: self.motion_blur,
+            angle: self.shutter_angle,
+            position: self.shutter_position,
+            rolling: self.rolling_shutter,
+        }
+    }
 }
 
 impl ViewArgs {
@@ -394,6 +428,7 @@ impl ViewArgs {
                     dispersion: self.dispersion,
                 },
                 exposure: self.exposure.to_settings(),
+                shutter: self.shutter.to_settings(),
             },
             image: ImageSettings {
                 width: self.width,

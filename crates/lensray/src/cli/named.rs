@@ -1,5 +1,5 @@
 //! The command line's values of the lower crates' option enums (`--projection`, `--dispersion`,
-//! `--sampler`, `--shading`, `--tonemap`, `--present-mode`). Each enum lists its values and names them
+//! `--shutter-position`, `--sampler`, `--shading`, `--tonemap`, `--present-mode`). Each enum lists its values and names them
 //! itself (`ALL`, `name`: the names its scene files take too); what `--help` says of each value
 //! is the command line's text, here.
 
@@ -7,7 +7,7 @@ use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 
 use lensray_core::film::tonemap::ToneMap;
 use lensray_core::sampler::SamplerKind;
-use lensray_core::settings::{ProjectionKind, Shading, Switch};
+use lensray_core::settings::{ProjectionKind, Shading, ShutterPosition, Switch};
 use lensray_vulkan::PresentMode;
 
 /// An option enum the command line takes by name.
@@ -76,6 +76,14 @@ impl NamedOption for Switch {
 
     fn name(self) -> &'static str {
         Switch::name(self)
+    }
+}
+
+impl NamedOption for ShutterPosition {
+    const ALL: &'static [Self] = &ShutterPosition::ALL;
+
+    fn name(self) -> &'static str {
+        ShutterPosition::name(self)
     }
 }
 
@@ -177,6 +185,7 @@ mod tests {
         }
         check::<ProjectionKind>();
         check::<Switch>();
+        check::<ShutterPosition>();
         check::<SamplerKind>();
         check::<Shading>();
         check::<PresentMode>();

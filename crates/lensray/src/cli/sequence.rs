@@ -260,8 +260,10 @@ fn render_frames(
             let focus = focus_depth_at(path, &resolved.camera, pixel, "--focus-at")?;
             let mut keyed = settings.at(frame);
             keyed.camera.focus_distance = Some(f64::from(focus));
-            resolved =
+            let refocused =
                 shot(&keyed, &description.scene).with_context(|| format!("frame {frame}"))?;
+            resolved =
+                settings.moving(frame, refocused, &description.scene, &description.source)?;
         }
         let frame_settings = settings.at(frame);
         let exposure = exposure(&frame_settings, &resolved.camera)

@@ -148,10 +148,7 @@ impl RenderPath for CpuPath {
 
     fn focus_depth_at(&mut self, camera: &Camera, pixel: [u32; 2]) -> Result<Option<f32>> {
         let centre = UVec2::from(pixel).as_vec2() + Vec2::splat(0.5);
-        let ray = camera.first_order_ray(CameraSample {
-            film: centre,
-            lens: Vec2::splat(0.5),
-        });
+        let ray = camera.first_order_ray(CameraSample::new(centre, Vec2::splat(0.5)));
         Ok(self
             .renderer()?
             .intersect(&ray)

@@ -137,6 +137,8 @@ pub fn explicit_settings(settings: &Settings, resolved: &Shot) -> Settings {
             lens: c.lens.clone(),
             // Exposure and tone map as given (the panel's too).
             exposure: c.exposure.clone(),
+            // Motion blur and rolling shutter as given.
+            shutter: c.shutter.clone(),
         },
         image: ImageSettings {
             width: Some(camera.width),

@@ -22,10 +22,7 @@ const OPEN_SPP: u32 = 512;
 fn bokeh_emitters(open: &Camera, centre: Vec2, z: f32) -> [(&'static str, Vec3); 2] {
     // 0.7 of the way from the centre to the top-right corner, along the first-order ray.
     let corner_raster = centre + 0.7 * Vec2::new(centre.x, -centre.y);
-    let ray = open.first_order_ray(CameraSample {
-        film: corner_raster,
-        lens: Vec2::splat(0.5),
-    });
+    let ray = open.first_order_ray(CameraSample::new(corner_raster, Vec2::splat(0.5)));
     let corner_point = ray.direction * (z / -ray.direction.z);
     [
         ("axis", Vec3::new(0.0, 0.0, z)),
