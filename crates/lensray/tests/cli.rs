@@ -27,6 +27,8 @@ mod frames;
 mod frames_gpu;
 #[path = "cli/isa.rs"]
 mod isa;
+#[path = "cli/motion_blur.rs"]
+mod motion_blur;
 #[path = "cli/movements.rs"]
 mod movements;
 #[path = "cli/rejected.rs"]

@@ -181,8 +181,9 @@ fn prescription(c: &CameraSettings) -> Result<Option<Prescription>, SettingsErro
 /// The shot of `settings` and `scene`: fills in defaults and validates everything.
 pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
-    // A still does not use the rate, but a bad one is still a mistake to name.
+    // A still does not use the rate or the shutter, but a bad one is still a mistake to name.
     super::keyframe::fps(settings)?;
+    super::shutter::shutter(settings)?;
     if let Some((key, value)) = super::finite::first_not_finite(settings) {
         return Err(SettingsError::NotANumber(key, value));
     }

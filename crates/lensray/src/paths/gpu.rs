@@ -82,6 +82,9 @@ impl RenderPath for GpuPath {
         progress: &mut Progress,
     ) -> Result<()> {
         super::check_accumulation(shot, accumulation)?;
+        if shot.camera.motion.is_some() {
+            super::refuse_motion(self.kind())?;
+        }
         let added =
             self.renderer
                 .add_samples(shot, self.estimator, samples, accumulation, progress);

@@ -79,19 +79,7 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
         };
         return open_cpu(scene, why);
     }
-    // Only the CPU and the traced paths sample adaptively: a path that cannot is an error
-    // before anything renders, and `auto` chooses among the traced ones (below).
-    let adaptive = shot.render.noise_threshold.is_some() && !shot.render.shading.is_aov();
-    if let Some((kind, why)) = options
-        .path
-        .only()
-        .and_then(|kind| Some((kind, kind.adaptive_refusal()?)))
-        .filter(|_| adaptive)
-    {
-        bail!(
-            "--path {kind} does not sample adaptively (--noise-threshold): {why}; use cpu, rayquery, rtpipeline, software or auto"
-        );
-    }
+    let (adaptive, moving) = refuse_unsupported(options, shot)?;
 
     // Auto's calibration counts with the device: it is what opening one costs.
     let device_start = Instant::now();
@@ -149,8 +137,9 @@ pub fn open(options: &PathOptions, scene: &Scene, shot: &Shot) -> Result<OpenedP
                 (kind, format!("asked for; traces with {traversal} ({why})"))
             }
         },
-        // Only the traversal paths trace a real lens's rays, and sample adaptively.
-        None if real_lens.is_some() || adaptive => pick_traversal(&mut renderer, shot)?,
+        // Only the traversal paths trace a real lens's rays, sample adaptively
+        // and trace each sample at its own time.
+        None if real_lens.is_some() || adaptive || moving => pick_traversal(&mut renderer, shot)?,
         None => pick_path(&mut renderer, shot)?,
     };
     // Setting the traversal makes its pipeline; auto's choice renders with each path.
@@ -207,6 +196,38 @@ fn open_cpu(scene: &Scene, why: &str) -> Result<OpenedPath> {
             ..Startup::default()
         },
     })
+}
+
+/// Whether `shot` samples adaptively and has a moving camera; an error where the path asked
+/// for cannot: only the CPU and the traced paths sample adaptively and trace each sample at
+/// its time, and `auto` chooses among the traced ones (`open`).
+fn refuse_unsupported(options: &PathOptions, shot: &Shot) -> Result<(bool, bool)> {
+    let adaptive = shot.render.noise_threshold.is_some() && !shot.render.shading.is_aov();
+    if let Some((kind, why)) = options
+        .path
+        .only()
+        .and_then(|kind| Some((kind, kind.adaptive_refusal()?)))
+        .filter(|_| adaptive)
+    {
+        bail!(
+            "--path {kind} does not sample adaptively (--noise-threshold): {why}; use cpu, rayquery, rtpipeline, software or auto"
+        );
+    }
+    let moving = shot.camera.motion.is_some();
+    if let Some(kind) = options.path.only().filter(|_| moving) {
+        refuse_motion(kind)?;
+    }
+    Ok((adaptive, moving))
+}
+
+/// An error where path `kind` cannot render a camera that moves while the shutter is open.
+pub(crate) fn refuse_motion(kind: PathKind) -> Result<()> {
+    match kind.motion_refusal() {
+        Some(why) => bail!(
+            "--path {kind} does not render motion blur or a rolling shutter (--motion-blur, --rolling-shutter): {why}; use cpu, rayquery, rtpipeline, software or auto"
+        ),
+        None => Ok(()),
+    }
 }
 
 /// The accumulation must match the camera of `shot`, and only traced shadings add samples.

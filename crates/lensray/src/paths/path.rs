@@ -133,6 +133,18 @@ impl PathKind {
         }
     }
 
+    /// Why the path cannot take a camera that moves while the shutter is open (motion blur,
+    /// a rolling shutter: `camera::motion`), or `None` where it traces each sample at its time.
+    pub fn motion_refusal(self) -> Option<&'static str> {
+        match self {
+            PathKind::Raster => {
+                Some("its samples are raster passes of the whole image, through one camera pose")
+            }
+            PathKind::Hybrid => Some("its plan reprojects the image of one camera pose"),
+            PathKind::Cpu | PathKind::RayQuery | PathKind::RtPipeline | PathKind::Software => None,
+        }
+    }
+
     /// How the path renders a real lens (`camera::real_lens`).
     pub fn real_lens_support(self) -> RealLensSupport {
         match self {
