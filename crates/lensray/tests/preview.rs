@@ -11,6 +11,8 @@ mod animated;
 mod gpu_support;
 #[path = "preview/keyframes.rs"]
 mod keyframes;
+#[path = "preview/motion_blur.rs"]
+mod motion_blur;
 
 use std::io::Read;
 use std::path::Path;

@@ -54,6 +54,7 @@ impl App {
                 rig.shot(&self.config.description.scene).context("camera")?
             }
         };
+        let resolved = self.moving(resolved)?;
         if let Some(real) = resolved.camera.lens.real() {
             self.follow_real_lens(real.name());
         }

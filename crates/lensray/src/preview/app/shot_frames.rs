@@ -8,6 +8,8 @@ use anyhow::Result;
 
 use super::App;
 use crate::preview::rig::CameraRig;
+use lensray_core::settings::shot::camera_frame;
+use lensray_core::settings::Shot;
 
 /// What the play and frame keys say without keyframes.
 const NO_KEYFRAMES: &str =
@@ -99,6 +101,35 @@ impl App {
         }
         playback.clock.set_frame(frame, now);
         Ok(())
+    }
+
+    /// `shot` moving over its frame's shutter as `render --frames` renders it (motion blur, a
+    /// rolling shutter: `FrameSettings::moving`), while the camera is the frame's keyed one; a
+    /// camera moved by hand, or a shot without keyframes, holds still.
+    pub(super) fn moving(&self, shot: Shot) -> Result<Shot> {
+        let Some(playback) = self.config.playback.as_ref() else {
+            return Ok(shot);
+        };
+        let frame = playback.clock.frame();
+        let description = &self.config.description;
+        let Ok(keyed) = camera_frame(&playback.frames().at(frame), &description.scene) else {
+            return Ok(shot);
+        };
+        let shown = &shot.camera.frame;
+        let moved = [
+            keyed.eye - shown.eye,
+            keyed.forward - shown.forward,
+            keyed.true_up - shown.true_up,
+        ];
+        if moved
+            .iter()
+            .any(|d| d.length() > 1e-5 * (1.0 + shown.eye.length()))
+        {
+            return Ok(shot);
+        }
+        playback
+            .frames()
+            .moving(frame, shot, &description.scene, &description.source)
     }
 
     /// The frame a `[[keyframe]]` printout names: the one shown, or 1 without keyframes (a
