@@ -118,3 +118,17 @@ pub fn note_motion(description: &SceneDescription, fps: Option<f64>) {
         ),
     }
 }
+
+/// Says what motion blur or a rolling shutter (`shutter` on) does not move: in a still, the
+/// camera (its keys and animation play in sequences only); in a sequence, the file's animated
+/// meshes and lights, posed at each frame's own time.
+pub fn note_shutter(description: &SceneDescription, shutter: bool, sequence: bool) {
+    if !shutter {
+        return;
+    }
+    if !sequence {
+        eprintln!("note: motion blur and a rolling shutter move the camera by its keys or animation, which play in sequences (--frames): in this render the camera stands still");
+    } else if description.motion.is_some() {
+        eprintln!("note: motion blur and a rolling shutter move the camera; the file's animated meshes and lights are posed at each frame's own time, unblurred");
+    }
+}

@@ -215,6 +215,10 @@ pub fn render_one(args: &RenderArgs) -> Result<()> {
     let mut settings = merged_settings(&description.settings, description.units, &args.view);
     let context = || format!("scene {}", description.source);
     let mut resolved = shot(&settings, &description.scene).with_context(context)?;
+    let moving_shutter = lensray_core::settings::shutter(&settings)
+        .with_context(context)?
+        .is_some();
+    super::camera_animation::note_shutter(&description, moving_shutter, false);
     // The f-number is the lens's, which focusing below leaves as it is.
     let exposure = exposure(&settings, &resolved.camera).with_context(context)?;
     for warning in light_scene(&settings, &mut description.scene).with_context(context)? {

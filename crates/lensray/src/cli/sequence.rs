@@ -19,7 +19,7 @@ use crate::frame_settings::{command_line_over, FrameSettings};
 use crate::output::PendingOutput;
 use crate::paths::{self, OpenedPath, RenderPath, Startup};
 use lensray_core::scene::file::SceneDescription;
-use lensray_core::settings::{exposure, fps, light_scene, shot, Shot};
+use lensray_core::settings::{exposure, fps, light_scene, shot, shutter, Shot};
 
 /// Where a sequence's time went, seconds.
 #[derive(Default)]
@@ -111,7 +111,7 @@ fn run_frames(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>)
         None => anyhow::anyhow!("{context}: [image] {e}"),
     })?;
     let video = video.map(|video| (video, rate));
-    for warning in light_scene(&settings.at(first), &mut description.scene).context(context)? {
+    for warning in light_scene(&settings.at(first), &mut description.scene).context(context.clone())? {
         eprintln!("warning: {warning}");
     }
     let (scene, source) = (&description.scene, description.source.as_str());
@@ -137,6 +137,8 @@ fn run_frames(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>)
         .map(|(video, fps)| video.start(width, height, fps))
         .transpose()?;
     super::camera_animation::note_motion(&description, Some(rate));
+    let moving_shutter = shutter(&merged).with_context(|| context.clone())?.is_some();
+    super::camera_animation::note_shutter(&description, moving_shutter, true);
     let times = render_frames(
         args,
         frames,
