@@ -67,7 +67,7 @@ pub use coc::CocLens;
 pub use footprint::Footprint;
 pub use lens::Lens;
 pub use look_at::CameraFrame;
-pub use motion::{CameraMotion, CameraPose};
+pub use motion::{CameraMotion, RigidPose};
 pub use movements::{FocusPlane, Movements};
 pub use params::{CameraError, CameraParams, LensParams, ProjectionParams};
 pub use projection::Projection;

@@ -19,12 +19,12 @@ use crate::interface::MOTION_STEPS;
 /// right-handed axes (right, up, backward) to world space. Camera space is left-handed
 /// (`look_at`), so world_from_camera is this rotation with its third column negated.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CameraPose {
+pub struct RigidPose {
     pub eye: Vec3,
     pub rotation: Quat,
 }
 
-impl CameraPose {
+impl RigidPose {
     pub fn of(frame: &CameraFrame) -> Self {
         let rotation =
             Quat::from_mat3(&Mat3::from_cols(frame.right, frame.true_up, -frame.forward));
@@ -69,7 +69,7 @@ pub fn slerp(a: Quat, b: Quat, f: f32) -> Quat {
 pub struct CameraMotion {
     /// [`MOTION_STEPS`] poses, the first at the first row's opening, the last at the last row's
     /// closing.
-    pub poses: Vec<CameraPose>,
+    pub poses: Vec<RigidPose>,
     /// The exposure over the span: 1 without a rolling shutter, 0 for a rolling shutter
     /// without motion blur (each row an instant).
     pub exposure_share: f32,
@@ -82,7 +82,7 @@ impl CameraMotion {
     /// when the camera stays put (every pose the same), when no sample would move.
     pub fn new(frames: &[CameraFrame], exposure_share: f32, rolling_share: f32) -> Option<Self> {
         assert_eq!(frames.len(), MOTION_STEPS as usize, "one frame per step");
-        let poses: Vec<CameraPose> = frames.iter().map(CameraPose::of).collect();
+        let poses: Vec<RigidPose> = frames.iter().map(RigidPose::of).collect();
         if poses.iter().all(|p| *p == poses[0]) {
             return None;
         }
@@ -101,13 +101,13 @@ impl CameraMotion {
     }
 
     /// The pose at `moment` in [0, 1]: between the two steps around it.
-    pub fn pose_at(&self, moment: f32) -> CameraPose {
+    pub fn pose_at(&self, moment: f32) -> RigidPose {
         let last = (self.poses.len() - 1) as f32;
         let s = moment * last;
         let i = (s as usize).min(self.poses.len() - 2);
         let f = s - i as f32;
         let (a, b) = (self.poses[i], self.poses[i + 1]);
-        CameraPose {
+        RigidPose {
             eye: a.eye + (b.eye - a.eye) * f,
             rotation: slerp(a.rotation, b.rotation, f),
         }
@@ -125,7 +125,7 @@ mod tests {
     #[test]
     fn a_pose_maps_like_world_from_camera() {
         let f = frame(Vec3::new(1.0, 2.0, 3.0), Vec3::new(-2.0, 0.5, -4.0));
-        let pose = CameraPose::of(&f);
+        let pose = RigidPose::of(&f);
         let m = f.world_from_camera();
         for p in [Vec3::X, Vec3::Y, Vec3::Z, Vec3::new(0.3, -0.7, 2.5)] {
             let d = pose.world_point(p) - m.transform_point3(p);
@@ -155,7 +155,7 @@ mod tests {
         let motion = CameraMotion::new(&frames, 1.0, 0.0).unwrap();
         for moment in [0.0, 0.1, 0.5, 0.73, 1.0] {
             let k = moment * (n - 1) as f32;
-            let want = CameraPose::of(&at(k));
+            let want = RigidPose::of(&at(k));
             let got = motion.pose_at(moment);
             assert!(
                 (got.eye - want.eye).length() < 1e-5,

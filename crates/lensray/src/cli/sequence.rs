@@ -111,7 +111,9 @@ fn run_frames(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>)
         None => anyhow::anyhow!("{context}: [image] {e}"),
     })?;
     let video = video.map(|video| (video, rate));
-    for warning in light_scene(&settings.at(first), &mut description.scene).context(context.clone())? {
+    for warning in
+        light_scene(&settings.at(first), &mut description.scene).context(context.clone())?
+    {
         eprintln!("warning: {warning}");
     }
     let (scene, source) = (&description.scene, description.source.as_str());
