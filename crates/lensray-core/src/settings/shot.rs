@@ -183,10 +183,10 @@ pub fn shot(settings: &Settings, scene: &Scene) -> Result<Shot, SettingsError> {
     let bounds = scene.bounds().ok_or(SettingsError::EmptyScene)?;
     // A still does not use the rate or the shutter, but a bad one is still a mistake to name.
     super::keyframe::fps(settings)?;
-    super::shutter::shutter(settings)?;
     if let Some((key, value)) = super::finite::first_not_finite(settings) {
         return Err(SettingsError::NotANumber(key, value));
     }
+    super::shutter::shutter(settings)?;
     let c = &settings.camera;
     let real_lens = prescription(c)?;
     let vfov_degrees = framing_vfov_degrees(c, real_lens.as_ref());
