@@ -28,14 +28,14 @@ mod tests {
     fn layouts_follow_the_glsl_rules() {
         check_layouts().unwrap();
         // Hand-computed std140: two mat4 (128) + 8 scalars (32) + two vec4 (32) + vec4[32]
-        // (512) = 704; then two vec4 (background, environment), eight scalars and the footprint's four
-        // vec4.
-        assert_eq!(GpuCamera::size(Layout::Std140), 704);
-        assert_eq!(TraceParams::size(Layout::Std140), 704 + 32 + 32 + 64);
+        // (512) + the motion's 4 scalars (16) and two vec4[8] (256) = 976; then two vec4
+        // (background, environment), eight scalars and the footprint's four vec4.
+        assert_eq!(GpuCamera::size(Layout::Std140), 976);
+        assert_eq!(TraceParams::size(Layout::Std140), 976 + 32 + 32 + 64);
         assert_eq!(RasterPush::size(Layout::Std430), 96);
         // The view pass's push constants stay within the 128 bytes every device offers.
         assert_eq!(ViewPush::size(Layout::Std430), 128);
-        assert_eq!(std::mem::offset_of!(TraceParams, width), 736);
+        assert_eq!(std::mem::offset_of!(TraceParams, width), 1008);
     }
 
     #[test]
@@ -55,7 +55,7 @@ mod tests {
         assert!(header.contains("struct TraceParams {\n    Camera camera;"));
         assert!(header.contains("uint layout_probe_Camera(Camera v, uint i)"));
         let scalars = scalars_of::<TraceParams>();
-        assert_eq!(scalars.len(), 704 / 4 + 8 + 8 + 16);
+        assert_eq!(scalars.len(), 976 / 4 + 8 + 8 + 16);
         assert_eq!(scalars[17].path, "v.camera.screen_from_raster[0][1]");
         assert_eq!(scalars[17].offset, 64 + 4);
     }
