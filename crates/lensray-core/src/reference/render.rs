@@ -304,9 +304,10 @@ impl Renderer {
     }
 
     /// The AOVs of `shot`: the surface seen by the aperture-centre ray through each pixel
-    /// centre.
+    /// centre, from the frame's pose (the G-buffer's camera, which the shutter does not move).
     fn render_aov(&self, shot: &Shot, progress: &mut Progress) -> (Image, RenderStats) {
-        let camera = &shot.camera;
+        let still = shot.camera.clone().with_motion(None);
+        let camera = &still;
         let mut image = Image::new(camera.width, camera.height);
         let stats = self.for_each_row(camera, &mut image.pixels, progress, |y, row| {
             for (x, value) in row.iter_mut().enumerate() {

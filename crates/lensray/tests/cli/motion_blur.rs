@@ -237,3 +237,30 @@ fn the_paths_of_one_pose_refuse_a_moving_camera_in_one_line() {
         );
     }
 }
+
+/// AOVs are the G-buffer's: the surface at each pixel centre from the frame's own pose, which
+/// the shutter does not move (the raster pass draws them on the GPU paths): on cpu the depth
+/// AOV is the same with the shutter's motion on and off, whatever its position.
+#[test]
+fn aovs_are_drawn_from_the_frames_own_pose() {
+    let test = "aovs_are_drawn_from_the_frames_own_pose";
+    let dir = tempfile::tempdir().unwrap();
+    let scene = sliding_scene(dir.path(), [4.9, 5.1, -0.1, 0.1]);
+    let depth = ["--shading", "depth"];
+    let still = frame5(test, dir.path(), &scene, "cpu", "still", &depth).unwrap();
+    let moving = [
+        &depth[..],
+        &["--motion-blur", "on", "--shutter-position", "start"],
+        &["--rolling-shutter", "1/48"],
+    ]
+    .concat();
+    let blurred = frame5(test, dir.path(), &scene, "cpu", "moving", &moving).unwrap();
+    assert!(
+        still.pixels.iter().any(|p| p.x > 0.0),
+        "{test}: the square is not seen"
+    );
+    assert_eq!(
+        still.pixels, blurred.pixels,
+        "{test}: the shutter moved an AOV"
+    );
+}
