@@ -63,6 +63,11 @@ pub fn shutter(settings: &Settings) -> Result<Option<Shutter>, SettingsError> {
         }
         (true, None) => s.angle.unwrap_or(DEFAULT_SHUTTER_ANGLE) / 360.0,
     };
+    if !exposure.is_finite() {
+        return bad(format!(
+            "the shutter is open for {exposure} frames at {rate} fps: too long to take"
+        ));
+    }
     Ok(Some(Shutter {
         exposure,
         readout: rolling * rate,
@@ -182,5 +187,11 @@ mod tests {
             ..ShutterSettings::default()
         };
         assert!(shutter(&with(s, None)).is_err());
+        let on = ShutterSettings {
+            motion_blur: Some(Switch::On),
+            ..ShutterSettings::default()
+        };
+        let err = shutter(&with(on, Some(1e308))).unwrap_err().to_string();
+        assert!(err.contains("too long"), "{err}");
     }
 }
