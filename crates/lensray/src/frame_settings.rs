@@ -7,7 +7,9 @@ use anyhow::{Context, Result};
 
 use lensray_core::camera::Camera;
 use lensray_core::scene::Scene;
-use lensray_core::settings::{frame_seed, shot, shutter, FocusKey, Keyframes, Settings, Shot};
+use lensray_core::settings::{
+    frame_seed, shot, shutter, FocusKey, Keyframes, Settings, Shot, Shutter,
+};
 
 /// The command line's settings (`command_line`, in metres) over a scene file's (`file`): a
 /// lens the command line describes replaces the file's description of one (a focal length
@@ -93,7 +95,21 @@ impl FrameSettings {
     /// time or rolls.
     pub fn moving(&self, frame: u32, shot: Shot, scene: &Scene, source: &str) -> Result<Shot> {
         let context = || format!("scene {source}: frame {frame}");
-        let Some(shutter) = shutter(&self.at(frame)).with_context(context)? else {
+        let shutter = shutter(&self.at(frame)).with_context(context)?;
+        self.moving_through(shutter, frame, shot, scene, source)
+    }
+
+    /// [`Self::moving`] through `shutter` (the preview's, which its key toggles), if any.
+    pub fn moving_through(
+        &self,
+        shutter: Option<Shutter>,
+        frame: u32,
+        shot: Shot,
+        scene: &Scene,
+        source: &str,
+    ) -> Result<Shot> {
+        let context = || format!("scene {source}: frame {frame}");
+        let Some(shutter) = shutter else {
             return Ok(shot);
         };
         let motion = shutter

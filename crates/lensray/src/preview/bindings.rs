@@ -42,6 +42,9 @@ pub enum Action {
     ApertureWider,
     ApertureNarrower,
     ToggleProjection,
+    /// Motion blur on or off (`--motion-blur`): a keyframed shot's camera moves over the
+    /// frame's shutter.
+    ToggleMotionBlur,
     SetView(ViewMode),
     NextView,
     Screenshot,
@@ -72,6 +75,7 @@ impl Action {
             Action::ApertureWider => "wider aperture (more blur)",
             Action::ApertureNarrower => "narrower aperture (less blur)",
             Action::ToggleProjection => "switch perspective / orthographic",
+            Action::ToggleMotionBlur => "motion blur on / off (a keyframed shot's camera move)",
             Action::SetView(view) => return format!("view: {view}"),
             Action::NextView => "next view",
             Action::Screenshot => "save a screenshot",
@@ -115,6 +119,7 @@ pub const KEY_BINDINGS: &[KeyBinding] = &[
     bind("-", Action::ApertureNarrower),
     bind("=", Action::ApertureWider),
     bind("O", Action::ToggleProjection),
+    bind("B", Action::ToggleMotionBlur),
     bind("V", Action::NextView),
     bind("1", Action::SetView(ViewMode::Final)),
     bind("2", Action::SetView(ViewMode::Albedo)),
@@ -253,7 +258,7 @@ mod tests {
             assert_eq!(canonical_key_name(binding.key), binding.key);
             assert_eq!(action_for_key(binding.key), Some(binding.action));
         }
-        assert_eq!(seen.len(), 27);
+        assert_eq!(seen.len(), 28);
     }
 
     #[test]

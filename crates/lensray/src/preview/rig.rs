@@ -212,6 +212,14 @@ impl CameraRig {
         self.settings.camera.exposure.tonemap = Some(tonemap);
     }
 
+    /// Turns motion blur on where it was off and off where it was on; whether it is on now.
+    pub fn toggle_motion_blur(&mut self) -> bool {
+        let shutter = &mut self.settings.camera.shutter;
+        let on = shutter.motion_blur != Some(Switch::On);
+        shutter.motion_blur = Some(if on { Switch::On } else { Switch::Off });
+        on
+    }
+
     /// Bounding-sphere radius of the scene.
     pub fn scene_radius(&self) -> f64 {
         self.scene_radius

@@ -1,6 +1,7 @@
-//! Motion blur in the preview: a frame of a keyframed camera move, its shutter open for half a
-//! frame, converges to the frame `render --frames` renders with motion blur, float for float
-//! (validation on); the still frame differs from it.
+//! Motion blur in the preview: a frame of a keyframed camera move, motion blur turned on by its
+//! key (B) and the shutter open for half a frame, converges to the frame `render --frames`
+//! renders with `--motion-blur on`, float for float (validation on); the still frame differs
+//! from it.
 
 use super::{assert_same_image, headless, preview_with};
 
@@ -31,18 +32,18 @@ fn a_blurred_frame_in_the_window_is_the_frame_the_sequence_renders() {
         "64",
         "--spp",
         "16",
-        "--motion-blur",
-        "on",
     ];
-    let script = "0 frame 5\n0 wait converged\n0 screenshot p5.exr\n0 quit\n";
-    if preview_with(test, dir.path(), script, &view, &["--path", "software"]).is_none() {
+    let script = "0 frame 5\n0 key B\n0 wait converged\n0 screenshot p5.exr\n0 quit\n";
+    let Some(out) = preview_with(test, dir.path(), script, &view, &["--path", "software"]) else {
         return;
-    }
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("motion blur: on"), "{test}: {stderr}");
     let mut args = vec!["--path", "software", "--frames", "5", "--out", "r.#.exr"];
     args.extend(view);
+    args.extend(["--motion-blur", "on"]);
     headless(dir.path(), &args);
     assert_same_image(dir.path(), "p5.exr", "r.5.exr", "motion-blur-5");
-    let still_view: Vec<&str> = view[..view.len() - 2].to_vec();
     let mut args = vec![
         "--path",
         "software",
@@ -51,7 +52,7 @@ fn a_blurred_frame_in_the_window_is_the_frame_the_sequence_renders() {
         "--out",
         "still.#.exr",
     ];
-    args.extend(still_view);
+    args.extend(view);
     headless(dir.path(), &args);
     let (blurred, still) = (
         crate::read_exr(&dir.path().join("r.5.exr")),

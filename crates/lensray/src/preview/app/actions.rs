@@ -25,6 +25,10 @@ impl App {
             Action::ApertureWider => rig.step_aperture(1),
             Action::ApertureNarrower => rig.step_aperture(-1),
             Action::ToggleProjection => rig.toggle_projection(),
+            Action::ToggleMotionBlur => {
+                let on = rig.toggle_motion_blur();
+                eprintln!("motion blur: {}", if on { "on" } else { "off" });
+            }
             Action::SetView(view) => self.panel.view = view,
             Action::NextView => self.panel.view = self.panel.view.next(),
             Action::Screenshot => {

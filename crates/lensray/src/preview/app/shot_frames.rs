@@ -9,7 +9,7 @@ use anyhow::Result;
 use super::App;
 use crate::preview::rig::CameraRig;
 use lensray_core::settings::shot::camera_frame;
-use lensray_core::settings::Shot;
+use lensray_core::settings::{shutter, Shot};
 
 /// What the play and frame keys say without keyframes.
 const NO_KEYFRAMES: &str =
@@ -32,6 +32,8 @@ impl App {
         settings.image.width = current.image.width;
         settings.image.height = current.image.height;
         settings.light = current.light.clone();
+        // Motion blur as the window has it (B toggles it).
+        settings.camera.shutter = current.camera.shutter.clone();
         match CameraRig::new(settings, &self.config.description.scene) {
             Ok(rig) => self.config.rig = rig,
             Err(e) => eprintln!("frame {frame}: {e} (the camera stays)"),
@@ -127,9 +129,14 @@ impl App {
         {
             return Ok(shot);
         }
-        playback
-            .frames()
-            .moving(frame, shot, &description.scene, &description.source)
+        let shutter = shutter(self.config.rig.settings())?;
+        playback.frames().moving_through(
+            shutter,
+            frame,
+            shot,
+            &description.scene,
+            &description.source,
+        )
     }
 
     /// The frame a `[[keyframe]]` printout names: the one shown, or 1 without keyframes (a
