@@ -73,7 +73,7 @@ impl Panel {
             .resizable(false)
             .show(ctx, |ui| {
                 if let Some(clock) = clock {
-                    self.shot_frames(ui, clock);
+                    self.shot_frames(ui, clock, rig.motion_blur());
                     ui.separator();
                 }
                 self.lens(ui, rig, stats);
@@ -107,8 +107,9 @@ impl Panel {
         }
     }
 
-    /// A keyframed shot: the frame slider over the keyframes' range and play / pause.
-    fn shot_frames(&mut self, ui: &mut egui::Ui, clock: &mut PlaybackClock) {
+    /// A keyframed shot: the frame slider over the keyframes' range, play / pause and motion
+    /// blur (`motion_blur`: whether it is on).
+    fn shot_frames(&mut self, ui: &mut egui::Ui, clock: &mut PlaybackClock, motion_blur: bool) {
         let (first, last) = clock.range();
         let mut frame = clock.frame();
         ui.horizontal(|ui| {
@@ -127,6 +128,10 @@ impl Panel {
                 clock.set_frame(frame, Instant::now());
             }
         });
+        let mut blur = motion_blur;
+        if ui.checkbox(&mut blur, "Motion blur (B)").changed() {
+            self.actions.push(Action::ToggleMotionBlur);
+        }
         ui.small(format!(
             "{} fps; the frame's keyed camera: a change by hand holds until the frame changes",
             clock.fps()

@@ -212,6 +212,11 @@ impl CameraRig {
         self.settings.camera.exposure.tonemap = Some(tonemap);
     }
 
+    /// Whether motion blur is on (`--motion-blur`, the B key).
+    pub fn motion_blur(&self) -> bool {
+        self.settings.camera.shutter.motion_blur == Some(Switch::On)
+    }
+
     /// Turns motion blur on where it was off and off where it was on; whether it is on now.
     pub fn toggle_motion_blur(&mut self) -> bool {
         let shutter = &mut self.settings.camera.shutter;
