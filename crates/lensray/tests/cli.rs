@@ -89,13 +89,20 @@ fn render_args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
 /// Runs a render that must fail: non-zero exit, exactly one stderr line mentioning `needle`,
 /// no panic, and no output file left behind.
 fn assert_rejected(extra: &[&str], needle: &str) {
+    assert_rejected_on("cpu", extra, needle);
+}
+
+/// [`assert_rejected`] with `--device device`.
+fn assert_rejected_on(device: &str, extra: &[&str], needle: &str) {
     let dir = tempfile::tempdir().unwrap();
     let mut args = extra.to_vec();
     // A sequence's video alone has no --out.
     if !extra.contains(&"--out") && !extra.contains(&"--video") {
         args.extend(["--out", "out.png"]);
     }
-    let out = lensray(&render_args(&args), dir.path());
+    let mut args = render_args(&args);
+    args[2] = device;
+    let out = lensray(&args, dir.path());
     let err = stderr(&out);
     assert!(
         !out.status.success(),
