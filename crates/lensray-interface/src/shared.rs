@@ -362,7 +362,8 @@ shader_interface! {
             /// `KHR_materials_clearcoat`: the coat's weight and roughness (0: no coat).
             clearcoat: f32,
             clearcoat_roughness: f32,
-            pad2: u32,
+            /// `clearcoatNormalTexture.scale`: multiplies the coat's normal map's x and y.
+            clearcoat_normal_scale: f32,
             pad3: u32,
             /// R: multiplies `clearcoat` (linear).
             clearcoat_texture: GpuTextureRef,
@@ -387,6 +388,9 @@ shader_interface! {
             pad4: u32,
             /// R: multiplies `transmission` (linear).
             transmission_texture: GpuTextureRef,
+            /// The coat's own tangent-space normal map (linear; TEXTURE_NONE: the coat follows
+            /// the interpolated vertex normal).
+            clearcoat_normal_texture: GpuTextureRef,
         }
         /// A node of the software traversal's 8-wide BVH (lensray-vulkan/src/scene/bvh.rs), the
         /// compressed layout of Ylitie, Karras and Laine (2017): up to eight children's boxes,

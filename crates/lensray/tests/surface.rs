@@ -1,7 +1,8 @@
 //! What a mesh's vertices add to its material, from glTF files: vertex colours (COLOR_0, float
 //! RGB and normalized UNSIGNED_BYTE RGBA) multiply the base colour, and a normal map
-//! (`normalTexture` with its scale, tangents from MikkTSpace) tilts the shading normal. The CPU
-//! reference is checked against the formulas, every GPU path against the CPU.
+//! (`normalTexture` with its scale, tangents from MikkTSpace) tilts the shading normal; a clear
+//! coat's own map (`clearcoatNormalTexture`) tilts the coat's normal alone. The CPU reference is
+//! checked against the formulas, every GPU path against the CPU.
 
 mod gpu_support;
 
@@ -201,15 +202,15 @@ fn vertex_colours_multiply_the_base_colour() {
     }
 }
 
-/// A normal map of one texel, its normal tilted by `degrees` about the bitangent towards the
-/// tangent (+x): (sin, 0, cos) encoded as 8-bit 2 c - 1; returns the normal as the file holds
-/// it, decoded from the bytes.
-fn write_normal_map(dir: &Path, degrees: f32) -> Vec3 {
+/// A normal map of one texel, `name`, its normal tilted by `degrees` about the bitangent
+/// towards the tangent (+x): (sin, 0, cos) encoded as 8-bit 2 c - 1; returns the normal as the
+/// file holds it, decoded from the bytes.
+fn write_normal_map(dir: &Path, name: &str, degrees: f32) -> Vec3 {
     let (sin, cos) = degrees.to_radians().sin_cos();
     let byte = |c: f32| ((c + 1.0) / 2.0 * 255.0).round() as u8;
     let bytes = [byte(sin), byte(0.0), byte(cos), 255];
     image::RgbaImage::from_pixel(4, 4, image::Rgba(bytes))
-        .save(dir.join("normal.png"))
+        .save(dir.join(name))
         .unwrap();
     Vec3::new(bytes[0].into(), bytes[1].into(), bytes[2].into()) / 255.0 * 2.0 - Vec3::ONE
 }
@@ -221,7 +222,7 @@ fn write_normal_map(dir: &Path, degrees: f32) -> Vec3 {
 /// The quads with the normal map (scale 1 on the left, 0.5 on the right) under a directional
 /// light arriving from `to_light` with irradiance `irradiance`; the map's normal.
 fn normal_mapped_quads(dir: &Path, to_light: Vec3, irradiance: f32) -> (Scene, Vec3) {
-    let m = write_normal_map(dir, 30.0);
+    let m = write_normal_map(dir, "normal.png", 30.0);
     let normal_texture =
         |scale: f32| format!(r#", "normalTexture": {{"index": 0, "scale": {scale}}}"#);
     let materials = format!(
@@ -288,8 +289,132 @@ fn a_normal_map_tilts_the_shading_normal() {
     }
 }
 
+/// The coat's roughness in `coated_quads`.
+const COAT_ROUGHNESS: f32 = 0.4;
+
+/// The quads with the base's normal map (30 degrees, scale 1) under a clear coat of weight 1 and
+/// roughness `COAT_ROUGHNESS`: on the left the coat has its own map (-20 degrees, scale 0.8),
+/// on the right none. Under a directional light arriving from `to_light` with irradiance
+/// `irradiance`. Returns the scene and both maps' normals (base, coat) as the files hold them.
+fn coated_quads(dir: &Path, to_light: Vec3, irradiance: f32) -> (Scene, Vec3, Vec3) {
+    let (scene, m) = normal_mapped_quads(dir, to_light, irradiance);
+    let mc = write_normal_map(dir, "coat-normal.png", -20.0);
+    let coat = |own: &str| {
+        format!(r#"{{"clearcoatFactor": 1, "clearcoatRoughnessFactor": {COAT_ROUGHNESS}{own}}}"#)
+    };
+    let material = |own: &str| {
+        format!(
+            r#"{{"doubleSided": true, "normalTexture": {{"index": 0}},
+                "pbrMetallicRoughness": {{"baseColorFactor": [{}, {}, {}, 1], "metallicFactor": 0}},
+                "extensions": {{"KHR_materials_specular": {{"specularFactor": 0}},
+                                "KHR_materials_clearcoat": {}}}}}"#,
+            BASE.x,
+            BASE.y,
+            BASE.z,
+            coat(own)
+        )
+    };
+    let materials = format!(
+        "[{}, {}]",
+        material(r#", "clearcoatNormalTexture": {"index": 1, "scale": 0.8}"#),
+        material("")
+    );
+    let textures = r#", "images": [{"uri": "normal.png"}, {"uri": "coat-normal.png"}],
+        "textures": [{"source": 0}, {"source": 1}]"#;
+    let path = write_quads(dir, "coated.gltf", false, &materials, textures);
+    let file = load_gltf(&path).expect("the coated quads load");
+    assert!(file.notices.is_empty(), "{:?}", file.notices);
+    let mut coated = file.scene;
+    coated.lights = scene.lights;
+    (coated, m, mc)
+}
+
+/// What a clear coat of weight 1 over a Lambert base reflects of a directional light of
+/// irradiance `e` from `l`, seen from `v`: the specification's layering written out, each layer
+/// at its own normal's cosine: Kd / pi (1 - Fc) ns.l + Fc D(nc.h) V(nc.l, nc.v) nc.l, with
+/// Fc = 0.04 + 0.96 (1 - nc.v)^5, GGX's D and the height-correlated V at alpha = roughness^2.
+fn coat_over_lambert(ns: Vec3, nc: Vec3, l: Vec3, v: Vec3, e: f32) -> Vec3 {
+    let a2 = COAT_ROUGHNESS.powi(4);
+    let h = (l + v).normalize();
+    let (nl, nv, nh) = (nc.dot(l), nc.dot(v), nc.dot(h));
+    let d = a2 / (std::f32::consts::PI * (nh * nh * (a2 - 1.0) + 1.0).powi(2));
+    let vis =
+        0.5 / (nl * (nv * nv * (1.0 - a2) + a2).sqrt() + nv * (nl * nl * (1.0 - a2) + a2).sqrt());
+    let fc = 0.04 + 0.96 * (1.0 - nv).powi(5);
+    (BASE / std::f32::consts::PI * (1.0 - fc) * ns.dot(l) + Vec3::splat(fc * d * vis * nl)) * e
+}
+
+/// A clear coat's own normal map tilts the coat's normal alone, and without one the coat
+/// follows the vertex normal, not the base's map: under a directional light 35 degrees
+/// towards -x, near the mirror of the view about the left coat's normal, each quad's radiance
+/// is `coat_over_lambert` with the base's normal tilted by its map and the coat's by its own
+/// (left) or not at all (right).
+#[test]
+fn a_clear_coat_follows_its_own_normal_map() {
+    let test = "a_clear_coat_follows_its_own_normal_map";
+    let dir = tempfile::tempdir().unwrap();
+    let to_light = Vec3::new(-35f32.to_radians().sin(), 0.0, 35f32.to_radians().cos());
+    let irradiance = 3.0;
+    let (scene, m, mc) = coated_quads(dir.path(), to_light, irradiance);
+    let camera = camera(64);
+    let lit = Shot {
+        camera: camera.clone(),
+        render: settings(Shading::Lit, 4),
+    };
+    let Some(image) = cpu_render(test, &scene, &lit) else {
+        return;
+    };
+    let ns = m.normalize();
+    let own = Vec3::new(mc.x * 0.8, mc.y * 0.8, mc.z).normalize();
+    for (centre, nc) in [(-1.1, own), (1.1, Vec3::Z)] {
+        let expected = coat_over_lambert(ns, nc, to_light, Vec3::Z, irradiance);
+        let unlayered = coat_over_lambert(ns, ns, to_light, Vec3::Z, irradiance);
+        for (x, y) in [(-0.5, 0.5), (0.4, -0.3)] {
+            let (pixel, _) = pixel_at(&camera, Vec3::new(centre + x, y, 0.0));
+            let got = value(&image, pixel);
+            if (got - expected).abs().max_element() > 1e-4 * expected.max_element() {
+                write_png(&image, "coat-normal-cpu.png");
+                panic!(
+                    "coat normal {nc}, pixel {pixel:?}: {got}, expected {expected} (base \
+                     normal {ns}; the coat on the base's normal would give {unlayered})"
+                );
+            }
+        }
+        println!("coat normal {nc}: {expected} (on the base's normal: {unlayered})");
+    }
+}
+
+/// `scene` with `other`'s meshes moved `dy` along y, its materials, textures and lights.
+fn append(scene: &mut Scene, other: Scene, dy: f32) {
+    let (materials, textures) = (scene.materials.len() as u32, scene.textures.len() as u32);
+    for mut mesh in other.meshes {
+        for p in &mut mesh.positions {
+            p.y += dy;
+        }
+        for id in &mut mesh.material_ids {
+            *id += materials;
+        }
+        scene.meshes.push(mesh);
+    }
+    for mut material in other.materials {
+        for t in [
+            &mut material.normal_texture,
+            &mut material.clearcoat_normal_texture,
+        ]
+        .into_iter()
+        .flatten()
+        {
+            t.texture += textures;
+        }
+        scene.materials.push(material);
+    }
+    scene.textures.extend(other.textures);
+    scene.lights = other.lights;
+}
+
 /// Every GPU path (the raster path and its G-buffer's albedo included) renders the coloured
-/// quads and, below them, the normal-mapped ones, lit and as albedo, as the CPU does.
+/// quads and, below them, the normal-mapped ones and the coated ones with the coat's own map,
+/// lit and as albedo, as the CPU does.
 #[test]
 fn gpu_paths_render_vertex_colours_and_normal_maps_as_the_cpu_does() {
     let test = "gpu_paths_render_vertex_colours_and_normal_maps_as_the_cpu_does";
@@ -297,24 +422,10 @@ fn gpu_paths_render_vertex_colours_and_normal_maps_as_the_cpu_does() {
     let mut scene = coloured_quads(dir.path());
     let to_light = Vec3::new(0.3, 0.5, 1.0).normalize();
     let (mapped, _) = normal_mapped_quads(dir.path(), to_light, 3.0);
-    let (materials, textures) = (scene.materials.len() as u32, scene.textures.len() as u32);
-    for mut mesh in mapped.meshes {
-        for p in &mut mesh.positions {
-            p.y -= 2.2;
-        }
-        for id in &mut mesh.material_ids {
-            *id += materials;
-        }
-        scene.meshes.push(mesh);
-    }
-    for mut material in mapped.materials {
-        let normal = material.normal_texture.as_mut().expect("a normal map");
-        normal.texture += textures;
-        scene.materials.push(material);
-    }
-    scene.textures.extend(mapped.textures);
-    scene.lights = mapped.lights;
-    let camera = camera_at(-1.1, 4.6, 64, 64);
+    append(&mut scene, mapped, -2.2);
+    let (coated, _, _) = coated_quads(dir.path(), to_light, 3.0);
+    append(&mut scene, coated, -4.4);
+    let camera = camera_at(-2.2, 6.8, 64, 64);
     let shots = [Shading::Lit, Shading::Albedo].map(|shading| {
         let shot = Shot {
             camera: camera.clone(),

@@ -1,20 +1,22 @@
 //! A clear coat over the metallic-roughness BRDF, as `KHR_materials_clearcoat` layers it: a
 //! GGX lobe of its own roughness (alpha = clearcoatRoughness^2, `specular_brdf` of the core
-//! specification's Appendix B without its Fresnel), mixed over the base by the coat's Fresnel
-//! at the view (`fresnel_coat`, IOR 1.5: f0 = 0.04), weighed by the coat's factor:
+//! specification's Appendix B without its Fresnel) about its own normal nc, mixed over the base
+//! by the coat's Fresnel at the view (`fresnel_coat`, IOR 1.5: f0 = 0.04), weighed by the
+//! coat's factor. Each layer's light is weighed by its own normal's cosine:
 //!
 //! ```text
-//! Fc = f0 + (1 - f0) (1 - |n.v|)^5
-//! f = f_base (1 - clearcoat Fc) + clearcoat Fc D_c V_c
+//! Fc = f0 + (1 - f0) (1 - |nc.v|)^5
+//! f cos = f_base |n.l| (1 - clearcoat Fc) + clearcoat Fc D_c V_c nc.l
 //! ```
 //!
-//! f_base is what lies beneath the coat: the base under its sheen (`sheen.rs`), as the
-//! extensions order them. The base loses what the coat reflects, so the pair never reflects
-//! more than the base alone does plus the coat's lobe (at most 1). The coat shares the base's shading normal: a
-//! `clearcoatNormalTexture` of its own is not read (the loader names it). Draws pick the coat's
-//! lobe (Heitz's visible normals, `brdf_sampling`) with probability clearcoat (0.2 + 0.8 Fc),
-//! the base's mixture otherwise; the density is the mixture of both.
-//! shaders/include/brdf.glsl mirrors it function by function.
+//! f_base is what lies beneath the coat: the base under its sheen (`sheen.rs`), about the
+//! base's shading normal n. The base loses what the coat reflects, so the pair never reflects
+//! more than the base alone does plus the coat's lobe (at most 1). nc is the interpolated
+//! vertex normal tilted by the coat's own normal map (`clearcoatNormalTexture`); the base's
+//! normal map does not tilt it, as the extension says. Draws pick the coat's lobe (Heitz's
+//! visible normals about nc, `brdf_sampling`) with probability clearcoat (0.2 + 0.8 Fc), the
+//! base's mixture otherwise; the density is the mixture of both.
+//! shaders/include/layers.glsl mirrors it function by function.
 
 use std::f32::consts::FRAC_1_PI;
 
@@ -26,11 +28,13 @@ use super::sheen::{uniform_direction, Sheen};
 use crate::interface::{CLEARCOAT_F0, MIN_ROUGHNESS};
 
 /// The coat of a surface point: its weight (`clearcoatFactor` times its texture's R) and its
-/// perceptual roughness (`clearcoatRoughnessFactor` times its texture's G), each in [0, 1].
+/// perceptual roughness (`clearcoatRoughnessFactor` times its texture's G), each in [0, 1],
+/// and its unit normal nc, facing the viewer (read only where the weight is above 0).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Clearcoat {
     pub weight: f32,
     pub roughness: f32,
+    pub normal: Vec3,
 }
 
 /// A surface point's BRDF: the metallic-roughness base under its sheen (`sheen.rs`), under
@@ -83,57 +87,84 @@ impl LayeredBrdf {
         self.base.transmits()
     }
 
-    /// f(l, v) for unit normal `n`, direction to the light `l` and to the viewer `v`, with
-    /// n.l != 0 (the caller's cosine test; below the surface only the base transmits); 1/sr.
-    pub fn evaluate(&self, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
-        let base = self.beneath_evaluate(n, l, v);
+    /// Whether the coat's lobe reflects light from `l` (unit) at base normal `n`: `l` above
+    /// the coat's normal and, where the base transmits, above the base's (light from below it
+    /// goes through the surface, and the coat does not reflect it).
+    pub fn coat_reflects(&self, n: Vec3, l: Vec3) -> bool {
+        self.clearcoat.weight > 0.0
+            && self.clearcoat.normal.dot(l) > 0.0
+            && (n.dot(l) > 0.0 || !self.transmits())
+    }
+
+    /// The light reflected (or transmitted) towards `v` per unit of light arriving from `l`
+    /// across a plane facing it: f(l, v) weighed by each layer's own cosine, |n.l| beneath the
+    /// coat (`n`: the base's unit shading normal, n.l != 0) and nc.l for the coat's lobe;
+    /// 1/sr.
+    pub fn reflected(&self, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
+        let base = self.beneath_evaluate(n, l, v) * n.dot(l).abs();
         if self.clearcoat.weight <= 0.0 {
             return base;
         }
-        let n_dot_v = n.dot(v);
+        let nc = self.clearcoat.normal;
+        let n_dot_v = nc.dot(v);
         let blend = self.clearcoat.blend(n_dot_v);
-        let h = (l + v).normalize();
-        let lobe = self.clearcoat.lobe(n.dot(l), n_dot_v, n.dot(h));
-        base * (1.0 - blend) + Vec3::splat(blend * lobe)
+        let coat = if self.coat_reflects(n, l) {
+            let (h, n_dot_l) = ((l + v).normalize(), nc.dot(l));
+            self.clearcoat.lobe(n_dot_l, n_dot_v, nc.dot(h)) * n_dot_l
+        } else {
+            0.0
+        };
+        base * (1.0 - blend) + Vec3::splat(blend * coat)
     }
 
-    /// The density (per solid angle) of drawing `l` at unit normal `n` seen from `v`: the
-    /// coat's share of its lobe's visible-normal density plus the rest of the base's mixture.
+    /// The density (per solid angle) of drawing `l` at base normal `n` seen from `v`: the
+    /// coat's share of its lobe's visible-normal density about nc plus the rest of the base's
+    /// mixture.
     pub fn pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
         let base = self.beneath_pdf(n, l, v);
-        let n_dot_v = n.dot(v);
+        let nc = self.clearcoat.normal;
+        let n_dot_v = nc.dot(v);
         let p = self.clearcoat.probability(n_dot_v);
         if p <= 0.0 {
             return base;
         }
-        let coat = if n.dot(l) > 0.0 {
+        let coat = if self.coat_reflects(n, l) {
             let h = (l + v).normalize();
-            visible_normal_pdf(n_dot_v, n.dot(h), self.clearcoat.alpha())
+            visible_normal_pdf(n_dot_v, nc.dot(h), self.clearcoat.alpha())
         } else {
             0.0
         };
         p * coat + (1.0 - p) * base
     }
 
-    /// The direction point `u` ([0, 1)^2) draws at unit normal `n` seen from `v`, with its
-    /// density and weight; `None` where it carries no light. The first coordinate
-    /// picks the coat or the base and is stretched back to [0, 1) within it.
+    /// The direction point `u` ([0, 1)^2) draws at base normal `n` seen from `v`, with its
+    /// density and weight (`reflected` over the density); `None` where it carries no light.
+    /// The first coordinate picks the coat or the base and is stretched back to [0, 1) within
+    /// it.
     pub fn sample(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<BrdfSample> {
-        let p = self.clearcoat.probability(n.dot(v));
+        let nc = self.clearcoat.normal;
+        let p = self.clearcoat.probability(nc.dot(v));
         if p <= 0.0 {
             return self.beneath_sample(n, v, u);
         }
         let direction = if u.x < p {
             let alpha = self.clearcoat.alpha();
-            let h = visible_normal_around(n, v, alpha, Vec2::new(u.x / p, u.y));
-            // The lobe's density counts only what goes above the surface.
-            Some(2.0 * v.dot(h) * h - v).filter(|l| n.dot(*l) > 0.0)?
+            let h = visible_normal_around(nc, v, alpha, Vec2::new(u.x / p, u.y));
+            // The lobe's density counts only what it reflects.
+            Some(2.0 * v.dot(h) * h - v).filter(|l| self.coat_reflects(n, *l))?
         } else {
             let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
             self.beneath_sample(n, v, stretched)?.direction
         };
         let pdf = self.pdf(n, direction, v);
-        finish_draw(n, direction, pdf, || self.evaluate(n, direction, v))
+        if !(pdf > 0.0 && pdf.is_finite()) {
+            return None;
+        }
+        Some(BrdfSample {
+            direction,
+            pdf,
+            weight: self.reflected(n, direction, v) / pdf,
+        })
     }
 }
 

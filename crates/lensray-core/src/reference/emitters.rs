@@ -82,7 +82,7 @@ impl Renderer {
             } else {
                 1.0
             };
-            let f = lane.brdf.evaluate(n, direction, v) * n.dot(direction).abs();
+            let f = lane.brdf.reflected(n, direction, v);
             Some(ShadowRay {
                 origin,
                 direction,

@@ -92,6 +92,7 @@ impl Renderer {
                 clearcoat: Clearcoat {
                     weight: material.clearcoat,
                     roughness: material.clearcoat_roughness,
+                    normal: surface.shading_normal,
                 },
                 sheen: Sheen {
                     colour: material.sheen_colour,
@@ -117,9 +118,24 @@ impl Renderer {
         let texcoords = &surface.texcoords;
         inputs.brdf.base.base_colour =
             vertex_coloured(material.diffuse_at(textures, texcoords, &duv), colour);
-        surface.shading_normal = self
-            .surfaces
-            .normal_mapped(material, textures, hit, vertices, surface, &duv);
+        // The coat's normal is the vertex normal tilted by the coat's own map, not the base's.
+        let surfaces = &self.surfaces;
+        inputs.brdf.clearcoat.normal = surfaces.normal_mapped(
+            material.clearcoat_normal_map(),
+            textures,
+            hit,
+            vertices,
+            surface,
+            &duv,
+        );
+        surface.shading_normal = surfaces.normal_mapped(
+            material.normal_map(),
+            textures,
+            hit,
+            vertices,
+            surface,
+            &duv,
+        );
         (inputs.brdf.base.metallic, inputs.brdf.base.roughness) =
             material.metallic_roughness_at(textures, texcoords, &duv);
         (
@@ -358,11 +374,15 @@ impl Renderer {
         let mut surface = self.surface_point(ray, &hit);
         let inputs = self.colours(&hit, &mut surface, footprint);
         let to_viewer = -ray.direction.normalize();
-        surface.shading_normal =
-            reflection_safe_normal(surface.geometric_normal, to_viewer, surface.shading_normal);
+        let ng = surface.geometric_normal;
+        surface.shading_normal = reflection_safe_normal(ng, to_viewer, surface.shading_normal);
+        let mut brdf = inputs.brdf;
+        if brdf.clearcoat.weight > 0.0 {
+            brdf.clearcoat.normal = reflection_safe_normal(ng, to_viewer, brdf.clearcoat.normal);
+        }
         let lane = LitLane {
             surface,
-            brdf: inputs.brdf,
+            brdf,
             occlusion: inputs.occlusion,
             to_viewer,
             draw,

@@ -40,20 +40,23 @@ pub(super) struct LitLane {
 }
 
 impl LitLane {
-    /// f(l, v) |cos(n, l)| of light arriving from `l`.
+    /// f(l, v) cos of light arriving from `l`, each layer at its own normal's cosine
+    /// (`LayeredBrdf::reflected`).
     fn reflectance(&self, l: Vec3) -> Vec3 {
-        let n = self.surface.shading_normal;
-        self.brdf.evaluate(n, l, self.to_viewer) * n.dot(l).abs()
+        self.brdf
+            .reflected(self.surface.shading_normal, l, self.to_viewer)
     }
 }
 
 /// Whether a direction leaves a surface on its own side (above its geometric plane, where a
-/// direction under it is blocked by the surface, and above the shading normal's), or through
-/// it where the surface transmits (below both).
+/// direction under it is blocked by the surface, and above the shading normal's or the clear
+/// coat's), or through it where the surface transmits (below both).
 pub(super) fn leaves(lane: &LitLane, d: Vec3) -> bool {
     let g = d.dot(lane.surface.geometric_normal);
-    let s = d.dot(lane.surface.shading_normal);
-    (g > 0.0 && s > 0.0) || (g < 0.0 && s < 0.0 && lane.brdf.transmits())
+    let n = lane.surface.shading_normal;
+    let s = d.dot(n);
+    (g > 0.0 && (s > 0.0 || lane.brdf.coat_reflects(n, d)))
+        || (g < 0.0 && s < 0.0 && lane.brdf.transmits())
 }
 
 /// One shadow ray of a packet lane and the light it brings if nothing stops it.
@@ -83,7 +86,10 @@ impl Renderer {
             let shadow = std::array::from_fn(|l| {
                 let (lane, mut origin) = (lanes[l]?, origins[l]?);
                 let mut incident = light.incident(origin)?;
-                if lane.surface.shading_normal.dot(incident.direction) <= 0.0 {
+                let n = lane.surface.shading_normal;
+                // A light above the base's normal or the coat's is seen from the front.
+                let d = incident.direction;
+                if n.dot(d) <= 0.0 && !lane.brdf.coat_reflects(n, d) {
                     // Light from behind reaches the viewer only through the surface.
                     if !lane.brdf.transmits() {
                         return None;

@@ -39,7 +39,7 @@ fn hemisphere(steps: usize, f: impl Fn(Vec3) -> DVec3) -> DVec3 {
 /// The directional albedo of `s` at n.v = `mu`.
 fn albedo(s: &LayeredBrdf, mu: f32) -> DVec3 {
     let v = view(mu);
-    hemisphere(400, |l| s.evaluate(Vec3::Z, l, v).as_dvec3())
+    hemisphere(400, |l| s.reflected(Vec3::Z, l, v).as_dvec3() / l.z as f64)
 }
 
 /// The lobe's directional albedo at n.v = `mu` by the table's definition: a midpoint rule over
@@ -190,14 +190,14 @@ fn the_lobe_matches_the_formulas() {
     let s = sheened(grey, colour, 0.5);
     let e = directional_albedo(1.0, 0.5);
     let want = 0.49 / std::f32::consts::PI * (1.0 - 0.8 * e);
-    let got = s.evaluate(n, n, n).x;
+    let got = s.reflected(n, n, n).x;
     println!("sheened grey at normal incidence: {got} against {want} (E(1, 0.5) = {e})");
     assert!((got - want).abs() < 1e-6, "{got} against {want}");
     // No sheen leaves the base exactly.
     let (l, v) = (Vec3::new(0.6, 0.0, 0.8), view(0.5));
     assert_eq!(
-        sheened(grey, Vec3::ZERO, 0.5).evaluate(n, l, v),
-        grey.evaluate(n, l, v)
+        sheened(grey, Vec3::ZERO, 0.5).reflected(n, l, v),
+        grey.evaluate(n, l, v) * n.dot(l)
     );
 }
 
@@ -219,6 +219,7 @@ fn draws_estimate_the_albedo_and_carry_their_density() {
         s.clearcoat = Clearcoat {
             weight: coat,
             roughness: 0.5,
+            normal: Vec3::Z,
         };
         for mu in [0.2f32, 0.7, 1.0] {
             let what = format!(

@@ -128,7 +128,7 @@ impl Renderer {
             }
             let (n, v) = (lane.surface.shading_normal, lane.to_viewer);
             let w = power_heuristic(s.pdf, lane.brdf.pdf(n, s.direction, v));
-            let f = lane.brdf.evaluate(n, s.direction, v) * n.dot(s.direction).abs();
+            let f = lane.brdf.reflected(n, s.direction, v);
             Some(ShadowRay {
                 origin: origin_towards(&lane.surface, s.direction),
                 direction: s.direction,
@@ -156,7 +156,7 @@ impl Renderer {
                 origin: shadow_origin(&lane.surface),
                 direction,
                 t_max: f32::INFINITY,
-                light: lane.brdf.evaluate(n, direction, v)
+                light: lane.brdf.reflected(n, direction, v) / n.dot(direction)
                     * sky.radiance(direction)
                     * (std::f32::consts::PI * lane.occlusion),
             })

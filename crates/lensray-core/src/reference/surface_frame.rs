@@ -7,8 +7,8 @@ use glam::{Vec2, Vec3, Vec4};
 use super::accel::Hit;
 use super::surface::{interpolate, SurfaceData, SurfacePoint};
 use crate::interface::REFLECTION_MIN_COSINE;
-use crate::scene::texture::{sample, FootprintSets};
-use crate::scene::{Material, Texture};
+use crate::scene::texture::{sample, FootprintSets, TextureRef};
+use crate::scene::Texture;
 
 /// The base colour `base` times the vertex colour `colour` (its RGB; alpha is not read).
 pub(super) fn vertex_coloured(base: Vec3, colour: Option<Vec4>) -> Vec3 {
@@ -33,8 +33,9 @@ impl SurfaceData {
             .is_some_and(Option::is_some)
     }
 
-    /// The shading normal ns of `surface` (unit, turned to the viewer) tilted by `material`'s
-    /// normal map, read over the footprint `duv`, at `hit` (a triangle of corners `vertices`).
+    /// The shading normal ns of `surface` (unit, turned to the viewer) tilted by the normal
+    /// map `map` (a texture and its scale: the base's or the clear coat's, `Material::
+    /// normal_map`), read over the footprint `duv`, at `hit` (a triangle of corners `vertices`).
     /// The map's normal m = (2 texel - 1) (scale, scale, 1) is read in the frame of the
     /// interpolated vertex normal n0: the tangent T (the interpolated tangent made orthogonal
     /// to ns), the bitangent cross(n0, T) w and n0. Where the viewer sees the back, ns = -n0
@@ -43,7 +44,7 @@ impl SurfaceData {
     /// where the mesh has no tangents or the frame is degenerate.
     pub(super) fn normal_mapped(
         &self,
-        material: &Material,
+        map: Option<(TextureRef, f32)>,
         textures: &[Texture],
         hit: &Hit,
         vertices: [Vec3; 3],
@@ -51,13 +52,12 @@ impl SurfaceData {
         duv: &FootprintSets,
     ) -> Vec3 {
         let (triangle, b, ns) = (hit.triangle, hit.barycentric, surface.shading_normal);
-        let (Some(normal_map), Some(Some(tangents))) = (
-            &material.normal_texture,
-            self.tangents.get(triangle as usize),
-        ) else {
+        let (Some((normal_map, scale)), Some(Some(tangents))) =
+            (map, self.tangents.get(triangle as usize))
+        else {
             return ns;
         };
-        let texel = sample(textures, normal_map, &surface.texcoords, duv);
+        let texel = sample(textures, &normal_map, &surface.texcoords, duv);
         let normals = self.normals[triangle as usize];
         let n0 = if normals[0] == Vec3::ZERO {
             (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0])
@@ -76,7 +76,6 @@ impl SurfaceData {
         let w = if t4.w < 0.0 { -1.0 } else { 1.0 };
         let bitangent = ns.cross(t) * w;
         let m = texel.truncate() * 2.0 - Vec3::ONE;
-        let scale = material.normal_scale;
         let n = t * (s * m.x * scale) + bitangent * (m.y * scale) + ns * m.z;
         let length_squared = n.dot(n);
         if !(length_squared > 0.0 && length_squared.is_finite()) {

@@ -66,6 +66,12 @@ pub struct Material {
     /// Linear; its green channel multiplies `clearcoat_roughness`
     /// (`clearcoatRoughnessTexture`).
     pub clearcoat_roughness_texture: Option<TextureRef>,
+    /// Linear; the coat's own tangent-space normal map (`clearcoatNormalTexture`), read as
+    /// `normal_texture` is. Without it the coat follows the interpolated vertex normal, not
+    /// the base's normal map, as the extension says.
+    pub clearcoat_normal_texture: Option<TextureRef>,
+    /// Multiplies the coat's normal map's x and y (`clearcoatNormalTexture.scale`).
+    pub clearcoat_normal_scale: f32,
     /// `KHR_materials_transmission`'s `transmissionFactor`: the share in [0, 1] of the
     /// dielectric's unreflected light that goes through the surface instead of diffusing
     /// (`reference::transmission`).
@@ -129,6 +135,8 @@ impl Material {
             clearcoat_texture: None,
             clearcoat_roughness: 0.0,
             clearcoat_roughness_texture: None,
+            clearcoat_normal_texture: None,
+            clearcoat_normal_scale: 1.0,
             transmission: 0.0,
             transmission_texture: None,
             ior: DEFAULT_IOR,
@@ -268,6 +276,17 @@ impl Material {
         (colour, roughness)
     }
 
+    /// The base's normal map and its scale; `None` without one.
+    pub fn normal_map(&self) -> Option<(TextureRef, f32)> {
+        self.normal_texture.map(|t| (t, self.normal_scale))
+    }
+
+    /// The clear coat's own normal map and its scale; `None` without one.
+    pub fn clearcoat_normal_map(&self) -> Option<(TextureRef, f32)> {
+        self.clearcoat_normal_texture
+            .map(|t| (t, self.clearcoat_normal_scale))
+    }
+
     /// Whether any of the colours `lit` shading reads comes from a texture.
     pub fn is_textured(&self) -> bool {
         self.diffuse_texture.is_some()
@@ -277,6 +296,7 @@ impl Material {
             || self.normal_texture.is_some()
             || self.clearcoat_texture.is_some()
             || self.clearcoat_roughness_texture.is_some()
+            || self.clearcoat_normal_texture.is_some()
             || self.transmission_texture.is_some()
             || self.sheen_colour_texture.is_some()
             || self.sheen_roughness_texture.is_some()

@@ -15,16 +15,18 @@ use glam::{Vec3, Vec4};
 use super::{Mesh, Scene};
 
 /// Gives tangents to every mesh of `scene` that has texture coordinates, no tangents and a
-/// triangle whose material has a normal map, in the set that map reads (its first material's,
-/// where several differ). Returns the names of the meshes whose normal maps stay unread: without
+/// triangle whose material has a normal map (the base's, or else the clear coat's), in the set
+/// that map reads (its first material's, where several differ). Returns the names of the meshes whose normal maps stay unread: without
 /// texture coordinates, or where MikkTSpace finds no tangent.
 pub fn generate_missing(scene: &mut Scene) -> Vec<String> {
     let mut unread = Vec::new();
     for mesh in &mut scene.meshes {
-        let normal_map = mesh
-            .material_ids
-            .iter()
-            .find_map(|&m| scene.materials[m as usize].normal_texture);
+        let normal_map = mesh.material_ids.iter().find_map(|&m| {
+            let material = &scene.materials[m as usize];
+            material
+                .normal_texture
+                .or(material.clearcoat_normal_texture)
+        });
         let Some(normal_map) = normal_map else {
             continue;
         };

@@ -3,7 +3,7 @@
 // or lit: at each surface of a path, emission + the scene's lights, each through a shadow ray,
 // + the emissive triangles drawn by power and from the BRDF (emitters.glsl) + the sky (a uniform one or the scene's map) drawn from the sky and from the BRDF, weighed by
 // multiple importance sampling (sky.glsl), each reflected by the metallic-roughness BRDF of
-// brdf.glsl; colours textured and filtered over the pinhole's pixel footprint at the camera's
+// layers.glsl; colours textured and filtered over the pinhole's pixel footprint at the camera's
 // surface, unfiltered after a bounce. Include after a hit implementation (hit_rayquery.glsl,
 // hit_software.glsl or hit_rtpipeline.glsl), which defines
 //   bool closest_hit(vec3 origin, vec3 direction, float t_max, BlendCut cut, out Hit hit);
@@ -14,7 +14,7 @@
 #define LENSRAY_SHADING_GLSL
 
 #include "lights.glsl"
-#include "brdf.glsl"
+#include "layers.glsl"
 #include "environment.glsl"
 #include "sky.glsl"
 #include "emitters.glsl"
@@ -66,11 +66,12 @@ struct LitSurface {
     vec3 attenuation;
 };
 
-// sky.rs: leaves
+// lighting.rs: leaves
 bool leaves(LitSurface s, vec3 d) {
     float g = dot(d, s.ng);
     float n = dot(d, s.ns);
-    return (g > 0.0 && n > 0.0) || (g < 0.0 && n < 0.0 && brdf_transmits(s.brdf));
+    return (g > 0.0 && (n > 0.0 || coat_reflects(s.brdf, s.ns, d)))
+        || (g < 0.0 && n < 0.0 && brdf_transmits(s.brdf));
 }
 
 // reference/surface.rs: origin_towards
@@ -107,8 +108,7 @@ bool emitter_draw(LitSurface s, vec2 u, bool mis, out vec3 direction, out float 
         return false;
     }
     float w = mis ? power_heuristic(pdf, brdf_pdf(s.brdf, s.ns, direction, s.v)) : 1.0;
-    reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * abs(dot(s.ns, direction)) * emission
-        * (w / pdf);
+    reflected = brdf_reflected(s.brdf, s.ns, direction, s.v) * emission * (w / pdf);
     return true;
 }
 
@@ -135,7 +135,9 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
             if (!light_incident(lights[i], s.o, incident)) {
                 continue;
             }
-            if (dot(s.ns, incident.direction) <= 0.0) {
+            // A light above the base's normal or the coat's is seen from the front.
+            if (dot(s.ns, incident.direction) <= 0.0
+                && !coat_reflects(s.brdf, s.ns, incident.direction)) {
                 // Light from behind reaches the viewer only through the surface.
                 if (!brdf_transmits(s.brdf)
                     || !light_incident(lights[i], origin_towards(s, incident.direction), incident)
@@ -145,8 +147,7 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
             }
             direction = incident.direction;
             t_max = incident.distance;
-            reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * abs(dot(s.ns, direction))
-                * incident.irradiance;
+            reflected = brdf_reflected(s.brdf, s.ns, direction, s.v) * incident.irradiance;
         } else if (i == count) {
             if (!emitters || !emitter_draw(s, emitter_u, emitter_mis, direction, t_max, reflected)) {
                 continue;
@@ -161,8 +162,8 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
                 continue;
             }
             float w = power_heuristic(pdf, brdf_pdf(s.brdf, s.ns, direction, s.v));
-            reflected = brdf_evaluate(s.brdf, s.ns, direction, s.v) * abs(dot(s.ns, direction))
-                * arriving * (w / pdf * s.occlusion);
+            reflected = brdf_reflected(s.brdf, s.ns, direction, s.v) * arriving
+                * (w / pdf * s.occlusion);
         } else {
             if (!along) {
                 break;
@@ -171,9 +172,11 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
             reflected = sky_along(s, draw);
         }
         rays += 1u;
-        // A light above the shading normal is seen from the front whatever the geometric
-        // normal says (lighting.rs: direct_light); every other draw left the side it goes to.
-        bool front = i < count && dot(s.ns, direction) > 0.0;
+        // A light above the shading normal (or the coat's) is seen from the front whatever the
+        // geometric normal says (lighting.rs: direct_light); every other draw left the side it
+        // goes to.
+        bool front = i < count
+            && (dot(s.ns, direction) > 0.0 || coat_reflects(s.brdf, s.ns, direction));
         if (!occluded(front ? s.o : origin_towards(s, direction), direction, t_max, cut)) {
             radiance += reflected;
         } else if (i < min(count, 24u)) {
@@ -230,6 +233,7 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     float transmission = mat.transmission;
     vec4 sheen = mat.sheen_colour;
     float occlusion = 1.0;
+    vec3 coat_normal = ns;
     if (textured) {
         vec4 texcoords = triangle_texcoords(tri, b);
         vec4 dx = vec4(0.0);
@@ -247,7 +251,10 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
         sheen = material_sheen(mat, texcoords, dx, dy);
         emission = material_emission(mat, texcoords, dx, dy);
         occlusion = material_occlusion(mat, texcoords, dx, dy);
-        ns = normal_mapped(mat, tri, b, ns, texcoords, dx, dy);
+        // The coat's normal is the vertex normal tilted by the coat's own map, not the base's.
+        coat_normal = normal_mapped(mat.clearcoat_normal_texture, mat.clearcoat_normal_scale, tri,
+                                    b, ns, texcoords, dx, dy);
+        ns = normal_mapped(mat.normal_texture, mat.normal_scale, tri, b, ns, texcoords, dx, dy);
     }
     if (coloured) {
         diffuse = vertex_coloured(diffuse, tri, b);
@@ -263,10 +270,13 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     s.v = -normalize(ray.direction);
     s.ns = reflection_safe_normal(ng, s.v, ns);
     s.ng = ng;
+    if (clearcoat.x > 0.0) {
+        coat_normal = reflection_safe_normal(ng, s.v, coat_normal);
+    }
     s.brdf = LayeredBrdf(
         MetallicRoughness(diffuse, metallic_roughness.x, metallic_roughness.y, mat.specular,
                           material_dielectric(mat, transmission, back_face)),
-        Clearcoat(clearcoat.x, clearcoat.y), Sheen(sheen.xyz, sheen.w));
+        Clearcoat(clearcoat.x, clearcoat.y, coat_normal), Sheen(sheen.xyz, sheen.w));
     s.occlusion = occlusion;
     s.attenuation = back_face && mat.thin == 0u ? mat.attenuation.xyz : vec3(0.0);
     return true;

@@ -43,12 +43,14 @@ vec2 triangle_barycentrics_at(uint tri, vec3 p) {
     return det == 0.0 ? vec2(0.0) : vec2(g22 * r1 - g12 * r2, g11 * r2 - g12 * r1) / det;
 }
 
-// surface_frame.rs: SurfaceData::normal_mapped, the texel read as colours() reads it.
-vec3 normal_mapped(Material m, uint tri, vec2 b, vec3 ns, vec4 texcoords, vec4 dx, vec4 dy) {
-    if (!has_texture(m.normal_texture) || !triangle_has_tangents(tri)) {
+// surface_frame.rs: SurfaceData::normal_mapped, the texel read as colours() reads it: the map
+// `map` (the base's or the clear coat's) at its `scale`.
+vec3 normal_mapped(TextureRef map, float scale, uint tri, vec2 b, vec3 ns, vec4 texcoords,
+                   vec4 dx, vec4 dy) {
+    if (!has_texture(map) || !triangle_has_tangents(tri)) {
         return ns;
     }
-    vec4 texel = texture_sample(m.normal_texture, texcoords, dx, dy);
+    vec4 texel = texture_sample(map, texcoords, dx, dy);
     uint i0 = indices[3u * tri];
     uint i1 = indices[3u * tri + 1u];
     uint i2 = indices[3u * tri + 2u];
@@ -70,7 +72,6 @@ vec3 normal_mapped(Material m, uint tri, vec2 b, vec3 ns, vec4 texcoords, vec4 d
     float w = t4.w < 0.0 ? -1.0 : 1.0;
     vec3 bitangent = cross(ns, t) * w;
     vec3 v = texel.xyz * 2.0 - vec3(1.0);
-    float scale = m.normal_scale;
     precise vec3 n = t * (s * v.x * scale) + bitangent * (v.y * scale) + ns * v.z;
     length_squared = dot(n, n);
     if (!(length_squared > 0.0) || isinf(length_squared)) {

@@ -291,7 +291,8 @@ bool material_is_textured(Material m) {
         || has_texture(m.metallic_roughness_texture) || has_texture(m.occlusion_texture)
         || has_texture(m.normal_texture) || has_texture(m.clearcoat_texture)
         || has_texture(m.clearcoat_roughness_texture) || has_texture(m.sheen_colour_texture)
-        || has_texture(m.sheen_roughness_texture) || has_texture(m.transmission_texture);
+        || has_texture(m.sheen_roughness_texture) || has_texture(m.transmission_texture)
+        || has_texture(m.clearcoat_normal_texture);
 }
 
 // material.rs: Material::alpha_at

@@ -297,7 +297,7 @@ fn gpu_material(m: &Material) -> GpuMaterial {
         normal_texture: gpu_texture_ref(m.normal_texture.as_ref()),
         clearcoat: m.clearcoat,
         clearcoat_roughness: m.clearcoat_roughness,
-        pad2: 0,
+        clearcoat_normal_scale: m.clearcoat_normal_scale,
         pad3: 0,
         clearcoat_texture: gpu_texture_ref(m.clearcoat_texture.as_ref()),
         clearcoat_roughness_texture: gpu_texture_ref(m.clearcoat_roughness_texture.as_ref()),
@@ -310,6 +310,7 @@ fn gpu_material(m: &Material) -> GpuMaterial {
         thin: u32::from(m.thin),
         pad4: 0,
         transmission_texture: gpu_texture_ref(m.transmission_texture.as_ref()),
+        clearcoat_normal_texture: gpu_texture_ref(m.clearcoat_normal_texture.as_ref()),
     }
 }
 

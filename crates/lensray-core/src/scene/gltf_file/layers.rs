@@ -4,8 +4,9 @@
 //! with its own `texCoord` and `KHR_texture_transform`) and `KHR_materials_sheen`
 //! (`sheenColorFactor` times `sheenColorTexture`'s RGB, sRGB-encoded, and
 //! `sheenRoughnessFactor` times `sheenRoughnessTexture`'s alpha, linear). The `gltf` crate
-//! reads none of them: they are read from the material's JSON. The coat's own normal map is not drawn (the coat
-//! follows the base's shading normal), and `ignored_features` names it.
+//! reads none of them: they are read from the material's JSON. The coat's own normal map
+//! (`clearcoatNormalTexture`, linear, with its `scale`) tilts the coat's normal only; without
+//! one the coat follows the interpolated vertex normal, even over a base with a normal map.
 //! `KHR_materials_transmission` (`transmissionFactor` times `transmissionTexture`'s R),
 //! `KHR_materials_ior` (`ior`) and `KHR_materials_volume` (a `thicknessFactor` above 0 makes
 //! the mesh a volume's boundary; `attenuationColor` and `attenuationDistance` its
@@ -36,6 +37,10 @@ impl Walk<'_> {
                 self.json_texture(coat.get("clearcoatTexture"), Encoding::Linear)?;
             material.clearcoat_roughness_texture =
                 self.json_texture(coat.get("clearcoatRoughnessTexture"), Encoding::Linear)?;
+            let normal = coat.get("clearcoatNormalTexture");
+            material.clearcoat_normal_texture = self.json_texture(normal, Encoding::Linear)?;
+            material.clearcoat_normal_scale =
+                normal.and_then(|n| number(n, "scale")).unwrap_or(1.0);
         }
         if let Some(sheen) = gltf.extension_value("KHR_materials_sheen") {
             let colour = sheen

@@ -325,11 +325,6 @@ pub(super) fn ignored_features(document: &gltf::Document) -> Vec<&'static str> {
             }),
             "KHR_materials_specular's colour and textures",
         );
-        note(
-            m.extension_value("KHR_materials_clearcoat")
-                .is_some_and(|c| c.get("clearcoatNormalTexture").is_some()),
-            "KHR_materials_clearcoat's own normal map",
-        );
     }
     ignored
 }

@@ -207,3 +207,32 @@ fn the_sheen_reads_its_factors_and_textures() {
     );
     assert!((got_roughness - 0.8 * 0.4).abs() < 1e-6, "{got_roughness}");
 }
+
+/// The clear coat's own normal map is read with its set, transform and scale, without a
+/// notice; a mesh whose only normal map is the coat's gets tangents in the coat map's set.
+#[test]
+fn the_clear_coat_reads_its_own_normal_map() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([128u8, 128, 255, 255]))
+        .save(dir.path().join("normal.png"))
+        .expect("write the png");
+    let material = r#"{"extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1,
+        "clearcoatNormalTexture": {"index": 0, "texCoord": 1, "scale": 0.5,
+          "extensions": {"KHR_texture_transform": {"offset": [0, 0.25]}}}}}}"#;
+    let extra = r#",
+  "textures": [{"source": 0}], "images": [{"uri": "normal.png"}],
+  "extensionsUsed": ["KHR_materials_clearcoat", "KHR_texture_transform"]"#;
+    let path = write_triangle(dir.path(), material, extra);
+    let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(file.notices.is_empty(), "{:?}", file.notices);
+    let m = &file.scene.materials[0];
+    assert_eq!(m.normal_texture, None);
+    let (coat, scale) = m.clearcoat_normal_map().expect("the coat's normal map");
+    assert_eq!((coat.texcoord_set, scale), (1, 0.5));
+    let uv = coat.uv_from_texcoord.transform_point2(Vec2::ONE);
+    assert!(uv.abs_diff_eq(Vec2::new(1.0, 1.25), 1e-6), "{uv}");
+    // Set 1's u falls from corner 0 to corner 1: the tangent runs along -x.
+    let tangents = &file.scene.meshes[0].tangents;
+    println!("tangents {tangents:?}");
+    assert!(tangents.len() == 3 && tangents[0].x < -0.99, "{tangents:?}");
+}
