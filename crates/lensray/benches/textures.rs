@@ -27,7 +27,10 @@
 //! `pbr clearcoat` is `pbr` with every material under a smooth clear coat (weight 1, roughness
 //! 0.1): what the coat's lobe and its draws add; `pbr sheen` is `pbr` with every material
 //! under a white sheen (colour 1, roughness 0.5): what the Charlie lobe, the albedo table's
-//! reads and the sheen's draws add.
+//! reads and the sheen's draws add; `pbr transmission` is `pbr` with every material clear
+//! glass (KHR_materials_transmission 1, IOR 1.5, thin walls): what the BTDF, its Fresnel split
+//! and its draws add at the same bounces (the shot's, from `pbr`: a path that meets glass
+//! stops where the others stop, so the cost is the surface's, not a longer path's).
 
 #[path = "variants/mod.rs"]
 mod variants;
@@ -180,6 +183,11 @@ fn measure_brdf(
     for m in &mut sheened.materials {
         (m.sheen_colour, m.sheen_roughness) = (Vec3::ONE, 0.5);
     }
+    // Every material clear glass (KHR_materials_transmission 1, thin walls).
+    let mut glass = pbr.clone();
+    for m in &mut glass.materials {
+        m.transmission = 1.0;
+    }
     variants.push(Variant {
         name: "pbr".into(),
         scene: pbr,
@@ -191,6 +199,10 @@ fn measure_brdf(
     variants.push(Variant {
         name: "pbr sheen".into(),
         scene: sheened,
+    });
+    variants.push(Variant {
+        name: "pbr transmission".into(),
+        scene: glass,
     });
     let results = SceneResults {
         scene: format!("{name}: {}", description.source),

@@ -24,8 +24,11 @@ impl MetallicRoughness {
     /// The shares of draws that go to the specular reflection and to the transmission where
     /// the viewer is at n.v = `n_dot_v`; the diffuse lobe draws the rest. A metal's draws all
     /// go to its specular lobe; an opaque dielectric's half to it (weighed by `specular`); a
-    /// transmitting dielectric's share T splits by its Fresnel at n.v. None where the viewer is
-    /// not above the surface (no visible normal then).
+    /// transmitting dielectric's share T splits by its Fresnel at n.v, the transmission keeping
+    /// at least alpha of it (at most a half): a rough surface lets light through microfacets
+    /// tilted against the view even where the macro normal's Fresnel reflects all (beyond the
+    /// critical angle from inside, grazing from outside), and those draws find it. None where
+    /// the viewer is not above the surface (no visible normal then).
     pub fn lobe_probabilities(&self, n_dot_v: f32) -> (f32, f32) {
         if n_dot_v <= 0.0 {
             return (0.0, 0.0);
@@ -42,7 +45,8 @@ impl MetallicRoughness {
                 .x
             }
             None => 1.0,
-        };
+        }
+        .min(1.0 - self.alpha().min(0.5));
         let specular =
             self.metallic + dielectric * ((1.0 - t) * 0.5 * self.specular + t * reflected);
         let transmitted = dielectric * t * (1.0 - reflected);

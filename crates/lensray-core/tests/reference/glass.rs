@@ -105,8 +105,10 @@ fn clear_glass_in_a_white_furnace_disappears() {
     for (roughness, thin, low, high) in [
         (0.0, false, 0.999, 1.001),
         (0.0, true, 0.999, 1.001),
-        // Measured: 0.9075 and 0.9625.
-        (0.3, false, 0.88, 0.94),
+        // Measured: 0.9744 and 0.9625. The volume's loss is what GGX's single scattering
+        // loses; rough light that leaves from inside beyond the critical angle is drawn
+        // (`lobe_probabilities`), and the other bound catches it lost again (0.9075 then).
+        (0.3, false, 0.96, 0.99),
         (0.3, true, 0.94, 0.98),
     ] {
         let got = centre(glass(roughness, thin, Vec3::ZERO), 0.45, 16, 64, 16).x;

@@ -166,6 +166,7 @@ vec2 lobe_probabilities(MetallicRoughness s, float n_dot_v) {
         reflected = schlick_fresnel(vec3(dielectric_f0(s.dielectric) * s.specular), s.specular,
                                     cos_outside).x;
     }
+    reflected = min(reflected, 1.0 - min(brdf_alpha(s), 0.5));
     float specular = clamp(s.metallic + dielectric * ((1.0 - t) * 0.5 * s.specular + t * reflected),
                            0.0, 1.0);
     float transmitted = clamp(dielectric * t * (1.0 - reflected), 0.0, 1.0 - specular);

@@ -74,6 +74,9 @@ impl Walk<'_> {
         if let Some(volume) = gltf.extension_value("KHR_materials_volume") {
             material.thin = number(volume, "thicknessFactor").unwrap_or(0.0) <= 0.0;
             material.attenuation = attenuation(volume);
+            // `doubleSided` has no effect on a volume's boundary (the extension says so): a
+            // ray that entered it leaves through the back faces.
+            material.double_sided |= !material.thin;
         }
         Ok(material)
     }

@@ -45,12 +45,15 @@ fn transmission_index_and_volume_are_read() {
     assert_eq!(glass.transmission_texture.map(|t| t.texcoord_set), Some(1));
     assert_eq!(glass.ior, 1.33);
     assert!(!glass.thin);
+    // glTF's default is single-sided; a volume's boundary is drawn from both sides.
+    assert!(glass.double_sided);
     let want = Vec3::new(0.5f32.ln(), 0.0, 0.25f32.ln()) / -2.0;
     println!("attenuation {} against {want}", glass.attenuation);
     assert!(glass.attenuation.abs_diff_eq(want, 1e-6));
     // A factor past 1 is clamped; a thickness of 0 is a thin wall of the default index.
     assert_eq!(wall.transmission, 1.0);
     assert!(wall.thin);
+    assert!(!wall.double_sided);
     assert_eq!(wall.ior, DEFAULT_IOR);
     assert_eq!(wall.attenuation, Vec3::ZERO);
 }
