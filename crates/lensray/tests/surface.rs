@@ -153,8 +153,19 @@ fn value(image: &Image, (x, y): (u32, u32)) -> Vec3 {
     image.pixels[(y * image.width + x) as usize]
 }
 
-fn cpu_render(test: &str, scene: &Scene, shot: &Shot) -> Option<Image> {
-    render_scene(test, PathChoice::Only(PathKind::Cpu), scene, shot)
+/// `scene` through `camera` on the CPU path, shaded `shading` at `spp` samples a pixel.
+fn cpu_render(
+    test: &str,
+    scene: &Scene,
+    camera: &Camera,
+    shading: Shading,
+    spp: u32,
+) -> Option<Image> {
+    let shot = Shot {
+        camera: camera.clone(),
+        render: settings(shading, spp),
+    };
+    render_scene(test, PathChoice::Only(PathKind::Cpu), scene, &shot)
 }
 
 /// The two quads of vertex colours under a point light.
@@ -174,11 +185,7 @@ fn vertex_colours_multiply_the_base_colour() {
     let dir = tempfile::tempdir().unwrap();
     let scene = coloured_quads(dir.path());
     let camera = camera(64);
-    let albedo = Shot {
-        camera: camera.clone(),
-        render: settings(Shading::Albedo, 1),
-    };
-    let Some(image) = cpu_render(test, &scene, &albedo) else {
+    let Some(image) = cpu_render(test, &scene, &camera, Shading::Albedo, 1) else {
         return;
     };
     let u8_colour = |c: [u8; 4]| Vec3::new(c[0].into(), c[1].into(), c[2].into()) / 255.0;
@@ -264,11 +271,7 @@ fn a_normal_map_tilts_the_shading_normal() {
         scene.meshes[0].tangents
     );
     let camera = camera(64);
-    let lit = Shot {
-        camera: camera.clone(),
-        render: settings(Shading::Lit, 4),
-    };
-    let Some(image) = cpu_render(test, &scene, &lit) else {
+    let Some(image) = cpu_render(test, &scene, &camera, Shading::Lit, 4) else {
         return;
     };
     for (centre, scale) in [(-1.1, 1.0), (1.1, 0.5)] {
@@ -357,11 +360,7 @@ fn a_clear_coat_follows_its_own_normal_map() {
     let irradiance = 3.0;
     let (scene, m, mc) = coated_quads(dir.path(), to_light, irradiance);
     let camera = camera(64);
-    let lit = Shot {
-        camera: camera.clone(),
-        render: settings(Shading::Lit, 4),
-    };
-    let Some(image) = cpu_render(test, &scene, &lit) else {
+    let Some(image) = cpu_render(test, &scene, &camera, Shading::Lit, 4) else {
         return;
     };
     let ns = m.normalize();
