@@ -417,8 +417,8 @@ fn check_index_type(indices: &gltf::Accessor) -> Result<(), String> {
     }
 }
 
-/// An error when `accessor`'s elements do not lie inside its buffer view and the view inside
-/// its buffer (the reader would otherwise stop short or panic).
+/// An error when `accessor` has no elements, or its elements do not lie inside its buffer view
+/// and the view inside its buffer (the reader would otherwise stop short or panic).
 pub(super) fn check_accessor(accessor: &gltf::Accessor, buffers: &[Vec<u8>]) -> Result<(), String> {
     let index = accessor.index();
     if accessor.sparse().is_some() {
@@ -440,10 +440,11 @@ pub(super) fn check_accessor(accessor: &gltf::Accessor, buffers: &[Vec<u8>]) -> 
     let size = accessor.size();
     let stride = view.stride().unwrap_or(size);
     let count = accessor.count();
-    let end = match count {
-        0 => 0,
-        n => accessor.offset() + stride * (n - 1) + size,
-    };
+    // glTF requires at least one element; the gltf crate's reader takes one off the count.
+    if count == 0 {
+        return Err(format!("accessor {index} has no elements"));
+    }
+    let end = accessor.offset() + stride * (count - 1) + size;
     if end > view.length() {
         return Err(format!(
             "accessor {index} ({count} elements) ends at byte {end} of buffer view {}, which has {}",
