@@ -16,8 +16,9 @@ use super::{Mesh, Scene};
 
 /// Gives tangents to every mesh of `scene` that has texture coordinates, no tangents and a
 /// triangle whose material has a normal map (the base's, or else the clear coat's), in the set
-/// that map reads (its first material's, where several differ). Returns the names of the meshes whose normal maps stay unread: without
-/// texture coordinates, or where MikkTSpace finds no tangent.
+/// that map reads (its first material's, where several differ). Returns the names of the
+/// meshes whose normal maps stay unread: without texture coordinates, without a triangle whose
+/// corners are three positions, or where MikkTSpace finds no tangent.
 pub fn generate_missing(scene: &mut Scene) -> Vec<String> {
     let mut unread = Vec::new();
     for mesh in &mut scene.meshes {
@@ -45,7 +46,8 @@ pub fn unread_notice(scene: &mut Scene) -> Option<String> {
     let unread = generate_missing(scene);
     (!unread.is_empty()).then(|| {
         format!(
-            "renders without the normal maps of {} (no texture coordinates to find tangents by)",
+            "renders without the normal maps of {} (no texture coordinates, or no triangle with three \
+             distinct corners, to find tangents by)",
             unread.join(", ")
         )
     })
@@ -73,7 +75,7 @@ pub fn generate_in_set(mesh: &mut Mesh, set: usize) -> bool {
         texcoords,
         tangents: vec![Vec4::ZERO; 3 * mesh.triangles.len()],
     };
-    if !mikktspace::generate_tangents(&mut corners) {
+    if !corners.has_proper_triangle() || !mikktspace::generate_tangents(&mut corners) {
         return false;
     }
     let tangents = corners.tangents;
@@ -92,6 +94,16 @@ struct Corners<'a> {
 impl Corners<'_> {
     fn vertex(&self, face: usize, vert: usize) -> usize {
         self.mesh.triangles[face][vert] as usize
+    }
+
+    /// Whether a triangle is left once MikkTSpace drops the degenerate ones, those with two
+    /// corners at one position. With none left its generator indexes past its own tables (an
+    /// overflow panic with overflow checks, memory out of bounds without).
+    fn has_proper_triangle(&self) -> bool {
+        self.mesh.triangles.iter().any(|t| {
+            let [a, b, c] = t.map(|i| self.mesh.positions[i as usize]);
+            a != b && a != c && b != c
+        })
     }
 }
 
