@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use super::super::materials::texcoord_tests::write_triangle;
+use super::super::materials::texcoord_tests::{texels, write_triangle};
 use crate::interface::DEFAULT_IOR;
 use crate::scene::gltf_file::load_gltf;
 
@@ -12,21 +12,20 @@ use crate::scene::gltf_file::load_gltf;
 #[test]
 fn transmission_index_and_volume_are_read() {
     let dir = tempfile::tempdir().expect("a temporary folder");
-    image::RgbaImage::from_pixel(2, 2, image::Rgba([128u8, 0, 0, 255]))
-        .save(dir.path().join("texels.png"))
-        .expect("write the png");
     let material = r#"{"extensions": {
         "KHR_materials_transmission": {"transmissionFactor": 0.9,
           "transmissionTexture": {"index": 0, "texCoord": 1}},
         "KHR_materials_ior": {"ior": 1.33},
         "KHR_materials_volume": {"thicknessFactor": 0.1,
           "attenuationColor": [0.5, 1.0, 0.25], "attenuationDistance": 2.0}}}"#;
-    let extra = r#",
-  "textures": [{"source": 0}], "images": [{"uri": "texels.png"}],
-  "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior",
-    "KHR_materials_volume"]"#;
+    let extra = texels(
+        dir.path(),
+        [128, 0, 0, 255],
+        r#""KHR_materials_transmission", "KHR_materials_ior",
+    "KHR_materials_volume""#,
+    );
     let load = |material: &str| {
-        let path = write_triangle(dir.path(), material, extra);
+        let path = write_triangle(dir.path(), material, &extra);
         let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
         println!("notices: {:?}", file.notices);
         assert!(

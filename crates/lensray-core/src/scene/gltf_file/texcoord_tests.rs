@@ -52,15 +52,25 @@ pub(in crate::scene::gltf_file) fn write_triangle(
     path
 }
 
+/// Writes a 2 x 2 PNG of `rgba` as `texels.png` into `dir`; returns the top-level JSON members
+/// that make it texture 0, with `extensions` (a JSON list's items) used.
+pub(in crate::scene::gltf_file) fn texels(dir: &Path, rgba: [u8; 4], extensions: &str) -> String {
+    image::RgbaImage::from_pixel(2, 2, image::Rgba(rgba))
+        .save(dir.join("texels.png"))
+        .expect("write the png");
+    format!(
+        r#",
+  "textures": [{{"source": 0}}], "images": [{{"uri": "texels.png"}}],
+  "extensionsUsed": [{extensions}]"#
+    )
+}
+
 /// TEXCOORD_1 is read beside TEXCOORD_0; each texture keeps its `texCoord` (a set past 1 reads
 /// set 0, with one notice naming it) and its transform, the occlusion and normal textures'
 /// read from the JSON (the extension's `texCoord` overriding the texture's).
 #[test]
 fn each_texture_keeps_its_set_and_transform() {
     let dir = tempfile::tempdir().expect("a temporary folder");
-    image::RgbaImage::from_pixel(2, 2, image::Rgba([200u8, 100, 50, 255]))
-        .save(dir.path().join("texels.png"))
-        .expect("write the png");
     let material = r#"{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1},
         "metallicRoughnessTexture": {"index": 0}},
       "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0, "texCoord": 3},
@@ -68,10 +78,12 @@ fn each_texture_keeps_its_set_and_transform() {
         "offset": [0.25, 0.5], "scale": [2, 3], "texCoord": 1}}},
       "normalTexture": {"index": 0, "texCoord": 1, "extensions": {"KHR_texture_transform": {
         "offset": [0.1, 0]}}}}"#;
-    let extra = r#",
-  "textures": [{"source": 0}], "images": [{"uri": "texels.png"}],
-  "extensionsUsed": ["KHR_texture_transform"]"#;
-    let path = write_triangle(dir.path(), material, extra);
+    let extra = texels(
+        dir.path(),
+        [200, 100, 50, 255],
+        r#""KHR_texture_transform""#,
+    );
+    let path = write_triangle(dir.path(), material, &extra);
     let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
     println!("notices: {:?}", file.notices);
     let mesh = &file.scene.meshes[0];
@@ -161,17 +173,16 @@ fn a_missing_image_is_reported_once() {
 #[test]
 fn the_sheen_reads_its_factors_and_textures() {
     let dir = tempfile::tempdir().expect("a temporary folder");
-    image::RgbaImage::from_pixel(2, 2, image::Rgba([200u8, 100, 50, 102]))
-        .save(dir.path().join("texels.png"))
-        .expect("write the png");
     let material = r#"{"extensions": {"KHR_materials_sheen": {
         "sheenColorFactor": [0.5, 0.25, 1], "sheenColorTexture": {"index": 0, "texCoord": 1},
         "sheenRoughnessFactor": 0.8, "sheenRoughnessTexture": {"index": 0,
           "extensions": {"KHR_texture_transform": {"offset": [0.5, 0]}}}}}}"#;
-    let extra = r#",
-  "textures": [{"source": 0}], "images": [{"uri": "texels.png"}],
-  "extensionsUsed": ["KHR_materials_sheen", "KHR_texture_transform"]"#;
-    let path = write_triangle(dir.path(), material, extra);
+    let extra = texels(
+        dir.path(),
+        [200, 100, 50, 102],
+        r#""KHR_materials_sheen", "KHR_texture_transform""#,
+    );
+    let path = write_triangle(dir.path(), material, &extra);
     let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
     assert!(file.notices.is_empty(), "{:?}", file.notices);
     let m = &file.scene.materials[0];
@@ -213,16 +224,15 @@ fn the_sheen_reads_its_factors_and_textures() {
 #[test]
 fn the_clear_coat_reads_its_own_normal_map() {
     let dir = tempfile::tempdir().expect("a temporary folder");
-    image::RgbaImage::from_pixel(2, 2, image::Rgba([128u8, 128, 255, 255]))
-        .save(dir.path().join("normal.png"))
-        .expect("write the png");
     let material = r#"{"extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1,
         "clearcoatNormalTexture": {"index": 0, "texCoord": 1, "scale": 0.5,
           "extensions": {"KHR_texture_transform": {"offset": [0, 0.25]}}}}}}"#;
-    let extra = r#",
-  "textures": [{"source": 0}], "images": [{"uri": "normal.png"}],
-  "extensionsUsed": ["KHR_materials_clearcoat", "KHR_texture_transform"]"#;
-    let path = write_triangle(dir.path(), material, extra);
+    let extra = texels(
+        dir.path(),
+        [128, 128, 255, 255],
+        r#""KHR_materials_clearcoat", "KHR_texture_transform""#,
+    );
+    let path = write_triangle(dir.path(), material, &extra);
     let file = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
     assert!(file.notices.is_empty(), "{:?}", file.notices);
     let m = &file.scene.materials[0];
