@@ -267,6 +267,14 @@ impl Camera {
         }
     }
 
+    /// The moment in the shutter's span of `sample` (its time and film row): where what moves
+    /// is when its rays meet it. The middle of the span when the shutter takes no time.
+    pub fn sample_moment(&self, sample: &CameraSample) -> f32 {
+        self.motion.as_ref().map_or(0.5, |motion| {
+            motion.moment(sample.time, sample.film.y, self.height)
+        })
+    }
+
     /// The ray of the lens's first-order thin lens ([`Lens::first_order`]: a [`Lens::Thin`]
     /// itself, or a [`Lens::Real`]'s thin lens at its entrance pupil) for `sample`, in world
     /// space: what rasterizing passes draw, and AOVs and focus picking see. For a thin lens it

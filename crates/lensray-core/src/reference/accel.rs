@@ -3,7 +3,9 @@
 //! grouped into Embree geometries by their tests, alpha-tested or not, single-sided or not, so
 //! that only candidate hits on alpha-tested or single-sided triangles go through an Embree filter
 //! function (the alpha test, the facing test [`is_back_face`]); opaque double-sided scenes pay
-//! nothing for either.
+//! nothing for either. Triangles that move while the shutter is open (`steps.rs`) are grouped
+//! apart too, as Embree motion-blur geometries with a time step per step of the span: a ray's
+//! `time` is its sample's moment.
 //! docs/performance.md says why Embree and what it measured against lensray's own traversal.
 
 use std::sync::atomic::{AtomicI64, Ordering};
@@ -17,6 +19,7 @@ use embree3::{
 };
 
 use super::embree::EmbreeSettings;
+use super::steps::{TriangleSteps, STEPS};
 use glam::{Vec2, Vec3, Vec3A};
 
 /// Rays traced together by [`Accel::closest_hits`]: the samples of one pixel, in one of
@@ -55,15 +58,17 @@ impl PacketMask {
     }
 }
 
-/// Embree's geometry id of a group of triangles: these bits of their tests.
+/// Embree's geometry id of a group of triangles: these bits of their tests and motion.
 const ALPHA_TESTED: usize = 1;
 const SINGLE_SIDED: usize = 2;
-const GROUPS: usize = 4;
+const MOVING: usize = 4;
+const GROUPS: usize = 8;
 
-/// A ray's `time`, which static geometry leaves unused, tells the alpha test which draw the ray
-/// makes: its key (in the ray's `id`), or the fixed threshold of the AOVs.
-const TIME_KEYED: f32 = 0.0;
-const TIME_FIXED: f32 = 1.0;
+/// A ray's `mask` tells the alpha test which draw the ray makes: its key (in the ray's `id`),
+/// or the fixed threshold of the AOVs. Both keep every bit a geometry's mask may test (Embree
+/// built with ray masks tests `ray.mask & geometry.mask`, the geometry's all ones).
+const MASK_KEYED: u32 = u32::MAX;
+const MASK_FIXED: u32 = u32::MAX - 1;
 
 /// Whether a ray stops at a candidate hit `(triangle, barycentric)` of an alpha-tested
 /// triangle, for the ray's draw: `Some(key)` the ray's own, `None` the AOVs' fixed threshold.
@@ -76,14 +81,18 @@ pub struct Hit {
     pub triangle: u32,
     /// Weights of v1 and v2 (v0's is 1 - x - y), as Vulkan ray queries and Embree report them.
     pub barycentric: Vec2,
+    /// The ray's moment in the shutter's span, where a moving triangle was met.
+    pub moment: f32,
 }
 
 pub struct Accel {
     scene: Scene<'static>,
     /// Each geometry's primitive -> the caller's triangle.
     triangles_of: [Arc<Vec<u32>>; GROUPS],
-    /// Vertices per triangle, the caller's order.
+    /// Vertices per triangle, the caller's order (a moving one's at the frame's own time).
     vertices: Arc<Vec<[Vec3A; 3]>>,
+    /// The moving triangles' vertices at each step.
+    steps: Arc<TriangleSteps>,
     /// Bytes Embree allocated for the scene (its BVH and its copy of the triangles).
     embree_bytes: u64,
     pub build_time: Duration,
@@ -92,18 +101,19 @@ pub struct Accel {
 impl Accel {
     /// Builds over opaque triangles in the caller's order.
     pub fn build(triangles: &[[Vec3A; 3]]) -> Self {
-        Self::build_with_tests(triangles, &[], &[], None)
+        Self::build_with_tests(triangles, &[], &[], None, Arc::default())
     }
 
     /// Builds over triangles in the caller's order; those marked in `alpha_tested` (all
     /// opaque when it is empty) stop a ray only where `alpha` says so, those marked in
     /// `single_sided` (all double-sided when it is empty) only a ray that meets their front
-    /// face ([`is_back_face`]).
-    pub fn build_with_tests(
+    /// face ([`is_back_face`]); those `steps` has move through its steps.
+    pub(super) fn build_with_tests(
         triangles: &[[Vec3A; 3]],
         alpha_tested: &[bool],
         single_sided: &[bool],
         alpha: Option<AlphaTest>,
+        steps: Arc<TriangleSteps>,
     ) -> Self {
         let start = Instant::now();
         // The CLI checks LENSRAY_EMBREE_CONFIG before any render, in one line.
@@ -120,7 +130,10 @@ impl Accel {
         for (i, _) in triangles.iter().enumerate() {
             let tested = alpha.is_some() && alpha_tested.get(i).copied().unwrap_or(false);
             let one_side = single_sided.get(i).copied().unwrap_or(false);
-            let group = usize::from(tested) * ALPHA_TESTED + usize::from(one_side) * SINGLE_SIDED;
+            let moving = steps.row(i as u32).is_some();
+            let group = usize::from(tested) * ALPHA_TESTED
+                + usize::from(one_side) * SINGLE_SIDED
+                + usize::from(moving) * MOVING;
             groups[group].push(i as u32);
         }
         let triangles_of = groups.map(Arc::new);
@@ -139,31 +152,42 @@ impl Accel {
             let mut geometry = device
                 .create_geometry(GeometryKind::TRIANGLE)
                 .expect("an Embree geometry");
-            let vertices: Vec<[f32; 3]> = members
-                .iter()
-                .flat_map(|&t| triangles[t as usize].map(|v| v.to_array()))
-                .collect();
+            let moving = group & MOVING != 0;
+            if moving {
+                geometry.set_time_step_count(STEPS as u32);
+            }
+            for step in 0..if moving { STEPS } else { 1 } {
+                let corners = |t: u32| match steps.row(t) {
+                    Some(row) if moving => steps.vertices[row][step],
+                    _ => triangles[t as usize],
+                };
+                let vertices: Vec<[f32; 3]> = members
+                    .iter()
+                    .flat_map(|&t| corners(t).map(|v| v.to_array()))
+                    .collect();
+                geometry
+                    .set_new_buffer::<[f32; 3]>(
+                        BufferUsage::VERTEX,
+                        step as u32,
+                        Format::FLOAT3,
+                        12,
+                        vertices.len(),
+                    )
+                    .expect("Embree vertex buffer")
+                    .copy_from_slice(&vertices);
+            }
             let indices: Vec<[u32; 3]> = (0..members.len() as u32)
                 .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
                 .collect();
             geometry
-                .set_new_buffer::<[f32; 3]>(
-                    BufferUsage::VERTEX,
-                    0,
-                    Format::FLOAT3,
-                    12,
-                    vertices.len(),
-                )
-                .expect("Embree vertex buffer")
-                .copy_from_slice(&vertices);
-            geometry
                 .set_new_buffer::<[u32; 3]>(BufferUsage::INDEX, 0, Format::UINT3, 12, indices.len())
                 .expect("Embree index buffer")
                 .copy_from_slice(&indices);
-            if group != 0 {
+            if group & (SINGLE_SIDED | ALPHA_TESTED) != 0 {
                 let filter = Arc::new(SurfaceFilter {
                     triangles_of: Arc::clone(members),
-                    vertices: (group & SINGLE_SIDED != 0).then(|| Arc::clone(&all_vertices)),
+                    vertices: (group & SINGLE_SIDED != 0)
+                        .then(|| (Arc::clone(&all_vertices), Arc::clone(&steps))),
                     alpha: alpha.clone().filter(|_| group & ALPHA_TESTED != 0),
                 });
                 let each = Arc::clone(&filter);
@@ -181,6 +205,7 @@ impl Accel {
             scene,
             triangles_of,
             vertices: all_vertices,
+            steps,
             embree_bytes: allocated.load(Ordering::Relaxed).max(0) as u64,
             build_time: start.elapsed(),
         }
@@ -188,73 +213,98 @@ impl Accel {
 
     /// Bytes of Embree's scene and of the vertices kept for shading.
     pub fn bytes(&self) -> u64 {
-        self.embree_bytes + std::mem::size_of_val(self.vertices.as_slice()) as u64
+        self.embree_bytes
+            + std::mem::size_of_val(self.vertices.as_slice()) as u64
+            + self.steps.bytes()
     }
 
+    /// The vertices of a triangle that stands still (an emitter: moving ones are not drawn).
     pub fn vertices(&self, triangle: u32) -> &[Vec3A; 3] {
         &self.vertices[triangle as usize]
     }
 
-    fn hit(&self, t: f32, geometry: u32, primitive: u32, u: f32, v: f32) -> Option<Hit> {
+    /// The vertices of `triangle` at `moment` of the shutter's span.
+    pub fn vertices_at(&self, triangle: u32, moment: f32) -> [Vec3A; 3] {
+        vertices_at(&self.vertices, &self.steps, triangle, moment)
+    }
+
+    /// The vertices of the triangle `hit` met, where the ray met it.
+    pub fn hit_vertices(&self, hit: &Hit) -> [Vec3; 3] {
+        self.vertices_at(hit.triangle, hit.moment).map(Vec3::from)
+    }
+
+    /// Whether `triangle` moves while the shutter is open.
+    pub fn moves(&self, triangle: u32) -> bool {
+        self.steps.row(triangle).is_some()
+    }
+
+    fn hit(&self, ray: (f32, f32), geometry: u32, primitive: u32, u: f32, v: f32) -> Option<Hit> {
+        let (t, moment) = ray;
         (geometry != INVALID_ID).then(|| Hit {
             t,
             triangle: self.triangles_of[geometry as usize][primitive as usize],
             barycentric: Vec2::new(u, v),
+            moment,
         })
     }
 
-    /// Closest hit with t in [t_min, t_max] that stops a ray of draw `key` (see [`AlphaTest`]).
+    /// Closest hit with t in [t_min, t_max] that stops a ray of draw `key` (see [`AlphaTest`])
+    /// at `moment` of the shutter's span.
     pub fn closest_hit(
         &self,
         origin: Vec3,
         direction: Vec3,
-        t_min: f32,
-        t_max: f32,
+        (t_min, t_max): (f32, f32),
         key: Option<u32>,
+        moment: f32,
     ) -> Option<Hit> {
-        let mut ray_hit = RayHit::from(ray(origin, direction, t_min, t_max, key));
+        let mut ray_hit = RayHit::from(ray(origin, direction, (t_min, t_max), key, moment));
         self.scene
             .intersect(&mut IntersectContext::coherent(), &mut ray_hit);
         let (r, h) = (&ray_hit.ray, &ray_hit.hit);
-        self.hit(r.tfar, h.geomID, h.primID, h.u, h.v)
+        self.hit((r.tfar, r.time), h.geomID, h.primID, h.u, h.v)
     }
 
-    /// Whether a surface that stops a ray of draw `key` lies on the ray, t in [t_min, t_max]:
-    /// the shadow test.
+    /// Whether a surface that stops a ray of draw `key` at `moment` lies on the ray, t in
+    /// [t_min, t_max]: the shadow test.
     pub fn occluded(
         &self,
         origin: Vec3,
         direction: Vec3,
-        t_min: f32,
-        t_max: f32,
+        (t_min, t_max): (f32, f32),
         key: Option<u32>,
+        moment: f32,
     ) -> bool {
-        let mut ray = ray(origin, direction, t_min, t_max, key);
+        let mut ray = ray(origin, direction, (t_min, t_max), key, moment);
         self.scene
             .occluded(&mut IntersectContext::incoherent(), &mut ray)
     }
 
-    /// The closest hits of up to [`PACKET_SIZE`] rays (lane l drawing `keys[l]`), t in
-    /// [t_min, t_max], traced as one Embree packet: the same hits as [`Accel::closest_hit`] ray
-    /// by ray, found faster when the rays are coherent (the samples of a pixel).
+    /// The closest hits of up to [`PACKET_SIZE`] rays (lane l drawing `draws[l]`: its key and
+    /// moment), t in [t_min, t_max], traced as one Embree packet: the same hits as
+    /// [`Accel::closest_hit`] ray by ray, found faster when the rays are coherent (the samples
+    /// of a pixel).
     pub fn closest_hits(
         &self,
         origins: &[Vec3],
         directions: &[Vec3],
-        keys: &[u32],
-        t_min: f32,
-        t_max: f32,
+        draws: &[(u32, f32)],
+        (t_min, t_max): (f32, f32),
         hits: &mut [Option<Hit>],
     ) {
         let n = origins.len();
-        assert!(n <= PACKET_SIZE && directions.len() == n && keys.len() == n && hits.len() == n);
+        assert!(n <= PACKET_SIZE && directions.len() == n && draws.len() == n && hits.len() == n);
         let mut packet = Ray16::segment(
             std::array::from_fn(|l| origins.get(l).map_or([0.0; 3], |o| o.to_array())),
             std::array::from_fn(|l| directions.get(l).map_or([0.0, 0.0, 1.0], |d| d.to_array())),
             [t_min; PACKET_SIZE],
             [t_max; PACKET_SIZE],
         );
-        packet.id[..n].copy_from_slice(keys);
+        for (l, &(key, moment)) in draws.iter().enumerate() {
+            packet.id[l] = key;
+            packet.time[l] = moment;
+            packet.mask[l] = MASK_KEYED;
+        }
         let valid = PacketMask::new(|l| l < n);
         let mut ray_hits = RayHit16 {
             ray: packet,
@@ -267,19 +317,21 @@ impl Accel {
         );
         let (r, h) = (&ray_hits.ray, &ray_hits.hit);
         for (l, hit) in hits.iter_mut().enumerate() {
-            *hit = self.hit(r.tfar[l], h.geomID[l], h.primID[l], h.u[l], h.v[l]);
+            let ray = (r.tfar[l], r.time[l]);
+            *hit = self.hit(ray, h.geomID[l], h.primID[l], h.u[l], h.v[l]);
         }
     }
 }
 
 impl Accel {
     /// Which of up to [`PACKET_SIZE`] shadow rays `(origin, direction, t_max)` (lane l drawing
-    /// `keys[l]`, `None` lanes inactive) a surface that stops them lies on, t in [0, t_max]: bit
-    /// l of the mask. One Embree packet: the shadow rays of a pixel's samples are coherent.
+    /// `draws[l]`: its key and moment; `None` lanes inactive) a surface that stops them lies
+    /// on, t in [0, t_max]: bit l of the mask. One Embree packet: the shadow rays of a pixel's
+    /// samples are coherent.
     pub fn occluded_packet(
         &self,
         rays: &[Option<(Vec3, Vec3, f32)>; PACKET_SIZE],
-        keys: &[u32; PACKET_SIZE],
+        draws: &[(u32, f32); PACKET_SIZE],
     ) -> u32 {
         if rays.iter().all(Option::is_none) {
             return 0;
@@ -291,7 +343,9 @@ impl Accel {
             [0.0; PACKET_SIZE],
             std::array::from_fn(|l| ray(l).2),
         );
-        packet.id = *keys;
+        packet.id = draws.map(|(key, _)| key);
+        packet.time = draws.map(|(_, moment)| moment);
+        packet.mask = [MASK_KEYED; PACKET_SIZE];
         let valid = PacketMask::new(|l| rays[l].is_some());
         self.scene
             .occluded16(&mut IntersectContext::coherent(), &mut packet, valid.get());
@@ -301,16 +355,36 @@ impl Accel {
     }
 }
 
-/// One Embree ray; its `id` and `time` carry the draw `key` to the alpha test.
-fn ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32, key: Option<u32>) -> Ray {
+/// One Embree ray at `moment`; its `id` and `mask` carry the draw `key` to the alpha test.
+fn ray(
+    origin: Vec3,
+    direction: Vec3,
+    (t_min, t_max): (f32, f32),
+    key: Option<u32>,
+    moment: f32,
+) -> Ray {
     let mut ray = Ray::segment(origin.to_array(), direction.to_array(), t_min, t_max);
     ray.id = key.unwrap_or(0);
-    ray.time = if key.is_some() {
-        TIME_KEYED
+    ray.mask = if key.is_some() {
+        MASK_KEYED
     } else {
-        TIME_FIXED
+        MASK_FIXED
     };
+    ray.time = moment;
     ray
+}
+
+/// `triangle`'s vertices at `moment`: between its steps where it moves.
+fn vertices_at(
+    still: &[[Vec3A; 3]],
+    steps: &TriangleSteps,
+    triangle: u32,
+    moment: f32,
+) -> [Vec3A; 3] {
+    match steps.row(triangle) {
+        Some(row) => steps.vertices_at(row, moment),
+        None => still[triangle as usize],
+    }
 }
 
 /// Whether a ray along `direction` that meets triangle `v` reaches its back face: it sees the
@@ -321,11 +395,11 @@ pub fn is_back_face(direction: Vec3A, v: &[Vec3A; 3]) -> bool {
 }
 
 /// Embree's filter for a geometry of single-sided or alpha-tested triangles: rejects the
-/// candidate hits on a back face (`vertices` given) and those the alpha test lets through
-/// (`alpha` given).
+/// candidate hits on a back face (`vertices` given: the still triangles' and the moving ones'
+/// steps) and those the alpha test lets through (`alpha` given).
 struct SurfaceFilter {
     triangles_of: Arc<Vec<u32>>,
-    vertices: Option<Arc<Vec<[Vec3A; 3]>>>,
+    vertices: Option<(Arc<Vec<[Vec3A; 3]>>, Arc<TriangleSteps>)>,
     alpha: Option<AlphaTest>,
 }
 
@@ -336,15 +410,16 @@ impl SurfaceFilter {
                 continue;
             }
             let triangle = self.triangles_of[hits.prim_id(lane) as usize];
-            if let Some(vertices) = &self.vertices {
+            if let Some((still, steps)) = &self.vertices {
                 let direction = Vec3A::from(rays.dir(lane));
-                if is_back_face(direction, &vertices[triangle as usize]) {
+                let vertices = vertices_at(still, steps, triangle, rays.time(lane));
+                if is_back_face(direction, &vertices) {
                     valid[lane] = 0;
                     continue;
                 }
             }
             if let Some(alpha) = &self.alpha {
-                let key = (rays.time(lane) == TIME_KEYED).then(|| rays.id(lane));
+                let key = (rays.mask(lane) == MASK_KEYED).then(|| rays.id(lane));
                 let barycentric = Vec2::new(hits.u(lane), hits.v(lane));
                 if !alpha(triangle, barycentric, key) {
                     valid[lane] = 0;
@@ -396,8 +471,13 @@ mod tests {
         let (from_front, from_back) = (Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, -2.0));
         assert!(!is_back_face(Vec3A::NEG_Z, &front) && is_back_face(Vec3A::Z, &front));
         for single_sided in [true, false] {
-            let accel =
-                Accel::build_with_tests(&[front, behind], &[], &[single_sided, false], None);
+            let accel = Accel::build_with_tests(
+                &[front, behind],
+                &[],
+                &[single_sided, false],
+                None,
+                Arc::default(),
+            );
             // Embree's distances are its own floats (instruction sets round differently):
             // within 1e-6 of the exact ones.
             let close = |hit: Option<Hit>, want: Option<(u32, f32)>, what: &str| {
@@ -408,23 +488,23 @@ mod tests {
                 };
                 assert!(same, "{what}: {got:?} against {want:?}");
             };
-            let front_hit = accel.closest_hit(from_front, Vec3::NEG_Z, 0.0, 10.0, None);
+            let front_hit = accel.closest_hit(from_front, Vec3::NEG_Z, (0.0, 10.0), None, 0.5);
             close(front_hit, Some((0, 1.0)), "from the front");
             // From -z the ray meets the triangle behind first (t = 1), then this one (t = 2):
             // look from between them, at z = -0.5, towards +z.
             let origin = Vec3::new(0.0, 0.0, -0.5);
-            let back_hit = accel.closest_hit(origin, Vec3::Z, 0.0, 10.0, None);
+            let back_hit = accel.closest_hit(origin, Vec3::Z, (0.0, 10.0), None, 0.5);
             let expected = (!single_sided).then_some((0, 0.5));
             close(back_hit, expected, "from behind");
             assert_eq!(
-                accel.occluded(origin, Vec3::Z, 0.0, 10.0, None),
+                accel.occluded(origin, Vec3::Z, (0.0, 10.0), None, 0.5),
                 !single_sided,
                 "shadow ray from behind"
             );
             let mut rays = [None; PACKET_SIZE];
             rays[0] = Some((origin, Vec3::Z, 10.0));
             rays[3] = Some((from_back, Vec3::Z, 1.5));
-            let mask = accel.occluded_packet(&rays, &[0; PACKET_SIZE]);
+            let mask = accel.occluded_packet(&rays, &[(0, 0.5); PACKET_SIZE]);
             // Lane 3 meets the double-sided triangle behind at t = 1.
             assert_eq!(mask, if single_sided { 0b1000 } else { 0b1001 });
         }

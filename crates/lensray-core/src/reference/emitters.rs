@@ -90,6 +90,6 @@ impl Renderer {
                 light: f * emission * (w / pdf),
             })
         });
-        self.add_unoccluded(&shadow, &Self::shadow_keys(lanes), reflected)
+        self.add_unoccluded(&shadow, &Self::shadow_draws(lanes), reflected)
     }
 }

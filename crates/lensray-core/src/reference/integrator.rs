@@ -107,7 +107,7 @@ impl Renderer {
             inputs.brdf.base.base_colour = vertex_coloured(inputs.brdf.base.base_colour, colour);
             return inputs;
         }
-        let vertices = self.accel.vertices(hit.triangle).map(Vec3::from);
+        let vertices = self.accel.hit_vertices(hit);
         let duv = match footprint {
             Some(footprint) => {
                 self.surfaces
@@ -166,8 +166,10 @@ impl Renderer {
                 origin: lanes.origins[l],
                 direction: lanes.directions[l],
             };
+            let (key, moment) = lanes.draws[l];
             let draw = LightDraw {
-                shadow_key: lanes.keys[l] ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT,
+                shadow_key: key ^ BLEND_CAMERA_SALT ^ BLEND_SHADOW_SALT,
+                moment,
                 sample: lanes.indices[l],
             };
             (values[l], lit[l]) =
@@ -271,14 +273,16 @@ impl Renderer {
             .map(|&l| origin_towards(&lanes[l].unwrap().surface, draws[l].unwrap().direction))
             .collect();
         let directions: Vec<Vec3> = going.iter().map(|&l| draws[l].unwrap().direction).collect();
-        let keys: Vec<u32> = going
+        let ray_draws: Vec<(u32, f32)> = going
             .iter()
-            .map(|&l| lanes[l].unwrap().draw.shadow_key)
+            .map(|&l| lanes[l].unwrap().draw)
+            .map(|draw| (draw.shadow_key, draw.moment))
             .collect();
         let mut hits = vec![None; going.len()];
         if !going.is_empty() {
+            let range = (0.0, f32::INFINITY);
             self.accel
-                .closest_hits(&origins, &directions, &keys, 0.0, f32::INFINITY, &mut hits);
+                .closest_hits(&origins, &directions, &ray_draws, range, &mut hits);
         }
         let mut next = [None; PACKET_SIZE];
         for (k, &l) in going.iter().enumerate() {

@@ -11,11 +11,13 @@ use super::surface::{origin_towards, shadow_origin, SurfacePoint};
 use crate::scene::Light;
 
 /// What a sample's shading draws besides its camera ray: the blend key of its shadow and bounce
-/// rays, and its index, from which each vertex of its path takes its sample dimensions
+/// rays, its moment in the shutter's span (every ray of its path meets what moves there), and
+/// its index, from which each vertex of its path takes its sample dimensions
 /// (`sampler::vertex_dimensions`).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct LightDraw {
     pub shadow_key: u32,
+    pub moment: f32,
     pub sample: u32,
 }
 
@@ -80,7 +82,7 @@ impl Renderer {
         reflected: &mut [Vec3; PACKET_SIZE],
     ) -> u64 {
         let origins = lanes.map(|lane| lane.map(|l| shadow_origin(&l.surface)));
-        let keys = Self::shadow_keys(lanes);
+        let draws = Self::shadow_draws(lanes);
         let mut rays = 0;
         for light in lights {
             let shadow = std::array::from_fn(|l| {
@@ -107,14 +109,16 @@ impl Renderer {
                     light: lane.reflectance(incident.direction) * incident.irradiance,
                 })
             });
-            rays += self.add_unoccluded(&shadow, &keys, reflected);
+            rays += self.add_unoccluded(&shadow, &draws, reflected);
         }
         rays
     }
 
-    /// The blend keys of the lanes' shadow and bounce rays.
-    pub(super) fn shadow_keys(lanes: &[Option<LitLane>; PACKET_SIZE]) -> [u32; PACKET_SIZE] {
-        lanes.map(|lane| lane.map_or(0, |l| l.draw.shadow_key))
+    /// The blend keys and moments of the lanes' shadow and bounce rays.
+    pub(super) fn shadow_draws(
+        lanes: &[Option<LitLane>; PACKET_SIZE],
+    ) -> [(u32, f32); PACKET_SIZE] {
+        lanes.map(|lane| lane.map_or((0, 0.5), |l| (l.draw.shadow_key, l.draw.moment)))
     }
 
     /// Traces the packet's shadow rays and adds the light of those nothing stops; returns the
@@ -122,11 +126,11 @@ impl Renderer {
     pub(super) fn add_unoccluded(
         &self,
         shadow: &[Option<ShadowRay>; PACKET_SIZE],
-        keys: &[u32; PACKET_SIZE],
+        draws: &[(u32, f32); PACKET_SIZE],
         reflected: &mut [Vec3; PACKET_SIZE],
     ) -> u64 {
         let rays = shadow.map(|s| s.map(|s| (s.origin, s.direction, s.t_max)));
-        let occluded = self.accel.occluded_packet(&rays, keys);
+        let occluded = self.accel.occluded_packet(&rays, draws);
         for (l, s) in shadow.iter().enumerate() {
             if let Some(s) = s {
                 if occluded & (1 << l) == 0 {

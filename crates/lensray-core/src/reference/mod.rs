@@ -31,6 +31,7 @@ mod rays;
 mod render;
 pub mod sheen;
 mod sky;
+mod steps;
 mod surface;
 mod surface_frame;
 mod transmission;

@@ -178,6 +178,8 @@ pub(super) struct LensPacket {
     pub(super) indices: [u32; PACKET_SIZE],
     /// nm; 0 when the lens carries no wavelength (`RealLens::dispersive`).
     pub(super) wavelengths: [f32; PACKET_SIZE],
+    /// Each ray's moment in the shutter's span (`Camera::sample_moment`).
+    pub(super) moments: [f32; PACKET_SIZE],
 }
 
 impl LensPacket {
@@ -188,6 +190,7 @@ impl LensPacket {
             weights: [0.0; PACKET_SIZE],
             indices: [0; PACKET_SIZE],
             wavelengths: [0.0; PACKET_SIZE],
+            moments: [0.5; PACKET_SIZE],
         }
     }
 }
@@ -226,6 +229,13 @@ pub(super) fn generate_rays(
         );
         out.indices = std::array::from_fn(|l| first + l as u32);
         out.weights = [1.0; PACKET_SIZE];
+        if camera.motion.is_some() {
+            let [_, film_y, _, _] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
+            out.moments = std::array::from_fn(|l| {
+                let sample = moving_sample(camera, sampler, first + l as u32, film_y[l]);
+                camera.sample_moment(&sample)
+            });
+        }
         return n;
     };
     let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
@@ -271,6 +281,7 @@ pub(super) fn generate_rays(
         out.weights[passed] = weight;
         out.indices[passed] = first + l as u32;
         out.wavelengths[passed] = wavelengths[l];
+        out.moments[passed] = camera.sample_moment(&sample);
         passed += 1;
     }
     passed

@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
 use super::rays::{generate_rays, DispersionPass, LensPacket};
+use super::steps::{Stepped, TriangleSteps, STEPS};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
 use crate::camera::{Camera, Ray};
 use crate::film::adaptive::{self, is_class_a, AdaptiveReport};
@@ -17,6 +18,7 @@ use crate::film::spectral::{checked_value, d_line_value};
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler, CameraSample};
 use crate::scene::emitters::EmitterDistribution;
+use crate::scene::motion::{MeshSteps, ObjectMotion};
 use crate::scene::order::sided_order;
 use crate::scene::{blend_threshold, ray_key, EnvironmentLight, Light, Scene};
 use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT};
@@ -36,15 +38,18 @@ pub struct Renderer {
     /// Light the sky by one cosine-distributed ray a surface instead of the two draws weighed
     /// by multiple importance sampling (`with_cosine_sky`).
     pub(super) cosine_sky: bool,
+    /// Where the frame's own time lies in the shutter's span: the moment the AOVs and focus
+    /// picking see moving triangles at.
+    frame_moment: f32,
 }
 
 /// A packet of camera rays after their closest hits: per lane its ray, hit, blend key and
-/// sample index.
+/// moment, and sample index.
 pub(super) struct TracedPacket<'a> {
     pub origins: &'a [Vec3],
     pub directions: &'a [Vec3],
     pub hits: &'a [Option<Hit>],
-    pub keys: &'a [u32],
+    pub draws: &'a [(u32, f32)],
     pub indices: &'a [u32],
 }
 
@@ -67,7 +72,15 @@ impl Renderer {
     /// numbered as the GPU upload numbers them (each mesh's in its sided spatial order,
     /// `scene::order::sided_order`), which a blend draw hashes.
     pub fn new(scene: &Scene) -> Self {
+        Self::with_motion(scene, None)
+    }
+
+    /// [`Self::new`] with the meshes `motion` names moving through its steps while the shutter
+    /// is open (the rest of each, and every other mesh, is `scene`'s). Moving emissive
+    /// triangles light what they meet but are not drawn as lights.
+    pub fn with_motion(scene: &Scene, motion: Option<&ObjectMotion>) -> Self {
         let count = scene.triangle_count();
+        let mut steps = TriangleSteps::default();
         let mut triangles = Vec::with_capacity(count);
         let mut surfaces = SurfaceData {
             normals: Vec::with_capacity(count),
@@ -76,15 +89,21 @@ impl Renderer {
             colours: Vec::new(),
             tangents: Vec::new(),
             materials: Vec::with_capacity(count),
+            steps: Arc::new(TriangleSteps::default()),
         };
         let any_colours = scene.meshes.iter().any(|m| !m.colours.is_empty());
         let any_tangents = scene.meshes.iter().any(|m| !m.tangents.is_empty());
         let any_texcoords1 = scene.meshes.iter().any(|m| !m.texcoords1.is_empty());
-        for mesh in &scene.meshes {
+        for (m, mesh) in scene.meshes.iter().enumerate() {
             let single_sided =
                 |t: usize| !scene.materials[mesh.material_ids[t] as usize].double_sided;
+            let moving = motion.and_then(|motion| motion.meshes.iter().find(|s| s.index == m));
             for t in sided_order(&mesh.positions, &mesh.triangles, single_sided) {
                 let tri = mesh.triangles[t as usize];
+                match moving {
+                    Some(moving) => push_moving(&mut steps, triangles.len(), moving, tri),
+                    None => steps.push_still(triangles.len()),
+                }
                 triangles.push(tri.map(|i| Vec3A::from(mesh.positions[i as usize])));
                 surfaces.normals.push(if mesh.normals.is_empty() {
                     [Vec3::ZERO; 3]
@@ -110,6 +129,8 @@ impl Renderer {
                 surfaces.materials.push(mesh.material_ids[t as usize]);
             }
         }
+        let steps = Arc::new(steps);
+        surfaces.steps = Arc::clone(&steps);
         let surfaces = Arc::new(surfaces);
         let materials = Arc::new(Materials {
             materials: scene.materials.clone(),
@@ -136,14 +157,18 @@ impl Renderer {
                     .iter()
                     .map(|t| t.map(Vec3::from))
                     .collect::<Vec<_>>(),
-                |t| materials.get(surfaces.materials[t]).emission,
+                |t| match steps.row(t as u32) {
+                    Some(_) => Vec3::ZERO,
+                    None => materials.get(surfaces.materials[t]).emission,
+                },
             ),
-            accel: Accel::build_with_tests(&triangles, &alpha_tested, &single_sided, alpha),
+            accel: Accel::build_with_tests(&triangles, &alpha_tested, &single_sided, alpha, steps),
             surfaces,
             materials,
             lights: scene.lights.clone(),
             environment: scene.environment.clone(),
             cosine_sky: false,
+            frame_moment: motion.map_or(0.5, |motion| motion.frame_moment),
         }
     }
 
@@ -173,26 +198,29 @@ impl Renderer {
     }
 
     /// Closest hit along a world-space ray, t in (0, inf), as the AOVs' aperture-centre ray
-    /// sees it (a blended surface where its alpha exceeds `AOV_BLEND_THRESHOLD`).
+    /// sees it (a blended surface where its alpha exceeds `AOV_BLEND_THRESHOLD`; what moves,
+    /// at the frame's own time).
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let range = (0.0, f32::INFINITY);
+        let moment = self.frame_moment;
         self.accel
-            .closest_hit(ray.origin, ray.direction, 0.0, f32::INFINITY, None)
+            .closest_hit(ray.origin, ray.direction, range, None, moment)
     }
 
-    /// The closest hits of a packet of camera rays whose keys are `keys`.
+    /// The closest hits of a packet of camera rays whose keys and moments are `draws`.
     fn closest_hits(
         &self,
         origins: &[Vec3],
         directions: &[Vec3],
-        keys: &[u32],
+        draws: &[(u32, f32)],
         hits: &mut [Option<Hit>],
     ) {
         self.accel
-            .closest_hits(origins, directions, keys, 0.0, f32::INFINITY, hits);
+            .closest_hits(origins, directions, draws, (0.0, f32::INFINITY), hits);
     }
 
     pub fn surface_point(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
-        let v = self.accel.vertices(hit.triangle).map(Vec3::from);
+        let v = self.accel.hit_vertices(hit);
         self.surfaces.surface_point(ray, hit, v)
     }
 
@@ -368,7 +396,7 @@ impl Renderer {
         let mut rays = 0;
         // The samples of a pixel are coherent: their primary rays are traced as packets.
         let mut packet = LensPacket::new();
-        let mut keys = [0; PACKET_SIZE];
+        let mut draws = [(0, 0.5); PACKET_SIZE];
         let mut hits = [None; PACKET_SIZE];
         let sampler = if settings.shared_samples {
             shared_pixel_sampler(settings.sampler, settings.seed, pixel)
@@ -393,17 +421,19 @@ impl Renderer {
                     weights,
                     indices,
                     wavelengths,
+                    moments,
                 } = &packet;
                 for l in 0..traced {
-                    keys[l] = ray_key(settings.seed, pixel_index, indices[l], BLEND_CAMERA_SALT);
+                    let key = ray_key(settings.seed, pixel_index, indices[l], BLEND_CAMERA_SALT);
+                    draws[l] = (key, moments[l]);
                 }
                 let (o, d) = (&origins[..traced], &directions[..traced]);
-                self.closest_hits(o, d, &keys[..traced], &mut hits[..traced]);
+                self.closest_hits(o, d, &draws[..traced], &mut hits[..traced]);
                 let lanes = TracedPacket {
                     origins: &origins[..traced],
                     directions: &directions[..traced],
                     hits: &hits[..traced],
-                    keys: &keys[..traced],
+                    draws: &draws[..traced],
                     indices: &indices[..traced],
                 };
                 let (values, count) = self.shade_packet(&lanes, &sampler, settings, &footprint);
@@ -448,6 +478,21 @@ impl Renderer {
             }
         }
     }
+}
+
+/// Appends triangle `tri` (the renderer's `triangle`) of the mesh `moving` names to `steps`,
+/// with its corners, normals and tangents at each step.
+fn push_moving(steps: &mut TriangleSteps, triangle: usize, moving: &MeshSteps, tri: [u32; 3]) {
+    let step = |k: usize| &moving.steps[k];
+    let vertices: Stepped<Vec3A> =
+        std::array::from_fn(|k| tri.map(|i| Vec3A::from(step(k).positions[i as usize])));
+    let normals: Stepped<Vec3> = match step(0).normals.is_empty() {
+        true => [[Vec3::ZERO; 3]; STEPS],
+        false => std::array::from_fn(|k| tri.map(|i| step(k).normals[i as usize])),
+    };
+    let tangents = (!step(0).tangents.is_empty())
+        .then(|| std::array::from_fn(|k| tri.map(|i| step(k).tangents[i as usize])));
+    steps.push_moving(triangle, vertices, normals, tangents);
 }
 
 /// Whether a ray of draw `key` stops at the hit (`triangle`, `b`): the material's alpha test,

@@ -136,7 +136,7 @@ impl Renderer {
                 light: f * s.radiance * (w / s.pdf * lane.occlusion),
             })
         });
-        self.add_unoccluded(&shadow, &Self::shadow_keys(lanes), reflected)
+        self.add_unoccluded(&shadow, &Self::shadow_draws(lanes), reflected)
     }
 
     /// Adds to `reflected` the sky's light by one cosine-distributed ray a lane (f L pi where it
@@ -161,7 +161,7 @@ impl Renderer {
                     * (std::f32::consts::PI * lane.occlusion),
             })
         });
-        self.add_unoccluded(&shadow, &Self::shadow_keys(lanes), reflected)
+        self.add_unoccluded(&shadow, &Self::shadow_draws(lanes), reflected)
     }
 
     /// Adds to `reflected` the sky's light along each lane's BRDF draw (`draws[lane]`), through
@@ -182,6 +182,6 @@ impl Renderer {
                 light: sky_along(sky, &lane, &draw),
             })
         });
-        self.add_unoccluded(&shadow, &Self::shadow_keys(lanes), reflected)
+        self.add_unoccluded(&shadow, &Self::shadow_draws(lanes), reflected)
     }
 }

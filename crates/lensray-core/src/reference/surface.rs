@@ -3,6 +3,7 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use super::accel::Hit;
+use super::steps::TriangleSteps;
 use crate::camera::{Footprint, Ray};
 use crate::interface::SHADOW_ORIGIN_OFFSET;
 use crate::scene::texture::{FootprintSets, TexcoordFootprint, TexcoordSets};
@@ -40,6 +41,9 @@ pub(super) struct SurfaceData {
     /// Tangents per triangle (`None` where its mesh has none); empty when no mesh has any.
     pub tangents: Vec<Option<[Vec4; 3]>>,
     pub materials: Vec<u32>,
+    /// The moving triangles' normals and tangents at each step (the tables above hold them at
+    /// the frame's own time).
+    pub steps: std::sync::Arc<TriangleSteps>,
 }
 
 impl SurfaceData {
@@ -48,7 +52,7 @@ impl SurfaceData {
         let mut geometric_normal = (vertices[1] - vertices[0])
             .cross(vertices[2] - vertices[0])
             .normalize();
-        let n = self.normals[hit.triangle as usize];
+        let n = self.normals(hit);
         let mut shading_normal = if n[0] == Vec3::ZERO {
             geometric_normal
         } else {
@@ -68,6 +72,21 @@ impl SurfaceData {
             material: self.materials[hit.triangle as usize],
             back_face,
             texcoords: self.texcoords(hit.triangle, hit.barycentric),
+        }
+    }
+
+    /// The vertex normals of the triangle `hit` met, where the ray met it.
+    pub(super) fn normals(&self, hit: &Hit) -> [Vec3; 3] {
+        let moving = self.steps.normals_at(hit.triangle, hit.moment);
+        moving.unwrap_or(self.normals[hit.triangle as usize])
+    }
+
+    /// The tangents of the triangle `hit` met, where the ray met it (`None`: its mesh has
+    /// none).
+    pub(super) fn tangents(&self, hit: &Hit) -> Option<[Vec4; 3]> {
+        match self.steps.tangents_at(hit.triangle, hit.moment) {
+            Some(moving) => moving,
+            None => self.tangents.get(hit.triangle as usize).copied().flatten(),
         }
     }
 

@@ -51,14 +51,12 @@ impl SurfaceData {
         surface: &SurfacePoint,
         duv: &FootprintSets,
     ) -> Vec3 {
-        let (triangle, b, ns) = (hit.triangle, hit.barycentric, surface.shading_normal);
-        let (Some((normal_map, scale)), Some(Some(tangents))) =
-            (map, self.tangents.get(triangle as usize))
-        else {
+        let (b, ns) = (hit.barycentric, surface.shading_normal);
+        let (Some((normal_map, scale)), Some(tangents)) = (map, self.tangents(hit)) else {
             return ns;
         };
         let texel = sample(textures, &normal_map, &surface.texcoords, duv);
-        let normals = self.normals[triangle as usize];
+        let normals = self.normals(hit);
         let n0 = if normals[0] == Vec3::ZERO {
             (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0])
         } else {

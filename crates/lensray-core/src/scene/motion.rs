@@ -5,7 +5,7 @@
 //! `world_from_node`, normals through its inverse transpose, tangents through it with their
 //! sign turned where it mirrors, and the triangles' winding turned with them.
 
-use glam::DMat4;
+use glam::{DMat4, Vec3, Vec4};
 
 use super::camera_animation::{chain_time_range, world_from_chain, AnimatedNode};
 use super::{Light, Mesh, Scene};
@@ -28,6 +28,33 @@ pub struct MovingLight {
     pub chain: Vec<AnimatedNode>,
     /// The light in its node's space (at the origin, along -Z).
     pub node_light: Light,
+}
+
+/// The meshes that move while a frame's shutter is open (motion blur): each one's vertices at
+/// the moments of the frame's span where the camera's poses are known (`camera::motion`,
+/// `MOTION_STEPS` evenly spaced), between which a ray at its moment sees them interpolated
+/// linearly, as Embree's motion blur interpolates its time steps.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ObjectMotion {
+    pub meshes: Vec<MeshSteps>,
+    /// Where the frame's own time lies in the span, in [0, 1]: what the AOVs see.
+    pub frame_moment: f32,
+}
+
+/// One moving mesh of [`ObjectMotion`]: its index in [`Scene::meshes`] (whose triangles, and
+/// every attribute but these, are the frame's) and its vertices at each step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshSteps {
+    pub index: usize,
+    pub steps: Vec<StepVertices>,
+}
+
+/// A mesh's positions, normals and tangents at one step, as [`posed_mesh`] places them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepVertices {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub tangents: Vec<Vec4>,
 }
 
 /// What a file's animations move, and how to pose the scene at a time.
@@ -90,6 +117,42 @@ impl SceneMotion {
                 .as_vec3();
             light.range = node.range * self.world_scale as f32;
         }
+    }
+
+    /// The vertices of the meshes that move between `times` (seconds on the file's timeline,
+    /// one per step of a frame's span, the frame's own time at `frame_moment` of it), `None`
+    /// when none does: a mesh standing still over the span is the frame's own.
+    pub fn steps(&self, times: &[f64], frame_moment: f32) -> Option<ObjectMotion> {
+        let meshes: Vec<MeshSteps> = self
+            .meshes
+            .iter()
+            .filter_map(|moving| {
+                let steps: Vec<StepVertices> = times
+                    .iter()
+                    .map(|&time| {
+                        let world_from_node =
+                            world_from_chain(self.world_scale, &moving.chain, time);
+                        let posed = posed_mesh(&moving.node_mesh, &world_from_node);
+                        StepVertices {
+                            positions: posed.positions,
+                            normals: posed.normals,
+                            tangents: posed.tangents,
+                        }
+                    })
+                    .collect();
+                let moves = steps
+                    .iter()
+                    .any(|step| step.positions != steps[0].positions);
+                moves.then_some(MeshSteps {
+                    index: moving.index,
+                    steps,
+                })
+            })
+            .collect();
+        (!meshes.is_empty()).then_some(ObjectMotion {
+            meshes,
+            frame_moment,
+        })
     }
 
     /// Gives the moving meshes without normals smoothed ones, in their nodes' spaces, as

@@ -61,7 +61,7 @@ fn closest_hit_equals_brute_force_watertight_test() {
             .filter_map(|t| wt.intersect(t, 0.0, f32::INFINITY).map(|h| h.0))
             .fold(f32::INFINITY, f32::min);
         let embree = accel
-            .closest_hit(origin, dir, 0.0, f32::INFINITY, None)
+            .closest_hit(origin, dir, (0.0, f32::INFINITY), None, 0.5)
             .map_or(f32::INFINITY, |h| h.t);
         if brute.is_finite() != embree.is_finite() {
             mismatches.push((i, brute, embree));
@@ -147,10 +147,10 @@ fn packet_hits_equal_single_ray_hits() {
         }
         let mut hits = vec![None; n];
         let t_max = if packet % 7 == 0 { 6.0 } else { f32::INFINITY };
-        let keys = vec![0; n];
-        accel.closest_hits(&origins, &directions, &keys, 0.0, t_max, &mut hits);
+        let draws = vec![(0, 0.5); n];
+        accel.closest_hits(&origins, &directions, &draws, (0.0, t_max), &mut hits);
         for l in 0..n {
-            let single = accel.closest_hit(origins[l], directions[l], 0.0, t_max, None);
+            let single = accel.closest_hit(origins[l], directions[l], (0.0, t_max), None, 0.5);
             assert!(
                 same_hit(hits[l], single),
                 "packet {packet} lane {l}: origin {:?} direction {:?}: packet {:?}, single ray {:?}",
@@ -187,9 +187,15 @@ fn packet_hits_on_shared_edges_have_the_single_ray_distance() {
     }
     for (o, d) in origins.chunks(13).zip(directions.chunks(13)) {
         let mut hits = vec![None; o.len()];
-        accel.closest_hits(o, d, &vec![0; o.len()], 0.0, f32::INFINITY, &mut hits);
+        accel.closest_hits(
+            o,
+            d,
+            &vec![(0, 0.5); o.len()],
+            (0.0, f32::INFINITY),
+            &mut hits,
+        );
         for l in 0..o.len() {
-            let single = accel.closest_hit(o[l], d[l], 0.0, f32::INFINITY, None);
+            let single = accel.closest_hit(o[l], d[l], (0.0, f32::INFINITY), None, 0.5);
             assert!(
                 single.is_some() && hits[l].is_some(),
                 "ray {:?} missed the grid",
@@ -214,7 +220,13 @@ fn rays_with_negative_zero_components_hit() {
         Vec3A::new(0.0, 1.0, 0.0),
     ]];
     let accel = Accel::build(&scene_tris);
-    let hit = accel.closest_hit(Vec3::new(0.1, 0.2, 5.0), -Vec3::Z, 0.0, f32::INFINITY, None);
+    let hit = accel.closest_hit(
+        Vec3::new(0.1, 0.2, 5.0),
+        -Vec3::Z,
+        (0.0, f32::INFINITY),
+        None,
+        0.5,
+    );
     let t = hit.expect("the ray hits the triangle").t;
     assert!(
         ulps_apart(t, 5.0) <= EMBREE_T_ULPS,
@@ -225,9 +237,8 @@ fn rays_with_negative_zero_components_hit() {
     accel.closest_hits(
         &[Vec3::new(0.1, 0.2, 5.0)],
         &[-Vec3::Z],
-        &[0],
-        0.0,
-        f32::INFINITY,
+        &[(0, 0.5)],
+        (0.0, f32::INFINITY),
         &mut hits,
     );
     assert!(
@@ -235,7 +246,7 @@ fn rays_with_negative_zero_components_hit() {
         "packet {:?}, single ray {hit:?}",
         hits[0]
     );
-    assert!(accel.occluded(Vec3::new(0.1, 0.2, 5.0), -Vec3::Z, 0.0, 6.0, None));
+    assert!(accel.occluded(Vec3::new(0.1, 0.2, 5.0), -Vec3::Z, (0.0, 6.0), None, 0.5));
 }
 
 #[test]
