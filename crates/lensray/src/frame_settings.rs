@@ -41,6 +41,9 @@ pub struct FrameSettings {
     keyframes: Keyframes,
     /// The sequence's seed, each frame's from it (`settings::frame_seed`).
     seed: u32,
+    /// Whether the file's meshes move while the shutter is open: the camera's samples then
+    /// take their moments even where it stands still (`Shutter::camera_motion`).
+    objects_move: bool,
 }
 
 impl FrameSettings {
@@ -54,7 +57,14 @@ impl FrameSettings {
             command_line,
             keyframes,
             seed,
+            objects_move: false,
         }
+    }
+
+    /// These settings for a scene whose meshes move while the shutter is open (`moving`).
+    pub fn with_moving_objects(mut self, moving: bool) -> Self {
+        self.objects_move = moving;
+        self
     }
 
     pub fn keyframes(&self) -> &Keyframes {
@@ -113,7 +123,12 @@ impl FrameSettings {
             return Ok(shot);
         };
         let motion = shutter
-            .camera_motion(f64::from(frame), &|t| self.at_time(t), scene)
+            .camera_motion(
+                f64::from(frame),
+                &|t| self.at_time(t),
+                scene,
+                self.objects_move,
+            )
             .with_context(context)?;
         Ok(Shot {
             camera: shot.camera.with_motion(motion),

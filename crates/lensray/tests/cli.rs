@@ -31,6 +31,8 @@ mod isa;
 mod motion_blur;
 #[path = "cli/movements.rs"]
 mod movements;
+#[path = "cli/moving_objects.rs"]
+mod moving_objects;
 #[path = "cli/rejected.rs"]
 mod rejected;
 #[path = "cli/render.rs"]

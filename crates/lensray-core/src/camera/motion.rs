@@ -81,16 +81,24 @@ impl CameraMotion {
     /// The motion through `frames` (one per step, evenly spaced over the span), or `None`
     /// when the camera stays put (every pose the same), when no sample would move.
     pub fn new(frames: &[CameraFrame], exposure_share: f32, rolling_share: f32) -> Option<Self> {
+        let motion = Self::through(frames, exposure_share, rolling_share);
+        (!motion.stands_still()).then_some(motion)
+    }
+
+    /// The motion through `frames` even where the camera stays put: its samples still take
+    /// their moments, at which the scene's moving objects are met.
+    pub fn through(frames: &[CameraFrame], exposure_share: f32, rolling_share: f32) -> Self {
         assert_eq!(frames.len(), MOTION_STEPS as usize, "one frame per step");
-        let poses: Vec<RigidPose> = frames.iter().map(RigidPose::of).collect();
-        if poses.iter().all(|p| *p == poses[0]) {
-            return None;
-        }
-        Some(Self {
-            poses,
+        Self {
+            poses: frames.iter().map(RigidPose::of).collect(),
             exposure_share,
             rolling_share,
-        })
+        }
+    }
+
+    /// Whether every pose is the same.
+    pub fn stands_still(&self) -> bool {
+        self.poses.iter().all(|p| *p == self.poses[0])
     }
 
     /// The moment in the span, in [0, 1], of shutter sample `time` in [0, 1) at raster row

@@ -89,10 +89,8 @@ pub struct Accel {
     scene: Scene<'static>,
     /// Each geometry's primitive -> the caller's triangle.
     triangles_of: [Arc<Vec<u32>>; GROUPS],
-    /// Vertices per triangle, the caller's order (a moving one's at the frame's own time).
-    vertices: Arc<Vec<[Vec3A; 3]>>,
-    /// The moving triangles' vertices at each step.
-    steps: Arc<TriangleSteps>,
+    /// Vertices per triangle, the caller's order.
+    corners: Arc<Corners>,
     /// Bytes Embree allocated for the scene (its BVH and its copy of the triangles).
     embree_bytes: u64,
     pub build_time: Duration,
@@ -137,7 +135,10 @@ impl Accel {
             groups[group].push(i as u32);
         }
         let triangles_of = groups.map(Arc::new);
-        let all_vertices = Arc::new(triangles.to_vec());
+        let corners = Arc::new(Corners {
+            still: triangles.to_vec(),
+            steps: Arc::clone(&steps),
+        });
         let mut scene = device.create_scene().expect("an Embree scene");
         scene.set_flags(SceneFlags::ROBUST);
         scene.set_build_quality(if triangles.len() > 250_000 {
@@ -186,8 +187,7 @@ impl Accel {
             if group & (SINGLE_SIDED | ALPHA_TESTED) != 0 {
                 let filter = Arc::new(SurfaceFilter {
                     triangles_of: Arc::clone(members),
-                    vertices: (group & SINGLE_SIDED != 0)
-                        .then(|| (Arc::clone(&all_vertices), Arc::clone(&steps))),
+                    corners: (group & SINGLE_SIDED != 0).then(|| Arc::clone(&corners)),
                     alpha: alpha.clone().filter(|_| group & ALPHA_TESTED != 0),
                 });
                 let each = Arc::clone(&filter);
@@ -204,8 +204,7 @@ impl Accel {
         Self {
             scene,
             triangles_of,
-            vertices: all_vertices,
-            steps,
+            corners,
             embree_bytes: allocated.load(Ordering::Relaxed).max(0) as u64,
             build_time: start.elapsed(),
         }
@@ -214,18 +213,18 @@ impl Accel {
     /// Bytes of Embree's scene and of the vertices kept for shading.
     pub fn bytes(&self) -> u64 {
         self.embree_bytes
-            + std::mem::size_of_val(self.vertices.as_slice()) as u64
-            + self.steps.bytes()
+            + std::mem::size_of_val(self.corners.still.as_slice()) as u64
+            + self.corners.steps.bytes()
     }
 
     /// The vertices of a triangle that stands still (an emitter: moving ones are not drawn).
     pub fn vertices(&self, triangle: u32) -> &[Vec3A; 3] {
-        &self.vertices[triangle as usize]
+        &self.corners.still[triangle as usize]
     }
 
     /// The vertices of `triangle` at `moment` of the shutter's span.
     pub fn vertices_at(&self, triangle: u32, moment: f32) -> [Vec3A; 3] {
-        vertices_at(&self.vertices, &self.steps, triangle, moment)
+        self.corners.at(triangle, moment)
     }
 
     /// The vertices of the triangle `hit` met, where the ray met it.
@@ -235,7 +234,7 @@ impl Accel {
 
     /// Whether `triangle` moves while the shutter is open.
     pub fn moves(&self, triangle: u32) -> bool {
-        self.steps.row(triangle).is_some()
+        self.corners.steps.row(triangle).is_some()
     }
 
     fn hit(&self, ray: (f32, f32), geometry: u32, primitive: u32, u: f32, v: f32) -> Option<Hit> {
@@ -374,16 +373,20 @@ fn ray(
     ray
 }
 
-/// `triangle`'s vertices at `moment`: between its steps where it moves.
-fn vertices_at(
-    still: &[[Vec3A; 3]],
-    steps: &TriangleSteps,
-    triangle: u32,
-    moment: f32,
-) -> [Vec3A; 3] {
-    match steps.row(triangle) {
-        Some(row) => steps.vertices_at(row, moment),
-        None => still[triangle as usize],
+/// Every triangle's vertices, the caller's order (a moving one's at the frame's own time), and
+/// the moving ones' at each step.
+struct Corners {
+    still: Vec<[Vec3A; 3]>,
+    steps: Arc<TriangleSteps>,
+}
+
+impl Corners {
+    /// `triangle`'s vertices at `moment`: between its steps where it moves.
+    fn at(&self, triangle: u32, moment: f32) -> [Vec3A; 3] {
+        match self.steps.row(triangle) {
+            Some(row) => self.steps.vertices_at(row, moment),
+            None => self.still[triangle as usize],
+        }
     }
 }
 
@@ -395,11 +398,11 @@ pub fn is_back_face(direction: Vec3A, v: &[Vec3A; 3]) -> bool {
 }
 
 /// Embree's filter for a geometry of single-sided or alpha-tested triangles: rejects the
-/// candidate hits on a back face (`vertices` given: the still triangles' and the moving ones'
-/// steps) and those the alpha test lets through (`alpha` given).
+/// candidate hits on a back face (`corners` given) and those the alpha test lets through
+/// (`alpha` given).
 struct SurfaceFilter {
     triangles_of: Arc<Vec<u32>>,
-    vertices: Option<(Arc<Vec<[Vec3A; 3]>>, Arc<TriangleSteps>)>,
+    corners: Option<Arc<Corners>>,
     alpha: Option<AlphaTest>,
 }
 
@@ -410,9 +413,9 @@ impl SurfaceFilter {
                 continue;
             }
             let triangle = self.triangles_of[hits.prim_id(lane) as usize];
-            if let Some((still, steps)) = &self.vertices {
+            if let Some(corners) = &self.corners {
                 let direction = Vec3A::from(rays.dir(lane));
-                let vertices = vertices_at(still, steps, triangle, rays.time(lane));
+                let vertices = corners.at(triangle, rays.time(lane));
                 if is_back_face(direction, &vertices) {
                     valid[lane] = 0;
                     continue;

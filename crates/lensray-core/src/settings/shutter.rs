@@ -105,13 +105,21 @@ impl Shutter {
             .collect()
     }
 
+    /// Where the frame's own time lies in its span, in [0, 1].
+    pub fn frame_moment(&self) -> f32 {
+        let (start, end) = self.span();
+        (-start / (end - start)) as f32
+    }
+
     /// The camera's motion over frame `frame`'s span: its pose at each step from the settings
-    /// at that time (`settings_at`, of a fractional frame), `None` when it stays put.
+    /// at that time (`settings_at`, of a fractional frame), `None` when it stays put and
+    /// nothing else moves (`objects_move`: the samples' moments still place what moves).
     pub fn camera_motion(
         &self,
         frame: f64,
         settings_at: &dyn Fn(f64) -> Settings,
         scene: &Scene,
+        objects_move: bool,
     ) -> Result<Option<CameraMotion>, SettingsError> {
         let frames: Vec<CameraFrame> = self
             .step_frames(frame)
@@ -119,7 +127,8 @@ impl Shutter {
             .map(|t| super::shot::camera_frame(&settings_at(t), scene))
             .collect::<Result<_, _>>()?;
         let (exposure, readout) = self.shares();
-        Ok(CameraMotion::new(&frames, exposure, readout))
+        let motion = CameraMotion::through(&frames, exposure, readout);
+        Ok((objects_move || !motion.stands_still()).then_some(motion))
     }
 }
 

@@ -114,21 +114,27 @@ pub fn note_motion(description: &SceneDescription, fps: Option<f64>) {
             eprintln!("{what}, posed on each frame at {fps} fps (frame N at N / fps seconds)")
         }
         None => eprintln!(
-            "note: {what}; this render shows them at rest, a sequence (--frames) plays them"
+            "note: {what}; this render shows them at rest (with motion blur, about 0 s), a sequence (--frames) plays them"
         ),
     }
 }
 
-/// Says what motion blur or a rolling shutter (`shutter` on) does not move: in a still, the
-/// camera (its keys and animation play in sequences only); in a sequence, the file's animated
-/// meshes and lights, posed at each frame's own time.
+/// Says what motion blur or a rolling shutter (`shutter` on) moves and what it does not: in a
+/// still, not the camera (its keys and animation play in sequences only), but the file's
+/// animated meshes about 0 s; the file's animated lights hold each frame's own pose.
 pub fn note_shutter(description: &SceneDescription, shutter: bool, sequence: bool) {
     if !shutter {
         return;
     }
+    let animated = description.motion.as_ref();
     if !sequence {
-        eprintln!("note: motion blur and a rolling shutter move the camera by its keys or animation, which play in sequences (--frames): in this render the camera stands still");
-    } else if description.motion.is_some() {
-        eprintln!("note: motion blur and a rolling shutter move the camera; the file's animated meshes and lights are posed at each frame's own time, unblurred");
+        let meshes = match animated {
+            Some(_) => "; the file's animated meshes blur as on frame 0 of a sequence (about 0 s)",
+            None => "",
+        };
+        eprintln!("note: motion blur and a rolling shutter move the camera by its keys or animation, which play in sequences (--frames): in this render the camera stands still{meshes}");
+    }
+    if animated.is_some_and(|motion| !motion.lights.is_empty()) {
+        eprintln!("note: motion blur and a rolling shutter move the file's animated meshes; its animated lights hold each frame's own pose, unblurred");
     }
 }

@@ -9,6 +9,7 @@ pub mod generate;
 pub mod info;
 pub mod lens;
 pub mod named;
+pub mod posed;
 pub mod preview;
 pub mod progress;
 pub mod render;

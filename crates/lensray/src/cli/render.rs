@@ -13,7 +13,7 @@ use super::progress::{ProgressMode, ProgressReporter};
 use crate::focus::{focus_depth_at, lay_focus_plane};
 use crate::frame_settings::command_line_over;
 use crate::output::PendingOutput;
-use crate::paths::{self, OpenedPath, Phases, RenderPath};
+use crate::paths::{self, OpenedPath, PathOptions, Phases, RenderPath};
 use lensray_core::scene::file::SceneDescription;
 use lensray_core::scene::units::SceneUnits;
 use lensray_core::settings::Settings;
@@ -203,6 +203,59 @@ fn note_keyframes(description: &SceneDescription) {
     }
 }
 
+/// The path `options` ask for with the scene loaded. Where a still of an animated file blurs
+/// (`shutter`), the CPU path with the file's meshes posed as frame 0 of a sequence at the
+/// settings' fps, those that move over the open shutter with their steps: the still is that
+/// frame, its camera standing still.
+fn open_still(
+    options: &PathOptions,
+    description: &SceneDescription,
+    (settings, resolved): (&Settings, &Shot),
+    shutter: Option<&lensray_core::settings::Shutter>,
+) -> Result<OpenedPath> {
+    let (Some(shutter), Some(motion)) = (shutter, &description.motion) else {
+        return paths::open(options, &description.scene, resolved);
+    };
+    let mut opened = paths::open_moving_objects(options, &description.scene)?;
+    let rate = lensray_core::settings::fps(settings)
+        .with_context(|| format!("scene {}", description.source))?;
+    let mut scene = description.scene.clone();
+    let (path, frame) = (opened.path.as_mut(), (0.0, rate));
+    super::posed::load_frame(path, motion, &mut scene, frame, Some(shutter))?;
+    Ok(opened)
+}
+
+/// `resolved` focused as the arguments ask (`--focus-plane`, `--focus-at`) on `path`, its
+/// camera taking its samples' moments where a still's `shutter` blurs the file's meshes.
+fn focused_shot(
+    args: &RenderArgs,
+    path: &mut dyn RenderPath,
+    (settings, mut resolved): (&mut Settings, Shot),
+    description: &SceneDescription,
+    shutter: Option<&lensray_core::settings::Shutter>,
+) -> Result<Shot> {
+    let context = || format!("scene {}", description.source);
+    if settings.camera.focus_plane.is_some() {
+        if args.focus_at.is_some() {
+            anyhow::bail!("give either --focus-at or --focus-plane, not both");
+        }
+        resolved = lay_focus_plane(path, settings, &resolved, &|settings| {
+            shot(settings, &description.scene).with_context(context)
+        })?;
+    }
+    if let Some(pixel) = args.focus_at {
+        resolved = autofocus(path, settings, description, &resolved, pixel)?;
+    }
+    if let Some(shutter) = shutter {
+        // The camera stands still; its samples take their moments, where the meshes are met.
+        let motion = shutter
+            .camera_motion(0.0, &|_| settings.clone(), &description.scene, true)
+            .with_context(context)?;
+        resolved.camera = resolved.camera.with_motion(motion);
+    }
+    Ok(resolved)
+}
+
 /// One image (`render` without `--frames`; `cli::sequence::run` decides).
 pub fn render_one(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
@@ -214,11 +267,11 @@ pub fn render_one(args: &RenderArgs) -> Result<()> {
     super::camera_animation::note_motion(&description, None);
     let mut settings = merged_settings(&description.settings, description.units, &args.view);
     let context = || format!("scene {}", description.source);
-    let mut resolved = shot(&settings, &description.scene).with_context(context)?;
-    let moving_shutter = lensray_core::settings::shutter(&settings)
-        .with_context(context)?
-        .is_some();
-    super::camera_animation::note_shutter(&description, moving_shutter, false);
+    let resolved = shot(&settings, &description.scene).with_context(context)?;
+    let open_shutter = lensray_core::settings::shutter(&settings).with_context(context)?;
+    super::camera_animation::note_shutter(&description, open_shutter.is_some(), false);
+    // A still of an animated file blurs its meshes over the shutter (`load_still_pose`).
+    let still_blur = open_shutter.filter(|_| description.motion.is_some());
     // The f-number is the lens's, which focusing below leaves as it is.
     let exposure = exposure(&settings, &resolved.camera).with_context(context)?;
     for warning in light_scene(&settings, &mut description.scene).with_context(context)? {
@@ -232,18 +285,19 @@ pub fn render_one(args: &RenderArgs) -> Result<()> {
         mut path,
         why,
         startup,
-    } = paths::open(&options, &description.scene, &resolved)?;
-    if settings.camera.focus_plane.is_some() {
-        if args.focus_at.is_some() {
-            anyhow::bail!("give either --focus-at or --focus-plane, not both");
-        }
-        resolved = lay_focus_plane(path.as_mut(), &mut settings, &resolved, &|settings| {
-            shot(settings, &description.scene).with_context(context)
-        })?;
-    }
-    if let Some(pixel) = args.focus_at {
-        resolved = autofocus(path.as_mut(), &mut settings, &description, &resolved, pixel)?;
-    }
+    } = open_still(
+        &options,
+        &description,
+        (&settings, &resolved),
+        still_blur.as_ref(),
+    )?;
+    let resolved = focused_shot(
+        args,
+        path.as_mut(),
+        (&mut settings, resolved),
+        &description,
+        still_blur.as_ref(),
+    )?;
 
     let mut progress = ProgressReporter::new("rendering", args.progress);
     let before = path.report();

@@ -103,9 +103,13 @@ fn run_frames(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>)
     let keyframes = std::mem::take(&mut description.keyframes);
     let merged = command_line_over(&description.settings, &command_line);
     let keyframes = super::camera_animation::play(keyframes, &description, &merged)?;
-    let mut settings = FrameSettings::new(description.settings.clone(), command_line, keyframes);
-    // The scene's lights are those of the first frame's settings: the scene stays.
     let context = format!("scene {}", description.source);
+    let moving_shutter = shutter(&merged).with_context(|| context.clone())?.is_some();
+    // The file's meshes blur where they move while the shutter is open.
+    let objects_blur = moving_shutter && description.motion.is_some();
+    let mut settings = FrameSettings::new(description.settings.clone(), command_line, keyframes)
+        .with_moving_objects(objects_blur);
+    // The scene's lights are those of the first frame's settings: the scene stays.
     let rate = fps(&merged).map_err(|e| match args.view.fps {
         Some(_) => anyhow::anyhow!("--fps: {e}"),
         None => anyhow::anyhow!("{context}: [image] {e}"),
@@ -125,7 +129,10 @@ fn run_frames(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>)
         mut path,
         why,
         startup,
-    } = paths::open(&options, scene, &first_shot)?;
+    } = match objects_blur {
+        true => paths::open_moving_objects(&options, scene)?,
+        false => paths::open(&options, scene, &first_shot)?,
+    };
     let focus_start = Instant::now();
     settings.resolve_focus(scene, source, &mut |camera, pixel, what| {
         focus_depth_at(path.as_mut(), camera, pixel, what)
@@ -139,7 +146,6 @@ fn run_frames(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>)
         .map(|(video, fps)| video.start(width, height, fps))
         .transpose()?;
     super::camera_animation::note_motion(&description, Some(rate));
-    let moving_shutter = shutter(&merged).with_context(|| context.clone())?.is_some();
     super::camera_animation::note_shutter(&description, moving_shutter, true);
     let times = render_frames(
         args,
@@ -255,9 +261,12 @@ fn render_frames(
         }
         let output = file.as_deref().map(PendingOutput::create).transpose()?;
         if let Some((motion, scene)) = posed.as_mut() {
-            let rate = fps(&settings.at(frame)).with_context(|| format!("frame {frame}"))?;
-            motion.pose(scene, f64::from(frame) / rate);
-            path.load_scene(scene)
+            let at = settings.at(frame);
+            let context = || format!("frame {frame}");
+            let rate = fps(&at).with_context(context)?;
+            let shutter = shutter(&at).with_context(context)?;
+            let frame_time = (f64::from(frame), rate);
+            super::posed::load_frame(path, motion, scene, frame_time, shutter.as_ref())
                 .with_context(|| format!("frame {frame}: the posed scene"))?;
         }
         if let Some(pixel) = args.focus_at {

@@ -10,6 +10,7 @@ use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::reference::{EmbreeSettings, Renderer};
 use lensray_core::sampler::CameraSample;
+use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
 
@@ -66,6 +67,16 @@ impl CpuPath {
             .as_ref()
             .ok_or_else(|| anyhow::anyhow!("no scene loaded"))
     }
+
+    /// Builds the renderer of `scene`, its moving meshes through `motion`'s steps.
+    fn load(&mut self, scene: &Scene, motion: Option<&ObjectMotion>) -> Result<()> {
+        EmbreeSettings::from_env()?;
+        let renderer = Renderer::with_motion(scene, motion);
+        self.report.build_seconds += renderer.bvh_build_time().as_secs_f64();
+        self.report.accel_bytes = renderer.accel_bytes();
+        self.renderer = Some(renderer);
+        Ok(())
+    }
 }
 
 impl Default for CpuPath {
@@ -89,12 +100,11 @@ impl RenderPath for CpuPath {
     }
 
     fn load_scene(&mut self, scene: &Scene) -> Result<()> {
-        EmbreeSettings::from_env()?;
-        let renderer = Renderer::new(scene);
-        self.report.build_seconds += renderer.bvh_build_time().as_secs_f64();
-        self.report.accel_bytes = renderer.accel_bytes();
-        self.renderer = Some(renderer);
-        Ok(())
+        self.load(scene, None)
+    }
+
+    fn load_moving_scene(&mut self, scene: &Scene, motion: &ObjectMotion) -> Result<()> {
+        self.load(scene, Some(motion))
     }
 
     fn add_samples(

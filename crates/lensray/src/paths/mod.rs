@@ -220,6 +220,35 @@ fn refuse_unsupported(options: &PathOptions, shot: &Shot) -> Result<(bool, bool)
     Ok((adaptive, moving))
 }
 
+/// Opens the path for shots whose meshes move while the shutter is open (motion blur of a
+/// file's animated meshes): the CPU path, the one that blurs them, asked for or chosen by
+/// `auto`; a GPU path or device asked for refuses in one line (`moving_objects_refusal`). The
+/// path loads `scene` as it stands; each frame loads its moving scene over it.
+pub fn open_moving_objects(options: &PathOptions, scene: &Scene) -> Result<OpenedPath> {
+    let device = options.device_to_use("--path")?;
+    match (options.path.only(), device) {
+        (Some(PathKind::Cpu), _) => open_cpu(scene, "asked for"),
+        (Some(kind), _) => Err(moving_objects_refusal(Some(kind))),
+        (None, Choice::Only(DeviceKind::Gpu)) => Err(moving_objects_refusal(None)),
+        (None, _) => match options.gpu_option() {
+            Some(option) => bail!(
+                "{} {}: only the CPU path blurs moving objects (--motion-blur, --rolling-shutter on a file's animated meshes), and it takes no Vulkan option",
+                option.flag,
+                option.what
+            ),
+            None => open_cpu(scene, "auto: only the CPU path blurs moving objects"),
+        },
+    }
+}
+
+/// The error of path `kind` (`None`: the GPU device) asked to blur moving objects.
+pub(crate) fn moving_objects_refusal(kind: Option<PathKind>) -> anyhow::Error {
+    let what = kind.map_or("--device gpu".to_string(), |kind| format!("--path {kind}"));
+    anyhow::anyhow!(
+        "{what} does not blur moving objects (--motion-blur, --rolling-shutter on a file's animated meshes): its acceleration structures hold one pose of the scene, where Embree on the CPU interpolates the moving meshes at each ray's moment; use --path cpu or auto, or --motion-blur off"
+    )
+}
+
 /// An error where path `kind` cannot render a camera that moves while the shutter is open.
 pub(crate) fn refuse_motion(kind: PathKind) -> Result<()> {
     match kind.motion_refusal() {

@@ -10,6 +10,7 @@ use serde::Serialize;
 
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
+use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
 use lensray_vulkan::{Estimator, Traversal};
@@ -358,6 +359,14 @@ pub trait RenderPath: Send {
 
     /// Loads `scene` (and builds what the path traverses), replacing any earlier scene.
     fn load_scene(&mut self, scene: &Scene) -> Result<()>;
+
+    /// Loads `scene` with the meshes `motion` names moving through its steps while the shutter
+    /// is open (motion blur of moving objects). Only the CPU path blurs them
+    /// (`paths::open_moving_objects` opens no other); the others refuse in one line.
+    fn load_moving_scene(&mut self, scene: &Scene, motion: &ObjectMotion) -> Result<()> {
+        let _ = (scene, motion);
+        Err(super::moving_objects_refusal(Some(self.kind())))
+    }
 
     /// Adds samples `samples` of every pixel of `shot` (thin lens: `Unlit` or `Lit`) to
     /// `accumulation`, which has the camera's size. Any split of a range into calls gives the
