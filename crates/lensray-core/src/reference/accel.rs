@@ -90,7 +90,7 @@ pub struct Accel {
     /// Each geometry's primitive -> the caller's triangle.
     triangles_of: [Arc<Vec<u32>>; GROUPS],
     /// Vertices per triangle, the caller's order.
-    corners: Arc<Corners>,
+    corners: Arc<TriangleVertices>,
     /// Bytes Embree allocated for the scene (its BVH and its copy of the triangles).
     embree_bytes: u64,
     pub build_time: Duration,
@@ -135,7 +135,7 @@ impl Accel {
             groups[group].push(i as u32);
         }
         let triangles_of = groups.map(Arc::new);
-        let corners = Arc::new(Corners {
+        let corners = Arc::new(TriangleVertices {
             still: triangles.to_vec(),
             steps: Arc::clone(&steps),
         });
@@ -375,12 +375,12 @@ fn ray(
 
 /// Every triangle's vertices, the caller's order (a moving one's at the frame's own time), and
 /// the moving ones' at each step.
-struct Corners {
+struct TriangleVertices {
     still: Vec<[Vec3A; 3]>,
     steps: Arc<TriangleSteps>,
 }
 
-impl Corners {
+impl TriangleVertices {
     /// `triangle`'s vertices at `moment`: between its steps where it moves.
     fn at(&self, triangle: u32, moment: f32) -> [Vec3A; 3] {
         match self.steps.row(triangle) {
@@ -402,7 +402,7 @@ pub fn is_back_face(direction: Vec3A, v: &[Vec3A; 3]) -> bool {
 /// (`alpha` given).
 struct SurfaceFilter {
     triangles_of: Arc<Vec<u32>>,
-    corners: Option<Arc<Corners>>,
+    corners: Option<Arc<TriangleVertices>>,
     alpha: Option<AlphaTest>,
 }
 
