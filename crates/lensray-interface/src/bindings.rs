@@ -327,6 +327,10 @@ binding_groups! {
         /// Per triangle the density per unit area of an emitter draw's point on it (0 where it
         /// does not emit); one 0 when no triangle emits.
         emitter_area_pdf: storage_buffer() = "readonly buffer EmitterAreaPdf { float emitter_area_pdf[]; }",
+        /// The vertices that move while the shutter is open, MOTION_STEPS of each attribute a
+        /// vertex: moving row r's positions from 3 r MOTION_STEPS, then its normals, then its
+        /// tangents (scene.glsl's vertex_position); one zero when nothing moves.
+        motion_vertices: storage_buffer() = "readonly buffer MotionVertices { vec4 motion_vertices[]; }",
     }
     /// The software traversal's BVH (shaders/include/hit_software.glsl, lensray-vulkan's
     /// scene/bvh.rs): its nodes, and its triangles in leaf order.

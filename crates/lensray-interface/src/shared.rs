@@ -414,8 +414,10 @@ shader_interface! {
             /// The same for z.
             z_planes: [u32; 4],
         }
-        /// A triangle of the software traversal, in BVH leaf order: its vertices, and in
-        /// `v0[3]` the global triangle index as a float (exact: indices stay below 2^24).
+        /// A triangle of the software traversal, in BVH leaf order: its vertices, in `v0[3]`
+        /// the global triangle index as a float (exact: indices stay below 2^24), and in
+        /// `v1[3]` 1 where it moves while the shutter is open (its vertices here are the
+        /// frame's; the traversal meets it at the ray's moment: scene.glsl's vertex_position).
         Std430 struct GpuBvhTriangle as BvhTriangle {
             v0: [f32; 4],
             v1: [f32; 4],

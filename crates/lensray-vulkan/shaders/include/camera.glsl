@@ -212,11 +212,21 @@ vec3 quat_rotate(vec4 q, vec3 v) {
     return v * (q.w * q.w - dot(b, b)) + b * (dot(v, b) * 2.0) + cross(b, v) * (q.w * 2.0);
 }
 
+// motion.rs: CameraMotion::moment, the moment in the span of a moving camera's sample.
+float motion_moment(Camera cam, CameraSample cs) {
+    float row_share = clamp(cs.film.y / cam.motion_height, 0.0, 1.0);
+    return clamp(cs.time * cam.motion_exposure_share + row_share * cam.motion_rolling_share, 0.0,
+                 1.0);
+}
+
+// projective.rs: Camera::sample_moment (the span's middle when the shutter takes no time).
+float sample_moment(Camera cam, CameraSample cs) {
+    return cam.motion_steps == 0u ? 0.5 : motion_moment(cam, cs);
+}
+
 // motion.rs: CameraMotion::moment then pose_at; CameraPose::world_point and world_vector.
 Ray moving_ray(Camera cam, Ray ray, CameraSample cs) {
-    float row_share = clamp(cs.film.y / cam.motion_height, 0.0, 1.0);
-    float moment = clamp(cs.time * cam.motion_exposure_share + row_share * cam.motion_rolling_share,
-                         0.0, 1.0);
+    float moment = motion_moment(cam, cs);
     float s = moment * float(cam.motion_steps - 1u);
     uint i = min(uint(s), cam.motion_steps - 2u);
     float f = s - float(i);

@@ -65,9 +65,16 @@ vec3 to_ray_frame(TraversalRay r, vec3 p) {
     return vec3(dot(r.shear_x, q), dot(r.shear_y, q), dot(r.shear_z, q));
 }
 
-// The hit of triangle `slot` with t in (0, t_max): t and the weights of v1, v2.
+// The hit of triangle `slot` with t in (0, t_max): t and the weights of v1, v2. A triangle that
+// moves while the shutter is open (v1.w 1) is met where trace_moment has it.
 bool intersect_triangle(TraversalRay r, uint slot, float t_max, out float t, out vec2 barycentrics) {
     BvhTriangle tri = bvh_triangles[slot];
+    if (tri.v1.w != 0.0) {
+        uint first = 3u * uint(tri.v0.w);
+        tri.v0.xyz = vertex_position(indices[first]);
+        tri.v1.xyz = vertex_position(indices[first + 1u]);
+        tri.v2.xyz = vertex_position(indices[first + 2u]);
+    }
     vec3 a = to_ray_frame(r, tri.v0.xyz);
     vec3 b = to_ray_frame(r, tri.v1.xyz);
     vec3 c = to_ray_frame(r, tri.v2.xyz);

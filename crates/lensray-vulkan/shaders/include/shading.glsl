@@ -214,9 +214,9 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
     vec3 ng = triangle_geometric_normal(tri);
     vec3 ns = ng;
     if (triangle_has_normals(tri)) {
-        vec3 n0 = normals[indices[3u * tri]].xyz;
-        vec3 n1 = normals[indices[3u * tri + 1u]].xyz;
-        vec3 n2 = normals[indices[3u * tri + 2u]].xyz;
+        vec3 n0 = vertex_normal(indices[3u * tri]).xyz;
+        vec3 n1 = vertex_normal(indices[3u * tri + 1u]).xyz;
+        vec3 n2 = vertex_normal(indices[3u * tri + 2u]).xyz;
         ns = normalize((1.0 - b.x - b.y) * n0 + b.x * n1 + b.y * n2);
     }
     bool back_face = dot(ng, ray.direction) > 0.0;

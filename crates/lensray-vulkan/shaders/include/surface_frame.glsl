@@ -56,13 +56,13 @@ vec3 normal_mapped(TextureRef map, float scale, uint tri, vec2 b, vec3 ns, vec4 
     uint i2 = indices[3u * tri + 2u];
     vec3 n0;
     if (triangle_has_normals(tri)) {
-        n0 = interpolate4(normals[i0], normals[i1], normals[i2], b).xyz;
+        n0 = interpolate4(vertex_normal(i0), vertex_normal(i1), vertex_normal(i2), b).xyz;
     } else {
-        vec3 v0 = positions[i0].xyz;
-        n0 = cross(positions[i1].xyz - v0, positions[i2].xyz - v0);
+        vec3 v0 = vertex_position(i0);
+        n0 = cross(vertex_position(i1) - v0, vertex_position(i2) - v0);
     }
     float s = dot(ns, n0) < 0.0 ? -1.0 : 1.0;
-    vec4 t4 = interpolate4(tangents[i0], tangents[i1], tangents[i2], b);
+    vec4 t4 = interpolate4(vertex_tangent(i0), vertex_tangent(i1), vertex_tangent(i2), b);
     precise vec3 t = t4.xyz - ns * dot(ns, t4.xyz);
     precise float length_squared = dot(t, t);
     if (!(length_squared > 0.0) || isinf(length_squared)) {

@@ -7,6 +7,7 @@
 #define LENSRAY_TEXTURE_GLSL
 
 #include "sampler.glsl"
+#include "scene.glsl"
 
 // The SURFACE_* bits any surface the shader meets may have. A pass specialized without one
 // (SPEC_SURFACES) compiles out its texture or alpha code, which CPU drivers would otherwise run
@@ -180,8 +181,8 @@ void triangle_texcoord_footprint(uint tri, vec3 dpdx, vec3 dpdy, out vec4 dx, ou
     uint i0 = indices[3u * tri];
     uint i1 = indices[3u * tri + 1u];
     uint i2 = indices[3u * tri + 2u];
-    vec3 e1 = positions[i1].xyz - positions[i0].xyz;
-    vec3 e2 = positions[i2].xyz - positions[i0].xyz;
+    vec3 e1 = vertex_position(i1) - vertex_position(i0);
+    vec3 e2 = vertex_position(i2) - vertex_position(i0);
     vec4 c0 = vertex_texcoords(i0);
     vec4 t1 = vertex_texcoords(i1) - c0;
     vec4 t2 = vertex_texcoords(i2) - c0;

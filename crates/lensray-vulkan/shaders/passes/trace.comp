@@ -292,6 +292,7 @@ uint trace_pixel() {
             if (params.camera.motion_steps != 0u) {
                 cs.time = pixel_dimension(sampler_state, s, DIM_TIME);
             }
+            trace_moment = sample_moment(params.camera, cs);
         }
         // What the sample adds untraced: a shortcut's value.
         vec3 value = !shortcut ? vec3(0.0) : lit ? reprojected_shortcut(r, pixel_index, cs) : shortcut_value;

@@ -29,6 +29,7 @@ use crate::{
 };
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
+use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::Scene;
 use lensray_core::settings::{Shading, Shot};
 
@@ -117,14 +118,32 @@ impl GpuRenderer {
     /// Uses `traversal` from now on (the preview's later frames included); an error when the
     /// device was not opened for it.
     pub fn set_traversal(&mut self, traversal: Traversal) -> Result<(), GpuError> {
+        if self.scene.as_ref().is_some_and(|scene| scene.moving) {
+            moving_traversal(traversal)?;
+        }
         self.trace.pipelines.set_traversal(traversal)
     }
 
     /// Uploads the scene and builds the structures of the device's traversals: acceleration
     /// structures, the software traversal's BVH, or both (replacing any earlier scene).
     pub fn load_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
+        self.load_moving_scene(scene, None)
+    }
+
+    /// [`Self::load_scene`] with the meshes `motion` names moving through its steps while the
+    /// shutter is open: the software traversal meets each where it is at a ray's moment; the
+    /// acceleration structures (ray queries, the ray-tracing pipeline) and the raster passes
+    /// hold the scene's own pose.
+    pub fn load_moving_scene(
+        &mut self,
+        scene: &Scene,
+        motion: Option<&ObjectMotion>,
+    ) -> Result<(), GpuError> {
+        if motion.is_some() {
+            moving_traversal(self.traversal())?;
+        }
         self.scene = None;
-        let buffers = SceneBuffers::new(&self.ctx, scene, &self.bvh_params)?;
+        let buffers = SceneBuffers::new(&self.ctx, scene, motion, &self.bvh_params)?;
         self.raster.bind_scene(&buffers);
         self.trace.pipelines.bind_scene(&buffers)?;
         let t = &mut self.timings;
@@ -306,4 +325,17 @@ pub(crate) fn check_size(camera: &Camera) -> Result<(), GpuError> {
         )));
     }
     Ok(())
+}
+
+/// An error unless `traversal` meets moving meshes at a ray's moment: the software traversal's
+/// BVH holds the box each sweeps, the acceleration structures one pose.
+fn moving_traversal(traversal: Traversal) -> Result<(), GpuError> {
+    match traversal {
+        Traversal::Software => Ok(()),
+        other => Err(GpuError::Invalid(format!(
+            "the {other} traversal does not meet meshes that move while the shutter is open: \
+             its acceleration structures hold one pose of the scene (the software traversal's \
+             BVH holds the box each sweeps)"
+        ))),
+    }
 }

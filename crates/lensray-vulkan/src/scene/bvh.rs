@@ -14,6 +14,10 @@
 //! never cut into a child. The shader meets the planes at `q * cell_t + origin_t` (the ray in the
 //! node's grid), with rounding errors of the size the slab test's far-end margin covers.
 //!
+//! Triangles that move while the shutter is open are built over the box each sweeps (its
+//! vertices at every step: `upload::motion`), flagged for the traversal, which meets them
+//! where they are at the ray's moment.
+//!
 //! Measured choices: see [`BvhParams::default`].
 
 #[cfg(test)]
@@ -26,10 +30,14 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3A;
 use obvhs::{
-    aabb::Aabb, cwbvh::builder::build_cwbvh_from_tris, triangle::Triangle, BvhBuildParams,
+    aabb::Aabb,
+    cwbvh::builder::{build_cwbvh, build_cwbvh_from_tris},
+    triangle::Triangle,
+    BvhBuildParams,
 };
 
 use crate::core::error::GpuError;
+use crate::upload::motion::swept_box;
 use lensray_core::interface::{GpuBvhNode, GpuBvhTriangle, BVH_STACK_SIZE};
 
 /// How the BVH is built (the choices measured for the software traversal).
@@ -64,11 +72,13 @@ pub(crate) struct FlatBvh {
 }
 
 impl FlatBvh {
-    /// Builds over the triangles `indices` (3 per triangle) of `positions`; the stored index of
-    /// a triangle is its position in `indices / 3`.
+    /// Builds over the triangles `indices` (3 per triangle) of `positions`, those whose
+    /// vertices move over the box they sweep through `motion_vertices`; the stored index of a
+    /// triangle is its position in `indices / 3`.
     pub(crate) fn build(
         positions: &[[f32; 4]],
         indices: &[u32],
+        motion_vertices: &[[f32; 4]],
         params: &BvhParams,
     ) -> Result<Self, GpuError> {
         let start = Instant::now();
@@ -85,7 +95,7 @@ impl FlatBvh {
             // One leaf of a degenerate triangle, which no ray hits: the shader needs no special
             // case for an empty scene.
             let triangles = vec![GpuBvhTriangle::default()];
-            let nodes = quantize::single_leaf(&triangles);
+            let nodes = quantize::single_leaf(&triangle_box(&triangles[0]));
             return Ok(Self {
                 nodes,
                 triangles,
@@ -98,8 +108,21 @@ impl FlatBvh {
             BvhBuildParams::fast_build()
         };
         build.max_prims_per_leaf = params.max_leaf_triangles.clamp(1, 3);
-        let bvh = build_cwbvh_from_tris(&tris, build, &mut Duration::default());
-
+        let swept: Vec<Option<Aabb>> = match motion_vertices.len() > 1 {
+            true => (0..tris.len())
+                .map(|t| swept_box(positions, indices, motion_vertices, t))
+                .collect(),
+            false => Vec::new(),
+        };
+        let bvh = if swept.iter().any(Option::is_some) {
+            let boxes: Vec<Aabb> = (tris.iter().zip(&swept))
+                .map(|(t, s)| s.unwrap_or_else(|| t.aabb()))
+                .collect();
+            build_cwbvh(&boxes, build, &mut Duration::default())
+        } else {
+            build_cwbvh_from_tris(&tris, build, &mut Duration::default())
+        };
+        let moves = |i: u32| swept.get(i as usize).is_some_and(Option::is_some);
         let triangles: Vec<GpuBvhTriangle> = bvh
             .primitive_indices
             .iter()
@@ -107,15 +130,22 @@ impl FlatBvh {
                 let t = &tris[i as usize];
                 GpuBvhTriangle {
                     v0: t.v0.extend(i as f32).to_array(),
-                    v1: t.v1.extend(0.0).to_array(),
+                    v1: t.v1.extend(if moves(i) { 1.0 } else { 0.0 }).to_array(),
                     v2: t.v2.extend(0.0).to_array(),
                 }
             })
             .collect();
+        // Each leaf slot's box: a moving triangle's sweep.
+        let leaf_boxes: Vec<Aabb> = (bvh.primitive_indices.iter().zip(&triangles))
+            .map(|(&i, t)| match swept.get(i as usize) {
+                Some(Some(swept)) => *swept,
+                _ => triangle_box(t),
+            })
+            .collect();
         let nodes = if bvh.nodes.is_empty() {
-            quantize::single_leaf(&triangles)
+            quantize::single_leaf(&leaf_boxes[0])
         } else {
-            quantize::nodes(&bvh.nodes, &triangles)
+            quantize::nodes(&bvh.nodes, &leaf_boxes)
         };
         let depth = depth(&nodes);
         if depth > BVH_STACK_SIZE {

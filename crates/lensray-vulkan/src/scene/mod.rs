@@ -21,6 +21,7 @@ use crate::upload::{FlatScene, SurfaceRun};
 use accel::SceneAccel;
 use bvh::{BvhParams, FlatBvh};
 use lensray_core::interface::{BvhGroup, SceneGroup};
+use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::Scene;
 
 /// The software traversal's BVH on the device (lensray-vulkan/src/scene/bvh.rs).
@@ -35,7 +36,12 @@ pub(crate) struct BvhBuffers {
 
 impl BvhBuffers {
     fn new(ctx: &Arc<Context>, flat: &FlatScene, params: &BvhParams) -> Result<Self, GpuError> {
-        let bvh = FlatBvh::build(&flat.positions, &flat.indices, params)?;
+        let bvh = FlatBvh::build(
+            &flat.positions,
+            &flat.indices,
+            &flat.motion_vertices,
+            params,
+        )?;
         let limit = u64::from(ctx.report.max_storage_buffer_range);
         let triangle_bytes = std::mem::size_of_val(bvh.triangles.as_slice()) as u64;
         if triangle_bytes > limit {
@@ -92,6 +98,10 @@ fn check_array_sizes(flat: &FlatScene, limit: u64) -> Result<(), GpuError> {
         ("vertex", std::mem::size_of_val(flat.positions.as_slice())),
         ("index", std::mem::size_of_val(flat.indices.as_slice())),
         ("material", std::mem::size_of_val(flat.materials.as_slice())),
+        (
+            "moving vertex",
+            std::mem::size_of_val(flat.motion_vertices.as_slice()),
+        ),
         ("texel", std::mem::size_of_val(flat.texels.as_slice())),
     ] {
         if bytes as u64 > limit {
@@ -124,6 +134,7 @@ pub(crate) struct SceneBuffers {
     emitter_triangles: Buffer,
     emitter_cdf: Buffer,
     emitter_area_pdf: Buffer,
+    motion_vertices: Buffer,
     /// The scene's environment map, or a black placeholder (`has_map` false).
     pub environment: environment::EnvironmentBuffers,
     /// Every triangle, in runs of the same surfaces (the raster passes' draws).
@@ -131,18 +142,22 @@ pub(crate) struct SceneBuffers {
     /// What the traced shading meets on any surface (SURFACE_*): the trace pass's
     /// specialization.
     pub surfaces: u32,
+    /// Whether meshes move while the shutter is open (only the software traversal meets them).
+    pub moving: bool,
 }
 
 impl SceneBuffers {
     /// Builds what the device's traversals need (`ctx.traversals`): acceleration structures,
-    /// the BVH of `bvh_params`, or both.
+    /// the BVH of `bvh_params`, or both; the meshes `motion` names move through its steps
+    /// (only the software traversal meets them where they are at a ray's moment).
     pub(crate) fn new(
         ctx: &Arc<Context>,
         scene: &Scene,
+        motion: Option<&ObjectMotion>,
         bvh_params: &BvhParams,
     ) -> Result<Self, GpuError> {
         let limit = u64::from(ctx.report.max_storage_buffer_range);
-        let flat = FlatScene::new(scene, limit)?;
+        let flat = FlatScene::new(scene, motion, limit)?;
         warn_coarsened(&flat, limit);
         check_array_sizes(&flat, limit)?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
@@ -167,7 +182,7 @@ impl SceneBuffers {
             bytemuck::cast_slice(&flat.indices),
             build_input,
         )?;
-        let [normals, tri_info, materials, texcoords, texcoords1, colours, tangents, textures, texels, lights, emitter_triangles, emitter_cdf, emitter_area_pdf] =
+        let [normals, tri_info, materials, texcoords, texcoords1, colours, tangents, textures, texels, lights, emitter_triangles, emitter_cdf, emitter_area_pdf, motion_vertices] =
             [
                 ("scene normals", bytemuck::cast_slice(&flat.normals)),
                 ("scene triangle info", bytemuck::cast_slice(&flat.tri_info)),
@@ -197,6 +212,10 @@ impl SceneBuffers {
                     "scene emitter area pdf",
                     bytemuck::cast_slice(&flat.emitters.area_pdf),
                 ),
+                (
+                    "scene motion vertices",
+                    bytemuck::cast_slice(&flat.motion_vertices),
+                ),
             ]
             .map(|(name, data)| Buffer::with_data(ctx, name, data, storage));
         let accel = accel_structures
@@ -225,9 +244,11 @@ impl SceneBuffers {
             emitter_triangles: emitter_triangles?,
             emitter_cdf: emitter_cdf?,
             emitter_area_pdf: emitter_area_pdf?,
+            motion_vertices: motion_vertices?,
             environment: environment::EnvironmentBuffers::of_scene(ctx, scene)?,
             surface_runs: flat.surface_runs,
             surfaces: flat.surfaces,
+            moving: motion.is_some(),
         })
     }
 
@@ -249,6 +270,7 @@ impl SceneBuffers {
             emitter_triangles: &self.emitter_triangles,
             emitter_cdf: &self.emitter_cdf,
             emitter_area_pdf: &self.emitter_area_pdf,
+            motion_vertices: &self.motion_vertices,
         });
     }
 }

@@ -7,6 +7,7 @@ use lensray_core::interface::TRI_MATERIAL_MASK;
 use lensray_core::scene::emitters::EmitterDistribution;
 use lensray_core::scene::Scene;
 
+use super::motion::vertex_moves;
 use crate::core::buffer::MIN_BUFFER_SIZE;
 
 /// The least length of each array: a shorter one's buffer is padded to `MIN_BUFFER_SIZE` bytes,
@@ -25,7 +26,8 @@ pub(crate) struct FlatEmitters {
 
 impl FlatEmitters {
     /// The emitters among the flattened triangles (`indices` into `positions`, materials in
-    /// `tri_info`) of `scene`.
+    /// `tri_info`) of `scene`: those that stand still while the shutter is open (a moving one
+    /// lights what a BRDF's draw meets it from, as on the CPU).
     pub(crate) fn new(
         positions: &[[f32; 4]],
         indices: &[u32],
@@ -37,7 +39,12 @@ impl FlatEmitters {
             .map(|t| [0, 1, 2].map(|k| Vec3::from_slice(&positions[t[k] as usize][..3])))
             .collect();
         let material = |t: usize| &scene.materials[(tri_info[t] & TRI_MATERIAL_MASK) as usize];
-        let d = EmitterDistribution::new(&triangles, |t| material(t).emission);
+        let moves =
+            |t: usize| (0..3).any(|k| vertex_moves(&positions[indices[3 * t + k] as usize]));
+        let d = EmitterDistribution::new(&triangles, |t| match moves(t) {
+            true => Vec3::ZERO,
+            false => material(t).emission,
+        });
         if d.is_empty() {
             // Shaders index non-empty arrays; a cdf of 0 says nothing emits.
             return Self {

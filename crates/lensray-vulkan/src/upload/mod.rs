@@ -17,6 +17,7 @@ use lensray_core::interface::{
     SURFACE_TEXTURED, TEXTURE_NONE, TRI_HAS_COLOURS, TRI_HAS_NORMALS, TRI_HAS_TANGENTS,
     TRI_SINGLE_SIDED, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT,
 };
+use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::order::sided_order;
 use lensray_core::scene::texture::Wrap;
 use lensray_core::scene::{AlphaMode, Material, TextureRef};
@@ -25,6 +26,7 @@ use lensray_core::settings::{Shading, Shot};
 
 mod camera;
 mod emitters;
+pub(crate) mod motion;
 
 pub(crate) use camera::*;
 pub(crate) use emitters::FlatEmitters;
@@ -68,6 +70,8 @@ pub(crate) struct FlatScene {
     pub colours: Vec<[f32; 4]>,
     /// Per vertex; zeros for meshes without tangents; one zero when no mesh has any.
     pub tangents: Vec<[f32; 4]>,
+    /// The moving vertices' attributes at each step (`motion.rs`); one zero when nothing moves.
+    pub motion_vertices: Vec<[f32; 4]>,
     pub indices: Vec<u32>,
     pub tri_info: Vec<u32>,
     pub materials: Vec<GpuMaterial>,
@@ -91,8 +95,13 @@ pub(crate) struct FlatScene {
 const MAX_TRIANGLES: usize = 1 << 24;
 
 impl FlatScene {
-    /// The arrays of `scene`, its texels in at most `texel_limit` bytes (`scene::texels`).
-    pub(crate) fn new(scene: &Scene, texel_limit: u64) -> Result<Self, GpuError> {
+    /// The arrays of `scene`, its texels in at most `texel_limit` bytes (`scene::texels`), the
+    /// meshes `motion` names moving through its steps while the shutter is open.
+    pub(crate) fn new(
+        scene: &Scene,
+        motion: Option<&ObjectMotion>,
+        texel_limit: u64,
+    ) -> Result<Self, GpuError> {
         let total = scene.triangle_count();
         if total > MAX_TRIANGLES {
             return Err(GpuError::Invalid(format!(
@@ -129,13 +138,19 @@ impl FlatScene {
         let any_colours = scene.meshes.iter().any(|m| !m.colours.is_empty());
         let any_tangents = scene.meshes.iter().any(|m| !m.tangents.is_empty());
         let any_texcoords1 = scene.meshes.iter().any(|m| !m.texcoords1.is_empty());
-        for mesh in &scene.meshes {
+        for (m, mesh) in scene.meshes.iter().enumerate() {
             let flag = |present: bool, bit: u32| if present { bit } else { 0 };
             let flags = flag(!mesh.normals.is_empty(), TRI_HAS_NORMALS)
                 | flag(!mesh.colours.is_empty(), TRI_HAS_COLOURS)
                 | flag(!mesh.tangents.is_empty(), TRI_HAS_TANGENTS);
             let base = flat.positions.len() as u32;
             flat.push_vertices(mesh, any_colours, any_tangents, any_texcoords1);
+            if let Some(steps) =
+                motion.and_then(|motion| motion.meshes.iter().find(|s| s.index == m))
+            {
+                let (positions, moving) = (&mut flat.positions, &mut flat.motion_vertices);
+                motion::push_moving_mesh(positions, moving, base as usize, steps);
+            }
             // Every acceleration-structure builder gets the triangles in a spatial order, each
             // side's in one range (the CPU reference numbers them so too).
             let material = |t: usize| &scene.materials[mesh.material_ids[t] as usize];
@@ -171,7 +186,11 @@ impl FlatScene {
             // The traced shading reads the vertex colours where it reads textures.
             flat.surfaces |= SURFACE_TEXTURED;
         }
-        for array in [&mut flat.colours, &mut flat.tangents] {
+        for array in [
+            &mut flat.colours,
+            &mut flat.tangents,
+            &mut flat.motion_vertices,
+        ] {
             if array.is_empty() {
                 // Shaders index non-empty arrays; no triangle's flags let them read this one.
                 array.push([0.0; 4]);

@@ -216,7 +216,7 @@ fn open_still(
     let (Some(shutter), Some(motion)) = (shutter, &description.motion) else {
         return paths::open(options, &description.scene, resolved);
     };
-    let mut opened = paths::open_moving_objects(options, &description.scene)?;
+    let mut opened = paths::open_moving_objects(options, &description.scene, resolved)?;
     let rate = lensray_core::settings::fps(settings)
         .with_context(|| format!("scene {}", description.source))?;
     let mut scene = description.scene.clone();

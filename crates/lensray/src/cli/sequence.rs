@@ -130,7 +130,7 @@ fn run_frames(args: &RenderArgs, frames: &[u32], pattern: Option<&FramePattern>)
         why,
         startup,
     } = match objects_blur {
-        true => paths::open_moving_objects(&options, scene)?,
+        true => paths::open_moving_objects(&options, scene, &first_shot)?,
         false => paths::open(&options, scene, &first_shot)?,
     };
     let focus_start = Instant::now();

@@ -10,6 +10,7 @@ use glam::Vec3;
 use crate::paths::{Clock, PathKind, PathReport, RenderPath};
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
+use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
 use lensray_vulkan::{focus_distance_at, Estimator, GpuRenderer, Traversal};
@@ -70,6 +71,15 @@ impl RenderPath for GpuPath {
 
     fn load_scene(&mut self, scene: &Scene) -> Result<()> {
         self.renderer.load_scene(scene)?;
+        self.note_memory();
+        Ok(())
+    }
+
+    fn load_moving_scene(&mut self, scene: &Scene, motion: &ObjectMotion) -> Result<()> {
+        if self.kind() != PathKind::Software {
+            return Err(super::moving_objects_refusal(self.kind()));
+        }
+        self.renderer.load_moving_scene(scene, Some(motion))?;
         self.note_memory();
         Ok(())
     }

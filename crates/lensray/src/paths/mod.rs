@@ -221,31 +221,60 @@ fn refuse_unsupported(options: &PathOptions, shot: &Shot) -> Result<(bool, bool)
 }
 
 /// Opens the path for shots whose meshes move while the shutter is open (motion blur of a
-/// file's animated meshes): the CPU path, the one that blurs them, asked for or chosen by
-/// `auto`; a GPU path or device asked for refuses in one line (`moving_objects_refusal`). The
-/// path loads `scene` as it stands; each frame loads its moving scene over it.
-pub fn open_moving_objects(options: &PathOptions, scene: &Scene) -> Result<OpenedPath> {
+/// file's animated meshes): the CPU path or the software traversal, the paths that meet a mesh
+/// where it is at a ray's moment; another path asked for refuses in one line
+/// (`moving_objects_refusal`). `auto` takes the CPU where its device choice does (`--device
+/// cpu`, a software rasterizer, no usable Vulkan device), else `software`. The path loads
+/// `scene` as it stands; each frame loads its moving scene over it.
+pub fn open_moving_objects(
+    options: &PathOptions,
+    scene: &Scene,
+    shot: &Shot,
+) -> Result<OpenedPath> {
+    match options.path.only() {
+        Some(PathKind::Cpu | PathKind::Software) => return open(options, scene, shot),
+        Some(kind) => return Err(moving_objects_refusal(kind)),
+        None => {}
+    }
+    const WHY: &str = "auto: the cpu and software paths blur moving objects";
     let device = options.device_to_use("--path")?;
-    match (options.path.only(), device) {
-        (Some(PathKind::Cpu), _) => open_cpu(scene, "asked for"),
-        (Some(kind), _) => Err(moving_objects_refusal(Some(kind))),
-        (None, Choice::Only(DeviceKind::Gpu)) => Err(moving_objects_refusal(None)),
-        (None, _) => match options.gpu_option() {
-            Some(option) => bail!(
-                "{} {}: only the CPU path blurs moving objects (--motion-blur, --rolling-shutter on a file's animated meshes), and it takes no Vulkan option",
-                option.flag,
-                option.what
-            ),
-            None => open_cpu(scene, "auto: only the CPU path blurs moving objects"),
-        },
+    let gpu_options = GpuOptions {
+        traversal: Some(lensray_vulkan::Traversal::Software),
+        ..options.gpu
+    };
+    let decision = match device {
+        Choice::Only(DeviceKind::Cpu) => return open_cpu(scene, WHY),
+        Choice::Only(DeviceKind::Gpu) => None,
+        Choice::Auto => auto_device(options, &gpu_options, auto::pixel_samples(shot)),
+    };
+    if let Some(calibration::DeviceDecision::Cpu(why)) = decision {
+        return open_cpu(scene, &format!("{WHY}; {why}"));
+    }
+    let software = PathOptions {
+        path: Choice::Only(PathKind::Software),
+        ..*options
+    };
+    match open(&software, scene, shot) {
+        Ok(opened) => Ok(OpenedPath {
+            why: WHY.into(),
+            ..opened
+        }),
+        Err(error) if device == Choice::Auto && options.gpu_option().is_none() => {
+            eprintln!("notice: rendering on the CPU: no usable GPU ({error:#})");
+            open_cpu(scene, "auto: no usable Vulkan device")
+        }
+        Err(error) => Err(error),
     }
 }
 
-/// The error of path `kind` (`None`: the GPU device) asked to blur moving objects.
-pub(crate) fn moving_objects_refusal(kind: Option<PathKind>) -> anyhow::Error {
-    let what = kind.map_or("--device gpu".to_string(), |kind| format!("--path {kind}"));
+/// The error of path `kind` asked to blur moving objects.
+pub(crate) fn moving_objects_refusal(kind: PathKind) -> anyhow::Error {
     anyhow::anyhow!(
-        "{what} does not blur moving objects (--motion-blur, --rolling-shutter on a file's animated meshes): its acceleration structures hold one pose of the scene, where Embree on the CPU interpolates the moving meshes at each ray's moment; use --path cpu or auto, or --motion-blur off"
+        "--path {kind} does not blur moving objects (--motion-blur, --rolling-shutter on a file's animated meshes): {}; use --path cpu, software or auto, or --motion-blur off",
+        match kind {
+            PathKind::Raster | PathKind::Hybrid => "it draws the scene rasterized in one pose",
+            _ => "its acceleration structures hold one pose of the scene, where the cpu and software paths meet each mesh where it is at a ray's moment",
+        }
     )
 }
 

@@ -361,11 +361,11 @@ pub trait RenderPath: Send {
     fn load_scene(&mut self, scene: &Scene) -> Result<()>;
 
     /// Loads `scene` with the meshes `motion` names moving through its steps while the shutter
-    /// is open (motion blur of moving objects). Only the CPU path blurs them
-    /// (`paths::open_moving_objects` opens no other); the others refuse in one line.
+    /// is open (motion blur of moving objects). The CPU path and the software traversal blur
+    /// them (`paths::open_moving_objects` opens no other); the others refuse in one line.
     fn load_moving_scene(&mut self, scene: &Scene, motion: &ObjectMotion) -> Result<()> {
         let _ = (scene, motion);
-        Err(super::moving_objects_refusal(Some(self.kind())))
+        Err(super::moving_objects_refusal(self.kind()))
     }
 
     /// Adds samples `samples` of every pixel of `shot` (thin lens: `Unlit` or `Lit`) to

@@ -94,7 +94,7 @@ fn camera_rays(desc: &SceneDescription, w: u32, h: u32) -> Vec<(Vec3, Vec3)> {
 /// (wide fetches, binary fetches, wide triangle tests, binary triangle tests) per ray.
 fn fetches_per_ray(desc: &SceneDescription, w: u32, h: u32) -> [f64; 4] {
     let (positions, indices) = flatten(&desc.scene.meshes);
-    let wide = FlatBvh::build(&positions, &indices, &BvhParams::default()).unwrap();
+    let wide = FlatBvh::build(&positions, &indices, &[], &BvhParams::default()).unwrap();
     let tris: Vec<[Vec3A; 3]> = indices
         .chunks_exact(3)
         .map(|t| [t[0], t[1], t[2]].map(|i| Vec3A::from_slice(&positions[i as usize][..3])))

@@ -4,8 +4,7 @@
 use glam::Vec3A;
 use obvhs::{aabb::Aabb, cwbvh::node::CwBvhNode};
 
-use super::triangle_box;
-use lensray_core::interface::{GpuBvhNode, GpuBvhTriangle};
+use lensray_core::interface::GpuBvhNode;
 
 /// Grid steps per axis: the coordinates are bytes.
 const STEPS: f32 = 255.0;
@@ -36,12 +35,12 @@ pub(super) struct Child {
 }
 
 /// The shader's nodes for obvhs's `cw` (same tree, same child slots, same triangle order),
-/// `triangles` in its leaf order.
-pub(super) fn nodes(cw: &[CwBvhNode], triangles: &[GpuBvhTriangle]) -> Vec<GpuBvhNode> {
+/// `leaf_boxes` the box of each triangle in its leaf order.
+pub(super) fn nodes(cw: &[CwBvhNode], leaf_boxes: &[Aabb]) -> Vec<GpuBvhNode> {
     // Exact boxes, children before parents: a child node's index exceeds its parent's.
     let mut boxes = vec![Aabb::empty(); cw.len()];
     for k in (0..cw.len()).rev() {
-        let node_box = child_boxes(&cw[k], &boxes, triangles)
+        let node_box = child_boxes(&cw[k], &boxes, leaf_boxes)
             .iter()
             .flatten()
             .fold(Aabb::empty(), |acc, b| acc.union(b));
@@ -49,7 +48,7 @@ pub(super) fn nodes(cw: &[CwBvhNode], triangles: &[GpuBvhTriangle]) -> Vec<GpuBv
     }
     cw.iter()
         .map(|n| {
-            let children = child_boxes(n, &boxes, triangles);
+            let children = child_boxes(n, &boxes, leaf_boxes);
             encode(
                 &children,
                 n.imask,
@@ -60,17 +59,18 @@ pub(super) fn nodes(cw: &[CwBvhNode], triangles: &[GpuBvhTriangle]) -> Vec<GpuBv
         .collect()
 }
 
-/// One node with one leaf child: triangle slot 0 (scenes of no triangle or one).
-pub(super) fn single_leaf(triangles: &[GpuBvhTriangle]) -> Vec<GpuBvhNode> {
+/// One node with one leaf child: triangle slot 0, of box `leaf_box` (scenes of no triangle or
+/// one).
+pub(super) fn single_leaf(leaf_box: &Aabb) -> Vec<GpuBvhNode> {
     let mut children = [None; 8];
-    children[0] = Some(triangle_box(&triangles[0]));
+    children[0] = Some(*leaf_box);
     let mut meta = [0u8; 8];
     meta[0] = 0b0010_0000;
     vec![encode(&children, 0, meta, [0, 0])]
 }
 
 /// The exact box of each occupied child slot of `n`.
-fn child_boxes(n: &CwBvhNode, boxes: &[Aabb], triangles: &[GpuBvhTriangle]) -> [Option<Aabb>; 8] {
+fn child_boxes(n: &CwBvhNode, boxes: &[Aabb], leaf_boxes: &[Aabb]) -> [Option<Aabb>; 8] {
     std::array::from_fn(|i| {
         if n.is_child_empty(i) {
             None
@@ -79,9 +79,9 @@ fn child_boxes(n: &CwBvhNode, boxes: &[Aabb], triangles: &[GpuBvhTriangle]) -> [
         } else {
             let (first, count) = n.child_primitives(i);
             Some(
-                triangles[first as usize..(first + count) as usize]
+                leaf_boxes[first as usize..(first + count) as usize]
                     .iter()
-                    .fold(Aabb::empty(), |acc, t| acc.union(&triangle_box(t))),
+                    .fold(Aabb::empty(), |acc, b| acc.union(b)),
             )
         }
     })

@@ -162,7 +162,7 @@ fn finds_the_reference_closest_hits() {
             medium_build: false,
         },
     ] {
-        let bvh = FlatBvh::build(&positions, &indices, &params).unwrap();
+        let bvh = FlatBvh::build(&positions, &indices, &[], &params).unwrap();
         assert_eq!(bvh.triangles.len(), tris.len());
         let (mut hits, mut fetches) = (0, 0);
         for i in 0..600 {
@@ -197,7 +197,7 @@ fn every_triangle_in_one_leaf_inside_every_box_above_it() {
             medium_build: true,
         },
     ] {
-        let bvh = FlatBvh::build(&positions, &indices, &params).unwrap();
+        let bvh = FlatBvh::build(&positions, &indices, &[], &params).unwrap();
         let mut seen = vec![0u32; bvh.triangles.len()];
         // (node, the decoded boxes on the path to it)
         let mut pending = vec![(0u32, Vec::<(Vec3A, Vec3A)>::new())];
@@ -237,7 +237,7 @@ fn every_triangle_in_one_leaf_inside_every_box_above_it() {
 
 #[test]
 fn empty_and_single_leaf_scenes() {
-    let bvh = FlatBvh::build(&[], &[], &BvhParams::default()).unwrap();
+    let bvh = FlatBvh::build(&[], &[], &[], &BvhParams::default()).unwrap();
     assert_eq!((bvh.nodes.len(), bvh.triangles.len()), (1, 1));
     assert_eq!(traverse(&bvh, Vec3::new(0.0, 0.0, -1.0), Vec3::Z).0, None);
 
@@ -246,7 +246,7 @@ fn empty_and_single_leaf_scenes() {
         [1.0, 0.0, 0.0, 1.0],
         [0.0, 1.0, 0.0, 1.0],
     ];
-    let bvh = FlatBvh::build(&positions, &[0, 1, 2], &BvhParams::default()).unwrap();
+    let bvh = FlatBvh::build(&positions, &[0, 1, 2], &[], &BvhParams::default()).unwrap();
     assert_eq!(bvh.nodes.len(), 1);
     let (hit, fetches, tests) = traverse(&bvh, Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
     assert_eq!((hit, fetches, tests), (Some((0, 1.0)), 1, 1));
