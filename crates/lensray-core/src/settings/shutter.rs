@@ -14,6 +14,7 @@
 use super::{fps, Settings, SettingsError, ShutterPosition, Switch};
 use crate::camera::{CameraFrame, CameraMotion};
 use crate::interface::MOTION_STEPS;
+use crate::scene::motion::{ObjectMotion, SceneMotion};
 use crate::scene::Scene;
 
 /// The default shutter angle, degrees: half a frame, as film cameras' 180-degree shutter.
@@ -103,6 +104,23 @@ impl Shutter {
         (0..MOTION_STEPS)
             .map(|k| frame + start + (end - start) * f64::from(k) / last)
             .collect()
+    }
+
+    /// The meshes `motion` moves over frame `frame`'s span (frames at `rate` a second, frame
+    /// N at N / rate seconds), at its steps: what a path meets at a sample's moment; `None`
+    /// when none moves then.
+    pub fn object_motion(
+        &self,
+        motion: &SceneMotion,
+        frame: f64,
+        rate: f64,
+    ) -> Option<ObjectMotion> {
+        let times: Vec<f64> = self
+            .step_frames(frame)
+            .iter()
+            .map(|step| step / rate)
+            .collect();
+        motion.steps(&times, self.frame_moment())
     }
 
     /// Where the frame's own time lies in its span, in [0, 1].

@@ -40,6 +40,7 @@ use crate::{Estimator, GpuRenderer, ValidationLog};
 use lensray_core::film::progressive::ProgressiveSchedule;
 use lensray_core::film::Image;
 use lensray_core::interface::TRACE_GROUP_SIZE;
+use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::Scene;
 
 pub use request::{FrameRequest, FrameResult, FrameTimes, HostSamples, PresentMode, ViewerOptions};
@@ -121,11 +122,17 @@ impl Viewer {
         self.gpu.device_name()
     }
 
-    /// Replaces the scene the window draws (an animated file's pose of another frame): waits
-    /// for the frames in flight, then uploads it and points every pass at it.
-    pub fn load_scene(&mut self, scene: &Scene) -> Result<(), GpuError> {
+    /// Replaces the scene the window draws (an animated file's pose of another frame), the
+    /// meshes `motion` names moving over the frame's shutter (the software traversal alone
+    /// meets them: `GpuRenderer::load_moving_scene`): waits for the frames in flight, then
+    /// uploads it and points every pass at it.
+    pub fn load_scene(
+        &mut self,
+        scene: &Scene,
+        motion: Option<&ObjectMotion>,
+    ) -> Result<(), GpuError> {
         self.wait_idle()?;
-        self.gpu.load_scene(scene)?;
+        self.gpu.load_moving_scene(scene, motion)?;
         if let Some(view_pass) = &self.view_pass {
             view_pass.rebind(self.gpu.scene_buffers()?);
         }

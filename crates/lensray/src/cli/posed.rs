@@ -20,15 +20,7 @@ pub fn load_frame(
     shutter: Option<&Shutter>,
 ) -> Result<()> {
     motion.pose(scene, frame / rate);
-    let steps = shutter.and_then(|shutter| {
-        let times: Vec<f64> = shutter
-            .step_frames(frame)
-            .iter()
-            .map(|step| step / rate)
-            .collect();
-        motion.steps(&times, shutter.frame_moment())
-    });
-    match steps {
+    match shutter.and_then(|shutter| shutter.object_motion(motion, frame, rate)) {
         Some(steps) => path.load_moving_scene(scene, &steps),
         None => path.load_scene(scene),
     }

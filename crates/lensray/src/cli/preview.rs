@@ -113,7 +113,8 @@ fn keyed_start(
     let merged = command_line_over(&description.settings, &command_line);
     // The camera's glTF animation plays in the window as in `render --frames`.
     let keyframes = super::camera_animation::play(keyframes, description, &merged)?;
-    let mut frames = FrameSettings::new(description.settings.clone(), command_line, keyframes);
+    let mut frames = FrameSettings::new(description.settings.clone(), command_line, keyframes)
+        .with_moving_objects(description.motion.is_some());
     let context = || format!("scene {}", description.source);
     // The frames an animated file's meshes and lights move over play too.
     let moving = match &description.motion {

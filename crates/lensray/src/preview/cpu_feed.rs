@@ -12,6 +12,7 @@ use std::thread::JoinHandle;
 use anyhow::Result;
 use lensray_core::film::adaptive::{min_samples, AdaptiveState, STEP};
 use lensray_core::film::{Accumulation, Sums};
+use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
 
@@ -116,12 +117,15 @@ impl Traced {
 struct Shared {
     job: Option<Job>,
     /// A scene to trace from the next job on (an animated file's next pose).
-    scene: Option<Scene>,
+    scene: Option<SceneToLoad>,
     latest: Option<Snapshot>,
     /// Why the worker stopped tracing the current job (a shot the CPU path refuses).
     error: Option<String>,
     quit: bool,
 }
+
+/// A scene for the worker to load, and its meshes' motion over the frame's shutter.
+type SceneToLoad = (Scene, Option<ObjectMotion>);
 
 pub struct CpuFeed {
     shared: Arc<(Mutex<Shared>, Condvar)>,
@@ -174,13 +178,14 @@ impl CpuFeed {
         wake.notify_all();
     }
 
-    /// Traces `scene` from the next request on (an animated file's pose of another frame):
-    /// the next request starts from 0 samples, even of the same shot.
-    pub fn load_scene(&mut self, scene: &Scene) {
+    /// Traces `scene` from the next request on (an animated file's pose of another frame),
+    /// the meshes `motion` names moving over the frame's shutter: the next request starts
+    /// from 0 samples, even of the same shot.
+    pub fn load_scene(&mut self, scene: &Scene, motion: Option<&ObjectMotion>) {
         self.current = None;
         let (lock, wake) = &*self.shared;
         let mut shared = lock.lock().expect("the worker does not panic");
-        shared.scene = Some(scene.clone());
+        shared.scene = Some((scene.clone(), motion.cloned()));
         shared.job = None;
         shared.latest = None;
         wake.notify_all();
@@ -225,9 +230,13 @@ fn work(path: &mut CpuPath, shared: &(Mutex<Shared>, Condvar)) {
         let Some((job, scene)) = next_job(shared, traced.as_ref()) else {
             return;
         };
-        if let Some(scene) = scene {
+        if let Some((scene, motion)) = scene {
             traced = None;
-            if let Err(e) = path.load_scene(&scene) {
+            let loaded = match &motion {
+                Some(motion) => path.load_moving_scene(&scene, motion),
+                None => path.load_scene(&scene),
+            };
+            if let Err(e) = loaded {
                 let mut state = lock.lock().expect("the window does not panic while locked");
                 state.error = Some(format!("{e:#}"));
                 state.job = None;
@@ -257,7 +266,7 @@ fn work(path: &mut CpuPath, shared: &(Mutex<Shared>, Condvar)) {
 fn next_job(
     shared: &(Mutex<Shared>, Condvar),
     traced: Option<&Traced>,
-) -> Option<(Job, Option<Scene>)> {
+) -> Option<(Job, Option<SceneToLoad>)> {
     let (lock, wake) = shared;
     let mut state = lock.lock().expect("the window does not panic while locked");
     loop {

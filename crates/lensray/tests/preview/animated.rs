@@ -55,3 +55,59 @@ fn a_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
     assert_same_image(dir.path(), "p18.exr", "r.0018.exr", "animated-18");
     assert_same_image(dir.path(), "p42.exr", "r.0042.exr", "animated-42");
 }
+
+/// With motion blur on, a frame of BoxAnimated in the preview is the blurred frame the
+/// sequence renders, float for float: the inner box turns 36 degrees while the shutter is open
+/// (4 fps, a 360-degree shutter, frame 7 at 1.75 s), and the window hands the path its steps.
+#[test]
+fn a_blurred_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
+    let test = "a_blurred_frame_of_an_animated_file_is_the_frame_the_sequence_renders";
+    let dir = tempfile::tempdir().unwrap();
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/BoxAnimated/BoxAnimated.gltf");
+    let view = [
+        "--scene",
+        file.to_str().unwrap(),
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--spp",
+        "4",
+        "--eye",
+        "0,3,7",
+        "--target",
+        "0,1.5,0",
+        "--up",
+        "0,1,0",
+        "--light-position",
+        "2,6,5",
+        "--light-intensity",
+        "60,60,60",
+        "--fps",
+        "4",
+        "--shutter-angle",
+        "360",
+    ];
+    let blur = ["--motion-blur", "on"];
+    let script = "0 frame 7\n0 wait converged\n0 screenshot p7.exr\n0 quit\n";
+    let mut window = view.to_vec();
+    window.extend(blur);
+    let Some(_) = preview_with(test, dir.path(), script, &window, &["--path", "software"]) else {
+        return;
+    };
+    let mut args = vec!["--path", "software", "--frames", "7", "--out", "r.#.exr"];
+    args.extend(view);
+    args.extend(blur);
+    headless(dir.path(), &args);
+    assert_same_image(dir.path(), "p7.exr", "r.7.exr", "animated-blurred-7");
+    // The blur is there: the sequence's still frame differs.
+    let mut still = vec!["--path", "software", "--frames", "7", "--out", "s.#.exr"];
+    still.extend(view);
+    headless(dir.path(), &still);
+    let (blurred, sharp) = (
+        std::fs::read(dir.path().join("r.7.exr")).unwrap(),
+        std::fs::read(dir.path().join("s.7.exr")).unwrap(),
+    );
+    assert_ne!(blurred, sharp, "{test}: motion blur changed nothing");
+}

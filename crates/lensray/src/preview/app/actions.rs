@@ -28,6 +28,8 @@ impl App {
             Action::ToggleMotionBlur => {
                 let on = rig.toggle_motion_blur();
                 eprintln!("motion blur: {}", if on { "on" } else { "off" });
+                // The file's moving meshes go with their steps, or without.
+                self.pose_again();
             }
             Action::SetView(view) => self.panel.view = view,
             Action::NextView => self.panel.view = self.panel.view.next(),

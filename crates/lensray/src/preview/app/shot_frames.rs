@@ -38,28 +38,43 @@ impl App {
             Ok(rig) => self.config.rig = rig,
             Err(e) => eprintln!("frame {frame}: {e} (the camera stays)"),
         }
-        self.pose(f64::from(frame) / fps);
+        self.pose(frame, fps);
     }
 
-    /// Poses what the file's animations move at `time` seconds, as `render --frames` does, and
-    /// hands the pose to the path tracing the samples; the accumulation restarts. The camera's
-    /// framing stays the scene's at rest, as a sequence's does.
-    fn pose(&mut self, time: f64) {
+    /// Poses what the file's animations move at frame `frame` (at `fps`), as `render --frames`
+    /// does, the meshes moving over the frame's shutter where the window's motion blur is on,
+    /// and hands the pose to the path tracing the samples; the accumulation restarts. The
+    /// camera's framing stays the scene's at rest, as a sequence's does.
+    pub(super) fn pose(&mut self, frame: u32, fps: f64) {
         let Some(motion) = &self.config.description.motion else {
             return;
         };
+        let time = f64::from(frame) / fps;
         let scene = self
             .posed
             .get_or_insert_with(|| self.config.description.scene.clone());
         motion.pose(scene, time);
+        let shutter = shutter(self.config.rig.settings()).ok().flatten();
+        let steps = shutter.and_then(|s| s.object_motion(motion, f64::from(frame), fps));
         if let Some(feed) = self.cpu_feed.as_mut() {
-            feed.load_scene(scene);
+            feed.load_scene(scene, steps.as_ref());
         } else if let Some(viewer) = self.viewer.as_mut() {
-            if let Err(e) = viewer.load_scene(scene) {
-                eprintln!("the pose at {time:.3} s: {e} (the scene stays)");
+            if let Err(e) = viewer.load_scene(scene, steps.as_ref()) {
+                eprintln!("frame {frame}: {e} (the meshes stand at the frame's time)");
+                if let Err(e) = viewer.load_scene(scene, None) {
+                    eprintln!("the pose at {time:.3} s: {e} (the scene stays)");
+                }
             }
         }
         self.last = None;
+    }
+
+    /// Poses the frame shown again (motion blur turned on or off).
+    pub(super) fn pose_again(&mut self) {
+        if let Some(playback) = self.config.playback.as_ref() {
+            let (frame, fps) = (playback.clock.frame(), playback.clock.fps());
+            self.pose(frame, fps);
+        }
     }
 
     /// Plays the shot from the frame shown, or pauses on the frame it reached.
