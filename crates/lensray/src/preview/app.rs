@@ -167,6 +167,8 @@ struct App {
     last: Option<Shot>,
     /// An animated file's scene posed at the frame shown (`None`: at rest).
     posed: Option<lensray_core::scene::Scene>,
+    /// Whether the window said that its path does not blur moving meshes (it says so once).
+    said_meshes_stand: bool,
     pending_pick: Option<Vec2>,
     /// Whether the pending pick is a point of the plane of focus (Shift+click).
     plane_pick: bool,
@@ -209,6 +211,7 @@ impl App {
             log: FrameLog::default(),
             last: None,
             posed: None,
+            said_meshes_stand: false,
             pending_pick: None,
             plane_pick: false,
             plane_points: Vec::new(),

@@ -60,7 +60,9 @@ impl App {
             feed.load_scene(scene, steps.as_ref());
         } else if let Some(viewer) = self.viewer.as_mut() {
             if let Err(e) = viewer.load_scene(scene, steps.as_ref()) {
-                eprintln!("frame {frame}: {e} (the meshes stand at the frame's time)");
+                if !std::mem::replace(&mut self.said_meshes_stand, true) {
+                    eprintln!("motion blur: {e}; the meshes stand at each frame's time (--path software blurs them)");
+                }
                 if let Err(e) = viewer.load_scene(scene, None) {
                     eprintln!("the pose at {time:.3} s: {e} (the scene stays)");
                 }
