@@ -71,8 +71,9 @@ pub(super) struct ShadowRay {
 }
 
 impl Renderer {
-    /// The light that each lane's surface reflects towards the viewer from `lights`
-    /// (`reflected[lane]`, added light by light), with the rays traced. Each light's shadow
+    /// The light that each lane's surface reflects towards the viewer from `lights` (a moving
+    /// one where the lane's moment has it), `reflected[lane]` added light by light, with the
+    /// rays traced. Each light's shadow
     /// rays go to Embree as one packet: the samples of a pixel see nearby points and send their
     /// shadow rays the same way.
     pub(super) fn direct_light(
@@ -84,9 +85,12 @@ impl Renderer {
         let origins = lanes.map(|lane| lane.map(|l| shadow_origin(&l.surface)));
         let draws = Self::shadow_draws(lanes);
         let mut rays = 0;
-        for light in lights {
+        for (index, light) in lights.iter().enumerate() {
+            let moving = self.moving_lights.iter().find(|m| m.index == index);
             let shadow = std::array::from_fn(|l| {
                 let (lane, mut origin) = (lanes[l]?, origins[l]?);
+                // A moving light where the lane's moment has it.
+                let light = &moving.map_or(*light, |m| m.at(lane.draw.moment));
                 let mut incident = light.incident(origin)?;
                 let n = lane.surface.shading_normal;
                 // A light above the base's normal or the coat's is seen from the front.

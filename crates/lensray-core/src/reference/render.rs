@@ -18,7 +18,7 @@ use crate::film::spectral::{checked_value, d_line_value};
 use crate::film::{Image, OnDevice, Progress, Sums};
 use crate::sampler::{pixel_sampler, shared_pixel_sampler, CameraSample};
 use crate::scene::emitters::EmitterDistribution;
-use crate::scene::motion::{MeshSteps, ObjectMotion};
+use crate::scene::motion::{LightSteps, MeshSteps, ObjectMotion};
 use crate::scene::order::sided_order;
 use crate::scene::{blend_threshold, ray_key, EnvironmentLight, Light, Scene};
 use crate::scene::{AOV_BLEND_THRESHOLD, BLEND_CAMERA_SALT};
@@ -32,6 +32,8 @@ pub struct Renderer {
     pub(super) surfaces: Arc<SurfaceData>,
     pub(super) materials: Arc<Materials>,
     pub(super) lights: Vec<Light>,
+    /// The lights that move while the shutter is open, at each step.
+    pub(super) moving_lights: Vec<LightSteps>,
     /// The emissive triangles, drawn as lights by their power.
     pub(super) emitters: EmitterDistribution,
     pub(super) environment: Option<Arc<EnvironmentLight>>,
@@ -76,8 +78,9 @@ impl Renderer {
     }
 
     /// [`Self::new`] with the meshes `motion` names moving through its steps while the shutter
-    /// is open (the rest of each, and every other mesh, is `scene`'s). Moving emissive
-    /// triangles light what they meet but are not drawn as lights.
+    /// is open (the rest of each, and every other mesh, is `scene`'s), and the lights it names
+    /// through theirs. Moving emissive triangles light what they meet but are not drawn as
+    /// lights.
     pub fn with_motion(scene: &Scene, motion: Option<&ObjectMotion>) -> Self {
         let count = scene.triangle_count();
         let mut steps = TriangleSteps::default();
@@ -166,6 +169,7 @@ impl Renderer {
             surfaces,
             materials,
             lights: scene.lights.clone(),
+            moving_lights: motion.map_or(Vec::new(), |motion| motion.lights.clone()),
             environment: scene.environment.clone(),
             cosine_sky: false,
             frame_moment: motion.map_or(0.5, |motion| motion.frame_moment),

@@ -37,6 +37,8 @@ pub struct MovingLight {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ObjectMotion {
     pub meshes: Vec<MeshSteps>,
+    /// The punctual lights that move, each at every step.
+    pub lights: Vec<LightSteps>,
     /// Where the frame's own time lies in the span, in [0, 1]: what the AOVs see.
     pub frame_moment: f32,
 }
@@ -47,6 +49,31 @@ pub struct ObjectMotion {
 pub struct MeshSteps {
     pub index: usize,
     pub steps: Vec<StepVertices>,
+}
+
+/// One moving light of [`ObjectMotion`]: its index in [`Scene::lights`] and its pose at each
+/// step (between two, its position and direction are interpolated linearly, the direction
+/// normalized).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightSteps {
+    pub index: usize,
+    pub steps: Vec<Light>,
+}
+
+impl LightSteps {
+    /// The light at `moment` in [0, 1] of the span: between the two steps around it.
+    pub fn at(&self, moment: f32) -> Light {
+        let last = (self.steps.len() - 1) as f32;
+        let s = moment.clamp(0.0, 1.0) * last;
+        let i = (s as usize).min(self.steps.len() - 2);
+        let f = s - i as f32;
+        let (a, b) = (&self.steps[i], &self.steps[i + 1]);
+        Light {
+            position: a.position * (1.0 - f) + b.position * f,
+            direction: (a.direction * (1.0 - f) + b.direction * f).normalize_or_zero(),
+            ..*a
+        }
+    }
 }
 
 /// A mesh's positions, normals and tangents at one step, as [`posed_mesh`] places them.
@@ -105,23 +132,31 @@ impl SceneMotion {
             scene.meshes[moving.index] = posed_mesh(&moving.node_mesh, &world_from_node);
         }
         for moving in &self.lights {
-            let world_from_node = world_from_chain(self.world_scale, &moving.chain, time);
-            let node = &moving.node_light;
-            let light = &mut scene.lights[moving.index];
-            light.position = world_from_node
-                .transform_point3(node.position.as_dvec3())
-                .as_vec3();
-            light.direction = world_from_node
-                .transform_vector3(node.direction.as_dvec3())
-                .normalize_or_zero()
-                .as_vec3();
-            light.range = node.range * self.world_scale as f32;
+            scene.lights[moving.index] = self.posed_light(moving, time);
         }
     }
 
-    /// The vertices of the meshes that move between `times` (seconds on the file's timeline,
-    /// one per step of a frame's span, the frame's own time at `frame_moment` of it), `None`
-    /// when none does: a mesh standing still over the span is the frame's own.
+    /// `moving`'s light where its chain has it at `time` seconds.
+    fn posed_light(&self, moving: &MovingLight, time: f64) -> Light {
+        let world_from_node = world_from_chain(self.world_scale, &moving.chain, time);
+        let node = &moving.node_light;
+        Light {
+            position: world_from_node
+                .transform_point3(node.position.as_dvec3())
+                .as_vec3(),
+            direction: world_from_node
+                .transform_vector3(node.direction.as_dvec3())
+                .normalize_or_zero()
+                .as_vec3(),
+            range: node.range * self.world_scale as f32,
+            ..*node
+        }
+    }
+
+    /// The vertices of the meshes and the poses of the lights that move between `times`
+    /// (seconds on the file's timeline, one per step of a frame's span, the frame's own time
+    /// at `frame_moment` of it), `None` when none does: one standing still over the span is
+    /// the frame's own.
     pub fn steps(&self, times: &[f64], frame_moment: f32) -> Option<ObjectMotion> {
         let meshes: Vec<MeshSteps> = self
             .meshes
@@ -149,8 +184,22 @@ impl SceneMotion {
                 })
             })
             .collect();
-        (!meshes.is_empty()).then_some(ObjectMotion {
+        let lights: Vec<LightSteps> = self
+            .lights
+            .iter()
+            .filter_map(|moving| {
+                let steps: Vec<Light> =
+                    times.iter().map(|&t| self.posed_light(moving, t)).collect();
+                let moves = steps.iter().any(|step| step != &steps[0]);
+                moves.then_some(LightSteps {
+                    index: moving.index,
+                    steps,
+                })
+            })
+            .collect();
+        (!meshes.is_empty() || !lights.is_empty()).then_some(ObjectMotion {
             meshes,
+            lights,
             frame_moment,
         })
     }
@@ -364,5 +413,34 @@ mod tests {
         assert_eq!(scene.lights[0].position, Vec3::new(2.0, 0.0, 0.0));
         assert_eq!(scene.lights[0].direction, Vec3::NEG_Z);
         assert_eq!(scene.lights[0].range, 6.0);
+    }
+
+    /// A light's steps over a span follow its chain, and between two it is interpolated: the
+    /// sliding light at 0, 0.5 and 1 s is at x = 0, 1 and 2 m, and at moment 0.25 of that span
+    /// at 0.5 m.
+    #[test]
+    fn a_moving_light_has_its_steps() {
+        let node_light = Light::point(Vec3::ZERO, Vec3::ONE);
+        let motion = SceneMotion::new(
+            Vec::new(),
+            Vec::new(),
+            vec![MovingLight {
+                index: 0,
+                chain: vec![sliding()],
+                node_light,
+            }],
+        )
+        .unwrap();
+        let steps = motion
+            .steps(&[0.0, 0.5, 1.0], 0.5)
+            .expect("the light moves");
+        let light = &steps.lights[0];
+        let xs: Vec<f32> = light.steps.iter().map(|l| l.position.x).collect();
+        assert_eq!(xs, vec![0.0, 1.0, 2.0]);
+        assert_eq!(light.at(0.25).position, Vec3::new(0.5, 0.0, 0.0));
+        assert!(
+            motion.steps(&[2.0, 3.0], 0.5).is_none(),
+            "at rest after its last key"
+        );
     }
 }

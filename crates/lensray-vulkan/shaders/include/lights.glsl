@@ -11,6 +11,20 @@ struct Incident {
     vec3 irradiance;
 };
 
+// Light `i` of the scene's, where trace_moment has it: a light that moves while the shutter is
+// open (position.w -(row + 1)) between its steps (motion.rs: LightSteps::at; the upload's rows:
+// lensray-vulkan/src/upload/motion.rs).
+Light light_at(uint i) {
+    Light light = lights[i];
+    if (light.position.w < 0.0) {
+        uint row = uint(-light.position.w) - 1u;
+        light.position = vec4(moving_attribute(row, 0u).xyz, 1.0);
+        vec3 d = moving_attribute(row, 1u).xyz;
+        light.direction.xyz = dot(d, d) > 0.0 ? normalize(d) : vec3(0.0);
+    }
+    return light;
+}
+
 // light.rs: Light::incident; false where the light gives nothing at `origin`.
 bool light_incident(Light light, vec3 origin, out Incident incident) {
     if (light.kind == LIGHT_DIRECTIONAL) {

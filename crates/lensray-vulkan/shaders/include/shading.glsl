@@ -132,7 +132,8 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
         vec3 reflected;
         if (i < count) {
             Incident incident;
-            if (!light_incident(lights[i], s.o, incident)) {
+            Light light = light_at(i);
+            if (!light_incident(light, s.o, incident)) {
                 continue;
             }
             // A light above the base's normal or the coat's is seen from the front.
@@ -140,7 +141,7 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
                 && !coat_reflects(s.brdf, s.ns, incident.direction)) {
                 // Light from behind reaches the viewer only through the surface.
                 if (!brdf_transmits(s.brdf)
-                    || !light_incident(lights[i], origin_towards(s, incident.direction), incident)
+                    || !light_incident(light, origin_towards(s, incident.direction), incident)
                     || !leaves(s, incident.direction)) {
                     continue;
                 }

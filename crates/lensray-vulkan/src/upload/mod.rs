@@ -186,6 +186,10 @@ impl FlatScene {
             // The traced shading reads the vertex colours where it reads textures.
             flat.surfaces |= SURFACE_TEXTURED;
         }
+        for steps in motion.map_or(&[][..], |motion| &motion.lights) {
+            let light = &mut flat.lights[steps.index];
+            motion::push_moving_light(light, &mut flat.motion_vertices, steps);
+        }
         for array in [
             &mut flat.colours,
             &mut flat.tangents,

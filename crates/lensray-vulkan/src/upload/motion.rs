@@ -2,12 +2,14 @@
 //! as the shaders read them (shaders/include/scene.glsl's vertex_position): a moving vertex's
 //! position holds `-(row + 1)` in w (a still one's holds 1), and the scene group's
 //! `motion_vertices` holds row r's positions at each step from `3 r MOTION_STEPS`, then its
-//! normals, then its tangents. The CPU reference keeps the same steps per triangle
+//! normals, then its tangents. A moving light's position names its row the same way, which
+//! holds its positions, then its directions. The CPU reference keeps the same steps per triangle
 //! (lensray-core's reference/steps.rs) and interpolates them the same way.
 
 use glam::{Vec3A, Vec4};
+use lensray_core::interface::GpuLight;
 use lensray_core::interface::MOTION_STEPS;
-use lensray_core::scene::motion::MeshSteps;
+use lensray_core::scene::motion::{LightSteps, MeshSteps};
 use obvhs::aabb::Aabb;
 
 const STEPS: usize = MOTION_STEPS as usize;
@@ -39,6 +41,31 @@ pub(super) fn push_moving_mesh(
             motion_vertices.push(tangent.to_array());
         }
     }
+}
+
+/// Marks the moving light `steps` (`light`, flattened) with its row, and appends its positions
+/// and directions at each step (and a row's third attribute, zeros) to `motion_vertices`.
+pub(super) fn push_moving_light(
+    light: &mut GpuLight,
+    motion_vertices: &mut Vec<[f32; 4]>,
+    steps: &LightSteps,
+) {
+    assert_eq!(steps.steps.len(), STEPS, "one pose per step");
+    let row = motion_vertices.len() / (3 * STEPS);
+    light.position[3] = -((row + 1) as f32);
+    motion_vertices.extend(
+        steps
+            .steps
+            .iter()
+            .map(|l| l.position.extend(1.0).to_array()),
+    );
+    motion_vertices.extend(
+        steps
+            .steps
+            .iter()
+            .map(|l| l.direction.extend(0.0).to_array()),
+    );
+    motion_vertices.extend(std::iter::repeat_n([0.0; 4], STEPS));
 }
 
 /// Whether the vertex whose flattened position is `position` moves while the shutter is open.

@@ -119,9 +119,9 @@ pub fn note_motion(description: &SceneDescription, fps: Option<f64>) {
     }
 }
 
-/// Says what motion blur or a rolling shutter (`shutter` on) moves and what it does not: in a
-/// still, not the camera (its keys and animation play in sequences only), but the file's
-/// animated meshes about 0 s; the file's animated lights hold each frame's own pose.
+/// Says what motion blur or a rolling shutter (`shutter` on) does not move in a still: the
+/// camera (its keys and animation play in sequences only); the file's animated meshes and
+/// lights move about 0 s.
 pub fn note_shutter(description: &SceneDescription, shutter: bool, sequence: bool) {
     if !shutter {
         return;
@@ -129,12 +129,9 @@ pub fn note_shutter(description: &SceneDescription, shutter: bool, sequence: boo
     let animated = description.motion.as_ref();
     if !sequence {
         let meshes = match animated {
-            Some(_) => "; the file's animated meshes blur as on frame 0 of a sequence (about 0 s)",
+            Some(_) => "; the file's animated meshes and lights move as on frame 0 of a sequence (about 0 s)",
             None => "",
         };
         eprintln!("note: motion blur and a rolling shutter move the camera by its keys or animation, which play in sequences (--frames): in this render the camera stands still{meshes}");
-    }
-    if animated.is_some_and(|motion| !motion.lights.is_empty()) {
-        eprintln!("note: motion blur and a rolling shutter move the file's animated meshes; its animated lights hold each frame's own pose, unblurred");
     }
 }

@@ -419,3 +419,91 @@ fn the_paths_that_hold_one_pose_refuse_to_blur_moving_objects_in_one_line() {
         );
     }
 }
+
+/// A glTF (`light.bin` beside it) of a 20 m floor facing +z at z = -10 and a point light
+/// (`KHR_lights_punctual`, 10 cd) 0.5 m before it, keyed from x = -5 m at frame 0 to x = 5 m at
+/// frame 10 at 24 fps, and the scene file over it: lit, black background, no sky.
+fn moving_light_scene(dir: &Path) -> String {
+    let floor = quad([-10.0, -10.0], [20.0, 0.0], [0.0, 20.0]);
+    let times = [0.0f32, 10.0 / 24.0];
+    let keys = [-5.0f32, 0.0, -9.5, 5.0, 0.0, -9.5];
+    let mut bin = Vec::new();
+    let mut views = Vec::new();
+    for data in [&floor[..], &times[..], &keys[..]] {
+        views.push(format!(
+            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+            bin.len(),
+            data.len() * 4
+        ));
+        bin.extend(data.iter().flat_map(|x| x.to_le_bytes()));
+    }
+    let text = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1]}}],
+"extensionsUsed":["KHR_lights_punctual"],
+"extensions":{{"KHR_lights_punctual":{{"lights":[{{"type":"point","intensity":10}}]}}}},
+"nodes":[{{"mesh":0,"translation":[0,0,-10]}},
+{{"translation":[-5,0,-9.5],"extensions":{{"KHR_lights_punctual":{{"light":0}}}}}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+"animations":[{{"name":"slide","samplers":[{{"input":1,"output":2}}],
+"channels":[{{"sampler":0,"target":{{"node":1,"path":"translation"}}}}]}}],
+"accessors":[
+{{"bufferView":0,"componentType":5126,"count":6,"type":"VEC3","min":[-10,-10,0],"max":[10,10,0]}},
+{{"bufferView":1,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[{}]}},
+{{"bufferView":2,"componentType":5126,"count":2,"type":"VEC3"}}],
+"bufferViews":[{}],"buffers":[{{"uri":"light.bin","byteLength":{}}}]}}"#,
+        times[1],
+        views.join(","),
+        bin.len()
+    );
+    fs::write(dir.join("light.bin"), &bin).unwrap();
+    fs::write(dir.join("light.gltf"), text).unwrap();
+    let scene = "mesh = \"light.gltf\"\n\
+         [camera]\nvfov_degrees = 40.0\n\
+         [image]\nwidth = 96\nheight = 72\nfps = 24.0\n\
+         [render]\nshading = \"lit\"\nbackground = [0.0, 0.0, 0.0]\n";
+    fs::write(dir.join("light.toml"), scene).unwrap();
+    "light.toml".into()
+}
+
+/// A light that moves while the shutter is open lights the floor as the mean of its light over
+/// the shutter: the blurred frame 5 against the trapezoid mean of nine still frames spanning
+/// its shutter (frames 76 to 84 at 384 fps, the same times), where a point light's direct
+/// light has no noise but the moment's. The software traversal renders the same frame.
+#[test]
+fn a_moving_light_lights_as_its_mean_over_the_shutter() {
+    let test = "a_moving_light_lights_as_its_mean_over_the_shutter";
+    let dir = tempfile::tempdir().unwrap();
+    let scene = moving_light_scene(dir.path());
+    let on = ["--motion-blur", "on"];
+    let blurred = render(dir.path(), &scene, 0.0, Some(5), "blurred", &on);
+    let fine = ["--fps", "384"];
+    let stills: Vec<Image> = (76..=84)
+        .map(|f| render(dir.path(), &scene, 0.0, Some(f), "still", &fine))
+        .collect();
+    let weights = [1.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 1.0].map(|w| w / 16.0);
+    let brightness = |v: glam::Vec3| f64::from(v.element_sum()) / 3.0;
+    let (mut error, mut moved, mut total) = (0.0, 0.0, 0.0);
+    for i in 0..blurred.pixels.len() {
+        let mean: f64 = (stills.iter().zip(weights))
+            .map(|(s, w)| w * brightness(s.pixels[i]))
+            .sum();
+        error += (brightness(blurred.pixels[i]) - mean).abs();
+        moved += (brightness(stills[4].pixels[i]) - mean).abs();
+        total += mean;
+    }
+    let (error, moved) = (error / total, moved / total);
+    println!(
+        "{test}: the blurred frame is {:.3} % off the mean over the shutter (the still frame: {:.3} %)",
+        100.0 * error,
+        100.0 * moved
+    );
+    // What is left is the moments' noise at 64 spp and the trapezoid rule's error (measured:
+    // 0.28 %, where the still frame is 3.9 % off).
+    assert!(
+        error < 0.005 && moved > 5.0 * error,
+        "{test}: the blurred frame is {:.3} % off the mean over the shutter, the still {:.3} %",
+        100.0 * error,
+        100.0 * moved
+    );
+    assert_software_matches(test, dir.path(), &scene, 5, &blurred);
+}
