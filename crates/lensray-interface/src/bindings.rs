@@ -501,7 +501,7 @@ mod tests {
         let gbuffer = GBufferSet::DECL.bindings();
         let scene: Vec<SetBinding> = TraceRayQuerySet::DECL.bindings()[..gbuffer.len()].to_vec();
         assert_eq!(scene, gbuffer);
-        assert_eq!(scene.len(), 15, "the scene group's bindings");
+        assert_eq!(scene.len(), 16, "the scene group's bindings");
         assert_eq!(scene[0].binding, 0);
         let trace = AccumulationGroup::<NoResources>::DECL;
         let in_rayquery = TraceRayQuerySet::DECL.bindings();
