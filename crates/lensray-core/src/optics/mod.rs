@@ -3,6 +3,8 @@
 //!
 //! - [`prescription`]: the table of surfaces (pbrt's lens-file layout), checked.
 //! - [`glass`]: each medium's index at any wavelength (the Cauchy fit through n_d and V_d).
+//! - [`coating`]: what a surface reflects, bare or under an anti-reflection layer (thin-film
+//!   Fresnel, per wavelength): the light of a lens's ghosts.
 //! - [`asphere`]: even aspheric surfaces (conic and polynomial sag).
 //! - [`builtin`]: the lenses shipped in `assets/lenses/`.
 //! - [`paraxial`]: ray-transfer (ABCD) matrices, cardinal points, pupils.
@@ -13,6 +15,7 @@
 pub mod analysis;
 pub mod asphere;
 pub mod builtin;
+pub mod coating;
 pub mod glass;
 pub mod paraxial;
 pub mod prescription;
