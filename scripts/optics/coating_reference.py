@@ -4,7 +4,7 @@
 tmm 0.2.0 (Steven Byrnes' transfer-matrix method: `pip install tmm`) computes the reflectance
 of a single layer of index n1 and thickness d between media n0 and n2, for s and p light, at
 each wavelength and angle of incidence; each case stores their mean (unpolarized light) and
-the uncoated interface's. Writes crates/lensray-core/tests/coating_reference/coating.tmm.json.
+the uncoated interface's. Writes crates/lensray-core/tests/optics_reference/coating.tmm.json.
 
     target/mitsuba-venv/bin/pip install tmm==0.2.0
     target/mitsuba-venv/bin/python scripts/optics/coating_reference.py
@@ -42,7 +42,7 @@ def main():
                     "coated": float(np.real(coated)),
                     "uncoated": float(np.real(bare)),
                 })
-    out = pathlib.Path(__file__).resolve().parents[2] / "crates/lensray-core/tests/coating_reference/coating.tmm.json"
+    out = pathlib.Path(__file__).resolve().parents[2] / "crates/lensray-core/tests/optics_reference/coating.tmm.json"
     out.write_text(json.dumps({
         "package": f"tmm {tmm.__version__ if hasattr(tmm, '__version__') else '0.2.0'}",
         "layer_index": MGF2,

@@ -2,7 +2,7 @@
 //! tmm 0.2.0's reflectances of a quarter-wave MgF2 layer at 550 nm, and of the bare interface,
 //! between five pairs of media (air and crown, air and dense flint, each way, and a cemented
 //! pair), at five angles and five wavelengths, past the critical angle included
-//! (`coating_reference/coating.tmm.json`, made by scripts/optics/coating_reference.py).
+//! (`optics_reference/coating.tmm.json`, made by scripts/optics/coating_reference.py).
 
 use lensray_core::optics::coating::{Coating, DESIGN_NM, MGF2_INDEX};
 
@@ -26,7 +26,7 @@ struct Reference {
 #[test]
 fn thin_film_reflectance_agrees_with_a_transfer_matrix_package() {
     let reference: Reference =
-        serde_json::from_str(include_str!("coating_reference/coating.tmm.json")).unwrap();
+        serde_json::from_str(include_str!("optics_reference/coating.tmm.json")).unwrap();
     assert_eq!(
         (reference.layer_index, reference.design_nm),
         (MGF2_INDEX, DESIGN_NM)

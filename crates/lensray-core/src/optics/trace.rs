@@ -119,6 +119,36 @@ macro_rules! tracer {
                 }
                 Some(ray)
             }
+
+            /// A ghost's path at dispersion offset `k`: `ray` (from the scene) reflected by
+            /// surface `j`, back to surface `i` (`i < j`), reflected again, and on through
+            /// every surface after `i` to the film; `None` where it is blocked on the way
+            /// (the stop's opening and the clear apertures clip it) or `(i, j)` is no pair of
+            /// refracting surfaces (the stop reflects nothing).
+            pub fn trace_ghost_at(
+                &self,
+                ray: LensRay,
+                (i, j): (usize, usize),
+                k: $real,
+            ) -> Option<LensRay> {
+                let n = self.interfaces.len();
+                if !(i < j && j < n) {
+                    return None;
+                }
+                let mut ray = ray;
+                for s in 0..j {
+                    ray = self.interfaces[s].pass_at(ray, Toward::Film, k)?;
+                }
+                ray = self.interfaces[j].reflect(ray)?;
+                for s in (i + 1..j).rev() {
+                    ray = self.interfaces[s].pass_at(ray, Toward::Scene, k)?;
+                }
+                ray = self.interfaces[i].reflect(ray)?;
+                for s in i + 1..n {
+                    ray = self.interfaces[s].pass_at(ray, Toward::Film, k)?;
+                }
+                Some(ray)
+            }
         }
 
         impl Interface {
@@ -153,6 +183,26 @@ macro_rules! tracer {
                 Some(LensRay {
                     origin: p,
                     direction,
+                })
+            }
+
+            /// The ray reflected where it meets this surface (the law of reflection about the
+            /// normal), or `None` if it misses it, leaves the clear aperture or this is the
+            /// stop, which reflects nothing.
+            #[inline]
+            pub fn reflect(&self, ray: LensRay) -> Option<LensRay> {
+                if self.radius == 0.0 {
+                    return None;
+                }
+                let (t, normal) = self.intersect(ray)?;
+                let p = ray.origin + t * ray.direction;
+                if p.x * p.x + p.y * p.y > self.aperture_radius * self.aperture_radius {
+                    return None;
+                }
+                let d = ray.direction;
+                Some(LensRay {
+                    origin: p,
+                    direction: d - 2.0 * d.dot(normal) * normal,
                 })
             }
 
