@@ -31,6 +31,7 @@
 //! additions, multiplications and one division: the GLSL mirror (`shaders/include/camera.glsl`)
 //! gives the same bits. Images: a piecewise-constant 2D distribution ([`image`]).
 
+pub mod diffraction;
 mod fan;
 pub mod image;
 
