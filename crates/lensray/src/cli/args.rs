@@ -368,7 +368,8 @@ pub struct ViewArgs {
 #[derive(Args, Clone, Copy, Debug, Default)]
 pub struct ShutterArgs {
     /// Blur what moves while the shutter is open: the camera's keyframes or glTF animation
-    /// (default off; cpu, software, rayquery and rtpipeline).
+    /// (cpu, software, rayquery and rtpipeline), a glTF file's animated meshes and lights
+    /// (cpu and software); default off.
     #[arg(long, value_parser = by_name::<Switch>(), value_name = "on|off")]
     pub motion_blur: Option<Switch>,
     /// How long the shutter is open, degrees of a frame at --fps (default 180: half a frame);
