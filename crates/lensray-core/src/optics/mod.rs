@@ -5,6 +5,7 @@
 //! - [`glass`]: each medium's index at any wavelength (the Cauchy fit through n_d and V_d).
 //! - [`coating`]: what a surface reflects, bare or under an anti-reflection layer (thin-film
 //!   Fresnel, per wavelength): the light of a lens's ghosts.
+//! - [`ghost`]: the share of a ray's power a ghost's path carries.
 //! - [`asphere`]: even aspheric surfaces (conic and polynomial sag).
 //! - [`builtin`]: the lenses shipped in `assets/lenses/`.
 //! - [`paraxial`]: ray-transfer (ABCD) matrices, cardinal points, pupils.
@@ -16,6 +17,7 @@ pub mod analysis;
 pub mod asphere;
 pub mod builtin;
 pub mod coating;
+pub mod ghost;
 pub mod glass;
 pub mod paraxial;
 pub mod prescription;
