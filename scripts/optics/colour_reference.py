@@ -239,8 +239,9 @@ class Lens:
             n = (-n[0], -n[1], -n[2])
         return t, n
 
-    def pass_surface(self, i, o, d, clip):
-        """(origin, direction) after surface i, or None when blocked."""
+    def meet(self, i, o, d, clip):
+        """(point, normal against the ray) where the ray meets surface i, or None when it
+        misses it (or, with `clip`, meets it outside the clear aperture)."""
         hit = self.intersect(i, o, d)
         if hit is None:
             return None
@@ -249,12 +250,23 @@ class Lens:
         half = 0.5 * self.rows[i]["diameter"]
         if clip and p[0] ** 2 + p[1] ** 2 > half * half:
             return None
+        return p, n
+
+    def pass_surface(self, i, o, d, clip, backward=False):
+        """(origin, direction) after surface i (crossed toward the scene where `backward`),
+        or None when blocked."""
+        met = self.meet(i, o, d, clip)
+        if met is None:
+            return None
+        p, n = met
         if self.rows[i]["radius"] == 0.0:
             # The stop: an opening, no refraction; the ray goes on from where it was (as in
             # lensray: a stop at a lens vertex would otherwise start the next intersection
             # on that surface).
             return o, d
         eta = self.n_before[i] / self.n_after[i]
+        if backward:
+            eta = 1.0 / eta
         cos_i = -(n[0] * d[0] + n[1] * d[1] + n[2] * d[2])
         sin2_t = eta * eta * (1.0 - cos_i * cos_i)
         if sin2_t > 1.0:

@@ -9,7 +9,6 @@ Writes crates/lensray-core/tests/optics_reference/ghosts.stdlib.json.
     python3 scripts/optics/ghost_reference.py [LENS ...]   (default: double-gauss-50)
 """
 import json
-import math
 import os
 import sys
 
@@ -24,38 +23,12 @@ def reflect(lens, i, o, d):
     """(origin, direction) reflected by surface i; None if missed, clipped, or the stop."""
     if lens.rows[i]["radius"] == 0.0:
         return None
-    hit = lens.intersect(i, o, d)
-    if hit is None:
+    met = lens.meet(i, o, d, clip=True)
+    if met is None:
         return None
-    t, n = hit
-    p = (o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2])
-    half = 0.5 * lens.rows[i]["diameter"]
-    if p[0] ** 2 + p[1] ** 2 > half * half:
-        return None
+    p, n = met
     dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
     return p, (d[0] - 2 * dn * n[0], d[1] - 2 * dn * n[1], d[2] - 2 * dn * n[2])
-
-
-def pass_back(lens, i, o, d):
-    """(origin, direction) after surface i crossed toward the scene, or None when blocked."""
-    hit = lens.intersect(i, o, d)
-    if hit is None:
-        return None
-    t, n = hit
-    p = (o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2])
-    half = 0.5 * lens.rows[i]["diameter"]
-    if p[0] ** 2 + p[1] ** 2 > half * half:
-        return None
-    if lens.rows[i]["radius"] == 0.0:
-        return o, d
-    eta = lens.n_after[i] / lens.n_before[i]
-    cos_i = -(n[0] * d[0] + n[1] * d[1] + n[2] * d[2])
-    sin2_t = eta * eta * (1.0 - cos_i * cos_i)
-    if sin2_t > 1.0:
-        return None
-    cos_t = math.sqrt(1.0 - sin2_t)
-    k = eta * cos_i - cos_t
-    return p, (eta * d[0] + k * n[0], eta * d[1] + k * n[1], eta * d[2] + k * n[2])
 
 
 def ghost(lens, o, d, i, j):
@@ -66,7 +39,7 @@ def ghost(lens, o, d, i, j):
     for s in reversed(range(i + 1, j)):
         if out is None:
             return None
-        out = pass_back(lens, s, *out)
+        out = lens.pass_surface(s, *out, clip=True, backward=True)
     if out is None:
         return None
     out = reflect(lens, i, *out)

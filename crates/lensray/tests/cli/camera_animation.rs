@@ -18,7 +18,7 @@ const TURN_DEGREES: f64 = 20.0;
 const FOCUS: f64 = 3.0;
 
 /// Two triangles (a quad) from corner `a` along `u` and `v`.
-fn quad(a: [f32; 3], u: [f32; 3], v: [f32; 3]) -> Vec<f32> {
+pub(crate) fn quad(a: [f32; 3], u: [f32; 3], v: [f32; 3]) -> Vec<f32> {
     let p = |s: f32, t: f32| [0, 1, 2].map(|i| a[i] + s * u[i] + t * v[i]);
     [
         p(0.0, 0.0),

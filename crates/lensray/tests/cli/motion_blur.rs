@@ -76,7 +76,7 @@ fn frame5(
 }
 
 /// The mean of the channels along `row`, less the row's least (the background).
-fn row_profile(image: &Image, row: u32) -> Vec<f64> {
+pub(crate) fn row_profile(image: &Image, row: u32) -> Vec<f64> {
     let values: Vec<f64> = (0..image.width)
         .map(|x| f64::from(image.get(x, row).element_sum()) / 3.0)
         .collect();

@@ -19,6 +19,7 @@ use std::path::Path;
 use lensray_core::film::Image;
 
 use crate::gpu_support::{compare, skip_or_fail, write_comparison};
+use crate::motion_blur::row_profile;
 use crate::{lensray, read_exr, stderr};
 
 const WIDTH: u32 = 320;
@@ -31,16 +32,24 @@ fn pixels_per_metre() -> f64 {
 
 /// Two triangles (a quad) from corner `a` along `u` and `v`, in z = 0.
 fn quad(a: [f32; 2], u: [f32; 2], v: [f32; 2]) -> Vec<f32> {
-    let p = |s: f32, t: f32| [a[0] + s * u[0] + t * v[0], a[1] + s * u[1] + t * v[1], 0.0];
-    [
-        p(0.0, 0.0),
-        p(1.0, 0.0),
-        p(1.0, 1.0),
-        p(0.0, 0.0),
-        p(1.0, 1.0),
-        p(0.0, 1.0),
-    ]
-    .concat()
+    let flat = |p: [f32; 2]| [p[0], p[1], 0.0];
+    crate::camera_animation::quad(flat(a), flat(u), flat(v))
+}
+
+/// One buffer of `arrays` (little-endian f32s) and its views, one an array, as glTF's
+/// `bufferViews` lists them.
+fn buffer_views(arrays: &[&[f32]]) -> (String, Vec<u8>) {
+    let mut bin = Vec::new();
+    let mut views = Vec::new();
+    for data in arrays {
+        views.push(format!(
+            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+            bin.len(),
+            data.len() * 4
+        ));
+        bin.extend(data.iter().flat_map(|x| x.to_le_bytes()));
+    }
+    (views.join(","), bin)
 }
 
 /// A glTF (`data.bin` beside it) of the quad `positions` under a node at (0, 0, -10) whose
@@ -54,16 +63,7 @@ fn animated_scene(
 ) -> String {
     let times: Vec<f32> = frames.iter().map(|f| f / 24.0).collect();
     let flat: Vec<f32> = values.concat();
-    let mut bin = Vec::new();
-    let mut views = Vec::new();
-    for data in [positions, &times[..], &flat[..]] {
-        views.push(format!(
-            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
-            bin.len(),
-            data.len() * 4
-        ));
-        bin.extend(data.iter().flat_map(|x| x.to_le_bytes()));
-    }
+    let (views, bin) = buffer_views(&[positions, &times, &flat]);
     let kind = if values[0].len() == 3 { "VEC3" } else { "VEC4" };
     let last = times[times.len() - 1];
     let text = format!(
@@ -80,7 +80,7 @@ fn animated_scene(
         positions.len() / 3,
         times.len(),
         values.len(),
-        views.join(","),
+        views,
         bin.len()
     );
     fs::write(dir.join("data.bin"), &bin).unwrap();
@@ -170,15 +170,6 @@ fn assert_software_matches(test: &str, dir: &Path, scene: &str, frame: u32, cpu:
         let files = write_comparison(&image, cpu, &format!("{test}-software-vs-cpu"));
         panic!("{test}: software differs from the CPU: {diff:?}; wrote {files}");
     }
-}
-
-/// The mean channel along `row`, less the row's least.
-fn row_profile(image: &Image, row: u32) -> Vec<f64> {
-    let values: Vec<f64> = (0..image.width)
-        .map(|x| f64::from(image.get(x, row).element_sum()) / 3.0)
-        .collect();
-    let floor = values.iter().copied().fold(f64::INFINITY, f64::min);
-    values.iter().map(|v| v - floor).collect()
 }
 
 /// The width at half maximum of `profile` (samples `step` apart), the maximum the mean of its
@@ -427,16 +418,7 @@ fn moving_light_scene(dir: &Path) -> String {
     let floor = quad([-10.0, -10.0], [20.0, 0.0], [0.0, 20.0]);
     let times = [0.0f32, 10.0 / 24.0];
     let keys = [-5.0f32, 0.0, -9.5, 5.0, 0.0, -9.5];
-    let mut bin = Vec::new();
-    let mut views = Vec::new();
-    for data in [&floor[..], &times[..], &keys[..]] {
-        views.push(format!(
-            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
-            bin.len(),
-            data.len() * 4
-        ));
-        bin.extend(data.iter().flat_map(|x| x.to_le_bytes()));
-    }
+    let (views, bin) = buffer_views(&[&floor, &times, &keys]);
     let text = format!(
         r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1]}}],
 "extensionsUsed":["KHR_lights_punctual"],
@@ -452,7 +434,7 @@ fn moving_light_scene(dir: &Path) -> String {
 {{"bufferView":2,"componentType":5126,"count":2,"type":"VEC3"}}],
 "bufferViews":[{}],"buffers":[{{"uri":"light.bin","byteLength":{}}}]}}"#,
         times[1],
-        views.join(","),
+        views,
         bin.len()
     );
     fs::write(dir.join("light.bin"), &bin).unwrap();

@@ -5,13 +5,15 @@
 
 use super::{assert_same_image, headless, preview_with};
 
-#[test]
-fn a_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
-    let test = "a_frame_of_an_animated_file_is_the_frame_the_sequence_renders";
-    let dir = tempfile::tempdir().unwrap();
-    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../assets/BoxAnimated/BoxAnimated.gltf");
-    let view = [
+fn box_animated() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/BoxAnimated/BoxAnimated.gltf")
+}
+
+/// The view and light of every window and render here (the default camera and light follow
+/// the scene's bounds, which the poses change).
+fn view(file: &std::path::Path) -> [&str; 18] {
+    [
         "--scene",
         file.to_str().unwrap(),
         "--width",
@@ -30,7 +32,15 @@ fn a_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
         "2,6,5",
         "--light-intensity",
         "60,60,60",
-    ];
+    ]
+}
+
+#[test]
+fn a_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
+    let test = "a_frame_of_an_animated_file_is_the_frame_the_sequence_renders";
+    let dir = tempfile::tempdir().unwrap();
+    let file = box_animated();
+    let view = view(&file);
     let script = "0 frame 18\n0 wait converged\n0 screenshot p18.exr\n\
                   0 frame 42\n0 wait converged\n0 screenshot p42.exr\n0 quit\n";
     let Some(out) = preview_with(test, dir.path(), script, &view, &["--path", "software"]) else {
@@ -63,32 +73,9 @@ fn a_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
 fn a_blurred_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
     let test = "a_blurred_frame_of_an_animated_file_is_the_frame_the_sequence_renders";
     let dir = tempfile::tempdir().unwrap();
-    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../assets/BoxAnimated/BoxAnimated.gltf");
-    let view = [
-        "--scene",
-        file.to_str().unwrap(),
-        "--width",
-        "96",
-        "--height",
-        "64",
-        "--spp",
-        "4",
-        "--eye",
-        "0,3,7",
-        "--target",
-        "0,1.5,0",
-        "--up",
-        "0,1,0",
-        "--light-position",
-        "2,6,5",
-        "--light-intensity",
-        "60,60,60",
-        "--fps",
-        "4",
-        "--shutter-angle",
-        "360",
-    ];
+    let file = box_animated();
+    let mut view = view(&file).to_vec();
+    view.extend(["--fps", "4", "--shutter-angle", "360"]);
     let blur = ["--motion-blur", "on"];
     let script = "0 frame 7\n0 wait converged\n0 screenshot p7.exr\n0 quit\n";
     let mut window = view.to_vec();
@@ -97,13 +84,13 @@ fn a_blurred_frame_of_an_animated_file_is_the_frame_the_sequence_renders() {
         return;
     };
     let mut args = vec!["--path", "software", "--frames", "7", "--out", "r.#.exr"];
-    args.extend(view);
+    args.extend(&view);
     args.extend(blur);
     headless(dir.path(), &args);
     assert_same_image(dir.path(), "p7.exr", "r.7.exr", "animated-blurred-7");
     // The blur is there: the sequence's still frame differs.
     let mut still = vec!["--path", "software", "--frames", "7", "--out", "s.#.exr"];
-    still.extend(view);
+    still.extend(&view);
     headless(dir.path(), &still);
     let (blurred, sharp) = (
         std::fs::read(dir.path().join("r.7.exr")).unwrap(),
