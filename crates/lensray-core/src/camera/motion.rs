@@ -64,6 +64,15 @@ pub fn slerp(a: Quat, b: Quat, f: f32) -> Quat {
     a * (((1.0 - f) * angle).sin() * inverse_sin) + b * ((f * angle).sin() * inverse_sin)
 }
 
+/// Where `moment` in [0, 1] (clamped) falls among `count` (at least 2) steps evenly spaced
+/// over the span: the step before it and the fraction of the way to the next. Everything that
+/// moves over the shutter (the camera, meshes, lights; and the GLSL mirrors) interpolates so.
+pub fn step_at(moment: f32, count: usize) -> (usize, f32) {
+    let s = moment.clamp(0.0, 1.0) * (count - 1) as f32;
+    let i = (s as usize).min(count - 2);
+    (i, s - i as f32)
+}
+
 /// The camera's poses over a frame's exposure, and how a sample's time and row place it there.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CameraMotion {
@@ -110,10 +119,7 @@ impl CameraMotion {
 
     /// The pose at `moment` in [0, 1]: between the two steps around it.
     pub fn pose_at(&self, moment: f32) -> RigidPose {
-        let last = (self.poses.len() - 1) as f32;
-        let s = moment * last;
-        let i = (s as usize).min(self.poses.len() - 2);
-        let f = s - i as f32;
+        let (i, f) = step_at(moment, self.poses.len());
         let (a, b) = (self.poses[i], self.poses[i + 1]);
         RigidPose {
             eye: a.eye + (b.eye - a.eye) * f,

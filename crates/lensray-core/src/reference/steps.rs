@@ -95,10 +95,7 @@ fn between<T>(steps: &Stepped<T>, moment: f32) -> [T; 3]
 where
     T: Copy + std::ops::Mul<f32, Output = T> + std::ops::Add<Output = T>,
 {
-    let last = (STEPS - 1) as f32;
-    let s = moment.clamp(0.0, 1.0) * last;
-    let i = (s as usize).min(STEPS - 2);
-    let f = s - i as f32;
+    let (i, f) = crate::camera::motion::step_at(moment, STEPS);
     std::array::from_fn(|c| steps[i][c] * (1.0 - f) + steps[i + 1][c] * f)
 }
 

@@ -63,10 +63,7 @@ pub struct LightSteps {
 impl LightSteps {
     /// The light at `moment` in [0, 1] of the span: between the two steps around it.
     pub fn at(&self, moment: f32) -> Light {
-        let last = (self.steps.len() - 1) as f32;
-        let s = moment.clamp(0.0, 1.0) * last;
-        let i = (s as usize).min(self.steps.len() - 2);
-        let f = s - i as f32;
+        let (i, f) = crate::camera::motion::step_at(moment, self.steps.len());
         let (a, b) = (&self.steps[i], &self.steps[i + 1]);
         Light {
             position: a.position * (1.0 - f) + b.position * f,
