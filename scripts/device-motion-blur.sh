@@ -2,7 +2,8 @@
 # Motion blur on a lent GPU, in one device run (docs/sequences.md, "Motion blur and rolling
 # shutter"; docs/performance.md, "Motion blur"): the streak and the rolling shutter's frames of
 # tests/cli/motion_blur.rs on cpu and each GPU path the device has (validation on), the raster
-# path's refusal, and scripts/bench-motion-blur.sh at 1920x1080. Everything lands in
+# path's refusal, and scripts/bench-motion-blur.sh at 1920x1080 (the dolly, and
+# MOTION_SHOT=box on software and cpu). Everything lands in
 # $OUT/results.tar; measure the streaks here with the test's method.
 #   device: bash scripts/device-motion-blur.sh   (after ../shared/tools/device-bundle.sh, carry .device)
 set -u
@@ -47,4 +48,6 @@ done
 go raster-on --device gpu --path raster --motion-blur on
 timeout 300 scripts/bench-motion-blur.sh "$LENSRAY" 1920x1080 64 5 software rtpipeline cpu > "$r/bench.md" 2> "$r/bench.err"
 echo "bench rc=$?" >> "$r/rc.txt"
+MOTION_SHOT=box timeout 200 scripts/bench-motion-blur.sh "$LENSRAY" 1920x1080 64 5 software cpu > "$r/bench-box.md" 2> "$r/bench-box.err"
+echo "bench-box rc=$?" >> "$r/rc.txt"
 tar -C "$OUT" -cf "$OUT/results.tar" r && rm -rf "$r"
