@@ -43,11 +43,14 @@
 //!   real lens traced surface by surface with its first-order thin lens.
 //! - [`real_lens`]: past the course's thin lens, rays refracted through a real lens's
 //!   surfaces (`optics`), focused by moving the lens, sampled toward the exit pupil.
+//! - [`flare`]: the real lens's own light: ghosts reflected between its surfaces, and the
+//!   aperture's starburst.
 //! - [`motion`]: the camera moving while the shutter is open (motion blur, rolling shutter).
 //! - [`params`]: what a user gives, validated.
 
 pub mod aperture;
 pub mod coc;
+pub mod flare;
 pub mod footprint;
 pub mod lens;
 pub mod look_at;

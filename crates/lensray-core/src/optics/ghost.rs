@@ -6,7 +6,7 @@
 
 use super::coating::Coating;
 use super::glass::dispersion_offset;
-use super::trace::wide::{Elements, Interface, LensRay};
+use super::trace::wide::{refract, Elements, Interface, LensRay};
 use super::trace::Toward;
 
 /// One step of a ghost's path: crossing a surface toward the film or the scene, or being
@@ -68,6 +68,95 @@ pub fn ghost_throughput(
         };
     }
     Some((ray, share))
+}
+
+/// One ray of a ghost's (or the direct path's) grid, traced without clipping: where it leaves
+/// the lens, the share of its power it carries, where it crossed the stop's plane (a ghost
+/// between surfaces on either side of the stop crosses it three times) and how far out it
+/// passed the clear apertures. A ghost's image interpolates these across the grid's cells and
+/// clips there, so its outline follows the stop's shape and the rims exactly, not the grid
+/// (Hullin et al. 2011).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GhostVertex {
+    pub out: LensRay,
+    pub share: f64,
+    /// The stop's plane, crossing by crossing (x, y in mm); `crossings` of them are set.
+    pub stops: [[f64; 2]; 3],
+    pub crossings: usize,
+    /// The largest (r / clear radius)^2 over the surfaces met, the stop aside: past 1 the ray
+    /// is blocked by a rim.
+    pub rim: f64,
+}
+
+/// `ray` (from the scene) along ghost `ghost` (or straight through, `None`) at `lambda_nm`,
+/// unclipped ([`GhostVertex`]); `stop` is the stop's row, which reflects nothing. The direct
+/// path carries all the power (the renderer's own image of a source has no coating losses);
+/// a ghost carries its reflectances and transmittances as [`ghost_throughput`]. `None` where
+/// the ray misses a surface or is totally internally reflected.
+pub fn ghost_vertex(
+    elements: &Elements,
+    coatings: &[Coating],
+    ray: LensRay,
+    ghost: Option<(usize, usize)>,
+    (lambda_nm, stop): (f64, usize),
+) -> Option<GhostVertex> {
+    let n = elements.interfaces.len();
+    let path = match ghost {
+        Some(pair) => steps(n, pair),
+        None => (0..n)
+            .map(|s| (s, GhostStep::Cross(Toward::Film)))
+            .collect(),
+    };
+    let k = dispersion_offset(lambda_nm);
+    let mut vertex = GhostVertex {
+        out: ray,
+        share: 1.0,
+        stops: [[0.0; 2]; 3],
+        crossings: 0,
+        rim: 0.0,
+    };
+    for (s, step) in path {
+        let surface = &elements.interfaces[s];
+        let ray = vertex.out;
+        let (t, normal) = surface.intersect(ray)?;
+        let p = ray.origin + t * ray.direction;
+        if s == stop {
+            if vertex.crossings < 3 {
+                vertex.stops[vertex.crossings] = [p.x, p.y];
+            }
+            vertex.crossings += 1;
+            continue;
+        }
+        let r2 = (p.x * p.x + p.y * p.y) / (surface.aperture_radius * surface.aperture_radius);
+        vertex.rim = vertex.rim.max(r2);
+        let cos = -normal.dot(ray.direction);
+        let (toward, reflects) = match step {
+            GhostStep::Cross(toward) => (toward, false),
+            GhostStep::Reflect(toward) => (toward, true),
+        };
+        let reflectance = match ghost {
+            Some(_) => reflectance(surface, coatings[s], toward, cos, (k, lambda_nm)),
+            None => 0.0,
+        };
+        let direction = if reflects {
+            vertex.share *= reflectance;
+            ray.direction - 2.0 * ray.direction.dot(normal) * normal
+        } else {
+            vertex.share *= 1.0 - reflectance;
+            let before = surface.index_before + surface.dispersion_before * k;
+            let after = surface.index_after + surface.dispersion_after * k;
+            let (from, to) = match toward {
+                Toward::Film => (before, after),
+                Toward::Scene => (after, before),
+            };
+            refract(ray.direction, normal, from / to)?
+        };
+        vertex.out = LensRay {
+            origin: p,
+            direction,
+        };
+    }
+    Some(vertex)
 }
 
 /// What `surface` under `coating` reflects of light meeting it at `cos` going `toward`, at

@@ -6,7 +6,6 @@
 //! - [`coating`]: what a surface reflects, bare or under an anti-reflection layer (thin-film
 //!   Fresnel, per wavelength): the light of a lens's ghosts.
 //! - [`ghost`]: the share of a ray's power a ghost's path carries.
-//! - [`flare`]: a distant source's ghosts on the film, traced ray by ray.
 //! - [`asphere`]: even aspheric surfaces (conic and polynomial sag).
 //! - [`builtin`]: the lenses shipped in `assets/lenses/`.
 //! - [`paraxial`]: ray-transfer (ABCD) matrices, cardinal points, pupils.
@@ -18,7 +17,6 @@ pub mod analysis;
 pub mod asphere;
 pub mod builtin;
 pub mod coating;
-pub mod flare;
 pub mod ghost;
 pub mod glass;
 pub mod paraxial;

@@ -12,6 +12,7 @@
 //! lambda N / oversample on the film ([`DiffractionPattern::bin_mm`]): the spikes scale with
 //! the wavelength and the f-number.
 
+use rayon::prelude::*;
 use rustfft::num_complex::Complex32;
 use rustfft::FftPlanner;
 
@@ -40,42 +41,28 @@ impl DiffractionPattern {
         let cells = (size / oversample) as f32;
         let half = size / 2;
         let mut grid = vec![Complex32::new(0.0, 0.0); size * size];
+        // Cells wholly past the shape's reach (and a cell's diagonal) let nothing through.
+        let reach = aperture.reach() + 3.0 / cells;
         for row in 0..size {
             for column in 0..size {
+                // The cell's sample in the unit shape's plane (radius 1 = half the diameter's
+                // cells).
+                let offset = |i: usize, s: f32| (i as f32 - half as f32 + s) * 2.0 / cells;
+                if Vec2::new(offset(column, 0.5), offset(row, 0.5)).length() > reach {
+                    continue;
+                }
                 let mut sum = 0.0;
                 for sy in 0..SUBSAMPLES {
                     for sx in 0..SUBSAMPLES {
-                        // The cell's sample in the unit shape's plane (radius 1 = half the
-                        // diameter's cells).
-                        let offset = |i: usize, s: usize| {
-                            (i as f32 - half as f32 + (s as f32 + 0.5) / SUBSAMPLES as f32) * 2.0
-                                / cells
-                        };
-                        let p = Vec2::new(offset(column, sx), offset(row, sy));
+                        let sub = |s: usize| (s as f32 + 0.5) / SUBSAMPLES as f32;
+                        let p = Vec2::new(offset(column, sub(sx)), offset(row, sub(sy)));
                         sum += aperture.transmission(p);
                     }
                 }
                 grid[row * size + column].re = sum / (SUBSAMPLES * SUBSAMPLES) as f32;
             }
         }
-        let mut planner = FftPlanner::<f32>::new();
-        let (rows, columns) = (
-            planner.plan_fft_forward(size),
-            planner.plan_fft_forward(size),
-        );
-        for row in grid.chunks_exact_mut(size) {
-            rows.process(row);
-        }
-        let mut column = vec![Complex32::new(0.0, 0.0); size];
-        for c in 0..size {
-            for (r, value) in column.iter_mut().enumerate() {
-                *value = grid[r * size + c];
-            }
-            columns.process(&mut column);
-            for (r, value) in column.iter().enumerate() {
-                grid[r * size + c] = *value;
-            }
-        }
+        fft2(&mut grid, size, size, false);
         // |F|^2, its zero frequency moved to the centre.
         let mut values = vec![0.0f32; size * size];
         for r in 0..size {
@@ -118,6 +105,35 @@ impl DiffractionPattern {
         };
         (value(x0, y0) * (1.0 - fx) + value(x0 + 1.0, y0) * fx) * (1.0 - fy)
             + (value(x0, y0 + 1.0) * (1.0 - fx) + value(x0 + 1.0, y0 + 1.0) * fx) * fy
+    }
+}
+
+/// The 2D discrete Fourier transform of `grid` (`columns` x `rows`, row by row) in place:
+/// forward, or inverse (unscaled: the inverse of the forward times columns x rows).
+pub(crate) fn fft2(grid: &mut [Complex32], columns: usize, rows: usize, inverse: bool) {
+    assert_eq!(grid.len(), columns * rows);
+    let mut planner = FftPlanner::<f32>::new();
+    let plan = |planner: &mut FftPlanner<f32>, n| match inverse {
+        false => planner.plan_fft_forward(n),
+        true => planner.plan_fft_inverse(n),
+    };
+    let along_rows = plan(&mut planner, columns);
+    let along_columns = plan(&mut planner, rows);
+    grid.par_chunks_exact_mut(columns)
+        .for_each(|row| along_rows.process(row));
+    let mut transposed = vec![Complex32::new(0.0, 0.0); columns * rows];
+    for r in 0..rows {
+        for c in 0..columns {
+            transposed[c * rows + r] = grid[r * columns + c];
+        }
+    }
+    transposed
+        .par_chunks_exact_mut(rows)
+        .for_each(|column| along_columns.process(column));
+    for c in 0..columns {
+        for r in 0..rows {
+            grid[r * columns + c] = transposed[c * rows + r];
+        }
     }
 }
 
