@@ -8,6 +8,7 @@
 //! - [`focus`]: focusing on what a path sees under a pixel (`render` and the preview), and
 //!   [`frame_settings`]: a sequence's settings at each frame (`render --frames` and the
 //!   preview's frame slider);
+//! - [`lens_flare`]: the lens's own light added to a rendered image (`--flare`, `--starburst`);
 //! - [`paths`]: the render paths and `auto`;
 //! - [`output`] (image files) and [`machine`] (the machine lensray runs on).
 //!
@@ -23,6 +24,7 @@ pub mod bench;
 pub mod cli;
 pub mod focus;
 pub mod frame_settings;
+pub mod lens_flare;
 pub mod machine;
 pub mod output;
 pub mod paths;

@@ -21,6 +21,8 @@ mod devices;
 mod environment;
 #[path = "cli/exposure.rs"]
 mod exposure;
+#[path = "cli/flare.rs"]
+mod flare;
 #[path = "cli/frames.rs"]
 mod frames;
 #[path = "cli/frames_gpu.rs"]

@@ -147,6 +147,11 @@ pub struct LensSettings {
     /// Whether camera rays carry a wavelength through the lens's dispersive glass (default
     /// on; a lens without Abbe numbers has no dispersion either way).
     pub dispersion: Option<Switch>,
+    /// Ghosts: light reflected twice inside the lens, from the image's bright sources and the
+    /// punctual lights in view (`camera::flare`; default off).
+    pub flare: Option<Switch>,
+    /// The aperture's diffraction starburst around bright sources (default off).
+    pub starburst: Option<Switch>,
 }
 
 /// On or off (`--dispersion off`, `dispersion = "off"`).
@@ -287,7 +292,7 @@ impl Settings {
         let (a, base) = (&c.aperture, &mut self.camera.aperture);
         overlay!(a, base, blades, rotation, roundness, aspect, image);
         let (lens, base) = (&c.lens, &mut self.camera.lens);
-        overlay!(lens, base, prescription, dispersion);
+        overlay!(lens, base, prescription, dispersion, flare, starburst);
         let (sh, base) = (&c.shutter, &mut self.camera.shutter);
         overlay!(sh, base, motion_blur, angle, position, rolling);
         let (e, base) = (&c.exposure, &mut self.camera.exposure);

@@ -293,6 +293,14 @@ pub struct ViewArgs {
     /// (colour fringes from dispersion; default on when the lens gives Abbe numbers).
     #[arg(long, value_parser = by_name::<Switch>(), value_name = "on|off")]
     pub dispersion: Option<Switch>,
+    /// With --lens: ghosts, light reflected twice between the lens's coated surfaces, from the
+    /// image's bright sources and the punctual lights in view (default off).
+    #[arg(long, value_parser = by_name::<Switch>(), value_name = "on|off")]
+    pub flare: Option<Switch>,
+    /// With --lens: the aperture's diffraction starburst around bright sources, its spikes
+    /// growing with the f-number (default off).
+    #[arg(long, value_parser = by_name::<Switch>(), value_name = "on|off")]
+    pub starburst: Option<Switch>,
     /// f-number N: aperture radius = f / (2N); with --lens, the stop is closed until the
     /// entrance pupil gives N (default: wide open).
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
@@ -427,6 +435,8 @@ impl ViewArgs {
                 lens: LensSettings {
                     prescription: self.lens.clone(),
                     dispersion: self.dispersion,
+                    flare: self.flare,
+                    starburst: self.starburst,
                 },
                 exposure: self.exposure.to_settings(),
                 shutter: self.shutter.to_settings(),

@@ -12,6 +12,7 @@ use super::frames::{parse_chunk, parse_frames, Chunk, FrameRange};
 use super::progress::{ProgressMode, ProgressReporter};
 use crate::focus::{focus_depth_at, lay_focus_plane};
 use crate::frame_settings::command_line_over;
+use crate::lens_flare;
 use crate::output::PendingOutput;
 use crate::paths::{self, OpenedPath, PathOptions, Phases, RenderPath};
 use lensray_core::scene::file::SceneDescription;
@@ -256,6 +257,31 @@ fn focused_shot(
     Ok(resolved)
 }
 
+/// Closes `path`'s device while `image` encodes into `output` (on NVIDIA's driver closing
+/// takes ~60 ms); the file reaches its name only once the device closed cleanly. The seconds
+/// the encoding took.
+fn close_and_write(
+    path: Box<dyn RenderPath>,
+    output: PendingOutput,
+    image: &lensray_core::film::Image,
+    shading: lensray_core::settings::Shading,
+    exposure: &Exposure,
+) -> Result<f64> {
+    let (closed, (encoded, write_seconds)) = std::thread::scope(|s| {
+        let closing = s.spawn(move || path.close());
+        let write_start = Instant::now();
+        let encoded = output.encode(image, shading, exposure);
+        let write_seconds = write_start.elapsed().as_secs_f64();
+        let closed = closing
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (closed, (encoded, write_seconds))
+    });
+    closed?;
+    encoded?.commit()?;
+    Ok(write_seconds)
+}
+
 /// One image (`render` without `--frames`; `cli::sequence::run` decides).
 pub fn render_one(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
@@ -299,10 +325,21 @@ pub fn render_one(args: &RenderArgs) -> Result<()> {
         still_blur.as_ref(),
     )?;
 
+    let flare = lens_flare::flare_for(&settings, &resolved).with_context(context)?;
     let mut progress = ProgressReporter::new("rendering", args.progress);
     let before = path.report();
     let render_start = Instant::now();
-    let image = path.render(&resolved, &mut |d, t| progress.update(d, t))?;
+    let mut image = path.render(&resolved, &mut |d, t| progress.update(d, t))?;
+    if let Some(flare) = &flare {
+        let lights = &description.scene.lights;
+        lens_flare::add(
+            flare,
+            &mut image,
+            exposure.display.exposure,
+            &resolved,
+            lights,
+        );
+    }
     let render_seconds = render_start.elapsed().as_secs_f64();
     progress.finish();
     let report = path.report().since(&before);
@@ -310,20 +347,7 @@ pub fn render_one(args: &RenderArgs) -> Result<()> {
     let compile_seconds = path.report().compile_seconds;
     let (kind, device) = (path.kind(), path.device_name());
     let Shot { camera, render } = &resolved;
-    // The device closes while the image encodes (on NVIDIA's driver closing takes ~60 ms);
-    // the file reaches its name only once the device closed cleanly.
-    let (closed, (encoded, write_seconds)) = std::thread::scope(|s| {
-        let closing = s.spawn(move || path.close());
-        let write_start = Instant::now();
-        let encoded = output.encode(&image, render.shading, &exposure);
-        let write_seconds = write_start.elapsed().as_secs_f64();
-        let closed = closing
-            .join()
-            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        (closed, (encoded, write_seconds))
-    });
-    closed?;
-    encoded?.commit()?;
+    let write_seconds = close_and_write(path, output, &image, render.shading, &exposure)?;
     let aov = render.shading.is_aov();
     let phases = Phases {
         load_seconds,

@@ -16,6 +16,7 @@ use super::render::{load_scene, RenderArgs};
 use super::video::{VideoEncoder, VideoPlan};
 use crate::focus::focus_depth_at;
 use crate::frame_settings::{command_line_over, FrameSettings};
+use crate::lens_flare;
 use crate::output::PendingOutput;
 use crate::paths::{self, OpenedPath, RenderPath, Startup};
 use lensray_core::scene::file::SceneDescription;
@@ -281,11 +282,20 @@ fn render_frames(
         let frame_settings = settings.at(frame);
         let exposure = exposure(&frame_settings, &resolved.camera)
             .with_context(|| format!("frame {frame}"))?;
+        let flare = lens_flare::flare_for(&frame_settings, &resolved)
+            .with_context(|| format!("frame {frame}"))?;
         let render_start = Instant::now();
         let i = i as u64;
-        let image = path.render(&resolved, &mut |done, total| {
+        let mut image = path.render(&resolved, &mut |done, total| {
             progress.update(i * total + done, count * total);
         })?;
+        if let Some(flare) = &flare {
+            let lights = posed
+                .as_ref()
+                .map_or(&description.scene.lights, |(_, scene)| &scene.lights);
+            let scale = exposure.display.exposure;
+            lens_flare::add(flare, &mut image, scale, &resolved, lights);
+        }
         let render_seconds = render_start.elapsed().as_secs_f64();
         let shading = resolved.render.shading;
         VideoEncoder::write_frame(video.as_deref_mut(), output, &image, shading, &exposure)?;

@@ -35,8 +35,10 @@ use crate::film::Image;
 use ghosts::{FilmBins, FlareLens};
 use starburst::Starburst;
 
-/// Exposed luminance past which a pixel is a source of ghosts.
-pub const SOURCE_LEVEL: f32 = 1.0;
+/// Exposed luminance past which a pixel is a source of ghosts: 16 times white. A ghost holds
+/// 1e-5 to 1e-3 of its source's light spread over many pixels, so a dimmer pixel's ghosts
+/// stay far below a display's last step.
+pub const SOURCE_LEVEL: f32 = 16.0;
 /// A source tile's side, pixels.
 pub const TILE: u32 = 8;
 /// The most source tiles kept (the brightest).
@@ -148,6 +150,14 @@ impl Flare {
             let Some((field, turn)) = self.field_of(point.direction) else {
                 continue;
             };
+            // Only a light whose image lies on the film is in view.
+            let on_film = self.lens.image_height(field, self.bins).is_some_and(|h| {
+                let at = self.axis + turn * Vec2::new(1.0, -1.0) * (h.abs() / self.pitch_mm) as f32;
+                at.x >= 0.0 && at.y >= 0.0 && at.x < self.width as f32 && at.y < self.height as f32
+            });
+            if !on_film {
+                continue;
+            }
             let Some(pattern) = self.pattern(field) else {
                 continue;
             };

@@ -73,6 +73,21 @@ impl Starburst {
                     }
                 }
             }
+            // The pattern ends at the kernel's radius: a window (1 to half the radius, then a
+            // cosine to 0 at it) keeps its square edge from showing around a very bright
+            // source.
+            for (i, k) in kernel.iter_mut().enumerate() {
+                let (x, y) = (
+                    (i % side) as f64 - radius as f64,
+                    (i / side) as f64 - radius as f64,
+                );
+                let r = x.hypot(y) / radius as f64;
+                *k *= match r {
+                    r if r <= 0.5 => 1.0,
+                    r if r >= 1.0 => 0.0,
+                    r => (0.5 * std::f64::consts::PI * (r - 0.5) / 0.5).cos().powi(2),
+                };
+            }
             let total: f64 = kernel.iter().sum();
             kernel.iter().map(|&k| (k / total) as f32).collect()
         });

@@ -1,0 +1,76 @@
+//! The lens's own light on a rendered image (`--flare`, `--starburst`; `camera::flare` draws
+//! it): what a shot asks for, refused in one line where it cannot be drawn, and the punctual
+//! lights in view. `render` (a still or a sequence's frames), the preview and the bench add
+//! it to whatever path rendered the image, before the image is exposed.
+
+use anyhow::{bail, Result};
+use glam::Vec3;
+
+use lensray_core::camera::flare::{Flare, FlareSwitches, PointSource};
+use lensray_core::camera::Camera;
+use lensray_core::film::Image;
+use lensray_core::scene::Light;
+use lensray_core::settings::{Settings, Shot, Switch};
+
+/// What `settings` ask the flare to draw.
+pub fn switches(settings: &Settings) -> FlareSwitches {
+    let lens = &settings.camera.lens;
+    FlareSwitches {
+        ghosts: lens.flare == Some(Switch::On),
+        starburst: lens.starburst == Some(Switch::On),
+    }
+}
+
+/// The flare `settings` ask of `shot`, `None` where they ask none; an error where the shot
+/// cannot have one.
+pub fn flare_for(settings: &Settings, shot: &Shot) -> Result<Option<Flare>> {
+    let switches = switches(settings);
+    if !(switches.ghosts || switches.starburst) {
+        return Ok(None);
+    }
+    let Some(real) = shot.camera.lens.real() else {
+        bail!(
+            "--flare and --starburst trace a real lens's surfaces and stop: name one with --lens"
+        );
+    };
+    if shot.render.shading.is_aov() {
+        bail!(
+            "--flare and --starburst add light to a rendered image: the {} shading has none",
+            shot.render.shading.name()
+        );
+    }
+    if real.film().normal != Vec3::Z {
+        bail!("--flare and --starburst follow a lens square to its film: this one tilts (--tilt)");
+    }
+    let camera = &shot.camera;
+    Ok(Some(Flare::new(
+        real,
+        switches,
+        camera.width,
+        camera.height,
+    )))
+}
+
+/// The punctual lights ahead of `camera` (in camera space, with the light each gives the lens).
+pub fn point_sources(lights: &[Light], camera: &Camera) -> Vec<PointSource> {
+    let eye = camera.world_from_camera.transform_point3(Vec3::ZERO);
+    lights
+        .iter()
+        .filter_map(|light| {
+            let incident = light.incident(eye)?;
+            let direction = camera
+                .camera_from_world
+                .transform_vector3(incident.direction)
+                .normalize_or_zero();
+            (direction.z > 0.0 && incident.irradiance.max_element() > 0.0).then_some(PointSource {
+                direction,
+                irradiance: incident.irradiance,
+            })
+        })
+        .collect()
+}
+
+/// Adds `flare` to `image`, rendered of `shot` with `lights`, under `exposure`'s scale.
+pub fn add(flare: &Flare, image: &mut Image, exposure: f32, shot: &Shot, lights: &[Light]) {
+    flare.apply(image, exposure, &point_sources(lights, &shot.camera));
+}
