@@ -90,6 +90,26 @@ fn render_args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
     v
 }
 
+/// Runs `args` (a `render --device cpu ...`) on `path` in `dir`: `cpu` as given, a GPU path
+/// with `--device gpu --path PATH --validate`. A CPU failure fails `test`; a GPU path that
+/// cannot run here skips it (or fails, `gpu_support::skip_or_fail`): `false`.
+fn render_on_path<'a>(test: &str, path: &'a str, mut args: Vec<&'a str>, dir: &Path) -> bool {
+    assert_eq!(&args[..3], ["render", "--device", "cpu"]);
+    if path != "cpu" {
+        args[2] = "gpu";
+        args.extend(["--path", path, "--validate"]);
+    }
+    let run = lensray(&args, dir);
+    if !run.status.success() {
+        if path == "cpu" {
+            panic!("{test}: {args:?}: {}", stderr(&run));
+        }
+        gpu_support::skip_or_fail(test, &stderr(&run));
+        return false;
+    }
+    true
+}
+
 /// Runs a render that must fail: non-zero exit, exactly one stderr line mentioning `needle`,
 /// no panic, and no output file left behind.
 fn assert_rejected(extra: &[&str], needle: &str) {

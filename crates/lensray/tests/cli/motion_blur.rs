@@ -15,8 +15,8 @@ use std::path::Path;
 
 use lensray_core::film::Image;
 
-use crate::gpu_support::{compare, skip_or_fail, write_comparison};
-use crate::{assert_rejected_on, lensray, read_exr, stderr};
+use crate::gpu_support::{compare, write_comparison};
+use crate::{assert_rejected_on, read_exr, render_on_path};
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
@@ -59,17 +59,8 @@ fn frame5(
     // The scene file sets the size.
     let mut args = vec!["render", "--device", "cpu", "--spp", "64"];
     args.extend(["--scene", scene, "--frames", "5", "--out", &out]);
-    if path != "cpu" {
-        args[2] = "gpu";
-        args.extend(["--path", path, "--validate"]);
-    }
     args.extend_from_slice(extra);
-    let run = lensray(&args, dir);
-    if !run.status.success() {
-        if path == "cpu" {
-            panic!("{test}: cpu: {}", stderr(&run));
-        }
-        skip_or_fail(test, &stderr(&run));
+    if !render_on_path(test, path, args, dir) {
         return None;
     }
     Some(read_exr(&dir.join(format!("{name}.5.exr"))))

@@ -18,9 +18,9 @@ use std::path::Path;
 
 use lensray_core::film::Image;
 
-use crate::gpu_support::{compare, skip_or_fail, write_comparison};
+use crate::gpu_support::{compare, write_comparison};
 use crate::motion_blur::row_profile;
-use crate::{lensray, read_exr, stderr};
+use crate::{lensray, read_exr, render_on_path, stderr};
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
@@ -137,17 +137,8 @@ fn render_on(
     if let Some(frames) = &frames {
         args.extend(["--frames", frames]);
     }
-    if path != "cpu" {
-        args[2] = "gpu";
-        args.extend(["--path", path, "--validate"]);
-    }
     args.extend_from_slice(extra);
-    let run = lensray(&args, dir);
-    if !run.status.success() {
-        if path == "cpu" {
-            panic!("{args:?}: {}", stderr(&run));
-        }
-        skip_or_fail(name, &stderr(&run));
+    if !render_on_path(name, path, args, dir) {
         return None;
     }
     let file = match frame {
