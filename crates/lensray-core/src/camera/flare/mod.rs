@@ -75,8 +75,17 @@ struct Pattern {
     direct: [Vec<f32>; 3],
     /// The direct image's distance from the axis (mm, signed along the trace's +x).
     image_mm: f64,
-    /// The direct path's share (d line) against the axis's: the lens's vignetting there.
-    vignetting: f64,
+}
+
+/// A source of the image: its field angle (degrees), its turn in the image (the unit vector
+/// from the axis toward its image, +y up), its image's distance from the axis (mm) and its
+/// light as rendered (summed over its pixels).
+#[derive(Clone, Copy, Debug)]
+struct Source {
+    field: f64,
+    turn: Vec2,
+    height_mm: f64,
+    light: Vec3,
 }
 
 /// A shot's flare: the lens, the film's pixels and the patterns traced so far.
@@ -94,6 +103,8 @@ pub struct Flare {
     starburst: Option<Starburst>,
     /// The solid angle of a pixel at the centre, sr: a punctual light's light in pixels.
     pixel_sr: f64,
+    /// The share of an axial source's light that reaches the film.
+    axial_share: f64,
     patterns: Mutex<HashMap<i64, Arc<Pattern>>>,
 }
 
@@ -122,10 +133,11 @@ impl Flare {
         });
         let degree = 1.0f64;
         let focal_mm = lens
-            .image_height(degree, bins)
+            .image_height(degree)
             .map_or(f64::from(real.film_half_height()), |h| {
                 h.abs() / degree.to_radians().tan()
             });
+        let axial_share = lens.direct_share(0.0, bins);
         Self {
             switches,
             lens,
@@ -136,6 +148,7 @@ impl Flare {
             bins,
             starburst,
             pixel_sr: (pitch_mm / focal_mm).powi(2),
+            axial_share,
             patterns: Mutex::new(HashMap::new()),
         }
     }
@@ -144,38 +157,59 @@ impl Flare {
     /// punctual lights in view.
     pub fn apply(&self, image: &mut Image, exposure: f32, points: &[PointSource]) {
         assert_eq!((image.width, image.height), (self.width, self.height));
-        let mut sources = bright_tiles(image, exposure);
         let mut added = Image::new(self.width, self.height);
+        let mut sources = Vec::new();
+        for (at, light) in bright_tiles(image, exposure) {
+            let offset = (at - self.axis) * Vec2::new(1.0, -1.0);
+            let height_mm = f64::from(offset.length()) * self.pitch_mm;
+            if let Some(field) = self.field_for(height_mm) {
+                let turn = Vec2::from_angle(offset.y.atan2(offset.x));
+                sources.push(Source {
+                    field,
+                    turn,
+                    height_mm,
+                    light,
+                });
+            }
+        }
         for point in points {
             let Some((field, turn)) = self.field_of(point.direction) else {
                 continue;
             };
-            // Only a light whose image lies on the film is in view.
-            let on_film = self.lens.image_height(field, self.bins).is_some_and(|h| {
-                let at = self.axis + turn * Vec2::new(1.0, -1.0) * (h.abs() / self.pitch_mm) as f32;
-                at.x >= 0.0 && at.y >= 0.0 && at.x < self.width as f32 && at.y < self.height as f32
-            });
-            if !on_film {
-                continue;
-            }
-            let Some(pattern) = self.pattern(field) else {
+            let Some(height_mm) = self.lens.image_height(field) else {
                 continue;
             };
-            let light = point.irradiance / self.pixel_sr as f32 * pattern.vignetting as f32;
-            self.gather(&mut added, &pattern.direct, light, (turn, pattern.image_mm));
-            sources.push((self.image_of(&pattern, turn), light));
+            // Only a light whose image lies on the film is in view.
+            let height_mm = height_mm.abs();
+            let at = self.axis + turn * Vec2::new(1.0, -1.0) * (height_mm / self.pitch_mm) as f32;
+            let on_film = at.x >= 0.0 && at.y >= 0.0;
+            if !(on_film && at.x < self.width as f32 && at.y < self.height as f32) {
+                continue;
+            }
+            let vignetting = match self.axial_share > 0.0 {
+                true => {
+                    let share = self.lens.direct_share(field, self.bins);
+                    share / self.axial_share * field.to_radians().cos()
+                }
+                false => 0.0,
+            };
+            let light = point.irradiance / self.pixel_sr as f32 * vignetting as f32;
+            let source = Source {
+                field,
+                turn,
+                height_mm,
+                light,
+            };
+            if let Some(pattern) = self.pattern(field) {
+                self.gather(&mut added, &pattern.direct, &source, pattern.image_mm);
+            }
+            sources.push(source);
         }
         if self.switches.ghosts {
-            for &(at, light) in &sources {
-                let offset = (at - self.axis) * Vec2::new(1.0, -1.0);
-                let Some(field) = self.field_for(f64::from(offset.length()) * self.pitch_mm) else {
-                    continue;
-                };
-                let Some(pattern) = self.pattern(field) else {
-                    continue;
-                };
-                let turn = Vec2::from_angle(offset.y.atan2(offset.x));
-                self.gather(&mut added, &pattern.ghosts, light, (turn, pattern.image_mm));
+            for source in &sources {
+                if let Some(pattern) = self.pattern(source.field) {
+                    self.gather(&mut added, &pattern.ghosts, source, pattern.image_mm);
+                }
             }
         }
         for (pixel, more) in image.pixels.iter_mut().zip(&added.pixels) {
@@ -184,12 +218,6 @@ impl Flare {
         if let Some(starburst) = &self.starburst {
             starburst.apply(image);
         }
-    }
-
-    /// The raster point where a source of `pattern`, turned by `turn`, images.
-    fn image_of(&self, pattern: &Pattern, turn: Vec2) -> Vec2 {
-        let offset = turn * (pattern.image_mm.abs() / self.pitch_mm) as f32;
-        self.axis + offset * Vec2::new(1.0, -1.0)
     }
 
     /// A camera-space direction's field angle (degrees) and its turn in the image (the unit
@@ -213,10 +241,9 @@ impl Flare {
         let (mut low, mut high) = (0.0f64, 89.0f64);
         for _ in 0..24 {
             let mid = 0.5 * (low + high);
-            match self.lens.image_height(mid, self.bins) {
+            match self.lens.image_height(mid) {
                 Some(h) if h.abs() < height_mm => low = mid,
-                Some(_) => high = mid,
-                None => high = mid,
+                _ => high = mid,
             }
         }
         (high < 89.0).then_some(0.5 * (low + high))
@@ -248,16 +275,11 @@ impl Flare {
                     .collect()
             })
         };
-        let image_mm = self.lens.image_height(degrees, self.bins).unwrap_or(0.0);
-        let axial = self.lens.direct_share(0.0);
+        let image_mm = self.lens.image_height(degrees)?;
         let pattern = Arc::new(Pattern {
             ghosts: per_channel(&light.ghosts),
             direct: per_channel(&light.direct),
             image_mm,
-            vignetting: match axial > 0.0 {
-                true => self.lens.direct_share(degrees) / axial * degrees.to_radians().cos(),
-                false => 0.0,
-            },
         });
         self.patterns
             .lock()
@@ -266,31 +288,29 @@ impl Flare {
         Some(pattern)
     }
 
-    /// Adds `maps` (a pattern's per-channel bins, the source along the trace's +x), turned
-    /// by `turn` and scaled by the source's `light`, to `image` pixel by pixel.
-    fn gather(
-        &self,
-        image: &mut Image,
-        maps: &[Vec<f32>; 3],
-        light: Vec3,
-        (turn, image_mm): (Vec2, f64),
-    ) {
+    /// Adds `maps` (a pattern's per-channel bins, its source imaged `image_mm` along the
+    /// trace's +x), turned to `source`'s side and moved along it from the pattern's field
+    /// angle to the source's own, scaled by its light, to `image` pixel by pixel.
+    fn gather(&self, image: &mut Image, maps: &[Vec<f32>; 3], source: &Source, image_mm: f64) {
         // The trace's source images on the side of `image_mm`'s sign; the image shows the film
         // inverted, so a pattern point f mm off the axis shows at -f: turned, sign * f.
         let sign = if image_mm < 0.0 { -1.0 } else { 1.0 };
+        let shift_mm = source.height_mm - image_mm.abs();
         let bin_pixels = self.bins.bin_mm / self.pitch_mm;
         let per_pixel = 1.0 / (bin_pixels * bin_pixels) as f32;
         let half = DVec2::new(0.5 * self.bins.columns as f64, 0.5 * self.bins.rows as f64);
         let width = self.width as usize;
+        let turn = source.turn;
         for (index, pixel) in image.pixels.iter_mut().enumerate() {
             let raster = Vec2::new((index % width) as f32 + 0.5, (index / width) as f32 + 0.5);
-            // Image offset (+y up) turned back onto the trace's +x.
+            // Image offset (+y up) turned back onto the trace's +x, in mm.
             let q = (raster - self.axis) * Vec2::new(1.0, -1.0);
             let back = Vec2::new(q.x * turn.x + q.y * turn.y, q.y * turn.x - q.x * turn.y);
-            let at = back.as_dvec2() * sign / bin_pixels + half - DVec2::splat(0.5);
+            let film = back.as_dvec2() * self.pitch_mm - DVec2::new(shift_mm, 0.0);
+            let at = film * sign / self.bins.bin_mm + half - DVec2::splat(0.5);
             let value =
                 Vec3::from_array(std::array::from_fn(|c| bilinear(&maps[c], self.bins, at)));
-            *pixel += value * light * per_pixel;
+            *pixel += value * source.light * per_pixel;
         }
     }
 }
