@@ -407,6 +407,21 @@ binding_groups! {
         g_depth: storage_image("r32f") = "readonly uniform image2D g_depth",
         display: storage_image("rgba8") = "writeonly uniform image2D display",
     }
+    /// A real lens's ghosts (shaders/passes/ghosts.comp): the paths (i, j, 1 for a ghost, 0
+    /// for the direct path), per wavelength (nm, its dispersion offset, the fixed-point scale
+    /// of its ghosts' film plane and of its direct one), per surface its coating (1 if
+    /// layered, the layer's index and thickness in nm), the traced rays (GHOST_VERTEX_VEC4S
+    /// each: the film point in bins, the share carried, the rims' reach; the stop's crossings;
+    /// the third crossing, their count, 1 if traced), and the film: per wavelength a ghosts'
+    /// plane and a direct plane of fixed-point sums. The camera gives the aperture's shape.
+    GhostGroup("GROUP_GHOSTS") {
+        ghost_paths: storage_buffer() = "readonly buffer GhostPaths { uvec4 ghost_paths[]; }",
+        ghost_wavelengths: storage_buffer() = "readonly buffer GhostWavelengths { vec4 ghost_wavelengths[]; }",
+        ghost_coatings: storage_buffer() = "readonly buffer GhostCoatings { vec4 ghost_coatings[]; }",
+        ghost_vertices: storage_buffer() = "buffer GhostVertices { vec4 ghost_vertices[]; }",
+        ghost_film: storage_buffer() = "buffer GhostFilm { uint ghost_film[]; }",
+        camera: uniform_buffer() = "uniform CameraBlock { Camera cam; }",
+    }
     /// The mirror probes' queries and answers (shaders/probes/mirrors.comp).
     MirrorProbeGroup("GROUP_MIRROR_PROBE") {
         queries: storage_buffer() = "readonly buffer Queries { ProbeQuery queries[]; }",
@@ -479,6 +494,8 @@ descriptor_sets! {
     HybridPlanSet("hybrid_plan", Compute, crate::HybridPlanPush) { HybridPlanGroup }
     /// The preview's resolve pass (resolve.comp).
     ResolveSet("resolve", Compute, crate::ResolvePush) { ResolveGroup }
+    /// A real lens's ghosts (ghosts.comp).
+    GhostSet("ghosts", Compute, crate::GhostPush) { GhostGroup, ApertureGroup, LensGroup }
     /// The GLSL mirror probes (mirrors.comp).
     MirrorProbeSet("mirror_probe", Compute, u32) { MirrorProbeGroup, ApertureGroup, LensGroup }
     /// The sampler-cost probe (sampler_cost.comp).

@@ -178,6 +178,16 @@ shader_constants! {
     RT_RAY_CLOSEST: u32 = 0;
     RT_RAY_SHADOW: u32 = 1;
     PROBE_GROUP_SIZE: u32 = 64;
+    /// ghosts.comp (lensray-core's camera/flare/ghosts.rs on the GPU): its workgroup, its two
+    /// steps (trace every grid ray, then draw every grid cell), the vec4s a traced ray takes,
+    /// a triangle's largest box as a share of the film (`LARGEST_TRIANGLE_SHARE`), and the
+    /// fixed-point film's full scale (a film plane's light adds up to at most 2^31).
+    GHOST_GROUP_SIZE: u32 = 64;
+    GHOST_STEP_TRACE: u32 = 0;
+    GHOST_STEP_DRAW: u32 = 1;
+    GHOST_VERTEX_VEC4S: u32 = 3;
+    GHOST_LARGEST_TRIANGLE_SHARE: f32 = 0.25;
+    GHOST_FILM_FULL_SCALE: f32 = 2147483648.0;
     /// `Light.kind` (`scene::LightKind`).
     LIGHT_NONE: u32 = 0;
     LIGHT_POINT: u32 = 1;

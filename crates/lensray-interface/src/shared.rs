@@ -170,6 +170,25 @@ shader_interface! {
             spp: u32,
             coc: GpuCocLens,
         }
+        /// Push constants of ghosts.comp: a distant source `field` off the axis (its sine and
+        /// cosine) traced on a `grid` x `grid` grid over the front surface's clear aperture
+        /// (`front_radius` mm) along `paths` paths at `wavelengths` wavelengths, drawn into
+        /// `columns` x `rows` film bins of `bin_mm`; `step` GHOST_STEP_*.
+        Std430 struct GhostPush as GhostPush {
+            step: u32,
+            paths: u32,
+            wavelengths: u32,
+            grid: u32,
+            columns: u32,
+            rows: u32,
+            front_radius: f32,
+            bin_mm: f32,
+            sin_field: f32,
+            cos_field: f32,
+            /// The share of the light entering the lens one grid cell carries.
+            cell_share: f32,
+            pad0: u32,
+        }
         /// Push constants of sampler_cost.comp.
         Std430 struct SamplerCostPush as SamplerCostPush {
             width: u32,

@@ -65,6 +65,7 @@ pub use core::counters::Counters;
 pub use core::error::GpuError;
 pub use core::instance::ValidationLog;
 pub use passes::gbuffer::{focus_distance_at, GBuffer};
+pub use passes::ghosts::GhostRequest;
 pub use passes::trace::Timings;
 pub use present::overlay::OverlayFrame;
 pub use present::viewer::{

@@ -1,16 +1,19 @@
 //! The lens's own light on a rendered image (`--flare`, `--starburst`; `camera::flare` draws
 //! it): what a shot asks for, refused in one line where it cannot be drawn, and the punctual
-//! lights in view. `render` (a still or a sequence's frames), the preview and the bench add
-//! it to whatever path rendered the image, before the image is exposed.
+//! lights in view. `render` (a still or a sequence's frames) adds it to whatever path rendered
+//! the image, before the image is exposed, traced on that path's device.
 
 use anyhow::{bail, Result};
 use glam::Vec3;
 
+use crate::paths::RenderPath;
+use lensray_core::camera::flare::ghosts::FlareLens;
 use lensray_core::camera::flare::{Flare, FlareSwitches, PointSource};
 use lensray_core::camera::Camera;
 use lensray_core::film::Image;
 use lensray_core::scene::Light;
 use lensray_core::settings::{Settings, Shot, Switch};
+use lensray_vulkan::GhostRequest;
 
 /// What `settings` ask the flare to draw.
 pub fn switches(settings: &Settings) -> FlareSwitches {
@@ -70,7 +73,26 @@ pub fn point_sources(lights: &[Light], camera: &Camera) -> Vec<PointSource> {
         .collect()
 }
 
-/// Adds `flare` to `image`, rendered of `shot` with `lights`, under `exposure`'s scale.
-pub fn add(flare: &Flare, image: &mut Image, exposure: f32, shot: &Shot, lights: &[Light]) {
-    flare.apply(image, exposure, &point_sources(lights, &shot.camera));
+/// Adds `flare` to `image`, rendered of `shot` with `lights` on `path`, under `exposure`'s
+/// scale. A GPU path traces and draws the ghosts on its device (shaders/passes/ghosts.comp),
+/// the CPU path on the CPU.
+pub fn add(
+    flare: &Flare,
+    (image, exposure): (&mut Image, f32),
+    shot: &Shot,
+    lights: &[Light],
+    path: &mut dyn RenderPath,
+) -> Result<()> {
+    let points = point_sources(lights, &shot.camera);
+    let mut trace = |lens: &FlareLens, degrees, wavelengths: &[f64], grid, bins| {
+        let request = GhostRequest {
+            degrees,
+            wavelengths_nm: wavelengths,
+            grid,
+            bins,
+        };
+        path.ghost_light(&shot.camera, lens, &request)
+            .unwrap_or_else(|| Ok(lens.distant_source(degrees, wavelengths, grid, bins)))
+    };
+    flare.apply_traced(image, exposure, &points, &mut trace)
 }

@@ -45,6 +45,7 @@ pub(crate) const RESOLVE_COMP: &[u8] = spirv!("resolve.comp");
 pub(crate) const VISIBILITY_VERT: &[u8] = spirv!("visibility.vert");
 pub(crate) const VISIBILITY_FRAG: &[u8] = spirv!("visibility.frag");
 pub(crate) const HYBRID_PLAN_COMP: &[u8] = spirv!("hybrid_plan.comp");
+pub(crate) const GHOSTS_COMP: &[u8] = spirv!("ghosts.comp");
 #[cfg(feature = "probes")]
 pub(crate) const MIRRORS_COMP: &[u8] = spirv!("mirrors.comp");
 #[cfg(feature = "probes")]

@@ -40,8 +40,7 @@ impl ApertureTable {
         })
     }
 
-    /// The tables of `camera`'s aperture image, for a one-off dispatch (the probe).
-    #[cfg(feature = "probes")]
+    /// The tables of `camera`'s aperture image, for a one-off dispatch (the probe, the ghosts).
     pub(crate) fn of(ctx: &Arc<Context>, camera: &Camera) -> Result<Buffer, GpuError> {
         match camera.lens.first_order().aperture.image() {
             Some(image) => Self::upload_image(ctx, image),

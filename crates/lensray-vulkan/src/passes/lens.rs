@@ -36,8 +36,7 @@ impl LensBuffer {
         })
     }
 
-    /// The lens of `camera`, for a one-off dispatch (the probe).
-    #[cfg(feature = "probes")]
+    /// The lens of `camera`, for a one-off dispatch (the probe, the ghosts).
     pub(crate) fn of(ctx: &Arc<Context>, camera: &Camera) -> Result<Buffer, GpuError> {
         Self::upload(ctx, &crate::upload::gpu_lens(camera)?)
     }

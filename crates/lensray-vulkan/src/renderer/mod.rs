@@ -21,12 +21,14 @@ use crate::core::device::Context;
 use crate::core::error::vk_err;
 use crate::core::instance::Instance;
 use crate::core::surface::WindowSurface;
+use crate::passes::ghosts::GhostRequest;
 use crate::passes::trace::TracePass;
 use crate::scene::SceneBuffers;
 use crate::{
     BvhParams, Counters, DeviceReport, Estimator, GBuffer, GpuError, GpuOptions, Timings,
     Traversal, ValidationLog,
 };
+use lensray_core::camera::flare::ghosts::{FilmLight, FlareLens};
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::motion::ObjectMotion;
@@ -242,6 +244,18 @@ impl GpuRenderer {
     /// (one read-back of the image's sums); an error when another device holds them.
     pub fn read_sums(&mut self, accumulation: &mut Accumulation) -> Result<(), GpuError> {
         self.trace.films.read(accumulation)
+    }
+
+    /// A real lens's ghosts and direct light from a distant source (`request`), traced and
+    /// drawn on this device (shaders/passes/ghosts.comp) as lensray-core's `lens` does on the
+    /// CPU: `camera`'s lens, focused and stopped, and its aperture.
+    pub fn ghost_light(
+        &self,
+        camera: &Camera,
+        lens: &FlareLens,
+        request: &GhostRequest,
+    ) -> Result<FilmLight, GpuError> {
+        crate::passes::ghosts::distant_source(&self.ctx, camera, lens, request)
     }
 
     /// Destroys every Vulkan object, then, with validation on, fails on any message the layer

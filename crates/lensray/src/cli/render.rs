@@ -331,14 +331,8 @@ pub fn render_one(args: &RenderArgs) -> Result<()> {
     let render_start = Instant::now();
     let mut image = path.render(&resolved, &mut |d, t| progress.update(d, t))?;
     if let Some(flare) = &flare {
-        let lights = &description.scene.lights;
-        lens_flare::add(
-            flare,
-            &mut image,
-            exposure.display.exposure,
-            &resolved,
-            lights,
-        );
+        let (lights, scale) = (&description.scene.lights, exposure.display.exposure);
+        lens_flare::add(flare, (&mut image, scale), &resolved, lights, path.as_mut())?;
     }
     let render_seconds = render_start.elapsed().as_secs_f64();
     progress.finish();

@@ -294,7 +294,7 @@ fn render_frames(
                 .as_ref()
                 .map_or(&description.scene.lights, |(_, scene)| &scene.lights);
             let scale = exposure.display.exposure;
-            lens_flare::add(flare, &mut image, scale, &resolved, lights);
+            lens_flare::add(flare, (&mut image, scale), &resolved, lights, path)?;
         }
         let render_seconds = render_start.elapsed().as_secs_f64();
         let shading = resolved.render.shading;

@@ -8,12 +8,13 @@ use anyhow::Result;
 use glam::Vec3;
 
 use crate::paths::{Clock, PathKind, PathReport, RenderPath};
+use lensray_core::camera::flare::ghosts::{FilmLight, FlareLens};
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
-use lensray_vulkan::{focus_distance_at, Estimator, GpuRenderer, Traversal};
+use lensray_vulkan::{focus_distance_at, Estimator, GhostRequest, GpuRenderer, Traversal};
 
 /// A GPU path: the renderer and the estimator that adds its samples.
 pub struct GpuPath {
@@ -139,6 +140,19 @@ impl RenderPath for GpuPath {
         let gbuffer = self.renderer.render_gbuffer(camera, Vec3::ZERO)?;
         self.note_memory();
         Ok(focus_distance_at(&gbuffer, pixel[0], pixel[1]))
+    }
+
+    fn ghost_light(
+        &mut self,
+        camera: &Camera,
+        lens: &FlareLens,
+        request: &GhostRequest,
+    ) -> Option<Result<FilmLight>> {
+        Some(
+            self.renderer
+                .ghost_light(camera, lens, request)
+                .map_err(Into::into),
+        )
     }
 
     fn report(&self) -> PathReport {

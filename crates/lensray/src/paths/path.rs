@@ -8,12 +8,13 @@ use std::ops::Range;
 use anyhow::Result;
 use serde::Serialize;
 
+use lensray_core::camera::flare::ghosts::{FilmLight, FlareLens};
 use lensray_core::camera::Camera;
 use lensray_core::film::{Accumulation, Image, Progress};
 use lensray_core::scene::motion::ObjectMotion;
 use lensray_core::scene::Scene;
 use lensray_core::settings::Shot;
-use lensray_vulkan::{Estimator, Traversal};
+use lensray_vulkan::{Estimator, GhostRequest, Traversal};
 
 /// The algorithms lensray can render with: the one description of a path. What a path needs
 /// (its device, the GPU traversal it is tied to) is a property here, not another enum kept in
@@ -414,6 +415,19 @@ pub trait RenderPath: Send {
     fn image_of(&mut self, accumulation: &mut Accumulation) -> Result<Image> {
         self.read_sums(accumulation)?;
         Ok(accumulation.image()?)
+    }
+
+    /// A real lens's light from a distant source (`--flare`: ghosts and the source's own
+    /// image), traced and drawn on the path's device; `None` where the flare traces it on the
+    /// CPU (`FlareLens::distant_source`).
+    fn ghost_light(
+        &mut self,
+        camera: &Camera,
+        lens: &FlareLens,
+        request: &GhostRequest,
+    ) -> Option<Result<FilmLight>> {
+        let _ = (camera, lens, request);
+        None
     }
 
     /// What the path did since it was opened.

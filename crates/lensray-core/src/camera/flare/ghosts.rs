@@ -116,6 +116,16 @@ impl FlareLens {
         &self.pairs
     }
 
+    /// Each surface's coating.
+    pub fn coatings(&self) -> &[Coating] {
+        &self.coatings
+    }
+
+    /// Half the front surface's clear aperture, mm: the grid's reach.
+    pub fn front_radius(&self) -> f64 {
+        self.elements.interfaces[0].aperture_radius
+    }
+
     /// The light on the film of a point source at infinity `degrees` off the axis along +x, at
     /// `wavelengths_nm`: `grid` x `grid` cells over the front surface's clear aperture,
     /// gathered into `bins`.

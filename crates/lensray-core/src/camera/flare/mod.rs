@@ -32,7 +32,7 @@ use glam::{DVec2, Vec2, Vec3};
 
 use crate::camera::RealLens;
 use crate::film::Image;
-use ghosts::{FilmBins, FlareLens};
+use ghosts::{FilmBins, FilmLight, FlareLens};
 use starburst::Starburst;
 
 /// Exposed luminance past which a pixel is a source of ghosts: 16 times white. A ghost holds
@@ -51,6 +51,11 @@ pub const GRID: usize = 64;
 const CHANNEL_WAVELENGTHS_NM: [[f64; 2]; 3] = [[640.0, 600.0], [560.0, 530.0], [480.0, 450.0]];
 /// The starburst's farthest reach, pixels, at most.
 const STARBURST_RADIUS: usize = 256;
+
+/// Traces a pattern as `FlareLens::distant_source` does: the lens, the source's field angle
+/// (degrees), the wavelengths (nm), the grid's cells across and the film's bins.
+pub type PatternTrace<'a, E> =
+    dyn FnMut(&FlareLens, f64, &[f64], usize, FilmBins) -> Result<FilmLight, E> + 'a;
 
 /// What the flare draws.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -154,8 +159,23 @@ impl Flare {
     }
 
     /// Adds the flare to `image` (linear, before `exposure`'s scale), with `points` the
-    /// punctual lights in view.
+    /// punctual lights in view, its patterns traced on the CPU.
     pub fn apply(&self, image: &mut Image, exposure: f32, points: &[PointSource]) {
+        let mut on_cpu = |lens: &FlareLens, degrees, wavelengths: &[f64], grid, bins| {
+            Ok::<_, std::convert::Infallible>(lens.distant_source(degrees, wavelengths, grid, bins))
+        };
+        let Ok(()) = self.apply_traced(image, exposure, points, &mut on_cpu);
+    }
+
+    /// [`Flare::apply`], each pattern traced by `trace` (`FlareLens::distant_source`'s
+    /// arguments; a GPU's trace); its first error stops it, the image left as it was.
+    pub fn apply_traced<E>(
+        &self,
+        image: &mut Image,
+        exposure: f32,
+        points: &[PointSource],
+        trace: &mut PatternTrace<'_, E>,
+    ) -> Result<(), E> {
         assert_eq!((image.width, image.height), (self.width, self.height));
         let mut added = Image::new(self.width, self.height);
         let mut sources = Vec::new();
@@ -200,14 +220,14 @@ impl Flare {
                 height_mm,
                 light,
             };
-            if let Some(pattern) = self.pattern(field) {
+            if let Some(pattern) = self.pattern(field, trace)? {
                 self.gather(&mut added, &pattern.direct, &source, pattern.image_mm);
             }
             sources.push(source);
         }
         if self.switches.ghosts {
             for source in &sources {
-                if let Some(pattern) = self.pattern(source.field) {
+                if let Some(pattern) = self.pattern(source.field, trace)? {
                     self.gather(&mut added, &pattern.ghosts, source, pattern.image_mm);
                 }
             }
@@ -218,6 +238,7 @@ impl Flare {
         if let Some(starburst) = &self.starburst {
             starburst.apply(image);
         }
+        Ok(())
     }
 
     /// A camera-space direction's field angle (degrees) and its turn in the image (the unit
@@ -250,19 +271,21 @@ impl Flare {
     }
 
     /// The pattern of a source `field` degrees off the axis (the nearest step's), traced once.
-    fn pattern(&self, field: f64) -> Option<Arc<Pattern>> {
+    fn pattern<E>(
+        &self,
+        field: f64,
+        trace: &mut PatternTrace<'_, E>,
+    ) -> Result<Option<Arc<Pattern>>, E> {
         let step = (field / ANGLE_STEP_DEGREES).round() as i64;
         if let Some(pattern) = self.patterns.lock().expect("patterns").get(&step) {
-            return Some(pattern.clone());
+            return Ok(Some(pattern.clone()));
         }
         let degrees = step as f64 * ANGLE_STEP_DEGREES;
         let wavelengths: Vec<f64> = CHANNEL_WAVELENGTHS_NM.iter().flatten().copied().collect();
-        let light = self
-            .lens
-            .distant_source(degrees, &wavelengths, GRID, self.bins);
+        let light = trace(&self.lens, degrees, &wavelengths, GRID, self.bins)?;
         let shares: Vec<f64> = light.direct.iter().map(|d| d.iter().sum()).collect();
         if shares.iter().any(|&s| s <= 0.0) {
-            return None;
+            return Ok(None);
         }
         let per_channel = |maps: &[Vec<f64>]| -> [Vec<f32>; 3] {
             std::array::from_fn(|c| {
@@ -275,7 +298,9 @@ impl Flare {
                     .collect()
             })
         };
-        let image_mm = self.lens.image_height(degrees)?;
+        let Some(image_mm) = self.lens.image_height(degrees) else {
+            return Ok(None);
+        };
         let pattern = Arc::new(Pattern {
             ghosts: per_channel(&light.ghosts),
             direct: per_channel(&light.direct),
@@ -285,7 +310,7 @@ impl Flare {
             .lock()
             .expect("patterns")
             .insert(step, pattern.clone());
-        Some(pattern)
+        Ok(Some(pattern))
     }
 
     /// Adds `maps` (a pattern's per-channel bins, its source imaged `image_mm` along the
