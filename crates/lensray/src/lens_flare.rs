@@ -27,13 +27,17 @@ pub fn switches(settings: &Settings) -> FlareSwitches {
 /// The flare `settings` ask of `shot`, `None` where they ask none; an error where the shot
 /// cannot have one.
 pub fn flare_for(settings: &Settings, shot: &Shot) -> Result<Option<Flare>> {
-    let switches = switches(settings);
+    flare_of(switches(settings), shot)
+}
+
+/// The flare `switches` ask of `shot`, as [`flare_for`].
+pub fn flare_of(switches: FlareSwitches, shot: &Shot) -> Result<Option<Flare>> {
     if !(switches.ghosts || switches.starburst) {
         return Ok(None);
     }
     let Some(real) = shot.camera.lens.real() else {
         bail!(
-            "--flare and --starburst trace a real lens's surfaces and stop: name one with --lens"
+            "--flare and --starburst trace a real lens's surfaces and stop: name one with --lens (a scene file: [camera.lens])"
         );
     };
     if shot.render.shading.is_aov() {

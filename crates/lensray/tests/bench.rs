@@ -504,9 +504,38 @@ fn lens_sweep_reports_pass_shares_and_costs_against_the_thin_lens() {
 }
 
 /// Bad input: one line naming the problem, a non-zero exit, no panic, no file written.
+/// `--flare on --starburst on` with a real lens (assets/night: a lamp through double-gauss-50):
+/// each path's flare time against its render's, in the table and the JSON (each run traces the
+/// ghosts again, on the GPU path's device).
+#[test]
+fn flare_is_timed_against_the_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let night = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/night/night.toml");
+    let mut args = vec!["--scene-file", night.to_str().unwrap(), "--shading", "lit"];
+    args.extend(["--flare", "on", "--starburst", "on", "--json", "out.json"]);
+    args.extend(["--paths", "cpu"]);
+    let out = bench(&args, dir.path());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table = text(&out.stdout);
+    assert!(table.contains("flare / render"), "{table}");
+    let json = read_json(&dir.path().join("out.json"));
+    for (_, m) in measurements(&json) {
+        let ratio = m["flare_vs_render"].as_f64().expect("a flare ratio");
+        let flare = m["phases"]["flare_seconds"]
+            .as_f64()
+            .expect("flare seconds");
+        assert!(ratio > 0.0 && flare > 0.0, "{m}");
+    }
+}
+
 #[test]
 fn bad_input_is_one_clear_line_and_writes_nothing() {
-    let cases: [(&[&str], &str); 10] = [
+    let cases: [(&[&str], &str); 12] = [
+        (&["--paths", "cpu", "--flare", "on"], "--lens"),
+        (
+            &["--paths", "cpu", "--flare", "on", "--sweep", "spp"],
+            "--sweep",
+        ),
         (&["--paths", "cpu,warp"], "warp"),
         (&["--repeat", "0"], "--repeat"),
         (&["--paths", "rayquery", "--device", "cpu"], "--device cpu"),

@@ -203,7 +203,7 @@ pub fn measure(variants: &[Variant], shot: &Shot, args: &Args) -> Result<Vec<Vec
     for round in 0..args.repeat {
         for ((row, runs), images) in opened.iter_mut().zip(&mut runs).zip(&mut images) {
             for i in (0..n).map(|k| (k + round) % n) {
-                let (run, image) = timed_render(row[i].as_mut(), shot)?;
+                let (run, image) = timed_render(row[i].as_mut(), shot, None)?;
                 runs[i].push(run);
                 images[i] = Some(image);
             }

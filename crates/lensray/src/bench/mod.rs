@@ -28,11 +28,13 @@ use std::rc::Rc;
 
 use anyhow::{bail, ensure, Context, Result};
 
+use crate::lens_flare;
 use crate::paths::{self, OpenedPath};
 use crate::paths::{PathKind, RenderPath};
 use focus::FocusInfo;
 use lens::LensPoint;
 use lensray_core::reference::Renderer as CpuRenderer;
+use lensray_core::settings::exposure;
 use lensray_core::settings::Shot;
 use movements::MovementsPoint;
 use options::{BenchOptions, SceneChoice, SweepKind};
@@ -51,6 +53,10 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
         "--reference-spp must be at least 2"
     );
     let values = sweep::values(options.sweep, options.sweep_points.as_deref(), options.spp)?;
+    let flared = options.flare.ghosts || options.flare.starburst;
+    if flared && options.sweep.is_some() {
+        bail!("--flare and --starburst time one point against its render: they take no --sweep or --plot");
+    }
     if options.sweep == Some(SweepKind::Triangles) && options.scene != SceneChoice::default_scene()
     {
         bail!("--sweep triangles renders generated scenes: it takes no --scene or --scene-file");
@@ -79,6 +85,7 @@ pub fn run(options: &BenchOptions, log: &mut dyn FnMut(&str)) -> Result<BenchRep
         ));
     }
     let base_shot = bench_shot(&base, options, base_value(options, &values))?;
+    lens_flare::flare_of(options.flare, &base_shot)?;
     let mut kinds = choose::paths_to_run(options, &base, &base_shot, log)?;
     if options.sweep == Some(SweepKind::Lens) {
         kinds = lens_paths(options, kinds, log)?;
@@ -430,11 +437,33 @@ fn measure_point_by_point(
             s.camera.height,
             s.render.spp
         ));
+        let Some(flare) = lens_flare::flare_of(options.flare, s)? else {
+            results.push(runs::measure_interleaved(
+                opened,
+                s,
+                options.repeat,
+                (&reference.image, None),
+            )?);
+            continue;
+        };
+        // The reference, flared on the CPU as the paths' images are on their devices.
+        let exposure = exposure(&scene.description.settings, &s.camera)?
+            .display
+            .exposure;
+        let lights = &scene.description.scene.lights;
+        let mut flared = reference.image.clone();
+        let points = lens_flare::point_sources(lights, &s.camera);
+        flare.apply(&mut flared, exposure, &points);
+        let bench_flare = runs::BenchFlare {
+            flare: &flare,
+            exposure,
+            lights,
+        };
         results.push(runs::measure_interleaved(
             opened,
             s,
             options.repeat,
-            &reference.image,
+            (&flared, Some(&bench_flare)),
         )?);
     }
     Ok(results)

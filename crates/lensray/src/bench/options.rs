@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use crate::paths::{DeviceChoice, PathChoice};
+use lensray_core::camera::flare::FlareSwitches;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::units::SceneUnits;
 use lensray_vulkan::GpuOptions;
@@ -124,6 +125,8 @@ pub struct BenchOptions {
     pub sweep: Option<SweepKind>,
     /// The sweep's values instead of its defaults ("1,4,16"; "160x120,320x240"; "10000,1000000").
     pub sweep_points: Option<String>,
+    /// The lens's own light each render draws too (`--flare`, `--starburst`), timed apart.
+    pub flare: FlareSwitches,
 }
 
 /// Where references are cached unless `--cache-dir` says otherwise (relative to the working
@@ -158,6 +161,7 @@ impl Default for BenchOptions {
             cache_dir: Some(PathBuf::from(DEFAULT_CACHE_DIR)),
             sweep: None,
             sweep_points: None,
+            flare: FlareSwitches::default(),
         }
     }
 }

@@ -8,8 +8,10 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 
 use crate::paths::{Clock, PathKind, Phases, RenderPath};
+use lensray_core::camera::flare::Flare;
 use lensray_core::film::compare::rmse;
 use lensray_core::film::Image;
+use lensray_core::scene::Light;
 use lensray_core::settings::{RenderSettings, Shot};
 use lensray_core::stats::{median, range};
 
@@ -107,6 +109,18 @@ pub struct Measurement {
     /// target: at most 1.05).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub time_per_sample_vs_plain: Option<f64>,
+    /// `--flare`, `--starburst`: the median time the lens's own light took after each render
+    /// (`phases.flare_seconds`) over the render's median wall time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flare_vs_render: Option<f64>,
+}
+
+/// What each timed render draws after it (`--flare`, `--starburst` on the bench): the flare,
+/// the exposure's scale and the scene's lights.
+pub struct BenchFlare<'a> {
+    pub flare: &'a Flare,
+    pub exposure: f32,
+    pub lights: &'a [Light],
 }
 
 pub fn psnr_db(rmse: f64) -> f64 {
@@ -122,9 +136,9 @@ pub fn measure_interleaved(
     paths: &mut [Box<dyn RenderPath>],
     shot: &Shot,
     repeat: usize,
-    reference: &Image,
+    (reference, flare): (&Image, Option<&BenchFlare>),
 ) -> Result<Vec<Measurement>> {
-    let mut points = measure_points_interleaved(paths, &[(shot, reference)], repeat)?;
+    let mut points = measure_points_flared(paths, &[(shot, reference)], repeat, flare)?;
     Ok(points.remove(0))
 }
 
@@ -137,6 +151,16 @@ pub fn measure_points_interleaved(
     points: &[(&Shot, &Image)],
     repeat: usize,
 ) -> Result<Vec<Vec<Measurement>>> {
+    measure_points_flared(paths, points, repeat, None)
+}
+
+/// [`measure_points_interleaved`], each timed render followed by `flare` (timed apart).
+fn measure_points_flared(
+    paths: &mut [Box<dyn RenderPath>],
+    points: &[(&Shot, &Image)],
+    repeat: usize,
+    flare: Option<&BenchFlare>,
+) -> Result<Vec<Vec<Measurement>>> {
     for &(shot, _) in points {
         for path in paths.iter_mut() {
             path.render(shot, &mut |_, _| {})
@@ -148,7 +172,7 @@ pub fn measure_points_interleaved(
     for _ in 0..repeat {
         for (&(shot, _), (runs, images)) in points.iter().zip(runs.iter_mut().zip(&mut images)) {
             for ((path, runs), image) in paths.iter_mut().zip(runs).zip(images) {
-                let (run, rendered) = timed_render(path.as_mut(), shot)
+                let (run, rendered) = timed_render(path.as_mut(), shot, flare)
                     .with_context(|| format!("--paths {}", path.kind()))?;
                 runs.push(run);
                 *image = Some(rendered);
@@ -178,17 +202,30 @@ pub fn measure_points_interleaved(
         .collect()
 }
 
-/// `path`'s render of `shot`, timed.
-pub fn timed_render(path: &mut dyn RenderPath, shot: &Shot) -> Result<(Run, Image)> {
+/// `path`'s render of `shot`, timed, then `flare` drawn on it, timed apart.
+pub fn timed_render(
+    path: &mut dyn RenderPath,
+    shot: &Shot,
+    flare: Option<&BenchFlare>,
+) -> Result<(Run, Image)> {
     let before = path.report();
     let start = Instant::now();
-    let image = path.render(shot, &mut |_, _| {})?;
+    let mut image = path.render(shot, &mut |_, _| {})?;
     let wall_seconds = start.elapsed().as_secs_f64();
+    let flare_start = Instant::now();
+    if let Some(f) = flare {
+        f.flare.forget_patterns();
+        crate::lens_flare::add(f.flare, (&mut image, f.exposure), shot, f.lights, path)?;
+    }
+    let flare_seconds = flare_start.elapsed().as_secs_f64();
     let done = path.report().since(&before);
     // An AOV is one pass (GPU: the raster G-buffer), timed as such; no rays on the GPU.
     let aov = shot.render.shading.is_aov();
     let passes = if aov { 1 } else { shot.render.spp };
-    let phases = Phases::of_render(wall_seconds, &done, passes, aov);
+    let phases = Phases {
+        flare_seconds,
+        ..Phases::of_render(wall_seconds, &done, passes, aov)
+    };
     let run = Run {
         trace_seconds: phases.tracing_seconds,
         wall_seconds,
@@ -242,8 +279,21 @@ fn measurement(
         cost_vs_thin: None,
         cost_per_camera_ray_vs_thin: None,
         time_per_sample_vs_plain: None,
+        flare_vs_render: flare_vs_render(&runs),
         runs,
     }
+}
+
+/// The median flare time over the median render time, where the runs drew a flare.
+fn flare_vs_render(runs: &[Run]) -> Option<f64> {
+    let flare = median(
+        &runs
+            .iter()
+            .map(|r| r.phases.flare_seconds)
+            .collect::<Vec<_>>(),
+    );
+    let wall = median(&runs.iter().map(|r| r.wall_seconds).collect::<Vec<_>>());
+    (flare > 0.0 && wall > 0.0).then(|| flare / wall)
 }
 
 /// Each render phase's median over `runs`.
@@ -259,6 +309,7 @@ fn median_phases(runs: &[Run]) -> Phases {
         passes: runs.first().map_or(0, |r| r.phases.passes),
         submits: runs.last().map_or(0, |r| r.phases.submits),
         readback_seconds: of(|p| p.readback_seconds),
+        flare_seconds: of(|p| p.flare_seconds),
         ..Phases::default()
     }
 }
@@ -324,6 +375,7 @@ mod tests {
             cost_vs_thin: None,
             cost_per_camera_ray_vs_thin: None,
             time_per_sample_vs_plain: None,
+            flare_vs_render: None,
         }
     }
 

@@ -24,7 +24,37 @@ pub fn render(report: &BenchReport) -> String {
     if report.sweep == Some(SweepKind::Movements) {
         movements_section(&mut out, report);
     }
+    flare_section(&mut out, report);
     out
+}
+
+/// `--flare`, `--starburst`: each path's time for the lens's own light after its render (its
+/// ghosts traced on its device), against the render's.
+fn flare_section(out: &mut String, report: &BenchReport) {
+    let flared: Vec<&Measurement> = report
+        .points
+        .iter()
+        .flat_map(|p| &p.results)
+        .filter(|m| m.flare_vs_render.is_some())
+        .collect();
+    if flared.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "flare (the lens's own light after each render, median of the runs):"
+    );
+    let mut rows = vec![["path", "render", "flare", "flare / render"].map(String::from)];
+    for m in flared {
+        let (render, flare) = (m.wall_seconds.median, m.phases.flare_seconds);
+        rows.push([
+            m.path.to_string(),
+            Unit::for_seconds(render).show(render, true),
+            Unit::for_seconds(flare).show(flare, true),
+            format!("{:.3}x", m.flare_vs_render.unwrap_or(f64::NAN)),
+        ]);
+    }
+    write_rows(out, &rows, 1, "  ");
 }
 
 /// What was measured: the shot and the runs, the machine, each path's device.

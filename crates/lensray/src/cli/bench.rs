@@ -13,10 +13,11 @@ use crate::bench::options::{
 };
 use crate::output::PendingFile;
 use crate::paths::PathChoice;
+use lensray_core::camera::flare::FlareSwitches;
 use lensray_core::sampler::SamplerKind;
 use lensray_core::scene::generate::DEFAULT_DENSE_TRIANGLES;
 use lensray_core::scene::units::SceneUnits;
-use lensray_core::settings::Shading;
+use lensray_core::settings::{Shading, Switch};
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -80,6 +81,13 @@ pub struct BenchArgs {
     /// Seed of the paths' samples (the reference uses another).
     #[arg(long, value_name = "S")]
     pub seed: Option<u32>,
+    /// With a real lens (the scene's): each render draws the lens's ghosts too, timed apart
+    /// (on a GPU path traced on its device), against the render's time.
+    #[arg(long, value_parser = by_name::<Switch>(), value_name = "on|off")]
+    pub flare: Option<Switch>,
+    /// With a real lens: each render draws the aperture's starburst too, timed apart.
+    #[arg(long, value_parser = by_name::<Switch>(), value_name = "on|off")]
+    pub starburst: Option<Switch>,
     /// Timed runs per path and point, after one warm-up run.
     #[arg(long, alias = "runs", value_name = "N", default_value_t = 5, value_parser = parse_repeat)]
     pub repeat: usize,
@@ -162,6 +170,10 @@ impl BenchArgs {
             // A plot needs curves: without a sweep it sweeps spp.
             sweep: self.sweep.or(self.plot.as_ref().map(|_| SweepKind::Spp)),
             sweep_points: self.sweep_points.clone(),
+            flare: FlareSwitches {
+                ghosts: self.flare == Some(Switch::On),
+                starburst: self.starburst == Some(Switch::On),
+            },
         }
     }
 }

@@ -31,6 +31,9 @@ pub struct Phases {
     pub submits: u64,
     /// Bringing the sums to the host.
     pub readback_seconds: f64,
+    /// The lens's own light (`--flare`, `--starburst`): the ghosts traced and drawn (on a GPU
+    /// path's device), the starburst's convolution.
+    pub flare_seconds: f64,
     /// Encoding the image and writing its file.
     pub write_seconds: f64,
     /// What no phase above holds (focusing, closing the device, the summary).
@@ -87,6 +90,7 @@ impl Phases {
             + self.tracing_seconds
             + self.beyond_tracing_seconds
             + self.readback_seconds
+            + self.flare_seconds
             + self.write_seconds;
         Self {
             other_seconds: (total - named).max(0.0),
@@ -96,7 +100,7 @@ impl Phases {
     }
 
     /// One line per phase, `timings: <phase> <seconds> s`, the per-pass figure beside the time
-    /// beyond tracing, then the total.
+    /// beyond tracing (the flare's only when it was drawn), then the total.
     pub fn lines(&self) -> Vec<String> {
         let per_pass = format!(
             " ({:.3} ms per pass, {} passes, {} submissions)",
@@ -124,11 +128,13 @@ impl Phases {
             ("tracing", self.tracing_seconds, String::new()),
             ("beyond tracing", self.beyond_tracing_seconds, per_pass),
             ("read-back", self.readback_seconds, String::new()),
+            ("flare", self.flare_seconds, String::new()),
             ("encode and write", self.write_seconds, String::new()),
             ("other", self.other_seconds, String::new()),
             ("total", self.total_seconds, String::new()),
         ]
         .into_iter()
+        .filter(|&(name, seconds, _)| name != "flare" || seconds > 0.0)
         .map(|(name, seconds, note)| format!("timings: {name} {seconds:.4} s{note}"))
         .collect()
     }

@@ -158,6 +158,12 @@ impl Flare {
         }
     }
 
+    /// Drops the patterns traced so far: the next `apply` traces its sources' again (a bench
+    /// times the whole flare each run).
+    pub fn forget_patterns(&self) {
+        self.patterns.lock().expect("patterns").clear();
+    }
+
     /// Adds the flare to `image` (linear, before `exposure`'s scale), with `points` the
     /// punctual lights in view, its patterns traced on the CPU.
     pub fn apply(&self, image: &mut Image, exposure: f32, points: &[PointSource]) {
