@@ -406,6 +406,9 @@ binding_groups! {
         g_albedo: storage_image("rgba32f") = "readonly uniform image2D g_albedo",
         g_depth: storage_image("r32f") = "readonly uniform image2D g_depth",
         display: storage_image("rgba8") = "writeonly uniform image2D display",
+        /// The lens's own light per pixel (`--flare`, `--starburst`), linear, added to the
+        /// final view when the push constants say so.
+        flare: storage_buffer() = "readonly buffer FlareLight { vec4 flare[]; }",
     }
     /// A real lens's ghosts (shaders/passes/ghosts.comp): the paths (i, j, 1 for a ghost, 0
     /// for the direct path), per wavelength (nm, its dispersion offset, the fixed-point scale

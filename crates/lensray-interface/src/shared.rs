@@ -149,6 +149,8 @@ shader_interface! {
             /// TONEMAP_*
             tonemap: u32,
             shown: ViewParams,
+            /// 1: the final view adds `flare` (the lens's own light) before exposure.
+            flare: u32,
         }
         /// Push constants of the view pass (gbuffer.vert reads the leading RasterPush,
         /// view.frag the view).

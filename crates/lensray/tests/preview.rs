@@ -8,6 +8,8 @@
 mod adaptive;
 #[path = "preview/animated.rs"]
 mod animated;
+#[path = "preview/flare.rs"]
+mod flare;
 mod gpu_support;
 #[path = "preview/keyframes.rs"]
 mod keyframes;

@@ -24,7 +24,11 @@ void main() {
         vec4 a = accum[p.y * pc.width + p.x];
         // Pixels the accumulation has not reached yet show the pinhole albedo meanwhile (a
         // reflectance: not exposed, as a PNG of the albedo view).
-        shown = encode_srgb(a.w > 0.0 ? display_mapped(a.xyz / a.w, pc.exposure, pc.tonemap)
+        vec3 linear = a.xyz / a.w;
+        if (pc.flare != 0u) {
+            linear += flare[p.y * pc.width + p.x].xyz;
+        }
+        shown = encode_srgb(a.w > 0.0 ? display_mapped(linear, pc.exposure, pc.tonemap)
                                       : imageLoad(g_albedo, q).xyz);
     } else if (pc.shown.view == VIEW_ALBEDO) {
         shown = encode_srgb(imageLoad(g_albedo, q).xyz);

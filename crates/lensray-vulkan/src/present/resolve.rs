@@ -4,6 +4,8 @@
 use std::sync::Arc;
 
 use ash::vk;
+use glam::Vec3;
+use gpu_allocator::MemoryLocation;
 
 use crate::core::buffer::Buffer;
 use crate::core::descriptors::Gpu;
@@ -28,6 +30,10 @@ pub(crate) struct ResolvePass {
     pub display: Option<DeviceImage>,
     /// The accumulation bound (the recorder orders the resolve after the samples' writes).
     bound_accum: vk::Buffer,
+    /// The lens's own light per pixel of the current size (host-written), and whether the
+    /// final view adds it.
+    flare: Option<Buffer>,
+    flare_shown: bool,
 }
 
 impl ResolvePass {
@@ -38,6 +44,8 @@ impl ResolvePass {
             pipeline,
             display: None,
             bound_accum: vk::Buffer::null(),
+            flare: None,
+            flare_shown: false,
         })
     }
 
@@ -61,14 +69,42 @@ impl ResolvePass {
             vk::ImageAspectFlags::COLOR,
         )?;
         self.bound_accum = accum.buffer;
+        let flare = Buffer::new(
+            &self.ctx,
+            "preview flare",
+            u64::from(width) * u64::from(height) * 16,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
         self.pipeline.bind_group(&ResolveGroup::<Gpu> {
             accum,
             g_normal: targets.normal.view,
             g_albedo: targets.albedo.view,
             g_depth: targets.view_depth.view,
             display: display.view,
+            flare: &flare,
         });
         self.display = Some(display);
+        self.flare = Some(flare);
+        self.flare_shown = false;
+        Ok(())
+    }
+
+    /// The lens's own light the final view adds (`None`: none), one value per pixel of the
+    /// bound size. No frame may be in flight (the buffer is written from the host).
+    pub(crate) fn set_flare(&mut self, light: Option<&[Vec3]>) -> Result<(), GpuError> {
+        self.flare_shown = false;
+        let (Some(light), Some(buffer)) = (light, self.flare.as_mut()) else {
+            return Ok(());
+        };
+        let values: Vec<[f32; 4]> = light.iter().map(|v| [v.x, v.y, v.z, 0.0]).collect();
+        if (values.len() * 16) as u64 > buffer.size {
+            return Err(GpuError::Invalid(
+                "the flare's image is not the preview's size".into(),
+            ));
+        }
+        buffer.write(bytemuck::cast_slice(&values))?;
+        self.flare_shown = true;
         Ok(())
     }
 
@@ -98,6 +134,10 @@ impl ResolvePass {
                 dst_access: vk::AccessFlags::SHADER_WRITE,
             },
         );
+        let push = &ResolvePush {
+            flare: u32::from(self.flare_shown),
+            ..*push
+        };
         let groups = [
             push.width.div_ceil(RESOLVE_GROUP_SIZE),
             push.height.div_ceil(RESOLVE_GROUP_SIZE),

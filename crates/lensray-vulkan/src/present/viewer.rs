@@ -288,6 +288,15 @@ impl Viewer {
         }))
     }
 
+    /// The lens's own light (`--flare`, `--starburst`) the final view adds to the accumulation
+    /// from the next frame on (`None`: none), an image of the current size. Waits for the
+    /// device.
+    pub fn set_flare(&mut self, light: Option<&Image>) -> Result<(), GpuError> {
+        self.wait_idle()?;
+        self.resolve
+            .set_flare(light.map(|image| image.pixels.as_slice()))
+    }
+
     fn wait_idle(&self) -> Result<(), GpuError> {
         self.gpu.ctx().wait_idle()
     }

@@ -450,6 +450,7 @@ pub(crate) fn resolve_push(camera: &Camera, view: u32, display: &Display) -> Res
         exposure: display.exposure,
         tonemap: display.tonemap.code(),
         shown: view_params(camera, view),
+        flare: 0,
     }
 }
 

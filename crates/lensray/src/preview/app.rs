@@ -3,6 +3,7 @@
 //! sample count is reached the event loop waits for input and uses no CPU.
 
 mod actions;
+mod flare;
 mod frame;
 mod open;
 mod replay;
@@ -169,6 +170,10 @@ struct App {
     posed: Option<lensray_core::scene::Scene>,
     /// Whether the window said that its path does not blur moving meshes (it says so once).
     said_meshes_stand: bool,
+    /// The lens's own light the final view adds (`app/flare.rs`), and whether the window
+    /// said why it cannot draw one (it says so once).
+    flare: Option<flare::ShownFlare>,
+    said_flare: bool,
     pending_pick: Option<Vec2>,
     /// Whether the pending pick is a point of the plane of focus (Shift+click).
     plane_pick: bool,
@@ -212,6 +217,8 @@ impl App {
             last: None,
             posed: None,
             said_meshes_stand: false,
+            flare: None,
+            said_flare: false,
             pending_pick: None,
             plane_pick: false,
             plane_points: Vec::new(),

@@ -353,6 +353,19 @@ impl Panel {
                 rig.set_dispersion(on);
             }
             ui.end_row();
+            let mut flare = crate::lens_flare::switches(rig.settings());
+            let before = flare;
+            ui.label("Flare");
+            ui.checkbox(&mut flare.ghosts, "ghosts")
+                .on_hover_text("light reflected twice between the lens's coated surfaces, drawn once the view converges");
+            ui.end_row();
+            ui.label("Starburst");
+            ui.checkbox(&mut flare.starburst, "")
+                .on_hover_text("the aperture's diffraction around bright sources, drawn once the view converges");
+            ui.end_row();
+            if flare != before {
+                rig.set_flare(flare);
+            }
             self.aperture_shape(ui, rig);
         });
         if let Some(summary) = &stats.lens_summary {

@@ -203,6 +203,13 @@ impl CameraRig {
         &self.settings.camera.exposure
     }
 
+    /// The lens's own light the final view adds once converged (`--flare`, `--starburst`).
+    pub fn set_flare(&mut self, switches: lensray_core::camera::flare::FlareSwitches) {
+        let switch = |on: bool| Some(if on { Switch::On } else { Switch::Off });
+        self.settings.camera.lens.flare = switch(switches.ghosts);
+        self.settings.camera.lens.starburst = switch(switches.starburst);
+    }
+
     /// Stops on top of the physical exposure, or alone (0: none).
     pub fn set_exposure_ev(&mut self, ev: f64) {
         self.settings.camera.exposure.ev = (ev != 0.0).then_some(ev);

@@ -79,13 +79,19 @@ impl App {
     pub(super) fn save_screenshot(&mut self, path: &std::path::Path) -> Result<()> {
         let output = PendingOutput::create(path)?;
         let viewer = self.viewer.as_mut().context("no window yet")?;
-        let image = viewer
+        let mut image = viewer
             .read_accumulation()?
             .context("nothing rendered yet to save")?;
         let shot = match &self.last {
             Some(shot) => shot.clone(),
             None => self.config.rig.shot(&self.config.description.scene)?,
         };
+        // With the lens's own light the final view adds.
+        if let Some(flare) = self.flare.as_ref().filter(|f| f.is_of(&shot)) {
+            for (pixel, light) in image.pixels.iter_mut().zip(&flare.light.pixels) {
+                *pixel += *light;
+            }
+        }
         // As the final view shows it (a PNG), or linear (an EXR, unless --expose-exr).
         let exposure = self.config.rig.exposure(&shot.camera)?;
         output.finish(&image, shot.render.shading, &exposure)?;

@@ -93,6 +93,11 @@ impl App {
             self.shown_display = Some(display);
             self.record_drawn(&result, changed, resolved, now, [width, height]);
         }
+        if let Some(shot) = self.last.clone() {
+            if self.follow_flare(&shot)? {
+                window.request_redraw();
+            }
+        }
         if let Some(depth) = result.picked_depth {
             match picked_camera {
                 Some((pixel, camera)) if self.plane_pick => {
