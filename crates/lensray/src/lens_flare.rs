@@ -89,12 +89,7 @@ pub fn add(
 ) -> Result<()> {
     let points = point_sources(lights, &shot.camera);
     let mut trace = |lens: &FlareLens, degrees, wavelengths: &[f64], grid, bins| {
-        let request = GhostRequest {
-            degrees,
-            wavelengths_nm: wavelengths,
-            grid,
-            bins,
-        };
+        let request = GhostRequest::new(degrees, wavelengths, grid, bins);
         path.ghost_light(&shot.camera, lens, &request)
             .unwrap_or_else(|| Ok(lens.distant_source(degrees, wavelengths, grid, bins)))
     };

@@ -18,7 +18,7 @@ use crate::core::recorder::Access;
 use crate::core::shader;
 use crate::passes::aperture::ApertureTable;
 use crate::passes::lens::LensBuffer;
-use lensray_core::camera::flare::ghosts::{FilmBins, FilmLight, FlareLens};
+use lensray_core::camera::flare::ghosts::{cell_corners, FilmBins, FilmLight, FlareLens};
 use lensray_core::camera::Camera;
 use lensray_core::interface::{
     ApertureGroup, DescriptorSet, GhostGroup, GhostPush, GhostSet, LensGroup,
@@ -37,6 +37,18 @@ pub struct GhostRequest<'a> {
     pub wavelengths_nm: &'a [f64],
     pub grid: usize,
     pub bins: FilmBins,
+}
+
+impl<'a> GhostRequest<'a> {
+    /// The request of `FlareLens::distant_source`'s arguments (`flare::PatternTrace`'s).
+    pub fn new(degrees: f64, wavelengths_nm: &'a [f64], grid: usize, bins: FilmBins) -> Self {
+        Self {
+            degrees,
+            wavelengths_nm,
+            grid,
+            bins,
+        }
+    }
 }
 
 /// The light of `request` through `camera`'s real lens as `lens` (its flare: pairs and
@@ -226,13 +238,7 @@ fn plane_light(traced: &[[f32; 4]], grid: usize, (index, cell_share): (usize, f6
     let mut light = 0.0;
     for gy in 0..grid {
         for gx in 0..grid {
-            let corners = [
-                gy * row + gx,
-                gy * row + gx + 1,
-                (gy + 1) * row + gx + 1,
-                (gy + 1) * row + gx,
-            ];
-            if let [Some(a), Some(b), Some(c), Some(d)] = corners.map(corner) {
+            if let [Some(a), Some(b), Some(c), Some(d)] = cell_corners(grid, gx, gy).map(corner) {
                 light += 0.25 * cell_share * (a + b + c + d);
             }
         }

@@ -1,38 +1,20 @@
 //! The lens's own light in the preview (`--flare`, `--starburst`, the lens panel's toggles):
 //! once the window converges, the final view adds the flare `render` draws. The screenshot of
-//! a lamp at night through double-gauss-50 at f/8 (software path, validation on) is the
-//! headless render with the same options, within the float rounding of the light the window
-//! adds to its accumulation (bound 1e-6 of the peak; measured 6e-8 on values up to 1.6e4).
-
-use std::path::Path;
+//! assets/night (a lamp through double-gauss-50 at f/8, 7 blades; software path, validation
+//! on) is the headless render with the same options, within the float rounding of the light
+//! the window adds to its accumulation (bound 1e-6 of the peak).
 
 use super::{headless, preview_with, read_exr};
-
-/// A 0.1 m lamp emitting 20000 right of centre over a grey ground, through double-gauss-50.
-fn night(dir: &Path) -> String {
-    let obj = "mtllib night.mtl\n\
-        usemtl ground\nv -30 0 -60\nv 30 0 -60\nv 30 0 5\nv -30 0 5\nf 1 4 3 2\n\
-        usemtl lamp\nv 1.95 1.15 -12\nv 2.05 1.15 -12\nv 2.05 1.25 -12\nv 1.95 1.25 -12\nf 5 6 7 8\n";
-    let mtl = "newmtl ground\nKd 0.3 0.3 0.3\nnewmtl lamp\nKd 0 0 0\nKe 20000 20000 20000\n";
-    std::fs::write(dir.join("night.obj"), obj).unwrap();
-    std::fs::write(dir.join("night.mtl"), mtl).unwrap();
-    let toml = "mesh = \"night.obj\"\n\
-        [camera]\neye = [0.0, 1.2, 0.0]\ntarget = [0.0, 1.2, -10.0]\nup = [0.0, 1.0, 0.0]\n\
-        f_number = 8.0\nfocus_distance = 12.0\n\
-        [camera.lens]\nprescription = \"double-gauss-50\"\n\
-        [render]\nenvironment = [0.01, 0.012, 0.02]\n";
-    std::fs::write(dir.join("night.toml"), toml).unwrap();
-    "night.toml".into()
-}
 
 #[test]
 fn the_preview_draws_the_flare_render_draws() {
     let test = "the_preview_draws_the_flare_render_draws";
     let dir = tempfile::tempdir().unwrap();
-    let scene = night(dir.path());
+    let night =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/night/night.toml");
     let view = [
         "--scene",
-        &scene,
+        night.to_str().unwrap(),
         "--width",
         "160",
         "--height",

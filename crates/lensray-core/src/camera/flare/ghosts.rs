@@ -296,16 +296,9 @@ impl FlareLens {
             .iter()
             .map(|v| v.as_ref().and_then(corner))
             .collect();
-        let row = grid + 1;
         for gy in 0..grid {
             for gx in 0..grid {
-                let quad = [
-                    gy * row + gx,
-                    gy * row + gx + 1,
-                    (gy + 1) * row + gx + 1,
-                    (gy + 1) * row + gx,
-                ]
-                .map(|i| corners[i]);
+                let quad = cell_corners(grid, gx, gy).map(|i| corners[i]);
                 let [Some(a), Some(b), Some(c), Some(d)] = quad else {
                     continue;
                 };
@@ -404,6 +397,18 @@ impl FlareLens {
             })
             .product()
     }
+}
+
+/// The rays at the corners of cell (`gx`, `gy`) of a `grid` x `grid` grid whose
+/// (grid + 1)^2 rays run row by row, counter-clockwise from its lower left.
+pub fn cell_corners(grid: usize, gx: usize, gy: usize) -> [usize; 4] {
+    let row = grid + 1;
+    [
+        gy * row + gx,
+        gy * row + gx + 1,
+        (gy + 1) * row + gx + 1,
+        (gy + 1) * row + gx,
+    ]
 }
 
 /// One corner of a grid cell: where its ray meets the film (in bins from the axis) and what

@@ -76,12 +76,7 @@ impl App {
         } else {
             let renderer = viewer.renderer_mut();
             let mut trace = |lens: &FlareLens, degrees, wavelengths: &[f64], grid, bins| {
-                let request = GhostRequest {
-                    degrees,
-                    wavelengths_nm: wavelengths,
-                    grid,
-                    bins,
-                };
+                let request = GhostRequest::new(degrees, wavelengths, grid, bins);
                 renderer.ghost_light(&shot.camera, lens, &request)
             };
             flare.apply_traced(&mut flared, exposure, &points, &mut trace)?;
