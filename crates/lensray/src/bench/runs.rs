@@ -212,12 +212,13 @@ pub fn timed_render(
     let start = Instant::now();
     let mut image = path.render(shot, &mut |_, _| {})?;
     let wall_seconds = start.elapsed().as_secs_f64();
-    let flare_start = Instant::now();
+    let mut flare_seconds = 0.0;
     if let Some(f) = flare {
+        let flare_start = Instant::now();
         f.flare.forget_patterns();
         crate::lens_flare::add(f.flare, (&mut image, f.exposure), shot, f.lights, path)?;
+        flare_seconds = flare_start.elapsed().as_secs_f64();
     }
-    let flare_seconds = flare_start.elapsed().as_secs_f64();
     let done = path.report().since(&before);
     // An AOV is one pass (GPU: the raster G-buffer), timed as such; no rays on the GPU.
     let aov = shot.render.shading.is_aov();

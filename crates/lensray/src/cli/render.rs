@@ -331,12 +331,13 @@ pub fn render_one(args: &RenderArgs) -> Result<()> {
     let render_start = Instant::now();
     let mut image = path.render(&resolved, &mut |d, t| progress.update(d, t))?;
     let render_seconds = render_start.elapsed().as_secs_f64();
-    let flare_start = Instant::now();
+    let mut flare_seconds = 0.0;
     if let Some(flare) = &flare {
+        let flare_start = Instant::now();
         let (lights, scale) = (&description.scene.lights, exposure.display.exposure);
         lens_flare::add(flare, (&mut image, scale), &resolved, lights, path.as_mut())?;
+        flare_seconds = flare_start.elapsed().as_secs_f64();
     }
-    let flare_seconds = flare_start.elapsed().as_secs_f64();
     progress.finish();
     let report = path.report().since(&before);
     // Pipelines may be made while the path opens (auto's choice) or in the render.
