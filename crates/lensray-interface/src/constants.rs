@@ -125,6 +125,10 @@ shader_constants! {
     /// the camera moves while the shutter is open: past the emitters' pairs (DIM_EMITTERS + 2
     /// MAX_BOUNCES), so that a still's samples keep their numbers.
     DIM_TIME: u32 = 102;
+    /// Vertex k of a path picks whether the microfacet its glass draw found reflects or
+    /// refracts (reference/brdf_sampling.rs: MetallicRoughness::sample) with dimension
+    /// DIM_FRESNEL + k: past the time, so that every other dimension keeps its number.
+    DIM_FRESNEL: u32 = 104;
     /// The camera's poses over the shutter (camera::motion::CameraMotion): evenly spaced in
     /// time from the first row's opening to the last row's closing.
     MOTION_STEPS: u32 = 8;

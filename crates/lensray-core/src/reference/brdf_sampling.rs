@@ -1,6 +1,8 @@
 //! Drawing directions from the metallic-roughness BRDF (`brdf.rs`): a mixture of its specular
 //! lobe, drawn by GGX's distribution of visible normals (Heitz, "Sampling the GGX Distribution
-//! of Visible Normals", JCGT 7(4), 2018), and its diffuse lobe, drawn by the cosine. The
+//! of Visible Normals", JCGT 7(4), 2018), its glass, whose visible microfacet reflects or
+//! refracts by its own Fresnel (Walter et al., "Microfacet Models for Refraction through Rough
+//! Surfaces", EGSR 2007, section 5.3), and its diffuse lobe, drawn by the cosine. The
 //! mixture's density is what both the estimate and multiple importance sampling against the
 //! environment (`sky.rs`) weigh by. shaders/include/brdf.glsl mirrors it function by function.
 
@@ -8,7 +10,7 @@ use std::f32::consts::{FRAC_1_PI, PI};
 
 use glam::{Vec2, Vec3};
 
-use super::brdf::{ggx_distribution, schlick_fresnel, MetallicRoughness};
+use super::brdf::{ggx_distribution, MetallicRoughness};
 use crate::scene::light::{cosine_direction, orthonormal_frame};
 
 /// A direction drawn from a BRDF: where the light comes from, the mixture's density of it, and
@@ -21,76 +23,82 @@ pub struct BrdfSample {
 }
 
 impl MetallicRoughness {
-    /// The shares of draws that go to the specular reflection and to the transmission where
-    /// the viewer is at n.v = `n_dot_v`; the diffuse lobe draws the rest. A metal's draws all
-    /// go to its specular lobe; an opaque dielectric's half to it (weighed by `specular`); a
-    /// transmitting dielectric's share T splits by its Fresnel at n.v, the transmission keeping
-    /// at least alpha of it (at most a half): a rough surface lets light through microfacets
-    /// tilted against the view even where the macro normal's Fresnel reflects all (beyond the
-    /// critical angle from inside, grazing from outside), and those draws find it. None where
-    /// the viewer is not above the surface (no visible normal then).
+    /// The shares of draws that go to the specular reflection and to the glass where the
+    /// viewer is at n.v = `n_dot_v`; the diffuse lobe draws the rest. A metal's draws all go
+    /// to its specular lobe; an opaque dielectric's half to it (weighed by `specular`); a
+    /// transmitting dielectric's share T to the glass, whose draws find a visible microfacet
+    /// and reflect off it or refract through it as its own Fresnel says
+    /// ([`Self::glass_reflectance`]; Walter et al. 2007, section 5.3). None where the viewer
+    /// is not above the surface (no visible normal then).
     pub fn lobe_probabilities(&self, n_dot_v: f32) -> (f32, f32) {
         if n_dot_v <= 0.0 {
             return (0.0, 0.0);
         }
         let dielectric = 1.0 - self.metallic;
         let t = self.dielectric.transmission;
-        let reflected = match self.dielectric.outside_cosine(n_dot_v) {
-            Some(cos) => {
-                schlick_fresnel(
-                    Vec3::splat(self.dielectric.f0() * self.specular),
-                    self.specular,
-                    cos,
-                )
-                .x
-            }
-            None => 1.0,
-        }
-        .min(1.0 - self.alpha().min(0.5));
-        let specular =
-            self.metallic + dielectric * ((1.0 - t) * 0.5 * self.specular + t * reflected);
-        let transmitted = dielectric * t * (1.0 - reflected);
+        let specular = self.metallic + dielectric * ((1.0 - t) * 0.5 * self.specular);
+        let glass = dielectric * t;
         (
             specular.clamp(0.0, 1.0),
-            transmitted.clamp(0.0, 1.0 - specular.clamp(0.0, 1.0)),
+            glass.clamp(0.0, 1.0 - specular.clamp(0.0, 1.0)),
         )
     }
 
+    /// The share of a glass draw's microfacets at cosine `v_dot_h` to the viewer that reflect:
+    /// the mean of their Fresnel, 1 beyond the critical angle. f's share of each side is then
+    /// what draws it, so a glass draw's weight is G2 / G1 either way: no draw carries much
+    /// more than the light it finds.
+    pub fn glass_reflectance(&self, v_dot_h: f32) -> f32 {
+        let f = self.fresnel(v_dot_h);
+        ((f.x + f.y + f.z) / 3.0).clamp(0.0, 1.0)
+    }
+
     /// The mixture's density (per solid angle) of drawing `l` at unit normal `n` seen from
-    /// `v`; below the surface the transmission's, 0 without one.
+    /// `v`; below the surface the glass's refraction, 0 without one.
     pub fn pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
         let n_dot_l = n.dot(l);
         let n_dot_v = n.dot(v);
-        let (p, t) = self.lobe_probabilities(n_dot_v);
-        if n_dot_l < 0.0 && t > 0.0 {
-            return t * self.transmission_pdf(n, l, v);
+        let (p, g) = self.lobe_probabilities(n_dot_v);
+        if n_dot_l < 0.0 && g > 0.0 {
+            return g * self.transmission_pdf(n, l, v);
         }
         if n_dot_l <= 0.0 {
             return 0.0;
         }
-        let diffuse = (1.0 - p - t) * n_dot_l * FRAC_1_PI;
-        if p <= 0.0 {
+        let diffuse = (1.0 - p - g) * n_dot_l * FRAC_1_PI;
+        let h = (l + v).normalize();
+        let reflecting = if g > 0.0 {
+            p + g * self.glass_reflectance(v.dot(h))
+        } else {
+            p
+        };
+        if reflecting <= 0.0 {
             return diffuse;
         }
-        let h = (l + v).normalize();
         let specular = visible_normal_pdf(n_dot_v, n.dot(h), self.alpha());
-        p * specular + diffuse
+        reflecting * specular + diffuse
     }
 
-    /// The direction point `u` ([0, 1)^2) draws at unit normal `n` seen from `v`, with its
+    /// The direction point `u` ([0, 1)^3) draws at unit normal `n` seen from `v`, with its
     /// density and weight; `None` where it carries no light (below the surface of one that
-    /// does not transmit, or beyond the critical angle). The first coordinate picks the lobe
-    /// and is stretched back to [0, 1) within it.
-    pub fn sample(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<BrdfSample> {
-        let (p, t) = self.lobe_probabilities(n.dot(v));
+    /// does not transmit, or a reflection below or refraction above the surface). The first
+    /// coordinate picks the lobe and is stretched back to [0, 1) within it; the third picks
+    /// whether a glass draw's microfacet reflects.
+    pub fn sample(&self, n: Vec3, v: Vec3, u: Vec3) -> Option<BrdfSample> {
+        let (p, g) = self.lobe_probabilities(n.dot(v));
         let direction = if u.x < p {
             let h = visible_normal_around(n, v, self.alpha(), Vec2::new(u.x / p, u.y));
             // The lobe's density counts only what goes above the surface.
             Some(2.0 * v.dot(h) * h - v).filter(|l| n.dot(*l) > 0.0)?
-        } else if u.x < p + t {
-            self.sample_transmission(n, v, Vec2::new((u.x - p) / t, u.y))?
+        } else if u.x < p + g {
+            let h = visible_normal_around(n, v, self.alpha(), Vec2::new((u.x - p) / g, u.y));
+            if u.z < self.glass_reflectance(v.dot(h)) {
+                Some(2.0 * v.dot(h) * h - v).filter(|l| n.dot(*l) > 0.0)?
+            } else {
+                self.transmitted_through(n, v, h)?
+            }
         } else {
-            let stretched = Vec2::new((u.x - p - t) / (1.0 - p - t), u.y);
+            let stretched = Vec2::new((u.x - p - g) / (1.0 - p - g), u.y);
             cosine_direction(n, stretched)
         };
         let pdf = self.pdf(n, direction, v);
@@ -200,7 +208,7 @@ mod tests {
                 let steps = 512;
                 let mut drawn = glam::DVec3::ZERO;
                 for u in grid(steps) {
-                    if let Some(d) = s.sample(n, v, u) {
+                    if let Some(d) = s.sample(n, v, u.extend(0.5)) {
                         let pdf = s.pdf(n, d.direction, v);
                         assert!((pdf - d.pdf).abs() <= 1e-6 * pdf, "{pdf} against {}", d.pdf);
                         drawn += d.weight.as_dvec3();
@@ -253,7 +261,9 @@ mod tests {
             }
             let integral = sum * std::f64::consts::PI / (q * q) as f64;
             let steps = 512;
-            let above = grid(steps).filter(|&u| s.sample(n, v, u).is_some()).count();
+            let above = grid(steps)
+                .filter(|&u| s.sample(n, v, u.extend(0.5)).is_some())
+                .count();
             let share = above as f64 / (steps * steps) as f64;
             println!(
                 "metallic {metallic}, roughness {roughness}, n.v {mu}: integral {integral:.5}, \

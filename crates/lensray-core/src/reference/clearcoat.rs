@@ -137,11 +137,11 @@ impl LayeredBrdf {
         p * coat + (1.0 - p) * base
     }
 
-    /// The direction point `u` ([0, 1)^2) draws at base normal `n` seen from `v`, with its
+    /// The direction point `u` ([0, 1)^3) draws at base normal `n` seen from `v`, with its
     /// density and weight (`reflected` over the density); `None` where it carries no light.
     /// The first coordinate picks the coat or the base and is stretched back to [0, 1) within
-    /// it.
-    pub fn sample(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<BrdfSample> {
+    /// it; the third is the base's glass's (`MetallicRoughness::sample`).
+    pub fn sample(&self, n: Vec3, v: Vec3, u: Vec3) -> Option<BrdfSample> {
         let nc = self.clearcoat.normal;
         let p = self.clearcoat.probability(nc.dot(v));
         if p <= 0.0 {
@@ -153,7 +153,7 @@ impl LayeredBrdf {
             // The lobe's density counts only what it reflects.
             Some(2.0 * v.dot(h) * h - v).filter(|l| self.coat_reflects(n, *l))?
         } else {
-            let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
+            let stretched = Vec3::new((u.x - p) / (1.0 - p), u.y, u.z);
             self.beneath_sample(n, v, stretched)?.direction
         };
         let pdf = self.pdf(n, direction, v);
@@ -196,10 +196,10 @@ impl LayeredBrdf {
         p * sheen + (1.0 - p) * base
     }
 
-    /// The direction point `u` ([0, 1)^2) draws beneath the coat, with its density and
+    /// The direction point `u` ([0, 1)^3) draws beneath the coat, with its density and
     /// weight; `None` where it carries no light. The first coordinate picks the sheen
     /// or the base and is stretched back to [0, 1) within it.
-    pub fn beneath_sample(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<BrdfSample> {
+    pub fn beneath_sample(&self, n: Vec3, v: Vec3, u: Vec3) -> Option<BrdfSample> {
         let p = self.sheen.probability(n.dot(v));
         if p <= 0.0 {
             return self.base.sample(n, v, u);
@@ -207,7 +207,7 @@ impl LayeredBrdf {
         let direction = if u.x < p {
             uniform_direction(n, Vec2::new(u.x / p, u.y))
         } else {
-            let stretched = Vec2::new((u.x - p) / (1.0 - p), u.y);
+            let stretched = Vec3::new((u.x - p) / (1.0 - p), u.y, u.z);
             self.base.sample(n, v, stretched)?.direction
         };
         let pdf = self.beneath_pdf(n, direction, v);

@@ -23,30 +23,34 @@ use super::surface::{origin_towards, SurfacePoint};
 use super::surface_frame::{reflection_safe_normal, vertex_coloured};
 use super::transmission::dielectric_of;
 use crate::camera::{Footprint, Ray};
-use crate::sampler::{emitter_dimensions, pixel_dimension, vertex_dimensions, PixelSampler};
+use crate::sampler::{
+    emitter_dimensions, fresnel_dimension, pixel_dimension, vertex_dimensions, PixelSampler,
+};
 use crate::scene::texture::FootprintSets;
 use crate::scene::{BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 use crate::settings::{RenderSettings, Shading};
 
-/// The points of [0, 1)^2 a path's vertex draws with: its sky's and its BRDF's.
+/// The points a path's vertex draws with: its sky's, of [0, 1)^2, and its BRDF's, of
+/// [0, 1)^3 (the third picks whether glass reflects).
 fn vertex_points(
     sampler: &PixelSampler,
     lanes: &[Option<LitLane>; PACKET_SIZE],
     vertex: u32,
-) -> ([Vec2; PACKET_SIZE], [Vec2; PACKET_SIZE]) {
+) -> ([Vec2; PACKET_SIZE], [Vec3; PACKET_SIZE]) {
     let [sx, sy, bx, by] = vertex_dimensions(vertex);
-    let point = |l: usize, x: u32, y: u32| {
-        lanes[l].map_or(Vec2::ZERO, |lane| {
-            let s = lane.draw.sample;
-            Vec2::new(
-                pixel_dimension(sampler, s, x),
-                pixel_dimension(sampler, s, y),
-            )
-        })
+    let bz = fresnel_dimension(vertex);
+    let point = |l: usize, dims: &[u32]| -> [f32; 3] {
+        let mut p = [0.0; 3];
+        if let Some(lane) = lanes[l] {
+            for (p, &d) in p.iter_mut().zip(dims) {
+                *p = pixel_dimension(sampler, lane.draw.sample, d);
+            }
+        }
+        p
     };
     (
-        std::array::from_fn(|l| point(l, sx, sy)),
-        std::array::from_fn(|l| point(l, bx, by)),
+        std::array::from_fn(|l| Vec2::from_slice(&point(l, &[sx, sy])[..2])),
+        std::array::from_fn(|l| Vec3::from(point(l, &[bx, by, bz]))),
     )
 }
 

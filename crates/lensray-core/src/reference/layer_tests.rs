@@ -3,7 +3,7 @@
 //! its draws estimate the albedo a quadrature of f cos finds, each draw carrying the density
 //! `pdf` gives its direction.
 
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Vec3};
 
 use super::brdf::{Dielectric, MetallicRoughness};
 use super::clearcoat::LayeredBrdf;
@@ -24,6 +24,10 @@ pub(super) fn base(
     }
 }
 
+/// The golden ratio's fraction: the step of a rank-1 lattice that spreads a third coordinate
+/// evenly over a grid's points.
+const GOLDEN: f64 = 0.618_033_988_749_895;
+
 /// Asserts that the mean weight of 512^2 stratified draws of `s` at normal +Z seen from `v`
 /// is within 0.5 % of `quadrature` per channel, and that each draw carries the density `pdf`
 /// gives its direction; prints both after `what`.
@@ -31,9 +35,11 @@ pub(super) fn assert_draws_estimate(s: &LayeredBrdf, v: Vec3, quadrature: DVec3,
     let (n, steps) = (Vec3::Z, 512);
     let mut drawn = DVec3::ZERO;
     for k in 0..steps * steps {
-        let u = Vec2::new(
+        // The third coordinate (a glass base's choice) on a rank-1 lattice across the grid.
+        let u = Vec3::new(
             ((k / steps) as f32 + 0.5) / steps as f32,
             ((k % steps) as f32 + 0.5) / steps as f32,
+            (k as f64 * GOLDEN).fract() as f32,
         );
         if let Some(d) = s.sample(n, v, u) {
             let pdf = s.pdf(n, d.direction, v);

@@ -18,14 +18,15 @@
 //!   (the specification's thin-walled transmission: straight through, blurred by the
 //!   roughness).
 //!
-//! Draws refract (or mirror) the view about a visible normal (`brdf_sampling::visible_normal`);
-//! the density of the refracted direction is the normal's times Walter's Jacobian
-//! eta^2 |l.h| / (v.h + eta l.h)^2 (eq. 17). shaders/include/brdf.glsl mirrors it.
+//! Glass draws (`brdf_sampling.rs`) refract (or mirror) the view about a visible normal
+//! (`brdf_sampling::visible_normal`) that its own Fresnel lets through; the density of the
+//! refracted direction is the normal's times Walter's Jacobian eta^2 |l.h| / (v.h + eta l.h)^2
+//! (eq. 17) times that share. shaders/include/brdf.glsl mirrors it.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use super::brdf::{ggx_distribution, smith_visibility, Dielectric, MetallicRoughness};
-use super::brdf_sampling::{visible_normal_around, visible_normal_pdf};
+use super::brdf_sampling::visible_normal_pdf;
 use crate::scene::Material;
 
 /// The dielectric optics of `material` where a ray meets it from its front (`back_face`
@@ -105,15 +106,17 @@ impl MetallicRoughness {
         through * self.diffuse_colour() * (self.dielectric.transmission * lobe)
     }
 
-    /// The transmission lobe's own density (per solid angle) of drawing `l` below the
-    /// surface.
+    /// The glass draws' density (per solid angle) of `l` below the surface: the visible
+    /// microfacet's that sends `v` there, through Walter's Jacobian, times the share of such
+    /// microfacets that refract (1 - [`Self::glass_reflectance`]).
     pub(super) fn transmission_pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
         let n_dot_v = n.dot(v);
         let alpha = self.alpha();
         let eta = self.dielectric.eta;
         if eta == 1.0 {
             let h = (mirrored(n, l) + v).normalize();
-            return visible_normal_pdf(n_dot_v, n.dot(h), alpha);
+            let refracting = 1.0 - self.glass_reflectance(v.dot(h));
+            return refracting * visible_normal_pdf(n_dot_v, n.dot(h), alpha);
         }
         let Some((h, v_dot_h, l_dot_h)) = refraction_normal(n, l, v, eta) else {
             return 0.0;
@@ -121,14 +124,15 @@ impl MetallicRoughness {
         // visible_normal_pdf is D_v(h) / (4 v.h).
         let denominator = v_dot_h + eta * l_dot_h;
         let normal_pdf = 4.0 * v_dot_h * visible_normal_pdf(n_dot_v, n.dot(h), alpha);
-        normal_pdf * eta * eta * -l_dot_h / (denominator * denominator)
+        let refracting = 1.0 - self.glass_reflectance(v_dot_h);
+        refracting * normal_pdf * eta * eta * -l_dot_h / (denominator * denominator)
     }
 
-    /// The direction below the surface point `u` draws from the transmission lobe; `None`
-    /// where the drawn microfacet reflects all (beyond the critical angle) or sends it above
-    /// the surface (the lobe's density counts only what goes below).
-    pub(super) fn sample_transmission(&self, n: Vec3, v: Vec3, u: Vec2) -> Option<Vec3> {
-        let h = visible_normal_around(n, v, self.alpha(), u);
+    /// Where the view `v` goes through the visible microfacet `h` below the surface: refracted
+    /// through a volume's boundary, mirrored through a thin wall; `None` beyond the critical
+    /// angle or where it would go above the surface (the draws' density counts only what goes
+    /// below).
+    pub(super) fn transmitted_through(&self, n: Vec3, v: Vec3, h: Vec3) -> Option<Vec3> {
         let eta = self.dielectric.eta;
         let l = if eta == 1.0 {
             mirrored(n, 2.0 * v.dot(h) * h - v)

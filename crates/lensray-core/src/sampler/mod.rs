@@ -26,8 +26,8 @@ pub use scrambled_sobol::{sobol_1d, sobol_pixel, sobol_sample, SobolPixel};
 /// what the shaders share).
 pub use crate::interface::{
     DIMS_PER_BOUNCE, DIM_BOUNCES, DIM_BRDF_X, DIM_BRDF_Y, DIM_DISPERSION_CHECK, DIM_EMITTERS,
-    DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_LENS_X, DIM_LENS_Y, DIM_TIME,
-    DIM_WAVELENGTH,
+    DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_FRESNEL, DIM_LENS_X,
+    DIM_LENS_Y, DIM_TIME, DIM_WAVELENGTH,
 };
 
 /// The dimensions vertex `vertex` (0: the camera ray's hit) of a path draws from: its
@@ -49,6 +49,13 @@ pub fn vertex_dimensions(vertex: u32) -> [u32; 4] {
 pub fn emitter_dimensions(vertex: u32) -> [u32; 2] {
     let first = DIM_EMITTERS + 2 * vertex;
     [first, first + 1]
+}
+
+/// The dimension vertex `vertex` (0: the camera ray's hit) of a path picks with whether the
+/// microfacet its glass draw found reflects or refracts (`MetallicRoughness::sample`).
+#[inline]
+pub fn fresnel_dimension(vertex: u32) -> u32 {
+    DIM_FRESNEL + vertex
 }
 
 /// How samples are drawn. The discriminants are the shaders' `SAMPLER_*` constants.
@@ -253,6 +260,21 @@ mod tests {
             assert!(
                 x > last[3],
                 "vertex {vertex}: {x} within the vertices' {last:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn fresnel_choices_follow_every_other_dimension() {
+        let others = [
+            DIM_TIME,
+            emitter_dimensions(crate::interface::MAX_BOUNCES - 1)[1],
+        ];
+        for vertex in 0..crate::interface::MAX_BOUNCES {
+            let d = fresnel_dimension(vertex);
+            assert!(
+                others.iter().all(|&o| d > o),
+                "vertex {vertex}: {d} within {others:?}"
             );
         }
     }

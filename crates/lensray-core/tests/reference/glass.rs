@@ -99,19 +99,22 @@ fn absorbing_glass_keeps_what_beer_and_fresnel_say() {
 /// Clear glass under a white sky returns it whole, less what paths longer than 16 surfaces
 /// leave (smooth: within 0.1 %), and on rough glass less what GGX's single scattering loses
 /// at each boundary, most where the view grazes them (`transmission.rs`'s table): a volume
-/// and a thin wall, smooth and rough.
+/// and a thin wall, smooth and rough. 1024 samples a pixel, so that the estimate's noise is
+/// well inside each bound.
 #[test]
 fn clear_glass_in_a_white_furnace_disappears() {
     for (roughness, thin, low, high) in [
         (0.0, false, 0.999, 1.001),
         (0.0, true, 0.999, 1.001),
-        // Measured: 0.9744 and 0.9625. The volume's loss is what GGX's single scattering
-        // loses; rough light that leaves from inside beyond the critical angle is drawn
-        // (`lobe_probabilities`), and the other bound catches it lost again (0.9075 then).
-        (0.3, false, 0.96, 0.99),
-        (0.3, true, 0.94, 0.98),
+        // Measured: 0.9518 and 0.9634; at 2048 samples 0.9516 and 0.9633, and the draws that
+        // split by the macro normal's Fresnel converge to the same (0.9515 and 0.9635), whose
+        // 64 samples read 0.974. Rough light that leaves from inside beyond the critical angle
+        // is drawn (by the microfacet's own Fresnel); the lower bounds catch it lost (0.9075
+        // then).
+        (0.3, false, 0.94, 0.96),
+        (0.3, true, 0.95, 0.975),
     ] {
-        let got = centre(glass(roughness, thin, Vec3::ZERO), 0.45, 16, 64, 16).x;
+        let got = centre(glass(roughness, thin, Vec3::ZERO), 0.45, 16, 1024, 16).x;
         println!("roughness {roughness}, thin {thin}: {got}");
         assert!(got >= low && got <= high, "{got} outside [{low}, {high}]");
     }

@@ -153,24 +153,22 @@ vec3 brdf_evaluate(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
     return (vec3(1.0) - fresnel) * diffuse + fresnel * specular;
 }
 
-// brdf_sampling.rs: MetallicRoughness::lobe_probabilities (x: specular, y: transmission).
+// brdf_sampling.rs: MetallicRoughness::lobe_probabilities (x: specular, y: glass).
 vec2 lobe_probabilities(MetallicRoughness s, float n_dot_v) {
     if (n_dot_v <= 0.0) {
         return vec2(0.0);
     }
     float dielectric = 1.0 - s.metallic;
     float t = s.dielectric.transmission;
-    float cos_outside;
-    float reflected = 1.0;
-    if (outside_cosine(s.dielectric, n_dot_v, cos_outside)) {
-        reflected = schlick_fresnel(vec3(dielectric_f0(s.dielectric) * s.specular), s.specular,
-                                    cos_outside).x;
-    }
-    reflected = min(reflected, 1.0 - min(brdf_alpha(s), 0.5));
-    float specular = clamp(s.metallic + dielectric * ((1.0 - t) * 0.5 * s.specular + t * reflected),
-                           0.0, 1.0);
-    float transmitted = clamp(dielectric * t * (1.0 - reflected), 0.0, 1.0 - specular);
-    return vec2(specular, transmitted);
+    float specular = clamp(s.metallic + dielectric * ((1.0 - t) * 0.5 * s.specular), 0.0, 1.0);
+    float glass = clamp(dielectric * t, 0.0, 1.0 - specular);
+    return vec2(specular, glass);
+}
+
+// brdf_sampling.rs: MetallicRoughness::glass_reflectance
+float glass_reflectance(MetallicRoughness s, float v_dot_h) {
+    vec3 f = brdf_fresnel(s, v_dot_h);
+    return clamp((f.x + f.y + f.z) / 3.0, 0.0, 1.0);
 }
 
 // brdf_sampling.rs: visible_normal_pdf
@@ -191,7 +189,8 @@ float transmission_pdf(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
     vec3 h;
     if (eta == 1.0) {
         h = normalize(mirrored(n, l) + v);
-        return visible_normal_pdf(n_dot_v, dot(n, h), alpha);
+        float refracting = 1.0 - glass_reflectance(s, dot(v, h));
+        return refracting * visible_normal_pdf(n_dot_v, dot(n, h), alpha);
     }
     if (!refraction_normal(n, l, v, eta, h)) {
         return 0.0;
@@ -200,7 +199,8 @@ float transmission_pdf(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
     float l_dot_h = dot(l, h);
     float denominator = v_dot_h + eta * l_dot_h;
     float normal_pdf = 4.0 * v_dot_h * visible_normal_pdf(n_dot_v, dot(n, h), alpha);
-    return normal_pdf * eta * eta * -l_dot_h / (denominator * denominator);
+    float refracting = 1.0 - glass_reflectance(s, v_dot_h);
+    return refracting * normal_pdf * eta * eta * -l_dot_h / (denominator * denominator);
 }
 
 // brdf_sampling.rs: MetallicRoughness::pdf
@@ -215,11 +215,12 @@ float brdf_pdf(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
         return 0.0;
     }
     float diffuse = (1.0 - p.x - p.y) * n_dot_l * (1.0 / PI);
-    if (p.x <= 0.0) {
+    vec3 h = normalize(l + v);
+    float reflecting = p.y > 0.0 ? p.x + p.y * glass_reflectance(s, dot(v, h)) : p.x;
+    if (reflecting <= 0.0) {
         return diffuse;
     }
-    vec3 h = normalize(l + v);
-    return p.x * visible_normal_pdf(n_dot_v, dot(n, h), brdf_alpha(s)) + diffuse;
+    return reflecting * visible_normal_pdf(n_dot_v, dot(n, h), brdf_alpha(s)) + diffuse;
 }
 
 // brdf_sampling.rs: visible_normal
@@ -247,9 +248,8 @@ vec3 visible_normal_around(vec3 n, vec3 v, float alpha, vec2 u) {
     return t * m.x + b * m.y + n * m.z;
 }
 
-// transmission.rs: MetallicRoughness::sample_transmission; false where nothing goes below.
-bool sample_transmission(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out vec3 l) {
-    vec3 h = visible_normal_around(n, v, brdf_alpha(s), u);
+// transmission.rs: MetallicRoughness::transmitted_through; false where nothing goes below.
+bool transmitted_through(MetallicRoughness s, vec3 n, vec3 v, vec3 h, out vec3 l) {
     float eta = s.dielectric.eta;
     if (eta == 1.0) {
         l = mirrored(n, 2.0 * dot(v, h) * h - v);
@@ -279,8 +279,9 @@ bool finish_draw(vec3 n, vec3 direction, float pdf, vec3 f, out BrdfSample draw)
     return true;
 }
 
-// brdf_sampling.rs: MetallicRoughness::sample; false where the draw carries no light.
-bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
+// brdf_sampling.rs: MetallicRoughness::sample; false where the draw carries no light. u.z picks
+// whether a glass draw's microfacet reflects.
+bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec3 u, out BrdfSample draw) {
     vec2 p = lobe_probabilities(s, dot(n, v));
     vec3 direction;
     if (u.x < p.x) {
@@ -291,7 +292,13 @@ bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec2 u, out BrdfSample dra
             return false;
         }
     } else if (u.x < p.x + p.y) {
-        if (!sample_transmission(s, n, v, vec2((u.x - p.x) / p.y, u.y), direction)) {
+        vec3 h = visible_normal_around(n, v, brdf_alpha(s), vec2((u.x - p.x) / p.y, u.y));
+        if (u.z < glass_reflectance(s, dot(v, h))) {
+            direction = 2.0 * dot(v, h) * h - v;
+            if (dot(n, direction) <= 0.0) {
+                return false;
+            }
+        } else if (!transmitted_through(s, n, v, h, direction)) {
             return false;
         }
     } else {

@@ -157,7 +157,7 @@ float beneath_pdf(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
 }
 
 // sheen.rs: LayeredBrdf::beneath_sample; false where the draw carries no light.
-bool beneath_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
+bool beneath_sample(LayeredBrdf s, vec3 n, vec3 v, vec3 u, out BrdfSample draw) {
     float p = sheen_probability(s.sheen, dot(n, v));
     if (p <= 0.0) {
         return brdf_sample(s.base, n, v, u, draw);
@@ -167,7 +167,7 @@ bool beneath_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) 
         direction = uniform_direction(n, vec2(u.x / p, u.y));
     } else {
         BrdfSample base_draw;
-        if (!brdf_sample(s.base, n, v, vec2((u.x - p) / (1.0 - p), u.y), base_draw)) {
+        if (!brdf_sample(s.base, n, v, vec3((u.x - p) / (1.0 - p), u.y, u.z), base_draw)) {
             return false;
         }
         direction = base_draw.direction;
@@ -254,7 +254,7 @@ float brdf_pdf(LayeredBrdf s, vec3 n, vec3 l, vec3 v) {
 }
 
 // clearcoat.rs: LayeredBrdf::sample; false where the draw carries no light.
-bool brdf_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
+bool brdf_sample(LayeredBrdf s, vec3 n, vec3 v, vec3 u, out BrdfSample draw) {
     vec3 nc = s.clearcoat.normal;
     float p = clearcoat_probability(s.clearcoat, dot(nc, v));
     if (p <= 0.0) {
@@ -270,7 +270,7 @@ bool brdf_sample(LayeredBrdf s, vec3 n, vec3 v, vec2 u, out BrdfSample draw) {
         }
     } else {
         BrdfSample base_draw;
-        if (!beneath_sample(s, n, v, vec2((u.x - p) / (1.0 - p), u.y), base_draw)) {
+        if (!beneath_sample(s, n, v, vec3((u.x - p) / (1.0 - p), u.y, u.z), base_draw)) {
             return false;
         }
         direction = base_draw.direction;

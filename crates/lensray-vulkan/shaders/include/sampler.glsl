@@ -187,6 +187,11 @@ uvec4 vertex_dimensions(uint vertex) {
     return uvec4(first, first + 1u, first + 2u, first + 3u);
 }
 
+// mod.rs: fresnel_dimension
+uint fresnel_dimension(uint vertex) {
+    return DIM_FRESNEL + vertex;
+}
+
 // mod.rs: emitter_dimensions
 uvec2 emitter_dimensions(uint vertex) {
     uint first = DIM_EMITTERS + 2u * vertex;

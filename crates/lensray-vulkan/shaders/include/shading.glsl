@@ -42,6 +42,15 @@ vec4 vertex_points(LightDraw draw, uint vertex) {
                 pixel_dimension(draw.state, draw.sample_index, d.w));
 }
 
+// reference/integrator.rs: vertex_points, the BRDF point's third coordinate (whether glass
+// reflects; `centred`: 0.5).
+float fresnel_point(LightDraw draw, uint vertex) {
+    if (draw.centred) {
+        return 0.5;
+    }
+    return pixel_dimension(draw.state, draw.sample_index, fresnel_dimension(vertex));
+}
+
 // reference/integrator.rs: emitter_points (`centred`: (0.5, 0.5)).
 vec2 emitter_point(LightDraw draw, uint vertex) {
     if (draw.centred) {

@@ -186,7 +186,8 @@ vec3 shade_sample(Ray ray, LightDraw draw, bool rasterized, uint pixel_index, in
         bool draws = !last || sky_lights();
         vec4 u = draws ? vertex_points(draw, vertex) : vec4(0.0);
         BrdfSample next;
-        bool drawn = draws && brdf_sample(s.brdf, s.ns, s.v, u.zw, next)
+        float choice = draws ? fresnel_point(draw, vertex) : 0.0;
+        bool drawn = draws && brdf_sample(s.brdf, s.ns, s.v, vec3(u.zw, choice), next)
             && leaves(s, next.direction);
         uint blocked;
         cut = shadow_cut(draw.cut);
