@@ -5,7 +5,7 @@
 use glam::Vec3;
 use lensray_core::camera::{CameraParams, LensParams, Movements, ProjectionParams};
 use lensray_core::reference::Renderer;
-use lensray_core::scene::generate::uv_sphere;
+use lensray_core::scene::generate::{cuboid, uv_sphere};
 use lensray_core::scene::{Material, Mesh, Scene};
 use lensray_core::settings::{Shading, Shot};
 
@@ -39,17 +39,33 @@ fn glass(roughness: f32, thin: bool, attenuation: Vec3) -> Material {
 /// The mean of a `width` x `width` render of `material`'s ball under a white sky, seen from 3
 /// units away through a window `half_width` units to each side of its centre.
 fn centre(material: Material, half_width: f32, width: u32, spp: u32, bounces: u32) -> Vec3 {
+    let eye = Vec3::new(0.0, 0.0, 3.0);
+    furnace(ball(0), material, eye, (half_width, width), spp, bounces)
+}
+
+/// The mean of a render of `mesh` made of `material` under a white sky, seen from `eye`
+/// towards the origin through a window (`half_width` units to each side of the origin,
+/// `width` pixels square).
+fn furnace(
+    mesh: Mesh,
+    material: Material,
+    eye: Vec3,
+    (half_width, width): (f32, u32),
+    spp: u32,
+    bounces: u32,
+) -> Vec3 {
     let scene = Scene {
-        meshes: vec![ball(0)],
+        meshes: vec![mesh],
         materials: vec![material],
         ..Default::default()
     };
+    let distance = f64::from(eye.length());
     let camera = CameraParams {
-        eye: Vec3::new(0.0, 0.0, 3.0),
+        eye,
         target: Vec3::ZERO,
         up: Vec3::Y,
         projection: ProjectionParams::Perspective {
-            vfov_degrees: 2.0 * (f64::from(half_width) / 3.0).atan().to_degrees(),
+            vfov_degrees: 2.0 * (f64::from(half_width) / distance).atan().to_degrees(),
         },
         lens: LensParams::Pinhole,
         near: 0.01,
@@ -117,5 +133,24 @@ fn clear_glass_in_a_white_furnace_disappears() {
         let got = centre(glass(roughness, thin, Vec3::ZERO), 0.45, 16, 1024, 16).x;
         println!("roughness {roughness}, thin {thin}: {got}");
         assert!(got >= low && got <= high, "{got} outside [{low}, {high}]");
+    }
+}
+
+/// A slab of rough glass (roughness 0.3, 3 x 3 x 0.2) under a white sky returns it whole but
+/// for what GGX's single scattering loses where light crosses and meets its faces, which
+/// Mitsuba 3 finds for the same slab (`scripts/mitsuba/slab.sh`, 16 x 16 pixels, 2 x 4096
+/// samples): with lensray's model (`gltf_dielectric.py`) 0.9896 seen face-on and 0.9483 seen
+/// 60 degrees off the normal, with its own `roughdielectric` 0.9894 and 0.9481 (Schlick's
+/// share is under 3e-4 here). Within 0.002 of the first pair (measured: 0.9893 and 0.9477;
+/// at 4096 samples 0.9895 and 0.9480).
+#[test]
+fn a_rough_glass_slab_in_a_white_furnace_loses_what_mitsuba_finds() {
+    let slab = || cuboid("slab", Vec3::ZERO, Vec3::new(1.5, 1.5, 0.1), 0.0, 0);
+    for (degrees, mitsuba) in [(0.0f32, 0.9896f32), (60.0, 0.9483)] {
+        let (sin, cos) = degrees.to_radians().sin_cos();
+        let eye = Vec3::new(3.0 * sin, 0.0, 3.0 * cos);
+        let got = furnace(slab(), glass(0.3, false, Vec3::ZERO), eye, (0.2, 16), 256, 16).x;
+        println!("seen {degrees} degrees off the normal: {got:.4} against Mitsuba's {mitsuba}");
+        assert!((got - mitsuba).abs() <= 0.002, "{got} against {mitsuba}");
     }
 }
