@@ -234,6 +234,14 @@ fn draws_estimate_what_the_quadrature_finds() {
         (glass(0.6, 1.0 / 1.5), 0.5),
         // Grazing from outside.
         (glass(0.3, 1.5), 0.1),
+        // Part metal: its reflection draws and the glass's share the reflected side.
+        (
+            MetallicRoughness {
+                metallic: 0.3,
+                ..tinted(0.4, 1.5)
+            },
+            0.5,
+        ),
     ] {
         let v = view(mu);
         let (r, t) = reflected_and_transmitted(&s, mu);
