@@ -54,45 +54,55 @@ impl MetallicRoughness {
     }
 
     /// The mixture's density (per solid angle) of drawing `l` at unit normal `n` seen from
-    /// `v`; below the surface the glass's refraction, 0 without one.
+    /// `v`; below the surface the glass's refraction, 0 without one. The glass's share of
+    /// either side is found once, at the microfacet that sends `v` to `l`.
     pub fn pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
         let n_dot_l = n.dot(l);
         let n_dot_v = n.dot(v);
         let (p, g) = self.lobe_probabilities(n_dot_v);
-        if n_dot_l < 0.0 && g > 0.0 {
-            return g * self.transmission_pdf(n, l, v);
-        }
-        if n_dot_l <= 0.0 {
+        let below = n_dot_l < 0.0;
+        let nothing_drawn = if below { g <= 0.0 } else { n_dot_l <= 0.0 };
+        if nothing_drawn {
             return 0.0;
         }
-        let diffuse = (1.0 - p - g) * n_dot_l * FRAC_1_PI;
-        let h = (l + v).normalize();
-        let reflecting = if g > 0.0 {
-            p + g * self.glass_reflectance(v.dot(h))
+        let (normal_pdf, v_dot_h) = if below {
+            self.transmission_pdf(n, l, v)
         } else {
-            p
+            let h = (l + v).normalize();
+            (
+                visible_normal_pdf(n_dot_v, n.dot(h), self.alpha()),
+                v.dot(h),
+            )
         };
-        if reflecting <= 0.0 {
+        let reflecting = if g > 0.0 {
+            self.glass_reflectance(v_dot_h)
+        } else {
+            0.0
+        };
+        if below {
+            return g * (1.0 - reflecting) * normal_pdf;
+        }
+        let diffuse = (1.0 - p - g) * n_dot_l * FRAC_1_PI;
+        let share = p + g * reflecting;
+        if share <= 0.0 {
             return diffuse;
         }
-        let specular = visible_normal_pdf(n_dot_v, n.dot(h), self.alpha());
-        reflecting * specular + diffuse
+        share * normal_pdf + diffuse
     }
 
     /// The direction point `u` ([0, 1)^3) draws at unit normal `n` seen from `v`, with its
-    /// density and weight; `None` where it carries no light (below the surface of one that
-    /// does not transmit, or a reflection below or refraction above the surface). The first
-    /// coordinate picks the lobe and is stretched back to [0, 1) within it; the third picks
-    /// whether a glass draw's microfacet reflects.
+    /// density and weight; `None` where it carries no light (a reflection below or a
+    /// refraction above the surface). The first coordinate picks the lobe and is stretched
+    /// back to [0, 1) within it; the specular lobe and the glass draw one visible normal
+    /// alike, and the third coordinate picks whether the glass's reflects.
     pub fn sample(&self, n: Vec3, v: Vec3, u: Vec3) -> Option<BrdfSample> {
         let (p, g) = self.lobe_probabilities(n.dot(v));
-        let direction = if u.x < p {
-            let h = visible_normal_around(n, v, self.alpha(), Vec2::new(u.x / p, u.y));
-            // The lobe's density counts only what goes above the surface.
-            Some(2.0 * v.dot(h) * h - v).filter(|l| n.dot(*l) > 0.0)?
-        } else if u.x < p + g {
-            let h = visible_normal_around(n, v, self.alpha(), Vec2::new((u.x - p) / g, u.y));
-            if u.z < self.glass_reflectance(v.dot(h)) {
+        let direction = if u.x < p + g {
+            let glass = u.x >= p;
+            let at = Vec2::new(if glass { (u.x - p) / g } else { u.x / p }, u.y);
+            let h = visible_normal_around(n, v, self.alpha(), at);
+            if !glass || u.z < self.glass_reflectance(v.dot(h)) {
+                // The draws' density counts only what goes above the surface.
                 Some(2.0 * v.dot(h) * h - v).filter(|l| n.dot(*l) > 0.0)?
             } else {
                 self.transmitted_through(n, v, h)?

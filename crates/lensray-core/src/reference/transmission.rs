@@ -106,26 +106,25 @@ impl MetallicRoughness {
         through * self.diffuse_colour() * (self.dielectric.transmission * lobe)
     }
 
-    /// The glass draws' density (per solid angle) of `l` below the surface: the visible
-    /// microfacet's that sends `v` there, through Walter's Jacobian, times the share of such
-    /// microfacets that refract (1 - [`Self::glass_reflectance`]).
-    pub(super) fn transmission_pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
+    /// The density (per solid angle) of `l` below the surface through the visible microfacet
+    /// that sends `v` there (Walter's Jacobian), with that microfacet's v.h: what the glass
+    /// draws give it once weighed by the share that refracts (1 - [`Self::glass_reflectance`]).
+    pub(super) fn transmission_pdf(&self, n: Vec3, l: Vec3, v: Vec3) -> (f32, f32) {
         let n_dot_v = n.dot(v);
         let alpha = self.alpha();
         let eta = self.dielectric.eta;
         if eta == 1.0 {
             let h = (mirrored(n, l) + v).normalize();
-            let refracting = 1.0 - self.glass_reflectance(v.dot(h));
-            return refracting * visible_normal_pdf(n_dot_v, n.dot(h), alpha);
+            return (visible_normal_pdf(n_dot_v, n.dot(h), alpha), v.dot(h));
         }
         let Some((h, v_dot_h, l_dot_h)) = refraction_normal(n, l, v, eta) else {
-            return 0.0;
+            return (0.0, 1.0);
         };
         // visible_normal_pdf is D_v(h) / (4 v.h).
         let denominator = v_dot_h + eta * l_dot_h;
         let normal_pdf = 4.0 * v_dot_h * visible_normal_pdf(n_dot_v, n.dot(h), alpha);
-        let refracting = 1.0 - self.glass_reflectance(v_dot_h);
-        refracting * normal_pdf * eta * eta * -l_dot_h / (denominator * denominator)
+        let pdf = normal_pdf * eta * eta * -l_dot_h / (denominator * denominator);
+        (pdf, v_dot_h)
     }
 
     /// Where the view `v` goes through the visible microfacet `h` below the surface: refracted

@@ -181,26 +181,26 @@ float visible_normal_pdf(float n_dot_v, float n_dot_h, float alpha) {
     return ggx_distribution(n_dot_h, alpha) / (2.0 * (n_dot_v + lambda));
 }
 
-// transmission.rs: MetallicRoughness::transmission_pdf
-float transmission_pdf(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
+// transmission.rs: MetallicRoughness::transmission_pdf (v_dot_h: the refracting microfacet's).
+float transmission_pdf(MetallicRoughness s, vec3 n, vec3 l, vec3 v, out float v_dot_h) {
     float n_dot_v = dot(n, v);
     float alpha = brdf_alpha(s);
     float eta = s.dielectric.eta;
     vec3 h;
     if (eta == 1.0) {
         h = normalize(mirrored(n, l) + v);
-        float refracting = 1.0 - glass_reflectance(s, dot(v, h));
-        return refracting * visible_normal_pdf(n_dot_v, dot(n, h), alpha);
+        v_dot_h = dot(v, h);
+        return visible_normal_pdf(n_dot_v, dot(n, h), alpha);
     }
+    v_dot_h = 1.0;
     if (!refraction_normal(n, l, v, eta, h)) {
         return 0.0;
     }
-    float v_dot_h = dot(v, h);
+    v_dot_h = dot(v, h);
     float l_dot_h = dot(l, h);
     float denominator = v_dot_h + eta * l_dot_h;
     float normal_pdf = 4.0 * v_dot_h * visible_normal_pdf(n_dot_v, dot(n, h), alpha);
-    float refracting = 1.0 - glass_reflectance(s, v_dot_h);
-    return refracting * normal_pdf * eta * eta * -l_dot_h / (denominator * denominator);
+    return normal_pdf * eta * eta * -l_dot_h / (denominator * denominator);
 }
 
 // brdf_sampling.rs: MetallicRoughness::pdf
@@ -208,19 +208,29 @@ float brdf_pdf(MetallicRoughness s, vec3 n, vec3 l, vec3 v) {
     float n_dot_l = dot(n, l);
     float n_dot_v = dot(n, v);
     vec2 p = lobe_probabilities(s, n_dot_v);
-    if (n_dot_l < 0.0 && p.y > 0.0) {
-        return p.y * transmission_pdf(s, n, l, v);
-    }
-    if (n_dot_l <= 0.0) {
+    bool below = n_dot_l < 0.0;
+    if (below ? p.y <= 0.0 : n_dot_l <= 0.0) {
         return 0.0;
     }
+    float v_dot_h;
+    float normal_pdf;
+    if (below) {
+        normal_pdf = transmission_pdf(s, n, l, v, v_dot_h);
+    } else {
+        vec3 h = normalize(l + v);
+        v_dot_h = dot(v, h);
+        normal_pdf = visible_normal_pdf(n_dot_v, dot(n, h), brdf_alpha(s));
+    }
+    float reflecting = p.y > 0.0 ? glass_reflectance(s, v_dot_h) : 0.0;
+    if (below) {
+        return p.y * (1.0 - reflecting) * normal_pdf;
+    }
     float diffuse = (1.0 - p.x - p.y) * n_dot_l * (1.0 / PI);
-    vec3 h = normalize(l + v);
-    float reflecting = p.y > 0.0 ? p.x + p.y * glass_reflectance(s, dot(v, h)) : p.x;
-    if (reflecting <= 0.0) {
+    float share = p.x + p.y * reflecting;
+    if (share <= 0.0) {
         return diffuse;
     }
-    return reflecting * visible_normal_pdf(n_dot_v, dot(n, h), brdf_alpha(s)) + diffuse;
+    return share * normal_pdf + diffuse;
 }
 
 // brdf_sampling.rs: visible_normal
@@ -284,17 +294,13 @@ bool finish_draw(vec3 n, vec3 direction, float pdf, vec3 f, out BrdfSample draw)
 bool brdf_sample(MetallicRoughness s, vec3 n, vec3 v, vec3 u, out BrdfSample draw) {
     vec2 p = lobe_probabilities(s, dot(n, v));
     vec3 direction;
-    if (u.x < p.x) {
-        vec3 h = visible_normal_around(n, v, brdf_alpha(s), vec2(u.x / p.x, u.y));
-        direction = 2.0 * dot(v, h) * h - v;
-        // The lobe's density counts only what goes above the surface.
-        if (dot(n, direction) <= 0.0) {
-            return false;
-        }
-    } else if (u.x < p.x + p.y) {
-        vec3 h = visible_normal_around(n, v, brdf_alpha(s), vec2((u.x - p.x) / p.y, u.y));
-        if (u.z < glass_reflectance(s, dot(v, h))) {
+    if (u.x < p.x + p.y) {
+        bool glass = u.x >= p.x;
+        vec2 at = vec2(glass ? (u.x - p.x) / p.y : u.x / p.x, u.y);
+        vec3 h = visible_normal_around(n, v, brdf_alpha(s), at);
+        if (!glass || u.z < glass_reflectance(s, dot(v, h))) {
             direction = 2.0 * dot(v, h) * h - v;
+            // The draws' density counts only what goes above the surface.
             if (dot(n, direction) <= 0.0) {
                 return false;
             }
