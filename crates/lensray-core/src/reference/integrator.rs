@@ -38,19 +38,23 @@ fn vertex_points(
     vertex: u32,
 ) -> ([Vec2; PACKET_SIZE], [Vec3; PACKET_SIZE]) {
     let [sx, sy, bx, by] = vertex_dimensions(vertex);
-    let bz = fresnel_dimension(vertex);
-    let point = |l: usize, dims: &[u32]| -> [f32; 3] {
-        let mut p = [0.0; 3];
-        if let Some(lane) = lanes[l] {
-            for (p, &d) in p.iter_mut().zip(dims) {
-                *p = pixel_dimension(sampler, lane.draw.sample, d);
-            }
-        }
-        p
+    let point = |l: usize, x: u32, y: u32| {
+        lanes[l].map_or(Vec2::ZERO, |lane| {
+            let s = lane.draw.sample;
+            Vec2::new(
+                pixel_dimension(sampler, s, x),
+                pixel_dimension(sampler, s, y),
+            )
+        })
+    };
+    let choice = |l: usize| {
+        lanes[l].map_or(0.0, |lane| {
+            pixel_dimension(sampler, lane.draw.sample, fresnel_dimension(vertex))
+        })
     };
     (
-        std::array::from_fn(|l| Vec2::from_slice(&point(l, &[sx, sy])[..2])),
-        std::array::from_fn(|l| Vec3::from(point(l, &[bx, by, bz]))),
+        std::array::from_fn(|l| point(l, sx, sy)),
+        std::array::from_fn(|l| point(l, bx, by).extend(choice(l))),
     )
 }
 
