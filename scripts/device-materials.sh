@@ -40,7 +40,7 @@ shot() { # name, args...: one shot on every path (64 spp unless the args say)
     local t0=$(date +%s.%N)
     timeout 120 $LENSRAY render --width ${W:-320} --height ${H:-240} --seed 7 --progress none $spp $dev \
       --out "$r/$name-$p.png" "$@" > "$r/$name-$p.log" 2>&1
-    echo "$name $p rc=$? s=$(echo "$(date +%s.%N) - $t0" | bc)" >> "$r/rc.txt"
+    echo "$name $p rc=$? s=$(awk "BEGIN { print $(date +%s.%N) - $t0 }")" >> "$r/rc.txt"
   done
 }
 shot glass-smooth --scene $s/glass/smooth.gltf $glass_camera --shading lit
