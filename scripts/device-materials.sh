@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Issues 53 and 54 on a lent GPU, in one device run: the materials real assets carry (glass and
-# volumes, clear coat and sheen on ToyCar, a second UV set), emitters as lights, normal maps, adaptive
-# sampling and a real lens with dispersion, each rendered on cpu and on each GPU path the device
-# has (validation on), the same shot, seed and samples. Everything lands in $OUT/results.tar;
+# volumes, clear coat and sheen on ToyCar, a second UV set), emitters as lights, normal maps, a
+# metal's resampled map draw (the gold bottle), adaptive sampling and a real lens with
+# dispersion, each rendered on cpu and on each GPU path the device has (validation on), the same
+# shot, seed and samples. Everything lands in $OUT/results.tar;
 # compare each GPU image with the CPU's here: scripts/device-compare.py (docs/materials.md,
 # "On a real GPU").
 #   here:    ../shared/tools/device-bundle.sh; scripts/device-materials.sh --stage DIR
@@ -20,6 +21,13 @@ if [[ ${1:-} == --stage ]]; then
     git -C "$2" ls-tree --name-only HEAD "Models/$m/" | while read -r f; do
       git -C "$2" show "HEAD:$f" > "$s/${m%/*}/${f##*/}"
     done
+  done
+  # The normal-mapped gold bottle, its textures at 512 pixels (the device's tree is limited).
+  b="$s/WaterBottle"; mkdir -p "$b"
+  git -C "$2" ls-tree --name-only HEAD Models/WaterBottle/glTF/ | while read -r f; do
+    git -C "$2" show "HEAD:$f" > "$b/${f##*/}"
+    [[ $f == *.png ]] && ffmpeg -nostdin -v error -y -i "$b/${f##*/}" -vf scale=512:-1 "$b/small.png" \
+      && mv "$b/small.png" "$b/${f##*/}"
   done
   g=${CARGO_TARGET_DIR:-target}/mitsuba-glass   # written by scripts/mitsuba/glass.sh
   cp "$g"/{smooth,rough}.gltf "$g"/{ball,backdrop}.ply "$g"/glass.bin "$g"/checker.png "$s/glass/"
@@ -51,6 +59,7 @@ shot clearcoat --scene $s/ClearCoatTest/ClearCoatTest.glb $studio
 shot toycar --scene $s/ToyCar/ToyCar.gltf $studio --bounces 8
 shot multi-uv --scene $s/MultiUVTest/MultiUVTest.glb $studio
 shot emissive --scene $s/EmissiveStrengthTest/EmissiveStrengthTest.glb --bounces 3
+shot bottle --scene $s/WaterBottle/WaterBottle.gltf $studio
 shot normal-tangent --scene $s/NormalTangentTest/NormalTangentTest.glb $studio
 shot adaptive --noise-threshold 0.02 --spp 256
 shot lens-dispersion --lens double-gauss-50 --f-number 2

@@ -22,6 +22,8 @@ mod scheimpflug;
 mod shading;
 #[path = "reference/shadow.rs"]
 mod shadow;
+#[path = "reference/sky.rs"]
+mod sky;
 #[path = "reference/traversal.rs"]
 mod traversal;
 

@@ -129,6 +129,21 @@ shader_constants! {
     /// refracts (reference/brdf_sampling.rs: MetallicRoughness::sample) with dimension
     /// DIM_FRESNEL + k: past the time, so that every other dimension keeps its number.
     DIM_FRESNEL: u32 = 104;
+    /// Vertex k of a path picks which of the map's SKY_CANDIDATES draws its sky light goes
+    /// along (reference/sky.rs: sky_draw) with dimension DIM_SKY_PICK + k: past every vertex's
+    /// Fresnel choice, so that every other dimension keeps its number.
+    DIM_SKY_PICK: u32 = 120;
+    /// How many directions a metal's vertex draws from an environment map before it picks one
+    /// by the light its BRDF would reflect along each (resampled importance sampling;
+    /// docs/environment.md).
+    SKY_CANDIDATES: u32 = 8;
+    /// The metalness from which a surface's map draw is resampled: a metal's light is all in
+    /// its specular lobe, which resampling finds the lamps of; a dielectric's is mostly in its
+    /// diffuse lobe, where the map's power alone is as good for the time (docs/environment.md).
+    SKY_RESAMPLED_METALLIC: f32 = 0.5;
+    /// Candidate k of a map's draw at point u is u + k SKY_CANDIDATE_STEP, modulo 1: the R2
+    /// sequence's step (1 / g, 1 / g^2, g the plastic number; Roberts 2018).
+    SKY_CANDIDATE_STEP: [f32; 2] = [0.754_877_7, 0.569_840_3];
     /// The camera's poses over the shutter (camera::motion::CameraMotion): evenly spaced in
     /// time from the first row's opening to the last row's closing.
     MOTION_STEPS: u32 = 8;

@@ -1,10 +1,12 @@
 //! Drawing the environment by its power and the BRDF (multiple importance sampling, the
-//! renderers' estimator) against drawing it by the cosine alone (one ray a sample, what lensray
-//! did before maps; `Renderer::with_cosine_sky`), at equal time: the CPU reference renders the
-//! default scene, its materials made glossy (metals and plastics of roughness 0.15-0.6), under
-//! the studio map (`assets/environments/studio.hdr`) at several spp with each estimator, and
-//! the RMSE against a converged render of the default estimator is scaled to the time of the
-//! other (RMSE falls as 1 / sqrt(time)).
+//! renderers' estimator), the map's draw resampled among `SKY_CANDIDATES` directions (the
+//! default), against the same with the map's power alone (one candidate,
+//! `Renderer::with_sky_candidates(1)`) and against drawing it by the cosine alone (one ray a
+//! sample, what lensray did before maps; `Renderer::with_cosine_sky`), at equal time: the CPU
+//! reference renders the default scene, its materials made glossy (metals and plastics of
+//! roughness 0.15-0.6), under the studio map (`assets/environments/studio.hdr`) at several spp
+//! with each estimator, and the RMSE against a converged render of the default estimator is
+//! scaled to the time of the default (RMSE falls as 1 / sqrt(time)).
 //!
 //! `cargo bench --bench environment -- [--width W] [--height H] [--reference-spp N]` (default
 //! 160x120, reference 1024 spp); under `cargo test --all-targets` a tiny smoke version runs.
@@ -81,19 +83,25 @@ fn main() {
     };
     let shot = shot(&settings, &scene).expect("the shot");
     let mis = Renderer::new(&scene);
-    let cosine = Renderer::new(&scene).with_cosine_sky();
+    let others = [
+        ("power alone", Renderer::new(&scene).with_sky_candidates(1)),
+        ("cosine", Renderer::new(&scene).with_cosine_sky()),
+    ];
     let (reference, seconds) = render(&mis, &shot, reference_spp, 1000);
     println!("reference: {width}x{height}, {reference_spp} spp, {seconds:.1} s");
-    println!("spp | MIS s | MIS RMSE | cosine s | cosine RMSE | cosine RMSE at MIS's time | ratio");
+    println!("spp | MIS s | MIS RMSE | other | its s | its RMSE | its RMSE at MIS's time | ratio");
     let spps: &[u32] = if measure { &[4, 16, 64] } else { &[2] };
     for &spp in spps {
         let (a, ta) = render(&mis, &shot, spp, 1);
-        let (b, tb) = render(&cosine, &shot, spp, 1);
-        let (ea, eb) = (rmse(&a, &reference), rmse(&b, &reference));
-        let at_equal_time = eb * (tb / ta).sqrt();
-        println!(
-            "{spp} | {ta:.2} | {ea:.4} | {tb:.2} | {eb:.4} | {at_equal_time:.4} | {:.2}",
-            at_equal_time / ea
-        );
+        let ea = rmse(&a, &reference);
+        for (name, other) in &others {
+            let (b, tb) = render(other, &shot, spp, 1);
+            let eb = rmse(&b, &reference);
+            let at_equal_time = eb * (tb / ta).sqrt();
+            println!(
+                "{spp} | {ta:.2} | {ea:.4} | {name} | {tb:.2} | {eb:.4} | {at_equal_time:.4} | {:.2}",
+                at_equal_time / ea
+            );
+        }
     }
 }

@@ -24,19 +24,20 @@ use super::surface_frame::{reflection_safe_normal, vertex_coloured};
 use super::transmission::dielectric_of;
 use crate::camera::{Footprint, Ray};
 use crate::sampler::{
-    emitter_dimensions, fresnel_dimension, pixel_dimension, vertex_dimensions, PixelSampler,
+    emitter_dimensions, fresnel_dimension, pixel_dimension, sky_pick_dimension, vertex_dimensions,
+    PixelSampler,
 };
 use crate::scene::texture::FootprintSets;
 use crate::scene::{BLEND_CAMERA_SALT, BLEND_SHADOW_SALT};
 use crate::settings::{RenderSettings, Shading};
 
-/// The points a path's vertex draws with: its sky's, of [0, 1)^2, and its BRDF's, of
-/// [0, 1)^3 (the third picks whether glass reflects).
+/// The points a path's vertex draws with, each of [0, 1)^3: its sky's (the third picks among a
+/// map's candidates) and its BRDF's (the third picks whether glass reflects).
 fn vertex_points(
     sampler: &PixelSampler,
     lanes: &[Option<LitLane>; PACKET_SIZE],
     vertex: u32,
-) -> ([Vec2; PACKET_SIZE], [Vec3; PACKET_SIZE]) {
+) -> ([Vec3; PACKET_SIZE], [Vec3; PACKET_SIZE]) {
     let [sx, sy, bx, by] = vertex_dimensions(vertex);
     let point = |l: usize, x: u32, y: u32| {
         lanes[l].map_or(Vec2::ZERO, |lane| {
@@ -47,14 +48,14 @@ fn vertex_points(
             )
         })
     };
-    let choice = |l: usize| {
+    let choice = |l: usize, dimension: u32| {
         lanes[l].map_or(0.0, |lane| {
-            pixel_dimension(sampler, lane.draw.sample, fresnel_dimension(vertex))
+            pixel_dimension(sampler, lane.draw.sample, dimension)
         })
     };
     (
-        std::array::from_fn(|l| point(l, sx, sy)),
-        std::array::from_fn(|l| point(l, bx, by).extend(choice(l))),
+        std::array::from_fn(|l| point(l, sx, sy).extend(choice(l, sky_pick_dimension(vertex)))),
+        std::array::from_fn(|l| point(l, bx, by).extend(choice(l, fresnel_dimension(vertex)))),
     )
 }
 
@@ -227,7 +228,8 @@ impl Renderer {
             let (sky_points, brdf_points) = vertex_points(sampler, &lanes, vertex);
             match &sky {
                 Some(sky) if self.cosine_sky => {
-                    rays += self.sky_by_cosine(&lanes, sky, &sky_points, &mut reflected);
+                    let points = sky_points.map(|p| p.truncate());
+                    rays += self.sky_by_cosine(&lanes, sky, &points, &mut reflected);
                 }
                 Some(sky) => rays += self.sky_light(&lanes, sky, &sky_points, &mut reflected),
                 None => {}

@@ -40,6 +40,8 @@ pub struct Renderer {
     /// Light the sky by one cosine-distributed ray a surface instead of the two draws weighed
     /// by multiple importance sampling (`with_cosine_sky`).
     pub(super) cosine_sky: bool,
+    /// How many directions a map's draw picks among (`SKY_CANDIDATES`; `with_sky_candidates`).
+    pub(super) sky_candidates: u32,
     /// Where the frame's own time lies in the shutter's span: the moment the AOVs and focus
     /// picking see moving triangles at.
     frame_moment: f32,
@@ -172,6 +174,7 @@ impl Renderer {
             moving_lights: motion.map_or(Vec::new(), |motion| motion.lights.clone()),
             environment: scene.environment.clone(),
             cosine_sky: false,
+            sky_candidates: crate::interface::SKY_CANDIDATES,
             frame_moment: motion.map_or(0.5, |motion| motion.frame_moment),
         }
     }
@@ -181,6 +184,14 @@ impl Renderer {
     /// do not offer): what benches/environment.rs compares the default with at equal time.
     pub fn with_cosine_sky(mut self) -> Self {
         self.cosine_sky = true;
+        self
+    }
+
+    /// This renderer with a map's draw picking among `candidates` directions (at least 1: the
+    /// map's power alone, what lensray did before resampling; the GPU paths take
+    /// `SKY_CANDIDATES`): what benches/environment.rs and the tests compare the default with.
+    pub fn with_sky_candidates(mut self, candidates: u32) -> Self {
+        self.sky_candidates = candidates.max(1);
         self
     }
 

@@ -3,7 +3,15 @@
 //! one drawn from the environment (the map by its power, the uniform sky by the cosine), one
 //! drawn from the BRDF (`brdf_sampling.rs`). Each draw is weighed by the share its density has
 //! of the two, so smooth metals reflect a map's lamps without speckle and rough surfaces see its
-//! broad light without noise. shaders/include/sky.glsl mirrors it function by function.
+//! broad light without noise. shaders/include/sky.glsl mirrors it function by function
+//! (`sky_draw`: shaders/include/shading.glsl).
+//!
+//! A metal's map draw is resampled (Talbot et al. 2005, resampled importance sampling): of
+//! `SKY_CANDIDATES` (`Renderer::with_sky_candidates`) directions drawn by the map's power, one
+//! is picked in proportion to the luminance the BRDF would reflect along it over its density,
+//! and weighed by the mean of those ratios over its own. By power alone, a glossy metal's draws
+//! mostly go to lamps its lobe does not see (behind it, or off the lobe), and the lamp it does
+//! see shows as pepper (docs/environment.md, "Metals under a map's lamps").
 
 use std::f32::consts::FRAC_1_PI;
 
@@ -14,6 +22,8 @@ use super::brdf_sampling::BrdfSample;
 use super::lighting::{leaves, LitLane, ShadowRay};
 use super::render::Renderer;
 use super::surface::{origin_towards, shadow_origin};
+use crate::interface::{SKY_CANDIDATE_STEP, SKY_RESAMPLED_METALLIC};
+use crate::scene::environment::luminance;
 use crate::scene::light::cosine_direction;
 use crate::scene::EnvironmentLight;
 use crate::settings::RenderSettings;
@@ -100,6 +110,71 @@ impl<'a> Sky<'a> {
     }
 }
 
+/// Candidate `k` of a map's draw at point `u`: `u` moved by k times the R2 sequence's step,
+/// so that the candidates of one sample spread over the square and each
+/// candidate's points over a pixel's samples stay as stratified as `u`'s. Candidate 0 is `u`.
+pub(super) fn candidate_point(u: Vec2, k: u32) -> Vec2 {
+    let [x, y] = SKY_CANDIDATE_STEP;
+    let k = k as f32;
+    Vec2::new((u.x + x * k).fract(), (u.y + y * k).fract())
+}
+
+/// The sky's draw at a lane for point `u` (its third coordinate picks among a map's
+/// `map_candidates`, where the surface is a metal): the direction and the light it brings if
+/// nothing stops it. The power heuristic weighs it by the map's own density, as `sky_along`
+/// weighs the BRDF's draws, so that the two weights of any direction still sum to one: the
+/// resampled density has no closed form, and the sum is what keeps the estimate unbiased.
+pub(super) fn sky_draw(
+    sky: &Sky,
+    lane: &LitLane,
+    u: Vec3,
+    map_candidates: u32,
+) -> Option<(Vec3, Vec3)> {
+    let (n, v) = (lane.surface.shading_normal, lane.to_viewer);
+    let candidates = match sky {
+        Sky::Map(_) if lane.brdf.base.metallic >= SKY_RESAMPLED_METALLIC => map_candidates,
+        _ => 1,
+    };
+    let (mut pick, mut total) = (u.z, 0.0f32);
+    // The picked candidate: its direction, density, light (f L) and luminance.
+    let mut picked: Option<(Vec3, f32, Vec3, f32)> = None;
+    for k in 0..candidates {
+        let Some(s) = sky.sample(n, candidate_point(u.truncate(), k)) else {
+            continue;
+        };
+        if !leaves(lane, s.direction) {
+            continue;
+        }
+        let light = lane.brdf.reflected(n, s.direction, v) * s.radiance;
+        if candidates == 1 {
+            picked = Some((s.direction, s.pdf, light, 0.0));
+            break;
+        }
+        let target = luminance(light);
+        if target.is_nan() || target <= 0.0 {
+            continue;
+        }
+        // One uniform number picks in proportion to the ratios as they stream past: kept with
+        // probability ratio / total, and rescaled to stay uniform for the rest.
+        total += target / s.pdf;
+        let keep = target / s.pdf / total;
+        if pick < keep {
+            pick /= keep;
+            picked = Some((s.direction, s.pdf, light, target));
+        } else {
+            pick = (pick - keep) / (1.0 - keep);
+        }
+    }
+    let (direction, pdf, light, target) = picked?;
+    let w = power_heuristic(pdf, lane.brdf.pdf(n, direction, v));
+    let scale = if candidates == 1 {
+        w / pdf
+    } else {
+        w * (total / (candidates as f32 * target))
+    };
+    Some((direction, light * (scale * lane.occlusion)))
+}
+
 /// The light the sky brings along a BRDF draw that leaves the scene, weighed against the sky's
 /// own draw of the same direction and by the surface's occlusion.
 pub(super) fn sky_along(sky: &Sky, lane: &LitLane, draw: &BrdfSample) -> Vec3 {
@@ -111,29 +186,24 @@ pub(super) fn sky_along(sky: &Sky, lane: &LitLane, draw: &BrdfSample) -> Vec3 {
 }
 
 impl Renderer {
-    /// Adds to `reflected` the sky's light drawn from the sky at each lane (points `u[lane]`),
-    /// weighed against the BRDF's draws, through one packet of shadow rays; returns the rays.
+    /// Adds to `reflected` the sky's light drawn from the sky at each lane (points `u[lane]`,
+    /// `sky_draw`), weighed against the BRDF's draws, through one packet of shadow rays; returns
+    /// the rays.
     pub(super) fn sky_light(
         &self,
         lanes: &[Option<LitLane>; PACKET_SIZE],
         sky: &Sky,
-        u: &[Vec2; PACKET_SIZE],
+        u: &[Vec3; PACKET_SIZE],
         reflected: &mut [Vec3; PACKET_SIZE],
     ) -> u64 {
         let shadow = std::array::from_fn(|l| {
             let lane = lanes[l]?;
-            let s = sky.sample(lane.surface.shading_normal, u[l])?;
-            if !leaves(&lane, s.direction) {
-                return None;
-            }
-            let (n, v) = (lane.surface.shading_normal, lane.to_viewer);
-            let w = power_heuristic(s.pdf, lane.brdf.pdf(n, s.direction, v));
-            let f = lane.brdf.reflected(n, s.direction, v);
+            let (direction, light) = sky_draw(sky, &lane, u[l], self.sky_candidates)?;
             Some(ShadowRay {
-                origin: origin_towards(&lane.surface, s.direction),
-                direction: s.direction,
+                origin: origin_towards(&lane.surface, direction),
+                direction,
                 t_max: f32::INFINITY,
-                light: f * s.radiance * (w / s.pdf * lane.occlusion),
+                light,
             })
         });
         self.add_unoccluded(&shadow, &Self::shadow_draws(lanes), reflected)

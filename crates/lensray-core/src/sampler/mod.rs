@@ -27,7 +27,7 @@ pub use scrambled_sobol::{sobol_1d, sobol_pixel, sobol_sample, SobolPixel};
 pub use crate::interface::{
     DIMS_PER_BOUNCE, DIM_BOUNCES, DIM_BRDF_X, DIM_BRDF_Y, DIM_DISPERSION_CHECK, DIM_EMITTERS,
     DIM_ENVIRONMENT_X, DIM_ENVIRONMENT_Y, DIM_FILM_X, DIM_FILM_Y, DIM_FRESNEL, DIM_LENS_X,
-    DIM_LENS_Y, DIM_TIME, DIM_WAVELENGTH,
+    DIM_LENS_Y, DIM_SKY_PICK, DIM_TIME, DIM_WAVELENGTH,
 };
 
 /// The dimensions vertex `vertex` (0: the camera ray's hit) of a path draws from: its
@@ -56,6 +56,13 @@ pub fn emitter_dimensions(vertex: u32) -> [u32; 2] {
 #[inline]
 pub fn fresnel_dimension(vertex: u32) -> u32 {
     DIM_FRESNEL + vertex
+}
+
+/// The dimension vertex `vertex` (0: the camera ray's hit) of a path picks with which of the
+/// map's candidate directions its sky light goes along (`reference::sky::sky_draw`).
+#[inline]
+pub fn sky_pick_dimension(vertex: u32) -> u32 {
+    DIM_SKY_PICK + vertex
 }
 
 /// How samples are drawn. The discriminants are the shaders' `SAMPLER_*` constants.
@@ -275,6 +282,18 @@ mod tests {
             assert!(
                 others.iter().all(|&o| d > o),
                 "vertex {vertex}: {d} within {others:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn sky_picks_follow_every_fresnel_choice() {
+        let last = fresnel_dimension(crate::interface::MAX_BOUNCES - 1);
+        for vertex in 0..crate::interface::MAX_BOUNCES {
+            let d = sky_pick_dimension(vertex);
+            assert!(
+                d > last,
+                "vertex {vertex}: {d} within the Fresnel choices (last {last})"
             );
         }
     }

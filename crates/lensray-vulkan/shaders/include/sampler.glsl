@@ -192,6 +192,11 @@ uint fresnel_dimension(uint vertex) {
     return DIM_FRESNEL + vertex;
 }
 
+// mod.rs: sky_pick_dimension
+uint sky_pick_dimension(uint vertex) {
+    return DIM_SKY_PICK + vertex;
+}
+
 // mod.rs: emitter_dimensions
 uvec2 emitter_dimensions(uint vertex) {
     uint first = DIM_EMITTERS + 2u * vertex;

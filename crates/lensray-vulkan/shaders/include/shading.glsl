@@ -51,6 +51,15 @@ float fresnel_point(LightDraw draw, uint vertex) {
     return pixel_dimension(draw.state, draw.sample_index, fresnel_dimension(vertex));
 }
 
+// reference/integrator.rs: vertex_points, the sky point's third coordinate (which of a map's
+// candidates; `centred`: 0.5).
+float sky_pick_point(LightDraw draw, uint vertex) {
+    if (draw.centred) {
+        return 0.5;
+    }
+    return pixel_dimension(draw.state, draw.sample_index, sky_pick_dimension(vertex));
+}
+
 // reference/integrator.rs: emitter_points (`centred`: (0.5, 0.5)).
 vec2 emitter_point(LightDraw draw, uint vertex) {
     if (draw.centred) {
@@ -94,6 +103,61 @@ vec3 sky_along(LitSurface s, BrdfSample draw) {
     return draw.weight * sky_radiance(draw.direction) * (w * s.occlusion);
 }
 
+// sky.rs: sky_draw. The sky's draw at point `u` (its third coordinate picks among a map's
+// candidates, where the surface is a metal): false where none is drawn, else the direction and
+// the light it brings.
+bool sky_draw(LitSurface s, vec3 u, out vec3 direction, out vec3 reflected) {
+    uint candidates =
+        sky_is_map() && s.brdf.base.metallic >= SKY_RESAMPLED_METALLIC ? SKY_CANDIDATES : 1u;
+    float pick = u.z;
+    float total = 0.0;
+    bool picked = false;
+    float picked_pdf = 0.0;
+    float picked_target = 0.0;
+    direction = vec3(0.0);
+    reflected = vec3(0.0);
+    for (uint k = 0u; k < candidates; ++k) {
+        vec3 d;
+        float pdf;
+        vec3 arriving;
+        if (!sky_sample(s.ns, candidate_point(u.xy, k), d, pdf, arriving) || !leaves(s, d)) {
+            continue;
+        }
+        vec3 light = brdf_reflected(s.brdf, s.ns, d, s.v) * arriving;
+        if (candidates == 1u) {
+            picked = true;
+            direction = d;
+            picked_pdf = pdf;
+            reflected = light;
+            break;
+        }
+        float target = luminance(light);
+        if (!(target > 0.0)) {
+            continue;
+        }
+        total += target / pdf;
+        float keep = target / pdf / total;
+        if (pick < keep) {
+            pick /= keep;
+            picked = true;
+            direction = d;
+            picked_pdf = pdf;
+            picked_target = target;
+            reflected = light;
+        } else {
+            pick = (pick - keep) / (1.0 - keep);
+        }
+    }
+    if (!picked) {
+        return false;
+    }
+    float w = power_heuristic(picked_pdf, brdf_pdf(s.brdf, s.ns, direction, s.v));
+    float scale = candidates == 1u ? w / picked_pdf
+                                   : w * (total / (float(candidates) * picked_target));
+    reflected *= scale * s.occlusion;
+    return true;
+}
+
 // reference/emitters.rs: Renderer::emitter_light's lane: the shadow ray to the point `u` draws
 // on the emitters and the light it brings, weighed against the BRDF's draw where `mis`.
 bool emitter_draw(LitSurface s, vec2 u, bool mis, out vec3 direction, out float t_max,
@@ -128,7 +192,7 @@ bool emitter_draw(LitSurface s, vec2 u, bool mis, out vec3 direction, out float 
 // next the sky's own draw at `sky_point`, the last the sky along `draw`.
 // One shadow-ray call site, so the traversal is inlined once. `shadowed` gets bit i set where
 // light i (i < 24) is blocked: the hybrid's plan compares it between neighbours.
-vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point, bool along,
+vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec3 sky_point, bool along,
                   BrdfSample draw, BlendCut cut, inout uint rays, out uint shadowed) {
     shadowed = 0u;
     vec3 radiance = vec3(0.0);
@@ -166,14 +230,9 @@ vec3 direct_light(LitSurface s, vec2 emitter_u, bool emitter_mis, vec2 sky_point
             if (!sky) {
                 break;
             }
-            float pdf;
-            vec3 arriving;
-            if (!sky_sample(s.ns, sky_point, direction, pdf, arriving) || !leaves(s, direction)) {
+            if (!sky_draw(s, sky_point, direction, reflected)) {
                 continue;
             }
-            float w = power_heuristic(pdf, brdf_pdf(s.brdf, s.ns, direction, s.v));
-            reflected = brdf_reflected(s.brdf, s.ns, direction, s.v) * arriving
-                * (w / pdf * s.occlusion);
         } else {
             if (!along) {
                 break;

@@ -48,4 +48,19 @@ bool sky_sample(vec3 n, vec2 u, out vec3 direction, out float pdf, out vec3 radi
     return pdf > 0.0;
 }
 
+// environment/mod.rs: luminance (`precise`: as the CPU rounds it, since it picks a candidate)
+float luminance(vec3 c) {
+    precise float l = 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+    return l;
+}
+
+// sky.rs: candidate_point. `precise`: no fused multiply-add, Rust's roundings, so that a
+// candidate lands in the texel the CPU's does.
+vec2 candidate_point(vec2 u, uint k) {
+    float kf = float(k);
+    precise float x = u.x + SKY_CANDIDATE_STEP[0] * kf;
+    precise float y = u.y + SKY_CANDIDATE_STEP[1] * kf;
+    return vec2(fract(x), fract(y));
+}
+
 #endif

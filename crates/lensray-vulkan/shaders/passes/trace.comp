@@ -193,7 +193,9 @@ vec3 shade_sample(Ray ray, LightDraw draw, bool rasterized, uint pixel_index, in
         cut = shadow_cut(draw.cut);
         // The last surface's BRDF draw meets no emitter: the emitters' draw counts whole.
         vec2 e = emitters_light() ? emitter_point(draw, vertex) : vec2(0.0);
-        vec3 reflected = direct_light(s, e, !last, u.xy, last && drawn, next, cut, rays, blocked);
+        vec3 sky_point = vec3(u.xy, draws ? sky_pick_point(draw, vertex) : 0.0);
+        vec3 reflected = direct_light(s, e, !last, sky_point, last && drawn, next, cut, rays,
+                                      blocked);
         if (vertex == 0u) {
             shadowed = blocked;
         }
