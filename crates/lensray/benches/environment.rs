@@ -45,6 +45,16 @@ fn scene() -> Scene {
     scene
 }
 
+/// The image with each channel clamped at 1: what a display shows without a tone map, where the
+/// pepper a user sees is, rather than the few pixels that see a lamp in thousands.
+fn displayed(image: &Image) -> Image {
+    let mut image = image.clone();
+    for p in &mut image.pixels {
+        *p = p.min(glam::Vec3::ONE);
+    }
+    image
+}
+
 fn render(renderer: &Renderer, shot: &Shot, spp: u32, seed: u32) -> (Image, f64) {
     let mut shot = shot.clone();
     shot.render.spp = spp;
@@ -89,18 +99,26 @@ fn main() {
     ];
     let (reference, seconds) = render(&mis, &shot, reference_spp, 1000);
     println!("reference: {width}x{height}, {reference_spp} spp, {seconds:.1} s");
-    println!("spp | MIS s | MIS RMSE | other | its s | its RMSE | its RMSE at MIS's time | ratio");
+    let shown = displayed(&reference);
+    println!(
+        "spp | MIS s | MIS RMSE | other | its s | its RMSE | its RMSE at MIS's time | ratio | \
+         the same of the displayed images: MIS RMSE | its at MIS's time | ratio"
+    );
     let spps: &[u32] = if measure { &[4, 16, 64] } else { &[2] };
     for &spp in spps {
         let (a, ta) = render(&mis, &shot, spp, 1);
         let ea = rmse(&a, &reference);
+        let da = rmse(&displayed(&a), &shown);
         for (name, other) in &others {
             let (b, tb) = render(other, &shot, spp, 1);
             let eb = rmse(&b, &reference);
             let at_equal_time = eb * (tb / ta).sqrt();
+            let db = rmse(&displayed(&b), &shown) * (tb / ta).sqrt();
             println!(
-                "{spp} | {ta:.2} | {ea:.4} | {name} | {tb:.2} | {eb:.4} | {at_equal_time:.4} | {:.2}",
-                at_equal_time / ea
+                "{spp} | {ta:.2} | {ea:.4} | {name} | {tb:.2} | {eb:.4} | {at_equal_time:.4} | {:.2} \
+                 | {da:.4} | {db:.4} | {:.2}",
+                at_equal_time / ea,
+                db / da
             );
         }
     }
