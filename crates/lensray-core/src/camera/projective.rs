@@ -342,9 +342,13 @@ impl Camera {
         sample_index: u32,
     ) -> Option<f32> {
         use crate::sampler::{pixel_dimension, DIM_DISPERSION_CHECK};
-        let lambda = self.sample_wavelength(sampler, sample_index)?;
+        self.lens.real().filter(|real| real.dispersive())?;
+        // The check first: three samples in four draw no wavelength.
         let u = pixel_dimension(sampler, sample_index, DIM_DISPERSION_CHECK);
-        crate::film::spectral::checks_dispersion(u).then_some(lambda)
+        if !crate::film::spectral::checks_dispersion(u) {
+            return None;
+        }
+        self.sample_wavelength(sampler, sample_index)
     }
 
     /// The plane z = lens_z holds the lens: z = 0 (the eye) for perspective, the near plane for

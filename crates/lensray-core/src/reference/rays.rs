@@ -13,7 +13,7 @@ use glam::{Mat4, Vec3};
 use super::accel::PACKET_SIZE;
 use crate::camera::{Camera, Projection, Ray};
 use crate::optics::glass::dispersion_offset_f32;
-use crate::sampler::{pixel_camera_samples, CameraSample, PixelSampler};
+use crate::sampler::{pixel_camera_samples, pixel_camera_samples_of, CameraSample, PixelSampler};
 
 type PacketLanes = [f32; PACKET_SIZE];
 
@@ -207,19 +207,73 @@ pub(super) enum DispersionPass {
     Checks,
 }
 
-/// The camera rays of samples `first..first + n` of the sampler's pixel, as
-/// `Camera::generate_ray` makes them, packed into `out`; returns how many passed. Through a
-/// dispersive lens `pass` says which: the d line's of every sample, or the wavelengths'
-/// (`sample_wavelength` of `DIM_WAVELENGTH`) of the samples that check it.
-/// A thin lens (or pinhole) passes every ray, weight 1: its [`first_order_rays`].
+/// Samples of one pixel traced as a packet, the first `n` lanes: their indices and, through a
+/// dispersive lens, the wavelength at which each checks the d line (nm; 0: it does not).
+pub(super) struct PacketSamples {
+    pub(super) indices: [u32; PACKET_SIZE],
+    pub(super) checked: [f32; PACKET_SIZE],
+    pub(super) n: usize,
+}
+
+impl PacketSamples {
+    pub(super) fn new() -> Self {
+        Self {
+            indices: [0; PACKET_SIZE],
+            checked: [0.0; PACKET_SIZE],
+            n: 0,
+        }
+    }
+
+    /// Samples `first..first + n`, with the wavelengths of those that check the d line
+    /// (`Camera::checked_wavelength`).
+    pub(super) fn run(camera: &Camera, sampler: &PixelSampler, first: u32, n: usize) -> Self {
+        let indices = std::array::from_fn(|l| first + l as u32);
+        let mut checked = [0.0; PACKET_SIZE];
+        if camera.lens.real().is_some_and(|real| real.dispersive()) {
+            for l in 0..n {
+                checked[l] = camera
+                    .checked_wavelength(sampler, indices[l])
+                    .unwrap_or(0.0);
+            }
+        }
+        Self {
+            indices,
+            checked,
+            n,
+        }
+    }
+
+    /// Appends a sample; the caller traces the packet once it is full (`n == PACKET_SIZE`).
+    pub(super) fn push(&mut self, index: u32, checked: f32) {
+        self.indices[self.n] = index;
+        self.checked[self.n] = checked;
+        self.n += 1;
+    }
+}
+
+/// The camera rays of `samples`, of the sampler's pixel, as `Camera::generate_ray` makes them,
+/// packed into `out`; returns how many passed. Through a dispersive lens `pass` says which: the
+/// d line's of every sample, or the wavelengths' (`sample_wavelength` of `DIM_WAVELENGTH`) of
+/// the samples that check it (the pixel loop gathers those into packets of their own, so that
+/// their packets are full but for the pixel's last).
+/// A thin lens (or pinhole) passes every ray, weight 1: its [`first_order_rays`], whose
+/// samples are a run (`indices[0]..`), as the pixel loop gives a lens that does not disperse.
 pub(super) fn generate_rays(
     camera: &Camera,
     sampler: &PixelSampler,
-    (first, n): (u32, usize),
+    samples: &PacketSamples,
     pass: DispersionPass,
     out: &mut LensPacket,
 ) -> usize {
+    let PacketSamples {
+        indices,
+        checked,
+        n,
+    } = samples;
+    let n = *n;
     let Some(real) = camera.lens.real() else {
+        let first = indices[0];
+        debug_assert!((0..n).all(|l| indices[l] == first + l as u32));
         first_order_rays(
             camera,
             sampler,
@@ -238,49 +292,44 @@ pub(super) fn generate_rays(
         }
         return n;
     };
-    let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples::<PACKET_SIZE>(sampler, first);
-    let mut wavelengths = [0.0f32; PACKET_SIZE];
-    let mut offsets = [0.0f32; PACKET_SIZE];
-    // Whether each lane is traced in this pass.
-    let mut included = [true; PACKET_SIZE];
-    if real.dispersive() {
-        for l in 0..n {
-            let checked = camera.checked_wavelength(sampler, first + l as u32);
-            included[l] = pass == DispersionPass::DLine || checked.is_some();
-            if let Some(lambda) = checked {
-                wavelengths[l] = lambda;
-                if pass == DispersionPass::Checks {
-                    offsets[l] = dispersion_offset_f32(lambda);
-                }
-            }
-        }
-    }
+    let [film_x, film_y, lens_x, lens_y] = pixel_camera_samples_of(sampler, indices);
+    // The lanes traced in this pass: every sample at the d line, or those that check it.
+    let mut lanes = [0usize; PACKET_SIZE];
+    let mut count = 0;
     // RealLens::generate_rays traces the packet's rays together (what
     // Camera::generate_ray gives one by one, bit for bit).
-    let mut samples = [(Vec3::ZERO, glam::Vec2::ZERO, 0.0); PACKET_SIZE];
-    let lanes: Vec<usize> = (0..n).filter(|&l| included[l]).collect();
-    for (k, &l) in lanes.iter().enumerate() {
+    let mut rays = [(Vec3::ZERO, glam::Vec2::ZERO, 0.0); PACKET_SIZE];
+    for l in 0..n {
+        if pass == DispersionPass::Checks && checked[l] <= 0.0 {
+            continue;
+        }
+        let offset = match pass {
+            DispersionPass::Checks => dispersion_offset_f32(checked[l]),
+            DispersionPass::DLine => 0.0,
+        };
         let film = glam::Vec2::new(film_x[l], film_y[l]);
-        samples[k] = (
+        rays[count] = (
             real.film_point(film, camera.width, camera.height),
             glam::Vec2::new(lens_x[l], lens_y[l]),
-            offsets[l],
+            offset,
         );
+        lanes[count] = l;
+        count += 1;
     }
     let mut traced = [None; PACKET_SIZE];
-    real.generate_rays(&samples[..lanes.len()], &mut traced);
+    real.generate_rays(&rays[..count], &mut traced);
     let mut passed = 0;
-    for (&l, traced) in lanes.iter().zip(traced) {
+    for (&l, traced) in lanes[..count].iter().zip(traced) {
         let Some((ray, weight)) = traced else {
             continue;
         };
-        let sample = moving_sample(camera, sampler, first + l as u32, film_y[l]);
+        let sample = moving_sample(camera, sampler, indices[l], film_y[l]);
         let ray = camera.world_ray(&ray, &sample);
         out.origins[passed] = ray.origin;
         out.directions[passed] = ray.direction;
         out.weights[passed] = weight;
-        out.indices[passed] = first + l as u32;
-        out.wavelengths[passed] = wavelengths[l];
+        out.indices[passed] = indices[l];
+        out.wavelengths[passed] = checked[l];
         out.moments[passed] = camera.sample_moment(&sample);
         passed += 1;
     }

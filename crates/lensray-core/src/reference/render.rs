@@ -9,14 +9,14 @@ use glam::{UVec2, Vec2, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::accel::{Accel, AlphaTest, Hit, PACKET_SIZE};
-use super::rays::{generate_rays, DispersionPass, LensPacket};
+use super::rays::{generate_rays, DispersionPass, LensPacket, PacketSamples};
 use super::steps::{Stepped, TriangleSteps, STEPS};
 use super::surface::{Materials, SurfaceData, SurfacePoint};
-use crate::camera::{Camera, Ray};
+use crate::camera::{Camera, Footprint, Ray};
 use crate::film::adaptive::{self, is_class_a, AdaptiveReport};
 use crate::film::spectral::{checked_value, d_line_value};
 use crate::film::{Image, OnDevice, Progress, Sums};
-use crate::sampler::{pixel_sampler, shared_pixel_sampler, CameraSample};
+use crate::sampler::{pixel_sampler, shared_pixel_sampler, CameraSample, PixelSampler};
 use crate::scene::emitters::EmitterDistribution;
 use crate::scene::motion::{LightSteps, MeshSteps, ObjectMotion};
 use crate::scene::order::sided_order;
@@ -55,6 +55,19 @@ pub(super) struct TracedPacket<'a> {
     pub hits: &'a [Option<Hit>],
     pub draws: &'a [(u32, f32)],
     pub indices: &'a [u32],
+}
+
+/// One pixel's samples as its packets are traced: the shot, the pixel's sampler, the camera's
+/// footprint, a packet of camera rays, and the sums the samples add to.
+struct PixelTrace<'a> {
+    shot: &'a Shot,
+    sampler: &'a PixelSampler,
+    pixel_index: u32,
+    footprint: Footprint,
+    packet: LensPacket,
+    sum: &'a mut Vec3,
+    /// Class A's sum (adaptive sampling).
+    class_a: Option<&'a mut Vec3>,
 }
 
 /// What a render did, for the summary line and benchmarks.
@@ -403,72 +416,94 @@ impl Renderer {
         pixel: UVec2,
         samples: Range<u32>,
         sum_and_count: &mut [f32; 4],
-        mut class_a: Option<&mut Vec3>,
+        class_a: Option<&mut Vec3>,
     ) -> u64 {
         let (camera, settings) = (&shot.camera, &shot.render);
         let [r, g, b, count] = *sum_and_count;
         let mut sum = Vec3::new(r, g, b);
         let mut rays = 0;
-        // The samples of a pixel are coherent: their primary rays are traced as packets.
-        let mut packet = LensPacket::new();
-        let mut draws = [(0, 0.5); PACKET_SIZE];
-        let mut hits = [None; PACKET_SIZE];
         let sampler = if settings.shared_samples {
             shared_pixel_sampler(settings.sampler, settings.seed, pixel)
         } else {
             pixel_sampler(settings.sampler, settings.seed, pixel, camera.width)
         };
-        let pixel_index = pixel.y * camera.width + pixel.x;
-        let footprint = camera.footprint();
-        // A dispersive lens traces each packet twice: the d line, then the checks
-        // (film::spectral, "Dispersion at little cost").
-        let passes: &[DispersionPass] = match camera.lens.real() {
-            Some(real) if real.dispersive() => &[DispersionPass::DLine, DispersionPass::Checks],
-            _ => &[DispersionPass::DLine],
+        let mut trace = PixelTrace {
+            shot,
+            sampler: &sampler,
+            pixel_index: pixel.y * camera.width + pixel.x,
+            footprint: camera.footprint(),
+            packet: LensPacket::new(),
+            sum: &mut sum,
+            class_a,
         };
+        // The samples of a pixel are coherent: their primary rays are traced as packets. A
+        // dispersive lens traces every sample at the d line, then the samples that check it at
+        // their wavelengths, gathered into packets of their own (film::spectral, "Dispersion at
+        // little cost").
+        let mut checks = PacketSamples::new();
         for first in samples.clone().step_by(PACKET_SIZE) {
             let n = (samples.end - first).min(PACKET_SIZE as u32) as usize;
-            for &pass in passes {
-                let traced = generate_rays(camera, &sampler, (first, n), pass, &mut packet);
-                let LensPacket {
-                    origins,
-                    directions,
-                    weights,
-                    indices,
-                    wavelengths,
-                    moments,
-                } = &packet;
-                for l in 0..traced {
-                    let key = ray_key(settings.seed, pixel_index, indices[l], BLEND_CAMERA_SALT);
-                    draws[l] = (key, moments[l]);
+            let run = PacketSamples::run(camera, &sampler, first, n);
+            rays += self.trace_packet(&mut trace, &run, DispersionPass::DLine);
+            for l in (0..n).filter(|&l| run.checked[l] > 0.0) {
+                checks.push(run.indices[l], run.checked[l]);
+                if checks.n == PACKET_SIZE {
+                    rays += self.trace_packet(&mut trace, &checks, DispersionPass::Checks);
+                    checks.n = 0;
                 }
-                let (o, d) = (&origins[..traced], &directions[..traced]);
-                self.closest_hits(o, d, &draws[..traced], &mut hits[..traced]);
-                let lanes = TracedPacket {
-                    origins: &origins[..traced],
-                    directions: &directions[..traced],
-                    hits: &hits[..traced],
-                    draws: &draws[..traced],
-                    indices: &indices[..traced],
-                };
-                let (values, count) = self.shade_packet(&lanes, &sampler, settings, &footprint);
-                for l in 0..traced {
-                    // Through a dispersive lens: the d line's radiance, and where the sample
-                    // checks it, what its wavelength changes, as linear sRGB (film::spectral).
-                    let checked = (wavelengths[l] > 0.0).then_some(wavelengths[l]);
-                    let value = match (pass, checked) {
-                        (DispersionPass::Checks, Some(lambda)) => checked_value(lambda, values[l]),
-                        _ => d_line_value(checked, values[l]),
-                    };
-                    sum += weights[l] * value;
-                    if let Some(a) = class_a.as_deref_mut().filter(|_| is_class_a(indices[l])) {
-                        *a += weights[l] * value;
-                    }
-                }
-                rays += count;
             }
         }
+        if checks.n > 0 {
+            rays += self.trace_packet(&mut trace, &checks, DispersionPass::Checks);
+        }
         *sum_and_count = [sum.x, sum.y, sum.z, count + samples.len() as f32];
+        rays
+    }
+
+    /// Traces and shades the camera rays of `samples` in `pass`, and adds their values to the
+    /// pixel's sums; returns the rays traced.
+    fn trace_packet(
+        &self,
+        pixel: &mut PixelTrace,
+        samples: &PacketSamples,
+        pass: DispersionPass,
+    ) -> u64 {
+        let settings = &pixel.shot.render;
+        let packet = &mut pixel.packet;
+        let traced = generate_rays(&pixel.shot.camera, pixel.sampler, samples, pass, packet);
+        let mut draws = [(0, 0.5); PACKET_SIZE];
+        let mut hits = [None; PACKET_SIZE];
+        for (l, draw) in draws.iter_mut().enumerate().take(traced) {
+            let index = packet.indices[l];
+            let key = ray_key(settings.seed, pixel.pixel_index, index, BLEND_CAMERA_SALT);
+            *draw = (key, packet.moments[l]);
+        }
+        let (o, d) = (&packet.origins[..traced], &packet.directions[..traced]);
+        self.closest_hits(o, d, &draws[..traced], &mut hits[..traced]);
+        let lanes = TracedPacket {
+            origins: &packet.origins[..traced],
+            directions: &packet.directions[..traced],
+            hits: &hits[..traced],
+            draws: &draws[..traced],
+            indices: &packet.indices[..traced],
+        };
+        let (values, rays) = self.shade_packet(&lanes, pixel.sampler, settings, &pixel.footprint);
+        for (l, &shaded) in values.iter().enumerate().take(traced) {
+            // Through a dispersive lens: the d line's radiance, and where the sample checks
+            // it, what its wavelength changes, as linear sRGB (film::spectral).
+            let checked = (packet.wavelengths[l] > 0.0).then_some(packet.wavelengths[l]);
+            let value = match (pass, checked) {
+                (DispersionPass::Checks, Some(lambda)) => checked_value(lambda, shaded),
+                _ => d_line_value(checked, shaded),
+            };
+            let weighted = packet.weights[l] * value;
+            *pixel.sum += weighted;
+            if let Some(a) = pixel.class_a.as_deref_mut() {
+                if is_class_a(packet.indices[l]) {
+                    *a += weighted;
+                }
+            }
+        }
         rays
     }
 

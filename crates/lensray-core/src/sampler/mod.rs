@@ -217,19 +217,31 @@ pub fn pixel_camera_sample(state: &PixelSampler, sample_index: u32) -> CameraSam
 /// integer work (the CPU renderer's packets; the shaders need no such batch).
 #[inline]
 pub fn pixel_camera_samples<const N: usize>(state: &PixelSampler, first: u32) -> [[f32; N]; 4] {
+    pixel_camera_samples_of(
+        state,
+        &std::array::from_fn(|lane| first.wrapping_add(lane as u32)),
+    )
+}
+
+/// [`pixel_camera_samples`] of the samples `indices` names, lane by lane.
+#[inline]
+pub fn pixel_camera_samples_of<const N: usize>(
+    state: &PixelSampler,
+    indices: &[u32; N],
+) -> [[f32; N]; 4] {
     let mut dims = [[0.0f32; N]; 4];
     match state.kind {
         SamplerKind::Sobol => {
-            for lane in 0..N {
-                let u = sobol_sample(&state.sobol, first.wrapping_add(lane as u32));
+            for (lane, &index) in indices.iter().enumerate() {
+                let u = sobol_sample(&state.sobol, index);
                 for (dim, value) in dims.iter_mut().zip(u) {
                     dim[lane] = value;
                 }
             }
         }
         SamplerKind::Independent => {
-            for lane in 0..N {
-                let u = independent_sample(state.key, first.wrapping_add(lane as u32));
+            for (lane, &index) in indices.iter().enumerate() {
+                let u = independent_sample(state.key, index);
                 for (dim, value) in dims.iter_mut().zip(u) {
                     dim[lane] = value;
                 }
