@@ -14,7 +14,24 @@ cache_dir=$(mktemp -d)
 trap 'rm -rf "$skip_log" "$cache_dir"' EXIT
 status=0
 cluster_skipped=0
-LENSRAY_SKIP_LOG="$skip_log" LENSRAY_CACHE_DIR="$cache_dir" cargo test --all-targets "$@" || status=$?
+export LENSRAY_SKIP_LOG="$skip_log" LENSRAY_CACHE_DIR="$cache_dir"
+# cargo-nextest runs the tests where it is installed: one process a test, as many at once as the
+# CPU has cores, across the test binaries. cargo test runs one binary at a time, and a binary
+# whose few tests each compile lavapipe's trace shaders one after another keeps a core idle for
+# minutes (docs/testing.md, "Where CI's time goes"). The benches (harness = false, so nextest
+# cannot list them) run their small checks under cargo test. LENSRAY_TEST_RUNNER=cargo, or no
+# cargo-nextest, runs everything under cargo test.
+if [ "${LENSRAY_TEST_RUNNER:-}" != cargo ] && cargo nextest --version >/dev/null 2>&1; then
+  if [ $# -eq 0 ]; then
+    cargo nextest run --workspace --lib --bins --tests --no-fail-fast || status=$?
+    cargo test --workspace --benches || status=$?
+  else
+    cargo nextest run "$@" || status=$?
+  fi
+else
+  cargo test --all-targets "$@" || status=$?
+fi
+echo "== the tests took $SECONDS s"
 
 # Embree picks its kernels by the CPU (SSE4.2, AVX2, AVX-512), and their floats differ. The run
 # above used the widest this CPU has; the CPU reference's tests run again on each other one
