@@ -2,7 +2,7 @@
 // shared struct through, the checks the list of structs must pass for it, and the text of
 // `interface.glsl`.
 
-use super::glsl::{GlslConst, Layout, ScalarKind, SharedStruct};
+use super::glsl::{GlslConst, Layout, Scalar, ScalarKind, SharedStruct};
 
 /// The kinds of block the layout probe reads a struct through: the one its real users read it
 /// through (std140 structs a uniform block, std430 ones a storage buffer), and push constants.
@@ -103,6 +103,81 @@ pub fn check_probe(structs: &[SharedStruct], errors: &mut Vec<String>) {
     }
 }
 
+/// The layout probe reads an array of at least this many scalars in a loop.
+const PROBE_LOOP_SCALARS: usize = 32;
+
+/// A scalar's path from its struct (`.cam.world_from_camera[1][2]`).
+fn probe_path(scalar: &Scalar) -> &str {
+    scalar
+        .path
+        .strip_prefix('v')
+        .expect("a scalar's path starts at the value `v`")
+}
+
+/// The probe's stored value of the scalar of `kind` at `path` in `block`: its bits.
+fn probe_value(kind: ScalarKind, block: &str, path: &str) -> String {
+    match kind {
+        ScalarKind::Uint => format!("{block}{path}"),
+        ScalarKind::Float => format!("floatBitsToUint({block}{path})"),
+    }
+}
+
+/// An array's scalars, in order: `len` elements at `prefix[a]`, each the scalars `element`
+/// (their kinds and their paths after the index).
+struct ArrayRun<'a> {
+    prefix: &'a str,
+    len: usize,
+    element: Vec<(ScalarKind, &'a str)>,
+}
+
+/// The array whose first element's first scalar starts `scalars`, as far as its elements
+/// follow in order with the same scalars; `None` where `scalars[0]` is no array's element 0.
+fn array_run(scalars: &[Scalar]) -> Option<ArrayRun<'_>> {
+    // (prefix, index, suffix) of a path with an index.
+    let split = |path: &str| -> Option<(usize, usize)> {
+        let open = path.find('[')?;
+        let close = open + path[open..].find(']')?;
+        Some((open, close))
+    };
+    let first = probe_path(&scalars[0]);
+    let (open, close) = split(first)?;
+    if &first[open + 1..close] != "0" {
+        return None;
+    }
+    let prefix = &first[..open];
+    let parts = |scalar: &'_ Scalar| -> Option<(String, usize)> {
+        let path = probe_path(scalar);
+        let (open, close) = split(path)?;
+        let index = path[open + 1..close].parse().ok()?;
+        (&path[..open] == prefix).then(|| (path[close + 1..].to_string(), index))
+    };
+    let element: Vec<(ScalarKind, &str)> = scalars
+        .iter()
+        .map_while(|scalar| {
+            let path = probe_path(scalar);
+            let (open, close) = split(path)?;
+            (&path[..open] == prefix && &path[open + 1..close] == "0")
+                .then(|| (scalar.kind, &path[close + 1..]))
+        })
+        .collect();
+    let m = element.len();
+    let mut len = 1;
+    while let Some(next) = scalars.get(len * m..(len + 1) * m) {
+        let same = next.iter().zip(&element).all(|(scalar, &(kind, suffix))| {
+            scalar.kind == kind && parts(scalar) == Some((suffix.to_string(), len))
+        });
+        if !same {
+            break;
+        }
+        len += 1;
+    }
+    Some(ArrayRun {
+        prefix,
+        len,
+        element,
+    })
+}
+
 /// Writes the GLSL header: constants, struct declarations and, for the layout probe, one
 /// function per struct that stores every scalar into `layout_probe_out`, its blocks and the
 /// function that reads them all.
@@ -159,18 +234,49 @@ impl HeaderWriter {
                 .push_str(&format!("    {} {};{comment}\n", field.glsl, field.name));
         }
         self.text.push_str("};\n");
+    }
 
-        self.probes.push_str(&format!(
-            "uint layout_probe_{0}({0} v, uint i) {{\n",
-            s.glsl
-        ));
-        for (k, scalar) in s.scalars.iter().enumerate() {
-            let value = match scalar.kind {
-                ScalarKind::Uint => scalar.path.clone(),
-                ScalarKind::Float => format!("floatBitsToUint({})", scalar.path),
-            };
-            self.probes
-                .push_str(&format!("    layout_probe_out[i + {k}u] = {value};\n"));
+    /// The probe's function for `s` read through the block `block` (an element of its array
+    /// indexed by `c`, or the push constants' block): it stores every scalar straight from the
+    /// block. A copy of the struct passed by value (thousands of scalars for `Lens`) made lavapipe
+    /// compile the probe for minutes.
+    fn probe_function(&mut self, s: &SharedStruct, name: &str, indexed: bool) {
+        let (param, block) = if indexed {
+            ("uint c, ", format!("{name}[c]"))
+        } else {
+            ("", name.to_string())
+        };
+        self.probes
+            .push_str(&format!("uint {name}_stores({param}uint i) {{\n"));
+        let mut k = 0;
+        while k < s.scalars.len() {
+            match array_run(&s.scalars[k..]) {
+                Some(run) if run.len * run.element.len() >= PROBE_LOOP_SCALARS => {
+                    // One loop over the array's elements: lavapipe's compile time grows faster
+                    // than the straight-line code (the lens's tables are 3000 scalars).
+                    self.probes.push_str(&format!(
+                        "    [[dont_unroll]] for (uint a = 0u; a < {}u; ++a) {{\n",
+                        run.len
+                    ));
+                    let m = run.element.len();
+                    for (j, scalar) in run.element.iter().enumerate() {
+                        let path = format!("{}[a]{}", run.prefix, scalar.1);
+                        let value = probe_value(scalar.0, &block, &path);
+                        self.probes.push_str(&format!(
+                            "        layout_probe_out[i + {k}u + a * {m}u + {j}u] = {value};\n"
+                        ));
+                    }
+                    self.probes.push_str("    }\n");
+                    k += run.len * m;
+                }
+                _ => {
+                    let scalar = &s.scalars[k];
+                    let value = probe_value(scalar.kind, &block, probe_path(scalar));
+                    self.probes
+                        .push_str(&format!("    layout_probe_out[i + {k}u] = {value};\n"));
+                    k += 1;
+                }
+            }
         }
         self.probes
             .push_str(&format!("    return i + {}u;\n}}\n", s.scalars.len()));
@@ -198,23 +304,26 @@ impl HeaderWriter {
             };
             let kind = read.block.short_name();
             let name = format!("layout_probe_{kind}_{glsl}");
-            let values = if read.block == ProbeBlock::PushConstant {
-                calls.push_str(&format!("    i = layout_probe_{glsl}({name}, i);\n"));
-                name
+            let pushed = read.block == ProbeBlock::PushConstant;
+            let values = if pushed {
+                calls.push_str(&format!("    i = {name}_stores(i);\n"));
+                name.clone()
             } else {
                 for c in 0..read.copies {
-                    calls.push_str(&format!("    i = layout_probe_{glsl}({name}[{c}], i);\n"));
+                    calls.push_str(&format!("    i = {name}_stores({c}u, i);\n"));
                 }
                 format!("{name}[{}]", read.copies)
             };
             self.probes.push_str(&format!(
                 "{decl} LayoutProbe_{kind}_{glsl} {{ {glsl} {values}; }};\n"
             ));
+            self.probe_function(&structs[read.structure], &name, !pushed);
         }
         format!(
             "{}\n// For the layout probe (shaders/probes/layouts.comp, lensray-vulkan/src/probes/layouts.rs): \
              stores of every scalar.\n\
              #ifdef LENSRAY_LAYOUT_PROBE\n\
+             #extension GL_EXT_control_flow_attributes : require\n\
              const uint LAYOUT_PROBE_BINDING_OUT = {LAYOUT_PROBE_BINDING_OUT}u;\n\
              layout(std430, set = 0, binding = LAYOUT_PROBE_BINDING_OUT) writeonly buffer \
              LayoutProbeOut {{ uint layout_probe_out[]; }};\n{}\
@@ -223,5 +332,66 @@ impl HeaderWriter {
              layout_probe_out[i] = i;\n}}\n#endif\n\n#endif\n",
             self.text, self.probes
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scalar(path: &str, kind: ScalarKind) -> Scalar {
+        Scalar {
+            path: path.to_string(),
+            offset: 0,
+            kind,
+        }
+    }
+
+    #[test]
+    fn an_array_s_elements_make_one_run() {
+        let mut scalars = vec![];
+        for a in 0..8 {
+            for k in 0..4 {
+                scalars.push(scalar(&format!("v.table[{a}][{k}]"), ScalarKind::Float));
+            }
+        }
+        scalars.push(scalar("v.count", ScalarKind::Uint));
+        let run = array_run(&scalars).expect("an array");
+        assert_eq!((run.prefix, run.len), (".table", 8));
+        let suffixes: Vec<&str> = run.element.iter().map(|e| e.1).collect();
+        assert_eq!(suffixes, ["[0]", "[1]", "[2]", "[3]"]);
+        assert!(array_run(&scalars[32..]).is_none(), "a field outside any array");
+        assert!(array_run(&scalars[4..]).is_none(), "an element other than the first");
+    }
+
+    #[test]
+    fn a_run_stops_where_the_elements_differ() {
+        let scalars = [
+            scalar("v.lights[0].power", ScalarKind::Float),
+            scalar("v.lights[0].kind", ScalarKind::Uint),
+            scalar("v.lights[1].power", ScalarKind::Float),
+            scalar("v.lights[1].kind", ScalarKind::Uint),
+            scalar("v.lights[2].power", ScalarKind::Float),
+            scalar("v.other[0].kind", ScalarKind::Uint),
+        ];
+        let run = array_run(&scalars).expect("an array");
+        assert_eq!((run.len, run.element.len()), (2, 2));
+    }
+
+    #[test]
+    fn the_probe_reads_the_lens_tables_in_loops() {
+        let header = crate::glsl_header();
+        let lens = header
+            .split("uint layout_probe_storage_Lens_stores(uint c, uint i) {")
+            .nth(1)
+            .and_then(|rest| rest.split("\n}\n").next())
+            .expect("the lens's stores");
+        assert!(lens.contains(
+            "    [[dont_unroll]] for (uint a = 0u; a < 32u; ++a) {\n        \
+             layout_probe_out[i + 44u + a * 4u + 0u] = \
+             floatBitsToUint(layout_probe_storage_Lens[c].surface_shape[a][0]);"
+        ));
+        // Fewer than 3119 straight-line stores: the tables are loops.
+        assert!(lens.lines().count() < 200, "{} lines", lens.lines().count());
     }
 }

@@ -53,7 +53,8 @@ mod tests {
         assert!(header.contains("const uint TRACE_GROUP_SIZE = 8u;"));
         assert!(header.contains("const float T_MAX = 1e30;"));
         assert!(header.contains("struct TraceParams {\n    Camera camera;"));
-        assert!(header.contains("uint layout_probe_Camera(Camera v, uint i)"));
+        assert!(header.contains("uint layout_probe_uniform_Camera_stores(uint c, uint i)"));
+        assert!(header.contains("uint layout_probe_push_TracePush_stores(uint i)"));
         let scalars = scalars_of::<TraceParams>();
         assert_eq!(scalars.len(), 976 / 4 + 8 + 8 + 16);
         assert_eq!(scalars[17].path, "v.camera.screen_from_raster[0][1]");
@@ -71,7 +72,7 @@ mod tests {
             assert_eq!(read.copies, LAYOUT_PROBE_COPIES);
             let kind = read.block.short_name();
             for c in 0..read.copies {
-                let call = format!("layout_probe_{0}(layout_probe_{kind}_{0}[{c}], i);", s.glsl);
+                let call = format!("i = layout_probe_{kind}_{0}_stores({c}u, i);", s.glsl);
                 assert!(header.contains(&call), "{call}");
             }
         }

@@ -65,7 +65,11 @@ vec3 emission_towards(uint tri, vec2 b, vec3 d) {
     }
     Material mat = materials[triangle_material(tri)];
     if (SURFACES_TEXTURED && material_is_textured(mat)) {
-        return material_emission(mat, triangle_texcoords(tri, b), vec4(0.0), vec4(0.0));
+        // No footprint: the finest level, as material_emission's trilinear read takes it.
+        vec4 texcoords = triangle_texcoords(tri, b);
+        return material_emission_textured(mat)
+            ? material_emission_with(mat, texture_sample_finest(mat.emission_texture, texcoords))
+            : mat.emission.xyz;
     }
     return mat.emission.xyz;
 }

@@ -13,6 +13,8 @@
 #ifndef LENSRAY_SHADING_GLSL
 #define LENSRAY_SHADING_GLSL
 
+#extension GL_EXT_control_flow_attributes : require
+
 #include "lights.glsl"
 #include "layers.glsl"
 #include "environment.glsl"
@@ -264,6 +266,20 @@ Dielectric material_dielectric(Material m, float transmission, bool back_face) {
     return Dielectric(m.ior, transmission, eta);
 }
 
+// Every texture of `m` in its slot (TEXEL_*), filtered at `texcoords` over the footprint `dx`,
+// `dy`; vec4(1.0) where `m` has none. One loop the compiler keeps: lavapipe inlines every call,
+// and a filtering per texture made the textured trace variants take minutes to compile
+// (docs/testing.md, "Where CI's time goes"). A slot whose texel the material's factors then
+// ignore (an emission texture of a black emission) is filtered all the same: the values are
+// those of material.rs.
+void material_texels(Material m, vec4 texcoords, vec4 dx, vec4 dy,
+                     out vec4 t[MATERIAL_TEXEL_SLOTS]) {
+    [[dont_unroll]] for (uint k = 0u; k < MATERIAL_TEXEL_SLOTS; ++k) {
+        TextureRef r = material_texture(m, k);
+        t[k] = has_texture(r) ? texture_sample(r, texcoords, dx, dy) : vec4(1.0);
+    }
+}
+
 // reference/integrator.rs: shade_surface and colours. The surface `hit` (the closest hit of
 // `ray`) as its light needs it; false where the shading is unlit, `emission` then holding the
 // colour. Textures are filtered over the pinhole's footprint where `filtered` (the camera's
@@ -313,17 +329,29 @@ bool surface_at(Ray ray, Hit hit, bool filtered, out LitSurface s, out vec3 emis
             vec3 dpdy = footprint_dp_along(f, p, ng, f.pixel_dy.xyz);
             triangle_texcoord_footprint(tri, dpdx, dpdy, dx, dy);
         }
-        diffuse = material_diffuse(mat, texcoords, dx, dy);
-        metallic_roughness = material_metallic_roughness(mat, texcoords, dx, dy);
-        clearcoat = material_clearcoat(mat, texcoords, dx, dy);
-        transmission = material_transmission(mat, texcoords, dx, dy);
-        sheen = material_sheen(mat, texcoords, dx, dy);
-        emission = material_emission(mat, texcoords, dx, dy);
-        occlusion = material_occlusion(mat, texcoords, dx, dy);
-        // The coat's normal is the vertex normal tilted by the coat's own map, not the base's.
-        coat_normal = normal_mapped(mat.clearcoat_normal_texture, mat.clearcoat_normal_scale, tri,
-                                    b, ns, texcoords, dx, dy);
-        ns = normal_mapped(mat.normal_texture, mat.normal_scale, tri, b, ns, texcoords, dx, dy);
+        vec4 t[MATERIAL_TEXEL_SLOTS];
+        material_texels(mat, texcoords, dx, dy, t);
+        diffuse = material_diffuse_with(mat, t[TEXEL_DIFFUSE]);
+        metallic_roughness = material_metallic_roughness_with(mat, t[TEXEL_METALLIC_ROUGHNESS]);
+        clearcoat = material_clearcoat_with(mat, t[TEXEL_CLEARCOAT], t[TEXEL_CLEARCOAT_ROUGHNESS]);
+        transmission = material_transmission_with(mat, t[TEXEL_TRANSMISSION]);
+        sheen = material_sheen_with(mat, t[TEXEL_SHEEN_COLOUR], t[TEXEL_SHEEN_ROUGHNESS]);
+        emission = material_emission_with(mat, t[TEXEL_EMISSION]);
+        occlusion = material_occlusion_with(mat, t[TEXEL_OCCLUSION]);
+        // The coat's normal is the vertex normal tilted by the coat's own map, not the base's;
+        // both in one loop the compiler keeps, as the texels (material_texels).
+        vec3 vertex_ns = ns;
+        [[dont_unroll]] for (uint k = 0u; k < 2u; ++k) {
+            bool coat = k == 0u;
+            vec3 n = normal_mapped(coat ? mat.clearcoat_normal_texture : mat.normal_texture,
+                                   coat ? mat.clearcoat_normal_scale : mat.normal_scale, tri, b,
+                                   vertex_ns, t[coat ? TEXEL_CLEARCOAT_NORMAL : TEXEL_NORMAL]);
+            if (coat) {
+                coat_normal = n;
+            } else {
+                ns = n;
+            }
+        }
     }
     if (coloured) {
         diffuse = vertex_coloured(diffuse, tri, b);

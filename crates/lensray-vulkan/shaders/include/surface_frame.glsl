@@ -43,14 +43,12 @@ vec2 triangle_barycentrics_at(uint tri, vec3 p) {
     return det == 0.0 ? vec2(0.0) : vec2(g22 * r1 - g12 * r2, g11 * r2 - g12 * r1) / det;
 }
 
-// surface_frame.rs: SurfaceData::normal_mapped, the texel read as colours() reads it: the map
-// `map` (the base's or the clear coat's) at its `scale`.
-vec3 normal_mapped(TextureRef map, float scale, uint tri, vec2 b, vec3 ns, vec4 texcoords,
-                   vec4 dx, vec4 dy) {
+// surface_frame.rs: SurfaceData::normal_mapped, the `texel` of the map `map` (the base's or
+// the clear coat's, read as colours() reads it) at its `scale`.
+vec3 normal_mapped(TextureRef map, float scale, uint tri, vec2 b, vec3 ns, vec4 texel) {
     if (!has_texture(map) || !triangle_has_tangents(tri)) {
         return ns;
     }
-    vec4 texel = texture_sample(map, texcoords, dx, dy);
     uint i0 = indices[3u * tri];
     uint i1 = indices[3u * tri + 1u];
     uint i2 = indices[3u * tri + 2u];

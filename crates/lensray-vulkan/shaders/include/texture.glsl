@@ -9,6 +9,11 @@
 #include "sampler.glsl"
 #include "scene.glsl"
 
+// Texture reads sit in loops marked [[dont_unroll]]: lavapipe inlines every call and compiles
+// each copy of the filtering and decoding with LLVM, which made the textured trace variants
+// take minutes (docs/testing.md, "Where CI's time goes").
+#extension GL_EXT_control_flow_attributes : require
+
 // The SURFACE_* bits any surface the shader meets may have. A pass specialized without one
 // (SPEC_SURFACES) compiles out its texture or alpha code, which CPU drivers would otherwise run
 // for every fragment or hit: they run both sides of a branch that may differ between
@@ -89,8 +94,13 @@ vec4 texture_bilinear(Texture t, uint level, vec2 uv, uint wrap_u, uint wrap_v) 
     int xb = wrap_texel(int(x0) + 1, w, wrap_u);
     int ya = wrap_texel(int(y0), h, wrap_v);
     int yb = wrap_texel(int(y0) + 1, h, wrap_v);
-    vec4 top = lerp4(level_texel(t, level, w, xa, ya), level_texel(t, level, w, xb, ya), fx);
-    vec4 bottom = lerp4(level_texel(t, level, w, xa, yb), level_texel(t, level, w, xb, yb), fx);
+    // The four texels in one loop the compiler keeps: one copy of the decoding (below).
+    vec4 c[4];
+    [[dont_unroll]] for (uint k = 0u; k < 4u; ++k) {
+        c[k] = level_texel(t, level, w, (k & 1u) == 0u ? xa : xb, (k & 2u) == 0u ? ya : yb);
+    }
+    vec4 top = lerp4(c[0], c[1], fx);
+    vec4 bottom = lerp4(c[2], c[3], fx);
     return lerp4(top, bottom, fy);
 }
 
@@ -111,11 +121,13 @@ vec4 texture_trilinear(Texture t, vec2 uv, float lod, uint wrap_u, uint wrap_v) 
     lod = isnan(lod) ? 0.0 : clamp(lod, 0.0, last);
     float l0 = floor(lod);
     precise float f = lod - l0;
-    vec4 below = texture_bilinear(t, uint(l0), uv, wrap_u, wrap_v);
-    if (f == 0.0) {
-        return below;
+    // Both levels in one loop the compiler keeps (below).
+    uint levels = f == 0.0 ? 1u : 2u;
+    vec4 v[2];
+    [[dont_unroll]] for (uint k = 0u; k < levels; ++k) {
+        v[k] = texture_bilinear(t, uint(l0) + k, uv, wrap_u, wrap_v);
     }
-    return lerp4(below, texture_bilinear(t, uint(l0) + 1u, uv, wrap_u, wrap_v), f);
+    return levels == 1u ? v[0] : lerp4(v[0], v[1], f);
 }
 
 // A point's texture coordinate sets (texture/mod.rs: TexcoordSets) travel as one vec4: xy set 0,
@@ -214,74 +226,105 @@ vec4 triangle_texcoords(uint tri, vec2 b) {
 
 bool has_texture(TextureRef r) { return r.texture != TEXTURE_NONE; }
 
+// The textures of a material that shading reads, one slot each (material_texels). Each
+// material_*_with below combines a slot's texel (vec4(1.0) where the material has no texture)
+// with the material's factors, as material.rs does.
+const uint TEXEL_DIFFUSE = 0u;
+const uint TEXEL_METALLIC_ROUGHNESS = 1u;
+const uint TEXEL_CLEARCOAT = 2u;
+const uint TEXEL_CLEARCOAT_ROUGHNESS = 3u;
+const uint TEXEL_TRANSMISSION = 4u;
+const uint TEXEL_SHEEN_COLOUR = 5u;
+const uint TEXEL_SHEEN_ROUGHNESS = 6u;
+const uint TEXEL_EMISSION = 7u;
+const uint TEXEL_OCCLUSION = 8u;
+const uint TEXEL_CLEARCOAT_NORMAL = 9u;
+const uint TEXEL_NORMAL = 10u;
+const uint MATERIAL_TEXEL_SLOTS = 11u;
+
+// The texture of `m` in `slot` (TEXEL_*).
+TextureRef material_texture(Material m, uint slot) {
+    switch (slot) {
+    case TEXEL_DIFFUSE: return m.diffuse_texture;
+    case TEXEL_METALLIC_ROUGHNESS: return m.metallic_roughness_texture;
+    case TEXEL_CLEARCOAT: return m.clearcoat_texture;
+    case TEXEL_CLEARCOAT_ROUGHNESS: return m.clearcoat_roughness_texture;
+    case TEXEL_TRANSMISSION: return m.transmission_texture;
+    case TEXEL_SHEEN_COLOUR: return m.sheen_colour_texture;
+    case TEXEL_SHEEN_ROUGHNESS: return m.sheen_roughness_texture;
+    case TEXEL_EMISSION: return m.emission_texture;
+    case TEXEL_OCCLUSION: return m.occlusion_texture;
+    case TEXEL_CLEARCOAT_NORMAL: return m.clearcoat_normal_texture;
+    default: return m.normal_texture;
+    }
+}
+
 // material.rs: Material::diffuse_at
+vec3 material_diffuse_with(Material m, vec4 texel) {
+    return has_texture(m.diffuse_texture) ? m.diffuse.xyz * texel.xyz : m.diffuse.xyz;
+}
 vec3 material_diffuse(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
     if (!has_texture(m.diffuse_texture)) {
         return m.diffuse.xyz;
     }
-    return m.diffuse.xyz * texture_sample(m.diffuse_texture, texcoords, dx, dy).xyz;
+    return material_diffuse_with(m, texture_sample(m.diffuse_texture, texcoords, dx, dy));
 }
 
 // material.rs: Material::emission_at
+bool material_emission_textured(Material m) {
+    return has_texture(m.emission_texture) && m.emission.xyz != vec3(0.0);
+}
+vec3 material_emission_with(Material m, vec4 texel) {
+    return material_emission_textured(m) ? m.emission.xyz * texel.xyz : m.emission.xyz;
+}
 vec3 material_emission(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
-    if (!has_texture(m.emission_texture) || m.emission.xyz == vec3(0.0)) {
+    if (!material_emission_textured(m)) {
         return m.emission.xyz;
     }
-    return m.emission.xyz * texture_sample(m.emission_texture, texcoords, dx, dy).xyz;
+    return material_emission_with(m, texture_sample(m.emission_texture, texcoords, dx, dy));
 }
 
 // material.rs: Material::metallic_roughness_at; x: metallic, y: roughness.
-vec2 material_metallic_roughness(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
+vec2 material_metallic_roughness_with(Material m, vec4 texel) {
     vec2 factors = vec2(m.metallic, m.roughness);
-    if (!has_texture(m.metallic_roughness_texture)) {
-        return factors;
-    }
-    vec4 texel = texture_sample(m.metallic_roughness_texture, texcoords, dx, dy);
-    return factors * texel.zy;
+    return has_texture(m.metallic_roughness_texture) ? factors * texel.zy : factors;
 }
 
 // material.rs: Material::occlusion_at
-float material_occlusion(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
-    if (!has_texture(m.occlusion_texture)) {
-        return 1.0;
-    }
-    float r = texture_sample(m.occlusion_texture, texcoords, dx, dy).x;
-    return 1.0 + m.occlusion_strength * (r - 1.0);
+float material_occlusion_with(Material m, vec4 texel) {
+    return has_texture(m.occlusion_texture) ? 1.0 + m.occlusion_strength * (texel.x - 1.0) : 1.0;
 }
 
-// material.rs: Material::clearcoat_at
-vec2 material_clearcoat(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
+// material.rs: Material::clearcoat_at; `weight`, `roughness`: the slots' texels.
+vec2 material_clearcoat_with(Material m, vec4 weight_texel, vec4 roughness_texel) {
     float weight = m.clearcoat;
     if (has_texture(m.clearcoat_texture) && m.clearcoat > 0.0) {
-        weight = m.clearcoat * texture_sample(m.clearcoat_texture, texcoords, dx, dy).x;
+        weight = m.clearcoat * weight_texel.x;
     }
     float roughness = m.clearcoat_roughness;
     if (has_texture(m.clearcoat_roughness_texture) && weight > 0.0) {
-        roughness = m.clearcoat_roughness
-            * texture_sample(m.clearcoat_roughness_texture, texcoords, dx, dy).y;
+        roughness = m.clearcoat_roughness * roughness_texel.y;
     }
     return vec2(weight, roughness);
 }
 
 // material.rs: Material::transmission_at
-float material_transmission(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
+float material_transmission_with(Material m, vec4 texel) {
     if (has_texture(m.transmission_texture) && m.transmission > 0.0) {
-        return m.transmission * texture_sample(m.transmission_texture, texcoords, dx, dy).x;
+        return m.transmission * texel.x;
     }
     return m.transmission;
 }
 
 // material.rs: Material::sheen_at; xyz: the colour, w: the roughness.
-vec4 material_sheen(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
+vec4 material_sheen_with(Material m, vec4 colour_texel, vec4 roughness_texel) {
     vec3 colour = m.sheen_colour.xyz;
     if (has_texture(m.sheen_colour_texture) && max(max(colour.x, colour.y), colour.z) > 0.0) {
-        colour = m.sheen_colour.xyz
-            * texture_sample(m.sheen_colour_texture, texcoords, dx, dy).xyz;
+        colour = m.sheen_colour.xyz * colour_texel.xyz;
     }
     float roughness = m.sheen_colour.w;
     if (has_texture(m.sheen_roughness_texture) && max(max(colour.x, colour.y), colour.z) > 0.0) {
-        roughness = m.sheen_colour.w
-            * texture_sample(m.sheen_roughness_texture, texcoords, dx, dy).w;
+        roughness = m.sheen_colour.w * roughness_texel.w;
     }
     return vec4(colour, roughness);
 }
