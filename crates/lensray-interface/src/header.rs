@@ -360,8 +360,14 @@ mod tests {
         assert_eq!((run.prefix, run.len), (".table", 8));
         let suffixes: Vec<&str> = run.element.iter().map(|e| e.1).collect();
         assert_eq!(suffixes, ["[0]", "[1]", "[2]", "[3]"]);
-        assert!(array_run(&scalars[32..]).is_none(), "a field outside any array");
-        assert!(array_run(&scalars[4..]).is_none(), "an element other than the first");
+        assert!(
+            array_run(&scalars[32..]).is_none(),
+            "a field outside any array"
+        );
+        assert!(
+            array_run(&scalars[4..]).is_none(),
+            "an element other than the first"
+        );
     }
 
     #[test]
