@@ -65,7 +65,7 @@ vec3 emission_towards(uint tri, vec2 b, vec3 d) {
     }
     Material mat = materials[triangle_material(tri)];
     if (SURFACES_TEXTURED && material_is_textured(mat)) {
-        // No footprint: the finest level, as material_emission's trilinear read takes it.
+        // No footprint: the finest level, which a trilinear read without one takes.
         vec4 texcoords = triangle_texcoords(tri, b);
         return material_emission_textured(mat)
             ? material_emission_with(mat, texture_sample_finest(mat.emission_texture, texcoords))

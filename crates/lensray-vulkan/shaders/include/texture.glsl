@@ -277,12 +277,6 @@ bool material_emission_textured(Material m) {
 vec3 material_emission_with(Material m, vec4 texel) {
     return material_emission_textured(m) ? m.emission.xyz * texel.xyz : m.emission.xyz;
 }
-vec3 material_emission(Material m, vec4 texcoords, vec4 dx, vec4 dy) {
-    if (!material_emission_textured(m)) {
-        return m.emission.xyz;
-    }
-    return material_emission_with(m, texture_sample(m.emission_texture, texcoords, dx, dy));
-}
 
 // material.rs: Material::metallic_roughness_at; x: metallic, y: roughness.
 vec2 material_metallic_roughness_with(Material m, vec4 texel) {
