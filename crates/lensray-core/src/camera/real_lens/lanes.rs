@@ -19,7 +19,7 @@
 use glam::{Vec2, Vec3};
 
 use super::{RealLens, PUPIL_BINS};
-use crate::optics::trace::narrow::{Interface, LensRay};
+use crate::optics::trace::narrow::{Elements, Interface, LensRay};
 use crate::optics::trace::Toward;
 
 /// N rays by coordinate, and which of them are still in the lens.
@@ -129,6 +129,21 @@ impl<const N: usize> Lanes<N> {
         (lanes, area)
     }
 
+    /// Rays from `film` toward the points `rear` of the rear vertex's plane (`rear_z`), at
+    /// dispersion offset `k`: the exit-pupil search's grid (`Search::grid_of`), each direction
+    /// normalized as the one-by-one search does. Lanes past `rear`'s length are dead.
+    pub(super) fn toward(film: Vec3, rear: &[Vec2], rear_z: f32, k: f32) -> Self {
+        let mut lanes = Lanes::dead();
+        for (l, q) in rear.iter().enumerate().take(N) {
+            let direction = (q.extend(rear_z) - film).normalize();
+            (lanes.ox[l], lanes.oy[l], lanes.oz[l]) = film.into();
+            (lanes.dx[l], lanes.dy[l], lanes.dz[l]) = direction.into();
+            lanes.offset[l] = k;
+            lanes.alive[l] = true;
+        }
+        lanes
+    }
+
     pub(super) fn ray(&self, l: usize) -> LensRay {
         LensRay {
             origin: Vec3::new(self.ox[l], self.oy[l], self.oz[l]),
@@ -163,6 +178,37 @@ impl<const N: usize> Lanes<N> {
             if !self.alive.iter().any(|&a| a) {
                 return;
             }
+        }
+    }
+
+    /// Every lane from the film through the lens's surfaces to the scene, as
+    /// `Elements::trace_at` toward the scene takes one ray: the stop is its row's round
+    /// opening (the aperture's shape plays no part), which `alive` then tells.
+    pub(super) fn trace_elements(&mut self, elements: &Elements) {
+        for surface in elements.interfaces.iter().rev() {
+            if surface.radius == 0.0 {
+                self.pass_opening(surface);
+            } else if surface.asphere {
+                self.pass_one_by_one(surface);
+            } else {
+                self.refract_at(surface);
+            }
+            if !self.alive.iter().any(|&a| a) {
+                return;
+            }
+        }
+    }
+
+    /// `Interface::pass_at` through a flat opening: lanes that miss its plane or pass
+    /// outside its radius die; the others go on from where they were, unrefracted.
+    #[inline(always)]
+    fn pass_opening(&mut self, opening: &Interface) {
+        let t = self.meet_stop(opening);
+        let aperture2 = opening.aperture_radius * opening.aperture_radius;
+        for l in 0..N {
+            let px = self.ox[l] + t[l] * self.dx[l];
+            let py = self.oy[l] + t[l] * self.dy[l];
+            self.alive[l] &= !(px * px + py * py > aperture2);
         }
     }
 

@@ -22,15 +22,18 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::lanes::Lanes;
 use super::RealLens;
-use crate::optics::trace::narrow::LensRay;
-use crate::optics::trace::Toward;
+#[cfg(test)]
+use crate::optics::trace::{narrow::LensRay, Toward};
 
 /// Distances from the film's centre with their own regions, from 0 to the film's corner.
 pub const PUPIL_BINS: usize = 64;
 /// Grid points a side of each search (coarse over the rear element, then fine over the
 /// coarse bounds).
 const GRID: u32 = 80;
+/// Grid points traced together: a packet's width (`reference::PACKET_SIZE`).
+const GRID_LANES: usize = 16;
 /// Side of the grid that integrates the centre's irradiance.
 const CENTRE_GRID: u32 = 512;
 
@@ -150,21 +153,9 @@ impl ExitPupil {
     /// The regions of `lens` (everything but its `pupil` built) for a film reaching
     /// `film_radius` mm from the centre.
     pub fn bound(lens: &RealLens, film_radius: f32) -> Self {
-        let interfaces = &lens.elements().interfaces;
-        let rear = interfaces[interfaces.len() - 1];
+        let search = Search::of(lens);
         let film = lens.film();
-        let search = Search {
-            lens,
-            film_z: film.axis_z,
-            film_slope: film.slope(),
-            rear_z: rear.z,
-            // The rear element's clear aperture, with room for rays that cross its plane
-            // beside it (pbrt's 1.5).
-            whole: Region {
-                centre: Vec2::ZERO,
-                half: Vec2::splat(1.5 * rear.aperture_radius),
-            },
-        };
+        let rear_z = search.rear_z;
         let radius = |k: usize| film_radius * k as f32 / PUPIL_BINS as f32;
         let edges: Vec<Edge> = (0..=PUPIL_BINS)
             .into_par_iter()
@@ -178,9 +169,9 @@ impl ExitPupil {
             })
             .collect();
         let mut pupil = ExitPupil {
-            rear_z: rear.z,
+            rear_z,
             film_radius,
-            axis_depth: film.axis_z - rear.z,
+            axis_depth: film.axis_z - rear_z,
             bins,
             inverse_centre_integral: 0.0,
         };
@@ -261,29 +252,63 @@ impl ExitPupil {
         if region.is_empty() {
             return 0.0;
         }
-        let lo = region.lo();
-        let film = Vec3::new(0.0, 0.0, lens.film_z());
         let cell = 2.0 * region.half / CENTRE_GRID as f32;
         let sum: f64 = (0..CENTRE_GRID)
             .into_par_iter()
-            .map(|j| {
-                let mut row = 0.0;
-                for i in 0..CENTRE_GRID {
-                    let q = lo + cell * Vec2::new(i as f32 + 0.5, j as f32 + 0.5);
-                    let direction = (q.extend(self.rear_z) - film).normalize();
-                    let ray = LensRay {
-                        origin: film,
-                        direction,
-                    };
-                    if let Some((_, t)) = lens.trace_to_scene(ray) {
-                        let cos2 = f64::from(direction.z * direction.z);
-                        row += f64::from(t) * cos2 * cos2;
-                    }
-                }
-                row
-            })
+            .map(|j| self.centre_row(lens, j))
             .sum();
         sum * f64::from(cell.x * cell.y)
+    }
+
+    /// Row `j` of the centre integral's grid: the sum of T cos^4(theta) over its cells, the
+    /// rays traced `GRID_LANES` at a time and summed in the row's order.
+    fn centre_row(&self, lens: &RealLens, j: u32) -> f64 {
+        let (film, row) = self.centre_cells(lens, j);
+        let mut sum = 0.0;
+        for chunk in row.chunks(GRID_LANES) {
+            let mut lanes = Lanes::<GRID_LANES>::toward(film, chunk, self.rear_z, 0.0);
+            let start_dz = lanes.dz;
+            lanes.trace_to_scene(lens);
+            let lit = lanes.alive.iter().zip(lanes.transmission).zip(start_dz);
+            for ((&alive, t), dz) in lit.take(chunk.len()) {
+                if alive {
+                    let cos2 = f64::from(dz * dz);
+                    sum += f64::from(t) * cos2 * cos2;
+                }
+            }
+        }
+        sum
+    }
+
+    /// The film's centre and the midpoints of row `j` of the centre integral's grid.
+    fn centre_cells(&self, lens: &RealLens, j: u32) -> (Vec3, Vec<Vec2>) {
+        let region = self.bins[0].inner;
+        let lo = region.lo();
+        let cell = 2.0 * region.half / CENTRE_GRID as f32;
+        let row = (0..CENTRE_GRID)
+            .map(|i| lo + cell * Vec2::new(i as f32 + 0.5, j as f32 + 0.5))
+            .collect();
+        (Vec3::new(0.0, 0.0, lens.film_z()), row)
+    }
+
+    /// [`Self::centre_row`] one ray at a time (`RealLens::trace_to_scene`): the definition
+    /// the lanes are checked against.
+    #[cfg(test)]
+    fn centre_row_one_by_one(&self, lens: &RealLens, j: u32) -> f64 {
+        let (film, row) = self.centre_cells(lens, j);
+        let mut sum = 0.0;
+        for q in row {
+            let direction = (q.extend(self.rear_z) - film).normalize();
+            let ray = LensRay {
+                origin: film,
+                direction,
+            };
+            if let Some((_, t)) = lens.trace_to_scene(ray) {
+                let cos2 = f64::from(direction.z * direction.z);
+                sum += f64::from(t) * cos2 * cos2;
+            }
+        }
+        sum
     }
 }
 
@@ -312,7 +337,25 @@ struct Edge {
     rectangle: Region,
 }
 
-impl Search<'_> {
+impl<'a> Search<'a> {
+    fn of(lens: &'a RealLens) -> Self {
+        let interfaces = &lens.elements().interfaces;
+        let rear = interfaces[interfaces.len() - 1];
+        let film = lens.film();
+        Search {
+            lens,
+            film_z: film.axis_z,
+            film_slope: film.slope(),
+            rear_z: rear.z,
+            // The rear element's clear aperture, with room for rays that cross its plane
+            // beside it (pbrt's 1.5).
+            whole: Region {
+                centre: Vec2::ZERO,
+                half: Vec2::splat(1.5 * rear.aperture_radius),
+            },
+        }
+    }
+
     /// The passing points for film radius `r`: a coarse grid over the whole search, then a
     /// fine one over the coarse bounds.
     fn passing(&self, r: f32) -> Passing {
@@ -341,8 +384,46 @@ impl Search<'_> {
         self.grid_of(films, region, GRID)
     }
 
-    /// [`Self::grid`] with `n` points a side.
+    /// [`Self::grid`] with `n` points a side. The points are traced `GRID_LANES` at a time
+    /// (`Lanes::trace_elements`, bit for bit the one-by-one trace).
     fn grid_of(&self, films: &[Vec3], region: Region, n: u32) -> Passing {
+        let (lo, hi) = (region.lo(), region.hi());
+        let step = (hi - lo) / (n - 1) as f32;
+        let offsets = self.lens.bounding_offsets();
+        let elements = self.lens.elements();
+        let grid: Vec<Vec2> = (0..n)
+            .flat_map(|j| (0..n).map(move |i| lo + step * Vec2::new(i as f32, j as f32)))
+            .collect();
+        let mut points = Vec::new();
+        for chunk in grid.chunks(GRID_LANES) {
+            let mut passes = [false; GRID_LANES];
+            'rays: for &film in films {
+                for &k in &offsets {
+                    let mut lanes = Lanes::<GRID_LANES>::toward(film, chunk, self.rear_z, k);
+                    lanes.trace_elements(elements);
+                    for (pass, alive) in passes.iter_mut().zip(lanes.alive) {
+                        *pass |= alive;
+                    }
+                    if passes[..chunk.len()].iter().all(|&p| p) {
+                        break 'rays;
+                    }
+                }
+            }
+            points.extend(
+                chunk
+                    .iter()
+                    .zip(passes)
+                    .filter(|(_, p)| *p)
+                    .map(|(q, _)| *q),
+            );
+        }
+        Passing { points, step }
+    }
+
+    /// [`Self::grid_of`] one ray at a time (`Elements::trace_at`): the definition the lanes
+    /// are checked against.
+    #[cfg(test)]
+    fn grid_one_by_one(&self, films: &[Vec3], region: Region, n: u32) -> Passing {
         let (lo, hi) = (region.lo(), region.hi());
         let step = (hi - lo) / (n - 1) as f32;
         let offsets = self.lens.bounding_offsets();
@@ -406,6 +487,74 @@ impl Edge {
         PupilBin {
             inner: all,
             outer: all,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::camera::real_lens::RealLensParams;
+    use crate::camera::{Aperture, Movements};
+
+    /// The grid traced in lanes passes exactly the points the one-by-one trace passes: at the
+    /// d line and across the spectrum, square to the film and tilted, with an asphere, over
+    /// the whole search and over a passing region's bounds, at radii from the axis to past
+    /// the image circle. The centre integral's rows in lanes are the one-by-one sums.
+    #[test]
+    fn lanes_pass_the_points_one_by_one_passes() {
+        let tilted = Movements {
+            shift: [0.0, 0.0],
+            tilt_degrees: 6.0,
+            tilt_direction_degrees: 0.0,
+        };
+        let six_blades = Aperture::new(crate::camera::ApertureShape {
+            blades: Some(6),
+            rotation_degrees: 10.0,
+            ..Default::default()
+        });
+        for (name, dispersion, movements, aperture) in [
+            ("double-gauss-50", false, Movements::NONE, Aperture::ROUND),
+            ("double-gauss-50", true, tilted, Aperture::ROUND),
+            ("aspheric-31", true, Movements::NONE, Aperture::ROUND),
+            ("wide-22", true, Movements::NONE, six_blades),
+        ] {
+            let params = RealLensParams {
+                prescription: Arc::new(crate::optics::builtin::lens(name).expect("built in")),
+                f_number: None,
+                focus_distance: 3.0,
+                sensor_height_mm: 24.0,
+                dispersion,
+                movements,
+            };
+            let real = RealLens::new(params, 1.5, aperture.clone()).expect("a lens");
+            let search = Search::of(&real);
+            let corner = real.pupil().film_radius;
+            let mut passed = 0;
+            for r in [0.0, 0.3, 0.7, 1.0, 1.2].map(|f| f * corner) {
+                let films = [Vec3::new(r, 0.0, search.film_z)];
+                let coarse = search.grid_one_by_one(&films, search.whole, 37);
+                let regions = [Some(search.whole), coarse.bounds()];
+                for region in regions.into_iter().flatten() {
+                    let lanes = search.grid_of(&films, region, 37);
+                    let one_by_one = search.grid_one_by_one(&films, region, 37);
+                    assert_eq!(lanes.points, one_by_one.points, "{name} at r = {r} mm");
+                    assert_eq!(lanes.step, one_by_one.step);
+                    passed += lanes.points.len();
+                }
+            }
+            assert!(passed > 1000, "{name}: only {passed} points pass");
+            // The centre integral's rows, bit for bit (the stop's shape counts there).
+            let pupil = real.pupil();
+            for j in [0, CENTRE_GRID / 3, CENTRE_GRID / 2, CENTRE_GRID - 1] {
+                let (lanes, one_by_one) = (
+                    pupil.centre_row(&real, j),
+                    pupil.centre_row_one_by_one(&real, j),
+                );
+                assert_eq!(lanes.to_bits(), one_by_one.to_bits(), "{name}, row {j}");
+            }
         }
     }
 }
