@@ -154,7 +154,6 @@ impl ExitPupil {
     /// `film_radius` mm from the centre.
     pub fn bound(lens: &RealLens, film_radius: f32) -> Self {
         let search = Search::of(lens);
-        let film = lens.film();
         let rear_z = search.rear_z;
         let radius = |k: usize| film_radius * k as f32 / PUPIL_BINS as f32;
         let edges: Vec<Edge> = (0..=PUPIL_BINS)
@@ -171,7 +170,7 @@ impl ExitPupil {
         let mut pupil = ExitPupil {
             rear_z,
             film_radius,
-            axis_depth: film.axis_z - rear_z,
+            axis_depth: search.film_z - rear_z,
             bins,
             inverse_centre_integral: 0.0,
         };
@@ -359,16 +358,22 @@ impl<'a> Search<'a> {
     /// The passing points for film radius `r`: a coarse grid over the whole search, then a
     /// fine one over the coarse bounds.
     fn passing(&self, r: f32) -> Passing {
-        let at = |k: f32| Vec3::new(r, 0.0, self.film_z + k * r * self.film_slope);
-        let films = if self.film_slope == 0.0 {
-            vec![at(0.0)]
-        } else {
-            vec![at(-1.0), at(0.0), at(1.0)]
-        };
+        let films = self.films(r);
         let coarse = self.grid(&films, self.whole);
         match coarse.bounds() {
             Some(bounds) => self.grid(&films, bounds),
             None => coarse,
+        }
+    }
+
+    /// The film points at distance `r` on +x: one, or on a tilted film three, at either end
+    /// of the depths it spans there and in the middle.
+    fn films(&self, r: f32) -> Vec<Vec3> {
+        let at = |k: f32| Vec3::new(r, 0.0, self.film_z + k * r * self.film_slope);
+        if self.film_slope == 0.0 {
+            vec![at(0.0)]
+        } else {
+            vec![at(-1.0), at(0.0), at(1.0)]
         }
     }
 
@@ -534,7 +539,7 @@ mod tests {
             let corner = real.pupil().film_radius;
             let mut passed = 0;
             for r in [0.0, 0.3, 0.7, 1.0, 1.2].map(|f| f * corner) {
-                let films = [Vec3::new(r, 0.0, search.film_z)];
+                let films = search.films(r);
                 let coarse = search.grid_one_by_one(&films, search.whole, 37);
                 let regions = [Some(search.whole), coarse.bounds()];
                 for region in regions.into_iter().flatten() {
